@@ -1,0 +1,1 @@
+"""Runtime elastoplastic normal contact laws for DEM (Vu-Quoc & Zhang 1999). numpy/scipy only."""
