@@ -1,0 +1,266 @@
+"""The r-z section of the hemisphere pressed on the rigid flat, meshed by gmsh and cached.
+
+Domain (SPEC section 6; Vu-Quoc & Zhang 1999, section 2): the quarter disc
+
+    {(r, z): r >= 0, 0 <= z <= R, r^2 + (z - R)^2 <= R^2}        [m]
+
+whose pole (0, 0) touches the flat z = 0. Boundaries: the axis r = 0, the top (equatorial) face
+z = R that the rigid plate drives, and the curved surface, candidate for contact.
+
+Elements: 6-node (quadratic, isoparametric) triangles, the paper's CAX6. The mid-side nodes of the
+curved surface lie on the circle, so the initial gap of every surface node is exact
+(z0 = R - sqrt(R^2 - r^2)) and the quarter-disc area pi R^2 / 4 is reproduced to O(h^4).
+
+Mesh size (a gmsh size callback, evaluated by gmsh wherever it needs a size):
+
+    h(r, z) = min(far_size, contact_size + growth * d(r, z))
+    d(r, z) = refined_depth * max(0, sqrt((r / refined_radius)^2 + (z / refined_depth)^2) - 1)
+
+i.e. uniformly ``contact_size`` inside the quarter ellipse of semi-axes refined_radius (along the
+surface, beyond the largest contact radius) and refined_depth (into the body, where the Hertz
+and plastic zones live), then growing linearly with slope ``growth`` up to ``far_size``.
+
+The .msh file is cached under a hash of the spec (and of the generator version): a second
+request reuses it, a corrupt file is rebuilt.
+
+Loading: scikit-fem's meshio import drops gmsh's quadratic line groups ('line3' has no mapping in
+skfem.io.meshio), so the boundaries are identified geometrically (r = 0, z = R, on the circle),
+which is exact for this domain and independent of the file format.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import tempfile
+import threading
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+GENERATOR_VERSION = 1  # bump when the meshing recipe changes: invalidates the cache
+REPO_ROOT = Path(__file__).resolve().parent.parent
+DEFAULT_CACHE_DIR = REPO_ROOT / ".cache" / "meshes"
+_GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
+
+
+@dataclass(frozen=True)
+class HemisphereMeshSpec:
+    """Parameters of the hemisphere mesh [m]; validated on construction.
+
+    radius          R, sphere radius
+    contact_size    element size in the refined zone (the paper: 2.3e-5 m)
+    refined_radius  the refined zone extends this far along the surface (> largest contact radius)
+    refined_depth   ... and this deep under the contact (Hertz / plastic zone, a few contact radii)
+    far_size        largest element size (far field)
+    growth          slope of the size growth outside the refined zone (dimensionless)
+    """
+
+    radius: float = 0.1
+    contact_size: float = 2.0e-5
+    refined_radius: float = 1.6e-3
+    refined_depth: float = 0.5e-3
+    far_size: float = 1.0e-2
+    growth: float = 0.2
+
+    def __post_init__(self):
+        for name in ("radius", "contact_size", "refined_radius", "refined_depth", "far_size",
+                     "growth"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        R = self.radius
+        if not self.refined_radius < R:
+            raise ValueError(f"refined_radius must be in (0, radius={R}), got {self.refined_radius}")
+        if not self.refined_depth < R:
+            raise ValueError(f"refined_depth must be in (0, radius={R}), got {self.refined_depth}")
+        if not self.contact_size <= min(self.refined_radius, self.refined_depth) / 2:
+            raise ValueError("contact_size must be in (0, min(refined_radius, refined_depth)/2]"
+                             f" = (0, {min(self.refined_radius, self.refined_depth) / 2}],"
+                             f" got {self.contact_size}")
+        if not self.contact_size <= self.far_size <= R:
+            raise ValueError(f"far_size must be in [contact_size={self.contact_size}, radius={R}],"
+                             f" got {self.far_size}")
+        if not self.growth <= 1.0:
+            raise ValueError(f"growth must be in (0, 1], got {self.growth}")
+
+    def size_at(self, r, z):
+        """Target element size h(r, z) [m] (module docstring)."""
+        rho = np.sqrt((np.asarray(r) / self.refined_radius) ** 2
+                      + (np.asarray(z) / self.refined_depth) ** 2)
+        distance_outside = self.refined_depth * np.maximum(rho - 1.0, 0.0)
+        return np.minimum(self.far_size, self.contact_size + self.growth * distance_outside)
+
+    def cache_key(self) -> str:
+        payload = json.dumps({"spec": asdict(self), "generator": GENERATOR_VERSION},
+                             sort_keys=True)
+        return hashlib.sha256(payload.encode()).hexdigest()[:16]
+
+    def describe(self) -> dict:
+        """A JSON-able description (for result stamps)."""
+        return {**asdict(self), "element": "P2 triangle (6-node, isoparametric)",
+                "key": self.cache_key()}
+
+
+@dataclass(frozen=True)
+class HemisphereMesh:
+    """A loaded hemisphere mesh: the scikit-fem mesh and its boundaries.
+
+    ``mesh`` is a ``skfem.MeshTri2`` (curved isoparametric 6-node triangles; x[0] = r, x[1] = z).
+    ``boundaries`` maps 'axis', 'top', 'surface' to facet indices of ``mesh``.
+    """
+
+    spec: HemisphereMeshSpec | None
+    path: Path | None
+    mesh: object
+    boundaries: dict = field(repr=False)
+    build_time_s: float = 0.0
+
+    @property
+    def radius(self) -> float:
+        return float(self.mesh.p[1].max())
+
+
+def _validated_cache_dir(cache_dir) -> Path:
+    return Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE_DIR
+
+
+def mesh_path(spec: HemisphereMeshSpec, cache_dir=None) -> Path:
+    """Where the .msh file of ``spec`` is cached."""
+    return _validated_cache_dir(cache_dir) / f"hemisphere-{spec.cache_key()}.msh"
+
+
+def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
+    """Mesh the hemisphere section with gmsh and write ``path`` (.msh 4.1), atomically."""
+    import gmsh
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    R = spec.radius
+    with _GMSH_LOCK:
+        gmsh.initialize(readConfigFiles=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.model.add("hemisphere")
+            geo = gmsh.model.geo
+            pole = geo.addPoint(0.0, 0.0, 0.0)
+            centre = geo.addPoint(0.0, R, 0.0)
+            equator = geo.addPoint(R, R, 0.0)
+            axis = geo.addLine(pole, centre)
+            top = geo.addLine(centre, equator)
+            surface = geo.addCircleArc(equator, centre, pole)
+            loop = geo.addCurveLoop([axis, top, surface])
+            body = geo.addPlaneSurface([loop])
+            geo.synchronize()
+            for name, dim, tags in (("axis", 1, [axis]), ("top", 1, [top]),
+                                    ("surface", 1, [surface]), ("body", 2, [body])):
+                gmsh.model.addPhysicalGroup(dim, tags, name=name)
+            # The size comes from the callback only (no size from points, boundary or curvature).
+            for option in ("Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature",
+                           "Mesh.MeshSizeExtendFromBoundary"):
+                gmsh.option.setNumber(option, 0)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", spec.contact_size)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", spec.far_size)
+            gmsh.model.mesh.setSizeCallback(
+                lambda dim, tag, x, y, z, lc: float(spec.size_at(x, y)))
+            gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
+            gmsh.option.setNumber("Mesh.ElementOrder", 2)
+            gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-side nodes on the circle
+            gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+            gmsh.model.mesh.generate(2)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".msh")
+            os.close(fd)
+            try:
+                gmsh.write(tmp)
+                os.replace(tmp, path)
+            except BaseException:
+                Path(tmp).unlink(missing_ok=True)
+                raise
+        finally:
+            gmsh.finalize()
+    return path
+
+
+def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
+             radius: float | None = None) -> HemisphereMesh:
+    """Read a hemisphere .msh into scikit-fem (MeshTri2) and identify its boundaries.
+
+    The radius comes from ``spec`` or ``radius``, else from the mesh (max z). Raises
+    FileNotFoundError for a missing file and ValueError for a file that is not a valid
+    hemisphere mesh.
+    """
+    import meshio
+    from skfem import MeshTri2
+
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"mesh file not found: {path}")
+    try:
+        raw = meshio.read(path, file_format="gmsh")
+        if "triangle6" not in raw.cells_dict:
+            raise ValueError("no 6-node triangles")
+        # Same node order as gmsh's 6-node triangle (vertices, then edges 01, 12, 20); MeshTri2
+        # moves the vertices first. Only the triangles are used: boundaries are found below.
+        mesh = MeshTri2(np.ascontiguousarray(raw.points[:, :2].T),
+                        np.ascontiguousarray(raw.cells_dict["triangle6"].T))
+    except Exception as exc:  # meshio raises many kinds of errors on a corrupt file
+        raise ValueError(f"mesh file {path} is not a readable quadratic triangle mesh: {exc}") from exc
+    if radius is None:
+        radius = spec.radius if spec is not None else float(mesh.p[1].max())
+    boundaries = identify_boundaries(mesh, radius)
+    return HemisphereMesh(spec=spec, path=path, mesh=mesh, boundaries=boundaries)
+
+
+def identify_boundaries(mesh, radius: float) -> dict:
+    """Facets of the axis (r = 0), the top face (z = R) and the curved surface (|x - c| = R).
+
+    Geometric and exact for this domain: a boundary facet's three nodes (two vertices and the
+    mid-side node) all lie on the line/circle of its boundary. Tolerance 1e-9 R (round-off of
+    the stored coordinates, far below any element size).
+    """
+    R = float(radius)
+    tol = 1e-9 * R
+    boundary = mesh.boundary_facets()
+    # all three nodes of each boundary facet: vertices from mesh.facets, mid-node from the dofs
+    nodes = np.vstack([mesh.facets[:, boundary],
+                       mesh.dofs.facet_dofs[0, boundary][None, :]])
+    r, z = mesh.doflocs[0][nodes], mesh.doflocs[1][nodes]
+    on_axis = np.all(np.abs(r) <= tol, axis=0)
+    on_top = np.all(np.abs(z - R) <= tol, axis=0)
+    on_circle = np.all(np.abs(np.hypot(r, z - R) - R) <= tol, axis=0) & ~on_top
+    found = {"axis": boundary[on_axis], "top": boundary[on_top], "surface": boundary[on_circle]}
+    unassigned = boundary.size - sum(v.size for v in found.values())
+    if unassigned or any(v.size == 0 for v in found.values()):
+        raise ValueError(f"mesh is not the hemisphere section of radius {R}: "
+                         f"{unassigned} boundary facets off the axis/top/surface, "
+                         f"counts {{{', '.join(f'{k}: {v.size}' for k, v in found.items())}}}")
+    return found
+
+
+def hemisphere_mesh(spec: HemisphereMeshSpec | None = None, cache_dir=None,
+                    rebuild: bool = False) -> HemisphereMesh:
+    """The mesh of ``spec`` (default: ``HemisphereMeshSpec()``), from the cache or freshly built.
+
+    A cached file that cannot be read (corrupt, truncated, wrong content) is rebuilt.
+    ``build_time_s`` of the result is the time spent meshing and loading [s].
+    """
+    import time
+
+    spec = spec if spec is not None else HemisphereMeshSpec()
+    t0 = time.perf_counter()
+    path = mesh_path(spec, cache_dir)
+    if path.is_file() and not rebuild:
+        try:
+            loaded = load_msh(path, spec)
+            return _with_time(loaded, time.perf_counter() - t0)
+        except ValueError:
+            pass  # corrupt cache entry: rebuild below
+    build_msh(spec, path)
+    return _with_time(load_msh(path, spec), time.perf_counter() - t0)
+
+
+def _with_time(loaded: HemisphereMesh, seconds: float) -> HemisphereMesh:
+    from dataclasses import replace
+
+    return replace(loaded, build_time_s=seconds)

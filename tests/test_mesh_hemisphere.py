@@ -1,0 +1,96 @@
+"""The hemisphere mesh: geometry, boundaries, refinement, cache (meshes.hemisphere)."""
+import numpy as np
+import pytest
+
+from meshes.hemisphere import (HemisphereMeshSpec, hemisphere_mesh, load_msh, mesh_path)
+
+COARSE = HemisphereMeshSpec(radius=0.1, contact_size=2e-4, refined_radius=2e-3,
+                            refined_depth=1e-3, far_size=2e-2, growth=0.3)
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    return tmp_path_factory.mktemp("meshes")
+
+
+@pytest.fixture(scope="module")
+def coarse(cache):
+    return hemisphere_mesh(COARSE, cache_dir=cache)
+
+
+@pytest.mark.parametrize("field, value", [("radius", -1.0), ("contact_size", 0.0),
+                                          ("refined_radius", 0.2), ("far_size", 1.0),
+                                          ("growth", 2.0), ("contact_size", float("nan"))])
+def test_spec_rejects_bad_values_naming_the_parameter(field, value):
+    with pytest.raises(ValueError, match=field):
+        HemisphereMeshSpec(**{field: value})
+
+
+def test_area_is_the_quarter_disc_and_elements_are_valid(coarse):
+    from skfem import Basis, ElementTriP2, Functional
+
+    basis = Basis(coarse.mesh, ElementTriP2())
+    area = Functional(lambda w: 1.0 + 0.0 * w.x[0]).assemble(basis)
+    R = COARSE.radius
+    assert area == pytest.approx(np.pi * R ** 2 / 4, rel=1e-5)  # quadratic arcs: O((far_size/R)^4), 1.4e-6 here
+    assert np.all(basis.mapping.detDF(basis.X) > 0)  # no inverted element
+    # the volume of the solid hemisphere 2/3 pi R^3 via the 2 pi r weight
+    volume = Functional(lambda w: 2 * np.pi * w.x[0]).assemble(basis)
+    assert volume == pytest.approx(2 / 3 * np.pi * R ** 3, rel=1e-5)
+
+
+def test_boundaries_match_gmsh_physical_groups(coarse):
+    import meshio
+
+    raw = meshio.read(coarse.path)
+    m = coarse.mesh
+    for name in ("axis", "top", "surface"):
+        lines = raw.cells_dict["line3"][raw.cell_sets_dict[name]["line3"]]
+        facets = coarse.boundaries[name]
+        assert facets.size == lines.shape[0]
+        # same end points (as coordinate pairs, order-free)
+        ours = np.sort(np.round(m.p[:, m.facets[:, facets]].T.reshape(-1, 4), 12), axis=0)
+        theirs = raw.points[lines[:, :2]][:, :, :2].reshape(-1, 4)
+        key = lambda a: np.sort(np.sort(a.reshape(-1, 2, 2), axis=1).reshape(-1, 4), axis=0)
+        np.testing.assert_allclose(key(ours), key(np.round(theirs, 12)), atol=1e-12)
+
+
+def test_skfem_meshio_import_drops_quadratic_line_groups(coarse):
+    """Why we identify boundaries geometrically: skfem maps only 'line' (not 'line3') facets."""
+    from skfem import MeshTri2
+
+    m = MeshTri2.load(coarse.path)
+    groups = m.boundaries or {}
+    assert not {"axis", "top", "surface"} <= set(groups)  # if this fails, skfem learnt line3
+
+
+def test_contact_zone_is_uniformly_fine_and_far_field_coarse(coarse):
+    m = coarse.mesh
+    facets = coarse.boundaries["surface"]
+    ends = m.p[:, m.facets[:, facets]]  # (2, 2, n)
+    length = np.hypot(*(ends[:, 1] - ends[:, 0]))
+    r_mid = ends[0].mean(axis=0)
+    fine = r_mid < COARSE.refined_radius
+    h = COARSE.contact_size
+    assert fine.sum() >= COARSE.refined_radius / h * 0.8
+    assert 0.5 * h < length[fine].min() and length[fine].max() < 1.5 * h
+    assert length.max() > 0.5 * COARSE.far_size
+
+
+def test_cache_reuses_rebuilds_corrupt_and_reports_missing(cache, coarse):
+    path = mesh_path(COARSE, cache)
+    assert path == coarse.path and path.is_file()
+    mtime = path.stat().st_mtime_ns
+    again = hemisphere_mesh(COARSE, cache_dir=cache)
+    assert path.stat().st_mtime_ns == mtime  # reused, not rebuilt
+    assert again.mesh.t.shape == coarse.mesh.t.shape
+    path.write_text("$MeshFormat\ngarbage\n")
+    rebuilt = hemisphere_mesh(COARSE, cache_dir=cache)
+    np.testing.assert_allclose(rebuilt.mesh.p, coarse.mesh.p)
+    with pytest.raises(FileNotFoundError, match="not found"):
+        load_msh(cache / "does-not-exist.msh")
+
+
+def test_different_specs_get_different_cache_keys():
+    assert COARSE.cache_key() != HemisphereMeshSpec().cache_key()
+    assert COARSE.cache_key() == HemisphereMeshSpec(**COARSE.__dict__).cache_key()
