@@ -202,8 +202,12 @@ def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
             raise ValueError("no 6-node triangles")
         # Same node order as gmsh's 6-node triangle (vertices, then edges 01, 12, 20); MeshTri2
         # moves the vertices first. Only the triangles are used: boundaries are found below.
-        mesh = MeshTri2(np.ascontiguousarray(raw.points[:, :2].T),
-                        np.ascontiguousarray(raw.cells_dict["triangle6"].T))
+        points, cells = raw.points[:, :2], raw.cells_dict["triangle6"]
+        # counter-clockwise vertices (positive Jacobian): swap vertices 1, 2 and edges 01, 20
+        v0, v1, v2 = (points[cells[:, k]] for k in range(3))
+        clockwise = np.cross(v1 - v0, v2 - v0) < 0
+        cells = np.where(clockwise[:, None], cells[:, [0, 2, 1, 5, 4, 3]], cells)
+        mesh = MeshTri2(np.ascontiguousarray(points.T), np.ascontiguousarray(cells.T))
     except Exception as exc:  # meshio raises many kinds of errors on a corrupt file
         raise ValueError(f"mesh file {path} is not a readable quadratic triangle mesh: {exc}") from exc
     if radius is None:
