@@ -205,7 +205,8 @@ def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
         points, cells = raw.points[:, :2], raw.cells_dict["triangle6"]
         # counter-clockwise vertices (positive Jacobian): swap vertices 1, 2 and edges 01, 20
         v0, v1, v2 = (points[cells[:, k]] for k in range(3))
-        clockwise = np.cross(v1 - v0, v2 - v0) < 0
+        e1, e2 = v1 - v0, v2 - v0
+        clockwise = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] < 0
         cells = np.where(clockwise[:, None], cells[:, [0, 2, 1, 5, 4, 3]], cells)
         mesh = MeshTri2(np.ascontiguousarray(points.T), np.ascontiguousarray(cells.T))
     except Exception as exc:  # meshio raises many kinds of errors on a corrupt file
