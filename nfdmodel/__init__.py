@@ -1,1 +1,27 @@
-"""Runtime elastoplastic normal contact laws for DEM (Vu-Quoc & Zhang 1999). numpy/scipy only."""
+"""Runtime elastoplastic normal contact laws for DEM (Vu-Quoc & Zhang 1999). numpy/scipy only.
+
+    from nfdmodel import (Material, ContactPair, yield_factor, VZParams, get_law, LAWS,
+                          load_parameters, collide)
+
+Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_state)``
+(:mod:`nfdmodel.laws`); :func:`collide` simulates sphere-on-flat impacts
+(:mod:`nfdmodel.collision`); SI units throughout.
+"""
+from .collision import (CollisionHistory, CollisionReference, CollisionResult, collide,
+                        collision_reference)
+from .laws import (LAWS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState,
+                   ThorntonState, TurningPointHistory, VZParams, VZState, WaltonBraunParams,
+                   WaltonBraunState, get_law, hertz_force, thornton_force, vz_force,
+                   vz_force_with_iterations, vz_newton_iterations, vz_plastic_force,
+                   walton_braun_force)
+from .materials import ContactPair, Material, yield_factor
+from .params import load_parameters, parameter_record
+
+__all__ = [
+    "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",
+    "ContactLaw", "ContactDetails", "HertzState", "TurningPointHistory", "VZState", "ThorntonState",
+    "WaltonBraunState", "hertz_force", "vz_force", "vz_force_with_iterations", "vz_newton_iterations",
+    "vz_plastic_force", "thornton_force", "walton_braun_force", "NEWTON_TOLERANCE",
+    "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
+    "CollisionReference", "CollisionHistory",
+]

@@ -1,0 +1,752 @@
+"""Normal contact force laws, displacement-driven and vectorised over contacts.
+
+Each law is one pure function ``(delta, state, params) -> (P, new_state)``:
+
+* ``delta``  total approach ("overlap") of each contact [m], shape (n,), any float dtype;
+* ``state``  the named per-contact history (a frozen dataclass of float64 arrays of shape (n,));
+  it is never modified: the function returns the trial state, which the caller commits;
+* ``P``      normal force [N], float64, >= 0, shape of ``delta``.
+
+Laws (chosen by name with :func:`get_law`):
+
+``hertz``         Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) delta^(3/2); elastic.
+``vz``            Vu-Quoc & Zhang (1999) elastoplastic NFD model, SPEC section 3.
+``thornton``      Thornton (1997): Hertz to yield, then linear; Hertzian unloading with an
+                  enlarged curvature radius, SPEC section 5.
+``walton-braun``  Walton & Braun (1986): P = K1 delta loading, P = K2 (delta - delta_res)
+                  unloading, e = sqrt(K1/K2), SPEC section 5.
+
+The three elastoplastic laws share one history (:class:`TurningPointHistory`): the turning point
+(delta_max, P_max), the approach delta_res at which the unloading curve through it reaches P = 0,
+and that curve's constant K_u. Unloading AND reloading below delta_max follow
+
+    P = K_u <delta - delta_res>^n
+
+with n = 3/2 (vz, thornton: Hertzian unloading) or n = 1 (walton-braun); K_u and delta_res are
+fixed when the turning point moves so that the curve passes through (delta_max, P_max): the force
+is continuous at every turning point, reloading retraces unloading, and a constant delta gives
+a constant force. For vz this is the paper's eq. 3.22, K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*).
+Beyond delta_max the contact loads on the virgin curve and the turning point moves.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from functools import cached_property
+from typing import Callable
+
+import numpy as np
+
+from .materials import REFERENCE_CA, REFERENCE_KC, ContactPair, check_real
+
+NEWTON_TOLERANCE = 1e-10        # relative tolerance on P of the vz plastic-loading solve
+NEWTON_MAX_ITERATIONS = 200     # never reached: the bracket halves at worst every other step
+_TINY = 1e-300
+_GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
+
+
+# ----------------------------------------------------------------------------------- parameters
+def _as_pair(params, law: str) -> ContactPair:
+    if isinstance(params, ContactPair):
+        return params
+    pair = getattr(params, "pair", None)
+    if isinstance(pair, ContactPair):
+        return pair
+    raise ValueError(f"params for law '{law}' must be a ContactPair or carry one as .pair, "
+                     f"got {type(params).__name__}")
+
+
+@dataclass(frozen=True)
+class VZParams:
+    """Parameters of the Vu-Quoc & Zhang (1999) NFD model.
+
+    pair: the contact (R*, E*, yield point); Ca [m/N] > 0: plastic contact-radius rate,
+    a_p = Ca <P - P_Y> (paper eq. 2.5); Kc [1/N] >= 0: curvature-factor rate,
+    C_R = 1 + Kc <P - P_Y> (paper eq. 3.6).
+
+    Validation also requires the loading curve delta(P) = a_ep^2 / (C_R R*) to increase with P
+    (checked for P_Y <= P <= 1e8 P_Y); otherwise the displacement-driven force is not unique.
+    Dimensionless forms (SPEC section 7): Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y.
+    """
+
+    pair: ContactPair
+    Ca: float
+    Kc: float
+
+    def __post_init__(self):
+        if not isinstance(self.pair, ContactPair):
+            raise ValueError(f"pair must be a ContactPair, got {type(self.pair).__name__}")
+        object.__setattr__(self, "Ca", check_real("Ca", self.Ca, low=0.0, unit="m/N"))
+        object.__setattr__(self, "Kc", check_real("Kc", self.Kc, low=0.0, low_inclusive=True, unit="1/N"))
+        self._check_monotone_loading()
+
+    @classmethod
+    def from_dimensionless(cls, pair: ContactPair, Ca_hat: float, Kc_hat: float) -> "VZParams":
+        """Ca = Ca_hat a_Y / P_Y [m/N], Kc = Kc_hat / P_Y [1/N] (SPEC section 7)."""
+        Ca_hat = check_real("Ca_hat", Ca_hat, low=0.0)
+        Kc_hat = check_real("Kc_hat", Kc_hat, low=0.0, low_inclusive=True)
+        return cls(pair, Ca_hat * pair.a_Y / pair.P_Y, Kc_hat / pair.P_Y)
+
+    @classmethod
+    def reference(cls) -> "VZParams":
+        """The paper's reference case with its Abaqus calibration Ca = 2.33e-7 m/N, Kc = 2.69e-4 1/N."""
+        return cls(ContactPair.reference(), REFERENCE_CA, REFERENCE_KC)
+
+    @property
+    def Ca_hat(self) -> float:
+        """Ca P_Y / a_Y [-]."""
+        return self.Ca * self.pair.P_Y / self.pair.a_Y
+
+    @property
+    def Kc_hat(self) -> float:
+        """Kc P_Y [-]."""
+        return self.Kc * self.pair.P_Y
+
+    @cached_property
+    def c1(self) -> float:
+        """c1 = (3 R* / (4 E*))^(1/3) / Ca [N^(2/3)] in F(P) (SPEC section 3)."""
+        return (3.0 * self.pair.R_star / (4.0 * self.pair.E_star)) ** (1.0 / 3.0) / self.Ca
+
+    def curvature_factor(self, force):
+        """C_R = 1 + Kc <P - P_Y> [-] (paper eq. 3.6)."""
+        return 1.0 + self.Kc * np.maximum(np.asarray(force, dtype=float) - self.pair.P_Y, 0.0)
+
+    def plastic_radius(self, force):
+        """a_p = Ca <P - P_Y> [m] (paper eq. 2.5)."""
+        return self.Ca * np.maximum(np.asarray(force, dtype=float) - self.pair.P_Y, 0.0)
+
+    def loading_approach(self, force):
+        """Approach on the virgin loading curve at force P [N]: explicit in P [m].
+
+        delta = (a_e + a_p)^2 / (C_R R*), a_e = (3 P R*/(4 E*))^(1/3) (paper eqs. 3.4, 3.5);
+        Hertz's delta = a_e^2 / R* below P_Y.
+        """
+        force = np.asarray(force, dtype=float)
+        a_ep = self.pair.hertz_radius(force) + self.plastic_radius(force)
+        return a_ep**2 / (self.curvature_factor(force) * self.pair.R_star)
+
+    def _check_monotone_loading(self) -> None:
+        # d delta/dP > 0  <=>  2 a_ep' C_R - Kc a_ep > 0; dimensionless with p = P / P_Y:
+        # (2/3) p^(-2/3) + 2 Ca_hat + Kc_hat Ca_hat (p - 1) - Kc_hat p^(1/3) (p + 2) / (3 p)
+        p = np.geomspace(1.0, 1e8, 2000)
+        Ca_hat, Kc_hat = self.Ca_hat, self.Kc_hat
+        slope = (2.0 / 3.0 * p ** (-2.0 / 3.0) + 2.0 * Ca_hat + Kc_hat * Ca_hat * (p - 1.0)
+                 - Kc_hat * np.cbrt(p) * (p + 2.0) / (3.0 * p))
+        if np.any(slope <= 0.0):
+            worst = float(p[np.argmin(slope)])
+            raise ValueError(
+                f"Kc out of range for this Ca: the vz loading curve delta(P) stops increasing near "
+                f"P/P_Y = {worst:.3g} (Kc_hat = Kc P_Y = {Kc_hat:.3g}, Ca_hat = Ca P_Y/a_Y = "
+                f"{Ca_hat:.3g}); need Kc_hat < 2/3 + 2 Ca_hat at least, and a monotone curve")
+
+
+@dataclass(frozen=True)
+class WaltonBraunParams:
+    """Walton & Braun (1986) stiffnesses: K1 [N/m] > 0 loading, K2 [N/m] >= K1 unloading.
+
+    e = sqrt(K1/K2) in a collision. Defaults from a pair (:meth:`from_vz`): secants of the vz
+    loading and unloading curves through a reference turning point.
+    """
+
+    pair: ContactPair
+    K1: float
+    K2: float
+
+    def __post_init__(self):
+        if not isinstance(self.pair, ContactPair):
+            raise ValueError(f"pair must be a ContactPair, got {type(self.pair).__name__}")
+        object.__setattr__(self, "K1", check_real("K1", self.K1, low=0.0, unit="N/m"))
+        object.__setattr__(self, "K2", check_real("K2", self.K2, low=self.K1, low_inclusive=True,
+                                                  unit="N/m (K2 >= K1, otherwise energy is created)"))
+
+    @classmethod
+    def from_vz(cls, vz_params: "VZParams", P_ref: float | None = None) -> "WaltonBraunParams":
+        """Secant stiffnesses of the vz model through the turning point at P_ref [N].
+
+        K1 = P_ref / delta_max (loading secant), K2 = P_ref / (delta_max - delta_res) (unloading
+        secant), so that e = sqrt(K1/K2) equals the vz energy ratio of a triangle-shaped cycle.
+        P_ref defaults to 40 P_Y (the paper's AFG load path: 1500 N ~ 41 P_Y).
+        """
+        pair = vz_params.pair
+        P_ref = 40.0 * pair.P_Y if P_ref is None else check_real("P_ref", P_ref, low=pair.P_Y, unit="N")
+        delta_max = float(vz_params.loading_approach(P_ref))
+        delta_res = _vz_residual_approach(delta_max, np.asarray(P_ref), vz_params)
+        return cls(pair, P_ref / delta_max, P_ref / (delta_max - float(delta_res)))
+
+    @classmethod
+    def from_pair(cls, pair: ContactPair) -> "WaltonBraunParams":
+        """Defaults for a bare pair: :meth:`from_vz` with the paper's dimensionless Ca_hat, Kc_hat."""
+        reference = VZParams.reference()
+        return cls.from_vz(VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat))
+
+
+# ---------------------------------------------------------------------------------- histories
+@dataclass(frozen=True)
+class HertzState:
+    """Hertz contact has no history; ``n`` is the number of contacts."""
+
+    n: int
+
+
+@dataclass(frozen=True)
+class TurningPointHistory:
+    """Per-contact history of an elastoplastic law [SI].
+
+    delta_max [m]: largest approach so far (turning point); P_max [N]: force there;
+    delta_res [m]: approach at which the unloading curve through (delta_max, P_max) reaches 0
+    (residual indentation; 0 while the contact never yielded); unloading_stiffness: the constant
+    K_u of that curve, P = K_u <delta - delta_res>^n (vz: K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*),
+    paper eq. 3.22, [N/m^1.5]; thornton: (4/3) E* sqrt(R_p*); walton-braun: K2 [N/m]).
+    """
+
+    delta_max: np.ndarray
+    P_max: np.ndarray
+    delta_res: np.ndarray
+    unloading_stiffness: np.ndarray
+
+    @classmethod
+    def virgin(cls, n: int):
+        n = int(check_real("n", n, low=0, low_inclusive=True))
+        return cls(**{f.name: np.zeros(n) for f in fields(cls)})
+
+    @property
+    def n(self) -> int:
+        return self.delta_max.shape[0]
+
+    def updated(self, index, **values):
+        """A new history with the contacts ``index`` moved to a new turning point (no mutation);
+        ``values`` gives the new value of every field for those contacts."""
+        out = {}
+        for f in fields(self):
+            array = getattr(self, f.name).copy()
+            array[index] = values[f.name]
+            out[f.name] = array
+        return type(self)(**out)
+
+
+@dataclass(frozen=True)
+class VZState(TurningPointHistory):
+    """History of the vz law; adds a_e_max [m], the elastic contact radius at the turning point,
+    a_e,max = (3 P_max R*/(4 E*))^(1/3) (paper eq. 3.19), which also starts the next Newton solve.
+    C_Rmax = 1 + Kc<P_max - P_Y> and a_p,max = Ca<P_max - P_Y> are functions of P_max and are
+    derived on request (:meth:`ContactLaw.contact_state`)."""
+
+    a_e_max: np.ndarray
+
+
+class ThorntonState(TurningPointHistory):
+    """History of the Thornton law (delta_res is Thornton's delta_p)."""
+
+
+class WaltonBraunState(TurningPointHistory):
+    """History of the Walton-Braun law (delta_res = delta_max - P_max / K2)."""
+
+
+# ---------------------------------------------------------------------------------- validation
+def _check_delta(delta, n_expected: int | None):
+    delta = np.asarray(delta)
+    if delta.dtype.kind not in "fiu":
+        raise ValueError(f"delta must be a real array of approaches [m], got dtype {delta.dtype}")
+    shape = delta.shape
+    delta = np.ascontiguousarray(delta, dtype=np.float64).reshape(-1)
+    # One cheap reduction first; the elementwise check only when something is off.
+    if not math.isfinite(float(np.add.reduce(delta))) and not np.isfinite(delta).all():
+        raise ValueError("delta must be finite (no NaN or inf) approaches [m]")
+    if n_expected is not None and delta.shape[0] != n_expected:
+        raise ValueError(f"delta has {delta.shape[0]} contacts but the state holds {n_expected}")
+    return delta, shape
+
+
+def _check_state(state, cls, law):
+    if not isinstance(state, cls):
+        raise ValueError(f"state for law '{law}' must be a {cls.__name__} "
+                         f"(use get_law('{law}').initial_state(n)), got {type(state).__name__}")
+    return state
+
+
+# ------------------------------------------------------------------------------- shared kernels
+def _turning_point_force(delta, state, loading_branch, three_halves: bool):
+    """Force and trial history of a turning-point law (module doc).
+
+    Unloading/reloading for all contacts: P = K_u <delta - delta_res>^n; then, for the contacts
+    with delta > delta_max, ``loading_branch(delta, state, index) -> (new field values, iterations)``
+    on the virgin curve, which moves their turning point (P_max is the new force).
+    """
+    gap = np.subtract(delta, state.delta_res)
+    np.maximum(gap, 0.0, out=gap)
+    if three_halves:
+        force = np.sqrt(gap)
+        force *= gap
+    else:
+        force = gap
+    force *= state.unloading_stiffness
+    loading = np.flatnonzero(delta > state.delta_max)
+    if loading.size == 0:
+        return force, state, 0
+    delta_loading = delta[loading]
+    new_values, iterations = loading_branch(delta_loading, state, loading)
+    force[loading] = new_values["P_max"]
+    return force, state.updated(loading, delta_max=delta_loading, **new_values), iterations
+
+
+def _restore_shape(force, shape):
+    return force.reshape(shape) if shape != force.shape else force
+
+
+# ---------------------------------------------------------------------------------------- hertz
+def hertz_force(delta, state: HertzState, params):
+    """Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) <delta>^(3/2) [N]; no history.
+
+    params: a ContactPair (or anything with .pair).
+    """
+    pair = _as_pair(params, "hertz")
+    _check_state(state, HertzState, "hertz")
+    delta, shape = _check_delta(delta, state.n)
+    return _restore_shape(_hertz_kernel(delta, pair), shape), state
+
+
+def _hertz_kernel(delta, pair):
+    d = np.maximum(delta, 0.0)
+    force = np.sqrt(d)
+    force *= d
+    force *= pair.hertz_stiffness
+    return force
+
+
+# ------------------------------------------------------------------------------------------- vz
+def _vz_residual_approach(delta_max, P_max, params: VZParams):
+    """delta_res = delta_max - a_e,max^2 / (C_Rmax R*) [m] (paper eqs. 3.19-3.21), >= 0."""
+    a_e = params.pair.hertz_radius(P_max)
+    elastic_recovery = a_e**2 / (params.curvature_factor(P_max) * params.pair.R_star)
+    return np.maximum(delta_max - elastic_recovery, 0.0)
+
+
+def _vz_turning_point(delta_max, P_max, cube_root, params: VZParams):
+    """delta_res [m] and K_u [N/m^1.5] of a new plastic turning point (paper eqs. 3.19-3.22);
+    cube_root = P_max^(1/3) gives a_e,max = (3 R*/(4 E*))^(1/3) P_max^(1/3) without a cube root."""
+    pair = params.pair
+    curvature = P_max - pair.P_Y
+    curvature *= params.Kc
+    curvature += 1.0
+    a_e = cube_root * (params.c1 * params.Ca)
+    recovery = a_e * a_e
+    recovery /= curvature * pair.R_star
+    delta_res = np.subtract(delta_max, recovery)
+    np.maximum(delta_res, 0.0, out=delta_res)
+    stiffness = np.sqrt(curvature)
+    stiffness *= curvature
+    stiffness *= pair.hertz_stiffness
+    return delta_res, stiffness
+
+
+def _vz_residual(u, b, params: VZParams):
+    """F and dF/du at P = u^3 (u = P^(1/3) [N^(1/3)]); F is SPEC section 3's corrected F(P):
+
+        F    = (P - P_Y) + c1 u - b sqrt(1 + Kc (P - P_Y)),       b = sqrt(R* delta)/Ca
+        dF/du = 3 u^2 F'(P) = 3 u^2 (1 - Kc b / (2 sqrt(C_R))) + c1
+    """
+    P_Y, Kc, c1 = params.pair.P_Y, params.Kc, params.c1
+    u_sq = u * u
+    P = u_sq * u
+    sqrt_curvature = P * Kc
+    sqrt_curvature += 1.0 - Kc * P_Y
+    np.sqrt(sqrt_curvature, out=sqrt_curvature)
+    F = P - P_Y
+    F += c1 * u
+    F -= b * sqrt_curvature
+    slope = b / sqrt_curvature
+    slope *= -0.5 * Kc
+    slope += 1.0
+    slope *= 3.0 * u_sq
+    slope += c1
+    return F, slope
+
+
+def vz_plastic_force(delta, P_start, params: VZParams, tolerance: float = NEWTON_TOLERANCE):
+    """Force on the plastic loading branch (see :func:`_vz_plastic_solve`): (P [N], iterations)."""
+    delta = np.asarray(delta, dtype=float)
+    P_start = np.broadcast_to(np.asarray(P_start, dtype=float), delta.shape)
+    force, _, iterations = _vz_plastic_solve(delta, P_start, params, tolerance)
+    return force, iterations
+
+
+def _vz_plastic_solve(delta, P_start, params: VZParams, tolerance: float = NEWTON_TOLERANCE,
+                      start_is_cube_root: bool = False):
+    """Force on the plastic loading branch, delta > delta_Y [m]: the root P [N] of
+
+        F(P)  = (P - P_Y) + c1 P^(1/3) - sqrt((1 + Kc (P - P_Y)) R* delta) / Ca = 0
+        F'(P) = 1 + c1 P^(-2/3) / 3 - Kc sqrt(R* delta) / (2 Ca sqrt(1 + Kc (P - P_Y)))
+
+    (Vu-Quoc & Zhang 1999 eq. 3.14 with the dimensional misprint fixed, SPEC section 3;
+    c1 = (3 R*/(4 E*))^(1/3) / Ca). Newton runs on u = P^(1/3) (dF/du = 3 u^2 F'(P); same root,
+    no cube root per iteration), vectorised, with P_start (the force at a smaller approach, e.g.
+    the previous P_max) as start and lower bracket, P_lo = max(P_start, P_Y), F(P_lo) <= 0.
+
+    1. Fast path: two Newton steps s1, s2 for all contacts. Accepted when F' > 0 at both
+       iterates, |s2| <= 0.01 |s1| (quadratic regime) and the a-posteriori error of the result,
+       10 |s2|^3 / s1^2, is below the tolerance, and P >= P_lo. (DEM steps: almost all.)
+    2. The others: safeguarded Newton on the bracket [P_lo, P_hi], P_hi = P_Y + x_hi with
+       Ca^2 x_hi^2 = R* delta (1 + Kc x_hi) (a_ep >= Ca x bounds delta(P) from below, so
+       F(P_hi) >= 0). A Newton step that leaves the bracket, goes uphill or does not halve the
+       previous step is replaced by bisection (geometric while P_hi/P_lo > 2); stop when the
+       step or the bracket is below the tolerance. Only unconverged contacts are iterated.
+
+    Relative tolerance ``tolerance`` on P (1e-10). Returns (P [N], u = P^(1/3), Newton iterations
+    per contact).
+    """
+    pair = params.pair
+    P_Y, Ca, Kc = pair.P_Y, params.Ca, params.Kc
+    tol_u = tolerance / 3.0                                 # dP/P = 3 du/u
+    R_delta = pair.R_star * delta
+    b = np.sqrt(R_delta) / Ca
+    # start_is_cube_root: P_start holds P^(1/3) already (from the history; a cube root costs
+    # ten square roots).
+    u_lo = np.maximum(P_start, P_Y ** (1.0 / 3.0)) if start_is_cube_root else np.cbrt(np.maximum(P_start, P_Y))
+    u_min = u_lo * (1.0 - 1e-15)
+    # Fast path.
+    F, slope = _vz_residual(u_lo, b, params)
+    step_1 = F / slope
+    u = u_lo - step_1
+    np.maximum(u, u_min, out=u)
+    ok = slope > 0.0
+    F, slope = _vz_residual(u, b, params)
+    step_2 = F / slope
+    u -= step_2
+    ok &= slope > 0.0
+    abs_1, abs_2 = np.abs(step_1), np.abs(step_2)
+    # quadratic regime with a small a-posteriori error, or a step already below round-off level
+    ok &= ((abs_2 <= 0.01 * abs_1) & (10.0 * abs_2 * abs_2 * abs_2 <= tol_u * u * abs_1 * abs_1)) | (abs_2 <= 0.01 * tol_u * u)
+    ok &= u >= u_min
+    iterations = np.full(delta.shape[0], 2, dtype=np.int64)
+    if ok.all():
+        return u * u * u, u, iterations
+    # Safe path on the remaining contacts.
+    rest = np.flatnonzero(~ok)
+    b_r = b[rest]
+    lo = u_lo[rest]
+    R_delta_r = R_delta[rest]
+    x_hi = (R_delta_r * Kc + np.sqrt((R_delta_r * Kc) ** 2 + 4.0 * Ca**2 * R_delta_r)) / (2.0 * Ca**2)
+    hi = np.maximum(np.cbrt((P_Y + x_hi) * (1.0 + 1e-12)), lo)
+    u_fast = u[rest]
+    inside = (u_fast > lo) & (u_fast < hi)             # NaN-safe: restart from P_lo otherwise
+    u_r = np.where(inside, u_fast, lo)
+    previous_step = hi - lo
+    count = np.zeros(rest.size, dtype=np.int64)
+    active = np.arange(rest.size)
+    for _ in range(NEWTON_MAX_ITERATIONS):
+        ua, la, ha = u_r[active], lo[active], hi[active]
+        F, slope = _vz_residual(ua, b_r[active], params)
+        below = F < 0.0
+        la = np.where(below, ua, la)
+        ha = np.where(below, ha, ua)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            step = F / slope
+        u_new = ua - step
+        newton_ok = ((u_new > la) & (u_new < ha) & (slope > 0.0)
+                     & (np.abs(step) <= 0.5 * previous_step[active]))
+        bisection = np.where(ha > 1.26 * la, np.sqrt(la * ha), 0.5 * (la + ha))   # 1.26^3 ~ 2
+        # A Newton step below the tolerance ends the solve even if it rounds onto the bracket end.
+        tiny_step = (slope > 0.0) & (np.abs(step) <= tol_u * ua)
+        u_new = np.where(newton_ok, u_new, bisection)
+        u_new = np.where(tiny_step, np.clip(ua - step, la, ha), u_new)
+        u_new = np.where(F == 0.0, ua, u_new)
+        taken = np.abs(u_new - ua)
+        converged = (F == 0.0) | tiny_step | ((ha - la) <= tol_u * la) | (newton_ok & (taken <= tol_u * u_new))
+        u_r[active], lo[active], hi[active] = u_new, la, ha
+        previous_step[active] = taken
+        count[active] += 1
+        active = active[~converged]
+        if active.size == 0:
+            break
+    u[rest] = u_r
+    iterations[rest] += count
+    return u * u * u, u, iterations
+
+
+def _vz_loading_branch(params: VZParams):
+    pair = params.pair
+    radius_per_cube_root = params.c1 * params.Ca        # a_e = (3 R*/(4 E*))^(1/3) P^(1/3)
+
+    def branch(delta, state, index):
+        plastic_mask = delta > pair.delta_Y
+        all_plastic = bool(plastic_mask.all())
+        if all_plastic:
+            out = {name: np.empty_like(delta) for name in ("P_max", "delta_res", "unloading_stiffness",
+                                                           "a_e_max")}
+            plastic, delta_plastic, start_index = slice(None), delta, index
+        else:                                   # Hertz below yield: delta_res = 0, K_u = k_H, a = sqrt(R delta)
+            out = {"P_max": _hertz_kernel(delta, pair), "delta_res": np.zeros_like(delta),
+                   "unloading_stiffness": np.full_like(delta, pair.hertz_stiffness),
+                   "a_e_max": np.sqrt(pair.R_star * np.maximum(delta, 0.0))}
+            plastic = np.flatnonzero(plastic_mask)
+            if plastic.size == 0:
+                return out, 0
+            delta_plastic, start_index = delta[plastic], index[plastic]
+        start = state.a_e_max[start_index] / radius_per_cube_root
+        P, cube_root, iterations = _vz_plastic_solve(delta_plastic, start, params, start_is_cube_root=True)
+        out["P_max"][plastic] = P
+        out["a_e_max"][plastic] = cube_root * radius_per_cube_root
+        out["delta_res"][plastic], out["unloading_stiffness"][plastic] = _vz_turning_point(
+            delta_plastic, P, cube_root, params)
+        return out, int(iterations.max())
+
+    return branch
+
+
+def vz_force_with_iterations(delta, state: VZState, params: VZParams):
+    """:func:`vz_force` that also returns the largest number of Newton iterations of the step."""
+    if not isinstance(params, VZParams):
+        raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
+    _check_state(state, VZState, "vz")
+    delta, shape = _check_delta(delta, state.n)
+    force, new_state, iterations = _turning_point_force(delta, state, _vz_loading_branch(params), True)
+    return _restore_shape(force, shape), new_state, iterations
+
+
+def vz_force(delta, state: VZState, params: VZParams):
+    """Vu-Quoc & Zhang (1999) displacement-driven NFD force P(delta, history) [N].
+
+    Loading beyond the turning point (delta > delta_max): Hertz for delta <= delta_Y, else the
+    root of the corrected F(P) (:func:`vz_plastic_force`, paper eqs. 3.4-3.14). Unloading and
+    reloading below delta_max (paper eqs. 3.19-3.22): a_p and C_R frozen at P_max,
+    P = (4/3) E* C_Rmax^(3/2) sqrt(R*) <delta - delta_res>^(3/2), which retraces back to
+    (delta_max, P_max) and then continues plastically; separation (P = 0) for delta <= delta_res,
+    re-contact above it. Any (R*, E*).
+    """
+    force, new_state, _ = vz_force_with_iterations(delta, state, params)
+    return force, new_state
+
+
+def vz_newton_iterations(delta, state: VZState, params: VZParams) -> np.ndarray:
+    """Newton iterations per contact for one vz step (0 where no Newton solve is needed)."""
+    delta, _ = _check_delta(delta, state.n)
+    counts = np.zeros(delta.shape[0], dtype=np.int64)
+    plastic = np.flatnonzero((delta > state.delta_max) & (delta > params.pair.delta_Y))
+    if plastic.size:
+        start = state.a_e_max[plastic] / (params.c1 * params.Ca)
+        _, _, counts[plastic] = _vz_plastic_solve(delta[plastic], start, params, start_is_cube_root=True)
+    return counts
+
+
+# ------------------------------------------------------------------------------------- thornton
+def _thornton_unloading(P_max, delta_max, pair: ContactPair):
+    """Thornton (1997) unloading from (P*, delta*) [SI]: a*^2 = (2 P* + P_Y)/(2 pi p_Y),
+    R_p* = 4 E* a*^3 / (3 P*), delta_p = delta* - a*^2 / R_p*; returns (delta_p, (4/3) E* sqrt(R_p*))."""
+    a_sq = (2.0 * P_max + pair.P_Y) / (2.0 * math.pi * pair.p_Y)
+    R_p = 4.0 * pair.E_star * a_sq * np.sqrt(a_sq) / (3.0 * P_max)
+    return np.maximum(delta_max - a_sq / R_p, 0.0), 4.0 / 3.0 * pair.E_star * np.sqrt(R_p)
+
+
+def _thornton_loading_branch(pair: ContactPair):
+    def branch(delta, _state, _index):
+        plastic = delta > pair.delta_Y
+        force = np.where(plastic, pair.P_Y + math.pi * pair.p_Y * pair.R_star * (delta - pair.delta_Y),
+                         _hertz_kernel(delta, pair))
+        delta_p, stiffness = _thornton_unloading(np.maximum(force, _TINY), delta, pair)
+        return {"P_max": force, "delta_res": np.where(plastic, delta_p, 0.0),
+                "unloading_stiffness": np.where(plastic, stiffness, pair.hertz_stiffness)}, 0
+
+    return branch
+
+
+def thornton_force(delta, state: ThorntonState, params):
+    """Thornton (1997) force [N]: Hertz up to delta_Y, then P = P_Y + pi p_Y R* (delta - delta_Y)
+    (p_Y = A_Y sigma_Y); unloading from (P*, delta*) Hertzian with the enlarged radius R_p*:
+    P = (4/3) E* sqrt(R_p*) (delta - delta_p)^(3/2) (SPEC section 5). params: a ContactPair."""
+    pair = _as_pair(params, "thornton")
+    _check_state(state, ThorntonState, "thornton")
+    delta, shape = _check_delta(delta, state.n)
+    force, new_state, _ = _turning_point_force(delta, state, _thornton_loading_branch(pair), True)
+    return _restore_shape(force, shape), new_state
+
+
+# --------------------------------------------------------------------------------- walton-braun
+def _walton_braun_params(params) -> WaltonBraunParams:
+    if isinstance(params, WaltonBraunParams):
+        return params
+    if isinstance(params, VZParams):
+        return WaltonBraunParams.from_vz(params)
+    return WaltonBraunParams.from_pair(_as_pair(params, "walton-braun"))
+
+
+def _walton_braun_loading_branch(params: WaltonBraunParams):
+    def branch(delta, _state, _index):
+        force = params.K1 * delta
+        return {"P_max": force, "delta_res": delta - force / params.K2,
+                "unloading_stiffness": np.full_like(delta, params.K2)}, 0
+
+    return branch
+
+
+def walton_braun_force(delta, state: WaltonBraunState, params):
+    """Walton & Braun (1986) force [N]: P = K1 delta on loading, P = K2 <delta - delta_res> on
+    unloading/reloading with delta_res = delta_max - P_max/K2 (SPEC section 5).
+
+    params: WaltonBraunParams; a VZParams or ContactPair gives the documented defaults
+    (:meth:`WaltonBraunParams.from_vz`, secants through the turning point at 40 P_Y).
+    """
+    wb = _walton_braun_params(params)
+    _check_state(state, WaltonBraunState, "walton-braun")
+    delta, shape = _check_delta(delta, state.n)
+    force, new_state, _ = _turning_point_force(delta, state, _walton_braun_loading_branch(wb), False)
+    return _restore_shape(force, shape), new_state
+
+
+# --------------------------------------------------------------------------------- energies
+def _vz_loading_work(delta_max, P_max, params: VZParams):
+    """W = integral_0^delta_max P d delta on the virgin vz curve [J].
+
+    Hertz part (2/5) P_Y delta_Y, then by parts W = P delta | - integral delta(P) dP with the
+    explicit delta(P) (paper eq. 3.4). The integral uses Gauss-Legendre panels in
+    t = ln(1 + (P - P_Y)/d), d = min(P_Y, 1/Kc): the integrand's singularities (P = 0 and
+    C_R = 0) lie at least pi away from the real t axis, so 12-point panels of width <= 1 are
+    accurate to round-off for any P_max/P_Y.
+    """
+    pair = params.pair
+    delta_max = np.asarray(delta_max, dtype=float)
+    P_max = np.asarray(P_max, dtype=float)
+    elastic_part = np.minimum(delta_max, pair.delta_Y)
+    work = 0.4 * pair.hertz_stiffness * elastic_part**2 * np.sqrt(elastic_part)
+    plastic = np.flatnonzero((P_max > pair.P_Y) & (delta_max > pair.delta_Y))
+    if plastic.size == 0:
+        return work
+    P = P_max[plastic]
+    scale = pair.P_Y if params.Kc * pair.P_Y <= 1.0 else 1.0 / params.Kc
+    t_max = np.log1p((P - pair.P_Y) / scale)
+    n_panels = max(1, int(math.ceil(float(t_max.max()))))
+    width = t_max / n_panels
+    integral = np.zeros(plastic.size)
+    for panel in range(n_panels):
+        t = (panel + 0.5 * (_GAUSS_NODES + 1.0)) * width[:, None]
+        excess = scale * np.expm1(t)
+        integrand = params.loading_approach(pair.P_Y + excess) * (scale + excess)
+        integral += 0.5 * width * (integrand @ _GAUSS_WEIGHTS)
+    work[plastic] += P * delta_max[plastic] - pair.P_Y * pair.delta_Y - integral
+    return work
+
+
+def _thornton_loading_work(delta_max, pair: ContactPair):
+    delta_max = np.asarray(delta_max, dtype=float)
+    elastic_part = np.minimum(delta_max, pair.delta_Y)
+    plastic_part = np.maximum(delta_max - pair.delta_Y, 0.0)
+    return (0.4 * pair.hertz_stiffness * elastic_part**2 * np.sqrt(elastic_part)
+            + pair.P_Y * plastic_part + 0.5 * math.pi * pair.p_Y * pair.R_star * plastic_part**2)
+
+
+# ----------------------------------------------------------------------------------- registry
+@dataclass(frozen=True)
+class ContactDetails:
+    """Per-contact quantities on request [SI]: force P [N]; elastic contact radius a_e [m] (Hertz
+    radius at P); plastic radius a_p [m]; total contact radius a_ep [m] (the residual a_p,max
+    after separation for vz); delta_res [m]; elastic_energy [J] recoverable at the current state;
+    dissipated_energy [J] so far; state: the trial history after this step."""
+
+    force: np.ndarray
+    a_e: np.ndarray
+    a_p: np.ndarray
+    a_ep: np.ndarray
+    delta_res: np.ndarray
+    elastic_energy: np.ndarray
+    dissipated_energy: np.ndarray
+    state: object
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """A named force law: ``force(delta, state, params) -> (P, new_state)`` plus helpers."""
+
+    name: str
+    description: str
+    force: Callable
+    state_type: type
+    loading_work_function: Callable    # (delta_max, P_max, params) -> work on the virgin curve [J]
+    unloading_exponent: float          # n in P = P_max s^n on unloading
+
+    def initial_state(self, n: int):
+        """History of n virgin contacts (never loaded)."""
+        if self.state_type is HertzState:
+            return HertzState(int(check_real("n", n, low=0, low_inclusive=True)))
+        return self.state_type.virgin(n)
+
+    def params_from(self, params):
+        """This law's parameter object from VZParams / ContactPair / its own parameters."""
+        if self.name == "vz":
+            if not isinstance(params, VZParams):
+                raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
+            return params
+        if self.name == "walton-braun":
+            return _walton_braun_params(params)
+        return _as_pair(params, self.name)
+
+    def loading_work(self, delta_max, P_max, params):
+        """Work done on the virgin loading curve up to (delta_max, P_max) [J]."""
+        return self.loading_work_function(np.asarray(delta_max, float), np.asarray(P_max, float),
+                                          self.params_from(params))
+
+    def dissipated_energy(self, state, params):
+        """Energy dissipated per contact so far [J]: loading work to the turning point minus the
+        elastic energy the unloading curve returns, W(delta_max) - P_max (delta_max - delta_res)/(n+1)."""
+        if isinstance(state, HertzState):
+            return np.zeros(state.n)
+        work = self.loading_work(state.delta_max, state.P_max, params)
+        returned = state.P_max * (state.delta_max - state.delta_res) / (self.unloading_exponent + 1.0)
+        return np.maximum(work - returned, 0.0)
+
+    def contact_state(self, delta, state, params) -> ContactDetails:
+        """Force, radii, residual approach and energies per contact after this step."""
+        p = self.params_from(params)
+        force, new_state = self.force(delta, state, p)
+        force = np.reshape(force, -1)
+        pair = _as_pair(p, self.name)
+        a_e = np.asarray(pair.hertz_radius(force), dtype=float).reshape(-1)
+        delta_flat = np.asarray(delta, dtype=float).reshape(-1)
+        if isinstance(new_state, HertzState):
+            zeros = np.zeros_like(force)
+            elastic = 0.4 * force * np.maximum(delta_flat, 0.0)
+            return ContactDetails(force, a_e, zeros, a_e.copy(), zeros, elastic, zeros, new_state)
+        elastic = force * np.maximum(delta_flat - new_state.delta_res, 0.0) / (self.unloading_exponent + 1.0)
+        if self.name == "vz":
+            a_p = p.plastic_radius(new_state.P_max)
+            a_ep = a_e + a_p                # after separation a_e = 0: residual radius a_p,max
+        elif self.name == "thornton":
+            a_sq = np.where(new_state.P_max > pair.P_Y,
+                            (2.0 * new_state.P_max + pair.P_Y) / (2.0 * math.pi * pair.p_Y), 0.0)
+            a_star = np.sqrt(a_sq)
+            s = force / np.maximum(new_state.P_max, _TINY)
+            a_ep = np.where(new_state.P_max > pair.P_Y, a_star * np.cbrt(s), a_e)  # a ~ P^(1/3) at fixed R_p
+            a_p = np.maximum(a_ep - a_e, 0.0)
+        else:                               # walton-braun has no radius model: Hertz radius at P
+            a_p = np.zeros_like(force)
+            a_ep = a_e.copy()
+        return ContactDetails(force, a_e, a_p, a_ep, new_state.delta_res.copy(), elastic,
+                              self.dissipated_energy(new_state, p), new_state)
+
+    def contact_radius(self, delta, state, params):
+        """Total contact radius a_ep [m] per contact (see :meth:`contact_state`)."""
+        return self.contact_state(delta, state, params).a_ep
+
+
+def _hertz_work(delta_max, P_max, pair):
+    d = np.maximum(delta_max, 0.0)
+    return 0.4 * pair.hertz_stiffness * d**2 * np.sqrt(d)
+
+
+LAWS: dict[str, ContactLaw] = {
+    "hertz": ContactLaw("hertz", "Hertz elastic contact (Johnson 1985)", hertz_force, HertzState,
+                        _hertz_work, 1.5),
+    "vz": ContactLaw("vz", "Vu-Quoc & Zhang (1999) elastoplastic NFD model", vz_force, VZState,
+                     _vz_loading_work, 1.5),
+    "thornton": ContactLaw("thornton", "Thornton (1997) elastic-perfectly plastic contact",
+                           thornton_force, ThorntonState,
+                           lambda d, P, pair: _thornton_loading_work(d, pair), 1.5),
+    "walton-braun": ContactLaw("walton-braun", "Walton & Braun (1986) bilinear hysteretic spring",
+                               walton_braun_force, WaltonBraunState,
+                               lambda d, P, wb: 0.5 * wb.K1 * np.maximum(d, 0.0) ** 2, 1.0),
+}
+
+
+def get_law(name: str) -> ContactLaw:
+    """The force law called ``name``: one of 'hertz', 'vz', 'thornton', 'walton-braun'."""
+    if not isinstance(name, str) or name.strip().lower() not in LAWS:
+        raise ValueError(f"law must be one of {', '.join(LAWS)}; got {name!r}")
+    return LAWS[name.strip().lower()]

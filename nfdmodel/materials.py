@@ -1,0 +1,231 @@
+"""Materials, contact pairs and the incipient-yield point of Hertz contact.
+
+Effective properties (SPEC section 1; Johnson 1985, Contact Mechanics, section 4.2):
+
+    1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j      [Pa]   (rigid flat: 1/E* = (1 - nu^2)/E)
+    1/R* = 1/R_i + 1/R_j                            [m]    (rigid flat: R* = R)
+    m*   = m_i m_j / (m_i + m_j)                    [kg]   (rigid flat: m* = m)
+
+Incipient yield (SPEC section 2; Johnson 1985 eq. 3.45; Vu-Quoc & Zhang 1999 eq. 3.7): von Mises
+yield first occurs on the axis below the surface when the peak Hertz pressure reaches
+p_Y = A_Y(nu) sigma_Y, with 1/A_Y = max_zeta |sigma_z - sigma_r| / p0 along the axis.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property, lru_cache
+from numbers import Real
+
+import numpy as np
+from scipy.optimize import minimize_scalar
+
+# Reference case of Vu-Quoc & Zhang (1999), section 2: aluminium sphere on a rigid flat.
+REFERENCE_E = 70e9            # Pa
+REFERENCE_NU = 0.3            # -
+REFERENCE_SIGMA_Y = 100e6     # Pa
+REFERENCE_RHO = 2699.0        # kg/m^3
+REFERENCE_R = 0.1             # m
+REFERENCE_CA = 2.33e-7        # m/N   (paper's Abaqus calibration)
+REFERENCE_KC = 2.69e-4        # 1/N
+
+
+def check_real(name: str, value, *, low: float | None = None, low_inclusive: bool = False,
+               high: float | None = None, high_inclusive: bool = False, unit: str = "") -> float:
+    """Return ``value`` as a finite float, or raise ValueError naming ``name`` and its range."""
+    bounds = []
+    if low is not None:
+        bounds.append(f"{name} {'>=' if low_inclusive else '>'} {low:g}")
+    if high is not None:
+        bounds.append(f"{name} {'<=' if high_inclusive else '<'} {high:g}")
+    allowed = " and ".join(bounds) if bounds else f"{name} finite"
+    allowed += f" {unit}".rstrip() if unit else ""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (Real, np.number)):
+        try:
+            value = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a number ({allowed}), got {value!r}") from None
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite ({allowed}), got {value}")
+    if low is not None and (value < low or (value == low and not low_inclusive)):
+        raise ValueError(f"{name} out of range: need {allowed}, got {value:g}")
+    if high is not None and (value > high or (value == high and not high_inclusive)):
+        raise ValueError(f"{name} out of range: need {allowed}, got {value:g}")
+    return value
+
+
+def axis_stress_difference(zeta, nu: float):
+    """|sigma_z - sigma_r| / p0 on the axis of a Hertz contact at depth zeta = z/a [-].
+
+    Johnson (1985) eq. 3.45 with the contact radius a and peak pressure p0:
+        sigma_z/p0 = -1/(1 + zeta^2)
+        sigma_r/p0 = -(1 + nu)(1 - zeta atan(1/zeta)) + 1/(2 (1 + zeta^2))
+    """
+    zeta = np.asarray(zeta, dtype=float)
+    # zeta*atan(1/zeta) -> 0 at the surface; arctan2 avoids dividing by zero there.
+    zeta_atan = zeta * np.arctan2(1.0, zeta)
+    sigma_z = -1.0 / (1.0 + zeta**2)
+    sigma_r = -(1.0 + nu) * (1.0 - zeta_atan) + 0.5 / (1.0 + zeta**2)
+    return np.abs(sigma_z - sigma_r)
+
+
+@lru_cache(maxsize=256)
+def _yield_factor_cached(nu: float) -> float:
+    # The maximum lies at zeta ~ 0.4-0.8 for 0 <= nu < 0.5 (0.48 at nu = 0.3); the bounded
+    # search on [0, 3] contains it and the surface value |nu - 0.5| is compared explicitly.
+    result = minimize_scalar(lambda z: -axis_stress_difference(z, nu), bounds=(0.0, 3.0),
+                             method="bounded", options={"xatol": 1e-12})
+    peak = max(-float(result.fun), float(axis_stress_difference(0.0, nu)))
+    return 1.0 / peak
+
+
+def yield_factor(nu: float) -> float:
+    """A_Y(nu) = 1 / max_zeta |sigma_z - sigma_r|/p0 on the Hertz axis (Johnson 1985 eq. 3.45).
+
+    Incipient yield when p0 = A_Y sigma_Y (von Mises = Tresca on the axis). A_Y(0.3) = 1.61
+    (Vu-Quoc & Zhang 1999, section 3). Valid for 0 <= nu < 0.5 [-].
+    """
+    nu = check_real("nu", nu, low=0.0, low_inclusive=True, high=0.5)
+    return _yield_factor_cached(nu)
+
+
+@dataclass(frozen=True)
+class Material:
+    """Isotropic elastic-perfectly plastic material (validated, SI units).
+
+    E [Pa] > 0, 0 <= nu < 0.5 [-], sigma_y [Pa] > 0 (uniaxial yield stress), rho [kg/m^3] > 0.
+    """
+
+    E: float
+    nu: float
+    sigma_y: float
+    rho: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "E", check_real("E", self.E, low=0.0, unit="Pa"))
+        object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=0.5))
+        object.__setattr__(self, "sigma_y", check_real("sigma_y", self.sigma_y, low=0.0, unit="Pa"))
+        object.__setattr__(self, "rho", check_real("rho", self.rho, low=0.0, unit="kg/m^3"))
+
+    @classmethod
+    def reference(cls) -> "Material":
+        """The paper's aluminium: E = 70 GPa, nu = 0.3, sigma_Y = 100 MPa, rho = 2699 kg/m^3."""
+        return cls(REFERENCE_E, REFERENCE_NU, REFERENCE_SIGMA_Y, REFERENCE_RHO)
+
+    @property
+    def plane_strain_modulus(self) -> float:
+        """E / (1 - nu^2) [Pa]: the body's share of the contact modulus (Johnson 1985 eq. 4.22)."""
+        return self.E / (1.0 - self.nu**2)
+
+    def sphere_mass(self, R: float) -> float:
+        """Mass of a sphere of radius R [m]: (4/3) pi R^3 rho [kg]."""
+        return 4.0 / 3.0 * math.pi * R**3 * self.rho
+
+
+@dataclass(frozen=True)
+class ContactPair:
+    """Effective contact properties of a pair and its incipient-yield point.
+
+    Fields: R_star [m], E_star [Pa], sigma_y [Pa] and nu [-] of the body that yields first (the
+    softer one), mass_star [kg]. Derived (SPEC section 2, Vu-Quoc & Zhang 1999 eq. 3.7):
+
+        p_Y     = A_Y(nu) sigma_y                           contact yield pressure [Pa]
+        P_Y     = pi^3 R*^2 p_Y^3 / (6 E*^2)                yield force [N]
+        a_Y     = (3 P_Y R* / (4 E*))^(1/3)                 contact radius at yield [m]
+        delta_Y = a_Y^2 / R*                                approach at yield [m]
+        v_Y     = sqrt(4 P_Y delta_Y / (5 m*))              = 3.194 (p_Y^5 R*^3/(E*^4 m*))^(1/2)
+                                                            (Thornton 1997 eq. 1.12) [m/s]
+    """
+
+    R_star: float
+    E_star: float
+    sigma_y: float
+    nu: float
+    mass_star: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "R_star", check_real("R", self.R_star, low=0.0, unit="m"))
+        object.__setattr__(self, "E_star", check_real("E", self.E_star, low=0.0, unit="Pa"))
+        object.__setattr__(self, "sigma_y", check_real("sigma_y", self.sigma_y, low=0.0, unit="Pa"))
+        object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=0.5))
+        object.__setattr__(self, "mass_star", check_real("mass", self.mass_star, low=0.0, unit="kg"))
+
+    @classmethod
+    def sphere_flat(cls, material: Material, R: float) -> "ContactPair":
+        """Sphere of radius R [m] on a rigid frictionless flat: R* = R, E* = E/(1 - nu^2), m* = m."""
+        if not isinstance(material, Material):
+            raise ValueError(f"material must be a Material, got {type(material).__name__}")
+        R = check_real("R", R, low=0.0, unit="m")
+        return cls(R, material.plane_strain_modulus, material.sigma_y, material.nu,
+                   material.sphere_mass(R))
+
+    @classmethod
+    def sphere_sphere(cls, material_i: Material, R_i: float, material_j: Material,
+                      R_j: float) -> "ContactPair":
+        """Two spheres: 1/R* = 1/R_i + 1/R_j, 1/E* = sum (1 - nu^2)/E, m* = m_i m_j/(m_i + m_j).
+
+        The yield point uses sigma_y and nu of the body with the lower yield stress.
+        """
+        for name, mat in (("material_i", material_i), ("material_j", material_j)):
+            if not isinstance(mat, Material):
+                raise ValueError(f"{name} must be a Material, got {type(mat).__name__}")
+        R_i = check_real("R_i", R_i, low=0.0, unit="m")
+        R_j = check_real("R_j", R_j, low=0.0, unit="m")
+        R_star = 1.0 / (1.0 / R_i + 1.0 / R_j)
+        E_star = 1.0 / (1.0 / material_i.plane_strain_modulus + 1.0 / material_j.plane_strain_modulus)
+        m_i, m_j = material_i.sphere_mass(R_i), material_j.sphere_mass(R_j)
+        softer = material_i if material_i.sigma_y <= material_j.sigma_y else material_j
+        return cls(R_star, E_star, softer.sigma_y, softer.nu, m_i * m_j / (m_i + m_j))
+
+    @classmethod
+    def reference(cls) -> "ContactPair":
+        """The paper's reference case: aluminium sphere R = 0.1 m on a rigid flat."""
+        return cls.sphere_flat(Material.reference(), REFERENCE_R)
+
+    @cached_property
+    def A_Y(self) -> float:
+        """Yield factor A_Y(nu) [-] (Johnson 1985 eq. 3.45)."""
+        return yield_factor(self.nu)
+
+    @cached_property
+    def p_Y(self) -> float:
+        """Contact yield pressure p_Y = A_Y sigma_y [Pa] (peak Hertz pressure at first yield)."""
+        return self.A_Y * self.sigma_y
+
+    @cached_property
+    def P_Y(self) -> float:
+        """Yield force P_Y = pi^3 R*^2 p_Y^3 / (6 E*^2) [N] (Vu-Quoc & Zhang 1999 eq. 3.7)."""
+        return math.pi**3 * self.R_star**2 * self.p_Y**3 / (6.0 * self.E_star**2)
+
+    @cached_property
+    def a_Y(self) -> float:
+        """Hertz contact radius at yield a_Y = (3 P_Y R*/(4 E*))^(1/3) [m]."""
+        return self.hertz_radius(self.P_Y)
+
+    @cached_property
+    def delta_Y(self) -> float:
+        """Approach at yield delta_Y = a_Y^2 / R* [m]."""
+        return self.a_Y**2 / self.R_star
+
+    @cached_property
+    def v_Y(self) -> float:
+        """Impact velocity at which yield starts, from (1/2) m* v_Y^2 = (2/5) P_Y delta_Y [m/s]."""
+        return math.sqrt(4.0 * self.P_Y * self.delta_Y / (5.0 * self.mass_star))
+
+    @cached_property
+    def hertz_stiffness(self) -> float:
+        """k_H = (4/3) E* sqrt(R*) [N/m^1.5] in Hertz's P = k_H delta^(3/2)."""
+        return 4.0 / 3.0 * self.E_star * math.sqrt(self.R_star)
+
+    def hertz_radius(self, force):
+        """Hertz contact radius a = (3 P R* / (4 E*))^(1/3) [m] at force P [N] (Johnson eq. 4.22)."""
+        return np.cbrt(3.0 * np.asarray(force, dtype=float) * self.R_star / (4.0 * self.E_star))[()]
+
+    def hertz_contact_time(self, v_in) -> float:
+        """Duration of an elastic Hertz impact at v_in [m/s]: 2.868 (m*^2/(R* E*^2 v_in))^(1/5) [s].
+
+        (Johnson 1985 eq. 11.24.) Used to size time steps and step limits.
+        """
+        v_in = np.asarray(v_in, dtype=float)
+        return (2.8683 * (self.mass_star**2 / (self.R_star * self.E_star**2 * v_in)) ** 0.2)[()]

@@ -1,0 +1,74 @@
+"""The calibrated parameter file (JSON, written by ``nfdcal calibrate``), read into VZParams.
+
+Format (CONTRACTS.md):
+    {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
+     "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m}, ...}
+Only law, Ca, Kc and material are needed; P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
+agree with the values recomputed here (relative 1e-4), so a stale or hand-edited file is caught.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from .laws import VZParams
+from .materials import ContactPair, Material
+
+_CONSISTENCY = 1e-4
+
+
+def parameter_record(params: VZParams, R: float, material: Material) -> dict:
+    """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat)."""
+    pair = params.pair
+    return {"law": "vz", "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat,
+            "Kc_hat": params.Kc_hat, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
+            "material": {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y,
+                         "rho": material.rho, "R": R},
+            "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "E": "Pa",
+                      "sigma_y": "Pa", "rho": "kg/m^3", "R": "m"}}
+
+
+def load_parameters(path) -> VZParams:
+    """VZParams for the sphere-on-flat pair described by the JSON parameter file at ``path``.
+
+    Raises FileNotFoundError if the file is missing, ValueError naming the key for a corrupted
+    file, a missing or out-of-range value, or derived values inconsistent with the material.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"parameter file not found: {path}")
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"parameter file {path} is not valid JSON: {exc}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"parameter file {path}: expected a JSON object at the top level")
+    law = data.get("law", "vz")
+    if law != "vz":
+        raise ValueError(f"parameter file {path}: law must be 'vz', got {law!r}")
+    material_data = data.get("material")
+    if not isinstance(material_data, dict):
+        raise ValueError(f"parameter file {path}: missing 'material' object (E, nu, sigma_y, rho, R)")
+    missing = [k for k in ("E", "nu", "sigma_y", "rho", "R") if k not in material_data]
+    missing += [k for k in ("Ca", "Kc") if k not in data]
+    if missing:
+        raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")
+    try:
+        material = Material(material_data["E"], material_data["nu"], material_data["sigma_y"],
+                            material_data["rho"])
+        params = VZParams(ContactPair.sphere_flat(material, material_data["R"]), data["Ca"], data["Kc"])
+    except ValueError as exc:
+        raise ValueError(f"parameter file {path}: {exc}") from None
+    derived = {"P_Y": params.pair.P_Y, "a_Y": params.pair.a_Y, "delta_Y": params.pair.delta_Y,
+               "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
+    for key, value in derived.items():
+        if key in data:
+            stored = data[key]
+            if not isinstance(stored, (int, float)) or isinstance(stored, bool) or not math.isfinite(stored):
+                raise ValueError(f"parameter file {path}: {key} must be a finite number, got {stored!r}")
+            if abs(stored - value) > _CONSISTENCY * abs(value):
+                raise ValueError(f"parameter file {path}: {key} = {stored:g} disagrees with "
+                                 f"{value:g} recomputed from the material (relative tolerance "
+                                 f"{_CONSISTENCY:g})")
+    return params

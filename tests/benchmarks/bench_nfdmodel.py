@@ -1,0 +1,103 @@
+"""Benchmark of the runtime model (a script that prints a table; not collected by pytest).
+
+    .venv/bin/python tests/benchmarks/bench_nfdmodel.py [--contacts 1000000] [--repeats 5]
+
+1. Force evaluation for N contacts with random histories, `vz` against `hertz` in the same run
+   (target: vz <= 3x hertz). Histories: turning points delta_max log-uniform in [2, 100] delta_Y
+   (every contact has yielded). Then one DEM-like step: a fraction f of the contacts loads
+   beyond its turning point by a relative increment uniform in (0, 1e-3] (plastic loading: a
+   Newton solve), the others unload/reload below it (uniform in [delta_res, delta_max]) or are
+   separated (10 %). The table scans f; the "jump" row draws the new approach anywhere in
+   [0, 2 delta_max] (large jumps, poor Newton start). Newton iterations per plastically loading
+   contact: mean and max.
+2. The 10-velocity collision sweep (0.02..0.2 m/s, dt = 1e-6 s, reference case) per law
+   (target: <= 1 s).
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from nfdmodel import VZParams, collide, get_law, vz_newton_iterations
+
+
+def best_time(function, repeats: int) -> float:
+    best = np.inf
+    for _ in range(repeats):
+        started = time.perf_counter()
+        function()
+        best = min(best, time.perf_counter() - started)
+    return best
+
+
+def random_histories(params, n: int, loading_fraction: float | None, rng):
+    """A vz history for n yielded contacts (each loaded to its turning point) and a new approach."""
+    law = get_law("vz")
+    pair = params.pair
+    delta_max = pair.delta_Y * np.exp(rng.uniform(np.log(2.0), np.log(100.0), n))
+    _, state = law.force(delta_max, law.initial_state(n), params)
+    if loading_fraction is None:                       # "jump"
+        delta = delta_max * rng.uniform(0.0, 2.0, n)
+    else:
+        delta = state.delta_res + (delta_max - state.delta_res) * rng.uniform(0.0, 1.0, n)
+        loading = rng.random(n) < loading_fraction
+        delta[loading] = delta_max[loading] * (1.0 + rng.uniform(1e-9, 1e-3, loading.sum()))
+        separated = ~loading & (rng.random(n) < 0.1)
+        delta[separated] = state.delta_res[separated] - 1e-9
+    return state, delta
+
+
+def force_benchmark(n: int, repeats: int, loading_fraction, rng) -> dict:
+    params = VZParams.reference()
+    vz, hertz = get_law("vz"), get_law("hertz")
+    state, delta = random_histories(params, n, loading_fraction, rng)
+    hertz_state = hertz.initial_state(n)
+    t_hertz = best_time(lambda: hertz.force(delta, hertz_state, params.pair), repeats)
+    t_vz = best_time(lambda: vz.force(delta, state, params), repeats)
+    iterations = vz_newton_iterations(delta, state, params)
+    solved = iterations[iterations > 0]
+    return {"scenario": "jump" if loading_fraction is None else f"f={loading_fraction:g}",
+            "n": n, "hertz_ms": 1e3 * t_hertz, "vz_ms": 1e3 * t_vz, "ratio": t_vz / t_hertz,
+            "plastic_loading_fraction": solved.size / n,
+            "newton_mean": float(solved.mean()) if solved.size else 0.0,
+            "newton_max": int(solved.max()) if solved.size else 0}
+
+
+def collision_benchmark(repeats: int) -> list[dict]:
+    params = VZParams.reference()
+    velocities = np.linspace(0.02, 0.2, 10)
+    rows = []
+    for law in ("vz", "thornton", "hertz", "walton-braun"):
+        t = best_time(lambda: collide(law, params, velocities, dt=1e-6), repeats)
+        result = collide(law, params, velocities, dt=1e-6)
+        rows.append({"law": law, "seconds": t, "steps": result.steps,
+                     "max_newton": result.max_newton_iterations})
+    return rows
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--contacts", type=int, default=1_000_000)
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--seed", type=int, default=0)
+    ns = parser.parse_args(argv)
+    rng = np.random.default_rng(ns.seed)
+    print(f"Force evaluation, {ns.contacts:,} contacts, best of {ns.repeats} (target vz <= 3x hertz)")
+    print(f"{'scenario':>9} {'hertz ms':>9} {'vz ms':>8} {'vz/hertz':>9} {'plastic-loading':>16} "
+          f"{'Newton mean':>12} {'Newton max':>11}")
+    for loading_fraction in (0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5, None):
+        r = force_benchmark(ns.contacts, ns.repeats, loading_fraction, rng)
+        print(f"{r['scenario']:>9} {r['hertz_ms']:9.2f} {r['vz_ms']:8.2f} {r['ratio']:9.2f} "
+              f"{100 * r['plastic_loading_fraction']:15.1f}% {r['newton_mean']:12.2f} {r['newton_max']:11d}")
+    print()
+    print("Collision sweep, 10 velocities 0.02..0.2 m/s, dt = 1e-6 s (target <= 1 s)")
+    print(f"{'law':>13} {'seconds':>8} {'steps':>6} {'max Newton':>11}")
+    for r in collision_benchmark(max(1, ns.repeats // 2)):
+        print(f"{r['law']:>13} {r['seconds']:8.3f} {r['steps']:6d} {r['max_newton']:11d}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
