@@ -58,7 +58,7 @@ class HemisphereMeshSpec:
     """
 
     radius: float = 0.1
-    contact_size: float = 2.0e-5
+    contact_size: float = 4.0e-5
     refined_radius: float = 1.6e-3
     refined_depth: float = 0.5e-3
     far_size: float = 1.0e-2

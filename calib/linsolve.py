@@ -1,0 +1,129 @@
+"""Sparse direct solves behind one tiny interface: ``factorize(A).solve(b)``.
+
+The FE tangent is symmetric; elastic tangents (and the contact/plate-constrained blocks of them)
+are positive definite, an elastoplastic consistent tangent may be only semi-definite in places.
+The default backend and why are in results/linear_solvers.md (measured on our own matrices by
+tests/benchmarks/bench_linear_solvers.py). Every backend falls back to SuperLU (with a symmetric
+fill-reducing ordering) when it cannot factorize the matrix, so a caller never sees a backend
+failure for a matrix SuperLU can solve.
+
+Backends:
+  "cholmod"  CHOLMOD supernodal Cholesky (Chen, Davis, Hager & Rajamanickam 2008) via cholespy
+  "splu"     scipy SuperLU, ordering MMD_AT_PLUS_A (the matrix is symmetric)
+  "qdldl"    LDL^T with AMD ordering (Stellato et al., OSQP)
+  "pardiso"  MKL PARDISO via pypardiso (benchmark only: ~0.8 GB of MKL)
+"""
+from __future__ import annotations
+
+import logging
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+logger = logging.getLogger(__name__)
+
+DEFAULT_METHOD = "qdldl"
+METHODS = ("cholmod", "splu", "qdldl", "pardiso")
+
+
+class Factorization:
+    """A factorized square sparse matrix. ``solve(b)`` for b shaped (n,) or (n, k)."""
+
+    method: str
+
+    def solve(self, b: np.ndarray) -> np.ndarray:  # pragma: no cover - interface
+        raise NotImplementedError
+
+
+class _SuperLU(Factorization):
+    method = "splu"
+
+    def __init__(self, A):
+        self._lu = spla.splu(sp.csc_matrix(A), permc_spec="MMD_AT_PLUS_A",
+                             options={"SymmetricMode": True})
+
+    def solve(self, b):
+        return self._lu.solve(np.asarray(b, dtype=float))
+
+
+class _Cholmod(Factorization):
+    method = "cholmod"
+
+    def __init__(self, A):
+        from cholespy import CholeskySolverD, MatrixType
+
+        A = sp.csr_matrix(A)
+        self.n = A.shape[0]
+        self._chol = CholeskySolverD(self.n, A.indptr.astype(np.int32), A.indices.astype(np.int32),
+                                     A.data.astype(np.float64), MatrixType.CSR)
+
+    def solve(self, b):
+        b = np.ascontiguousarray(b, dtype=np.float64)
+        x = np.empty_like(b)
+        self._chol.solve(b, x)
+        return x
+
+
+class _QDLDL(Factorization):
+    method = "qdldl"
+
+    def __init__(self, A):
+        import qdldl
+
+        self._ldl = qdldl.Solver(sp.triu(A, format="csc"), upper=True)
+
+    def solve(self, b):
+        b = np.asarray(b, dtype=float)
+        if b.ndim == 1:
+            return self._ldl.solve(b)
+        return np.column_stack([self._ldl.solve(np.ascontiguousarray(c)) for c in b.T])
+
+
+class _Pardiso(Factorization):
+    method = "pardiso"
+
+    def __init__(self, A):
+        import pypardiso
+
+        self._solver = pypardiso.PyPardisoSolver(mtype=-2)  # real symmetric indefinite
+        self._A = sp.triu(A, format="csr")
+        self._solver.factorize(self._A)
+
+    def solve(self, b):
+        return self._solver.solve(self._A, np.asarray(b, dtype=float))
+
+
+_BACKENDS = {"cholmod": _Cholmod, "splu": _SuperLU, "qdldl": _QDLDL, "pardiso": _Pardiso}
+
+
+def factorize(A, method: str | None = None) -> Factorization:
+    """Factorize the symmetric sparse matrix ``A`` with ``method`` (default DEFAULT_METHOD).
+
+    Falls back to SuperLU when the backend is not installed or rejects the matrix (e.g. not
+    positive definite for Cholesky). Raises ValueError for an unknown method and
+    numpy.linalg.LinAlgError when even SuperLU finds the matrix singular.
+    """
+    method = DEFAULT_METHOD if method is None else method
+    if method not in _BACKENDS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    if method != "splu":
+        try:
+            factor = _BACKENDS[method](A)
+            if _finite_probe(factor, A.shape[0]):
+                return factor
+            logger.info("%s produced a non-finite factor; falling back to SuperLU", method)
+        except ImportError:
+            logger.info("%s not installed; falling back to SuperLU", method)
+        except (RuntimeError, ValueError, ArithmeticError) as exc:
+            logger.info("%s failed (%s); falling back to SuperLU", method, exc)
+    try:
+        return _SuperLU(A)
+    except RuntimeError as exc:  # SuperLU: "Factor is exactly singular"
+        raise np.linalg.LinAlgError(f"singular matrix: {exc}") from exc
+
+
+def _finite_probe(factor: Factorization, n: int) -> bool:
+    """A cheap guard: CHOLMOD may return a factor with NaN instead of raising."""
+    x = factor.solve(np.ones(n))
+    return bool(np.all(np.isfinite(x)))

@@ -1,0 +1,74 @@
+"""Materials for the axisymmetric FE solver, following the Material interface of CONTRACTS.md.
+
+    material.initial_state(n_elements, n_qp) -> state (frozen dataclass of named arrays)
+    material.update(strain (E,Q,4), state_committed) -> (stress (E,Q,4), tangent (E,Q,4,4), trial)
+
+``update`` is pure; the solver adopts ``trial`` only after a load step converged. Components
+[rr, zz, tt, rz]; strain with engineering shear gamma_rz, stress plain (calib.axisym).
+"""
+from __future__ import annotations
+
+import numbers
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class ElasticState:
+    """Linear elasticity carries no history: the state has no fields."""
+
+
+@dataclass(frozen=True)
+class ElasticMaterial:
+    """Isotropic linear elasticity, stress = D strain.
+
+    D[:3, :3] = lambda + 2 mu I,  D[3, 3] = mu  (engineering shear), with the Lame constants
+    lambda = E nu / ((1 + nu)(1 - 2 nu)),  mu = E / (2 (1 + nu))          [Pa]
+    (Johnson 1985, Contact Mechanics, ch. 2). E [Pa] > 0, 0 <= nu < 0.5.
+    """
+
+    E: float
+    nu: float
+    is_linear: ClassVar[bool] = True  # the tangent never changes: the solver may reuse it
+
+    def __post_init__(self):
+        if not (isinstance(self.E, numbers.Real) and np.isfinite(self.E) and self.E > 0):
+            raise ValueError(f"E must be a finite Young's modulus > 0 [Pa], got {self.E!r}")
+        if not (isinstance(self.nu, numbers.Real) and 0.0 <= self.nu < 0.5):
+            raise ValueError(f"nu must be a Poisson ratio in [0, 0.5), got {self.nu!r}")
+
+    @property
+    def lame_lambda(self) -> float:
+        return self.E * self.nu / ((1.0 + self.nu) * (1.0 - 2.0 * self.nu))
+
+    @property
+    def shear_modulus(self) -> float:
+        return self.E / (2.0 * (1.0 + self.nu))
+
+    @property
+    def bulk_modulus(self) -> float:
+        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
+
+    def elastic_tangent(self) -> np.ndarray:
+        """The (4, 4) matrix D [Pa]."""
+        lam, mu = self.lame_lambda, self.shear_modulus
+        D = np.zeros((4, 4))
+        D[:3, :3] = lam
+        D[:3, :3] += 2.0 * mu * np.eye(3)
+        D[3, 3] = mu
+        return D
+
+    def initial_state(self, n_elements: int, n_qp: int) -> ElasticState:
+        return ElasticState()
+
+    def update(self, strain_total, state_committed):
+        """(stress, tangent, trial_state) for the total strain (E, Q, 4); pure."""
+        strain_total = np.asarray(strain_total, dtype=float)
+        if strain_total.ndim != 3 or strain_total.shape[-1] != 4:
+            raise ValueError(f"strain_total must be shaped (n_elements, n_qp, 4), got {strain_total.shape}")
+        D = self.elastic_tangent()
+        stress = strain_total @ D  # D is symmetric
+        tangent = np.broadcast_to(D, strain_total.shape[:2] + (4, 4))
+        return stress, tangent, state_committed
