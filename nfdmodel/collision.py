@@ -36,7 +36,7 @@ import numpy as np
 from .laws import ContactLaw, HertzState, _as_pair, get_law, vz_force_with_iterations
 from .materials import check_real
 
-STEPS_PER_CONTACT_AUTO = 4000     # dt = None: dt = shortest estimated contact time / this
+STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
 STEPS_PER_CONTACT_WARN = 50       # warn when a contact would last fewer steps than this
 CONTACT_TIME_SAFETY = 20.0        # max_steps = this * longest estimated contact time / dt
 
@@ -158,7 +158,7 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
 
     law_name: 'vz' | 'hertz' | 'thornton' | 'walton-braun' (or a ContactLaw); params: VZParams
     (any law), a ContactPair (hertz, thornton, walton-braun defaults) or WaltonBraunParams.
-    dt [s]: time step (paper: 1e-6 s); None picks dt = shortest estimated contact time / 4000,
+    dt [s]: time step (paper: 1e-6 s); None picks dt = shortest estimated contact time / 2000,
     the estimate being 3 delta_max / v_in from :func:`collision_reference`. A warning is issued
     when a contact would last fewer than 50 steps. max_steps: default 20 x the longest estimated
     contact time / dt; a ValueError if some velocity has not separated by then.
