@@ -97,3 +97,13 @@ def test_bad_radius_and_vz_parameters():
     # A curvature rate so large that the loading curve delta(P) turns back: a clear error.
     with pytest.raises(ValueError, match=r"^Kc out of range"):
         VZParams(pair, 2.33e-7, 1e3 * 2.69e-4)
+
+
+def test_nfdmodel_imports_numpy_and_scipy_only():
+    import subprocess
+    import sys
+
+    code = ("import sys, nfdmodel; heavy = [m for m in ('gmsh', 'skfem', 'meshio', 'matplotlib', 'calib') "
+            "if m in sys.modules]; print(heavy)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
