@@ -148,6 +148,24 @@ class StepResult:
     contact_reaction: np.ndarray = field(repr=False)
     gap: np.ndarray = field(repr=False)
     stress: Optional[np.ndarray] = field(default=None, repr=False)
+    residual_history: tuple = ()  # relative residual at every Newton iterate, in order
+
+
+@dataclass
+class _NewtonResult:
+    ok: bool
+    q: np.ndarray
+    f_int: np.ndarray
+    residual: np.ndarray
+    stress: Optional[np.ndarray]
+    trial: object
+    residual_norm: float
+    scale: float
+    iterations: int
+    factorizations: int
+    time_assembly: float
+    time_solve: float
+    message: str
 
 
 class StepNotConverged(RuntimeError):
@@ -295,8 +313,9 @@ class ContactSolver:
         self.candidate_weight = asm(surface_weight, surface_basis)[self.candidate_nodes]
 
         self.gap_tolerance = 1e-12 * self.radius  # [m]: round-off, far below any gap of interest
-        # force scale of a deformation with no reaction (e.g. a lifted sphere): E R |u|
         self._stiffness_scale = float(getattr(material, "E", 1.0)) * self.radius  # [N/m]
+        # [N]: a force far below any of interest (E R^2 is the body's natural force unit)
+        self.force_floor = 1e-14 * self._stiffness_scale * self.radius
         self._K_q = None  # linear materials: the constant tangent in q-space
         self._factor_cache: OrderedDict = OrderedDict()
         self.factorization_count = 0
@@ -410,8 +429,10 @@ class ContactSolver:
         q[self.plate] = state.displacement[self._top_z_dof]
         if control == "displacement":
             q[self.plate] = -target
+        q_start = q.copy()
         active = self.predict_active_set(state, control, target)
         visited = {active.tobytes()}
+        residual_history: list[float] = []
         newton_total = factorizations = active_set_iterations = 0
         message = ""
         converged = False
@@ -428,47 +449,25 @@ class ContactSolver:
             free = np.ones(self.n_q, dtype=bool)
             free[constrained] = False
             key = (control, active.tobytes()) if self.is_linear else None
-            newton_ok = False
-            for newton in range(self.max_newton_iterations + 1):
-                t0 = time.perf_counter()
-                u = self.T @ q
-                f_int, K_q, stress, trial = self._assemble(u, state.material_state)
-                residual = self.TT @ f_int
-                if control == "force":
-                    residual[self.plate] += target  # f_ext on the plate unknown is -P
-                t_assembly += time.perf_counter() - t0
-                dq_constrained = constrained_target - q[constrained]
-                scale = max(np.linalg.norm(residual[constrained]),
-                            target if control == "force" else 0.0,
-                            1e-3 * self._stiffness_scale * np.abs(q).max(), 1e-300)
-                residual_norm = np.linalg.norm(residual[free]) / scale
-                if residual_norm <= tolerance and not np.any(dq_constrained):
-                    newton_ok = True
-                    break
-                if newton == self.max_newton_iterations:
-                    break
-                t0 = time.perf_counter()
-                try:
-                    factor, n_new = self._factor(K_q, free, key)
-                except np.linalg.LinAlgError as exc:
-                    message = f"singular tangent: {exc}"
-                    break
-                factorizations += n_new
-                rhs = -residual[free]
-                if dq_constrained.any():
-                    rhs -= K_q[free][:, constrained] @ dq_constrained
-                dq_free = factor.solve(rhs)
-                t_solve += time.perf_counter() - t0
-                if not np.all(np.isfinite(dq_free)):
-                    message = "non-finite Newton increment"
-                    break
-                q[free] += dq_free
-                q[constrained] = constrained_target
-                newton_total += 1
-            if not newton_ok:
-                message = message or (f"Newton did not reach the residual tolerance {tolerance:g}"
-                                      f" in {self.max_newton_iterations} iterations"
-                                      f" (relative residual {residual_norm:.3g})")
+            newton = self._newton(q.copy(), state, control, target, constrained,
+                                  constrained_target, free, key, residual_history)
+            if not newton.ok and active_set_iterations > 1:
+                # Continuing from the previous set's solution can diverge when a node that
+                # held plastic flow is released (its plastic tangent does not describe the
+                # unloading); the committed state is a safe start for the new set.
+                newton = self._newton(q_start.copy(), state, control, target, constrained,
+                                      constrained_target, free, key, residual_history)
+            newton_total += newton.iterations
+            factorizations += newton.factorizations
+            t_assembly += newton.time_assembly
+            t_solve += newton.time_solve
+            q, f_int, residual, stress, trial = (newton.q, newton.f_int, newton.residual,
+                                                 newton.stress, newton.trial)
+            residual_norm, scale = newton.residual_norm, newton.scale
+            if not newton.ok:
+                message = newton.message or (f"Newton did not reach the residual tolerance"
+                                             f" {tolerance:g} in {self.max_newton_iterations}"
+                                             f" iterations (relative residual {residual_norm:.3g})")
                 break
             # active set update: release tensile reactions, add penetrating nodes
             reaction = residual[self.candidate_q]
@@ -505,7 +504,8 @@ class ContactSolver:
                                   t_assembly, t_solve, record_time)
             empty = np.zeros(0)
             return StepResult(state=state, record=record, converged=False, message=message,
-                              pressure_r=empty, pressure=empty, contact_reaction=empty, gap=empty)
+                              pressure_r=empty, pressure=empty, contact_reaction=empty, gap=empty,
+                              residual_history=tuple(residual_history))
 
         u = self.T @ q
         reaction = np.where(active, residual[self.candidate_q], 0.0)
@@ -527,7 +527,72 @@ class ContactSolver:
                               time.perf_counter() - t_start)
         return StepResult(state=new_state, record=record, converged=True, message="converged",
                           pressure_r=self.candidate_r.copy(), pressure=pressure,
-                          contact_reaction=reaction, gap=gap, stress=stress)
+                          contact_reaction=reaction, gap=gap, stress=stress,
+                          residual_history=tuple(residual_history))
+
+    def _newton(self, q, state, control, target, constrained, constrained_target, free, key,
+                residual_history):
+        """Newton on r(q) = 0 for one active set (constraints: active nodes, and the plate in
+        displacement control), from ``q``. Stops at the residual tolerance, at the iteration
+        limit, or early when it stalls (see below)."""
+        t_assembly = t_solve = 0.0
+        iterations = factorizations = 0
+        message = ""
+        best, stalled = np.inf, 0
+        # A physical force scale, never one that grows with the iterate (a diverging iterate
+        # must not look converged): besides the constraint reactions, the target force, the
+        # force the step starts from (near separation the reactions vanish), and E R |u| for
+        # the committed and the prescribed displacements (a lifted sphere has no force at all).
+        displacement_scale = max(np.abs(state.displacement).max(initial=0.0),
+                                 abs(target) if control == "displacement" else 0.0)
+        base_scale = max(target if control == "force" else 0.0, abs(state.force),
+                         1e-3 * self._stiffness_scale * displacement_scale, self.force_floor)
+        for newton in range(self.max_newton_iterations + 1):
+            t0 = time.perf_counter()
+            f_int, K_q, stress, trial = self._assemble(self.T @ q, state.material_state)
+            residual = self.TT @ f_int
+            if control == "force":
+                residual[self.plate] += target  # f_ext on the plate unknown is -P
+            t_assembly += time.perf_counter() - t0
+            dq_constrained = constrained_target - q[constrained]
+            scale = max(np.linalg.norm(residual[constrained]), base_scale)
+            residual_norm = np.linalg.norm(residual[free]) / scale
+            residual_history.append(float(residual_norm))
+            ok = residual_norm <= self.residual_tolerance and not np.any(dq_constrained)
+            if ok or newton == self.max_newton_iterations:
+                break
+            # Newton with a consistent tangent at least halves the residual every iteration
+            # near the solution: four iterations in a row without halving the best residual
+            # mean divergence or a limit cycle, not slow progress.
+            if residual_norm < 0.5 * best:
+                best, stalled = residual_norm, 0
+            else:
+                stalled += 1
+                if stalled >= 4:
+                    message = f"Newton stalled (relative residual {residual_norm:.3g})"
+                    break
+            t0 = time.perf_counter()
+            try:
+                factor, n_new = self._factor(K_q, free, key)
+            except np.linalg.LinAlgError as exc:
+                message = f"singular tangent: {exc}"
+                break
+            factorizations += n_new
+            rhs = -residual[free]
+            if dq_constrained.any():
+                rhs -= K_q[free][:, constrained] @ dq_constrained
+            dq_free = factor.solve(rhs)
+            t_solve += time.perf_counter() - t0
+            if not np.all(np.isfinite(dq_free)):
+                message = "non-finite Newton increment"
+                break
+            q[free] += dq_free
+            q[constrained] = constrained_target
+            iterations += 1
+        return _NewtonResult(ok=bool(ok), q=q, f_int=f_int, residual=residual, stress=stress,
+                             trial=trial, residual_norm=float(residual_norm), scale=float(scale),
+                             iterations=iterations, factorizations=factorizations,
+                             time_assembly=t_assembly, time_solve=t_solve, message=message)
 
     def contact_pressure(self, reaction, active):
         """Nodal contact pressure [Pa] from the nodal contact reactions [N] (lumped recovery).

@@ -1,0 +1,240 @@
+"""The calibration: FE load paths of a sphere on a rigid flat -> Ca, Kc of the runtime NFD law.
+
+Vu-Quoc & Zhang (1999), sections 2-3 (SPEC sections 3, 6, 7):
+  1. mesh the hemisphere (meshes.hemisphere), solve the elastic-perfectly plastic von Mises
+     contact problem (calib.fe + calib.plasticity) along force-driven load paths with unloading
+     (calib.loadpath);
+  2. decompose the FE contact radius a_ep = a_e + a_p and fit Ca (a_p = Ca <P - P_Y>) and Kc
+     (C_R = a_ep^2 / (R alpha) = 1 + Kc <P - P_Y>) by least squares (calib.fit);
+  3. also fit (Ca, Kc) to the FE force-approach curves through the runtime law itself
+     (nfdmodel vz), i.e. what a DEM code feels;
+  4. drive nfdmodel's vz, thornton and hertz laws along the FE approach histories and compare.
+The parameter file written from the result is read by ``nfdmodel.load_parameters``, so the
+shipped runtime law is exactly the calibrated one.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import asdict, dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from calib.fit import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
+                       radius_law_data, window_study)
+from calib.loadpath import LoadPathPlan, LoadPathResults, run_load_paths
+from meshes.hemisphere import HemisphereMeshSpec
+from nfdmodel import ContactPair, Material, VZParams, get_law
+
+PAPER = {"Ca": 2.33e-7, "Kc": 2.69e-4, "alpha_max_1500": 1.56e-5, "e_1500": 0.737}
+
+
+@dataclass(frozen=True)
+class CalibrationSpec:
+    """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance."""
+
+    material: Material
+    radius: float
+    mesh: HemisphereMeshSpec
+    plan: LoadPathPlan
+    residual_tolerance: float = 1e-8
+    contact_radius_method: str = "gap"
+
+    def __post_init__(self):
+        if not (np.isfinite(self.radius) and self.radius > 0):
+            raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
+        if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
+            raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
+
+    @property
+    def pair(self) -> ContactPair:
+        return ContactPair.sphere_flat(self.material, self.radius)
+
+
+def reference_spec(contact_size: float | None = None) -> CalibrationSpec:
+    """The paper's case: aluminium R = 0.1 m, E = 70 GPa, nu = 0.3, sigma_Y = 100 MPa,
+    rho = 2699 kg/m^3; paths ABC, ADE, AFG (P_max = 500, 1000, 1500 N)."""
+    mesh = HemisphereMeshSpec() if contact_size is None else HemisphereMeshSpec(contact_size=contact_size)
+    return CalibrationSpec(material=Material.reference(), radius=0.1, mesh=mesh,
+                           plan=LoadPathPlan(peaks=(500.0, 1000.0, 1500.0), loading_step=500.0 / 16,
+                                             unloading_steps=32, first_load=20.0))
+
+
+def spec_for(material: Material, radius: float, peaks_over_yield=(13.7, 27.4, 41.2),
+             contact_size_over_a_max: float = 1.0 / 37.0) -> CalibrationSpec:
+    """A calibration of any material scaled from the reference case: peaks as multiples of P_Y
+    (the reference's 500/1000/1500 N are 13.7, 27.4, 41.2 P_Y) and a mesh scaled by the largest
+    contact radius, so that the discretisation error is the reference one."""
+    pair = ContactPair.sphere_flat(material, radius)
+    peaks = tuple(float(k * pair.P_Y) for k in peaks_over_yield)
+    a_max = 1.3 * pair.hertz_radius(peaks[-1])  # elastoplastic radius ~1.3 x Hertz at these loads
+    h = a_max * contact_size_over_a_max
+    mesh = HemisphereMeshSpec(radius=radius, contact_size=h, refined_radius=1.1 * a_max,
+                              refined_depth=0.35 * a_max, far_size=radius / 10)
+    return CalibrationSpec(material=material, radius=radius, mesh=mesh,
+                           plan=LoadPathPlan(peaks=peaks, loading_step=peaks[0] / 16,
+                                             unloading_steps=32, first_load=0.5 * pair.P_Y))
+
+
+def first_yield_load(hemisphere, material: Material) -> float:
+    """Force [N] at which the first quadrature point reaches the von Mises yield stress, from the
+    elastic FE solution: its peak stress scales as P^(1/3) (Hertz, Johnson 1985 eq. 4.23), so two
+    fixed-point updates P <- P (sigma_Y / q_max)^3 from the theoretical P_Y converge."""
+    from calib.fe import ContactSolver
+    from calib.materials import ElasticMaterial
+    from calib.plasticity import von_mises_stress
+
+    solver = ContactSolver(hemisphere, ElasticMaterial(material.E, material.nu))
+    pair = ContactPair.sphere_flat(material, hemisphere.radius)
+    load = pair.P_Y
+    for _ in range(3):
+        result = solver.solve_force(solver.initial_state(), load)
+        if not result.converged:
+            raise RuntimeError(f"elastic first-yield solve at P = {load:g} N: {result.message}")
+        q_max = float(von_mises_stress(solver.stress(result.state)).max())
+        load *= (material.sigma_y / q_max) ** 3
+    return float(load)
+
+
+@dataclass
+class ModelComparison:
+    """A runtime law driven along one FE path's approach history."""
+
+    law: str
+    force: np.ndarray        # P [N] at the FE approaches
+    restitution: float       # e = sqrt(elastic energy / (elastic + dissipated)) at the peak
+    max_force_error: float   # max |P_law - P_FE| / P_max over the path
+
+
+@dataclass
+class CalibrationResult:
+    spec: CalibrationSpec
+    P_Y: float
+    P_Y_fe: float
+    load_paths: LoadPathResults
+    radius_data: RadiusLawData
+    radius_fit: RadiusLawFit
+    window: list[dict]
+    force_fit: ForceLawFit
+    shipped: str                       # which fit the parameter file ships ("radius" or "force")
+    comparisons: dict = field(repr=False)   # peak -> list[ModelComparison]
+    mesh_info: dict = field(default_factory=dict)
+    wall_time_s: float = 0.0
+    timings: dict = field(default_factory=dict)
+    solver: object = field(default=None, repr=False)  # the FE solver (for VTU output)
+
+    @property
+    def params(self) -> VZParams:
+        """The shipped runtime parameters."""
+        if self.shipped == "force":
+            return VZParams(self.spec.pair, self.force_fit.Ca, self.force_fit.Kc)
+        return VZParams(self.spec.pair, self.radius_fit.Ca.slope, self.radius_fit.Kc.slope)
+
+
+def drive_law(law_name: str, params, approach: np.ndarray) -> tuple[np.ndarray, float]:
+    """Forces [N] of a runtime law along an approach history [m] (one contact), and its
+    restitution at the largest approach: e^2 = elastic / (elastic + dissipated) energy there."""
+    law = get_law(law_name)
+    state = law.initial_state(1)
+    forces = np.empty(approach.size)
+    e = 1.0
+    peak_index = int(np.argmax(approach))
+    for k, delta in enumerate(approach):
+        details = law.contact_state(np.array([delta]), state, params)
+        state = details.state
+        forces[k] = details.force[0]
+        if k == peak_index:
+            stored = float(details.elastic_energy[0] + details.dissipated_energy[0])
+            e = float(np.sqrt(details.elastic_energy[0] / stored)) if stored > 0 else 1.0
+    return forces, e
+
+
+def _path_history(path) -> tuple[np.ndarray, np.ndarray]:
+    approach = np.array([r["alpha"] for r in path.rows])
+    force = np.array([max(r["P"], 0.0) for r in path.rows])
+    return approach, force
+
+
+def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = None,
+              ship: str = "radius") -> CalibrationResult:
+    """Run the FE load paths of ``spec`` and fit the NFD parameters (see module docstring)."""
+    from calib.fe import ContactSolver
+    from calib.plasticity import VonMisesMaterial
+    from meshes.hemisphere import hemisphere_mesh
+
+    if ship not in ("radius", "force"):
+        raise ValueError(f"ship must be 'radius' or 'force', got {ship!r}")
+    say = progress or (lambda message: None)
+    t0 = time.perf_counter()
+    hemisphere = hemisphere_mesh(spec.mesh)
+    t_mesh = time.perf_counter() - t0
+    pair = spec.pair
+    material = spec.material
+
+    t1 = time.perf_counter()
+    P_Y_fe = first_yield_load(hemisphere, material)
+    t_yield = time.perf_counter() - t1
+    say(f"first yield: P_Y(FE) = {P_Y_fe:.4g} N, theory {pair.P_Y:.4g} N")
+
+    solver = ContactSolver(hemisphere, VonMisesMaterial(material.E, material.nu, material.sigma_y),
+                           residual_tolerance=spec.residual_tolerance,
+                           contact_radius_method=spec.contact_radius_method)
+    paths = run_load_paths(solver, spec.plan, progress=say)
+
+    loading = paths.loading_rows
+    data = radius_law_data([r["P"] for r in loading], [r["alpha"] for r in loading],
+                           [r["contact_radius"] for r in loading],
+                           R_star=pair.R_star, E_star=pair.E_star, P_Y=pair.P_Y)
+    radius_fit = fit_radius_law(data)
+    window = window_study(data)
+
+    histories = [_path_history(p) for p in paths.paths]
+
+    def predict_force(approach, Ca, Kc):
+        return drive_law("vz", VZParams(pair, Ca, Kc), approach)[0]
+
+    force_fit = fit_force_law(predict_force, histories, radius_fit.Ca.slope, radius_fit.Kc.slope,
+                              force_floor=0.05 * spec.plan.peaks[0])
+    result = CalibrationResult(spec=spec, P_Y=pair.P_Y, P_Y_fe=P_Y_fe, load_paths=paths,
+                               radius_data=data, radius_fit=radius_fit, window=window,
+                               force_fit=force_fit, shipped=ship, comparisons={}, solver=solver,
+                               mesh_info={**spec.mesh.describe(), "elements": int(hemisphere.mesh.nelements),
+                                          "dofs": int(solver.n_dofs)})
+    for path, (approach, force) in zip(paths.paths, histories):
+        comparisons = []
+        for law_name, params in (("vz", result.params), ("thornton", pair), ("hertz", pair)):
+            law_force, e = drive_law(law_name, params, approach)
+            comparisons.append(ModelComparison(law_name, law_force, e,
+                                               float(np.abs(law_force - force).max() / path.peak)))
+        result.comparisons[path.peak] = comparisons
+    result.wall_time_s = time.perf_counter() - t0
+    result.timings = {"mesh_s": t_mesh, "first_yield_s": t_yield, "load_paths_s": paths.wall_time_s,
+                      "factorizations": paths.factorizations,
+                      "fit_s": result.wall_time_s - t_mesh - t_yield - paths.wall_time_s}
+    return result
+
+
+def summary(result: CalibrationResult) -> dict:
+    """The ``nfdcal calibrate --json`` object (SI units)."""
+    params = result.params
+    return {
+        "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
+        "P_Y": result.P_Y, "P_Y_fe": result.P_Y_fe,
+        "P_Y_fe_rel_error": result.P_Y_fe / result.P_Y - 1.0,
+        "shipped_fit": result.shipped,
+        "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
+                       "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,
+                       "Kc_se": result.radius_fit.Kc.standard_error, "Kc_r2": result.radius_fit.Kc.r_squared,
+                       "n_points": result.radius_fit.Ca.n_points},
+        "force_fit": asdict(result.force_fit),
+        "wall_time_s": result.wall_time_s,
+        "timings": result.timings,
+        "mesh": result.mesh_info,
+        "paths": [{"P_max": p.peak, "alpha_max": p.alpha_max, "e": p.restitution,
+                   "alpha_residual": p.alpha_residual,
+                   "P_max_reached": max(r["P"] for r in p.rows),
+                   "steps": len(p.rows),
+                   "models": {c.law: {"e": c.restitution, "max_force_error_rel": c.max_force_error}
+                              for c in result.comparisons[p.peak]}}
+                  for p in result.load_paths.paths],
+    }

@@ -1,0 +1,181 @@
+"""Writes a calibration to disk: the parameter file nfdmodel loads, per-step CSVs, plots, a VTU.
+
+Everything is stamped (git commit, mesh, wall time) and written atomically (calib.report).
+Files in ``out`` (default results/calibration):
+  parameters.json        the shipped runtime parameters (nfdmodel.load_parameters reads it)
+  calibration.json       the summary (``nfdcal calibrate --json``) with both fits and the paths
+  loading.csv            one row per FE step of the shared loading branch, with a_e, a_p, C_R
+  path_P<Pmax>.csv       one row per FE step of each path (loading then unloading)
+  fit_window.csv         Ca, Kc against the largest load used in the fit
+  *.png                  P-alpha with all models, radii, C_R, pressure, fit residuals, window
+  state_peak.vtu, state_final.vtu  equivalent plastic strain, von Mises stress, contact pressure
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from calib import report
+from calib.calibration import PAPER, CalibrationResult, summary
+from nfdmodel import parameter_record
+
+DEFAULT_OUT = report.REPO_ROOT / "results" / "calibration"
+
+
+def _derived_columns(rows: list[dict], result: CalibrationResult) -> list[dict]:
+    """Rows with the contact-radius decomposition: a_e (Hertz at P), a_p, C_R (paper 3.4-3.6)."""
+    pair = result.spec.pair
+    out = []
+    for r in rows:
+        force = max(r["P"], 0.0)
+        a_e = float(pair.hertz_radius(force)) if force > 0 else 0.0
+        a_ep = r["contact_radius"]
+        out.append({**r, "a_ep": a_ep, "a_e": a_e, "a_p": a_ep - a_e,
+                    "C_R": a_ep**2 / (pair.R_star * r["alpha"]) if r["alpha"] > 0 and a_ep > 0 else 0.0})
+    return out
+
+
+def parameter_file(result: CalibrationResult, stamp: dict) -> dict:
+    """The JSON parameter file (CONTRACTS.md): values, units, material, mesh, FE errors, commit."""
+    s = summary(result)
+    record = parameter_record(result.params, result.spec.radius, result.spec.material)
+    record.update({
+        "fit": {"shipped": result.shipped,
+                "why": ("radius: the paper's definition (least squares of a_p and C_R - 1 against "
+                        "P - P_Y on the FE loading points)" if result.shipped == "radius" else
+                        "force: minimises the runtime law's force error along the FE P-alpha paths"),
+                "radius_fit": s["radius_fit"], "force_fit": s["force_fit"]},
+        "fe_errors": {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
+                      "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
+                                for p in s["paths"]]},
+        "mesh": result.mesh_info,
+        "stamp": stamp,
+    })
+    return record
+
+
+def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None:
+    """Equivalent plastic strain and von Mises stress (element means), displacement and contact
+    pressure (nodes) of one FE state, as a VTU of 6-node triangles that ParaView opens."""
+    import meshio
+
+    from calib.plasticity import von_mises_stress
+
+    mesh = solver.hemisphere.mesh
+    n_points = mesh.p.shape[1]
+    u = state.displacement
+    displacement = np.zeros((n_points, 3))
+    displacement[:, 0] = u[solver.r_dof]
+    displacement[:, 1] = u[solver.z_dof]
+    contact_pressure = np.zeros(n_points)
+    if pressure is not None:
+        contact_pressure[solver.candidate_nodes] = np.interp(solver.candidate_r, pressure_r, pressure)
+    stress = solver.stress(state)
+    eps_p = getattr(state.material_state, "equivalent_plastic_strain", np.zeros(stress.shape[:2]))
+    cells = np.vstack([mesh.t, mesh.t2f + mesh.nvertices]).T  # 3 vertices then 3 edge nodes
+    points = np.column_stack([mesh.p.T, np.zeros(n_points)])
+    out = meshio.Mesh(points, [("triangle6", cells)],
+                      point_data={"displacement": displacement, "contact_pressure": contact_pressure},
+                      cell_data={"equivalent_plastic_strain": [eps_p.mean(axis=1)],
+                                 "von_mises_stress": [von_mises_stress(stress).mean(axis=1)]})
+    tmp = path.with_name(f".{path.name}.tmp.vtu")
+    meshio.write(tmp, out)
+    tmp.replace(path)
+
+
+def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
+    plt = report.pyplot()
+    pair = result.spec.pair
+    colors = {"vz": "C3", "thornton": "C2", "hertz": "C7"}
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for k, path in enumerate(result.load_paths.paths):
+        alpha = np.array([r["alpha"] for r in path.rows])
+        force = np.array([r["P"] for r in path.rows])
+        ax.plot(alpha * 1e6, force, "o", ms=3, color=f"C{k}", label=f"FE, P_max = {path.peak:g} N (e = {path.restitution:.3f})")
+        for comparison in result.comparisons[path.peak]:
+            ax.plot(alpha * 1e6, comparison.force, "-", lw=1, color=colors[comparison.law],
+                    label=f"{comparison.law} (e = {comparison.restitution:.3f})" if k == len(result.load_paths.paths) - 1 else None)
+    ax.set_xlabel("approach alpha [um]"); ax.set_ylabel("force P [N]")
+    ax.set_title("Force-approach: FE against the runtime laws driven by the FE's alpha")
+    ax.legend(fontsize=7); ax.grid(alpha=0.3)
+    report.save_figure(fig, out / "force_approach.png")
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    P = np.array([r["P"] for r in loading])
+    for key, label in (("a_ep", "a_ep (FE)"), ("a_e", "a_e (Hertz at P)"), ("a_p", "a_p = a_ep - a_e")):
+        ax.plot(P, [r[key] * 1e3 for r in loading], "o-", ms=3, label=label)
+    for k, path in enumerate(result.load_paths.paths):
+        rows = _derived_columns([r for r in path.rows if r["branch"] == "unloading"], result)
+        ax.plot([r["P"] for r in rows], [r["a_p"] * 1e3 for r in rows], "x--", ms=3, color=f"C{k + 3}",
+                label=f"a_p on unloading from {path.peak:g} N")
+    x = np.linspace(pair.P_Y, P.max(), 50)
+    ax.plot(x, result.params.Ca * (x - pair.P_Y) * 1e3, "k-", lw=1, label=f"Ca (P - P_Y), Ca = {result.params.Ca:.3e} m/N")
+    ax.set_xlabel("P [N]"); ax.set_ylabel("radius [mm]"); ax.legend(fontsize=7); ax.grid(alpha=0.3)
+    ax.set_title("Contact radius decomposition (loading)")
+    report.save_figure(fig, out / "contact_radii.png")
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    ax.plot(P, [r["C_R"] for r in loading], "o", ms=3, label="C_R = a_ep^2 / (R alpha), FE")
+    ax.plot(x, 1 + result.params.Kc * (x - pair.P_Y), "k-", lw=1, label=f"1 + Kc (P - P_Y), Kc = {result.params.Kc:.3e} 1/N")
+    ax.plot(x, 1 + PAPER["Kc"] * (x - pair.P_Y), "k:", lw=1, label=f"paper, Kc = {PAPER['Kc']:.3g} 1/N")
+    ax.set_xlabel("P [N]"); ax.set_ylabel("C_R [-]"); ax.legend(fontsize=8); ax.grid(alpha=0.3)
+    report.save_figure(fig, out / "curvature_factor.png")
+
+    fig, ax = plt.subplots(figsize=(7, 5))
+    for k, (peak, (r, p)) in enumerate(sorted(result.load_paths.pressure_profiles.items())):
+        ax.plot(r * 1e3, p / 1e6, "o-", ms=2, color=f"C{k}", label=f"FE, P = {peak:g} N")
+        a = float(pair.hertz_radius(peak))
+        rr = np.linspace(0, a, 100)
+        ax.plot(rr * 1e3, 3 * peak / (2 * np.pi * a**2) * np.sqrt(1 - (rr / a) ** 2) / 1e6, "--", color=f"C{k}", lw=1,
+                label=f"Hertz, P = {peak:g} N")
+    ax.axhline(pair.p_Y / 1e6, color="k", lw=0.8, ls=":", label="A_Y sigma_Y")
+    ax.set_xlim(0, 1.2 * max(result.radius_data.contact_radius) * 1e3)
+    ax.set_xlabel("r [mm]"); ax.set_ylabel("contact pressure [MPa]"); ax.legend(fontsize=7); ax.grid(alpha=0.3)
+    report.save_figure(fig, out / "pressure.png")
+
+    data, fit = result.radius_data, result.radius_fit
+    mask = data.excess_force > 0
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    axes[0].plot(data.force[mask], (data.plastic_radius[mask] - fit.Ca.slope * data.excess_force[mask]) * 1e6, "o", ms=3)
+    axes[0].set_title(f"a_p residual, Ca fit (R^2 = {fit.Ca.r_squared:.4f})"); axes[0].set_ylabel("[um]")
+    axes[1].plot(data.force[mask], data.curvature_factor[mask] - 1 - fit.Kc.slope * data.excess_force[mask], "o", ms=3)
+    axes[1].set_title(f"C_R residual, Kc fit (R^2 = {fit.Kc.r_squared:.4f})")
+    for a in axes:
+        a.set_xlabel("P [N]"); a.axhline(0, color="k", lw=0.8); a.grid(alpha=0.3)
+    report.save_figure(fig, out / "fit_residuals.png")
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
+    w = result.window
+    axes[0].errorbar([r["P_fit_max"] for r in w], [r["Ca"] for r in w], yerr=[r["Ca_se"] for r in w], fmt="o-", ms=3)
+    axes[0].axhline(PAPER["Ca"], color="k", ls=":", label="paper"); axes[0].set_ylabel("Ca [m/N]")
+    axes[1].errorbar([r["P_fit_max"] for r in w], [r["Kc"] for r in w], yerr=[r["Kc_se"] for r in w], fmt="o-", ms=3)
+    axes[1].axhline(PAPER["Kc"], color="k", ls=":", label="paper"); axes[1].set_ylabel("Kc [1/N]")
+    for a in axes:
+        a.set_xlabel("largest load in the fit [N]"); a.legend(); a.grid(alpha=0.3)
+    report.save_figure(fig, out / "fit_window.png")
+
+
+def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool = True,
+          vtu: bool = True) -> Path:
+    """Write the calibration outputs to ``out`` (see the module docstring)."""
+    out = Path(out)
+    stamp = report.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
+    comment = report.stamp_comment(stamp)
+    report.write_json(out / "parameters.json", parameter_file(result, stamp))
+    report.write_json(out / "calibration.json", {**summary(result), "stamp": stamp})
+    loading = _derived_columns(result.load_paths.loading_rows, result)
+    report.write_csv(out / "loading.csv", loading, comment=comment)
+    for path in result.load_paths.paths:
+        report.write_csv(out / f"path_P{path.peak:g}.csv", _derived_columns(path.rows, result), comment=comment)
+    report.write_csv(out / "fit_window.csv", result.window, comment=comment)
+    if plots:
+        _plots(result, out, loading)
+    solver = result.solver
+    if vtu and solver is not None:
+        last = result.load_paths.paths[-1]
+        r, p = result.load_paths.pressure_profiles[last.peak]
+        write_vtu(out / "state_peak.vtu", solver, last.peak_state, r, p)
+        write_vtu(out / "state_final.vtu", solver, result.load_paths.final_state)
+    return out

@@ -1,0 +1,76 @@
+"""``nfdcal calibrate``: FE load paths of a sphere on a rigid flat -> Ca, Kc (SPEC sections 3, 6, 7).
+
+    nfdcal calibrate                      # the reference case, results into results/calibration
+    nfdcal calibrate --json               # also print the summary object (Ca, Kc, Ca_hat, ...)
+    nfdcal calibrate --E 210e9 --nu 0.29 --sigma-y 1.2e9 --R 0.005 --out my_steel
+
+Writes the parameter file (parameters.json, read by ``nfdmodel.load_parameters`` and by
+``nfdcal collide --params``), per-step CSVs, plots and VTU files into --out. Progress goes to
+stderr when it is a terminal (silence it with --quiet).
+"""
+from __future__ import annotations
+
+from calib.commands.common import add_material_arguments, is_reference, material_from_args, number
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "calibrate", help="FE calibration of Ca and Kc (the reference case by default)",
+        description=__doc__.split("\n\n")[0])
+    add_material_arguments(parser)
+    parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
+                        help="P_max of the load paths [N] (default: 500 1000 1500 for the reference"
+                             " case, else 13.7 27.4 41.2 x P_Y)")
+    parser.add_argument("--contact-size", default=None,
+                        help="element size at the contact [m] (default: the reference mesh, scaled"
+                             " with the contact radius for other materials)")
+    parser.add_argument("--ship", default="radius", choices=("radius", "force"),
+                        help="which fit the parameter file ships (default radius: the paper's)")
+    parser.add_argument("--out", default=None, help="output folder (default results/calibration)")
+    parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
+    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
+    parser.add_argument("--quiet", action="store_true", help="no progress messages")
+    parser.set_defaults(run=run)
+
+
+def run(ns) -> int:
+    import dataclasses
+    import json
+    import sys
+
+    from calib import calibration, calibration_report, report
+    from calib.loadpath import LoadPathPlan
+
+    material, radius = material_from_args(ns)
+    contact_size = number("--contact-size", ns.contact_size)
+    if contact_size is not None and not contact_size > 0:
+        raise ValueError(f"--contact-size out of range: need > 0 m, got {contact_size:g}")
+    if is_reference(ns):
+        spec = calibration.reference_spec(contact_size)
+    else:
+        spec = calibration.spec_for(material, radius)
+        if contact_size is not None:
+            spec = dataclasses.replace(spec, mesh=dataclasses.replace(spec.mesh, contact_size=contact_size))
+    if ns.peaks is not None:
+        peaks = tuple(number("--peaks", p) for p in ns.peaks)
+        plan = spec.plan
+        spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=peaks, loading_step=min(peaks) / 16,
+                                                           unloading_steps=plan.unloading_steps,
+                                                           first_load=min(plan.first_load or min(peaks), min(peaks))))
+    verbose = not ns.quiet and sys.stderr.isatty()
+    progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
+    result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+    out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,
+                                   plots=not ns.no_plots, vtu=not ns.no_plots)
+    summary = calibration.summary(result)
+    if ns.json:
+        print(report.to_json(summary), end="")
+        return 0
+    print(f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
+          f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
+          f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s")
+    for p in summary["paths"]:
+        print(f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}, "
+              f"residual alpha {p['alpha_residual']:.4e} m")
+    print(f"results written to {out}")
+    return 0

@@ -1,0 +1,225 @@
+"""Force-driven load paths with unloading: the paper's ABC / ADE / AFG cycles (SPEC section 6).
+
+Vu-Quoc & Zhang (1999), section 2: the force P on the rigid top plate rises linearly to P_max,
+then returns to zero. The loading branch is common to every path, so it is computed once and each
+unloading branches off the committed state at its peak.
+
+Each accepted step appends one history row (a dict, SI units): the FE step record (alpha, P,
+contact radius, Newton and active-set iterations, factorisations, wall time ...) plus ``path``,
+``branch``, ``plastic_zone_depth`` / ``plastic_zone_radius`` (extent of the yielded quadrature
+points [m]) and ``yielded_points``. A step whose Newton fails is cut in half and retried from
+the committed state (down to ``min_step_fraction`` of the planned increment); a step that still
+fails raises StepNotConverged: there is never a silently unconverged row.
+
+Separation. Force control at P = 0 leaves the approach undetermined, so unloading runs under
+force control down to P_max / n, then the residual approach is found where the FE force returns
+to zero. Near separation the unloading is elastic and Hertzian, P ~ (alpha - alpha_res)^(3/2)
+(Johnson 1985, eq. 4.23), so P^(2/3) is linear in alpha: the line through the last two unloading
+points gives alpha_res, checked by a displacement-controlled FE step there (its force is
+recorded, and is zero up to the extrapolation error).
+
+Restitution (paper 2.1 / 4.7):  e = sqrt( W_unloading / W_loading ),  W = int P d(alpha) [J].
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from calib.fe import ContactSolver, ContactState, StepNotConverged, StepResult
+
+
+@dataclass(frozen=True)
+class LoadPathPlan:
+    """Which peaks to unload from and how finely (forces in N).
+
+    peaks: P_max of each path, e.g. (500, 1000, 1500) for ABC, ADE, AFG.
+    loading_step: force increment on the loading branch [N] (shortened to land on each peak).
+    unloading_steps: force-controlled steps of each unloading (plus the separation step).
+    first_load: the first (elastic) load [N]; starting elastic lets the contact set settle
+        before plasticity (a first plastic step with only the pole in contact is a point load
+        on a perfectly plastic body and diverges).
+    """
+
+    peaks: tuple[float, ...]
+    loading_step: float
+    unloading_steps: int = 16
+    first_load: float | None = None
+    min_step_fraction: float = 1.0 / 64.0
+
+    def __post_init__(self):
+        peaks = tuple(sorted(float(p) for p in self.peaks))
+        object.__setattr__(self, "peaks", peaks)
+        if not peaks or not all(np.isfinite(p) and p > 0 for p in peaks):
+            raise ValueError(f"peaks (P_max) must be finite forces > 0 [N], got {self.peaks}")
+        if not (np.isfinite(self.loading_step) and 0 < self.loading_step <= peaks[-1]):
+            raise ValueError(f"loading_step must be in (0, max peak = {peaks[-1]:g}] N, got {self.loading_step}")
+        if not (isinstance(self.unloading_steps, int) and self.unloading_steps >= 2):
+            raise ValueError(f"unloading_steps must be an integer >= 2, got {self.unloading_steps!r}")
+        if self.first_load is not None and not (0 < self.first_load <= peaks[0]):
+            raise ValueError(f"first_load must be in (0, smallest peak = {peaks[0]:g}] N, got {self.first_load}")
+
+    def loading_targets(self) -> list[float]:
+        """Loads of the loading branch: first_load, then steps of at most loading_step, hitting
+        every peak exactly."""
+        start = self.first_load if self.first_load is not None else min(self.loading_step, self.peaks[0])
+        targets = [start]
+        for peak in self.peaks:
+            n = max(1, int(np.ceil((peak - targets[-1]) / self.loading_step - 1e-9)))
+            targets.extend(np.linspace(targets[-1], peak, n + 1)[1:].tolist())
+        return targets
+
+    def unloading_targets(self, peak: float) -> list[float]:
+        return [peak * (1.0 - k / self.unloading_steps) for k in range(1, self.unloading_steps)]
+
+
+@dataclass
+class PathResult:
+    """One load path: its peak, history rows (loading rows shared with the other paths, then its
+    unloading rows) and the derived figures."""
+
+    peak: float
+    rows: list[dict]
+    alpha_max: float
+    alpha_residual: float
+    restitution: float
+    loading_work: float
+    unloading_work: float
+    peak_state: ContactState = field(repr=False)
+
+
+@dataclass
+class LoadPathResults:
+    loading_rows: list[dict]
+    paths: list[PathResult]
+    wall_time_s: float
+    factorizations: int
+    final_state: ContactState = field(repr=False)  # end of the last unloading
+    pressure_profiles: dict = field(default_factory=dict, repr=False)  # peak -> (r [m], p [Pa])
+
+
+def plastic_zone(state: ContactState, quadrature_r: np.ndarray, quadrature_z: np.ndarray) -> dict:
+    """Extent of the yielded region (equivalent plastic strain > 0): depth and radius [m]."""
+    eps_p = getattr(state.material_state, "equivalent_plastic_strain", None)
+    yielded = eps_p > 0 if eps_p is not None else np.zeros(quadrature_r.shape, dtype=bool)
+    if not yielded.any():
+        return {"plastic_zone_depth": 0.0, "plastic_zone_radius": 0.0, "yielded_points": 0}
+    return {"plastic_zone_depth": float(quadrature_z[yielded].max()),
+            "plastic_zone_radius": float(quadrature_r[yielded].max()),
+            "yielded_points": int(yielded.sum())}
+
+
+def advance(solver: ContactSolver, state: ContactState, control: str, target: float,
+            min_fraction: float, on_step: Callable[[StepResult, ContactState], None]) -> ContactState:
+    """Reach ``target`` (force [N] or approach [m]) from ``state``, cutting the increment in half
+    and retrying from the committed state when a step fails; grows back after each success.
+
+    ``on_step(result, previous_state)`` is called for every accepted step (sub-steps included).
+    """
+    solve = solver.solve_force if control == "force" else solver.solve_displacement
+    start = state.force if control == "force" else state.alpha
+    full = target - start
+    fraction = 1.0
+    done = 0.0
+    while done < 1.0:
+        fraction = min(fraction, 1.0 - done)
+        step_target = target if done + fraction >= 1.0 else start + (done + fraction) * full
+        result = solve(state, step_target)
+        if result.converged:
+            on_step(result, state)
+            state = solver.commit(result)
+            done += fraction
+            fraction *= 2.0  # Newton was fine: try a bigger piece of what is left
+            continue
+        fraction /= 2.0
+        if fraction < min_fraction:
+            raise StepNotConverged(f"{control} step to {target:g} failed even at {fraction * 2:g} of the"
+                                   f" increment from {start:g}: {result.message}")
+    return state
+
+
+def _work(alpha: np.ndarray, force: np.ndarray) -> float:
+    """W = int P d(alpha) [J] by the trapezoid rule (the history is monotone in alpha)."""
+    return float(abs(np.trapezoid(force, alpha)))
+
+
+def separation_approach(alpha: Sequence[float], force: Sequence[float]) -> float:
+    """alpha where P returns to 0, from the last two unloading points, P^(2/3) linear in alpha."""
+    (a1, a2), (p1, p2) = alpha[-2:], force[-2:]
+    s1, s2 = max(p1, 0.0) ** (2 / 3), max(p2, 0.0) ** (2 / 3)
+    if not s1 > s2:
+        return float(a2)
+    return float(a2 - s2 * (a1 - a2) / (s1 - s2))
+
+
+def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
+                   progress: Callable[[str], None] | None = None) -> LoadPathResults:
+    """Run the shared loading branch once, then each path's unloading from its peak."""
+    t_start = time.perf_counter()
+    factorizations_before = solver.factorization_count
+    say = progress or (lambda message: None)
+    quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)  # (E, Q) each [m]
+
+    def row(result: StepResult, path: str, branch: str) -> dict:
+        return {"path": path, "branch": branch, **result.record.as_dict(),
+                **plastic_zone(result.state, quadrature_r, quadrature_z)}
+
+    loading_rows: list[dict] = []
+    peak_states: dict[float, ContactState] = {}
+    state = solver.initial_state()
+
+    pressure_profiles: dict[float, tuple[np.ndarray, np.ndarray]] = {}
+    last_result: list[StepResult] = []
+
+    def record_loading(result, before):
+        loading_rows.append(row(result, "loading", "loading"))
+        last_result[:] = [result]
+
+    targets = plan.loading_targets()
+    for k, target in enumerate(targets, 1):
+        state = advance(solver, state, "force", target, plan.min_step_fraction, record_loading)
+        say(f"loading {k}/{len(targets)}: P = {state.force:.4g} N, alpha = {state.alpha:.4g} m")
+        for peak in plan.peaks:
+            if np.isclose(target, peak, rtol=1e-12):
+                peak_states[peak] = state
+                pressure_profiles[peak] = (last_result[0].pressure_r, last_result[0].pressure)
+
+    paths = []
+    for peak in plan.peaks:
+        peak_state = peak_states[peak]
+        name = f"P_max={peak:g}"
+        unloading_rows: list[dict] = []
+
+        def record_unloading(result, before):
+            unloading_rows.append(row(result, name, "unloading"))
+
+        state = peak_state
+        for target in plan.unloading_targets(peak):
+            state = advance(solver, state, "force", target, plan.min_step_fraction, record_unloading)
+        alpha_res = separation_approach([r["alpha"] for r in unloading_rows[-2:]],
+                                        [r["P"] for r in unloading_rows[-2:]])
+        result = solver.solve_displacement(state, alpha_res)
+        if not result.converged:
+            raise StepNotConverged(f"separation step of path {name} at alpha = {alpha_res:g}: {result.message}")
+        record_unloading(result, state)
+        state = solver.commit(result)
+        say(f"unloading {name}: residual alpha = {alpha_res:.4g} m")
+
+        loading_part = [r for r in loading_rows if r["P"] <= peak * (1 + 1e-9)]
+        path_loading = [{**r, "path": name} for r in loading_part]
+        a_load = np.array([0.0] + [r["alpha"] for r in loading_part])
+        p_load = np.array([0.0] + [r["P"] for r in loading_part])
+        a_unload = np.array([peak_state.alpha] + [r["alpha"] for r in unloading_rows])
+        p_unload = np.array([peak_state.force] + [max(r["P"], 0.0) for r in unloading_rows])
+        w_load, w_unload = _work(a_load, p_load), _work(a_unload, p_unload)
+        paths.append(PathResult(peak=peak, rows=path_loading + unloading_rows,
+                                alpha_max=peak_state.alpha, alpha_residual=alpha_res,
+                                restitution=float(np.sqrt(w_unload / w_load)),
+                                loading_work=w_load, unloading_work=w_unload,
+                                peak_state=peak_state))
+    return LoadPathResults(loading_rows=loading_rows, paths=paths,
+                           wall_time_s=time.perf_counter() - t_start,
+                           factorizations=solver.factorization_count - factorizations_before,
+                           final_state=state, pressure_profiles=pressure_profiles)

@@ -1,0 +1,107 @@
+"""The calibration end to end on a coarse mesh, and the FE checks issue 4 asks for."""
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from calib import calibration, calibration_report
+from calib.cli import main
+from calib.fe import ContactSolver
+from calib.loadpath import LoadPathPlan, separation_approach
+from calib.plasticity import VonMisesMaterial
+from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
+from nfdmodel import ContactPair, Material, load_parameters
+
+COARSE = 1.6e-4  # contact element size [m]: 5-10 elements across the contact, seconds per path
+
+
+@pytest.fixture(scope="module")
+def coarse_result():
+    spec = calibration.reference_spec(COARSE)
+    spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=(500.0, 1000.0), loading_step=125.0,
+                                                       unloading_steps=8, first_load=20.0))
+    return calibration.calibrate(spec)
+
+
+def test_paths_reach_their_peaks_and_return_to_zero(coarse_result):
+    for path in coarse_result.load_paths.paths:
+        assert max(r["P"] for r in path.rows) == pytest.approx(path.peak, rel=2e-3)
+        assert abs(path.rows[-1]["P"]) < 1e-3 * path.peak           # separated
+        assert 0 < path.alpha_residual < path.alpha_max
+        assert 0.5 < path.restitution < 1.0                          # energy is dissipated, never created
+        assert all(r["converged"] for r in path.rows)
+
+
+def test_fit_is_near_the_paper_even_on_a_coarse_mesh(coarse_result):
+    fit = coarse_result.radius_fit
+    assert fit.Ca.slope == pytest.approx(calibration.PAPER["Ca"], rel=0.35)
+    assert fit.Kc.slope == pytest.approx(calibration.PAPER["Kc"], rel=0.5)
+    assert fit.Ca.r_squared > 0.9
+
+
+def test_parameter_file_round_trips_into_the_runtime_law(coarse_result, tmp_path):
+    calibration_report.write(coarse_result, tmp_path, plots=False, vtu=False)
+    params = load_parameters(tmp_path / "parameters.json")
+    assert params.Ca == coarse_result.params.Ca and params.Kc == coarse_result.params.Kc
+    stamp = json.loads((tmp_path / "parameters.json").read_text())["stamp"]
+    assert {"git_commit", "wall_time_s", "mesh"} <= set(stamp)
+
+
+def test_runtime_law_follows_the_fe_force(coarse_result):
+    for peak, comparisons in coarse_result.comparisons.items():
+        vz = next(c for c in comparisons if c.law == "vz")
+        hertz = next(c for c in comparisons if c.law == "hertz")
+        assert vz.max_force_error < 0.1                      # of P_max, along the whole cycle
+        assert vz.max_force_error < hertz.max_force_error    # plasticity matters
+
+
+def test_first_yield_matches_theory():
+    """The first quadrature point yields at P_Y(nu) of SPEC section 2 within 3 % (default mesh)."""
+    material = Material.reference()
+    P_Y_fe = calibration.first_yield_load(hemisphere_mesh(HemisphereMeshSpec()), material)
+    assert P_Y_fe == pytest.approx(ContactPair.sphere_flat(material, 0.1).P_Y, rel=0.03)
+
+
+def test_plastic_newton_converges_quadratically():
+    """Consistent tangent: near the solution the residual falls like r_{k+1} ~ C r_k^2."""
+    solver = ContactSolver(hemisphere_mesh(HemisphereMeshSpec(contact_size=COARSE)),
+                           VonMisesMaterial(70e9, 0.3, 100e6), residual_tolerance=1e-10)
+    state = solver.commit(solver.solve_force(solver.initial_state(), 100.0))
+    result = solver.solve_force(state, 130.0)
+    assert result.converged and result.state.material_state.equivalent_plastic_strain.max() > 0
+    history = np.array(result.residual_history)
+    # the last Newton sequence (after the final active-set change), above round-off
+    tail = history[-4:]
+    tail = tail[tail > 1e-14]
+    rates = np.log(tail[1:]) / np.log(tail[:-1])
+    assert rates.max() > 1.7, history
+
+
+def test_separation_extrapolates_hertzian_unloading():
+    alpha_res = 1e-6
+    alpha = np.array([3e-6, 2e-6])
+    force = 7.0 * (alpha - alpha_res) ** 1.5
+    assert separation_approach(alpha, force) == pytest.approx(alpha_res, rel=1e-12)
+
+
+def test_cli_calibrate_json(tmp_path, capsys):
+    code = main(["calibrate", "--json", "--quiet", "--contact-size", str(COARSE), "--peaks", "300",
+                 "--no-plots", "--out", str(tmp_path)])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert {"Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "wall_time_s", "paths"} <= set(out)
+    assert {"P_max", "alpha_max", "e", "alpha_residual"} <= set(out["paths"][0])
+    assert (tmp_path / "parameters.json").is_file()
+
+
+@pytest.mark.parametrize("argv, match", [
+    (["--nu", "0.5"], "nu"),
+    (["--E", "-1"], "E"),
+    (["--contact-size", "nan"], "--contact-size"),
+    (["--peaks", "0"], "peaks"),
+])
+def test_cli_calibrate_bad_input(argv, match, capsys):
+    assert main(["calibrate", "--quiet", *argv]) == 2
+    err = capsys.readouterr().err
+    assert match in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
