@@ -267,6 +267,7 @@ class ContactSolver:
         m = mesh.mesh
         self.radius = float(mesh.spec.radius if mesh.spec is not None else mesh.radius)
         self.basis = Basis(m, ElementVector(ElementTriP2()), intorder=quadrature_order)
+        self.quadrature_order = quadrature_order
         self.r_qp = quadrature_radius(self.basis)
         self.n_elements, self.n_qp = self.r_qp.shape
         self.n_dofs = self.basis.N
@@ -349,10 +350,32 @@ class ContactSolver:
         if self.is_linear:
             K_q = self._linear_tangent()
             return self._K_full @ displacement, K_q, None, committed
-        stress, tangent, trial = self.material.update(self.strain(displacement), committed)
-        f_int = asm(internal_force, self.basis, stress=to_form_layout(stress))
-        K = asm(tangent_stiffness, self.basis, tangent=to_form_layout(tangent))
-        return f_int, (self.TT @ K @ self.T).tocsr(), stress, trial
+        # f_int = K_el u + int B^T (sigma - D eps),  K = K_el + int B^T (C - D) B: both
+        # corrections vanish wherever the material is still elastic (no plastic strain), so
+        # only the elements that have flowed are assembled (the plastic zone is small).
+        strain = self.strain(displacement)
+        stress, tangent, trial = self.material.update(strain, committed)
+        K_q = self._linear_tangent()
+        elastic = self._elastic_D
+        stress_correction = stress - strain @ elastic
+        tangent_correction = tangent - elastic
+        f_int = self._K_full @ displacement
+        inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > 1e-13 * self._stress_scale(stress)) | \
+                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(elastic).max())
+        if inelastic.any():
+            elements = np.flatnonzero(inelastic)
+            plastic_basis = Basis(self.basis.mesh, self.basis.elem, intorder=self.quadrature_order,
+                                  elements=elements)
+            f_int = f_int + asm(internal_force, plastic_basis,
+                                stress=to_form_layout(stress_correction[elements]))
+            K = asm(tangent_stiffness, plastic_basis,
+                    tangent=to_form_layout(tangent_correction[elements]))
+            K_q = K_q + (self.TT @ K @ self.T).tocsr()
+        return f_int, K_q, stress, trial
+
+    @staticmethod
+    def _stress_scale(stress):
+        return max(float(np.abs(stress).max()), 1e-300)
 
     def elastic_stiffness(self):
         """Full stiffness matrix [N/m] of a linear material (scikit-fem dof ordering)."""
@@ -366,6 +389,7 @@ class ContactSolver:
             _, tangent, _ = self.material.update(np.zeros((self.n_elements, self.n_qp, 4)),
                                                  self.material.initial_state(self.n_elements,
                                                                              self.n_qp))
+            self._elastic_D = np.array(tangent[0, 0])  # (4, 4): homogeneous material
             self._K_full = asm(tangent_stiffness, self.basis,
                                tangent=to_form_layout(tangent)).tocsr()
             self._K_q = (self.TT @ self._K_full @ self.T).tocsr()
