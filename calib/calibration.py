@@ -21,7 +21,7 @@ from typing import Callable
 import numpy as np
 
 from calib.fit import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
-                       radius_law_data, window_study)
+                       radius_law_data, relative_force_residuals, window_study)
 from calib.loadpath import LoadPathPlan, LoadPathResults, run_load_paths
 from meshes.hemisphere import HemisphereMeshSpec
 from nfdmodel import ContactPair, Material, VZParams, get_law
@@ -57,7 +57,7 @@ def reference_spec(contact_size: float | None = None) -> CalibrationSpec:
     mesh = HemisphereMeshSpec() if contact_size is None else HemisphereMeshSpec(contact_size=contact_size)
     return CalibrationSpec(material=Material.reference(), radius=0.1, mesh=mesh,
                            plan=LoadPathPlan(peaks=(500.0, 1000.0, 1500.0), loading_step=500.0 / 16,
-                                             unloading_steps=32, first_load=20.0))
+                                             unloading_steps=16, first_load=20.0))
 
 
 def spec_for(material: Material, radius: float, peaks_over_yield=(13.7, 27.4, 41.2),
@@ -73,7 +73,7 @@ def spec_for(material: Material, radius: float, peaks_over_yield=(13.7, 27.4, 41
                               refined_depth=0.35 * a_max, far_size=radius / 10)
     return CalibrationSpec(material=material, radius=radius, mesh=mesh,
                            plan=LoadPathPlan(peaks=peaks, loading_step=peaks[0] / 16,
-                                             unloading_steps=32, first_load=0.5 * pair.P_Y))
+                                             unloading_steps=16, first_load=0.5 * pair.P_Y))
 
 
 def first_yield_load(hemisphere, material: Material) -> float:
@@ -122,6 +122,7 @@ class CalibrationResult:
     wall_time_s: float = 0.0
     timings: dict = field(default_factory=dict)
     solver: object = field(default=None, repr=False)  # the FE solver (for VTU output)
+    radius_fit_force_error: dict = field(default_factory=dict)  # the force-fit metric, for the radius fit
 
     @property
     def params(self) -> VZParams:
@@ -193,18 +194,29 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
     def predict_force(approach, Ca, Kc):
         return drive_law("vz", VZParams(pair, Ca, Kc), approach)[0]
 
+    force_floor = 0.05 * spec.plan.peaks[0]
     force_fit = fit_force_law(predict_force, histories, radius_fit.Ca.slope, radius_fit.Kc.slope,
-                              force_floor=0.05 * spec.plan.peaks[0])
+                              force_floor=force_floor)
+    radius_fit_force_error = relative_force_residuals(predict_force, histories, radius_fit.Ca.slope,
+                                                      radius_fit.Kc.slope, force_floor)
     result = CalibrationResult(spec=spec, P_Y=pair.P_Y, P_Y_fe=P_Y_fe, load_paths=paths,
                                radius_data=data, radius_fit=radius_fit, window=window,
                                force_fit=force_fit, shipped=ship, comparisons={}, solver=solver,
+                               radius_fit_force_error={
+                                   "rms_relative_force_error": float(np.sqrt(np.mean(radius_fit_force_error**2))),
+                                   "max_relative_force_error": float(np.abs(radius_fit_force_error).max())},
                                mesh_info={**spec.mesh.describe(), "elements": int(hemisphere.mesh.nelements),
                                           "dofs": int(solver.n_dofs)})
     for path, (approach, force) in zip(paths.paths, histories):
         comparisons = []
-        for law_name, params in (("vz", result.params), ("thornton", pair), ("hertz", pair)):
+        other_fit = "force" if ship == "radius" else "radius"
+        other_params = (VZParams(pair, force_fit.Ca, force_fit.Kc) if other_fit == "force"
+                        else VZParams(pair, radius_fit.Ca.slope, radius_fit.Kc.slope))
+        for label, law_name, params in (("vz", "vz", result.params),
+                                        (f"vz ({other_fit} fit)", "vz", other_params),
+                                        ("thornton", "thornton", pair), ("hertz", "hertz", pair)):
             law_force, e = drive_law(law_name, params, approach)
-            comparisons.append(ModelComparison(law_name, law_force, e,
+            comparisons.append(ModelComparison(label, law_force, e,
                                                float(np.abs(law_force - force).max() / path.peak)))
         result.comparisons[path.peak] = comparisons
     result.wall_time_s = time.perf_counter() - t0
@@ -225,7 +237,7 @@ def summary(result: CalibrationResult) -> dict:
         "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
                        "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,
                        "Kc_se": result.radius_fit.Kc.standard_error, "Kc_r2": result.radius_fit.Kc.r_squared,
-                       "n_points": result.radius_fit.Ca.n_points},
+                       "n_points": result.radius_fit.Ca.n_points, **result.radius_fit_force_error},
         "force_fit": asdict(result.force_fit),
         "wall_time_s": result.wall_time_s,
         "timings": result.timings,

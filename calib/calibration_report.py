@@ -87,7 +87,7 @@ def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None
 def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     plt = report.pyplot()
     pair = result.spec.pair
-    colors = {"vz": "C3", "thornton": "C2", "hertz": "C7"}
+    colors = {"vz": "C3", "vz (force fit)": "C4", "vz (radius fit)": "C4", "thornton": "C2", "hertz": "C7"}
 
     fig, ax = plt.subplots(figsize=(7, 5))
     for k, path in enumerate(result.load_paths.paths):
@@ -95,7 +95,8 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
         force = np.array([r["P"] for r in path.rows])
         ax.plot(alpha * 1e6, force, "o", ms=3, color=f"C{k}", label=f"FE, P_max = {path.peak:g} N (e = {path.restitution:.3f})")
         for comparison in result.comparisons[path.peak]:
-            ax.plot(alpha * 1e6, comparison.force, "-", lw=1, color=colors[comparison.law],
+            ax.plot(alpha * 1e6, comparison.force, "-" if comparison.law == "vz" else "--", lw=1,
+                    color=colors[comparison.law],
                     label=f"{comparison.law} (e = {comparison.restitution:.3f})" if k == len(result.load_paths.paths) - 1 else None)
     ax.set_xlabel("approach alpha [um]"); ax.set_ylabel("force P [N]")
     ax.set_title("Force-approach: FE against the runtime laws driven by the FE's alpha")
@@ -179,3 +180,64 @@ def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool 
         write_vtu(out / "state_peak.vtu", solver, last.peak_state, r, p)
         write_vtu(out / "state_final.vtu", solver, result.load_paths.final_state)
     return out
+
+
+LADDER_SIZES = (1.6e-4, 8e-5, 4e-5, 2e-5)  # contact element sizes [m]
+
+
+def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None) -> Path:
+    """Ca, Kc, e and alpha of the reference calibration on a ladder of meshes, with wall times.
+
+    Each rung is written to ``out/ladder/<mesh key>.json`` as soon as it finishes and reused on
+    the next call (an interrupted ladder resumes; delete the folder to recompute). Writes
+    ``mesh_ladder.csv`` and ``mesh_ladder.png`` (values and wall time against element size).
+    """
+    import json
+
+    from calib.calibration import calibrate, reference_spec
+
+    out = Path(out)
+    rows = []
+    for size in sizes:
+        spec = reference_spec(size)
+        cache = out / "ladder" / f"{spec.mesh.cache_key()}.json"
+        if cache.is_file():
+            row = json.loads(cache.read_text())
+        else:
+            if progress:
+                progress(f"mesh ladder: contact size {size:g} m")
+            s = summary(calibrate(spec))
+            top = s["paths"][-1]
+            row = {"contact_size": size, "elements": s["mesh"]["elements"], "dofs": s["mesh"]["dofs"],
+                   "Ca": s["Ca"], "Kc": s["Kc"], "Ca_r2": s["radius_fit"]["Ca_r2"],
+                   "Kc_r2": s["radius_fit"]["Kc_r2"], "P_Y_fe": s["P_Y_fe"],
+                   "alpha_max_1500": top["alpha_max"], "e_1500": top["e"],
+                   "alpha_residual_1500": top["alpha_residual"], "wall_time_s": s["wall_time_s"],
+                   "factorizations": s["timings"]["factorizations"],
+                   "git_commit": report.git_commit()}
+            report.write_json(cache, row)
+        rows.append(row)
+    finest = rows[-1]
+    for row in rows:  # change against the finest rung: the discretisation error estimate
+        for key in ("Ca", "Kc", "e_1500", "alpha_max_1500"):
+            row[f"{key}_rel_change_vs_finest"] = row[key] / finest[key] - 1.0
+    stamp = report.stamp(sum(r["wall_time_s"] for r in rows), mesh={"sizes": list(sizes)})
+    report.write_csv(out / "mesh_ladder.csv", rows, comment=report.stamp_comment(stamp))
+
+    plt = report.pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    h = [r["contact_size"] for r in rows]
+    for key, label in (("Ca", "Ca"), ("Kc", "Kc"), ("e_1500", "e (1500 N)"), ("alpha_max_1500", "alpha (1500 N)")):
+        axes[0].plot(h, [abs(r[f"{key}_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]] + [float("nan")], "o-", label=label)
+    axes[0].set_xscale("log"); axes[0].set_yscale("log")
+    axes[0].set_xlabel("contact element size h [m]"); axes[0].set_ylabel("|relative change vs finest mesh|")
+    axes[0].legend(); axes[0].grid(alpha=0.3, which="both")
+    axes[1].plot([r["wall_time_s"] for r in rows[:-1]], [abs(r["Ca_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]], "o-", label="Ca")
+    axes[1].plot([r["wall_time_s"] for r in rows[:-1]], [abs(r["Kc_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]], "s-", label="Kc")
+    axes[1].plot([r["wall_time_s"] for r in rows[:-1]], [abs(r["e_1500_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]], "^-", label="e")
+    axes[1].set_xscale("log"); axes[1].set_yscale("log")
+    axes[1].set_xlabel("wall time of the calibration [s]"); axes[1].set_ylabel("|relative change vs finest mesh|")
+    axes[1].legend(); axes[1].grid(alpha=0.3, which="both")
+    fig.suptitle("Reference calibration on a mesh ladder (finest: h = %g m)" % finest["contact_size"])
+    report.save_figure(fig, out / "mesh_ladder.png")
+    return out / "mesh_ladder.csv"

@@ -99,6 +99,9 @@ class ContactState:
     alpha: float = 0.0
     force: float = 0.0
     contact_radius: float = 0.0
+    # d ln(contact_radius) / d ln(P) and / d ln(alpha) over the step that produced this state
+    # (None before two loaded states exist): the warm start of the next active set
+    radius_exponents: Optional[tuple] = None
 
 
 @dataclass(frozen=True)
@@ -425,15 +428,20 @@ class ContactSolver:
     def predict_active_set(self, state: ContactState, control: str, target: float):
         """Warm start of the active set: the nodes inside a predicted contact radius.
 
-        The previous step's radius scaled by the Hertz similarity a ~ P^(1/3) (force control)
-        or a ~ alpha^(1/2) (displacement control) (Johnson 1985, eq. 4.22-4.23); on the first
+        The previous step's radius scaled by a power of the load: the exponent measured over
+        the previous step when there is one (elastoplastic contacts grow faster than Hertz's),
+        else the Hertz similarity a ~ P^(1/3) (force control) or a ~ alpha^(1/2) (displacement
+        control) (Johnson 1985, eq. 4.22-4.23); on the first
         step, the Hertz radius itself when the material has E and nu. A wrong guess costs only
         active-set iterations (the loop corrects it either way); it saves most of them because
         the primal active set otherwise grows by about one ring of nodes per iteration.
         """
         previous = state.force if control == "force" else state.alpha
         if state.contact_radius > 0 and previous > 0 and target > 0:
-            exponent = 1.0 / 3.0 if control == "force" else 0.5
+            if state.radius_exponents is not None:  # learnt from the last step (plasticity
+                exponent = state.radius_exponents[0 if control == "force" else 1]  # grows a faster)
+            else:
+                exponent = 1.0 / 3.0 if control == "force" else 0.5
             radius = state.contact_radius * (target / previous) ** exponent
         elif target > 0 and hasattr(self.material, "E") and hasattr(self.material, "nu"):
             E_star = self.material.E / (1.0 - self.material.nu ** 2)
@@ -496,7 +504,9 @@ class ContactSolver:
             # active set update: release tensile reactions, add penetrating nodes
             reaction = residual[self.candidate_q]
             gap = self.candidate_z0 + q[self.candidate_q]
-            force_tol = 1e-10 * scale
+            # Reactions are only known to the Newton tolerance: a "tensile" reaction below it is
+            # noise (e.g. the pole, whose P2 weight 2 pi r vanishes) and must not flip the set.
+            force_tol = 10.0 * self.residual_tolerance * scale
             tensile = active & (reaction < -force_tol)
             penetrating = ~active & (gap < -self.gap_tolerance)
             if not (tensile.any() or penetrating.any()):
@@ -542,7 +552,8 @@ class ContactSolver:
                  "node": float(self.candidate_r[active].max()) if active.any() else 0.0}
         chosen = radii[self.contact_radius_method]
         new_state = ContactState(displacement=u, material_state=trial, active=active,
-                                 alpha=float(alpha), force=float(P), contact_radius=chosen)
+                                 alpha=float(alpha), force=float(P), contact_radius=chosen,
+                                 radius_exponents=_radius_exponents(state, alpha, P, chosen))
         record = self._record(control, target, alpha, P, float(reaction.sum()),
                               (chosen, radii["gap"], radii["pressure"], radii["node"]),
                               float(pressure.max()), int(active.sum()),
@@ -674,6 +685,19 @@ def run_load_path(solver: ContactSolver, loads, control: str = "force",
         results.append(result)
         state = solver.commit(result)
     return results, state
+
+
+def _radius_exponents(before: ContactState, alpha: float, force: float, radius: float):
+    """(d ln a / d ln P, d ln a / d ln alpha) over one step, clipped to a plausible range;
+    None when the step is too small or not in contact at both ends to measure them."""
+    values = (before.contact_radius, radius, before.force, force, before.alpha, alpha)
+    if min(values) <= 0:
+        return None
+    d_radius = np.log(radius / before.contact_radius)
+    d_force, d_alpha = np.log(force / before.force), np.log(alpha / before.alpha)
+    if abs(d_force) < 1e-6 or abs(d_alpha) < 1e-6 or d_radius == 0:
+        return None
+    return (float(np.clip(d_radius / d_force, 0.1, 1.0)), float(np.clip(d_radius / d_alpha, 0.2, 2.0)))
 
 
 def _finite(name, value) -> float:

@@ -148,15 +148,21 @@ def fit_force_law(predict_force, histories: Sequence[tuple[np.ndarray, np.ndarra
     they stay positive.
     """
     def residuals(log_params):
-        Ca, Kc = np.exp(log_params)
-        parts = []
-        for approach, force in histories:
-            predicted = predict_force(np.asarray(approach, float), Ca, Kc)
-            parts.append((predicted - force) / np.maximum(np.abs(force), force_floor))
-        return np.concatenate(parts)
+        return relative_force_residuals(predict_force, histories, *np.exp(log_params), force_floor)
 
     solution = optimize.least_squares(residuals, np.log([Ca0, Kc0]), method="lm", xtol=1e-12, ftol=1e-12)
     Ca, Kc = np.exp(solution.x)
     res = residuals(solution.x)
     return ForceLawFit(Ca=float(Ca), Kc=float(Kc), rms_relative_force_error=float(np.sqrt(np.mean(res**2))),
                        max_relative_force_error=float(np.abs(res).max()), n_points=int(res.size))
+
+
+def relative_force_residuals(predict_force, histories, Ca: float, Kc: float,
+                             force_floor: float) -> np.ndarray:
+    """(P_law - P_FE) / max(P_FE, force_floor) at every point of every history (the metric
+    ``fit_force_law`` minimises; also used to score any other (Ca, Kc))."""
+    parts = []
+    for approach, force in histories:
+        predicted = predict_force(np.asarray(approach, float), Ca, Kc)
+        parts.append((predicted - force) / np.maximum(np.abs(force), force_floor))
+    return np.concatenate(parts)

@@ -29,6 +29,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--out", default=None, help="output folder (default results/calibration)")
     parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
+    parser.add_argument("--ladder", action="store_true",
+                        help="reference case on a ladder of 4 meshes: Ca, Kc, e against wall time"
+                             " (resumes: finished rungs are kept in OUT/ladder/)")
     parser.add_argument("--quiet", action="store_true", help="no progress messages")
     parser.set_defaults(run=run)
 
@@ -41,6 +44,16 @@ def run(ns) -> int:
     from calib import calibration, calibration_report, report
     from calib.loadpath import LoadPathPlan
 
+    verbose = not ns.quiet and sys.stderr.isatty()
+    progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
+    if ns.ladder:
+        if not is_reference(ns) or ns.peaks is not None or ns.contact_size is not None:
+            raise ValueError("--ladder runs the reference case on its own meshes: do not combine it"
+                             " with material flags, --peaks or --contact-size")
+        path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
+                                              progress=progress)
+        print(f"mesh ladder written to {path}")
+        return 0
     material, radius = material_from_args(ns)
     contact_size = number("--contact-size", ns.contact_size)
     if contact_size is not None and not contact_size > 0:
@@ -57,8 +70,6 @@ def run(ns) -> int:
         spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=peaks, loading_step=min(peaks) / 16,
                                                            unloading_steps=plan.unloading_steps,
                                                            first_load=min(plan.first_load or min(peaks), min(peaks))))
-    verbose = not ns.quiet and sys.stderr.isatty()
-    progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
     result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
     out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,
                                    plots=not ns.no_plots, vtu=not ns.no_plots)
