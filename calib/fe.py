@@ -102,6 +102,10 @@ class ContactState:
     # d ln(contact_radius) / d ln(P) and / d ln(alpha) over the step that produced this state
     # (None before two loaded states exist): the warm start of the next active set
     radius_exponents: Optional[tuple] = None
+    # du/dP over the step that produced this state [m/N] (force control only): the secant
+    # predictor of the next force step in the same direction
+    displacement_rate: Optional[np.ndarray] = field(default=None, repr=False)
+    load_direction: int = 0  # sign of the force change over that step
 
 
 @dataclass(frozen=True)
@@ -462,6 +466,13 @@ class ContactSolver:
         if control == "displacement":
             q[self.plate] = -target
         q_start = q.copy()
+        if (control == "force" and state.displacement_rate is not None
+                and np.sign(target - state.force) == state.load_direction):
+            # secant predictor: continue along the last step's du/dP (same load direction only:
+            # at a turning point the unloading is stiffer than the plastic loading was)
+            u_predicted = state.displacement + state.displacement_rate * (target - state.force)
+            q[:self.plate] = u_predicted[self._kept]
+            q[self.plate] = u_predicted[self._top_z_dof]
         active = self.predict_active_set(state, control, target)
         visited = {active.tobytes()}
         residual_history: list[float] = []
@@ -553,7 +564,8 @@ class ContactSolver:
         chosen = radii[self.contact_radius_method]
         new_state = ContactState(displacement=u, material_state=trial, active=active,
                                  alpha=float(alpha), force=float(P), contact_radius=chosen,
-                                 radius_exponents=_radius_exponents(state, alpha, P, chosen))
+                                 radius_exponents=_radius_exponents(state, alpha, P, chosen),
+                                 **_displacement_rate(state, control, u, P))
         record = self._record(control, target, alpha, P, float(reaction.sum()),
                               (chosen, radii["gap"], radii["pressure"], radii["node"]),
                               float(pressure.max()), int(active.sum()),
@@ -685,6 +697,15 @@ def run_load_path(solver: ContactSolver, loads, control: str = "force",
         results.append(result)
         state = solver.commit(result)
     return results, state
+
+
+def _displacement_rate(before: ContactState, control: str, displacement, force: float) -> dict:
+    """du/dP and the load direction over a force-controlled step (for the secant predictor)."""
+    change = force - before.force
+    if control != "force" or before.force <= 0 or abs(change) < 1e-9 * abs(force):
+        return {}
+    return {"displacement_rate": (displacement - before.displacement) / change,
+            "load_direction": int(np.sign(change))}
 
 
 def _radius_exponents(before: ContactState, alpha: float, force: float, radius: float):
