@@ -29,6 +29,8 @@ which is exact for this domain and independent of the file format.
 """
 from __future__ import annotations
 
+import dataclasses
+
 import hashlib
 import json
 import os
@@ -39,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-GENERATOR_VERSION = 1  # bump when the meshing recipe changes: invalidates the cache
+GENERATOR_VERSION = 2  # bump when the meshing recipe changes: invalidates the cache
 REPO_ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_CACHE_DIR = REPO_ROOT / ".cache" / "meshes"
 _GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
@@ -137,7 +139,13 @@ def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    # Mesh in units of R and scale the result: gmsh's tolerances are absolute, so meshing a
+    # 1 um sphere in metres gives a (slightly) different mesh than a 10 m one. In units of R
+    # every sphere of the same dimensionless spec gets the same mesh, up to a similarity.
     R = spec.radius
+    unit = dataclasses.replace(spec, radius=1.0, contact_size=spec.contact_size / R,
+                               refined_radius=spec.refined_radius / R,
+                               refined_depth=spec.refined_depth / R, far_size=spec.far_size / R)
     with _GMSH_LOCK:
         gmsh.initialize(readConfigFiles=False)
         try:
@@ -145,8 +153,8 @@ def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
             gmsh.model.add("hemisphere")
             geo = gmsh.model.geo
             pole = geo.addPoint(0.0, 0.0, 0.0)
-            centre = geo.addPoint(0.0, R, 0.0)
-            equator = geo.addPoint(R, R, 0.0)
+            centre = geo.addPoint(0.0, 1.0, 0.0)
+            equator = geo.addPoint(1.0, 1.0, 0.0)
             axis = geo.addLine(pole, centre)
             top = geo.addLine(centre, equator)
             surface = geo.addCircleArc(equator, centre, pole)
@@ -160,15 +168,16 @@ def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
             for option in ("Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature",
                            "Mesh.MeshSizeExtendFromBoundary"):
                 gmsh.option.setNumber(option, 0)
-            gmsh.option.setNumber("Mesh.MeshSizeMin", spec.contact_size)
-            gmsh.option.setNumber("Mesh.MeshSizeMax", spec.far_size)
+            gmsh.option.setNumber("Mesh.MeshSizeMin", unit.contact_size)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", unit.far_size)
             gmsh.model.mesh.setSizeCallback(
-                lambda dim, tag, x, y, z, lc: float(spec.size_at(x, y)))
+                lambda dim, tag, x, y, z, lc: float(unit.size_at(x, y)))
             gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
             gmsh.option.setNumber("Mesh.ElementOrder", 2)
             gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-side nodes on the circle
             gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
             gmsh.model.mesh.generate(2)
+            gmsh.model.mesh.affineTransform([R, 0, 0, 0, 0, R, 0, 0, 0, 0, R, 0])
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".msh")
             os.close(fd)
             try:

@@ -105,3 +105,22 @@ def test_cli_calibrate_bad_input(argv, match, capsys):
     assert main(["calibrate", "--quiet", *argv]) == 2
     err = capsys.readouterr().err
     assert match in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_dimensionless_parameters_do_not_depend_on_the_sphere_size():
+    """SPEC section 7: with lengths scaled by a_Y and forces by P_Y the problem depends on nu and
+    E / sigma_Y only, so a 1 um and a 10 m sphere give the same Ca_hat, Kc_hat and e: the mesh is
+    built in units of R and the solver's tolerances carry no absolute units."""
+    material = Material(70e9, 0.3, 100e6, 2699.0)
+    results = []
+    for radius in (1e-6, 10.0):
+        spec = calibration.spec_for(material, radius, peaks_over_yield=(6.0, 12.0),
+                                    contact_size_over_a_max=0.1)
+        spec = dataclasses.replace(spec, plan=dataclasses.replace(
+            spec.plan, loading_step=spec.plan.peaks[0] / 3, unloading_steps=3))
+        results.append(calibration.summary(calibration.calibrate(spec)))
+    small, large = results
+    assert small["Ca_hat"] == pytest.approx(large["Ca_hat"], rel=1e-6)
+    assert small["Kc_hat"] == pytest.approx(large["Kc_hat"], rel=1e-6)
+    assert small["paths"][-1]["e"] == pytest.approx(large["paths"][-1]["e"], rel=1e-6)
+    assert small["Ca"] / large["Ca"] == pytest.approx(10.0 / 1e-6, rel=1e-6)  # Ca ~ a_Y / P_Y ~ 1/R
