@@ -185,13 +185,18 @@ def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool 
 LADDER_SIZES = (1.6e-4, 8e-5, 4e-5, 2e-5)  # contact element sizes [m]
 
 
-def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None) -> Path:
-    """Ca, Kc, e and alpha of the reference calibration on a ladder of meshes, with wall times.
+def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None,
+                material=None, name: str = "mesh_ladder") -> Path:
+    """Ca, Kc, e, alpha and contact radius of the reference load paths (500/1000/1500 N on the
+    R = 0.1 m sphere; ``material`` defaults to the reference aluminium) on a ladder of meshes,
+    with wall times.
 
-    Each rung is written to ``out/ladder/<mesh key>.json`` as soon as it finishes and reused on
-    the next call (an interrupted ladder resumes; delete the folder to recompute). Writes
-    ``mesh_ladder.csv`` and ``mesh_ladder.png`` (values and wall time against element size).
+    Each rung is written to ``out/ladder/<key>.json`` (key: mesh and material) as soon as it
+    finishes and reused on the next call (an interrupted ladder resumes; delete the folder to
+    recompute). Writes ``<name>.csv`` and ``<name>.png`` (values and wall time against size).
     """
+    import dataclasses
+    import hashlib
     import json
 
     from calib.calibration import calibrate, reference_spec
@@ -200,15 +205,25 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
     rows = []
     for size in sizes:
         spec = reference_spec(size)
-        cache = out / "ladder" / f"{spec.mesh.cache_key()}.json"
+        if material is not None:
+            spec = dataclasses.replace(spec, material=material)
+        key = spec.mesh.cache_key()
+        if material is not None:
+            key += "-" + hashlib.sha256(repr(material).encode()).hexdigest()[:8]
+        cache = out / "ladder" / f"{key}.json"
         if cache.is_file():
             row = json.loads(cache.read_text())
         else:
             if progress:
                 progress(f"mesh ladder: contact size {size:g} m")
-            s = summary(calibrate(spec))
+            result = calibrate(spec)
+            s = summary(result)
             top = s["paths"][-1]
-            row = {"contact_size": size, "elements": s["mesh"]["elements"], "dofs": s["mesh"]["dofs"],
+            peak_row = max(result.load_paths.loading_rows, key=lambda r: r["P"])
+            row = {"contact_size": size, "nu": spec.material.nu, "E_over_sigma_y":
+                   spec.material.E / spec.material.sigma_y,
+                   "elements": s["mesh"]["elements"], "dofs": s["mesh"]["dofs"],
+                   "contact_radius_1500": peak_row["contact_radius"],
                    "Ca": s["Ca"], "Kc": s["Kc"], "Ca_r2": s["radius_fit"]["Ca_r2"],
                    "Kc_r2": s["radius_fit"]["Kc_r2"], "P_Y_fe": s["P_Y_fe"],
                    "alpha_max_1500": top["alpha_max"], "e_1500": top["e"],
@@ -219,10 +234,12 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
         rows.append(row)
     finest = rows[-1]
     for row in rows:  # change against the finest rung: the discretisation error estimate
-        for key in ("Ca", "Kc", "e_1500", "alpha_max_1500"):
-            row[f"{key}_rel_change_vs_finest"] = row[key] / finest[key] - 1.0
+        for key in ("Ca", "Kc", "e_1500", "alpha_max_1500", "contact_radius_1500"):
+            if key in row and key in finest:
+                row[f"{key}_rel_change_vs_finest"] = row[key] / finest[key] - 1.0
     stamp = report.stamp(sum(r["wall_time_s"] for r in rows), mesh={"sizes": list(sizes)})
-    report.write_csv(out / "mesh_ladder.csv", rows, comment=report.stamp_comment(stamp))
+    columns = list(dict.fromkeys(k for row in rows for k in row))
+    report.write_csv(out / f"{name}.csv", rows, columns=columns, comment=report.stamp_comment(stamp))
 
     plt = report.pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
@@ -238,6 +255,6 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
     axes[1].set_xscale("log"); axes[1].set_yscale("log")
     axes[1].set_xlabel("wall time of the calibration [s]"); axes[1].set_ylabel("|relative change vs finest mesh|")
     axes[1].legend(); axes[1].grid(alpha=0.3, which="both")
-    fig.suptitle("Reference calibration on a mesh ladder (finest: h = %g m)" % finest["contact_size"])
-    report.save_figure(fig, out / "mesh_ladder.png")
-    return out / "mesh_ladder.csv"
+    fig.suptitle(f"Load paths on a mesh ladder, nu = {finest.get('nu', 0.3):g} (finest: h = {finest['contact_size']:g} m)")
+    report.save_figure(fig, out / f"{name}.png")
+    return out / f"{name}.csv"
