@@ -1,0 +1,134 @@
+"""The dimensionless master table: Ca_hat, Kc_hat over (nu, E / sigma_Y), interpolated.
+
+SPEC section 7: scaling lengths by a_Y, approaches by delta_Y, forces by P_Y and stresses by
+sigma_Y, the small-strain sphere-on-flat problem (load paths at fixed multiples of P_Y) depends
+only on nu and E / sigma_Y, so
+
+    Ca_hat = Ca P_Y / a_Y  [-],   Kc_hat = Kc P_Y  [-]
+
+are material constants of (nu, E / sigma_Y). The table (calib/data/master_table.csv, one row per
+grid node, written by ``nfdcal table`` on the built-in scene ``master_grid``) is interpolated
+linearly in nu and in log10(E / sigma_Y) (scipy RegularGridInterpolator), so it is exact on
+the grid nodes; its metadata (calib/data/master_table.json) states the mesh, the commit and the
+accuracy that was measured. A new material then needs no FE run:
+
+    Ca = Ca_hat a_Y / P_Y  [m/N],   Kc = Kc_hat / P_Y  [1/N]   (nfdmodel VZParams.from_dimensionless)
+
+numpy/scipy only (``nfdcal material`` answers in a fraction of a second).
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+DATA_DIR = Path(__file__).resolve().parent / "data"
+DEFAULT_TABLE = DATA_DIR / "master_table.csv"
+AXES = ("nu", "E_over_sigma_y")
+VALUES = ("Ca_hat", "Kc_hat")
+
+
+def read_rows(path: str | Path) -> list[dict]:
+    """The rows of a table CSV (lines starting with '#' are the stamp), numbers as floats."""
+    path = Path(path)
+    if not path.is_file():
+        raise FileNotFoundError(f"master table not found: {path}")
+    lines = [line for line in path.read_text(encoding="utf-8").splitlines() if not line.startswith("#")]
+    rows = []
+    for raw in csv.DictReader(lines):
+        row = {}
+        for key, text in raw.items():
+            try:
+                row[key] = float(text)
+            except (TypeError, ValueError):
+                row[key] = text
+        rows.append(row)
+    return rows
+
+
+@dataclass(frozen=True)
+class MasterTable:
+    """Ca_hat, Kc_hat on the regular grid nu x E_over_sigma_y (axes ascending)."""
+
+    nu: np.ndarray
+    E_over_sigma_y: np.ndarray
+    Ca_hat: np.ndarray          # shape (len(nu), len(E_over_sigma_y))
+    Kc_hat: np.ndarray
+    meta: dict = field(default_factory=dict)
+    path: Path | None = None
+
+    @classmethod
+    def from_rows(cls, rows: list[dict], meta: dict | None = None, path: Path | None = None) -> "MasterTable":
+        """Build from table rows (one per node, columns nu, E_over_sigma_y, Ca_hat, Kc_hat); every
+        node of the grid must be present with finite values."""
+        where = f" in {path}" if path else ""
+        for key in AXES + VALUES:
+            if not rows or key not in rows[0]:
+                raise ValueError(f"master table{where}: missing column {key!r}")
+        nu = np.unique([float(r["nu"]) for r in rows])
+        ratio = np.unique([float(r["E_over_sigma_y"]) for r in rows])
+        values = {k: np.full((nu.size, ratio.size), np.nan) for k in VALUES}
+        for r in rows:
+            i, j = np.searchsorted(nu, float(r["nu"])), np.searchsorted(ratio, float(r["E_over_sigma_y"]))
+            for k in VALUES:
+                v = r[k]
+                values[k][i, j] = float(v) if isinstance(v, float) and math.isfinite(v) else np.nan
+        missing = [(float(nu[i]), float(ratio[j])) for i, j in zip(*np.nonzero(np.isnan(values["Ca_hat"]) | np.isnan(values["Kc_hat"])))]
+        if missing:
+            raise ValueError(f"master table{where}: grid nodes (nu, E/sigma_Y) without a value: {missing}")
+        if nu.size < 2 or ratio.size < 2:
+            raise ValueError(f"master table{where}: need at least 2 values of nu and of E/sigma_Y, "
+                             f"got {nu.size} x {ratio.size}")
+        return cls(nu, ratio, values["Ca_hat"], values["Kc_hat"], meta or {}, path)
+
+    @classmethod
+    def load(cls, path: str | Path | None = None) -> "MasterTable":
+        """The table at ``path`` (default: the shipped one) with its metadata (same name, .json)."""
+        path = Path(path) if path is not None else DEFAULT_TABLE
+        rows = read_rows(path)
+        meta_path = path.with_suffix(".json")
+        meta = json.loads(meta_path.read_text(encoding="utf-8")) if meta_path.is_file() else {}
+        return cls.from_rows(rows, meta.get("master_table", meta), path)
+
+    def _check(self, nu: float, E_over_sigma_y: float) -> None:
+        for name, value, axis in (("nu", nu, self.nu), ("E/sigma_Y", E_over_sigma_y, self.E_over_sigma_y)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise ValueError(f"{name} must be a finite number, got {value!r}")
+            low, high = float(axis[0]), float(axis[-1])
+            if not (low * (1 - 1e-12) <= value <= high * (1 + 1e-12) + 1e-15):
+                raise ValueError(f"{name} = {value:g} is outside the master table: need {name} in "
+                                 f"[{low:g}, {high:g}] (calibrate this material by FE with "
+                                 f"`nfdcal calibrate` instead)")
+
+    def lookup(self, nu: float, E_over_sigma_y: float) -> tuple[float, float]:
+        """(Ca_hat, Kc_hat) at (nu, E / sigma_Y): linear in nu and log10(E / sigma_Y)."""
+        from scipy.interpolate import RegularGridInterpolator
+
+        self._check(nu, E_over_sigma_y)
+        x = np.log10(self.E_over_sigma_y)
+        point = np.array([[min(max(nu, self.nu[0]), self.nu[-1]),
+                           np.clip(np.log10(E_over_sigma_y), x[0], x[-1])]])
+        out = []
+        for values in (self.Ca_hat, self.Kc_hat):
+            out.append(float(RegularGridInterpolator((self.nu, x), values, method="linear")(point)[0]))
+        return out[0], out[1]
+
+    def parameters(self, E: float, nu: float, sigma_y: float, R: float, rho: float = 2700.0) -> dict:
+        """Ca, Kc [SI] and the dimensionless values of a sphere (E, nu, sigma_Y, R) on a rigid flat."""
+        from nfdmodel import ContactPair, Material, VZParams
+
+        material = Material(E, nu, sigma_y, rho)
+        pair = ContactPair.sphere_flat(material, R)
+        Ca_hat, Kc_hat = self.lookup(float(nu), float(E) / float(sigma_y))
+        params = VZParams.from_dimensionless(pair, Ca_hat, Kc_hat)
+        return {"Ca": params.Ca, "Kc": params.Kc, "Ca_hat": Ca_hat, "Kc_hat": Kc_hat,
+                "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
+                "E_over_sigma_y": float(E) / float(sigma_y),
+                "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m"},
+                "source": "master table interpolation",
+                "table": str(self.path) if self.path else None,
+                "accuracy": self.meta.get("accuracy", "not stated")}

@@ -1,0 +1,188 @@
+"""Scenes: validation before anything runs, the dry-run plan, and leaving out what a scene does
+not need (coarse meshes only)."""
+import json
+import textwrap
+
+import pytest
+
+from calib import cli, scenes
+
+COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
+
+MATERIAL = """
+[[material]]
+name = "al"
+E = 70e9
+nu = 0.3
+sigma_y = 100e6
+rho = 2699.0
+R = 0.1
+"""
+
+
+def nfdcal(monkeypatch, *argv):
+    monkeypatch.setattr(cli, "COMMAND_MODULES", COMMANDS)
+    return cli.main([str(a) for a in argv])
+
+
+def write(tmp_path, text, name="scene.toml"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def test_builtin_scenes_validate_and_cite_their_sources():
+    found = scenes.builtin_scenes()
+    assert {"reference", "hertz", "steel", "copper", "master_grid"} <= set(found)
+    for name, path in found.items():
+        scene = scenes.load_scene(name)
+        assert scene.stages()
+        assert path.read_text().lstrip().startswith("#")  # a comment with the source of the values
+
+
+@pytest.mark.parametrize("body, words", [
+    ('[mesh]\nlevel = "coarse"\nrefinement = 2\n' + MATERIAL + "[hertz]\n", ["mesh.refinement", "unknown key", "allowed"]),
+    ("[bogus]\n" + MATERIAL, ["bogus", "unknown section"]),
+    (MATERIAL.replace("nu = 0.3", "nu = 0.6") + "[hertz]\n", ["material[0].nu", "out of range", "< 0.5", "0.6"]),
+    (MATERIAL.replace("E = 70e9", 'E = "hard"') + "[hertz]\n", ["material[0].E", "must be a number", "str"]),
+    (MATERIAL.replace("R = 0.1", "") + "[hertz]\n", ["material[0].R", "missing"]),
+    ('[mesh]\nlevel = "medium"\n' + MATERIAL + "[hertz]\n", ["mesh.level", "coarse, default, fine"]),
+    (MATERIAL + "[load_paths]\nP_max = [10.0]\n[calibration]\n", ["load_paths.P_max", "> 2 P_Y"]),
+    (MATERIAL + "[load_paths]\nunload = 1\n", ["load_paths.unload", "true or false"]),
+    (MATERIAL, ["nothing to run"]),
+])
+def test_invalid_scene_is_one_line_naming_file_and_key(tmp_path, monkeypatch, capsys, body, words):
+    path = write(tmp_path, body)
+    with pytest.raises(ValueError) as info:
+        scenes.load_scene(path)
+    message = str(info.value)
+    assert str(path) in message and "\n" not in message
+    for word in words:
+        assert word in message
+    assert nfdcal(monkeypatch, "run", "--dry-run", path) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("nfdcal run: error: scene") and len(err.splitlines()) == 1
+
+
+def test_missing_scene_file_exits_2(monkeypatch, capsys, tmp_path):
+    assert nfdcal(monkeypatch, "run", tmp_path / "nope.toml") == 2
+    assert "scene file not found" in capsys.readouterr().err
+
+
+def test_not_toml(tmp_path):
+    with pytest.raises(ValueError, match="not valid TOML"):
+        scenes.load_scene(write(tmp_path, "[scene\nname = 1"))
+
+
+def test_dry_run_prints_stages_meshes_and_estimate(monkeypatch, capsys, tmp_path):
+    path = write(tmp_path, """
+        [scene]
+        name = "plan"
+        [mesh]
+        level = "coarse"
+        """ + MATERIAL + """
+        [hertz]
+        P_max = 1500.0
+        steps = 5
+        [load_paths]
+        P_max = [500.0, 1000.0]
+        [calibration]
+        [collision]
+        v_in = [0.1]
+        """)
+    assert nfdcal(monkeypatch, "run", "--dry-run", path) == 0
+    out = capsys.readouterr().out
+    for word in ("hertz", "calibration", "collision", "estimated total", "loading and unloading", "elastoplastic"):
+        assert word in out
+    stages = scenes.plan(scenes.load_scene(path))
+    assert [s.stage for s in stages] == ["hertz", "calibration", "collision"]
+    assert stages[1].dofs > 1000 and stages[1].estimate_s > 0
+    assert not (tmp_path / "out").exists()  # nothing ran
+
+
+def test_estimated_dofs_match_the_reference_meshes():
+    from meshes.hemisphere import HemisphereMeshSpec
+
+    scenes._calibrate_estimator()
+    for size in (1.6e-4, 8e-5):
+        estimate = scenes.estimate_dofs(HemisphereMeshSpec(contact_size=size))
+        assert estimate == pytest.approx({1.6e-4: 4465, 8e-5: 6881}[size], rel=0.15)
+
+
+def test_elastic_only_scene_never_runs_the_return_mapping_nor_unloads(tmp_path, monkeypatch):
+    import calib.loadpath
+    import calib.plasticity
+
+    def forbidden(*args, **kwargs):
+        raise AssertionError("must not be called by an elastic-only, loading-only scene")
+
+    monkeypatch.setattr(calib.plasticity, "radial_return", forbidden)
+    monkeypatch.setattr(calib.plasticity, "VonMisesMaterial", forbidden)
+    monkeypatch.setattr(calib.loadpath.LoadPathPlan, "unloading_targets", forbidden)
+    path = write(tmp_path, """
+        [scene]
+        name = "elastic"
+        [mesh]
+        level = "coarse"
+        """ + MATERIAL + """
+        [hertz]
+        P_min = 1.0
+        P_max = 30.0
+        steps = 3
+        [load_paths]
+        P_max_over_P_Y = [0.8]
+        unload = false
+        loading_steps = 4
+        [outputs]
+        histories = false
+        """)
+    scene = scenes.load_scene(path)
+    assert not scenes.plastic_needed(scene, scene.materials[0])
+    summary = scenes.run_scene(scene, tmp_path / "out")
+    entry = summary["materials"][0]
+    assert entry["load_paths"]["elastic"] and not entry["load_paths"]["unload"]
+    assert entry["hertz"]["top_load"]["contact_radius_rel_error"] < 0.05
+    written = {p.name for p in (tmp_path / "out").iterdir()}
+    assert written == {"hertz.json", "load_paths.json", "scene.json"}  # no plots, no histories
+
+
+def test_loading_only_calibration_and_collision(tmp_path, monkeypatch):
+    """A loading-only calibration never unloads; its Ca, Kc drive the collision stage."""
+    import calib.loadpath
+
+    monkeypatch.setattr(calib.loadpath.LoadPathPlan, "unloading_targets",
+                        lambda *a: (_ for _ in ()).throw(AssertionError("unloaded")))
+    path = write(tmp_path, """
+        [scene]
+        name = "loadonly"
+        [mesh]
+        level = "coarse"
+        """ + MATERIAL + """
+        [load_paths]
+        P_max = [700.0]
+        unload = false
+        loading_steps = 8
+        [calibration]
+        [collision]
+        v_in = [0.05]
+        laws = ["vz", "hertz"]
+        """)
+    summary = scenes.run_scene(scenes.load_scene(path), tmp_path / "out")
+    cal = summary["materials"][0]["calibration"]
+    assert cal["loading_only"] and 0.015 < cal["Ca_hat"] < 0.035
+    params = json.loads((tmp_path / "out" / "parameters.json").read_text())
+    assert params["Ca"] == pytest.approx(cal["Ca"])
+    rows = (tmp_path / "out" / "collision.csv").read_text()
+    assert "vz" in rows and "hertz" in rows
+    assert not list((tmp_path / "out").glob("*.png"))
+
+
+def test_progress_is_silent_off_a_terminal(capsys):
+    progress = scenes.terminal_progress(quiet=False, total_estimate_s=10)
+    progress("load step 1/3")  # pytest's stderr is not a terminal
+    assert capsys.readouterr().err == ""
+    import io
+
+    stream = io.StringIO()
+    scenes.Progress(True, 10, stream)("material 1/2")
+    assert "material 1/2" in stream.getvalue() and "left" in stream.getvalue()
