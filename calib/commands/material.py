@@ -1,0 +1,51 @@
+"""``nfdcal material``: Ca, Kc of a new material from the master table, without an FE run.
+
+    nfdcal material --E 205e9 --nu 0.29 --sigma-y 655e6 --R 0.005 --json
+    nfdcal material ... --params-out steel.json     # a parameter file for nfdmodel.load_parameters
+
+Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table (SPEC section 7;
+calib/data/master_table.csv), then Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N],
+Kc [1/N], Ca_hat, Kc_hat, P_Y [N] and the table's stated accuracy. Outside the table: one line
+naming the parameter and the table's range (exit 2).
+"""
+from __future__ import annotations
+
+from calib.commands.common import add_material_arguments, material_from_args
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser("material", help="Ca, Kc of a material from the master table (no FE)",
+                                   description=__doc__.split("\n\n")[0])
+    add_material_arguments(parser)
+    parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
+    parser.add_argument("--params-out", default=None, metavar="JSON",
+                        help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params)")
+    parser.add_argument("--json", action="store_true", help="print the result as JSON")
+    parser.set_defaults(run=run)
+
+
+def run(ns) -> int:
+    import json
+
+    from calib.master_table import MasterTable
+
+    material, radius = material_from_args(ns)
+    table = MasterTable.load(ns.table)
+    values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
+    if ns.params_out:
+        from calib import report
+        from nfdmodel import ContactPair, VZParams, parameter_record
+
+        params = VZParams.from_dimensionless(ContactPair.sphere_flat(material, radius),
+                                             values["Ca_hat"], values["Kc_hat"])
+        record = parameter_record(params, radius, material)
+        record.update({"fit": {"shipped": "master table", "accuracy": values["accuracy"],
+                               "table": values["table"]}, "stamp": report.stamp(0.0)})
+        report.write_json(ns.params_out, record)
+    if ns.json:
+        print(json.dumps(values, indent=2))
+        return 0
+    print(f"Ca = {values['Ca']:.4g} m/N, Kc = {values['Kc']:.4g} 1/N (Ca_hat = {values['Ca_hat']:.4g}, "
+          f"Kc_hat = {values['Kc_hat']:.4g}), P_Y = {values['P_Y']:.4g} N, a_Y = {values['a_Y']:.4g} m")
+    print(f"accuracy: {values['accuracy']}")
+    return 0

@@ -1,0 +1,217 @@
+"""Parameter tables: calibrate every material of a scene's sweep, in parallel, resumably.
+
+One row per material (SI units): inputs (E, nu, sigma_y, rho, R, E/sigma_Y), the yield point
+(P_Y, a_Y, delta_Y from theory, SPEC section 2; P_Y_fe, the FE first yield), the fit (Ca, Kc,
+Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y, SPEC section 7) with its quality (R^2 and standard
+error of each slope, number of points), the mesh (contact size, dofs, key), the FE wall time
+and the git commit. Ca and Kc are the radius fit of calib.calibration (the paper's definition),
+computed on the loading branch only (the unloading does not enter it) unless the scene unloads.
+
+Each material's row is written atomically to ``OUT/materials/<key>.json`` as soon as it is
+done; ``key`` hashes its inputs, load plan and mesh, so a rerun (or a run after an interruption)
+recomputes nothing already done. A failed material is reported (status "failed" and the
+error) and retried on the next run. Materials run on local processes
+(concurrent.futures.ProcessPoolExecutor) or, with ``scheduler``, on a Dask distributed cluster.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import time
+from dataclasses import asdict
+from pathlib import Path
+
+from calib import report
+
+TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
+COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a_Y", "delta_Y",
+           "P_Y_fe", "Ca", "Kc", "Ca_hat", "Kc_hat", "Ca_r2", "Ca_se", "Kc_r2", "Kc_se", "n_points",
+           "loading_only", "contact_size", "dofs", "elements", "mesh_key", "fe_wall_time_s",
+           "git_commit", "status", "error", "key")
+
+
+def task_key(spec, loading_only: bool) -> str:
+    """Hash of what determines a row: E, nu, sigma_Y, R, load plan, mesh, recipe version."""
+    m = spec.material
+    payload = json.dumps({"E": m.E, "nu": m.nu, "sigma_y": m.sigma_y, "R": spec.radius,
+                          "plan": asdict(spec.plan), "mesh": spec.mesh.cache_key(),
+                          "loading_only": loading_only, "version": TABLE_VERSION,
+                          "tolerance": spec.residual_tolerance}, sort_keys=True)
+    return hashlib.sha256(payload.encode()).hexdigest()[:16]
+
+
+def tasks_for(scene) -> list[dict]:
+    """One picklable task per material of ``scene``: its name, inputs, CalibrationSpec and key."""
+    from calib.scenes import calibration_spec
+
+    loading_only = not (scene.load_paths is not None and scene.load_paths.unload)
+    out = []
+    for material in scene.materials:
+        spec = calibration_spec(scene, material)
+        out.append({"name": material.name, "inputs": material.inputs(), "spec": spec,
+                    "loading_only": loading_only, "key": task_key(spec, loading_only)})
+    return out
+
+
+def calibrate_task(task: dict) -> dict:
+    """Calibrate one material (runs in a worker): the table row, never raises."""
+    import traceback
+
+    spec = task["spec"]
+    pair = spec.pair
+    row = {**task["inputs"], "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
+           "loading_only": task["loading_only"], "key": task["key"],
+           "contact_size": spec.mesh.contact_size, "mesh_key": spec.mesh.cache_key(),
+           "git_commit": report.git_commit()}
+    t0 = time.perf_counter()
+    try:
+        if task["loading_only"]:
+            from calib.scenes import calibrate_loading_only
+
+            res = calibrate_loading_only(spec)
+            fit, P_Y_fe, mesh = res["fit"], res["P_Y_fe"], res["mesh"]
+        else:
+            from calib.calibration import calibrate
+
+            result = calibrate(spec)
+            fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
+        from nfdmodel import VZParams
+
+        params = VZParams(pair, fit.Ca.slope, fit.Kc.slope)
+        row.update({"P_Y_fe": P_Y_fe, "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat,
+                    "Kc_hat": params.Kc_hat, "Ca_r2": fit.Ca.r_squared, "Ca_se": fit.Ca.standard_error,
+                    "Kc_r2": fit.Kc.r_squared, "Kc_se": fit.Kc.standard_error,
+                    "n_points": fit.Ca.n_points, "dofs": mesh["dofs"], "elements": mesh["elements"],
+                    "status": "ok", "error": ""})
+    except Exception as exc:  # a failed material must not stop the sweep: reported in its row
+        row.update({"status": "failed", "error": f"{type(exc).__name__}: {exc}".splitlines()[0][:300],
+                    "traceback": traceback.format_exc()[-2000:]})
+    row["fe_wall_time_s"] = time.perf_counter() - t0
+    return row
+
+
+def _cache_path(out: Path, key: str) -> Path:
+    return out / "materials" / f"{key}.json"
+
+
+def _cached_row(out: Path, key: str) -> dict | None:
+    path = _cache_path(out, key)
+    if not path.is_file():
+        return None
+    try:
+        row = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError):
+        return None  # unreadable: recompute
+    return row if row.get("status") == "ok" and row.get("key") == key else None
+
+
+def _prebuild_meshes(tasks, progress) -> None:
+    """Build the missing meshes in this process, one at a time (gmsh is a process-wide
+    singleton), so the workers only read the cache."""
+    from meshes.hemisphere import hemisphere_mesh, mesh_path
+
+    seen = set()
+    for task in tasks:
+        mesh = task["spec"].mesh
+        if mesh.cache_key() in seen:
+            continue
+        seen.add(mesh.cache_key())
+        if not mesh_path(mesh).is_file():
+            progress(f"meshing {task['name']} (contact size {mesh.contact_size:.3g} m)")
+            hemisphere_mesh(mesh)
+
+
+def _results(todo, workers: int, scheduler: str | None):
+    """Yield rows as materials finish: in-process, on local processes, or on Dask."""
+    if scheduler:
+        from distributed import Client, as_completed
+
+        with Client(scheduler) as client:
+            futures = client.map(calibrate_task, todo, pure=False)
+            for future in as_completed(futures):
+                yield future.result()
+        return
+    if workers <= 1 or len(todo) <= 1:
+        for task in todo:
+            yield calibrate_task(task)
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    context = multiprocessing.get_context("spawn")  # no forked copies of threads or gmsh state
+    with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=context) as pool:
+        futures = [pool.submit(calibrate_task, task) for task in todo]
+        for future in as_completed(futures):
+            yield future.result()
+
+
+def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler: str | None = None,
+              progress=None) -> dict:
+    """Calibrate every material of ``scene`` not yet in ``OUT/materials/`` and write
+    ``OUT/table.csv`` and ``OUT/table.json``. Returns {"rows", "computed", "reused", "failed", "path"}."""
+    if scene.load_paths is None and scene.calibration_ship is None:
+        raise ValueError(f"scene {scene.source}: a table needs [calibration] (and [load_paths]) to calibrate")
+    if not (isinstance(workers, int) and 1 <= workers <= 64):
+        raise ValueError(f"--workers must be an integer in [1, 64], got {workers!r}")
+    say = progress or (lambda message: None)
+    out = Path(out) if out is not None else report.REPO_ROOT / "results" / "tables" / scene.name
+    t0 = time.perf_counter()
+    tasks = tasks_for(scene)
+    rows_by_key = {}
+    for task in tasks:
+        row = _cached_row(out, task["key"])
+        if row is not None:
+            rows_by_key[task["key"]] = row
+    todo = [t for t in tasks if t["key"] not in rows_by_key]
+    say(f"{len(tasks)} material(s): {len(tasks) - len(todo)} already done, {len(todo)} to calibrate")
+    if todo:
+        _prebuild_meshes(todo, say)
+    failed = 0
+    for k, row in enumerate(_results(todo, workers, scheduler), 1):
+        if row["status"] == "ok":
+            report.write_json(_cache_path(out, row["key"]), row)  # atomic, as soon as it is done
+        else:
+            failed += 1
+        rows_by_key[row["key"]] = row
+        say(f"material {k}/{len(todo)} done: {row['name']} ({row['status']}, {row['fe_wall_time_s']:.0f} s)"
+            + (f" {row['error']}" if row["status"] != "ok" else ""))
+    rows = [rows_by_key[t["key"]] for t in tasks]
+    wall = time.perf_counter() - t0
+    stamp = report.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
+                         materials=len(rows), computed=len(todo), reused=len(tasks) - len(todo),
+                         workers=workers, scheduler=scheduler or "local processes")
+    clean = [{c: row.get(c) for c in COLUMNS} for row in rows]
+    report.write_csv(out / "table.csv", clean, columns=COLUMNS, comment=report.stamp_comment(stamp))
+    report.write_json(out / "table.json", {"scene": scene.name, "rows": clean,
+                                           "units": {"E": "Pa", "sigma_y": "Pa", "rho": "kg/m^3", "R": "m",
+                                                     "P_Y": "N", "a_Y": "m", "delta_Y": "m", "Ca": "m/N",
+                                                     "Kc": "1/N", "Ca_se": "m/N", "Kc_se": "1/N",
+                                                     "contact_size": "m", "fe_wall_time_s": "s"},
+                                           "stamp": stamp})
+    return {"rows": clean, "computed": len(todo), "reused": len(tasks) - len(todo), "failed": failed,
+            "path": out / "table.csv"}
+
+
+def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str) -> Path:
+    """The master table (calib/data/master_table.csv + .json) from the rows of a grid table:
+    nu, E_over_sigma_y, Ca_hat, Kc_hat and the fit quality; every node must have succeeded."""
+    from calib.master_table import MasterTable
+
+    path = Path(path)
+    failed = [r["name"] for r in rows if r.get("status") != "ok"]
+    if failed:
+        raise ValueError(f"cannot write the master table: material(s) {', '.join(failed)} failed")
+    columns = ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat", "Ca_r2", "Kc_r2", "contact_size",
+               "dofs", "fe_wall_time_s", "git_commit")
+    table_rows = [{c: r.get(c) for c in columns} for r in rows]
+    MasterTable.from_rows([{k: float(v) for k, v in r.items() if k in ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat")}
+                           for r in table_rows])  # validates a complete regular grid
+    stamp = report.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
+    meta = {"master_table": {"accuracy": accuracy, "scene": scene_name,
+                             "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
+                             "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (SPEC section 7); radius fit "
+                                           "on the FE loading branch to 13.7, 27.4, 41.2 P_Y"},
+            "stamp": stamp}
+    report.write_csv(path, table_rows, columns=columns, comment=report.stamp_comment(stamp))
+    report.write_json(path.with_suffix(".json"), meta)
+    return path

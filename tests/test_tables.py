@@ -1,0 +1,145 @@
+"""Parameter tables: a tiny coarse sweep on local processes and on a Dask LocalCluster, resume
+without recomputation, and the master table with ``nfdcal material``."""
+import json
+import textwrap
+
+import pytest
+
+from calib import cli, scenes, tables
+from calib.master_table import MasterTable
+
+COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
+
+TINY = """
+[scene]
+name = "{name}"
+[mesh]
+contact_size_over_a_max = 0.12
+[grid]
+nu = {nu}
+E_over_sigma_y = {ratio}
+sigma_y = 100e6
+rho = 2700.0
+R = 0.1
+[load_paths]
+P_max_over_P_Y = [20.0]
+unload = false
+loading_steps = 8
+[calibration]
+"""
+
+
+def nfdcal(monkeypatch, *argv):
+    monkeypatch.setattr(cli, "COMMAND_MODULES", COMMANDS)
+    return cli.main([str(a) for a in argv])
+
+
+def tiny_scene(folder, name="tiny", nu="[0.25, 0.35]", ratio="[500.0, 1000.0]"):
+    path = folder / f"{name}.toml"
+    path.write_text(textwrap.dedent(TINY.format(name=name, nu=nu, ratio=ratio)))
+    return path
+
+
+@pytest.fixture(scope="module")
+def tiny_table(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("table")
+    scene = scenes.load_scene(tiny_scene(folder))
+    result = tables.run_table(scene, folder / "out", workers=2)  # two local processes
+    return scene, folder, result
+
+
+def test_table_rows_have_inputs_fit_mesh_and_commit(tiny_table):
+    scene, folder, result = tiny_table
+    assert result["computed"] == 4 and result["failed"] == 0
+    for row in result["rows"]:
+        for key in ("E", "nu", "sigma_y", "R", "P_Y", "a_Y", "Ca", "Kc", "Ca_hat", "Kc_hat", "Ca_r2",
+                    "Kc_se", "dofs", "contact_size", "fe_wall_time_s", "git_commit"):
+            assert row[key] is not None, key
+        assert row["Ca_hat"] == pytest.approx(row["Ca"] * row["P_Y"] / row["a_Y"])
+        assert row["Kc_hat"] == pytest.approx(row["Kc"] * row["P_Y"])
+        assert 0.015 < row["Ca_hat"] < 0.04 and row["Ca_r2"] > 0.9
+    text = (folder / "out" / "table.csv").read_text()
+    assert text.startswith("# git_commit") and "Ca_hat" in text
+    assert len(json.loads((folder / "out" / "table.json").read_text())["rows"]) == 4
+    assert len(list((folder / "out" / "materials").glob("*.json"))) == 4
+
+
+def test_rerun_recomputes_nothing_and_an_interrupted_sweep_resumes(tiny_table, monkeypatch):
+    scene, folder, first = tiny_table
+    monkeypatch.setattr(tables, "calibrate_task", lambda task: pytest.fail("recomputed a finished material"))
+    again = tables.run_table(scene, folder / "out", workers=2)
+    assert again["computed"] == 0 and again["reused"] == 4
+    assert [r["Ca"] for r in again["rows"]] == [r["Ca"] for r in first["rows"]]
+    # an interruption after 3 of 4 materials: only the missing one is calibrated
+    missing = sorted((folder / "out" / "materials").glob("*.json"))[0]
+    key = missing.stem
+    missing.unlink()
+    calls = []
+    monkeypatch.setattr(tables, "calibrate_task", lambda task: calls.append(task["key"]) or
+                        json.loads(json.dumps(next(r for r in first["rows"] if r["key"] == task["key"]))))
+    resumed = tables.run_table(scene, folder / "out", workers=1)
+    assert calls == [key] and resumed["computed"] == 1 and resumed["reused"] == 3
+
+
+def test_dask_local_cluster(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    scene = scenes.load_scene(tiny_scene(tmp_path, "dask", nu="[0.3]", ratio="[700.0]"))
+    with distributed.LocalCluster(n_workers=1, processes=False, threads_per_worker=1, host="127.0.0.1",
+                                  protocol="tcp://", dashboard_address="127.0.0.1:0") as cluster:
+        result = tables.run_table(scene, tmp_path / "out", scheduler=cluster.scheduler_address)
+    assert result["computed"] == 1 and result["rows"][0]["status"] == "ok"
+    assert 0.015 < result["rows"][0]["Ca_hat"] < 0.04
+    assert (tmp_path / "out" / "materials" / f"{result['rows'][0]['key']}.json").is_file()
+
+
+def test_a_failed_material_is_reported_not_cached(tmp_path, monkeypatch):
+    scene = scenes.load_scene(tiny_scene(tmp_path, "fail", nu="[0.3]", ratio="[700.0]"))
+    monkeypatch.setattr(scenes, "calibrate_loading_only", lambda spec: 1 / 0)
+    result = tables.run_table(scene, tmp_path / "out", workers=1)
+    assert result["failed"] == 1 and "ZeroDivisionError" in result["rows"][0]["error"]
+    assert not list((tmp_path / "out" / "materials").glob("*.json"))
+
+
+def test_master_table_is_exact_on_nodes_and_refuses_outside(tiny_table, tmp_path, monkeypatch, capsys):
+    scene, folder, result = tiny_table
+    path = tables.write_master_table(result["rows"], tmp_path / "master.csv", "test table", scene.name)
+    table = MasterTable.load(path)
+    assert table.meta["accuracy"] == "test table"
+    for row in result["rows"]:
+        Ca_hat, Kc_hat = table.lookup(row["nu"], row["E_over_sigma_y"])
+        assert Ca_hat == pytest.approx(row["Ca_hat"], rel=1e-12) and Kc_hat == pytest.approx(row["Kc_hat"], rel=1e-12)
+    mid = table.lookup(0.3, 700.0)
+    lows = [r["Ca_hat"] for r in result["rows"]]
+    assert min(lows) <= mid[0] <= max(lows)
+    with pytest.raises(ValueError, match=r"nu = 0.45 is outside the master table: need nu in \[0.25, 0.35\]"):
+        table.lookup(0.45, 700.0)
+    with pytest.raises(ValueError, match=r"E/sigma_Y = 2000 is outside"):
+        table.lookup(0.3, 2000.0)
+
+    # nfdcal material: SI values by interpolation, consistent with the node's FE calibration
+    row = result["rows"][0]
+    assert nfdcal(monkeypatch, "material", "--E", row["E"], "--nu", row["nu"], "--sigma-y", row["sigma_y"],
+                  "--R", row["R"], "--table", path, "--json", "--params-out", tmp_path / "p.json") == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y"):
+        assert out[key] == pytest.approx(row[key], rel=1e-9)
+    assert out["accuracy"] == "test table"
+    from nfdmodel import load_parameters
+
+    assert load_parameters(tmp_path / "p.json").Ca == pytest.approx(row["Ca"], rel=1e-9)
+    assert nfdcal(monkeypatch, "material", "--E", 100e9, "--nu", 0.3, "--sigma-y", 1e6, "--R", 0.1,
+                  "--table", path) == 2
+    assert "E/sigma_Y = 100000 is outside the master table" in capsys.readouterr().err
+
+
+def test_incomplete_grid_is_refused(tiny_table, tmp_path):
+    rows = tiny_table[2]["rows"][:3]
+    with pytest.raises(ValueError, match="grid nodes"):
+        tables.write_master_table(rows, tmp_path / "m.csv", "x", "tiny")
+
+
+def test_table_command_resumes_and_reports(tiny_table, monkeypatch, capsys):
+    scene, folder, result = tiny_table
+    assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--out", folder / "out", "--quiet") == 0
+    assert "0 calibrated, 4 reused" in capsys.readouterr().out
+    assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--workers", "zero") == 2
