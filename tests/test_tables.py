@@ -143,3 +143,14 @@ def test_table_command_resumes_and_reports(tiny_table, monkeypatch, capsys):
     assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--out", folder / "out", "--quiet") == 0
     assert "0 calibrated, 4 reused" in capsys.readouterr().out
     assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--workers", "zero") == 2
+
+
+def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
+    table = MasterTable.load()
+    assert "off-grid" in table.meta["accuracy"]
+    from calib.master_table import DEFAULT_TABLE, read_rows
+
+    for row in read_rows(DEFAULT_TABLE):
+        assert table.lookup(row["nu"], row["E_over_sigma_y"]) == pytest.approx((row["Ca_hat"], row["Kc_hat"]), rel=1e-12)
+    values = table.parameters(70e9, 0.3, 100e6, 0.1)  # the reference case, a grid node
+    assert values["Ca"] == pytest.approx(2.32e-7, rel=0.05)  # README: 2.32e-7 m/N at the default mesh
