@@ -463,8 +463,10 @@ class ContactSolver:
         q = np.empty(self.n_q)
         q[:self.plate] = state.displacement[self._kept]
         q[self.plate] = state.displacement[self._top_z_dof]
-        if control == "displacement":
-            q[self.plate] = -target
+        # In displacement control the plate is NOT moved here: its jump to -target enters the
+        # first Newton solve as a constraint increment (an elastic predictor spread over the
+        # body). Moving it alone would strain only the top layer, which a plastic material
+        # reads as flow, and Newton can then stall (seen at separation, E / sigma_Y = 100).
         q_start = q.copy()
         if (control == "force" and state.displacement_rate is not None
                 and np.sign(target - state.force) == state.load_direction):

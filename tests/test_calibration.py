@@ -124,3 +124,16 @@ def test_dimensionless_parameters_do_not_depend_on_the_sphere_size():
     assert small["Kc_hat"] == pytest.approx(large["Kc_hat"], rel=1e-6)
     assert small["paths"][-1]["e"] == pytest.approx(large["paths"][-1]["e"], rel=1e-6)
     assert small["Ca"] / large["Ca"] == pytest.approx(10.0 / 1e-6, rel=1e-6)  # Ca ~ a_Y / P_Y ~ 1/R
+
+
+def test_stiff_case_separates_cleanly():
+    """E / sigma_Y = 100 (large plastic contact, a ~ 0.1 R): every path unloads to separation.
+    Regression: moving only the plate in the displacement-controlled separation step strained
+    the top layer plastically and Newton stalled."""
+    spec = calibration.spec_for(Material(10e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(13.7, 27.4),
+                                contact_size_over_a_max=0.1)
+    spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[0] / 4,
+                                                              unloading_steps=4))
+    result = calibration.calibrate(spec)
+    for path in result.load_paths.paths:
+        assert abs(path.rows[-1]["P"]) < 1e-3 * path.peak and 0 < path.restitution < 1
