@@ -12,11 +12,10 @@ exits with code 2).
 """
 from __future__ import annotations
 
-import math
+from calib.commands.common import MATERIAL_DEFAULTS, add_material_arguments, material_flags, number
 
 LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
-DEFAULTS = {"R": 0.1, "E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "Ca": 2.33e-7,
-            "Kc": 2.69e-4}
+DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": 2.33e-7, "Kc": 2.69e-4}
 
 
 def add_parser(subparsers) -> None:
@@ -29,11 +28,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--v-in", nargs="+", metavar="V", help="incoming velocities [m/s] (> 0)")
     parser.add_argument("--dt", default="auto", help="time step [s] (> 0) or 'auto' (default)")
     parser.add_argument("--json", action="store_true", help="print a JSON list instead of a table")
-    parser.add_argument("--R", default=None, help=f"sphere radius [m] (default {DEFAULTS['R']:g})")
-    parser.add_argument("--E", default=None, help=f"Young's modulus [Pa] (default {DEFAULTS['E']:g})")
-    parser.add_argument("--nu", default=None, help=f"Poisson's ratio, 0 <= nu < 0.5 (default {DEFAULTS['nu']:g})")
-    parser.add_argument("--sigma-y", default=None, help=f"yield stress [Pa] (default {DEFAULTS['sigma_y']:g})")
-    parser.add_argument("--rho", default=None, help=f"density [kg/m^3] (default {DEFAULTS['rho']:g})")
+    add_material_arguments(parser)
     parser.add_argument("--Ca", default=None, help=f"vz plastic-radius rate [m/N] (default {DEFAULTS['Ca']:g})")
     parser.add_argument("--Kc", default=None, help=f"vz curvature rate [1/N] (default {DEFAULTS['Kc']:g})")
     parser.add_argument("--params", default=None, metavar="FILE",
@@ -47,40 +42,28 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(run=run)
 
 
-def _number(name: str, text, default=None) -> float:
-    if text is None:
-        return default
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {text!r}")
-    return value
-
-
 def build_params(ns):
     """(law name, law parameters) from the command-line namespace."""
     from nfdmodel import ContactPair, Material, VZParams, get_law, load_parameters
     from nfdmodel.laws import WaltonBraunParams
 
     law = get_law(ns.law).name
-    material_flags = {"R": ns.R, "E": ns.E, "nu": ns.nu, "sigma_y": ns.sigma_y, "rho": ns.rho}
+    flags = material_flags(ns)
     if ns.params is not None:
-        given = [f"--{k.replace('_', '-')}" for k, v in {**material_flags, "Ca": ns.Ca, "Kc": ns.Kc}.items()
+        given = [f"--{k.replace('_', '-')}" for k, v in {**flags, "Ca": ns.Ca, "Kc": ns.Kc}.items()
                  if v is not None]
         if given:
             raise ValueError(f"--params sets the material, Ca and Kc: do not combine it with {', '.join(given)}")
         params = load_parameters(ns.params)
     else:
-        values = {k: _number(f"--{k.replace('_', '-')}", v, DEFAULTS[k]) for k, v in material_flags.items()}
+        values = {k: number(f"--{k.replace('_', '-')}", v, DEFAULTS[k]) for k, v in flags.items()}
         material = Material(values["E"], values["nu"], values["sigma_y"], values["rho"])
         pair = ContactPair.sphere_flat(material, values["R"])
-        params = VZParams(pair, _number("--Ca", ns.Ca, DEFAULTS["Ca"]), _number("--Kc", ns.Kc, DEFAULTS["Kc"]))
+        params = VZParams(pair, number("--Ca", ns.Ca, DEFAULTS["Ca"]), number("--Kc", ns.Kc, DEFAULTS["Kc"]))
     if law == "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         default = WaltonBraunParams.from_vz(params)
-        K1 = _number("--K1", ns.K1, default.K1)
-        return law, WaltonBraunParams(params.pair, K1, _number("--K2", ns.K2, max(default.K2, K1)))
+        K1 = number("--K1", ns.K1, default.K1)
+        return law, WaltonBraunParams(params.pair, K1, number("--K2", ns.K2, max(default.K2, K1)))
     if law != "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         raise ValueError("--K1/--K2 apply to --law walton-braun only")
     return law, params
@@ -105,8 +88,8 @@ def run(ns) -> int:
 
     from nfdmodel import collide
 
-    velocities = np.array([_number("--v-in", v) for v in ns.v_in])
-    dt = None if str(ns.dt).strip().lower() == "auto" else _number("--dt", ns.dt)
+    velocities = np.array([number("--v-in", v) for v in ns.v_in])
+    dt = None if str(ns.dt).strip().lower() == "auto" else number("--dt", ns.dt)
     if dt is not None and dt <= 0:
         raise ValueError(f"--dt out of range: need dt > 0 s, got {dt:g}")
     law, params = build_params(ns)
