@@ -100,6 +100,7 @@ def test_cli_calibrate_json(tmp_path, capsys):
     (["--E", "-1"], "E"),
     (["--contact-size", "nan"], "--contact-size"),
     (["--peaks", "0"], "peaks"),
+    (["--ladder", "--R", "0.01"], "--R"),
 ])
 def test_cli_calibrate_bad_input(argv, match, capsys):
     assert main(["calibrate", "--quiet", *argv]) == 2

@@ -30,8 +30,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     parser.add_argument("--ladder", action="store_true",
-                        help="reference case on a ladder of 4 meshes: Ca, Kc, e against wall time"
-                             " (resumes: finished rungs are kept in OUT/ladder/)")
+                        help="reference sphere and paths on a ladder of 4 meshes: Ca, Kc, e, alpha"
+                             " against wall time; material flags (not --R) for e.g. a locking study"
+                             " at nu = 0.49 (resumes: finished rungs are kept in OUT/ladder/)")
     parser.add_argument("--quiet", action="store_true", help="no progress messages")
     parser.set_defaults(run=run)
 
@@ -47,11 +48,13 @@ def run(ns) -> int:
     verbose = not ns.quiet and sys.stderr.isatty()
     progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
     if ns.ladder:
-        if not is_reference(ns) or ns.peaks is not None or ns.contact_size is not None:
-            raise ValueError("--ladder runs the reference case on its own meshes: do not combine it"
-                             " with material flags, --peaks or --contact-size")
+        if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
+            raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
+                             " do not combine it with --R, --peaks or --contact-size")
+        material = None if is_reference(ns) else material_from_args(ns)[0]
+        name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
         path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
-                                              progress=progress)
+                                              progress=progress, material=material, name=name)
         print(f"mesh ladder written to {path}")
         return 0
     material, radius = material_from_args(ns)
