@@ -11,7 +11,8 @@ Regenerate with ``nfdcal collide --report [--out DIR]`` (default DIR = results/c
                            against the exact energy-balance reference, with wall time, for
                            dt = 1e-5 .. 1e-8 s (log-log);
 * summary.json             stamp (commit, wall time), parameters and the headline numbers.
-Reference case: SPEC section 2 (aluminium sphere R = 0.1 m on a rigid flat, paper's Ca, Kc).
+Reference case: SPEC section 2 (aluminium sphere R = 0.1 m on a rigid flat), with Ca, Kc of the
+reference calibration when it exists (else the paper's).
 """
 from __future__ import annotations
 
@@ -40,20 +41,33 @@ def thornton_closed_form(v_in, v_Y):
             * (r / (r + 2.0 * np.sqrt(6.0 / 5.0 - r**2 / 5.0))) ** 0.25)
 
 
-def generate(out_dir=DEFAULT_OUT) -> Path:
-    from nfdmodel import VZParams, collide, collision_reference
+CALIBRATED_PARAMETERS = DEFAULT_OUT.parent / "calibration" / "parameters.json"
+
+
+def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
+    """Regenerate the collision results. The vz parameters come from ``params_file``, else from
+    the reference calibration (results/calibration/parameters.json) when it exists, else the
+    paper's Ca, Kc; the source is recorded in summary.json."""
+    from nfdmodel import VZParams, collide, collision_reference, load_parameters
 
     started = time.perf_counter()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    params = VZParams.reference()
+    if params_file is None and CALIBRATED_PARAMETERS.is_file():
+        params_file = CALIBRATED_PARAMETERS
+    params = load_parameters(params_file) if params_file is not None else VZParams.reference()
+    if params_file is None:
+        params_source = "paper (Vu-Quoc & Zhang 1999)"
+    else:  # repo-relative when inside the repo: results must not name this machine's paths
+        resolved = Path(params_file).resolve()
+        params_source = str(resolved.relative_to(REPO_ROOT)) if resolved.is_relative_to(REPO_ROOT) else str(params_file)
     pair = params.pair
     v_Y = pair.v_Y
     summary: dict = {"case": {"R": pair.R_star, "E_star": pair.E_star, "nu": pair.nu,
                               "sigma_y": pair.sigma_y, "mass": pair.mass_star, "Ca": params.Ca,
                               "Kc": params.Kc, "A_Y": pair.A_Y, "P_Y": pair.P_Y, "a_Y": pair.a_Y,
                               "delta_Y": pair.delta_Y, "v_Y": v_Y},
-                     "newton_tolerance": 1e-10}
+                     "params_source": params_source, "newton_tolerance": 1e-10}
 
     # 1. Restitution against v_in / v_Y (paper fig. 20).
     rows = []

@@ -77,7 +77,7 @@ def run(ns) -> int:
     if ns.report:
         from calib.collision_report import DEFAULT_OUT, generate
 
-        out = generate(ns.out or DEFAULT_OUT)
+        out = generate(ns.out or DEFAULT_OUT, params_file=ns.params)
         print(f"collision results written to {out}")
         return 0
     if ns.out is not None:
