@@ -10,7 +10,7 @@ import importlib
 import sys
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
-COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "stability")
+COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material")
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -54,6 +54,7 @@ from skfem import (Basis, BilinearForm, ElementTriP2, ElementVector, FacetBasis,
 from calib.axisym import (quadrature_radius, quadrature_strain, radial_weight, strain,
                           to_form_layout)
 from calib.linsolve import factorize
+from nfdmodel.materials import check_real
 
 CONTACT_RADIUS_METHODS = ("pressure", "gap", "node")
 
@@ -418,12 +419,12 @@ class ContactSolver:
     # ----------------------------------------------------------------- steps
     def solve_displacement(self, state: ContactState, alpha: float) -> StepResult:
         """Equilibrium at approach ``alpha`` [m] (plate displacement -alpha), from ``state``."""
-        alpha = _finite("alpha", alpha)
+        alpha = check_real("alpha", alpha, unit="m")
         return self._solve(state, "displacement", alpha)
 
     def solve_force(self, state: ContactState, force: float) -> StepResult:
         """Equilibrium at plate force ``force`` = P [N] > 0 (the plate is an unknown)."""
-        force = _finite("force", force)
+        force = check_real("force", force, unit="N")
         if not force > 0:
             raise ValueError(f"force must be > 0 [N] (P = 0 leaves the approach undetermined;"
                              f" use solve_displacement), got {force}")
@@ -721,13 +722,3 @@ def _radius_exponents(before: ContactState, alpha: float, force: float, radius: 
     if abs(d_force) < 1e-6 or abs(d_alpha) < 1e-6 or d_radius == 0:
         return None
     return (float(np.clip(d_radius / d_force, 0.1, 1.0)), float(np.clip(d_radius / d_alpha, 0.2, 2.0)))
-
-
-def _finite(name, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number, got {value!r}") from None
-    if not np.isfinite(value):
-        raise ValueError(f"{name} must be a finite number, got {value}")
-    return value

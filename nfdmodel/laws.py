@@ -79,6 +79,7 @@ class VZParams:
         object.__setattr__(self, "Ca", check_real("Ca", self.Ca, low=0.0, unit="m/N"))
         object.__setattr__(self, "Kc", check_real("Kc", self.Kc, low=0.0, low_inclusive=True, unit="1/N"))
         self._check_monotone_loading()
+        self._check_dissipative()
 
     @classmethod
     def from_dimensionless(cls, pair: ContactPair, Ca_hat: float, Kc_hat: float) -> "VZParams":
@@ -124,6 +125,30 @@ class VZParams:
         force = np.asarray(force, dtype=float)
         a_ep = self.pair.hertz_radius(force) + self.plastic_radius(force)
         return a_ep**2 / (self.curvature_factor(force) * self.pair.R_star)
+
+    def _check_dissipative(self) -> None:
+        """Reject (Ca, Kc) for which a load-unload cycle returns more work than it took.
+
+        For turning points P_max / P_Y in [1, 1e6]: the unloading work P_max (delta_max -
+        delta_res) / (5/2) (paper eqs. 3.19-3.22) must not exceed the loading work on the
+        virgin curve (the law's own exact integral), i.e. e <= 1 (paper 2.1). Partial cycles
+        retrace the unloading curve, so full cycles are the only way to create energy. Extreme
+        combinations (e.g. Kc_hat = 0.25 at Ca_hat = 0.06) violate it near P_max ~ 3 P_Y.
+        """
+        pair = self.pair
+        P_max = pair.P_Y * np.geomspace(1.0 + 1e-6, 1e6, 200)
+        delta_max = self.loading_approach(P_max)
+        delta_res, _ = _vz_turning_point(delta_max, P_max, np.cbrt(P_max), self)
+        returned = P_max * (delta_max - delta_res) / 2.5
+        taken = _vz_loading_work(delta_max, P_max, self)
+        excess = returned / taken - 1.0
+        if np.any(excess > 1e-9):
+            worst = int(np.argmax(excess))
+            raise ValueError(
+                f"Ca, Kc out of range: the vz law would create energy (restitution "
+                f"{np.sqrt(1.0 + excess[worst]):.4f} > 1) for a turning point at P/P_Y = "
+                f"{P_max[worst] / pair.P_Y:.3g} (Ca_hat = {self.Ca_hat:.3g}, Kc_hat = "
+                f"{self.Kc_hat:.3g}); lower Kc or raise Ca")
 
     def _check_monotone_loading(self) -> None:
         # d delta/dP > 0  <=>  2 a_ep' C_R - Kc a_ep > 0; dimensionless with p = P / P_Y:

@@ -5,8 +5,6 @@ flag and its range from the dispatcher (exit code 2), never a traceback.
 """
 from __future__ import annotations
 
-import math
-
 # The paper's reference case (Vu-Quoc & Zhang 1999, section 2): aluminium sphere on a rigid flat.
 MATERIAL_DEFAULTS = {"R": 0.1, "E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0}
 MATERIAL_HELP = {"R": "sphere radius [m] (> 0)", "E": "Young's modulus [Pa] (> 0)",
@@ -16,15 +14,9 @@ MATERIAL_HELP = {"R": "sphere radius [m] (> 0)", "E": "Young's modulus [Pa] (> 0
 
 def number(flag: str, text, default=None) -> float:
     """``text`` as a finite float, or ``default`` when the flag was not given."""
-    if text is None:
-        return default
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise ValueError(f"{flag} must be a number, got {text!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{flag} must be finite, got {text!r}")
-    return value
+    from nfdmodel.materials import check_real
+
+    return default if text is None else check_real(flag, text)
 
 
 def add_material_arguments(parser) -> None:
