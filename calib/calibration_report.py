@@ -191,7 +191,7 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
     R = 0.1 m sphere; ``material`` defaults to the reference aluminium) on a ladder of meshes,
     with wall times.
 
-    Each rung is written to ``out/ladder/<key>.json`` (key: mesh and material) as soon as it
+    Each rung is written to ``out/ladder/<key>.json`` (key: mesh, material, plan) as soon as it
     finishes and reused on the next call (an interrupted ladder resumes; delete the folder to
     recompute). Writes ``<name>.csv`` and ``<name>.png`` (values and wall time against size).
     """
@@ -207,9 +207,9 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
         spec = reference_spec(size)
         if material is not None:
             spec = dataclasses.replace(spec, material=material)
-        key = spec.mesh.cache_key()
-        if material is not None:
-            key += "-" + hashlib.sha256(repr(material).encode()).hexdigest()[:8]
+        # the key covers everything that changes a rung: mesh, material, load plan, tolerance
+        recipe = repr((spec.material, spec.plan, spec.residual_tolerance, spec.contact_radius_method))
+        key = spec.mesh.cache_key() + "-" + hashlib.sha256(recipe.encode()).hexdigest()[:12]
         cache = out / "ladder" / f"{key}.json"
         if cache.is_file():
             row = json.loads(cache.read_text())
