@@ -7,14 +7,28 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
 COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material")
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with two fixes for a numerical CLI: a negative number in scientific notation
+    (``--dt -1e-6``) is a value, not an option (argparse only knows -1 and -0.5), so run()
+    can answer with the parameter's range; and a usage error is ONE line, exit code 2."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="nfdcal",
         description="FE-calibrated elastoplastic normal contact laws for DEM (Vu-Quoc & Zhang 1999).",
     )
