@@ -34,9 +34,11 @@ class ElasticMaterial:
     is_linear: ClassVar[bool] = True  # the tangent never changes: the solver may reuse it
 
     def __post_init__(self):
-        if not (isinstance(self.E, numbers.Real) and np.isfinite(self.E) and self.E > 0):
+        if not (isinstance(self.E, numbers.Real) and not isinstance(self.E, (bool, np.bool_))
+                and np.isfinite(self.E) and self.E > 0):
             raise ValueError(f"E must be a finite Young's modulus > 0 [Pa], got {self.E!r}")
-        if not (isinstance(self.nu, numbers.Real) and 0.0 <= self.nu < 0.5):
+        if not (isinstance(self.nu, numbers.Real) and not isinstance(self.nu, (bool, np.bool_))
+                and 0.0 <= self.nu < 0.5):
             raise ValueError(f"nu must be a Poisson ratio in [0, 0.5), got {self.nu!r}")
 
     @property

@@ -70,8 +70,15 @@ class HemisphereMeshSpec:
         for name in ("radius", "contact_size", "refined_radius", "refined_depth", "far_size",
                      "growth"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and np.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+            if isinstance(value, np.number) and not isinstance(value, (bool, np.bool_)):
+                # numpy scalars (float32 from arrays) become floats; Python numbers stay as given
+                # so that the cache key of existing specs is unchanged
+                value = float(value)
+                object.__setattr__(self, name, value)
+            if not (isinstance(value, (int, float)) and not isinstance(value, bool)
+                    and np.isfinite(value) and value > 0):
+                unit = "" if name == "growth" else " [m]"
+                raise ValueError(f"{name} must be a finite number > 0{unit}, got {value!r}")
         R = self.radius
         if not self.refined_radius < R:
             raise ValueError(f"refined_radius must be in (0, radius={R}), got {self.refined_radius}")
@@ -218,7 +225,8 @@ def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
         clockwise = e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0] < 0
         cells = np.where(clockwise[:, None], cells[:, [0, 2, 1, 5, 4, 3]], cells)
         mesh = MeshTri2(np.ascontiguousarray(points.T), np.ascontiguousarray(cells.T))
-    except Exception as exc:  # meshio raises many kinds of errors on a corrupt file
+    except (Exception, SystemExit) as exc:  # meshio raises many kinds of errors on a corrupt
+        # file, and calls sys.exit(1) on an empty one: never let it end the caller's process
         raise ValueError(f"mesh file {path} is not a readable quadratic triangle mesh: {exc}") from exc
     if radius is None:
         radius = spec.radius if spec is not None else float(mesh.p[1].max())

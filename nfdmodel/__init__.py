@@ -7,7 +7,7 @@ Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_sta
 (:mod:`nfdmodel.laws`); :func:`collide` simulates sphere-on-flat impacts
 (:mod:`nfdmodel.collision`); SI units throughout.
 """
-from .collision import (CollisionHistory, CollisionReference, CollisionResult, collide,
+from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
                         collision_reference)
 from .laws import (LAWS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState,
                    ThorntonState, TurningPointHistory, VZParams, VZState, WaltonBraunParams,
@@ -23,5 +23,5 @@ __all__ = [
     "WaltonBraunState", "hertz_force", "vz_force", "vz_force_with_iterations", "vz_newton_iterations",
     "vz_plastic_force", "thornton_force", "walton_braun_force", "NEWTON_TOLERANCE",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
-    "CollisionReference", "CollisionHistory",
+    "CollisionReference", "CollisionHistory", "TimeStepWarning",
 ]

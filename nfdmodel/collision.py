@@ -23,6 +23,17 @@ cut at delta_res). Both converge to the exact value as O(dt^2).
 followed until (1/2) m* v_in^2 = W(delta_max) = integral_0^delta_max P d delta, and the
 unloading curve returns E_el = P_max (delta_max - delta_res)/(n + 1), so
 e = sqrt(E_el / W) exactly (no time stepping).
+
+Contact duration (used to size dt and to warn when dt is too large), per velocity:
+
+    t_load   = integral_0^delta_max d delta / sqrt(v_in^2 - 2 W(delta) / m*)
+             (Gauss-Legendre in s, delta = delta_max (1 - s^2), which removes the inverse
+             square-root end point; Hertz: 1.4716 delta_max / v_in, linear: pi/2 delta_max / v_in)
+    t_unload = I(n) (delta_max - delta_res) / v_out,   I(n) = sqrt(pi) G(1 + 1/(n+1)) / G(1/2 + 1/(n+1))
+             (exact for the unloading curve P = K_u (delta - delta_res)^n; I(3/2) = 1.4716)
+
+At high v_in / v_Y the unloading phase is short (2 % of the contact for vz at v_in = 1e4 v_Y),
+so the warning also checks the number of steps in it.
 """
 from __future__ import annotations
 
@@ -38,6 +49,15 @@ from .materials import check_real
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
 STEPS_PER_CONTACT_WARN = 50       # warn when a contact would last fewer steps than this
+STEPS_PER_UNLOADING_WARN = 10     # ... or its unloading phase fewer than this (e error > ~0.2 %)
+STEPS_PER_UNLOADING_AUTO = 100    # dt = None: also at most the shortest unloading time / this
+MAX_STEPS_LIMIT = 10**8           # dt so small that a contact needs more steps: ValueError
+_SMALLEST_ENERGY = 1e-250         # J; below, (1/2) m v^2 and the overlaps underflow
+_LOADING_NODES, _LOADING_WEIGHTS = np.polynomial.legendre.leggauss(24)
+
+
+class TimeStepWarning(RuntimeWarning):
+    """dt is too large for the contact: the collision result is inaccurate (see :func:`collide`)."""
 CONTACT_TIME_SAFETY = 20.0        # max_steps = this * longest estimated contact time / dt
 
 
@@ -61,7 +81,8 @@ class CollisionReference:
     delta_res: np.ndarray
     loading_work: np.ndarray
     restitution: np.ndarray
-    contact_time_estimate: np.ndarray   # 3 delta_max / v_in (Hertz: 2.94 delta_max / v_in)
+    contact_time_estimate: np.ndarray   # t_load + t_unload [s] (module doc)
+    unloading_time_estimate: np.ndarray  # t_unload [s], the shorter, stiffer phase
 
 
 @dataclass(frozen=True)
@@ -129,7 +150,13 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
     """
     law, law_params, pair = _resolve(law_name, params)
     v = _check_velocities(v_in)
-    energy = 0.5 * pair.mass_star * v**2
+    with np.errstate(over="ignore", under="ignore"):
+        energy = 0.5 * pair.mass_star * v**2
+    unusable = ~(np.isfinite(energy) & (energy > _SMALLEST_ENERGY))
+    if unusable.any():
+        raise ValueError(f"v_in out of range: the impact energy (1/2) m* v_in^2 = {energy[unusable][0]:g} J "
+                         f"at v_in = {v[unusable][0]:g} m/s (v_in/v_Y = {v[unusable][0] / pair.v_Y:.3g}) "
+                         f"is outside the floating-point range ({_SMALLEST_ENERGY:g} J .. 1.8e308 J)")
     delta = (energy / (0.4 * pair.hertz_stiffness)) ** 0.4       # Hertz: W = (2/5) k delta^(5/2)
     for _ in range(200):                                          # bracket from above
         force, _ = _virgin_force(law, delta, law_params)
@@ -146,10 +173,35 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
             break
     force, state = _virgin_force(law, delta, law_params)
     work = law.loading_work(delta, force, law_params)
+    if not (np.isfinite(work).all() and (work > 0).all()):
+        raise ValueError(f"v_in out of range: the energy balance of the impact at v_in = {v[0]:g} .. "
+                         f"{v[-1]:g} m/s cannot be solved in floating point")
     delta_res = np.zeros_like(delta) if isinstance(state, HertzState) else state.delta_res
     returned = force * (delta - delta_res) / (law.unloading_exponent + 1.0)
-    return CollisionReference(v, delta, force, delta_res, work, np.sqrt(returned / work),
-                              3.0 * delta / v)
+    restitution = np.sqrt(returned / work)
+    loading_time = _loading_time(law, law_params, pair, v, delta)
+    unloading_time = _unloading_time_factor(law.unloading_exponent) * (delta - delta_res) / (restitution * v)
+    return CollisionReference(v, delta, force, delta_res, work, restitution,
+                              loading_time + unloading_time, unloading_time)
+
+
+def _unloading_time_factor(exponent: float) -> float:
+    """I(n) = integral_0^1 dx / sqrt(1 - x^(n+1)) = sqrt(pi) G(1 + 1/m) / G(1/2 + 1/m), m = n + 1."""
+    m = exponent + 1.0
+    return math.sqrt(math.pi) * math.gamma(1.0 + 1.0 / m) / math.gamma(0.5 + 1.0 / m)
+
+
+def _loading_time(law: ContactLaw, law_params, pair, v, delta_max):
+    """t_load = integral_0^delta_max d delta / v(delta) [s] with v^2 = v_in^2 - 2 W(delta)/m*."""
+    s = 0.5 * (_LOADING_NODES + 1.0)                           # nodes on (0, 1)
+    delta = delta_max[:, None] * (1.0 - s * s)[None, :]        # (velocities, nodes)
+    force, _ = _virgin_force(law, delta.reshape(-1), law_params)
+    work = law.loading_work(delta.reshape(-1), force, law_params).reshape(delta.shape)
+    speed_sq = v[:, None] ** 2 - 2.0 * work / pair.mass_star
+    # near s = 0, v^2 ~ (2 P_max delta_max / m*) s^2: the integrand 2 delta_max s / v stays finite
+    floor = 1e-300 + 1e-12 * v[:, None] ** 2
+    integrand = 2.0 * delta_max[:, None] * s[None, :] / np.sqrt(np.maximum(speed_sq, floor))
+    return 0.5 * integrand @ _LOADING_WEIGHTS
 
 
 def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = False,
@@ -158,23 +210,47 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
 
     law_name: 'vz' | 'hertz' | 'thornton' | 'walton-braun' (or a ContactLaw); params: VZParams
     (any law), a ContactPair (hertz, thornton, walton-braun defaults) or WaltonBraunParams.
-    dt [s]: time step (paper: 1e-6 s); None picks dt = shortest estimated contact time / 2000,
-    the estimate being 3 delta_max / v_in from :func:`collision_reference`. A warning is issued
-    when a contact would last fewer than 50 steps. max_steps: default 20 x the longest estimated
-    contact time / dt; a ValueError if some velocity has not separated by then.
+    dt [s]: time step (paper: 1e-6 s); None picks dt = min(shortest estimated contact time /
+    2000, shortest unloading time / 100), the estimates coming from :func:`collision_reference`.
+    A :class:`TimeStepWarning` (a RuntimeWarning) is issued when a contact would last fewer than
+    50 steps or its unloading phase fewer than 10 (the result is then inaccurate; the message
+    gives the largest dt that passes); a ValueError when dt reaches the leap-frog stability
+    limit 2 t_unload / pi, or needs more than 1e8 steps per contact. max_steps: default 20 x the longest estimated contact
+    time / dt; a ValueError if some velocity has not separated by then.
     """
     started = time.perf_counter()
     law, law_params, pair = _resolve(law_name, params)
     v_in = _check_velocities(v_in)
     reference = collision_reference(law, law_params, v_in)
     contact_estimate = reference.contact_time_estimate
+    shortest_contact = float(contact_estimate.min())
+    shortest_unloading = float(reference.unloading_time_estimate.min())
     if dt is None:
-        dt = float(contact_estimate.min()) / STEPS_PER_CONTACT_AUTO
+        dt = min(shortest_contact / STEPS_PER_CONTACT_AUTO, shortest_unloading / STEPS_PER_UNLOADING_AUTO)
     dt = check_real("dt", dt, low=0.0, unit="s")
-    if contact_estimate.min() < STEPS_PER_CONTACT_WARN * dt:
-        warnings.warn(f"dt = {dt:g} s is too large: the shortest contact lasts about "
-                      f"{contact_estimate.min():.3g} s (< {STEPS_PER_CONTACT_WARN} steps); "
-                      f"results are inaccurate", RuntimeWarning, stacklevel=2)
+    # Leap-frog is stable for dt < 2/omega; the stiffest phase (unloading) is a half oscillation
+    # of duration t_unload = pi/omega, so dt must stay below 2 t_unload / pi. Beyond it the
+    # numbers are meaningless (e = 4.7 was seen), so this is an error, not a warning.
+    stability_limit = 2.0 * shortest_unloading / math.pi
+    if dt >= stability_limit:
+        raise ValueError(f"dt out of range: dt = {dt:g} s is beyond the leap-frog stability limit "
+                         f"{stability_limit:.3g} s of this contact (its unloading lasts about "
+                         f"{shortest_unloading:.3g} s); need dt < {stability_limit:.3g} s, and dt <= "
+                         f"{min(shortest_contact / STEPS_PER_CONTACT_WARN, shortest_unloading / STEPS_PER_UNLOADING_WARN):.3g} s "
+                         f"for accurate results")
+    longest_contact = float(contact_estimate.max())
+    if longest_contact / dt > MAX_STEPS_LIMIT:
+        raise ValueError(f"dt out of range: dt = {dt:g} s would need {longest_contact / dt:.3g} steps for a "
+                         f"contact of {longest_contact:.3g} s; need dt >= {longest_contact / MAX_STEPS_LIMIT:.3g} s "
+                         f"(at most {MAX_STEPS_LIMIT:.0e} steps)")
+    largest_dt = min(shortest_contact / STEPS_PER_CONTACT_WARN, shortest_unloading / STEPS_PER_UNLOADING_WARN)
+    if dt > largest_dt:
+        warnings.warn(f"dt = {dt:g} s is too large for this contact: the shortest contact lasts about "
+                      f"{shortest_contact:.3g} s ({shortest_contact / dt:.3g} steps, need "
+                      f">= {STEPS_PER_CONTACT_WARN}) and its unloading about {shortest_unloading:.3g} s "
+                      f"({shortest_unloading / dt:.3g} steps, need >= {STEPS_PER_UNLOADING_WARN}); "
+                      f"results are inaccurate: use dt <= {largest_dt:.3g} s",
+                      TimeStepWarning, stacklevel=2)
     if max_steps is None:
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))

@@ -41,6 +41,8 @@ from .materials import REFERENCE_CA, REFERENCE_KC, ContactPair, check_real
 
 NEWTON_TOLERANCE = 1e-10        # relative tolerance on P of the vz plastic-loading solve
 NEWTON_MAX_ITERATIONS = 200     # never reached: the bracket halves at worst every other step
+CA_HAT_RANGE = (1e-8, 1e4)      # admissible Ca P_Y / a_Y (paper: 0.026)
+KC_HAT_MAX = 1e4                # admissible Kc P_Y (paper: 0.0098)
 _TINY = 1e-300
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
 
@@ -78,6 +80,14 @@ class VZParams:
             raise ValueError(f"pair must be a ContactPair, got {type(self.pair).__name__}")
         object.__setattr__(self, "Ca", check_real("Ca", self.Ca, low=0.0, unit="m/N"))
         object.__setattr__(self, "Kc", check_real("Kc", self.Kc, low=0.0, low_inclusive=True, unit="1/N"))
+        pair = self.pair
+        # Beyond these the force solve works with numbers near the float limits (the paper's
+        # values are Ca_hat = 0.026, Kc_hat = 0.0098); stated in SI for this pair.
+        check_real("Ca", self.Ca, low=CA_HAT_RANGE[0] * pair.a_Y / pair.P_Y, low_inclusive=True,
+                   high=CA_HAT_RANGE[1] * pair.a_Y / pair.P_Y, high_inclusive=True,
+                   unit=f"m/N for this contact, i.e. {CA_HAT_RANGE[0]:g} <= Ca P_Y/a_Y <= {CA_HAT_RANGE[1]:g}")
+        check_real("Kc", self.Kc, high=KC_HAT_MAX / pair.P_Y, high_inclusive=True,
+                   unit=f"1/N for this contact, i.e. Kc P_Y <= {KC_HAT_MAX:g}")
         self._check_monotone_loading()
         self._check_dissipative()
 
@@ -126,6 +136,18 @@ class VZParams:
         a_ep = self.pair.hertz_radius(force) + self.plastic_radius(force)
         return a_ep**2 / (self.curvature_factor(force) * self.pair.R_star)
 
+    def _energy_excess(self):
+        """(largest returned/taken - 1, P_max/P_Y there) over full load-unload cycles."""
+        pair = self.pair
+        P_max = pair.P_Y * _DISSIPATION_LOADS
+        delta_max = self.loading_approach(P_max)
+        delta_res, _ = _vz_turning_point(delta_max, P_max, np.cbrt(P_max), self)
+        returned = P_max * (delta_max - delta_res) / 2.5
+        taken = _vz_loading_work(delta_max, P_max, self)
+        excess = returned / taken - 1.0
+        worst = int(np.argmax(excess))
+        return float(excess[worst]), float(_DISSIPATION_LOADS[worst])
+
     def _check_dissipative(self) -> None:
         """Reject (Ca, Kc) for which a load-unload cycle returns more work than it took.
 
@@ -135,34 +157,83 @@ class VZParams:
         retrace the unloading curve, so full cycles are the only way to create energy. Extreme
         combinations (e.g. Kc_hat = 0.25 at Ca_hat = 0.06) violate it near P_max ~ 3 P_Y.
         """
-        pair = self.pair
-        P_max = pair.P_Y * np.geomspace(1.0 + 1e-6, 1e6, 200)
-        delta_max = self.loading_approach(P_max)
-        delta_res, _ = _vz_turning_point(delta_max, P_max, np.cbrt(P_max), self)
-        returned = P_max * (delta_max - delta_res) / 2.5
-        taken = _vz_loading_work(delta_max, P_max, self)
-        excess = returned / taken - 1.0
-        if np.any(excess > 1e-9):
-            worst = int(np.argmax(excess))
+        excess, load = self._energy_excess()
+        if not excess <= _DISSIPATION_SLACK:          # NaN-safe
             raise ValueError(
                 f"Ca, Kc out of range: the vz law would create energy (restitution "
-                f"{np.sqrt(1.0 + excess[worst]):.4f} > 1) for a turning point at P/P_Y = "
-                f"{P_max[worst] / pair.P_Y:.3g} (Ca_hat = {self.Ca_hat:.3g}, Kc_hat = "
-                f"{self.Kc_hat:.3g}); lower Kc or raise Ca")
+                f"{math.sqrt(1.0 + excess):.4f} > 1) for a turning point at P/P_Y = {load:.3g} "
+                f"(Ca_hat = {self.Ca_hat:.3g}, Kc_hat = {self.Kc_hat:.3g}); "
+                f"{_admissible_Kc_text(self.pair, self.Ca)}")
 
     def _check_monotone_loading(self) -> None:
-        # d delta/dP > 0  <=>  2 a_ep' C_R - Kc a_ep > 0; dimensionless with p = P / P_Y:
-        # (2/3) p^(-2/3) + 2 Ca_hat + Kc_hat Ca_hat (p - 1) - Kc_hat p^(1/3) (p + 2) / (3 p)
-        p = np.geomspace(1.0, 1e8, 2000)
-        Ca_hat, Kc_hat = self.Ca_hat, self.Kc_hat
-        slope = (2.0 / 3.0 * p ** (-2.0 / 3.0) + 2.0 * Ca_hat + Kc_hat * Ca_hat * (p - 1.0)
-                 - Kc_hat * np.cbrt(p) * (p + 2.0) / (3.0 * p))
-        if np.any(slope <= 0.0):
-            worst = float(p[np.argmin(slope)])
+        worst = _monotone_violation(self.Ca_hat, self.Kc_hat)
+        if worst is not None:
             raise ValueError(
                 f"Kc out of range for this Ca: the vz loading curve delta(P) stops increasing near "
-                f"P/P_Y = {worst:.3g} (Kc_hat = Kc P_Y = {Kc_hat:.3g}, Ca_hat = Ca P_Y/a_Y = "
-                f"{Ca_hat:.3g}); need Kc_hat < 2/3 + 2 Ca_hat at least, and a monotone curve")
+                f"P/P_Y = {worst:.3g} (Kc_hat = Kc P_Y = {self.Kc_hat:.3g}, Ca_hat = Ca P_Y/a_Y = "
+                f"{self.Ca_hat:.3g}); {_admissible_Kc_text(self.pair, self.Ca)}")
+
+
+# Loads over which VZParams checks its curve: monotone up to 1e8 P_Y, dissipative up to 1e6 P_Y.
+_MONOTONE_LOADS = np.geomspace(1.0, 1e8, 2000)
+_DISSIPATION_LOADS = np.geomspace(1.0 + 1e-6, 1e6, 200)
+_DISSIPATION_SLACK = 1e-9
+
+
+def _monotone_slope_terms(Ca_hat: float):
+    """d delta/dP > 0  <=>  2 a_ep' C_R - Kc a_ep > 0; dimensionless with p = P / P_Y this is
+    A(p) + Kc_hat B(p) > 0 with A = (2/3) p^(-2/3) + 2 Ca_hat > 0 and
+    B = Ca_hat (p - 1) - p^(1/3) (p + 2) / (3 p) (linear in Kc_hat)."""
+    p = _MONOTONE_LOADS
+    return (2.0 / 3.0 * p ** (-2.0 / 3.0) + 2.0 * Ca_hat,
+            Ca_hat * (p - 1.0) - np.cbrt(p) * (p + 2.0) / (3.0 * p))
+
+
+def _monotone_violation(Ca_hat: float, Kc_hat: float):
+    """P/P_Y where the loading curve turns back most steeply, or None when it is monotone."""
+    A, B = _monotone_slope_terms(Ca_hat)
+    slope = A + Kc_hat * B
+    return None if np.all(slope > 0.0) else float(_MONOTONE_LOADS[np.argmin(slope)])  # NaN-safe
+
+
+def vz_largest_admissible_Kc(pair: ContactPair, Ca: float) -> float:
+    """The largest Kc [1/N] that VZParams accepts with this pair and Ca [m/N] (bisection, 1e-6).
+
+    Kc is admissible when the loading curve is monotone up to 1e8 P_Y (a bound known in
+    closed form, the slope being linear in Kc_hat: Kc_hat < min over B < 0 of A / (-B), see
+    :func:`_monotone_slope_terms`) and no load-unload cycle up to 1e6 P_Y creates energy
+    (bisection below that bound; Kc = 0 always passes). Used to state the admissible range
+    in VZParams' error messages.
+    """
+    Ca = check_real("Ca", Ca, low=0.0, unit="m/N")
+    Ca_hat = Ca * pair.P_Y / pair.a_Y
+    A, B = _monotone_slope_terms(Ca_hat)
+    turning = B < 0.0
+    upper_hat = float(np.min(A[turning] / -B[turning])) * (1.0 - 1e-9) if turning.any() else math.inf
+    if not math.isfinite(upper_hat):
+        upper_hat = 1e6                  # never reached by the physical range (B >= 0 everywhere)
+
+    def dissipative(Kc_hat: float) -> bool:
+        trial = object.__new__(VZParams)          # unchecked: this IS the check
+        object.__setattr__(trial, "pair", pair)
+        object.__setattr__(trial, "Ca", Ca)
+        object.__setattr__(trial, "Kc", Kc_hat / pair.P_Y)
+        return trial._energy_excess()[0] <= _DISSIPATION_SLACK
+
+    if dissipative(upper_hat):
+        return upper_hat / pair.P_Y
+    low, high = 0.0, upper_hat
+    while high - low > 1e-6 * high:
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if dissipative(middle) else (low, middle)
+    return low / pair.P_Y
+
+
+def _admissible_Kc_text(pair: ContactPair, Ca: float) -> str:
+    largest = vz_largest_admissible_Kc(pair, Ca)
+    return (f"for Ca = {Ca:.4g} m/N the admissible range is 0 <= Kc <= {largest:.4g} 1/N "
+            f"(Kc_hat <= {largest * pair.P_Y:.4g}; loading curve monotone up to P/P_Y = 1e8, "
+            f"no energy created up to 1e6); lower Kc or raise Ca")
 
 
 @dataclass(frozen=True)
@@ -231,7 +302,7 @@ class TurningPointHistory:
 
     @classmethod
     def virgin(cls, n: int):
-        n = int(check_real("n", n, low=0, low_inclusive=True))
+        n = _contact_count(n)
         return cls(**{f.name: np.zeros(n) for f in fields(cls)})
 
     @property
@@ -268,6 +339,14 @@ class WaltonBraunState(TurningPointHistory):
 
 
 # ---------------------------------------------------------------------------------- validation
+def _contact_count(n) -> int:
+    """n as a number of contacts (an integer >= 0), or a ValueError naming n."""
+    value = check_real("n", n, low=0, low_inclusive=True, unit="(number of contacts)")
+    if value != int(value):
+        raise ValueError(f"n must be a whole number of contacts (>= 0), got {n!r}")
+    return int(value)
+
+
 def _check_delta(delta, n_expected: int | None):
     delta = np.asarray(delta)
     if delta.dtype.kind not in "fiu":
@@ -280,6 +359,17 @@ def _check_delta(delta, n_expected: int | None):
     if n_expected is not None and delta.shape[0] != n_expected:
         raise ValueError(f"delta has {delta.shape[0]} contacts but the state holds {n_expected}")
     return delta, shape
+
+
+def _check_force(force, delta, pair: ContactPair):
+    """Overlaps so large that the force overflows (delta ~ 1e100 m) give a ValueError naming
+    delta, never inf or NaN in a result. One cheap reduction; elementwise only on failure."""
+    if not math.isfinite(float(np.add.reduce(force))) and not np.isfinite(force).all():
+        worst = int(np.flatnonzero(~np.isfinite(force))[0])
+        raise ValueError(f"delta out of range: the force overflows at delta = {delta[worst]:g} m "
+                         f"(contact {worst}, delta/R* = {delta[worst] / pair.R_star:.3g}); overlaps "
+                         f"this large are far outside any contact model")
+    return force
 
 
 def _check_state(state, cls, law):
@@ -327,7 +417,7 @@ def hertz_force(delta, state: HertzState, params):
     pair = _as_pair(params, "hertz")
     _check_state(state, HertzState, "hertz")
     delta, shape = _check_delta(delta, state.n)
-    return _restore_shape(_hertz_kernel(delta, pair), shape), state
+    return _restore_shape(_check_force(_hertz_kernel(delta, pair), delta, pair), shape), state
 
 
 def _hertz_kernel(delta, pair):
@@ -348,7 +438,16 @@ def _vz_residual_approach(delta_max, P_max, params: VZParams):
 
 def _vz_turning_point(delta_max, P_max, cube_root, params: VZParams):
     """delta_res [m] and K_u [N/m^1.5] of a new plastic turning point (paper eqs. 3.19-3.22);
-    cube_root = P_max^(1/3) gives a_e,max = (3 R*/(4 E*))^(1/3) P_max^(1/3) without a cube root."""
+    cube_root = P_max^(1/3) gives a_e,max = (3 R*/(4 E*))^(1/3) P_max^(1/3) without a cube root.
+
+    K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*) equals P_max / (delta_max - delta_res)^(3/2) exactly;
+    the second form is used, with the STORED (rounded) delta_res, so the unloading curve passes
+    through (delta_max, P_max) to round-off. The first form is off by up to 1e-5 relative when
+    the elastic recovery is tiny next to delta_max (Ca at 1e3 x the reference, P ~ 1e6 P_Y:
+    delta_max - delta_res ~ 1e-11 delta_max), which made the force jump at the turning point.
+    If the recovery is below the spacing of floats at delta_max, delta_res is the float just
+    below delta_max (an unloading curve that drops to zero within one ulp, as the model says).
+    """
     pair = params.pair
     curvature = P_max - pair.P_Y
     curvature *= params.Kc
@@ -358,9 +457,11 @@ def _vz_turning_point(delta_max, P_max, cube_root, params: VZParams):
     recovery /= curvature * pair.R_star
     delta_res = np.subtract(delta_max, recovery)
     np.maximum(delta_res, 0.0, out=delta_res)
-    stiffness = np.sqrt(curvature)
-    stiffness *= curvature
-    stiffness *= pair.hertz_stiffness
+    delta_res = np.minimum(delta_res, np.nextafter(delta_max, 0.0))
+    gap = np.subtract(delta_max, delta_res)
+    stiffness = np.sqrt(gap)
+    stiffness *= gap
+    np.divide(P_max, stiffness, out=stiffness)
     return delta_res, stiffness
 
 
@@ -525,7 +626,7 @@ def vz_force_with_iterations(delta, state: VZState, params: VZParams):
     _check_state(state, VZState, "vz")
     delta, shape = _check_delta(delta, state.n)
     force, new_state, iterations = _turning_point_force(delta, state, _vz_loading_branch(params), True)
-    return _restore_shape(force, shape), new_state, iterations
+    return _restore_shape(_check_force(force, delta, params.pair), shape), new_state, iterations
 
 
 def vz_force(delta, state: VZState, params: VZParams):
@@ -582,7 +683,7 @@ def thornton_force(delta, state: ThorntonState, params):
     _check_state(state, ThorntonState, "thornton")
     delta, shape = _check_delta(delta, state.n)
     force, new_state, _ = _turning_point_force(delta, state, _thornton_loading_branch(pair), True)
-    return _restore_shape(force, shape), new_state
+    return _restore_shape(_check_force(force, delta, pair), shape), new_state
 
 
 # --------------------------------------------------------------------------------- walton-braun
@@ -614,7 +715,7 @@ def walton_braun_force(delta, state: WaltonBraunState, params):
     _check_state(state, WaltonBraunState, "walton-braun")
     delta, shape = _check_delta(delta, state.n)
     force, new_state, _ = _turning_point_force(delta, state, _walton_braun_loading_branch(wb), False)
-    return _restore_shape(force, shape), new_state
+    return _restore_shape(_check_force(force, delta, wb.pair), shape), new_state
 
 
 # --------------------------------------------------------------------------------- energies
@@ -690,7 +791,7 @@ class ContactLaw:
     def initial_state(self, n: int):
         """History of n virgin contacts (never loaded)."""
         if self.state_type is HertzState:
-            return HertzState(int(check_real("n", n, low=0, low_inclusive=True)))
+            return HertzState(_contact_count(n))
         return self.state_type.virgin(n)
 
     def params_from(self, params):

@@ -40,7 +40,9 @@ def check_real(name: str, value, *, low: float | None = None, low_inclusive: boo
         bounds.append(f"{name} {'<=' if high_inclusive else '<'} {high:g}")
     allowed = " and ".join(bounds) if bounds else f"{name} finite"
     allowed += f" {unit}".rstrip() if unit else ""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (Real, np.number)):
+    if isinstance(value, (bool, np.bool_)):        # float(True) == 1.0: never a silent number
+        raise ValueError(f"{name} must be a number ({allowed}), got {value!r}")
+    if not isinstance(value, (Real, np.number)):
         try:
             value = float(value)
         except (TypeError, ValueError):
@@ -120,7 +122,15 @@ class Material:
 
     def sphere_mass(self, R: float) -> float:
         """Mass of a sphere of radius R [m]: (4/3) pi R^3 rho [kg]."""
-        return 4.0 / 3.0 * math.pi * R**3 * self.rho
+        try:
+            mass = 4.0 / 3.0 * math.pi * R**3 * self.rho
+        except OverflowError:
+            mass = math.inf
+        if not (math.isfinite(mass) and mass > 0.0):
+            raise ValueError(f"R, rho out of range: the sphere mass (4/3) pi R^3 rho = {mass:g} kg is not "
+                             f"a finite positive number (R = {R:g} m, rho = {self.rho:g} kg/m^3); "
+                             f"give SI units (m, kg/m^3)")
+        return mass
 
 
 @dataclass(frozen=True)
@@ -150,6 +160,22 @@ class ContactPair:
         object.__setattr__(self, "sigma_y", check_real("sigma_y", self.sigma_y, low=0.0, unit="Pa"))
         object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=0.5))
         object.__setattr__(self, "mass_star", check_real("mass", self.mass_star, low=0.0, unit="kg"))
+        self._check_yield_point()
+
+    def _check_yield_point(self) -> None:
+        """The yield point and impact scales must be finite positive floats: extreme inputs (R =
+        1e200 m, E = 1e-300 Pa, values in the wrong unit) otherwise overflow deep inside."""
+        try:
+            derived = {"P_Y": self.P_Y, "a_Y": self.a_Y, "delta_Y": self.delta_Y, "v_Y": self.v_Y}
+        except (OverflowError, ZeroDivisionError, FloatingPointError):
+            derived = {"P_Y": math.inf}
+        bad = {k: v for k, v in derived.items() if not (math.isfinite(v) and v > 0.0)}
+        if bad:
+            name, value = next(iter(bad.items()))
+            raise ValueError(
+                f"R, E, sigma_y out of range: the contact's {name} = {value:g} is not a finite "
+                f"positive number (R* = {self.R_star:g} m, E* = {self.E_star:g} Pa, sigma_y = "
+                f"{self.sigma_y:g} Pa, mass = {self.mass_star:g} kg); give SI units (m, Pa, kg/m^3)")
 
     @classmethod
     def sphere_flat(cls, material: Material, R: float) -> "ContactPair":

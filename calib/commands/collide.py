@@ -6,7 +6,9 @@
 Material flags default to the paper's reference case (aluminium sphere, R = 0.1 m); --Ca --Kc
 default to the paper's calibration, or come from a calibrated parameter file (--params FILE,
 which also sets the material). --dt defaults to "auto": the shortest estimated contact time /
-2000 (about 5e-7 s for the reference case at 0.02..0.2 m/s; the paper used 1e-6 s).
+2000 or its unloading phase / 100, whichever is smaller (about 3e-7 s for the reference case at
+0.02..0.2 m/s; the paper used 1e-6 s). A dt too large for the contact prints one warning line on
+stderr (nfdmodel.TimeStepWarning); a dt beyond the leap-frog stability limit is an error.
 Bad input: a ValueError naming the parameter and its range (the dispatcher prints one line and
 exits with code 2).
 """

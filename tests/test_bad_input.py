@@ -1,0 +1,213 @@
+"""Issue 6, bad input (second list; tests/test_bad_inputs_everywhere.py and test_nfd_cli.py hold
+the first): each bad input gets a clear error naming the parameter and its range. From the CLI:
+exit code 2, ONE line on stderr, no traceback. Most of these gave a traceback (OverflowError,
+ZeroDivisionError), an endless loop, NaN, or a silently accepted value before issue 6.
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from calib import cli, report
+from calib.cli import main
+
+# (argv, text the one-line error must contain)
+CLI_CASES = [
+    # collide: values that passed validation but broke deep inside
+    (["collide", "--v-in", "0.1", "--dt", "1e-300"], "dt out of range"),              # endless loop
+    (["collide", "--v-in", "1e300"], "v_in out of range"),                              # "delta must be finite"
+    (["collide", "--v-in", "1e-300"], "v_in out of range"),                             # NaN to integer
+    (["collide", "--v-in", "0.1", "--R", "1e200"], "R, rho out of range"),              # OverflowError traceback
+    (["collide", "--v-in", "0.1", "--E", "1e-300"], "R, E, sigma_y out of range"),      # ZeroDivisionError traceback
+    (["collide", "--v-in", "0.1", "--sigma-y", "1e300"], "R, E, sigma_y out of range"),  # OverflowError traceback
+    (["collide", "--v-in", "0.1", "--Ca", "1e300"], "Ca out of range"),                 # NaN in the checks
+    (["collide", "--v-in", "0.1", "--Kc", "0.01"], "admissible range is 0 <= Kc <="),   # loading curve turns back
+    (["collide", "--v-in", "0.1", "--dt", "1e-3"], "stability limit"),                  # e > 1 before
+    (["collide", "--law", "walton-braun", "--v-in", "0.1", "--K1", "2e8", "--K2", "1e8"], "K2 out of range"),
+    (["collide", "--v-in", "0.1", "--out", "somewhere"], "--out applies to --report only"),
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_NAN"], "Ca must be finite"),
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_BOOL"], "rho must be a number"),  # rho = true was 1.0
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_EMPTY"], "not valid JSON"),
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_INCOMPLETE"], "missing key(s) R"),
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_STALE"], "P_Y must be a finite number"),
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_DIR"], "not found"),
+    (["collide", "--v-in", "0.1", "--params", "PARAMS_NAN", "--nu", "0.3"], "do not combine it with --nu"),
+    # hertz (FE validation): checked before any FE work
+    (["hertz", "--P-min", "10", "--P-max", "5"], "--P-max must be > --P-min"),
+    (["hertz", "--steps", "1"], "--steps must be in [2, 1000]"),
+    (["hertz", "--nu", "0.5"], "--nu must be in [0, 0.5)"),
+    (["hertz", "--radius", "nan"], "--radius must be a finite number > 0"),
+    (["hertz", "--contact-size", "inf"], "--contact-size"),
+]
+
+# argparse's own type errors: SystemExit(2) from the parser, one line (cli._Parser.error)
+ARGPARSE_CASES = [(["hertz", "--E", "abc"], "--E"), (["hertz", "--steps", "2.5"], "--steps"),
+                  (["collide", "--v-in"], "--v-in"), (["no-such-command"], "invalid choice")]
+
+
+@pytest.fixture
+def files(tmp_path):
+    good = {"law": "vz", "Ca": 2.33e-7, "Kc": 2.69e-4,
+            "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699, "R": 0.1}}
+    paths = {}
+
+    def write(name, text):
+        path = tmp_path / name
+        path.write_text(text)
+        paths[name.split(".")[0].upper()] = str(path)
+
+    write("params_nan.json", json.dumps(good).replace("2.33e-07", "NaN"))   # json accepts NaN
+    write("params_bool.json", json.dumps({**good, "material": {**good["material"], "rho": True}}))
+    write("params_empty.json", "")
+    write("params_incomplete.json", json.dumps({**good, "material": {k: v for k, v in good["material"].items() if k != "R"}}))
+    write("params_stale.json", json.dumps({**good, "P_Y": "36.6"}))
+    (tmp_path / "params_dir.json").mkdir()
+    paths["PARAMS_DIR"] = str(tmp_path / "params_dir.json")
+    return paths
+
+
+@pytest.mark.parametrize("argv, needle", CLI_CASES, ids=[" ".join(a[:1] + a[-2:]) for a, _ in CLI_CASES])
+def test_cli_bad_input_one_line_exit_2(argv, needle, files, capsys):
+    argv = [files.get(a, a) for a in argv]
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    err = captured.err.strip()
+    assert "Traceback" not in err and len(err.splitlines()) == 1, err
+    assert needle in err, err
+    assert captured.out == ""
+
+
+@pytest.mark.parametrize("argv, needle", ARGPARSE_CASES)
+def test_cli_usage_errors_one_line_exit_2(argv, needle, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and needle in err and "Traceback" not in err, err
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["collide", "--v-in", "0.1", "--R", "1e200"], "R, rho out of range"),
+    (["collide", "--v-in", "0.1", "--dt", "1e-300"], "dt out of range"),
+    (["hertz", "--nu", "0.7"], "--nu"),
+])
+def test_cli_bad_input_in_a_real_process(argv, needle):
+    """The console entry point as users run it: exit code 2, one line, no traceback."""
+    proc = subprocess.run([sys.executable, "-m", "calib.cli", *argv], capture_output=True, text=True,
+                          timeout=60)
+    assert proc.returncode == 2
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0] and "Traceback" not in proc.stderr
+
+
+def test_stability_command_bad_output_folder(tmp_path, monkeypatch, capsys):
+    """`nfdcal stability --out FILE` fails at once (not after the run) with one line."""
+    monkeypatch.setattr(cli, "COMMAND_MODULES", tuple(cli.COMMAND_MODULES) + ("stability",))
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    assert main(["stability", "--out", str(blocker / "sub")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--out" in err
+
+
+# ----------------------------------------------------------------------------------- Python API
+def api_cases(tmp_path):
+    from calib.fe import ContactSolver
+    from calib.materials import ElasticMaterial
+    from calib.plasticity import VonMisesMaterial
+    from meshes.hemisphere import HemisphereMeshSpec, load_msh
+    from nfdmodel import ContactPair, Material, VZParams, collide, get_law, load_parameters
+
+    pair = VZParams.reference().pair
+    empty_msh = tmp_path / "empty.msh"
+    empty_msh.write_text("")
+    binary = tmp_path / "binary.json"
+    binary.write_bytes(b"\xff\xfe\x00garbage")
+    linear_msh = tmp_path / "linear.msh"
+    import meshio
+    meshio.write_points_cells(str(linear_msh), np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
+                              [("triangle", np.array([[0, 1, 2]]))], file_format="gmsh22", binary=False)
+    from meshes.hemisphere import hemisphere_mesh
+    mesh = hemisphere_mesh(HemisphereMeshSpec(contact_size=1.6e-4))
+    return [
+        (lambda: Material(True, 0.3, 100e6, 2700), "E must be a number"),
+        (lambda: Material(70e9, 0.3, 100e6, "heavy"), "rho must be a number"),
+        (lambda: ContactPair.sphere_flat(Material.reference(), -0.1), "R out of range"),
+        (lambda: ContactPair.sphere_flat(Material.reference(), 1e-200), "R, rho out of range"),
+        (lambda: VZParams(pair, 1e-300, 0.0), "Ca out of range"),
+        (lambda: VZParams(pair, 2.33e-7, math.inf), "Kc must be finite"),
+        (lambda: VZParams.from_dimensionless(pair, 0.026, 0.5), "admissible range is 0 <= Kc"),
+        (lambda: get_law("vz").initial_state(2.5), "n must be a whole number"),
+        (lambda: get_law(" Plastic "), "law must be one of"),
+        (lambda: get_law("hertz").force(np.array([1e300]), get_law("hertz").initial_state(1), pair),
+         "delta out of range: the force overflows"),
+        (lambda: collide("vz", VZParams.reference(), [0.1], dt=1e-300), "dt out of range"),
+        (lambda: collide("vz", VZParams.reference(), [0.1], max_steps=0), "max_steps out of range"),
+        (lambda: load_parameters(binary), "not valid JSON"),
+        (lambda: load_parameters(tmp_path / "nowhere.json"), "not found"),
+        (lambda: HemisphereMeshSpec(radius=True), "radius must be a finite number > 0"),
+        (lambda: HemisphereMeshSpec(growth=2.0), "growth must be in (0, 1]"),
+        (lambda: HemisphereMeshSpec(radius=1e-3), "refined_radius must be in (0, radius"),
+        (lambda: load_msh(empty_msh), "empty.msh"),        # meshio's sys.exit(1) before
+        (lambda: load_msh(linear_msh), "no 6-node triangles"),
+        (lambda: VonMisesMaterial(70e9, 0.3, math.nan), "sigma_y"),
+        (lambda: VonMisesMaterial(70e9, 0.5, 100e6), "nu"),
+        (lambda: ElasticMaterial(True, 0.3), "E must be a finite Young's modulus"),
+        (lambda: ElasticMaterial(70e9, math.nan), "nu must be a Poisson ratio in [0, 0.5)"),
+        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), residual_tolerance=math.nan), "residual_tolerance"),
+        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), max_newton_iterations=2.5), "max_newton_iterations"),
+        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), contact_radius_method="magic"), "contact_radius_method"),
+    ]
+
+
+def test_python_api_bad_inputs(tmp_path):
+    cases = api_cases(tmp_path)
+    assert len(cases) >= 20
+    for call, needle in cases:
+        with pytest.raises((ValueError, FileNotFoundError)) as info:
+            call()
+        assert needle in str(info.value), (needle, str(info.value))
+
+
+def test_float32_inputs_are_numbers_not_errors():
+    """float32 scalars (from user arrays) are valid everywhere a number is."""
+    from meshes.hemisphere import HemisphereMeshSpec
+    from nfdmodel import ContactPair, Material, VZParams, collide
+
+    f = np.float32
+    assert HemisphereMeshSpec(radius=f(0.1)).radius == pytest.approx(0.1)   # rejected before
+    pair = ContactPair.sphere_flat(Material(f(70e9), f(0.3), f(100e6), f(2699)), f(0.1))
+    params = VZParams(pair, f(2.33e-7), f(2.69e-4))
+    result = collide("vz", params, np.array([0.05], dtype=f), dt=f(1e-6))
+    assert np.isfinite(result.e_velocity).all() and 0 < result.e_velocity[0] < 1
+
+
+# -------------------------------------------------------------------------- interrupted writes
+@pytest.mark.parametrize("interrupt", [KeyboardInterrupt, OSError])
+def test_a_write_killed_midway_leaves_the_old_file_and_no_partial_one(tmp_path, monkeypatch, interrupt):
+    """calib.report writes to a temporary file and renames it: an exception (Ctrl-C, disk full)
+    during the write leaves the previous result intact and no temporary file behind."""
+    target = tmp_path / "result.json"
+    report.write_json(target, {"P_max": 1.0})
+    before = target.read_text()
+
+    def dying_fsync(fd):
+        raise interrupt("killed during the write")
+
+    monkeypatch.setattr(os, "fsync", dying_fsync)
+    with pytest.raises(interrupt):
+        report.write_json(target, {"P_max": 2.0, "rows": list(range(10000))})
+    with pytest.raises(interrupt):
+        report.write_csv(tmp_path / "new.csv", [{"a": 1.0}])
+    assert target.read_text() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json"]
+
+
+def test_a_nan_row_never_reaches_a_result_file(tmp_path):
+    with pytest.raises(ValueError, match="non-finite"):
+        report.write_json(tmp_path / "r.json", {"rows": [{"e": np.float64("nan")}]})
+    assert not any(tmp_path.iterdir())
