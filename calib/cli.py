@@ -1,7 +1,8 @@
 """``nfdcal``: command-line front end of the calibration pipeline and the runtime model.
 
-Every sub-command lives in ``calib.commands``. Bad input (a ValueError or a missing file raised
-by our own validation) is reported as one line on stderr with exit code 2, never a traceback.
+Every sub-command lives in ``calib.commands``. Bad input (a ValueError from our own validation,
+or an OSError such as a missing input file or an unwritable output folder) is reported as one
+line on stderr with exit code 2, never a traceback.
 """
 from __future__ import annotations
 
@@ -11,7 +12,7 @@ import re
 import sys
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
-COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material")
+COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "stability")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -49,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
     ns = parser.parse_args(argv)
     try:
         return int(ns.run(ns) or 0)
-    except (ValueError, FileNotFoundError) as exc:
+    except (ValueError, OSError) as exc:  # OSError: a missing file, an output folder under a file
         print(f"nfdcal {ns.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -106,7 +106,6 @@ def test_cli_bad_input_in_a_real_process(argv, needle):
 
 def test_stability_command_bad_output_folder(tmp_path, monkeypatch, capsys):
     """`nfdcal stability --out FILE` fails at once (not after the run) with one line."""
-    monkeypatch.setattr(cli, "COMMAND_MODULES", tuple(cli.COMMAND_MODULES) + ("stability",))
     blocker = tmp_path / "a_file"
     blocker.write_text("x")
     assert main(["stability", "--out", str(blocker / "sub")]) == 2
