@@ -39,7 +39,6 @@ def add_parser(subparsers) -> None:
 
 def run(ns) -> int:
     import dataclasses
-    import json
     import sys
 
     from calib import calibration, calibration_report, report
