@@ -28,6 +28,66 @@ from nfdmodel import ContactPair, Material, VZParams, get_law
 
 PAPER = {"Ca": 2.33e-7, "Kc": 2.69e-4, "alpha_max_1500": 1.56e-5, "e_1500": 0.737}
 
+# E / sigma_Y a calibration accepts. Below 20 the yield contact itself is wide (a_Y/R =
+# (pi/2) A_Y sigma_Y / E* > 0.12, SPEC section 2) and a small-strain, small-contact model is
+# meaningless; an E typed in GPa with sigma_Y in Pa lands there. Above 1e4 the contact zone is
+# below 1e-5 R wide and the mesh grading has not been tested.
+E_OVER_SIGMA_Y_RANGE = (20.0, 1.0e4)
+# The largest contact radius a calibration may reach, over R: beyond it the hemisphere is no
+# longer a small-strain, a << R contact problem (Hertz needs a << R; at 0.3 R the contact
+# edge has turned by 17 degrees).
+CONTACT_RADIUS_LIMIT = 0.3
+# Ca_hat used to ESTIMATE the plastic radius before the calibration (the reference's is 0.0258,
+# the master table's span 0.024-0.028).
+CA_HAT_ESTIMATE = 0.025
+
+
+def estimated_contact_radius(pair: ContactPair, force) -> float:
+    """Largest contact radius [m] expected at the force P [N] on the loading branch, before any
+    FE run (sizes the refined mesh zone): Hertz's a_H below P_Y; above it
+    max(1.3 a_H, a_H + Ca_hat <P/P_Y - 1> a_Y), the first the elastoplastic/Hertz radius ratio
+    measured up to 41 P_Y (the reference FE: 1.47 / 1.135 mm at 1500 N), the second the
+    plastic radius a_p = Ca <P - P_Y> (paper eq. 2.5) that dominates from ~43 P_Y on."""
+    a_hertz = float(pair.hertz_radius(force))
+    if force <= pair.P_Y:
+        return a_hertz
+    return max(1.3 * a_hertz, a_hertz + CA_HAT_ESTIMATE * (force / pair.P_Y - 1.0) * pair.a_Y)
+
+
+def largest_admissible_load(pair: ContactPair) -> float:
+    """The largest P_max [N] whose estimated contact radius stays within CONTACT_RADIUS_LIMIT R."""
+    from scipy.optimize import brentq
+
+    limit = CONTACT_RADIUS_LIMIT * pair.R_star
+    if estimated_contact_radius(pair, pair.P_Y) >= limit:
+        return 0.0
+    hi = 2.0 * pair.P_Y
+    while estimated_contact_radius(pair, hi) < limit:
+        hi *= 2.0
+    return float(brentq(lambda P: estimated_contact_radius(pair, P) - limit, pair.P_Y, hi, rtol=1e-6))
+
+
+def check_calibration_inputs(material: Material, radius: float, largest_peak: float) -> None:
+    """ValueError naming the parameter and its allowed range when a calibration cannot be
+    meaningful: E / sigma_Y outside E_OVER_SIGMA_Y_RANGE, or a largest load P_max whose contact
+    radius would exceed CONTACT_RADIUS_LIMIT R (small strain, a << R)."""
+    ratio = material.E / material.sigma_y
+    low, high = E_OVER_SIGMA_Y_RANGE
+    if not low <= ratio <= high:
+        hint = " (are E and sigma_Y both in Pa?)" if ratio < 1.0 or ratio > 1e6 else ""
+        raise ValueError(f"E/sigma_Y out of range for a calibration: need {low:g} <= E/sigma_Y <= "
+                         f"{high:g}, got {ratio:.3g} (E = {material.E:g} Pa, sigma_Y = "
+                         f"{material.sigma_y:g} Pa){hint}")
+    pair = ContactPair.sphere_flat(material, radius)
+    a_max = estimated_contact_radius(pair, largest_peak)
+    if a_max > CONTACT_RADIUS_LIMIT * radius:
+        P_limit = largest_admissible_load(pair)
+        raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N "
+                         f"({largest_peak / pair.P_Y:.4g} P_Y) needs a contact radius of about "
+                         f"{a_max / radius:.3g} R; the small-strain model needs a_max <= "
+                         f"{CONTACT_RADIUS_LIMIT:g} R, i.e. P_max <= {P_limit:.4g} N "
+                         f"({P_limit / pair.P_Y:.4g} P_Y) for this material and R")
+
 
 @dataclass(frozen=True)
 class CalibrationSpec:
@@ -45,6 +105,12 @@ class CalibrationSpec:
             raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
         if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
             raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
+        check_calibration_inputs(self.material, self.radius, self.plan.peaks[-1])
+        a_max = estimated_contact_radius(self.pair, self.plan.peaks[-1])
+        if self.mesh.refined_radius < 0.99 * a_max:   # a contact wider than the fine zone
+            raise ValueError(f"mesh refined_radius {self.mesh.refined_radius:.4g} m is smaller than the "
+                             f"estimated contact radius {a_max:.4g} m at P_max = {self.plan.peaks[-1]:.4g} N:"
+                             f" need refined_radius >= {a_max:.4g} m (calibration.spec_for sizes it)")
 
     @property
     def pair(self) -> ContactPair:
@@ -61,19 +127,22 @@ def reference_spec(contact_size: float | None = None) -> CalibrationSpec:
 
 
 def spec_for(material: Material, radius: float, peaks_over_yield=(13.7, 27.4, 41.2),
-             contact_size_over_a_max: float = 1.0 / 37.0) -> CalibrationSpec:
+             contact_size_over_a_max: float = 1.0 / 37.0, peaks=None) -> CalibrationSpec:
     """A calibration of any material scaled from the reference case: peaks as multiples of P_Y
-    (the reference's 500/1000/1500 N are 13.7, 27.4, 41.2 P_Y) and a mesh scaled by the largest
-    contact radius, so that the discretisation error is the reference one."""
+    (the reference's 500/1000/1500 N are 13.7, 27.4, 41.2 P_Y), or ``peaks`` in N, and a mesh
+    scaled by the largest contact radius, so that the discretisation error is the reference one."""
     pair = ContactPair.sphere_flat(material, radius)
-    peaks = tuple(float(k * pair.P_Y) for k in peaks_over_yield)
-    a_max = 1.3 * pair.hertz_radius(peaks[-1])  # elastoplastic radius ~1.3 x Hertz at these loads
+    if peaks is None:
+        peaks = tuple(float(k * pair.P_Y) for k in peaks_over_yield)
+    peaks = tuple(sorted(float(p) for p in peaks))
+    check_calibration_inputs(material, radius, peaks[-1])   # before sizing a mesh from it
+    a_max = estimated_contact_radius(pair, peaks[-1])
     h = a_max * contact_size_over_a_max
     mesh = HemisphereMeshSpec(radius=radius, contact_size=h, refined_radius=1.1 * a_max,
                               refined_depth=0.35 * a_max, far_size=radius / 10)
     return CalibrationSpec(material=material, radius=radius, mesh=mesh,
                            plan=LoadPathPlan(peaks=peaks, loading_step=peaks[0] / 16,
-                                             unloading_steps=16, first_load=0.5 * pair.P_Y))
+                                             unloading_steps=16, first_load=min(0.5 * pair.P_Y, peaks[0])))
 
 
 def first_yield_load(hemisphere, material: Material) -> float:

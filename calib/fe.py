@@ -53,7 +53,7 @@ from skfem import (Basis, BilinearForm, ElementTriP2, ElementVector, FacetBasis,
 
 from calib.axisym import (quadrature_radius, quadrature_strain, radial_weight, strain,
                           to_form_layout)
-from calib.linsolve import factorize
+from calib.linsolve import METHODS as LINEAR_SOLVERS, factorize
 from nfdmodel.materials import check_real
 
 CONTACT_RADIUS_METHODS = ("pressure", "gap", "node")
@@ -263,6 +263,12 @@ class ContactSolver:
                             ("max_active_set_iterations", max_active_set_iterations)):
             if not (isinstance(value, int) and value >= 1):
                 raise ValueError(f"{name} must be an integer >= 1, got {value!r}")
+        # checked here, not at the first solve: a typo must not cost a mesh load and a first step
+        if linear_solver is not None and linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"linear_solver must be None or one of {LINEAR_SOLVERS}, got {linear_solver!r}")
+        if not (isinstance(quadrature_order, int) and not isinstance(quadrature_order, bool)
+                and 2 <= quadrature_order <= 10):
+            raise ValueError(f"quadrature_order must be an integer in [2, 10], got {quadrature_order!r}")
         self.hemisphere = mesh
         self.material = material
         self.residual_tolerance = float(residual_tolerance)

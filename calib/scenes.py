@@ -422,13 +422,17 @@ def mesh_spec(scene_mesh: MeshChoice, material: SceneMaterial, a_max: float):
 
 def calibration_spec(scene: Scene, material: SceneMaterial):
     """The CalibrationSpec of one material of ``scene`` (load paths and mesh)."""
-    from calib.calibration import CalibrationSpec
+    from calib.calibration import CalibrationSpec, check_calibration_inputs, estimated_contact_radius
     from calib.loadpath import LoadPathPlan
 
     pair = material.pair()
     stage = scene.load_paths or LoadPathStage()
     peaks = stage.peaks(pair)
-    a_max = 1.3 * float(pair.hertz_radius(peaks[-1])) if peaks[-1] > pair.P_Y else float(pair.hertz_radius(peaks[-1]))
+    try:
+        check_calibration_inputs(material.material(), material.R, peaks[-1])
+    except ValueError as exc:
+        _fail(scene.source, f"material {material.name}", str(exc))
+    a_max = estimated_contact_radius(pair, peaks[-1])
     plan = LoadPathPlan(peaks=peaks, loading_step=peaks[-1] / stage.loading_steps,
                         unloading_steps=stage.unloading_steps,
                         first_load=min(0.5 * pair.P_Y, peaks[0], 20.0 if material.is_reference else math.inf))

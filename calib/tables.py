@@ -121,26 +121,27 @@ def _prebuild_meshes(tasks, progress) -> None:
             hemisphere_mesh(mesh)
 
 
-def _results(todo, workers: int, scheduler: str | None):
-    """Yield rows as materials finish: in-process, on local processes, or on Dask."""
+def _results(todo, workers: int, scheduler: str | None, function=calibrate_task):
+    """Yield ``function(task)`` (a row) as tasks finish: in-process, on local processes, or on
+    Dask. ``function`` must be a module-level function (it is pickled)."""
     if scheduler:
         from distributed import Client, as_completed
 
         with Client(scheduler) as client:
-            futures = client.map(calibrate_task, todo, pure=False)
+            futures = client.map(function, todo, pure=False)
             for future in as_completed(futures):
                 yield future.result()
         return
     if workers <= 1 or len(todo) <= 1:
         for task in todo:
-            yield calibrate_task(task)
+            yield function(task)
         return
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     context = multiprocessing.get_context("spawn")  # no forked copies of threads or gmsh state
     with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=context) as pool:
-        futures = [pool.submit(calibrate_task, task) for task in todo]
+        futures = [pool.submit(function, task) for task in todo]
         for future in as_completed(futures):
             yield future.result()
 

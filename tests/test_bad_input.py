@@ -160,6 +160,9 @@ def api_cases(tmp_path):
         (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), residual_tolerance=math.nan), "residual_tolerance"),
         (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), max_newton_iterations=2.5), "max_newton_iterations"),
         (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), contact_radius_method="magic"), "contact_radius_method"),
+        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), linear_solver="mumps"), "linear_solver"),
+        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), quadrature_order=0), "quadrature_order"),
+        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), quadrature_order=4.0), "quadrature_order"),
     ]
 
 

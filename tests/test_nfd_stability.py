@@ -121,4 +121,4 @@ def test_stability_report_small_grid(tmp_path, monkeypatch):
     csv_lines = (tmp_path / report.CSV_NAME).read_text().splitlines()
     assert csv_lines[0].startswith("# git_commit") and any(line.startswith("group,law,R") for line in csv_lines)
     if "stability" in __import__("calib.cli", fromlist=["x"]).COMMAND_MODULES:
-        assert main(["stability", "--out", str(tmp_path)]) == 0
+        assert main(["stability", "--runtime", "--out", str(tmp_path)]) == 0

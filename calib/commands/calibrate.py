@@ -60,18 +60,21 @@ def run(ns) -> int:
     contact_size = number("--contact-size", ns.contact_size)
     if contact_size is not None and not contact_size > 0:
         raise ValueError(f"--contact-size out of range: need > 0 m, got {contact_size:g}")
-    if is_reference(ns):
-        spec = calibration.reference_spec(contact_size)
-    else:
-        spec = calibration.spec_for(material, radius)
+    peaks = None if ns.peaks is None else tuple(number("--peaks", p) for p in ns.peaks)
+    if peaks is not None and not all(p > 0 for p in peaks):
+        raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
+    spec = calibration.reference_spec(contact_size) if is_reference(ns) else None
+    if spec is not None and peaks is not None:
+        if calibration.estimated_contact_radius(spec.pair, max(peaks)) <= spec.mesh.refined_radius:
+            spec = dataclasses.replace(spec, plan=LoadPathPlan(
+                peaks=peaks, loading_step=min(peaks) / 16, unloading_steps=spec.plan.unloading_steps,
+                first_load=min(spec.plan.first_load, min(peaks))))
+        else:           # beyond the reference mesh's fine zone: a mesh sized for the largest peak
+            spec = None
+    if spec is None:
+        spec = calibration.spec_for(material, radius, peaks=peaks)
         if contact_size is not None:
             spec = dataclasses.replace(spec, mesh=dataclasses.replace(spec.mesh, contact_size=contact_size))
-    if ns.peaks is not None:
-        peaks = tuple(number("--peaks", p) for p in ns.peaks)
-        plan = spec.plan
-        spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=peaks, loading_step=min(peaks) / 16,
-                                                           unloading_steps=plan.unloading_steps,
-                                                           first_load=min(plan.first_load or min(peaks), min(peaks))))
     result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
     out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,
                                    plots=not ns.no_plots, vtu=not ns.no_plots)

@@ -1,12 +1,14 @@
-"""``nfdcal stability``: the runtime laws and collisions on extreme cases (issue 6).
+"""``nfdcal stability``: the runtime laws, collisions and FE calibration on extreme cases (issue 6).
 
-    nfdcal stability [--out results/stability]
+    nfdcal stability [--out results/stability] [--runtime | --fe] [--workers 2]
 
 Runs the grid of :mod:`calib.stability_report` (overlaps 1e-15 R .. 0.5 R, P/P_Y up to 1e6,
 v_in/v_Y 0.1 .. 1e4, dt 1e-9 s .. beyond the stability limit, Ca and Kc at 1e-3 .. 1e3 x, R 1e-6 ..
 10 m, nu up to 0.49, E/sigma_Y 50 .. 5000, float32 inputs) and writes runtime_stability.csv and
-.json. Prints the summary; exit code 1 if a case FAILED (NaN, an unexpected exception, energy
-created, or a silently inaccurate collision).
+.json; then the FE cases of :mod:`calib.fe_stability` (E/sigma_Y 50 .. 5000, nu 0 .. 0.49,
+P/P_Y up to 1000, R 1e-6 .. 10 m, each on two meshes for an error estimate; resumable) into
+fe_stability.csv and .json. Prints the summaries; exit code 1 if a case FAILED (NaN, an
+unexpected exception, energy created, or a silently inaccurate collision).
 """
 from __future__ import annotations
 
@@ -15,11 +17,19 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("stability", help="stability table of the runtime laws on extreme cases",
                                    description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default=None, help="output folder (default results/stability)")
+    only = parser.add_mutually_exclusive_group()
+    only.add_argument("--runtime", action="store_true", help="only the runtime laws and collisions (~30 s)")
+    only.add_argument("--fe", action="store_true", help="only the FE calibrations (minutes; resumable)")
+    parser.add_argument("--workers", default="2", help="local processes for the FE runs (default 2)")
+    parser.add_argument("--quiet", action="store_true", help="no progress messages")
     parser.set_defaults(run=run)
 
 
 def run(ns) -> int:
     import json
+    import sys
+
+    from calib.commands.common import number
 
     from calib.stability_report import CSV_NAME, DEFAULT_OUT, JSON_NAME, generate
 
@@ -30,9 +40,24 @@ def run(ns) -> int:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ValueError(f"--out: cannot create the output folder {out}: {exc.strerror or exc}") from None
-    summary = generate(out)
-    print(json.dumps({k: v for k, v in summary.items() if k != "failures"}, indent=2))
-    for failure in summary["failures"]:
+    workers = number("--workers", ns.workers)
+    if workers != int(workers) or not 1 <= workers <= 64:
+        raise ValueError(f"--workers out of range: need an integer in [1, 64], got {ns.workers}")
+    failures = []
+    if not ns.fe:
+        summary = generate(out)
+        print(json.dumps({k: v for k, v in summary.items() if k != "failures"}, indent=2))
+        failures += summary["failures"]
+        print(f"stability table written to {out}/{CSV_NAME} and {JSON_NAME}")
+    if not ns.runtime:
+        from calib import fe_stability
+
+        verbose = not ns.quiet and sys.stderr.isatty()
+        progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
+        summary = fe_stability.generate(out, workers=int(workers), progress=progress)
+        print(json.dumps({k: v for k, v in summary.items() if k != "failures"}, indent=2))
+        failures += summary["failures"]
+        print(f"FE stability table written to {out}/{fe_stability.CSV_NAME} and {fe_stability.JSON_NAME}")
+    for failure in failures:
         print(f"FAIL {failure}")
-    print(f"stability table written to {out}/{CSV_NAME} and {JSON_NAME}")
-    return 1 if summary["failures"] else 0
+    return 1 if failures else 0

@@ -1,0 +1,208 @@
+"""results/stability/fe_stability.*: the FE calibration on stiff and extreme cases (issue 6).
+
+Regenerate with ``nfdcal stability --fe`` (part of plain ``nfdcal stability``; a few minutes on
+2 cores, resumable: each finished run is ``OUT/fe_cases/<key>.json``, written atomically, and
+a rerun recomputes nothing already there).
+
+Each case (table CASES) is a full calibration (calib.calibration.calibrate: first yield, load
+paths with unloading, radius fit) of a sphere on a rigid flat at an extreme of the input space:
+E / sigma_Y = 50 and 5000, nu = 0 and 0.49, P / P_Y up to 1000, R = 1e-6 m and 10 m. It runs on
+two meshes (contact element = MESH_RATIOS x the estimated largest contact radius, spec_for's
+recipe) so that every result carries an error estimate: the change from the coarse to the fine
+mesh (the discretisation converges at first order in h, results/calibration/mesh_ladder.csv, so
+that change estimates the coarse mesh's error and bounds the fine one's). Columns:
+
+  P_Y_fe_error      FE first yield / P_Y(nu) of SPEC section 2 - 1 (the Hertz limit)
+  alpha_max_over_delta_Y, contact_radius_over_R   at the largest load
+  Ca_hat, Kc_hat, e, Ca_r2, Kc_r2                 the calibration (e of the largest path)
+  model_alpha_error  vz law with the fitted Ca, Kc: delta(P_max) / alpha_FE - 1 (paper eq. 3.4)
+  newton_max, steps, dofs, wall_time_s
+  *_mesh_change     (fine rows) relative change of alpha_max, Ca_hat, Kc_hat, e from the coarse
+                    mesh: the error estimate
+  outcome           "ok", "clear error: <message>" (an input the model cannot represent: the
+                    message names the parameter and its range) or "FAIL: <why>" (must not occur)
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+from pathlib import Path
+
+from calib import report
+
+DEFAULT_OUT = report.REPO_ROOT / "results" / "stability"
+CSV_NAME = "fe_stability.csv"
+JSON_NAME = "fe_stability.json"
+VERSION = 1                        # bump when the recipe changes: invalidates cached runs
+MESH_RATIOS = (0.1, 0.05)          # contact element / estimated largest contact radius
+LOADING_STEPS = 16                 # over the largest peak
+UNLOADING_STEPS = 8
+SIGMA_Y = 100e6                    # Pa; E = ratio x SIGMA_Y
+DENSITY = 2700.0                   # kg/m^3 (does not enter the FE)
+
+# name, nu, E / sigma_Y, R [m], peaks [P_Y]; the last three must end in a clear error
+CASES = (
+    ("reference material", 0.3, 700.0, 0.1, (20.6, 41.2)),
+    ("soft: E/sigma_Y = 50", 0.3, 50.0, 0.1, (20.6, 41.2)),
+    ("stiff: E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (20.6, 41.2)),
+    ("nu = 0", 0.0, 700.0, 0.1, (20.6, 41.2)),
+    ("nearly incompressible, soft: nu = 0.49, E/sigma_Y = 50", 0.49, 50.0, 0.1, (20.6, 41.2)),
+    ("nearly incompressible, stiff: nu = 0.49, E/sigma_Y = 5000", 0.49, 5000.0, 0.1, (20.6, 41.2)),
+    ("deep plastic: P = 1000 P_Y, E/sigma_Y = 700", 0.3, 700.0, 0.1, (500.0, 1000.0)),
+    ("deep plastic: P = 1000 P_Y, E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (500.0, 1000.0)),
+    ("micro sphere: R = 1 um", 0.3, 700.0, 1e-6, (20.6, 41.2)),
+    ("boulder: R = 10 m", 0.3, 700.0, 10.0, (20.6, 41.2)),
+    ("too large a contact: P = 1000 P_Y at E/sigma_Y = 50", 0.3, 50.0, 0.1, (500.0, 1000.0)),
+    ("E typed in GPa (E/sigma_Y = 7e-7)", 0.3, 70.0 / 100e6, 0.1, (20.6, 41.2)),
+    ("beyond the tested range: E/sigma_Y = 1e5", 0.3, 1e5, 0.1, (20.6, 41.2)),
+)
+
+COLUMNS = ("case", "nu", "E_over_sigma_y", "R", "P_max_over_P_Y", "mesh_ratio", "contact_size",
+           "dofs", "P_Y_fe_error", "alpha_max_over_delta_Y", "contact_radius_over_R", "Ca_hat",
+           "Kc_hat", "Ca_r2", "Kc_r2", "e", "model_alpha_error", "newton_max", "steps",
+           "wall_time_s", "alpha_mesh_change", "Ca_hat_mesh_change", "Kc_hat_mesh_change",
+           "e_mesh_change", "outcome", "key")
+
+
+def _task(case, mesh_ratio: float) -> dict:
+    name, nu, ratio, R, peaks = case
+    key = hashlib.sha256(json.dumps({"case": case, "mesh_ratio": mesh_ratio, "version": VERSION,
+                                     "steps": [LOADING_STEPS, UNLOADING_STEPS]},
+                                    sort_keys=True).encode()).hexdigest()[:16]
+    return {"name": name, "nu": nu, "ratio": ratio, "R": R, "peaks": peaks, "mesh_ratio": mesh_ratio,
+            "key": key}
+
+
+def _spec(task):
+    """The CalibrationSpec of a task, or the ValueError of an input the model cannot take."""
+    import dataclasses
+
+    from calib.calibration import spec_for
+    from nfdmodel import ContactPair, Material
+
+    material = Material(task["ratio"] * SIGMA_Y, task["nu"], SIGMA_Y, DENSITY)
+    P_Y = ContactPair.sphere_flat(material, task["R"]).P_Y
+    spec = spec_for(material, task["R"], peaks=[k * P_Y for k in task["peaks"]],
+                    contact_size_over_a_max=task["mesh_ratio"])
+    plan = dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[-1] / LOADING_STEPS,
+                               unloading_steps=UNLOADING_STEPS)
+    return dataclasses.replace(spec, plan=plan)
+
+
+def run_case(task: dict) -> dict:
+    """One calibration (runs in a worker): the table row, never raises."""
+    row = {key: None for key in COLUMNS}
+    row.update(case=task["name"], nu=task["nu"], E_over_sigma_y=task["ratio"], R=task["R"],
+               P_max_over_P_Y=max(task["peaks"]), mesh_ratio=task["mesh_ratio"], key=task["key"])
+    t0 = time.perf_counter()
+    try:
+        spec = task.get("spec") or _spec(task)
+    except ValueError as exc:
+        row.update(outcome=f"clear error: {exc}", wall_time_s=time.perf_counter() - t0)
+        return row
+    try:
+        from calib.calibration import calibrate
+        from nfdmodel import VZParams
+
+        result = calibrate(spec)
+        pair, last = spec.pair, result.load_paths.paths[-1]
+        params = VZParams(pair, result.radius_fit.Ca.slope, result.radius_fit.Kc.slope)
+        peak_row = max(result.load_paths.loading_rows, key=lambda r: r["P"])
+        rows = [r for p in result.load_paths.paths for r in p.rows]
+        row.update(contact_size=spec.mesh.contact_size, dofs=result.mesh_info["dofs"],
+                   P_Y_fe_error=result.P_Y_fe / pair.P_Y - 1.0,
+                   alpha_max_over_delta_Y=last.alpha_max / pair.delta_Y,
+                   contact_radius_over_R=peak_row["contact_radius"] / pair.R_star,
+                   Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat, Ca_r2=result.radius_fit.Ca.r_squared,
+                   Kc_r2=result.radius_fit.Kc.r_squared, e=last.restitution,
+                   model_alpha_error=float(params.loading_approach(last.peak)) / last.alpha_max - 1.0,
+                   newton_max=max(int(r["newton_iterations"]) for r in rows), steps=len(rows))
+        numbers = [v for v in row.values() if isinstance(v, float)]
+        if not all(math.isfinite(v) for v in numbers) or not 0.0 < last.restitution < 1.0:
+            row["outcome"] = "FAIL: non-finite result or e outside (0, 1)"
+        else:
+            row["outcome"] = "ok"
+    except ValueError as exc:
+        row["outcome"] = f"clear error: {exc}"
+    except Exception as exc:  # noqa: BLE001 - anything else is a failure of the solver: reported
+        row["outcome"] = f"FAIL: {type(exc).__name__}: {str(exc).splitlines()[0][:300]}"
+    row["wall_time_s"] = time.perf_counter() - t0
+    return row
+
+
+def _with_mesh_change(rows: list[dict]) -> list[dict]:
+    """On each fine-mesh row, the relative change from the coarse-mesh row of the same case."""
+    coarse = {r["case"]: r for r in rows if r["mesh_ratio"] == MESH_RATIOS[0]}
+    for r in rows:
+        c = coarse.get(r["case"])
+        if r["mesh_ratio"] == MESH_RATIOS[0] or c is None or r["outcome"] != "ok" or c["outcome"] != "ok":
+            continue
+        for column, quantity in (("alpha_mesh_change", "alpha_max_over_delta_Y"),
+                                 ("Ca_hat_mesh_change", "Ca_hat"), ("Kc_hat_mesh_change", "Kc_hat"),
+                                 ("e_mesh_change", "e")):
+            r[column] = r[quantity] / c[quantity] - 1.0
+    return rows
+
+
+def summarize(rows: list[dict]) -> dict:
+    kinds = {}
+    for r in rows:
+        kinds[r["outcome"].split(":")[0]] = kinds.get(r["outcome"].split(":")[0], 0) + 1
+    fine = [r for r in rows if r["outcome"] == "ok" and r["alpha_mesh_change"] is not None]
+
+    def worst(column):
+        return max((abs(r[column]) for r in fine), default=None)
+
+    return {"runs": len(rows), "outcomes": kinds,
+            "newton_max": max((r["newton_max"] for r in rows if r["newton_max"] is not None), default=0),
+            "worst_mesh_change": {c: worst(c) for c in ("alpha_mesh_change", "Ca_hat_mesh_change",
+                                                         "Kc_hat_mesh_change", "e_mesh_change")},
+            "worst_P_Y_fe_error": max((abs(r["P_Y_fe_error"]) for r in rows if r["outcome"] == "ok"), default=None),
+            "failures": [f"{r['case']} (mesh {r['mesh_ratio']}): {r['outcome']}" for r in rows
+                         if r["outcome"].startswith("FAIL")]}
+
+
+def generate(out_dir=DEFAULT_OUT, workers: int = 2, cases=CASES, progress=None) -> dict:
+    """Run every case on both meshes (reusing finished runs), write fe_stability.csv/.json."""
+    from calib.tables import _prebuild_meshes, _results
+
+    say = progress or (lambda message: None)
+    started = time.perf_counter()
+    out = Path(out_dir)
+    tasks = [_task(case, ratio) for case in cases for ratio in MESH_RATIOS]
+    done = {}
+    for task in tasks:
+        path = out / "fe_cases" / f"{task['key']}.json"
+        if path.is_file():
+            try:
+                done[task["key"]] = json.loads(path.read_text(encoding="utf-8"))
+            except (OSError, json.JSONDecodeError):
+                pass                                            # unreadable: recompute
+    todo = []
+    for task in tasks:
+        if task["key"] in done:
+            continue
+        try:
+            task["spec"] = _spec(task)
+        except ValueError:
+            pass                                                # run_case reports it
+        todo.append(task)
+    say(f"{len(tasks)} FE runs: {len(tasks) - len(todo)} already done, {len(todo)} to run")
+    _prebuild_meshes([t for t in todo if "spec" in t], say)
+    for k, row in enumerate(_results(todo, workers, None, function=run_case), 1):
+        if not row["outcome"].startswith("FAIL"):               # failures are retried next time
+            report.write_json(out / "fe_cases" / f"{row['key']}.json", row)
+        done[row["key"]] = row
+        say(f"FE run {k}/{len(todo)}: {row['case']} (mesh {row['mesh_ratio']}): "
+            f"{row['outcome'][:60]}, {row['wall_time_s']:.0f} s")
+    rows = _with_mesh_change([done[t["key"]] for t in tasks])
+    summary = summarize(rows)
+    st = report.stamp(time.perf_counter() - started, command="nfdcal stability --fe",
+                      mesh={"contact_size_over_a_max": list(MESH_RATIOS)},
+                      computed=len(todo), reused=len(tasks) - len(todo))
+    report.write_csv(out / CSV_NAME, rows, COLUMNS, comment=report.stamp_comment(st))
+    report.write_json(out / JSON_NAME, {"stamp": st, "summary": summary, "columns": list(COLUMNS),
+                                        "rows": rows})
+    return summary
