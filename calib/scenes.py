@@ -750,7 +750,8 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
         report.write_json(out / "parameters.json", calibration_report.parameter_file(result, stamp))
         report.write_json(out / "calibration.json", {**calibration.summary(result), "stamp": stamp})
     s = calibration.summary(result)
-    return {k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh")}, result.params
+    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh")},
+            "loading_only": False, "shipped_fit": s["shipped_fit"]}, result.params
 
 
 def _run_collision(scene, material, out, params, progress) -> dict:

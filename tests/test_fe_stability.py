@@ -45,13 +45,15 @@ def test_calibration_refuses_inputs_it_cannot_represent(E, peaks_over_yield, mat
 
 def test_mesh_covers_the_contact_at_deep_plastic_loads():
     """Beyond ~43 P_Y the plastic radius a_p = Ca (P - P_Y) outgrows 1.3 x Hertz: the refined
-    zone follows it (at 1000 P_Y, E/sigma_Y = 700 the FE contact radius is ~3x Hertz's)."""
+    zone follows it (at 100 P_Y the estimate is 7.1 a_Y against 1.3 a_H = 6.0 a_Y)."""
     material = Material(70e9, 0.3, 100e6, 2700.0)
     pair = ContactPair.sphere_flat(material, 0.1)
-    spec = calibration.spec_for(material, 0.1, peaks=(1000 * pair.P_Y,))
-    assert spec.mesh.refined_radius >= pair.hertz_radius(1000 * pair.P_Y) + 0.024 * 999 * pair.a_Y
+    spec = calibration.spec_for(material, 0.1, peaks=(100 * pair.P_Y,))
+    assert spec.mesh.refined_radius >= pair.hertz_radius(100 * pair.P_Y) + 0.024 * 99 * pair.a_Y
     standard = calibration.spec_for(material, 0.1)   # <= 41.2 P_Y: 1.3 x Hertz, as before
     assert standard.mesh.refined_radius == pytest.approx(1.1 * 1.3 * pair.hertz_radius(41.2 * pair.P_Y))
+    with pytest.raises(ValueError, match="contained elastoplastic regime"):
+        calibration.spec_for(material, 0.1, peaks=(1000 * pair.P_Y,))
 
 
 def test_cli_calibrate_refuses_a_modulus_in_gpa(capsys):

@@ -186,3 +186,55 @@ def test_progress_is_silent_off_a_terminal(capsys):
     stream = io.StringIO()
     scenes.Progress(True, 10, stream)("material 1/2")
     assert "material 1/2" in stream.getvalue() and "left" in stream.getvalue()
+
+
+def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
+    """`nfdcal run` on a scene with every FE stage: Hertz validation, load paths WITH unloading,
+    calibration shipping the force fit (which needs the unloading), collisions with the
+    calibrated law and plots; the parameter file reproduces the printed Ca, Kc and drives
+    nfdmodel directly."""
+    from nfdmodel import collide, load_parameters
+
+    path = write(tmp_path, """
+        [scene]
+        name = "full"
+        [mesh]
+        level = "coarse"
+        """ + MATERIAL + """
+        [hertz]
+        P_max = 300.0
+        steps = 3
+        [load_paths]
+        P_max = [300.0, 600.0]
+        unload = true
+        loading_steps = 8
+        unloading_steps = 4
+        [calibration]
+        ship = "force"
+        [collision]
+        v_in_over_v_Y = [2.0, 20.0]
+        laws = ["vz", "thornton"]
+        [outputs]
+        plots = true
+        histories = true
+        """)
+    out = tmp_path / "out"
+    assert nfdcal(monkeypatch, "run", path, "--out", out, "--quiet") == 0
+    capsys.readouterr()
+    summary = json.loads((out / "scene.json").read_text())
+    cal = summary["materials"][0]["calibration"]
+    assert not cal["loading_only"] and cal["shipped_fit"] == "force"
+    assert 0.015 < cal["Ca_hat"] < 0.04 and 0.004 < cal["Kc_hat"] < 0.03
+    params = load_parameters(out / "parameters.json")
+    assert params.Ca == pytest.approx(cal["Ca"]) and params.Kc == pytest.approx(cal["Kc"])
+    paths = json.loads((out / "calibration.json").read_text())["paths"]
+    assert [p["P_max"] for p in paths] == pytest.approx([300.0, 600.0])
+    assert all(0.6 < p["e"] < 1.0 for p in paths)
+    # the scene's collisions used the calibrated law: same e as nfdmodel with the file
+    rows = [line.split(",") for line in (out / "collision.csv").read_text().splitlines()
+            if not line.startswith("#")]
+    header, rows = rows[0], rows[1:]
+    vz_rows = [dict(zip(header, r)) for r in rows if dict(zip(header, r))["law"] == "vz"]
+    direct = collide("vz", params, [float(r["v_in"]) for r in vz_rows], dt=None)
+    assert [float(r["e_velocity"]) for r in vz_rows] == pytest.approx(direct.e_velocity.tolist(), rel=1e-9)
+    assert list(out.glob("*.png")) and list(out.glob("*.csv"))
