@@ -132,3 +132,26 @@ class MasterTable:
                 "source": "master table interpolation",
                 "table": str(self.path) if self.path else None,
                 "accuracy": self.meta.get("accuracy", "not stated")}
+
+
+# The accuracy the interpolation must reach against direct FE calibrations (issue 5)
+CHECK_LIMITS = {"Ca_hat": 0.03, "Kc_hat": 0.05}
+
+
+def check_against_fe(rows: list[dict], table: "MasterTable") -> list[dict]:
+    """Interpolated against directly calibrated Ca_hat, Kc_hat for each row of a parameter table
+    (``nfdcal table`` rows with nu, E_over_sigma_y, Ca_hat, Kc_hat; same recipe as the master
+    table): relative errors interpolated / FE - 1 and whether they are within CHECK_LIMITS."""
+    out = []
+    for row in rows:
+        if row.get("status") != "ok":
+            raise ValueError(f"master check: material {row.get('name')} has no FE result ({row.get('status')})")
+        Ca_hat, Kc_hat = table.lookup(float(row["nu"]), float(row["E_over_sigma_y"]))
+        errors = {"Ca_hat_error": Ca_hat / float(row["Ca_hat"]) - 1.0,
+                  "Kc_hat_error": Kc_hat / float(row["Kc_hat"]) - 1.0}
+        out.append({"name": row["name"], "nu": float(row["nu"]),
+                    "E_over_sigma_y": float(row["E_over_sigma_y"]),
+                    "Ca_hat_fe": float(row["Ca_hat"]), "Ca_hat_table": Ca_hat,
+                    "Kc_hat_fe": float(row["Kc_hat"]), "Kc_hat_table": Kc_hat, **errors,
+                    "within_limits": all(abs(errors[f"{k}_error"]) <= v for k, v in CHECK_LIMITS.items())})
+    return out

@@ -121,9 +121,10 @@ def _prebuild_meshes(tasks, progress) -> None:
             hemisphere_mesh(mesh)
 
 
-def _results(todo, workers: int, scheduler: str | None, function=calibrate_task):
-    """Yield ``function(task)`` (a row) as tasks finish: in-process, on local processes, or on
-    Dask. ``function`` must be a module-level function (it is pickled)."""
+def _results(todo, workers: int, scheduler: str | None, function=None):
+    """Yield ``function(task)`` (a row; default calibrate_task) as tasks finish: in-process, on
+    local processes, or on Dask. ``function`` must be a module-level function (it is pickled)."""
+    function = function or calibrate_task
     if scheduler:
         from distributed import Client, as_completed
 

@@ -154,3 +154,19 @@ def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
         assert table.lookup(row["nu"], row["E_over_sigma_y"]) == pytest.approx((row["Ca_hat"], row["Kc_hat"]), rel=1e-12)
     values = table.parameters(70e9, 0.3, 100e6, 0.1)  # the reference case, a grid node
     assert values["Ca"] == pytest.approx(2.32e-7, rel=0.05)  # README: 2.32e-7 m/N at the default mesh
+    assert table.nu[0] == 0.0 and table.nu[-1] == 0.49                       # issue 5's range
+    assert table.E_over_sigma_y[0] == 50.0 and table.E_over_sigma_y[-1] == 5000.0
+
+
+def test_master_check_compares_interpolation_with_fe_rows():
+    from calib.master_table import DEFAULT_TABLE, check_against_fe, read_rows
+
+    table = MasterTable.load()
+    node = next(r for r in read_rows(DEFAULT_TABLE) if r["nu"] == 0.3)
+    exact = {"name": "node", "status": "ok", **{k: node[k] for k in ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat")}}
+    off = {**exact, "name": "off", "Ca_hat": node["Ca_hat"] * 1.04}            # FE 4 % above the table
+    checks = check_against_fe([exact, off], table)
+    assert checks[0]["Ca_hat_error"] == pytest.approx(0.0, abs=1e-12) and checks[0]["within_limits"]
+    assert checks[1]["Ca_hat_error"] == pytest.approx(1 / 1.04 - 1) and not checks[1]["within_limits"]
+    with pytest.raises(ValueError, match="no FE result"):
+        check_against_fe([{**exact, "status": "failed"}], table)
