@@ -4,24 +4,27 @@
                           load_parameters, collide)
 
 Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_state)``
-(:mod:`nfdmodel.laws`); :func:`collide` simulates sphere-on-flat impacts
-(:mod:`nfdmodel.collision`); SI units throughout.
+(:mod:`nfdmodel.laws`), also available as ``law.step(delta, state, params) -> (P, update)``
+(a sparse :class:`HistoryUpdate`: only the contacts whose turning point moved) plus
+``law.commit(state, update)`` (in place, for a caller that owns its history);
+:func:`collide` simulates sphere-on-flat impacts (:mod:`nfdmodel.collision`); SI units throughout.
 """
 from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
                         collision_reference)
-from .laws import (LAWS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState,
+from .laws import (LAWS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState, HistoryUpdate,
                    ThorntonState, TurningPointHistory, VZParams, VZState, WaltonBraunParams,
-                   WaltonBraunState, get_law, hertz_force, thornton_force, vz_force,
-                   vz_force_with_iterations, vz_newton_iterations, vz_plastic_force,
-                   walton_braun_force)
+                   WaltonBraunState, get_law, hertz_force, hertz_step, thornton_force, thornton_step,
+                   vz_force, vz_force_with_iterations, vz_newton_iterations, vz_plastic_force,
+                   vz_step, walton_braun_force, walton_braun_step)
 from .materials import ContactPair, Material, yield_factor
 from .params import load_parameters, parameter_record
 
 __all__ = [
     "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",
     "ContactLaw", "ContactDetails", "HertzState", "TurningPointHistory", "VZState", "ThorntonState",
-    "WaltonBraunState", "hertz_force", "vz_force", "vz_force_with_iterations", "vz_newton_iterations",
-    "vz_plastic_force", "thornton_force", "walton_braun_force", "NEWTON_TOLERANCE",
+    "WaltonBraunState", "HistoryUpdate", "hertz_force", "vz_force", "vz_force_with_iterations",
+    "vz_newton_iterations", "vz_plastic_force", "thornton_force", "walton_braun_force", "hertz_step",
+    "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning",
 ]

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .laws import ContactLaw, HertzState, _as_pair, get_law, vz_force_with_iterations
+from .laws import ContactLaw, HertzState, _as_pair, get_law
 from .materials import check_real
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
@@ -269,7 +269,6 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
     P_max = np.zeros(n)                         # largest force and approach on the path
     delta_max = np.zeros(n)
     max_iterations = 0
-    is_vz = law.name == "vz"
     times, deltas, forces = ([0.0], [delta.copy()], [force.copy()]) if history else (None, None, None)
     step = 0
     while in_contact.any():
@@ -278,16 +277,16 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
                              f"{v_in[in_contact][0]:g} m/s: increase max_steps or dt (dt = {dt:g} s)")
         velocity = velocity - force * (dt / mass)
         delta_new = delta + velocity * dt
-        if is_vz:
-            force_new, state_new, iterations = vz_force_with_iterations(delta_new, state, law_params)
-            max_iterations = max(max_iterations, iterations)
-        else:
-            force_new, state_new = law.force(delta_new, state, law_params)
+        # The loop owns ``state`` (made above, never handed out before the end): the trial
+        # history is committed in place, O(contacts whose turning point moved), no copy.
+        force_new, update = law.step(delta_new, state, law_params)
+        law.commit(state, update)
+        max_iterations = max(max_iterations, update.newton_iterations)
         increment = delta_new - delta
         area = 0.5 * (force + force_new) * increment
         separating = in_contact & (force_new == 0.0) & (velocity < 0.0)
         if separating.any():
-            delta_res = np.zeros(n) if isinstance(state_new, HertzState) else state_new.delta_res
+            delta_res = np.zeros(n) if isinstance(state, HertzState) else state.delta_res
             # Cut the last segment at delta_res, where the force vanishes.
             fraction = np.clip((delta - delta_res) / np.where(increment < 0, -increment, 1.0), 0.0, 1.0)
             area = np.where(separating, 0.5 * force * fraction * increment, area)
@@ -298,7 +297,7 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         in_contact &= ~separating
         np.maximum(P_max, force_new, out=P_max)
         np.maximum(delta_max, delta_new, out=delta_max)
-        delta, force, state = delta_new, force_new, state_new
+        delta, force = delta_new, force_new
         step += 1
         if history:
             times.append(step * dt)

@@ -1,11 +1,24 @@
 """Normal contact force laws, displacement-driven and vectorised over contacts.
 
-Each law is one pure function ``(delta, state, params) -> (P, new_state)``:
+Each law is one kernel used two ways (MercuryDPM style: compute the trial state, then commit it):
+
+* ``law.step(delta, state, params) -> (P, update)``: the force and the SPARSE trial history, a
+  :class:`HistoryUpdate` holding only the contacts whose turning point moved (``update.index``)
+  and their new history (``update.values``, a state of the same class over those contacts);
+  ``state`` is not modified;
+* ``law.commit(state, update)`` writes the update into ``state``'s arrays IN PLACE (the caller
+  owns the state; nobody else may hold it), cost O(len(update.index));
+* ``law.force(delta, state, params) -> (P, new_state)``: the pure function, step + a copying
+  commit (``state`` is never modified; ``new_state`` is ``state`` itself when no turning point
+  moved, otherwise a copy).
 
 * ``delta``  total approach ("overlap") of each contact [m], shape (n,), any float dtype;
 * ``state``  the named per-contact history (a frozen dataclass of float64 arrays of shape (n,));
-  it is never modified: the function returns the trial state, which the caller commits;
 * ``P``      normal force [N], float64, >= 0, shape of ``delta``.
+
+In a DEM loop that owns its history, ``P, update = law.step(delta, state, params);
+law.commit(state, update)`` avoids copying the n-contact history whenever one contact loads
+plastically (the pure ``force`` copies all its arrays then).
 
 Laws (chosen by name with :func:`get_law`):
 
@@ -32,7 +45,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import Callable
 
 import numpy as np
@@ -44,6 +57,7 @@ NEWTON_MAX_ITERATIONS = 200     # never reached: the bracket halves at worst eve
 CA_HAT_RANGE = (1e-8, 1e4)      # admissible Ca P_Y / a_Y (paper: 0.026)
 KC_HAT_MAX = 1e4                # admissible Kc P_Y (paper: 0.0098)
 _TINY = 1e-300
+_BLOCK = 16384                  # contacts per block of the step kernel (temporaries stay in cache)
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
 
 
@@ -338,6 +352,103 @@ class WaltonBraunState(TurningPointHistory):
     """History of the Walton-Braun law (delta_res = delta_max - P_max / K2)."""
 
 
+@dataclass(frozen=True)
+class HistoryUpdate:
+    """The trial history of one step, sparse: only the contacts whose turning point moved.
+
+    index: the contacts (positions 0..n-1 in the state, increasing, int64) that loaded beyond
+    their turning point delta_max in this step, shape (k,);
+    values: their new history, a state of the SAME class as the law's state (VZState,
+    ThorntonState, WaltonBraunState; named fields, [SI] as there) over those k contacts: contact
+    index[i] gets values.<field>[i]; a HertzState(0) for hertz (no history);
+    n: the number of contacts of the state the step was computed from;
+    newton_iterations: the largest number of Newton iterations of the step (vz plastic loading,
+    :func:`_vz_plastic_solve`; 0 for the other laws and when no contact loads plastically).
+
+    Made by :meth:`ContactLaw.step`; applied by :meth:`ContactLaw.commit` (in place) or
+    :meth:`ContactLaw.committed` (copy). The contacts not in ``index`` keep their history.
+    """
+
+    index: np.ndarray
+    values: object
+    n: int
+    newton_iterations: int = 0
+
+    @property
+    def size(self) -> int:
+        """Number of contacts whose turning point moved (k)."""
+        return int(self.index.shape[0])
+
+
+_EMPTY_VALUES: dict = {}     # history class -> (read-only empty index, empty history): shared, never written
+
+
+def _empty_update(state, n: int) -> HistoryUpdate:
+    cls = type(state)
+    empty = _EMPTY_VALUES.get(cls)
+    if empty is None:
+        index = np.empty(0, dtype=np.int64)
+        index.flags.writeable = False
+        values = HertzState(0) if cls is HertzState else cls(**{name: index.astype(float) for name in
+                                                                _field_names(cls)})
+        for name in _field_names(cls):
+            getattr(values, name).flags.writeable = False
+        empty = _EMPTY_VALUES[cls] = (index, values)
+    return HistoryUpdate(empty[0], empty[1], n, 0)
+
+
+@lru_cache(maxsize=None)
+def _field_names(cls) -> tuple:
+    """Names of the per-contact arrays of a history class (none for HertzState)."""
+    return () if cls is HertzState else tuple(f.name for f in fields(cls))
+
+
+def _check_update(state, update) -> None:
+    """A ValueError naming ``update`` when it does not belong to ``state`` (class, length, index)."""
+    if not isinstance(update, HistoryUpdate):
+        raise ValueError(f"update must be a HistoryUpdate (from ContactLaw.step), got {type(update).__name__}")
+    if type(update.values) is not type(state):
+        raise ValueError(f"update does not match state: update.values is a {type(update.values).__name__} "
+                         f"but state is a {type(state).__name__} (commit an update to the state of the "
+                         f"law that computed it)")
+    n = state.n
+    if update.n != n:
+        raise ValueError(f"update does not match state: update was computed for {update.n} contacts "
+                         f"but state holds {n}")
+    index = update.index
+    if not (isinstance(index, np.ndarray) and index.ndim == 1 and index.dtype.kind in "iu"):
+        raise ValueError(f"update.index must be a 1-d integer array of contact positions, got "
+                         f"{type(index).__name__} {getattr(index, 'dtype', '')}")
+    k = index.shape[0]
+    if isinstance(state, HertzState):
+        if k:
+            raise ValueError(f"update does not match state: a Hertz contact has no history, but "
+                             f"update.index holds {k} contacts")
+        return
+    for name in _field_names(type(state)):
+        values = getattr(update.values, name)
+        if not (isinstance(values, np.ndarray) and values.shape == (k,)):
+            raise ValueError(f"update does not match state: update.index has {k} contacts but "
+                             f"update.values.{name} has shape {np.shape(values)}")
+    if k and not (0 <= int(index.min()) and int(index.max()) < n):
+        raise ValueError(f"update.index out of range: contact positions must be in 0..{n - 1} "
+                         f"(state holds {n} contacts), got {int(index.min())}..{int(index.max())}")
+
+
+def _apply_update(state, update: HistoryUpdate, copy: bool):
+    """Write ``update`` (checked by the caller) into ``state`` (in place) or into a copy of it;
+    returns the new state (``state`` itself when the update is empty)."""
+    if update.index.shape[0] == 0:
+        return state
+    names = _field_names(type(state))
+    if copy:
+        state = type(state)(**{name: getattr(state, name).copy() for name in names})
+    index, values = update.index, update.values
+    for name in names:
+        getattr(state, name)[index] = getattr(values, name)
+    return state
+
+
 # ---------------------------------------------------------------------------------- validation
 def _contact_count(n) -> int:
     """n as a number of contacts (an integer >= 0), or a ValueError naming n."""
@@ -348,6 +459,9 @@ def _contact_count(n) -> int:
 
 
 def _check_delta(delta, n_expected: int | None):
+    """delta as a flat contiguous float64 array and its original shape; ValueError naming delta
+    if it is not real, not finite or has the wrong number of contacts (checked before any
+    force is computed: no floating-point warnings from bad input)."""
     delta = np.asarray(delta)
     if delta.dtype.kind not in "fiu":
         raise ValueError(f"delta must be a real array of approaches [m], got dtype {delta.dtype}")
@@ -361,10 +475,13 @@ def _check_delta(delta, n_expected: int | None):
     return delta, shape
 
 
-def _check_force(force, delta, pair: ContactPair):
+def _check_force(force, delta, pair: ContactPair, total: float | None = None):
     """Overlaps so large that the force overflows (delta ~ 1e100 m) give a ValueError naming
-    delta, never inf or NaN in a result. One cheap reduction; elementwise only on failure."""
-    if not math.isfinite(float(np.add.reduce(force))) and not np.isfinite(force).all():
+    delta, never inf or NaN in a result. One cheap reduction (or ``total``, a sum of values
+    that includes every entry of force, computed by the caller); elementwise only on failure."""
+    if total is None:
+        total = float(np.add.reduce(force))
+    if not math.isfinite(total) and not np.isfinite(force).all():
         worst = int(np.flatnonzero(~np.isfinite(force))[0])
         raise ValueError(f"delta out of range: the force overflows at delta = {delta[worst]:g} m "
                          f"(contact {worst}, delta/R* = {delta[worst] / pair.R_star:.3g}); overlaps "
@@ -380,28 +497,80 @@ def _check_state(state, cls, law):
 
 
 # ------------------------------------------------------------------------------- shared kernels
-def _turning_point_force(delta, state, loading_branch, three_halves: bool):
-    """Force and trial history of a turning-point law (module doc).
+def _blocks(n: int):
+    """Slices of at most _BLOCK contacts covering 0..n-1 (one slice(None) when n <= _BLOCK)."""
+    if n <= _BLOCK:
+        return (slice(None),)
+    return tuple(slice(first, min(first + _BLOCK, n)) for first in range(0, n, _BLOCK))
 
-    Unloading/reloading for all contacts: P = K_u <delta - delta_res>^n; then, for the contacts
-    with delta > delta_max, ``loading_branch(delta, state, index) -> (new field values, iterations)``
-    on the virgin curve, which moves their turning point (P_max is the new force).
+
+def _turning_point_step(delta, state, loading_branch, three_halves: bool, pair: ContactPair):
+    """Force and sparse trial history of a turning-point law (module doc): (P, HistoryUpdate).
+
+    Unloading/reloading for all contacts: P = K_u <delta - delta_res>^n (n = 3/2 if
+    ``three_halves``, else 1); then, for the contacts with delta > delta_max,
+    ``loading_branch(delta, state, index, out) -> (new field values, iterations)`` on the virgin
+    curve (it may write the values into the arrays of the dict ``out``, or None, and return
+    those arrays), which moves their turning point (P_max is the new force, delta_max the new approach).
+    ``state`` is not modified; the update's arrays share no memory with ``delta`` or ``state``.
+
+    Work is done in blocks of _BLOCK contacts (loading contacts for the loading branch) so that
+    the temporaries stay in cache; every operation is elementwise, so the result does not
+    depend on the blocking. ``delta`` is checked by the caller (:func:`_check_delta`); the
+    overflow check of the force (:func:`_check_force`, ValueError naming delta) uses a sum
+    taken block by block while the forces are in cache, instead of one more pass.
     """
-    gap = np.subtract(delta, state.delta_res)
-    np.maximum(gap, 0.0, out=gap)
-    if three_halves:
-        force = np.sqrt(gap)
-        force *= gap
+    n = delta.shape[0]
+    force = np.empty(n)
+    loading_mask = np.empty(n, dtype=bool)
+    gap_buffer = np.empty(min(n, _BLOCK))
+    arrays = (delta, force, state.delta_res, state.unloading_stiffness, state.delta_max, loading_mask)
+    force_sum = 0.0
+    add = np.add.reduce
+    for d, f, delta_res, stiffness, delta_max, mask in (
+            (arrays,) if n <= _BLOCK else (tuple(a[block] for a in arrays) for block in _blocks(n))):
+        gap = gap_buffer if f.shape[0] == gap_buffer.shape[0] else gap_buffer[:f.shape[0]]
+        np.subtract(d, delta_res, out=gap)
+        np.maximum(gap, 0.0, out=gap)
+        if three_halves:
+            np.sqrt(gap, out=f)
+            f *= gap
+            f *= stiffness
+        else:
+            np.multiply(gap, stiffness, out=f)
+        force_sum += add(f)
+        np.greater(d, delta_max, out=mask)
+    loading = loading_mask.nonzero()[0]                  # (np.flatnonzero without its wrappers)
+    k = loading.shape[0]
+    if k == 0:
+        update = _empty_update(state, n)
+    elif k <= _BLOCK:
+        delta_loading = delta[loading]
+        new_values, iterations = loading_branch(delta_loading, state, loading)
+        P = new_values["P_max"]
+        force[loading] = P
+        force_sum += add(P)
+        update = HistoryUpdate(loading, type(state)(delta_max=delta_loading, **new_values), n, int(iterations))
     else:
-        force = gap
-    force *= state.unloading_stiffness
-    loading = np.flatnonzero(delta > state.delta_max)
-    if loading.size == 0:
-        return force, state, 0
-    delta_loading = delta[loading]
-    new_values, iterations = loading_branch(delta_loading, state, loading)
-    force[loading] = new_values["P_max"]
-    return force, state.updated(loading, delta_max=delta_loading, **new_values), iterations
+        values = {name: np.empty(k) for name in _field_names(type(state))}
+        iterations = 0
+        for block in _blocks(k):
+            index = loading[block]
+            delta_loading = np.take(delta, index, out=values["delta_max"][block], mode="clip")
+            out = {name: values[name][block] for name in values if name != "delta_max"}
+            new_values, block_iterations = loading_branch(delta_loading, state, index, out)
+            for name, array in new_values.items():
+                if array is not out[name]:          # not written in place by the branch
+                    values[name][block] = array
+            P = new_values["P_max"]
+            force[index] = P
+            force_sum += add(P)
+            iterations = max(iterations, int(block_iterations))
+        update = HistoryUpdate(loading, type(state)(**values), n, iterations)
+    # force_sum covers every entry of force (and the overwritten unloading values: a false
+    # alarm there only triggers the exact elementwise test)
+    _check_force(force, delta, pair, float(force_sum))
+    return force, update
 
 
 def _restore_shape(force, shape):
@@ -409,10 +578,20 @@ def _restore_shape(force, shape):
 
 
 # ---------------------------------------------------------------------------------------- hertz
+def hertz_step(delta, state: HertzState, params):
+    """Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) <delta>^(3/2) [N] and an empty
+    :class:`HistoryUpdate` (no history). params: a ContactPair (or anything with .pair)."""
+    pair = _as_pair(params, "hertz")
+    _check_state(state, HertzState, "hertz")
+    delta, shape = _check_delta(delta, state.n)
+    force = _restore_shape(_check_force(_hertz_kernel(delta, pair), delta, pair), shape)
+    return force, _empty_update(state, state.n)
+
+
 def hertz_force(delta, state: HertzState, params):
     """Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) <delta>^(3/2) [N]; no history.
 
-    params: a ContactPair (or anything with .pair).
+    params: a ContactPair (or anything with .pair). Returns (P, state) (the state unchanged).
     """
     pair = _as_pair(params, "hertz")
     _check_state(state, HertzState, "hertz")
@@ -436,9 +615,11 @@ def _vz_residual_approach(delta_max, P_max, params: VZParams):
     return np.maximum(delta_max - elastic_recovery, 0.0)
 
 
-def _vz_turning_point(delta_max, P_max, cube_root, params: VZParams):
+def _vz_turning_point(delta_max, P_max, cube_root, params: VZParams, a_e=None, out=None):
     """delta_res [m] and K_u [N/m^1.5] of a new plastic turning point (paper eqs. 3.19-3.22);
-    cube_root = P_max^(1/3) gives a_e,max = (3 R*/(4 E*))^(1/3) P_max^(1/3) without a cube root.
+    cube_root = P_max^(1/3) gives a_e,max = (3 R*/(4 E*))^(1/3) P_max^(1/3) without a cube root
+    (or pass a_e = a_e,max [m] when already computed: cube_root * c1 * Ca); ``out``: optional
+    (delta_res, K_u) arrays to write into.
 
     K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*) equals P_max / (delta_max - delta_res)^(3/2) exactly;
     the second form is used, with the STORED (rounded) delta_res, so the unloading curve passes
@@ -452,14 +633,21 @@ def _vz_turning_point(delta_max, P_max, cube_root, params: VZParams):
     curvature = P_max - pair.P_Y
     curvature *= params.Kc
     curvature += 1.0
-    a_e = cube_root * (params.c1 * params.Ca)
+    curvature *= pair.R_star                                # C_Rmax R*
+    if a_e is None:
+        a_e = cube_root * (params.c1 * params.Ca)
+    delta_res_out, stiffness_out = (None, None) if out is None else out
     recovery = a_e * a_e
-    recovery /= curvature * pair.R_star
-    delta_res = np.subtract(delta_max, recovery)
+    recovery /= curvature                                   # a_e,max^2 / (C_Rmax R*)
+    delta_res = np.subtract(delta_max, recovery, out=recovery if delta_res_out is None else delta_res_out)
     np.maximum(delta_res, 0.0, out=delta_res)
-    delta_res = np.minimum(delta_res, np.nextafter(delta_max, 0.0))
-    gap = np.subtract(delta_max, delta_res)
-    stiffness = np.sqrt(gap)
+    # delta_res = min(delta_res, the float below delta_max); only the (rare) contacts with
+    # delta_res >= delta_max change, so nextafter (slow) runs on those alone.
+    at_turning_point = np.greater_equal(delta_res, delta_max)
+    if at_turning_point.any():
+        np.copyto(delta_res, np.nextafter(delta_max, 0.0), where=at_turning_point)
+    gap = np.subtract(delta_max, delta_res, out=curvature)
+    stiffness = np.sqrt(gap, out=stiffness_out)
     stiffness *= gap
     np.divide(P_max, stiffness, out=stiffness)
     return delta_res, stiffness
@@ -473,17 +661,18 @@ def _vz_residual(u, b, params: VZParams):
     """
     P_Y, Kc, c1 = params.pair.P_Y, params.Kc, params.c1
     u_sq = u * u
-    P = u_sq * u
-    sqrt_curvature = P * Kc
+    F = u_sq * u                                            # P
+    sqrt_curvature = F * Kc
     sqrt_curvature += 1.0 - Kc * P_Y
     np.sqrt(sqrt_curvature, out=sqrt_curvature)
-    F = P - P_Y
-    F += c1 * u
-    F -= b * sqrt_curvature
-    slope = b / sqrt_curvature
+    F -= P_Y
+    term = np.multiply(u, c1)
+    F += term
+    F -= np.multiply(b, sqrt_curvature, out=term)
+    slope = np.divide(b, sqrt_curvature, out=sqrt_curvature)
     slope *= -0.5 * Kc
     slope += 1.0
-    slope *= 3.0 * u_sq
+    slope *= np.multiply(u_sq, 3.0, out=u_sq)
     slope += c1
     return F, slope
 
@@ -497,7 +686,7 @@ def vz_plastic_force(delta, P_start, params: VZParams, tolerance: float = NEWTON
 
 
 def _vz_plastic_solve(delta, P_start, params: VZParams, tolerance: float = NEWTON_TOLERANCE,
-                      start_is_cube_root: bool = False):
+                      start_is_cube_root: bool = False, out=None):
     """Force on the plastic loading branch, delta > delta_Y [m]: the root P [N] of
 
         F(P)  = (P - P_Y) + c1 P^(1/3) - sqrt((1 + Kc (P - P_Y)) R* delta) / Ca = 0
@@ -518,34 +707,50 @@ def _vz_plastic_solve(delta, P_start, params: VZParams, tolerance: float = NEWTO
        step or the bracket is below the tolerance. Only unconverged contacts are iterated.
 
     Relative tolerance ``tolerance`` on P (1e-10). Returns (P [N], u = P^(1/3), Newton iterations
-    per contact).
+    per contact); P is written into ``out`` if given.
     """
     pair = params.pair
     P_Y, Ca, Kc = pair.P_Y, params.Ca, params.Kc
     tol_u = tolerance / 3.0                                 # dP/P = 3 du/u
     R_delta = pair.R_star * delta
-    b = np.sqrt(R_delta) / Ca
+    b = np.sqrt(R_delta)
+    b /= Ca
     # start_is_cube_root: P_start holds P^(1/3) already (from the history; a cube root costs
     # ten square roots).
     u_lo = np.maximum(P_start, P_Y ** (1.0 / 3.0)) if start_is_cube_root else np.cbrt(np.maximum(P_start, P_Y))
     u_min = u_lo * (1.0 - 1e-15)
-    # Fast path.
+    # Fast path (temporaries reused through out=; the operations and their rounding are those
+    # of the formulas in the comments).
     F, slope = _vz_residual(u_lo, b, params)
-    step_1 = F / slope
+    step_1 = np.divide(F, slope, out=F)                     # s1 = F/F'
     u = u_lo - step_1
     np.maximum(u, u_min, out=u)
     ok = slope > 0.0
     F, slope = _vz_residual(u, b, params)
-    step_2 = F / slope
+    ok &= np.greater(slope, 0.0)
+    step_2 = np.divide(F, slope, out=F)                     # s2
     u -= step_2
-    ok &= slope > 0.0
-    abs_1, abs_2 = np.abs(step_1), np.abs(step_2)
-    # quadratic regime with a small a-posteriori error, or a step already below round-off level
-    ok &= ((abs_2 <= 0.01 * abs_1) & (10.0 * abs_2 * abs_2 * abs_2 <= tol_u * u * abs_1 * abs_1)) | (abs_2 <= 0.01 * tol_u * u)
-    ok &= u >= u_min
+    abs_1, abs_2 = np.abs(step_1, out=step_1), np.abs(step_2, out=step_2)
+    # quadratic regime with a small a-posteriori error, or a step already below round-off level:
+    # ((|s2| <= 0.01 |s1|) & (10 |s2|^3 <= tol_u u s1^2)) | (|s2| <= 0.01 tol_u u)
+    bound = np.multiply(abs_1, 0.01, out=slope)
+    accept = abs_2 <= bound
+    error = np.multiply(abs_2, 10.0)
+    error *= abs_2
+    error *= abs_2
+    allowed = np.multiply(u, tol_u)
+    allowed *= abs_1
+    allowed *= abs_1
+    accept &= np.less_equal(error, allowed)
+    np.multiply(u, 0.01 * tol_u, out=bound)
+    accept |= np.less_equal(abs_2, bound)
+    ok &= accept
+    ok &= np.greater_equal(u, u_min)
     iterations = np.full(delta.shape[0], 2, dtype=np.int64)
     if ok.all():
-        return u * u * u, u, iterations
+        P = np.multiply(u, u, out=out)
+        P *= u
+        return P, u, iterations
     # Safe path on the remaining contacts.
     rest = np.flatnonzero(~ok)
     b_r = b[rest]
@@ -556,77 +761,108 @@ def _vz_plastic_solve(delta, P_start, params: VZParams, tolerance: float = NEWTO
     u_fast = u[rest]
     inside = (u_fast > lo) & (u_fast < hi)             # NaN-safe: restart from P_lo otherwise
     u_r = np.where(inside, u_fast, lo)
+    # Working arrays hold the unconverged contacts only (``position`` in rest); a contact's
+    # result is written once, when it converges, and the set is compacted then.
     previous_step = hi - lo
     count = np.zeros(rest.size, dtype=np.int64)
-    active = np.arange(rest.size)
-    for _ in range(NEWTON_MAX_ITERATIONS):
-        ua, la, ha = u_r[active], lo[active], hi[active]
-        F, slope = _vz_residual(ua, b_r[active], params)
+    position = np.arange(rest.size)
+    ua, la, ha, ba = u_r, lo, hi, b_r
+    for iteration in range(1, NEWTON_MAX_ITERATIONS + 1):
+        F, slope = _vz_residual(ua, ba, params)
         below = F < 0.0
         la = np.where(below, ua, la)
         ha = np.where(below, ha, ua)
         with np.errstate(divide="ignore", invalid="ignore"):
             step = F / slope
-        u_new = ua - step
-        newton_ok = ((u_new > la) & (u_new < ha) & (slope > 0.0)
-                     & (np.abs(step) <= 0.5 * previous_step[active]))
+        u_newton = ua - step
+        abs_step = np.abs(step)
+        rising = slope > 0.0                    # F' > 0: the Newton step points to the root
+        newton_ok = (u_newton > la) & (u_newton < ha) & rising & (abs_step <= 0.5 * previous_step)
         bisection = np.where(ha > 1.26 * la, np.sqrt(la * ha), 0.5 * (la + ha))   # 1.26^3 ~ 2
         # A Newton step below the tolerance ends the solve even if it rounds onto the bracket end.
-        tiny_step = (slope > 0.0) & (np.abs(step) <= tol_u * ua)
-        u_new = np.where(newton_ok, u_new, bisection)
-        u_new = np.where(tiny_step, np.clip(ua - step, la, ha), u_new)
-        u_new = np.where(F == 0.0, ua, u_new)
+        tiny_step = rising & (abs_step <= tol_u * ua)
+        u_new = np.where(newton_ok, u_newton, bisection)
+        u_new = np.where(tiny_step, np.clip(u_newton, la, ha), u_new)
+        root = F == 0.0
+        u_new = np.where(root, ua, u_new)
         taken = np.abs(u_new - ua)
-        converged = (F == 0.0) | tiny_step | ((ha - la) <= tol_u * la) | (newton_ok & (taken <= tol_u * u_new))
-        u_r[active], lo[active], hi[active] = u_new, la, ha
-        previous_step[active] = taken
-        count[active] += 1
-        active = active[~converged]
-        if active.size == 0:
-            break
+        converged = root | tiny_step | ((ha - la) <= tol_u * la) | (newton_ok & (taken <= tol_u * u_new))
+        if converged.any():
+            finished = position[converged]
+            u_r[finished] = u_new[converged]
+            count[finished] = iteration
+            keep = ~converged
+            position = position[keep]
+            if position.size == 0:
+                break
+            ua, la, ha, ba, previous_step = u_new[keep], la[keep], ha[keep], ba[keep], taken[keep]
+        else:
+            ua, previous_step = u_new, taken
+    else:                                       # never reached (see NEWTON_MAX_ITERATIONS)
+        u_r[position] = ua
+        count[position] = NEWTON_MAX_ITERATIONS
     u[rest] = u_r
     iterations[rest] += count
-    return u * u * u, u, iterations
+    P = np.multiply(u, u, out=out)
+    P *= u
+    return P, u, iterations
 
 
 def _vz_loading_branch(params: VZParams):
     pair = params.pair
     radius_per_cube_root = params.c1 * params.Ca        # a_e = (3 R*/(4 E*))^(1/3) P^(1/3)
 
-    def branch(delta, state, index):
-        plastic_mask = delta > pair.delta_Y
-        all_plastic = bool(plastic_mask.all())
-        if all_plastic:
-            out = {name: np.empty_like(delta) for name in ("P_max", "delta_res", "unloading_stiffness",
-                                                           "a_e_max")}
-            plastic, delta_plastic, start_index = slice(None), delta, index
-        else:                                   # Hertz below yield: delta_res = 0, K_u = k_H, a = sqrt(R delta)
-            out = {"P_max": _hertz_kernel(delta, pair), "delta_res": np.zeros_like(delta),
-                   "unloading_stiffness": np.full_like(delta, pair.hertz_stiffness),
-                   "a_e_max": np.sqrt(pair.R_star * np.maximum(delta, 0.0))}
-            plastic = np.flatnonzero(plastic_mask)
-            if plastic.size == 0:
-                return out, 0
-            delta_plastic, start_index = delta[plastic], index[plastic]
-        start = state.a_e_max[start_index] / radius_per_cube_root
+    def branch(delta, state, index, out=None):
+        if delta.min() > pair.delta_Y:          # all plastic (the usual case; delta is finite)
+            out = {} if out is None else out
+            start = state.a_e_max[index]
+            start /= radius_per_cube_root       # P^(1/3) at the old turning point
+            P, cube_root, iterations = _vz_plastic_solve(delta, start, params, start_is_cube_root=True,
+                                                         out=out.get("P_max"))
+            a_e_max = np.multiply(cube_root, radius_per_cube_root, out=out.get("a_e_max"))
+            delta_res, stiffness = _vz_turning_point(
+                delta, P, cube_root, params, a_e=a_e_max,
+                out=(out.get("delta_res"), out.get("unloading_stiffness")))
+            return ({"P_max": P, "delta_res": delta_res, "unloading_stiffness": stiffness,
+                     "a_e_max": a_e_max}, int(iterations.max()))
+        # Hertz below yield: delta_res = 0, K_u = k_H, a = sqrt(R delta)
+        out = {"P_max": _hertz_kernel(delta, pair), "delta_res": np.zeros_like(delta),
+               "unloading_stiffness": np.full_like(delta, pair.hertz_stiffness),
+               "a_e_max": np.sqrt(pair.R_star * np.maximum(delta, 0.0))}
+        plastic = np.flatnonzero(delta > pair.delta_Y)
+        if plastic.size == 0:
+            return out, 0
+        delta_plastic = delta[plastic]
+        start = state.a_e_max[index[plastic]] / radius_per_cube_root
         P, cube_root, iterations = _vz_plastic_solve(delta_plastic, start, params, start_is_cube_root=True)
         out["P_max"][plastic] = P
-        out["a_e_max"][plastic] = cube_root * radius_per_cube_root
+        out["a_e_max"][plastic] = a_e_max = cube_root * radius_per_cube_root
         out["delta_res"][plastic], out["unloading_stiffness"][plastic] = _vz_turning_point(
-            delta_plastic, P, cube_root, params)
+            delta_plastic, P, cube_root, params, a_e=a_e_max)
         return out, int(iterations.max())
 
     return branch
 
 
-def vz_force_with_iterations(delta, state: VZState, params: VZParams):
-    """:func:`vz_force` that also returns the largest number of Newton iterations of the step."""
+def vz_step(delta, state: VZState, params: VZParams):
+    """One vz step without committing it: (P [N], :class:`HistoryUpdate`); ``state`` is not modified.
+
+    The force is :func:`vz_force`'s; the update holds the contacts with delta > delta_max, their
+    new turning point (delta_max, P_max, delta_res, K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*), a_e,max;
+    paper eqs. 3.19-3.22) and the largest Newton iteration count of the step.
+    """
     if not isinstance(params, VZParams):
         raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
     _check_state(state, VZState, "vz")
     delta, shape = _check_delta(delta, state.n)
-    force, new_state, iterations = _turning_point_force(delta, state, _vz_loading_branch(params), True)
-    return _restore_shape(_check_force(force, delta, params.pair), shape), new_state, iterations
+    force, update = _turning_point_step(delta, state, _vz_loading_branch(params), True, params.pair)
+    return _restore_shape(force, shape), update
+
+
+def vz_force_with_iterations(delta, state: VZState, params: VZParams):
+    """:func:`vz_force` that also returns the largest number of Newton iterations of the step."""
+    force, update = vz_step(delta, state, params)
+    return force, _apply_update(state, update, copy=True), update.newton_iterations
 
 
 def vz_force(delta, state: VZState, params: VZParams):
@@ -637,10 +873,10 @@ def vz_force(delta, state: VZState, params: VZParams):
     reloading below delta_max (paper eqs. 3.19-3.22): a_p and C_R frozen at P_max,
     P = (4/3) E* C_Rmax^(3/2) sqrt(R*) <delta - delta_res>^(3/2), which retraces back to
     (delta_max, P_max) and then continues plastically; separation (P = 0) for delta <= delta_res,
-    re-contact above it. Any (R*, E*).
+    re-contact above it. Any (R*, E*). Pure: :func:`vz_step` + a copying commit.
     """
-    force, new_state, _ = vz_force_with_iterations(delta, state, params)
-    return force, new_state
+    force, update = vz_step(delta, state, params)
+    return force, _apply_update(state, update, copy=True)
 
 
 def vz_newton_iterations(delta, state: VZState, params: VZParams) -> np.ndarray:
@@ -664,7 +900,7 @@ def _thornton_unloading(P_max, delta_max, pair: ContactPair):
 
 
 def _thornton_loading_branch(pair: ContactPair):
-    def branch(delta, _state, _index):
+    def branch(delta, _state, _index, out=None):
         plastic = delta > pair.delta_Y
         force = np.where(plastic, pair.P_Y + math.pi * pair.p_Y * pair.R_star * (delta - pair.delta_Y),
                          _hertz_kernel(delta, pair))
@@ -675,15 +911,23 @@ def _thornton_loading_branch(pair: ContactPair):
     return branch
 
 
-def thornton_force(delta, state: ThorntonState, params):
-    """Thornton (1997) force [N]: Hertz up to delta_Y, then P = P_Y + pi p_Y R* (delta - delta_Y)
-    (p_Y = A_Y sigma_Y); unloading from (P*, delta*) Hertzian with the enlarged radius R_p*:
-    P = (4/3) E* sqrt(R_p*) (delta - delta_p)^(3/2) (SPEC section 5). params: a ContactPair."""
+def thornton_step(delta, state: ThorntonState, params):
+    """One Thornton step without committing it: (P [N], :class:`HistoryUpdate`) (see
+    :func:`thornton_force`); ``state`` is not modified."""
     pair = _as_pair(params, "thornton")
     _check_state(state, ThorntonState, "thornton")
     delta, shape = _check_delta(delta, state.n)
-    force, new_state, _ = _turning_point_force(delta, state, _thornton_loading_branch(pair), True)
-    return _restore_shape(_check_force(force, delta, pair), shape), new_state
+    force, update = _turning_point_step(delta, state, _thornton_loading_branch(pair), True, pair)
+    return _restore_shape(force, shape), update
+
+
+def thornton_force(delta, state: ThorntonState, params):
+    """Thornton (1997) force [N]: Hertz up to delta_Y, then P = P_Y + pi p_Y R* (delta - delta_Y)
+    (p_Y = A_Y sigma_Y); unloading from (P*, delta*) Hertzian with the enlarged radius R_p*:
+    P = (4/3) E* sqrt(R_p*) (delta - delta_p)^(3/2) (SPEC section 5). params: a ContactPair.
+    Pure: :func:`thornton_step` + a copying commit."""
+    force, update = thornton_step(delta, state, params)
+    return force, _apply_update(state, update, copy=True)
 
 
 # --------------------------------------------------------------------------------- walton-braun
@@ -696,7 +940,7 @@ def _walton_braun_params(params) -> WaltonBraunParams:
 
 
 def _walton_braun_loading_branch(params: WaltonBraunParams):
-    def branch(delta, _state, _index):
+    def branch(delta, _state, _index, out=None):
         force = params.K1 * delta
         return {"P_max": force, "delta_res": delta - force / params.K2,
                 "unloading_stiffness": np.full_like(delta, params.K2)}, 0
@@ -710,12 +954,20 @@ def walton_braun_force(delta, state: WaltonBraunState, params):
 
     params: WaltonBraunParams; a VZParams or ContactPair gives the documented defaults
     (:meth:`WaltonBraunParams.from_vz`, secants through the turning point at 40 P_Y).
+    Pure: :func:`walton_braun_step` + a copying commit.
     """
+    force, update = walton_braun_step(delta, state, params)
+    return force, _apply_update(state, update, copy=True)
+
+
+def walton_braun_step(delta, state: WaltonBraunState, params):
+    """One Walton-Braun step without committing it: (P [N], :class:`HistoryUpdate`) (see
+    :func:`walton_braun_force`); ``state`` is not modified."""
     wb = _walton_braun_params(params)
     _check_state(state, WaltonBraunState, "walton-braun")
     delta, shape = _check_delta(delta, state.n)
-    force, new_state, _ = _turning_point_force(delta, state, _walton_braun_loading_branch(wb), False)
-    return _restore_shape(_check_force(force, delta, wb.pair), shape), new_state
+    force, update = _turning_point_step(delta, state, _walton_braun_loading_branch(wb), False, wb.pair)
+    return _restore_shape(force, shape), update
 
 
 # --------------------------------------------------------------------------------- energies
@@ -779,7 +1031,12 @@ class ContactDetails:
 
 @dataclass(frozen=True)
 class ContactLaw:
-    """A named force law: ``force(delta, state, params) -> (P, new_state)`` plus helpers."""
+    """A named force law plus helpers (module doc):
+
+    ``force(delta, state, params) -> (P, new_state)``  pure (``state`` never modified);
+    ``step(delta, state, params) -> (P, update)``      force and sparse trial history, not committed;
+    ``commit(state, update) -> state``                 writes the update into ``state`` in place.
+    """
 
     name: str
     description: str
@@ -787,6 +1044,38 @@ class ContactLaw:
     state_type: type
     loading_work_function: Callable    # (delta_max, P_max, params) -> work on the virgin curve [J]
     unloading_exponent: float          # n in P = P_max s^n on unloading
+    step_function: Callable            # (delta, state, params) -> (P, HistoryUpdate); the same kernel as force
+
+    def step(self, delta, state, params):
+        """Force P [N] (shape of ``delta``) and the trial history as a :class:`HistoryUpdate`
+        (the contacts whose turning point moved and their new history), without committing it:
+        ``state`` is not modified. ``P, update = law.step(delta, state, params)`` then
+        ``law.commit(state, update)`` gives the same force and history as
+        ``P, state = law.force(delta, state, params)``, bit for bit.
+        """
+        return self.step_function(delta, state, params)
+
+    def commit(self, state, update: HistoryUpdate):
+        """Write ``update`` (from :meth:`step` on this ``state``) into ``state``'s arrays IN PLACE
+        and return ``state``; cost O(update.size), nothing is copied.
+
+        The caller owns ``state``: every other reference to it (e.g. a state kept from an
+        earlier step, or the ``new_state`` that :meth:`force` returns unchanged when no turning
+        point moved) sees the change. Use :meth:`committed` for a copy. An empty update is a
+        no-op. ValueError naming ``update`` if it does not belong to ``state`` (other law's
+        history class, other number of contacts, positions out of range) or naming ``state``
+        if that is not this law's history.
+        """
+        _check_state(state, self.state_type, self.name)
+        _check_update(state, update)
+        return _apply_update(state, update, copy=False)
+
+    def committed(self, state, update: HistoryUpdate):
+        """:meth:`commit` into a copy: the new history; ``state`` is not modified (it is returned
+        itself when the update is empty). This is the commit :meth:`force` uses."""
+        _check_state(state, self.state_type, self.name)
+        _check_update(state, update)
+        return _apply_update(state, update, copy=True)
 
     def initial_state(self, n: int):
         """History of n virgin contacts (never loaded)."""
@@ -859,15 +1148,16 @@ def _hertz_work(delta_max, P_max, pair):
 
 LAWS: dict[str, ContactLaw] = {
     "hertz": ContactLaw("hertz", "Hertz elastic contact (Johnson 1985)", hertz_force, HertzState,
-                        _hertz_work, 1.5),
+                        _hertz_work, 1.5, hertz_step),
     "vz": ContactLaw("vz", "Vu-Quoc & Zhang (1999) elastoplastic NFD model", vz_force, VZState,
-                     _vz_loading_work, 1.5),
+                     _vz_loading_work, 1.5, vz_step),
     "thornton": ContactLaw("thornton", "Thornton (1997) elastic-perfectly plastic contact",
                            thornton_force, ThorntonState,
-                           lambda d, P, pair: _thornton_loading_work(d, pair), 1.5),
+                           lambda d, P, pair: _thornton_loading_work(d, pair), 1.5, thornton_step),
     "walton-braun": ContactLaw("walton-braun", "Walton & Braun (1986) bilinear hysteretic spring",
                                walton_braun_force, WaltonBraunState,
-                               lambda d, P, wb: 0.5 * wb.K1 * np.maximum(d, 0.0) ** 2, 1.0),
+                               lambda d, P, wb: 0.5 * wb.K1 * np.maximum(d, 0.0) ** 2, 1.0,
+                               walton_braun_step),
 }
 
 

@@ -8,8 +8,12 @@
    beyond its turning point by a relative increment uniform in (0, 1e-3] (plastic loading: a
    Newton solve), the others unload/reload below it (uniform in [delta_res, delta_max]) or are
    separated (10 %). The table scans f; the "jump" row draws the new approach anywhere in
-   [0, 2 delta_max] (large jumps, poor Newton start). Newton iterations per plastically loading
-   contact: mean and max.
+   [0, 2 delta_max] (large jumps, poor Newton start). Timed per scenario, in the same run:
+   hertz `force`; vz pure `force` (step + a copying commit: every history array is copied as
+   soon as one turning point moves); vz `step` + in-place `commit` (what a DEM loop that owns
+   its history does; the contacts it moved are restored, untimed, before each repeat). Each is
+   timed over --repeats back-to-back runs (best of), hertz first, as before. Newton iterations
+   per plastically loading contact: mean and max.
 2. The 10-velocity collision sweep (0.02..0.2 m/s, dt = 1e-6 s, reference case) per law
    (target: <= 1 s).
 """
@@ -17,17 +21,21 @@ from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import fields
 
 import numpy as np
 
-from nfdmodel import VZParams, collide, get_law, vz_newton_iterations
+from nfdmodel import VZParams, VZState, collide, get_law, vz_newton_iterations
 
 
-def best_time(function, repeats: int) -> float:
+def best_time(function, repeats: int, setup=None) -> float:
+    """Shortest wall time of ``function(*setup())`` over ``repeats`` back-to-back runs; setup is
+    not timed."""
     best = np.inf
     for _ in range(repeats):
+        arguments = setup() if setup is not None else ()
         started = time.perf_counter()
-        function()
+        function(*arguments)
         best = min(best, time.perf_counter() - started)
     return best
 
@@ -54,15 +62,41 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng) -> dict:
     vz, hertz = get_law("vz"), get_law("hertz")
     state, delta = random_histories(params, n, loading_fraction, rng)
     hertz_state = hertz.initial_state(n)
+    owned = VZState(**{f.name: getattr(state, f.name).copy() for f in fields(state)})  # to mutate
+    committed = [np.empty(0, dtype=np.int64)]
+
+    def fresh_history():
+        """Untimed: undo the previous commit (only the contacts it touched, so that the caches
+        are not flushed by a full copy)."""
+        index = committed[0]
+        for f in fields(state):
+            getattr(owned, f.name)[index] = getattr(state, f.name)[index]
+        return ()
+
+    def step_and_commit():
+        force, update = vz.step(delta, owned, params)
+        vz.commit(owned, update)
+        committed[0] = update.index
+        return force, update
+
     t_hertz = best_time(lambda: hertz.force(delta, hertz_state, params.pair), repeats)
-    t_vz = best_time(lambda: vz.force(delta, state, params), repeats)
+    t_pure = best_time(lambda: vz.force(delta, state, params), repeats)
+    t_step = best_time(step_and_commit, repeats, fresh_history)
+    # check: same force and history both ways
+    fresh_history()
+    force_step, update = step_and_commit()
+    force_pure, state_pure = vz.force(delta, state, params)
+    assert np.array_equal(force_step, force_pure)
+    assert all(np.array_equal(getattr(owned, f.name), getattr(state_pure, f.name)) for f in fields(state))
     iterations = vz_newton_iterations(delta, state, params)
     solved = iterations[iterations > 0]
+    assert int(solved.max() if solved.size else 0) == update.newton_iterations
     return {"scenario": "jump" if loading_fraction is None else f"f={loading_fraction:g}",
-            "n": n, "hertz_ms": 1e3 * t_hertz, "vz_ms": 1e3 * t_vz, "ratio": t_vz / t_hertz,
+            "n": n, "hertz_ms": 1e3 * t_hertz, "pure_ms": 1e3 * t_pure, "step_ms": 1e3 * t_step,
+            "pure_ratio": t_pure / t_hertz, "step_ratio": t_step / t_hertz,
             "plastic_loading_fraction": solved.size / n,
             "newton_mean": float(solved.mean()) if solved.size else 0.0,
-            "newton_max": int(solved.max()) if solved.size else 0}
+            "newton_max": update.newton_iterations}
 
 
 def collision_benchmark(repeats: int) -> list[dict]:
@@ -85,11 +119,13 @@ def main(argv=None) -> int:
     ns = parser.parse_args(argv)
     rng = np.random.default_rng(ns.seed)
     print(f"Force evaluation, {ns.contacts:,} contacts, best of {ns.repeats} (target vz <= 3x hertz)")
-    print(f"{'scenario':>9} {'hertz ms':>9} {'vz ms':>8} {'vz/hertz':>9} {'plastic-loading':>16} "
-          f"{'Newton mean':>12} {'Newton max':>11}")
+    print("  pure = vz force (step + copying commit); step = vz step + in-place commit")
+    print(f"{'scenario':>9} {'hertz ms':>9} {'pure ms':>8} {'step ms':>8} {'pure/hertz':>11} "
+          f"{'step/hertz':>11} {'plastic-loading':>16} {'Newton mean':>12} {'Newton max':>11}")
     for loading_fraction in (0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5, None):
         r = force_benchmark(ns.contacts, ns.repeats, loading_fraction, rng)
-        print(f"{r['scenario']:>9} {r['hertz_ms']:9.2f} {r['vz_ms']:8.2f} {r['ratio']:9.2f} "
+        print(f"{r['scenario']:>9} {r['hertz_ms']:9.2f} {r['pure_ms']:8.2f} {r['step_ms']:8.2f} "
+              f"{r['pure_ratio']:11.2f} {r['step_ratio']:11.2f} "
               f"{100 * r['plastic_loading_fraction']:15.1f}% {r['newton_mean']:12.2f} {r['newton_max']:11d}")
     print()
     print("Collision sweep, 10 velocities 0.02..0.2 m/s, dt = 1e-6 s (target <= 1 s)")
