@@ -68,7 +68,11 @@ def run(ns) -> int:
         import json
 
         table_stamp = json.loads(table.path.with_suffix(".json").read_text(encoding="utf-8")).get("stamp", {})
-        stamp = report.stamp(0.0, table=str(table.path), limits=CHECK_LIMITS,
+        try:
+            table_name = str(table.path.relative_to(report.REPO_ROOT))
+        except ValueError:
+            table_name = str(table.path)
+        stamp = report.stamp(0.0, table=table_name, limits=CHECK_LIMITS,
                              table_commit=table_stamp.get("git_commit"))
         report.write_csv(folder / "master_check.csv", checks, comment=report.stamp_comment(stamp))
         report.write_json(folder / "master_check.json", {"rows": checks, "stamp": stamp})
