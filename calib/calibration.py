@@ -37,13 +37,14 @@ E_OVER_SIGMA_Y_RANGE = (20.0, 1.0e4)
 # longer a small-strain, a << R contact problem (Hertz needs a << R; at 0.3 R the contact
 # edge has turned by 17 degrees).
 CONTACT_RADIUS_LIMIT = 0.3
-# The largest load a calibration runs to, over P_Y: the contained elastoplastic regime the NFD
-# model describes (a_p linear in P, paper eq. 2.5). The force-driven FE (perfectly plastic, small
-# strain, P2 displacement elements) stalls from 125-190 P_Y on (results/stability/fe_stability.csv,
-# measured before this limit existed) as the plastic zone reaches the free surface; full
-# plasticity, where P grows with the contact area instead (Johnson 1985 sec. 6.3), sets in near
-# 400 P_Y. The runtime law itself takes any P / P_Y (nfdmodel).
-MAX_LOAD_OVER_YIELD = 100.0
+# The largest load a calibration runs to, over P_Y (issue 6 asks for 1000). Measured
+# (results/stability/fe_stability.csv): the force-driven FE loads and unloads to 1000 P_Y at
+# E/sigma_Y = 700 and 5000 (ContactSolver.rescue_step takes the steps the ordinary solve cannot);
+# softer materials are limited first by CONTACT_RADIUS_LIMIT. Beyond ~400 P_Y the contact is
+# fully plastic (P grows with the contact area, Johnson 1985 sec. 6.3) and a_p = Ca <P - P_Y>
+# (paper eq. 2.5) is an extrapolation: fit such runs knowingly. The runtime law itself takes any
+# P / P_Y (nfdmodel).
+MAX_LOAD_OVER_YIELD = 1000.0
 # Ca_hat used to ESTIMATE the plastic radius before the calibration (the reference's is 0.0258,
 # the master table's span 0.024-0.028).
 CA_HAT_ESTIMATE = 0.025
@@ -88,11 +89,10 @@ def check_calibration_inputs(material: Material, radius: float, largest_peak: fl
     pair = ContactPair.sphere_flat(material, radius)
     if largest_peak > MAX_LOAD_OVER_YIELD * pair.P_Y:
         raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N is "
-                         f"{largest_peak / pair.P_Y:.4g} P_Y; the FE calibration covers the contained "
-                         f"elastoplastic regime, P_max <= {MAX_LOAD_OVER_YIELD:g} P_Y = "
-                         f"{MAX_LOAD_OVER_YIELD * pair.P_Y:.4g} N for this material and R (beyond it the "
-                         f"plastic zone reaches the free surface and the small-strain, perfectly plastic "
-                         f"model stops converging)")
+                         f"{largest_peak / pair.P_Y:.4g} P_Y; the FE calibration runs to P_max <= "
+                         f"{MAX_LOAD_OVER_YIELD:g} P_Y = {MAX_LOAD_OVER_YIELD * pair.P_Y:.4g} N for this "
+                         f"material and R (tested to there; the NFD model's linear plastic radius is "
+                         f"meant for the contained elastoplastic regime, below ~400 P_Y)")
     a_max = estimated_contact_radius(pair, largest_peak)
     if a_max > CONTACT_RADIUS_LIMIT * radius:
         P_limit = largest_admissible_load(pair)

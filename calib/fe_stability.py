@@ -6,8 +6,8 @@ a rerun recomputes nothing already there).
 
 Each case (table CASES) is a full calibration (calib.calibration.calibrate: first yield, load
 paths with unloading, radius fit) of a sphere on a rigid flat at an extreme of the input space:
-E / sigma_Y = 50 and 5000, nu = 0 and 0.49, P / P_Y up to 100 (the calibration's limit,
-calib.calibration.MAX_LOAD_OVER_YIELD; 1000 P_Y must be refused), R = 1e-6 m and 10 m. It runs on
+E / sigma_Y = 50 and 5000, nu = 0 and 0.49, P / P_Y up to 1000 (the calibration's limit,
+calib.calibration.MAX_LOAD_OVER_YIELD; 2000 P_Y must be refused), R = 1e-6 m and 10 m. It runs on
 two meshes (contact element = MESH_RATIOS x the estimated largest contact radius, spec_for's
 recipe) so that every result carries an error estimate: the change from the coarse to the fine
 mesh (the discretisation converges at first order in h, results/calibration/mesh_ladder.csv, so
@@ -54,9 +54,11 @@ CASES = (
     ("deep plastic: P = 100 P_Y, E/sigma_Y = 700", 0.3, 700.0, 0.1, (50.0, 100.0)),
     ("deep plastic: P = 100 P_Y, E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (50.0, 100.0)),
     ("deep plastic, soft: P = 100 P_Y, E/sigma_Y = 100", 0.3, 100.0, 0.1, (50.0, 100.0)),
+    ("fully plastic: P = 1000 P_Y, E/sigma_Y = 700", 0.3, 700.0, 0.1, (500.0, 1000.0)),
+    ("fully plastic: P = 1000 P_Y, E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (500.0, 1000.0)),
     ("micro sphere: R = 1 um", 0.3, 700.0, 1e-6, (20.6, 41.2)),
     ("boulder: R = 10 m", 0.3, 700.0, 10.0, (20.6, 41.2)),
-    ("fully plastic: P = 1000 P_Y, E/sigma_Y = 700", 0.3, 700.0, 0.1, (500.0, 1000.0)),
+    ("beyond the tested load: P = 2000 P_Y", 0.3, 5000.0, 0.1, (1000.0, 2000.0)),
     ("too large a contact: P = 100 P_Y at E/sigma_Y = 20", 0.3, 20.0, 0.1, (50.0, 100.0)),
     ("E typed in GPa (E/sigma_Y = 7e-7)", 0.3, 70.0 / 100e6, 0.1, (20.6, 41.2)),
     ("beyond the tested range: E/sigma_Y = 1e5", 0.3, 1e5, 0.1, (20.6, 41.2)),

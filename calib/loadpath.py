@@ -9,7 +9,10 @@ contact radius, Newton and active-set iterations, factorisations, wall time ...)
 ``branch``, ``plastic_zone_depth`` / ``plastic_zone_radius`` (extent of the yielded quadrature
 points [m]) and ``yielded_points``. A step whose Newton fails is cut in half and retried from
 the committed state (down to ``min_step_fraction`` of the planned increment); a step that still
-fails raises StepNotConverged: there is never a silently unconverged row.
+fails is run again with the solver's slower rescue solve (``ContactSolver.rescue_step``: from the
+committed state without warm start and with a fixed Newton stall test, then displacement control
+hitting the target force by a secant on the approach), and raises StepNotConverged only if that
+fails too: there is never a silently unconverged row.
 
 Separation. Force control at P = 0 leaves the approach undetermined, so unloading runs under
 force control down to P_max / n, then the residual approach is found where the FE force returns
@@ -116,6 +119,12 @@ def advance(solver: ContactSolver, state: ContactState, control: str, target: fl
     """Reach ``target`` (force [N] or approach [m]) from ``state``, cutting the increment in half
     and retrying from the committed state when a step fails; grows back after each success.
 
+    When a step still fails at ``min_fraction`` of the increment, the rest of the increment is
+    run again (from the full remaining piece, halving the same way) with
+    ``solver.rescue_step``, the slower defensive solve (see there); StepNotConverged only if
+    that fails too at ``min_fraction``. The rescue starts only where the ordinary stepping has
+    given up, so every path that converges without it is unchanged bit for bit.
+
     ``on_step(result, previous_state)`` is called for every accepted step (sub-steps included).
     """
     solve = solver.solve_force if control == "force" else solver.solve_displacement
@@ -123,10 +132,14 @@ def advance(solver: ContactSolver, state: ContactState, control: str, target: fl
     full = target - start
     fraction = 1.0
     done = 0.0
+    rescue, ordinary_failure = False, ""
     while done < 1.0:
         fraction = min(fraction, 1.0 - done)
         step_target = target if done + fraction >= 1.0 else start + (done + fraction) * full
-        result = solve(state, step_target)
+        if rescue:
+            result = solver.rescue_step(state, control, step_target)
+        else:
+            result = solve(state, step_target)
         if result.converged:
             on_step(result, state)
             state = solver.commit(result)
@@ -134,9 +147,14 @@ def advance(solver: ContactSolver, state: ContactState, control: str, target: fl
             fraction *= 2.0  # Newton was fine: try a bigger piece of what is left
             continue
         fraction /= 2.0
+        if fraction < min_fraction and not rescue:
+            # the ordinary solve gave up: the rest of the increment with the rescue solve
+            rescue, ordinary_failure, fraction = True, result.message, 1.0
+            continue
         if fraction < min_fraction:
             raise StepNotConverged(f"{control} step to {target:g} failed even at {fraction * 2:g} of the"
-                                   f" increment from {start:g}: {result.message}")
+                                   f" increment from {start:g}: {ordinary_failure}; rescue solve:"
+                                   f" {result.message}")
     return state
 
 
@@ -201,6 +219,8 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
         alpha_res = separation_approach([r["alpha"] for r in unloading_rows[-2:]],
                                         [r["P"] for r in unloading_rows[-2:]])
         result = solver.solve_displacement(state, alpha_res)
+        if not result.converged:  # only then: a converging separation step stays bit-identical
+            result = solver.rescue_step(state, "displacement", alpha_res)
         if not result.converged:
             raise StepNotConverged(f"separation step of path {name} at alpha = {alpha_res:g}: {result.message}")
         record_unloading(result, state)

@@ -138,3 +138,25 @@ def test_stiff_case_separates_cleanly():
     result = calibration.calibrate(spec)
     for path in result.load_paths.paths:
         assert abs(path.rows[-1]["P"]) < 1e-3 * path.peak and 0 < path.restitution < 1
+
+
+def test_soft_yielding_material_loads_to_100_P_Y_and_unloads():
+    """E / sigma_Y = 5000 (P_Y = 0.72 N) loaded to 100 P_Y and unloaded, force-driven, coarse mesh.
+    Regression: the force step to 87.5 P_Y failed even at 1/64 of its increment (Newton's stall
+    test took its baseline from a start that did not meet the grown active set's constraints, and
+    a too-small active set has no force-controlled equilibrium past its punch's limit load);
+    calib.loadpath.advance now finishes such a step with ContactSolver.rescue_step."""
+    spec = calibration.spec_for(Material(500e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(100.0,),
+                                contact_size_over_a_max=0.15)
+    spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[0] / 8,
+                                                              unloading_steps=4))
+    path = calibration.calibrate(spec).load_paths.paths[0]
+    assert all(r["converged"] for r in path.rows)
+    assert max(r["P"] for r in path.rows) == pytest.approx(100.0 * spec.pair.P_Y, rel=1e-9)
+    # every force-controlled row (rescued ones included) hits its target to the Newton tolerance
+    assert all(abs(r["P"] - r["target"]) <= 1e-7 * r["target"] for r in path.rows if r["control"] == "force")
+    loading = [r["alpha"] for r in path.rows if r["branch"] == "loading"]
+    unloading = [r["alpha"] for r in path.rows if r["branch"] == "unloading"]
+    assert np.all(np.diff(loading) > 0) and np.all(np.diff(unloading) < 0)
+    assert abs(path.rows[-1]["P"]) < 1e-3 * path.peak and 0 < path.alpha_residual < path.alpha_max
+    assert 0.5 < path.restitution < 1.0

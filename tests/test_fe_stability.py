@@ -52,8 +52,8 @@ def test_mesh_covers_the_contact_at_deep_plastic_loads():
     assert spec.mesh.refined_radius >= pair.hertz_radius(100 * pair.P_Y) + 0.024 * 99 * pair.a_Y
     standard = calibration.spec_for(material, 0.1)   # <= 41.2 P_Y: 1.3 x Hertz, as before
     assert standard.mesh.refined_radius == pytest.approx(1.1 * 1.3 * pair.hertz_radius(41.2 * pair.P_Y))
-    with pytest.raises(ValueError, match="contained elastoplastic regime"):
-        calibration.spec_for(material, 0.1, peaks=(1000 * pair.P_Y,))
+    with pytest.raises(ValueError, match="P_max <= 1000 P_Y"):
+        calibration.spec_for(material, 0.1, peaks=(2000 * pair.P_Y,))
 
 
 def test_cli_calibrate_refuses_a_modulus_in_gpa(capsys):
