@@ -28,12 +28,10 @@ def add_parser(subparsers) -> None:
 def run(ns) -> int:
     import json
     import sys
+    from pathlib import Path
 
     from calib.commands.common import number
-
     from calib.stability_report import CSV_NAME, DEFAULT_OUT, JSON_NAME, generate
-
-    from pathlib import Path
 
     out = Path(ns.out or DEFAULT_OUT)
     try:            # fail now, not after the 30 s run (the dispatcher reports ValueError in one line)
