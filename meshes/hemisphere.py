@@ -42,8 +42,6 @@ from pathlib import Path
 import numpy as np
 
 GENERATOR_VERSION = 2  # bump when the meshing recipe changes: invalidates the cache
-REPO_ROOT = Path(__file__).resolve().parent.parent
-DEFAULT_CACHE_DIR = REPO_ROOT / ".cache" / "meshes"
 _GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
 
 
@@ -131,8 +129,16 @@ class HemisphereMesh:
         return float(self.mesh.p[1].max())
 
 
+def default_cache_dir() -> Path:
+    """The user's cache folder for meshes: ``$XDG_CACHE_HOME/nfdcal/meshes`` on Linux (platformdirs'
+    ``user_cache_dir``), never a folder next to the installed package."""
+    from platformdirs import user_cache_dir
+
+    return Path(user_cache_dir("nfdcal", appauthor=False)) / "meshes"
+
+
 def _validated_cache_dir(cache_dir) -> Path:
-    return Path(cache_dir) if cache_dir is not None else DEFAULT_CACHE_DIR
+    return Path(cache_dir) if cache_dir is not None else default_cache_dir()
 
 
 def mesh_path(spec: HemisphereMeshSpec, cache_dir=None) -> Path:

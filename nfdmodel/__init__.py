@@ -11,12 +11,12 @@ Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_sta
 """
 from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
                         collision_reference)
-from .laws import (LAWS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState, HistoryUpdate,
+from .laws import (LAWS, NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState, HistoryUpdate,
                    ThorntonState, TurningPointHistory, VZParams, VZState, WaltonBraunParams,
                    WaltonBraunState, get_law, hertz_force, hertz_step, thornton_force, thornton_step,
                    vz_force, vz_force_with_iterations, vz_newton_iterations, vz_plastic_force,
                    vz_step, walton_braun_force, walton_braun_step)
-from .materials import ContactPair, Material, yield_factor
+from .materials import ContactPair, Material, check_real, yield_factor
 from .params import load_parameters, parameter_record
 
 __all__ = [
@@ -24,7 +24,8 @@ __all__ = [
     "ContactLaw", "ContactDetails", "HertzState", "TurningPointHistory", "VZState", "ThorntonState",
     "WaltonBraunState", "HistoryUpdate", "hertz_force", "vz_force", "vz_force_with_iterations",
     "vz_newton_iterations", "vz_plastic_force", "thornton_force", "walton_braun_force", "hertz_step",
-    "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE",
+    "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE", "NEWTON_MAX_ITERATIONS",
+    "check_real",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning",
 ]

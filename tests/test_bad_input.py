@@ -12,7 +12,7 @@ import sys
 import numpy as np
 import pytest
 
-from calib import cli, report
+from calib import cli, output
 from calib.cli import main
 
 # (argv, text the one-line error must contain)
@@ -116,8 +116,8 @@ def test_stability_command_bad_output_folder(tmp_path, monkeypatch, capsys):
 # ----------------------------------------------------------------------------------- Python API
 def api_cases(tmp_path):
     from calib.fe import ContactSolver
-    from calib.materials import ElasticMaterial
-    from calib.plasticity import VonMisesMaterial
+    from calib.fe.elastic import ElasticMaterial
+    from calib.fe.von_mises import VonMisesMaterial
     from meshes.hemisphere import HemisphereMeshSpec, load_msh
     from nfdmodel import ContactPair, Material, VZParams, collide, get_law, load_parameters
 
@@ -194,7 +194,7 @@ def test_a_write_killed_midway_leaves_the_old_file_and_no_partial_one(tmp_path, 
     """calib.report writes to a temporary file and renames it: an exception (Ctrl-C, disk full)
     during the write leaves the previous result intact and no temporary file behind."""
     target = tmp_path / "result.json"
-    report.write_json(target, {"P_max": 1.0})
+    output.write_json(target, {"P_max": 1.0})
     before = target.read_text()
 
     def dying_fsync(fd):
@@ -202,14 +202,14 @@ def test_a_write_killed_midway_leaves_the_old_file_and_no_partial_one(tmp_path, 
 
     monkeypatch.setattr(os, "fsync", dying_fsync)
     with pytest.raises(interrupt):
-        report.write_json(target, {"P_max": 2.0, "rows": list(range(10000))})
+        output.write_json(target, {"P_max": 2.0, "rows": list(range(10000))})
     with pytest.raises(interrupt):
-        report.write_csv(tmp_path / "new.csv", [{"a": 1.0}])
+        output.write_csv(tmp_path / "new.csv", [{"a": 1.0}])
     assert target.read_text() == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json"]
 
 
 def test_a_nan_row_never_reaches_a_result_file(tmp_path):
     with pytest.raises(ValueError, match="non-finite"):
-        report.write_json(tmp_path / "r.json", {"rows": [{"e": np.float64("nan")}]})
+        output.write_json(tmp_path / "r.json", {"rows": [{"e": np.float64("nan")}]})
     assert not any(tmp_path.iterdir())

@@ -63,7 +63,7 @@ def test_cli_bad_input_is_one_line_and_exit_code_2(argv, names, files, capsys):
 
 def test_python_api_bad_inputs(tmp_path):
     from calib.fe import ContactSolver
-    from calib.plasticity import VonMisesMaterial
+    from calib.fe.von_mises import VonMisesMaterial
     from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh, load_msh
     from nfdmodel import ContactPair, Material, VZParams, get_law, load_parameters
 

@@ -5,11 +5,12 @@ import json
 import numpy as np
 import pytest
 
-from calib import calibration, calibration_report
+from calib.fit import calibration
+from calib.report import calibration as calibration_report
 from calib.cli import main
 from calib.fe import ContactSolver
-from calib.loadpath import LoadPathPlan, separation_approach
-from calib.plasticity import VonMisesMaterial
+from calib.fe.loadpath import LoadPathPlan, separation_approach
+from calib.fe.von_mises import VonMisesMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 from nfdmodel import ContactPair, Material, load_parameters
 
@@ -145,7 +146,7 @@ def test_soft_yielding_material_loads_to_100_P_Y_and_unloads():
     Regression: the force step to 87.5 P_Y failed even at 1/64 of its increment (Newton's stall
     test took its baseline from a start that did not meet the grown active set's constraints, and
     a too-small active set has no force-controlled equilibrium past its punch's limit load);
-    calib.loadpath.advance now finishes such a step with ContactSolver.rescue_step."""
+    calib.fe.loadpath.advance now finishes such a step with ContactSolver.rescue_step."""
     spec = calibration.spec_for(Material(500e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(100.0,),
                                 contact_size_over_a_max=0.15)
     spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[0] / 8,

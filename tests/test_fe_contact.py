@@ -2,12 +2,12 @@
 import numpy as np
 import pytest
 
-from calib.axisym import quadrature_strain
+from calib.fe.axisym import quadrature_strain
 from calib.fe import (ContactSolver, StepNotConverged, contact_radius_from_gap,
                       contact_radius_from_pressure, run_load_path)
-from calib.hertz_validation import (hertz_approach, hertz_contact_radius, hertz_peak_pressure,
+from calib.studies.hertz import (hertz_approach, hertz_contact_radius, hertz_peak_pressure,
                                     hertz_pressure)
-from calib.materials import ElasticMaterial
+from calib.fe.elastic import ElasticMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 
 R, E, NU = 0.1, 70e9, 0.3

@@ -1,11 +1,12 @@
-"""FE stability table (calib.fe_stability, issue 6): extreme inputs either calibrate with an error
+"""FE stability table (calib.studies.fe_stability, issue 6): extreme inputs either calibrate with an error
 estimate or stop with a clear error; the sweep resumes without recomputing; bad calibration inputs
 are refused before any mesh is built."""
 import json
 
 import pytest
 
-from calib import calibration, fe_stability
+from calib.fit import calibration
+from calib.studies import fe_stability
 from nfdmodel import ContactPair, Material
 
 

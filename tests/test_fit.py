@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from calib.fit import fit_radius_law, fit_through_origin, radius_law_data, window_study
+from calib.fit.least_squares import fit_radius_law, fit_through_origin, radius_law_data, window_study
 
 R, E, NU = 0.1, 70e9, 0.3
 E_STAR = E / (1 - NU**2)

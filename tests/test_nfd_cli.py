@@ -115,7 +115,7 @@ def test_load_parameters_inconsistent_and_out_of_range(tmp_path):
 
 
 def test_report_generates_results(tmp_path, capsys, monkeypatch):
-    import calib.collision_report as report
+    import calib.report.collision as report
 
     # a short dt ladder keeps the test fast; the full ladder is what `--report` writes
     monkeypatch.setattr(report, "DT_LADDER", (2e-6, 1e-6))

@@ -5,7 +5,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from nfdmodel import ContactPair, Material, VZParams, collide, collision_reference
-from nfdmodel.laws import WaltonBraunParams
+from nfdmodel import WaltonBraunParams
 
 REF = VZParams.reference()
 PAIR = REF.pair

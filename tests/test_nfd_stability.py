@@ -1,5 +1,5 @@
 """Issue 6, runtime model: regressions for the failures the stability grid found, and the
-stability report itself (calib.stability_report, `nfdcal stability`)."""
+stability report itself (calib.studies.runtime_stability, `nfdcal stability`)."""
 import json
 import subprocess
 import sys
@@ -100,25 +100,25 @@ def test_extreme_materials_give_a_clear_error_not_an_overflow():
 
 
 def test_stability_report_small_grid(tmp_path, monkeypatch):
-    import calib.stability_report as report
+    import calib.studies.runtime_stability as study
     from calib.cli import main
 
-    monkeypatch.setattr(report, "RADII", (1e-6, 10.0))
-    monkeypatch.setattr(report, "POISSON", (0.49,))
-    monkeypatch.setattr(report, "STRENGTH_RATIOS", (50.0,))
-    monkeypatch.setattr(report, "FACTORS_KC", (1.0, 1e3))
-    monkeypatch.setattr(report, "VELOCITY_RATIOS", (0.1, 1e4))
-    monkeypatch.setattr(report, "COLLISION_VZ_FACTORS", ((1.0, 1.0), (1e3, 1e3), (1.0, 1e3)))
-    monkeypatch.setattr(report, "EXTREME_MATERIALS", ((1e-6, 0.49, 5000.0),))
-    monkeypatch.setattr(report, "DT_VELOCITY_RATIOS", (1e4,))
-    summary = report.generate(tmp_path)
+    monkeypatch.setattr(study, "RADII", (1e-6, 10.0))
+    monkeypatch.setattr(study, "POISSON", (0.49,))
+    monkeypatch.setattr(study, "STRENGTH_RATIOS", (50.0,))
+    monkeypatch.setattr(study, "FACTORS_KC", (1.0, 1e3))
+    monkeypatch.setattr(study, "VELOCITY_RATIOS", (0.1, 1e4))
+    monkeypatch.setattr(study, "COLLISION_VZ_FACTORS", ((1.0, 1.0), (1e3, 1e3), (1.0, 1e3)))
+    monkeypatch.setattr(study, "EXTREME_MATERIALS", ((1e-6, 0.49, 5000.0),))
+    monkeypatch.setattr(study, "DT_VELOCITY_RATIOS", (1e4,))
+    summary = study.generate(tmp_path)
     assert summary["failures"] == []
     assert set(summary["outcomes"]) <= {"ok", "warned", "clear error"}
     assert summary["outcomes"]["clear error"] >= 2 and summary["outcomes"]["warned"] >= 1
     assert 2 <= summary["newton_max"] < 60
-    data = json.loads((tmp_path / report.JSON_NAME).read_text())
+    data = json.loads((tmp_path / study.JSON_NAME).read_text())
     assert data["stamp"]["git_commit"] and len(data["rows"]) == summary["cases"]
-    csv_lines = (tmp_path / report.CSV_NAME).read_text().splitlines()
+    csv_lines = (tmp_path / study.CSV_NAME).read_text().splitlines()
     assert csv_lines[0].startswith("# git_commit") and any(line.startswith("group,law,R") for line in csv_lines)
     if "stability" in __import__("calib.cli", fromlist=["x"]).COMMAND_MODULES:
         assert main(["stability", "--runtime", "--out", str(tmp_path)]) == 0

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from calib.plasticity import (
+from calib.fe.von_mises import (
     YIELD_TOLERANCE,
     PlasticState,
     VonMisesMaterial,

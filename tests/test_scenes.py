@@ -103,22 +103,24 @@ def test_dry_run_prints_stages_meshes_and_estimate(monkeypatch, capsys, tmp_path
 def test_estimated_dofs_match_the_reference_meshes():
     from meshes.hemisphere import HemisphereMeshSpec
 
-    scenes._calibrate_estimator()
+    from calib.scenes.plan import _calibrate_estimator
+
+    _calibrate_estimator()
     for size in (1.6e-4, 8e-5):
         estimate = scenes.estimate_dofs(HemisphereMeshSpec(contact_size=size))
         assert estimate == pytest.approx({1.6e-4: 4465, 8e-5: 6881}[size], rel=0.15)
 
 
 def test_elastic_only_scene_never_runs_the_return_mapping_nor_unloads(tmp_path, monkeypatch):
-    import calib.loadpath
-    import calib.plasticity
+    import calib.fe.loadpath
+    import calib.fe.von_mises
 
     def forbidden(*args, **kwargs):
         raise AssertionError("must not be called by an elastic-only, loading-only scene")
 
-    monkeypatch.setattr(calib.plasticity, "radial_return", forbidden)
-    monkeypatch.setattr(calib.plasticity, "VonMisesMaterial", forbidden)
-    monkeypatch.setattr(calib.loadpath.LoadPathPlan, "unloading_targets", forbidden)
+    monkeypatch.setattr(calib.fe.von_mises, "radial_return", forbidden)
+    monkeypatch.setattr(calib.fe.von_mises, "VonMisesMaterial", forbidden)
+    monkeypatch.setattr(calib.fe.loadpath.LoadPathPlan, "unloading_targets", forbidden)
     path = write(tmp_path, """
         [scene]
         name = "elastic"
@@ -148,9 +150,9 @@ def test_elastic_only_scene_never_runs_the_return_mapping_nor_unloads(tmp_path, 
 
 def test_loading_only_calibration_and_collision(tmp_path, monkeypatch):
     """A loading-only calibration never unloads; its Ca, Kc drive the collision stage."""
-    import calib.loadpath
+    import calib.fe.loadpath
 
-    monkeypatch.setattr(calib.loadpath.LoadPathPlan, "unloading_targets",
+    monkeypatch.setattr(calib.fe.loadpath.LoadPathPlan, "unloading_targets",
                         lambda *a: (_ for _ in ()).throw(AssertionError("unloaded")))
     path = write(tmp_path, """
         [scene]

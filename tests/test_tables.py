@@ -5,8 +5,10 @@ import textwrap
 
 import pytest
 
-from calib import cli, scenes, tables
-from calib.master_table import MasterTable
+from calib import cli, scenes
+import calib.scenes.run
+from calib.scenes import table as tables
+from calib.fit.master_table import MasterTable
 
 COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
 
@@ -44,7 +46,7 @@ def tiny_scene(folder, name="tiny", nu="[0.25, 0.35]", ratio="[500.0, 1000.0]"):
 def tiny_table(tmp_path_factory):
     folder = tmp_path_factory.mktemp("table")
     scene = scenes.load_scene(tiny_scene(folder))
-    result = tables.run_table(scene, folder / "out", workers=2)  # two local processes
+    result = scenes.run_table(scene, folder / "out", workers=2)  # two local processes
     return scene, folder, result
 
 
@@ -67,7 +69,7 @@ def test_table_rows_have_inputs_fit_mesh_and_commit(tiny_table):
 def test_rerun_recomputes_nothing_and_an_interrupted_sweep_resumes(tiny_table, monkeypatch):
     scene, folder, first = tiny_table
     monkeypatch.setattr(tables, "calibrate_task", lambda task: pytest.fail("recomputed a finished material"))
-    again = tables.run_table(scene, folder / "out", workers=2)
+    again = scenes.run_table(scene, folder / "out", workers=2)
     assert again["computed"] == 0 and again["reused"] == 4
     assert [r["Ca"] for r in again["rows"]] == [r["Ca"] for r in first["rows"]]
     # an interruption after 3 of 4 materials: only the missing one is calibrated
@@ -77,7 +79,7 @@ def test_rerun_recomputes_nothing_and_an_interrupted_sweep_resumes(tiny_table, m
     calls = []
     monkeypatch.setattr(tables, "calibrate_task", lambda task: calls.append(task["key"]) or
                         json.loads(json.dumps(next(r for r in first["rows"] if r["key"] == task["key"]))))
-    resumed = tables.run_table(scene, folder / "out", workers=1)
+    resumed = scenes.run_table(scene, folder / "out", workers=1)
     assert calls == [key] and resumed["computed"] == 1 and resumed["reused"] == 3
 
 
@@ -86,7 +88,7 @@ def test_dask_local_cluster(tmp_path):
     scene = scenes.load_scene(tiny_scene(tmp_path, "dask", nu="[0.3]", ratio="[700.0]"))
     with distributed.LocalCluster(n_workers=1, processes=False, threads_per_worker=1, host="127.0.0.1",
                                   protocol="tcp://", dashboard_address="127.0.0.1:0") as cluster:
-        result = tables.run_table(scene, tmp_path / "out", scheduler=cluster.scheduler_address)
+        result = scenes.run_table(scene, tmp_path / "out", scheduler=cluster.scheduler_address)
     assert result["computed"] == 1 and result["rows"][0]["status"] == "ok"
     assert 0.015 < result["rows"][0]["Ca_hat"] < 0.04
     assert (tmp_path / "out" / "materials" / f"{result['rows'][0]['key']}.json").is_file()
@@ -94,15 +96,15 @@ def test_dask_local_cluster(tmp_path):
 
 def test_a_failed_material_is_reported_not_cached(tmp_path, monkeypatch):
     scene = scenes.load_scene(tiny_scene(tmp_path, "fail", nu="[0.3]", ratio="[700.0]"))
-    monkeypatch.setattr(scenes, "calibrate_loading_only", lambda spec: 1 / 0)
-    result = tables.run_table(scene, tmp_path / "out", workers=1)
+    monkeypatch.setattr(calib.scenes.run, "calibrate_loading_only", lambda spec: 1 / 0)
+    result = scenes.run_table(scene, tmp_path / "out", workers=1)
     assert result["failed"] == 1 and "ZeroDivisionError" in result["rows"][0]["error"]
     assert not list((tmp_path / "out" / "materials").glob("*.json"))
 
 
 def test_master_table_is_exact_on_nodes_and_refuses_outside(tiny_table, tmp_path, monkeypatch, capsys):
     scene, folder, result = tiny_table
-    path = tables.write_master_table(result["rows"], tmp_path / "master.csv", "test table", scene.name)
+    path = scenes.write_master_table(result["rows"], tmp_path / "master.csv", "test table", scene.name)
     table = MasterTable.load(path)
     assert table.meta["accuracy"] == "test table"
     for row in result["rows"]:
@@ -135,7 +137,7 @@ def test_master_table_is_exact_on_nodes_and_refuses_outside(tiny_table, tmp_path
 def test_incomplete_grid_is_refused(tiny_table, tmp_path):
     rows = tiny_table[2]["rows"][:3]
     with pytest.raises(ValueError, match="grid nodes"):
-        tables.write_master_table(rows, tmp_path / "m.csv", "x", "tiny")
+        scenes.write_master_table(rows, tmp_path / "m.csv", "x", "tiny")
 
 
 def test_table_command_resumes_and_reports(tiny_table, monkeypatch, capsys):
@@ -148,7 +150,7 @@ def test_table_command_resumes_and_reports(tiny_table, monkeypatch, capsys):
 def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
     table = MasterTable.load()
     assert "off-grid" in table.meta["accuracy"]
-    from calib.master_table import DEFAULT_TABLE, read_rows
+    from calib.fit.master_table import DEFAULT_TABLE, read_rows
 
     for row in read_rows(DEFAULT_TABLE):
         assert table.lookup(row["nu"], row["E_over_sigma_y"]) == pytest.approx((row["Ca_hat"], row["Kc_hat"]), rel=1e-12)
@@ -159,7 +161,7 @@ def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
 
 
 def test_master_check_compares_interpolation_with_fe_rows():
-    from calib.master_table import DEFAULT_TABLE, check_against_fe, read_rows
+    from calib.fit.master_table import DEFAULT_TABLE, check_against_fe, read_rows
 
     table = MasterTable.load()
     node = next(r for r in read_rows(DEFAULT_TABLE) if r["nu"] == 0.3)

@@ -41,8 +41,10 @@ def run(ns) -> int:
     import dataclasses
     import sys
 
-    from calib import calibration, calibration_report, report
-    from calib.loadpath import LoadPathPlan
+    from calib import output
+    from calib.fit import calibration
+    from calib.report import calibration as calibration_report
+    from calib.fe.loadpath import LoadPathPlan
 
     verbose = not ns.quiet and sys.stderr.isatty()
     progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
@@ -80,7 +82,7 @@ def run(ns) -> int:
                                    plots=not ns.no_plots, vtu=not ns.no_plots)
     summary = calibration.summary(result)
     if ns.json:
-        print(report.to_json(summary), end="")
+        print(output.to_json(summary), end="")
         return 0
     print(f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
           f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "

@@ -47,7 +47,7 @@ def add_parser(subparsers) -> None:
 def build_params(ns):
     """(law name, law parameters) from the command-line namespace."""
     from nfdmodel import ContactPair, Material, VZParams, get_law, load_parameters
-    from nfdmodel.laws import WaltonBraunParams
+    from nfdmodel import WaltonBraunParams
 
     law = get_law(ns.law).name
     flags = material_flags(ns)
@@ -77,7 +77,7 @@ def run(ns) -> int:
     import warnings
 
     if ns.report:
-        from calib.collision_report import DEFAULT_OUT, generate
+        from calib.report.collision import DEFAULT_OUT, generate
 
         out = generate(ns.out or DEFAULT_OUT, params_file=ns.params)
         print(f"collision results written to {out}")

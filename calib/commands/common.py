@@ -14,7 +14,7 @@ MATERIAL_HELP = {"R": "sphere radius [m] (> 0)", "E": "Young's modulus [Pa] (> 0
 
 def number(flag: str, text, default=None) -> float:
     """``text`` as a finite float, or ``default`` when the flag was not given."""
-    from nfdmodel.materials import check_real
+    from nfdmodel import check_real
 
     return default if text is None else check_real(flag, text)
 

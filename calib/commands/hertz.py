@@ -58,10 +58,10 @@ def run(ns) -> int:
     import json
     from pathlib import Path
 
-    from calib import report
-    from calib.hertz_validation import write_hertz_results, write_ladder_results
+    from calib import output
+    from calib.studies.hertz import write_hertz_results, write_ladder_results
 
-    out = Path(ns.out) if ns.out else report.REPO_ROOT / DEFAULT_OUT
+    out = Path(ns.out) if ns.out else Path(DEFAULT_OUT)
     if ns.ladder:
         summary = write_ladder_results(out, radius=ns.radius, E=ns.E, nu=ns.nu,
                                        P_min=ns.P_min, P_max=ns.P_max, steps=ns.steps)
@@ -70,7 +70,7 @@ def run(ns) -> int:
                                       P_max=ns.P_max, steps=ns.steps,
                                       contact_size=ns.contact_size)
     if ns.json:
-        print(report.to_json(summary), end="")
+        print(output.to_json(summary), end="")
     else:
         print(json.dumps(summary.get("top_load", summary.get("default_choice")), indent=2))
         print(f"results written to {out}")

@@ -27,21 +27,21 @@ def add_parser(subparsers) -> None:
 def run(ns) -> int:
     import json
 
-    from calib.master_table import MasterTable
+    from calib.fit.master_table import MasterTable
 
     material, radius = material_from_args(ns)
     table = MasterTable.load(ns.table)
     values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
     if ns.params_out:
-        from calib import report
+        from calib import output
         from nfdmodel import ContactPair, VZParams, parameter_record
 
         params = VZParams.from_dimensionless(ContactPair.sphere_flat(material, radius),
                                              values["Ca_hat"], values["Kc_hat"])
         record = parameter_record(params, radius, material)
         record.update({"fit": {"shipped": "master table", "accuracy": values["accuracy"],
-                               "table": values["table"]}, "stamp": report.stamp(0.0)})
-        report.write_json(ns.params_out, record)
+                               "table": values["table"]}, "stamp": output.stamp(0.0)})
+        output.write_json(ns.params_out, record)
     if ns.json:
         print(json.dumps(values, indent=2))
         return 0

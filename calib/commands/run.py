@@ -42,9 +42,9 @@ def run(ns) -> int:
     progress = scenes.terminal_progress(ns.quiet, sum(s.estimate_s for s in stages))
     summary = scenes.run_scene(scene, ns.out, progress=progress)
     if ns.json:
-        from calib import report
+        from calib import output
 
-        print(report.to_json(summary), end="")
+        print(output.to_json(summary), end="")
     else:
         print(f"scene {scene.name}: {', '.join(summary['stages'])} done in {summary['wall_time_s']:.1f} s; "
               f"results in {scene.out_dir(ns.out)}")

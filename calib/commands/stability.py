@@ -2,10 +2,10 @@
 
     nfdcal stability [--out results/stability] [--runtime | --fe] [--workers 2]
 
-Runs the grid of :mod:`calib.stability_report` (overlaps 1e-15 R .. 0.5 R, P/P_Y up to 1e6,
+Runs the grid of :mod:`calib.studies.runtime_stability` (overlaps 1e-15 R .. 0.5 R, P/P_Y up to 1e6,
 v_in/v_Y 0.1 .. 1e4, dt 1e-9 s .. beyond the stability limit, Ca and Kc at 1e-3 .. 1e3 x, R 1e-6 ..
 10 m, nu up to 0.49, E/sigma_Y 50 .. 5000, float32 inputs) and writes runtime_stability.csv and
-.json; then the FE cases of :mod:`calib.fe_stability` (E/sigma_Y 50 .. 5000, nu 0 .. 0.49,
+.json; then the FE cases of :mod:`calib.studies.fe_stability` (E/sigma_Y 50 .. 5000, nu 0 .. 0.49,
 P/P_Y up to 1000, R 1e-6 .. 10 m, each on two meshes for an error estimate; resumable) into
 fe_stability.csv and .json. Prints the summaries; exit code 1 if a case FAILED (NaN, an
 unexpected exception, energy created, or a silently inaccurate collision).
@@ -31,7 +31,7 @@ def run(ns) -> int:
     from pathlib import Path
 
     from calib.commands.common import number
-    from calib.stability_report import CSV_NAME, DEFAULT_OUT, JSON_NAME, generate
+    from calib.studies.runtime_stability import CSV_NAME, DEFAULT_OUT, JSON_NAME, generate
 
     out = Path(ns.out or DEFAULT_OUT)
     try:            # fail now, not after the 30 s run (the dispatcher reports ValueError in one line)
@@ -48,7 +48,7 @@ def run(ns) -> int:
         failures += summary["failures"]
         print(f"stability table written to {out}/{CSV_NAME} and {JSON_NAME}")
     if not ns.runtime:
-        from calib import fe_stability
+        from calib.studies import fe_stability
 
         verbose = not ns.quiet and sys.stderr.isatty()
         progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None

@@ -37,7 +37,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(ns) -> int:
-    from calib import report, scenes, tables
+    from calib import output, scenes
 
     try:
         workers = int(ns.workers)
@@ -53,14 +53,14 @@ def run(ns) -> int:
         print(scenes.format_plan(scene, stages))
         return 0
     progress = scenes.terminal_progress(ns.quiet, sum(s.estimate_s for s in stages) / max(1, min(workers, len(stages))))
-    result = tables.run_table(scene, ns.out, workers=workers, scheduler=ns.scheduler, progress=progress)
+    result = scenes.run_table(scene, ns.out, workers=workers, scheduler=ns.scheduler, progress=progress)
     if ns.master_out:
-        tables.write_master_table(result["rows"], ns.master_out, ns.accuracy, scene.name)
+        scenes.write_master_table(result["rows"], ns.master_out, ns.accuracy, scene.name)
     outside = 0
     if ns.check_master:
         from pathlib import Path
 
-        from calib.master_table import CHECK_LIMITS, MasterTable, check_against_fe
+        from calib.fit.master_table import CHECK_LIMITS, MasterTable, check_against_fe
 
         table = MasterTable.load()
         checks = check_against_fe(result["rows"], table)
@@ -69,19 +69,19 @@ def run(ns) -> int:
 
         table_stamp = json.loads(table.path.with_suffix(".json").read_text(encoding="utf-8")).get("stamp", {})
         try:
-            table_name = str(table.path.relative_to(report.REPO_ROOT))
+            table_name = output.display_path(table.path)
         except ValueError:
             table_name = str(table.path)
-        stamp = report.stamp(0.0, table=table_name, limits=CHECK_LIMITS,
+        stamp = output.stamp(0.0, table=table_name, limits=CHECK_LIMITS,
                              table_commit=table_stamp.get("git_commit"))
-        report.write_csv(folder / "master_check.csv", checks, comment=report.stamp_comment(stamp))
-        report.write_json(folder / "master_check.json", {"rows": checks, "stamp": stamp})
+        output.write_csv(folder / "master_check.csv", checks, comment=output.stamp_comment(stamp))
+        output.write_json(folder / "master_check.json", {"rows": checks, "stamp": stamp})
         outside = sum(not c["within_limits"] for c in checks)
         for c in checks:
             print(f"{c['name']}: Ca_hat {100 * c['Ca_hat_error']:+.2f} %, Kc_hat {100 * c['Kc_hat_error']:+.2f} %"
                   f" (table vs FE){'' if c['within_limits'] else '  OUTSIDE the limits'}")
     if ns.json:
-        print(report.to_json(result["rows"]), end="")
+        print(output.to_json(result["rows"]), end="")
     else:
         print(f"table {scene.name}: {len(result['rows'])} material(s), {result['computed']} calibrated, "
               f"{result['reused']} reused, {result['failed']} failed; written to {result['path']}")

@@ -16,9 +16,9 @@ TARGET_S = 60.0
 
 
 def main() -> None:
-    from calib.calibration import calibrate, reference_spec
+    from calib.fit.calibration import calibrate, reference_spec
     from calib.fe import ContactSolver
-    from calib.materials import ElasticMaterial
+    from calib.fe.elastic import ElasticMaterial
     from meshes.hemisphere import hemisphere_mesh
 
     spec = reference_spec()

@@ -25,7 +25,7 @@ import scipy.sparse as sp
 CHILD = r"""
 import json, sys, time
 import numpy as np, scipy.sparse as sp, scipy.sparse.linalg as spla
-from calib import linsolve
+from calib.fe import linsolve
 def rss_mb():
     with open("/proc/self/status") as fh:
         return next(int(l.split()[1]) for l in fh if l.startswith("VmRSS")) / 1024
@@ -55,8 +55,8 @@ print(json.dumps({"backend": f.method, "factorize_s": min(fac), "solve_s": t_sol
 
 def contact_matrix(spec, P=1500.0):
     from calib.fe import ContactSolver
-    from calib.hertz_validation import REFERENCE, hertz_contact_radius
-    from calib.materials import ElasticMaterial
+    from calib.studies.hertz import REFERENCE, hertz_contact_radius
+    from calib.fe.elastic import ElasticMaterial
     from meshes.hemisphere import hemisphere_mesh
 
     solver = ContactSolver(hemisphere_mesh(spec), ElasticMaterial(REFERENCE["E"], REFERENCE["nu"]))

@@ -16,11 +16,11 @@ from pathlib import Path
 
 import numpy as np
 
-from calib import report
-from calib.calibration import PAPER, CalibrationResult, summary
+from calib import output
+from calib.fit.calibration import PAPER, CalibrationResult, summary
 from nfdmodel import parameter_record
 
-DEFAULT_OUT = report.REPO_ROOT / "results" / "calibration"
+DEFAULT_OUT = output.RESULTS / "calibration"
 
 
 def _derived_columns(rows: list[dict], result: CalibrationResult) -> list[dict]:
@@ -60,7 +60,7 @@ def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None
     pressure (nodes) of one FE state, as a VTU of 6-node triangles that ParaView opens."""
     import meshio
 
-    from calib.plasticity import von_mises_stress
+    from calib.fe.von_mises import von_mises_stress
 
     mesh = solver.hemisphere.mesh
     n_points = mesh.p.shape[1]
@@ -85,7 +85,7 @@ def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None
 
 
 def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
-    plt = report.pyplot()
+    plt = output.pyplot()
     pair = result.spec.pair
     colors = {"vz": "C3", "vz (force fit)": "C4", "vz (radius fit)": "C4", "thornton": "C2", "hertz": "C7"}
 
@@ -101,7 +101,7 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     ax.set_xlabel("approach alpha [um]"); ax.set_ylabel("force P [N]")
     ax.set_title("Force-approach: FE against the runtime laws driven by the FE's alpha")
     ax.legend(fontsize=7); ax.grid(alpha=0.3)
-    report.save_figure(fig, out / "force_approach.png")
+    output.save_figure(fig, out / "force_approach.png")
 
     fig, ax = plt.subplots(figsize=(7, 5))
     P = np.array([r["P"] for r in loading])
@@ -115,14 +115,14 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     ax.plot(x, result.params.Ca * (x - pair.P_Y) * 1e3, "k-", lw=1, label=f"Ca (P - P_Y), Ca = {result.params.Ca:.3e} m/N")
     ax.set_xlabel("P [N]"); ax.set_ylabel("radius [mm]"); ax.legend(fontsize=7); ax.grid(alpha=0.3)
     ax.set_title("Contact radius decomposition (loading)")
-    report.save_figure(fig, out / "contact_radii.png")
+    output.save_figure(fig, out / "contact_radii.png")
 
     fig, ax = plt.subplots(figsize=(7, 5))
     ax.plot(P, [r["C_R"] for r in loading], "o", ms=3, label="C_R = a_ep^2 / (R alpha), FE")
     ax.plot(x, 1 + result.params.Kc * (x - pair.P_Y), "k-", lw=1, label=f"1 + Kc (P - P_Y), Kc = {result.params.Kc:.3e} 1/N")
     ax.plot(x, 1 + PAPER["Kc"] * (x - pair.P_Y), "k:", lw=1, label=f"paper, Kc = {PAPER['Kc']:.3g} 1/N")
     ax.set_xlabel("P [N]"); ax.set_ylabel("C_R [-]"); ax.legend(fontsize=8); ax.grid(alpha=0.3)
-    report.save_figure(fig, out / "curvature_factor.png")
+    output.save_figure(fig, out / "curvature_factor.png")
 
     fig, ax = plt.subplots(figsize=(7, 5))
     for k, (peak, (r, p)) in enumerate(sorted(result.load_paths.pressure_profiles.items())):
@@ -134,7 +134,7 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     ax.axhline(pair.p_Y / 1e6, color="k", lw=0.8, ls=":", label="A_Y sigma_Y")
     ax.set_xlim(0, 1.2 * max(result.radius_data.contact_radius) * 1e3)
     ax.set_xlabel("r [mm]"); ax.set_ylabel("contact pressure [MPa]"); ax.legend(fontsize=7); ax.grid(alpha=0.3)
-    report.save_figure(fig, out / "pressure.png")
+    output.save_figure(fig, out / "pressure.png")
 
     data, fit = result.radius_data, result.radius_fit
     mask = data.excess_force > 0
@@ -145,7 +145,7 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     axes[1].set_title(f"C_R residual, Kc fit (R^2 = {fit.Kc.r_squared:.4f})")
     for a in axes:
         a.set_xlabel("P [N]"); a.axhline(0, color="k", lw=0.8); a.grid(alpha=0.3)
-    report.save_figure(fig, out / "fit_residuals.png")
+    output.save_figure(fig, out / "fit_residuals.png")
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     w = result.window
@@ -155,22 +155,22 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     axes[1].axhline(PAPER["Kc"], color="k", ls=":", label="paper"); axes[1].set_ylabel("Kc [1/N]")
     for a in axes:
         a.set_xlabel("largest load in the fit [N]"); a.legend(); a.grid(alpha=0.3)
-    report.save_figure(fig, out / "fit_window.png")
+    output.save_figure(fig, out / "fit_window.png")
 
 
 def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool = True,
           vtu: bool = True) -> Path:
     """Write the calibration outputs to ``out`` (see the module docstring)."""
     out = Path(out)
-    stamp = report.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
-    comment = report.stamp_comment(stamp)
-    report.write_json(out / "parameters.json", parameter_file(result, stamp))
-    report.write_json(out / "calibration.json", {**summary(result), "stamp": stamp})
+    stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
+    comment = output.stamp_comment(stamp)
+    output.write_json(out / "parameters.json", parameter_file(result, stamp))
+    output.write_json(out / "calibration.json", {**summary(result), "stamp": stamp})
     loading = _derived_columns(result.load_paths.loading_rows, result)
-    report.write_csv(out / "loading.csv", loading, comment=comment)
+    output.write_csv(out / "loading.csv", loading, comment=comment)
     for path in result.load_paths.paths:
-        report.write_csv(out / f"path_P{path.peak:g}.csv", _derived_columns(path.rows, result), comment=comment)
-    report.write_csv(out / "fit_window.csv", result.window, comment=comment)
+        output.write_csv(out / f"path_P{path.peak:g}.csv", _derived_columns(path.rows, result), comment=comment)
+    output.write_csv(out / "fit_window.csv", result.window, comment=comment)
     if plots:
         _plots(result, out, loading)
     solver = result.solver
@@ -199,7 +199,7 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
     import hashlib
     import json
 
-    from calib.calibration import calibrate, reference_spec
+    from calib.fit.calibration import calibrate, reference_spec
 
     out = Path(out)
     rows = []
@@ -229,19 +229,19 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
                    "alpha_max_1500": top["alpha_max"], "e_1500": top["e"],
                    "alpha_residual_1500": top["alpha_residual"], "wall_time_s": s["wall_time_s"],
                    "factorizations": s["timings"]["factorizations"],
-                   "git_commit": report.git_commit()}
-            report.write_json(cache, row)
+                   "git_commit": output.git_commit()}
+            output.write_json(cache, row)
         rows.append(row)
     finest = rows[-1]
     for row in rows:  # change against the finest rung: the discretisation error estimate
         for key in ("Ca", "Kc", "e_1500", "alpha_max_1500", "contact_radius_1500"):
             if key in row and key in finest:
                 row[f"{key}_rel_change_vs_finest"] = row[key] / finest[key] - 1.0
-    stamp = report.stamp(sum(r["wall_time_s"] for r in rows), mesh={"sizes": list(sizes)})
+    stamp = output.stamp(sum(r["wall_time_s"] for r in rows), mesh={"sizes": list(sizes)})
     columns = list(dict.fromkeys(k for row in rows for k in row))
-    report.write_csv(out / f"{name}.csv", rows, columns=columns, comment=report.stamp_comment(stamp))
+    output.write_csv(out / f"{name}.csv", rows, columns=columns, comment=output.stamp_comment(stamp))
 
-    plt = report.pyplot()
+    plt = output.pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     h = [r["contact_size"] for r in rows]
     for key, label in (("Ca", "Ca"), ("Kc", "Kc"), ("e_1500", "e (1500 N)"), ("alpha_max_1500", "alpha (1500 N)")):
@@ -256,5 +256,5 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None
     axes[1].set_xlabel("wall time of the calibration [s]"); axes[1].set_ylabel("|relative change vs finest mesh|")
     axes[1].legend(); axes[1].grid(alpha=0.3, which="both")
     fig.suptitle(f"Load paths on a mesh ladder, nu = {finest.get('nu', 0.3):g} (finest: h = {finest['contact_size']:g} m)")
-    report.save_figure(fig, out / f"{name}.png")
+    output.save_figure(fig, out / f"{name}.png")
     return out / f"{name}.csv"

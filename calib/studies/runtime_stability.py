@@ -44,10 +44,10 @@ from pathlib import Path
 
 import numpy as np
 
-from calib.report import REPO_ROOT, stamp, stamp_comment, write_csv, write_json
-from nfdmodel.laws import NEWTON_MAX_ITERATIONS
+from calib.output import RESULTS, stamp, stamp_comment, write_csv, write_json
+from nfdmodel import NEWTON_MAX_ITERATIONS
 
-DEFAULT_OUT = REPO_ROOT / "results" / "stability"
+DEFAULT_OUT = RESULTS / "stability"
 CSV_NAME = "runtime_stability.csv"
 JSON_NAME = "runtime_stability.json"
 

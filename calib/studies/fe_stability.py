@@ -4,10 +4,10 @@ Regenerate with ``nfdcal stability --fe`` (part of plain ``nfdcal stability``; a
 2 cores, resumable: each finished run is ``OUT/fe_cases/<key>.json``, written atomically, and
 a rerun recomputes nothing already there).
 
-Each case (table CASES) is a full calibration (calib.calibration.calibrate: first yield, load
+Each case (table CASES) is a full calibration (calib.fit.calibration.calibrate: first yield, load
 paths with unloading, radius fit) of a sphere on a rigid flat at an extreme of the input space:
 E / sigma_Y = 50 and 5000, nu = 0 and 0.49, P / P_Y up to 1000 (the calibration's limit,
-calib.calibration.MAX_LOAD_OVER_YIELD; 2000 P_Y must be refused), R = 1e-6 m and 10 m. It runs on
+calib.fit.calibration.MAX_LOAD_OVER_YIELD; 2000 P_Y must be refused), R = 1e-6 m and 10 m. It runs on
 two meshes (contact element = MESH_RATIOS x the estimated largest contact radius, spec_for's
 recipe) so that every result carries an error estimate: the change from the coarse to the fine
 mesh (the discretisation converges at first order in h, results/calibration/mesh_ladder.csv, so
@@ -31,9 +31,9 @@ import math
 import time
 from pathlib import Path
 
-from calib import report
+from calib import output
 
-DEFAULT_OUT = report.REPO_ROOT / "results" / "stability"
+DEFAULT_OUT = output.RESULTS / "stability"
 CSV_NAME = "fe_stability.csv"
 JSON_NAME = "fe_stability.json"
 VERSION = 1                        # bump when the recipe changes: invalidates cached runs
@@ -84,7 +84,7 @@ def _spec(task):
     """The CalibrationSpec of a task, or the ValueError of an input the model cannot take."""
     import dataclasses
 
-    from calib.calibration import spec_for
+    from calib.fit.calibration import spec_for
     from nfdmodel import ContactPair, Material
 
     material = Material(task["ratio"] * SIGMA_Y, task["nu"], SIGMA_Y, DENSITY)
@@ -108,7 +108,7 @@ def run_case(task: dict) -> dict:
         row.update(outcome=f"clear error: {exc}", wall_time_s=time.perf_counter() - t0)
         return row
     try:
-        from calib.calibration import calibrate
+        from calib.fit.calibration import calibrate
         from nfdmodel import VZParams
 
         result = calibrate(spec)
@@ -171,7 +171,7 @@ def summarize(rows: list[dict]) -> dict:
 
 def generate(out_dir=DEFAULT_OUT, workers: int = 2, cases=CASES, progress=None) -> dict:
     """Run every case on both meshes (reusing finished runs), write fe_stability.csv/.json."""
-    from calib.tables import _prebuild_meshes, _results
+    from calib.scenes.table import _prebuild_meshes, _results
 
     say = progress or (lambda message: None)
     started = time.perf_counter()
@@ -200,7 +200,7 @@ def generate(out_dir=DEFAULT_OUT, workers: int = 2, cases=CASES, progress=None) 
     _prebuild_meshes([t for t in todo if "spec" in t], say)
     for k, row in enumerate(_results(todo, workers, None, function=run_case), 1):
         if row["outcome"] == "ok":     # refusals depend on the code's limits: re-checked each run
-            report.write_json(out / "fe_cases" / f"{row['key']}.json", row)
+            output.write_json(out / "fe_cases" / f"{row['key']}.json", row)
         done[row["key"]] = row
         say(f"FE run {k}/{len(todo)}: {row['case']} (mesh {row['mesh_ratio']}): "
             f"{row['outcome'][:60]}, {row['wall_time_s']:.0f} s")
@@ -210,10 +210,10 @@ def generate(out_dir=DEFAULT_OUT, workers: int = 2, cases=CASES, progress=None) 
             stale.unlink()
     rows = _with_mesh_change([done[t["key"]] for t in tasks])
     summary = summarize(rows)
-    st = report.stamp(time.perf_counter() - started, command="nfdcal stability --fe",
+    st = output.stamp(time.perf_counter() - started, command="nfdcal stability --fe",
                       mesh={"contact_size_over_a_max": list(MESH_RATIOS)},
                       computed=len(todo), reused=len(tasks) - len(todo))
-    report.write_csv(out / CSV_NAME, rows, COLUMNS, comment=report.stamp_comment(st))
-    report.write_json(out / JSON_NAME, {"stamp": st, "summary": summary, "columns": list(COLUMNS),
+    output.write_csv(out / CSV_NAME, rows, COLUMNS, comment=output.stamp_comment(st))
+    output.write_json(out / JSON_NAME, {"stamp": st, "summary": summary, "columns": list(COLUMNS),
                                         "rows": rows})
     return summary

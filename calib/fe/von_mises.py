@@ -313,7 +313,7 @@ class VonMisesMaterial:
         object.__setattr__(self, "nu", nu)
         object.__setattr__(self, "sigma_y", sigma_y)
 
-    # Same elastic accessors as calib.materials.ElasticMaterial, so the solver can treat both alike.
+    # Same elastic accessors as calib.fe.elastic.ElasticMaterial, so the solver can treat both alike.
     @property
     def lame_lambda(self) -> float:
         """lambda [Pa]."""

@@ -5,7 +5,7 @@ Problem (SPEC section 6; Vu-Quoc & Zhang 1999, section 2). The r-z section of th
 
     r(u) = f_int(u) - f_ext = 0,   f_int,i = int_A sigma(eps(u)) . eps(phi_i) 2 pi r dA   [N]
 
-(calib.axisym for eps and the 2 pi r weight), with
+(calib.fe.axisym for eps and the 2 pi r weight), with
   * axis r = 0: u_r = 0;
   * top face z = R: a rigid plate, all its u_z tied to ONE plate unknown (u = T q, T sparse),
     u_r free. The plate displacement is -alpha (alpha = approach [m]); its reaction
@@ -28,7 +28,7 @@ A step never returns silently unconverged: ``StepResult.converged`` is False (an
 ``ContactSolver.commit`` refuses it), and ``run_load_path`` raises ``StepNotConverged``.
 ``ContactSolver.rescue_step`` is a slower, defensive solve of a step that failed (from the
 committed state without warm start, then, for a force, displacement control with a secant on
-the approach); calib.loadpath.advance uses it only where halving the increment has failed.
+the approach); calib.fe.loadpath.advance uses it only where halving the increment has failed.
 
 Materials follow the Material interface (CONTRACTS.md): ``update(strain, committed)`` is pure;
 the trial state is kept in ``StepResult.state`` and becomes the committed state only when the
@@ -54,10 +54,10 @@ import scipy.sparse as sp
 from skfem import (Basis, BilinearForm, ElementTriP2, ElementVector, FacetBasis, LinearForm,
                    asm)
 
-from calib.axisym import (quadrature_radius, quadrature_strain, radial_weight, strain,
+from calib.fe.axisym import (quadrature_radius, quadrature_strain, radial_weight, strain,
                           to_form_layout)
-from calib.linsolve import METHODS as LINEAR_SOLVERS, factorize
-from nfdmodel.materials import check_real
+from calib.fe.linsolve import METHODS as LINEAR_SOLVERS, factorize
+from nfdmodel import check_real
 
 CONTACT_RADIUS_METHODS = ("pressure", "gap", "node")
 
@@ -247,7 +247,7 @@ class ContactSolver:
     material : object with initial_state/update (and optionally ``is_linear``)
     residual_tolerance : relative tolerance on ||r_free||_2 (see module docstring)
     max_newton_iterations, max_active_set_iterations : iteration limits per step
-    linear_solver : calib.linsolve method name (None: its default)
+    linear_solver : calib.fe.linsolve method name (None: its default)
     contact_radius_method : "pressure" (default), "gap" or "node" (see the recovery functions;
         measured against Hertz in results/hertz/mesh_ladder.csv)
     quadrature_order : scikit-fem intorder (4: 6-point rule, exact for the P2 stiffness terms)
@@ -486,7 +486,7 @@ class ContactSolver:
         """The step from ``state`` to ``target`` (force [N] or approach [m]) solved defensively,
         for a step that failed the ordinary way (``solve_force`` / ``solve_displacement``).
 
-        Slower, and not bit-identical to the ordinary solve, so calib.loadpath.advance calls it
+        Slower, and not bit-identical to the ordinary solve, so calib.fe.loadpath.advance calls it
         only once halving the increment has failed down to its smallest fraction: every load path
         that converges the ordinary way is unchanged. Why ordinary steps fail at deep plastic
         loads (measured at E / sigma_Y = 5000, 60-81 P_Y, where even 1/64 of the increment

@@ -31,7 +31,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from calib.fe import ContactSolver, ContactState, StepNotConverged, StepResult
+from calib.fe.solver import ContactSolver, ContactState, StepNotConverged, StepResult
 
 
 @dataclass(frozen=True)

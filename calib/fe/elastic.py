@@ -4,7 +4,7 @@
     material.update(strain (E,Q,4), state_committed) -> (stress (E,Q,4), tangent (E,Q,4,4), trial)
 
 ``update`` is pure; the solver adopts ``trial`` only after a load step converged. Components
-[rr, zz, tt, rz]; strain with engineering shear gamma_rz, stress plain (calib.axisym).
+[rr, zz, tt, rz]; strain with engineering shear gamma_rz, stress plain (calib.fe.axisym).
 """
 from __future__ import annotations
 

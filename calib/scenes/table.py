@@ -4,7 +4,7 @@ One row per material (SI units): inputs (E, nu, sigma_y, rho, R, E/sigma_Y), the
 (P_Y, a_Y, delta_Y from theory, SPEC section 2; P_Y_fe, the FE first yield), the fit (Ca, Kc,
 Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y, SPEC section 7) with its quality (R^2 and standard
 error of each slope, number of points), the mesh (contact size, dofs, key), the FE wall time
-and the git commit. Ca and Kc are the radius fit of calib.calibration (the paper's definition),
+and the git commit. Ca and Kc are the radius fit of calib.fit.calibration (the paper's definition),
 computed on the loading branch only (the unloading does not enter it) unless the scene unloads.
 
 Each material's row is written atomically to ``OUT/materials/<key>.json`` as soon as it is
@@ -21,7 +21,7 @@ import time
 from dataclasses import asdict
 from pathlib import Path
 
-from calib import report
+from calib import output
 
 TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
 COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a_Y", "delta_Y",
@@ -62,16 +62,16 @@ def calibrate_task(task: dict) -> dict:
     row = {**task["inputs"], "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
            "loading_only": task["loading_only"], "key": task["key"],
            "contact_size": spec.mesh.contact_size, "mesh_key": spec.mesh.cache_key(),
-           "git_commit": report.git_commit()}
+           "git_commit": output.git_commit()}
     t0 = time.perf_counter()
     try:
         if task["loading_only"]:
-            from calib.scenes import calibrate_loading_only
+            from calib.scenes.run import calibrate_loading_only
 
             res = calibrate_loading_only(spec)
             fit, P_Y_fe, mesh = res["fit"], res["P_Y_fe"], res["mesh"]
         else:
-            from calib.calibration import calibrate
+            from calib.fit.calibration import calibrate
 
             result = calibrate(spec)
             fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
@@ -156,7 +156,7 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
     if not (isinstance(workers, int) and 1 <= workers <= 64):
         raise ValueError(f"--workers must be an integer in [1, 64], got {workers!r}")
     say = progress or (lambda message: None)
-    out = Path(out) if out is not None else report.REPO_ROOT / "results" / "tables" / scene.name
+    out = Path(out) if out is not None else output.RESULTS / "tables" / scene.name
     t0 = time.perf_counter()
     tasks = tasks_for(scene)
     rows_by_key = {}
@@ -171,7 +171,7 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
     failed = 0
     for k, row in enumerate(_results(todo, workers, scheduler), 1):
         if row["status"] == "ok":
-            report.write_json(_cache_path(out, row["key"]), row)  # atomic, as soon as it is done
+            output.write_json(_cache_path(out, row["key"]), row)  # atomic, as soon as it is done
         else:
             failed += 1
         rows_by_key[row["key"]] = row
@@ -179,12 +179,12 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
             + (f" {row['error']}" if row["status"] != "ok" else ""))
     rows = [rows_by_key[t["key"]] for t in tasks]
     wall = time.perf_counter() - t0
-    stamp = report.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
+    stamp = output.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
                          materials=len(rows), computed=len(todo), reused=len(tasks) - len(todo),
                          workers=workers, scheduler=scheduler or "local processes")
     clean = [{c: row.get(c) for c in COLUMNS} for row in rows]
-    report.write_csv(out / "table.csv", clean, columns=COLUMNS, comment=report.stamp_comment(stamp))
-    report.write_json(out / "table.json", {"scene": scene.name, "rows": clean,
+    output.write_csv(out / "table.csv", clean, columns=COLUMNS, comment=output.stamp_comment(stamp))
+    output.write_json(out / "table.json", {"scene": scene.name, "rows": clean,
                                            "units": {"E": "Pa", "sigma_y": "Pa", "rho": "kg/m^3", "R": "m",
                                                      "P_Y": "N", "a_Y": "m", "delta_Y": "m", "Ca": "m/N",
                                                      "Kc": "1/N", "Ca_se": "m/N", "Kc_se": "1/N",
@@ -197,7 +197,7 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
 def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str) -> Path:
     """The master table (calib/data/master_table.csv + .json) from the rows of a grid table:
     nu, E_over_sigma_y, Ca_hat, Kc_hat and the fit quality; every node must have succeeded."""
-    from calib.master_table import MasterTable
+    from calib.fit.master_table import MasterTable
 
     path = Path(path)
     failed = [r["name"] for r in rows if r.get("status") != "ok"]
@@ -208,12 +208,12 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     table_rows = [{c: r.get(c) for c in columns} for r in rows]
     MasterTable.from_rows([{k: float(v) for k, v in r.items() if k in ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat")}
                            for r in table_rows])  # validates a complete regular grid
-    stamp = report.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
+    stamp = output.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
     meta = {"master_table": {"accuracy": accuracy, "scene": scene_name,
                              "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
                              "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (SPEC section 7); radius fit "
                                            "on the FE loading branch to 13.7, 27.4, 41.2 P_Y"},
             "stamp": stamp}
-    report.write_csv(path, table_rows, columns=columns, comment=report.stamp_comment(stamp))
-    report.write_json(path.with_suffix(".json"), meta)
+    output.write_csv(path, table_rows, columns=columns, comment=output.stamp_comment(stamp))
+    output.write_json(path.with_suffix(".json"), meta)
     return path

@@ -1,4 +1,4 @@
-"""Writing results: atomic files, and the stamp (git commit, wall time, mesh) every result carries.
+"""Writing results: where they go, atomic files, and the stamp (commit, wall time, mesh) each carries.
 
 A result file is written to a temporary name in the same folder and renamed into place, so a
 run killed midway never leaves a half-written file.
@@ -19,19 +19,62 @@ from typing import Any, Iterable, Mapping, Sequence
 
 import numpy as np
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
+# Where results go unless the user names a folder: ./results under the CURRENT directory (a
+# relative path, resolved when a file is written), never next to the installed package.
+RESULTS = Path("results")
+# The source checkout this package runs from, if any (an editable install or a clone on
+# sys.path); None for an installed wheel.
+_PACKAGE_ROOT = Path(__file__).resolve().parent.parent
+
+
+def display_path(path) -> str:
+    """``path`` relative to the current directory when it lies below it, else absolute."""
+    resolved = Path(path).resolve()
+    try:
+        return str(resolved.relative_to(Path.cwd().resolve()))
+    except ValueError:
+        return str(resolved)
+
+
+def _checkout_root() -> Path | None:
+    """The git work tree whose tracked files include this module, or None (installed wheel)."""
+    try:
+        top = subprocess.run(["git", "rev-parse", "--show-toplevel"], cwd=_PACKAGE_ROOT,
+                             capture_output=True, text=True, check=True).stdout.strip()
+        tracked = subprocess.run(["git", "ls-files", "--error-unmatch", "calib/output.py"],
+                                 cwd=top, capture_output=True, text=True)
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    root = Path(top)
+    if tracked.returncode != 0 or not (root / "calib" / "output.py").resolve() == Path(__file__).resolve():
+        return None
+    return root
+
+
+def package_version() -> str:
+    """The installed distribution's version ("unknown" when not installed)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("nfdcal")
+    except PackageNotFoundError:
+        return "unknown"
 
 
 def git_commit() -> str:
-    """The commit of the code that produced a result, with ``-dirty`` if the tree had changes."""
+    """Provenance of the code: the git commit (``-dirty`` if tracked files changed) when running
+    from a checkout, else ``nfdcal <version>`` of the installed package."""
+    root = _checkout_root()
+    if root is None:
+        return f"nfdcal {package_version()}"
     try:
-        sha = subprocess.run(["git", "rev-parse", "HEAD"], cwd=REPO_ROOT, capture_output=True,
+        sha = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True,
                              text=True, check=True).stdout.strip()
         dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
-                               cwd=REPO_ROOT, capture_output=True, text=True, check=True).stdout.strip()
+                               cwd=root, capture_output=True, text=True, check=True).stdout.strip()
         return sha + ("-dirty" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
-        return "unknown"
+        return f"nfdcal {package_version()}"
 
 
 def stamp(wall_time_s: float, mesh: Mapping[str, Any] | None = None, **extra: Any) -> dict:

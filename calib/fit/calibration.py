@@ -2,8 +2,8 @@
 
 Vu-Quoc & Zhang (1999), sections 2-3 (SPEC sections 3, 6, 7):
   1. mesh the hemisphere (meshes.hemisphere), solve the elastic-perfectly plastic von Mises
-     contact problem (calib.fe + calib.plasticity) along force-driven load paths with unloading
-     (calib.loadpath);
+     contact problem (calib.fe + calib.fe.von_mises) along force-driven load paths with unloading
+     (calib.fe.loadpath);
   2. decompose the FE contact radius a_ep = a_e + a_p and fit Ca (a_p = Ca <P - P_Y>) and Kc
      (C_R = a_ep^2 / (R alpha) = 1 + Kc <P - P_Y>) by least squares (calib.fit);
   3. also fit (Ca, Kc) to the FE force-approach curves through the runtime law itself
@@ -20,9 +20,9 @@ from typing import Callable
 
 import numpy as np
 
-from calib.fit import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
+from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
                        radius_law_data, relative_force_residuals, window_study)
-from calib.loadpath import LoadPathPlan, LoadPathResults, run_load_paths
+from calib.fe.loadpath import LoadPathPlan, LoadPathResults, run_load_paths
 from meshes.hemisphere import HemisphereMeshSpec
 from nfdmodel import ContactPair, Material, VZParams, get_law
 
@@ -164,8 +164,8 @@ def first_yield_load(hemisphere, material: Material) -> float:
     elastic FE solution: its peak stress scales as P^(1/3) (Hertz, Johnson 1985 eq. 4.23), so two
     fixed-point updates P <- P (sigma_Y / q_max)^3 from the theoretical P_Y converge."""
     from calib.fe import ContactSolver
-    from calib.materials import ElasticMaterial
-    from calib.plasticity import von_mises_stress
+    from calib.fe.elastic import ElasticMaterial
+    from calib.fe.von_mises import von_mises_stress
 
     solver = ContactSolver(hemisphere, ElasticMaterial(material.E, material.nu))
     pair = ContactPair.sphere_flat(material, hemisphere.radius)
@@ -243,7 +243,7 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
               ship: str = "radius") -> CalibrationResult:
     """Run the FE load paths of ``spec`` and fit the NFD parameters (see module docstring)."""
     from calib.fe import ContactSolver
-    from calib.plasticity import VonMisesMaterial
+    from calib.fe.von_mises import VonMisesMaterial
     from meshes.hemisphere import hemisphere_mesh
 
     if ship not in ("radius", "force"):

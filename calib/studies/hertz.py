@@ -95,7 +95,7 @@ def run_hertz(spec=None, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu=REF
     from dataclasses import replace
 
     from calib.fe import ContactSolver, run_load_path
-    from calib.materials import ElasticMaterial
+    from calib.fe.elastic import ElasticMaterial
     from meshes.hemisphere import hemisphere_mesh
 
     t_start = time.perf_counter()
@@ -213,13 +213,13 @@ def write_hertz_results(out, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu
     """Run the validation and write JSON + CSV + PNG into ``out``; returns the JSON summary."""
     from pathlib import Path
 
-    from calib import report
+    from calib import output
 
     out = Path(out)
     spec = default_spec(radius, contact_size)
     run = run_hertz(spec, radius=radius, E=E, nu=nu, loads=default_loads(P_min, P_max, steps),
                     cache_dir=cache_dir)
-    stamp = report.stamp(run.wall_time_s, mesh=run.mesh, time_mesh_s=run.time_mesh_s,
+    stamp = output.stamp(run.wall_time_s, mesh=run.mesh, time_mesh_s=run.time_mesh_s,
                          time_setup_s=run.time_setup_s, time_steps_s=run.time_steps_s,
                          time_assembly_s=sum(r["time_assembly_s"] for r in run.rows),
                          time_solve_s=sum(r["time_solve_s"] for r in run.rows))
@@ -236,21 +236,21 @@ def write_hertz_results(out, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu
                "residual_tolerance": run.rows[-1]["residual_tolerance"],
                "factorizations": sum(r["factorizations"] for r in run.rows),
                "steps": run.rows, "stamp": stamp}
-    report.write_json(out / "hertz.json", summary)
-    report.write_csv(out / "hertz_steps.csv", run.rows, comment=report.stamp_comment(stamp))
+    output.write_json(out / "hertz.json", summary)
+    output.write_csv(out / "hertz_steps.csv", run.rows, comment=output.stamp_comment(stamp))
     profile_rows = [dict(r=float(r), pressure=float(p), pressure_hertz=float(ph))
                     for r, p, ph in zip(run.pressure_profile["r"], run.pressure_profile["pressure"],
                                         run.pressure_profile["pressure_hertz"])]
-    report.write_csv(out / "pressure_profile.csv", profile_rows,
-                     comment=report.stamp_comment(stamp))
+    output.write_csv(out / "pressure_profile.csv", profile_rows,
+                     comment=output.stamp_comment(stamp))
     _plot_hertz(out, run, radius, E, nu)
     return summary
 
 
 def _plot_hertz(out, run, radius, E, nu):
-    from calib import report
+    from calib import output
 
-    plt = report.pyplot()
+    plt = output.pyplot()
     P = np.array([r["P"] for r in run.rows])
     Pf = np.geomspace(P.min(), P.max(), 200)
     h = run.mesh["contact_size"]
@@ -268,7 +268,7 @@ def _plot_hertz(out, run, radius, E, nu):
         ax_err.semilogx(P, [100 * r[f"{key}_rel_error"] for r in run.rows], "o-", ms=3)
         ax_err.axhline(0, color="k", lw=0.5)
         ax_err.set_xlabel("P [N]"), ax_err.set_ylabel("FE / Hertz - 1 [%]")
-        report.save_figure(fig, out / f"{name}.png")
+        output.save_figure(fig, out / f"{name}.png")
     prof = run.pressure_profile
     top = run.top_load
     fig, ax = plt.subplots(figsize=(6, 4))
@@ -281,7 +281,7 @@ def _plot_hertz(out, run, radius, E, nu):
     ax.set_xlabel("r [mm]"), ax.set_ylabel("contact pressure p [MPa]")
     ax.set_title(f"Pressure at P = {top['P']:.0f} N")
     ax.legend(fontsize=8)
-    report.save_figure(fig, out / "pressure_profile.png")
+    output.save_figure(fig, out / "pressure_profile.png")
 
 
 def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, radius=REFERENCE["radius"],
@@ -291,17 +291,17 @@ def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, radius=REFE
     import time
     from pathlib import Path
 
-    from calib import report
+    from calib import output
 
     out = Path(out)
     t0 = time.perf_counter()
     rows = run_ladder(contact_sizes, cache_dir=cache_dir, radius=radius, E=E, nu=nu,
                       loads=default_loads(P_min, P_max, steps))
     default_h = default_spec(radius).contact_size
-    stamp = report.stamp(time.perf_counter() - t0, mesh={"ladder_contact_sizes": list(contact_sizes),
+    stamp = output.stamp(time.perf_counter() - t0, mesh={"ladder_contact_sizes": list(contact_sizes),
                                                          "default_contact_size": default_h})
-    report.write_csv(out / "mesh_ladder.csv", rows, comment=report.stamp_comment(stamp))
-    plt = report.pyplot()
+    output.write_csv(out / "mesh_ladder.csv", rows, comment=output.stamp_comment(stamp))
+    plt = output.pyplot()
     fig, (ax, ax_abs) = plt.subplots(1, 2, figsize=(12, 4.5))
     t = np.array([r["wall_time_s"] for r in rows])
     default_t = [r["wall_time_s"] for r in rows if r["contact_size"] == default_h]
@@ -327,5 +327,5 @@ def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, radius=REFE
         if default_t:
             a_.axvline(default_t[0], color="k", ls=":", lw=1, label="default mesh")
         a_.legend(fontsize=7)
-    report.save_figure(fig, out / "mesh_ladder.png")
+    output.save_figure(fig, out / "mesh_ladder.png")
     return {"rows": rows, "default_choice": {"contact_size": default_h}, "stamp": stamp}

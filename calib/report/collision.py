@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from calib.report import REPO_ROOT, pyplot, save_figure, stamp, stamp_comment, write_csv, write_json
+from calib.output import RESULTS, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv, write_json
 
-DEFAULT_OUT = REPO_ROOT / "results" / "collision"
+DEFAULT_OUT = RESULTS / "collision"
 LAWS = ("vz", "thornton")
 SWEEP_VELOCITIES = np.round(np.linspace(0.02, 0.2, 19), 4)          # m/s
 BENCH_VELOCITIES = np.linspace(0.02, 0.2, 10)                       # m/s
@@ -60,7 +60,7 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
         params_source = "paper (Vu-Quoc & Zhang 1999)"
     else:  # repo-relative when inside the repo: results must not name this machine's paths
         resolved = Path(params_file).resolve()
-        params_source = str(resolved.relative_to(REPO_ROOT)) if resolved.is_relative_to(REPO_ROOT) else str(params_file)
+        params_source = display_path(resolved)
     pair = params.pair
     v_Y = pair.v_Y
     summary: dict = {"case": {"R": pair.R_star, "E_star": pair.E_star, "nu": pair.nu,

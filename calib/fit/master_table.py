@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-DATA_DIR = Path(__file__).resolve().parent / "data"
+DATA_DIR = Path(__file__).resolve().parent.parent / "data"   # calib/data: shipped with the package
 DEFAULT_TABLE = DATA_DIR / "master_table.csv"
 AXES = ("nu", "E_over_sigma_y")
 VALUES = ("Ca_hat", "Kc_hat")

@@ -1,0 +1,14 @@
+"""Scenes: a TOML file declares materials, a mesh level, what to run and which outputs.
+
+``schema`` validates a scene file into frozen dataclasses, ``plan`` turns it into FE specs and a
+cost estimate (``--dry-run``), ``run`` runs its stages, ``table`` calibrates every material of a
+sweep resumably; the built-in scenes are in ``builtin/``.
+"""
+from calib.scenes.plan import calibration_spec, estimate_dofs, format_plan, plan, plastic_needed
+from calib.scenes.run import Progress, run_scene, terminal_progress
+from calib.scenes.schema import Scene, SceneError, builtin_scenes, load_scene, parse_scene
+from calib.scenes.table import run_table, write_master_table
+
+__all__ = ["Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "calibration_spec",
+           "estimate_dofs", "format_plan", "plan", "plastic_needed", "Progress", "run_scene",
+           "terminal_progress", "run_table", "write_master_table"]

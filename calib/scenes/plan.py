@@ -1,0 +1,180 @@
+"""The plan of a scene: FE specs per material and stage, mesh size and run-time estimates (--dry-run)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from calib.scenes.schema import (REFERENCE_CONTACT_SIZES, SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, MeshChoice,
+                                 Scene, SceneError, SceneMaterial)
+
+
+# ----------------------------------------------------------------------------- FE specs
+def mesh_spec(scene_mesh: MeshChoice, material: SceneMaterial, a_max: float):
+    """The hemisphere mesh for a largest contact radius ``a_max`` [m] (spec_for's recipe), or the
+    reference mesh family for the reference sphere (so its cached meshes are reused)."""
+    from meshes.hemisphere import HemisphereMeshSpec
+
+    if material.is_reference and scene_mesh.contact_size_over_a_max is None and a_max <= 1.5e-3:
+        size = scene_mesh.contact_size or REFERENCE_CONTACT_SIZES[scene_mesh.level or "default"]
+        return HemisphereMeshSpec(contact_size=size)
+    h = scene_mesh.contact_size if scene_mesh.contact_size is not None else a_max * scene_mesh.ratio()
+    R = material.R
+    refined_radius = min(max(1.1 * a_max, 2 * h), 0.9 * R)
+    refined_depth = min(max(0.35 * a_max, 2 * h), 0.9 * R)
+    return HemisphereMeshSpec(radius=R, contact_size=h, refined_radius=refined_radius,
+                              refined_depth=refined_depth, far_size=max(R / 10, h))
+
+
+def calibration_spec(scene: Scene, material: SceneMaterial):
+    """The CalibrationSpec of one material of ``scene`` (load paths and mesh)."""
+    from calib.fit.calibration import CalibrationSpec, check_calibration_inputs, estimated_contact_radius
+    from calib.fe.loadpath import LoadPathPlan
+
+    pair = material.pair()
+    stage = scene.load_paths or LoadPathStage()
+    peaks = stage.peaks(pair)
+    try:
+        check_calibration_inputs(material.material(), material.R, peaks[-1])
+    except ValueError as exc:
+        raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
+    a_max = estimated_contact_radius(pair, peaks[-1])
+    plan = LoadPathPlan(peaks=peaks, loading_step=peaks[-1] / stage.loading_steps,
+                        unloading_steps=stage.unloading_steps,
+                        first_load=min(0.5 * pair.P_Y, peaks[0], 20.0 if material.is_reference else math.inf))
+    return CalibrationSpec(material=material.material(), radius=material.R,
+                           mesh=mesh_spec(scene.mesh, material, a_max), plan=plan)
+
+
+def hertz_mesh_spec(scene: Scene, material: SceneMaterial):
+    pair = material.pair()
+    _, top = scene.hertz.loads(pair)
+    return mesh_spec(scene.mesh, material, float(pair.hertz_radius(top)))
+
+
+def estimate_dofs(spec) -> int:
+    """Degrees of freedom of the P2 mesh of ``spec`` without meshing: elements ~ integral of
+    1 / (area of an equilateral triangle of size h(r, z)) over the section, dofs ~ 4.12 x
+    elements (both constants fitted on the reference default mesh: 2,939 elements, 12,112 dofs)."""
+    import numpy as np
+
+    R = spec.radius
+    # polar-like quadrature refined towards the pole, where h is smallest
+    n = 400
+    s = np.geomspace(1e-7, 1.0, n) * R  # distance from the pole
+    theta = np.linspace(0, np.pi / 2, 60)
+    S, T = np.meshgrid(s, theta, indexing="ij")
+    r, z = S * np.cos(T), S * np.sin(T)
+    inside = r**2 + (z - R) ** 2 <= R**2
+    h = spec.size_at(r, z)
+    density = np.where(inside, 1.0 / (np.sqrt(3) / 4 * h**2), 0.0) * S  # Jacobian s
+    elements = np.trapezoid(np.trapezoid(density, theta, axis=1), s)
+    return int(4.12 * elements * ESTIMATE_CALIBRATION)
+
+
+ESTIMATE_CALIBRATION = 1.0  # set below on first use against the reference mesh
+
+
+def _calibrate_estimator():
+    global ESTIMATE_CALIBRATION
+    from meshes.hemisphere import HemisphereMeshSpec
+
+    if ESTIMATE_CALIBRATION == 1.0:
+        raw = estimate_dofs(HemisphereMeshSpec())
+        ESTIMATE_CALIBRATION = 12112.0 / raw
+
+
+def mesh_dofs(spec) -> tuple[int, bool]:
+    """(dofs, exact) of a mesh: counted from the cached file if there is one, else estimated."""
+    from meshes.hemisphere import mesh_path
+
+    path = mesh_path(spec)
+    if path.is_file():
+        try:
+            import meshio
+
+            raw = meshio.read(path, file_format="gmsh")
+            return int(2 * (raw.cells_dict["triangle6"].max() + 1)), True
+        except Exception:  # a corrupt cache entry is rebuilt at run time: estimate
+            pass
+    _calibrate_estimator()
+    return estimate_dofs(spec), False
+
+
+def step_seconds(dofs: int) -> float:
+    """Estimated wall time of one FE load step [s] (linear in dofs, from the reference run)."""
+    return SECONDS_PER_STEP_AT_12K_DOFS * max(dofs, 500) / 12112.0
+
+
+# ----------------------------------------------------------------------------- plan
+@dataclass
+class PlannedStage:
+    stage: str
+    material: str
+    mesh_key: str
+    mesh_cached: bool
+    dofs: int
+    dofs_exact: bool
+    fe_steps: int
+    elastic: bool
+    estimate_s: float
+    detail: str = ""
+
+
+def plastic_needed(scene: Scene, material: SceneMaterial) -> bool:
+    """Does this material's stage need the return mapping? Not when every load stays below P_Y
+    (theory; the FE's first yield is within 1 % of it at the default mesh) and nothing is calibrated."""
+    if scene.calibration_ship is not None:
+        return True
+    if scene.load_paths is None:
+        return False
+    pair = material.pair()
+    return max(scene.load_paths.peaks(pair)) >= pair.P_Y
+
+
+def plan(scene: Scene) -> list[PlannedStage]:
+    """What ``run`` will do, per material and stage, with meshes and an estimated wall time."""
+    from meshes.hemisphere import mesh_path
+
+    out = []
+    for material in scene.materials:
+        if scene.hertz is not None:
+            spec = hertz_mesh_spec(scene, material)
+            dofs, exact = mesh_dofs(spec)
+            steps = scene.hertz.steps
+            out.append(PlannedStage("hertz", material.name, spec.cache_key(), mesh_path(spec).is_file(), dofs, exact,
+                                    steps, True, steps * step_seconds(dofs) / 3,  # elastic: no Newton re-assembly
+                                    f"elastic, P = {scene.hertz.loads(material.pair())[0]:.4g} .. "
+                                    f"{scene.hertz.loads(material.pair())[1]:.4g} N"))
+        if scene.load_paths is not None:
+            spec = calibration_spec(scene, material)
+            dofs, exact = mesh_dofs(spec.mesh)
+            elastic = not plastic_needed(scene, material)
+            n_load = len(spec.plan.loading_targets())
+            n_unload = (spec.plan.unloading_steps + 0) * len(spec.plan.peaks) if scene.load_paths.unload else 0
+            steps = n_load + n_unload + (3 if scene.calibration_ship else 0)
+            name = "calibration" if scene.calibration_ship else "load_paths"
+            out.append(PlannedStage(name, material.name, spec.mesh.cache_key(), mesh_path(spec.mesh).is_file(),
+                                    dofs, exact, steps, elastic,
+                                    steps * step_seconds(dofs) / (3 if elastic else 1),
+                                    f"{'elastic' if elastic else 'elastoplastic'}, P_max = "
+                                    f"{', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N, "
+                                    f"{'loading and unloading' if scene.load_paths.unload else 'loading only'}"))
+        if scene.collision is not None:
+            out.append(PlannedStage("collision", material.name, "-", True, 0, True, 0, False, 1.0,
+                                    f"laws {', '.join(scene.collision.laws)}"))
+    return out
+
+
+def format_plan(scene: Scene, stages: list[PlannedStage]) -> str:
+    lines = [f"scene {scene.name} ({scene.source}): {len(scene.materials)} material(s), mesh {scene.mesh.label()}",
+             f"outputs: {scene.out_dir()} (plots {'on' if scene.outputs.plots else 'off'}, vtu "
+             f"{'on' if scene.outputs.vtu else 'off'}, histories {'on' if scene.outputs.histories else 'off'})",
+             f"{'stage':<12} {'material':<20} {'mesh':<17} {'cached':<7} {'dofs':>8} {'steps':>6} {'est. s':>8}  detail"]
+    for s in stages:
+        dofs = f"{s.dofs}" if s.dofs_exact else f"~{s.dofs}"
+        lines.append(f"{s.stage:<12} {s.material:<20} {s.mesh_key:<17} {('yes' if s.mesh_cached else 'build'):<7} "
+                     f"{dofs:>8} {s.fe_steps:>6} {s.estimate_s:>8.0f}  {s.detail}")
+    total = sum(s.estimate_s for s in stages)
+    lines.append(f"estimated total: {total:.0f} s on one process (from the reference: "
+                 f"{SECONDS_PER_STEP_AT_12K_DOFS} s per FE step at 12k dofs, linear in dofs)")
+    return "\n".join(lines)

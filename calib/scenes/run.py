@@ -1,0 +1,250 @@
+"""Running a scene: every stage of every material, written to the scene's output folder."""
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from calib import output
+from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed
+from calib.scenes.schema import Scene
+
+
+# ----------------------------------------------------------------------------- progress
+class Progress:
+    """Progress lines on stderr with elapsed time and an estimate of what is left; silent when
+    ``enabled`` is false (--quiet, or stderr not a terminal)."""
+
+    def __init__(self, enabled: bool, total_estimate_s: float = 0.0, stream=None):
+        self.enabled = enabled
+        self.total = total_estimate_s
+        self.start = time.perf_counter()
+        self.stream = stream or sys.stderr
+        self.prefix = ""
+
+    def __call__(self, message: str) -> None:
+        if not self.enabled:
+            return
+        elapsed = time.perf_counter() - self.start
+        left = f", ~{max(self.total - elapsed, 0):.0f} s left" if self.total else ""
+        print(f"  [{elapsed:6.1f} s{left}] {self.prefix}{message}", file=self.stream, flush=True)
+
+
+def terminal_progress(quiet: bool, total_estimate_s: float = 0.0) -> Progress:
+    return Progress(not quiet and sys.stderr.isatty(), total_estimate_s)
+
+
+# ----------------------------------------------------------------------------- run
+def run_loading_branch(solver, plan, progress=None) -> list[dict]:
+    """The loading branch of ``plan`` only (a loading-only scene never unloads): one history
+    row per accepted FE step, as in calib.fe.loadpath.run_load_paths."""
+    from calib.fe.loadpath import advance, plastic_zone
+
+    say = progress or (lambda message: None)
+    quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)
+    rows: list[dict] = []
+
+    def record(result, before):
+        rows.append({"path": "loading", "branch": "loading", **result.record.as_dict(),
+                     **plastic_zone(result.state, quadrature_r, quadrature_z)})
+
+    state = solver.initial_state()
+    targets = plan.loading_targets()
+    for k, target in enumerate(targets, 1):
+        state = advance(solver, state, "force", target, plan.min_step_fraction, record)
+        say(f"load step {k}/{len(targets)}: P = {state.force:.4g} N")
+    return rows
+
+
+def calibrate_loading_only(spec, progress=None) -> dict:
+    """Ca, Kc from the loading branch alone (the radius fit of calib.fit.calibration, which uses only
+    the loading points): about half the FE steps of a full calibration. Returns a dict with the
+    fit, P_Y (theory and FE first yield), mesh, wall time and the loading rows."""
+    from calib.fit.calibration import first_yield_load
+    from calib.fe import ContactSolver
+    from calib.fit.least_squares import fit_radius_law, radius_law_data
+    from calib.fe.von_mises import VonMisesMaterial
+    from meshes.hemisphere import hemisphere_mesh
+
+    t0 = time.perf_counter()
+    hemisphere = hemisphere_mesh(spec.mesh)
+    pair = spec.pair
+    material = spec.material
+    P_Y_fe = first_yield_load(hemisphere, material)
+    solver = ContactSolver(hemisphere, VonMisesMaterial(material.E, material.nu, material.sigma_y),
+                           residual_tolerance=spec.residual_tolerance,
+                           contact_radius_method=spec.contact_radius_method)
+    rows = run_loading_branch(solver, spec.plan, progress)
+    data = radius_law_data([r["P"] for r in rows], [r["alpha"] for r in rows],
+                           [r["contact_radius"] for r in rows],
+                           R_star=pair.R_star, E_star=pair.E_star, P_Y=pair.P_Y)
+    fit = fit_radius_law(data)
+    return {"fit": fit, "P_Y_fe": P_Y_fe, "rows": rows, "wall_time_s": time.perf_counter() - t0,
+            "mesh": {**spec.mesh.describe(), "elements": int(hemisphere.mesh.nelements), "dofs": int(solver.n_dofs)}}
+
+
+def _run_hertz(scene, material, out, progress) -> dict:
+    import numpy as np
+
+    from calib.studies.hertz import run_hertz
+
+    pair = material.pair()
+    low, top = scene.hertz.loads(pair)
+    spec = hertz_mesh_spec(scene, material)
+    progress(f"hertz validation: {material.name}, P = {low:.4g} .. {top:.4g} N")
+    run = run_hertz(spec, radius=material.R, E=material.E, nu=material.nu,
+                    loads=np.geomspace(low, top, scene.hertz.steps))
+    summary = {"material": material.inputs(), "top_load": run.top_load, "mesh": run.mesh,
+               "finite_size_coefficient": run.finite_size_coefficient, "wall_time_s": run.wall_time_s}
+    stamp = output.stamp(run.wall_time_s, mesh=run.mesh)
+    output.write_json(out / "hertz.json", {**summary, "stamp": stamp})
+    if scene.outputs.histories:
+        output.write_csv(out / "hertz_steps.csv", run.rows, comment=output.stamp_comment(stamp))
+    if scene.outputs.plots:
+        from calib.studies.hertz import _plot_hertz
+
+        _plot_hertz(out, run, material.R, material.E, material.nu)
+    return summary
+
+
+def _run_load_paths(scene, material, out, progress) -> dict:
+    """Load paths without calibration: elastic material when every P_max < P_Y."""
+    from calib.fe import ContactSolver
+    from calib.fe.loadpath import run_load_paths
+    from calib.fe.elastic import ElasticMaterial
+    from meshes.hemisphere import hemisphere_mesh
+
+    t0 = time.perf_counter()
+    spec = calibration_spec(scene, material)
+    elastic = not plastic_needed(scene, material)
+    if elastic:
+        fe_material = ElasticMaterial(material.E, material.nu)
+    else:
+        from calib.fe.von_mises import VonMisesMaterial
+
+        fe_material = VonMisesMaterial(material.E, material.nu, material.sigma_y)
+    hemisphere = hemisphere_mesh(spec.mesh)
+    solver = ContactSolver(hemisphere, fe_material)
+    progress(f"load paths: {material.name}, {'elastic' if elastic else 'elastoplastic'}, "
+             f"P_max = {', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N")
+    paths_out = []
+    if scene.load_paths.unload:
+        result = run_load_paths(solver, spec.plan, progress=progress)
+        rows = [r for p in result.paths for r in p.rows if r["branch"] == "unloading"]
+        rows = result.loading_rows + rows
+        paths_out = [{"P_max": p.peak, "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
+                      "e": p.restitution} for p in result.paths]
+    else:
+        rows = run_loading_branch(solver, spec.plan, progress)
+    mesh = {**spec.mesh.describe(), "dofs": int(solver.n_dofs), "elements": int(hemisphere.mesh.nelements)}
+    wall = time.perf_counter() - t0
+    summary = {"material": material.inputs(), "elastic": elastic, "P_Y": material.pair().P_Y,
+               "peaks": list(spec.plan.peaks), "unload": scene.load_paths.unload, "paths": paths_out,
+               "steps": len(rows), "mesh": mesh, "wall_time_s": wall}
+    stamp = output.stamp(wall, mesh=mesh)
+    output.write_json(out / "load_paths.json", {**summary, "stamp": stamp})
+    if scene.outputs.histories:
+        output.write_csv(out / "load_paths.csv", rows, comment=output.stamp_comment(stamp))
+    if scene.outputs.plots:
+        plt = output.pyplot()
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot([r["alpha"] * 1e6 for r in rows], [r["P"] for r in rows], "o-", ms=3)
+        ax.set_xlabel("approach alpha [um]"); ax.set_ylabel("P [N]"); ax.grid(alpha=0.3)
+        ax.set_title(f"{material.name}: FE load paths")
+        output.save_figure(fig, out / "force_approach.png")
+    return summary
+
+
+def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
+    from calib.fit import calibration
+    from calib.report import calibration as calibration_report
+
+    spec = calibration_spec(scene, material)
+    progress(f"calibration: {material.name}, P_max = {', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N")
+    if not scene.load_paths.unload:
+        res = calibrate_loading_only(spec, progress)
+        from nfdmodel import VZParams, parameter_record
+
+        params = VZParams(spec.pair, res["fit"].Ca.slope, res["fit"].Kc.slope)
+        stamp = output.stamp(res["wall_time_s"], mesh=res["mesh"])
+        record = parameter_record(params, material.R, spec.material)
+        record.update({"fit": {"shipped": "radius", "loading_only": True,
+                               "Ca_r2": res["fit"].Ca.r_squared, "Ca_se": res["fit"].Ca.standard_error,
+                               "Kc_r2": res["fit"].Kc.r_squared, "Kc_se": res["fit"].Kc.standard_error},
+                       "P_Y_fe": res["P_Y_fe"], "mesh": res["mesh"], "stamp": stamp})
+        output.write_json(out / "parameters.json", record)
+        if scene.outputs.histories:
+            output.write_csv(out / "loading.csv", res["rows"], comment=output.stamp_comment(stamp))
+        return {"Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
+                "P_Y": spec.pair.P_Y, "P_Y_fe": res["P_Y_fe"], "wall_time_s": res["wall_time_s"],
+                "mesh": res["mesh"], "loading_only": True}, params
+    result = calibration.calibrate(spec, progress=progress, ship=scene.calibration_ship)
+    if scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu:
+        calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu)
+    else:  # the parameter file and the summary only
+        stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
+        output.write_json(out / "parameters.json", calibration_report.parameter_file(result, stamp))
+        output.write_json(out / "calibration.json", {**calibration.summary(result), "stamp": stamp})
+    s = calibration.summary(result)
+    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh")},
+            "loading_only": False, "shipped_fit": s["shipped_fit"]}, result.params
+
+
+def _run_collision(scene, material, out, params, progress) -> dict:
+    import warnings
+
+    from nfdmodel import collide
+
+    pair = material.pair()
+    source = "calibration"
+    if params is None and "vz" in scene.collision.laws:
+        from calib.fit.master_table import MasterTable
+
+        table = MasterTable.load()
+        values = table.parameters(material.E, material.nu, material.sigma_y, material.R, material.rho)
+        from nfdmodel import VZParams
+
+        params = VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"])
+        source = f"master table ({table.meta.get('accuracy', 'accuracy not stated')})"
+    velocities = scene.collision.velocities(pair)
+    progress(f"collision: {material.name}, {len(velocities)} velocities, laws {', '.join(scene.collision.laws)}")
+    rows = []
+    t0 = time.perf_counter()
+    for law in scene.collision.laws:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            result = collide(law, params if params is not None else pair, velocities, dt=None)
+        rows += [{"law": law, "v_in_over_v_Y": r["v_in"] / pair.v_Y, **r} for r in result.records()]
+    stamp = output.stamp(time.perf_counter() - t0, vz_parameters=source)
+    output.write_csv(out / "collision.csv", rows, comment=output.stamp_comment(stamp))
+    return {"rows": len(rows), "vz_parameters": source}
+
+
+def run_scene(scene: Scene, out: str | Path | None = None, progress=None) -> dict:
+    """Run every stage of every material of ``scene``; returns the summary (also written to
+    OUT/scene.json). One folder per material when the scene has several."""
+    say = progress or (lambda message: None)
+    base = scene.out_dir(out)
+    t0 = time.perf_counter()
+    results = []
+    n = len(scene.materials)
+    for k, material in enumerate(scene.materials, 1):
+        folder = base / material.name if n > 1 else base
+        if isinstance(say, Progress):
+            say.prefix = f"material {k}/{n} ({material.name}): " if n > 1 else ""
+        entry = {"material": material.inputs()}
+        params = None
+        if scene.hertz is not None:
+            entry["hertz"] = _run_hertz(scene, material, folder, say)
+        if scene.calibration_ship is not None:
+            entry["calibration"], params = _run_calibration(scene, material, folder, say)
+        elif scene.load_paths is not None:
+            entry["load_paths"] = _run_load_paths(scene, material, folder, say)
+        if scene.collision is not None:
+            entry["collision"] = _run_collision(scene, material, folder, params, say)
+        results.append(entry)
+    wall = time.perf_counter() - t0
+    summary = {"scene": scene.name, "source": scene.source, "stages": scene.stages(), "materials": results,
+               "wall_time_s": wall}
+    output.write_json(base / "scene.json", {**summary, "stamp": output.stamp(wall)})
+    return summary
