@@ -16,7 +16,9 @@ from .laws import (LAWS, NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, ContactDetails
                    WaltonBraunState, get_law, hertz_force, hertz_step, thornton_force, thornton_step,
                    vz_force, vz_force_with_iterations, vz_newton_iterations, vz_plastic_force,
                    vz_step, walton_braun_force, walton_braun_step)
-from .materials import ContactPair, Material, check_real, yield_factor
+from . import reference_case
+from .materials import ContactPair, Material, yield_factor
+from .validation import check_real
 from .params import load_parameters, parameter_record
 
 __all__ = [
@@ -25,7 +27,7 @@ __all__ = [
     "WaltonBraunState", "HistoryUpdate", "hertz_force", "vz_force", "vz_force_with_iterations",
     "vz_newton_iterations", "vz_plastic_force", "thornton_force", "walton_braun_force", "hertz_step",
     "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE", "NEWTON_MAX_ITERATIONS",
-    "check_real",
+    "check_real", "reference_case",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning",
 ]

@@ -50,7 +50,9 @@ from typing import Callable
 
 import numpy as np
 
-from .materials import REFERENCE_CA, REFERENCE_KC, ContactPair, check_real
+from . import reference_case
+from .materials import ContactPair
+from .validation import check_real
 
 NEWTON_TOLERANCE = 1e-10        # relative tolerance on P of the vz plastic-loading solve
 NEWTON_MAX_ITERATIONS = 200     # never reached: the bracket halves at worst every other step
@@ -115,7 +117,7 @@ class VZParams:
     @classmethod
     def reference(cls) -> "VZParams":
         """The paper's reference case with its Abaqus calibration Ca = 2.33e-7 m/N, Kc = 2.69e-4 1/N."""
-        return cls(ContactPair.reference(), REFERENCE_CA, REFERENCE_KC)
+        return cls(ContactPair.reference(), reference_case.CA, reference_case.KC)
 
     @property
     def Ca_hat(self) -> float:

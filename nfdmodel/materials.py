@@ -15,46 +15,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
-from numbers import Real
 
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-# Reference case of Vu-Quoc & Zhang (1999), section 2: aluminium sphere on a rigid flat.
-REFERENCE_E = 70e9            # Pa
-REFERENCE_NU = 0.3            # -
-REFERENCE_SIGMA_Y = 100e6     # Pa
-REFERENCE_RHO = 2699.0        # kg/m^3
-REFERENCE_R = 0.1             # m
-REFERENCE_CA = 2.33e-7        # m/N   (paper's Abaqus calibration)
-REFERENCE_KC = 2.69e-4        # 1/N
+from . import reference_case
+from .validation import check_real
 
-
-def check_real(name: str, value, *, low: float | None = None, low_inclusive: bool = False,
-               high: float | None = None, high_inclusive: bool = False, unit: str = "") -> float:
-    """Return ``value`` as a finite float, or raise ValueError naming ``name`` and its range."""
-    bounds = []
-    if low is not None:
-        bounds.append(f"{name} {'>=' if low_inclusive else '>'} {low:g}")
-    if high is not None:
-        bounds.append(f"{name} {'<=' if high_inclusive else '<'} {high:g}")
-    allowed = " and ".join(bounds) if bounds else f"{name} finite"
-    allowed += f" {unit}".rstrip() if unit else ""
-    if isinstance(value, (bool, np.bool_)):        # float(True) == 1.0: never a silent number
-        raise ValueError(f"{name} must be a number ({allowed}), got {value!r}")
-    if not isinstance(value, (Real, np.number)):
-        try:
-            value = float(value)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be a number ({allowed}), got {value!r}") from None
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite ({allowed}), got {value}")
-    if low is not None and (value < low or (value == low and not low_inclusive)):
-        raise ValueError(f"{name} out of range: need {allowed}, got {value:g}")
-    if high is not None and (value > high or (value == high and not high_inclusive)):
-        raise ValueError(f"{name} out of range: need {allowed}, got {value:g}")
-    return value
 
 
 def axis_stress_difference(zeta, nu: float):
@@ -113,7 +80,7 @@ class Material:
     @classmethod
     def reference(cls) -> "Material":
         """The paper's aluminium: E = 70 GPa, nu = 0.3, sigma_Y = 100 MPa, rho = 2699 kg/m^3."""
-        return cls(REFERENCE_E, REFERENCE_NU, REFERENCE_SIGMA_Y, REFERENCE_RHO)
+        return cls(reference_case.E, reference_case.NU, reference_case.SIGMA_Y, reference_case.RHO)
 
     @property
     def plane_strain_modulus(self) -> float:
@@ -207,7 +174,7 @@ class ContactPair:
     @classmethod
     def reference(cls) -> "ContactPair":
         """The paper's reference case: aluminium sphere R = 0.1 m on a rigid flat."""
-        return cls.sphere_flat(Material.reference(), REFERENCE_R)
+        return cls.sphere_flat(Material.reference(), reference_case.R)
 
     @cached_property
     def A_Y(self) -> float:
