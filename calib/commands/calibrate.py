@@ -39,23 +39,22 @@ def add_parser(subparsers) -> None:
 
 def run(ns) -> int:
     import dataclasses
-    import sys
 
     from calib import output
+    from calib.commands.progress import progress_reporter
     from calib.fit import calibration
     from calib.report import calibration as calibration_report
     from calib.fe.loadpath import LoadPathPlan
 
-    verbose = not ns.quiet and sys.stderr.isatty()
-    progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
     if ns.ladder:
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
                              " do not combine it with --R, --peaks or --contact-size")
         material = None if is_reference(ns) else material_from_args(ns)[0]
         name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
-        path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
-                                              progress=progress, material=material, name=name)
+        with progress_reporter(ns.quiet) as progress:
+            path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
+                                                  progress=progress, material=material, name=name)
         print(f"mesh ladder written to {path}")
         return 0
     material, radius = material_from_args(ns)
@@ -77,7 +76,8 @@ def run(ns) -> int:
         spec = calibration.spec_for(material, radius, peaks=peaks)
         if contact_size is not None:
             spec = dataclasses.replace(spec, mesh=dataclasses.replace(spec.mesh, contact_size=contact_size))
-    result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+    with progress_reporter(ns.quiet) as progress:
+        result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
     out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,
                                    plots=not ns.no_plots, vtu=not ns.no_plots)
     summary = calibration.summary(result)

@@ -84,6 +84,9 @@ def run(ns) -> int:
         return 0
     if ns.out is not None:
         raise ValueError("--out applies to --report only")
+    dt = None if str(ns.dt).strip().lower() == "auto" else number("--dt", ns.dt)
+    if dt is not None and dt <= 0:
+        raise ValueError(f"--dt out of range: need dt > 0 s, got {dt:g}")
     if not ns.v_in:
         raise ValueError("--v-in is required: one or more incoming velocities [m/s] (> 0)")
     import numpy as np
@@ -91,9 +94,6 @@ def run(ns) -> int:
     from nfdmodel import collide
 
     velocities = np.array([number("--v-in", v) for v in ns.v_in])
-    dt = None if str(ns.dt).strip().lower() == "auto" else number("--dt", ns.dt)
-    if dt is not None and dt <= 0:
-        raise ValueError(f"--dt out of range: need dt > 0 s, got {dt:g}")
     law, params = build_params(ns)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
