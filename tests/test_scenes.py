@@ -52,7 +52,8 @@ def test_builtin_scenes_validate_and_cite_their_sources():
     (MATERIAL + "[load_paths]\nP_max = [10.0]\n[calibration]\n", ["load_paths.P_max", "> 2 P_Y"]),
     (MATERIAL + "[load_paths]\nunload = 1\n", ["load_paths.unload", "true or false"]),
     (MATERIAL, ["nothing to run"]),
-])
+], ids=["unknown key", "unknown section", "nu out of range", "E a string", "R missing", "unknown mesh level",
+        "loads below yield", "unload not boolean", "nothing to run"])
 def test_invalid_scene_is_one_line_naming_file_and_key(tmp_path, monkeypatch, capsys, body, words):
     path = write(tmp_path, body)
     with pytest.raises(ValueError) as info:
