@@ -1,4 +1,8 @@
-"""``nfdcal calibrate``: FE load paths of a sphere on a rigid flat -> Ca, Kc (SPEC sections 3, 6, 7).
+"""``nfdcal calibrate``: FE load paths of a sphere on a rigid flat -> Ca, Kc of the NFD law.
+
+The plastic contact radius is a_p = Ca <P - P_Y> and the curvature factor 1 + Kc <P - P_Y>
+(Vu-Quoc & Zhang 1999, eq. 2.5; README, The model: The NFD law); Ca [m/N] and Kc [1/N] are
+fitted by least squares to FE load paths that go beyond first yield P_Y [N].
 
     nfdcal calibrate                      # the reference case, results into results/calibration
     nfdcal calibrate --json               # also print the summary object (Ca, Kc, Ca_hat, ...)
@@ -11,6 +15,7 @@ stderr when it is a terminal (silence it with --quiet).
 from __future__ import annotations
 
 from calib.commands.common import add_material_arguments, is_reference, material_from_args, number
+from nfdmodel import reference_case
 
 
 def add_parser(subparsers) -> None:
@@ -19,8 +24,8 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
-                        help="P_max of the load paths [N] (default: 500 1000 1500 for the reference"
-                             " case, else 13.7 27.4 41.2 x P_Y)")
+                        help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
+                             " for the reference case, else 13.7 27.4 41.2 x P_Y)")
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")

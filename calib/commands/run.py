@@ -7,7 +7,7 @@
 
 The scene is validated before anything runs (an unknown key, a wrong type or a value out of
 range is one line naming the file and the key, exit code 2). Progress goes to stderr when it is
-a terminal (silence it with --quiet). Scene format: calib/scenes.py.
+a terminal (silence it with --quiet). Scene format: calib/scenes/schema.py.
 """
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""``nfdcal stability``: the runtime laws, collisions and FE calibration on extreme cases (issue 6).
+"""``nfdcal stability``: the runtime laws, collisions and FE calibration on extreme cases.
 
     nfdcal stability [--out results/stability] [--runtime | --fe] [--workers 2]
 
