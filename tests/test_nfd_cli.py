@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from calib.cli import main
+from calib.cli import build_parser, join_negative_values, main
 from nfdmodel import Material, VZParams, load_parameters, parameter_record
 
 
@@ -136,3 +136,14 @@ def test_report_generates_results(tmp_path, capsys, monkeypatch):
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["stamp"]["git_commit"]
     assert summary["thornton_closed_form_check"]["max_relative_error"] < 5e-3
+
+
+@pytest.mark.parametrize("argv, joined", [
+    (["collide", "--dt", "-1e-6"], ["collide", "--dt=-1e-6"]),                  # one value: joined
+    (["collide", "--Kc", "-1E-4", "--json"], ["collide", "--Kc=-1E-4", "--json"]),
+    (["collide", "--v-in", "-1e-3"], ["collide", "--v-in", "-1e-3"]),           # several values: left alone
+    (["collide", "--dt", "auto", "-1e-6"], ["collide", "--dt", "auto", "-1e-6"]),  # not after its flag
+    (["collide", "--law", "-vz"], ["collide", "--law", "-vz"]),                 # not a number
+], ids=["dt", "Kc", "v-in", "stray value", "not a number"])
+def test_negative_values_are_joined_to_one_value_flags(argv, joined):
+    assert join_negative_values(argv, build_parser().one_value_flags) == joined
