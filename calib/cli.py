@@ -2,13 +2,19 @@
 
 Every sub-command lives in ``calib.commands``. Bad input (a ValueError from our own validation,
 or an OSError such as a missing input file or an unwritable output folder) is reported as one
-line on stderr with exit code 2, never a traceback.
+line on stderr with exit code 2, never a traceback; so is a usage error.
+
+A negative value in scientific notation may follow its flag (``--dt -1e-6``): argparse reads a
+token that starts with '-' as an option unless it looks like -1 or -0.5, so before parsing such
+a token is joined to the flag before it (``--dt=-1e-6``, argparse's own spelling of a value)
+when that flag takes exactly one value. Flags that take several values (``--v-in``,
+``--peaks``) are left alone.
 """
 from __future__ import annotations
 
 import argparse
+import functools
 import importlib
-import re
 import sys
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
@@ -16,19 +22,47 @@ COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", 
 
 
 class _Parser(argparse.ArgumentParser):
-    """argparse with two fixes for a numerical CLI: a negative number in scientific notation
-    (``--dt -1e-6``) is a value, not an option (argparse only knows -1 and -0.5), so run()
-    can answer with the parameter's range; and a usage error is ONE line, exit code 2."""
+    """argparse whose usage error is ONE line (exit code 2), and which records the flags that
+    take exactly one value in ``one_value_flags`` (a set shared with its sub-parsers)."""
 
-    def __init__(self, *args, **kwargs):
+    def __init__(self, *args, one_value_flags: set[str] | None = None, **kwargs):
         super().__init__(*args, **kwargs)
-        self._negative_number_matcher = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+        self.one_value_flags = set() if one_value_flags is None else one_value_flags
+
+    def add_argument(self, *args, **kwargs):
+        action = super().add_argument(*args, **kwargs)
+        if action.option_strings and action.nargs is None:
+            self.one_value_flags.update(action.option_strings)
+        return action
+
+    def add_subparsers(self, **kwargs):
+        kwargs.setdefault("parser_class", functools.partial(_Parser, one_value_flags=self.one_value_flags))
+        return super().add_subparsers(**kwargs)
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
+def _is_number(token: str) -> bool:
+    try:
+        float(token)
+    except ValueError:
+        return False
+    return True
+
+
+def join_negative_values(argv: list[str], one_value_flags: set[str]) -> list[str]:
+    """``['--dt', '-1e-6']`` -> ``['--dt=-1e-6']`` for every flag in ``one_value_flags``."""
+    joined: list[str] = []
+    for token in argv:
+        if joined and joined[-1] in one_value_flags and token.startswith("-") and _is_number(token):
+            joined[-1] = f"{joined[-1]}={token}"
+        else:
+            joined.append(token)
+    return joined
+
+
+def build_parser() -> _Parser:
     parser = _Parser(
         prog="nfdcal",
         description="FE-calibrated elastoplastic normal contact laws for DEM (Vu-Quoc & Zhang 1999).",
@@ -47,7 +81,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
-    ns = parser.parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    ns = parser.parse_args(join_negative_values(argv, parser.one_value_flags))
     try:
         return int(ns.run(ns) or 0)
     except (ValueError, OSError) as exc:  # OSError: a missing file, an output folder under a file

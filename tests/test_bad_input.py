@@ -1,19 +1,27 @@
-"""Issue 6, bad input (second list; tests/test_bad_inputs_everywhere.py and test_nfd_cli.py hold
-the first): each bad input gets a clear error naming the parameter and its range. From the CLI:
-exit code 2, ONE line on stderr, no traceback. Most of these gave a traceback (OverflowError,
-ZeroDivisionError), an endless loop, NaN, or a silently accepted value before issue 6.
+"""Bad input, second list (tests/test_bad_inputs_everywhere.py and test_nfd_cli.py hold the
+first): each bad input gets a clear error naming the parameter and its range. From the CLI: exit
+code 2, ONE line on stderr, no traceback. Most of these once gave a traceback (OverflowError,
+ZeroDivisionError), an endless loop, NaN, or a silently accepted value. Every case is its own
+test, so a failure names its case.
 """
 import json
 import math
 import os
 import subprocess
 import sys
+from types import SimpleNamespace
 
+import meshio
 import numpy as np
 import pytest
 
-from calib import cli, output
+from calib import output
 from calib.cli import main
+from calib.fe import ContactSolver
+from calib.fe.elastic import ElasticMaterial
+from calib.fe.von_mises import VonMisesMaterial
+from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh, load_msh
+from nfdmodel import ContactPair, Material, VZParams, collide, get_law, load_parameters
 
 # (argv, text the one-line error must contain)
 CLI_CASES = [
@@ -39,14 +47,15 @@ CLI_CASES = [
     # hertz (FE validation): checked before any FE work
     (["hertz", "--P-min", "10", "--P-max", "5"], "--P-max must be > --P-min"),
     (["hertz", "--steps", "1"], "--steps must be in [2, 1000]"),
-    (["hertz", "--nu", "0.5"], "--nu must be in [0, 0.5)"),
-    (["hertz", "--radius", "nan"], "--radius must be a finite number > 0"),
+    (["hertz", "--nu", "0.5"], "--nu out of range: need --nu >= 0 and --nu < 0.5"),
+    (["hertz", "--R", "nan"], "--R must be finite (--R > 0 m)"),
     (["hertz", "--contact-size", "inf"], "--contact-size"),
+    (["hertz", "--E", "abc"], "--E must be a number"),     # material flags are parsed like every command's
 ]
 
-# argparse's own type errors: SystemExit(2) from the parser, one line (cli._Parser.error)
-ARGPARSE_CASES = [(["hertz", "--E", "abc"], "--E"), (["hertz", "--steps", "2.5"], "--steps"),
-                  (["collide", "--v-in"], "--v-in"), (["no-such-command"], "invalid choice")]
+# argparse's own errors: SystemExit(2) from the parser, one line
+ARGPARSE_CASES = [(["hertz", "--steps", "2.5"], "--steps"), (["collide", "--v-in"], "--v-in"),
+                  (["no-such-command"], "invalid choice")]
 
 
 @pytest.fixture
@@ -70,7 +79,7 @@ def files(tmp_path):
     return paths
 
 
-@pytest.mark.parametrize("argv, needle", CLI_CASES, ids=[" ".join(a[:1] + a[-2:]) for a, _ in CLI_CASES])
+@pytest.mark.parametrize("argv, needle", CLI_CASES, ids=[" ".join(a) for a, _ in CLI_CASES])
 def test_cli_bad_input_one_line_exit_2(argv, needle, files, capsys):
     argv = [files.get(a, a) for a in argv]
     assert main(argv) == 2
@@ -81,7 +90,7 @@ def test_cli_bad_input_one_line_exit_2(argv, needle, files, capsys):
     assert captured.out == ""
 
 
-@pytest.mark.parametrize("argv, needle", ARGPARSE_CASES)
+@pytest.mark.parametrize("argv, needle", ARGPARSE_CASES, ids=[" ".join(a) for a, _ in ARGPARSE_CASES])
 def test_cli_usage_errors_one_line_exit_2(argv, needle, capsys):
     with pytest.raises(SystemExit) as info:
         main(argv)
@@ -93,8 +102,9 @@ def test_cli_usage_errors_one_line_exit_2(argv, needle, capsys):
 @pytest.mark.parametrize("argv, needle", [
     (["collide", "--v-in", "0.1", "--R", "1e200"], "R, rho out of range"),
     (["collide", "--v-in", "0.1", "--dt", "1e-300"], "dt out of range"),
+    (["collide", "--v-in", "0.1", "--dt", "-1e-6"], "dt out of range"),
     (["hertz", "--nu", "0.7"], "--nu"),
-])
+], ids=["collide R 1e200", "collide dt 1e-300", "collide dt -1e-6", "hertz nu 0.7"])
 def test_cli_bad_input_in_a_real_process(argv, needle):
     """The console entry point as users run it: exit code 2, one line, no traceback."""
     proc = subprocess.run([sys.executable, "-m", "calib.cli", *argv], capture_output=True, text=True,
@@ -114,72 +124,75 @@ def test_stability_command_bad_output_folder(tmp_path, monkeypatch, capsys):
 
 
 # ----------------------------------------------------------------------------------- Python API
-def api_cases(tmp_path):
-    from calib.fe import ContactSolver
-    from calib.fe.elastic import ElasticMaterial
-    from calib.fe.von_mises import VonMisesMaterial
-    from meshes.hemisphere import HemisphereMeshSpec, load_msh
-    from nfdmodel import ContactPair, Material, VZParams, collide, get_law, load_parameters
-
-    pair = VZParams.reference().pair
+@pytest.fixture(scope="module")
+def api(tmp_path_factory):
+    """Files and objects the Python API cases need: a contact pair, broken files, a coarse mesh."""
+    tmp_path = tmp_path_factory.mktemp("api")
     empty_msh = tmp_path / "empty.msh"
     empty_msh.write_text("")
     binary = tmp_path / "binary.json"
     binary.write_bytes(b"\xff\xfe\x00garbage")
     linear_msh = tmp_path / "linear.msh"
-    import meshio
     meshio.write_points_cells(str(linear_msh), np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]]),
                               [("triangle", np.array([[0, 1, 2]]))], file_format="gmsh22", binary=False)
-    from meshes.hemisphere import hemisphere_mesh
-    mesh = hemisphere_mesh(HemisphereMeshSpec(contact_size=1.6e-4))
-    return [
-        (lambda: Material(True, 0.3, 100e6, 2700), "E must be a number"),
-        (lambda: Material(70e9, 0.3, 100e6, "heavy"), "rho must be a number"),
-        (lambda: ContactPair.sphere_flat(Material.reference(), -0.1), "R out of range"),
-        (lambda: ContactPair.sphere_flat(Material.reference(), 1e-200), "R, rho out of range"),
-        (lambda: VZParams(pair, 1e-300, 0.0), "Ca out of range"),
-        (lambda: VZParams(pair, 2.33e-7, math.inf), "Kc must be finite"),
-        (lambda: VZParams.from_dimensionless(pair, 0.026, 0.5), "admissible range is 0 <= Kc"),
-        (lambda: get_law("vz").initial_state(2.5), "n must be a whole number"),
-        (lambda: get_law(" Plastic "), "law must be one of"),
-        (lambda: get_law("hertz").force(np.array([1e300]), get_law("hertz").initial_state(1), pair),
-         "delta out of range: the force overflows"),
-        (lambda: collide("vz", VZParams.reference(), [0.1], dt=1e-300), "dt out of range"),
-        (lambda: collide("vz", VZParams.reference(), [0.1], max_steps=0), "max_steps out of range"),
-        (lambda: load_parameters(binary), "not valid JSON"),
-        (lambda: load_parameters(tmp_path / "nowhere.json"), "not found"),
-        (lambda: HemisphereMeshSpec(radius=True), "radius must be a finite number > 0"),
-        (lambda: HemisphereMeshSpec(growth=2.0), "growth must be in (0, 1]"),
-        (lambda: HemisphereMeshSpec(radius=1e-3), "refined_radius must be in (0, radius"),
-        (lambda: load_msh(empty_msh), "empty.msh"),        # meshio's sys.exit(1) before
-        (lambda: load_msh(linear_msh), "no 6-node triangles"),
-        (lambda: VonMisesMaterial(70e9, 0.3, math.nan), "sigma_y"),
-        (lambda: VonMisesMaterial(70e9, 0.5, 100e6), "nu"),
-        (lambda: ElasticMaterial(True, 0.3), "E must be a finite Young's modulus"),
-        (lambda: ElasticMaterial(70e9, math.nan), "nu must be a Poisson ratio in [0, 0.5)"),
-        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), residual_tolerance=math.nan), "residual_tolerance"),
-        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), max_newton_iterations=2.5), "max_newton_iterations"),
-        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), contact_radius_method="magic"), "contact_radius_method"),
-        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), linear_solver="mumps"), "linear_solver"),
-        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), quadrature_order=0), "quadrature_order"),
-        (lambda: ContactSolver(mesh, ElasticMaterial(70e9, 0.3), quadrature_order=4.0), "quadrature_order"),
-    ]
+    return SimpleNamespace(tmp_path=tmp_path, pair=VZParams.reference().pair, empty_msh=empty_msh, binary=binary,
+                           linear_msh=linear_msh, mesh=hemisphere_mesh(HemisphereMeshSpec(contact_size=1.6e-4)))
 
 
-def test_python_api_bad_inputs(tmp_path):
-    cases = api_cases(tmp_path)
-    assert len(cases) >= 20
-    for call, needle in cases:
-        with pytest.raises((ValueError, FileNotFoundError)) as info:
-            call()
-        assert needle in str(info.value), (needle, str(info.value))
+def elastic_solver(api, **options):
+    return ContactSolver(api.mesh, ElasticMaterial(70e9, 0.3), **options)
+
+
+# (id, call(api), text the error must contain)
+API_CASES = [
+    ("Material E=True", lambda api: Material(True, 0.3, 100e6, 2700), "E must be a number"),
+    ("Material rho='heavy'", lambda api: Material(70e9, 0.3, 100e6, "heavy"), "rho must be a number"),
+    ("sphere_flat R<0", lambda api: ContactPair.sphere_flat(Material.reference(), -0.1), "R out of range"),
+    ("sphere_flat R=1e-200", lambda api: ContactPair.sphere_flat(Material.reference(), 1e-200), "R, rho out of range"),
+    ("VZParams Ca=1e-300", lambda api: VZParams(api.pair, 1e-300, 0.0), "Ca out of range"),
+    ("VZParams Kc=inf", lambda api: VZParams(api.pair, 2.33e-7, math.inf), "Kc must be finite"),
+    ("VZParams Kc_hat too large", lambda api: VZParams.from_dimensionless(api.pair, 0.026, 0.5),
+     "admissible range is 0 <= Kc"),
+    ("initial_state n=2.5", lambda api: get_law("vz").initial_state(2.5), "n must be a whole number"),
+    ("get_law ' Plastic '", lambda api: get_law(" Plastic "), "law must be one of"),
+    ("hertz force delta=1e300",
+     lambda api: get_law("hertz").force(np.array([1e300]), get_law("hertz").initial_state(1), api.pair),
+     "delta out of range: the force overflows"),
+    ("collide dt=1e-300", lambda api: collide("vz", VZParams.reference(), [0.1], dt=1e-300), "dt out of range"),
+    ("collide max_steps=0", lambda api: collide("vz", VZParams.reference(), [0.1], max_steps=0),
+     "max_steps out of range"),
+    ("load_parameters binary", lambda api: load_parameters(api.binary), "not valid JSON"),
+    ("load_parameters missing", lambda api: load_parameters(api.tmp_path / "nowhere.json"), "not found"),
+    ("mesh radius=True", lambda api: HemisphereMeshSpec(radius=True), "radius must be a finite number > 0"),
+    ("mesh growth=2", lambda api: HemisphereMeshSpec(growth=2.0), "growth must be in (0, 1]"),
+    ("mesh radius=1e-3", lambda api: HemisphereMeshSpec(radius=1e-3), "refined_radius must be in (0, radius"),
+    ("load_msh empty", lambda api: load_msh(api.empty_msh), "empty.msh"),        # meshio's sys.exit(1) before
+    ("load_msh linear", lambda api: load_msh(api.linear_msh), "no 6-node triangles"),
+    ("VonMises sigma_y=nan", lambda api: VonMisesMaterial(70e9, 0.3, math.nan), "sigma_y"),
+    ("VonMises nu=0.5", lambda api: VonMisesMaterial(70e9, 0.5, 100e6), "nu"),
+    ("Elastic E=True", lambda api: ElasticMaterial(True, 0.3), "E must be a finite Young's modulus"),
+    ("Elastic nu=nan", lambda api: ElasticMaterial(70e9, math.nan), "nu must be a Poisson ratio in [0, 0.5)"),
+    ("solver residual_tolerance=nan", lambda api: elastic_solver(api, residual_tolerance=math.nan),
+     "residual_tolerance"),
+    ("solver max_newton_iterations=2.5", lambda api: elastic_solver(api, max_newton_iterations=2.5),
+     "max_newton_iterations"),
+    ("solver contact_radius_method=magic", lambda api: elastic_solver(api, contact_radius_method="magic"),
+     "contact_radius_method"),
+    ("solver linear_solver=mumps", lambda api: elastic_solver(api, linear_solver="mumps"), "linear_solver"),
+    ("solver quadrature_order=0", lambda api: elastic_solver(api, quadrature_order=0), "quadrature_order"),
+    ("solver quadrature_order=4.0", lambda api: elastic_solver(api, quadrature_order=4.0), "quadrature_order"),
+]
+
+
+@pytest.mark.parametrize("call, needle", [c[1:] for c in API_CASES], ids=[c[0] for c in API_CASES])
+def test_python_api_bad_input(call, needle, api):
+    with pytest.raises((ValueError, FileNotFoundError)) as info:
+        call(api)
+    assert needle in str(info.value), (needle, str(info.value))
 
 
 def test_float32_inputs_are_numbers_not_errors():
     """float32 scalars (from user arrays) are valid everywhere a number is."""
-    from meshes.hemisphere import HemisphereMeshSpec
-    from nfdmodel import ContactPair, Material, VZParams, collide
-
     f = np.float32
     assert HemisphereMeshSpec(radius=f(0.1)).radius == pytest.approx(0.1)   # rejected before
     pair = ContactPair.sphere_flat(Material(f(70e9), f(0.3), f(100e6), f(2699)), f(0.1))

@@ -1,14 +1,21 @@
-"""Issue 6: a list of bad inputs across the CLI, scene files, mesh files and the Python API.
+"""Bad inputs across the CLI, scene files, mesh files and the Python API (first list;
+tests/test_bad_input.py holds the second).
 
 Each must be answered by a clear error naming the parameter (and its range where there is one):
-from the CLI, exit code 2 and ONE line on stderr, never a traceback.
+from the CLI, exit code 2 and ONE line on stderr, never a traceback. Every case is its own test,
+so a failure names its case.
 """
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from calib.cli import main
+from calib.fe import ContactSolver
+from calib.fe.von_mises import VonMisesMaterial
+from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh, load_msh
+from nfdmodel import ContactPair, Material, VZParams, get_law, load_parameters
 
 CLI_CASES = [
     (["collide", "--law", "vz", "--v-in", "0.1", "--nu", "0.5"], "nu"),
@@ -52,7 +59,7 @@ def files(tmp_path):
             "SCENE_NOT_TOML": str(not_toml)}
 
 
-@pytest.mark.parametrize("argv, names", CLI_CASES, ids=[" ".join(a[:1] + a[-2:]) for a, _ in CLI_CASES])
+@pytest.mark.parametrize("argv, names", CLI_CASES, ids=[" ".join(a) for a, _ in CLI_CASES])
 def test_cli_bad_input_is_one_line_and_exit_code_2(argv, names, files, capsys):
     argv = [files.get(a, a) for a in argv]
     assert main(argv) == 2
@@ -61,30 +68,37 @@ def test_cli_bad_input_is_one_line_and_exit_code_2(argv, names, files, capsys):
     assert names in err, err
 
 
-def test_python_api_bad_inputs(tmp_path):
-    from calib.fe import ContactSolver
-    from calib.fe.von_mises import VonMisesMaterial
-    from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh, load_msh
-    from nfdmodel import ContactPair, Material, VZParams, get_law, load_parameters
-
-    cases = [
-        (lambda: Material(70e9, 0.5, 100e6, 2700), "nu"),
-        (lambda: Material(math.nan, 0.3, 100e6, 2700), "E"),
-        (lambda: VonMisesMaterial(70e9, 0.3, -1.0), "sigma_y"),
-        (lambda: HemisphereMeshSpec(contact_size=0.0), "contact_size"),
-        (lambda: load_msh(tmp_path / "missing.msh"), "missing.msh"),
-        (lambda: get_law("vz").force(np.array([np.nan]), get_law("vz").initial_state(1), VZParams.reference()), "delta"),
-        (lambda: VZParams(ContactPair.sphere_flat(Material.reference(), 0.1), 2.33e-7, -1.0), "Kc"),
-    ]
+@pytest.fixture(scope="module")
+def api(tmp_path_factory):
+    """Broken files and a coarse-mesh solver for the Python API cases."""
+    tmp_path = tmp_path_factory.mktemp("api")
     corrupt = tmp_path / "corrupt.msh"
     corrupt.write_text("$MeshFormat\ngarbage")
-    cases.append((lambda: load_msh(corrupt), "corrupt.msh"))
     truncated = tmp_path / "p.json"
     truncated.write_text('{"law": "vz", "Ca": 2.3')
-    cases.append((lambda: load_parameters(truncated), "p.json"))
     solver = ContactSolver(hemisphere_mesh(HemisphereMeshSpec(contact_size=1.6e-4)), VonMisesMaterial(70e9, 0.3, 100e6))
-    cases.append((lambda: solver.solve_force(solver.initial_state(), math.inf), "force"))
-    for call, name in cases:
-        with pytest.raises((ValueError, FileNotFoundError)) as info:
-            call()
-        assert name in str(info.value), (name, str(info.value))
+    return SimpleNamespace(tmp_path=tmp_path, corrupt=corrupt, truncated=truncated, solver=solver)
+
+
+# (id, call(api), name the error must contain)
+API_CASES = [
+    ("Material nu=0.5", lambda api: Material(70e9, 0.5, 100e6, 2700), "nu"),
+    ("Material E=nan", lambda api: Material(math.nan, 0.3, 100e6, 2700), "E"),
+    ("VonMises sigma_y<0", lambda api: VonMisesMaterial(70e9, 0.3, -1.0), "sigma_y"),
+    ("mesh contact_size=0", lambda api: HemisphereMeshSpec(contact_size=0.0), "contact_size"),
+    ("load_msh missing", lambda api: load_msh(api.tmp_path / "missing.msh"), "missing.msh"),
+    ("vz force delta=nan",
+     lambda api: get_law("vz").force(np.array([np.nan]), get_law("vz").initial_state(1), VZParams.reference()),
+     "delta"),
+    ("VZParams Kc<0", lambda api: VZParams(ContactPair.sphere_flat(Material.reference(), 0.1), 2.33e-7, -1.0), "Kc"),
+    ("load_msh corrupt", lambda api: load_msh(api.corrupt), "corrupt.msh"),
+    ("load_parameters truncated", lambda api: load_parameters(api.truncated), "p.json"),
+    ("solve_force inf", lambda api: api.solver.solve_force(api.solver.initial_state(), math.inf), "force"),
+]
+
+
+@pytest.mark.parametrize("call, name", [c[1:] for c in API_CASES], ids=[c[0] for c in API_CASES])
+def test_python_api_bad_input(call, name, api):
+    with pytest.raises((ValueError, FileNotFoundError)) as info:
+        call(api)
+    assert name in str(info.value), (name, str(info.value))

@@ -1,10 +1,11 @@
-"""`nfdcal collide` and nfdmodel.load_parameters (issue 2 CLI and bad-input rules)."""
+"""`nfdcal collide` and nfdmodel.load_parameters: output, material flags, parameter files, and
+bad input (exit code 2, one line naming the parameter and its range; each case its own test)."""
 import json
 
 import numpy as np
 import pytest
 
-from calib.cli import main
+from calib.cli import build_parser, join_negative_values, main
 from nfdmodel import Material, VZParams, load_parameters, parameter_record
 
 
@@ -40,7 +41,7 @@ def test_material_flags_change_the_answer(capsys):
     assert json.loads(soft)[0]["P_max"] < json.loads(ref)[0]["P_max"]
 
 
-@pytest.mark.parametrize("args, needle", [
+BAD_INPUTS = [
     (["--law", "elastic", "--v-in", "0.1"], "law must be one of"),
     (["--v-in", "0.1", "--nu", "0.5"], "nu out of range"),
     (["--v-in", "0.1", "--nu", "-0.1"], "nu out of range"),
@@ -60,7 +61,10 @@ def test_material_flags_change_the_answer(capsys):
     ([], "--v-in is required"),
     (["--v-in", "0.1", "--params", "/nonexistent/params.json"], "not found"),
     (["--v-in", "0.1", "--K1", "1e8"], "walton-braun only"),
-])
+]
+
+
+@pytest.mark.parametrize("args, needle", BAD_INPUTS, ids=[" ".join(a) or "no flags" for a, _ in BAD_INPUTS])
 def test_bad_input_exits_2_with_one_line(capsys, args, needle):
     code, out, err = run_cli(capsys, *args)
     assert code == 2
@@ -95,7 +99,7 @@ def test_load_parameters_round_trip_and_cli(tmp_path, capsys):
     (json.dumps({"Ca": 1e-7, "material": {"E": 70e9, "nu": 0.3, "sigma_y": 1e8, "rho": 2699, "R": 0.1}}),
      "missing key(s) Kc"),
     (json.dumps({"law": "hertz", "Ca": 1e-7, "Kc": 0}), "law must be 'vz'"),
-])
+], ids=["not json", "not an object", "no material", "no Kc", "law hertz"])
 def test_load_parameters_bad_files(tmp_path, content, needle):
     path = tmp_path / "bad.json"
     path.write_text(content)
@@ -104,12 +108,16 @@ def test_load_parameters_bad_files(tmp_path, content, needle):
     assert needle in str(info.value)
 
 
-def test_load_parameters_inconsistent_and_out_of_range(tmp_path):
-    with pytest.raises(ValueError, match="P_Y"):
-        load_parameters(write_parameter_file(tmp_path, P_Y=40.0))
-    with pytest.raises(ValueError, match="nu out of range"):
-        load_parameters(write_parameter_file(tmp_path, material={"E": 70e9, "nu": 0.7, "sigma_y": 1e8,
-                                                                 "rho": 2699, "R": 0.1}))
+@pytest.mark.parametrize("overrides, error, match", [
+    ({"P_Y": 40.0}, ValueError, "P_Y"),
+    ({"material": {"E": 70e9, "nu": 0.7, "sigma_y": 1e8, "rho": 2699, "R": 0.1}}, ValueError, "nu out of range"),
+], ids=["P_Y inconsistent", "nu 0.7"])
+def test_load_parameters_inconsistent_and_out_of_range(tmp_path, overrides, error, match):
+    with pytest.raises(error, match=match):
+        load_parameters(write_parameter_file(tmp_path, **overrides))
+
+
+def test_load_parameters_missing_file(tmp_path):
     with pytest.raises(FileNotFoundError):
         load_parameters(tmp_path / "missing.json")
 
@@ -128,3 +136,14 @@ def test_report_generates_results(tmp_path, capsys, monkeypatch):
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["stamp"]["git_commit"]
     assert summary["thornton_closed_form_check"]["max_relative_error"] < 5e-3
+
+
+@pytest.mark.parametrize("argv, joined", [
+    (["collide", "--dt", "-1e-6"], ["collide", "--dt=-1e-6"]),                  # one value: joined
+    (["collide", "--Kc", "-1E-4", "--json"], ["collide", "--Kc=-1E-4", "--json"]),
+    (["collide", "--v-in", "-1e-3"], ["collide", "--v-in", "-1e-3"]),           # several values: left alone
+    (["collide", "--dt", "auto", "-1e-6"], ["collide", "--dt", "auto", "-1e-6"]),  # not after its flag
+    (["collide", "--law", "-vz"], ["collide", "--law", "-vz"]),                 # not a number
+], ids=["dt", "Kc", "v-in", "stray value", "not a number"])
+def test_negative_values_are_joined_to_one_value_flags(argv, joined):
+    assert join_negative_values(argv, build_parser().one_value_flags) == joined

@@ -1,11 +1,13 @@
 """Scenes: validation before anything runs, the dry-run plan, and leaving out what a scene does
 not need (coarse meshes only)."""
+import io
 import json
 import textwrap
 
 import pytest
 
 from calib import cli, scenes
+from calib.commands.progress import progress_reporter
 
 COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
 
@@ -50,7 +52,8 @@ def test_builtin_scenes_validate_and_cite_their_sources():
     (MATERIAL + "[load_paths]\nP_max = [10.0]\n[calibration]\n", ["load_paths.P_max", "> 2 P_Y"]),
     (MATERIAL + "[load_paths]\nunload = 1\n", ["load_paths.unload", "true or false"]),
     (MATERIAL, ["nothing to run"]),
-])
+], ids=["unknown key", "unknown section", "nu out of range", "E a string", "R missing", "unknown mesh level",
+        "loads below yield", "unload not boolean", "nothing to run"])
 def test_invalid_scene_is_one_line_naming_file_and_key(tmp_path, monkeypatch, capsys, body, words):
     path = write(tmp_path, body)
     with pytest.raises(ValueError) as info:
@@ -179,15 +182,43 @@ def test_loading_only_calibration_and_collision(tmp_path, monkeypatch):
     assert not list((tmp_path / "out").glob("*.png"))
 
 
-def test_progress_is_silent_off_a_terminal(capsys):
-    progress = scenes.terminal_progress(quiet=False, total_estimate_s=10)
-    progress("load step 1/3")  # pytest's stderr is not a terminal
-    assert capsys.readouterr().err == ""
-    import io
+class Terminal(io.StringIO):
+    def isatty(self):
+        return True
 
-    stream = io.StringIO()
-    scenes.Progress(True, 10, stream)("material 1/2")
-    assert "material 1/2" in stream.getvalue() and "left" in stream.getvalue()
+
+def test_progress_is_silent_off_a_terminal_or_when_quiet(capsys):
+    with progress_reporter(quiet=False, total_s=10) as progress:
+        progress("load step 1/3")  # pytest's stderr is not a terminal
+    with progress_reporter(quiet=True, stream=Terminal()) as progress:
+        progress("load step 1/3")
+    assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("total_s", [10.0, None], ids=["with an estimate", "without"])
+def test_progress_on_a_terminal_shows_the_latest_message(total_s):
+    stream = Terminal()
+    with progress_reporter(quiet=False, total_s=total_s, stream=stream) as progress:
+        progress("material 1/2: load step 1/3")
+        progress("material 1/2: load step 2/3")
+    shown = stream.getvalue()
+    assert "load step 2/3" in shown and "00:00" in shown   # the message and the elapsed time
+    assert ("<" in shown) == (total_s is not None)          # the time left needs an estimate
+
+
+def test_run_scene_names_the_material_in_each_message(tmp_path):
+    """A scene with several materials prefixes every progress message with its material."""
+    path = write(tmp_path, """
+        [mesh]
+        level = "coarse"
+        """ + MATERIAL + MATERIAL.replace('"al"', '"al2"') + """
+        [collision]
+        v_in = [0.05]
+        laws = ["hertz"]
+        """)
+    messages = []
+    scenes.run_scene(scenes.load_scene(path), tmp_path / "out", progress=messages.append)
+    assert messages and messages[0].startswith("material 1/2 (al): ") and messages[-1].startswith("material 2/2 (al2): ")
 
 
 def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):

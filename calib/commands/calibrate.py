@@ -1,4 +1,8 @@
-"""``nfdcal calibrate``: FE load paths of a sphere on a rigid flat -> Ca, Kc (SPEC sections 3, 6, 7).
+"""``nfdcal calibrate``: FE load paths of a sphere on a rigid flat -> Ca, Kc of the NFD law.
+
+The plastic contact radius is a_p = Ca <P - P_Y> and the curvature factor 1 + Kc <P - P_Y>
+(Vu-Quoc & Zhang 1999, eq. 2.5; README, The model: The NFD law); Ca [m/N] and Kc [1/N] are
+fitted by least squares to FE load paths that go beyond first yield P_Y [N].
 
     nfdcal calibrate                      # the reference case, results into results/calibration
     nfdcal calibrate --json               # also print the summary object (Ca, Kc, Ca_hat, ...)
@@ -11,6 +15,7 @@ stderr when it is a terminal (silence it with --quiet).
 from __future__ import annotations
 
 from calib.commands.common import add_material_arguments, is_reference, material_from_args, number
+from nfdmodel import reference_case
 
 
 def add_parser(subparsers) -> None:
@@ -19,8 +24,8 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
-                        help="P_max of the load paths [N] (default: 500 1000 1500 for the reference"
-                             " case, else 13.7 27.4 41.2 x P_Y)")
+                        help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
+                             " for the reference case, else 13.7 27.4 41.2 x P_Y)")
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")
@@ -39,23 +44,22 @@ def add_parser(subparsers) -> None:
 
 def run(ns) -> int:
     import dataclasses
-    import sys
 
     from calib import output
+    from calib.commands.progress import progress_reporter
     from calib.fit import calibration
     from calib.report import calibration as calibration_report
     from calib.fe.loadpath import LoadPathPlan
 
-    verbose = not ns.quiet and sys.stderr.isatty()
-    progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
     if ns.ladder:
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
                              " do not combine it with --R, --peaks or --contact-size")
         material = None if is_reference(ns) else material_from_args(ns)[0]
         name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
-        path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
-                                              progress=progress, material=material, name=name)
+        with progress_reporter(ns.quiet) as progress:
+            path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
+                                                  progress=progress, material=material, name=name)
         print(f"mesh ladder written to {path}")
         return 0
     material, radius = material_from_args(ns)
@@ -77,7 +81,8 @@ def run(ns) -> int:
         spec = calibration.spec_for(material, radius, peaks=peaks)
         if contact_size is not None:
             spec = dataclasses.replace(spec, mesh=dataclasses.replace(spec.mesh, contact_size=contact_size))
-    result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+    with progress_reporter(ns.quiet) as progress:
+        result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
     out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,
                                    plots=not ns.no_plots, vtu=not ns.no_plots)
     summary = calibration.summary(result)

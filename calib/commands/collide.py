@@ -1,4 +1,8 @@
-"""``nfdcal collide``: sphere-on-rigid-flat impacts with a runtime contact law (SPEC section 4).
+"""``nfdcal collide``: sphere-on-rigid-flat impacts with a runtime contact law.
+
+A sphere of mass m = (4/3) pi R^3 rho hits the flat at v_in; m d2(delta)/dt2 = -P(delta) is
+integrated with leap-frog until it leaves at v_out; the restitution is e = -v_out / v_in
+(README, The model: Restitution).
 
     nfdcal collide --law vz --v-in 0.02 0.04 0.1 [--dt 1e-6] [--json]
     nfdcal collide --report [--out results/collision]      # regenerate results/collision/
@@ -15,9 +19,10 @@ exits with code 2).
 from __future__ import annotations
 
 from calib.commands.common import MATERIAL_DEFAULTS, add_material_arguments, material_flags, number
+from nfdmodel import reference_case
 
 LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
-DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": 2.33e-7, "Kc": 2.69e-4}
+DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": reference_case.CA, "Kc": reference_case.KC}   # the paper's calibration
 
 
 def add_parser(subparsers) -> None:
@@ -84,6 +89,9 @@ def run(ns) -> int:
         return 0
     if ns.out is not None:
         raise ValueError("--out applies to --report only")
+    dt = None if str(ns.dt).strip().lower() == "auto" else number("--dt", ns.dt)
+    if dt is not None and dt <= 0:
+        raise ValueError(f"--dt out of range: need dt > 0 s, got {dt:g}")
     if not ns.v_in:
         raise ValueError("--v-in is required: one or more incoming velocities [m/s] (> 0)")
     import numpy as np
@@ -91,9 +99,6 @@ def run(ns) -> int:
     from nfdmodel import collide
 
     velocities = np.array([number("--v-in", v) for v in ns.v_in])
-    dt = None if str(ns.dt).strip().lower() == "auto" else number("--dt", ns.dt)
-    if dt is not None and dt <= 0:
-        raise ValueError(f"--dt out of range: need dt > 0 s, got {dt:g}")
     law, params = build_params(ns)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")

@@ -5,24 +5,35 @@ flag and its range from the dispatcher (exit code 2), never a traceback.
 """
 from __future__ import annotations
 
+from nfdmodel import Material, check_real, reference_case
+
 # The paper's reference case (Vu-Quoc & Zhang 1999, section 2): aluminium sphere on a rigid flat.
-MATERIAL_DEFAULTS = {"R": 0.1, "E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0}
+MATERIAL_DEFAULTS = {"R": reference_case.R, "E": reference_case.E, "nu": reference_case.NU,
+                     "sigma_y": reference_case.SIGMA_Y, "rho": reference_case.RHO}
 MATERIAL_HELP = {"R": "sphere radius [m] (> 0)", "E": "Young's modulus [Pa] (> 0)",
                  "nu": "Poisson's ratio (0 <= nu < 0.5)", "sigma_y": "yield stress [Pa] (> 0)",
                  "rho": "density [kg/m^3] (> 0)"}
+# allowed range of each material flag (check_real's keywords), as nfdmodel.Material states it
+MATERIAL_RANGES = {"R": {"low": 0.0, "unit": "m"}, "E": {"low": 0.0, "unit": "Pa"},
+                   "nu": {"low": 0.0, "low_inclusive": True, "high": 0.5},
+                   "sigma_y": {"low": 0.0, "unit": "Pa"}, "rho": {"low": 0.0, "unit": "kg/m^3"}}
 
 
-def number(flag: str, text, default=None) -> float:
-    """``text`` as a finite float, or ``default`` when the flag was not given."""
-    from nfdmodel import check_real
+def flag_name(key: str) -> str:
+    """'sigma_y' -> '--sigma-y'"""
+    return f"--{key.replace('_', '-')}"
 
-    return default if text is None else check_real(flag, text)
+
+def number(flag: str, text, default=None, **allowed) -> float:
+    """``text`` as a finite float inside the ``allowed`` range (check_real's keywords), or
+    ``default`` when the flag was not given."""
+    return default if text is None else check_real(flag, text, **allowed)
 
 
 def add_material_arguments(parser) -> None:
     """--R --E --nu --sigma-y --rho, defaulting to the reference aluminium sphere."""
     for key, help_text in MATERIAL_HELP.items():
-        parser.add_argument(f"--{key.replace('_', '-')}", dest=key, default=None,
+        parser.add_argument(flag_name(key), dest=key, default=None,
                             help=f"{help_text} (default {MATERIAL_DEFAULTS[key]:g})")
 
 
@@ -31,19 +42,14 @@ def material_flags(ns) -> dict:
     return {key: getattr(ns, key) for key in MATERIAL_DEFAULTS}
 
 
-def material_from_args(ns):
-    """(nfdmodel.Material, R [m]) from the namespace; validation names the parameter and range."""
-    from nfdmodel import Material
-
-    values = {key: number(f"--{key.replace('_', '-')}", text, MATERIAL_DEFAULTS[key])
+def material_from_args(ns) -> tuple[Material, float]:
+    """(nfdmodel.Material, R [m]) from the namespace; an error names the flag and its range."""
+    values = {key: number(flag_name(key), text, MATERIAL_DEFAULTS[key], **MATERIAL_RANGES[key])
               for key, text in material_flags(ns).items()}
-    material = Material(values["E"], values["nu"], values["sigma_y"], values["rho"])
-    if not values["R"] > 0:
-        raise ValueError(f"--R out of range: need R > 0 m, got {values['R']:g}")
-    return material, values["R"]
+    return Material(values["E"], values["nu"], values["sigma_y"], values["rho"]), values["R"]
 
 
 def is_reference(ns) -> bool:
     """True when no material flag differs from the reference case."""
-    return all(text is None or number(f"--{k}", text) == MATERIAL_DEFAULTS[k]
+    return all(text is None or number(flag_name(k), text) == MATERIAL_DEFAULTS[k]
                for k, text in material_flags(ns).items())

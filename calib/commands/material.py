@@ -3,10 +3,11 @@
     nfdcal material --E 205e9 --nu 0.29 --sigma-y 655e6 --R 0.005 --json
     nfdcal material ... --params-out steel.json     # a parameter file for nfdmodel.load_parameters
 
-Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table (SPEC section 7;
-calib/data/master_table.csv), then Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N],
-Kc [1/N], Ca_hat, Kc_hat, P_Y [N] and the table's stated accuracy. Outside the table: one line
-naming the parameter and the table's range (exit 2).
+Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
+(calib/data/master_table.csv; README, The model: Dimensionless constants), then
+Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N], Kc [1/N], Ca_hat, Kc_hat, P_Y [N] and
+the table's stated accuracy. Outside the table: one line naming the parameter and the table's
+range (exit 2).
 """
 from __future__ import annotations
 

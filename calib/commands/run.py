@@ -7,7 +7,7 @@
 
 The scene is validated before anything runs (an unknown key, a wrong type or a value out of
 range is one line naming the file and the key, exit code 2). Progress goes to stderr when it is
-a terminal (silence it with --quiet). Scene format: calib/scenes.py.
+a terminal (silence it with --quiet). Scene format: calib/scenes/schema.py.
 """
 from __future__ import annotations
 
@@ -26,6 +26,7 @@ def add_parser(subparsers) -> None:
 
 def run(ns) -> int:
     from calib import scenes
+    from calib.commands.progress import progress_reporter
 
     if ns.list:
         for name, path in sorted(scenes.builtin_scenes().items()):
@@ -39,8 +40,8 @@ def run(ns) -> int:
     if ns.dry_run:
         print(scenes.format_plan(scene, stages))
         return 0
-    progress = scenes.terminal_progress(ns.quiet, sum(s.estimate_s for s in stages))
-    summary = scenes.run_scene(scene, ns.out, progress=progress)
+    with progress_reporter(ns.quiet, sum(s.estimate_s for s in stages)) as progress:
+        summary = scenes.run_scene(scene, ns.out, progress=progress)
     if ns.json:
         from calib import output
 

@@ -1,4 +1,4 @@
-"""``nfdcal stability``: the runtime laws, collisions and FE calibration on extreme cases (issue 6).
+"""``nfdcal stability``: the runtime laws, collisions and FE calibration on extreme cases.
 
     nfdcal stability [--out results/stability] [--runtime | --fe] [--workers 2]
 
@@ -11,6 +11,8 @@ fe_stability.csv and .json. Prints the summaries; exit code 1 if a case FAILED (
 unexpected exception, energy created, or a silently inaccurate collision).
 """
 from __future__ import annotations
+
+from calib.commands.common import number
 
 
 def add_parser(subparsers) -> None:
@@ -27,10 +29,9 @@ def add_parser(subparsers) -> None:
 
 def run(ns) -> int:
     import json
-    import sys
     from pathlib import Path
 
-    from calib.commands.common import number
+    from calib.commands.progress import progress_reporter
     from calib.studies.runtime_stability import CSV_NAME, DEFAULT_OUT, JSON_NAME, generate
 
     out = Path(ns.out or DEFAULT_OUT)
@@ -50,9 +51,8 @@ def run(ns) -> int:
     if not ns.runtime:
         from calib.studies import fe_stability
 
-        verbose = not ns.quiet and sys.stderr.isatty()
-        progress = (lambda message: print(f"  {message}", file=sys.stderr, flush=True)) if verbose else None
-        summary = fe_stability.generate(out, workers=int(workers), progress=progress)
+        with progress_reporter(ns.quiet) as progress:
+            summary = fe_stability.generate(out, workers=int(workers), progress=progress)
         print(json.dumps({k: v for k, v in summary.items() if k != "failures"}, indent=2))
         failures += summary["failures"]
         print(f"FE stability table written to {out}/{fe_stability.CSV_NAME} and {fe_stability.JSON_NAME}")

@@ -38,6 +38,7 @@ def add_parser(subparsers) -> None:
 
 def run(ns) -> int:
     from calib import output, scenes
+    from calib.commands.progress import progress_reporter
 
     try:
         workers = int(ns.workers)
@@ -52,8 +53,9 @@ def run(ns) -> int:
     if ns.dry_run:
         print(scenes.format_plan(scene, stages))
         return 0
-    progress = scenes.terminal_progress(ns.quiet, sum(s.estimate_s for s in stages) / max(1, min(workers, len(stages))))
-    result = scenes.run_table(scene, ns.out, workers=workers, scheduler=ns.scheduler, progress=progress)
+    estimate_s = sum(s.estimate_s for s in stages) / max(1, min(workers, len(stages)))
+    with progress_reporter(ns.quiet, estimate_s) as progress:
+        result = scenes.run_table(scene, ns.out, workers=workers, scheduler=ns.scheduler, progress=progress)
     if ns.master_out:
         scenes.write_master_table(result["rows"], ns.master_out, ns.accuracy, scene.name)
     outside = 0

@@ -5,10 +5,10 @@ cost estimate (``--dry-run``), ``run`` runs its stages, ``table`` calibrates eve
 sweep resumably; the built-in scenes are in ``builtin/``.
 """
 from calib.scenes.plan import calibration_spec, estimate_dofs, format_plan, plan, plastic_needed
-from calib.scenes.run import Progress, run_scene, terminal_progress
+from calib.scenes.run import run_scene
 from calib.scenes.schema import Scene, SceneError, builtin_scenes, load_scene, parse_scene
 from calib.scenes.table import run_table, write_master_table
 
 __all__ = ["Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "calibration_spec",
-           "estimate_dofs", "format_plan", "plan", "plastic_needed", "Progress", "run_scene",
-           "terminal_progress", "run_table", "write_master_table"]
+           "estimate_dofs", "format_plan", "plan", "plastic_needed", "run_scene",
+           "run_table", "write_master_table"]

@@ -1,37 +1,12 @@
 """Running a scene: every stage of every material, written to the scene's output folder."""
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
 from calib import output
 from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed
 from calib.scenes.schema import Scene
-
-
-# ----------------------------------------------------------------------------- progress
-class Progress:
-    """Progress lines on stderr with elapsed time and an estimate of what is left; silent when
-    ``enabled`` is false (--quiet, or stderr not a terminal)."""
-
-    def __init__(self, enabled: bool, total_estimate_s: float = 0.0, stream=None):
-        self.enabled = enabled
-        self.total = total_estimate_s
-        self.start = time.perf_counter()
-        self.stream = stream or sys.stderr
-        self.prefix = ""
-
-    def __call__(self, message: str) -> None:
-        if not self.enabled:
-            return
-        elapsed = time.perf_counter() - self.start
-        left = f", ~{max(self.total - elapsed, 0):.0f} s left" if self.total else ""
-        print(f"  [{elapsed:6.1f} s{left}] {self.prefix}{message}", file=self.stream, flush=True)
-
-
-def terminal_progress(quiet: bool, total_estimate_s: float = 0.0) -> Progress:
-    return Progress(not quiet and sys.stderr.isatty(), total_estimate_s)
 
 
 # ----------------------------------------------------------------------------- run
@@ -230,8 +205,8 @@ def run_scene(scene: Scene, out: str | Path | None = None, progress=None) -> dic
     n = len(scene.materials)
     for k, material in enumerate(scene.materials, 1):
         folder = base / material.name if n > 1 else base
-        if isinstance(say, Progress):
-            say.prefix = f"material {k}/{n} ({material.name}): " if n > 1 else ""
+        if n > 1 and progress is not None:  # name the material in each message
+            say = lambda message, head=f"material {k}/{n} ({material.name}): ": progress(head + message)  # noqa: E731
         entry = {"material": material.inputs()}
         params = None
         if scene.hertz is not None:

@@ -12,89 +12,122 @@
     [collision]    v_in = [m/s, ...] or v_in_over_v_Y = [...], laws = ["vz", "thornton", "hertz"]
     [outputs]      out (folder, default results/scenes/<name>), plots, vtu, histories (booleans)
 
-The file is parsed with the standard library (tomllib) and validated into frozen dataclasses
-before anything runs: an unknown key, a wrong type or an out-of-range value is a ValueError
-naming the file, the key and the allowed range. Only what a scene asks for is computed: a scene
-whose loads all stay below P_Y (and that does not calibrate) uses the elastic material and never
-runs the return mapping; a scene with ``unload = false`` never unloads; plots, VTU files and
-histories are written only on request; meshes come from the cache (meshes.hemisphere).
+The file is parsed with the standard library (tomllib) and validated by pydantic models (frozen,
+unknown keys forbidden, types strict: a string is not a number, 1 is not true) before anything
+runs. A validation error becomes ONE line naming the file, the key path and the allowed range,
+e.g. ``scene my.toml: material[0].nu: out of range: need >= 0 and < 0.5, got 0.6`` (the range is
+read from the models' JSON schema, so it is stated where it is declared). Only what a scene asks
+for is computed: a scene whose loads all stay below P_Y (and that does not calibrate) uses the
+elastic material and never runs the return mapping; a scene with ``unload = false`` never
+unloads; plots, VTU files and histories are written only on request; meshes come from the cache
+(meshes.hemisphere).
 """
 from __future__ import annotations
 
-import math
+import functools
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Annotated, Literal
+
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Strict, ValidationError, model_validator
 
 from calib import output
+from nfdmodel import ContactPair, Material, reference_case
 
 # contact element size / largest contact radius for each mesh level (spec_for's convention:
 # the reference default mesh, 4e-5 m at a_max = 1.48e-3 m, is 1/37)
 MESH_LEVELS = {"coarse": 0.1, "default": 1.0 / 37.0, "fine": 1.0 / 74.0}
 # the reference sphere's own mesh family (HemisphereMeshSpec(contact_size=...)) [m]
 REFERENCE_CONTACT_SIZES = {"coarse": 1.6e-4, "default": 4e-5, "fine": 2e-5}
-REFERENCE_PEAKS = (500.0, 1000.0, 1500.0)
+REFERENCE_PEAKS = reference_case.PEAKS
 DEFAULT_PEAKS_OVER_YIELD = (13.7, 27.4, 41.2)  # the reference peaks in units of P_Y
 LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
 # Wall time per FE step against dofs, calibrated on the reference calibration
 # (12,112 dofs, 97 FE steps + 3 first-yield solves, 54-58 s on 2 cores): ~0.57 s per step.
 SECONDS_PER_STEP_AT_12K_DOFS = 0.57
 
-SCHEMA = {
-    "scene": {"name": str, "description": str},
-    "mesh": {"level": str, "contact_size": float, "contact_size_over_a_max": float},
-    "material": {"name": str, "E": float, "nu": float, "sigma_y": float, "rho": float, "R": float},
-    "grid": {"nu": list, "E_over_sigma_y": list, "sigma_y": float, "rho": float, "R": float},
-    "hertz": {"P_max": float, "P_max_over_P_Y": float, "P_min": float, "steps": int},
-    "load_paths": {"P_max": list, "P_max_over_P_Y": list, "unload": bool, "loading_steps": int,
-                   "unloading_steps": int},
-    "calibration": {"ship": str},
-    "collision": {"v_in": list, "v_in_over_v_Y": list, "laws": list},
-    "outputs": {"out": str, "plots": bool, "vtu": bool, "histories": bool},
-}
-
 
 class SceneError(ValueError):
     """A scene file that does not validate (a ValueError: the CLI prints one line, exit 2)."""
 
 
-# ----------------------------------------------------------------------------- schema
-@dataclass(frozen=True)
-class SceneMaterial:
+# ----------------------------------------------------------------------------- value types
+# Strict: TOML gives real types, so "70e9" (a string) or true (a boolean) is an error, not a number.
+Number = Annotated[float, Strict(), Field(allow_inf_nan=False)]
+Positive = Annotated[Number, Field(gt=0)]
+Ratio = Annotated[Number, Field(gt=0, le=1e4)]          # a multiple of P_Y or v_Y
+PoissonRatio = Annotated[Number, Field(ge=0, lt=0.5)]
+Flag = Annotated[bool, Strict()]
+Law = Literal["vz", "thornton", "hertz", "walton-braun"]
+
+
+def _list_of(item):
+    """A non-empty TOML array of ``item``, kept as a tuple (frozen, hashable)."""
+    return Annotated[tuple[item, ...], Field(min_length=1)]
+
+
+def _check_name(name: str) -> str:
+    if not name or not all(c.isalnum() or c in "-_." for c in name):
+        raise ValueError(f"must be a non-empty name of letters, digits, '-', '_', '.', got {name!r}")
+    return name
+
+
+Name = Annotated[str, AfterValidator(_check_name)]
+
+
+class _Table(BaseModel):
+    """A TOML table: frozen, and a key the model does not declare is an error."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+# ----------------------------------------------------------------------------- scene objects
+class SceneMaterial(_Table):
     """One sphere: E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]."""
 
     name: str
-    E: float
-    nu: float
-    sigma_y: float
-    rho: float
-    R: float
+    E: Positive
+    nu: PoissonRatio
+    sigma_y: Positive
+    rho: Positive
+    R: Positive
 
-    def material(self):
-        from nfdmodel import Material
-
+    def material(self) -> Material:
         return Material(self.E, self.nu, self.sigma_y, self.rho)
 
-    def pair(self):
-        from nfdmodel import ContactPair
-
+    def pair(self) -> ContactPair:
         return ContactPair.sphere_flat(self.material(), self.R)
 
     @property
     def is_reference(self) -> bool:
-        return (self.E, self.nu, self.sigma_y, self.R) == (70e9, 0.3, 100e6, 0.1)
+        return (self.E, self.nu, self.sigma_y, self.R) == (reference_case.E, reference_case.NU,
+                                                           reference_case.SIGMA_Y, reference_case.R)
 
     def inputs(self) -> dict:
         return {"name": self.name, "E": self.E, "nu": self.nu, "sigma_y": self.sigma_y,
                 "rho": self.rho, "R": self.R, "E_over_sigma_y": self.E / self.sigma_y}
 
 
-@dataclass(frozen=True)
-class MeshChoice:
-    level: str | None = "default"
-    contact_size: float | None = None             # [m], explicit
-    contact_size_over_a_max: float | None = None  # explicit ratio
+class MeshChoice(_Table):
+    """One of: a level (coarse, default, fine), an element size at the contact [m], or that size
+    over the largest contact radius."""
+
+    level: Literal["coarse", "default", "fine"] | None = "default"
+    contact_size: Positive | None = None
+    contact_size_over_a_max: Annotated[Number, Field(gt=0, le=0.25)] | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _one_choice(cls, data):
+        if isinstance(data, dict):
+            given = sorted(k for k in ("level", "contact_size", "contact_size_over_a_max") if data.get(k) is not None)
+            if len(given) > 1:
+                raise ValueError(f"give one of level, contact_size, contact_size_over_a_max, got {given}")
+            if given and given[0] != "level":
+                data = {**data, "level": None}
+        return data
 
     def label(self) -> str:
         if self.contact_size is not None:
@@ -107,25 +140,39 @@ class MeshChoice:
         return self.contact_size_over_a_max if self.contact_size_over_a_max is not None else MESH_LEVELS[self.level or "default"]
 
 
-@dataclass(frozen=True)
-class HertzStage:
-    P_max: float | None = None
-    P_max_over_P_Y: float | None = None
-    P_min: float | None = None
-    steps: int = 25
+class HertzStage(_Table):
+    """Elastic loading from P_min to P_max [N] (or P_max_over_P_Y x P_Y) in ``steps`` loads."""
+
+    P_max: Positive | None = None
+    P_max_over_P_Y: Ratio | None = None
+    P_min: Positive | None = None
+    steps: Annotated[int, Strict(), Field(ge=2, le=1000)] = 25
+
+    @model_validator(mode="after")
+    def _one_top(self):
+        if self.P_max is not None and self.P_max_over_P_Y is not None:
+            raise ValueError("give P_max or P_max_over_P_Y, not both")
+        return self
 
     def loads(self, pair) -> tuple[float, float]:
         top = self.P_max if self.P_max is not None else (self.P_max_over_P_Y or 41.2) * pair.P_Y
         return (self.P_min if self.P_min is not None else top / 1000.0), top
 
 
-@dataclass(frozen=True)
-class LoadPathStage:
-    P_max: tuple[float, ...] | None = None
-    P_max_over_P_Y: tuple[float, ...] | None = None
-    unload: bool = True
-    loading_steps: int = 48
-    unloading_steps: int = 16
+class LoadPathStage(_Table):
+    """Load paths to each P_max [N] (or P_max_over_P_Y x P_Y), unloaded unless ``unload`` is false."""
+
+    P_max: _list_of(Positive) | None = None
+    P_max_over_P_Y: _list_of(Ratio) | None = None
+    unload: Flag = True
+    loading_steps: Annotated[int, Strict(), Field(ge=2, le=10000)] = 48
+    unloading_steps: Annotated[int, Strict(), Field(ge=2, le=1000)] = 16
+
+    @model_validator(mode="after")
+    def _one_peak_list(self):
+        if self.P_max is not None and self.P_max_over_P_Y is not None:
+            raise ValueError("give P_max or P_max_over_P_Y, not both")
+        return self
 
     def peaks(self, pair) -> tuple[float, ...]:
         if self.P_max is not None:
@@ -134,22 +181,87 @@ class LoadPathStage:
         return tuple(sorted(k * pair.P_Y for k in ratios))
 
 
-@dataclass(frozen=True)
-class CollisionStage:
-    v_in: tuple[float, ...] | None = None
-    v_in_over_v_Y: tuple[float, ...] | None = None
-    laws: tuple[str, ...] = ("vz", "thornton", "hertz")
+class CollisionStage(_Table):
+    """Impacts at v_in [m/s] (or v_in_over_v_Y x v_Y) with each of ``laws``."""
+
+    v_in: _list_of(Positive) | None = None
+    v_in_over_v_Y: _list_of(Ratio) | None = None
+    laws: _list_of(Law) = ("vz", "thornton", "hertz")
+
+    @model_validator(mode="after")
+    def _one_velocity_list(self):
+        if (self.v_in is None) == (self.v_in_over_v_Y is None):
+            raise ValueError("give exactly one of v_in [m/s] or v_in_over_v_Y")
+        return self
 
     def velocities(self, pair) -> tuple[float, ...]:
         return self.v_in if self.v_in is not None else tuple(k * pair.v_Y for k in self.v_in_over_v_Y)
 
 
-@dataclass(frozen=True)
-class Outputs:
-    out: str | None = None
-    plots: bool = False
-    vtu: bool = False
-    histories: bool = True
+class Outputs(_Table):
+    out: Annotated[str, Field(min_length=1)] | None = None
+    plots: Flag = False
+    vtu: Flag = False
+    histories: Flag = True
+
+
+# ----------------------------------------------------------------------------- the file
+class _Head(_Table):
+    name: Name | None = None     # default: the file's stem
+    description: str = ""
+
+
+class _Grid(_Table):
+    nu: _list_of(PoissonRatio)
+    E_over_sigma_y: _list_of(Annotated[Number, Field(gt=1)])
+    sigma_y: Positive
+    rho: Positive
+    R: Positive
+
+
+class _Calibration(_Table):
+    ship: Literal["radius", "force"] = "radius"
+
+
+class SceneFile(_Table):
+    """The TOML document as written (sections and keys); ``parse_scene`` turns it into a Scene."""
+
+    scene: _Head = _Head()
+    mesh: MeshChoice = MeshChoice()
+    material: _list_of(SceneMaterial) | None = None
+    grid: _Grid | None = None
+    hertz: HertzStage | None = None
+    load_paths: LoadPathStage | None = None
+    calibration: _Calibration | None = None
+    collision: CollisionStage | None = None
+    outputs: Outputs = Outputs()
+
+    @model_validator(mode="before")
+    @classmethod
+    def _material_tables(cls, data):
+        """One [material] table is a list of one; an unnamed material is material<k>."""
+        if isinstance(data, dict) and "material" in data:
+            entries = data["material"]
+            entries = [entries] if isinstance(entries, dict) else entries
+            if isinstance(entries, list):
+                entries = [{"name": f"material{k}", **e} if isinstance(e, dict) else e for k, e in enumerate(entries)]
+            data = {**data, "material": entries}
+        return data
+
+    @model_validator(mode="after")
+    def _consistent(self):
+        if self.material is not None and self.grid is not None:
+            raise ValueError("grid: give either [[material]] tables or a [grid], not both")
+        if self.material is None and self.grid is None:
+            raise ValueError("material: missing: give [[material]] tables or a [grid]")
+        if self.material is not None and len({m.name for m in self.material}) != len(self.material):
+            raise ValueError("material.name: names must be unique")
+        if (self.calibration is not None and self.calibration.ship == "force" and self.load_paths is not None
+                and not self.load_paths.unload):
+            raise ValueError("calibration.ship: 'force' fits the unloading too: needs load_paths.unload = true")
+        if self.hertz is None and self.load_paths is None and self.calibration is None and self.collision is None:
+            raise ValueError("scene: nothing to run: add [hertz], [load_paths], [calibration] or [collision]")
+        return self
 
 
 @dataclass(frozen=True)
@@ -186,196 +298,131 @@ class Scene:
         return names
 
 
+# ----------------------------------------------------------------------------- errors
+@functools.cache
+def _json_schema() -> dict:
+    return SceneFile.model_json_schema()
+
+
+def _schema_at(loc: tuple) -> dict:
+    """The JSON schema node of the key at ``loc`` (through $ref, optional values and list items)."""
+    root = _json_schema()
+
+    def resolve(node):
+        while True:
+            if "$ref" in node:
+                node = root["$defs"][node["$ref"].rsplit("/", 1)[-1]]
+            elif "anyOf" in node:
+                node = next((n for n in node["anyOf"] if n.get("type") != "null"), {})
+            elif "allOf" in node:
+                node = node["allOf"][0]
+            else:
+                return node
+
+    node = resolve(root)
+    for part in loc:
+        node = resolve(node.get("items", {}) if isinstance(part, int) else node.get("properties", {}).get(part, {}))
+    return node
+
+
+def _key_path(loc: tuple) -> str:
+    """('material', 0, 'nu') -> material[0].nu"""
+    text = ""
+    for part in loc:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text
+
+
+def _allowed_range(node: dict) -> str:
+    bounds = [(f"> {node['exclusiveMinimum']:g}" if "exclusiveMinimum" in node else
+               f">= {node['minimum']:g}" if "minimum" in node else ""),
+              (f"< {node['exclusiveMaximum']:g}" if "exclusiveMaximum" in node else
+               f"<= {node['maximum']:g}" if "maximum" in node else "")]
+    return " and ".join(b for b in bounds if b)
+
+
+def _got(value) -> str:
+    return f"{value:g}" if isinstance(value, (int, float)) and not isinstance(value, bool) else repr(value)
+
+
+def _message(error: dict) -> tuple[tuple, str]:
+    """(key location, text after the key) of one pydantic error."""
+    loc, kind, value = tuple(error["loc"]), error["type"], error.get("input")
+    if kind == "extra_forbidden":
+        allowed = ", ".join(_schema_at(loc[:-1]).get("properties", {}))
+        return loc, f"unknown {'section' if len(loc) == 1 else 'key'} (allowed: {allowed})"
+    if kind == "missing":
+        required = _schema_at(loc[:-1]).get("required", [])
+        return loc, f"missing (need {', '.join(required)})" if required else "missing"
+    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
+        return loc, f"out of range: need {_allowed_range(_schema_at(loc))}, got {_got(value)}"
+    if kind == "literal_error":
+        return loc, f"must be one of {', '.join(map(str, _schema_at(loc).get('enum', [])))}, got {value!r}"
+    if kind == "value_error":
+        text = str(error["ctx"]["error"])
+        if not loc and ": " in text:    # a rule of the whole file names its key first
+            key, text = text.split(": ", 1)
+            return (key,), text
+        return loc, text
+    what = {"float_type": "a number", "int_type": "an integer", "int_from_float": "an integer",
+            "bool_type": "true or false", "string_type": "a string", "tuple_type": "a list",
+            "model_type": "a table", "model_attributes_type": "a table", "dict_type": "a table"}.get(kind)
+    if what is not None:
+        return loc, f"must be {what}, got {_got(value)} ({type(value).__name__})"
+    if kind == "finite_number":
+        return loc, f"must be finite, got {value}"
+    if kind in ("too_short", "string_too_short"):
+        return loc, f"must not be empty, got {value!r}"
+    return loc, error["msg"]
+
+
+def _one_line(exc: ValidationError, source: str) -> str:
+    loc, text = _message(exc.errors()[0])
+    key = _key_path(loc)
+    return f"scene {source}: {key}: {text}" if key else f"scene {source}: {text}"
+
+
 # ----------------------------------------------------------------------------- parsing
-def _fail(source: str, key: str, message: str):
-    raise SceneError(f"scene {source}: {key}: {message}")
-
-
-def _number(source, key, value, low=None, high=None, low_open=True, high_open=False, integer=False):
-    kind = "an integer" if integer else "a number"
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or (integer and not isinstance(value, int)):
-        _fail(source, key, f"must be {kind}, got {value!r} ({type(value).__name__})")
-    value = int(value) if integer else float(value)
-    if not math.isfinite(value):
-        _fail(source, key, f"must be finite, got {value}")
-    lo = "" if low is None else (f"> {low:g}" if low_open else f">= {low:g}")
-    hi = "" if high is None else (f"< {high:g}" if high_open else f"<= {high:g}")
-    allowed = " and ".join(s for s in (lo, hi) if s)
-    if low is not None and (value <= low if low_open else value < low):
-        _fail(source, key, f"out of range: need {allowed}, got {value:g}")
-    if high is not None and (value >= high if high_open else value > high):
-        _fail(source, key, f"out of range: need {allowed}, got {value:g}")
-    return value
-
-
-def _numbers(source, key, value, **bounds) -> tuple:
-    if not isinstance(value, list) or not value:
-        _fail(source, key, f"must be a non-empty list of numbers, got {value!r}")
-    return tuple(_number(source, f"{key}[{k}]", v, **bounds) for k, v in enumerate(value))
-
-
-MATERIAL_BOUNDS = {"E": {"low": 0}, "nu": {"low": 0, "low_open": False, "high": 0.5, "high_open": True},
-                   "sigma_y": {"low": 0}, "rho": {"low": 0}, "R": {"low": 0}}
-
-
-def _table(source, data, section, required=False) -> dict | None:
-    if section not in data:
-        if required:
-            _fail(source, f"[{section}]", "missing section")
-        return None
-    value = data[section]
-    if not isinstance(value, dict):
-        _fail(source, f"[{section}]", f"must be a table, got {type(value).__name__}")
-    unknown = sorted(set(value) - set(SCHEMA[section]))
-    if unknown:
-        _fail(source, f"{section}.{unknown[0]}", f"unknown key (allowed: {', '.join(SCHEMA[section])})")
-    return value
-
-
-def _bool(source, key, value):
-    if not isinstance(value, bool):
-        _fail(source, key, f"must be true or false, got {value!r}")
-    return value
-
-
 def parse_scene(data: dict, source: str = "<scene>") -> Scene:
     """Validate the TOML data of a scene into a Scene (SceneError on any problem)."""
-    unknown = sorted(set(data) - set(SCHEMA))
-    if unknown:
-        _fail(source, unknown[0], f"unknown section (allowed: {', '.join(SCHEMA)})")
-    head = _table(source, data, "scene") or {}
-    name = head.get("name", Path(source).stem)
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c in "-_." for c in name):
-        _fail(source, "scene.name", f"must be a non-empty name of letters, digits, '-', '_', '.', got {name!r}")
-    description = head.get("description", "")
-    if not isinstance(description, str):
-        _fail(source, "scene.description", "must be a string")
+    try:
+        file = SceneFile.model_validate(data)
+    except ValidationError as exc:
+        raise SceneError(_one_line(exc, source)) from None
 
-    mesh_data = _table(source, data, "mesh") or {}
-    if len(mesh_data) > 1:
-        _fail(source, "mesh", f"give one of level, contact_size, contact_size_over_a_max, got {sorted(mesh_data)}")
-    mesh = MeshChoice()
-    if "level" in mesh_data:
-        if mesh_data["level"] not in MESH_LEVELS:
-            _fail(source, "mesh.level", f"must be one of {', '.join(MESH_LEVELS)}, got {mesh_data['level']!r}")
-        mesh = MeshChoice(level=mesh_data["level"])
-    elif "contact_size" in mesh_data:
-        mesh = MeshChoice(level=None, contact_size=_number(source, "mesh.contact_size", mesh_data["contact_size"], low=0))
-    elif "contact_size_over_a_max" in mesh_data:
-        mesh = MeshChoice(level=None, contact_size_over_a_max=_number(
-            source, "mesh.contact_size_over_a_max", mesh_data["contact_size_over_a_max"], low=0, high=0.25))
+    name = file.scene.name if file.scene.name is not None else Path(source).stem
+    try:
+        _check_name(name)
+    except ValueError as exc:
+        raise SceneError(f"scene {source}: scene.name: {exc}") from None
 
-    # materials: [[material]] tables or a [grid]
-    materials = []
-    is_grid = False
-    if "material" in data and "grid" in data:
-        _fail(source, "grid", "give either [[material]] tables or a [grid], not both")
-    if "material" in data:
-        entries = data["material"]
-        entries = [entries] if isinstance(entries, dict) else entries
-        if not isinstance(entries, list) or not entries or not all(isinstance(e, dict) for e in entries):
-            _fail(source, "material", "must be one or more [[material]] tables")
-        for k, entry in enumerate(entries):
-            unknown = sorted(set(entry) - set(SCHEMA["material"]))
-            if unknown:
-                _fail(source, f"material[{k}].{unknown[0]}", f"unknown key (allowed: {', '.join(SCHEMA['material'])})")
-            missing = [key for key in MATERIAL_BOUNDS if key not in entry]
-            if missing:
-                _fail(source, f"material[{k}].{missing[0]}", "missing (need E, nu, sigma_y, rho, R)")
-            values = {key: _number(source, f"material[{k}].{key}", entry[key], **bounds)
-                      for key, bounds in MATERIAL_BOUNDS.items()}
-            label = entry.get("name", f"material{k}")
-            if not isinstance(label, str):
-                _fail(source, f"material[{k}].name", "must be a string")
-            materials.append(SceneMaterial(name=label, **values))
-    elif "grid" in data:
-        grid = _table(source, data, "grid")
-        for key in SCHEMA["grid"]:
-            if key not in grid:
-                _fail(source, f"grid.{key}", "missing (need nu, E_over_sigma_y, sigma_y, rho, R)")
-        nus = _numbers(source, "grid.nu", grid["nu"], **MATERIAL_BOUNDS["nu"])
-        ratios = _numbers(source, "grid.E_over_sigma_y", grid["E_over_sigma_y"], low=1)
-        fixed = {key: _number(source, f"grid.{key}", grid[key], **MATERIAL_BOUNDS[key]) for key in ("sigma_y", "rho", "R")}
-        materials = [SceneMaterial(name=f"nu{nu:g}_E{ratio:g}sy", E=ratio * fixed["sigma_y"], nu=nu, **fixed)
-                     for nu in nus for ratio in ratios]
-        is_grid = True
+    if file.grid is not None:
+        grid = file.grid
+        materials = tuple(SceneMaterial(name=f"nu{nu:g}_E{ratio:g}sy", E=ratio * grid.sigma_y, nu=nu,
+                                        sigma_y=grid.sigma_y, rho=grid.rho, R=grid.R)
+                          for nu in grid.nu for ratio in grid.E_over_sigma_y)
     else:
-        _fail(source, "material", "missing: give [[material]] tables or a [grid]")
-    if len({m.name for m in materials}) != len(materials):
-        _fail(source, "material.name", "names must be unique")
+        materials = file.material
 
-    hertz = None
-    hertz_data = _table(source, data, "hertz")
-    if hertz_data is not None:
-        if "P_max" in hertz_data and "P_max_over_P_Y" in hertz_data:
-            _fail(source, "hertz", "give P_max or P_max_over_P_Y, not both")
-        hertz = HertzStage(
-            P_max=_number(source, "hertz.P_max", hertz_data["P_max"], low=0) if "P_max" in hertz_data else None,
-            P_max_over_P_Y=(_number(source, "hertz.P_max_over_P_Y", hertz_data["P_max_over_P_Y"], low=0, high=1e4)
-                            if "P_max_over_P_Y" in hertz_data else None),
-            P_min=_number(source, "hertz.P_min", hertz_data["P_min"], low=0) if "P_min" in hertz_data else None,
-            steps=_number(source, "hertz.steps", hertz_data.get("steps", 25), low=2, low_open=False, high=1000, integer=True))
+    # rules that need each material's contact physics (P_Y)
+    if file.hertz is not None:
         for m in materials:
-            low, top = hertz.loads(m.pair())
+            low, top = file.hertz.loads(m.pair())
             if not top > low:
-                _fail(source, "hertz.P_min", f"must be < P_max = {top:g} N, got {low:g}")
-
-    load_paths = None
-    lp = _table(source, data, "load_paths")
-    if lp is not None:
-        if "P_max" in lp and "P_max_over_P_Y" in lp:
-            _fail(source, "load_paths", "give P_max or P_max_over_P_Y, not both")
-        load_paths = LoadPathStage(
-            P_max=_numbers(source, "load_paths.P_max", lp["P_max"], low=0) if "P_max" in lp else None,
-            P_max_over_P_Y=(_numbers(source, "load_paths.P_max_over_P_Y", lp["P_max_over_P_Y"], low=0, high=1e4)
-                            if "P_max_over_P_Y" in lp else None),
-            unload=_bool(source, "load_paths.unload", lp.get("unload", True)),
-            loading_steps=_number(source, "load_paths.loading_steps", lp.get("loading_steps", 48), low=2,
-                                  low_open=False, high=10000, integer=True),
-            unloading_steps=_number(source, "load_paths.unloading_steps", lp.get("unloading_steps", 16), low=2,
-                                    low_open=False, high=1000, integer=True))
-
-    ship = None
-    cal = _table(source, data, "calibration")
-    if cal is not None:
-        ship = cal.get("ship", "radius")
-        if ship not in ("radius", "force"):
-            _fail(source, "calibration.ship", f"must be 'radius' or 'force', got {ship!r}")
-        if ship == "force" and load_paths is not None and not load_paths.unload:
-            _fail(source, "calibration.ship", "'force' fits the unloading too: needs load_paths.unload = true")
-        if load_paths is None:
-            load_paths = LoadPathStage()
+                raise SceneError(f"scene {source}: hertz.P_min: must be < P_max = {top:g} N, got {low:g}")
+    load_paths = file.load_paths
+    if file.calibration is not None:
+        load_paths = load_paths or LoadPathStage()
         for m in materials:
+            P_Y = m.pair().P_Y
             peaks = load_paths.peaks(m.pair())
-            if not max(peaks) > 2 * m.pair().P_Y:
-                _fail(source, "load_paths.P_max", f"calibration needs loads above P_Y: the largest P_max must be "
-                      f"> 2 P_Y = {2 * m.pair().P_Y:.4g} N for material {m.name!r}, got {max(peaks):.4g} N")
-
-    collision = None
-    col = _table(source, data, "collision")
-    if col is not None:
-        if ("v_in" in col) == ("v_in_over_v_Y" in col):
-            _fail(source, "collision", "give exactly one of v_in [m/s] or v_in_over_v_Y")
-        laws = col.get("laws", ["vz", "thornton", "hertz"])
-        if not isinstance(laws, list) or not laws or any(law not in LAW_NAMES for law in laws):
-            _fail(source, "collision.laws", f"must be a non-empty list of {', '.join(LAW_NAMES)}, got {laws!r}")
-        collision = CollisionStage(
-            v_in=_numbers(source, "collision.v_in", col["v_in"], low=0) if "v_in" in col else None,
-            v_in_over_v_Y=(_numbers(source, "collision.v_in_over_v_Y", col["v_in_over_v_Y"], low=0, high=1e4)
-                           if "v_in_over_v_Y" in col else None),
-            laws=tuple(laws))
-
-    out_data = _table(source, data, "outputs") or {}
-    out = out_data.get("out")
-    if out is not None and (not isinstance(out, str) or not out):
-        _fail(source, "outputs.out", "must be a folder path (string)")
-    outputs = Outputs(out=out, **{k: _bool(source, f"outputs.{k}", out_data[k])
-                                  for k in ("plots", "vtu", "histories") if k in out_data})
-    if hertz is None and load_paths is None and collision is None:
-        _fail(source, "scene", "nothing to run: add [hertz], [load_paths], [calibration] or [collision]")
-    return Scene(name=name, materials=tuple(materials), mesh=mesh, hertz=hertz, load_paths=load_paths,
-                 calibration_ship=ship, collision=collision, outputs=outputs, description=description,
-                 source=source, is_grid=is_grid)
+            if not max(peaks) > 2 * P_Y:
+                raise SceneError(f"scene {source}: load_paths.P_max: calibration needs loads above P_Y: the largest "
+                                 f"P_max must be > 2 P_Y = {2 * P_Y:.4g} N for material {m.name!r}, got {max(peaks):.4g} N")
+    return Scene(name=name, materials=materials, mesh=file.mesh, hertz=file.hertz, load_paths=load_paths,
+                 calibration_ship=None if file.calibration is None else file.calibration.ship,
+                 collision=file.collision, outputs=file.outputs, description=file.scene.description,
+                 source=source, is_grid=file.grid is not None)
 
 
 def builtin_scenes() -> dict[str, Path]:
