@@ -492,19 +492,11 @@ class ContactSolver:
         loads (measured at E / sigma_Y = 5000, 60-81 P_Y, where even 1/64 of the increment
         failed): the warm-start active set (the recovered contact radius, which can lie inside
         the outermost contact node, scaled by the learnt growth exponent) drops that node; with
-        one ring less the force-controlled body flows (alpha +4.7 % for a +0.16 % force step), the
-        outer nodes penetrate, and Newton on the regrown set is cut off by its stall test, whose
-        baseline is the start of the run (see 1). Two stages (loading and unloading alike):
+        one ring less the force-controlled body flows (alpha +4.7 % for a +0.16 % force step) and the
+        outer nodes penetrate. Two stages (loading and unloading alike):
 
         1. the same step started from the committed state itself, its displacement and its active
-           set (no secant predictor, no predicted set), with Newton's stall test taken only over
-           iterates that meet the constraints. The ordinary test compares every iterate with the
-           best residual so far, the start included, which does not meet the constraints when
-           the active set has grown (or, in displacement control, the plate has moved): that
-           start is a converged state of another problem, its free residual is tiny (1e-11), no
-           iterate halves it, and Newton is declared stalled after four iterations however fast
-           it converges (seen: 1e-3, 2e-4, 1e-5, 1.5e-8 "stalled" one iteration before the 1e-8
-           tolerance);
+           set (no secant predictor, no predicted set);
         2. force control only, if 1 fails: displacement control on the plate, the approach alpha
            found by a safeguarded secant on P(alpha) (every trial from ``state``, the committed
            state, so the accepted step is still one backward-Euler increment), then a
@@ -524,7 +516,7 @@ class ContactSolver:
         else:
             target = check_real("alpha", target, unit="m")
         t_start = time.perf_counter()
-        first = self._solve(state, control, target, rescue=True, start=state)
+        first = self._solve(state, control, target, start=state)
         if first.converged or control == "displacement":
             return _merged([first], first, t_start, "converged (rescue: from the committed state)"
                            if first.converged else f"rescue from the committed state: {first.message}")
@@ -550,7 +542,7 @@ class ContactSolver:
         best = None
         alpha = a0 + slope * (target - P0)
         for _ in range(max_solves):
-            result = self._solve(state, "displacement", alpha, rescue=True)
+            result = self._solve(state, "displacement", alpha)
             tried.append(result)
             if not result.converged:
                 alpha = near[0] + 0.5 * (alpha - near[0])  # closer to the committed side
@@ -578,7 +570,7 @@ class ContactSolver:
         if best is None:
             return _merged(tried, failed, t_start, f"{failed.message}; under displacement control"
                            f" too: {tried[-1].message}")
-        polish = self._solve(state, "force", target, rescue=True, start=best.state)
+        polish = self._solve(state, "force", target, start=best.state)
         tried.append(polish)
         if polish.converged:
             return _merged(tried, polish, t_start, f"converged (rescue: displacement control,"
@@ -588,7 +580,7 @@ class ContactSolver:
                        f" {polish.message}")
 
     def _solve(self, state: ContactState, control: str, target: float,
-               rescue: bool = False, start: ContactState | None = None) -> StepResult:
+               start: ContactState | None = None) -> StepResult:
         t_start = time.perf_counter()
         t_assembly = t_solve = 0.0
         q = np.empty(self.n_q)
@@ -629,13 +621,13 @@ class ContactSolver:
             free[constrained] = False
             key = (control, active.tobytes()) if self.is_linear else None
             newton = self._newton(q.copy(), state, control, target, constrained,
-                                  constrained_target, free, key, residual_history, rescue)
+                                  constrained_target, free, key, residual_history)
             if not newton.ok and active_set_iterations > 1:
                 # Continuing from the previous set's solution can diverge when a node that
                 # held plastic flow is released (its plastic tangent does not describe the
                 # unloading); the committed state is a safe start for the new set.
                 newton = self._newton(q_start.copy(), state, control, target, constrained,
-                                      constrained_target, free, key, residual_history, rescue)
+                                      constrained_target, free, key, residual_history)
             newton_total += newton.iterations
             factorizations += newton.factorizations
             t_assembly += newton.time_assembly
@@ -714,7 +706,7 @@ class ContactSolver:
                           residual_history=tuple(residual_history))
 
     def _newton(self, q, state, control, target, constrained, constrained_target, free, key,
-                residual_history, rescue=False):
+                residual_history):
         """Newton on r(q) = 0 for one active set (constraints: active nodes, and the plate in
         displacement control), from ``q``. Stops at the residual tolerance, at the iteration
         limit, or early when it stalls (see below)."""
@@ -747,8 +739,10 @@ class ContactSolver:
             # Newton with a consistent tangent at least halves the residual every iteration
             # near the solution: four iterations in a row without halving the best residual
             # mean divergence or a limit cycle, not slow progress.
-            if rescue and np.any(dq_constrained):
-                pass  # the start does not meet the constraints: its residual is no baseline
+            # An iterate that does not meet the constraints yet (the first of a displacement
+            # step, or one with newly active nodes) is no baseline for that test.
+            if np.any(dq_constrained):
+                pass
             elif residual_norm < 0.5 * best:
                 best, stalled = residual_norm, 0
             else:
