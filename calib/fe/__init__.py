@@ -7,10 +7,12 @@ Public names (import them from ``calib.fe``; the modules behind them are interna
 ``run_load_paths`` (shared loading branch, unloading paths).
 """
 from calib.fe.elastic import ElasticMaterial
-from calib.fe.solver import (ContactSolver, ContactState, StepNotConverged, StepRecord, StepResult,
-                             contact_radius_from_gap, contact_radius_from_pressure, run_load_path)
+from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_pressure
+from calib.fe.solver import ContactSolver
+from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult
 from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
-from calib.fe.loadpath import LoadPathPlan, LoadPathResults, PathResult, advance, plastic_zone, run_load_paths
+from calib.fe.loadpath import (LoadPathPlan, LoadPathResults, PathResult, advance, plastic_zone,
+                              run_load_path, run_load_paths)
 
 __all__ = ["ContactSolver", "ContactState", "StepNotConverged", "StepRecord", "StepResult",
            "contact_radius_from_gap", "contact_radius_from_pressure", "run_load_path",
