@@ -56,6 +56,7 @@ from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, quadrature_strain, to_form_layout
 from calib.fe.dofs import contact_dofs
 from calib.fe.forms import internal_force, tangent_stiffness
+from calib.fe.material import Material
 from calib.fe.linsolve import METHODS as LINEAR_SOLVERS, factorize
 from calib.fe.newton import solve_newton
 from calib.fe.recovery import (CONTACT_RADIUS_METHODS, contact_radius_from_gap,
@@ -81,7 +82,7 @@ class ContactSolver:
     quadrature_order : scikit-fem intorder (4: 6-point rule, exact for the P2 stiffness terms)
     """
 
-    def __init__(self, mesh, material, *, residual_tolerance: float = 1e-8,
+    def __init__(self, mesh, material: Material, *, residual_tolerance: float = 1e-8,
                  max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
                  linear_solver: str | None = None, contact_radius_method: str = "pressure",
                  quadrature_order: int = 4):
