@@ -1,6 +1,6 @@
 """The r-z section of the hemisphere pressed on the rigid flat, meshed by gmsh and cached.
 
-Domain (SPEC section 6; Vu-Quoc & Zhang 1999, section 2): the quarter disc
+Domain (Vu-Quoc & Zhang 1999, section 2): the quarter disc
 
     {(r, z): r >= 0, 0 <= z <= R, r^2 + (z - R)^2 <= R^2}        [m]
 

@@ -1,18 +1,23 @@
-"""Stage 2a, the finite-element solve: a sphere pressed on a rigid frictionless flat, axisymmetric.
+"""Stage 2, the finite-element solve: a sphere pressed on a rigid frictionless flat, axisymmetric.
 
-Public names (import them from ``calib.fe``; the modules behind them are internals):
-``ContactSolver`` (load steps: force or displacement control, exact active-set contact, Newton),
-``ContactState`` / ``StepResult`` / ``StepNotConverged``, ``run_load_path``; the materials
-``ElasticMaterial`` and ``VonMisesMaterial`` (radial return); ``LoadPathPlan`` and
-``run_load_paths`` (shared loading branch, unloading paths).
+Modules, in the order the solve uses them: ``axisym`` (strain with the hoop term, the 2 pi r
+weight), ``material`` (the Material protocol, isotropic elastic constants), ``elastic`` and
+``von_mises`` (the materials; radial return), ``forms`` (weak forms), ``dofs`` (rigid-plate
+tie, contact candidates), ``state`` (states and step records), ``active_set``, ``newton``,
+``rescue``, ``recovery`` (pressure, contact edge), ``linsolve`` (sparse direct solvers),
+``solver`` (ContactSolver: one load step), ``loadpath`` (load paths with unloading).
+Import the public names from ``calib.fe``.
 """
 from calib.fe.elastic import ElasticMaterial
-from calib.fe.solver import (ContactSolver, ContactState, StepNotConverged, StepRecord, StepResult,
-                             contact_radius_from_gap, contact_radius_from_pressure, run_load_path)
+from calib.fe.material import Material, elastic_matrix, lame_constants
+from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_pressure
+from calib.fe.solver import ContactSolver
+from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult
 from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
-from calib.fe.loadpath import LoadPathPlan, LoadPathResults, PathResult, advance, plastic_zone, run_load_paths
+from calib.fe.loadpath import (LoadPathPlan, LoadPathResults, PathResult, advance, plastic_zone,
+                              run_load_path, run_load_paths)
 
 __all__ = ["ContactSolver", "ContactState", "StepNotConverged", "StepRecord", "StepResult",
            "contact_radius_from_gap", "contact_radius_from_pressure", "run_load_path",
-           "ElasticMaterial", "VonMisesMaterial", "von_mises_stress", "LoadPathPlan",
-           "LoadPathResults", "PathResult", "advance", "plastic_zone", "run_load_paths"]
+           "ElasticMaterial", "Material", "elastic_matrix", "lame_constants", "VonMisesMaterial",
+           "von_mises_stress", "LoadPathPlan", "LoadPathResults", "PathResult", "advance", "plastic_zone", "run_load_paths"]

@@ -1,7 +1,7 @@
 """Axisymmetric small-strain kinematics: the one place that knows about hoop strain and 2 pi r.
 
 Coordinates x = (r, z) [m], displacement u = (u_r, u_z) [m]. Strain in the project's Voigt
-convention (CONTRACTS.md), with ENGINEERING shear:
+convention (calib.fe.material), with ENGINEERING shear:
 
     eps = [eps_rr, eps_zz, eps_tt, gamma_rz]
         = [du_r/dr, du_z/dz, u_r / r, du_r/dz + du_z/dr]                         [-]

@@ -1,10 +1,6 @@
-"""Materials for the axisymmetric FE solver, following the Material interface of CONTRACTS.md.
+"""Isotropic linear elasticity, a ``calib.fe.material.Material`` (the Hertz-limit validation).
 
-    material.initial_state(n_elements, n_qp) -> state (frozen dataclass of named arrays)
-    material.update(strain (E,Q,4), state_committed) -> (stress (E,Q,4), tangent (E,Q,4,4), trial)
-
-``update`` is pure; the solver adopts ``trial`` only after a load step converged. Components
-[rr, zz, tt, rz]; strain with engineering shear gamma_rz, stress plain (calib.fe.axisym).
+stress = D strain at every quadrature point, D from calib.fe.material.elastic_matrix; no history.
 """
 from __future__ import annotations
 
@@ -14,6 +10,8 @@ from typing import ClassVar
 
 import numpy as np
 
+from calib.fe.material import IsotropicElasticity
+
 
 @dataclass(frozen=True)
 class ElasticState:
@@ -21,7 +19,7 @@ class ElasticState:
 
 
 @dataclass(frozen=True)
-class ElasticMaterial:
+class ElasticMaterial(IsotropicElasticity):
     """Isotropic linear elasticity, stress = D strain.
 
     D[:3, :3] = lambda + 2 mu I,  D[3, 3] = mu  (engineering shear), with the Lame constants
@@ -40,27 +38,6 @@ class ElasticMaterial:
         if not (isinstance(self.nu, numbers.Real) and not isinstance(self.nu, (bool, np.bool_))
                 and 0.0 <= self.nu < 0.5):
             raise ValueError(f"nu must be a Poisson ratio in [0, 0.5), got {self.nu!r}")
-
-    @property
-    def lame_lambda(self) -> float:
-        return self.E * self.nu / ((1.0 + self.nu) * (1.0 - 2.0 * self.nu))
-
-    @property
-    def shear_modulus(self) -> float:
-        return self.E / (2.0 * (1.0 + self.nu))
-
-    @property
-    def bulk_modulus(self) -> float:
-        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
-
-    def elastic_tangent(self) -> np.ndarray:
-        """The (4, 4) matrix D [Pa]."""
-        lam, mu = self.lame_lambda, self.shear_modulus
-        D = np.zeros((4, 4))
-        D[:3, :3] = lam
-        D[:3, :3] += 2.0 * mu * np.eye(3)
-        D[3, 3] = mu
-        return D
 
     def initial_state(self, n_elements: int, n_qp: int) -> ElasticState:
         return ElasticState()

@@ -1,4 +1,4 @@
-"""Force-driven load paths with unloading: the paper's ABC / ADE / AFG cycles (SPEC section 6).
+"""Force-driven load paths with unloading: the paper's ABC / ADE / AFG cycles.
 
 Vu-Quoc & Zhang (1999), section 2: the force P on the rigid top plate rises linearly to P_max,
 then returns to zero. The loading branch is common to every path, so it is computed once and each
@@ -31,7 +31,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from calib.fe.solver import ContactSolver, ContactState, StepNotConverged, StepResult
+from calib.fe.solver import ContactSolver
+from calib.fe.state import ContactState, StepNotConverged, StepResult
 
 
 @dataclass(frozen=True)
@@ -101,6 +102,29 @@ class LoadPathResults:
     factorizations: int
     final_state: ContactState = field(repr=False)  # end of the last unloading
     pressure_profiles: dict = field(default_factory=dict, repr=False)  # peak -> (r [m], p [Pa])
+
+
+def run_load_path(solver: ContactSolver, loads, control: str = "force",
+                  state: ContactState | None = None):
+    """Apply ``loads`` (forces [N] or approaches [m]) in order, committing each converged step.
+
+    Returns (results, final_state). Raises StepNotConverged at the first failed step (the
+    results so far are attached as ``exc.results``).
+    """
+    if control not in ("force", "displacement"):
+        raise ValueError(f"control must be 'force' or 'displacement', got {control!r}")
+    state = solver.initial_state() if state is None else state
+    step = solver.solve_force if control == "force" else solver.solve_displacement
+    results = []
+    for load in loads:
+        result = step(state, load)
+        if not result.converged:
+            exc = StepNotConverged(f"{control} step {load:g}: {result.message}")
+            exc.results = results
+            raise exc
+        results.append(result)
+        state = solver.commit(result)
+    return results, state
 
 
 def plastic_zone(state: ContactState, quadrature_r: np.ndarray, quadrature_z: np.ndarray) -> dict:

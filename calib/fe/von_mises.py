@@ -6,7 +6,7 @@ References: Simo & Hughes, *Computational Inelasticity* (1998), Box 3.1 (return 
 Box 3.2 (consistent elastoplastic moduli); de Souza Neto, Peric & Owen, *Computational Methods
 for Plasticity* (2008), ch. 7 (Box 7.3 and eq. 7.120 with hardening modulus H = 0).
 
-Component convention (CONTRACTS.md), arrays shaped (n_elements, n_qp, 4), components
+Component convention (calib.fe.material), arrays shaped (n_elements, n_qp, 4), components
 [rr, zz, tt, rz]:
 
 * strain, plastic strain: Voigt with ENGINEERING shear, [eps_rr, eps_zz, eps_tt, gamma_rz],
@@ -60,11 +60,12 @@ from typing import ClassVar
 
 import numpy as np
 
+from calib.fe.material import IsotropicElasticity, elastic_matrix, lame_constants
+
 __all__ = [
     "PlasticState",
     "VonMisesMaterial",
     "radial_return",
-    "elastic_matrix",
     "von_mises_stress",
     "equivalent_plastic_strain_increment",
     "yielded_points",
@@ -125,25 +126,6 @@ def _component_array(values, name: str) -> np.ndarray:
 # --------------------------------------------------------------------------------------------
 # helpers on component arrays
 # --------------------------------------------------------------------------------------------
-def _lame(E: float, nu: float) -> tuple[float, float, float]:
-    """(lambda, mu, K) in Pa from Young's modulus E [Pa] and Poisson's ratio nu [-]."""
-    lame_lambda = E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
-    shear_modulus = E / (2.0 * (1.0 + nu))
-    bulk_modulus = E / (3.0 * (1.0 - 2.0 * nu))
-    return lame_lambda, shear_modulus, bulk_modulus
-
-
-def elastic_matrix(E: float, nu: float) -> np.ndarray:
-    """Isotropic elastic D (4, 4) [Pa] in the Voigt convention: D[:3,:3] = lambda + 2 mu I, D[3,3] = mu."""
-    E, nu, _ = _validated_parameters(E, nu, 1.0)
-    lame_lambda, shear_modulus, _ = _lame(E, nu)
-    matrix = np.zeros((4, 4))
-    matrix[:3, :3] = lame_lambda
-    matrix[[0, 1, 2], [0, 1, 2]] += 2.0 * shear_modulus
-    matrix[3, 3] = shear_modulus
-    return matrix
-
-
 def von_mises_stress(stress) -> np.ndarray:
     """Von Mises equivalent stress q = sqrt(3/2 s:s) [Pa] of plain-component stress (..., 4).
 
@@ -222,7 +204,7 @@ def radial_return(strain_total, plastic_strain_old, E, nu, sigma_y):
     if plastic_strain_old.shape != strain_total.shape:
         raise ValueError(f"plastic_strain_old must have the shape of strain_total "
                          f"{strain_total.shape}, got {plastic_strain_old.shape}")
-    shear_modulus = _lame(E, nu)[1]
+    shear_modulus = lame_constants(E, nu)[1]
     elastic_tangent = elastic_matrix(E, nu)
 
     # Elastic predictor as (..., 4) @ (4, 4) products: BLAS-backed, several times faster than
@@ -262,7 +244,7 @@ def radial_return(strain_total, plastic_strain_old, E, nu, sigma_y):
 
 
 # --------------------------------------------------------------------------------------------
-# the Material interface (CONTRACTS.md)
+# the calib.fe.material.Material
 # --------------------------------------------------------------------------------------------
 @dataclass(frozen=True, eq=False)
 class PlasticState:
@@ -294,8 +276,8 @@ class PlasticState:
 
 
 @dataclass(frozen=True)
-class VonMisesMaterial:
-    """Von Mises elastic-perfectly plastic material following the Material interface.
+class VonMisesMaterial(IsotropicElasticity):
+    """Von Mises elastic-perfectly plastic material, a ``calib.fe.material.Material``.
 
     E : Young's modulus [Pa] (> 0); nu : Poisson's ratio [-] (0 <= nu < 0.5);
     sigma_y : uniaxial yield stress [Pa] (> 0). update() calls radial_return (see there and the
@@ -312,26 +294,6 @@ class VonMisesMaterial:
         object.__setattr__(self, "E", E)
         object.__setattr__(self, "nu", nu)
         object.__setattr__(self, "sigma_y", sigma_y)
-
-    # Same elastic accessors as calib.fe.elastic.ElasticMaterial, so the solver can treat both alike.
-    @property
-    def lame_lambda(self) -> float:
-        """lambda [Pa]."""
-        return _lame(self.E, self.nu)[0]
-
-    @property
-    def shear_modulus(self) -> float:
-        """mu [Pa]."""
-        return _lame(self.E, self.nu)[1]
-
-    @property
-    def bulk_modulus(self) -> float:
-        """K [Pa]."""
-        return _lame(self.E, self.nu)[2]
-
-    def elastic_tangent(self) -> np.ndarray:
-        """Elastic D (4, 4) [Pa] in the Voigt convention (the tangent of every elastic point)."""
-        return elastic_matrix(self.E, self.nu)
 
     def initial_state(self, n_elements: int, n_qp: int) -> PlasticState:
         """Virgin state: zero plastic strain everywhere."""
