@@ -215,6 +215,22 @@ class ContactPair:
         """Hertz contact radius a = (3 P R* / (4 E*))^(1/3) [m] at force P [N] (Johnson eq. 4.22)."""
         return np.cbrt(3.0 * np.asarray(force, dtype=float) * self.R_star / (4.0 * self.E_star))[()]
 
+    def hertz_approach(self, force):
+        """Hertz approach delta = a^2 / R* [m] at force P [N] (Johnson 1985 eq. 4.23)."""
+        return (self.hertz_radius(force) ** 2 / self.R_star)[()]
+
+    def hertz_peak_pressure(self, force):
+        """Hertz peak pressure p0 = 3 P / (2 pi a^2) [Pa] at force P [N] (Johnson 1985 eq. 4.23)."""
+        force = np.asarray(force, dtype=float)
+        return (3.0 * force / (2.0 * math.pi * self.hertz_radius(force) ** 2))[()]
+
+    def hertz_pressure(self, r, force):
+        """Hertz pressure p(r) = p0 sqrt(1 - r^2 / a^2) inside the contact, 0 outside [Pa], at
+        radius r [m] and force P [N] (Johnson 1985 eq. 4.22)."""
+        a = self.hertz_radius(force)
+        inside = np.clip(1.0 - (np.asarray(r, dtype=float) / a) ** 2, 0.0, None)
+        return (self.hertz_peak_pressure(force) * np.sqrt(inside))[()]
+
     def hertz_contact_time(self, v_in) -> float:
         """Duration of an elastic Hertz impact at v_in [m/s]: 2.868 (m*^2/(R* E*^2 v_in))^(1/5) [s].
 

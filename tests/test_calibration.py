@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from calib.fit import calibration
+from calib.fit import calibration, recipe
 from calib.report import calibration as calibration_report
 from calib.cli import main
 from calib.fe import ContactSolver
@@ -19,7 +19,7 @@ COARSE = 1.6e-4  # contact element size [m]: 5-10 elements across the contact, s
 
 @pytest.fixture(scope="module")
 def coarse_result():
-    spec = calibration.reference_spec(COARSE)
+    spec = recipe.reference_spec(contact_size=COARSE)
     spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=(500.0, 1000.0), loading_step=125.0,
                                                        unloading_steps=8, first_load=20.0))
     return calibration.calibrate(spec)
@@ -116,7 +116,7 @@ def test_dimensionless_parameters_do_not_depend_on_the_sphere_size():
     material = Material(70e9, 0.3, 100e6, 2699.0)
     results = []
     for radius in (1e-6, 10.0):
-        spec = calibration.spec_for(material, radius, peaks_over_yield=(6.0, 12.0),
+        spec = recipe.calibration_spec(material, radius, peaks_over_yield=(6.0, 12.0),
                                     contact_size_over_a_max=0.1)
         spec = dataclasses.replace(spec, plan=dataclasses.replace(
             spec.plan, loading_step=spec.plan.peaks[0] / 3, unloading_steps=3))
@@ -132,7 +132,7 @@ def test_stiff_case_separates_cleanly():
     """E / sigma_Y = 100 (large plastic contact, a ~ 0.1 R): every path unloads to separation.
     Regression: moving only the plate in the displacement-controlled separation step strained
     the top layer plastically and Newton stalled."""
-    spec = calibration.spec_for(Material(10e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(13.7, 27.4),
+    spec = recipe.calibration_spec(Material(10e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(13.7, 27.4),
                                 contact_size_over_a_max=0.1)
     spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[0] / 4,
                                                               unloading_steps=4))
@@ -147,7 +147,7 @@ def test_soft_yielding_material_loads_to_100_P_Y_and_unloads():
     test took its baseline from a start that did not meet the grown active set's constraints, and
     a too-small active set has no force-controlled equilibrium past its punch's limit load);
     calib.fe.loadpath.advance now finishes such a step with ContactSolver.rescue_step."""
-    spec = calibration.spec_for(Material(500e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(100.0,),
+    spec = recipe.calibration_spec(Material(500e9, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=(100.0,),
                                 contact_size_over_a_max=0.15)
     spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[0] / 8,
                                                               unloading_steps=4))

@@ -5,12 +5,12 @@ import pytest
 from calib.fe.axisym import quadrature_strain
 from calib.fe import (ContactSolver, StepNotConverged, contact_radius_from_gap,
                       contact_radius_from_pressure, run_load_path)
-from calib.studies.hertz import (hertz_approach, hertz_contact_radius, hertz_peak_pressure,
-                                    hertz_pressure)
 from calib.fe.elastic import ElasticMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
+from nfdmodel import ContactPair, Material
 
 R, E, NU = 0.1, 70e9, 0.3
+PAIR = ContactPair.sphere_flat(Material(E, NU, 100e6, 2700.0), R)  # the Hertz formulas
 COARSE = HemisphereMeshSpec(radius=R, contact_size=1.6e-4, refined_radius=1.6e-3,
                             refined_depth=5e-4, far_size=1e-2, growth=0.3)
 MEDIUM = HemisphereMeshSpec(radius=R, contact_size=8e-5, refined_radius=1.6e-3,
@@ -101,14 +101,14 @@ def test_no_penetration_and_no_tensile_contact_reaction(hertz_path, solver):
 def test_hertz_limit_on_coarse_mesh(hertz_path):
     results, _ = hertz_path
     rec = results[-1].record
-    a = hertz_contact_radius(rec.P, R, E, NU)
+    a = PAIR.hertz_radius(rec.P)
     assert rec.contact_radius == pytest.approx(a, rel=5e-3)
-    assert rec.peak_pressure == pytest.approx(hertz_peak_pressure(rec.P, R, E, NU), rel=1e-2)
+    assert rec.peak_pressure == pytest.approx(PAIR.hertz_peak_pressure(rec.P), rel=1e-2)
     # finite hemisphere with rigid top: approach a few 0.1 % below the half-space value
-    assert rec.alpha == pytest.approx(hertz_approach(rec.P, R, E, NU), rel=1e-2)
+    assert rec.alpha == pytest.approx(PAIR.hertz_approach(rec.P), rel=1e-2)
     res = results[-1]
     inside = res.pressure_r < 0.8 * a
-    p_h = hertz_pressure(res.pressure_r[inside], rec.P, R, E, NU)
+    p_h = PAIR.hertz_pressure(res.pressure_r[inside], rec.P)
     assert np.abs(res.pressure[inside] - p_h).max() < 0.02 * p_h.max()
 
 
@@ -184,7 +184,7 @@ def test_contact_radius_error_decreases_under_refinement(cache, solver):
                                     ElasticMaterial(E, NU))):
         loads = np.geomspace(100.0, 1500.0, 4)
         results, _ = run_load_path(s, loads)
-        errs = [abs(res.record.contact_radius_node / hertz_contact_radius(res.record.P, R, E, NU) - 1)
+        errs = [abs(res.record.contact_radius_node / PAIR.hertz_radius(res.record.P) - 1)
                 for res in results]
         errors.append(max(errs))
     # nodal contact radius: O(h) (node spacing), so halving h roughly halves the worst error

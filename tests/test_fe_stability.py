@@ -1,11 +1,11 @@
-"""FE stability table (calib.studies.fe_stability, issue 6): extreme inputs either calibrate with an error
+"""FE stability table (calib.studies.fe_stability): extreme inputs either calibrate with an error
 estimate or stop with a clear error; the sweep resumes without recomputing; bad calibration inputs
 are refused before any mesh is built."""
 import json
 
 import pytest
 
-from calib.fit import calibration
+from calib.fit import recipe
 from calib.studies import fe_stability
 from nfdmodel import ContactPair, Material
 
@@ -41,20 +41,21 @@ def test_fe_stability_small_sweep_resumes(tmp_path, monkeypatch):
 ])
 def test_calibration_refuses_inputs_it_cannot_represent(E, peaks_over_yield, match):
     with pytest.raises(ValueError, match=match):
-        calibration.spec_for(Material(E, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=peaks_over_yield)
+        recipe.calibration_spec(Material(E, 0.3, 100e6, 2700.0), 0.1, peaks_over_yield=peaks_over_yield)
 
 
 def test_mesh_covers_the_contact_at_deep_plastic_loads():
     """Beyond ~43 P_Y the plastic radius a_p = Ca (P - P_Y) outgrows 1.3 x Hertz: the refined
-    zone follows it (at 100 P_Y the estimate is 7.1 a_Y against 1.3 a_H = 6.0 a_Y)."""
-    material = Material(70e9, 0.3, 100e6, 2700.0)
+    zone follows it (at 100 P_Y the estimate is 7.1 a_Y against 1.3 a_H = 6.0 a_Y). E = 80 GPa:
+    not the reference sphere, which keeps its own mesh family."""
+    material = Material(80e9, 0.3, 100e6, 2700.0)
     pair = ContactPair.sphere_flat(material, 0.1)
-    spec = calibration.spec_for(material, 0.1, peaks=(100 * pair.P_Y,))
+    spec = recipe.calibration_spec(material, 0.1, peaks=(100 * pair.P_Y,))
     assert spec.mesh.refined_radius >= pair.hertz_radius(100 * pair.P_Y) + 0.024 * 99 * pair.a_Y
-    standard = calibration.spec_for(material, 0.1)   # <= 41.2 P_Y: 1.3 x Hertz, as before
+    standard = recipe.calibration_spec(material, 0.1)   # <= 41.2 P_Y: 1.3 x Hertz, as before
     assert standard.mesh.refined_radius == pytest.approx(1.1 * 1.3 * pair.hertz_radius(41.2 * pair.P_Y))
     with pytest.raises(ValueError, match="P_max <= 1000 P_Y"):
-        calibration.spec_for(material, 0.1, peaks=(2000 * pair.P_Y,))
+        recipe.calibration_spec(material, 0.1, peaks=(2000 * pair.P_Y,))
 
 
 def test_cli_calibrate_refuses_a_modulus_in_gpa(capsys):

@@ -6,7 +6,7 @@ import textwrap
 import pytest
 
 from calib import cli, scenes
-import calib.scenes.run
+import calib.fit.calibration
 from calib.scenes import table as tables
 from calib.fit.master_table import MasterTable
 
@@ -96,7 +96,7 @@ def test_dask_local_cluster(tmp_path):
 
 def test_a_failed_material_is_reported_not_cached(tmp_path, monkeypatch):
     scene = scenes.load_scene(tiny_scene(tmp_path, "fail", nu="[0.3]", ratio="[700.0]"))
-    monkeypatch.setattr(calib.scenes.run, "calibrate_loading_only", lambda spec: 1 / 0)
+    monkeypatch.setattr(calib.fit.calibration, "calibrate", lambda spec, **options: 1 / 0)
     result = scenes.run_table(scene, tmp_path / "out", workers=1)
     assert result["failed"] == 1 and "ZeroDivisionError" in result["rows"][0]["error"]
     assert not list((tmp_path / "out" / "materials").glob("*.json"))

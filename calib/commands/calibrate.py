@@ -43,13 +43,11 @@ def add_parser(subparsers) -> None:
 
 
 def run(ns) -> int:
-    import dataclasses
-
     from calib import output
     from calib.commands.progress import progress_reporter
-    from calib.fit import calibration
+    from calib.fit import calibration, recipe
     from calib.report import calibration as calibration_report
-    from calib.fe.loadpath import LoadPathPlan
+    from calib.studies import mesh_ladder
 
     if ns.ladder:
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
@@ -58,8 +56,8 @@ def run(ns) -> int:
         material = None if is_reference(ns) else material_from_args(ns)[0]
         name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
         with progress_reporter(ns.quiet) as progress:
-            path = calibration_report.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
-                                                  progress=progress, material=material, name=name)
+            path = mesh_ladder.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
+                                           progress=progress, material=material, name=name)
         print(f"mesh ladder written to {path}")
         return 0
     material, radius = material_from_args(ns)
@@ -69,18 +67,7 @@ def run(ns) -> int:
     peaks = None if ns.peaks is None else tuple(number("--peaks", p) for p in ns.peaks)
     if peaks is not None and not all(p > 0 for p in peaks):
         raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
-    spec = calibration.reference_spec(contact_size) if is_reference(ns) else None
-    if spec is not None and peaks is not None:
-        if calibration.estimated_contact_radius(spec.pair, max(peaks)) <= spec.mesh.refined_radius:
-            spec = dataclasses.replace(spec, plan=LoadPathPlan(
-                peaks=peaks, loading_step=min(peaks) / 16, unloading_steps=spec.plan.unloading_steps,
-                first_load=min(spec.plan.first_load, min(peaks))))
-        else:           # beyond the reference mesh's fine zone: a mesh sized for the largest peak
-            spec = None
-    if spec is None:
-        spec = calibration.spec_for(material, radius, peaks=peaks)
-        if contact_size is not None:
-            spec = dataclasses.replace(spec, mesh=dataclasses.replace(spec.mesh, contact_size=contact_size))
+    spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
     with progress_reporter(ns.quiet) as progress:
         result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
     out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,

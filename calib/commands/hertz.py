@@ -58,10 +58,10 @@ def run(ns) -> int:
 
     out = Path(ns.out) if ns.out else Path(DEFAULT_OUT)
     if ns.ladder:
-        summary = write_ladder_results(out, radius=radius, E=material.E, nu=material.nu,
+        summary = write_ladder_results(out, radius=radius, material=material,
                                        P_min=P_min, P_max=P_max, steps=ns.steps)
     else:
-        summary = write_hertz_results(out, radius=radius, E=material.E, nu=material.nu, P_min=P_min,
+        summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min,
                                       P_max=P_max, steps=ns.steps, contact_size=contact_size)
     if ns.json:
         print(output.to_json(summary), end="")

@@ -197,8 +197,9 @@ def separation_approach(alpha: Sequence[float], force: Sequence[float]) -> float
 
 
 def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
-                   progress: Callable[[str], None] | None = None) -> LoadPathResults:
-    """Run the shared loading branch once, then each path's unloading from its peak."""
+                   progress: Callable[[str], None] | None = None, unload: bool = True) -> LoadPathResults:
+    """Run the shared loading branch once, then (``unload``) each path's unloading from its peak;
+    without unloading the result has the loading rows and no paths."""
     t_start = time.perf_counter()
     factorizations_before = solver.factorization_count
     say = progress or (lambda message: None)
@@ -229,7 +230,7 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
                 pressure_profiles[peak] = (last_result[0].pressure_r, last_result[0].pressure)
 
     paths = []
-    for peak in plan.peaks:
+    for peak in plan.peaks if unload else ():
         peak_state = peak_states[peak]
         name = f"P_max={peak:g}"
         unloading_rows: list[dict] = []

@@ -37,7 +37,8 @@ def _derived_columns(rows: list[dict], result: CalibrationResult) -> list[dict]:
 
 
 def parameter_file(result: CalibrationResult, stamp: dict) -> dict:
-    """The JSON parameter file (CONTRACTS.md): values, units, material, mesh, FE errors, commit."""
+    """The parameter file (JSON): nfdmodel.parameter_record (values, units, material) plus the fit,
+    the FE errors, the mesh and the stamp; ``nfdmodel.load_parameters`` reads it."""
     s = summary(result)
     record = parameter_record(result.params, result.spec.radius, result.spec.material)
     record.update({
@@ -45,7 +46,8 @@ def parameter_file(result: CalibrationResult, stamp: dict) -> dict:
                 "why": ("radius: the paper's definition (least squares of a_p and C_R - 1 against "
                         "P - P_Y on the FE loading points)" if result.shipped == "radius" else
                         "force: minimises the runtime law's force error along the FE P-alpha paths"),
-                "radius_fit": s["radius_fit"], "force_fit": s["force_fit"]},
+                "radius_fit": s["radius_fit"], "force_fit": s["force_fit"],
+                "loading_only": s["loading_only"]},
         "fe_errors": {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
                       "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
                                 for p in s["paths"]]},
@@ -180,81 +182,3 @@ def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool 
         write_vtu(out / "state_peak.vtu", solver, last.peak_state, r, p)
         write_vtu(out / "state_final.vtu", solver, result.load_paths.final_state)
     return out
-
-
-LADDER_SIZES = (1.6e-4, 8e-5, 4e-5, 2e-5)  # contact element sizes [m]
-
-
-def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = DEFAULT_OUT, progress=None,
-                material=None, name: str = "mesh_ladder") -> Path:
-    """Ca, Kc, e, alpha and contact radius of the reference load paths (500/1000/1500 N on the
-    R = 0.1 m sphere; ``material`` defaults to the reference aluminium) on a ladder of meshes,
-    with wall times.
-
-    Each rung is written to ``out/ladder/<key>.json`` (key: mesh, material, plan) as soon as it
-    finishes and reused on the next call (an interrupted ladder resumes; delete the folder to
-    recompute). Writes ``<name>.csv`` and ``<name>.png`` (values and wall time against size).
-    """
-    import dataclasses
-    import hashlib
-    import json
-
-    from calib.fit.calibration import calibrate, reference_spec
-
-    out = Path(out)
-    rows = []
-    for size in sizes:
-        spec = reference_spec(size)
-        if material is not None:
-            spec = dataclasses.replace(spec, material=material)
-        # the key covers everything that changes a rung: mesh, material, load plan, tolerance
-        recipe = repr((spec.material, spec.plan, spec.residual_tolerance, spec.contact_radius_method))
-        key = spec.mesh.cache_key() + "-" + hashlib.sha256(recipe.encode()).hexdigest()[:12]
-        cache = out / "ladder" / f"{key}.json"
-        if cache.is_file():
-            row = json.loads(cache.read_text())
-        else:
-            if progress:
-                progress(f"mesh ladder: contact size {size:g} m")
-            result = calibrate(spec)
-            s = summary(result)
-            top = s["paths"][-1]
-            peak_row = max(result.load_paths.loading_rows, key=lambda r: r["P"])
-            row = {"contact_size": size, "nu": spec.material.nu, "E_over_sigma_y":
-                   spec.material.E / spec.material.sigma_y,
-                   "elements": s["mesh"]["elements"], "dofs": s["mesh"]["dofs"],
-                   "contact_radius_1500": peak_row["contact_radius"],
-                   "Ca": s["Ca"], "Kc": s["Kc"], "Ca_r2": s["radius_fit"]["Ca_r2"],
-                   "Kc_r2": s["radius_fit"]["Kc_r2"], "P_Y_fe": s["P_Y_fe"],
-                   "alpha_max_1500": top["alpha_max"], "e_1500": top["e"],
-                   "alpha_residual_1500": top["alpha_residual"], "wall_time_s": s["wall_time_s"],
-                   "factorizations": s["timings"]["factorizations"],
-                   "git_commit": output.git_commit()}
-            output.write_json(cache, row)
-        rows.append(row)
-    finest = rows[-1]
-    for row in rows:  # change against the finest rung: the discretisation error estimate
-        for key in ("Ca", "Kc", "e_1500", "alpha_max_1500", "contact_radius_1500"):
-            if key in row and key in finest:
-                row[f"{key}_rel_change_vs_finest"] = row[key] / finest[key] - 1.0
-    stamp = output.stamp(sum(r["wall_time_s"] for r in rows), mesh={"sizes": list(sizes)})
-    columns = list(dict.fromkeys(k for row in rows for k in row))
-    output.write_csv(out / f"{name}.csv", rows, columns=columns, comment=output.stamp_comment(stamp))
-
-    plt = output.pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    h = [r["contact_size"] for r in rows]
-    for key, label in (("Ca", "Ca"), ("Kc", "Kc"), ("e_1500", "e (1500 N)"), ("alpha_max_1500", "alpha (1500 N)")):
-        axes[0].plot(h, [abs(r[f"{key}_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]] + [float("nan")], "o-", label=label)
-    axes[0].set_xscale("log"); axes[0].set_yscale("log")
-    axes[0].set_xlabel("contact element size h [m]"); axes[0].set_ylabel("|relative change vs finest mesh|")
-    axes[0].legend(); axes[0].grid(alpha=0.3, which="both")
-    axes[1].plot([r["wall_time_s"] for r in rows[:-1]], [abs(r["Ca_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]], "o-", label="Ca")
-    axes[1].plot([r["wall_time_s"] for r in rows[:-1]], [abs(r["Kc_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]], "s-", label="Kc")
-    axes[1].plot([r["wall_time_s"] for r in rows[:-1]], [abs(r["e_1500_rel_change_vs_finest"]) + 1e-6 for r in rows[:-1]], "^-", label="e")
-    axes[1].set_xscale("log"); axes[1].set_yscale("log")
-    axes[1].set_xlabel("wall time of the calibration [s]"); axes[1].set_ylabel("|relative change vs finest mesh|")
-    axes[1].legend(); axes[1].grid(alpha=0.3, which="both")
-    fig.suptitle(f"Load paths on a mesh ladder, nu = {finest.get('nu', 0.3):g} (finest: h = {finest['contact_size']:g} m)")
-    output.save_figure(fig, out / f"{name}.png")
-    return out / f"{name}.csv"

@@ -1,54 +1,34 @@
 """The plan of a scene: FE specs per material and stage, mesh size and run-time estimates (--dry-run)."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
-from calib.scenes.schema import (REFERENCE_CONTACT_SIZES, SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, MeshChoice,
+from calib.fit import recipe
+from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage,
                                  Scene, SceneError, SceneMaterial)
 
 
 # ----------------------------------------------------------------------------- FE specs
-def mesh_spec(scene_mesh: MeshChoice, material: SceneMaterial, a_max: float):
-    """The hemisphere mesh for a largest contact radius ``a_max`` [m] (spec_for's recipe), or the
-    reference mesh family for the reference sphere (so its cached meshes are reused)."""
-    from meshes.hemisphere import HemisphereMeshSpec
-
-    if material.is_reference and scene_mesh.contact_size_over_a_max is None and a_max <= 1.5e-3:
-        size = scene_mesh.contact_size or REFERENCE_CONTACT_SIZES[scene_mesh.level or "default"]
-        return HemisphereMeshSpec(contact_size=size)
-    h = scene_mesh.contact_size if scene_mesh.contact_size is not None else a_max * scene_mesh.ratio()
-    R = material.R
-    refined_radius = min(max(1.1 * a_max, 2 * h), 0.9 * R)
-    refined_depth = min(max(0.35 * a_max, 2 * h), 0.9 * R)
-    return HemisphereMeshSpec(radius=R, contact_size=h, refined_radius=refined_radius,
-                              refined_depth=refined_depth, far_size=max(R / 10, h))
-
-
 def calibration_spec(scene: Scene, material: SceneMaterial):
-    """The CalibrationSpec of one material of ``scene`` (load paths and mesh)."""
-    from calib.fit.calibration import CalibrationSpec, check_calibration_inputs, estimated_contact_radius
-    from calib.fe.loadpath import LoadPathPlan
-
-    pair = material.pair()
+    """The CalibrationSpec of one material of ``scene`` (calib.fit.recipe: load paths and mesh)."""
     stage = scene.load_paths or LoadPathStage()
-    peaks = stage.peaks(pair)
     try:
-        check_calibration_inputs(material.material(), material.R, peaks[-1])
+        return recipe.calibration_spec(material.material(), material.R, peaks=stage.peaks(material.pair()),
+                                       level=scene.mesh.level, contact_size=scene.mesh.contact_size,
+                                       contact_size_over_a_max=scene.mesh.contact_size_over_a_max,
+                                       loading_steps=stage.loading_steps,
+                                       unloading_steps=stage.unloading_steps)
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
-    a_max = estimated_contact_radius(pair, peaks[-1])
-    plan = LoadPathPlan(peaks=peaks, loading_step=peaks[-1] / stage.loading_steps,
-                        unloading_steps=stage.unloading_steps,
-                        first_load=min(0.5 * pair.P_Y, peaks[0], 20.0 if material.is_reference else math.inf))
-    return CalibrationSpec(material=material.material(), radius=material.R,
-                           mesh=mesh_spec(scene.mesh, material, a_max), plan=plan)
 
 
 def hertz_mesh_spec(scene: Scene, material: SceneMaterial):
+    """The mesh of the scene's Hertz stage for ``material`` (calib.fit.recipe.hertz_mesh)."""
     pair = material.pair()
     _, top = scene.hertz.loads(pair)
-    return mesh_spec(scene.mesh, material, float(pair.hertz_radius(top)))
+    return recipe.hertz_mesh(pair, top, reference=recipe.is_reference_sphere(material.E, material.nu, material.R),
+                             level=scene.mesh.level, contact_size=scene.mesh.contact_size,
+                             contact_size_over_a_max=scene.mesh.contact_size_over_a_max)
 
 
 def estimate_dofs(spec) -> int:

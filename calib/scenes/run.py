@@ -10,54 +10,6 @@ from calib.scenes.schema import Scene
 
 
 # ----------------------------------------------------------------------------- run
-def run_loading_branch(solver, plan, progress=None) -> list[dict]:
-    """The loading branch of ``plan`` only (a loading-only scene never unloads): one history
-    row per accepted FE step, as in calib.fe.loadpath.run_load_paths."""
-    from calib.fe.loadpath import advance, plastic_zone
-
-    say = progress or (lambda message: None)
-    quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)
-    rows: list[dict] = []
-
-    def record(result, before):
-        rows.append({"path": "loading", "branch": "loading", **result.record.as_dict(),
-                     **plastic_zone(result.state, quadrature_r, quadrature_z)})
-
-    state = solver.initial_state()
-    targets = plan.loading_targets()
-    for k, target in enumerate(targets, 1):
-        state = advance(solver, state, "force", target, plan.min_step_fraction, record)
-        say(f"load step {k}/{len(targets)}: P = {state.force:.4g} N")
-    return rows
-
-
-def calibrate_loading_only(spec, progress=None) -> dict:
-    """Ca, Kc from the loading branch alone (the radius fit of calib.fit.calibration, which uses only
-    the loading points): about half the FE steps of a full calibration. Returns a dict with the
-    fit, P_Y (theory and FE first yield), mesh, wall time and the loading rows."""
-    from calib.fit.calibration import first_yield_load
-    from calib.fe import ContactSolver
-    from calib.fit.least_squares import fit_radius_law, radius_law_data
-    from calib.fe.von_mises import VonMisesMaterial
-    from meshes.hemisphere import hemisphere_mesh
-
-    t0 = time.perf_counter()
-    hemisphere = hemisphere_mesh(spec.mesh)
-    pair = spec.pair
-    material = spec.material
-    P_Y_fe = first_yield_load(hemisphere, material)
-    solver = ContactSolver(hemisphere, VonMisesMaterial(material.E, material.nu, material.sigma_y),
-                           residual_tolerance=spec.residual_tolerance,
-                           contact_radius_method=spec.contact_radius_method)
-    rows = run_loading_branch(solver, spec.plan, progress)
-    data = radius_law_data([r["P"] for r in rows], [r["alpha"] for r in rows],
-                           [r["contact_radius"] for r in rows],
-                           R_star=pair.R_star, E_star=pair.E_star, P_Y=pair.P_Y)
-    fit = fit_radius_law(data)
-    return {"fit": fit, "P_Y_fe": P_Y_fe, "rows": rows, "wall_time_s": time.perf_counter() - t0,
-            "mesh": {**spec.mesh.describe(), "elements": int(hemisphere.mesh.nelements), "dofs": int(solver.n_dofs)}}
-
-
 def _run_hertz(scene, material, out, progress) -> dict:
     import numpy as np
 
@@ -67,7 +19,7 @@ def _run_hertz(scene, material, out, progress) -> dict:
     low, top = scene.hertz.loads(pair)
     spec = hertz_mesh_spec(scene, material)
     progress(f"hertz validation: {material.name}, P = {low:.4g} .. {top:.4g} N")
-    run = run_hertz(spec, radius=material.R, E=material.E, nu=material.nu,
+    run = run_hertz(spec, material=material.material(), radius=material.R,
                     loads=np.geomspace(low, top, scene.hertz.steps))
     summary = {"material": material.inputs(), "top_load": run.top_load, "mesh": run.mesh,
                "finite_size_coefficient": run.finite_size_coefficient, "wall_time_s": run.wall_time_s}
@@ -76,9 +28,9 @@ def _run_hertz(scene, material, out, progress) -> dict:
     if scene.outputs.histories:
         output.write_csv(out / "hertz_steps.csv", run.rows, comment=output.stamp_comment(stamp))
     if scene.outputs.plots:
-        from calib.studies.hertz import _plot_hertz
+        from calib.studies.hertz import plot_hertz
 
-        _plot_hertz(out, run, material.R, material.E, material.nu)
+        plot_hertz(out, run, material.material(), material.R)
     return summary
 
 
@@ -102,15 +54,10 @@ def _run_load_paths(scene, material, out, progress) -> dict:
     solver = ContactSolver(hemisphere, fe_material)
     progress(f"load paths: {material.name}, {'elastic' if elastic else 'elastoplastic'}, "
              f"P_max = {', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N")
-    paths_out = []
-    if scene.load_paths.unload:
-        result = run_load_paths(solver, spec.plan, progress=progress)
-        rows = [r for p in result.paths for r in p.rows if r["branch"] == "unloading"]
-        rows = result.loading_rows + rows
-        paths_out = [{"P_max": p.peak, "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
-                      "e": p.restitution} for p in result.paths]
-    else:
-        rows = run_loading_branch(solver, spec.plan, progress)
+    result = run_load_paths(solver, spec.plan, progress=progress, unload=scene.load_paths.unload)
+    rows = result.loading_rows + [r for p in result.paths for r in p.rows if r["branch"] == "unloading"]
+    paths_out = [{"P_max": p.peak, "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
+                  "e": p.restitution} for p in result.paths]
     mesh = {**spec.mesh.describe(), "dofs": int(solver.n_dofs), "elements": int(hemisphere.mesh.nelements)}
     wall = time.perf_counter() - t0
     summary = {"material": material.inputs(), "elastic": elastic, "P_Y": material.pair().P_Y,
@@ -136,33 +83,20 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
 
     spec = calibration_spec(scene, material)
     progress(f"calibration: {material.name}, P_max = {', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N")
-    if not scene.load_paths.unload:
-        res = calibrate_loading_only(spec, progress)
-        from nfdmodel import VZParams, parameter_record
-
-        params = VZParams(spec.pair, res["fit"].Ca.slope, res["fit"].Kc.slope)
-        stamp = output.stamp(res["wall_time_s"], mesh=res["mesh"])
-        record = parameter_record(params, material.R, spec.material)
-        record.update({"fit": {"shipped": "radius", "loading_only": True,
-                               "Ca_r2": res["fit"].Ca.r_squared, "Ca_se": res["fit"].Ca.standard_error,
-                               "Kc_r2": res["fit"].Kc.r_squared, "Kc_se": res["fit"].Kc.standard_error},
-                       "P_Y_fe": res["P_Y_fe"], "mesh": res["mesh"], "stamp": stamp})
-        output.write_json(out / "parameters.json", record)
-        if scene.outputs.histories:
-            output.write_csv(out / "loading.csv", res["rows"], comment=output.stamp_comment(stamp))
-        return {"Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
-                "P_Y": spec.pair.P_Y, "P_Y_fe": res["P_Y_fe"], "wall_time_s": res["wall_time_s"],
-                "mesh": res["mesh"], "loading_only": True}, params
-    result = calibration.calibrate(spec, progress=progress, ship=scene.calibration_ship)
-    if scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu:
+    unload = scene.load_paths is None or scene.load_paths.unload
+    result = calibration.calibrate(spec, progress=progress, ship=scene.calibration_ship, unload=unload)
+    if unload and (scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu):
         calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu)
-    else:  # the parameter file and the summary only
+    else:  # the parameter file, the summary and (loading only) the loading history
         stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
         output.write_json(out / "parameters.json", calibration_report.parameter_file(result, stamp))
         output.write_json(out / "calibration.json", {**calibration.summary(result), "stamp": stamp})
+        if scene.outputs.histories:
+            output.write_csv(out / "loading.csv", result.load_paths.loading_rows,
+                             comment=output.stamp_comment(stamp))
     s = calibration.summary(result)
     return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh")},
-            "loading_only": False, "shipped_fit": s["shipped_fit"]}, result.params
+            "loading_only": not unload, "shipped_fit": s["shipped_fit"]}, result.params
 
 
 def _run_collision(scene, material, out, params, progress) -> dict:

@@ -34,15 +34,9 @@ from typing import Annotated, Literal
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Strict, ValidationError, model_validator
 
 from calib import output
+from calib.fit.recipe import DEFAULT_PEAKS_OVER_YIELD, MESH_LEVELS
 from nfdmodel import ContactPair, Material, reference_case
 
-# contact element size / largest contact radius for each mesh level (spec_for's convention:
-# the reference default mesh, 4e-5 m at a_max = 1.48e-3 m, is 1/37)
-MESH_LEVELS = {"coarse": 0.1, "default": 1.0 / 37.0, "fine": 1.0 / 74.0}
-# the reference sphere's own mesh family (HemisphereMeshSpec(contact_size=...)) [m]
-REFERENCE_CONTACT_SIZES = {"coarse": 1.6e-4, "default": 4e-5, "fine": 2e-5}
-REFERENCE_PEAKS = reference_case.PEAKS
-DEFAULT_PEAKS_OVER_YIELD = (13.7, 27.4, 41.2)  # the reference peaks in units of P_Y
 LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
 # Wall time per FE step against dofs, calibrated on the reference calibration
 # (12,112 dofs, 97 FE steps + 3 first-yield solves, 54-58 s on 2 cores): ~0.57 s per step.

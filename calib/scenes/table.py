@@ -1,8 +1,8 @@
 """Parameter tables: calibrate every material of a scene's sweep, in parallel, resumably.
 
 One row per material (SI units): inputs (E, nu, sigma_y, rho, R, E/sigma_Y), the yield point
-(P_Y, a_Y, delta_Y from theory, SPEC section 2; P_Y_fe, the FE first yield), the fit (Ca, Kc,
-Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y, SPEC section 7) with its quality (R^2 and standard
+(P_Y, a_Y, delta_Y from theory, the first-yield formulas; P_Y_fe, the FE first yield), the fit
+(Ca, Kc and the dimensionless Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y) with its quality (R^2 and standard
 error of each slope, number of points), the mesh (contact size, dofs, key), the FE wall time
 and the git commit. Ca and Kc are the radius fit of calib.fit.calibration (the paper's definition),
 computed on the loading branch only (the unloading does not enter it) unless the scene unloads.
@@ -10,8 +10,8 @@ computed on the loading branch only (the unloading does not enter it) unless the
 Each material's row is written atomically to ``OUT/materials/<key>.json`` as soon as it is
 done; ``key`` hashes its inputs, load plan and mesh, so a rerun (or a run after an interruption)
 recomputes nothing already done. A failed material is reported (status "failed" and the
-error) and retried on the next run. Materials run on local processes
-(concurrent.futures.ProcessPoolExecutor) or, with ``scheduler``, on a Dask distributed cluster.
+error) and retried on the next run. Materials run through calib.sweep.runner: local processes,
+or, with ``scheduler``, a Dask distributed cluster.
 """
 from __future__ import annotations
 
@@ -22,6 +22,11 @@ from dataclasses import asdict
 from pathlib import Path
 
 from calib import output
+from calib.fit import calibration
+from calib.fit.master_table import MasterTable
+from calib.scenes.plan import calibration_spec
+from calib.sweep.runner import run_sweep
+from nfdmodel import VZParams
 
 TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
 COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a_Y", "delta_Y",
@@ -42,8 +47,6 @@ def task_key(spec, loading_only: bool) -> str:
 
 def tasks_for(scene) -> list[dict]:
     """One picklable task per material of ``scene``: its name, inputs, CalibrationSpec and key."""
-    from calib.scenes import calibration_spec
-
     loading_only = not (scene.load_paths is not None and scene.load_paths.unload)
     out = []
     for material in scene.materials:
@@ -65,18 +68,8 @@ def calibrate_task(task: dict) -> dict:
            "git_commit": output.git_commit()}
     t0 = time.perf_counter()
     try:
-        if task["loading_only"]:
-            from calib.scenes.run import calibrate_loading_only
-
-            res = calibrate_loading_only(spec)
-            fit, P_Y_fe, mesh = res["fit"], res["P_Y_fe"], res["mesh"]
-        else:
-            from calib.fit.calibration import calibrate
-
-            result = calibrate(spec)
-            fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
-        from nfdmodel import VZParams
-
+        result = calibration.calibrate(spec, unload=not task["loading_only"])
+        fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
         params = VZParams(pair, fit.Ca.slope, fit.Kc.slope)
         row.update({"P_Y_fe": P_Y_fe, "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat,
                     "Kc_hat": params.Kc_hat, "Ca_r2": fit.Ca.r_squared, "Ca_se": fit.Ca.standard_error,
@@ -88,63 +81,6 @@ def calibrate_task(task: dict) -> dict:
                     "traceback": traceback.format_exc()[-2000:]})
     row["fe_wall_time_s"] = time.perf_counter() - t0
     return row
-
-
-def _cache_path(out: Path, key: str) -> Path:
-    return out / "materials" / f"{key}.json"
-
-
-def _cached_row(out: Path, key: str) -> dict | None:
-    path = _cache_path(out, key)
-    if not path.is_file():
-        return None
-    try:
-        row = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, json.JSONDecodeError):
-        return None  # unreadable: recompute
-    return row if row.get("status") == "ok" and row.get("key") == key else None
-
-
-def _prebuild_meshes(tasks, progress) -> None:
-    """Build the missing meshes in this process, one at a time (gmsh is a process-wide
-    singleton), so the workers only read the cache."""
-    from meshes.hemisphere import hemisphere_mesh, mesh_path
-
-    seen = set()
-    for task in tasks:
-        mesh = task["spec"].mesh
-        if mesh.cache_key() in seen:
-            continue
-        seen.add(mesh.cache_key())
-        if not mesh_path(mesh).is_file():
-            progress(f"meshing {task['name']} (contact size {mesh.contact_size:.3g} m)")
-            hemisphere_mesh(mesh)
-
-
-def _results(todo, workers: int, scheduler: str | None, function=None):
-    """Yield ``function(task)`` (a row; default calibrate_task) as tasks finish: in-process, on
-    local processes, or on Dask. ``function`` must be a module-level function (it is pickled)."""
-    function = function or calibrate_task
-    if scheduler:
-        from distributed import Client, as_completed
-
-        with Client(scheduler) as client:
-            futures = client.map(function, todo, pure=False)
-            for future in as_completed(futures):
-                yield future.result()
-        return
-    if workers <= 1 or len(todo) <= 1:
-        for task in todo:
-            yield function(task)
-        return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
-    context = multiprocessing.get_context("spawn")  # no forked copies of threads or gmsh state
-    with ProcessPoolExecutor(max_workers=min(workers, len(todo)), mp_context=context) as pool:
-        futures = [pool.submit(function, task) for task in todo]
-        for future in as_completed(futures):
-            yield future.result()
 
 
 def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler: str | None = None,
@@ -159,28 +95,16 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
     out = Path(out) if out is not None else output.RESULTS / "tables" / scene.name
     t0 = time.perf_counter()
     tasks = tasks_for(scene)
-    rows_by_key = {}
-    for task in tasks:
-        row = _cached_row(out, task["key"])
-        if row is not None:
-            rows_by_key[task["key"]] = row
-    todo = [t for t in tasks if t["key"] not in rows_by_key]
-    say(f"{len(tasks)} material(s): {len(tasks) - len(todo)} already done, {len(todo)} to calibrate")
-    if todo:
-        _prebuild_meshes(todo, say)
-    failed = 0
-    for k, row in enumerate(_results(todo, workers, scheduler), 1):
-        if row["status"] == "ok":
-            output.write_json(_cache_path(out, row["key"]), row)  # atomic, as soon as it is done
-        else:
-            failed += 1
-        rows_by_key[row["key"]] = row
-        say(f"material {k}/{len(todo)} done: {row['name']} ({row['status']}, {row['fe_wall_time_s']:.0f} s)"
-            + (f" {row['error']}" if row["status"] != "ok" else ""))
-    rows = [rows_by_key[t["key"]] for t in tasks]
+    sweep = run_sweep(tasks, calibrate_task, out / "materials",
+                      keep=lambda row: row.get("status") == "ok", mesh_of=lambda task: task["spec"].mesh,
+                      workers=workers, scheduler=scheduler, progress=say,
+                      describe=lambda row: f"{row['name']} ({row['status']}, {row['fe_wall_time_s']:.0f} s)"
+                      + (f" {row['error']}" if row["status"] != "ok" else ""))
+    rows = sweep.rows
+    failed = sum(row.get("status") != "ok" for row in rows)
     wall = time.perf_counter() - t0
     stamp = output.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
-                         materials=len(rows), computed=len(todo), reused=len(tasks) - len(todo),
+                         materials=len(rows), computed=sweep.computed, reused=sweep.reused,
                          workers=workers, scheduler=scheduler or "local processes")
     clean = [{c: row.get(c) for c in COLUMNS} for row in rows]
     output.write_csv(out / "table.csv", clean, columns=COLUMNS, comment=output.stamp_comment(stamp))
@@ -190,15 +114,13 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
                                                      "Kc": "1/N", "Ca_se": "m/N", "Kc_se": "1/N",
                                                      "contact_size": "m", "fe_wall_time_s": "s"},
                                            "stamp": stamp})
-    return {"rows": clean, "computed": len(todo), "reused": len(tasks) - len(todo), "failed": failed,
+    return {"rows": clean, "computed": sweep.computed, "reused": sweep.reused, "failed": failed,
             "path": out / "table.csv"}
 
 
 def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str) -> Path:
     """The master table (calib/data/master_table.csv + .json) from the rows of a grid table:
     nu, E_over_sigma_y, Ca_hat, Kc_hat and the fit quality; every node must have succeeded."""
-    from calib.fit.master_table import MasterTable
-
     path = Path(path)
     failed = [r["name"] for r in rows if r.get("status") != "ok"]
     if failed:
@@ -211,7 +133,7 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     stamp = output.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
     meta = {"master_table": {"accuracy": accuracy, "scene": scene_name,
                              "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
-                             "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (SPEC section 7); radius fit "
+                             "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (the dimensionless constants); radius fit "
                                            "on the FE loading branch to 13.7, 27.4, 41.2 P_Y"},
             "stamp": stamp}
     output.write_csv(path, table_rows, columns=columns, comment=output.stamp_comment(stamp))

@@ -1,4 +1,4 @@
-"""results/stability/fe_stability.*: the FE calibration on stiff and extreme cases (issue 6).
+"""results/stability/fe_stability.*: the FE calibration on stiff and extreme cases.
 
 Regenerate with ``nfdcal stability --fe`` (part of plain ``nfdcal stability``; a few minutes on
 2 cores, resumable: each finished run is ``OUT/fe_cases/<key>.json``, written atomically, and
@@ -7,13 +7,12 @@ a rerun recomputes nothing already there).
 Each case (table CASES) is a full calibration (calib.fit.calibration.calibrate: first yield, load
 paths with unloading, radius fit) of a sphere on a rigid flat at an extreme of the input space:
 E / sigma_Y = 50 and 5000, nu = 0 and 0.49, P / P_Y up to 1000 (the calibration's limit,
-calib.fit.calibration.MAX_LOAD_OVER_YIELD; 2000 P_Y must be refused), R = 1e-6 m and 10 m. It runs on
-two meshes (contact element = MESH_RATIOS x the estimated largest contact radius, spec_for's
-recipe) so that every result carries an error estimate: the change from the coarse to the fine
+calib.fit.recipe.MAX_LOAD_OVER_YIELD; 2000 P_Y must be refused), R = 1e-6 m and 10 m. It runs on
+two meshes (contact element = MESH_RATIOS x the estimated largest contact radius, calib.fit.recipe) so that every result carries an error estimate: the change from the coarse to the fine
 mesh (the discretisation converges at first order in h, results/calibration/mesh_ladder.csv, so
 that change estimates the coarse mesh's error and bounds the fine one's). Columns:
 
-  P_Y_fe_error      FE first yield / P_Y(nu) of SPEC section 2 - 1 (the Hertz limit)
+  P_Y_fe_error      FE first yield / P_Y(nu) - 1 (P_Y = pi^3 R^2 (A_Y sigma_Y)^3 / (6 E*^2): the Hertz limit)
   alpha_max_over_delta_Y, contact_radius_over_R   at the largest load
   Ca_hat, Kc_hat, e, Ca_r2, Kc_r2                 the calibration (e of the largest path)
   model_alpha_error  vz law with the fitted Ca, Kc: delta(P_max) / alpha_FE - 1 (paper eq. 3.4)
@@ -32,6 +31,10 @@ import time
 from pathlib import Path
 
 from calib import output
+from calib.fit.calibration import calibrate
+from calib.fit.recipe import calibration_spec
+from calib.sweep.runner import run_sweep
+from nfdmodel import Material, VZParams
 
 DEFAULT_OUT = output.RESULTS / "stability"
 CSV_NAME = "fe_stability.csv"
@@ -82,18 +85,10 @@ def _task(case, mesh_ratio: float) -> dict:
 
 def _spec(task):
     """The CalibrationSpec of a task, or the ValueError of an input the model cannot take."""
-    import dataclasses
-
-    from calib.fit.calibration import spec_for
-    from nfdmodel import ContactPair, Material
-
     material = Material(task["ratio"] * SIGMA_Y, task["nu"], SIGMA_Y, DENSITY)
-    P_Y = ContactPair.sphere_flat(material, task["R"]).P_Y
-    spec = spec_for(material, task["R"], peaks=[k * P_Y for k in task["peaks"]],
-                    contact_size_over_a_max=task["mesh_ratio"])
-    plan = dataclasses.replace(spec.plan, loading_step=spec.plan.peaks[-1] / LOADING_STEPS,
-                               unloading_steps=UNLOADING_STEPS)
-    return dataclasses.replace(spec, plan=plan)
+    return calibration_spec(material, task["R"], peaks_over_yield=task["peaks"],
+                            contact_size_over_a_max=task["mesh_ratio"], loading_steps=LOADING_STEPS,
+                            unloading_steps=UNLOADING_STEPS)
 
 
 def run_case(task: dict) -> dict:
@@ -108,9 +103,6 @@ def run_case(task: dict) -> dict:
         row.update(outcome=f"clear error: {exc}", wall_time_s=time.perf_counter() - t0)
         return row
     try:
-        from calib.fit.calibration import calibrate
-        from nfdmodel import VZParams
-
         result = calibrate(spec)
         pair, last = spec.pair, result.load_paths.paths[-1]
         params = VZParams(pair, result.radius_fit.Ca.slope, result.radius_fit.Kc.slope)
@@ -171,48 +163,26 @@ def summarize(rows: list[dict]) -> dict:
 
 def generate(out_dir=DEFAULT_OUT, workers: int = 2, cases=CASES, progress=None) -> dict:
     """Run every case on both meshes (reusing finished runs), write fe_stability.csv/.json."""
-    from calib.scenes.table import _prebuild_meshes, _results
-
     say = progress or (lambda message: None)
     started = time.perf_counter()
     out = Path(out_dir)
     tasks = [_task(case, ratio) for case in cases for ratio in MESH_RATIOS]
-    done = {}
     for task in tasks:
-        path = out / "fe_cases" / f"{task['key']}.json"
-        if path.is_file():
-            try:
-                row = json.loads(path.read_text(encoding="utf-8"))
-            except (OSError, json.JSONDecodeError):
-                continue                                        # unreadable: recompute
-            if row.get("outcome") == "ok":
-                done[task["key"]] = row
-    todo = []
-    for task in tasks:
-        if task["key"] in done:
-            continue
         try:
             task["spec"] = _spec(task)
         except ValueError:
             pass                                                # run_case reports it
-        todo.append(task)
-    say(f"{len(tasks)} FE runs: {len(tasks) - len(todo)} already done, {len(todo)} to run")
-    _prebuild_meshes([t for t in todo if "spec" in t], say)
-    for k, row in enumerate(_results(todo, workers, None, function=run_case), 1):
-        if row["outcome"] == "ok":     # refusals depend on the code's limits: re-checked each run
-            output.write_json(out / "fe_cases" / f"{row['key']}.json", row)
-        done[row["key"]] = row
-        say(f"FE run {k}/{len(todo)}: {row['case']} (mesh {row['mesh_ratio']}): "
-            f"{row['outcome'][:60]}, {row['wall_time_s']:.0f} s")
-    keys = {t["key"] for t in tasks}
-    for stale in (out / "fe_cases").glob("*.json"):             # runs of cases no longer listed
-        if stale.stem not in keys:
-            stale.unlink()
-    rows = _with_mesh_change([done[t["key"]] for t in tasks])
+    # refusals depend on the code's limits: only "ok" runs are kept, refusals re-checked each run
+    sweep = run_sweep(tasks, run_case, out / "fe_cases", keep=lambda row: row.get("outcome") == "ok",
+                      mesh_of=lambda task: task["spec"].mesh if "spec" in task else None,
+                      workers=workers, prune=True, progress=say,
+                      describe=lambda row: f"{row['case']} (mesh {row['mesh_ratio']}): "
+                                           f"{row['outcome'][:60]}, {row['wall_time_s']:.0f} s")
+    rows = _with_mesh_change(sweep.rows)
     summary = summarize(rows)
     st = output.stamp(time.perf_counter() - started, command="nfdcal stability --fe",
                       mesh={"contact_size_over_a_max": list(MESH_RATIOS)},
-                      computed=len(todo), reused=len(tasks) - len(todo))
+                      computed=sweep.computed, reused=sweep.reused)
     output.write_csv(out / CSV_NAME, rows, COLUMNS, comment=output.stamp_comment(st))
     output.write_json(out / JSON_NAME, {"stamp": st, "summary": summary, "columns": list(COLUMNS),
                                         "rows": rows})

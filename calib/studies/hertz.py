@@ -1,8 +1,8 @@
-"""Hertz-limit validation of the FE contact solver (issue 3; the paper's figures 8 and 9).
+"""Hertz-limit validation of the FE contact solver (the paper's figures 8 and 9).
 
 An elastic sphere (R, E, nu) pressed on a rigid frictionless flat, force-controlled from P_min to
 P_max; at every load the FE contact radius a, approach alpha and peak pressure p0 are compared
-with Hertz (Johnson 1985, Contact Mechanics, eqs. 4.22-4.23; SPEC section 1):
+with Hertz (Johnson 1985, Contact Mechanics, eqs. 4.22-4.23; nfdmodel.ContactPair computes them):
 
     E* = E / (1 - nu^2),  a = (3 P R / (4 E*))^(1/3),  alpha = a^2 / R,
     p0 = 3 P / (2 pi a^2),  p(r) = p0 sqrt(1 - r^2 / a^2).
@@ -19,35 +19,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-REFERENCE = {"radius": 0.1, "E": 70e9, "nu": 0.3}  # the paper's aluminium sphere [m, Pa, -]
-
-
-# --------------------------------------------------------------------------- Hertz
-def effective_modulus(E, nu):
-    """E* = E / (1 - nu^2) [Pa] for a sphere on a rigid flat."""
-    return E / (1.0 - nu ** 2)
-
-
-def hertz_contact_radius(P, R, E, nu):
-    """a = (3 P R / (4 E*))^(1/3) [m]."""
-    return (3.0 * np.asarray(P, dtype=float) * R / (4.0 * effective_modulus(E, nu))) ** (1 / 3)
-
-
-def hertz_approach(P, R, E, nu):
-    """alpha = a^2 / R [m]."""
-    return hertz_contact_radius(P, R, E, nu) ** 2 / R
-
-
-def hertz_peak_pressure(P, R, E, nu):
-    """p0 = 3 P / (2 pi a^2) [Pa]."""
-    return 3.0 * np.asarray(P, dtype=float) / (2.0 * np.pi * hertz_contact_radius(P, R, E, nu) ** 2)
-
-
-def hertz_pressure(r, P, R, E, nu):
-    """p(r) = p0 sqrt(1 - r^2 / a^2) inside the contact, 0 outside [Pa]."""
-    a = hertz_contact_radius(P, R, E, nu)
-    return hertz_peak_pressure(P, R, E, nu) * np.sqrt(np.clip(1.0 - (np.asarray(r) / a) ** 2, 0, None))
-
+from calib.fe import ContactSolver, run_load_path
+from calib.fe.elastic import ElasticMaterial
+from calib.fit.recipe import hertz_mesh, is_reference_sphere
+from meshes.hemisphere import hemisphere_mesh
+from nfdmodel import ContactPair, Material, reference_case
 
 # --------------------------------------------------------------------------- run
 @dataclass
@@ -70,44 +46,33 @@ def default_loads(P_min=1.0, P_max=1500.0, steps=25):
     return np.geomspace(P_min, P_max, steps)
 
 
-def default_spec(radius=REFERENCE["radius"], contact_size=None):
-    """The project's default mesh spec, scaled to ``radius`` [m]; ``contact_size`` overrides."""
-    from meshes.hemisphere import HemisphereMeshSpec
-
-    base = HemisphereMeshSpec()
-    k = radius / base.radius
-    return HemisphereMeshSpec(radius=radius,
-                              contact_size=contact_size if contact_size else base.contact_size * k,
-                              refined_radius=base.refined_radius * k,
-                              refined_depth=base.refined_depth * k,
-                              far_size=base.far_size * k, growth=base.growth)
+def hertz_spec(material: Material, radius: float, top_load: float,
+               contact_size: float | None = None):
+    """The mesh of a Hertz run to ``top_load`` [N] (calib.fit.recipe.hertz_mesh)."""
+    return hertz_mesh(ContactPair.sphere_flat(material, radius), top_load, contact_size=contact_size,
+                      reference=is_reference_sphere(material.E, material.nu, radius))
 
 
-def run_hertz(spec=None, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu=REFERENCE["nu"],
+def run_hertz(spec=None, *, material: Material | None = None, radius: float = reference_case.R,
               loads=None, cache_dir=None, contact_radius_method="pressure",
               linear_solver=None) -> HertzRun:
-    """Force-controlled elastic FE run compared with Hertz at every load.
+    """Force-controlled elastic FE run of ``material`` (E, nu; the reference aluminium by default)
+    on a sphere of radius R [m], compared with Hertz at every load [N].
 
-    ``spec``: meshes.hemisphere.HemisphereMeshSpec (default: the project default, scaled to
-    ``radius`` if it differs from the spec's). Returns a HertzRun; raises ValueError on bad
-    input and calib.fe.StepNotConverged if a step fails.
+    ``spec``: meshes.hemisphere.HemisphereMeshSpec (default: ``hertz_spec``). Returns a HertzRun;
+    raises ValueError on bad input and calib.fe.StepNotConverged if a step fails.
     """
-    from dataclasses import replace
-
-    from calib.fe import ContactSolver, run_load_path
-    from calib.fe.elastic import ElasticMaterial
-    from meshes.hemisphere import hemisphere_mesh
-
     t_start = time.perf_counter()
-    material = ElasticMaterial(E, nu)
-    if spec is None:
-        spec = default_spec(radius)  # keeps the mesh proportions for another sphere size
-    elif spec.radius != radius:
-        spec = replace(spec, radius=radius)
+    material = material or Material.reference()
+    pair = ContactPair.sphere_flat(material, radius)
     loads = default_loads() if loads is None else np.asarray(loads, dtype=float)
     if loads.ndim != 1 or loads.size < 1 or not np.all(np.isfinite(loads)) or np.any(loads <= 0):
         raise ValueError("loads must be a non-empty list of finite forces > 0 [N]")
-    a_top = float(hertz_contact_radius(loads.max(), radius, E, nu))
+    if spec is None:
+        spec = hertz_spec(material, radius, float(loads.max()))
+    elif spec.radius != radius:
+        raise ValueError(f"mesh radius {spec.radius} m differs from the sphere radius R = {radius} m")
+    a_top = float(pair.hertz_radius(loads.max()))
     if a_top > spec.refined_radius:
         raise ValueError(f"P_max gives a Hertz contact radius {a_top:.3g} m beyond the mesh's "
                          f"refined_radius {spec.refined_radius:.3g} m: lower P_max")
@@ -116,7 +81,8 @@ def run_hertz(spec=None, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu=REF
     hemisphere = hemisphere_mesh(spec, cache_dir=cache_dir)
     time_mesh = time.perf_counter() - t0
     t0 = time.perf_counter()
-    solver = ContactSolver(hemisphere, material, contact_radius_method=contact_radius_method,
+    solver = ContactSolver(hemisphere, ElasticMaterial(material.E, material.nu),
+                           contact_radius_method=contact_radius_method,
                            linear_solver=linear_solver)
     time_setup = time.perf_counter() - t0
     t0 = time.perf_counter()
@@ -126,9 +92,9 @@ def run_hertz(spec=None, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu=REF
     rows = []
     for res in results:
         rec = res.record
-        a_h = float(hertz_contact_radius(rec.P, radius, E, nu))
-        alpha_h = float(hertz_approach(rec.P, radius, E, nu))
-        p0_h = float(hertz_peak_pressure(rec.P, radius, E, nu))
+        a_h = float(pair.hertz_radius(rec.P))
+        alpha_h = float(pair.hertz_approach(rec.P))
+        p0_h = float(pair.hertz_peak_pressure(rec.P))
         row = rec.as_dict()
         row.update(contact_radius_hertz=a_h, alpha_hertz=alpha_h, peak_pressure_hertz=p0_h,
                    contact_radius_rel_error=rec.contact_radius / a_h - 1.0,
@@ -144,14 +110,14 @@ def run_hertz(spec=None, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu=REF
     # finite-size deficit of the approach: alpha_H - alpha = k P / (E* R)  (least squares)
     P = np.array([r["P"] for r in rows])
     deficit = np.array([r["alpha_hertz"] - r["alpha"] for r in rows])
-    x = P / (effective_modulus(E, nu) * radius)
+    x = P / (pair.E_star * radius)
     k = float(x @ deficit / (x @ x))
 
     top = rows[-1]
     r = results[-1].pressure_r
     inside = r <= 1.5 * top["contact_radius_hertz"]
     profile = {"r": r[inside], "pressure": results[-1].pressure[inside],
-               "pressure_hertz": hertz_pressure(r[inside], top["P"], radius, E, nu)}
+               "pressure_hertz": pair.hertz_pressure(r[inside], top["P"])}
     wall = time.perf_counter() - t_start
     top_load = {"P": top["P"], "alpha": top["alpha"], "contact_radius": top["contact_radius"],
                 "contact_radius_hertz": top["contact_radius_hertz"],
@@ -175,17 +141,19 @@ LADDER_CONTACT_SIZES = (1.6e-4, 8e-5, 4e-5, 2e-5, 1e-5)
 
 
 def run_ladder(contact_sizes=LADDER_CONTACT_SIZES, *, cache_dir=None, loads=None,
-               radius=REFERENCE["radius"], **kwargs):
+               material: Material | None = None, radius: float = reference_case.R, **kwargs):
     """``run_hertz`` on a ladder of contact element sizes (other mesh parameters default).
 
     Returns rows: contact_size, n_dofs, errors at the top load for each contact-radius
     recovery, peak pressure and alpha errors, finite-size coefficient, wall times [s].
     The max-abs contact radius errors are over the loads above 36.45 N (the reference P_Y).
     """
+    material = material or Material.reference()
+    top_load = float(np.max(default_loads() if loads is None else loads))
     rows = []
     for h in contact_sizes:
-        spec = default_spec(radius, h * radius / REFERENCE["radius"])
-        run = run_hertz(spec, loads=loads, cache_dir=cache_dir, radius=radius, **kwargs)
+        spec = hertz_spec(material, radius, top_load, contact_size=h * radius / reference_case.R)
+        run = run_hertz(spec, material=material, loads=loads, cache_dir=cache_dir, radius=radius, **kwargs)
         top = run.rows[-1]
         rows.append({"contact_size": h, "n_elements": run.mesh["n_elements"],
                      "n_dofs": run.mesh["n_dofs"], "P": top["P"],
@@ -208,7 +176,7 @@ def run_ladder(contact_sizes=LADDER_CONTACT_SIZES, *, cache_dir=None, loads=None
 
 
 # --------------------------------------------------------------------------- results/
-def write_hertz_results(out, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu=REFERENCE["nu"],
+def write_hertz_results(out, *, material: Material | None = None, radius: float = reference_case.R,
                         P_min=1.0, P_max=1500.0, steps=25, contact_size=None, cache_dir=None):
     """Run the validation and write JSON + CSV + PNG into ``out``; returns the JSON summary."""
     from pathlib import Path
@@ -216,8 +184,10 @@ def write_hertz_results(out, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu
     from calib import output
 
     out = Path(out)
-    spec = default_spec(radius, contact_size)
-    run = run_hertz(spec, radius=radius, E=E, nu=nu, loads=default_loads(P_min, P_max, steps),
+    material = material or Material.reference()
+    E, nu = material.E, material.nu
+    spec = hertz_spec(material, radius, P_max, contact_size)
+    run = run_hertz(spec, material=material, radius=radius, loads=default_loads(P_min, P_max, steps),
                     cache_dir=cache_dir)
     stamp = output.stamp(run.wall_time_s, mesh=run.mesh, time_mesh_s=run.time_mesh_s,
                          time_setup_s=run.time_setup_s, time_steps_s=run.time_steps_s,
@@ -243,25 +213,29 @@ def write_hertz_results(out, *, radius=REFERENCE["radius"], E=REFERENCE["E"], nu
                                         run.pressure_profile["pressure_hertz"])]
     output.write_csv(out / "pressure_profile.csv", profile_rows,
                      comment=output.stamp_comment(stamp))
-    _plot_hertz(out, run, radius, E, nu)
+    plot_hertz(out, run, material, radius)
     return summary
 
 
-def _plot_hertz(out, run, radius, E, nu):
+def plot_hertz(out, run, material: Material, radius: float):
+    """contact_radius.png, approach.png, peak_pressure.png (FE and Hertz against P, and the
+    relative error) and pressure_profile.png (at the top load) into ``out``."""
     from calib import output
 
+    pair = ContactPair.sphere_flat(material, radius)
+    E, nu = material.E, material.nu
     plt = output.pyplot()
     P = np.array([r["P"] for r in run.rows])
     Pf = np.geomspace(P.min(), P.max(), 200)
     h = run.mesh["contact_size"]
     label = f"FE (P2, h = {h:.2g} m)"
     for name, key, fn, ylabel in (
-            ("contact_radius", "contact_radius", hertz_contact_radius, "contact radius a [m]"),
-            ("approach", "alpha", hertz_approach, "approach alpha [m]"),
-            ("peak_pressure", "peak_pressure", hertz_peak_pressure, "peak pressure p0 [Pa]")):
+            ("contact_radius", "contact_radius", pair.hertz_radius, "contact radius a [m]"),
+            ("approach", "alpha", pair.hertz_approach, "approach alpha [m]"),
+            ("peak_pressure", "peak_pressure", pair.hertz_peak_pressure, "peak pressure p0 [Pa]")):
         fig, (ax, ax_err) = plt.subplots(2, 1, figsize=(6, 6), sharex=True,
                                          gridspec_kw={"height_ratios": [3, 1]})
-        ax.plot(Pf, fn(Pf, radius, E, nu), "k-", label="Hertz")
+        ax.plot(Pf, fn(Pf), "k-", label="Hertz")
         ax.plot(P, [r[key] for r in run.rows], "o", mfc="none", label=label)
         ax.set_xscale("log"), ax.set_yscale("log"), ax.set_ylabel(ylabel), ax.legend()
         ax.set_title(f"Sphere on rigid flat, R = {radius} m, E = {E:.3g} Pa, nu = {nu}")
@@ -273,7 +247,7 @@ def _plot_hertz(out, run, radius, E, nu):
     top = run.top_load
     fig, ax = plt.subplots(figsize=(6, 4))
     rr = np.linspace(0, prof["r"].max(), 400)
-    ax.plot(rr * 1e3, hertz_pressure(rr, top["P"], radius, E, nu) / 1e6, "k-", label="Hertz")
+    ax.plot(rr * 1e3, pair.hertz_pressure(rr, top["P"]) / 1e6, "k-", label="Hertz")
     ax.plot(prof["r"] * 1e3, prof["pressure"] / 1e6, "o", ms=3, mfc="none",
             label=f"FE nodal pressure (lumped), {label}")
     ax.axvline(top["contact_radius"] * 1e3, color="C1", ls="--", lw=1,
@@ -284,9 +258,9 @@ def _plot_hertz(out, run, radius, E, nu):
     output.save_figure(fig, out / "pressure_profile.png")
 
 
-def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, radius=REFERENCE["radius"],
-                         E=REFERENCE["E"], nu=REFERENCE["nu"], P_min=1.0, P_max=1500.0,
-                         steps=25, cache_dir=None):
+def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, material: Material | None = None,
+                         radius: float = reference_case.R, P_min=1.0, P_max=1500.0, steps=25,
+                         cache_dir=None):
     """Mesh ladder: CSV + log-log PNG of |error| against wall time; returns a summary."""
     import time
     from pathlib import Path
@@ -295,9 +269,10 @@ def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, radius=REFE
 
     out = Path(out)
     t0 = time.perf_counter()
-    rows = run_ladder(contact_sizes, cache_dir=cache_dir, radius=radius, E=E, nu=nu,
+    material = material or Material.reference()
+    rows = run_ladder(contact_sizes, cache_dir=cache_dir, radius=radius, material=material,
                       loads=default_loads(P_min, P_max, steps))
-    default_h = default_spec(radius).contact_size
+    default_h = hertz_spec(material, radius, P_max).contact_size
     stamp = output.stamp(time.perf_counter() - t0, mesh={"ladder_contact_sizes": list(contact_sizes),
                                                          "default_contact_size": default_h})
     output.write_csv(out / "mesh_ladder.csv", rows, comment=output.stamp_comment(stamp))

@@ -10,13 +10,13 @@ from __future__ import annotations
 
 import time
 
-import numpy as np
 
 TARGET_S = 60.0
 
 
 def main() -> None:
-    from calib.fit.calibration import calibrate, reference_spec
+    from calib.fit.calibration import calibrate
+    from calib.fit.recipe import reference_spec
     from calib.fe import ContactSolver
     from calib.fe.elastic import ElasticMaterial
     from meshes.hemisphere import hemisphere_mesh

@@ -55,13 +55,15 @@ print(json.dumps({"backend": f.method, "factorize_s": min(fac), "solve_s": t_sol
 
 def contact_matrix(spec, P=1500.0):
     from calib.fe import ContactSolver
-    from calib.studies.hertz import REFERENCE, hertz_contact_radius
     from calib.fe.elastic import ElasticMaterial
     from meshes.hemisphere import hemisphere_mesh
+    from nfdmodel import ContactPair, Material
 
-    solver = ContactSolver(hemisphere_mesh(spec), ElasticMaterial(REFERENCE["E"], REFERENCE["nu"]))
-    K = solver._linear_tangent()
-    a = hertz_contact_radius(P, spec.radius, REFERENCE["E"], REFERENCE["nu"])
+    material = Material.reference()
+    solver = ContactSolver(hemisphere_mesh(spec), ElasticMaterial(material.E, material.nu))
+    K = solver.elastic_stiffness()
+    K = (solver.TT @ K @ solver.T).tocsr()
+    a = ContactPair.sphere_flat(material, spec.radius).hertz_radius(P)
     free = np.ones(solver.n_q, dtype=bool)
     free[solver.candidate_q[solver.candidate_r <= a]] = False
     free[solver.plate] = False

@@ -1,0 +1,218 @@
+"""The one calibration recipe: (material, R, load plan, mesh level) -> what to calibrate.
+
+Every entry point that runs the FE calibration (``nfdcal calibrate``, scenes and tables, the
+master table, the Hertz validation, the stability studies and mesh ladders) takes its
+``CalibrationSpec`` from ``calibration_spec`` here, so one material gets one mesh and one load
+plan whichever way it is asked for:
+
+* load paths: to each P_max [N] (given, or the reference case's 500/1000/1500 N for the
+  reference sphere, else 13.7, 27.4 and 41.2 P_Y: the reference peaks in units of P_Y), loading
+  in equal force increments (16 up to the smallest P_max unless the caller says how many up
+  to the largest), 16 unloading increments per path, the first load at 0.5 P_Y (20 N for the
+  reference sphere, as the reference calibration has always been run);
+* mesh: the element size at the contact is a fixed fraction of the largest contact radius a_max
+  [m] estimated before any FE run (1/37 at level "default": the reference mesh's 4e-5 m at
+  a_max = 1.48 mm; 1/10 "coarse", 1/74 "fine"), the refined zone 1.1 a_max wide and 0.35 a_max
+  deep, so that the discretisation error is the reference one for any material and size; the
+  reference sphere (the reference material, R = 0.1 m, a_max inside the reference fine zone)
+  keeps the reference mesh family (``REFERENCE_CONTACT_SIZES``), whose meshes and results are
+  cached and published.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from calib.fe.loadpath import LoadPathPlan
+from meshes.hemisphere import HemisphereMeshSpec
+from nfdmodel import ContactPair, Material, reference_case
+
+# E / sigma_Y a calibration accepts. Below 20 the yield contact itself is wide (a_Y/R =
+# (pi/2) A_Y sigma_Y / E* > 0.12, the first-yield formulas) and a small-strain, small-contact model is
+# meaningless; an E typed in GPa with sigma_Y in Pa lands there. Above 1e4 the contact zone is
+# below 1e-5 R wide and the mesh grading has not been tested.
+E_OVER_SIGMA_Y_RANGE = (20.0, 1.0e4)
+# The largest contact radius a calibration may reach, over R: beyond it the hemisphere is no
+# longer a small-strain, a << R contact problem (Hertz needs a << R; at 0.3 R the contact
+# edge has turned by 17 degrees).
+CONTACT_RADIUS_LIMIT = 0.3
+# The largest load a calibration runs to, over P_Y (DEM users need up to ~1000). Measured
+# (results/stability/fe_stability.csv): the force-driven FE loads and unloads to 1000 P_Y at
+# E/sigma_Y = 700 and 5000 (ContactSolver.rescue_step takes the steps the ordinary solve cannot);
+# softer materials are limited first by CONTACT_RADIUS_LIMIT. Beyond ~400 P_Y the contact is
+# fully plastic (P grows with the contact area, Johnson 1985 sec. 6.3) and a_p = Ca <P - P_Y>
+# (paper eq. 2.5) is an extrapolation: fit such runs knowingly. The runtime law itself takes any
+# P / P_Y (nfdmodel).
+MAX_LOAD_OVER_YIELD = 1000.0
+# Ca_hat used to ESTIMATE the plastic radius before the calibration (the reference's is 0.0258,
+# the master table's span 0.024-0.028).
+CA_HAT_ESTIMATE = 0.025
+
+
+def estimated_contact_radius(pair: ContactPair, force) -> float:
+    """Largest contact radius [m] expected at the force P [N] on the loading branch, before any
+    FE run (sizes the refined mesh zone): Hertz's a_H below P_Y; above it
+    max(1.3 a_H, a_H + Ca_hat <P/P_Y - 1> a_Y), the first the elastoplastic/Hertz radius ratio
+    measured up to 41 P_Y (the reference FE: 1.47 / 1.135 mm at 1500 N), the second the
+    plastic radius a_p = Ca <P - P_Y> (paper eq. 2.5) that dominates from ~43 P_Y on."""
+    a_hertz = float(pair.hertz_radius(force))
+    if force <= pair.P_Y:
+        return a_hertz
+    return max(1.3 * a_hertz, a_hertz + CA_HAT_ESTIMATE * (force / pair.P_Y - 1.0) * pair.a_Y)
+
+
+def largest_admissible_load(pair: ContactPair) -> float:
+    """The largest P_max [N] whose estimated contact radius stays within CONTACT_RADIUS_LIMIT R."""
+    limit = CONTACT_RADIUS_LIMIT * pair.R_star
+    if estimated_contact_radius(pair, pair.P_Y) >= limit:
+        return 0.0
+    hi = 2.0 * pair.P_Y
+    while estimated_contact_radius(pair, hi) < limit:
+        hi *= 2.0
+    return float(brentq(lambda P: estimated_contact_radius(pair, P) - limit, pair.P_Y, hi, rtol=1e-6))
+
+
+def check_calibration_inputs(material: Material, radius: float, largest_peak: float) -> None:
+    """ValueError naming the parameter and its allowed range when a calibration cannot be
+    meaningful: E / sigma_Y outside E_OVER_SIGMA_Y_RANGE, or a largest load P_max whose contact
+    radius would exceed CONTACT_RADIUS_LIMIT R (small strain, a << R)."""
+    ratio = material.E / material.sigma_y
+    low, high = E_OVER_SIGMA_Y_RANGE
+    if not low <= ratio <= high:
+        hint = " (are E and sigma_Y both in Pa?)" if ratio < 1.0 or ratio > 1e6 else ""
+        raise ValueError(f"E/sigma_Y out of range for a calibration: need {low:g} <= E/sigma_Y <= "
+                         f"{high:g}, got {ratio:.3g} (E = {material.E:g} Pa, sigma_Y = "
+                         f"{material.sigma_y:g} Pa){hint}")
+    pair = ContactPair.sphere_flat(material, radius)
+    if largest_peak > MAX_LOAD_OVER_YIELD * pair.P_Y:
+        raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N is "
+                         f"{largest_peak / pair.P_Y:.4g} P_Y; the FE calibration runs to P_max <= "
+                         f"{MAX_LOAD_OVER_YIELD:g} P_Y = {MAX_LOAD_OVER_YIELD * pair.P_Y:.4g} N for this "
+                         f"material and R (tested to there; the NFD model's linear plastic radius is "
+                         f"meant for the contained elastoplastic regime, below ~400 P_Y)")
+    a_max = estimated_contact_radius(pair, largest_peak)
+    if a_max > CONTACT_RADIUS_LIMIT * radius:
+        P_limit = largest_admissible_load(pair)
+        raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N "
+                         f"({largest_peak / pair.P_Y:.4g} P_Y) needs a contact radius of about "
+                         f"{a_max / radius:.3g} R; the small-strain model needs a_max <= "
+                         f"{CONTACT_RADIUS_LIMIT:g} R, i.e. P_max <= {P_limit:.4g} N "
+                         f"({P_limit / pair.P_Y:.4g} P_Y) for this material and R")
+
+
+@dataclass(frozen=True)
+class CalibrationSpec:
+    """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance."""
+
+    material: Material
+    radius: float
+    mesh: HemisphereMeshSpec
+    plan: LoadPathPlan
+    residual_tolerance: float = 1e-8
+    contact_radius_method: str = "gap"
+
+    def __post_init__(self):
+        if not (np.isfinite(self.radius) and self.radius > 0):
+            raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
+        if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
+            raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
+        check_calibration_inputs(self.material, self.radius, self.plan.peaks[-1])
+        a_max = estimated_contact_radius(self.pair, self.plan.peaks[-1])
+        if self.mesh.refined_radius < 0.99 * a_max:   # a contact wider than the fine zone
+            raise ValueError(f"mesh refined_radius {self.mesh.refined_radius:.4g} m is smaller than the "
+                             f"estimated contact radius {a_max:.4g} m at P_max = {self.plan.peaks[-1]:.4g} N:"
+                             f" need refined_radius >= {a_max:.4g} m (calib.fit.recipe.calibration_spec sizes it)")
+
+    @property
+    def pair(self) -> ContactPair:
+        return ContactPair.sphere_flat(self.material, self.radius)
+
+
+# ----------------------------------------------------------------------------- the recipe
+MESH_LEVELS = {"coarse": 0.1, "default": 1.0 / 37.0, "fine": 1.0 / 74.0}   # contact size / a_max
+REFERENCE_CONTACT_SIZES = {"coarse": 1.6e-4, "default": 4e-5, "fine": 2e-5}  # [m], R = 0.1 m
+DEFAULT_PEAKS_OVER_YIELD = (13.7, 27.4, 41.2)   # the reference peaks in units of P_Y
+LOADING_STEPS_TO_FIRST_PEAK = 16
+UNLOADING_STEPS = 16
+REFERENCE_FIRST_LOAD = 20.0                     # [N], 0.55 P_Y of the reference sphere
+
+
+def is_reference_sphere(E: float, nu: float, radius: float, sigma_y: float | None = None) -> bool:
+    """The paper's sphere (E, nu, R and, if given, sigma_Y of the reference case)."""
+    return ((E, nu, radius) == (reference_case.E, reference_case.NU, reference_case.R)
+            and (sigma_y is None or sigma_y == reference_case.SIGMA_Y))
+
+
+def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str | None = None,
+             contact_size: float | None = None,
+             contact_size_over_a_max: float | None = None) -> HemisphereMeshSpec:
+    """The hemisphere mesh [m] for a largest contact radius ``a_max`` [m] on a sphere of radius R.
+
+    ``reference``: the reference sphere, which keeps the reference mesh family while a_max fits
+    its fine zone and no ratio is asked for. Otherwise the contact element is ``contact_size``, or
+    ``contact_size_over_a_max`` (or the ``level``'s ratio) x a_max; the refined zone covers
+    1.1 a_max along the surface and 0.35 a_max in depth (at least two elements, at most 0.9 R);
+    the far field is graded to R / 10.
+    """
+    level = level or "default"
+    if level not in MESH_LEVELS:
+        raise ValueError(f"mesh level must be one of {', '.join(MESH_LEVELS)}, got {level!r}")
+    base = HemisphereMeshSpec()
+    if reference and contact_size_over_a_max is None and a_max <= base.refined_radius:
+        return HemisphereMeshSpec(contact_size=contact_size or REFERENCE_CONTACT_SIZES[level])
+    ratio = contact_size_over_a_max if contact_size_over_a_max is not None else MESH_LEVELS[level]
+    h = contact_size if contact_size is not None else a_max * ratio
+    return HemisphereMeshSpec(radius=radius, contact_size=h,
+                              refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
+                              refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
+                              far_size=max(radius / 10, h))
+
+
+def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_over_yield=None,
+                     level: str | None = None, contact_size: float | None = None,
+                     contact_size_over_a_max: float | None = None, loading_steps: int | None = None,
+                     unloading_steps: int = UNLOADING_STEPS) -> CalibrationSpec:
+    """The CalibrationSpec of ``material`` on a sphere of radius R [m] (see the module docstring).
+
+    peaks [N] or peaks_over_yield [-] (not both); loading_steps: force increments up to the
+    largest peak (default 16 up to the smallest); the mesh options as in ``mesh_for``. Raises
+    ValueError naming the parameter when the material or the load cannot be calibrated.
+    """
+    if peaks is not None and peaks_over_yield is not None:
+        raise ValueError("give peaks [N] or peaks_over_yield [-], not both")
+    pair = ContactPair.sphere_flat(material, radius)
+    reference = is_reference_sphere(material.E, material.nu, radius, material.sigma_y)
+    if peaks is None:
+        if peaks_over_yield is None and reference:
+            peaks = reference_case.PEAKS
+        else:
+            peaks = tuple(float(k * pair.P_Y) for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD))
+    peaks = tuple(sorted(float(p) for p in peaks))
+    check_calibration_inputs(material, radius, peaks[-1])   # before sizing a mesh from it
+    a_max = estimated_contact_radius(pair, peaks[-1])
+    mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
+                    contact_size_over_a_max=contact_size_over_a_max)
+    loading_step = (peaks[0] / LOADING_STEPS_TO_FIRST_PEAK if loading_steps is None
+                    else peaks[-1] / loading_steps)
+    first_load = min(REFERENCE_FIRST_LOAD if reference else 0.5 * pair.P_Y, peaks[0])
+    return CalibrationSpec(material=material, radius=radius, mesh=mesh,
+                           plan=LoadPathPlan(peaks=peaks, loading_step=loading_step,
+                                             unloading_steps=unloading_steps, first_load=first_load))
+
+
+def reference_spec(level: str | None = None, contact_size: float | None = None) -> CalibrationSpec:
+    """The paper's case: aluminium R = 0.1 m (E = 70 GPa, nu = 0.3, sigma_Y = 100 MPa,
+    rho = 2699 kg/m^3), paths ABC, ADE, AFG (P_max = 500, 1000, 1500 N)."""
+    return calibration_spec(Material.reference(), reference_case.R, level=level,
+                            contact_size=contact_size)
+
+
+def hertz_mesh(pair: ContactPair, top_load: float, *, reference: bool = False,
+               level: str | None = None, contact_size: float | None = None,
+               contact_size_over_a_max: float | None = None) -> HemisphereMeshSpec:
+    """The mesh of an elastic (Hertz) run to ``top_load`` [N]: ``mesh_for`` at its Hertz radius."""
+    return mesh_for(pair.R_star, float(pair.hertz_radius(top_load)), reference=reference,
+                    level=level, contact_size=contact_size,
+                    contact_size_over_a_max=contact_size_over_a_max)

@@ -1,0 +1,118 @@
+"""One resumable, keyed runner for every sweep: parameter tables, the master table, FE stability,
+mesh ladders.
+
+A sweep is a list of tasks, each a picklable dict with a ``"key"`` (a hash of everything that
+determines its result). ``run_sweep`` reads the finished results from ``FOLDER/<key>.json``,
+runs the rest (in this process, on local processes, or on a Dask distributed cluster), and writes
+each result atomically to ``FOLDER/<key>.json`` the moment it is done, so an interrupted sweep
+loses nothing finished and a rerun computes only what is missing. Missing meshes are built here,
+one at a time, before any worker starts (gmsh is a process-wide singleton), so workers only read
+the mesh cache.
+"""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Iterable, Iterator
+
+from calib import output
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """The rows in task order, and how many were computed now or reused from the folder."""
+
+    rows: list
+    computed: int
+    reused: int
+
+
+def cached_result(folder: Path, key: str, keep: Callable[[dict], bool]) -> dict | None:
+    """The finished result ``FOLDER/<key>.json`` if it is readable and ``keep`` accepts it."""
+    path = Path(folder) / f"{key}.json"
+    if not path.is_file():
+        return None
+    try:
+        row = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError):
+        return None  # unreadable (e.g. written by hand): recompute
+    return row if isinstance(row, dict) and keep(row) else None
+
+
+def build_meshes(specs: Iterable, progress: Callable[[str], None]) -> None:
+    """Build the hemisphere meshes (meshes.hemisphere.HemisphereMeshSpec) not yet in the cache."""
+    from meshes.hemisphere import hemisphere_mesh, mesh_path
+
+    seen = set()
+    for spec in specs:
+        if spec is None or spec.cache_key() in seen:
+            continue
+        seen.add(spec.cache_key())
+        if not mesh_path(spec).is_file():
+            progress(f"meshing (contact size {spec.contact_size:.3g} m)")
+            hemisphere_mesh(spec)
+
+
+def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
+            scheduler: str | None = None) -> Iterator[dict]:
+    """Yield ``function(task)`` as tasks finish: in this process (workers = 1), on ``workers``
+    local processes (spawned: no forked copies of threads or gmsh state), or on the Dask
+    distributed cluster at ``scheduler``. ``function`` must be module-level (it is pickled)."""
+    if scheduler:
+        from distributed import Client, as_completed
+
+        with Client(scheduler) as client:
+            for future in as_completed(client.map(function, tasks, pure=False)):
+                yield future.result()
+        return
+    if workers <= 1 or len(tasks) <= 1:
+        for task in tasks:
+            yield function(task)
+        return
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    context = multiprocessing.get_context("spawn")
+    with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context) as pool:
+        for future in as_completed([pool.submit(function, task) for task in tasks]):
+            yield future.result()
+
+
+def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path, *,
+              keep: Callable[[dict], bool] = lambda row: True, mesh_of: Callable[[dict], object] = lambda task: None,
+              workers: int = 1, scheduler: str | None = None, prune: bool = False,
+              progress: Callable[[str], None] | None = None,
+              describe: Callable[[dict], str] = lambda row: "") -> SweepResult:
+    """Run the tasks whose result is not yet in ``folder`` and return every task's row.
+
+    ``function(task) -> row`` never raises (a failure is a row that ``keep`` rejects: reported,
+    not stored, retried on the next run). ``keep(row)``: whether a row is a finished result worth
+    storing and reusing. ``mesh_of(task)``: the mesh spec a task needs (built beforehand).
+    ``prune``: delete stored results of tasks no longer in the sweep. ``progress`` receives one
+    line per finished task (``describe(row)`` appended).
+    """
+    say = progress or (lambda message: None)
+    folder = Path(folder)
+    keys = [task["key"] for task in tasks]
+    if len(set(keys)) != len(keys):
+        raise ValueError("sweep tasks must have distinct keys")
+    rows = {}
+    for task in tasks:
+        row = cached_result(folder, task["key"], keep)
+        if row is not None:
+            rows[task["key"]] = row
+    todo = [task for task in tasks if task["key"] not in rows]
+    say(f"{len(tasks)} task(s): {len(tasks) - len(todo)} already done, {len(todo)} to run")
+    build_meshes((mesh_of(task) for task in todo), say)
+    for k, row in enumerate(results(function, todo, workers, scheduler), 1):
+        if keep(row):
+            output.write_json(folder / f"{row['key']}.json", row)   # atomic, as soon as it is done
+        rows[row["key"]] = row
+        say(f"{k}/{len(todo)} done" + (f": {describe(row)}" if describe(row) else ""))
+    if prune and folder.is_dir():
+        for stale in folder.glob("*.json"):
+            if stale.stem not in rows:
+                stale.unlink()
+    return SweepResult(rows=[rows[key] for key in keys], computed=len(todo),
+                       reused=len(tasks) - len(todo))
