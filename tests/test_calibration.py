@@ -1,4 +1,5 @@
-"""The calibration end to end on a coarse mesh, and the FE checks issue 4 asks for."""
+"""The calibration end to end on a coarse mesh, and the FE checks: first yield, quadratic Newton,
+separation, scale invariance, stiff and soft materials."""
 import dataclasses
 import json
 
@@ -9,20 +10,17 @@ from calib.fit import calibration, recipe
 from calib.report import calibration as calibration_report
 from calib.cli import main
 from calib.fe import ContactSolver
-from calib.fe.loadpath import LoadPathPlan, separation_approach
+from calib.fe.loadpath import separation_approach
 from calib.fe.von_mises import VonMisesMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
-from nfdmodel import ContactPair, Material, load_parameters
+from nfdmodel import ContactPair, Material, load_parameters, reference_case
 
 COARSE = 1.6e-4  # contact element size [m]: 5-10 elements across the contact, seconds per path
 
 
 @pytest.fixture(scope="module")
-def coarse_result():
-    spec = recipe.reference_spec(contact_size=COARSE)
-    spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=(500.0, 1000.0), loading_step=125.0,
-                                                       unloading_steps=8, first_load=20.0))
-    return calibration.calibrate(spec)
+def coarse_result(coarse_calibration):
+    return coarse_calibration
 
 
 def test_paths_reach_their_peaks_and_return_to_zero(coarse_result):
@@ -34,11 +32,14 @@ def test_paths_reach_their_peaks_and_return_to_zero(coarse_result):
         assert all(r["converged"] for r in path.rows)
 
 
-def test_fit_is_near_the_paper_even_on_a_coarse_mesh(coarse_result):
+def test_coarse_fit_is_within_its_discretisation_error(coarse_result):
+    """Against the default-mesh calibration (README: Ca 2.32e-7 m/N, Kc 2.98e-4 1/N): the mesh
+    ladder measured the 1.6e-4 m mesh 6.8 % (Ca) and 11 % (Kc) off the default mesh on the
+    reference paths; this shorter, coarser-stepped plan stays within 8 % and 15 %."""
     fit = coarse_result.radius_fit
-    assert fit.Ca.slope == pytest.approx(calibration.PAPER["Ca"], rel=0.35)
-    assert fit.Kc.slope == pytest.approx(calibration.PAPER["Kc"], rel=0.5)
-    assert fit.Ca.r_squared > 0.9
+    assert fit.Ca.slope == pytest.approx(2.3155e-7, rel=0.08)
+    assert fit.Kc.slope == pytest.approx(2.9841e-4, rel=0.15)
+    assert fit.Ca.r_squared > 0.95
 
 
 def test_parameter_file_round_trips_into_the_runtime_law(coarse_result, tmp_path):
@@ -58,7 +59,7 @@ def test_runtime_law_follows_the_fe_force(coarse_result):
 
 
 def test_first_yield_matches_theory():
-    """The first quadrature point yields at P_Y(nu) of SPEC section 2 within 3 % (default mesh)."""
+    """The first quadrature point yields at P_Y(nu) = pi^3 R^2 (A_Y sigma_Y)^3 / (6 E*^2) within 3 % (default mesh)."""
     material = Material.reference()
     P_Y_fe = calibration.first_yield_load(hemisphere_mesh(HemisphereMeshSpec()), material)
     assert P_Y_fe == pytest.approx(ContactPair.sphere_flat(material, 0.1).P_Y, rel=0.03)
@@ -110,7 +111,7 @@ def test_cli_calibrate_bad_input(argv, match, capsys):
 
 
 def test_dimensionless_parameters_do_not_depend_on_the_sphere_size():
-    """SPEC section 7: with lengths scaled by a_Y and forces by P_Y the problem depends on nu and
+    """Dimensionless constants: with lengths scaled by a_Y and forces by P_Y the problem depends on nu and
     E / sigma_Y only, so a 1 um and a 10 m sphere give the same Ca_hat, Kc_hat and e: the mesh is
     built in units of R and the solver's tolerances carry no absolute units."""
     material = Material(70e9, 0.3, 100e6, 2699.0)
@@ -161,3 +162,21 @@ def test_soft_yielding_material_loads_to_100_P_Y_and_unloads():
     assert np.all(np.diff(loading) > 0) and np.all(np.diff(unloading) < 0)
     assert abs(path.rows[-1]["P"]) < 1e-3 * path.peak and 0 < path.alpha_residual < path.alpha_max
     assert 0.5 < path.restitution < 1.0
+
+
+@pytest.mark.slow
+def test_readme_reference_numbers_at_the_default_mesh():
+    """The README's reference table ("Reference case: our FE against the paper"), default mesh:
+    every figure to the digits it prints, and every target against the paper it states."""
+    s = calibration.summary(calibration.calibrate(recipe.reference_spec()))
+    afg = s["paths"][-1]
+    assert s["mesh"]["dofs"] == 12112 and s["mesh"]["elements"] == 2939
+    assert round(s["P_Y_fe"], 2) == 36.37 and round(s["P_Y"], 2) == 36.64
+    assert round(afg["alpha_max"], 8) == 1.557e-5 and round(afg["e"], 3) == 0.739
+    assert float(f"{s['Ca']:.3g}") == 2.32e-7 and float(f"{s['Kc']:.3g}") == 2.98e-4
+    assert round(s["Ca_hat"], 4) == 0.0258 and round(s["Kc_hat"], 4) == 0.0109
+    assert round(s["radius_fit"]["Ca_r2"], 3) == 0.995 and round(s["radius_fit"]["Kc_r2"], 2) == 0.84
+    paper = reference_case
+    assert abs(s["P_Y_fe"] / 36.45 - 1) < 0.03 and abs(afg["alpha_max"] / paper.ALPHA_MAX_AFG - 1) < 0.03
+    assert abs(afg["e"] / paper.E_AFG - 1) < 0.03
+    assert abs(s["Ca"] / paper.CA - 1) < 0.10 and abs(s["Kc"] / paper.KC - 1) < 0.15

@@ -7,24 +7,21 @@ from calib.fe import (ContactSolver, StepNotConverged, contact_radius_from_gap,
                       contact_radius_from_pressure, run_load_path)
 from calib.fe.elastic import ElasticMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
-from nfdmodel import ContactPair, Material
 
-R, E, NU = 0.1, 70e9, 0.3
-PAIR = ContactPair.sphere_flat(Material(E, NU, 100e6, 2700.0), R)  # the Hertz formulas
-COARSE = HemisphereMeshSpec(radius=R, contact_size=1.6e-4, refined_radius=1.6e-3,
-                            refined_depth=5e-4, far_size=1e-2, growth=0.3)
+from conftest import COARSE, E, NU, PAIR, R
+
 MEDIUM = HemisphereMeshSpec(radius=R, contact_size=8e-5, refined_radius=1.6e-3,
                             refined_depth=5e-4, far_size=1e-2, growth=0.3)
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    return tmp_path_factory.mktemp("meshes")
+def cache(mesh_cache):
+    return mesh_cache
 
 
 @pytest.fixture(scope="module")
-def solver(cache):
-    return ContactSolver(hemisphere_mesh(COARSE, cache_dir=cache), ElasticMaterial(E, NU))
+def solver(elastic_solver):
+    return elastic_solver
 
 
 @pytest.fixture(scope="module")

@@ -5,15 +5,13 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 
-from calib.fe import ContactSolver, Material, VonMisesMaterial, run_load_path
+from calib.fe import Material, VonMisesMaterial, run_load_path
 from calib.fe.active_set import next_active_set
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.linsolve import METHODS, factorize
-from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 
-R, E, NU, SIGMA_Y = 0.1, 70e9, 0.3, 100e6
-COARSE = HemisphereMeshSpec(radius=R, contact_size=1.6e-4, refined_radius=1.6e-3,
-                            refined_depth=5e-4, far_size=1e-2, growth=0.3)
+from conftest import E, NU, R, SIGMA_Y
+
 
 
 def laplacian(n):
@@ -101,12 +99,6 @@ def test_force_control_keeps_a_support():
 def test_both_materials_meet_the_protocol():
     assert isinstance(ElasticMaterial(E, NU), Material)
     assert isinstance(VonMisesMaterial(E, NU, SIGMA_Y), Material)
-
-
-@pytest.fixture(scope="module")
-def plastic_solver(tmp_path_factory):
-    mesh = hemisphere_mesh(COARSE, cache_dir=tmp_path_factory.mktemp("meshes"))
-    return ContactSolver(mesh, VonMisesMaterial(E, NU, SIGMA_Y))
 
 
 @pytest.mark.parametrize("control", ["force", "displacement"])

@@ -11,7 +11,7 @@ CA, KC = 2.33e-7, 2.69e-4
 
 
 def synthetic_loading(P):
-    """alpha and a_ep of the NFD model on loading (SPEC section 3): a_ep = a_e + Ca<P-P_Y>,
+    """alpha and a_ep of the NFD model on loading: a_ep = a_e + Ca<P-P_Y>,
     alpha = a_ep^2 / (C_R R), C_R = 1 + Kc <P-P_Y>."""
     excess = np.clip(P - P_Y, 0, None)
     a_ep = np.cbrt(3 * P * R / (4 * E_STAR)) + CA * excess
@@ -55,3 +55,48 @@ def test_window_study_is_flat_for_linear_data():
 def test_bad_fit_input(x, y, match):
     with pytest.raises(ValueError, match=match):
         fit_through_origin(np.array(x), np.array(y))
+
+
+# --------------------------------------------------------------------------- force fit
+def vz_load_unload_history(pair, Ca, Kc, peaks=(500.0, 1000.0, 1500.0), n=12):
+    """(approach, force) of the vz law with (Ca, Kc) along load-unload paths to each peak [N]:
+    the approach from the law's explicit loading curve, unloading to 20 % of the peak."""
+    from nfdmodel import VZParams
+
+    params = VZParams(pair, Ca, Kc)
+    histories = []
+    for peak in peaks:
+        loading = params.loading_approach(np.linspace(0.05, 1.0, n) * peak)
+        delta_max = loading[-1]
+        unloading = delta_max - np.linspace(0.0, 1.0, n)[1:] * 0.3 * (delta_max - pair.delta_Y)
+        approach = np.concatenate([loading, unloading])
+        histories.append((approach, drive_vz(params, approach)))
+    return histories
+
+
+def drive_vz(params, approach):
+    from calib.fit.calibration import drive_law
+
+    return drive_law("vz", params, np.asarray(approach))[0]
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.002])
+def test_force_fit_recovers_known_parameters(noise):
+    """fit_force_law on forces the vz law itself produced with known (Ca, Kc), from a start 30 %
+    off: exact data give them back to 1e-6; 0.2 % force noise moves them by well under 5 %."""
+    from calib.fit.least_squares import fit_force_law
+    from nfdmodel import ContactPair, VZParams
+
+    pair = ContactPair.reference()
+    histories = vz_load_unload_history(pair, CA, KC)
+    rng = np.random.default_rng(7)
+    histories = [(a, f * (1 + noise * rng.standard_normal(f.size))) for a, f in histories]
+
+    def predict(approach, Ca, Kc):
+        return drive_vz(VZParams(pair, Ca, Kc), approach)
+
+    fit = fit_force_law(predict, histories, 1.3 * CA, 0.7 * KC, force_floor=25.0)
+    tolerance = 1e-6 if noise == 0 else 0.05
+    assert fit.Ca == pytest.approx(CA, rel=tolerance)
+    assert fit.Kc == pytest.approx(KC, rel=tolerance)
+    assert fit.rms_relative_force_error <= 1e-8 + 1.5 * noise

@@ -150,13 +150,9 @@ def test_table_command_resumes_and_reports(tiny_table, monkeypatch, capsys):
 def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
     table = MasterTable.load()
     assert "off-grid" in table.meta["accuracy"]
-    from calib.fit.master_table import DEFAULT_TABLE, read_rows
-
-    for row in read_rows(DEFAULT_TABLE):
-        assert table.lookup(row["nu"], row["E_over_sigma_y"]) == pytest.approx((row["Ca_hat"], row["Kc_hat"]), rel=1e-12)
     values = table.parameters(70e9, 0.3, 100e6, 0.1)  # the reference case, a grid node
     assert values["Ca"] == pytest.approx(2.32e-7, rel=0.05)  # README: 2.32e-7 m/N at the default mesh
-    assert table.nu[0] == 0.0 and table.nu[-1] == 0.49                       # issue 5's range
+    assert table.nu[0] == 0.0 and table.nu[-1] == 0.49                       # the table's stated range
     assert table.E_over_sigma_y[0] == 50.0 and table.E_over_sigma_y[-1] == 5000.0
 
 
@@ -172,3 +168,33 @@ def test_master_check_compares_interpolation_with_fe_rows():
     assert checks[1]["Ca_hat_error"] == pytest.approx(1 / 1.04 - 1) and not checks[1]["within_limits"]
     with pytest.raises(ValueError, match="no FE result"):
         check_against_fe([{**exact, "status": "failed"}], table)
+
+
+def fe_over_table(nu, ratio):
+    """Direct FE Ca_hat, Kc_hat (coarse mesh, the master grid's load plan) over the shipped table's."""
+    from calib.fit import calibration, recipe
+    from nfdmodel import Material
+
+    material = Material(ratio * 100e6, nu, 100e6, 2700.0)
+    spec = recipe.calibration_spec(material, 0.1, peaks_over_yield=(13.7, 27.4, 41.2),
+                                   level="coarse", loading_steps=48)
+    params = calibration.calibrate(spec, unload=False).params
+    Ca_hat, Kc_hat = MasterTable.load().lookup(nu, ratio)
+    return params.Ca_hat / Ca_hat, params.Kc_hat / Kc_hat
+
+
+@pytest.fixture(scope="module")
+def reference_node():
+    return fe_over_table(0.3, 700.0)
+
+
+@pytest.mark.parametrize("nu, ratio", [(0.25, 400.0), (0.4, 150.0)])
+def test_shipped_master_table_agrees_with_direct_fe_off_its_nodes(nu, ratio, reference_node):
+    """Independent of the table's own rows: direct FE calibrations off the grid nodes and at the
+    reference node. The coarse mesh underestimates Ca_hat by ~6.5 % and Kc_hat by ~11 %
+    everywhere (measured: the FE/table ratio varies by < 0.5 % over nu 0.1-0.4, E/sigma_Y
+    150-2000), so the ratio FE/table off the nodes must equal the ratio at the node to 1 %
+    (Ca_hat) and 1.5 % (Kc_hat): the interpolation error, not the mesh's."""
+    off = fe_over_table(nu, ratio)
+    assert off[0] == pytest.approx(reference_node[0], rel=0.01)
+    assert off[1] == pytest.approx(reference_node[1], rel=0.015)

@@ -1,6 +1,6 @@
 """The calibration: FE load paths of a sphere on a rigid flat -> Ca, Kc of the runtime NFD law.
 
-Vu-Quoc & Zhang (1999), sections 2-3 (SPEC sections 3, 6, 7):
+Vu-Quoc & Zhang (1999), sections 2-3 (README, The model: The NFD law on loading; The FE problem):
   1. mesh the hemisphere (meshes.hemisphere), solve the elastic-perfectly plastic von Mises
      contact problem (calib.fe + calib.fe.von_mises) along force-driven load paths with unloading
      (calib.fe.loadpath);
@@ -26,7 +26,6 @@ from calib.fe.loadpath import LoadPathResults, run_load_paths
 from calib.fit.recipe import CalibrationSpec
 from nfdmodel import ContactPair, Material, VZParams, get_law
 
-PAPER = {"Ca": 2.33e-7, "Kc": 2.69e-4, "alpha_max_1500": 1.56e-5, "e_1500": 0.737}
 
 def first_yield_load(hemisphere, material: Material) -> float:
     """Force [N] at which the first quadrature point reaches the von Mises yield stress, from the

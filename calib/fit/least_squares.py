@@ -1,6 +1,6 @@
 """Least-squares extraction of the NFD parameters Ca and Kc from FE contact-radius histories.
 
-Vu-Quoc & Zhang (1999), section 3 (SPEC section 3): on the loading branch beyond first yield the
+Vu-Quoc & Zhang (1999), section 3: on the loading branch beyond first yield the
 elastoplastic contact radius splits additively, a_ep = a_e + a_p, with
 
     a_e = (3 P R* / (4 E*))^(1/3)          Hertz radius at the same force      [m]

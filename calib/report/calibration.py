@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
-from calib.fit.calibration import PAPER, CalibrationResult, summary
-from nfdmodel import parameter_record
+from calib.fit.calibration import CalibrationResult, summary
+from nfdmodel import parameter_record, reference_case
 
 DEFAULT_OUT = output.RESULTS / "calibration"
 
@@ -122,7 +122,7 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     fig, ax = plt.subplots(figsize=(7, 5))
     ax.plot(P, [r["C_R"] for r in loading], "o", ms=3, label="C_R = a_ep^2 / (R alpha), FE")
     ax.plot(x, 1 + result.params.Kc * (x - pair.P_Y), "k-", lw=1, label=f"1 + Kc (P - P_Y), Kc = {result.params.Kc:.3e} 1/N")
-    ax.plot(x, 1 + PAPER["Kc"] * (x - pair.P_Y), "k:", lw=1, label=f"paper, Kc = {PAPER['Kc']:.3g} 1/N")
+    ax.plot(x, 1 + reference_case.KC * (x - pair.P_Y), "k:", lw=1, label=f"paper, Kc = {reference_case.KC:.3g} 1/N")
     ax.set_xlabel("P [N]"); ax.set_ylabel("C_R [-]"); ax.legend(fontsize=8); ax.grid(alpha=0.3)
     output.save_figure(fig, out / "curvature_factor.png")
 
@@ -152,9 +152,9 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4))
     w = result.window
     axes[0].errorbar([r["P_fit_max"] for r in w], [r["Ca"] for r in w], yerr=[r["Ca_se"] for r in w], fmt="o-", ms=3)
-    axes[0].axhline(PAPER["Ca"], color="k", ls=":", label="paper"); axes[0].set_ylabel("Ca [m/N]")
+    axes[0].axhline(reference_case.CA, color="k", ls=":", label="paper"); axes[0].set_ylabel("Ca [m/N]")
     axes[1].errorbar([r["P_fit_max"] for r in w], [r["Kc"] for r in w], yerr=[r["Kc_se"] for r in w], fmt="o-", ms=3)
-    axes[1].axhline(PAPER["Kc"], color="k", ls=":", label="paper"); axes[1].set_ylabel("Kc [1/N]")
+    axes[1].axhline(reference_case.KC, color="k", ls=":", label="paper"); axes[1].set_ylabel("Kc [1/N]")
     for a in axes:
         a.set_xlabel("largest load in the fit [N]"); a.legend(); a.grid(alpha=0.3)
     output.save_figure(fig, out / "fit_window.png")

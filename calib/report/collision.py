@@ -11,7 +11,7 @@ Regenerate with ``nfdcal collide --report [--out DIR]`` (default DIR = results/c
                            against the exact energy-balance reference, with wall time, for
                            dt = 1e-5 .. 1e-8 s (log-log);
 * summary.json             stamp (commit, wall time), parameters and the headline numbers.
-Reference case: SPEC section 2 (aluminium sphere R = 0.1 m on a rigid flat), with Ca, Kc of the
+Reference case: nfdmodel.reference_case (aluminium sphere R = 0.1 m on a rigid flat), with Ca, Kc of the
 reference calibration when it exists (else the paper's).
 """
 from __future__ import annotations
@@ -112,7 +112,7 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
     ax.legend(fontsize=7)
     save_figure(fig, out / "restitution.png")
 
-    # Thornton's closed form over 2 <= v_in/v_Y <= 200 (issue 2 tolerance 0.5 %).
+    # Thornton's closed form over 2 <= v_in/v_Y <= 200 (the required agreement: 0.5 %).
     ratios = np.geomspace(2.0, 200.0, 12)
     thornton = collide("thornton", params, ratios * v_Y, dt=PAPER_DT)
     closed = thornton_closed_form(ratios * v_Y, v_Y)

@@ -1,4 +1,4 @@
-"""results/stability/runtime_*: stability of the runtime laws and collisions on extreme cases (issue 6).
+"""results/stability/runtime_*: stability of the runtime laws and collisions on extreme cases.
 
 Regenerate with ``nfdcal stability [--out DIR]`` (default DIR = results/stability; about 30 s on
 one core). Files:
@@ -9,7 +9,7 @@ one core). Files:
 * runtime_stability.json  stamp (commit, wall time), the summary (counts per outcome, largest
                           Newton count, worst errors per group) and the same rows.
 
-Groups of cases (SI units; dimensionless groups as in SPEC section 7):
+Groups of cases (SI units; dimensionless groups P/P_Y, delta/delta_Y, Ca_hat, Kc_hat):
 
 ``force``      every law on overlaps delta / R* = 1e-15 .. 0.5 and on the vz loading curve up to
                P / P_Y = 1e6, in float64 and float32, for R = 1e-6 .. 10 m, nu = 0 .. 0.49,
