@@ -305,18 +305,20 @@ class ContactSolver:
             free = np.ones(self.n_q, dtype=bool)
             free[constrained] = False
             key = (control, active.tobytes()) if self.is_linear else None
-            newton = solve_newton(self, q.copy(), state, control, target, constrained,
-                                  constrained_target, free, key, residual_history)
-            if not newton.ok and active_set_iterations > 1:
+            runs = [solve_newton(self, q.copy(), state, control, target, constrained,
+                                 constrained_target, free, key, residual_history)]
+            if not runs[0].ok and active_set_iterations > 1:
                 # Continuing from the previous set's solution can diverge when a node that
                 # held plastic flow is released (its plastic tangent does not describe the
                 # unloading); the committed state is a safe start for the new set.
-                newton = solve_newton(self, q_start.copy(), state, control, target, constrained,
-                                      constrained_target, free, key, residual_history)
-            newton_total += newton.iterations
-            factorizations += newton.factorizations
-            t_assembly += newton.time_assembly
-            t_solve += newton.time_solve
+                runs.append(solve_newton(self, q_start.copy(), state, control, target, constrained,
+                                         constrained_target, free, key, residual_history))
+            for run in runs:  # the record counts the work of a discarded run too
+                newton_total += run.iterations
+                factorizations += run.factorizations
+                t_assembly += run.time_assembly
+                t_solve += run.time_solve
+            newton = runs[-1]
             q, f_int, residual, stress, trial = (newton.q, newton.f_int, newton.residual,
                                                  newton.stress, newton.trial)
             residual_norm, scale = newton.residual_norm, newton.scale
