@@ -4,22 +4,27 @@
                           load_parameters, collide)
 
 Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_state)``
-(:mod:`nfdmodel.laws`), also available as ``law.step(delta, state, params) -> (P, update)``
+(one module per law: :mod:`nfdmodel.hertz`, :mod:`nfdmodel.vz`, :mod:`nfdmodel.thornton`,
+:mod:`nfdmodel.walton_braun`; by name through :mod:`nfdmodel.registry`), also available as ``law.step(delta, state, params) -> (P, update)``
 (a sparse :class:`HistoryUpdate`: only the contacts whose turning point moved) plus
 ``law.commit(state, update)`` (in place, for a caller that owns its history);
 :func:`collide` simulates sphere-on-flat impacts (:mod:`nfdmodel.collision`); SI units throughout.
 """
 from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
                         collision_reference)
-from .laws import (LAWS, NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, ContactDetails, ContactLaw, HertzState, HistoryUpdate,
-                   ThorntonState, TurningPointHistory, VZParams, VZState, WaltonBraunParams,
-                   WaltonBraunState, get_law, hertz_force, hertz_step, thornton_force, thornton_step,
-                   vz_force, vz_force_with_iterations, vz_newton_iterations, vz_plastic_force,
-                   vz_step, walton_braun_force, walton_braun_step)
+from .hertz import hertz_force, hertz_step
+from .history import (HertzState, HistoryUpdate, ThorntonState, TurningPointHistory, VZState,
+                      WaltonBraunState)
+from .parameters import VZParams, WaltonBraunParams
+from .registry import LAWS, ContactDetails, ContactLaw, get_law
+from .thornton import thornton_force, thornton_step
+from .vz import vz_force, vz_force_with_iterations, vz_newton_iterations, vz_step
+from .vz_curve import NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, vz_plastic_force
+from .walton_braun import walton_braun_force, walton_braun_step
 from . import reference_case
 from .materials import ContactPair, Material, yield_factor
 from .validation import check_real
-from .params import load_parameters, parameter_record
+from .parameter_file import load_parameters, parameter_record
 
 __all__ = [
     "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",

@@ -1,7 +1,7 @@
 """Normal impact of a sphere on a rigid flat, vectorised over incoming velocities.
 
 Vu-Quoc & Zhang (1999) section 4: no gravity, the sphere (mass m*) hits the flat at v_in > 0;
-the contact force P(delta, history) of a law from :mod:`nfdmodel.laws` decelerates it:
+the contact force P(delta, history) of a law from :mod:`nfdmodel.registry` decelerates it:
 
     m* d^2 delta / dt^2 = -P(delta, history)
 
@@ -44,7 +44,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .laws import ContactLaw, HertzState, _as_pair, get_law
+from .history import HertzState
+from .parameters import as_pair
+from .registry import ContactLaw, get_law
 from .materials import check_real
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
@@ -134,7 +136,7 @@ def _check_velocities(v_in) -> np.ndarray:
 def _resolve(law_name, params):
     law = law_name if isinstance(law_name, ContactLaw) else get_law(law_name)
     law_params = law.params_from(params)
-    return law, law_params, _as_pair(law_params, law.name)
+    return law, law_params, as_pair(law_params, law.name)
 
 
 def _virgin_force(law: ContactLaw, delta, law_params):

@@ -1,12 +1,12 @@
 """Materials, contact pairs and the incipient-yield point of Hertz contact.
 
-Effective properties (SPEC section 1; Johnson 1985, Contact Mechanics, section 4.2):
+Effective properties (Johnson 1985, Contact Mechanics, section 4.2):
 
     1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j      [Pa]   (rigid flat: 1/E* = (1 - nu^2)/E)
     1/R* = 1/R_i + 1/R_j                            [m]    (rigid flat: R* = R)
     m*   = m_i m_j / (m_i + m_j)                    [kg]   (rigid flat: m* = m)
 
-Incipient yield (SPEC section 2; Johnson 1985 eq. 3.45; Vu-Quoc & Zhang 1999 eq. 3.7): von Mises
+Incipient yield (Johnson 1985 eq. 3.45; Vu-Quoc & Zhang 1999 eq. 3.7): von Mises
 yield first occurs on the axis below the surface when the peak Hertz pressure reaches
 p_Y = A_Y(nu) sigma_Y, with 1/A_Y = max_zeta |sigma_z - sigma_r| / p0 along the axis.
 """
@@ -105,7 +105,7 @@ class ContactPair:
     """Effective contact properties of a pair and its incipient-yield point.
 
     Fields: R_star [m], E_star [Pa], sigma_y [Pa] and nu [-] of the body that yields first (the
-    softer one), mass_star [kg]. Derived (SPEC section 2, Vu-Quoc & Zhang 1999 eq. 3.7):
+    softer one), mass_star [kg]. Derived (Vu-Quoc & Zhang 1999 eq. 3.7):
 
         p_Y     = A_Y(nu) sigma_y                           contact yield pressure [Pa]
         P_Y     = pi^3 R*^2 p_Y^3 / (6 E*^2)                yield force [N]

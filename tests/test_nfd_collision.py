@@ -1,4 +1,4 @@
-"""nfdmodel.collision: sphere-on-flat impacts (SPEC section 4, paper section 4)."""
+"""nfdmodel.collision: sphere-on-flat impacts (paper section 4: restitution from velocities and from energy)."""
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings

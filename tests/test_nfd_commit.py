@@ -1,4 +1,4 @@
-"""nfdmodel.laws: sparse trial history (ContactLaw.step -> HistoryUpdate) and its commit.
+"""nfdmodel.history: sparse trial history (ContactLaw.step -> HistoryUpdate) and its commit.
 
 ``P, update = law.step(delta, state, params); law.commit(state, update)`` (in place) must give
 exactly the force and history of the pure ``P, state = law.force(delta, state, params)``, for
@@ -10,9 +10,9 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-import nfdmodel.laws as laws
+import nfdmodel.turning_point as turning_point
 from nfdmodel import VZParams, get_law, vz_force_with_iterations
-from nfdmodel.laws import HertzState, HistoryUpdate, ThorntonState, VZState, WaltonBraunState
+from nfdmodel.history import HertzState, HistoryUpdate, ThorntonState, VZState, WaltonBraunState
 
 REF = VZParams.reference()
 PAIR = REF.pair
@@ -76,7 +76,7 @@ def test_step_and_in_place_commit_equal_the_pure_force(name, params, block, monk
     """Same force and same history (array_equal) at every step of several random sequences;
     block = 5 makes the kernel work on many small blocks (loading ones too)."""
     if block is not None:
-        monkeypatch.setattr(laws, "_BLOCK", block)
+        monkeypatch.setattr(turning_point, "BLOCK", block)
     law = get_law(name)
     p = law.params_from(params)
     rng = np.random.default_rng(2024)
@@ -107,13 +107,13 @@ def test_step_and_in_place_commit_equal_the_pure_force(name, params, block, monk
 
 @pytest.mark.parametrize("name", LAWS)
 def test_blocking_does_not_change_results(name, monkeypatch):
-    """The kernel works in blocks of _BLOCK contacts; results are bit-identical for any block."""
+    """The kernel works in blocks of BLOCK contacts; results are bit-identical for any block."""
     law = get_law(name)
     p = law.params_from(REF)
     path = random_sequence(np.random.default_rng(5), 300, steps=12)
     results = []
-    for block in (laws._BLOCK, 1, 16, 97):
-        monkeypatch.setattr(laws, "_BLOCK", block)
+    for block in (turning_point.BLOCK, 1, 16, 97):
+        monkeypatch.setattr(turning_point, "BLOCK", block)
         state = law.initial_state(path.shape[1])
         forces, iterations = [], []
         for delta in path:

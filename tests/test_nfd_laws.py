@@ -1,4 +1,5 @@
-"""nfdmodel.laws: verification of the force laws (SPEC sections 3 and 5)."""
+"""The runtime force laws (nfdmodel.vz, hertz, thornton, walton_braun): closed forms, the paper's
+check, continuity at turning points, reloading, separation, energy."""
 import math
 
 import numpy as np
@@ -9,7 +10,7 @@ from scipy.integrate import quad
 
 from nfdmodel import (ContactPair, Material, VZParams, WaltonBraunParams, get_law,
                       vz_newton_iterations)
-from nfdmodel.laws import ThorntonState, VZState
+from nfdmodel.history import ThorntonState, VZState
 
 REF = VZParams.reference()
 PAIR = REF.pair
@@ -17,7 +18,7 @@ PAIR = REF.pair
 
 # ------------------------------------------------------------------ scalar reference (paper 3.2)
 def scalar_newton(delta, P_guess, R, E, P_Y, Ca, Kc):
-    """Plain scalar Newton on the corrected F(P) (SPEC section 3), as in the paper's algorithm."""
+    """Plain scalar Newton on the corrected F(P), as in the paper's algorithm."""
     c1 = (3 * R / (4 * E)) ** (1 / 3) / Ca
     P = max(P_guess, P_Y)
     for _ in range(100):
@@ -33,7 +34,7 @@ def scalar_newton(delta, P_guess, R, E, P_Y, Ca, Kc):
 
 def scalar_vz_path(deltas, R, E, P_Y, delta_Y, Ca, Kc):
     """Vu-Quoc & Zhang (1999) algorithm 3.2 for one contact, one approach at a time, plus the
-    SPEC's closures (reloading along the unloading curve, separation, re-contact)."""
+    the model's closures (reloading along the unloading curve, separation, re-contact)."""
     delta_max, P_max, delta_res, C_max = 0.0, 0.0, 0.0, 1.0
     forces = []
     for delta in deltas:
@@ -76,7 +77,7 @@ def cycle_path(delta_Y, peaks_over_delta_Y, steps=60):
 
 # ------------------------------------------------------------------------------------ tests
 def test_reference_anchor_1495_N_at_1_56e_5_m():
-    # SPEC section 3: the corrected F reproduces the paper's P = 1495 N at alpha = 1.56e-5 m.
+    # the corrected F reproduces the paper's P = 1495 N at alpha = 1.56e-5 m.
     P, _ = get_law("vz").force(np.array([1.56e-5]), get_law("vz").initial_state(1), REF)
     assert P[0] == pytest.approx(1495.0, rel=1e-3)
 
@@ -149,7 +150,7 @@ def test_separation_residual_radius_and_recontact():
     assert 0 < delta_res < 50 * dY
     details = law.contact_state(np.array([0.5 * delta_res]), state, REF)
     assert details.force[0] == 0.0
-    # after separation the contact radius is the residual plastic radius a_p,max (SPEC section 3)
+    # after separation the contact radius is the residual plastic radius a_p,max
     assert details.a_ep[0] == pytest.approx(REF.Ca * (P_peak[0] - PAIR.P_Y), rel=1e-12)
     # re-contact: the unloading curve again, reaching P_max at delta_max
     d = np.array([delta_res + 0.5 * (50 * dY - delta_res)])
@@ -194,7 +195,7 @@ def test_newton_solution_satisfies_loading_curve_to_tolerance():
 @pytest.mark.parametrize("Ca_factor, Kc_factor", [(1e-3, 0.0), (1.0, 0.0), (1.0, 1.0),
                                                   (1e3, 1e-3), (1e3, 1.0), (1e3, 1e3)])
 def test_extreme_inputs_give_finite_forces_and_bounded_iterations(Ca_factor, Kc_factor):
-    # issue 6 ranges: P/P_Y up to 1e6, overlaps 1e-15 R .. 0.5 R, float32, Ca/Kc 1e-3x..1e3x
+    # the stability grid's ranges: P/P_Y up to 1e6, overlaps 1e-15 R .. 0.5 R, float32, Ca/Kc 1e-3x..1e3x
     params = VZParams(PAIR, REF.Ca * Ca_factor, REF.Kc * Kc_factor)
     law = get_law("vz")
     delta = np.concatenate([PAIR.R_star * np.geomspace(1e-15, 0.5, 300),

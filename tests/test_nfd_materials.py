@@ -1,4 +1,4 @@
-"""nfdmodel.materials: effective properties, A_Y(nu), the yield point (SPEC sections 1-2)."""
+"""nfdmodel.materials: effective properties, A_Y(nu), the yield point."""
 import math
 
 import numpy as np
@@ -61,7 +61,7 @@ def test_sphere_sphere_uses_softer_body_for_yield():
 
 def test_dimensionless_parameters_round_trip():
     ref = VZParams.reference()
-    assert ref.Ca_hat == pytest.approx(0.0258, rel=0.01)            # SPEC section 7
+    assert ref.Ca_hat == pytest.approx(0.0258, rel=0.01)            # the dimensionless constant of the paper's case
     assert ref.Kc_hat == pytest.approx(0.0098, rel=0.01)
     again = VZParams.from_dimensionless(ref.pair, ref.Ca_hat, ref.Kc_hat)
     assert again.Ca == pytest.approx(ref.Ca) and again.Kc == pytest.approx(ref.Kc)

@@ -1,4 +1,4 @@
-"""Issue 6, runtime model: regressions for the failures the stability grid found, and the
+"""Runtime model on extreme inputs: regressions for the failures the stability grid found, and the
 stability report itself (calib.studies.runtime_stability, `nfdcal stability`)."""
 import json
 import subprocess
@@ -10,7 +10,7 @@ import pytest
 
 from nfdmodel import (ContactPair, Material, TimeStepWarning, VZParams, collide, collision_reference,
                       get_law)
-from nfdmodel.laws import vz_largest_admissible_Kc
+from nfdmodel.parameters import vz_largest_admissible_Kc
 
 REF = VZParams.reference()
 PAIR = REF.pair

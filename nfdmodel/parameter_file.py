@@ -1,6 +1,6 @@
 """The calibrated parameter file (JSON, written by ``nfdcal calibrate``), read into VZParams.
 
-Format (CONTRACTS.md):
+Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m}, ...}
 Only law, Ca, Kc and material are needed; P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
@@ -12,7 +12,7 @@ import json
 import math
 from pathlib import Path
 
-from .laws import VZParams
+from .parameters import VZParams
 from .materials import ContactPair, Material
 
 _CONSISTENCY = 1e-4

@@ -1,0 +1,42 @@
+"""Hertz elastic contact (Johnson 1985, Contact Mechanics, eq. 4.23): no history.
+
+    P = (4/3) E* sqrt(R*) <delta>^(3/2)    [N],  delta the approach [m]
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .history import HertzState, check_delta, check_force, check_state, empty_update, restore_shape, step_and_commit
+from .parameters import as_pair
+
+
+def hertz_step(delta, state: HertzState, params):
+    """Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) <delta>^(3/2) [N] and an empty
+    :class:`HistoryUpdate` (no history). params: a ContactPair (or anything with .pair)."""
+    pair = as_pair(params, "hertz")
+    check_state(state, HertzState, "hertz")
+    delta, shape = check_delta(delta, state.n)
+    force = restore_shape(check_force(hertz_kernel(delta, pair), delta, pair), shape)
+    return force, empty_update(state, state.n)
+
+
+def hertz_force(delta, state: HertzState, params):
+    """Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) <delta>^(3/2) [N]; no history.
+
+    params: a ContactPair (or anything with .pair). Returns (P, state) (the state unchanged).
+    """
+    return step_and_commit(hertz_step, delta, state, params)
+
+
+def hertz_kernel(delta, pair):
+    d = np.maximum(delta, 0.0)
+    force = np.sqrt(d)
+    force *= d
+    force *= pair.hertz_stiffness
+    return force
+
+
+def hertz_work(delta_max, P_max, pair):
+    """Work of Hertz loading to delta_max: (2/5) k_H delta_max^(5/2) [J]."""
+    d = np.maximum(delta_max, 0.0)
+    return 0.4 * pair.hertz_stiffness * d**2 * np.sqrt(d)

@@ -1,0 +1,253 @@
+"""Parameters of the runtime laws and their admissibility (frozen, self-validating dataclasses).
+
+``VZParams``: the Vu-Quoc & Zhang (1999) NFD law's pair and its two constants, the plastic
+contact-radius rate Ca [m/N] (a_p = Ca <P - P_Y>) and the curvature rate Kc [1/N]
+(C_R = 1 + Kc <P - P_Y>); in dimensionless form Ca_hat = Ca P_Y / a_Y and Kc_hat = Kc P_Y
+(README, The model: Dimensionless constants). A pair of constants is admissible when the
+loading curve delta(P) increases monotonically (up to 1e8 P_Y) and no load-unload cycle creates
+energy (restitution e <= 1, up to 1e6 P_Y). ``WaltonBraunParams``: the loading and unloading
+stiffnesses K1 <= K2 [N/m] of Walton & Braun (1986).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from . import reference_case
+from .materials import ContactPair
+from .validation import check_real
+from .vz_curve import vz_loading_work, vz_residual_approach, vz_turning_point
+
+CA_HAT_RANGE = (1e-8, 1e4)      # admissible Ca P_Y / a_Y (paper: 0.026)
+KC_HAT_MAX = 1e4                # admissible Kc P_Y (paper: 0.0098)
+
+
+def as_pair(params, law: str) -> ContactPair:
+    if isinstance(params, ContactPair):
+        return params
+    pair = getattr(params, "pair", None)
+    if isinstance(pair, ContactPair):
+        return pair
+    raise ValueError(f"params for law '{law}' must be a ContactPair or carry one as .pair, "
+                     f"got {type(params).__name__}")
+
+
+@dataclass(frozen=True)
+class VZParams:
+    """Parameters of the Vu-Quoc & Zhang (1999) NFD model.
+
+    pair: the contact (R*, E*, yield point); Ca [m/N] > 0: plastic contact-radius rate,
+    a_p = Ca <P - P_Y> (paper eq. 2.5); Kc [1/N] >= 0: curvature-factor rate,
+    C_R = 1 + Kc <P - P_Y> (paper eq. 3.6).
+
+    Validation also requires the loading curve delta(P) = a_ep^2 / (C_R R*) to increase with P
+    (checked for P_Y <= P <= 1e8 P_Y); otherwise the displacement-driven force is not unique.
+    Dimensionless forms (README, The model: Dimensionless constants): Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y.
+    """
+
+    pair: ContactPair
+    Ca: float
+    Kc: float
+
+    def __post_init__(self):
+        if not isinstance(self.pair, ContactPair):
+            raise ValueError(f"pair must be a ContactPair, got {type(self.pair).__name__}")
+        object.__setattr__(self, "Ca", check_real("Ca", self.Ca, low=0.0, unit="m/N"))
+        object.__setattr__(self, "Kc", check_real("Kc", self.Kc, low=0.0, low_inclusive=True, unit="1/N"))
+        pair = self.pair
+        # Beyond these the force solve works with numbers near the float limits (the paper's
+        # values are Ca_hat = 0.026, Kc_hat = 0.0098); stated in SI for this pair.
+        check_real("Ca", self.Ca, low=CA_HAT_RANGE[0] * pair.a_Y / pair.P_Y, low_inclusive=True,
+                   high=CA_HAT_RANGE[1] * pair.a_Y / pair.P_Y, high_inclusive=True,
+                   unit=f"m/N for this contact, i.e. {CA_HAT_RANGE[0]:g} <= Ca P_Y/a_Y <= {CA_HAT_RANGE[1]:g}")
+        check_real("Kc", self.Kc, high=KC_HAT_MAX / pair.P_Y, high_inclusive=True,
+                   unit=f"1/N for this contact, i.e. Kc P_Y <= {KC_HAT_MAX:g}")
+        self._check_monotone_loading()
+        self._check_dissipative()
+
+    @classmethod
+    def from_dimensionless(cls, pair: ContactPair, Ca_hat: float, Kc_hat: float) -> "VZParams":
+        """Ca = Ca_hat a_Y / P_Y [m/N], Kc = Kc_hat / P_Y [1/N]."""
+        Ca_hat = check_real("Ca_hat", Ca_hat, low=0.0)
+        Kc_hat = check_real("Kc_hat", Kc_hat, low=0.0, low_inclusive=True)
+        return cls(pair, Ca_hat * pair.a_Y / pair.P_Y, Kc_hat / pair.P_Y)
+
+    @classmethod
+    def reference(cls) -> "VZParams":
+        """The paper's reference case with its Abaqus calibration Ca = 2.33e-7 m/N, Kc = 2.69e-4 1/N."""
+        return cls(ContactPair.reference(), reference_case.CA, reference_case.KC)
+
+    @property
+    def Ca_hat(self) -> float:
+        """Ca P_Y / a_Y [-]."""
+        return self.Ca * self.pair.P_Y / self.pair.a_Y
+
+    @property
+    def Kc_hat(self) -> float:
+        """Kc P_Y [-]."""
+        return self.Kc * self.pair.P_Y
+
+    @cached_property
+    def c1(self) -> float:
+        """c1 = (3 R* / (4 E*))^(1/3) / Ca [N^(2/3)] in the corrected F(P) (nfdmodel.vz_curve)."""
+        return (3.0 * self.pair.R_star / (4.0 * self.pair.E_star)) ** (1.0 / 3.0) / self.Ca
+
+    def curvature_factor(self, force):
+        """C_R = 1 + Kc <P - P_Y> [-] (paper eq. 3.6)."""
+        return 1.0 + self.Kc * np.maximum(np.asarray(force, dtype=float) - self.pair.P_Y, 0.0)
+
+    def plastic_radius(self, force):
+        """a_p = Ca <P - P_Y> [m] (paper eq. 2.5)."""
+        return self.Ca * np.maximum(np.asarray(force, dtype=float) - self.pair.P_Y, 0.0)
+
+    def loading_approach(self, force):
+        """Approach on the virgin loading curve at force P [N]: explicit in P [m].
+
+        delta = (a_e + a_p)^2 / (C_R R*), a_e = (3 P R*/(4 E*))^(1/3) (paper eqs. 3.4, 3.5);
+        Hertz's delta = a_e^2 / R* below P_Y.
+        """
+        force = np.asarray(force, dtype=float)
+        a_ep = self.pair.hertz_radius(force) + self.plastic_radius(force)
+        return a_ep**2 / (self.curvature_factor(force) * self.pair.R_star)
+
+    def _energy_excess(self):
+        """(largest returned/taken - 1, P_max/P_Y there) over full load-unload cycles."""
+        pair = self.pair
+        P_max = pair.P_Y * _DISSIPATION_LOADS
+        delta_max = self.loading_approach(P_max)
+        delta_res, _ = vz_turning_point(delta_max, P_max, np.cbrt(P_max), self)
+        returned = P_max * (delta_max - delta_res) / 2.5
+        taken = vz_loading_work(delta_max, P_max, self)
+        excess = returned / taken - 1.0
+        worst = int(np.argmax(excess))
+        return float(excess[worst]), float(_DISSIPATION_LOADS[worst])
+
+    def _check_dissipative(self) -> None:
+        """Reject (Ca, Kc) for which a load-unload cycle returns more work than it took.
+
+        For turning points P_max / P_Y in [1, 1e6]: the unloading work P_max (delta_max -
+        delta_res) / (5/2) (paper eqs. 3.19-3.22) must not exceed the loading work on the
+        virgin curve (the law's own exact integral), i.e. e <= 1 (paper 2.1). Partial cycles
+        retrace the unloading curve, so full cycles are the only way to create energy. Extreme
+        combinations (e.g. Kc_hat = 0.25 at Ca_hat = 0.06) violate it near P_max ~ 3 P_Y.
+        """
+        excess, load = self._energy_excess()
+        if not excess <= _DISSIPATION_SLACK:          # NaN-safe
+            raise ValueError(
+                f"Ca, Kc out of range: the vz law would create energy (restitution "
+                f"{math.sqrt(1.0 + excess):.4f} > 1) for a turning point at P/P_Y = {load:.3g} "
+                f"(Ca_hat = {self.Ca_hat:.3g}, Kc_hat = {self.Kc_hat:.3g}); "
+                f"{_admissible_Kc_text(self.pair, self.Ca)}")
+
+    def _check_monotone_loading(self) -> None:
+        worst = _monotone_violation(self.Ca_hat, self.Kc_hat)
+        if worst is not None:
+            raise ValueError(
+                f"Kc out of range for this Ca: the vz loading curve delta(P) stops increasing near "
+                f"P/P_Y = {worst:.3g} (Kc_hat = Kc P_Y = {self.Kc_hat:.3g}, Ca_hat = Ca P_Y/a_Y = "
+                f"{self.Ca_hat:.3g}); {_admissible_Kc_text(self.pair, self.Ca)}")
+
+
+# Loads over which VZParams checks its curve: monotone up to 1e8 P_Y, dissipative up to 1e6 P_Y.
+_MONOTONE_LOADS = np.geomspace(1.0, 1e8, 2000)
+_DISSIPATION_LOADS = np.geomspace(1.0 + 1e-6, 1e6, 200)
+_DISSIPATION_SLACK = 1e-9
+
+
+def _monotone_slope_terms(Ca_hat: float):
+    """d delta/dP > 0  <=>  2 a_ep' C_R - Kc a_ep > 0; dimensionless with p = P / P_Y this is
+    A(p) + Kc_hat B(p) > 0 with A = (2/3) p^(-2/3) + 2 Ca_hat > 0 and
+    B = Ca_hat (p - 1) - p^(1/3) (p + 2) / (3 p) (linear in Kc_hat)."""
+    p = _MONOTONE_LOADS
+    return (2.0 / 3.0 * p ** (-2.0 / 3.0) + 2.0 * Ca_hat,
+            Ca_hat * (p - 1.0) - np.cbrt(p) * (p + 2.0) / (3.0 * p))
+
+
+def _monotone_violation(Ca_hat: float, Kc_hat: float):
+    """P/P_Y where the loading curve turns back most steeply, or None when it is monotone."""
+    A, B = _monotone_slope_terms(Ca_hat)
+    slope = A + Kc_hat * B
+    return None if np.all(slope > 0.0) else float(_MONOTONE_LOADS[np.argmin(slope)])  # NaN-safe
+
+
+def vz_largest_admissible_Kc(pair: ContactPair, Ca: float) -> float:
+    """The largest Kc [1/N] that VZParams accepts with this pair and Ca [m/N] (bisection, 1e-6).
+
+    Kc is admissible when the loading curve is monotone up to 1e8 P_Y (a bound known in
+    closed form, the slope being linear in Kc_hat: Kc_hat < min over B < 0 of A / (-B), see
+    :func:`_monotone_slope_terms`) and no load-unload cycle up to 1e6 P_Y creates energy
+    (bisection below that bound; Kc = 0 always passes). Used to state the admissible range
+    in VZParams' error messages.
+    """
+    Ca = check_real("Ca", Ca, low=0.0, unit="m/N")
+    Ca_hat = Ca * pair.P_Y / pair.a_Y
+    A, B = _monotone_slope_terms(Ca_hat)
+    turning = B < 0.0
+    upper_hat = float(np.min(A[turning] / -B[turning])) * (1.0 - 1e-9) if turning.any() else math.inf
+    if not math.isfinite(upper_hat):
+        upper_hat = 1e6                  # never reached by the physical range (B >= 0 everywhere)
+
+    def dissipative(Kc_hat: float) -> bool:
+        trial = object.__new__(VZParams)          # unchecked: this IS the check
+        object.__setattr__(trial, "pair", pair)
+        object.__setattr__(trial, "Ca", Ca)
+        object.__setattr__(trial, "Kc", Kc_hat / pair.P_Y)
+        return trial._energy_excess()[0] <= _DISSIPATION_SLACK
+
+    if dissipative(upper_hat):
+        return upper_hat / pair.P_Y
+    low, high = 0.0, upper_hat
+    while high - low > 1e-6 * high:
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if dissipative(middle) else (low, middle)
+    return low / pair.P_Y
+
+
+def _admissible_Kc_text(pair: ContactPair, Ca: float) -> str:
+    largest = vz_largest_admissible_Kc(pair, Ca)
+    return (f"for Ca = {Ca:.4g} m/N the admissible range is 0 <= Kc <= {largest:.4g} 1/N "
+            f"(Kc_hat <= {largest * pair.P_Y:.4g}; loading curve monotone up to P/P_Y = 1e8, "
+            f"no energy created up to 1e6); lower Kc or raise Ca")
+
+
+@dataclass(frozen=True)
+class WaltonBraunParams:
+    """Walton & Braun (1986) stiffnesses: K1 [N/m] > 0 loading, K2 [N/m] >= K1 unloading.
+
+    e = sqrt(K1/K2) in a collision. Defaults from a pair (:meth:`from_vz`): secants of the vz
+    loading and unloading curves through a reference turning point.
+    """
+
+    pair: ContactPair
+    K1: float
+    K2: float
+
+    def __post_init__(self):
+        if not isinstance(self.pair, ContactPair):
+            raise ValueError(f"pair must be a ContactPair, got {type(self.pair).__name__}")
+        object.__setattr__(self, "K1", check_real("K1", self.K1, low=0.0, unit="N/m"))
+        object.__setattr__(self, "K2", check_real("K2", self.K2, low=self.K1, low_inclusive=True,
+                                                  unit="N/m (K2 >= K1, otherwise energy is created)"))
+
+    @classmethod
+    def from_vz(cls, vz_params: "VZParams", P_ref: float | None = None) -> "WaltonBraunParams":
+        """Secant stiffnesses of the vz model through the turning point at P_ref [N].
+
+        K1 = P_ref / delta_max (loading secant), K2 = P_ref / (delta_max - delta_res) (unloading
+        secant), so that e = sqrt(K1/K2) equals the vz energy ratio of a triangle-shaped cycle.
+        P_ref defaults to 40 P_Y (the paper's AFG load path: 1500 N ~ 41 P_Y).
+        """
+        pair = vz_params.pair
+        P_ref = 40.0 * pair.P_Y if P_ref is None else check_real("P_ref", P_ref, low=pair.P_Y, unit="N")
+        delta_max = float(vz_params.loading_approach(P_ref))
+        delta_res = vz_residual_approach(delta_max, np.asarray(P_ref), vz_params)
+        return cls(pair, P_ref / delta_max, P_ref / (delta_max - float(delta_res)))
+
+    @classmethod
+    def from_pair(cls, pair: ContactPair) -> "WaltonBraunParams":
+        """Defaults for a bare pair: :meth:`from_vz` with the paper's dimensionless Ca_hat, Kc_hat."""
+        reference = VZParams.reference()
+        return cls.from_vz(VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat))

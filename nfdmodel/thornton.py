@@ -1,0 +1,69 @@
+"""Thornton (1997) elastic-perfectly plastic contact (law name "thornton").
+
+Hertz up to first yield, then the mean contact pressure is capped at p_Y = A_Y sigma_Y:
+
+    loading    P = P_Y + pi p_Y R* (delta - delta_Y)                     for delta > delta_Y
+    unloading  P = (4/3) E* sqrt(R_p*) <delta - delta_p>^(3/2), from the turning point (P*, delta*),
+               a*^2 = (2 P* + P_Y) / (2 pi p_Y), R_p* = 4 E* a*^3 / (3 P*), delta_p = delta* - a*^2 / R_p*
+
+(Thornton 1997, J. Appl. Mech. 64, 383, eqs. 10-16); reloading retraces unloading.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .hertz import hertz_kernel
+from .history import ThorntonState, check_delta, check_state, restore_shape, step_and_commit
+from .materials import ContactPair
+from .parameters import as_pair
+from .turning_point import turning_point_step
+
+TINY = 1e-300                   # [N] keeps a zero force out of a division
+
+
+def _thornton_unloading(P_max, delta_max, pair: ContactPair):
+    """Thornton (1997) unloading from (P*, delta*) [SI]: a*^2 = (2 P* + P_Y)/(2 pi p_Y),
+    R_p* = 4 E* a*^3 / (3 P*), delta_p = delta* - a*^2 / R_p*; returns (delta_p, (4/3) E* sqrt(R_p*))."""
+    a_sq = (2.0 * P_max + pair.P_Y) / (2.0 * math.pi * pair.p_Y)
+    R_p = 4.0 * pair.E_star * a_sq * np.sqrt(a_sq) / (3.0 * P_max)
+    return np.maximum(delta_max - a_sq / R_p, 0.0), 4.0 / 3.0 * pair.E_star * np.sqrt(R_p)
+
+
+def _thornton_loading_branch(pair: ContactPair):
+    def branch(delta, _state, _index, out=None):
+        plastic = delta > pair.delta_Y
+        force = np.where(plastic, pair.P_Y + math.pi * pair.p_Y * pair.R_star * (delta - pair.delta_Y),
+                         hertz_kernel(delta, pair))
+        delta_p, stiffness = _thornton_unloading(np.maximum(force, TINY), delta, pair)
+        return {"P_max": force, "delta_res": np.where(plastic, delta_p, 0.0),
+                "unloading_stiffness": np.where(plastic, stiffness, pair.hertz_stiffness)}, 0
+
+    return branch
+
+
+def thornton_step(delta, state: ThorntonState, params):
+    """One Thornton step without committing it: (P [N], :class:`HistoryUpdate`) (see
+    :func:`thornton_force`); ``state`` is not modified."""
+    pair = as_pair(params, "thornton")
+    check_state(state, ThorntonState, "thornton")
+    delta, shape = check_delta(delta, state.n)
+    force, update = turning_point_step(delta, state, _thornton_loading_branch(pair), True, pair)
+    return restore_shape(force, shape), update
+
+
+def thornton_force(delta, state: ThorntonState, params):
+    """Thornton (1997) force [N]: Hertz up to delta_Y, then P = P_Y + pi p_Y R* (delta - delta_Y)
+    (p_Y = A_Y sigma_Y); unloading from (P*, delta*) Hertzian with the enlarged radius R_p*:
+    P = (4/3) E* sqrt(R_p*) (delta - delta_p)^(3/2) (Thornton 1997). params: a ContactPair.
+    Pure: :func:`thornton_step` + a copying commit."""
+    return step_and_commit(thornton_step, delta, state, params)
+
+
+def thornton_loading_work(delta_max, pair: ContactPair):
+    delta_max = np.asarray(delta_max, dtype=float)
+    elastic_part = np.minimum(delta_max, pair.delta_Y)
+    plastic_part = np.maximum(delta_max - pair.delta_Y, 0.0)
+    return (0.4 * pair.hertz_stiffness * elastic_part**2 * np.sqrt(elastic_part)
+            + pair.P_Y * plastic_part + 0.5 * math.pi * pair.p_Y * pair.R_star * plastic_part**2)
