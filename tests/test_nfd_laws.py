@@ -10,47 +10,18 @@ from scipy.integrate import quad
 
 from nfdmodel import (ContactPair, Material, VZParams, WaltonBraunParams, get_law,
                       vz_newton_iterations)
+from nfdmodel import reference
 from nfdmodel.history import ThorntonState, VZState
 
 REF = VZParams.reference()
 PAIR = REF.pair
 
 
-# ------------------------------------------------------------------ scalar reference (paper 3.2)
-def scalar_newton(delta, P_guess, R, E, P_Y, Ca, Kc):
-    """Plain scalar Newton on the corrected F(P), as in the paper's algorithm."""
-    c1 = (3 * R / (4 * E)) ** (1 / 3) / Ca
-    P = max(P_guess, P_Y)
-    for _ in range(100):
-        C = 1 + Kc * (P - P_Y)
-        F = (P - P_Y) + c1 * P ** (1 / 3) - math.sqrt(C * R * delta) / Ca
-        dF = 1 + c1 * P ** (-2 / 3) / 3 - Kc * math.sqrt(R * delta) / (2 * Ca * math.sqrt(C))
-        step = F / dF
-        P = max(P - step, P_Y)
-        if abs(step) <= 1e-14 * P:
-            return P
-    raise AssertionError("scalar Newton did not converge")
-
-
 def scalar_vz_path(deltas, R, E, P_Y, delta_Y, Ca, Kc):
-    """Vu-Quoc & Zhang (1999) algorithm 3.2 for one contact, one approach at a time, plus the
-    the model's closures (reloading along the unloading curve, separation, re-contact)."""
-    delta_max, P_max, delta_res, C_max = 0.0, 0.0, 0.0, 1.0
-    forces = []
+    """The scalar transcription (nfdmodel.reference.vz_step) along one contact's path."""
+    history, forces = reference.History(), []
     for delta in deltas:
-        if delta > delta_max:                       # loading on the virgin curve
-            if delta <= delta_Y:
-                P = 4 / 3 * E * math.sqrt(R) * delta**1.5
-            else:
-                P = scalar_newton(delta, P_max, R, E, P_Y, Ca, Kc)
-            delta_max, P_max = delta, P
-            C_max = 1 + Kc * max(P - P_Y, 0.0)
-            a_e_max = (3 * P * R / (4 * E)) ** (1 / 3)
-            delta_res = max(delta - a_e_max**2 / (C_max * R), 0.0) if delta > delta_Y else 0.0
-        elif delta > delta_res:                     # unloading / reloading (paper 3.22)
-            P = 4 / 3 * E * C_max**1.5 * math.sqrt(R) * (delta - delta_res) ** 1.5
-        else:                                       # separated
-            P = 0.0
+        P, history = reference.vz_step(float(delta), history, R, E, P_Y, delta_Y, Ca, Kc)
         forces.append(P)
     return np.array(forces)
 

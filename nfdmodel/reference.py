@@ -1,0 +1,164 @@
+"""The plain scalar transcription of every runtime law: one contact, Python floats, ``math`` only.
+
+This is the specification to port from (a C kernel, a LAMMPS pair style, any DEM code): the
+vectorised kernels of nfdmodel are tested against it, branch by branch. Each law is a step
+``(delta, history, constants) -> (P, new_history)``: ``delta`` the approach [m] of this time
+step, ``history`` the contact's turning point (a :class:`History`; the initial one is all
+zeros), ``P`` the normal force [N]. The new history is returned, never written into the old
+one: the caller commits it when the time step is accepted.
+
+Every elastoplastic law follows one scheme (README, The model: Unloading and reloading):
+
+* loading beyond the turning point (delta > delta_max): the law's virgin curve gives P, and
+  the turning point moves: (delta_max, P_max) = (delta, P), with the residual approach
+  delta_res and the constant K_u of the unloading curve through it;
+* otherwise unloading or reloading along that curve, P = K_u <delta - delta_res>^n, n = 3/2
+  (vz, thornton) or 1 (walton-braun); delta <= delta_res is separation (P = 0) and re-contact
+  above it retraces the same curve.
+
+K_u is stored as P_max / (delta_max - delta_res)^n, so the curve passes through the turning
+point to round-off (continuity of the force).
+
+Constants [SI]: R = R* [m], E = E* [Pa], P_Y [N], delta_Y [m], p_Y = A_Y(nu) sigma_Y [Pa]
+(README, The model: First yield), the vz constants Ca [m/N], Kc [1/N], the Walton-Braun
+stiffnesses K1 <= K2 [N/m].
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class History:
+    """One contact's turning point [SI]: delta_max [m], P_max [N], delta_res [m], K_u (the
+    unloading constant: N/m^1.5 for n = 3/2, N/m for n = 1), a_e_max [m] (vz: the Hertz radius
+    at P_max, kept because it starts the next Newton solve)."""
+
+    delta_max: float = 0.0
+    P_max: float = 0.0
+    delta_res: float = 0.0
+    K_u: float = 0.0
+    a_e_max: float = 0.0
+
+
+def hertz_force(delta: float, R: float, E: float) -> float:
+    """Hertz (Johnson 1985 eq. 4.23): P = (4/3) E* sqrt(R*) <delta>^(3/2) [N]."""
+    d = max(delta, 0.0)
+    return 4.0 / 3.0 * E * math.sqrt(R) * d * math.sqrt(d)
+
+
+def hertz_step(delta: float, history: History, R: float, E: float) -> tuple[float, History]:
+    """Hertz has no history: (P, history) with the history unchanged."""
+    return hertz_force(delta, R, E), history
+
+
+def unloading_force(delta: float, history: History, n: float) -> float:
+    """P = K_u <delta - delta_res>^n on the unloading (and reloading) curve [N]."""
+    gap = max(delta - history.delta_res, 0.0)
+    return history.K_u * gap ** n
+
+
+def turning_point(delta_max: float, P_max: float, delta_res: float, n: float, a_e_max: float = 0.0) -> History:
+    """The history of a new turning point: delta_res is kept strictly below delta_max (at least
+    one float below: an unloading curve that drops to zero within one ulp) so that
+    K_u = P_max / (delta_max - delta_res)^n is finite."""
+    delta_res = max(delta_res, 0.0)
+    if delta_res >= delta_max:
+        delta_res = math.nextafter(delta_max, 0.0)
+    return History(delta_max, P_max, delta_res, P_max / (delta_max - delta_res) ** n, a_e_max)
+
+
+# ----------------------------------------------------------------------------------- vz
+def vz_newton_function(P: float, delta: float, R: float, E: float, P_Y: float, Ca: float, Kc: float):
+    """The corrected Newton function of Vu-Quoc & Zhang (1999) eq. 3.14 and its derivative:
+
+        F(P)  = (P - P_Y) + c1 P^(1/3) - sqrt((1 + Kc (P - P_Y)) R delta) / Ca,
+        F'(P) = 1 + c1 P^(-2/3) / 3 - Kc sqrt(R delta) / (2 Ca sqrt(1 + Kc (P - P_Y))),
+        c1 = (3 R / (4 E))^(1/3) / Ca   [N^(2/3)].
+
+    F is the plastic contact radius a_p = Ca (P - P_Y) minus its value on the loading curve
+    delta = (a_e + a_p)^2 / (C_R R), divided by Ca (README, The model: The NFD law on loading)."""
+    c1 = (3.0 * R / (4.0 * E)) ** (1.0 / 3.0) / Ca
+    C_R = 1.0 + Kc * (P - P_Y)
+    F = (P - P_Y) + c1 * P ** (1.0 / 3.0) - math.sqrt(C_R * R * delta) / Ca
+    dF = 1.0 + c1 * P ** (-2.0 / 3.0) / 3.0 - Kc * math.sqrt(R * delta) / (2.0 * Ca * math.sqrt(C_R))
+    return F, dF
+
+
+def vz_loading_force(delta: float, P_start: float, R: float, E: float, P_Y: float, Ca: float,
+                     Kc: float, tolerance: float = 1e-13) -> float:
+    """The force [N] on the plastic loading curve at delta > delta_Y: the root P >= P_Y of F.
+
+    F(P_Y) <= 0 and F grows without bound, so the root is bracketed by [P_lo, P_hi] with
+    P_lo = max(P_start, P_Y) (P_start: the force at a smaller approach, e.g. P_max) and P_hi
+    doubled until F(P_hi) > 0; Newton steps that leave the bracket are replaced by bisection."""
+    low = max(P_start, P_Y)
+    if vz_newton_function(low, delta, R, E, P_Y, Ca, Kc)[0] >= 0.0:
+        return low
+    high = 2.0 * low
+    while vz_newton_function(high, delta, R, E, P_Y, Ca, Kc)[0] < 0.0:
+        low, high = high, 2.0 * high
+    P = low
+    for _ in range(400):
+        F, dF = vz_newton_function(P, delta, R, E, P_Y, Ca, Kc)
+        if F < 0.0:
+            low = P
+        else:
+            high = P
+        step = F / dF if dF > 0.0 else math.inf
+        candidate = P - step
+        if not low < candidate < high:
+            candidate = 0.5 * (low + high)
+        if abs(candidate - P) <= tolerance * candidate or high - low <= tolerance * high:
+            return candidate
+        P = candidate
+    return P
+
+
+def vz_step(delta: float, history: History, R: float, E: float, P_Y: float, delta_Y: float,
+            Ca: float, Kc: float) -> tuple[float, History]:
+    """One time step of the vz law (Vu-Quoc & Zhang 1999, algorithm of section 3.2).
+
+    Virgin curve: Hertz up to delta_Y (delta_res = 0, K_u = (4/3) E sqrt(R)); beyond it
+    P = vz_loading_force, then C_Rmax = 1 + Kc (P_max - P_Y), a_e,max = (3 P_max R / (4 E))^(1/3)
+    and delta_res = delta_max - a_e,max^2 / (C_Rmax R) (paper eqs. 3.19-3.21); unloading
+    P = K_u <delta - delta_res>^(3/2), K_u = (4/3) E C_Rmax^(3/2) sqrt(R) (paper eq. 3.22)."""
+    if delta <= history.delta_max:
+        return unloading_force(delta, history, 1.5), history
+    if delta <= delta_Y:
+        P = hertz_force(delta, R, E)
+        return P, History(delta, P, 0.0, 4.0 / 3.0 * E * math.sqrt(R), math.sqrt(R * max(delta, 0.0)))
+    P = vz_loading_force(delta, history.P_max, R, E, P_Y, Ca, Kc)
+    C_R = 1.0 + Kc * (P - P_Y)
+    a_e = (3.0 * P * R / (4.0 * E)) ** (1.0 / 3.0)
+    return P, turning_point(delta, P, delta - a_e * a_e / (C_R * R), 1.5, a_e)
+
+
+# ----------------------------------------------------------------------------- thornton
+def thornton_step(delta: float, history: History, R: float, E: float, P_Y: float, delta_Y: float,
+                  p_Y: float) -> tuple[float, History]:
+    """One time step of Thornton's (1997) law: Hertz up to delta_Y, then
+    P = P_Y + pi p_Y R (delta - delta_Y); unloading from (P*, delta*) Hertzian with the enlarged
+    radius R_p = 4 E a*^3 / (3 P*), a*^2 = (2 P* + P_Y) / (2 pi p_Y), about
+    delta_p = delta* - a*^2 / R_p."""
+    if delta <= history.delta_max:
+        return unloading_force(delta, history, 1.5), history
+    if delta <= delta_Y:
+        P = hertz_force(delta, R, E)
+        return P, History(delta, P, 0.0, 4.0 / 3.0 * E * math.sqrt(R))
+    P = P_Y + math.pi * p_Y * R * (delta - delta_Y)
+    a_sq = (2.0 * P + P_Y) / (2.0 * math.pi * p_Y)
+    R_p = 4.0 * E * a_sq * math.sqrt(a_sq) / (3.0 * P)
+    # Thornton's own unloading constant (4/3) E sqrt(R_p): equal to P / (delta - delta_p)^(3/2)
+    return P, History(delta, P, max(delta - a_sq / R_p, 0.0), 4.0 / 3.0 * E * math.sqrt(R_p))
+
+
+# ------------------------------------------------------------------------- walton-braun
+def walton_braun_step(delta: float, history: History, K1: float, K2: float) -> tuple[float, History]:
+    """One time step of Walton & Braun's (1986) law: P = K1 delta on loading,
+    P = K2 <delta - delta_res> on unloading and reloading, delta_res = delta_max - P_max / K2."""
+    if delta <= history.delta_max:
+        return unloading_force(delta, history, 1.0), history
+    P = K1 * delta
+    return P, History(delta, P, delta - P / K2, K2)
