@@ -14,6 +14,7 @@ import platform
 import subprocess
 import tempfile
 from datetime import datetime, timezone
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 from typing import Any, Iterable, Mapping, Sequence
 
@@ -53,7 +54,6 @@ def _checkout_root() -> Path | None:
 
 def package_version() -> str:
     """The installed distribution's version ("unknown" when not installed)."""
-    from importlib.metadata import PackageNotFoundError, version
 
     try:
         return version("nfdcal")
@@ -176,7 +176,7 @@ def stamp_comment(st: Mapping[str, Any]) -> str:
 
 def save_figure(fig, path: str | os.PathLike, dpi: int = 130) -> Path:
     """Save a matplotlib figure atomically as PNG and close it."""
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
@@ -185,7 +185,8 @@ def save_figure(fig, path: str | os.PathLike, dpi: int = 130) -> Path:
 
 
 def pyplot():
-    """matplotlib.pyplot on the non-interactive Agg backend (no display on CI machines)."""
+    """matplotlib.pyplot on the non-interactive Agg backend (no display on CI machines); imported
+    on the first plot (0.5 s that a run without plots does not pay)."""
     import matplotlib
 
     matplotlib.use("Agg")

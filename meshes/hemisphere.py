@@ -30,16 +30,19 @@ which is exact for this domain and independent of the file format.
 from __future__ import annotations
 
 import dataclasses
-
 import hashlib
 import json
 import os
 import tempfile
 import threading
-from dataclasses import asdict, dataclass, field
+import time
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
+import meshio
 import numpy as np
+from platformdirs import user_cache_dir
+from skfem import MeshTri2
 
 GENERATOR_VERSION = 2  # bump when the meshing recipe changes: invalidates the cache
 _GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
@@ -132,7 +135,6 @@ class HemisphereMesh:
 def default_cache_dir() -> Path:
     """The user's cache folder for meshes: ``$XDG_CACHE_HOME/nfdcal/meshes`` on Linux (platformdirs'
     ``user_cache_dir``), never a folder next to the installed package."""
-    from platformdirs import user_cache_dir
 
     return Path(user_cache_dir("nfdcal", appauthor=False)) / "meshes"
 
@@ -148,7 +150,7 @@ def mesh_path(spec: HemisphereMeshSpec, cache_dir=None) -> Path:
 
 def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
     """Mesh the hemisphere section with gmsh and write ``path`` (.msh 4.1), atomically."""
-    import gmsh
+    import gmsh  # here, not at the top: loading gmsh takes ~0.3 s and reading a cached mesh needs none
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -212,8 +214,6 @@ def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
     FileNotFoundError for a missing file and ValueError for a file that is not a valid
     hemisphere mesh.
     """
-    import meshio
-    from skfem import MeshTri2
 
     path = Path(path)
     if not path.is_file():
@@ -273,7 +273,6 @@ def hemisphere_mesh(spec: HemisphereMeshSpec | None = None, cache_dir=None,
     A cached file that cannot be read (corrupt, truncated, wrong content) is rebuilt.
     ``build_time_s`` of the result is the time spent meshing and loading [s].
     """
-    import time
 
     spec = spec if spec is not None else HemisphereMeshSpec()
     t0 = time.perf_counter()
@@ -289,6 +288,5 @@ def hemisphere_mesh(spec: HemisphereMeshSpec | None = None, cache_dir=None,
 
 
 def _with_time(loaded: HemisphereMesh, seconds: float) -> HemisphereMesh:
-    from dataclasses import replace
 
     return replace(loaded, build_time_s=seconds)

@@ -20,10 +20,14 @@ from typing import Callable
 
 import numpy as np
 
-from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
-                       radius_law_data, relative_force_residuals, window_study)
+from calib.fe import ContactSolver
+from calib.fe.elastic import ElasticMaterial
 from calib.fe.loadpath import LoadPathResults, run_load_paths
+from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
+from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
+                                     radius_law_data, relative_force_residuals, window_study)
 from calib.fit.recipe import CalibrationSpec
+from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import ContactPair, Material, VZParams, get_law
 
 
@@ -31,9 +35,6 @@ def first_yield_load(hemisphere, material: Material) -> float:
     """Force [N] at which the first quadrature point reaches the von Mises yield stress, from the
     elastic FE solution: its peak stress scales as P^(1/3) (Hertz, Johnson 1985 eq. 4.23), so two
     fixed-point updates P <- P (sigma_Y / q_max)^3 from the theoretical P_Y converge."""
-    from calib.fe import ContactSolver
-    from calib.fe.elastic import ElasticMaterial
-    from calib.fe.von_mises import von_mises_stress
 
     solver = ContactSolver(hemisphere, ElasticMaterial(material.E, material.nu))
     pair = ContactPair.sphere_flat(material, hemisphere.radius)
@@ -50,7 +51,6 @@ def first_yield_load(hemisphere, material: Material) -> float:
 @dataclass
 class ModelComparison:
     """A runtime law driven along one FE path's approach history."""
-
     law: str
     force: np.ndarray        # P [N] at the FE approaches
     restitution: float       # e = sqrt(elastic energy / (elastic + dissipated)) at the peak
@@ -114,9 +114,6 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
     ``unload=False``: the loading branch only (about half the FE steps): the radius fit (which
     uses only loading points) and no force fit, model comparison or restitution.
     """
-    from calib.fe import ContactSolver
-    from calib.fe.von_mises import VonMisesMaterial
-    from meshes.hemisphere import hemisphere_mesh
 
     if ship not in ("radius", "force"):
         raise ValueError(f"ship must be 'radius' or 'force', got {ship!r}")

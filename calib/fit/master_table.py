@@ -25,6 +25,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+
+from nfdmodel import ContactPair, Material, VZParams
 
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"   # calib/data: shipped with the package
 DEFAULT_TABLE = DATA_DIR / "master_table.csv"
@@ -53,7 +56,6 @@ def read_rows(path: str | Path) -> list[dict]:
 @dataclass(frozen=True)
 class MasterTable:
     """Ca_hat, Kc_hat on the regular grid nu x E_over_sigma_y (axes ascending)."""
-
     nu: np.ndarray
     E_over_sigma_y: np.ndarray
     Ca_hat: np.ndarray          # shape (len(nu), len(E_over_sigma_y))
@@ -106,7 +108,6 @@ class MasterTable:
 
     def lookup(self, nu: float, E_over_sigma_y: float) -> tuple[float, float]:
         """(Ca_hat, Kc_hat) at (nu, E / sigma_Y): linear in nu and log10(E / sigma_Y)."""
-        from scipy.interpolate import RegularGridInterpolator
 
         self._check(nu, E_over_sigma_y)
         x = np.log10(self.E_over_sigma_y)
@@ -119,7 +120,6 @@ class MasterTable:
 
     def parameters(self, E: float, nu: float, sigma_y: float, R: float, rho: float = 2700.0) -> dict:
         """Ca, Kc [SI] and the dimensionless values of a sphere (E, nu, sigma_Y, R) on a rigid flat."""
-        from nfdmodel import ContactPair, Material, VZParams
 
         material = Material(E, nu, sigma_y, rho)
         pair = ContactPair.sphere_flat(material, R)

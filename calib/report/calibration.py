@@ -14,9 +14,11 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import meshio
 import numpy as np
 
 from calib import output
+from calib.fe.von_mises import von_mises_stress
 from calib.fit.calibration import CalibrationResult, summary
 from nfdmodel import parameter_record, reference_case
 
@@ -60,9 +62,6 @@ def parameter_file(result: CalibrationResult, stamp: dict) -> dict:
 def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None:
     """Equivalent plastic strain and von Mises stress (element means), displacement and contact
     pressure (nodes) of one FE state, as a VTU of 6-node triangles that ParaView opens."""
-    import meshio
-
-    from calib.fe.von_mises import von_mises_stress
 
     mesh = solver.hemisphere.mesh
     n_points = mesh.p.shape[1]

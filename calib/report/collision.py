@@ -22,7 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from calib.output import RESULTS, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv, write_json
+from calib.output import (RESULTS, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
+                          write_json)
+from nfdmodel import VZParams, collide, collision_reference, load_parameters
 
 DEFAULT_OUT = RESULTS / "collision"
 LAWS = ("vz", "thornton")
@@ -48,7 +50,6 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
     """Regenerate the collision results. The vz parameters come from ``params_file``, else from
     the reference calibration (results/calibration/parameters.json) when it exists, else the
     paper's Ca, Kc; the source is recorded in summary.json."""
-    from nfdmodel import VZParams, collide, collision_reference, load_parameters
 
     started = time.perf_counter()
     out = Path(out_dir)

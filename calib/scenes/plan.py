@@ -3,9 +3,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import meshio
+import numpy as np
+
 from calib.fit import recipe
-from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage,
-                                 Scene, SceneError, SceneMaterial)
+from calib.scenes.schema import SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial
+from meshes.hemisphere import HemisphereMeshSpec, mesh_path
 
 
 # ----------------------------------------------------------------------------- FE specs
@@ -35,7 +38,6 @@ def estimate_dofs(spec) -> int:
     """Degrees of freedom of the P2 mesh of ``spec`` without meshing: elements ~ integral of
     1 / (area of an equilateral triangle of size h(r, z)) over the section, dofs ~ 4.12 x
     elements (both constants fitted on the reference default mesh: 2,939 elements, 12,112 dofs)."""
-    import numpy as np
 
     R = spec.radius
     # polar-like quadrature refined towards the pole, where h is smallest
@@ -56,7 +58,6 @@ ESTIMATE_CALIBRATION = 1.0  # set below on first use against the reference mesh
 
 def _calibrate_estimator():
     global ESTIMATE_CALIBRATION
-    from meshes.hemisphere import HemisphereMeshSpec
 
     if ESTIMATE_CALIBRATION == 1.0:
         raw = estimate_dofs(HemisphereMeshSpec())
@@ -65,12 +66,9 @@ def _calibrate_estimator():
 
 def mesh_dofs(spec) -> tuple[int, bool]:
     """(dofs, exact) of a mesh: counted from the cached file if there is one, else estimated."""
-    from meshes.hemisphere import mesh_path
-
     path = mesh_path(spec)
     if path.is_file():
         try:
-            import meshio
 
             raw = meshio.read(path, file_format="gmsh")
             return int(2 * (raw.cells_dict["triangle6"].max() + 1)), True
@@ -113,8 +111,6 @@ def plastic_needed(scene: Scene, material: SceneMaterial) -> bool:
 
 def plan(scene: Scene) -> list[PlannedStage]:
     """What ``run`` will do, per material and stage, with meshes and an estimated wall time."""
-    from meshes.hemisphere import mesh_path
-
     out = []
     for material in scene.materials:
         if scene.hertz is not None:

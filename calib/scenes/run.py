@@ -2,19 +2,28 @@
 from __future__ import annotations
 
 import time
+import warnings
 from pathlib import Path
 
+import numpy as np
+
 from calib import output
+from calib.fe import ContactSolver
+from calib.fe.elastic import ElasticMaterial
+from calib.fe.loadpath import run_load_paths
+from calib.fe.von_mises import VonMisesMaterial
+from calib.fit import calibration
+from calib.fit.master_table import MasterTable
+from calib.report import calibration as calibration_report
 from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed
 from calib.scenes.schema import Scene
+from calib.studies.hertz import plot_hertz, run_hertz
+from meshes.hemisphere import hemisphere_mesh
+from nfdmodel import VZParams, collide
 
 
 # ----------------------------------------------------------------------------- run
 def _run_hertz(scene, material, out, progress) -> dict:
-    import numpy as np
-
-    from calib.studies.hertz import run_hertz
-
     pair = material.pair()
     low, top = scene.hertz.loads(pair)
     spec = hertz_mesh_spec(scene, material)
@@ -28,26 +37,18 @@ def _run_hertz(scene, material, out, progress) -> dict:
     if scene.outputs.histories:
         output.write_csv(out / "hertz_steps.csv", run.rows, comment=output.stamp_comment(stamp))
     if scene.outputs.plots:
-        from calib.studies.hertz import plot_hertz
-
         plot_hertz(out, run, material.material(), material.R)
     return summary
 
 
 def _run_load_paths(scene, material, out, progress) -> dict:
     """Load paths without calibration: elastic material when every P_max < P_Y."""
-    from calib.fe import ContactSolver
-    from calib.fe.loadpath import run_load_paths
-    from calib.fe.elastic import ElasticMaterial
-    from meshes.hemisphere import hemisphere_mesh
-
     t0 = time.perf_counter()
     spec = calibration_spec(scene, material)
     elastic = not plastic_needed(scene, material)
     if elastic:
         fe_material = ElasticMaterial(material.E, material.nu)
     else:
-        from calib.fe.von_mises import VonMisesMaterial
 
         fe_material = VonMisesMaterial(material.E, material.nu, material.sigma_y)
     hemisphere = hemisphere_mesh(spec.mesh)
@@ -78,9 +79,6 @@ def _run_load_paths(scene, material, out, progress) -> dict:
 
 
 def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
-    from calib.fit import calibration
-    from calib.report import calibration as calibration_report
-
     spec = calibration_spec(scene, material)
     progress(f"calibration: {material.name}, P_max = {', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N")
     unload = scene.load_paths is None or scene.load_paths.unload
@@ -100,18 +98,11 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
 
 
 def _run_collision(scene, material, out, params, progress) -> dict:
-    import warnings
-
-    from nfdmodel import collide
-
     pair = material.pair()
     source = "calibration"
     if params is None and "vz" in scene.collision.laws:
-        from calib.fit.master_table import MasterTable
-
         table = MasterTable.load()
         values = table.parameters(material.E, material.nu, material.sigma_y, material.R, material.rho)
-        from nfdmodel import VZParams
 
         params = VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"])
         source = f"master table ({table.meta.get('accuracy', 'accuracy not stated')})"

@@ -18,6 +18,7 @@ from __future__ import annotations
 import hashlib
 import json
 import time
+import traceback
 from dataclasses import asdict
 from pathlib import Path
 
@@ -58,8 +59,6 @@ def tasks_for(scene) -> list[dict]:
 
 def calibrate_task(task: dict) -> dict:
     """Calibrate one material (runs in a worker): the table row, never raises."""
-    import traceback
-
     spec = task["spec"]
     pair = spec.pair
     row = {**task["inputs"], "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,

@@ -3,7 +3,6 @@
 An elastic sphere (R, E, nu) pressed on a rigid frictionless flat, force-controlled from P_min to
 P_max; at every load the FE contact radius a, approach alpha and peak pressure p0 are compared
 with Hertz (Johnson 1985, Contact Mechanics, eqs. 4.22-4.23; nfdmodel.ContactPair computes them):
-
     E* = E / (1 - nu^2),  a = (3 P R / (4 E*))^(1/3),  alpha = a^2 / R,
     p0 = 3 P / (2 pi a^2),  p(r) = p0 sqrt(1 - r^2 / a^2).
 
@@ -16,20 +15,22 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
+from calib import output
 from calib.fe import ContactSolver, run_load_path
 from calib.fe.elastic import ElasticMaterial
 from calib.fit.recipe import hertz_mesh, is_reference_sphere
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import ContactPair, Material, reference_case
 
+
 # --------------------------------------------------------------------------- run
 @dataclass
 class HertzRun:
     """Result of ``run_hertz``: per-load rows, the top-load pressure profile, timings [s]."""
-
     rows: list
     top_load: dict
     pressure_profile: dict = field(repr=False)
@@ -179,9 +180,6 @@ def run_ladder(contact_sizes=LADDER_CONTACT_SIZES, *, cache_dir=None, loads=None
 def write_hertz_results(out, *, material: Material | None = None, radius: float = reference_case.R,
                         P_min=1.0, P_max=1500.0, steps=25, contact_size=None, cache_dir=None):
     """Run the validation and write JSON + CSV + PNG into ``out``; returns the JSON summary."""
-    from pathlib import Path
-
-    from calib import output
 
     out = Path(out)
     material = material or Material.reference()
@@ -220,7 +218,6 @@ def write_hertz_results(out, *, material: Material | None = None, radius: float 
 def plot_hertz(out, run, material: Material, radius: float):
     """contact_radius.png, approach.png, peak_pressure.png (FE and Hertz against P, and the
     relative error) and pressure_profile.png (at the top load) into ``out``."""
-    from calib import output
 
     pair = ContactPair.sphere_flat(material, radius)
     E, nu = material.E, material.nu
@@ -262,10 +259,6 @@ def write_ladder_results(out, *, contact_sizes=LADDER_CONTACT_SIZES, material: M
                          radius: float = reference_case.R, P_min=1.0, P_max=1500.0, steps=25,
                          cache_dir=None):
     """Mesh ladder: CSV + log-log PNG of |error| against wall time; returns a summary."""
-    import time
-    from pathlib import Path
-
-    from calib import output
 
     out = Path(out)
     t0 = time.perf_counter()

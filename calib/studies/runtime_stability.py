@@ -45,7 +45,8 @@ from pathlib import Path
 import numpy as np
 
 from calib.output import RESULTS, stamp, stamp_comment, write_csv, write_json
-from nfdmodel import NEWTON_MAX_ITERATIONS
+from nfdmodel import (NEWTON_MAX_ITERATIONS, ContactPair, Material, TimeStepWarning, VZParams, collide,
+                      collision_reference, get_law, vz_newton_iterations)
 
 DEFAULT_OUT = RESULTS / "stability"
 CSV_NAME = "runtime_stability.csv"
@@ -70,14 +71,10 @@ COLUMNS = ("group", "law", "R", "nu", "E_over_sigma_y", "Ca_factor", "Kc_factor"
 
 
 def _pair(R, nu, ratio):
-    from nfdmodel import ContactPair, Material
-
     return ContactPair.sphere_flat(Material(YOUNG, nu, YOUNG / ratio, DENSITY), R)
 
 
 def _vz_params(pair, Ca_factor, Kc_factor):
-    from nfdmodel import VZParams
-
     reference = VZParams.reference()
     return VZParams.from_dimensionless(pair, reference.Ca_hat * Ca_factor, reference.Kc_hat * Kc_factor)
 
@@ -98,8 +95,6 @@ def _finite(*arrays) -> bool:
 # ------------------------------------------------------------------------------------ force laws
 def _force_case(law_name, pair, params, dtype):
     """Overlap sweep, loading-curve accuracy and turning-point continuity for one law/params."""
-    from nfdmodel import get_law, vz_newton_iterations
-
     law = get_law(law_name)
     law_params = law.params_from(params)
     loads = pair.P_Y * np.geomspace(1.0001, 1e6, 60)
@@ -174,8 +169,6 @@ def _run_force(pair, params, law, dtype, R, nu, ratio, Ca_factor, Kc_factor):
 # ------------------------------------------------------------------------------------ collisions
 def _collision_case(law, params, pair, v, dt, dtype=np.float64):
     """One collide() call at one velocity; returns the error fields and the outcome."""
-    from nfdmodel import TimeStepWarning, collide, collision_reference, get_law
-
     exact = collision_reference(law, params, [v])
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -218,7 +211,6 @@ def _collision_case(law, params, pair, v, dt, dtype=np.float64):
 
 def _run_collision(group, law, params, pair, v_ratio, dt_rule, R, nu, ratio, Ca_factor=None,
                    Kc_factor=None, dtype=np.float64):
-    from nfdmodel import collision_reference
 
     row = _inputs(group, law, R, nu, ratio, Ca_factor, Kc_factor, params if law == "vz" else None,
                   v_over_v_Y=v_ratio, dtype=np.dtype(dtype).name)
@@ -288,7 +280,6 @@ def dt_rows() -> list[dict]:
     omega = pi / t_unload (a half-oscillation lasts pi / omega), i.e. dt_crit = 2 t_unload / pi;
     collide() refuses dt >= dt_crit.
     """
-    from nfdmodel import collision_reference
 
     rows = []
     pair = _pair(DT_RADIUS, 0.3, 700.0)

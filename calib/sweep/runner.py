@@ -12,17 +12,20 @@ the mesh cache.
 from __future__ import annotations
 
 import json
+import multiprocessing
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import as_completed as completed_futures
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
 from calib import output
+from meshes.hemisphere import hemisphere_mesh, mesh_path
 
 
 @dataclass(frozen=True)
 class SweepResult:
     """The rows in task order, and how many were computed now or reused from the folder."""
-
     rows: list
     computed: int
     reused: int
@@ -42,8 +45,6 @@ def cached_result(folder: Path, key: str, keep: Callable[[dict], bool]) -> dict 
 
 def build_meshes(specs: Iterable, progress: Callable[[str], None]) -> None:
     """Build the hemisphere meshes (meshes.hemisphere.HemisphereMeshSpec) not yet in the cache."""
-    from meshes.hemisphere import hemisphere_mesh, mesh_path
-
     seen = set()
     for spec in specs:
         if spec is None or spec.cache_key() in seen:
@@ -60,7 +61,7 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
     local processes (spawned: no forked copies of threads or gmsh state), or on the Dask
     distributed cluster at ``scheduler``. ``function`` must be module-level (it is pickled)."""
     if scheduler:
-        from distributed import Client, as_completed
+        from distributed import Client, as_completed  # optional: the dask extra
 
         with Client(scheduler) as client:
             for future in as_completed(client.map(function, tasks, pure=False)):
@@ -70,12 +71,9 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
         for task in tasks:
             yield function(task)
         return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-
     context = multiprocessing.get_context("spawn")
     with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context) as pool:
-        for future in as_completed([pool.submit(function, task) for task in tasks]):
+        for future in completed_futures([pool.submit(function, task) for task in tasks]):
             yield future.result()
 
 
