@@ -18,26 +18,21 @@ delta_res = delta_max - a_e,max^2 / (C_Rmax R*). Every function takes the law's 
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
-
 import numpy as np
-
-if TYPE_CHECKING:
-    from .parameters import VZParams
 
 NEWTON_TOLERANCE = 1e-10        # relative tolerance on P of the vz plastic-loading solve
 NEWTON_MAX_ITERATIONS = 200     # never reached: the bracket halves at worst every other step
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(12)
 
 
-def vz_residual_approach(delta_max, P_max, params: VZParams):
+def vz_residual_approach(delta_max, P_max, params):
     """delta_res = delta_max - a_e,max^2 / (C_Rmax R*) [m] (paper eqs. 3.19-3.21), >= 0."""
     a_e = params.pair.hertz_radius(P_max)
     elastic_recovery = a_e**2 / (params.curvature_factor(P_max) * params.pair.R_star)
     return np.maximum(delta_max - elastic_recovery, 0.0)
 
 
-def vz_turning_point(delta_max, P_max, cube_root, params: VZParams, a_e=None, out=None):
+def vz_turning_point(delta_max, P_max, cube_root, params, a_e=None, out=None):
     """delta_res [m] and K_u [N/m^1.5] of a new plastic turning point (paper eqs. 3.19-3.22);
     cube_root = P_max^(1/3) gives a_e,max = (3 R*/(4 E*))^(1/3) P_max^(1/3) without a cube root
     (or pass a_e = a_e,max [m] when already computed: cube_root * c1 * Ca); ``out``: optional
@@ -75,7 +70,7 @@ def vz_turning_point(delta_max, P_max, cube_root, params: VZParams, a_e=None, ou
     return delta_res, stiffness
 
 
-def vz_residual(u, b, params: VZParams):
+def vz_residual(u, b, params):
     """F and dF/du at P = u^3 (u = P^(1/3) [N^(1/3)]); F is the corrected F(P):
 
         F    = (P - P_Y) + c1 u - b sqrt(1 + Kc (P - P_Y)),       b = sqrt(R* delta)/Ca
@@ -99,7 +94,7 @@ def vz_residual(u, b, params: VZParams):
     return F, slope
 
 
-def vz_plastic_force(delta, P_start, params: VZParams, tolerance: float = NEWTON_TOLERANCE):
+def vz_plastic_force(delta, P_start, params, tolerance: float = NEWTON_TOLERANCE):
     """Force on the plastic loading branch (see :func:`vz_plastic_solve`): (P [N], iterations)."""
     delta = np.asarray(delta, dtype=float)
     P_start = np.broadcast_to(np.asarray(P_start, dtype=float), delta.shape)
@@ -107,7 +102,7 @@ def vz_plastic_force(delta, P_start, params: VZParams, tolerance: float = NEWTON
     return force, iterations
 
 
-def vz_plastic_solve(delta, P_start, params: VZParams, tolerance: float = NEWTON_TOLERANCE,
+def vz_plastic_solve(delta, P_start, params, tolerance: float = NEWTON_TOLERANCE,
                       start_is_cube_root: bool = False, out=None):
     """Force on the plastic loading branch, delta > delta_Y [m]: the root P [N] of
 
@@ -230,7 +225,7 @@ def vz_plastic_solve(delta, P_start, params: VZParams, tolerance: float = NEWTON
     return P, u, iterations
 
 
-def vz_loading_work(delta_max, P_max, params: VZParams):
+def vz_loading_work(delta_max, P_max, params):
     """W = integral_0^delta_max P d delta on the virgin vz curve [J].
 
     Hertz part (2/5) P_Y delta_Y, then by parts W = P delta | - integral delta(P) dP with the
