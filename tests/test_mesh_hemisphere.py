@@ -9,8 +9,8 @@ COARSE = HemisphereMeshSpec(radius=0.1, contact_size=2e-4, refined_radius=2e-3,
 
 
 @pytest.fixture(scope="module")
-def cache(tmp_path_factory):
-    return tmp_path_factory.mktemp("meshes")
+def cache(mesh_cache):
+    return mesh_cache
 
 
 @pytest.fixture(scope="module")
