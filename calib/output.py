@@ -61,17 +61,23 @@ def package_version() -> str:
         return "unknown"
 
 
+# what the provenance's "-dirty" watches: the code, not results/ or calib/data/ (rewritten by a run)
+CODE_PATHS = ("calib/*.py", "calib/*/*.py", "calib/scenes/builtin", "meshes", "nfdmodel", "pyproject.toml")
+
+
 def git_commit() -> str:
-    """Provenance of the code: the git commit (``-dirty`` if tracked files changed) when running
-    from a checkout, else ``nfdcal <version>`` of the installed package."""
+    """Provenance of the code: the git commit (``-dirty`` if tracked code changed: the packages and
+    pyproject.toml, not the results and data a regeneration rewrites) when running from a
+    checkout, else ``nfdcal <version>`` of the installed package."""
     root = _checkout_root()
     if root is None:
         return f"nfdcal {package_version()}"
     try:
         sha = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True,
                              text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"],
-                               cwd=root, capture_output=True, text=True, check=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--",
+                                *CODE_PATHS], cwd=root, capture_output=True, text=True,
+                               check=True).stdout.strip()
         return sha + ("-dirty" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
         return f"nfdcal {package_version()}"
