@@ -1,14 +1,13 @@
 """The axisymmetric contact solver (calib.fe) on coarse meshes: exactness, Hertz, contact laws."""
 import numpy as np
 import pytest
+from conftest import COARSE, NU, PAIR, SIGMA_Y, E, R
 
-from calib.fe.axisym import quadrature_strain
-from calib.fe import (ContactSolver, StepNotConverged, contact_radius_from_gap,
+from calib.fe import (ContactSolver, Material, StepNotConverged, VonMisesMaterial, contact_radius_from_gap,
                       contact_radius_from_pressure, run_load_path)
+from calib.fe.axisym import quadrature_strain
 from calib.fe.elastic import ElasticMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
-
-from conftest import COARSE, E, NU, PAIR, R
 
 MEDIUM = HemisphereMeshSpec(radius=R, contact_size=8e-5, refined_radius=1.6e-3,
                             refined_depth=5e-4, far_size=1e-2, growth=0.3)
@@ -45,8 +44,9 @@ def test_material_validates_and_is_pure():
     strain = np.array([[[-NU * s / E, s / E, -NU * s / E, 0.0],
                         [0.0, 0.0, 0.0, tau * 2 * (1 + NU) / E]]])
     stress, _, _ = m.update(strain, m.initial_state(1, 2))
-    np.testing.assert_allclose(stress[0, 0], [0.0, s, 0.0, 0.0], atol=1e-6 * s)
-    np.testing.assert_allclose(stress[0, 1], [0.0, 0.0, 0.0, tau], atol=1e-6 * s)
+    # closed forms: exact up to round-off
+    np.testing.assert_allclose(stress[0, 0], [0.0, s, 0.0, 0.0], atol=1e-14 * s)
+    np.testing.assert_allclose(stress[0, 1], [0.0, 0.0, 0.0, tau], atol=1e-14 * s)
 
 
 def test_patch_uniform_compression_is_exact(solver):
@@ -82,7 +82,9 @@ def test_contact_force_equals_plate_reaction_and_force_is_hit(hertz_path):
     for res in results:
         rec = res.record
         assert rec.converged and rec.residual_norm <= rec.residual_tolerance
-        assert rec.P == pytest.approx(rec.target, rel=1e-4)
+        # the target force is on the plate unknown, met to the residual tolerance 1e-8 (measured
+        # 2e-11)
+        assert rec.P == pytest.approx(rec.target, rel=1e-8)
         assert rec.contact_force == pytest.approx(rec.P, rel=1e-8)
 
 
@@ -99,14 +101,16 @@ def test_hertz_limit_on_coarse_mesh(hertz_path):
     results, _ = hertz_path
     rec = results[-1].record
     a = PAIR.hertz_radius(rec.P)
-    assert rec.contact_radius == pytest.approx(a, rel=5e-3)
-    assert rec.peak_pressure == pytest.approx(PAIR.hertz_peak_pressure(rec.P), rel=1e-2)
+    # bounds: about twice the errors measured on this mesh (a -0.09 %, p0 -0.04 %, pressure
+    # profile 0.13 % of p0, alpha -0.32 %)
+    assert rec.contact_radius == pytest.approx(a, rel=2e-3)
+    assert rec.peak_pressure == pytest.approx(PAIR.hertz_peak_pressure(rec.P), rel=1e-3)
     # finite hemisphere with rigid top: approach a few 0.1 % below the half-space value
-    assert rec.alpha == pytest.approx(PAIR.hertz_approach(rec.P), rel=1e-2)
+    assert -6e-3 < rec.alpha / PAIR.hertz_approach(rec.P) - 1 < 0
     res = results[-1]
     inside = res.pressure_r < 0.8 * a
     p_h = PAIR.hertz_pressure(res.pressure_r[inside], rec.P)
-    assert np.abs(res.pressure[inside] - p_h).max() < 0.02 * p_h.max()
+    assert np.abs(res.pressure[inside] - p_h).max() < 3e-3 * p_h.max()
 
 
 def test_displacement_control_matches_force_control(solver, hertz_path):
@@ -185,4 +189,9 @@ def test_contact_radius_error_decreases_under_refinement(cache, solver):
                 for res in results]
         errors.append(max(errs))
     # nodal contact radius: O(h) (node spacing), so halving h roughly halves the worst error
-    assert errors[1] < 0.75 * errors[0]
+    assert errors[1] < 0.5 * errors[0]  # measured: 0.36 x
+
+
+def test_both_materials_meet_the_protocol():
+    assert isinstance(ElasticMaterial(E, NU), Material)
+    assert isinstance(VonMisesMaterial(E, NU, SIGMA_Y), Material)

@@ -72,9 +72,11 @@ def test_contact_zone_is_uniformly_fine_and_far_field_coarse(coarse):
     r_mid = ends[0].mean(axis=0)
     fine = r_mid < COARSE.refined_radius
     h = COARSE.contact_size
-    assert fine.sum() >= COARSE.refined_radius / h * 0.8
-    assert 0.5 * h < length[fine].min() and length[fine].max() < 1.5 * h
-    assert length.max() > 0.5 * COARSE.far_size
+    # gmsh meets a uniform size on the arc to an integer number of segments (measured: all
+    # 0.9935 h, 10 of them); the far field grows to far_size (measured: 0.992 far_size)
+    assert abs(fine.sum() - COARSE.refined_radius / h) <= 1
+    np.testing.assert_allclose(length[fine], h, rtol=0.02)
+    assert 0.9 * COARSE.far_size < length.max() <= 1.05 * COARSE.far_size
 
 
 def test_cache_reuses_rebuilds_corrupt_and_reports_missing(cache, coarse):

@@ -1,4 +1,4 @@
-"""Verification of the von Mises radial return (calib/plasticity.py).
+"""Verification of the von Mises radial return (calib.fe.von_mises).
 
 Closed forms (uniaxial stress, pure shear, proportional paths), an independent scalar reference
 written with full 3x3 tensors, the consistent tangent against central finite differences, and
@@ -155,9 +155,15 @@ def test_elastic_below_yield_returns_elastic_stress_and_moduli():
     factor = rng.uniform(0.0, 0.99, q_trial.shape) * SIGMA_Y / q_trial
     strain = plastic_old + factor[..., None] * (strain - plastic_old)
     stress, tangent, increment = radial_return(strain, plastic_old, E, NU, SIGMA_Y)
-    D = elastic_matrix(E, NU)
-    expected = np.einsum("ij,...j->...i", D, strain - plastic_old)
+    # Hooke's law in tensor form, sigma = lambda tr(e) 1 + 2 mu e, e = eps - eps_p, written in
+    # plain stress components (independent of D); the shear e_rz is half the engineering gamma_rz
+    lam = E * NU / ((1 + NU) * (1 - 2 * NU))
+    e = strain - plastic_old
+    trace = e[..., 0] + e[..., 1] + e[..., 2]
+    expected = np.stack([lam * trace + 2 * MU * e[..., 0], lam * trace + 2 * MU * e[..., 1],
+                         lam * trace + 2 * MU * e[..., 2], 2 * MU * (0.5 * e[..., 3])], axis=-1)
     np.testing.assert_allclose(stress, expected, rtol=0, atol=4e-16 * np.abs(expected).max())
+    D = elastic_matrix(E, NU)
     assert np.array_equal(tangent, np.broadcast_to(D, tangent.shape))  # bit for bit
     assert np.array_equal(increment, np.zeros_like(increment))
     assert not yielded_points(increment).any()
