@@ -9,8 +9,12 @@ import numpy as np
 
 
 def check_real(name: str, value, *, low: float | None = None, low_inclusive: bool = False,
-               high: float | None = None, high_inclusive: bool = False, unit: str = "") -> float:
-    """Return ``value`` as a finite float, or raise ValueError naming ``name`` and its range."""
+               high: float | None = None, high_inclusive: bool = False, unit: str = "",
+               text: bool = False) -> float:
+    """Return ``value`` as a finite float, or raise ValueError naming ``name`` and its range.
+
+    A string is a number only when ``text`` says the value was typed (a command-line flag);
+    from the API a string is refused like any other non-number."""
     bounds = []
     if low is not None:
         bounds.append(f"{name} {'>=' if low_inclusive else '>'} {low:g}")
@@ -20,6 +24,8 @@ def check_real(name: str, value, *, low: float | None = None, low_inclusive: boo
     allowed += f" {unit}".rstrip() if unit else ""
     if isinstance(value, (bool, np.bool_)):        # float(True) == 1.0: never a silent number
         raise ValueError(f"{name} must be a number ({allowed}), got {value!r}")
+    if isinstance(value, str) and not text:
+        raise ValueError(f"{name} must be a number ({allowed}), got the text {value!r}")
     if not isinstance(value, (Real, np.number)):
         try:
             value = float(value)

@@ -29,9 +29,9 @@ def hertz_path(solver):
 
 
 def test_material_validates_and_is_pure():
-    with pytest.raises(ValueError, match="E must"):
+    with pytest.raises(ValueError, match="^E "):
         ElasticMaterial(-1.0, 0.3)
-    with pytest.raises(ValueError, match="nu must"):
+    with pytest.raises(ValueError, match="^nu "):
         ElasticMaterial(1.0, 0.5)
     m = ElasticMaterial(E, NU)
     strain = np.random.default_rng(1).standard_normal((3, 6, 4))

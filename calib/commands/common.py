@@ -27,7 +27,7 @@ def flag_name(key: str) -> str:
 def number(flag: str, text, default=None, **allowed) -> float:
     """``text`` as a finite float inside the ``allowed`` range (check_real's keywords), or
     ``default`` when the flag was not given."""
-    return default if text is None else check_real(flag, text, **allowed)
+    return default if text is None else check_real(flag, text, text=True, **allowed)
 
 
 def add_material_arguments(parser) -> None:

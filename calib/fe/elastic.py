@@ -4,13 +4,12 @@ stress = D strain at every quadrature point, D from calib.fe.material.elastic_ma
 """
 from __future__ import annotations
 
-import numbers
 from dataclasses import dataclass
 from typing import ClassVar
 
 import numpy as np
 
-from calib.fe.material import IsotropicElasticity
+from calib.fe.material import IsotropicElasticity, elastic_constants
 
 
 @dataclass(frozen=True)
@@ -32,12 +31,9 @@ class ElasticMaterial(IsotropicElasticity):
     is_linear: ClassVar[bool] = True  # the tangent never changes: the solver may reuse it
 
     def __post_init__(self):
-        if not (isinstance(self.E, numbers.Real) and not isinstance(self.E, (bool, np.bool_))
-                and np.isfinite(self.E) and self.E > 0):
-            raise ValueError(f"E must be a finite Young's modulus > 0 [Pa], got {self.E!r}")
-        if not (isinstance(self.nu, numbers.Real) and not isinstance(self.nu, (bool, np.bool_))
-                and 0.0 <= self.nu < 0.5):
-            raise ValueError(f"nu must be a Poisson ratio in [0, 0.5), got {self.nu!r}")
+        E, nu = elastic_constants(self.E, self.nu)
+        object.__setattr__(self, "E", E)
+        object.__setattr__(self, "nu", nu)
 
     def initial_state(self, n_elements: int, n_qp: int) -> ElasticState:
         return ElasticState()

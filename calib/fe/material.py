@@ -16,10 +16,11 @@ Poisson's ratio nu [-],
 """
 from __future__ import annotations
 
-import math
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
+
+from nfdmodel import check_real
 
 
 @runtime_checkable
@@ -45,13 +46,17 @@ class Material(Protocol):
         (E, Q, 4) [-], from the committed state."""
 
 
+def elastic_constants(E, nu) -> tuple[float, float]:
+    """(E, nu) as floats: Young's modulus E > 0 [Pa] and Poisson's ratio 0 <= nu < 0.5, or a
+    ValueError naming the parameter and its range (nfdmodel.check_real, the one validator)."""
+    return (check_real("E", E, low=0.0, unit="[Pa] (Young's modulus)"),
+            check_real("nu", nu, low=0.0, low_inclusive=True, high=0.5, unit="(Poisson's ratio)"))
+
+
 def lame_constants(E: float, nu: float) -> tuple[float, float, float]:
     """(lambda, mu, K) [Pa] of an isotropic solid with Young's modulus E [Pa] > 0 and Poisson's
     ratio 0 <= nu < 0.5."""
-    if not (math.isfinite(E) and E > 0):
-        raise ValueError(f"E must be a finite Young's modulus > 0 [Pa], got {E!r}")
-    if not 0.0 <= nu < 0.5:
-        raise ValueError(f"nu must be a Poisson ratio in [0, 0.5), got {nu!r}")
+    E, nu = elastic_constants(E, nu)
     return (E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu)),
             E / (3.0 * (1.0 - 2.0 * nu)))
 

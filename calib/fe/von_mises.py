@@ -60,7 +60,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from calib.fe.material import IsotropicElasticity, elastic_matrix, lame_constants
+from calib.fe.material import IsotropicElasticity, elastic_constants, elastic_matrix, lame_constants
+from nfdmodel import check_real
 
 __all__ = [
     "PlasticState",
@@ -88,24 +89,10 @@ _TENSOR_NORM_WEIGHTS = np.array([1.0, 1.0, 1.0, 2.0])
 # --------------------------------------------------------------------------------------------
 # validation
 # --------------------------------------------------------------------------------------------
-def _real_scalar(value, name: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a real number, got {value!r}")
-    return float(value)
-
-
 def _validated_parameters(E, nu, sigma_y) -> tuple[float, float, float]:
     """(E, nu, sigma_y) as floats, or a ValueError naming the parameter and its allowed range."""
-    E = _real_scalar(E, "E")
-    nu = _real_scalar(nu, "nu")
-    sigma_y = _real_scalar(sigma_y, "sigma_y")
-    if not (math.isfinite(E) and E > 0.0):
-        raise ValueError(f"E (Young's modulus, Pa) must be finite and > 0, got {E!r}")
-    if not (math.isfinite(nu) and 0.0 <= nu < 0.5):
-        raise ValueError(f"nu (Poisson's ratio) must satisfy 0 <= nu < 0.5, got {nu!r}")
-    if not (math.isfinite(sigma_y) and sigma_y > 0.0):
-        raise ValueError(f"sigma_y (yield stress, Pa) must be finite and > 0, got {sigma_y!r}")
-    return E, nu, sigma_y
+    E, nu = elastic_constants(E, nu)
+    return E, nu, check_real("sigma_y", sigma_y, low=0.0, unit="[Pa] (yield stress)")
 
 
 def _component_array(values, name: str) -> np.ndarray:
