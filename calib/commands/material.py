@@ -35,14 +35,14 @@ def run(ns) -> int:
     values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
     if ns.params_out:
         from calib import output
-        from nfdmodel import ContactPair, VZParams, parameter_record
+        from calib.report.calibration import write_parameter_file
+        from nfdmodel import ContactPair, VZParams
 
         params = VZParams.from_dimensionless(ContactPair.sphere_flat(material, radius),
                                              values["Ca_hat"], values["Kc_hat"])
-        record = parameter_record(params, radius, material)
-        record.update({"fit": {"shipped": "master table", "accuracy": values["accuracy"],
-                               "table": values["table"]}, "stamp": output.stamp(0.0)})
-        output.write_json(ns.params_out, record)
+        write_parameter_file(ns.params_out, params, radius, material,
+                             {"shipped": "master table", "accuracy": values["accuracy"],
+                              "table": values["table"]}, output.stamp(0.0))
     if ns.json:
         print(json.dumps(values, indent=2))
         return 0

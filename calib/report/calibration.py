@@ -38,25 +38,29 @@ def _derived_columns(rows: list[dict], result: CalibrationResult) -> list[dict]:
     return out
 
 
-def parameter_file(result: CalibrationResult, stamp: dict) -> dict:
-    """The parameter file (JSON): nfdmodel.parameter_record (values, units, material) plus the fit,
-    the FE errors, the mesh and the stamp; ``nfdmodel.load_parameters`` reads it."""
+def write_parameter_file(path, params, radius: float, material, fit: dict, stamp: dict,
+                         **extra) -> Path:
+    """The one writer of parameter files (JSON, atomically): nfdmodel.parameter_record (law,
+    Ca [m/N], Kc [1/N], the dimensionless constants, the yield point, the material and R [m],
+    units) plus where the constants come from (``fit``), anything in ``extra`` (FE errors,
+    mesh) and the provenance ``stamp``. ``nfdmodel.load_parameters`` reads it back."""
+    return output.write_json(path, {**parameter_record(params, radius, material), "fit": fit,
+                                    **extra, "stamp": stamp})
+
+
+def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -> Path:
+    """The parameter file of a calibration: the shipped fit, both fits' figures, the FE errors."""
     s = summary(result)
-    record = parameter_record(result.params, result.spec.radius, result.spec.material)
-    record.update({
-        "fit": {"shipped": result.shipped,
-                "why": ("radius: the paper's definition (least squares of a_p and C_R - 1 against "
-                        "P - P_Y on the FE loading points)" if result.shipped == "radius" else
-                        "force: minimises the runtime law's force error along the FE P-alpha paths"),
-                "radius_fit": s["radius_fit"], "force_fit": s["force_fit"],
-                "loading_only": s["loading_only"]},
-        "fe_errors": {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
-                      "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
-                                for p in s["paths"]]},
-        "mesh": result.mesh_info,
-        "stamp": stamp,
-    })
-    return record
+    fit = {"shipped": result.shipped,
+           "why": ("radius: the paper's definition (least squares of a_p and C_R - 1 against "
+                   "P - P_Y on the FE loading points)" if result.shipped == "radius" else
+                   "force: minimises the runtime law's force error along the FE P-alpha paths"),
+           "radius_fit": s["radius_fit"], "force_fit": s["force_fit"], "loading_only": s["loading_only"]}
+    fe_errors = {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
+                 "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
+                           for p in s["paths"]]}
+    return write_parameter_file(path, result.params, result.spec.radius, result.spec.material, fit,
+                                stamp, fe_errors=fe_errors, mesh=result.mesh_info)
 
 
 def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None:
@@ -165,7 +169,7 @@ def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool 
     out = Path(out)
     stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
     comment = output.stamp_comment(stamp)
-    output.write_json(out / "parameters.json", parameter_file(result, stamp))
+    write_calibration_parameters(out / "parameters.json", result, stamp)
     output.write_json(out / "calibration.json", {**summary(result), "stamp": stamp})
     loading = _derived_columns(result.load_paths.loading_rows, result)
     output.write_csv(out / "loading.csv", loading, comment=comment)

@@ -87,7 +87,7 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
         calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu)
     else:  # the parameter file, the summary and (loading only) the loading history
         stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
-        output.write_json(out / "parameters.json", calibration_report.parameter_file(result, stamp))
+        calibration_report.write_calibration_parameters(out / "parameters.json", result, stamp)
         output.write_json(out / "calibration.json", {**calibration.summary(result), "stamp": stamp})
         if scene.outputs.histories:
             output.write_csv(out / "loading.csv", result.load_paths.loading_rows,
