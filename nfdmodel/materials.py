@@ -105,7 +105,7 @@ class ContactPair:
     """Effective contact properties of a pair and its incipient-yield point.
 
     Fields: R_star [m], E_star [Pa], sigma_y [Pa] and nu [-] of the body that yields first (the
-    softer one), mass_star [kg]. Derived (Vu-Quoc & Zhang 1999 eq. 3.7):
+    lower A_Y(nu) sigma_y), mass_star [kg]. Derived (Vu-Quoc & Zhang 1999 eq. 3.7):
 
         p_Y     = A_Y(nu) sigma_y                           contact yield pressure [Pa]
         P_Y     = pi^3 R*^2 p_Y^3 / (6 E*^2)                yield force [N]
@@ -158,7 +158,10 @@ class ContactPair:
                       R_j: float) -> "ContactPair":
         """Two spheres: 1/R* = 1/R_i + 1/R_j, 1/E* = sum (1 - nu^2)/E, m* = m_i m_j/(m_i + m_j).
 
-        The yield point uses sigma_y and nu of the body with the lower yield stress.
+        Both bodies carry the same Hertz pressure; body k yields first below its surface when
+        p0 = A_Y(nu_k) sigma_y,k, so the yield point uses sigma_y and nu of the body with the
+        lower A_Y(nu) sigma_y (not simply the lower sigma_y: A_Y grows from 1.30 at nu = 0 to
+        1.86 at nu = 0.49). On a tie the first body is taken.
         """
         for name, mat in (("material_i", material_i), ("material_j", material_j)):
             if not isinstance(mat, Material):
@@ -168,8 +171,8 @@ class ContactPair:
         R_star = 1.0 / (1.0 / R_i + 1.0 / R_j)
         E_star = 1.0 / (1.0 / material_i.plane_strain_modulus + 1.0 / material_j.plane_strain_modulus)
         m_i, m_j = material_i.sphere_mass(R_i), material_j.sphere_mass(R_j)
-        softer = material_i if material_i.sigma_y <= material_j.sigma_y else material_j
-        return cls(R_star, E_star, softer.sigma_y, softer.nu, m_i * m_j / (m_i + m_j))
+        first_to_yield = min((material_i, material_j), key=lambda m: yield_factor(m.nu) * m.sigma_y)
+        return cls(R_star, E_star, first_to_yield.sigma_y, first_to_yield.nu, m_i * m_j / (m_i + m_j))
 
     @classmethod
     def reference(cls) -> "ContactPair":

@@ -51,6 +51,21 @@ def test_identical_spheres_have_twice_the_approach_of_sphere_on_flat():
     assert spheres.mass_star == pytest.approx(flat.mass_star / 2)
 
 
+def test_sphere_sphere_yields_in_the_body_with_the_lower_yield_pressure():
+    """By hand: A_Y(0) = 1.2993 and A_Y(0.45) = 1.8061 (the axis maximum of |sigma_z - sigma_r|/p0),
+    so a body with sigma_Y = 100 MPa and nu = 0.45 yields at p0 = 180.6 MPa, after one with
+    sigma_Y = 110 MPa and nu = 0 (p0 = 142.9 MPa): the second yields first, although its yield
+    stress is the higher one."""
+    high_nu = Material(70e9, 0.45, 100e6, 2700)
+    low_nu = Material(70e9, 0.0, 110e6, 2700)
+    assert yield_factor(0.45) * 100e6 == pytest.approx(180.6e6, rel=1e-3)
+    assert yield_factor(0.0) * 110e6 == pytest.approx(142.9e6, rel=1e-3)
+    for pair in (ContactPair.sphere_sphere(high_nu, 0.01, low_nu, 0.02),
+                 ContactPair.sphere_sphere(low_nu, 0.02, high_nu, 0.01)):
+        assert (pair.sigma_y, pair.nu) == (110e6, 0.0)
+        assert pair.p_Y == pytest.approx(142.9e6, rel=1e-3)
+
+
 def test_sphere_sphere_uses_softer_body_for_yield():
     hard = Material(200e9, 0.29, 1e9, 7800)
     soft = Material(70e9, 0.33, 100e6, 2700)
