@@ -17,6 +17,8 @@ import functools
 import importlib
 import sys
 
+from calib.optional import MissingOptionalPart
+
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
 COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "stability")
 
@@ -85,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
     ns = parser.parse_args(join_negative_values(argv, parser.one_value_flags))
     try:
         return int(ns.run(ns) or 0)
-    except (ValueError, OSError) as exc:  # OSError: a missing file, an output folder under a file
+    except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file
         print(f"nfdcal {ns.command}: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:

@@ -198,3 +198,18 @@ def test_shipped_master_table_agrees_with_direct_fe_off_its_nodes(nu, ratio, ref
     off = fe_over_table(nu, ratio)
     assert off[0] == pytest.approx(reference_node[0], rel=0.01)
     assert off[1] == pytest.approx(reference_node[1], rel=0.015)
+
+
+def test_a_scheduler_without_dask_is_one_line_before_any_work(tmp_path, monkeypatch, capsys):
+    """--scheduler needs the dask extra: without it, one line naming the extra and exit 2, before
+    a mesh is built or a material calibrated."""
+    import sys
+
+    monkeypatch.setitem(sys.modules, "distributed", None)        # "not installed"
+    monkeypatch.setattr(tables, "calibrate_task", lambda task: pytest.fail("worked without Dask"))
+    path = tiny_scene(tmp_path, "nodask", nu="[0.3]", ratio="[700.0]")
+    assert nfdcal(monkeypatch, "table", path, "--out", tmp_path / "out", "--scheduler",
+                  "tcp://127.0.0.1:1", "--quiet") == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "pip install 'nfdcal[dask]'" in err[0] and "--scheduler" in err[0]
+    assert not (tmp_path / "out" / "materials").exists()

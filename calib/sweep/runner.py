@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
 from calib import output
+from calib.optional import require
 from meshes.hemisphere import hemisphere_mesh, mesh_path
 
 
@@ -61,10 +62,9 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
     local processes (spawned: no forked copies of threads or gmsh state), or on the Dask
     distributed cluster at ``scheduler``. ``function`` must be module-level (it is pickled)."""
     if scheduler:
-        from distributed import Client, as_completed  # optional: the dask extra
-
-        with Client(scheduler) as client:
-            for future in as_completed(client.map(function, tasks, pure=False)):
+        distributed = require("distributed", "dask", "a sweep on a Dask cluster (--scheduler)")
+        with distributed.Client(scheduler) as client:
+            for future in distributed.as_completed(client.map(function, tasks, pure=False)):
                 yield future.result()
         return
     if workers <= 1 or len(tasks) <= 1:
@@ -90,6 +90,8 @@ def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path,
     ``prune``: delete stored results of tasks no longer in the sweep. ``progress`` receives one
     line per finished task (``describe(row)`` appended).
     """
+    if scheduler:  # before any work: a missing Dask is one line, not a failure after meshing
+        require("distributed", "dask", "a sweep on a Dask cluster (--scheduler)")
     say = progress or (lambda message: None)
     folder = Path(folder)
     keys = [task["key"] for task in tasks]
