@@ -31,6 +31,14 @@ def blocks(n: int):
 
 
 def turning_point_step(delta, state, loading_branch, three_halves: bool, pair: ContactPair):
+    """:func:`step_kernel` with numpy's overflow and invalid-value warnings off: a force that
+    overflows (delta ~ 1e300 m) ends in check_force's ValueError naming delta, never in a
+    warning first."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return step_kernel(delta, state, loading_branch, three_halves, pair)
+
+
+def step_kernel(delta, state, loading_branch, three_halves: bool, pair: ContactPair):
     """Force and sparse trial history of a turning-point law (module doc): (P, HistoryUpdate).
 
     Unloading/reloading for all contacts: P = K_u <delta - delta_res>^n (n = 3/2 if
