@@ -123,25 +123,56 @@ def to_json(obj: Any) -> str:
     return json.dumps(_to_jsonable(obj), indent=2, allow_nan=False) + "\n"
 
 
+def new_file_mode() -> int:
+    """The permission bits a new file gets under the user's umask (0o666 & ~umask)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def writable_target(path: str | os.PathLike) -> Path:
+    """The file that writing ``path`` replaces: ``path`` itself, or the file a symbolic link
+    points to (written through, the link kept). OSError naming ``path`` as given if it is, or
+    points to, anything but a regular file (a folder, a FIFO, a device): those are never
+    replaced."""
+    given = Path(path)
+    target = given.resolve() if given.is_symlink() else given
+    if target.exists() and not target.is_file():
+        kind = ("a folder" if target.is_dir() else "a FIFO" if target.is_fifo() else
+                "a device" if target.is_block_device() or target.is_char_device() else
+                "a socket" if target.is_socket() else "not a regular file")
+        via = f" (a link to {target})" if target != given else ""
+        raise OSError(f"cannot write {given}{via}: it is {kind}; give the path of a file")
+    return target
+
+
 def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically (temporary file in the same folder, then rename)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    """Write ``data`` to ``path`` atomically (temporary file in the same folder, then rename),
+    with the user's umask; a symbolic link is written through. Only a regular file is ever
+    replaced (``writable_target``); an OS error names ``path``, never the temporary file."""
+    given = Path(path)
+    path = writable_target(given)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    except OSError as exc:
+        raise OSError(f"cannot write {given}: {exc.strerror or exc}") from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
             fh.flush()
             os.fsync(fh.fileno())
-        os.chmod(tmp, 0o644)  # mkstemp makes 0600; results are meant to be read by others
+        os.chmod(tmp, new_file_mode())  # mkstemp makes 0600: follow the umask like open() would
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             os.unlink(tmp)
         except FileNotFoundError:
             pass
+        if isinstance(exc, OSError):
+            raise OSError(f"cannot write {given}: {exc.strerror or exc}") from None
         raise
-    return path
+    return given
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:

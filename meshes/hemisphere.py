@@ -44,6 +44,8 @@ import numpy as np
 from platformdirs import user_cache_dir
 from skfem import MeshTri2
 
+from calib.output import new_file_mode
+
 GENERATOR_VERSION = 2  # bump when the meshing recipe changes: invalidates the cache
 _GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
 
@@ -197,6 +199,7 @@ def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
             os.close(fd)
             try:
                 gmsh.write(tmp)
+                os.chmod(tmp, new_file_mode())  # mkstemp makes 0600: follow the user's umask
                 os.replace(tmp, path)
             except BaseException:
                 Path(tmp).unlink(missing_ok=True)

@@ -12,6 +12,7 @@ Files in ``out`` (default results/calibration):
 """
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
 
 import meshio
@@ -84,9 +85,9 @@ def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None
                       point_data={"displacement": displacement, "contact_pressure": contact_pressure},
                       cell_data={"equivalent_plastic_strain": [eps_p.mean(axis=1)],
                                  "von_mises_stress": [von_mises_stress(stress).mean(axis=1)]})
-    tmp = path.with_name(f".{path.name}.tmp.vtu")
-    meshio.write(tmp, out)
-    tmp.replace(path)
+    with tempfile.TemporaryDirectory() as scratch:  # meshio writes a named file; the bytes go
+        meshio.write(Path(scratch) / "state.vtu", out)  # through the one atomic writer
+        output.atomic_write_bytes(path, (Path(scratch) / "state.vtu").read_bytes())
 
 
 def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:

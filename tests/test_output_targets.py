@@ -1,0 +1,95 @@
+"""Where results are written (calib.output): only regular files are ever replaced, a symbolic
+link is written through, errors name the path the user gave (never a temporary file), and new
+files follow the user's umask (results and the mesh cache alike)."""
+import os
+import stat
+
+import pytest
+
+from calib import output
+from calib.cli import main
+
+
+def fifo(tmp_path):
+    path = tmp_path / "pipe"
+    os.mkfifo(path)
+    return path
+
+
+def folder(tmp_path):
+    path = tmp_path / "folder"
+    path.mkdir()
+    return path
+
+
+def link_to_device(tmp_path):
+    path = tmp_path / "null"
+    path.symlink_to("/dev/null")
+    return path
+
+
+def link_to_folder(tmp_path):
+    path = tmp_path / "link"
+    path.symlink_to(folder(tmp_path))
+    return path
+
+
+@pytest.mark.parametrize("make, kind", [(fifo, "a FIFO"), (folder, "a folder"),
+                                        (link_to_device, "a device"), (link_to_folder, "a folder")],
+                         ids=["fifo", "folder", "link to a device", "link to a folder"])
+def test_anything_but_a_regular_file_is_refused_and_left_alone(tmp_path, make, kind):
+    path = make(tmp_path)
+    before = os.stat(path)
+    with pytest.raises(OSError, match=f"^cannot write {path}.*it is {kind}") as caught:
+        output.write_json(path, {"a": 1})
+    assert ".tmp" not in str(caught.value)
+    after = os.stat(path)
+    assert stat.S_IFMT(after.st_mode) == stat.S_IFMT(before.st_mode) and after.st_ino == before.st_ino
+    assert not [p for p in tmp_path.rglob(".*.tmp")]
+
+
+def test_a_link_to_a_file_is_written_through(tmp_path):
+    target = tmp_path / "real.json"
+    target.write_text("{}")
+    link = tmp_path / "link.json"
+    link.symlink_to(target)
+    output.write_json(link, {"a": 1})
+    assert link.is_symlink() and '"a": 1' in target.read_text()
+
+
+def test_an_unwritable_folder_names_the_given_path(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    with pytest.raises(OSError, match=f"^cannot write {blocker / 'sub' / 'r.json'}") as caught:
+        output.write_json(blocker / "sub" / "r.json", {})
+    assert ".tmp" not in str(caught.value)
+
+
+@pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o027, 0o640), (0o077, 0o600)])
+def test_new_files_follow_the_umask(tmp_path, umask, mode):
+    old = os.umask(umask)
+    try:
+        path = output.write_json(tmp_path / "r.json", {})
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(os.stat(path).st_mode) == mode
+
+
+def test_mesh_cache_files_follow_the_umask(tmp_path):
+    from meshes.hemisphere import HemisphereMeshSpec, build_msh
+
+    old = os.umask(0o022)
+    try:
+        path = build_msh(HemisphereMeshSpec(contact_size=4e-4, refined_radius=2e-3, refined_depth=1e-3,
+                                            far_size=2e-2, growth=0.5), tmp_path / "m.msh")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(os.stat(path).st_mode) == 0o644
+
+
+def test_the_cli_says_one_line_naming_the_path(tmp_path, capsys):
+    path = folder(tmp_path)
+    assert main(["material", "--E", "205e9", "--nu", "0.29", "--sigma-y", "655e6", "--R", "0.005",
+                 "--params-out", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"cannot write {path}: it is a folder" in err[0] and ".tmp" not in err[0]
