@@ -226,3 +226,18 @@ def test_a_nan_row_never_reaches_a_result_file(tmp_path):
     with pytest.raises(ValueError, match="non-finite"):
         output.write_json(tmp_path / "r.json", {"rows": [{"e": np.float64("nan")}]})
     assert not any(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize("argv", [
+    ["calibrate", "--peaks", "10"],                                   # below P_Y = 36.6 N
+    ["calibrate", "--peaks", "20", "37"],                             # one load step above P_Y
+    ["calibrate", "--E", "210e9", "--nu", "0.29", "--sigma-y", "1.2e9", "--R", "0.005", "--peaks", "1e-3"],
+], ids=["below first yield", "one point above first yield", "another material below first yield"])
+def test_a_plan_that_cannot_be_fitted_is_refused_before_any_fe(argv, tmp_path, capsys, monkeypatch):
+    import meshes.hemisphere
+
+    monkeypatch.setattr(meshes.hemisphere, "build_msh", lambda *a, **k: pytest.fail("meshed"))
+    assert main(argv + ["--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "P_max out of range" in err[0] and "smallest admissible largest P_max" in err[0]
+    assert not (tmp_path / "out").exists()

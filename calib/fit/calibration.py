@@ -26,7 +26,7 @@ from calib.fe.loadpath import LoadPathResults, run_load_paths
 from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
 from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
                                      radius_law_data, relative_force_residuals, window_study)
-from calib.fit.recipe import CalibrationSpec
+from calib.fit.recipe import CalibrationSpec, check_fittable
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import ContactPair, Material, VZParams, get_law
 
@@ -119,6 +119,7 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
         raise ValueError(f"ship must be 'radius' or 'force', got {ship!r}")
     if ship == "force" and not unload:
         raise ValueError("ship = 'force' fits the force along load-unload paths: it needs unload=True")
+    check_fittable(spec)                # before the mesh: a plan that cannot be fitted costs nothing
     say = progress or (lambda message: None)
     t0 = time.perf_counter()
     hemisphere = hemisphere_mesh(spec.mesh)

@@ -20,6 +20,7 @@ plan whichever way it is asked for:
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -128,6 +129,40 @@ class CalibrationSpec:
     @property
     def pair(self) -> ContactPair:
         return ContactPair.sphere_flat(self.material, self.radius)
+
+
+MIN_FIT_POINTS = 2   # loading points above P_Y the radius fit needs (a slope and its error)
+
+
+def fit_points(plan: LoadPathPlan, P_Y: float) -> int:
+    """Loading points of ``plan`` above P_Y [N]: the points the radius fit of Ca and Kc uses."""
+    return sum(1 for load in plan.loading_targets() if load > P_Y)
+
+
+def check_fittable(spec: CalibrationSpec) -> None:
+    """ValueError before any FE work when the load plan gives the fit fewer than MIN_FIT_POINTS
+    points above P_Y, naming the smallest admissible largest load: the peaks scaled up until
+    the plan (same increments per peak) has enough points."""
+    P_Y = spec.pair.P_Y
+    plan = spec.plan
+    if fit_points(plan, P_Y) >= MIN_FIT_POINTS:
+        return
+
+    def scaled(factor):
+        return dataclasses.replace(plan, peaks=tuple(p * factor for p in plan.peaks),
+                                   loading_step=plan.loading_step * factor)
+
+    low, high = 1.0, 2.0 * P_Y / plan.peaks[-1] + 2.0
+    while fit_points(scaled(high), P_Y) < MIN_FIT_POINTS:
+        high *= 2.0
+    while high - low > 1e-4 * high:
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if fit_points(scaled(middle), P_Y) < MIN_FIT_POINTS else (low, middle)
+    smallest = high * plan.peaks[-1]
+    raise ValueError(f"P_max out of range: the fit of Ca and Kc needs at least {MIN_FIT_POINTS} load "
+                     f"steps above first yield P_Y = {P_Y:.4g} N, this load plan (largest P_max = "
+                     f"{plan.peaks[-1]:.4g} N) has {fit_points(plan, P_Y)}; the smallest admissible "
+                     f"largest P_max is {smallest:.4g} N ({smallest / P_Y:.3g} P_Y)")
 
 
 # ----------------------------------------------------------------------------- the recipe

@@ -123,6 +123,11 @@ def plan(scene: Scene) -> list[PlannedStage]:
                                     f"{scene.hertz.loads(material.pair())[1]:.4g} N"))
         if scene.load_paths is not None:
             spec = calibration_spec(scene, material)
+            if scene.calibration_ship is not None:
+                try:
+                    recipe.check_fittable(spec)    # a plan that cannot be fitted: refused at --dry-run
+                except ValueError as exc:
+                    raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
             dofs, exact = mesh_dofs(spec.mesh)
             elastic = not plastic_needed(scene, material)
             n_load = len(spec.plan.loading_targets())

@@ -25,7 +25,9 @@ from pathlib import Path
 from calib import output
 from calib.fit import calibration
 from calib.fit.master_table import MasterTable
+from calib.fit.recipe import check_fittable
 from calib.scenes.plan import calibration_spec
+from calib.scenes.schema import SceneError
 from calib.sweep.runner import run_sweep
 from nfdmodel import VZParams
 
@@ -52,6 +54,10 @@ def tasks_for(scene) -> list[dict]:
     out = []
     for material in scene.materials:
         spec = calibration_spec(scene, material)
+        try:
+            check_fittable(spec)        # before any mesh is built or worker started
+        except ValueError as exc:
+            raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
         out.append({"name": material.name, "inputs": material.inputs(), "spec": spec,
                     "loading_only": loading_only, "key": task_key(spec, loading_only)})
     return out
