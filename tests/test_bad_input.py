@@ -241,3 +241,21 @@ def test_a_plan_that_cannot_be_fitted_is_refused_before_any_fe(argv, tmp_path, c
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "P_max out of range" in err[0] and "smallest admissible largest P_max" in err[0]
     assert not (tmp_path / "out").exists()
+
+
+def test_a_mesh_beyond_this_machine_is_refused_before_meshing(tmp_path, capsys, monkeypatch):
+    """--contact-size 1e-9 (CLI) and contact_size = 1e-12 (a scene, even at --dry-run): the
+    estimate, the machine's limit and the smallest admissible element, before any meshing."""
+    import meshes.hemisphere
+
+    monkeypatch.setattr(meshes.hemisphere, "build_msh", lambda *a, **k: pytest.fail("meshed"))
+    scene = tmp_path / "tiny.toml"
+    scene.write_text('[scene]\nname = "tiny"\n[[material]]\nname = "al"\nE = 70e9\nnu = 0.3\n'
+                     'sigma_y = 100e6\nrho = 2700.0\nR = 0.1\n[mesh]\ncontact_size = 1e-12\n'
+                     '[load_paths]\nP_max = [500.0, 1000.0]\n[calibration]\nship = "radius"\n')
+    for argv in (["calibrate", "--contact-size", "1e-9", "--out", str(tmp_path / "out")],
+                 ["run", str(scene), "--dry-run"]):
+        assert main(argv + ["--quiet"] if argv[0] == "calibrate" else argv) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "contact_size out of range" in err[0]
+        assert "dofs" in err[0] and "GB" in err[0] and "need contact_size >=" in err[0]

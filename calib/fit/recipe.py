@@ -21,13 +21,14 @@ plan whichever way it is asked for:
 from __future__ import annotations
 
 import dataclasses
+import os
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
 from calib.fe.loadpath import LoadPathPlan
-from meshes.hemisphere import HemisphereMeshSpec
+from meshes.hemisphere import HemisphereMeshSpec, estimate_dofs
 from nfdmodel import ContactPair, Material, reference_case
 
 # E / sigma_Y a calibration accepts. Below 20 the yield contact itself is wide (a_Y/R =
@@ -174,6 +175,40 @@ UNLOADING_STEPS = 16
 REFERENCE_FIRST_LOAD = 20.0                     # [N], 0.55 P_Y of the reference sphere
 
 
+# Peak memory of an FE calibration against its dofs, measured (peak RSS of ``nfdcal calibrate``:
+# 146 MB at 6,880 dofs, 478 MB at 27,186): about 35 MB + 16.5 kB per dof.
+MEMORY_BASE_BYTES, MEMORY_BYTES_PER_DOF = 35e6, 16.5e3
+MEMORY_SHARE = 0.8            # of the machine's memory one FE run may plan to use
+
+
+def machine_memory() -> float:
+    """Physical memory of this machine [bytes]."""
+    return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+
+
+def check_machine(mesh: HemisphereMeshSpec) -> None:
+    """ValueError before meshing when the mesh's estimated memory exceeds MEMORY_SHARE of this
+    machine's, naming the estimate, the limit and the smallest admissible contact element."""
+    dofs = estimate_dofs(mesh)
+    limit = MEMORY_SHARE * machine_memory()
+    need = MEMORY_BASE_BYTES + MEMORY_BYTES_PER_DOF * dofs
+    if need <= limit:
+        return
+    low, high = mesh.contact_size, mesh.contact_size
+    while MEMORY_BASE_BYTES + MEMORY_BYTES_PER_DOF * estimate_dofs(
+            dataclasses.replace(mesh, contact_size=high)) > limit:
+        low, high = high, 2.0 * high
+    while high - low > 1e-3 * high:
+        middle = 0.5 * (low + high)
+        fits = MEMORY_BASE_BYTES + MEMORY_BYTES_PER_DOF * estimate_dofs(
+            dataclasses.replace(mesh, contact_size=middle)) <= limit
+        low, high = (low, middle) if fits else (middle, high)
+    raise ValueError(f"contact_size out of range: a contact element of {mesh.contact_size:.3g} m gives "
+                     f"about {dofs:.3g} dofs and needs about {need / 1e9:.3g} GB; this machine allows "
+                     f"{limit / 1e9:.3g} GB ({MEMORY_SHARE:.0%} of its memory): need contact_size >= "
+                     f"{high:.3g} m")
+
+
 def is_reference_sphere(E: float, nu: float, radius: float, sigma_y: float | None = None) -> bool:
     """The paper's sphere (E, nu, R and, if given, sigma_Y of the reference case)."""
     return ((E, nu, radius) == (reference_case.E, reference_case.NU, reference_case.R)
@@ -196,13 +231,16 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
         raise ValueError(f"mesh level must be one of {', '.join(MESH_LEVELS)}, got {level!r}")
     base = HemisphereMeshSpec()
     if reference and contact_size_over_a_max is None and a_max <= base.refined_radius:
-        return HemisphereMeshSpec(contact_size=contact_size or REFERENCE_CONTACT_SIZES[level])
-    ratio = contact_size_over_a_max if contact_size_over_a_max is not None else MESH_LEVELS[level]
-    h = contact_size if contact_size is not None else a_max * ratio
-    return HemisphereMeshSpec(radius=radius, contact_size=h,
-                              refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
-                              refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
-                              far_size=max(radius / 10, h))
+        mesh = HemisphereMeshSpec(contact_size=contact_size or REFERENCE_CONTACT_SIZES[level])
+    else:
+        ratio = contact_size_over_a_max if contact_size_over_a_max is not None else MESH_LEVELS[level]
+        h = contact_size if contact_size is not None else a_max * ratio
+        mesh = HemisphereMeshSpec(radius=radius, contact_size=h,
+                                  refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
+                                  refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
+                                  far_size=max(radius / 10, h))
+    check_machine(mesh)                 # before meshing: a mesh beyond this machine is refused
+    return mesh
 
 
 def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_over_yield=None,

@@ -4,11 +4,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import meshio
-import numpy as np
 
 from calib.fit import recipe
 from calib.scenes.schema import SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial
-from meshes.hemisphere import HemisphereMeshSpec, mesh_path
+from meshes.hemisphere import estimate_dofs, mesh_path
 
 
 # ----------------------------------------------------------------------------- FE specs
@@ -34,36 +33,6 @@ def hertz_mesh_spec(scene: Scene, material: SceneMaterial):
                              contact_size_over_a_max=scene.mesh.contact_size_over_a_max)
 
 
-def estimate_dofs(spec) -> int:
-    """Degrees of freedom of the P2 mesh of ``spec`` without meshing: elements ~ integral of
-    1 / (area of an equilateral triangle of size h(r, z)) over the section, dofs ~ 4.12 x
-    elements (both constants fitted on the reference default mesh: 2,939 elements, 12,112 dofs)."""
-
-    R = spec.radius
-    # polar-like quadrature refined towards the pole, where h is smallest
-    n = 400
-    s = np.geomspace(1e-7, 1.0, n) * R  # distance from the pole
-    theta = np.linspace(0, np.pi / 2, 60)
-    S, T = np.meshgrid(s, theta, indexing="ij")
-    r, z = S * np.cos(T), S * np.sin(T)
-    inside = r**2 + (z - R) ** 2 <= R**2
-    h = spec.size_at(r, z)
-    density = np.where(inside, 1.0 / (np.sqrt(3) / 4 * h**2), 0.0) * S  # Jacobian s
-    elements = np.trapezoid(np.trapezoid(density, theta, axis=1), s)
-    return int(4.12 * elements * ESTIMATE_CALIBRATION)
-
-
-ESTIMATE_CALIBRATION = 1.0  # set below on first use against the reference mesh
-
-
-def _calibrate_estimator():
-    global ESTIMATE_CALIBRATION
-
-    if ESTIMATE_CALIBRATION == 1.0:
-        raw = estimate_dofs(HemisphereMeshSpec())
-        ESTIMATE_CALIBRATION = 12112.0 / raw
-
-
 def mesh_dofs(spec) -> tuple[int, bool]:
     """(dofs, exact) of a mesh: counted from the cached file if there is one, else estimated."""
     path = mesh_path(spec)
@@ -74,7 +43,6 @@ def mesh_dofs(spec) -> tuple[int, bool]:
             return int(2 * (raw.cells_dict["triangle6"].max() + 1)), True
         except Exception:  # a corrupt cache entry is rebuilt at run time: estimate
             pass
-    _calibrate_estimator()
     return estimate_dofs(spec), False
 
 
