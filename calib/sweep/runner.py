@@ -11,10 +11,13 @@ the mesh cache.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import multiprocessing
-from concurrent.futures import ProcessPoolExecutor
-from concurrent.futures import as_completed as completed_futures
+import os
+import signal
+import threading
+import time
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Iterator
@@ -59,7 +62,8 @@ def build_meshes(specs: Iterable, progress: Callable[[str], None]) -> None:
 def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
             scheduler: str | None = None) -> Iterator[dict]:
     """Yield ``function(task)`` as tasks finish: in this process (workers = 1), on ``workers``
-    local processes (spawned: no forked copies of threads or gmsh state), or on the Dask
+    local processes (spawned: no forked copies of threads or gmsh state; they end with the
+    sweep, whether it finishes, is interrupted, terminated or killed), or on the Dask
     distributed cluster at ``scheduler``. ``function`` must be module-level (it is pickled)."""
     if scheduler:
         distributed = require("distributed", "dask", "a sweep on a Dask cluster (--scheduler)")
@@ -72,9 +76,45 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
             yield function(task)
         return
     context = multiprocessing.get_context("spawn")
-    with ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=context) as pool:
-        for future in completed_futures([pool.submit(function, task) for task in tasks]):
-            yield future.result()
+    pool = context.Pool(min(workers, len(tasks)), initializer=die_with_parent, initargs=(os.getpid(),))
+    try:
+        with terminate_as_interrupt():
+            yield from pool.imap_unordered(function, tasks)
+        pool.close()
+    except BaseException:               # Ctrl-C, kill PID, or the caller gave up: no orphans
+        pool.terminate()
+        raise
+    finally:
+        pool.join()
+
+
+def die_with_parent(parent_pid: int) -> None:
+    """Worker initializer: a daemon thread ends the worker as soon as its parent is gone (killed
+    with SIGKILL, which no handler sees), so no worker computes on for nobody."""
+    def watch():
+        while os.getppid() == parent_pid:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="die-with-parent", daemon=True).start()
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt():
+    """``kill PID`` (SIGTERM) stops a sweep like Ctrl-C: a KeyboardInterrupt in the parent, whose
+    handler terminates the workers; every result finished so far is already on disk."""
+    if threading.current_thread() is not threading.main_thread():
+        yield                           # signal handlers belong to the main thread
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path, *,
