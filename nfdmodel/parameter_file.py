@@ -3,7 +3,8 @@
 Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m}, ...}
-Only law, Ca, Kc and material are needed; P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
+Only law, Ca, Kc and material are needed; any other key must be one of ``KEYS`` (a typo is named,
+never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
 agree with the values recomputed here (relative 1e-4), so a stale or hand-edited file is caught.
 """
 from __future__ import annotations
@@ -16,6 +17,10 @@ from .parameters import VZParams
 from .materials import ContactPair, Material
 
 _CONSISTENCY = 1e-4
+# the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
+KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "a_Y", "delta_Y", "material", "units", "fit",
+        "fe_errors", "mesh", "stamp")
+MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 
 
 def parameter_record(params: VZParams, R: float, material: Material) -> dict:
@@ -44,13 +49,21 @@ def load_parameters(path) -> VZParams:
         raise ValueError(f"parameter file {path} is not valid JSON: {exc}") from None
     if not isinstance(data, dict):
         raise ValueError(f"parameter file {path}: expected a JSON object at the top level")
+    unknown = [key for key in data if key not in KEYS]
+    if unknown:
+        raise ValueError(f"parameter file {path}: unknown key(s) {', '.join(map(repr, unknown))}; "
+                         f"allowed: {', '.join(KEYS)}")
     law = data.get("law", "vz")
     if law != "vz":
         raise ValueError(f"parameter file {path}: law must be 'vz', got {law!r}")
     material_data = data.get("material")
     if not isinstance(material_data, dict):
         raise ValueError(f"parameter file {path}: missing 'material' object (E, nu, sigma_y, rho, R)")
-    missing = [k for k in ("E", "nu", "sigma_y", "rho", "R") if k not in material_data]
+    unknown = [key for key in material_data if key not in MATERIAL_KEYS]
+    if unknown:
+        raise ValueError(f"parameter file {path}: unknown key(s) in 'material': "
+                         f"{', '.join(map(repr, unknown))}; allowed: {', '.join(MATERIAL_KEYS)}")
+    missing = [k for k in MATERIAL_KEYS if k not in material_data]
     missing += [k for k in ("Ca", "Kc") if k not in data]
     if missing:
         raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")

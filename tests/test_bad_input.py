@@ -259,3 +259,28 @@ def test_a_mesh_beyond_this_machine_is_refused_before_meshing(tmp_path, capsys, 
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and "contact_size out of range" in err[0]
         assert "dofs" in err[0] and "GB" in err[0] and "need contact_size >=" in err[0]
+
+
+PARAMETER_FILE = {"law": "vz", "Ca": 2.33e-7, "Kc": 2.69e-4,
+                  "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699, "R": 0.1}}
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda d: d.update(kc=1e-4), "unknown key(s) 'kc'"),
+    (lambda d: d["material"].update(Rho=2700), "unknown key(s) in 'material': 'Rho'"),
+    (lambda d: d.update(Ca="2.33e-7"), "Ca must be a number"),
+    (lambda d: d["material"].update(E="70e9"), "E must be a number"),
+    (lambda d: d.pop("Kc"), "missing key(s) Kc"),
+], ids=["unknown key", "unknown material key", "number as text", "material number as text", "missing key"])
+def test_parameter_files_follow_one_rule(change, message, tmp_path, capsys):
+    """Exact types, unknown keys named, missing keys named: one line, exit 2 (nfdcal collide)."""
+    import copy
+    import json
+
+    data = copy.deepcopy(PARAMETER_FILE)
+    change(data)
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps(data))
+    assert main(["collide", "--params", str(path), "--v-in", "0.05"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and message in err[0], err

@@ -213,3 +213,19 @@ def test_a_scheduler_without_dask_is_one_line_before_any_work(tmp_path, monkeypa
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "pip install 'nfdcal[dask]'" in err[0] and "--scheduler" in err[0]
     assert not (tmp_path / "out" / "materials").exists()
+
+
+def test_a_renamed_material_keeps_its_result_under_its_new_name(tmp_path):
+    def scene(name):
+        path = tmp_path / "named.toml"
+        path.write_text(f'[scene]\nname = "named"\n[mesh]\ncontact_size_over_a_max = 0.12\n[[material]]\n'
+                        f'name = "{name}"\nE = 50e9\nnu = 0.3\nsigma_y = 100e6\nrho = 2700.0\nR = 0.1\n'
+                        f'[load_paths]\nP_max_over_P_Y = [20.0]\nunload = false\nloading_steps = 8\n'
+                        f'[calibration]\n')
+        return scenes.load_scene(path)
+
+    first = scenes.run_table(scene("alpha"), tmp_path / "out", workers=1)
+    again = scenes.run_table(scene("beta"), tmp_path / "out", workers=1)
+    assert first["computed"] == 1 and again["computed"] == 0
+    assert again["rows"][0]["name"] == "beta" and again["rows"][0]["Ca"] == first["rows"][0]["Ca"]
+    assert "beta" in (tmp_path / "out" / "table.csv").read_text()

@@ -105,7 +105,9 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
                       workers=workers, scheduler=scheduler, progress=say,
                       describe=lambda row: f"{row['name']} ({row['status']}, {row['fe_wall_time_s']:.0f} s)"
                       + (f" {row['error']}" if row["status"] != "ok" else ""))
-    rows = sweep.rows
+    # a material renamed in the scene keeps its finished result (the key hashes what determines
+    # it) under its new name
+    rows = [{**row, "name": task["name"]} for row, task in zip(sweep.rows, tasks)]
     failed = sum(row.get("status") != "ok" for row in rows)
     wall = time.perf_counter() - t0
     stamp = output.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
