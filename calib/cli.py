@@ -16,6 +16,7 @@ import argparse
 import functools
 import importlib
 import sys
+import warnings
 
 from calib.optional import MissingOptionalPart
 
@@ -85,6 +86,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
     ns = parser.parse_args(join_negative_values(argv, parser.one_value_flags))
+
+    def one_line_warning(message, category, filename, lineno, file=None, line=None):
+        print(f"nfdcal {ns.command}: warning: {message}", file=sys.stderr)
+
+    warnings.showwarning = one_line_warning   # a warning is one line too, never file:line noise
     try:
         return int(ns.run(ns) or 0)
     except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file

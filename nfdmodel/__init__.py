@@ -23,7 +23,7 @@ from .vz_curve import NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, vz_plastic_force
 from .walton_braun import walton_braun_force, walton_braun_step
 from . import reference_case
 from .materials import ContactPair, Material, yield_factor
-from .validation import check_real
+from .validation import PlausibilityWarning, check_real
 from .parameter_file import load_parameters, parameter_record
 
 __all__ = [
@@ -32,7 +32,7 @@ __all__ = [
     "WaltonBraunState", "HistoryUpdate", "hertz_force", "vz_force", "vz_force_with_iterations",
     "vz_newton_iterations", "vz_plastic_force", "thornton_force", "walton_braun_force", "hertz_step",
     "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE", "NEWTON_MAX_ITERATIONS",
-    "check_real", "reference_case",
+    "check_real", "PlausibilityWarning", "reference_case",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning",
 ]

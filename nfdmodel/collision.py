@@ -47,7 +47,7 @@ import numpy as np
 from .history import HertzState
 from .parameters import as_pair
 from .registry import ContactLaw, get_law
-from .materials import check_real
+from .validation import check_real, check_solid
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
 STEPS_PER_CONTACT_WARN = 50       # warn when a contact would last fewer steps than this
@@ -130,6 +130,7 @@ def _check_velocities(v_in) -> np.ndarray:
         raise ValueError("v_in must be finite (no NaN or inf), > 0 m/s")
     if (v <= 0).any():
         raise ValueError(f"v_in out of range: need v_in > 0 m/s (toward the flat), got {v[v <= 0][0]:g}")
+    check_solid("v_in", float(v.max()))     # 1e10 m/s is a slip, not an impact: say so first
     return v
 
 

@@ -13,6 +13,7 @@ p_Y = A_Y(nu) sigma_Y, with 1/A_Y = max_zeta |sigma_z - sigma_r| / p0 along the 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 
@@ -20,7 +21,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import reference_case
-from .validation import check_real
+from .validation import LARGEST_POSSIBLE_RADIUS, LARGEST_USUAL_RADIUS, PlausibilityWarning, check_real, check_solid, unit_slip
 
 
 
@@ -63,7 +64,9 @@ def yield_factor(nu: float) -> float:
 class Material:
     """Isotropic elastic-perfectly plastic material (validated, SI units).
 
-    E [Pa] > 0, 0 <= nu < 0.5 [-], sigma_y [Pa] > 0 (uniaxial yield stress), rho [kg/m^3] > 0.
+    E [Pa] > 0, 0 <= nu < 0.5 [-], sigma_y [Pa] > 0 (uniaxial yield stress), rho [kg/m^3] > 0,
+    each inside the range of real solids (nfdmodel.validation.SOLID_RANGES): a value outside
+    it is refused naming the likely unit slip (E = 70: GPa typed as Pa).
     """
 
     E: float
@@ -72,10 +75,12 @@ class Material:
     rho: float
 
     def __post_init__(self):
-        object.__setattr__(self, "E", check_real("E", self.E, low=0.0, unit="Pa"))
+        object.__setattr__(self, "E", check_solid("E", check_real("E", self.E, low=0.0, unit="Pa")))
         object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=0.5))
-        object.__setattr__(self, "sigma_y", check_real("sigma_y", self.sigma_y, low=0.0, unit="Pa"))
-        object.__setattr__(self, "rho", check_real("rho", self.rho, low=0.0, unit="kg/m^3"))
+        object.__setattr__(self, "sigma_y", check_solid("sigma_y", check_real("sigma_y", self.sigma_y,
+                                                                               low=0.0, unit="Pa")))
+        object.__setattr__(self, "rho", check_solid("rho", check_real("rho", self.rho, low=0.0,
+                                                                       unit="kg/m^3")))
 
     @classmethod
     def reference(cls) -> "Material":
@@ -98,6 +103,19 @@ class Material:
                              f"a finite positive number (R = {R:g} m, rho = {self.rho:g} kg/m^3); "
                              f"give SI units (m, kg/m^3)")
         return mass
+
+
+def check_radius(name: str, R) -> float:
+    """A sphere radius [m] > 0; above LARGEST_USUAL_RADIUS a PlausibilityWarning names the slip
+    it would be (R = 100: millimetres typed as metres)."""
+    R = check_real(name, R, low=0.0, unit="m")
+    if R > LARGEST_POSSIBLE_RADIUS:
+        raise ValueError(f"{name} out of range for a particle: need 0 < {name} <= "
+                         f"{LARGEST_POSSIBLE_RADIUS:g} m, got {R:g}{unit_slip('R', R)}")
+    if R > LARGEST_USUAL_RADIUS:
+        warnings.warn(f"{name} = {R:g} m is larger than DEM particles usually are (<= "
+                      f"{LARGEST_USUAL_RADIUS:g} m){unit_slip('R', R)}", PlausibilityWarning, stacklevel=3)
+    return R
 
 
 @dataclass(frozen=True)
@@ -149,7 +167,7 @@ class ContactPair:
         """Sphere of radius R [m] on a rigid frictionless flat: R* = R, E* = E/(1 - nu^2), m* = m."""
         if not isinstance(material, Material):
             raise ValueError(f"material must be a Material, got {type(material).__name__}")
-        R = check_real("R", R, low=0.0, unit="m")
+        R = check_radius("R", R)
         return cls(R, material.plane_strain_modulus, material.sigma_y, material.nu,
                    material.sphere_mass(R))
 
@@ -166,8 +184,8 @@ class ContactPair:
         for name, mat in (("material_i", material_i), ("material_j", material_j)):
             if not isinstance(mat, Material):
                 raise ValueError(f"{name} must be a Material, got {type(mat).__name__}")
-        R_i = check_real("R_i", R_i, low=0.0, unit="m")
-        R_j = check_real("R_j", R_j, low=0.0, unit="m")
+        R_i = check_radius("R_i", R_i)
+        R_j = check_radius("R_j", R_j)
         R_star = 1.0 / (1.0 / R_i + 1.0 / R_j)
         E_star = 1.0 / (1.0 / material_i.plane_strain_modulus + 1.0 / material_j.plane_strain_modulus)
         m_i, m_j = material_i.sphere_mass(R_i), material_j.sphere_mass(R_j)

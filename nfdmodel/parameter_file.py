@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 from .parameters import VZParams
 from .materials import ContactPair, Material
+from .validation import PlausibilityWarning
 
 _CONSISTENCY = 1e-4
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
@@ -67,12 +69,18 @@ def load_parameters(path) -> VZParams:
     missing += [k for k in ("Ca", "Kc") if k not in data]
     if missing:
         raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")
-    try:
-        material = Material(material_data["E"], material_data["nu"], material_data["sigma_y"],
-                            material_data["rho"])
-        params = VZParams(ContactPair.sphere_flat(material, material_data["R"]), data["Ca"], data["Kc"])
-    except ValueError as exc:
-        raise ValueError(f"parameter file {path}: {exc}") from None
+    with warnings.catch_warnings(record=True) as noted:
+        warnings.simplefilter("always", PlausibilityWarning)
+        try:
+            material = Material(material_data["E"], material_data["nu"], material_data["sigma_y"],
+                                material_data["rho"])
+            params = VZParams(ContactPair.sphere_flat(material, material_data["R"]), data["Ca"], data["Kc"])
+        except ValueError as exc:
+            # an implausible value (R = 100: millimetres?) is the likely cause: name it in the error
+            hints = "; ".join(str(w.message) for w in noted if issubclass(w.category, PlausibilityWarning))
+            raise ValueError(f"parameter file {path}: {exc}" + (f" (note: {hints})" if hints else "")) from None
+    for note in noted:
+        warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
     derived = {"P_Y": params.pair.P_Y, "a_Y": params.pair.a_Y, "delta_Y": params.pair.delta_Y,
                "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
     for key, value in derived.items():

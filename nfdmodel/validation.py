@@ -39,3 +39,43 @@ def check_real(name: str, value, *, low: float | None = None, low_inclusive: boo
     if high is not None and (value > high or (value == high and not high_inclusive)):
         raise ValueError(f"{name} out of range: need {allowed}, got {value:g}")
     return value
+
+
+# The range of real solids and impacts (SI). A value outside is a unit slip, not a material: it
+# is refused with the likely slip named. Values inside but unusual for a DEM particle get a
+# PlausibilityWarning that names the slip they would be.
+SOLID_RANGES = {
+    "E": (1e5, 2e12, "Pa", "Young's modulus of solids: gels 1e5 Pa .. diamond 1.2e12 Pa"),
+    "sigma_y": (1e4, 1e11, "Pa", "yield stress of solids: soft foams 1e4 Pa .. whiskers 1e11 Pa"),
+    "rho": (10.0, 3e4, "kg/m^3", "density of solids: aerogels 10 .. osmium 22,590 kg/m^3"),
+    "v_in": (0.0, 1e4, "m/s", "impact velocity a contact law describes (hypervelocity above)"),
+}
+# (factor, unit typed instead): "did you give GPa?" when value x factor falls inside the range
+UNIT_SLIPS = {"E": ((1e9, "GPa"), (1e6, "MPa")), "sigma_y": ((1e6, "MPa"), (1e3, "kPa")),
+              "rho": ((1e3, "g/cm^3"),), "v_in": ((1e-3, "mm/s"),), "R": ((1e-3, "mm"), (1e-2, "cm"))}
+LARGEST_USUAL_RADIUS = 10.0    # [m]: DEM particles above it are unusual (a boulder): warned
+LARGEST_POSSIBLE_RADIUS = 1e4  # [m]: no particle of a contact model is larger: refused
+
+
+class PlausibilityWarning(UserWarning):
+    """A value possible for a solid but unusual for a DEM particle, and what unit slip it would be."""
+
+
+def unit_slip(name: str, value: float) -> str:
+    """'; did you give GPa? 70 GPa = 7e+10 Pa' when ``value`` x a slip factor is a usual value."""
+    low, high = SOLID_RANGES[name][:2] if name in SOLID_RANGES else (1e-7, LARGEST_USUAL_RADIUS)
+    unit = SOLID_RANGES[name][2] if name in SOLID_RANGES else "m"
+    for factor, typed in UNIT_SLIPS.get(name, ()):
+        if low <= value * factor <= high and value * factor != value:
+            return f"; did you give {typed}? {value:g} {typed} = {value * factor:g} {unit}"
+    return ""
+
+
+def check_solid(name: str, value: float) -> float:
+    """``value`` (already a finite float) inside the range of real solids, or ValueError naming
+    the parameter, the range and the likely unit slip."""
+    low, high, unit, what = SOLID_RANGES[name]
+    if not low <= value <= high:
+        raise ValueError(f"{name} out of range for a solid: need {low:g} <= {name} <= {high:g} {unit} "
+                         f"({what}), got {value:g}{unit_slip(name, value)}")
+    return value

@@ -29,9 +29,11 @@ CLI_CASES = [
     (["collide", "--v-in", "0.1", "--dt", "1e-300"], "dt out of range"),              # endless loop
     (["collide", "--v-in", "1e300"], "v_in out of range"),                              # "delta must be finite"
     (["collide", "--v-in", "1e-300"], "v_in out of range"),                             # NaN to integer
-    (["collide", "--v-in", "0.1", "--R", "1e200"], "R, rho out of range"),              # OverflowError traceback
-    (["collide", "--v-in", "0.1", "--E", "1e-300"], "R, E, sigma_y out of range"),      # ZeroDivisionError traceback
-    (["collide", "--v-in", "0.1", "--sigma-y", "1e300"], "R, E, sigma_y out of range"),  # OverflowError traceback
+    (["collide", "--v-in", "0.1", "--R", "1e200"], "R out of range for a particle"),    # OverflowError traceback
+    (["collide", "--v-in", "0.1", "--E", "1e-300"], "E out of range for a solid"),      # ZeroDivisionError traceback
+    (["collide", "--v-in", "0.1", "--sigma-y", "1e300"], "sigma_y out of range for a solid"),  # OverflowError traceback
+    (["collide", "--v-in", "0.1", "--E", "70"], "did you give GPa? 70 GPa = 7e+10 Pa"),  # "Ca out of range" before
+    (["collide", "--v-in", "1e10"], "v_in out of range for a solid"),                   # "dt out of range" before
     (["collide", "--v-in", "0.1", "--Ca", "1e300"], "Ca out of range"),                 # NaN in the checks
     (["collide", "--v-in", "0.1", "--Kc", "0.01"], "admissible range is 0 <= Kc <="),   # loading curve turns back
     (["collide", "--v-in", "0.1", "--dt", "1e-3"], "stability limit"),                  # e > 1 before
@@ -100,7 +102,7 @@ def test_cli_usage_errors_one_line_exit_2(argv, needle, capsys):
 
 
 @pytest.mark.parametrize("argv, needle", [
-    (["collide", "--v-in", "0.1", "--R", "1e200"], "R, rho out of range"),
+    (["collide", "--v-in", "0.1", "--R", "1e200"], "R out of range for a particle"),
     (["collide", "--v-in", "0.1", "--dt", "1e-300"], "dt out of range"),
     (["collide", "--v-in", "0.1", "--dt", "-1e-6"], "dt out of range"),
     (["hertz", "--nu", "0.7"], "--nu"),
@@ -284,3 +286,15 @@ def test_parameter_files_follow_one_rule(change, message, tmp_path, capsys):
     assert main(["collide", "--params", str(path), "--v-in", "0.05"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and message in err[0], err
+
+
+def test_a_radius_in_millimetres_is_named_as_such(tmp_path, capsys):
+    """R = 100 in a parameter file (the reference sphere's 100 mm typed as metres): the error
+    that follows (Kc out of range for that pair) names the likely slip, in one line."""
+    import json
+
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps({**PARAMETER_FILE, "material": {**PARAMETER_FILE["material"], "R": 100.0}}))
+    assert main(["collide", "--params", str(path), "--v-in", "0.05"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "did you give mm? 100 mm = 0.1 m" in err[0], err

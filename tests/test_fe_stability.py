@@ -27,7 +27,7 @@ def test_fe_stability_small_sweep_resumes(tmp_path, monkeypatch):
     assert abs(fine["P_Y_fe_error"]) < 0.1            # first yield near P_Y(nu = 0.49)
     assert fine["alpha_mesh_change"] is not None and abs(fine["alpha_mesh_change"]) < 0.05
     assert "P_max out of range" in rows[("too large a contact", 0.1)]["outcome"]
-    assert "E/sigma_Y out of range" in rows[("E in GPa", 0.1)]["outcome"]
+    assert "did you give GPa?" in rows[("E in GPa", 0.1)]["outcome"]
     assert data["stamp"]["computed"] == 6
     # a rerun recomputes nothing (each finished run is a file of its own)
     fe_stability.generate(tmp_path, workers=1, cases=cases)
@@ -35,8 +35,9 @@ def test_fe_stability_small_sweep_resumes(tmp_path, monkeypatch):
 
 
 @pytest.mark.parametrize("E, peaks_over_yield, match", [
-    (70.0, (13.7,), "E/sigma_Y out of range"),            # E typed in GPa
-    (100e6 * 1e5, (13.7,), "E/sigma_Y out of range"),
+    (70.0, (13.7,), "E out of range for a solid.*did you give GPa"),   # E typed in GPa
+    (100e6 * 1e5, (13.7,), "E out of range for a solid"),
+    (100e6 * 1.5e4, (13.7,), "E/sigma_Y out of range"),
     (100e6 * 50, (1000.0,), "P_max out of range"),
 ])
 def test_calibration_refuses_inputs_it_cannot_represent(E, peaks_over_yield, match):
@@ -63,4 +64,4 @@ def test_cli_calibrate_refuses_a_modulus_in_gpa(capsys):
 
     assert main(["calibrate", "--quiet", "--E", "70", "--no-plots"]) == 2
     err = capsys.readouterr().err
-    assert "E/sigma_Y" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert "did you give GPa? 70 GPa = 7e+10 Pa" in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
