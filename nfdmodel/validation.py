@@ -76,6 +76,7 @@ def check_solid(name: str, value: float) -> float:
     the parameter, the range and the likely unit slip."""
     low, high, unit, what = SOLID_RANGES[name]
     if not low <= value <= high:
-        raise ValueError(f"{name} out of range for a solid: need {low:g} <= {name} <= {high:g} {unit} "
+        kind = "an impact" if name == "v_in" else "a solid"
+        raise ValueError(f"{name} out of range for {kind}: need {low:g} <= {name} <= {high:g} {unit} "
                          f"({what}), got {value:g}{unit_slip(name, value)}")
     return value

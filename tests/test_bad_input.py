@@ -33,7 +33,7 @@ CLI_CASES = [
     (["collide", "--v-in", "0.1", "--E", "1e-300"], "E out of range for a solid"),      # ZeroDivisionError traceback
     (["collide", "--v-in", "0.1", "--sigma-y", "1e300"], "sigma_y out of range for a solid"),  # OverflowError traceback
     (["collide", "--v-in", "0.1", "--E", "70"], "did you give GPa? 70 GPa = 7e+10 Pa"),  # "Ca out of range" before
-    (["collide", "--v-in", "1e10"], "v_in out of range for a solid"),                   # "dt out of range" before
+    (["collide", "--v-in", "1e10"], "v_in out of range for an impact"),                   # "dt out of range" before
     (["collide", "--v-in", "0.1", "--Ca", "1e300"], "Ca out of range"),                 # NaN in the checks
     (["collide", "--v-in", "0.1", "--Kc", "0.01"], "admissible range is 0 <= Kc <="),   # loading curve turns back
     (["collide", "--v-in", "0.1", "--dt", "1e-3"], "stability limit"),                  # e > 1 before
