@@ -36,6 +36,14 @@ def parameter_record(params: VZParams, R: float, material: Material) -> dict:
                       "sigma_y": "Pa", "rho": "kg/m^3", "R": "m"}}
 
 
+def _check_keys(path, data: dict, allowed: tuple, where: str) -> None:
+    """ValueError naming every key of ``data`` that is not ``allowed`` (a typo is never ignored)."""
+    unknown = [key for key in data if key not in allowed]
+    if unknown:
+        raise ValueError(f"parameter file {path}: unknown key(s){where}: "
+                         f"{', '.join(map(repr, unknown))}; allowed: {', '.join(allowed)}")
+
+
 def load_parameters(path) -> VZParams:
     """VZParams for the sphere-on-flat pair described by the JSON parameter file at ``path``.
 
@@ -51,20 +59,14 @@ def load_parameters(path) -> VZParams:
         raise ValueError(f"parameter file {path} is not valid JSON: {exc}") from None
     if not isinstance(data, dict):
         raise ValueError(f"parameter file {path}: expected a JSON object at the top level")
-    unknown = [key for key in data if key not in KEYS]
-    if unknown:
-        raise ValueError(f"parameter file {path}: unknown key(s) {', '.join(map(repr, unknown))}; "
-                         f"allowed: {', '.join(KEYS)}")
+    _check_keys(path, data, KEYS, "")
     law = data.get("law", "vz")
     if law != "vz":
         raise ValueError(f"parameter file {path}: law must be 'vz', got {law!r}")
     material_data = data.get("material")
     if not isinstance(material_data, dict):
         raise ValueError(f"parameter file {path}: missing 'material' object (E, nu, sigma_y, rho, R)")
-    unknown = [key for key in material_data if key not in MATERIAL_KEYS]
-    if unknown:
-        raise ValueError(f"parameter file {path}: unknown key(s) in 'material': "
-                         f"{', '.join(map(repr, unknown))}; allowed: {', '.join(MATERIAL_KEYS)}")
+    _check_keys(path, material_data, MATERIAL_KEYS, " in 'material'")
     missing = [k for k in MATERIAL_KEYS if k not in material_data]
     missing += [k for k in ("Ca", "Kc") if k not in data]
     if missing:

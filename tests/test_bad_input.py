@@ -268,7 +268,7 @@ PARAMETER_FILE = {"law": "vz", "Ca": 2.33e-7, "Kc": 2.69e-4,
 
 
 @pytest.mark.parametrize("change, message", [
-    (lambda d: d.update(kc=1e-4), "unknown key(s) 'kc'"),
+    (lambda d: d.update(kc=1e-4), "unknown key(s): 'kc'"),
     (lambda d: d["material"].update(Rho=2700), "unknown key(s) in 'material': 'Rho'"),
     (lambda d: d.update(Ca="2.33e-7"), "Ca must be a number"),
     (lambda d: d["material"].update(E="70e9"), "E must be a number"),
