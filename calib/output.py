@@ -5,12 +5,14 @@ run killed midway never leaves a half-written file.
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import json
 import math
 import os
 import platform
+import shutil
 import subprocess
 import tempfile
 from datetime import datetime, timezone
@@ -173,6 +175,34 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
             raise OSError(f"cannot write {given}: {exc.strerror or exc}") from None
         raise
     return given
+
+
+@contextlib.contextmanager
+def all_or_nothing(folder: str | os.PathLike):
+    """A staging folder for a set of results that belong together: write into the folder this
+    yields; only when the block ends without an error are the files moved into ``folder`` (each
+    by an atomic rename, the targets checked like every write). An error, Ctrl-C or kill part
+    way leaves ``folder`` as it was: never half a report."""
+    folder = Path(folder)
+    targets = writable_target(folder) if folder.is_symlink() else folder
+    if targets.exists() and not targets.is_dir():
+        raise OSError(f"cannot write into {folder}: it is not a folder")
+    try:
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".staging", dir=folder.parent))
+    except OSError as exc:
+        raise OSError(f"cannot write into {folder}: {exc.strerror or exc}") from None
+    try:
+        yield staging
+        files = [f for f in sorted(staging.rglob("*")) if f.is_file()]
+        for staged in files:                                   # check every target first
+            writable_target(folder / staged.relative_to(staging))
+        for staged in files:
+            target = writable_target(folder / staged.relative_to(staging))
+            target.parent.mkdir(parents=True, exist_ok=True)
+            os.replace(staged, target)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:

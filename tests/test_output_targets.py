@@ -3,6 +3,7 @@ link is written through, errors name the path the user gave (never a temporary f
 files follow the user's umask (results and the mesh cache alike)."""
 import os
 import stat
+from pathlib import Path
 
 import pytest
 
@@ -93,3 +94,50 @@ def test_the_cli_says_one_line_naming_the_path(tmp_path, capsys):
                  "--params-out", str(path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and f"cannot write {path}: it is a folder" in err[0] and ".tmp" not in err[0]
+
+
+def test_a_report_is_written_all_or_nothing(tmp_path):
+    """A failure part way through a set of results leaves the folder exactly as it was."""
+    folder = tmp_path / "report"
+    folder.mkdir()
+    (folder / "old.csv").write_text("kept")
+    with pytest.raises(RuntimeError, match="plot failed"):
+        with output.all_or_nothing(folder) as staging:
+            output.write_json(staging / "summary.json", {"a": 1})
+            raise RuntimeError("plot failed")
+    assert sorted(p.name for p in folder.iterdir()) == ["old.csv"]
+    assert not list(tmp_path.glob(".report.*"))                      # no staging left behind
+    with output.all_or_nothing(folder) as staging:
+        output.write_json(staging / "summary.json", {"a": 1})
+        output.write_json(staging / "sub" / "x.json", {})
+    assert sorted(p.name for p in folder.iterdir()) == ["old.csv", "sub", "summary.json"]
+
+
+def test_another_material_never_overwrites_the_reference_calibration(tmp_path, monkeypatch):
+    """nfdcal calibrate with material flags writes to a folder of its own."""
+    written = []
+    import calib.fit.calibration as calibration
+    import calib.report.calibration as report
+
+    monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: "result")
+    monkeypatch.setattr(calibration, "summary", lambda result: {
+        "Ca": 1.0, "Kc": 1.0, "Ca_hat": 1.0, "Kc_hat": 1.0, "P_Y": 1.0, "P_Y_fe": 1.0, "wall_time_s": 0.0,
+        "paths": []})
+    monkeypatch.setattr(report, "write", lambda result, out, **options: written.append(Path(out)) or Path(out))
+    monkeypatch.chdir(tmp_path)
+    assert main(["calibrate", "--E", "210e9", "--nu", "0.29", "--sigma-y", "1.2e9", "--R", "0.005",
+                 "--quiet"]) == 0
+    assert main(["calibrate", "--quiet"]) == 0
+    assert written[0] == Path("results/calibration/E2.1e+11_nu0.29_sy1.2e+09_R0.005")
+    assert written[1] == Path("results/calibration")
+
+
+def test_the_collision_report_honours_v_in_and_names_its_parameters(tmp_path, capsys):
+    import csv
+
+    assert main(["collide", "--report", "--v-in", "0.05", "0.1", "--out", str(tmp_path / "c")]) == 0
+    assert "vz parameters:" in capsys.readouterr().out
+    lines = [line for line in (tmp_path / "c" / "restitution.csv").read_text().splitlines()
+             if not line.startswith("#")]
+    rows = list(csv.DictReader(lines))
+    assert sorted({float(r["v_in"]) for r in rows}) == [0.05, 0.1]

@@ -31,7 +31,8 @@ def add_parser(subparsers) -> None:
                              " with the contact radius for other materials)")
     parser.add_argument("--ship", default="radius", choices=("radius", "force"),
                         help="which fit the parameter file ships (default radius: the paper's)")
-    parser.add_argument("--out", default=None, help="output folder (default results/calibration)")
+    parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
+                        " reference case, results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R> for another)")
     parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
     parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     parser.add_argument("--ladder", action="store_true",
@@ -70,8 +71,12 @@ def run(ns) -> int:
     spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
     with progress_reporter(ns.quiet) as progress:
         result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
-    out = calibration_report.write(result, ns.out or calibration_report.DEFAULT_OUT,
-                                   plots=not ns.no_plots, vtu=not ns.no_plots)
+    # another material's calibration has a folder of its own: the reference one, which
+    # `collide --report` reads, is written only by the reference calibration or on request
+    default_out = (calibration_report.DEFAULT_OUT if is_reference(ns) else calibration_report.DEFAULT_OUT
+                   / f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}")
+    out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
+                                   vtu=not ns.no_plots)
     summary = calibration.summary(result)
     if ns.json:
         print(output.to_json(summary), end="")

@@ -84,8 +84,9 @@ def run(ns) -> int:
     if ns.report:
         from calib.report.collision import DEFAULT_OUT, generate
 
-        out = generate(ns.out or DEFAULT_OUT, params_file=ns.params)
-        print(f"collision results written to {out}")
+        velocities = [number("--v-in", v, low=0.0, unit="m/s") for v in ns.v_in] if ns.v_in else None
+        out, source = generate(ns.out or DEFAULT_OUT, params_file=ns.params, velocities=velocities)
+        print(f"collision results written to {out} (vz parameters: {source})")
         return 0
     if ns.out is not None:
         raise ValueError("--out applies to --report only")

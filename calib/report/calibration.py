@@ -166,8 +166,14 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
 
 def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool = True,
           vtu: bool = True) -> Path:
-    """Write the calibration outputs to ``out`` (see the module docstring)."""
-    out = Path(out)
+    """Write the calibration outputs to ``out`` (see the module docstring), all or nothing: a
+    failure part way (a plot, a full disk) leaves the folder as it was."""
+    with output.all_or_nothing(out) as staging:
+        _write(result, staging, plots, vtu)
+    return Path(out)
+
+
+def _write(result: CalibrationResult, out: Path, plots: bool, vtu: bool) -> None:
     stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
     comment = output.stamp_comment(stamp)
     write_calibration_parameters(out / "parameters.json", result, stamp)
@@ -185,4 +191,3 @@ def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool 
         r, p = result.load_paths.pressure_profiles[last.peak]
         write_vtu(out / "state_peak.vtu", solver, last.peak_state, r, p)
         write_vtu(out / "state_final.vtu", solver, result.load_paths.final_state)
-    return out

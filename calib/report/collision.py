@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calib.output import (RESULTS, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
+from calib.output import (RESULTS, all_or_nothing, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
                           write_json)
 from nfdmodel import VZParams, collide, collision_reference, load_parameters
 
@@ -46,14 +46,21 @@ def thornton_closed_form(v_in, v_Y):
 CALIBRATED_PARAMETERS = DEFAULT_OUT.parent / "calibration" / "parameters.json"
 
 
-def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
-    """Regenerate the collision results. The vz parameters come from ``params_file``, else from
-    the reference calibration (results/calibration/parameters.json) when it exists, else the
-    paper's Ca, Kc; the source is recorded in summary.json."""
+def generate(out_dir=DEFAULT_OUT, params_file=None, velocities=None) -> tuple[Path, str]:
+    """Regenerate the collision results; returns (folder, the source of the vz parameters).
 
+    The vz parameters come from ``params_file``, else from the reference calibration
+    (results/calibration/parameters.json) when it exists, else the paper's Ca, Kc; the source is
+    named in summary.json and returned. ``velocities`` [m/s] replace the sweep of the paper's
+    figure 20 (0.02 .. 0.2 m/s). The files are written all or nothing (calib.output.all_or_nothing)."""
+    with all_or_nothing(out_dir) as staging:
+        source = _generate(staging, params_file, velocities)
+    return Path(out_dir), source
+
+
+def _generate(out: Path, params_file, velocities) -> str:
     started = time.perf_counter()
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    sweep = SWEEP_VELOCITIES if velocities is None else np.sort(np.asarray(velocities, dtype=float))
     if params_file is None and CALIBRATED_PARAMETERS.is_file():
         params_file = CALIBRATED_PARAMETERS
     params = load_parameters(params_file) if params_file is not None else VZParams.reference()
@@ -73,10 +80,10 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
     # 1. Restitution against v_in / v_Y (paper fig. 20).
     rows = []
     for law in LAWS:
-        result = collide(law, params, SWEEP_VELOCITIES, dt=PAPER_DT)
-        exact = collision_reference(law, params, SWEEP_VELOCITIES)
-        closed = thornton_closed_form(SWEEP_VELOCITIES, v_Y) if law == "thornton" else None
-        for i, v in enumerate(SWEEP_VELOCITIES):
+        result = collide(law, params, sweep, dt=PAPER_DT)
+        exact = collision_reference(law, params, sweep)
+        closed = thornton_closed_form(sweep, v_Y) if law == "thornton" else None
+        for i, v in enumerate(sweep):
             rows.append({"law": law, "v_in": v, "v_in_over_v_Y": v / v_Y,
                          "e_velocity": result.e_velocity[i], "e_energy": result.e_energy[i],
                          "e_exact": exact.restitution[i],
@@ -86,7 +93,7 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
                          "dt": result.dt})
         agreement = np.abs(result.e_velocity - result.e_energy) / result.e_energy
         summary[f"restitution_{law}"] = {
-            "v_in": SWEEP_VELOCITIES, "e_velocity": result.e_velocity, "e_energy": result.e_energy,
+            "v_in": sweep, "e_velocity": result.e_velocity, "e_energy": result.e_energy,
             "e_exact": exact.restitution, "max_relative_difference_e_velocity_e_energy": agreement.max(),
             "max_relative_error_vs_exact": np.abs(result.e_velocity / exact.restitution - 1).max(),
             "dt": PAPER_DT}
@@ -104,7 +111,7 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
                 label=f"{law}: -v_out/v_in (leap-frog, dt = 1e-6 s)")
         ax.plot(x, [r["e_energy"] for r in sel], "x", color=colors[law], ms=4,
                 label=f"{law}: sqrt(unloading/loading area)")
-    xs = np.linspace(SWEEP_VELOCITIES[0], SWEEP_VELOCITIES[-1], 200)
+    xs = np.linspace(sweep[0], sweep[-1], 200)
     ax.plot(xs / v_Y, thornton_closed_form(xs, v_Y), "k--", lw=0.8, label="Thornton closed form (eq. 1.11)")
     ax.set_xlabel("v_in / v_Y  (v_Y = %.3g m/s)" % v_Y)
     ax.set_ylabel("coefficient of restitution e")
@@ -196,4 +203,4 @@ def generate(out_dir=DEFAULT_OUT, params_file=None) -> Path:
 
     summary["stamp"] = stamp(time.perf_counter() - started, command="nfdcal collide --report")
     write_json(out / "summary.json", summary)
-    return out
+    return params_source
