@@ -48,3 +48,23 @@ def coarse_calibration():
     spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=(500.0, 1000.0), loading_step=125.0,
                                                        unloading_steps=8, first_load=20.0))
     return calibration.calibrate(spec)
+
+
+# a small grid scene for the sweep tests: coarse meshes, the loading branch only
+TINY_GRID_SCENE = """
+[scene]
+name = "{name}"
+[mesh]
+contact_size_over_a_max = 0.12
+[grid]
+nu = {nu}
+E_over_sigma_y = {ratio}
+sigma_y = 100e6
+rho = 2700.0
+R = 0.1
+[load_paths]
+P_max_over_P_Y = [20.0]
+unload = false
+loading_steps = {steps}
+[calibration]
+"""

@@ -4,29 +4,15 @@ import os
 import signal
 import subprocess
 import sys
-import textwrap
 import time
 from pathlib import Path
 
 import pytest
 
-SCENE = """
-[scene]
-name = "term"
-[mesh]
-contact_size_over_a_max = 0.12
-[grid]
-nu = [0.2, 0.3]
-E_over_sigma_y = [300.0, 500.0, 800.0]
-sigma_y = 100e6
-rho = 2700.0
-R = 0.1
-[load_paths]
-P_max_over_P_Y = [20.0]
-unload = false
-loading_steps = 40                     # ~10 s per material: longer than the checks below
-[calibration]
-"""
+from conftest import TINY_GRID_SCENE
+
+# ~10 s per material: longer than the checks below
+SCENE = TINY_GRID_SCENE.format(name="term", nu="[0.2, 0.3]", ratio="[300.0, 500.0, 800.0]", steps=40)
 
 
 def children(pid: int) -> set[int]:
@@ -57,7 +43,7 @@ def alive(pids) -> set[int]:
 
 def start_table(tmp_path, mesh_cache):
     scene = tmp_path / "term.toml"
-    scene.write_text(textwrap.dedent(SCENE))
+    scene.write_text(SCENE)
     env = {**os.environ, "XDG_CACHE_HOME": str(mesh_cache.parent / "xdg")}
     process = subprocess.Popen([sys.executable, "-m", "calib.cli", "table", str(scene), "--workers", "2",
                                 "--out", str(tmp_path / "out"), "--quiet"], env=env,

@@ -1,7 +1,6 @@
 """Parameter tables: a tiny coarse sweep on local processes and on a Dask LocalCluster, resume
 without recomputation, and the master table with ``nfdcal material``."""
 import json
-import textwrap
 
 import pytest
 
@@ -10,26 +9,9 @@ import calib.fit.calibration
 from calib.scenes import table as tables
 from calib.fit.master_table import MasterTable
 
+from conftest import TINY_GRID_SCENE
+
 COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
-
-TINY = """
-[scene]
-name = "{name}"
-[mesh]
-contact_size_over_a_max = 0.12
-[grid]
-nu = {nu}
-E_over_sigma_y = {ratio}
-sigma_y = 100e6
-rho = 2700.0
-R = 0.1
-[load_paths]
-P_max_over_P_Y = [20.0]
-unload = false
-loading_steps = 8
-[calibration]
-"""
-
 
 def nfdcal(monkeypatch, *argv):
     monkeypatch.setattr(cli, "COMMAND_MODULES", COMMANDS)
@@ -38,7 +20,7 @@ def nfdcal(monkeypatch, *argv):
 
 def tiny_scene(folder, name="tiny", nu="[0.25, 0.35]", ratio="[500.0, 1000.0]"):
     path = folder / f"{name}.toml"
-    path.write_text(textwrap.dedent(TINY.format(name=name, nu=nu, ratio=ratio)))
+    path.write_text(TINY_GRID_SCENE.format(name=name, nu=nu, ratio=ratio, steps=8))
     return path
 
 
