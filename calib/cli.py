@@ -82,6 +82,19 @@ def build_parser() -> _Parser:
     return parser
 
 
+OUTPUT_FLAGS = ("out", "params_out", "master_out")   # the flags that name where results go
+
+
+def name_the_output_flag(ns, message: str) -> str:
+    """``message`` led by the output flag whose path it names ('--out results/x: cannot write
+    results/x/...'), so an error about a written file says which flag to change."""
+    for dest in OUTPUT_FLAGS:
+        value = getattr(ns, dest, None)
+        if value and str(value) in message:
+            return f"--{dest.replace('_', '-')} {value}: {message}"
+    return message
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -94,7 +107,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(ns.run(ns) or 0)
     except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file
-        print(f"nfdcal {ns.command}: error: {exc}", file=sys.stderr)
+        print(f"nfdcal {ns.command}: error: {name_the_output_flag(ns, str(exc))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"nfdcal {ns.command}: interrupted", file=sys.stderr)

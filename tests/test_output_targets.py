@@ -93,7 +93,20 @@ def test_the_cli_says_one_line_naming_the_path(tmp_path, capsys):
     assert main(["material", "--E", "205e9", "--nu", "0.29", "--sigma-y", "655e6", "--R", "0.005",
                  "--params-out", str(path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and f"cannot write {path}: it is a folder" in err[0] and ".tmp" not in err[0]
+    assert len(err) == 1 and ".tmp" not in err[0]
+    assert f"error: --params-out {path}: cannot write {path}: it is a folder" in err[0]
+
+
+@pytest.mark.parametrize("argv", [["collide", "--report", "--v-in", "0.05", "--out"],
+                                  ["hertz", "--steps", "2", "--P-min", "20", "--P-max", "40", "--out"]],
+                         ids=["collide --report", "hertz"])
+def test_an_output_folder_under_a_file_names_the_flag(tmp_path, capsys, argv):
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    out = blocker / "sub"
+    assert main(argv + [str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"--out {out}: cannot write" in err[0] and ".tmp" not in err[0], err
 
 
 def test_a_report_is_written_all_or_nothing(tmp_path):
