@@ -51,6 +51,9 @@ GENERATOR_VERSION = 2  # bump when the meshing recipe changes: invalidates the c
 _GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
 
 
+MIN_CONTACT_SIZE_OVER_RADIUS = 1e-6   # smallest contact element / sphere radius
+
+
 @dataclass(frozen=True)
 class HemisphereMeshSpec:
     """Parameters of the hemisphere mesh [m]; validated on construction.
@@ -88,10 +91,13 @@ class HemisphereMeshSpec:
             raise ValueError(f"refined_radius must be in (0, radius={R}), got {self.refined_radius}")
         if not self.refined_depth < R:
             raise ValueError(f"refined_depth must be in (0, radius={R}), got {self.refined_depth}")
-        if not self.contact_size <= min(self.refined_radius, self.refined_depth) / 2:
-            raise ValueError("contact_size must be in (0, min(refined_radius, refined_depth)/2]"
-                             f" = (0, {min(self.refined_radius, self.refined_depth) / 2}],"
-                             f" got {self.contact_size}")
+        # below 1e-6 R no machine holds the mesh (and the dof estimate's quadrature, which
+        # starts at 1e-7 R, would be meaningless): refused here, the memory check never sees it
+        smallest = MIN_CONTACT_SIZE_OVER_RADIUS * R
+        if not smallest <= self.contact_size <= min(self.refined_radius, self.refined_depth) / 2:
+            raise ValueError("contact_size must be in [1e-6 radius, min(refined_radius, refined_depth)/2]"
+                             f" = [{smallest:g}, {min(self.refined_radius, self.refined_depth) / 2:g}] m,"
+                             f" got {self.contact_size:g}")
         if not self.contact_size <= self.far_size <= R:
             raise ValueError(f"far_size must be in [contact_size={self.contact_size}, radius={R}],"
                              f" got {self.far_size}")

@@ -252,7 +252,10 @@ def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
         """)
     out = tmp_path / "out"
     assert nfdcal(monkeypatch, "run", path, "--out", out, "--quiet") == 0
-    capsys.readouterr()
+    text = capsys.readouterr().out        # the readable summary: a line per stage and where it went
+    for word in ("hertz: at P = ", "calibration: Ca = ", "collision vz: e = ", "collision thornton: e = ",
+                 f"results in {out}"):
+        assert word in text
     summary = json.loads((out / "scene.json").read_text())
     cal = summary["materials"][0]["calibration"]
     assert not cal["loading_only"] and cal["shipped_fit"] == "force"
@@ -270,3 +273,4 @@ def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
     direct = collide("vz", params, [float(r["v_in"]) for r in vz_rows], dt=None)
     assert [float(r["e_velocity"]) for r in vz_rows] == pytest.approx(direct.e_velocity.tolist(), rel=1e-9)
     assert list(out.glob("*.png")) and list(out.glob("*.csv"))
+    assert (out / "collision.png").is_file()   # the scene asked for plots: e(v_in) of its laws

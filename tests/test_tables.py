@@ -126,12 +126,19 @@ def test_table_command_resumes_and_reports(tiny_table, monkeypatch, capsys):
     scene, folder, result = tiny_table
     assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--out", folder / "out", "--quiet") == 0
     assert "0 calibrated, 4 reused" in capsys.readouterr().out
+    # the dry run names the folder it would write and counts what is already there
+    assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--out", folder / "out", "--dry-run") == 0
+    plan = capsys.readouterr().out
+    assert f"outputs: {folder / 'out'}" in plan and "finished: 4 of 4 material(s)" in plan
+    assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--out", folder / "elsewhere", "--dry-run",
+                  "--json") == 0
+    assert json.loads(capsys.readouterr().out)["finished_materials"] == 0
     assert nfdcal(monkeypatch, "table", folder / "tiny.toml", "--workers", "zero") == 2
 
 
 def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
     table = MasterTable.load()
-    assert "off-grid" in table.meta["accuracy"]
+    assert "off-grid" in table.meta["accuracy"] and "recipe" in table.meta["accuracy_details"]
     values = table.parameters(70e9, 0.3, 100e6, 0.1)  # the reference case, a grid node
     assert values["Ca"] == pytest.approx(2.32e-7, rel=0.05)  # README: 2.32e-7 m/N at the default mesh
     assert table.nu[0] == 0.0 and table.nu[-1] == 0.49                       # the table's stated range

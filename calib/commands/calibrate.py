@@ -14,7 +14,8 @@ stderr when it is a terminal (silence it with --quiet).
 """
 from __future__ import annotations
 
-from calib.commands.common import add_material_arguments, is_reference, material_from_args, number
+from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
+                                   number, print_summary)
 from nfdmodel import reference_case
 
 
@@ -34,23 +35,25 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
                         " reference case, results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R> for another)")
     parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
-    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
     parser.add_argument("--ladder", action="store_true",
                         help="reference sphere and paths on a ladder of 4 meshes: Ca, Kc, e, alpha"
                              " against wall time; material flags (not --R) for e.g. a locking study"
                              " at nu = 0.49 (resumes: finished rungs are kept in OUT/ladder/)")
-    parser.add_argument("--quiet", action="store_true", help="no progress messages")
+    parser.add_argument("--dry-run", action="store_true",
+                        help="print the plan (mesh, dofs, FE steps, estimated time, output folder) and exit")
+    add_summary_arguments(parser)
     parser.set_defaults(run=run)
 
 
 def run(ns) -> int:
-    from calib import output
     from calib.commands.progress import progress_reporter
     from calib.fit import calibration, recipe
     from calib.report import calibration as calibration_report
     from calib.studies import mesh_ladder
 
     if ns.ladder:
+        if ns.dry_run:
+            raise ValueError("--dry-run plans a calibration: do not combine it with --ladder")
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
                              " do not combine it with --R, --peaks or --contact-size")
@@ -59,7 +62,7 @@ def run(ns) -> int:
         with progress_reporter(ns.quiet) as progress:
             path = mesh_ladder.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
                                            progress=progress, material=material, name=name)
-        print(f"mesh ladder written to {path}")
+        print_summary(ns, {"out": str(path)}, [f"mesh ladder written to {path}"])
         return 0
     material, radius = material_from_args(ns)
     contact_size = number("--contact-size", ns.contact_size)
@@ -69,23 +72,33 @@ def run(ns) -> int:
     if peaks is not None and not all(p > 0 for p in peaks):
         raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
     spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
-    with progress_reporter(ns.quiet) as progress:
-        result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+    try:                                # before any mesh: name the flag that sets the load plan
+        recipe.check_fittable(spec)
+    except ValueError as exc:
+        raise ValueError(f"--peaks: {exc}" if peaks is not None else str(exc)) from None
     # another material's calibration has a folder of its own: the reference one, which
     # `collide --report` reads, is written only by the reference calibration or on request
     default_out = (calibration_report.DEFAULT_OUT if is_reference(ns) else calibration_report.DEFAULT_OUT
                    / f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}")
+    if ns.dry_run:
+        from calib.scenes.plan import calibration_stage, format_stages, stages_summary
+
+        stages = [calibration_stage(spec, "sphere", calibrate=True, unload=True, elastic=False)]
+        folder = ns.out or default_out
+        print_summary(ns, stages_summary(stages, folder),
+                      [f"calibration of E = {material.E:.4g} Pa, nu = {material.nu:g}, sigma_Y = "
+                       f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N",
+                       f"outputs: {folder}"] + format_stages(stages))
+        return 0
+    with progress_reporter(ns.quiet) as progress:
+        result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
     out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
                                    vtu=not ns.no_plots)
-    summary = calibration.summary(result)
-    if ns.json:
-        print(output.to_json(summary), end="")
-        return 0
-    print(f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
-          f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
-          f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s")
-    for p in summary["paths"]:
-        print(f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}, "
-              f"residual alpha {p['alpha_residual']:.4e} m")
-    print(f"results written to {out}")
+    summary = {**calibration.summary(result), "out": str(out)}
+    lines = [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
+             f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
+             f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]
+    lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}, "
+              f"residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
+    print_summary(ns, summary, lines + [f"results written to {out}"])
     return 0

@@ -18,7 +18,8 @@ exits with code 2).
 """
 from __future__ import annotations
 
-from calib.commands.common import MATERIAL_DEFAULTS, add_material_arguments, material_flags, number
+from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments, material_flags,
+                                   number, print_summary)
 from nfdmodel import reference_case
 
 LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
@@ -34,7 +35,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--law", default="vz", help=f"force law: {', '.join(LAW_NAMES)} (default vz)")
     parser.add_argument("--v-in", nargs="+", metavar="V", help="incoming velocities [m/s] (> 0)")
     parser.add_argument("--dt", default="auto", help="time step [s] (> 0) or 'auto' (default)")
-    parser.add_argument("--json", action="store_true", help="print a JSON list instead of a table")
+    add_summary_arguments(parser, progress=False)
     add_material_arguments(parser)
     parser.add_argument("--Ca", default=None, help=f"vz plastic-radius rate [m/N] (default {DEFAULTS['Ca']:g})")
     parser.add_argument("--Kc", default=None, help=f"vz curvature rate [1/N] (default {DEFAULTS['Kc']:g})")
@@ -77,7 +78,6 @@ def build_params(ns):
 
 
 def run(ns) -> int:
-    import json
     import sys
     import warnings
 
@@ -86,7 +86,8 @@ def run(ns) -> int:
 
         velocities = [number("--v-in", v, low=0.0, unit="m/s") for v in ns.v_in] if ns.v_in else None
         out, source = generate(ns.out or DEFAULT_OUT, params_file=ns.params, velocities=velocities)
-        print(f"collision results written to {out} (vz parameters: {source})")
+        print_summary(ns, {"out": str(out), "vz_parameters": source},
+                      [f"collision results written to {out} (vz parameters: {source})"])
         return 0
     if ns.out is not None:
         raise ValueError("--out applies to --report only")
@@ -107,16 +108,13 @@ def run(ns) -> int:
     for warning in caught:
         print(f"nfdcal collide: warning: {warning.message}", file=sys.stderr)
     records = result.records()
-    if ns.json:
-        print(json.dumps(records, indent=2))
-        return 0
     pair = params.pair
-    print(f"law {law}: R* = {pair.R_star:g} m, E* = {pair.E_star:.4g} Pa, P_Y = {pair.P_Y:.4g} N, "
-          f"v_Y = {pair.v_Y:.4g} m/s, dt = {result.dt:.3g} s, {result.steps} steps, "
-          f"{result.wall_time_s:.3f} s")
-    print(f"{'v_in m/s':>10} {'v_out m/s':>11} {'e_velocity':>11} {'e_energy':>9} {'P_max N':>10} "
-          f"{'contact_time s':>15}")
-    for r in records:
-        print(f"{r['v_in']:10.4g} {r['v_out']:11.5g} {r['e_velocity']:11.6f} {r['e_energy']:9.6f} "
-              f"{r['P_max']:10.5g} {r['contact_time']:15.6g}")
+    lines = [f"law {law}: R* = {pair.R_star:g} m, E* = {pair.E_star:.4g} Pa, P_Y = {pair.P_Y:.4g} N, "
+             f"v_Y = {pair.v_Y:.4g} m/s, dt = {result.dt:.3g} s, {result.steps} steps, "
+             f"{result.wall_time_s:.3f} s",
+             f"{'v_in m/s':>10} {'v_out m/s':>11} {'e_velocity':>11} {'e_energy':>9} {'P_max N':>10} "
+             f"{'contact_time s':>15}"]
+    lines += [f"{r['v_in']:10.4g} {r['v_out']:11.5g} {r['e_velocity']:11.6f} {r['e_energy']:9.6f} "
+              f"{r['P_max']:10.5g} {r['contact_time']:15.6g}" for r in records]
+    print_summary(ns, records, lines)
     return 0

@@ -1,7 +1,12 @@
-"""Flags shared by sub-commands: numbers parsed with clear errors, and the material of a sphere.
+"""Flags shared by sub-commands: numbers parsed with clear errors, the material of a sphere, and
+the one way a command answers.
 
 Numbers are parsed inside ``run`` (not by argparse) so a bad value gives one line naming the
 flag and its range from the dispatcher (exit code 2), never a traceback.
+
+Every command answers the same way: a readable summary on stdout by default, the same summary
+as one JSON object with ``--json`` (``print_summary``); progress goes to stderr on a terminal
+(``--quiet`` silences it); results go to ``--out``.
 """
 from __future__ import annotations
 
@@ -28,6 +33,24 @@ def number(flag: str, text, default=None, **allowed) -> float:
     """``text`` as a finite float inside the ``allowed`` range (check_real's keywords), or
     ``default`` when the flag was not given."""
     return default if text is None else check_real(flag, text, text=True, **allowed)
+
+
+def add_summary_arguments(parser, progress: bool = True) -> None:
+    """--json (and --quiet for a command that reports progress), the same in every command."""
+    parser.add_argument("--json", action="store_true",
+                        help="print the summary as one JSON object (default: a readable summary)")
+    if progress:
+        parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+
+
+def print_summary(ns, summary, lines) -> None:
+    """The command's answer on stdout: ``summary`` as JSON with --json, else the readable ``lines``."""
+    if ns.json:
+        from calib import output
+
+        print(output.to_json(summary), end="")
+    else:
+        print("\n".join(lines))
 
 
 def add_material_arguments(parser) -> None:

@@ -8,13 +8,13 @@ writes results/hertz/ (hertz.json, hertz_steps.csv, pressure_profile.csv, contac
 approach.png, peak_pressure.png, pressure_profile.png). The material flags are those of every
 command (--R --E --nu; --sigma-y and --rho are accepted and unused: the run is elastic).
 ``--ladder`` runs the mesh ladder instead (mesh_ladder.csv, mesh_ladder.png).
-``--json`` prints the summary object (its ``top_load`` entry: P, alpha, contact_radius,
-contact_radius_hertz, contact_radius_rel_error, peak_pressure_rel_error, alpha_rel_error,
-wall_time_s) on stdout.
+Prints the errors at the top load against Hertz; ``--json`` prints the summary object instead
+(its ``top_load`` entry: P, alpha, contact_radius, contact_radius_hertz, contact_radius_rel_error,
+peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 """
 from __future__ import annotations
 
-from calib.commands.common import add_material_arguments, material_from_args, number
+from calib.commands.common import add_material_arguments, add_summary_arguments, material_from_args, number, print_summary
 from nfdmodel import reference_case
 
 DEFAULT_OUT = "results/hertz"
@@ -34,7 +34,9 @@ def add_parser(subparsers):
     p.add_argument("--ladder", action="store_true",
                    help="run the mesh ladder (contact sizes 1.6e-4 ... 1e-5 m) instead")
     p.add_argument("--out", default=None, help=f"output folder (default {DEFAULT_OUT})")
-    p.add_argument("--json", action="store_true", help="print the summary as JSON on stdout")
+    p.add_argument("--dry-run", action="store_true",
+                   help="print the plan (mesh, dofs, steps, estimated time, output folder) and exit")
+    add_summary_arguments(p, progress=False)
     p.set_defaults(run=run)
     return p
 
@@ -50,22 +52,50 @@ def run(ns) -> int:
     material, radius = material_from_args(ns)
     contact_size = number("--contact-size", ns.contact_size, None, low=0.0, unit="m")
 
-    import json
     from pathlib import Path
 
-    from calib import output
     from calib.studies.hertz import write_hertz_results, write_ladder_results
 
     out = Path(ns.out) if ns.out else Path(DEFAULT_OUT)
+    if ns.dry_run:
+        from calib.scenes.plan import format_stages, hertz_stage, stages_summary
+        from calib.studies.hertz import LADDER_CONTACT_SIZES, hertz_spec
+
+        sizes = [h * radius / reference_case.R for h in LADDER_CONTACT_SIZES] if ns.ladder else [contact_size]
+        stages = [hertz_stage(hertz_spec(material, radius, P_max, h), "sphere", (P_min, P_max), ns.steps)
+                  for h in sizes]
+        print_summary(ns, stages_summary(stages, out), [f"outputs: {out}"] + format_stages(stages))
+        return 0
     if ns.ladder:
         summary = write_ladder_results(out, radius=radius, material=material,
                                        P_min=P_min, P_max=P_max, steps=ns.steps)
     else:
         summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min,
                                       P_max=P_max, steps=ns.steps, contact_size=contact_size)
-    if ns.json:
-        print(output.to_json(summary), end="")
-    else:
-        print(json.dumps(summary.get("top_load", summary.get("default_choice")), indent=2))
-        print(f"results written to {out}")
+    print_summary(ns, summary, ladder_lines(summary, out) if ns.ladder else hertz_lines(summary, out))
     return 0
+
+
+def hertz_lines(summary: dict, out) -> list[str]:
+    """The readable summary: the case, then FE against Hertz at the top load."""
+    case, top, mesh = summary["case"], summary["top_load"], summary["stamp"]["mesh"]
+    return [f"Hertz check: R = {case['radius']:g} m, E = {case['E']:.4g} Pa, nu = {case['nu']:g}; "
+            f"{case['steps']} loads {case['P_min']:g} .. {case['P_max']:g} N; mesh: contact element "
+            f"{mesh['contact_size']:.3g} m, {mesh['n_dofs']} dofs; {summary['stamp']['wall_time_s']:.1f} s",
+            f"at P = {top['P']:.4g} N, FE against Hertz:",
+            f"  contact radius {top['contact_radius']:.5g} m ({100 * top['contact_radius_rel_error']:+.3f} %)",
+            f"  peak pressure  {top['peak_pressure']:.5g} Pa ({100 * top['peak_pressure_rel_error']:+.3f} %)",
+            f"  approach       {top['alpha']:.5g} m ({100 * top['alpha_rel_error']:+.3f} %; the finite"
+            f" hemisphere is stiffer than Hertz's half-space)",
+            f"results written to {out}"]
+
+
+def ladder_lines(summary: dict, out) -> list[str]:
+    """The readable summary of the mesh ladder: one line per mesh."""
+    lines = [f"{'contact size m':>15} {'dofs':>7} {'wall s':>7} {'a error %':>10} {'p0 error %':>11}"]
+    for r in summary["rows"]:
+        lines.append(f"{r['contact_size']:15.3g} {r['n_dofs']:7d} {r['wall_time_s']:7.1f} "
+                     f"{100 * r['contact_radius_pressure_rel_error']:+10.4f} {100 * r['peak_pressure_rel_error']:+11.4f}")
+    lines.append(f"default mesh: contact size {summary['default_choice']['contact_size']:.3g} m; "
+                 f"results written to {out}")
+    return lines

@@ -5,13 +5,14 @@
 
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
 (calib/data/master_table.csv; README, The model: Dimensionless constants), then
-Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N], Kc [1/N], Ca_hat, Kc_hat, P_Y [N] and
-the table's stated accuracy. Outside the table: one line naming the parameter and the table's
+Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N], Kc [1/N], Ca_hat, Kc_hat, first yield
+P_Y [N], a_Y [m], delta_Y [m] and the table's one-line accuracy statement (the full account is in
+the table's .json, named by ``accuracy_details``). Outside the table: one line naming the parameter and the table's
 range (exit 2).
 """
 from __future__ import annotations
 
-from calib.commands.common import add_material_arguments, material_from_args
+from calib.commands.common import add_material_arguments, add_summary_arguments, material_from_args, print_summary
 
 
 def add_parser(subparsers) -> None:
@@ -21,13 +22,11 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params)")
-    parser.add_argument("--json", action="store_true", help="print the result as JSON")
+    add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run)
 
 
 def run(ns) -> int:
-    import json
-
     from calib.fit.master_table import MasterTable
 
     material, radius = material_from_args(ns)
@@ -43,10 +42,11 @@ def run(ns) -> int:
         write_parameter_file(ns.params_out, params, radius, material,
                              {"shipped": "master table", "accuracy": values["accuracy"],
                               "table": values["table"]}, output.stamp(0.0))
-    if ns.json:
-        print(json.dumps(values, indent=2))
-        return 0
-    print(f"Ca = {values['Ca']:.4g} m/N, Kc = {values['Kc']:.4g} 1/N (Ca_hat = {values['Ca_hat']:.4g}, "
-          f"Kc_hat = {values['Kc_hat']:.4g}), P_Y = {values['P_Y']:.4g} N, a_Y = {values['a_Y']:.4g} m")
-    print(f"accuracy: {values['accuracy']}")
+        values["params_out"] = ns.params_out
+    print_summary(ns, values, [
+        f"Ca = {values['Ca']:.4g} m/N, Kc = {values['Kc']:.4g} 1/N (Ca_hat = {values['Ca_hat']:.4g}, "
+        f"Kc_hat = {values['Kc_hat']:.4g})",
+        f"first yield: P_Y = {values['P_Y']:.4g} N, a_Y = {values['a_Y']:.4g} m, delta_Y = {values['delta_Y']:.4g} m",
+        f"accuracy: {values['accuracy']}"]
+        + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0

@@ -11,6 +11,8 @@ a terminal (silence it with --quiet). Scene format: calib/scenes/schema.py.
 """
 from __future__ import annotations
 
+from calib.commands.common import add_summary_arguments, print_summary
+
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("run", help="run a scene (TOML): materials, mesh, stages, outputs",
@@ -19,8 +21,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--dry-run", action="store_true", help="print the plan and exit")
     parser.add_argument("--list", action="store_true", help="list the built-in scenes")
     parser.add_argument("--out", default=None, help="output folder (default: the scene's, else results/scenes/NAME)")
-    parser.add_argument("--json", action="store_true", help="print the summary as JSON")
-    parser.add_argument("--quiet", action="store_true", help="no progress messages")
+    add_summary_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -29,24 +30,18 @@ def run(ns) -> int:
     from calib.commands.progress import progress_reporter
 
     if ns.list:
-        for name, path in sorted(scenes.builtin_scenes().items()):
-            scene = scenes.load_scene(path)
-            print(f"{name:<14} {scene.description}")
+        builtin = {name: scenes.load_scene(path).description for name, path in sorted(scenes.builtin_scenes().items())}
+        print_summary(ns, builtin, [f"{name:<14} {description}" for name, description in builtin.items()])
         return 0
     if not ns.scene:
         raise ValueError("SCENE is required: a scene file (.toml) or a built-in scene name (see --list)")
     scene = scenes.load_scene(ns.scene)
     stages = scenes.plan(scene)
     if ns.dry_run:
-        print(scenes.format_plan(scene, stages))
+        folder = scene.out_dir(ns.out)
+        print_summary(ns, scenes.plan_summary(scene, stages, folder), scenes.format_plan(scene, stages, folder))
         return 0
     with progress_reporter(ns.quiet, sum(s.estimate_s for s in stages)) as progress:
         summary = scenes.run_scene(scene, ns.out, progress=progress)
-    if ns.json:
-        from calib import output
-
-        print(output.to_json(summary), end="")
-    else:
-        print(f"scene {scene.name}: {', '.join(summary['stages'])} done in {summary['wall_time_s']:.1f} s; "
-              f"results in {scene.out_dir(ns.out)}")
+    print_summary(ns, summary, scenes.summary_lines(summary))
     return 0

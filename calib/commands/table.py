@@ -15,6 +15,8 @@ a material is outside them).
 """
 from __future__ import annotations
 
+from calib.commands.common import add_summary_arguments, print_summary
+
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("table", help="calibrate a sweep of materials into a parameter table",
@@ -27,12 +29,13 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--master-out", default=None, metavar="CSV",
                         help="also write the master table (nu, E/sigma_Y -> Ca_hat, Kc_hat) here (grid scenes)")
     parser.add_argument("--accuracy", default="not validated against off-grid FE calibrations",
-                        help="accuracy statement stored with the master table")
+                        help="one-line accuracy statement of the master table (printed by nfdcal material)")
+    parser.add_argument("--accuracy-details", default="", metavar="TEXT",
+                        help="the full account of the master table's accuracy (kept in its .json)")
     parser.add_argument("--check-master", action="store_true",
                         help="compare every material with the shipped master table's interpolation")
     parser.add_argument("--dry-run", action="store_true", help="print the plan and exit")
-    parser.add_argument("--json", action="store_true", help="print the rows as JSON")
-    parser.add_argument("--quiet", action="store_true", help="no progress messages")
+    add_summary_arguments(parser)
     parser.set_defaults(run=run)
 
 
@@ -51,13 +54,16 @@ def run(ns) -> int:
         raise ValueError("--master-out needs a scene with a [grid] (nu x E_over_sigma_y)")
     stages = [s for s in scenes.plan(scene) if s.stage == "calibration"]
     if ns.dry_run:
-        print(scenes.format_plan(scene, stages))
+        folder, finished = scenes.table_folder(scene, ns.out), scenes.finished_materials(scene, ns.out)
+        print_summary(ns, scenes.plan_summary(scene, stages, folder, finished),
+                      scenes.format_plan(scene, stages, folder, finished))
         return 0
     estimate_s = sum(s.estimate_s for s in stages) / max(1, min(workers, len(stages)))
     with progress_reporter(ns.quiet, estimate_s) as progress:
         result = scenes.run_table(scene, ns.out, workers=workers, scheduler=ns.scheduler, progress=progress)
     if ns.master_out:
-        scenes.write_master_table(result["rows"], ns.master_out, ns.accuracy, scene.name)
+        scenes.write_master_table(result["rows"], ns.master_out, ns.accuracy, scene.name,
+                                  accuracy_details=ns.accuracy_details)
     outside = 0
     if ns.check_master:
         from pathlib import Path
@@ -79,12 +85,11 @@ def run(ns) -> int:
         output.write_csv(folder / "master_check.csv", checks, comment=output.stamp_comment(stamp))
         output.write_json(folder / "master_check.json", {"rows": checks, "stamp": stamp})
         outside = sum(not c["within_limits"] for c in checks)
-        for c in checks:
-            print(f"{c['name']}: Ca_hat {100 * c['Ca_hat_error']:+.2f} %, Kc_hat {100 * c['Kc_hat_error']:+.2f} %"
-                  f" (table vs FE){'' if c['within_limits'] else '  OUTSIDE the limits'}")
-    if ns.json:
-        print(output.to_json(result["rows"]), end="")
-    else:
-        print(f"table {scene.name}: {len(result['rows'])} material(s), {result['computed']} calibrated, "
-              f"{result['reused']} reused, {result['failed']} failed; written to {result['path']}")
+        result["master_check"] = checks
+    lines = [f"{c['name']}: Ca_hat {100 * c['Ca_hat_error']:+.2f} %, Kc_hat {100 * c['Kc_hat_error']:+.2f} %"
+             f" (table vs FE){'' if c['within_limits'] else '  OUTSIDE the limits'}"
+             for c in result.get("master_check", [])]
+    lines.append(f"table {scene.name}: {len(result['rows'])} material(s), {result['computed']} calibrated, "
+                 f"{result['reused']} reused, {result['failed']} failed; written to {result['path']}")
+    print_summary(ns, result, lines)
     return 1 if result["failed"] or outside else 0

@@ -131,7 +131,9 @@ class MasterTable:
                 "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m"},
                 "source": "master table interpolation",
                 "table": str(self.path) if self.path else None,
-                "accuracy": self.meta.get("accuracy", "not stated")}
+                "accuracy": self.meta.get("accuracy", "not stated"),
+                "accuracy_details": (f"{self.path.with_suffix('.json')}: master_table.accuracy_details"
+                                     if self.path and "accuracy_details" in self.meta else "none")}
 
 
 # The accuracy the interpolation must reach against direct FE calibrations (Ca_hat, Kc_hat:

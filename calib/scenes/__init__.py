@@ -4,11 +4,11 @@
 cost estimate (``--dry-run``), ``run`` runs its stages, ``table`` calibrates every material of a
 sweep resumably; the built-in scenes are in ``builtin/``.
 """
-from calib.scenes.plan import calibration_spec, format_plan, plan, plastic_needed
-from calib.scenes.run import run_scene
+from calib.scenes.plan import calibration_spec, format_plan, plan, plan_summary, plastic_needed
+from calib.scenes.run import run_scene, summary_lines
 from calib.scenes.schema import Scene, SceneError, builtin_scenes, load_scene, parse_scene
-from calib.scenes.table import run_table, write_master_table
+from calib.scenes.table import finished_materials, run_table, table_folder, write_master_table
 
 __all__ = ["Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "calibration_spec",
-           "format_plan", "plan", "plastic_needed", "run_scene",
-           "run_table", "write_master_table"]
+           "format_plan", "plan", "plan_summary", "plastic_needed", "run_scene", "summary_lines",
+           "finished_materials", "run_table", "table_folder", "write_master_table"]

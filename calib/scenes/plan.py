@@ -1,7 +1,7 @@
 """The plan of a scene: FE specs per material and stage, mesh size and run-time estimates (--dry-run)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import meshio
 
@@ -77,48 +77,57 @@ def plastic_needed(scene: Scene, material: SceneMaterial) -> bool:
     return max(scene.load_paths.peaks(pair)) >= pair.P_Y
 
 
+def hertz_stage(spec, material_name: str, loads: tuple[float, float], steps: int) -> PlannedStage:
+    """The Hertz validation of one material on mesh ``spec``: elastic, ``steps`` loads."""
+    dofs, exact = mesh_dofs(spec)
+    return PlannedStage("hertz", material_name, spec.cache_key(), mesh_path(spec).is_file(), dofs, exact,
+                        steps, True, steps * step_seconds(dofs) / 3,  # elastic: no Newton re-assembly
+                        f"elastic, P = {loads[0]:.4g} .. {loads[1]:.4g} N")
+
+
+def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool, elastic: bool) -> PlannedStage:
+    """The load paths (and, with ``calibrate``, the fit) of one material's CalibrationSpec; a
+    plan that cannot be fitted is refused here, so --dry-run refuses it too."""
+    if calibrate:
+        recipe.check_fittable(spec)
+    dofs, exact = mesh_dofs(spec.mesh)
+    n_load = len(spec.plan.loading_targets())
+    n_unload = spec.plan.unloading_steps * len(spec.plan.peaks) if unload else 0
+    steps = n_load + n_unload + (3 if calibrate else 0)
+    return PlannedStage("calibration" if calibrate else "load_paths", material_name, spec.mesh.cache_key(),
+                        mesh_path(spec.mesh).is_file(), dofs, exact, steps, elastic,
+                        steps * step_seconds(dofs) / (3 if elastic else 1),
+                        f"{'elastic' if elastic else 'elastoplastic'}, P_max = "
+                        f"{', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N, "
+                        f"{'loading and unloading' if unload else 'loading only'}")
+
+
 def plan(scene: Scene) -> list[PlannedStage]:
     """What ``run`` will do, per material and stage, with meshes and an estimated wall time."""
     out = []
     for material in scene.materials:
         if scene.hertz is not None:
-            spec = hertz_mesh_spec(scene, material)
-            dofs, exact = mesh_dofs(spec)
-            steps = scene.hertz.steps
-            out.append(PlannedStage("hertz", material.name, spec.cache_key(), mesh_path(spec).is_file(), dofs, exact,
-                                    steps, True, steps * step_seconds(dofs) / 3,  # elastic: no Newton re-assembly
-                                    f"elastic, P = {scene.hertz.loads(material.pair())[0]:.4g} .. "
-                                    f"{scene.hertz.loads(material.pair())[1]:.4g} N"))
+            out.append(hertz_stage(hertz_mesh_spec(scene, material), material.name,
+                                   scene.hertz.loads(material.pair()), scene.hertz.steps))
         if scene.load_paths is not None:
-            spec = calibration_spec(scene, material)
-            if scene.calibration_ship is not None:
-                try:
-                    recipe.check_fittable(spec)    # a plan that cannot be fitted: refused at --dry-run
-                except ValueError as exc:
-                    raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
-            dofs, exact = mesh_dofs(spec.mesh)
-            elastic = not plastic_needed(scene, material)
-            n_load = len(spec.plan.loading_targets())
-            n_unload = (spec.plan.unloading_steps + 0) * len(spec.plan.peaks) if scene.load_paths.unload else 0
-            steps = n_load + n_unload + (3 if scene.calibration_ship else 0)
-            name = "calibration" if scene.calibration_ship else "load_paths"
-            out.append(PlannedStage(name, material.name, spec.mesh.cache_key(), mesh_path(spec.mesh).is_file(),
-                                    dofs, exact, steps, elastic,
-                                    steps * step_seconds(dofs) / (3 if elastic else 1),
-                                    f"{'elastic' if elastic else 'elastoplastic'}, P_max = "
-                                    f"{', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N, "
-                                    f"{'loading and unloading' if scene.load_paths.unload else 'loading only'}"))
+            try:
+                out.append(calibration_stage(calibration_spec(scene, material), material.name,
+                                             calibrate=scene.calibration_ship is not None,
+                                             unload=scene.load_paths.unload,
+                                             elastic=not plastic_needed(scene, material)))
+            except ValueError as exc:
+                if isinstance(exc, SceneError):
+                    raise
+                raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
         if scene.collision is not None:
             out.append(PlannedStage("collision", material.name, "-", True, 0, True, 0, False, 1.0,
                                     f"laws {', '.join(scene.collision.laws)}"))
     return out
 
 
-def format_plan(scene: Scene, stages: list[PlannedStage]) -> str:
-    lines = [f"scene {scene.name} ({scene.source}): {len(scene.materials)} material(s), mesh {scene.mesh.label()}",
-             f"outputs: {scene.out_dir()} (plots {'on' if scene.outputs.plots else 'off'}, vtu "
-             f"{'on' if scene.outputs.vtu else 'off'}, histories {'on' if scene.outputs.histories else 'off'})",
-             f"{'stage':<12} {'material':<20} {'mesh':<17} {'cached':<7} {'dofs':>8} {'steps':>6} {'est. s':>8}  detail"]
+def format_stages(stages: list[PlannedStage]) -> list[str]:
+    """A table of the stages and the estimated total."""
+    lines = [f"{'stage':<12} {'material':<20} {'mesh':<17} {'cached':<7} {'dofs':>8} {'steps':>6} {'est. s':>8}  detail"]
     for s in stages:
         dofs = f"{s.dofs}" if s.dofs_exact else f"~{s.dofs}"
         lines.append(f"{s.stage:<12} {s.material:<20} {s.mesh_key:<17} {('yes' if s.mesh_cached else 'build'):<7} "
@@ -126,4 +135,34 @@ def format_plan(scene: Scene, stages: list[PlannedStage]) -> str:
     total = sum(s.estimate_s for s in stages)
     lines.append(f"estimated total: {total:.0f} s on one process (from the reference: "
                  f"{SECONDS_PER_STEP_AT_12K_DOFS} s per FE step at 12k dofs, linear in dofs)")
-    return "\n".join(lines)
+    return lines
+
+
+def stages_summary(stages: list[PlannedStage], folder) -> dict:
+    """Planned stages as a JSON-able object: the folder that will be written, the stages, the estimate."""
+    return {"out": str(folder), "stages": [asdict(s) for s in stages],
+            "estimated_total_s": sum(s.estimate_s for s in stages)}
+
+
+def plan_summary(scene: Scene, stages: list[PlannedStage], folder, finished: int | None = None) -> dict:
+    """The plan of a scene as a JSON-able object (``stages_summary`` and the scene's choices)."""
+    summary = {"scene": scene.name, "source": scene.source, "materials": len(scene.materials),
+               "mesh": scene.mesh.label(),
+               "outputs": {"plots": scene.outputs.plots, "vtu": scene.outputs.vtu,
+                           "histories": scene.outputs.histories},
+               **stages_summary(stages, folder)}
+    if finished is not None:
+        summary["finished_materials"] = finished
+    return summary
+
+
+def format_plan(scene: Scene, stages: list[PlannedStage], folder, finished: int | None = None) -> list[str]:
+    """The plan as readable lines: where the results go, a line per stage, the estimated time;
+    ``finished``: how many materials the folder already holds (a table reuses them)."""
+    lines = [f"scene {scene.name} ({scene.source}): {len(scene.materials)} material(s), mesh {scene.mesh.label()}",
+             f"outputs: {folder} (plots {'on' if scene.outputs.plots else 'off'}, vtu "
+             f"{'on' if scene.outputs.vtu else 'off'}, histories {'on' if scene.outputs.histories else 'off'})"]
+    if finished is not None:
+        lines.append(f"finished: {finished} of {len(scene.materials)} material(s) already in {folder}/materials "
+                     f"(reused, not recomputed)")
+    return lines + format_stages(stages)

@@ -117,7 +117,28 @@ def _run_collision(scene, material, out, params, progress) -> dict:
         rows += [{"law": law, "v_in_over_v_Y": r["v_in"] / pair.v_Y, **r} for r in result.records()]
     stamp = output.stamp(time.perf_counter() - t0, vz_parameters=source)
     output.write_csv(out / "collision.csv", rows, comment=output.stamp_comment(stamp))
-    return {"rows": len(rows), "vz_parameters": source}
+    if scene.outputs.plots:
+        plot_restitution(rows, pair.v_Y, f"{material.name}: sphere on rigid flat", out / "collision.png")
+    restitution = {law: {"v_in": [r["v_in"] for r in rows if r["law"] == law],
+                         "e": [r["e_velocity"] for r in rows if r["law"] == law]}
+                   for law in scene.collision.laws}
+    return {"rows": len(rows), "vz_parameters": source, "restitution": restitution}
+
+
+def plot_restitution(rows: list[dict], v_Y: float, title: str, path: Path) -> None:
+    """e(v_in / v_Y) of every law in ``rows`` (collision records with a "law" key) into ``path``."""
+    plt = output.pyplot()
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for law in dict.fromkeys(r["law"] for r in rows):
+        sel = [r for r in rows if r["law"] == law]
+        ax.plot([r["v_in"] / v_Y for r in sel], [r["e_velocity"] for r in sel], "o-", ms=3, label=law)
+    ax.set_xscale("log")
+    ax.set_xlabel(f"v_in / v_Y  (v_Y = {v_Y:.3g} m/s)")
+    ax.set_ylabel("coefficient of restitution e = -v_out / v_in")
+    ax.set_title(title, fontsize=9)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    output.save_figure(fig, path)
 
 
 def run_scene(scene: Scene, out: str | Path | None = None, progress=None) -> dict:
@@ -145,6 +166,33 @@ def run_scene(scene: Scene, out: str | Path | None = None, progress=None) -> dic
         results.append(entry)
     wall = time.perf_counter() - t0
     summary = {"scene": scene.name, "source": scene.source, "stages": scene.stages(), "materials": results,
-               "wall_time_s": wall}
+               "out": str(base), "wall_time_s": wall}
     output.write_json(base / "scene.json", {**summary, "stamp": output.stamp(wall)})
     return summary
+
+
+def summary_lines(summary: dict) -> list[str]:
+    """The readable account of a scene run: a line per material and stage, then where it went."""
+    lines = [f"scene {summary['scene']}: {', '.join(summary['stages'])} done in {summary['wall_time_s']:.1f} s"]
+    for entry in summary["materials"]:
+        m = entry["material"]
+        lines.append(f"{m['name']} (E {m['E']:.4g} Pa, nu {m['nu']:g}, sigma_Y {m['sigma_y']:.4g} Pa, R {m['R']:g} m):")
+        if "hertz" in entry:
+            top = entry["hertz"]["top_load"]
+            lines.append(f"  hertz: at P = {top['P']:.4g} N contact radius {100 * top['contact_radius_rel_error']:+.3f} %,"
+                         f" peak pressure {100 * top['peak_pressure_rel_error']:+.3f} % against Hertz")
+        if "calibration" in entry:
+            c = entry["calibration"]
+            lines.append(f"  calibration: Ca = {c['Ca']:.4g} m/N (Ca_hat {c['Ca_hat']:.4g}), Kc = {c['Kc']:.4g} 1/N "
+                         f"(Kc_hat {c['Kc_hat']:.4g}), P_Y = {c['P_Y']:.4g} N, {c['wall_time_s']:.1f} s")
+        if "load_paths" in entry:
+            lp = entry["load_paths"]
+            paths = ", ".join(f"P_max {p['P_max']:.4g} N" + (f" e {p['e']:.4f}" if p.get("e") is not None else "")
+                              for p in lp["paths"])
+            lines.append(f"  load paths ({'elastic' if lp['elastic'] else 'elastoplastic'}): {paths}")
+        if "collision" in entry:
+            for law, r in entry["collision"]["restitution"].items():
+                lines.append(f"  collision {law}: e = {min(r['e']):.4f} .. {max(r['e']):.4f} over v_in = "
+                             f"{min(r['v_in']):.4g} .. {max(r['v_in']):.4g} m/s")
+    lines.append(f"results in {summary['out']}")
+    return lines

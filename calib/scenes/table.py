@@ -28,7 +28,7 @@ from calib.fit.master_table import MasterTable
 from calib.fit.recipe import check_fittable
 from calib.scenes.plan import calibration_spec
 from calib.scenes.schema import SceneError
-from calib.sweep.runner import run_sweep
+from calib.sweep.runner import cached_result, run_sweep
 from nfdmodel import VZParams
 
 TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
@@ -61,6 +61,22 @@ def tasks_for(scene) -> list[dict]:
         out.append({"name": material.name, "inputs": material.inputs(), "spec": spec,
                     "loading_only": loading_only, "key": task_key(spec, loading_only)})
     return out
+
+
+def table_folder(scene, out: str | Path | None = None) -> Path:
+    """Where ``run_table`` writes: ``out``, else results/tables/<scene name>."""
+    return Path(out) if out is not None else output.RESULTS / "tables" / scene.name
+
+
+def is_finished(row: dict) -> bool:
+    """A material's stored result that a rerun reuses (a failed one is retried)."""
+    return row.get("status") == "ok"
+
+
+def finished_materials(scene, out: str | Path | None = None) -> int:
+    """How many materials of ``scene`` are already calibrated in the table folder."""
+    folder = table_folder(scene, out) / "materials"
+    return sum(cached_result(folder, task["key"], is_finished) is not None for task in tasks_for(scene))
 
 
 def calibrate_task(task: dict) -> dict:
@@ -97,11 +113,11 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
     if not (isinstance(workers, int) and 1 <= workers <= 64):
         raise ValueError(f"--workers must be an integer in [1, 64], got {workers!r}")
     say = progress or (lambda message: None)
-    out = Path(out) if out is not None else output.RESULTS / "tables" / scene.name
+    out = table_folder(scene, out)
     t0 = time.perf_counter()
     tasks = tasks_for(scene)
     sweep = run_sweep(tasks, calibrate_task, out / "materials",
-                      keep=lambda row: row.get("status") == "ok", mesh_of=lambda task: task["spec"].mesh,
+                      keep=is_finished, mesh_of=lambda task: task["spec"].mesh,
                       workers=workers, scheduler=scheduler, progress=say,
                       describe=lambda row: f"{row['name']} ({row['status']}, {row['fe_wall_time_s']:.0f} s)"
                       + (f" {row['error']}" if row["status"] != "ok" else ""))
@@ -125,9 +141,12 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
             "path": out / "table.csv"}
 
 
-def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str) -> Path:
+def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str,
+                       accuracy_details: str = "") -> Path:
     """The master table (calib/data/master_table.csv + .json) from the rows of a grid table:
-    nu, E_over_sigma_y, Ca_hat, Kc_hat and the fit quality; every node must have succeeded."""
+    nu, E_over_sigma_y, Ca_hat, Kc_hat and the fit quality; every node must have succeeded.
+    ``accuracy`` is the one-line statement ``nfdcal material`` prints; ``accuracy_details`` the
+    full account (grid, recipe, validation, discretisation), kept in the .json only."""
     path = Path(path)
     failed = [r["name"] for r in rows if r.get("status") != "ok"]
     if failed:
@@ -138,7 +157,8 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     MasterTable.from_rows([{k: float(v) for k, v in r.items() if k in ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat")}
                            for r in table_rows])  # validates a complete regular grid
     stamp = output.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
-    meta = {"master_table": {"accuracy": accuracy, "scene": scene_name,
+    meta = {"master_table": {"accuracy": accuracy, "accuracy_details": accuracy_details or accuracy,
+                             "scene": scene_name,
                              "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
                              "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (the dimensionless constants); radius fit "
                                            "on the FE loading branch to 13.7, 27.4, 41.2 P_Y"},

@@ -1,0 +1,372 @@
+"""A fuzzer of the command line: hypothesis-generated argument lists, scenes and parameter files.
+
+Each case is a ``Case``: the argument list of one ``nfdcal`` command, and the text of the files
+it reads (a scene, a parameter file, a master table), drawn from a grammar of every command's
+flags whose values mix plausible numbers, edge values (0, negatives, NaN, inf, 1e308, subnormal
+numbers, unit slips such as E = 70 typed in GPa), text where a number belongs and missing
+values. ``run_case`` runs it in process, in a fresh sandbox folder (the working folder, the mesh
+cache and every output inside it), and judges the outcome:
+
+- success: exit code 0, stdout not empty, JSON output (``--json``) valid and free of NaN and
+  inf, stderr only one-line warnings;
+- clean error: exit code 2 and stderr one line "nfdcal ...: error: ..." (warnings aside);
+- anything else is a failure: a traceback (an exception escaping ``cli.main``), another exit
+  code, several error lines, NaN or inf in a written file, a file written or changed outside the
+  output paths (``--out``, ``--params-out``, ``--master-out``, the default ``results/`` and the
+  mesh cache), an input file changed, or a hang (more than ``timeout_s``).
+
+The commands that run the FE (calibrate, hertz, run, table) get ``--dry-run``: everything up to
+the first mesh (validation, plausibility, the load plan, the memory check) runs, the FE does
+not; the runtime commands (collide, material) run in full. Used by tests/test_fuzz.py (a few
+hundred derandomized cases) and tests/benchmarks/fuzz_cli.py (thousands; table in
+results/stability/).
+"""
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import os
+import re
+import signal
+import traceback
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from hypothesis import strategies as st
+
+from calib import cli
+
+# ----------------------------------------------------------------------------- values
+def rarely(draw, one_in: int) -> bool:
+    """True once in ``one_in`` draws. Not ``integers(0, n) == 0``: hypothesis favours the
+    bounds of a range, so that event would fire far more often than 1/n."""
+    return draw(st.sampled_from(range(one_in))) == one_in // 2
+EDGE_NUMBERS = ("0", "-0", "-1", "1", "1e308", "1e400", "-1e400", "1e-320", "5e-324", "nan", "NaN", "inf",
+                "-inf", "abc", "", " ", "1e", "0x10", "1_000", "1,5", "--", "70", "1e10", "1e-12", "0.5",
+                "0.4999999999", "2", "1e4", "1e5", "1e-9", "3.0e+00")
+PLAUSIBLE = {"--E": (70e9, 205e9, 117e9, 1e6, 1e12), "--nu": (0.0, 0.3, 0.49, 0.499), "--R": (0.1, 0.005, 1e-6, 10.0),
+             "--sigma-y": (100e6, 655e6, 1e6, 5e9), "--rho": (2700.0, 7850.0, 1.0, 1e5),
+             "--v-in": (0.02, 0.2, 1.0, 10.0, 1e-5), "--dt": (1e-6, 1e-7, 1e-9), "--Ca": (2.3e-7, 1e-9, 1e-4),
+             "--Kc": (3e-4, 1e-6, 1e-1), "--K1": (1e8, 1e6), "--K2": (2e8, 1e7),
+             "--peaks": (500.0, 1000.0, 1500.0, 10.0, 40.0), "--contact-size": (4e-5, 1e-4, 1e-3, 1e-9),
+             "--P-min": (1.0, 10.0), "--P-max": (1500.0, 100.0), "--steps": (2, 25, 1000, 1001),
+             "--workers": (1, 2, 64, 65)}
+
+
+def number_text(flag: str, hostile: bool):
+    """A value for ``flag``: plausible or scaled from plausible; ``hostile``: an edge case or any
+    float's or integer's text."""
+    plausible = PLAUSIBLE.get(flag, (1.0,))
+    if not hostile:
+        return st.one_of(st.sampled_from(plausible).map(repr),
+                         st.tuples(st.sampled_from(plausible), st.sampled_from((0.5, 0.9, 1.1, 2.0)))
+                         .map(lambda t: repr(t[0] * t[1]) if isinstance(t[0], float) else str(t[0])))
+    return st.one_of(
+        st.tuples(st.sampled_from(plausible), st.sampled_from((1e-6, 1e-3, 1e3, 1e6))).map(lambda t: repr(t[0] * t[1])),
+        st.sampled_from(EDGE_NUMBERS),
+        st.floats(allow_nan=True, allow_infinity=True).map(repr),
+        st.integers(-10**6, 10**13).map(str))
+
+
+# ----------------------------------------------------------------------------- files
+def toml_literal():
+    return st.one_of(st.sampled_from(("1e9", "-1", "0", "nan", "inf", "-inf", "1e400", '"text"', '""', "true",
+                                      "[1.0, 2.0]", "[]", "{a = 1}", "0.3", "5e-324", '"1e9"')),
+                     st.floats(allow_nan=False, allow_infinity=False).map(repr))
+
+
+SCENE_LINES = (  # (section, key, literal) of a valid scene that exercises every stage
+    ("scene", "name", '"fuzz"'), ("mesh", "level", '"coarse"'),
+    ("material", "name", '"m"'), ("material", "E", "70e9"), ("material", "nu", "0.3"),
+    ("material", "sigma_y", "100e6"), ("material", "rho", "2700.0"), ("material", "R", "0.1"),
+    ("hertz", "P_max", "300.0"), ("hertz", "steps", "3"),
+    ("load_paths", "P_max_over_P_Y", "[13.7, 27.4]"), ("load_paths", "unload", "true"),
+    ("calibration", "ship", '"radius"'),
+    ("collision", "v_in_over_v_Y", "[2.0, 20.0]"), ("collision", "laws", '["vz", "thornton"]'),
+    ("outputs", "plots", "false"), ("outputs", "histories", "false"))
+SCENE_SECTIONS = tuple(dict.fromkeys([s for s, _, _ in SCENE_LINES] + ["grid", "bogus"]))
+SCENE_KEYS_EXTRA = ("contact_size", "E_over_sigma_y", "velocities", "bogus", "P_max", "unloading_steps",
+                    "loading_steps", "out", "level", "v_in")
+
+
+@st.composite
+def scene_text(draw) -> str:
+    """A scene: the valid one with up to three lines dropped or given another value, keys added,
+    or broken syntax now and then."""
+    lines = list(SCENE_LINES)
+    for k in draw(st.lists(st.integers(0, len(lines) - 1), max_size=3, unique=True)):
+        lines[k] = None if draw(st.booleans()) else (lines[k][0], lines[k][1], draw(toml_literal()))
+    lines = [line for line in lines if line is not None]
+    for _ in range(draw(st.integers(0, 2)) if rarely(draw, 3) else 0):
+        lines.append((draw(st.sampled_from(SCENE_SECTIONS)), draw(st.sampled_from(SCENE_KEYS_EXTRA)),
+                      draw(toml_literal())))
+    text, section = [], None
+    for sec, key, literal in sorted(lines, key=lambda t: SCENE_SECTIONS.index(t[0])):
+        if sec != section:
+            text.append("[[material]]" if sec == "material" else f"[{sec}]")
+            section = sec
+        text.append(f"{key} = {literal}")
+    body = "\n".join(text) + "\n"
+    if rarely(draw, 10):                   # broken syntax now and then
+        body = body[:draw(st.integers(0, len(body)))]
+    return body
+
+
+PARAMETERS = {"law": "vz", "Ca": 2.3155e-7, "Kc": 2.984e-4,
+              "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "R": 0.1}}
+
+
+def json_value():
+    return st.one_of(st.sampled_from(("1e9", "-1", None, [], {}, True, "nan", 0, -1.0, 1e308, 5e-324)),
+                     st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=5))
+
+
+@st.composite
+def parameter_text(draw) -> str:
+    """A parameter file: the valid one with up to two keys dropped or given another value, a key
+    added, or truncated now and then."""
+    data = json.loads(json.dumps(PARAMETERS))
+    places = [(data, key) for key in data if key != "material"] + [(data["material"], key) for key in data["material"]]
+    places.append((data, "material"))
+    for k in draw(st.lists(st.integers(0, len(places) - 1), max_size=2, unique=True)):
+        where, key = places[k]
+        if key not in where:
+            continue
+        if draw(st.booleans()):
+            del where[key]
+        else:
+            where[key] = draw(json_value())
+    if rarely(draw, 5):
+        data[draw(st.sampled_from(("Ca_hat", "bogus", "law", "units", "window")))] = draw(json_value())
+    text = json.dumps(data)           # NaN and Infinity as JavaScript spells them: must be refused
+    if rarely(draw, 10):
+        text = text[:draw(st.integers(0, len(text)))]
+    return text
+
+
+# ----------------------------------------------------------------------------- argument lists
+MATERIAL_FLAGS = ("--R", "--E", "--nu", "--sigma-y", "--rho")
+# a command's flags: value-taking flags map to how many values they take (1, or "+" for one or more)
+COMMANDS = {
+    "collide": {"--law": 1, "--v-in": "+", "--dt": 1, "--Ca": 1, "--Kc": 1, "--K1": 1, "--K2": 1,
+                "--params": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "material": {"--table": 1, "--params-out": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "calibrate": {"--peaks": "+", "--contact-size": 1, "--ship": 1, "--out": 1, "--no-plots": 0, "--json": 0,
+                  "--ladder": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "hertz": {"--P-min": 1, "--P-max": 1, "--steps": 1, "--contact-size": 1, "--ladder": 0, "--out": 1,
+              "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "run": {"SCENE": 1, "--out": 1, "--json": 0, "--quiet": 0, "--list": 0},
+    "table": {"SCENE": 1, "--out": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
+              "--json": 0, "--quiet": 0},
+}
+REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",)}
+FE_COMMANDS = ("calibrate", "hertz", "run", "table")
+LAWS = ("vz", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
+OUTPUT_FLAGS = ("--out", "--params-out", "--master-out")
+
+
+@dataclass
+class Case:
+    """One command line and the files it reads (text by sandbox-relative name)."""
+    argv: list[str]
+    files: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def command(self) -> str:
+        return self.argv[0] if self.argv else ""
+
+
+def path_value(flag: str):
+    """A path for ``flag``: inside the sandbox, existing or not, a folder, or a fuzzed input."""
+    if flag in OUTPUT_FLAGS:
+        return st.sampled_from(("out", "out/deeper/p.json", "existing.json", "folder", "link.json",
+                                "/dev/null", "out/p.json"))
+    if flag == "--params":
+        return st.sampled_from(("input.json",) * 6 + ("missing.json", "folder", "scene.toml"))
+    if flag == "--table":
+        return st.sampled_from(("missing.csv", "folder", "input.json", "scene.toml"))
+    return st.sampled_from(("scene.toml",) * 6 + ("reference", "steel", "master_grid", "missing.toml",
+                                                  "folder", "bogus"))
+
+
+def flag_values(flag: str, count, hostile: bool):
+    if flag in ("--law",):
+        return st.lists(st.sampled_from(LAWS), min_size=1, max_size=1)
+    if flag == "--ship":
+        return st.lists(st.sampled_from(("radius", "force", "both", "")), min_size=1, max_size=1)
+    if flag in ("--accuracy",):
+        return st.lists(st.text(max_size=20), min_size=1, max_size=1)
+    if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE"):
+        return st.lists(path_value(flag), min_size=1, max_size=1)
+    if flag == "--dt":
+        return st.lists(st.one_of(st.just("auto"), number_text(flag, hostile)), min_size=1, max_size=1)
+    size = (1, 4) if count == "+" else (1, 1)
+    return st.lists(number_text(flag, hostile), min_size=size[0], max_size=size[1])
+
+
+@st.composite
+def command_case(draw) -> Case:
+    """An argument list of one command (FE commands with --dry-run) and its input files."""
+    command = draw(st.sampled_from(sorted(COMMANDS)))
+    flags = COMMANDS[command]
+    chosen = draw(st.lists(st.sampled_from(sorted(flags)), max_size=6, unique=True))
+    for needed in REQUIRED.get(command, ()):   # mostly given, so the fuzzer gets past the first check
+        if needed not in chosen and "--list" not in chosen and not rarely(draw, 10):
+            chosen.append(needed)
+    hostile = set(draw(st.lists(st.sampled_from(chosen), max_size=2, unique=True))) if chosen else set()
+    argv = [command]
+    for flag in chosen:
+        count = flags[flag]
+        values = draw(flag_values(flag, count, flag in hostile)) if count else []
+        if flag == "SCENE":
+            argv[1:1] = values
+            continue
+        if count and rarely(draw, 20):
+            values = []                          # a flag without its value
+        argv += [flag, *values]
+    if command in FE_COMMANDS:
+        argv.append("--dry-run")
+    if rarely(draw, 15):                         # an unknown flag or a stray token
+        argv.insert(draw(st.integers(1, len(argv))), draw(st.sampled_from(("--bogus", "-x", "extra", "--", "-1e-3"))))
+    files = {"input.json": draw(parameter_text()), "scene.toml": draw(scene_text()),
+             "existing.json": "{}\n"}
+    return Case(argv=argv, files=files)
+
+
+# ----------------------------------------------------------------------------- judging
+@dataclass
+class Outcome:
+    kind: str          # "success", "clean error" or "FAIL: <why>"
+    code: int | None
+    stdout: str
+    stderr: str
+
+    @property
+    def failed(self) -> bool:
+        return self.kind.startswith("FAIL")
+
+
+class Hang(Exception):
+    pass
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float):
+    def alarm(signum, frame):
+        raise Hang(f"no answer after {seconds:g} s")
+
+    previous = signal.signal(signal.SIGALRM, alarm)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def snapshot(root: Path) -> dict[str, tuple[int, int, int]]:
+    """Every file under ``root`` (symlinks as such): (size, mtime_ns, mode), by relative path."""
+    files = {}
+    for path in root.rglob("*"):
+        stat = path.lstat()
+        if not path.is_dir() or path.is_symlink():
+            files[str(path.relative_to(root))] = (stat.st_size, stat.st_mtime_ns, stat.st_mode)
+    return files
+
+
+NON_FINITE = re.compile(r"(?i)(?<![\w.])(nan|-?inf(inity)?)(?![\w.])")
+
+
+def output_paths(argv: list[str], sandbox: Path) -> list[str]:
+    """Sandbox-relative paths a command may write: its output flags (and what a symlink among
+    them points to), results/, the mesh cache."""
+    allowed = ["results", "cache"]
+    for k, token in enumerate(argv[:-1]):
+        if token in OUTPUT_FLAGS:
+            allowed.append(os.path.normpath(argv[k + 1]))
+            target = (sandbox / argv[k + 1]).resolve()
+            if target.is_relative_to(sandbox.resolve()):
+                allowed.append(str(target.relative_to(sandbox.resolve())))
+    return allowed
+
+
+def judge(case: Case, sandbox: Path, code, stdout: str, stderr: str, before: dict, after: dict) -> str:
+    lines = [line for line in stderr.splitlines() if line.strip()]
+    warnings = [line for line in lines if re.match(r"nfdcal( \S+)?: warning: ", line)]
+    others = [line for line in lines if line not in warnings]
+    if "Traceback" in stderr or "Traceback" in stdout:
+        return "FAIL: traceback printed"
+    allowed = output_paths(case.argv, sandbox)
+    for name in sorted(set(after) | set(before)):
+        if before.get(name) == after.get(name):
+            continue
+        if not any(name == a or name.startswith(a + os.sep) for a in allowed):
+            return f"FAIL: touched {name} (outside the output paths {allowed})"
+        path = sandbox / name
+        if name in after and name.endswith((".json", ".csv")) and path.is_file() and \
+                NON_FINITE.search(path.read_text(encoding="utf-8", errors="replace")):
+            return f"FAIL: NaN or inf written to {name}"
+    if code == 0:
+        if others:
+            return f"FAIL: exit 0 with stderr {others[0][:120]!r}"
+        if not stdout.strip():
+            return "FAIL: exit 0 and nothing on stdout"
+        if "--json" in case.argv:
+            try:
+                json.loads(stdout, parse_constant=lambda c: (_ for _ in ()).throw(ValueError(c)))
+            except ValueError as exc:
+                return f"FAIL: --json output is not finite JSON ({str(exc)[:80]})"
+        return "success"
+    if code == 2:
+        if len(others) != 1:
+            return f"FAIL: exit 2 with {len(others)} error lines"
+        if not re.match(r"nfdcal( \S+)?: error: \S", others[0]):
+            return f"FAIL: error line {others[0][:120]!r}"
+        return "clean error"
+    return f"FAIL: exit code {code}"
+
+
+def materialize(case: Case, sandbox: Path) -> None:
+    for name, text in case.files.items():
+        (sandbox / name).write_text(text, encoding="utf-8")
+    (sandbox / "folder").mkdir(exist_ok=True)
+    if not (sandbox / "link.json").is_symlink():
+        (sandbox / "link.json").symlink_to("existing.json")
+
+
+def run_case(case: Case, sandbox: Path, timeout_s: float = 60.0) -> Outcome:
+    """Run ``case`` in ``sandbox`` (its working folder and mesh cache) and judge the outcome."""
+    sandbox = Path(sandbox)
+    materialize(case, sandbox)
+    before = snapshot(sandbox)
+    stdout, stderr = io.StringIO(), io.StringIO()
+    cwd, cache = os.getcwd(), os.environ.get("XDG_CACHE_HOME")
+    code = None
+    try:
+        os.chdir(sandbox)
+        os.environ["XDG_CACHE_HOME"] = str(sandbox / "cache")
+        with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr), time_limit(timeout_s):
+            try:
+                code = cli.main(list(case.argv))
+            except SystemExit as exc:          # argparse's usage errors and --help
+                code = exc.code if isinstance(exc.code, int) else 2
+    except Hang as exc:
+        return Outcome(f"FAIL: hang ({exc})", None, stdout.getvalue(), stderr.getvalue())
+    except BaseException as exc:               # noqa: BLE001 - anything escaping main is a traceback
+        detail = traceback.format_exception_only(type(exc), exc)[-1].strip()
+        return Outcome(f"FAIL: {detail[:200]}", None, stdout.getvalue(), stderr.getvalue())
+    finally:
+        os.chdir(cwd)
+        if cache is None:
+            os.environ.pop("XDG_CACHE_HOME", None)
+        else:
+            os.environ["XDG_CACHE_HOME"] = cache
+    after = snapshot(sandbox)
+    written = output_paths(case.argv, sandbox)
+    for name in case.files:                    # an input file must never change (unless named as an output)
+        if before.get(name) != after.get(name) and name not in written:
+            return Outcome(f"FAIL: input {name} changed", code, stdout.getvalue(), stderr.getvalue())
+    kind = judge(case, sandbox, code, stdout.getvalue(), stderr.getvalue(), before, after)
+    return Outcome(kind, code, stdout.getvalue(), stderr.getvalue())
+
