@@ -94,7 +94,10 @@ class HemisphereMeshSpec:
         # below 1e-6 R no machine holds the mesh (and the dof estimate's quadrature, which
         # starts at 1e-7 R, would be meaningless): refused here, the memory check never sees it
         smallest = MIN_CONTACT_SIZE_OVER_RADIUS * R
-        if not smallest <= self.contact_size <= min(self.refined_radius, self.refined_depth) / 2:
+        if not self.contact_size >= smallest:
+            raise ValueError(f"contact_size out of range: need contact_size >= {smallest:g} m (1e-6 x the radius; "
+                             f"a finer contact element would need ~1e9 dofs), got {self.contact_size:g}")
+        if not self.contact_size <= min(self.refined_radius, self.refined_depth) / 2:
             raise ValueError("contact_size must be in [1e-6 radius, min(refined_radius, refined_depth)/2]"
                              f" = [{smallest:g}, {min(self.refined_radius, self.refined_depth) / 2:g}] m,"
                              f" got {self.contact_size:g}")

@@ -25,6 +25,7 @@ from . import reference_case
 from .materials import ContactPair, Material, yield_factor
 from .validation import PlausibilityWarning, check_real
 from .parameter_file import load_parameters, parameter_record
+from .window import CalibrationWindow, RangeWarning
 
 __all__ = [
     "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",
@@ -34,5 +35,5 @@ __all__ = [
     "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE", "NEWTON_MAX_ITERATIONS",
     "check_real", "PlausibilityWarning", "reference_case",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
-    "CollisionReference", "CollisionHistory", "TimeStepWarning",
+    "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
 ]

@@ -48,6 +48,7 @@ from .history import HertzState
 from .parameters import as_pair
 from .registry import ContactLaw, get_law
 from .validation import check_real, check_solid
+from .window import RangeWarning
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
 STEPS_PER_CONTACT_WARN = 50       # warn when a contact would last fewer steps than this
@@ -95,7 +96,10 @@ class CollisionResult:
 
     v_out [m/s] (< 0: rebound), e_velocity = -v_out/v_in, e_energy (paper 4.7), P_max [N],
     delta_max [m], delta_res [m] (residual indentation), contact_time [s]; dt [s], steps,
-    wall_time_s, max_newton_iterations (vz; 0 otherwise); history on request.
+    wall_time_s, max_newton_iterations (vz; 0 otherwise); history on request;
+    in_calibrated_range: per velocity, whether the impact stayed inside the calibrated window of
+    the law's constants, and P_max_over_window: P_max / the window's largest force (both None
+    when the law has no fitted constants or they state no window).
     """
 
     law: str
@@ -112,12 +116,17 @@ class CollisionResult:
     wall_time_s: float
     max_newton_iterations: int = 0
     history: CollisionHistory | None = field(default=None, repr=False)
+    in_calibrated_range: np.ndarray | None = None
+    P_max_over_window: np.ndarray | None = None
 
     def records(self) -> list[dict]:
-        """One dict per velocity with the CLI's JSON keys (SI units)."""
+        """One dict per velocity with the CLI's JSON keys (SI units; null where not applicable)."""
+        known = self.in_calibrated_range is not None
         return [{"v_in": float(self.v_in[i]), "v_out": float(self.v_out[i]),
                  "e_velocity": float(self.e_velocity[i]), "e_energy": float(self.e_energy[i]),
-                 "P_max": float(self.P_max[i]), "contact_time": float(self.contact_time[i])}
+                 "P_max": float(self.P_max[i]), "contact_time": float(self.contact_time[i]),
+                 "in_calibrated_range": bool(self.in_calibrated_range[i]) if known else None,
+                 "P_max_over_window": float(self.P_max_over_window[i]) if known else None}
                 for i in range(self.v_in.size)]
 
 
@@ -143,8 +152,23 @@ def _resolve(law_name, params):
 
 
 def _virgin_force(law: ContactLaw, delta, law_params):
-    force, state = law.force(delta, law.initial_state(delta.size), law_params)
+    force, state = law.force_function(delta, law.initial_state(delta.size), law_params)
     return force, state
+
+
+def _check_within_domain(law: ContactLaw, params, pair, v, energy) -> float:
+    """The largest approach [m] the law covers (vz: where its contact radius reaches R*; inf for
+    the others); a ValueError naming the largest admissible v_in when an impact goes beyond."""
+    if law.name != "vz":
+        return math.inf
+    reach = params.full_contact_approach * (1.0 - 1e-9)   # just inside: at the root a = R* exactly
+    work = float(law.loading_work(np.array([reach]), np.array([params.full_contact_load]), params)[0])
+    if (energy > work).any():
+        v_reach = math.sqrt(2.0 * work / pair.mass_star)
+        raise ValueError(f"v_in out of range: at v_in = {float(v[energy > work][0]):g} m/s the vz law's contact "
+                         f"radius would reach R* = {pair.R_star:g} m (beyond any contact law); need v_in < "
+                         f"{v_reach:.4g} m/s ({v_reach / pair.v_Y:.4g} v_Y) for these constants")
+    return reach
 
 
 def collision_reference(law_name, params, v_in) -> CollisionReference:
@@ -163,12 +187,14 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
                          f"at v_in = {v[unusable][0]:g} m/s (v_in/v_Y = {v[unusable][0] / pair.v_Y:.3g}) "
                          f"is outside the floating-point range ({_SMALLEST_ENERGY:g} J .. 1.8e308 J)")
     delta = (energy / (0.4 * pair.hertz_stiffness)) ** 0.4       # Hertz: W = (2/5) k delta^(5/2)
+    reach = _check_within_domain(law, law_params, pair, v, energy)
+    delta = np.minimum(delta, reach)
     for _ in range(200):                                          # bracket from above
         force, _ = _virgin_force(law, delta, law_params)
         short = law.loading_work(delta, force, law_params) < energy
         if not short.any():
             break
-        delta = np.where(short, 2.0 * delta, delta)
+        delta = np.where(short, np.minimum(2.0 * delta, reach), delta)
     for _ in range(100):
         force, _ = _virgin_force(law, delta, law_params)
         excess = law.loading_work(delta, force, law_params) - energy
@@ -260,7 +286,37 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))
 
-    mass = pair.mass_star
+    path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history)
+    in_range, over_window = _window_check(law, law_params, path["P_max"], v_in)
+    return CollisionResult(law.name, v_in, path["v_out"], -path["v_out"] / v_in,
+                           np.sqrt(path["unloading_area"] / np.maximum(path["loading_area"], 1e-300)),
+                           path["P_max"], path["delta_max"], path["delta_res"], path["contact_time"], dt,
+                           path["steps"], time.perf_counter() - started, path["max_iterations"],
+                           path["history"], in_range, over_window)
+
+
+def _window_check(law, params, P_max, v_in):
+    """(in_calibrated_range, P_max / window's largest force) per velocity, or (None, None) when
+    the law's constants state no window; one RangeWarning naming the fastest impact beyond it."""
+    window = getattr(params, "window", None)
+    if law.name != "vz" or window is None:
+        return None, None
+    P_limit, radius_limit = params.window_limits
+    over = P_max / P_limit
+    in_range = (P_max <= P_limit) & (params.contact_radius_at(P_max) <= radius_limit)
+    if not in_range.all():
+        worst = int(np.argmax(np.where(in_range, -np.inf, P_max)))
+        warnings.warn(f"vz law used beyond its calibrated window: {int((~in_range).sum())} of {v_in.size} "
+                      f"impact(s), up to v_in = {v_in[worst]:g} m/s reaching P/P_Y = {P_max[worst] / params.pair.P_Y:.4g}"
+                      f" (fitted on {window.describe()}); calibrate for these impacts (nfdcal calibrate --peaks)",
+                      RangeWarning, stacklevel=3)
+    return in_range, over
+
+
+def _time_loop(law, law_params, v_in, dt: float, mass: float, max_steps: int, history: bool) -> dict:
+    """The leap-frog loop of :func:`collide` (module doc) for all velocities at once: per
+    velocity v_out, contact_time, loading and unloading areas, P_max, delta_max, delta_res; the
+    number of steps, the largest Newton iteration count and the history on request."""
     n = v_in.size
     state = law.initial_state(n)
     delta = np.zeros(n)
@@ -284,7 +340,8 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         delta_new = delta + velocity * dt
         # The loop owns ``state`` (made above, never handed out before the end): the trial
         # history is committed in place, O(contacts whose turning point moved), no copy.
-        force_new, update = law.step(delta_new, state, law_params)
+        # the kernel: no RangeWarning per step; one per collide, from _window_check
+        force_new, update = law.step_function(delta_new, state, law_params)
         law.commit(state, update)
         max_iterations = max(max_iterations, update.newton_iterations)
         increment = delta_new - delta
@@ -308,11 +365,8 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
             times.append(step * dt)
             deltas.append(delta.copy())
             forces.append(force.copy())
-
-    delta_res = np.zeros(n) if isinstance(state, HertzState) else state.delta_res
-    hist = (CollisionHistory(np.asarray(times), np.asarray(deltas), np.asarray(forces))
-            if history else None)
-    return CollisionResult(law.name, v_in, v_out, -v_out / v_in,
-                           np.sqrt(unloading_area / np.maximum(loading_area, 1e-300)),
-                           P_max, delta_max, delta_res, contact_time, dt, step,
-                           time.perf_counter() - started, max_iterations, hist)
+    return {"v_out": v_out, "contact_time": contact_time, "loading_area": loading_area,
+            "unloading_area": unloading_area, "P_max": P_max, "delta_max": delta_max,
+            "delta_res": np.zeros(n) if isinstance(state, HertzState) else state.delta_res,
+            "steps": step, "max_iterations": max_iterations,
+            "history": CollisionHistory(np.asarray(times), np.asarray(deltas), np.asarray(forces)) if history else None}

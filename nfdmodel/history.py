@@ -90,7 +90,10 @@ class HistoryUpdate:
     index[i] gets values.<field>[i]; a HertzState(0) for hertz (no history);
     n: the number of contacts of the state the step was computed from;
     newton_iterations: the largest number of Newton iterations of the step (vz plastic loading,
-    :func:`vz_plastic_solve`; 0 for the other laws and when no contact loads plastically).
+    :func:`vz_plastic_solve`; 0 for the other laws and when no contact loads plastically);
+    beyond_window: how many of the k contacts loaded beyond the calibrated window of the law's
+    constants (vz with a stated window, :mod:`nfdmodel.window`; else 0), and
+    largest_load_over_P_Y: the largest P_max / P_Y among them (0 when none).
 
     Made by :meth:`ContactLaw.step`; applied by :meth:`ContactLaw.commit` (in place) or
     :meth:`ContactLaw.committed` (copy). The contacts not in ``index`` keep their history.
@@ -100,6 +103,8 @@ class HistoryUpdate:
     values: object
     n: int
     newton_iterations: int = 0
+    beyond_window: int = 0
+    largest_load_over_P_Y: float = 0.0
 
     @property
     def size(self) -> int:

@@ -2,8 +2,10 @@
 
 Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
-     "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m}, ...}
-Only law, Ca, Kc and material are needed; any other key must be one of ``KEYS`` (a typo is named,
+     "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m},
+     "window": {"P_min_over_P_Y": -, "P_max_over_P_Y": -, "a_max_over_R": -, "source": text}, ...}
+Only law, Ca, Kc and material are needed; a file without "window" (written before windows were
+recorded) is read with the default recipe's window, 1..41.2 P_Y, and a RangeWarning saying so; any other key must be one of ``KEYS`` (a typo is named,
 never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
 agree with the values recomputed here (relative 1e-4), so a stale or hand-edited file is caught.
 """
@@ -17,11 +19,12 @@ from pathlib import Path
 from .parameters import VZParams
 from .materials import ContactPair, Material
 from .validation import PlausibilityWarning
+from .window import CalibrationWindow, RangeWarning
 
 _CONSISTENCY = 1e-4
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
-KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "a_Y", "delta_Y", "material", "units", "fit",
-        "fe_errors", "mesh", "stamp")
+KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "a_Y", "delta_Y", "material", "window", "units",
+        "fit", "fe_errors", "mesh", "stamp")
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 
 
@@ -32,6 +35,7 @@ def parameter_record(params: VZParams, R: float, material: Material) -> dict:
             "Kc_hat": params.Kc_hat, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
             "material": {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y,
                          "rho": material.rho, "R": R},
+            **({"window": params.window.record()} if params.window is not None else {}),
             "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "E": "Pa",
                       "sigma_y": "Pa", "rho": "kg/m^3", "R": "m"}}
 
@@ -71,12 +75,20 @@ def load_parameters(path) -> VZParams:
     missing += [k for k in ("Ca", "Kc") if k not in data]
     if missing:
         raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")
+    if "window" in data:
+        try:
+            window = CalibrationWindow.from_record(data["window"])
+        except ValueError as exc:
+            raise ValueError(f"parameter file {path}: {exc}") from None
+    else:
+        window = CalibrationWindow.assumed_default()
     with warnings.catch_warnings(record=True) as noted:
         warnings.simplefilter("always", PlausibilityWarning)
         try:
             material = Material(material_data["E"], material_data["nu"], material_data["sigma_y"],
                                 material_data["rho"])
-            params = VZParams(ContactPair.sphere_flat(material, material_data["R"]), data["Ca"], data["Kc"])
+            params = VZParams(ContactPair.sphere_flat(material, material_data["R"]), data["Ca"], data["Kc"],
+                              window)
         except ValueError as exc:
             # an implausible value (R = 100: millimetres?) is the likely cause: name it in the error
             hints = "; ".join(str(w.message) for w in noted if issubclass(w.category, PlausibilityWarning))
@@ -94,4 +106,7 @@ def load_parameters(path) -> VZParams:
                 raise ValueError(f"parameter file {path}: {key} = {stored:g} disagrees with "
                                  f"{value:g} recomputed from the material (relative tolerance "
                                  f"{_CONSISTENCY:g})")
+    if "window" not in data:    # said once the file is known to be good: a bad file gets one line
+        warnings.warn(f"parameter file {path} states no calibrated window (written before windows were "
+                      f"recorded): assuming {window.describe()}, the default recipe's", RangeWarning, stacklevel=2)
     return params

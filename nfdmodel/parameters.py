@@ -15,11 +15,13 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
+from scipy.optimize import brentq
 
 from . import reference_case
 from .materials import ContactPair
 from .validation import check_real
 from .vz_curve import vz_loading_work, vz_residual_approach, vz_turning_point
+from .window import CalibrationWindow
 
 CA_HAT_RANGE = (1e-8, 1e4)      # admissible Ca P_Y / a_Y (paper: 0.026)
 KC_HAT_MAX = 1e4                # admissible Kc P_Y (paper: 0.0098)
@@ -46,15 +48,20 @@ class VZParams:
     Validation also requires the loading curve delta(P) = a_ep^2 / (C_R R*) to increase with P
     (checked for P_Y <= P <= 1e8 P_Y); otherwise the displacement-driven force is not unique.
     Dimensionless forms (README, The model: Dimensionless constants): Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y.
+    window: the loads the constants were fitted on (:class:`CalibrationWindow`); None when not
+    stated, and then no contact is flagged as beyond it.
     """
 
     pair: ContactPair
     Ca: float
     Kc: float
+    window: CalibrationWindow | None = None
 
     def __post_init__(self):
         if not isinstance(self.pair, ContactPair):
             raise ValueError(f"pair must be a ContactPair, got {type(self.pair).__name__}")
+        if self.window is not None and not isinstance(self.window, CalibrationWindow):
+            raise ValueError(f"window must be a CalibrationWindow or None, got {type(self.window).__name__}")
         object.__setattr__(self, "Ca", check_real("Ca", self.Ca, low=0.0, unit="m/N"))
         object.__setattr__(self, "Kc", check_real("Kc", self.Kc, low=0.0, low_inclusive=True, unit="1/N"))
         pair = self.pair
@@ -69,16 +76,48 @@ class VZParams:
         self._check_dissipative()
 
     @classmethod
-    def from_dimensionless(cls, pair: ContactPair, Ca_hat: float, Kc_hat: float) -> "VZParams":
+    def from_dimensionless(cls, pair: ContactPair, Ca_hat: float, Kc_hat: float,
+                           window: CalibrationWindow | None = None) -> "VZParams":
         """Ca = Ca_hat a_Y / P_Y [m/N], Kc = Kc_hat / P_Y [1/N]."""
         Ca_hat = check_real("Ca_hat", Ca_hat, low=0.0)
         Kc_hat = check_real("Kc_hat", Kc_hat, low=0.0, low_inclusive=True)
-        return cls(pair, Ca_hat * pair.a_Y / pair.P_Y, Kc_hat / pair.P_Y)
+        return cls(pair, Ca_hat * pair.a_Y / pair.P_Y, Kc_hat / pair.P_Y, window)
 
     @classmethod
     def reference(cls) -> "VZParams":
-        """The paper's reference case with its Abaqus calibration Ca = 2.33e-7 m/N, Kc = 2.69e-4 1/N."""
-        return cls(ContactPair.reference(), reference_case.CA, reference_case.KC)
+        """The paper's reference case with its Abaqus calibration Ca = 2.33e-7 m/N, Kc = 2.69e-4 1/N,
+        fitted on the load paths to 500, 1000 and 1500 N (to 40.9 P_Y)."""
+        pair = ContactPair.reference()
+        window = CalibrationWindow(1.0, max(reference_case.PEAKS) / pair.P_Y, None,
+                                   "Vu-Quoc & Zhang (1999): Abaqus load paths to 500, 1000, 1500 N")
+        return cls(pair, reference_case.CA, reference_case.KC, window)
+
+    @cached_property
+    def window_limits(self) -> tuple[float, float]:
+        """(largest force [N], largest contact radius [m]) of the window; inf where not stated."""
+        if self.window is None:
+            return math.inf, math.inf
+        a_max = self.window.a_max_over_R
+        return (self.window.P_max_over_P_Y * self.pair.P_Y,
+                math.inf if a_max is None else a_max * self.pair.R_star)
+
+    def contact_radius_at(self, force):
+        """a_ep = a_e + a_p [m] on the virgin loading curve at force P [N]."""
+        return self.pair.hertz_radius(force) + self.plastic_radius(force)
+
+    @cached_property
+    def full_contact_load(self) -> float:
+        """The force [N] at which the law's contact radius a_e + Ca (P - P_Y) reaches R*: the
+        end of the law's domain (a contact law needs a << R). a_ep increases with P and is below
+        R* at P_Y (a_Y << R*) and above it at P_Y + R*/Ca, so the root is bracketed."""
+        pair = self.pair
+        return float(brentq(lambda P: float(self.contact_radius_at(P)) - pair.R_star, pair.P_Y,
+                            pair.P_Y + pair.R_star / self.Ca, xtol=1e-12 * pair.P_Y, rtol=1e-12))
+
+    @cached_property
+    def full_contact_approach(self) -> float:
+        """The approach [m] at which the law's contact radius reaches R* (:attr:`full_contact_load`)."""
+        return float(self.loading_approach(self.full_contact_load))
 
     @property
     def Ca_hat(self) -> float:
@@ -195,6 +234,7 @@ def vz_largest_admissible_Kc(pair: ContactPair, Ca: float) -> float:
         object.__setattr__(trial, "pair", pair)
         object.__setattr__(trial, "Ca", Ca)
         object.__setattr__(trial, "Kc", Kc_hat / pair.P_Y)
+        object.__setattr__(trial, "window", None)
         return trial._energy_excess()[0] <= _DISSIPATION_SLACK
 
     if dissipative(upper_hat):

@@ -123,7 +123,8 @@ def vz_step(delta: float, history: History, R: float, E: float, P_Y: float, delt
     Virgin curve: Hertz up to delta_Y (delta_res = 0, K_u = (4/3) E sqrt(R)); beyond it
     P = vz_loading_force, then C_Rmax = 1 + Kc (P_max - P_Y), a_e,max = (3 P_max R / (4 E))^(1/3)
     and delta_res = delta_max - a_e,max^2 / (C_Rmax R) (paper eqs. 3.19-3.21); unloading
-    P = K_u <delta - delta_res>^(3/2), K_u = (4/3) E C_Rmax^(3/2) sqrt(R) (paper eq. 3.22)."""
+    P = K_u <delta - delta_res>^(3/2), K_u = (4/3) E C_Rmax^(3/2) sqrt(R) (paper eq. 3.22).
+    A ValueError where the contact radius a_e + Ca (P - P_Y) reaches R (no contact law there)."""
     if delta <= history.delta_max:
         return unloading_force(delta, history, 1.5), history
     if delta <= delta_Y:
@@ -132,6 +133,8 @@ def vz_step(delta: float, history: History, R: float, E: float, P_Y: float, delt
     P = vz_loading_force(delta, history.P_max, R, E, P_Y, Ca, Kc)
     C_R = 1.0 + Kc * (P - P_Y)
     a_e = (3.0 * P * R / (4.0 * E)) ** (1.0 / 3.0)
+    if not a_e + Ca * (P - P_Y) < R:   # the law's domain ends where its contact radius reaches R*
+        raise ValueError(f"delta out of range: at delta = {delta:g} m the vz contact radius reaches R* = {R:g} m")
     return P, turning_point(delta, P, delta - a_e * a_e / (C_R * R), 1.5, a_e)
 
 

@@ -11,6 +11,10 @@ then commit it):
 * ``law.force(delta, state, params) -> (P, new_state)``: the pure function, step + a copying
   commit.
 
+Both warn (one RangeWarning per call, :mod:`nfdmodel.window`) when vz contacts load beyond the
+window its constants were fitted on; ``law.step_function`` and ``law.force_function`` are the
+same kernels without the warning (the count stays in ``update.beyond_window``).
+
 ``delta`` is the total approach ("overlap") of each contact [m], shape (n,), any float dtype;
 ``state`` the named per-contact history; ``P`` the normal force [N], float64, >= 0. In a DEM
 loop that owns its history, ``P, update = law.step(delta, state, params); law.commit(state,
@@ -32,6 +36,7 @@ from .thornton import TINY, thornton_force, thornton_loading_work, thornton_step
 from .vz import vz_force, vz_step
 from .vz_curve import vz_loading_work
 from .walton_braun import walton_braun_force, walton_braun_params, walton_braun_step
+from .window import warn_beyond_window
 
 
 @dataclass(frozen=True)
@@ -39,7 +44,9 @@ class ContactDetails:
     """Per-contact quantities on request [SI]: force P [N]; elastic contact radius a_e [m] (Hertz
     radius at P); plastic radius a_p [m]; total contact radius a_ep [m] (the residual a_p,max
     after separation for vz); delta_res [m]; elastic_energy [J] recoverable at the current state;
-    dissipated_energy [J] so far; state: the trial history after this step."""
+    dissipated_energy [J] so far; state: the trial history after this step; beyond_window: True
+    where the contact's turning point lies beyond the calibrated window of the law's constants
+    (vz with a stated window: P_max or its contact radius above the window's; else False)."""
 
     force: np.ndarray
     a_e: np.ndarray
@@ -49,6 +56,7 @@ class ContactDetails:
     elastic_energy: np.ndarray
     dissipated_energy: np.ndarray
     state: object
+    beyond_window: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -62,7 +70,7 @@ class ContactLaw:
 
     name: str
     description: str
-    force: Callable
+    force_function: Callable           # the pure kernel (delta, state, params) -> (P, new_state); no warnings
     state_type: type
     loading_work_function: Callable    # (delta_max, P_max, params) -> work on the virgin curve [J]
     unloading_exponent: float          # n in P = P_max s^n on unloading
@@ -73,9 +81,21 @@ class ContactLaw:
         (the contacts whose turning point moved and their new history), without committing it:
         ``state`` is not modified. ``P, update = law.step(delta, state, params)`` then
         ``law.commit(state, update)`` gives the same force and history as
-        ``P, state = law.force(delta, state, params)``, bit for bit.
+        ``P, state = law.force(delta, state, params)``, bit for bit. One RangeWarning when
+        contacts load beyond the calibrated window of the constants (``update.beyond_window``
+        counts them; the kernel ``step_function`` counts without warning).
         """
-        return self.step_function(delta, state, params)
+        force, update = self.step_function(delta, state, params)
+        if update.beyond_window:
+            warn_beyond_window(self.name, update.beyond_window, update.largest_load_over_P_Y, params.window)
+        return force, update
+
+    def force(self, delta, state, params):
+        """The pure law: (P [N], new_state); ``state`` is never modified (``new_state`` is
+        ``state`` itself when no turning point moved). :meth:`step` plus a copying commit, with
+        its RangeWarning; ``force_function`` is the same kernel without the warning."""
+        force, update = self.step(delta, state, params)
+        return force, apply_update(state, update, copy=True)
 
     def commit(self, state, update: HistoryUpdate):
         """Write ``update`` (from :meth:`step` on this ``state``) into ``state``'s arrays IN PLACE
@@ -132,7 +152,7 @@ class ContactLaw:
     def contact_state(self, delta, state, params) -> ContactDetails:
         """Force, radii, residual approach and energies per contact after this step."""
         p = self.params_from(params)
-        force, new_state = self.force(delta, state, p)
+        force, new_state = self.force(delta, state, p)   # warns beyond the window, like step
         force = np.reshape(force, -1)
         pair = as_pair(p, self.name)
         a_e = np.asarray(pair.hertz_radius(force), dtype=float).reshape(-1)
@@ -140,11 +160,15 @@ class ContactLaw:
         if isinstance(new_state, HertzState):
             zeros = np.zeros_like(force)
             elastic = 0.4 * force * np.maximum(delta_flat, 0.0)
-            return ContactDetails(force, a_e, zeros, a_e.copy(), zeros, elastic, zeros, new_state)
+            return ContactDetails(force, a_e, zeros, a_e.copy(), zeros, elastic, zeros, new_state,
+                                  np.zeros(force.shape, dtype=bool))
         elastic = force * np.maximum(delta_flat - new_state.delta_res, 0.0) / (self.unloading_exponent + 1.0)
+        beyond = np.zeros(force.shape, dtype=bool)
         if self.name == "vz":
             a_p = p.plastic_radius(new_state.P_max)
             a_ep = a_e + a_p                # after separation a_e = 0: residual radius a_p,max
+            P_limit, radius_limit = p.window_limits
+            beyond = (new_state.P_max > P_limit) | (p.contact_radius_at(new_state.P_max) > radius_limit)
         elif self.name == "thornton":
             a_sq = np.where(new_state.P_max > pair.P_Y,
                             (2.0 * new_state.P_max + pair.P_Y) / (2.0 * math.pi * pair.p_Y), 0.0)
@@ -156,7 +180,7 @@ class ContactLaw:
             a_p = np.zeros_like(force)
             a_ep = a_e.copy()
         return ContactDetails(force, a_e, a_p, a_ep, new_state.delta_res.copy(), elastic,
-                              self.dissipated_energy(new_state, p), new_state)
+                              self.dissipated_energy(new_state, p), new_state, beyond)
 
     def contact_radius(self, delta, state, params):
         """Total contact radius a_ep [m] per contact (see :meth:`contact_state`)."""

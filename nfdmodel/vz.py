@@ -7,6 +7,8 @@ frozen at P_max, P = (4/3) E* C_Rmax^(3/2) sqrt(R*) <delta - delta_res>^(3/2) (p
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 from .hertz import hertz_kernel
@@ -14,6 +16,7 @@ from .history import VZState, apply_update, check_delta, check_state, restore_sh
 from .parameters import VZParams
 from .turning_point import turning_point_step
 from .vz_curve import vz_plastic_solve, vz_turning_point
+from .window import check_contact_radius_below_R
 
 
 def _vz_loading_branch(params: VZParams):
@@ -64,7 +67,25 @@ def vz_step(delta, state: VZState, params: VZParams):
     check_state(state, VZState, "vz")
     delta, shape = check_delta(delta, state.n)
     force, update = turning_point_step(delta, state, _vz_loading_branch(params), True, params.pair)
+    if update.size:                  # sparse: only the contacts whose turning point moved
+        update = _check_reach(update, params)
     return restore_shape(force, shape), update
+
+
+def _check_reach(update, params: VZParams):
+    """The contacts that loaded in this step against R* (ValueError) and the calibrated window
+    (counted in the update; ContactLaw.step warns): a few passes over the loading contacts only."""
+    pair = params.pair
+    P_max = update.values.P_max
+    radius = update.values.a_e_max + params.Ca * np.maximum(P_max - pair.P_Y, 0.0)
+    largest = int(np.argmax(radius))
+    check_contact_radius_below_R(float(radius[largest]), pair.R_star, float(update.values.delta_max[largest]),
+                                 params)
+    P_limit, radius_limit = params.window_limits
+    if float(P_max.max()) <= P_limit and float(radius[largest]) <= radius_limit:
+        return update
+    beyond = int(np.count_nonzero((P_max > P_limit) | (radius > radius_limit)))
+    return dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=float(P_max.max()) / pair.P_Y)
 
 
 def vz_force_with_iterations(delta, state: VZState, params: VZParams):

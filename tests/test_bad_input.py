@@ -246,8 +246,9 @@ def test_a_plan_that_cannot_be_fitted_is_refused_before_any_fe(argv, tmp_path, c
 
 
 def test_a_mesh_beyond_this_machine_is_refused_before_meshing(tmp_path, capsys, monkeypatch):
-    """--contact-size 1e-9 (CLI) and contact_size = 1e-12 (a scene, even at --dry-run): the
-    estimate, the machine's limit and the smallest admissible element, before any meshing."""
+    """--contact-size 3e-7 (CLI): the estimate, the machine's limit and the smallest admissible
+    element, before any meshing; --contact-size 1e-9 and contact_size = 1e-12 (a scene, even at
+    --dry-run) are below a millionth of the radius: refused, naming the smallest element."""
     import meshes.hemisphere
 
     monkeypatch.setattr(meshes.hemisphere, "build_msh", lambda *a, **k: pytest.fail("meshed"))
@@ -255,12 +256,13 @@ def test_a_mesh_beyond_this_machine_is_refused_before_meshing(tmp_path, capsys, 
     scene.write_text('[scene]\nname = "tiny"\n[[material]]\nname = "al"\nE = 70e9\nnu = 0.3\n'
                      'sigma_y = 100e6\nrho = 2700.0\nR = 0.1\n[mesh]\ncontact_size = 1e-12\n'
                      '[load_paths]\nP_max = [500.0, 1000.0]\n[calibration]\nship = "radius"\n')
-    for argv in (["calibrate", "--contact-size", "1e-9", "--out", str(tmp_path / "out")],
-                 ["run", str(scene), "--dry-run"]):
+    for argv, words in ((["calibrate", "--contact-size", "3e-7", "--out", str(tmp_path / "out")], ("dofs", "GB")),
+                        (["calibrate", "--contact-size", "1e-9", "--out", str(tmp_path / "out")], ("1e-07 m",)),
+                        (["run", str(scene), "--dry-run"], ("1e-07 m",))):
         assert main(argv + ["--quiet"] if argv[0] == "calibrate" else argv) == 2
         err = capsys.readouterr().err.strip().splitlines()
-        assert len(err) == 1 and "contact_size out of range" in err[0]
-        assert "dofs" in err[0] and "GB" in err[0] and "need contact_size >=" in err[0]
+        assert len(err) == 1 and "contact_size out of range" in err[0] and "need contact_size >=" in err[0]
+        assert all(word in err[0] for word in words), err[0]
 
 
 PARAMETER_FILE = {"law": "vz", "Ca": 2.33e-7, "Kc": 2.69e-4,

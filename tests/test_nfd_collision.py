@@ -74,7 +74,9 @@ def test_history_on_request_and_auto_dt():
     assert result.dt < 1e-6
     assert collide("vz", REF, [0.04]).history is None
     records = result.records()
-    assert set(records[0]) == {"v_in", "v_out", "e_velocity", "e_energy", "P_max", "contact_time"}
+    assert set(records[0]) == {"v_in", "v_out", "e_velocity", "e_energy", "P_max", "contact_time",
+                               "in_calibrated_range", "P_max_over_window"}
+    assert [r["in_calibrated_range"] for r in records] == [True, False]   # 0.1 m/s reaches 120 P_Y
 
 
 def test_large_dt_warns():

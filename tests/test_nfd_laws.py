@@ -144,7 +144,8 @@ def test_vectorised_vz_equals_scalar_algorithm_3_2():
         for _ in range(4):
             peaks = [rng.uniform(2, 30), rng.uniform(0, 1.5), rng.uniform(30, 80), rng.uniform(-1, 10),
                      rng.uniform(60, 120), rng.uniform(0.5, 3), 0.0]
-            paths.append(cycle_path(pair.delta_Y, peaks, steps=40))
+            inside = 0.9 * params.full_contact_approach / pair.delta_Y   # the law's domain: a < R*
+            paths.append(cycle_path(pair.delta_Y, [min(p, inside) for p in peaks], steps=40))
         path = np.array(paths).T
         P_vec, _ = run_path(get_law("vz"), path, params)
         for j in range(path.shape[1]):
@@ -155,7 +156,7 @@ def test_vectorised_vz_equals_scalar_algorithm_3_2():
 
 def test_newton_solution_satisfies_loading_curve_to_tolerance():
     law = get_law("vz")
-    P = PAIR.P_Y * np.geomspace(1.0001, 1e6, 200)
+    P = PAIR.P_Y * np.geomspace(1.0001, 0.99 * REF.full_contact_load / PAIR.P_Y, 200)   # to a ~ R*
     delta = REF.loading_approach(P)                  # explicit delta(P), paper eq. 3.4
     force, _ = law.force(delta, law.initial_state(delta.size), REF)
     np.testing.assert_allclose(force, P, rtol=2e-10)
@@ -166,11 +167,16 @@ def test_newton_solution_satisfies_loading_curve_to_tolerance():
 @pytest.mark.parametrize("Ca_factor, Kc_factor", [(1e-3, 0.0), (1.0, 0.0), (1.0, 1.0),
                                                   (1e3, 1e-3), (1e3, 1.0), (1e3, 1e3)])
 def test_extreme_inputs_give_finite_forces_and_bounded_iterations(Ca_factor, Kc_factor):
-    # the stability grid's ranges: P/P_Y up to 1e6, overlaps 1e-15 R .. 0.5 R, float32, Ca/Kc 1e-3x..1e3x
+    # the stability grid's ranges: P/P_Y up to 1e6, overlaps 1e-15 R .. 0.5 R, float32, Ca/Kc
+    # 1e-3x..1e3x, inside the law's domain (contact radius below R*); beyond it, a ValueError
     params = VZParams(PAIR, REF.Ca * Ca_factor, REF.Kc * Kc_factor)
     law = get_law("vz")
-    delta = np.concatenate([PAIR.R_star * np.geomspace(1e-15, 0.5, 300),
-                            params.loading_approach(PAIR.P_Y * np.geomspace(1.01, 1e6, 50))])
+    top = min(0.5 * PAIR.R_star, 0.6 * params.full_contact_approach)   # 1.5 x top stays inside too
+    loads = PAIR.P_Y * np.geomspace(1.01, 1e6, 50)
+    delta = np.concatenate([np.geomspace(1e-15 * PAIR.R_star, top, 300),
+                            params.loading_approach(loads[params.loading_approach(loads) <= top])])
+    with pytest.raises(ValueError, match=r"^delta out of range: .* contact radius .* reaches R\*"):
+        law.force(np.array([1.01 * params.full_contact_approach]), law.initial_state(1), params)
     for dtype in (np.float64, np.float32):
         d = delta.astype(dtype)
         P, state = law.force(d, law.initial_state(d.size), params)
@@ -214,7 +220,7 @@ def test_walton_braun_bilinear_and_defaults():
 def test_loading_work_and_dissipation_match_quadrature(name):
     law = get_law(name)
     params = law.params_from(REF)
-    for peak in (0.5, 5.0, 80.0, 3000.0):
+    for peak in (0.5, 5.0, 80.0, 800.0):        # vz reaches a = R* at 850 delta_Y here
         delta_max = peak * PAIR.delta_Y
         P_max, state = law.force(np.array([delta_max]), law.initial_state(1), params)
         force = lambda d: law.force(np.array([d]), law.initial_state(1), params)[0][0]
@@ -241,7 +247,7 @@ def test_no_energy_created_along_random_cycles(E, nu, ratio, R, Ca_hat, Kc_hat, 
     except ValueError:                 # non-monotone loading curve: rejected by design
         assume(False)
     law = get_law("vz")
-    path = cycle_path(pair.delta_Y, peaks + [0.0], steps=200)
+    path = np.minimum(cycle_path(pair.delta_Y, peaks + [0.0], steps=200), 0.9 * params.full_contact_approach)
     P, state = run_path(law, path, params)
     P = P[:, 0]
     assert np.all(np.isfinite(P)) and np.all(P >= 0)

@@ -35,10 +35,10 @@ def run(ns) -> int:
     if ns.params_out:
         from calib import output
         from calib.report.calibration import write_parameter_file
-        from nfdmodel import ContactPair, VZParams
+        from nfdmodel import CalibrationWindow, ContactPair, VZParams
 
-        params = VZParams.from_dimensionless(ContactPair.sphere_flat(material, radius),
-                                             values["Ca_hat"], values["Kc_hat"])
+        params = VZParams.from_dimensionless(ContactPair.sphere_flat(material, radius), values["Ca_hat"],
+                                             values["Kc_hat"], CalibrationWindow.from_record(values["window"]))
         write_parameter_file(ns.params_out, params, radius, material,
                              {"shipped": "master table", "accuracy": values["accuracy"],
                               "table": values["table"]}, output.stamp(0.0))
@@ -47,6 +47,8 @@ def run(ns) -> int:
         f"Ca = {values['Ca']:.4g} m/N, Kc = {values['Kc']:.4g} 1/N (Ca_hat = {values['Ca_hat']:.4g}, "
         f"Kc_hat = {values['Kc_hat']:.4g})",
         f"first yield: P_Y = {values['P_Y']:.4g} N, a_Y = {values['a_Y']:.4g} m, delta_Y = {values['delta_Y']:.4g} m",
+        f"calibrated window: P/P_Y {values['window']['P_min_over_P_Y']:g}..{values['window']['P_max_over_P_Y']:g}, "
+        f"a/R* <= {values['window']['a_max_over_R']:.3g} (beyond it the constants are an extrapolation)",
         f"accuracy: {values['accuracy']}"]
         + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0

@@ -62,8 +62,10 @@ def run(ns) -> int:
     with progress_reporter(ns.quiet, estimate_s) as progress:
         result = scenes.run_table(scene, ns.out, workers=workers, scheduler=ns.scheduler, progress=progress)
     if ns.master_out:
+        ratios = scene.load_paths.P_max_over_P_Y if scene.load_paths is not None else None
         scenes.write_master_table(result["rows"], ns.master_out, ns.accuracy, scene.name,
-                                  accuracy_details=ns.accuracy_details)
+                                  accuracy_details=ns.accuracy_details,
+                                  window_P_max_over_P_Y=max(ratios) if ratios else None)
     outside = 0
     if ns.check_master:
         from pathlib import Path

@@ -28,7 +28,8 @@ from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, f
                                      radius_law_data, relative_force_residuals, window_study)
 from calib.fit.recipe import CalibrationSpec, check_fittable
 from meshes.hemisphere import hemisphere_mesh
-from nfdmodel import ContactPair, Material, VZParams, get_law
+from calib.output import git_commit
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, get_law
 
 
 def first_yield_load(hemisphere, material: Material) -> float:
@@ -77,10 +78,22 @@ class CalibrationResult:
 
     @property
     def params(self) -> VZParams:
-        """The shipped runtime parameters."""
+        """The shipped runtime parameters, with the window they were fitted on."""
         if self.shipped == "force":
-            return VZParams(self.spec.pair, self.force_fit.Ca, self.force_fit.Kc)
-        return VZParams(self.spec.pair, self.radius_fit.Ca.slope, self.radius_fit.Kc.slope)
+            return VZParams(self.spec.pair, self.force_fit.Ca, self.force_fit.Kc, self.fitted_window)
+        return VZParams(self.spec.pair, self.radius_fit.Ca.slope, self.radius_fit.Kc.slope, self.fitted_window)
+
+    @property
+    def fitted_window(self) -> CalibrationWindow:
+        """The loads the constants were fitted on: the FE loading points above P_Y (P/P_Y from
+        the smallest to the largest, the largest FE contact radius / R*) and the FE that made them."""
+        data, P_Y = self.radius_data, self.P_Y
+        above = data.excess_force > 0
+        mesh = self.mesh_info
+        return CalibrationWindow(float(data.force[above].min()) / P_Y, float(data.force[above].max()) / P_Y,
+                                 float(data.contact_radius[above].max()) / self.spec.pair.R_star,
+                                 f"FE: mesh {mesh.get('key', '?')} ({mesh.get('dofs', '?')} dofs), "
+                                 f"code {git_commit()}")
 
 
 def drive_law(law_name: str, params, approach: np.ndarray) -> tuple[np.ndarray, float]:
@@ -189,6 +202,7 @@ def summary(result: CalibrationResult) -> dict:
         "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
         "P_Y": result.P_Y, "P_Y_fe": result.P_Y_fe,
         "P_Y_fe_rel_error": result.P_Y_fe / result.P_Y - 1.0,
+        "window": params.window.record(),
         "shipped_fit": result.shipped,
         "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
                        "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,

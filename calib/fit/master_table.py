@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from nfdmodel import ContactPair, Material, VZParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams
 
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"   # calib/data: shipped with the package
 DEFAULT_TABLE = DATA_DIR / "master_table.csv"
@@ -118,14 +118,27 @@ class MasterTable:
             out.append(float(RegularGridInterpolator((self.nu, x), values, method="linear")(point)[0]))
         return out[0], out[1]
 
+    def window_for(self, pair: ContactPair, Ca_hat: float, Kc_hat: float) -> CalibrationWindow:
+        """The window of the table's constants for ``pair``: P/P_Y of the grid's load plan (the
+        table's metadata; the default recipe's 41.2 if it does not say) and the contact radius the
+        law reaches at its top, a/R* (the nodes' FE radii are not stored)."""
+        P_max_over_P_Y = float(self.meta.get("window_P_max_over_P_Y")
+                               or CalibrationWindow.assumed_default().P_max_over_P_Y)
+        params = VZParams.from_dimensionless(pair, Ca_hat, Kc_hat)
+        a_max = float(params.contact_radius_at(P_max_over_P_Y * pair.P_Y)) / pair.R_star
+        return CalibrationWindow(1.0, P_max_over_P_Y, a_max,
+                                 f"master table {self.path.name if self.path else ''}: load paths to "
+                                 f"{P_max_over_P_Y:g} P_Y, a/R* of the law at the top")
+
     def parameters(self, E: float, nu: float, sigma_y: float, R: float, rho: float = 2700.0) -> dict:
         """Ca, Kc [SI] and the dimensionless values of a sphere (E, nu, sigma_Y, R) on a rigid flat."""
 
         material = Material(E, nu, sigma_y, rho)
         pair = ContactPair.sphere_flat(material, R)
         Ca_hat, Kc_hat = self.lookup(float(nu), float(E) / float(sigma_y))
-        params = VZParams.from_dimensionless(pair, Ca_hat, Kc_hat)
+        params = VZParams.from_dimensionless(pair, Ca_hat, Kc_hat, self.window_for(pair, Ca_hat, Kc_hat))
         return {"Ca": params.Ca, "Kc": params.Kc, "Ca_hat": Ca_hat, "Kc_hat": Kc_hat,
+                "window": params.window.record(),
                 "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
                 "E_over_sigma_y": float(E) / float(sigma_y),
                 "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m"},

@@ -24,7 +24,7 @@ import numpy as np
 
 from calib.output import (RESULTS, all_or_nothing, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
                           write_json)
-from nfdmodel import VZParams, collide, collision_reference, load_parameters
+from nfdmodel import RangeWarning, VZParams, collide, collision_reference, load_parameters
 
 DEFAULT_OUT = RESULTS / "collision"
 LAWS = ("vz", "thornton")
@@ -33,6 +33,17 @@ BENCH_VELOCITIES = np.linspace(0.02, 0.2, 10)                       # m/s
 HISTORY_VELOCITY = 0.04                                             # m/s
 PAPER_DT = 1e-6                                                     # s
 DT_LADDER = (1e-5, 5e-6, 2e-6, 1e-6, 5e-7, 2e-7, 1e-7, 5e-8, 2e-8, 1e-8)
+
+
+def _window_edge(x, over_window) -> float:
+    """x where P_max / window's top crosses 1 (log-log interpolation between the sweep points);
+    the last x when every impact stays inside, the first when none does."""
+    inside = over_window <= 1.0
+    if inside.all() or not inside.any():
+        return float(x[-1] if inside.all() else x[0])
+    k = int(np.argmin(inside))               # first impact beyond the window
+    lx, ly = np.log(x[k - 1:k + 1]), np.log(over_window[k - 1:k + 1])
+    return float(np.exp(lx[0] + (0.0 - ly[0]) * (lx[1] - lx[0]) / (ly[1] - ly[0])))
 
 
 def thornton_closed_form(v_in, v_Y):
@@ -79,8 +90,15 @@ def _generate(out: Path, params_file, velocities) -> str:
 
     # 1. Restitution against v_in / v_Y (paper fig. 20).
     rows = []
+    window_edge = None                   # v_in / v_Y where vz leaves its calibrated window
     for law in LAWS:
-        result = collide(law, params, sweep, dt=PAPER_DT)
+        with warnings.catch_warnings():  # beyond the window is shown on the plot, not warned
+            warnings.simplefilter("ignore", RangeWarning)
+            result = collide(law, params, sweep, dt=PAPER_DT)
+        if law == "vz" and result.in_calibrated_range is not None:
+            summary["vz_window"] = {**params.window.record(), "in_calibrated_range": result.in_calibrated_range,
+                                    "P_max_over_window": result.P_max_over_window}
+            window_edge = _window_edge(sweep / v_Y, result.P_max_over_window)
         exact = collision_reference(law, params, sweep)
         closed = thornton_closed_form(sweep, v_Y) if law == "thornton" else None
         for i, v in enumerate(sweep):
@@ -89,6 +107,8 @@ def _generate(out: Path, params_file, velocities) -> str:
                          "e_exact": exact.restitution[i],
                          "e_thornton_closed_form": closed[i] if closed is not None else "",
                          "P_max": result.P_max[i], "delta_max": result.delta_max[i],
+                         "in_calibrated_range": ("" if result.in_calibrated_range is None
+                                                 else bool(result.in_calibrated_range[i])),
                          "delta_res": result.delta_res[i], "contact_time": result.contact_time[i],
                          "dt": result.dt})
         agreement = np.abs(result.e_velocity - result.e_energy) / result.e_energy
@@ -113,6 +133,9 @@ def _generate(out: Path, params_file, velocities) -> str:
                 label=f"{law}: sqrt(unloading/loading area)")
     xs = np.linspace(sweep[0], sweep[-1], 200)
     ax.plot(xs / v_Y, thornton_closed_form(xs, v_Y), "k--", lw=0.8, label="Thornton closed form (eq. 1.11)")
+    if window_edge is not None:
+        ax.axvspan(min(sweep[0] / v_Y, window_edge), window_edge, color="C2", alpha=0.12, lw=0,
+                   label=f"vz constants' calibrated window (P <= {params.window.P_max_over_P_Y:.3g} P_Y)")
     ax.set_xlabel("v_in / v_Y  (v_Y = %.3g m/s)" % v_Y)
     ax.set_ylabel("coefficient of restitution e")
     ax.set_title("Sphere on rigid flat, reference case (cf. Vu-Quoc & Zhang 1999 fig. 20)", fontsize=9)

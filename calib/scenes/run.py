@@ -19,7 +19,7 @@ from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed
 from calib.scenes.schema import Scene
 from calib.studies.hertz import plot_hertz, run_hertz
 from meshes.hemisphere import hemisphere_mesh
-from nfdmodel import VZParams, collide
+from nfdmodel import CalibrationWindow, VZParams, collide
 
 
 # ----------------------------------------------------------------------------- run
@@ -104,7 +104,8 @@ def _run_collision(scene, material, out, params, progress) -> dict:
         table = MasterTable.load()
         values = table.parameters(material.E, material.nu, material.sigma_y, material.R, material.rho)
 
-        params = VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"])
+        params = VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"],
+                                             CalibrationWindow.from_record(values["window"]))
         source = f"master table ({table.meta.get('accuracy', 'accuracy not stated')})"
     velocities = scene.collision.velocities(pair)
     progress(f"collision: {material.name}, {len(velocities)} velocities, laws {', '.join(scene.collision.laws)}")
@@ -132,6 +133,10 @@ def plot_restitution(rows: list[dict], v_Y: float, title: str, path: Path) -> No
     for law in dict.fromkeys(r["law"] for r in rows):
         sel = [r for r in rows if r["law"] == law]
         ax.plot([r["v_in"] / v_Y for r in sel], [r["e_velocity"] for r in sel], "o-", ms=3, label=law)
+    inside = [r["v_in"] / v_Y for r in rows if r.get("in_calibrated_range")]
+    if inside:                 # where the vz constants are not an extrapolation
+        ax.axvspan(min(r["v_in"] for r in rows) / v_Y, max(inside), color="C2", alpha=0.12, lw=0,
+                   label="vz: inside its calibrated window")
     ax.set_xscale("log")
     ax.set_xlabel(f"v_in / v_Y  (v_Y = {v_Y:.3g} m/s)")
     ax.set_ylabel("coefficient of restitution e = -v_out / v_in")

@@ -142,11 +142,12 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
 
 
 def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str,
-                       accuracy_details: str = "") -> Path:
+                       accuracy_details: str = "", window_P_max_over_P_Y: float | None = None) -> Path:
     """The master table (calib/data/master_table.csv + .json) from the rows of a grid table:
     nu, E_over_sigma_y, Ca_hat, Kc_hat and the fit quality; every node must have succeeded.
     ``accuracy`` is the one-line statement ``nfdcal material`` prints; ``accuracy_details`` the
-    full account (grid, recipe, validation, discretisation), kept in the .json only."""
+    full account (grid, recipe, validation, discretisation), kept in the .json only;
+    ``window_P_max_over_P_Y``: the top of the grid's load plan, the window of every node."""
     path = Path(path)
     failed = [r["name"] for r in rows if r.get("status") != "ok"]
     if failed:
@@ -158,7 +159,7 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
                            for r in table_rows])  # validates a complete regular grid
     stamp = output.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
     meta = {"master_table": {"accuracy": accuracy, "accuracy_details": accuracy_details or accuracy,
-                             "scene": scene_name,
+                             "window_P_max_over_P_Y": window_P_max_over_P_Y, "scene": scene_name,
                              "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
                              "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (the dimensionless constants); radius fit "
                                            "on the FE loading branch to 13.7, 27.4, 41.2 P_Y"},
