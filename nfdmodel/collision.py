@@ -301,9 +301,9 @@ def _window_check(law, params, P_max, v_in):
     window = getattr(params, "window", None)
     if law.name != "vz" or window is None:
         return None, None
-    P_limit, radius_limit = params.window_limits
+    P_limit = params.window_force
     over = P_max / P_limit
-    in_range = (P_max <= P_limit) & (params.contact_radius_at(P_max) <= radius_limit)
+    in_range = P_max <= P_limit
     if not in_range.all():
         worst = int(np.argmax(np.where(in_range, -np.inf, P_max)))
         warnings.warn(f"vz law used beyond its calibrated window: {int((~in_range).sum())} of {v_in.size} "

@@ -93,13 +93,11 @@ class VZParams:
         return cls(pair, reference_case.CA, reference_case.KC, window)
 
     @cached_property
-    def window_limits(self) -> tuple[float, float]:
-        """(largest force [N], largest contact radius [m]) of the window; inf where not stated."""
-        if self.window is None:
-            return math.inf, math.inf
-        a_max = self.window.a_max_over_R
-        return (self.window.P_max_over_P_Y * self.pair.P_Y,
-                math.inf if a_max is None else a_max * self.pair.R_star)
+    def window_force(self) -> float:
+        """The largest force of the calibrated window [N] (inf when no window is stated). The law's
+        contact radius grows with P, so the window's radius bound a/R* coincides with this one up
+        to the fit error of the constants: the force decides (a/R* is recorded, not tested)."""
+        return math.inf if self.window is None else self.window.P_max_over_P_Y * self.pair.P_Y
 
     def contact_radius_at(self, force):
         """a_ep = a_e + a_p [m] on the virgin loading curve at force P [N]."""

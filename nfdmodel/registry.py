@@ -46,7 +46,7 @@ class ContactDetails:
     after separation for vz); delta_res [m]; elastic_energy [J] recoverable at the current state;
     dissipated_energy [J] so far; state: the trial history after this step; beyond_window: True
     where the contact's turning point lies beyond the calibrated window of the law's constants
-    (vz with a stated window: P_max or its contact radius above the window's; else False)."""
+    (vz with a stated window: P_max above the window's largest force; else False)."""
 
     force: np.ndarray
     a_e: np.ndarray
@@ -167,8 +167,7 @@ class ContactLaw:
         if self.name == "vz":
             a_p = p.plastic_radius(new_state.P_max)
             a_ep = a_e + a_p                # after separation a_e = 0: residual radius a_p,max
-            P_limit, radius_limit = p.window_limits
-            beyond = (new_state.P_max > P_limit) | (p.contact_radius_at(new_state.P_max) > radius_limit)
+            beyond = new_state.P_max > p.window_force
         elif self.name == "thornton":
             a_sq = np.where(new_state.P_max > pair.P_Y,
                             (2.0 * new_state.P_max + pair.P_Y) / (2.0 * math.pi * pair.p_Y), 0.0)

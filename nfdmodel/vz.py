@@ -81,10 +81,10 @@ def _check_reach(update, params: VZParams):
     largest = int(np.argmax(radius))
     check_contact_radius_below_R(float(radius[largest]), pair.R_star, float(update.values.delta_max[largest]),
                                  params)
-    P_limit, radius_limit = params.window_limits
-    if float(P_max.max()) <= P_limit and float(radius[largest]) <= radius_limit:
+    P_limit = params.window_force
+    if not float(P_max.max()) > P_limit:
         return update
-    beyond = int(np.count_nonzero((P_max > P_limit) | (radius > radius_limit)))
+    beyond = int(np.count_nonzero(P_max > P_limit))
     return dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=float(P_max.max()) / pair.P_Y)
 
 

@@ -1,8 +1,8 @@
 """The load window a law's constants were fitted on, and what the runtime says beyond it.
 
 A calibration fits Ca and Kc to FE loading points with P_Y < P <= P_max. The constants describe
-the contact inside that window, P_min <= P <= P_max and contact radius a <= a_max, and are an
-extrapolation outside it: fitted to 41 P_Y, Ca_hat = Ca P_Y / a_Y is about 0.026; fitted to
+the contact inside that window, P_min <= P <= P_max (contact radius up to the FE's a_max, which
+the law reproduces to its fit error: the force decides), and are an extrapolation beyond it: fitted to 41 P_Y, Ca_hat = Ca P_Y / a_Y is about 0.026; fitted to
 1000 P_Y, about 0.010. ``CalibrationWindow`` travels with the constants (``VZParams.window``, the
 parameter file, the master table); the vz kernel counts the contacts whose turning point moves
 beyond it (``HistoryUpdate.beyond_window``, sparse: only the contacts loading this step) and

@@ -18,7 +18,7 @@ LAW = get_law("vz")
 def test_the_paper_constants_carry_the_window_they_were_fitted_on():
     window = REF.window
     assert window.P_max_over_P_Y == pytest.approx(1500.0 / PAIR.P_Y) and window.P_min_over_P_Y == 1.0
-    assert REF.window_limits == (pytest.approx(1500.0), np.inf)
+    assert REF.window_force == pytest.approx(1500.0)
     assert VZParams(PAIR, REF.Ca, REF.Kc).window is None        # constants typed by hand: not stated
 
 
@@ -46,14 +46,6 @@ def test_step_counts_contacts_beyond_the_window_and_warns_once_naming_the_larges
     with pytest.warns(RangeWarning):
         details = LAW.contact_state(delta, LAW.initial_state(4), REF)
     assert details.beyond_window.tolist() == [False, False, True, True]
-
-
-def test_a_stated_contact_radius_bounds_the_window_too():
-    a_limit = float(REF.contact_radius_at(20.0 * PAIR.P_Y)) / PAIR.R_star
-    params = VZParams(PAIR, REF.Ca, REF.Kc, CalibrationWindow(1.0, 40.0, a_limit, "test"))
-    delta = params.loading_approach(PAIR.P_Y * np.array([10.0, 30.0]))   # 30 P_Y: radius beyond
-    _, update = LAW.step_function(delta, LAW.initial_state(2), params)
-    assert update.beyond_window == 1
 
 
 def test_collisions_report_whether_each_impact_stayed_in_the_window():
