@@ -180,3 +180,31 @@ def test_readme_reference_numbers_at_the_default_mesh():
     assert abs(s["P_Y_fe"] / 36.45 - 1) < 0.03 and abs(afg["alpha_max"] / paper.ALPHA_MAX_AFG - 1) < 0.03
     assert abs(afg["e"] / paper.E_AFG - 1) < 0.03
     assert abs(s["Ca"] / paper.CA - 1) < 0.10 and abs(s["Kc"] / paper.KC - 1) < 0.15
+
+
+def test_v_max_calibrates_a_window_that_covers_the_impact(tmp_path, capsys):
+    """--v-max: load paths to the force the impact produces (estimated with the master table,
+    re-estimated with the new constants); the impact then runs inside the window."""
+    from nfdmodel import collide, load_parameters
+
+    code = main(["calibrate", "--v-max", "0.012", "--contact-size", "1.6e-4", "--no-plots", "--json", "--quiet",
+                 "--out", str(tmp_path)])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    rounds = out["v_max"]["rounds"]
+    assert rounds[-1]["covered"] and 1 <= len(rounds) <= 2
+    assert out["window"]["P_max_over_P_Y"] == pytest.approx(rounds[-1]["P_top_over_P_Y"], rel=1e-6)
+    params = load_parameters(tmp_path / "parameters.json")
+    assert collide("vz", params, [0.012]).in_calibrated_range.tolist() == [True]
+
+
+def test_v_max_beyond_the_fe_is_refused_before_meshing(capsys, monkeypatch):
+    import meshes.hemisphere
+
+    monkeypatch.setattr(meshes.hemisphere, "build_msh", lambda *a, **k: pytest.fail("meshed"))
+    assert main(["calibrate", "--v-max", "5", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("nfdcal calibrate: error: --v-max out of range")
+    assert "1000 P_Y" in err[0] and "v_in <= 0.50" in err[0]
+    assert main(["calibrate", "--v-max", "0.05", "--peaks", "500", "--quiet"]) == 2
+    assert "do not combine it with --peaks" in capsys.readouterr().err

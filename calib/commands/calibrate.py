@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
+from nfdmodel.validation import check_solid
 from nfdmodel import reference_case
 
 
@@ -27,6 +28,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
                         help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
                              " for the reference case, else 13.7 27.4 41.2 x P_Y)")
+    parser.add_argument("--v-max", default=None, metavar="V",
+                        help="calibrate for impacts up to V [m/s]: the load paths reach the force such an impact"
+                             " produces (re-estimated with the new constants until covered); not with --peaks")
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")
@@ -71,6 +75,15 @@ def run(ns) -> int:
     peaks = None if ns.peaks is None else tuple(number("--peaks", p) for p in ns.peaks)
     if peaks is not None and not all(p > 0 for p in peaks):
         raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
+    v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
+    if v_max is not None:
+        if peaks is not None:
+            raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
+        check_solid("v_in", v_max)
+        from calib.fit import impact_window
+
+        needed, _, _ = impact_window.check_reach(material, radius, v_max)   # before any mesh
+        peaks = tuple(f * impact_window.MARGIN * needed for f in impact_window.PEAK_FRACTIONS)
     spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
     try:                                # before any mesh: name the flag that sets the load plan
         recipe.check_fittable(spec)
@@ -78,8 +91,9 @@ def run(ns) -> int:
         raise ValueError(f"--peaks: {exc}" if peaks is not None else str(exc)) from None
     # another material's calibration has a folder of its own: the reference one, which
     # `collide --report` reads, is written only by the reference calibration or on request
-    default_out = (calibration_report.DEFAULT_OUT if is_reference(ns) else calibration_report.DEFAULT_OUT
-                   / f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}")
+    default_out = (calibration_report.DEFAULT_OUT if is_reference(ns) and v_max is None else calibration_report.DEFAULT_OUT
+                   / (f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}"
+                      + (f"_vmax{v_max:g}" if v_max is not None else "")))
     if ns.dry_run:
         from calib.scenes.plan import calibration_stage, format_stages, stages_summary
 
@@ -90,15 +104,27 @@ def run(ns) -> int:
                        f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N",
                        f"outputs: {folder}"] + format_stages(stages))
         return 0
+    rounds = None
     with progress_reporter(ns.quiet) as progress:
-        result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+        if v_max is None:
+            result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+        else:                           # round 1 is the plan above; more rounds if it falls short
+            found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ns.ship,
+                                                        contact_size=contact_size)
+            result, rounds = found.result, list(found.rounds)
     out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
                                    vtu=not ns.no_plots)
     summary = {**calibration.summary(result), "out": str(out)}
+    if rounds is not None:
+        summary["v_max"] = {"v_max": v_max, "rounds": rounds}
     lines = [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
              f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
              f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]
     lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}, "
               f"residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
+    window = result.params.window
+    lines.append(f"calibrated window: {window.describe()}"
+                 + (f"; covers impacts up to v_in = {v_max:g} m/s ({len(rounds)} FE calibration(s): "
+                    f"it reaches {rounds[-1]['P_max_of_v_max_over_P_Y']:.4g} P_Y)" if rounds else ""))
     print_summary(ns, summary, lines + [f"results written to {out}"])
     return 0
