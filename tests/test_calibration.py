@@ -204,7 +204,7 @@ def test_v_max_beyond_the_fe_is_refused_before_meshing(capsys, monkeypatch):
     monkeypatch.setattr(meshes.hemisphere, "build_msh", lambda *a, **k: pytest.fail("meshed"))
     assert main(["calibrate", "--v-max", "5", "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith("nfdcal calibrate: error: --v-max out of range")
+    assert len(err) == 1 and err[0].startswith("nfdcal calibrate: error: v_max out of range")
     assert "1000 P_Y" in err[0] and "v_in <= 0.50" in err[0]
     assert main(["calibrate", "--v-max", "0.05", "--peaks", "500", "--quiet"]) == 2
     assert "do not combine it with --peaks" in capsys.readouterr().err

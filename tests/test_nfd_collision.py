@@ -96,7 +96,11 @@ def test_no_energy_created_in_random_collisions(E, nu, ratio, R, rho, Ca_hat, Kc
     except ValueError:
         assume(False)
     v = pair.v_Y * v_over_v_Y
-    exact = collision_reference(law, params, [v])
+    try:
+        exact = collision_reference(law, params, [v])
+    except ValueError as exc:           # vz: the impact would push its contact radius beyond R*
+        assert law == "vz" and str(exc).startswith("v_in out of range: at v_in")
+        assume(False)
     result = collide(law, params, [v], dt=float(exact.contact_time_estimate[0]) / 1000)
     for e in (result.e_velocity, result.e_energy, exact.restitution):
         assert np.all(np.isfinite(e)) and np.all(e > 0) and np.all(e <= 1 + 1e-6)

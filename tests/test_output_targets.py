@@ -135,7 +135,7 @@ def test_another_material_never_overwrites_the_reference_calibration(tmp_path, m
     monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: "result")
     monkeypatch.setattr(calibration, "summary", lambda result: {
         "Ca": 1.0, "Kc": 1.0, "Ca_hat": 1.0, "Kc_hat": 1.0, "P_Y": 1.0, "P_Y_fe": 1.0, "wall_time_s": 0.0,
-        "paths": []})
+        "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
     monkeypatch.setattr(report, "write", lambda result, out, **options: written.append(Path(out)) or Path(out))
     monkeypatch.chdir(tmp_path)
     assert main(["calibrate", "--E", "210e9", "--nu", "0.29", "--sigma-y", "1.2e9", "--R", "0.005",

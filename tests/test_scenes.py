@@ -274,3 +274,46 @@ def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
     assert [float(r["e_velocity"]) for r in vz_rows] == pytest.approx(direct.e_velocity.tolist(), rel=1e-9)
     assert list(out.glob("*.png")) and list(out.glob("*.csv"))
     assert (out / "collision.png").is_file()   # the scene asked for plots: e(v_in) of its laws
+
+
+def test_the_calibration_window_from_the_scene_s_impacts(tmp_path, monkeypatch, capsys):
+    """[calibration] v_max_from = "collision": the load paths reach the force of the fastest
+    impact, so every vz collision of the scene runs inside the calibrated window."""
+    path = write(tmp_path, """
+        [scene]
+        name = "window"
+        [mesh]
+        contact_size = 1.6e-4
+        """ + MATERIAL + """
+        [load_paths]
+        unload = false
+        loading_steps = 24
+        [calibration]
+        v_max_from = "collision"
+        [collision]
+        v_in_over_v_Y = [2.0, 6.0]
+        laws = ["vz"]
+        """)
+    out = tmp_path / "out"
+    assert nfdcal(monkeypatch, "run", path, "--out", out, "--quiet") == 0
+    summary = json.loads((out / "scene.json").read_text())
+    calibration = summary["materials"][0]["calibration"]
+    pair = scenes.load_scene(path).materials[0].pair()
+    assert calibration["v_max"] == pytest.approx(6.0 * pair.v_Y)
+    rows = [line.split(",") for line in (out / "collision.csv").read_text().splitlines() if not line.startswith("#")]
+    column = rows[0].index("in_calibrated_range")
+    assert [r[column] for r in rows[1:]] == ["True", "True"]
+    # --v-max on the command line sets it for a scene too; beyond the FE's reach: refused at --dry-run
+    assert nfdcal(monkeypatch, "run", path, "--v-max", "5", "--dry-run") == 2
+    assert "v_max out of range" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("extra, needle", [
+    ('[calibration]\nv_max = 0.1\nv_max_from = "collision"\n[collision]\nv_in = [0.1]\n', "not both"),
+    ('[calibration]\nv_max_from = "collision"\n', "needs a \\[collision\\] stage"),
+    ('[load_paths]\nP_max = [500.0]\n[calibration]\nv_max = 0.1\n', "do not give load_paths.P_max too"),
+])
+def test_v_max_keys_are_checked(tmp_path, extra, needle):
+    path = write(tmp_path, '[scene]\nname = "w"\n' + MATERIAL + extra)
+    with pytest.raises(scenes.SceneError, match=needle):
+        scenes.load_scene(path)

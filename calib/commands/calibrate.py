@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
+from nfdmodel import CalibrationWindow
 from nfdmodel.validation import check_solid
 from nfdmodel import reference_case
 
@@ -122,7 +123,7 @@ def run(ns) -> int:
              f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]
     lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}, "
               f"residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
-    window = result.params.window
+    window = CalibrationWindow.from_record(summary["window"])
     lines.append(f"calibrated window: {window.describe()}"
                  + (f"; covers impacts up to v_in = {v_max:g} m/s ({len(rounds)} FE calibration(s): "
                     f"it reaches {rounds[-1]['P_max_of_v_max_over_P_Y']:.4g} P_Y)" if rounds else ""))

@@ -76,3 +76,18 @@ def is_reference(ns) -> bool:
     """True when no material flag differs from the reference case."""
     return all(text is None or number(flag_name(k), text) == MATERIAL_DEFAULTS[k]
                for k, text in material_flags(ns).items())
+
+
+def with_v_max(scene, text):
+    """``scene`` with its calibration window set by ``--v-max`` (None: as the scene says)."""
+    if text is None:
+        return scene
+    import dataclasses
+
+    from nfdmodel.validation import check_solid
+
+    v_max = number("--v-max", text, low=0.0, unit="m/s")
+    check_solid("v_in", v_max)
+    if scene.calibration_ship is None:
+        raise ValueError(f"--v-max sets the calibration window: scene {scene.source} has no [calibration]")
+    return dataclasses.replace(scene, calibration_v_max=v_max, calibration_v_max_from_collision=False)

@@ -11,7 +11,7 @@ a terminal (silence it with --quiet). Scene format: calib/scenes/schema.py.
 """
 from __future__ import annotations
 
-from calib.commands.common import add_summary_arguments, print_summary
+from calib.commands.common import add_summary_arguments, print_summary, with_v_max
 
 
 def add_parser(subparsers) -> None:
@@ -21,6 +21,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--dry-run", action="store_true", help="print the plan and exit")
     parser.add_argument("--list", action="store_true", help="list the built-in scenes")
     parser.add_argument("--out", default=None, help="output folder (default: the scene's, else results/scenes/NAME)")
+    parser.add_argument("--v-max", default=None, metavar="V",
+                        help="calibrate every material for impacts up to V [m/s] (replaces the scene's load-path"
+                             " peaks: calib.fit.impact_window)")
     add_summary_arguments(parser)
     parser.set_defaults(run=run)
 
@@ -35,7 +38,7 @@ def run(ns) -> int:
         return 0
     if not ns.scene:
         raise ValueError("SCENE is required: a scene file (.toml) or a built-in scene name (see --list)")
-    scene = scenes.load_scene(ns.scene)
+    scene = with_v_max(scenes.load_scene(ns.scene), ns.v_max)
     stages = scenes.plan(scene)
     if ns.dry_run:
         folder = scene.out_dir(ns.out)

@@ -15,7 +15,7 @@ a material is outside them).
 """
 from __future__ import annotations
 
-from calib.commands.common import add_summary_arguments, print_summary
+from calib.commands.common import add_summary_arguments, print_summary, with_v_max
 
 
 def add_parser(subparsers) -> None:
@@ -35,6 +35,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--check-master", action="store_true",
                         help="compare every material with the shipped master table's interpolation")
     parser.add_argument("--dry-run", action="store_true", help="print the plan and exit")
+    parser.add_argument("--v-max", default=None, metavar="V",
+                        help="calibrate every material for impacts up to V [m/s] (replaces the scene's load-path"
+                             " peaks: calib.fit.impact_window)")
     add_summary_arguments(parser)
     parser.set_defaults(run=run)
 
@@ -47,7 +50,7 @@ def run(ns) -> int:
         workers = int(ns.workers)
     except ValueError:
         raise ValueError(f"--workers must be an integer in [1, 64], got {ns.workers!r}") from None
-    scene = scenes.load_scene(ns.scene)
+    scene = with_v_max(scenes.load_scene(ns.scene), ns.v_max)
     if scene.calibration_ship is None:
         raise ValueError(f"scene {scene.source}: a table needs a [calibration] section")
     if ns.master_out and not scene.is_grid:

@@ -31,6 +31,7 @@ from nfdmodel import ContactPair, Material, RangeWarning, VZParams, collision_re
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
 MAX_ROUNDS = 3          # FE calibrations at most
 PEAK_FRACTIONS = (1.0 / 3.0, 2.0 / 3.0, 1.0)
+SMALLEST_TOP_OVER_P_Y = 3.0     # a window narrower than this has too few plastic points to fit
 
 
 @dataclass(frozen=True)
@@ -78,9 +79,14 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
         needed = impact_force(params, v_max)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
         needed = math.inf
+    if MARGIN * needed < SMALLEST_TOP_OVER_P_Y * pair.P_Y:     # nothing plastic to fit
+        v_least = reach_velocity(params, SMALLEST_TOP_OVER_P_Y * pair.P_Y / MARGIN)
+        raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s reaches only about {needed / pair.P_Y:.3g} P_Y "
+                         f"({source}); a calibration needs loads beyond {SMALLEST_TOP_OVER_P_Y:g} P_Y: need v_max >= "
+                         f"{v_least:.4g} m/s ({v_least / pair.v_Y:.4g} v_Y) for this material and R")
     if MARGIN * needed > reach:
         v_reach = reach_velocity(params, reach / MARGIN)
-        raise ValueError(f"--v-max out of range: an impact at {v_max:g} m/s reaches about "
+        raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s reaches about "
                          f"{needed / pair.P_Y:.4g} P_Y ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
                          f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= {recipe.CONTACT_RADIUS_LIMIT:g} R), "
                          f"i.e. v_in <= {v_reach:.4g} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
@@ -89,9 +95,10 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
 
 def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
                           progress: Callable[[str], None] | None = None, ship: str = "radius",
-                          **spec_options) -> ImpactWindow:
+                          unload: bool = True, **spec_options) -> ImpactWindow:
     """Calibrate until the window covers the impact at v_max [m/s] (module doc). ``spec_options``
-    go to calib.fit.recipe.calibration_spec (mesh level or contact size)."""
+    go to calib.fit.recipe.calibration_spec (mesh level or contact size, steps); ``unload``
+    False: loading branches only (the radius fit)."""
     say = progress or (lambda message: None)
     needed, _, source = check_reach(material, radius, v_max)
     rounds = []
@@ -103,7 +110,7 @@ def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
             f"({source}); load paths to {top / pair.P_Y:.4g} P_Y")
         spec = recipe.calibration_spec(material, radius, peaks=tuple(f * top for f in PEAK_FRACTIONS),
                                        **spec_options)
-        result = calibrate(spec, progress=progress, ship=ship)
+        result = calibrate(spec, progress=progress, ship=ship, unload=unload)
         needed = impact_force(result.params, v_max)
         source = f"round {round_number} constants"
         covered = needed <= result.params.window_force * (1.0 + 1e-9)
@@ -114,6 +121,6 @@ def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
             return ImpactWindow(result, v_max, tuple(rounds))
         if needed * MARGIN > reach * (1.0 + 1e-9) and top >= reach:
             break
-    raise ValueError(f"--v-max out of range: after {len(rounds)} calibration(s) the impact at {v_max:g} m/s still "
+    raise ValueError(f"v_max out of range: after {len(rounds)} calibration(s) the impact at {v_max:g} m/s still "
                      f"reaches {needed / pair.P_Y:.4g} P_Y, beyond the window ({rounds[-1]['P_top_over_P_Y']:.4g} P_Y); "
                      f"this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y")

@@ -5,21 +5,33 @@ from dataclasses import asdict, dataclass
 
 import meshio
 
-from calib.fit import recipe
+from calib.fit import impact_window, recipe
 from calib.scenes.schema import SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial
 from meshes.hemisphere import estimate_dofs, mesh_path
 
 
 # ----------------------------------------------------------------------------- FE specs
+def spec_options(scene: Scene) -> dict:
+    """The mesh and step options of the scene's calibrations (calib.fit.recipe.calibration_spec)."""
+    stage = scene.load_paths or LoadPathStage()
+    return {"level": scene.mesh.level, "contact_size": scene.mesh.contact_size,
+            "contact_size_over_a_max": scene.mesh.contact_size_over_a_max,
+            "loading_steps": stage.loading_steps, "unloading_steps": stage.unloading_steps}
+
+
 def calibration_spec(scene: Scene, material: SceneMaterial):
-    """The CalibrationSpec of one material of ``scene`` (calib.fit.recipe: load paths and mesh)."""
+    """The CalibrationSpec of one material of ``scene`` (calib.fit.recipe: load paths and mesh);
+    with a v_max, the first round of calib.fit.impact_window (refused here when the FE cannot
+    reach the impact)."""
     stage = scene.load_paths or LoadPathStage()
     try:
-        return recipe.calibration_spec(material.material(), material.R, peaks=stage.peaks(material.pair()),
-                                       level=scene.mesh.level, contact_size=scene.mesh.contact_size,
-                                       contact_size_over_a_max=scene.mesh.contact_size_over_a_max,
-                                       loading_steps=stage.loading_steps,
-                                       unloading_steps=stage.unloading_steps)
+        v_max = scene.v_max(material)
+        if v_max is None:
+            peaks = stage.peaks(material.pair())
+        else:
+            needed, _, _ = impact_window.check_reach(material.material(), material.R, v_max)
+            peaks = tuple(f * impact_window.MARGIN * needed for f in impact_window.PEAK_FRACTIONS)
+        return recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene))
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
 

@@ -12,10 +12,10 @@ from calib.fe import ContactSolver
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.loadpath import run_load_paths
 from calib.fe.von_mises import VonMisesMaterial
-from calib.fit import calibration
+from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.report import calibration as calibration_report
-from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed
+from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed, spec_options
 from calib.scenes.schema import Scene
 from calib.studies.hertz import plot_hertz, run_hertz
 from meshes.hemisphere import hemisphere_mesh
@@ -82,7 +82,13 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
     spec = calibration_spec(scene, material)
     progress(f"calibration: {material.name}, P_max = {', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N")
     unload = scene.load_paths is None or scene.load_paths.unload
-    result = calibration.calibrate(spec, progress=progress, ship=scene.calibration_ship, unload=unload)
+    v_max = scene.v_max(material)
+    if v_max is None:
+        result = calibration.calibrate(spec, progress=progress, ship=scene.calibration_ship, unload=unload)
+    else:                               # round 1 is the spec above; more rounds if it falls short
+        result = impact_window.calibrate_for_impacts(material.material(), material.R, v_max, progress=progress,
+                                                     ship=scene.calibration_ship, unload=unload,
+                                                     **spec_options(scene)).result
     if unload and (scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu):
         calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu)
     else:  # the parameter file, the summary and (loading only) the loading history
@@ -93,8 +99,8 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
             output.write_csv(out / "loading.csv", result.load_paths.loading_rows,
                              comment=output.stamp_comment(stamp))
     s = calibration.summary(result)
-    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh")},
-            "loading_only": not unload, "shipped_fit": s["shipped_fit"]}, result.params
+    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh", "window")},
+            "loading_only": not unload, "shipped_fit": s["shipped_fit"], "v_max": v_max}, result.params
 
 
 def _run_collision(scene, material, out, params, progress) -> dict:

@@ -9,6 +9,8 @@
     [load_paths]   P_max = [N, ...] or P_max_over_P_Y = [...], unload (true), loading_steps (48,
                    increments up to the largest P_max), unloading_steps (16)
     [calibration]  ship = "radius" | "force"            (fit Ca, Kc; needs [load_paths] above P_Y)
+                   v_max [m/s] or v_max_from = "collision": load paths to the force of the fastest
+                   impact (calib.fit.impact_window) instead of [load_paths] P_max
     [collision]    v_in = [m/s, ...] or v_in_over_v_Y = [...], laws = ["vz", "thornton", "hertz"]
     [outputs]      out (folder, default results/scenes/<name>), plots, vtu, histories (booleans)
 
@@ -215,6 +217,14 @@ class _Grid(_Table):
 
 class _Calibration(_Table):
     ship: Literal["radius", "force"] = "radius"
+    v_max: Positive | None = None                     # [m/s]: the window covers impacts up to it
+    v_max_from: Literal["collision"] | None = None    # ... or up to the [collision] stage's fastest
+
+    @model_validator(mode="after")
+    def _one_v_max(self):
+        if self.v_max is not None and self.v_max_from is not None:
+            raise ValueError("give v_max or v_max_from, not both")
+        return self
 
 
 class SceneFile(_Table):
@@ -255,6 +265,11 @@ class SceneFile(_Table):
             raise ValueError("calibration.ship: 'force' fits the unloading too: needs load_paths.unload = true")
         if self.hertz is None and self.load_paths is None and self.calibration is None and self.collision is None:
             raise ValueError("scene: nothing to run: add [hertz], [load_paths], [calibration] or [collision]")
+        if self.calibration is not None and self.calibration.v_max_from == "collision" and self.collision is None:
+            raise ValueError("calibration.v_max_from: 'collision' needs a [collision] stage")
+        if (self.calibration is not None and (self.calibration.v_max or self.calibration.v_max_from)
+                and self.load_paths is not None and (self.load_paths.P_max or self.load_paths.P_max_over_P_Y)):
+            raise ValueError("calibration.v_max: sets the load paths' P_max: do not give load_paths.P_max too")
         return self
 
 
@@ -268,6 +283,8 @@ class Scene:
     hertz: HertzStage | None = None
     load_paths: LoadPathStage | None = None
     calibration_ship: str | None = None   # None: no calibration
+    calibration_v_max: float | None = None      # [m/s]: the window from the impacts (impact_window)
+    calibration_v_max_from_collision: bool = False
     collision: CollisionStage | None = None
     outputs: Outputs = Outputs()
     description: str = ""
@@ -278,6 +295,14 @@ class Scene:
         if override is not None:
             return Path(override)
         return Path(self.outputs.out) if self.outputs.out else output.RESULTS / "scenes" / self.name
+
+    def v_max(self, material) -> float | None:
+        """The impact velocity [m/s] the calibration window of ``material`` must cover, if any."""
+        if self.calibration_v_max is not None:
+            return self.calibration_v_max
+        if self.calibration_v_max_from_collision and self.collision is not None:
+            return max(self.collision.velocities(material.pair()))
+        return None
 
     def stages(self) -> list[str]:
         names = []
@@ -410,11 +435,15 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
         for m in materials:
             P_Y = m.pair().P_Y
             peaks = load_paths.peaks(m.pair())
+            if file.calibration.v_max is not None or file.calibration.v_max_from is not None:
+                continue                # the load paths come from the impacts (checked when planned)
             if not max(peaks) > 2 * P_Y:
                 raise SceneError(f"scene {source}: load_paths.P_max: calibration needs loads above P_Y: the largest "
                                  f"P_max must be > 2 P_Y = {2 * P_Y:.4g} N for material {m.name!r}, got {max(peaks):.4g} N")
     return Scene(name=name, materials=materials, mesh=file.mesh, hertz=file.hertz, load_paths=load_paths,
                  calibration_ship=None if file.calibration is None else file.calibration.ship,
+                 calibration_v_max=None if file.calibration is None else file.calibration.v_max,
+                 calibration_v_max_from_collision=file.calibration is not None and file.calibration.v_max_from == "collision",
                  collision=file.collision, outputs=file.outputs, description=file.scene.description,
                  source=source, is_grid=file.grid is not None)
 

@@ -23,10 +23,10 @@ from dataclasses import asdict
 from pathlib import Path
 
 from calib import output
-from calib.fit import calibration
+from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.fit.recipe import check_fittable
-from calib.scenes.plan import calibration_spec
+from calib.scenes.plan import calibration_spec, spec_options
 from calib.scenes.schema import SceneError
 from calib.sweep.runner import cached_result, run_sweep
 from nfdmodel import VZParams
@@ -34,17 +34,22 @@ from nfdmodel import VZParams
 TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
 COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a_Y", "delta_Y",
            "P_Y_fe", "Ca", "Kc", "Ca_hat", "Kc_hat", "Ca_r2", "Ca_se", "Kc_r2", "Kc_se", "n_points",
-           "loading_only", "contact_size", "dofs", "elements", "mesh_key", "fe_wall_time_s",
+           "loading_only", "window_P_max_over_P_Y", "window_a_max_over_R", "contact_size", "dofs",
+           "elements", "mesh_key", "fe_wall_time_s",
            "git_commit", "status", "error", "key")
 
 
-def task_key(spec, loading_only: bool) -> str:
-    """Hash of what determines a row: E, nu, sigma_Y, R, load plan, mesh, recipe version."""
+def task_key(spec, loading_only: bool, v_max: float | None = None) -> str:
+    """Hash of what determines a row: E, nu, sigma_Y, R, load plan, mesh, recipe version, and the
+    impact velocity the window must cover (when the load plan comes from it)."""
     m = spec.material
-    payload = json.dumps({"E": m.E, "nu": m.nu, "sigma_y": m.sigma_y, "R": spec.radius,
-                          "plan": asdict(spec.plan), "mesh": spec.mesh.cache_key(),
-                          "loading_only": loading_only, "version": TABLE_VERSION,
-                          "tolerance": spec.residual_tolerance}, sort_keys=True)
+    fields = {"E": m.E, "nu": m.nu, "sigma_y": m.sigma_y, "R": spec.radius,
+              "plan": asdict(spec.plan), "mesh": spec.mesh.cache_key(),
+              "loading_only": loading_only, "version": TABLE_VERSION,
+              "tolerance": spec.residual_tolerance}
+    if v_max is not None:               # absent otherwise: the keys of existing rows stay valid
+        fields["v_max"] = v_max
+    payload = json.dumps(fields, sort_keys=True)
     return hashlib.sha256(payload.encode()).hexdigest()[:16]
 
 
@@ -58,8 +63,10 @@ def tasks_for(scene) -> list[dict]:
             check_fittable(spec)        # before any mesh is built or worker started
         except ValueError as exc:
             raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
+        v_max = scene.v_max(material)
         out.append({"name": material.name, "inputs": material.inputs(), "spec": spec,
-                    "loading_only": loading_only, "key": task_key(spec, loading_only)})
+                    "loading_only": loading_only, "key": task_key(spec, loading_only, v_max),
+                    "v_max": v_max, "spec_options": spec_options(scene)})
     return out
 
 
@@ -89,9 +96,17 @@ def calibrate_task(task: dict) -> dict:
            "git_commit": output.git_commit()}
     t0 = time.perf_counter()
     try:
-        result = calibration.calibrate(spec, unload=not task["loading_only"])
+        if task.get("v_max") is None:
+            result = calibration.calibrate(spec, unload=not task["loading_only"])
+        else:                           # the window from the impacts: one or more FE rounds
+            result = impact_window.calibrate_for_impacts(spec.material, spec.radius, task["v_max"],
+                                                         unload=not task["loading_only"],
+                                                         **task["spec_options"]).result
         fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
         params = VZParams(pair, fit.Ca.slope, fit.Kc.slope)
+        window = result.fitted_window
+        row.update({"contact_size": result.spec.mesh.contact_size, "mesh_key": result.spec.mesh.cache_key(),
+                    "window_P_max_over_P_Y": window.P_max_over_P_Y, "window_a_max_over_R": window.a_max_over_R})
         row.update({"P_Y_fe": P_Y_fe, "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat,
                     "Kc_hat": params.Kc_hat, "Ca_r2": fit.Ca.r_squared, "Ca_se": fit.Ca.standard_error,
                     "Kc_r2": fit.Kc.r_squared, "Kc_se": fit.Kc.standard_error,
