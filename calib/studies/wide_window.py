@@ -1,0 +1,141 @@
+"""The two-constant law over wide load windows, against the FE: results/calibration/wide_window.*
+
+DEM impacts load contacts to 10^2-10^5 P_Y. For E/sigma_Y = 100, 700 and 5000 (nu = 0.3,
+sigma_Y = 100 MPa, R = 0.1 m) the FE loads a sphere on a rigid flat to 10, 30, 100, 300 and
+1000 P_Y (as far as the small-strain FE reaches: contact radius <= 0.3 R, calib.fit.recipe) and
+unloads it from each; Ca and Kc are fitted over the whole window (the radius fit, the paper's
+definition, and the force fit). Per path and fit:
+
+    force error = max |P_law(alpha) - P_FE(alpha)| / P_max   along loading and unloading
+    e error     = e_law / e_FE - 1,  e^2 = elastic / (elastic + dissipated) energy at the peak
+
+(the quasi-static restitution of the path: the law's collision at the v_in that reaches the same
+P_max follows the same loop). Target on every path: force error <= 5 %, |e error| <= 2 %.
+
+    python -m calib.studies.wide_window [--out results/calibration] [--workers 2]
+
+Each material is one resumable task (``OUT/wide_window/<key>.json``, calib.sweep.runner).
+"""
+from __future__ import annotations
+
+import argparse
+import hashlib
+import json
+import sys
+import time
+from pathlib import Path
+
+from calib import output
+from calib.fit import recipe
+from calib.fit.calibration import calibrate, summary
+from calib.sweep.runner import run_sweep
+from nfdmodel import ContactPair, Material
+
+LOADS_OVER_YIELD = (10.0, 30.0, 100.0, 300.0, 1000.0)
+STRENGTH_RATIOS = (100.0, 700.0, 5000.0)        # E / sigma_Y
+NU, SIGMA_Y, RHO, RADIUS = 0.3, 100e6, 2700.0, 0.1
+LOADING_STEPS = 400                             # increments to the largest peak
+FORCE_TARGET, E_TARGET = 0.05, 0.02
+
+
+def material_task(ratio: float) -> dict:
+    """The calibration of one material over the widest window the FE reaches (peaks it cannot
+    reach are listed in ``unreachable``)."""
+    material = Material(ratio * SIGMA_Y, NU, SIGMA_Y, RHO)
+    pair = ContactPair.sphere_flat(material, RADIUS)
+    reach = min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+    peaks = tuple(k * pair.P_Y for k in LOADS_OVER_YIELD if k * pair.P_Y <= reach * (1 + 1e-9))
+    if len(peaks) < len(LOADS_OVER_YIELD):      # as far as the FE reaches
+        peaks += (reach,)
+    spec = recipe.calibration_spec(material, RADIUS, peaks=peaks, loading_steps=LOADING_STEPS)
+    key = hashlib.sha256(json.dumps({"ratio": ratio, "peaks": peaks, "mesh": spec.mesh.cache_key(),
+                                     "steps": LOADING_STEPS}, sort_keys=True).encode()).hexdigest()[:16]
+    return {"key": key, "E_over_sigma_y": ratio, "spec": spec,
+            "unreachable": [k for k in LOADS_OVER_YIELD if k * pair.P_Y > reach * (1 + 1e-9)],
+            "reach_over_P_Y": reach / pair.P_Y}
+
+
+def calibrate_material(task: dict) -> dict:
+    """One material (runs in a worker): its fits and, per path, the FE and law figures."""
+    t0 = time.perf_counter()
+    try:
+        result = calibrate(task["spec"])
+        s = summary(result)
+    except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
+        return {"key": task["key"], "status": "failed", "error": f"{type(exc).__name__}: {exc}"[:300]}
+    P_Y = s["P_Y"]
+    paths = []
+    for p in s["paths"]:
+        for label, fit in (("vz", "radius"), ("vz (force fit)", "force")):
+            model = p["models"][label]
+            paths.append({"E_over_sigma_y": task["E_over_sigma_y"], "P_max_over_P_Y": p["P_max"] / P_Y,
+                          "fit": fit, "force_error": model["max_force_error_rel"], "e_fe": p["e"],
+                          "e_law": model["e"], "e_error": model["e"] / p["e"] - 1.0})
+    return {"key": task["key"], "status": "ok", "E_over_sigma_y": task["E_over_sigma_y"],
+            "unreachable": task["unreachable"], "reach_over_P_Y": task["reach_over_P_Y"],
+            "radius_fit": {"Ca_hat": s["Ca_hat"], "Kc_hat": s["Kc_hat"]},      # the shipped fit
+            "force_fit": {"Ca_hat": s["force_fit"]["Ca"] * P_Y / result.spec.pair.a_Y,
+                          "Kc_hat": s["force_fit"]["Kc"] * P_Y},
+            "window": s["window"], "mesh": s["mesh"], "paths": paths,
+            "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit()}
+
+
+def generate(out=output.RESULTS / "calibration", workers: int = 2, ratios=STRENGTH_RATIOS, progress=None) -> dict:
+    """Run (or resume) every material and write OUT/wide_window.csv, .json and .png."""
+    out = Path(out)
+    started = time.perf_counter()
+    tasks = [material_task(r) for r in ratios]
+    sweep = run_sweep(tasks, calibrate_material, out / "wide_window", keep=lambda row: row.get("status") == "ok",
+                      mesh_of=lambda task: task["spec"].mesh, workers=workers, progress=progress,
+                      describe=lambda row: f"E/sigma_Y = {row.get('E_over_sigma_y')} ({row['status']})")
+    rows = [path for row in sweep.rows if row.get("status") == "ok" for path in row["paths"]]
+    for row in rows:
+        row["meets_target"] = row["force_error"] <= FORCE_TARGET and abs(row["e_error"]) <= E_TARGET
+    materials = [{k: row.get(k) for k in ("E_over_sigma_y", "status", "error", "radius_fit", "force_fit",
+                                            "window", "unreachable", "reach_over_P_Y", "wall_time_s")}
+                 for row in sweep.rows]
+    st = output.stamp(time.perf_counter() - started, mesh={"loading_steps": LOADING_STEPS},
+                      command="python -m calib.studies.wide_window", targets={"force_error": FORCE_TARGET,
+                                                                          "e_error": E_TARGET})
+    output.write_csv(out / "wide_window.csv", rows, comment=output.stamp_comment(st))
+    output.write_json(out / "wide_window.json", {"materials": materials, "rows": rows, "stamp": st})
+    _plot(rows, out / "wide_window.png")
+    return {"materials": materials, "rows": rows,
+            "failures": [m["E_over_sigma_y"] for m in materials if m["status"] != "ok"]}
+
+
+def _plot(rows: list[dict], path: Path) -> None:
+    plt = output.pyplot()
+    fig, (ax_force, ax_e) = plt.subplots(1, 2, figsize=(11, 4))
+    for k, ratio in enumerate(sorted({r["E_over_sigma_y"] for r in rows})):
+        for fit, marker in (("radius", "o-"), ("force", "s--")):
+            sel = [r for r in rows if r["E_over_sigma_y"] == ratio and r["fit"] == fit]
+            x = [r["P_max_over_P_Y"] for r in sel]
+            label = f"E/sigma_Y = {ratio:g}, {fit} fit"
+            ax_force.plot(x, [100 * r["force_error"] for r in sel], marker, color=f"C{k}", label=label)
+            ax_e.plot(x, [100 * r["e_error"] for r in sel], marker, color=f"C{k}", label=label)
+    ax_force.axhline(100 * FORCE_TARGET, color="k", lw=0.8, ls=":")
+    for sign in (1, -1):
+        ax_e.axhline(sign * 100 * E_TARGET, color="k", lw=0.8, ls=":")
+    for ax, label in ((ax_force, "max |P_law - P_FE| / P_max [%]"), (ax_e, "e_law / e_FE - 1 [%]")):
+        ax.set_xscale("log"), ax.set_xlabel("P_max / P_Y of the path"), ax.set_ylabel(label), ax.grid(alpha=0.3)
+    ax_force.set_title("two constants fitted over the whole window", fontsize=9)
+    ax_e.legend(fontsize=7)
+    output.save_figure(fig, path)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default=str(output.RESULTS / "calibration"))
+    parser.add_argument("--workers", type=int, default=2)
+    ns = parser.parse_args(argv)
+    result = generate(ns.out, workers=ns.workers, progress=lambda m: print(m, file=sys.stderr))
+    print(f"{'E/sigma_Y':>9} {'P_max/P_Y':>9} {'fit':>6} {'force err %':>11} {'e_FE':>7} {'e_law':>7} {'e err %':>8}")
+    for r in result["rows"]:
+        print(f"{r['E_over_sigma_y']:9g} {r['P_max_over_P_Y']:9.4g} {r['fit']:>6} {100 * r['force_error']:11.2f} "
+              f"{r['e_fe']:7.4f} {r['e_law']:7.4f} {100 * r['e_error']:+8.2f}")
+    return 1 if result["failures"] else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
