@@ -76,15 +76,18 @@ def calibrate_material(task: dict) -> dict:
             model = p["models"][label]
             # the law's impact that reaches the same P_max: its restitution is the path's
             v_in = reach_velocity(fits[fit], p["P_max"])
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", RangeWarning)
-                impact = collide("vz", fits[fit], [v_in])
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", RangeWarning)
+                    e_collision = float(collide("vz", fits[fit], [v_in]).e_velocity[0])
+            except ValueError:          # beyond the law's domain: no impact to compare
+                e_collision = float("nan")
             paths.append({"E_over_sigma_y": task["E_over_sigma_y"], "P_max_over_P_Y": p["P_max"] / P_Y,
                           "fit": fit, "force_error": model["max_force_error_rel"], "e_fe": p["e"],
                           "e_law": model["e"], "e_error": model["e"] / p["e"] - 1.0,
                           "v_in": v_in, "v_in_over_v_Y": v_in / pair.v_Y,
-                          "e_collision": float(impact.e_velocity[0]),
-                          "e_collision_error": float(impact.e_velocity[0]) / p["e"] - 1.0})
+                          **({"e_collision": e_collision, "e_collision_error": e_collision / p["e"] - 1.0}
+                             if e_collision == e_collision else {})})
     return {"key": task["key"], "status": "ok", "E_over_sigma_y": task["E_over_sigma_y"],
             "unreachable": task["unreachable"], "reach_over_P_Y": task["reach_over_P_Y"],
             "radius_fit": {"Ca_hat": s["Ca_hat"], "Kc_hat": s["Kc_hat"]},      # the shipped fit
