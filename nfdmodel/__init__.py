@@ -26,6 +26,7 @@ from .materials import ContactPair, Material, yield_factor
 from .validation import PlausibilityWarning, check_real
 from .parameter_file import load_parameters, parameter_record
 from .window import CalibrationWindow, RangeWarning
+from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_step
 
 __all__ = [
     "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",
@@ -36,4 +37,5 @@ __all__ = [
     "check_real", "PlausibilityWarning", "reference_case",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
+    "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step",
 ]

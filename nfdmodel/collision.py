@@ -57,6 +57,7 @@ STEPS_PER_UNLOADING_AUTO = 100    # dt = None: also at most the shortest unloadi
 # dt so small that a contact needs more steps: ValueError. 400 x the automatic resolution
 # (~2500 steps per contact); about 40 s of the numpy time loop (40 us per step).
 MAX_STEPS_LIMIT = 10**6
+FITTED_LAWS = ("vz", "vz-table")   # laws with fitted constants: a window and a domain (a < R*)
 _SMALLEST_ENERGY = 1e-250         # J; below, (1/2) m v^2 and the overlaps underflow
 _LOADING_NODES, _LOADING_WEIGHTS = np.polynomial.legendre.leggauss(24)
 
@@ -159,13 +160,13 @@ def _virgin_force(law: ContactLaw, delta, law_params):
 def _check_within_domain(law: ContactLaw, params, pair, v, energy) -> float:
     """The largest approach [m] the law covers (vz: where its contact radius reaches R*; inf for
     the others); a ValueError naming the largest admissible v_in when an impact goes beyond."""
-    if law.name != "vz":
+    if law.name not in FITTED_LAWS:
         return math.inf
     reach = params.full_contact_approach * (1.0 - 1e-9)   # just inside: at the root a = R* exactly
     work = float(law.loading_work(np.array([reach]), np.array([params.full_contact_load]), params)[0])
     if (energy > work).any():
         v_reach = math.sqrt(2.0 * work / pair.mass_star)
-        raise ValueError(f"v_in out of range: at v_in = {float(v[energy > work][0]):g} m/s the vz law's contact "
+        raise ValueError(f"v_in out of range: at v_in = {float(v[energy > work][0]):g} m/s the {law.name} law's contact "
                          f"radius would reach R* = {pair.R_star:g} m (beyond any contact law); need v_in < "
                          f"{v_reach:.4g} m/s ({v_reach / pair.v_Y:.4g} v_Y) for these constants")
     return reach
@@ -299,14 +300,14 @@ def _window_check(law, params, P_max, v_in):
     """(in_calibrated_range, P_max / window's largest force) per velocity, or (None, None) when
     the law's constants state no window; one RangeWarning naming the fastest impact beyond it."""
     window = getattr(params, "window", None)
-    if law.name != "vz" or window is None:
+    if law.name not in FITTED_LAWS or window is None:
         return None, None
     P_limit = params.window_force
     over = P_max / P_limit
     in_range = P_max <= P_limit
     if not in_range.all():
         worst = int(np.argmax(np.where(in_range, -np.inf, P_max)))
-        warnings.warn(f"vz law used beyond its calibrated window: {int((~in_range).sum())} of {v_in.size} "
+        warnings.warn(f"{law.name} law used beyond its calibrated window: {int((~in_range).sum())} of {v_in.size} "
                       f"impact(s), up to v_in = {v_in[worst]:g} m/s reaching P/P_Y = {P_max[worst] / params.pair.P_Y:.4g}"
                       f" (fitted on {window.describe()}); calibrate for these impacts (nfdcal calibrate --peaks)",
                       RangeWarning, stacklevel=3)

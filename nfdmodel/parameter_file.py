@@ -17,22 +17,29 @@ import warnings
 from pathlib import Path
 
 from .parameters import VZParams
+from .vz_table import VZTableParams
 from .materials import ContactPair, Material
 from .validation import PlausibilityWarning
 from .window import CalibrationWindow, RangeWarning
 
 _CONSISTENCY = 1e-4
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
-KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "a_Y", "delta_Y", "material", "window", "units",
+KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "material", "window", "units",
         "fit", "fe_errors", "mesh", "stamp")
+TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 
 
-def parameter_record(params: VZParams, R: float, material: Material) -> dict:
-    """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat)."""
+def parameter_record(params: VZParams | VZTableParams, R: float, material: Material) -> dict:
+    """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat):
+    the vz constants, or the vz-table law's nodes."""
     pair = params.pair
-    return {"law": "vz", "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat,
-            "Kc_hat": params.Kc_hat, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
+    if isinstance(params, VZTableParams):
+        law = {"law": "vz-table", "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
+                                            "C_R": list(params.g)}}
+    else:
+        law = {"law": "vz", "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
+    return {**law, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
             "material": {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y,
                          "rho": material.rho, "R": R},
             **({"window": params.window.record()} if params.window is not None else {}),
@@ -48,8 +55,9 @@ def _check_keys(path, data: dict, allowed: tuple, where: str) -> None:
                          f"{', '.join(map(repr, unknown))}; allowed: {', '.join(allowed)}")
 
 
-def load_parameters(path) -> VZParams:
-    """VZParams for the sphere-on-flat pair described by the JSON parameter file at ``path``.
+def load_parameters(path) -> VZParams | VZTableParams:
+    """VZParams (law "vz") or VZTableParams (law "vz-table") for the sphere-on-flat pair described
+    by the JSON parameter file at ``path``.
 
     Raises FileNotFoundError if the file is missing, ValueError naming the key for a corrupted
     file, a missing or out-of-range value, or derived values inconsistent with the material.
@@ -65,16 +73,24 @@ def load_parameters(path) -> VZParams:
         raise ValueError(f"parameter file {path}: expected a JSON object at the top level")
     _check_keys(path, data, KEYS, "")
     law = data.get("law", "vz")
-    if law != "vz":
-        raise ValueError(f"parameter file {path}: law must be 'vz', got {law!r}")
+    if law not in ("vz", "vz-table"):
+        raise ValueError(f"parameter file {path}: law must be 'vz' or 'vz-table', got {law!r}")
     material_data = data.get("material")
     if not isinstance(material_data, dict):
         raise ValueError(f"parameter file {path}: missing 'material' object (E, nu, sigma_y, rho, R)")
     _check_keys(path, material_data, MATERIAL_KEYS, " in 'material'")
     missing = [k for k in MATERIAL_KEYS if k not in material_data]
-    missing += [k for k in ("Ca", "Kc") if k not in data]
+    missing += [k for k in (("Ca", "Kc") if law == "vz" else ("table",)) if k not in data]
     if missing:
         raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")
+    if law == "vz-table":
+        table = data["table"]
+        if not isinstance(table, dict):
+            raise ValueError(f"parameter file {path}: table must be an object with {', '.join(TABLE_KEYS)}")
+        _check_keys(path, table, TABLE_KEYS, " in 'table'")
+        absent = [k for k in TABLE_KEYS if k not in table]
+        if absent:
+            raise ValueError(f"parameter file {path}: table: missing key(s) {', '.join(absent)}")
     if "window" in data:
         try:
             window = CalibrationWindow.from_record(data["window"])
@@ -87,16 +103,24 @@ def load_parameters(path) -> VZParams:
         try:
             material = Material(material_data["E"], material_data["nu"], material_data["sigma_y"],
                                 material_data["rho"])
-            params = VZParams(ContactPair.sphere_flat(material, material_data["R"]), data["Ca"], data["Kc"],
-                              window)
+            pair = ContactPair.sphere_flat(material, material_data["R"])
+            if law == "vz":
+                params = VZParams(pair, data["Ca"], data["Kc"], window)
+            else:
+                table = data["table"]
+                params = VZTableParams(pair, table["P_over_P_Y"], table["a_p_over_a_Y"], table["C_R"],
+                                       window if "window" in data else None)
         except ValueError as exc:
             # an implausible value (R = 100: millimetres?) is the likely cause: name it in the error
             hints = "; ".join(str(w.message) for w in noted if issubclass(w.category, PlausibilityWarning))
             raise ValueError(f"parameter file {path}: {exc}" + (f" (note: {hints})" if hints else "")) from None
     for note in noted:
         warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
-    derived = {"P_Y": params.pair.P_Y, "a_Y": params.pair.a_Y, "delta_Y": params.pair.delta_Y,
-               "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
+    derived = {"P_Y": params.pair.P_Y, "a_Y": params.pair.a_Y, "delta_Y": params.pair.delta_Y}
+    if law == "vz":
+        derived.update(Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
+    elif "Ca" in data or "Kc" in data:
+        raise ValueError(f"parameter file {path}: law 'vz-table' takes its 'table', not Ca/Kc")
     for key, value in derived.items():
         if key in data:
             stored = data[key]
@@ -106,7 +130,7 @@ def load_parameters(path) -> VZParams:
                 raise ValueError(f"parameter file {path}: {key} = {stored:g} disagrees with "
                                  f"{value:g} recomputed from the material (relative tolerance "
                                  f"{_CONSISTENCY:g})")
-    if "window" not in data:    # said once the file is known to be good: a bad file gets one line
+    if "window" not in data and law == "vz":   # said once the file is known to be good (one line for a bad one)
         warnings.warn(f"parameter file {path} states no calibrated window (written before windows were "
                       f"recorded): assuming {window.describe()}, the default recipe's", RangeWarning, stacklevel=2)
     return params

@@ -138,6 +138,74 @@ def vz_step(delta: float, history: History, R: float, E: float, P_Y: float, delt
     return P, turning_point(delta, P, delta - a_e * a_e / (C_R * R), 1.5, a_e)
 
 
+# ----------------------------------------------------------------------------- vz-table
+def hermite(x: float, nodes, values, slopes) -> tuple[float, float]:
+    """(value, slope) of the monotone cubic table at x (nfdmodel.pchip: cubic Hermite on the
+    node segment holding x, the straight line of the end slope beyond the last node)."""
+    n = len(nodes)
+    if x >= nodes[-1]:
+        return values[-1] + slopes[-1] * (x - nodes[-1]), slopes[-1]
+    k = 0
+    while k < n - 2 and x >= nodes[k + 1]:
+        k += 1
+    h = nodes[k + 1] - nodes[k]
+    t = (x - nodes[k]) / h
+    y0, y1, d0, d1 = values[k], values[k + 1], slopes[k], slopes[k + 1]
+    value = ((2 * t**3 - 3 * t**2 + 1) * y0 + (t**3 - 2 * t**2 + t) * h * d0 + (3 * t**2 - 2 * t**3) * y1
+             + (t**3 - t**2) * h * d1)
+    slope = (6 * t**2 - 6 * t) * (y0 - y1) / h + (3 * t**2 - 4 * t + 1) * d0 + (3 * t**2 - 2 * t) * d1
+    return value, slope
+
+
+def vz_table_approach(x: float, table) -> tuple[float, float]:
+    """D(x) = (x^(1/3) + f(x))^2 / g(x) = delta/delta_Y on the loading curve, and dD/dx;
+    ``table`` = (nodes, f, f slopes, g, g slopes)."""
+    nodes, f_values, f_slopes, g_values, g_slopes = table
+    f, df = hermite(x, nodes, f_values, f_slopes)
+    g, dg = hermite(x, nodes, g_values, g_slopes)
+    radius = x ** (1.0 / 3.0) + f
+    D = radius * radius / g
+    return D, (2.0 * radius * (x ** (-2.0 / 3.0) / 3.0 + df) - D * dg) / g
+
+
+def vz_table_step(delta: float, history: History, R: float, E: float, P_Y: float, delta_Y: float,
+                  a_Y: float, table) -> tuple[float, History]:
+    """One time step of the vz-table law (nfdmodel.vz_table): Hertz up to delta_Y; beyond it
+    x = P/P_Y solves D(x) = delta/delta_Y (bisection on a doubling bracket, then Newton kept
+    inside it), C_Rmax = g(x), delta_res = delta - delta_Y x^(2/3) / C_Rmax; unloading
+    P = K_u <delta - delta_res>^(3/2). A ValueError where the contact radius a_Y (x^(1/3) + f(x))
+    reaches R."""
+    if delta <= history.delta_max:
+        return unloading_force(delta, history, 1.5), history
+    if delta <= delta_Y:
+        P = hertz_force(delta, R, E)
+        return P, History(delta, P, 0.0, 4.0 / 3.0 * E * math.sqrt(R))
+    d = delta / delta_Y
+    low, high = 1.0, 2.0
+    while vz_table_approach(high, table)[0] < d:
+        low, high = high, 2.0 * high
+    x = 0.5 * (low + high)
+    for _ in range(400):
+        D, dD = vz_table_approach(x, table)
+        if D < d:
+            low = x
+        else:
+            high = x
+        candidate = x - (D - d) / dD
+        if not low < candidate < high:
+            candidate = 0.5 * (low + high)
+        if abs(candidate - x) <= 1e-13 * candidate or high - low <= 1e-13 * high:
+            x = candidate
+            break
+        x = candidate
+    nodes, f_values, f_slopes, g_values, g_slopes = table
+    f = hermite(x, nodes, f_values, f_slopes)[0]
+    g = hermite(x, nodes, g_values, g_slopes)[0]
+    if not a_Y * (x ** (1.0 / 3.0) + f) < R:
+        raise ValueError(f"delta out of range: at delta = {delta:g} m the vz-table contact radius reaches R* = {R:g} m")
+    return x * P_Y, turning_point(delta, x * P_Y, delta - delta_Y * x ** (2.0 / 3.0) / g, 1.5)
+
+
 # ----------------------------------------------------------------------------- thornton
 def thornton_step(delta: float, history: History, R: float, E: float, P_Y: float, delta_Y: float,
                   p_Y: float) -> tuple[float, History]:

@@ -36,6 +36,7 @@ from .thornton import TINY, thornton_force, thornton_loading_work, thornton_step
 from .vz import vz_force, vz_step
 from .vz_curve import vz_loading_work
 from .walton_braun import walton_braun_force, walton_braun_params, walton_braun_step
+from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_loading_work, vz_table_step
 from .window import warn_beyond_window
 
 
@@ -131,6 +132,10 @@ class ContactLaw:
             if not isinstance(params, VZParams):
                 raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
             return params
+        if self.name == "vz-table":
+            if not isinstance(params, VZTableParams):
+                raise ValueError(f"params for law 'vz-table' must be VZTableParams, got {type(params).__name__}")
+            return params
         if self.name == "walton-braun":
             return walton_braun_params(params)
         return as_pair(params, self.name)
@@ -164,7 +169,7 @@ class ContactLaw:
                                   np.zeros(force.shape, dtype=bool))
         elastic = force * np.maximum(delta_flat - new_state.delta_res, 0.0) / (self.unloading_exponent + 1.0)
         beyond = np.zeros(force.shape, dtype=bool)
-        if self.name == "vz":
+        if self.name in ("vz", "vz-table"):
             a_p = p.plastic_radius(new_state.P_max)
             a_ep = a_e + a_p                # after separation a_e = 0: residual radius a_p,max
             beyond = new_state.P_max > p.window_force
@@ -191,6 +196,8 @@ LAWS: dict[str, ContactLaw] = {
                         hertz_work, 1.5, hertz_step),
     "vz": ContactLaw("vz", "Vu-Quoc & Zhang (1999) elastoplastic NFD model", vz_force, VZState,
                      vz_loading_work, 1.5, vz_step),
+    "vz-table": ContactLaw("vz-table", "the NFD model with load-dependent a_p and C_R tables from the FE",
+                           vz_table_force, VZTableState, vz_table_loading_work, 1.5, vz_table_step),
     "thornton": ContactLaw("thornton", "Thornton (1997) elastic-perfectly plastic contact",
                            thornton_force, ThorntonState,
                            lambda d, P, pair: thornton_loading_work(d, pair), 1.5, thornton_step),
@@ -202,7 +209,7 @@ LAWS: dict[str, ContactLaw] = {
 
 
 def get_law(name: str) -> ContactLaw:
-    """The force law called ``name``: one of 'hertz', 'vz', 'thornton', 'walton-braun'."""
+    """The force law called ``name``: one of 'hertz', 'vz', 'vz-table', 'thornton', 'walton-braun'."""
     if not isinstance(name, str) or name.strip().lower() not in LAWS:
         raise ValueError(f"law must be one of {', '.join(LAWS)}; got {name!r}")
     return LAWS[name.strip().lower()]

@@ -22,7 +22,7 @@ from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, ad
                                    number, print_summary)
 from nfdmodel import reference_case
 
-LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
+LAW_NAMES = ("vz", "vz-table", "thornton", "hertz", "walton-braun")
 DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": reference_case.CA, "Kc": reference_case.KC}   # the paper's calibration
 
 
@@ -32,7 +32,8 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n")[0] + " Prints a table, or a JSON list with --json "
         "(keys v_in, v_out, e_velocity, e_energy, P_max, contact_time; SI units).")
     # Numbers are parsed in run() so bad values give one line from the dispatcher (exit 2).
-    parser.add_argument("--law", default="vz", help=f"force law: {', '.join(LAW_NAMES)} (default vz)")
+    parser.add_argument("--law", default=None, help=f"force law: {', '.join(LAW_NAMES)} (default vz, or the"
+                        " law of the --params file)")
     parser.add_argument("--v-in", nargs="+", metavar="V", help="incoming velocities [m/s] (> 0)")
     parser.add_argument("--dt", default="auto", help="time step [s] (> 0) or 'auto' (default)")
     add_summary_arguments(parser, progress=False)
@@ -52,17 +53,21 @@ def add_parser(subparsers) -> None:
 
 def build_params(ns):
     """(law name, law parameters) from the command-line namespace."""
-    from nfdmodel import ContactPair, Material, VZParams, get_law, load_parameters
-    from nfdmodel import WaltonBraunParams
+    from nfdmodel import ContactPair, Material, VZParams, VZTableParams, WaltonBraunParams, get_law, load_parameters
 
-    law = get_law(ns.law).name
     flags = material_flags(ns)
+    if ns.law is not None:
+        get_law(ns.law)                 # an unknown law is named before anything is read
     if ns.params is not None:
         given = [f"--{k.replace('_', '-')}" for k, v in {**flags, "Ca": ns.Ca, "Kc": ns.Kc}.items()
                  if v is not None]
         if given:
             raise ValueError(f"--params sets the material, Ca and Kc: do not combine it with {', '.join(given)}")
-        params = load_parameters(ns.params)
+    file_params = load_parameters(ns.params) if ns.params is not None else None
+    law = get_law(ns.law if ns.law is not None else
+                  ("vz-table" if isinstance(file_params, VZTableParams) else "vz")).name
+    if ns.params is not None:
+        params = file_params
     else:
         values = {k: number(f"--{k.replace('_', '-')}", v, DEFAULTS[k]) for k, v in flags.items()}
         material = Material(values["E"], values["nu"], values["sigma_y"], values["rho"])
