@@ -17,6 +17,7 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import asdict, dataclass, field
+from functools import cached_property
 from typing import Callable
 
 import numpy as np
@@ -28,9 +29,10 @@ from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
 from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
                                      radius_law_data, relative_force_residuals, window_study)
 from calib.fit.recipe import CalibrationSpec, check_fittable
+from calib.fit.table_fit import fit_tables
 from meshes.hemisphere import hemisphere_mesh
 from calib.output import git_commit
-from nfdmodel import CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, get_law
+from nfdmodel import CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, VZTableParams, get_law
 
 
 def first_yield_load(hemisphere, material: Material) -> float:
@@ -83,6 +85,15 @@ class CalibrationResult:
         if self.shipped == "force":
             return VZParams(self.spec.pair, self.force_fit.Ca, self.force_fit.Kc, self.fitted_window)
         return VZParams(self.spec.pair, self.radius_fit.Ca.slope, self.radius_fit.Kc.slope, self.fitted_window)
+
+    @cached_property
+    def table_params(self) -> VZTableParams | None:
+        """The vz-table law fitted to the same loading points (calib.fit.table_fit), or None
+        when they do not determine an admissible table (too few points, a narrow window)."""
+        try:
+            return fit_tables(self.radius_data, self.spec.pair, self.fitted_window)
+        except ValueError:
+            return None
 
     @property
     def fitted_window(self) -> CalibrationWindow:
@@ -184,9 +195,10 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
         other_fit = "force" if ship == "radius" else "radius"
         other_params = (VZParams(pair, force_fit.Ca, force_fit.Kc) if other_fit == "force"
                         else VZParams(pair, radius_fit.Ca.slope, radius_fit.Kc.slope))
-        for label, law_name, params in (("vz", "vz", result.params),
-                                        (f"vz ({other_fit} fit)", "vz", other_params),
-                                        ("thornton", "thornton", pair), ("hertz", "hertz", pair)):
+        models = [("vz", "vz", result.params), (f"vz ({other_fit} fit)", "vz", other_params)]
+        if result.table_params is not None:
+            models.append(("vz-table", "vz-table", result.table_params))
+        for label, law_name, params in models + [("thornton", "thornton", pair), ("hertz", "hertz", pair)]:
             law_force, e = drive_law(law_name, params, approach)
             comparisons.append(ModelComparison(label, law_force, e,
                                                float(np.abs(law_force - force).max() / path.peak)))
@@ -206,6 +218,9 @@ def summary(result: CalibrationResult) -> dict:
         "P_Y": result.P_Y, "P_Y_fe": result.P_Y_fe,
         "P_Y_fe_rel_error": result.P_Y_fe / result.P_Y - 1.0,
         "window": params.window.record(),
+        "table": (None if result.table_params is None else
+                  {"P_over_P_Y": list(result.table_params.x), "a_p_over_a_Y": list(result.table_params.f),
+                   "C_R": list(result.table_params.g)}),
         "shipped_fit": result.shipped,
         "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
                        "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,

@@ -4,7 +4,8 @@ DEM impacts load contacts to 10^2-10^5 P_Y. For E/sigma_Y = 100, 700 and 5000 (n
 sigma_Y = 100 MPa, R = 0.1 m) the FE loads a sphere on a rigid flat to 10, 30, 100, 300 and
 1000 P_Y (as far as the small-strain FE reaches: contact radius <= 0.3 R, calib.fit.recipe) and
 unloads it from each; Ca and Kc are fitted over the whole window (the radius fit, the paper's
-definition, and the force fit). Per path and fit:
+definition, and the force fit), and the vz-table law's tables (calib.fit.table_fit). Per path
+and law:
 
     force error = max |P_law(alpha) - P_FE(alpha)| / P_max   along loading and unloading
     e error     = e_law / e_FE - 1,  e^2 = elastic / (elastic + dissipated) energy at the peak
@@ -69,17 +70,19 @@ def calibrate_material(task: dict) -> dict:
     P_Y = s["P_Y"]
     pair = result.spec.pair
     fits = {"radius": VZParams(pair, result.radius_fit.Ca.slope, result.radius_fit.Kc.slope),
-            "force": VZParams(pair, result.force_fit.Ca, result.force_fit.Kc)}
+            "force": VZParams(pair, result.force_fit.Ca, result.force_fit.Kc), "table": result.table_params}
+    labels = (("vz", "radius"), ("vz (force fit)", "force")) + ((("vz-table", "table"),) if fits["table"] else ())
     paths = []
     for p in s["paths"]:
-        for label, fit in (("vz", "radius"), ("vz (force fit)", "force")):
+        for label, fit in labels:
             model = p["models"][label]
+            law = "vz-table" if fit == "table" else "vz"
             # the law's impact that reaches the same P_max: its restitution is the path's
             v_in = reach_velocity(fits[fit], p["P_max"])
             try:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore", RangeWarning)
-                    e_collision = float(collide("vz", fits[fit], [v_in]).e_velocity[0])
+                    e_collision = float(collide(law, fits[fit], [v_in]).e_velocity[0])
             except ValueError:          # beyond the law's domain: no impact to compare
                 e_collision = float("nan")
             paths.append({"E_over_sigma_y": task["E_over_sigma_y"], "P_max_over_P_Y": p["P_max"] / P_Y,
@@ -93,7 +96,12 @@ def calibrate_material(task: dict) -> dict:
             "radius_fit": {"Ca_hat": s["Ca_hat"], "Kc_hat": s["Kc_hat"]},      # the shipped fit
             "force_fit": {"Ca_hat": s["force_fit"]["Ca"] * P_Y / result.spec.pair.a_Y,
                           "Kc_hat": s["force_fit"]["Kc"] * P_Y},
-            "window": s["window"], "mesh": s["mesh"], "paths": paths,
+            "table": s["table"], "window": s["window"], "mesh": s["mesh"], "paths": paths,
+            # the FE data themselves, so fits and comparisons can be redone without the FE
+            "fe": {"loading": [{k: r[k] for k in ("P", "alpha", "contact_radius")} for r in result.load_paths.loading_rows],
+                   "paths": [{"P_max": path.peak, "e": path.restitution,
+                              "rows": [{k: r[k] for k in ("P", "alpha", "branch")} for r in path.rows]}
+                             for path in result.load_paths.paths]},
             "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit()}
 
 
@@ -108,7 +116,7 @@ def generate(out=output.RESULTS / "calibration", workers: int = 2, ratios=STRENG
     rows = [path for row in sweep.rows if row.get("status") == "ok" for path in row["paths"]]
     for row in rows:
         row["meets_target"] = row["force_error"] <= FORCE_TARGET and abs(row["e_error"]) <= E_TARGET
-    materials = [{k: row.get(k) for k in ("E_over_sigma_y", "status", "error", "radius_fit", "force_fit",
+    materials = [{k: row.get(k) for k in ("E_over_sigma_y", "status", "error", "radius_fit", "force_fit", "table",
                                             "window", "unreachable", "reach_over_P_Y", "wall_time_s")}
                  for row in sweep.rows]
     st = output.stamp(time.perf_counter() - started, mesh={"loading_steps": LOADING_STEPS},
@@ -125,7 +133,7 @@ def _plot(rows: list[dict], path: Path) -> None:
     plt = output.pyplot()
     fig, (ax_force, ax_e) = plt.subplots(1, 2, figsize=(11, 4))
     for k, ratio in enumerate(sorted({r["E_over_sigma_y"] for r in rows})):
-        for fit, marker in (("radius", "o-"), ("force", "s--")):
+        for fit, marker in (("radius", "o-"), ("force", "s--"), ("table", "^:")):
             sel = [r for r in rows if r["E_over_sigma_y"] == ratio and r["fit"] == fit]
             x = [r["P_max_over_P_Y"] for r in sel]
             label = f"E/sigma_Y = {ratio:g}, {fit} fit"
