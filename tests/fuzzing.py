@@ -51,7 +51,7 @@ PLAUSIBLE = {"--E": (70e9, 205e9, 117e9, 1e6, 1e12), "--nu": (0.0, 0.3, 0.49, 0.
              "--Kc": (3e-4, 1e-6, 1e-1), "--K1": (1e8, 1e6), "--K2": (2e8, 1e7),
              "--peaks": (500.0, 1000.0, 1500.0, 10.0, 40.0), "--contact-size": (4e-5, 1e-4, 1e-3, 1e-9),
              "--P-min": (1.0, 10.0), "--P-max": (1500.0, 100.0), "--steps": (2, 25, 1000, 1001),
-             "--workers": (1, 2, 64, 65)}
+             "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3)}
 
 
 def number_text(flag: str, hostile: bool):
@@ -87,7 +87,7 @@ SCENE_LINES = (  # (section, key, literal) of a valid scene that exercises every
     ("outputs", "plots", "false"), ("outputs", "histories", "false"))
 SCENE_SECTIONS = tuple(dict.fromkeys([s for s, _, _ in SCENE_LINES] + ["grid", "bogus"]))
 SCENE_KEYS_EXTRA = ("contact_size", "E_over_sigma_y", "velocities", "bogus", "P_max", "unloading_steps",
-                    "loading_steps", "out", "level", "v_in")
+                    "loading_steps", "out", "level", "v_in", "v_max", "v_max_from")
 
 
 @st.composite
@@ -115,6 +115,9 @@ def scene_text(draw) -> str:
 
 PARAMETERS = {"law": "vz", "Ca": 2.3155e-7, "Kc": 2.984e-4,
               "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "R": 0.1}}
+TABLE_PARAMETERS = {"law": "vz-table", "table": {"P_over_P_Y": [1.0, 10.0, 100.0], "a_p_over_a_Y": [0.0, 0.25, 1.4],
+                                                 "C_R": [1.0, 1.1, 1.5]},
+                    "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "R": 0.1}}
 
 
 def json_value():
@@ -126,8 +129,10 @@ def json_value():
 def parameter_text(draw) -> str:
     """A parameter file: the valid one with up to two keys dropped or given another value, a key
     added, or truncated now and then."""
-    data = json.loads(json.dumps(PARAMETERS))
+    data = json.loads(json.dumps(draw(st.sampled_from((PARAMETERS, TABLE_PARAMETERS)))))
     places = [(data, key) for key in data if key != "material"] + [(data["material"], key) for key in data["material"]]
+    if "table" in data:
+        places += [(data["table"], key) for key in data["table"]]
     places.append((data, "material"))
     for k in draw(st.lists(st.integers(0, len(places) - 1), max_size=2, unique=True)):
         where, key = places[k]
@@ -152,17 +157,17 @@ COMMANDS = {
     "collide": {"--law": 1, "--v-in": "+", "--dt": 1, "--Ca": 1, "--Kc": 1, "--K1": 1, "--K2": 1,
                 "--params": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "material": {"--table": 1, "--params-out": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
-    "calibrate": {"--peaks": "+", "--contact-size": 1, "--ship": 1, "--out": 1, "--no-plots": 0, "--json": 0,
+    "calibrate": {"--peaks": "+", "--v-max": 1, "--contact-size": 1, "--ship": 1, "--out": 1, "--no-plots": 0, "--json": 0,
                   "--ladder": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "hertz": {"--P-min": 1, "--P-max": 1, "--steps": 1, "--contact-size": 1, "--ladder": 0, "--out": 1,
               "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
-    "run": {"SCENE": 1, "--out": 1, "--json": 0, "--quiet": 0, "--list": 0},
-    "table": {"SCENE": 1, "--out": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
+    "run": {"SCENE": 1, "--out": 1, "--v-max": 1, "--json": 0, "--quiet": 0, "--list": 0},
+    "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},
 }
 REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",)}
 FE_COMMANDS = ("calibrate", "hertz", "run", "table")
-LAWS = ("vz", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
+LAWS = ("vz", "vz-table", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
 OUTPUT_FLAGS = ("--out", "--params-out", "--master-out")
 
 
