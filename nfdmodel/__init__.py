@@ -27,6 +27,7 @@ from .validation import PlausibilityWarning, check_real
 from .parameter_file import load_parameters, parameter_record
 from .window import CalibrationWindow, RangeWarning
 from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_step
+from .native import backend, backend_info
 
 __all__ = [
     "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",
@@ -37,5 +38,5 @@ __all__ = [
     "check_real", "PlausibilityWarning", "reference_case",
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
-    "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step",
+    "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step", "backend", "backend_info",
 ]

@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from . import native
 from .hertz import hertz_kernel
 from .history import ThorntonState, check_delta, check_state, restore_shape, step_and_commit
 from .materials import ContactPair
@@ -49,7 +50,10 @@ def thornton_step(delta, state: ThorntonState, params):
     pair = as_pair(params, "thornton")
     check_state(state, ThorntonState, "thornton")
     delta, shape = check_delta(delta, state.n)
-    force, update = turning_point_step(delta, state, _thornton_loading_branch(pair), True, pair)
+    if native.active():
+        force, update, _ = native.turning_point_step("thornton", delta, state, pair, native.kernel_params(pair), True)
+    else:
+        force, update = turning_point_step(delta, state, _thornton_loading_branch(pair), True, pair)
     return restore_shape(force, shape), update
 
 

@@ -11,6 +11,7 @@ import dataclasses
 
 import numpy as np
 
+from . import native
 from .hertz import hertz_kernel
 from .history import VZState, apply_update, check_delta, check_state, restore_shape, step_and_commit
 from .parameters import VZParams
@@ -66,6 +67,15 @@ def vz_step(delta, state: VZState, params: VZParams):
         raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
     check_state(state, VZState, "vz")
     delta, shape = check_delta(delta, state.n)
+    if native.active():
+        pair = params.pair
+        force, update, (_, beyond, largest_P, widest, widest_radius, _) = native.turning_point_step(
+            "vz", delta, state, pair, native.kernel_params(pair, params.Ca, params.Kc, params.window_force, c1=params.c1), True)
+        if update.size:
+            check_contact_radius_below_R(widest_radius, pair.R_star, float(update.values.delta_max[widest]), params)
+            if beyond:
+                update = dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=largest_P / pair.P_Y)
+        return restore_shape(force, shape), update
     force, update = turning_point_step(delta, state, _vz_loading_branch(params), True, params.pair)
     if update.size:                  # sparse: only the contacts whose turning point moved
         update = _check_reach(update, params)

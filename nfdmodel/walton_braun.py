@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import native
 from .history import WaltonBraunState, check_delta, check_state, restore_shape, step_and_commit
 from .parameters import VZParams, WaltonBraunParams, as_pair
 from .turning_point import turning_point_step
@@ -48,5 +49,9 @@ def walton_braun_step(delta, state: WaltonBraunState, params):
     wb = walton_braun_params(params)
     check_state(state, WaltonBraunState, "walton-braun")
     delta, shape = check_delta(delta, state.n)
-    force, update = turning_point_step(delta, state, _walton_braun_loading_branch(wb), False, wb.pair)
+    if native.active():
+        force, update, _ = native.turning_point_step("walton-braun", delta, state, wb.pair,
+                                                     native.kernel_params(wb.pair, K1=wb.K1, K2=wb.K2), False)
+    else:
+        force, update = turning_point_step(delta, state, _walton_braun_loading_branch(wb), False, wb.pair)
     return restore_shape(force, shape), update

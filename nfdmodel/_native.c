@@ -1,0 +1,182 @@
+/* nfdmodel._native: the Python binding of nfd_kernel.c (a plain CPython extension, no numpy
+ * headers: arrays arrive through the buffer protocol as C-contiguous float64 / int64 memory).
+ *
+ * A step is two calls, so that Python allocates the trial history of exactly the contacts that
+ * load (nfdmodel.native):
+ *   unload(three_halves, delta, delta_res, K_u, delta_max, force, index) -> (k, force_sum)
+ *       the unloading/reloading force of every contact, P = K_u <delta - delta_res>^n, and the
+ *       positions of the k contacts with delta > delta_max (written to index[0:k]);
+ *   load(law, params, index, delta, a_e_max, force, delta_max', P_max', delta_res', K_u', a_e_max')
+ *       -> (largest Newton count, beyond-window count, largest P_max, position of the largest
+ *           contact radius, that radius, the sum of the loading forces)
+ *       the loading branch of those k contacts: force[index[i]] and the new history at i.
+ *   hertz(delta, k, force) -> force_sum
+ * law: 1 vz, 2 thornton, 3 walton_braun; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
+ * window P_max, K1, K2, c1, P_Y^(1/3)) [SI].
+ */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#include <math.h>
+#include <stdint.h>
+
+#include "nfd_kernel.h"
+
+static int check_length(Py_buffer *buffer, Py_ssize_t count, Py_ssize_t itemsize, const char *name)
+{
+    if (buffer->len != count * itemsize) {
+        PyErr_Format(PyExc_ValueError, "%s: expected %zd items of %zd bytes, got %zd bytes", name, count, itemsize,
+                     buffer->len);
+        return 0;
+    }
+    return 1;
+}
+
+static PyObject *native_unload(PyObject *self, PyObject *args)
+{
+    int three_halves;
+    Py_buffer delta, delta_res, K_u, delta_max, force, index;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "py*y*y*y*w*w*", &three_halves, &delta, &delta_res, &K_u, &delta_max, &force, &index))
+        return NULL;
+    Py_ssize_t n = delta.len / (Py_ssize_t)sizeof(double);
+    Py_ssize_t k = 0;
+    double sum = 0.0;
+    if (check_length(&delta_res, n, 8, "delta_res") && check_length(&K_u, n, 8, "K_u") &&
+        check_length(&delta_max, n, 8, "delta_max") && check_length(&force, n, 8, "force") &&
+        check_length(&index, n, 8, "index")) {
+        const double *d = delta.buf, *res = delta_res.buf, *K = K_u.buf, *dmax = delta_max.buf;
+        double *f = force.buf;
+        int64_t *idx = index.buf;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < n; ++i) {
+            double gap = d[i] - res[i];
+            if (gap < 0.0) gap = 0.0;
+            double p;
+            if (three_halves) {
+                p = sqrt(gap);
+                p *= gap;
+                p *= K[i];
+            } else {
+                p = gap * K[i];
+            }
+            f[i] = p;
+            sum += p;
+            if (d[i] > dmax[i]) idx[k++] = i;
+        }
+        Py_END_ALLOW_THREADS
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&delta); PyBuffer_Release(&delta_res); PyBuffer_Release(&K_u);
+    PyBuffer_Release(&delta_max); PyBuffer_Release(&force); PyBuffer_Release(&index);
+    if (failed) return NULL;
+    return Py_BuildValue("nd", k, sum);
+}
+
+static int read_params(PyObject *tuple, nfd_params *p)
+{
+    double v[14];
+    if (!PyArg_ParseTuple(tuple, "dddddddddddddd", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5], &v[6], &v[7], &v[8],
+                          &v[9], &v[10], &v[11], &v[12], &v[13]))
+        return 0;
+    p->R_star = v[0]; p->E_star = v[1]; p->P_Y = v[2]; p->delta_Y = v[3]; p->a_Y = v[4]; p->p_Y = v[5];
+    p->hertz_k = v[6]; p->Ca = v[7]; p->Kc = v[8]; p->window_P_max = v[9]; p->K1 = v[10]; p->K2 = v[11];
+    p->c1 = v[12]; p->u_Y = v[13];
+    return 1;
+}
+
+static PyObject *native_load(PyObject *self, PyObject *args)
+{
+    int law;
+    PyObject *params_tuple;
+    Py_buffer index, delta, a_e_max, force, o_dmax, o_P, o_res, o_K, o_ae;
+    nfd_params p;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "iOy*y*y*w*w*w*w*w*w*", &law, &params_tuple, &index, &delta, &a_e_max, &force,
+                          &o_dmax, &o_P, &o_res, &o_K, &o_ae))
+        return NULL;
+    Py_ssize_t k = index.len / 8, n = delta.len / 8;
+    int max_iterations = 0;
+    Py_ssize_t beyond = 0, widest = -1, bad = -1;
+    double largest_P = 0.0, widest_radius = -1.0, sum = 0.0;
+    if (read_params(params_tuple, &p) && check_length(&a_e_max, n, 8, "a_e_max") && check_length(&force, n, 8, "force") &&
+        check_length(&o_dmax, k, 8, "delta_max") && check_length(&o_P, k, 8, "P_max") &&
+        check_length(&o_res, k, 8, "delta_res") && check_length(&o_K, k, 8, "K_u") && check_length(&o_ae, k, 8, "a_e_max")) {
+        const int64_t *idx = index.buf;
+        const double *d = delta.buf, *ae = a_e_max.buf;
+        double *f = force.buf, *dm = o_dmax.buf, *P = o_P.buf, *res = o_res.buf, *K = o_K.buf, *aeo = o_ae.buf;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < k; ++i) {
+            int64_t j = idx[i];
+            if (j < 0 || j >= n) { bad = i; break; }
+            nfd_history h = {0.0, 0.0, 0.0, 0.0, ae[j]};
+            h.delta_max = -INFINITY;                     /* the caller selected loading contacts */
+            nfd_history out;
+            double force_j = 0.0;
+            int iterations = 0, status;
+            if (law == 1) {
+                status = nfd_vz_step(d[j], &p, &h, &force_j, &out, &iterations);
+                double excess = out.P_max - p.P_Y;
+                double radius = out.a_e_max + p.Ca * (excess > 0.0 ? excess : 0.0);
+                if (radius > widest_radius || widest < 0) { widest_radius = radius; widest = i; }
+                if (out.P_max > p.window_P_max) ++beyond;
+                if (out.P_max > largest_P) largest_P = out.P_max;
+            } else if (law == 2) {
+                status = nfd_thornton_step(d[j], &p, &h, &force_j, &out);
+            } else {
+                status = nfd_walton_braun_step(d[j], &p, &h, &force_j, &out);
+            }
+            (void)status;
+            if (iterations > max_iterations) max_iterations = iterations;
+            f[j] = force_j;
+            sum += force_j;
+            dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
+        }
+        Py_END_ALLOW_THREADS
+        if (bad >= 0) PyErr_Format(PyExc_ValueError, "index[%zd] out of range 0..%zd", bad, n - 1);
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&index); PyBuffer_Release(&delta); PyBuffer_Release(&a_e_max); PyBuffer_Release(&force);
+    PyBuffer_Release(&o_dmax); PyBuffer_Release(&o_P); PyBuffer_Release(&o_res); PyBuffer_Release(&o_K);
+    PyBuffer_Release(&o_ae);
+    if (failed) return NULL;
+    return Py_BuildValue("indndd", max_iterations, beyond, largest_P, widest, widest_radius, sum);
+}
+
+static PyObject *native_hertz(PyObject *self, PyObject *args)
+{
+    Py_buffer delta, force;
+    double k, sum = 0.0;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "y*dw*", &delta, &k, &force)) return NULL;
+    Py_ssize_t n = delta.len / 8;
+    if (check_length(&force, n, 8, "force")) {
+        const double *d = delta.buf;
+        double *f = force.buf;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < n; ++i) {
+            double x = d[i] > 0.0 ? d[i] : 0.0;
+            double p = sqrt(x);
+            p *= x;
+            p *= k;
+            f[i] = p;
+            sum += p;
+        }
+        Py_END_ALLOW_THREADS
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&delta); PyBuffer_Release(&force);
+    if (failed) return NULL;
+    return PyFloat_FromDouble(sum);
+}
+
+static PyMethodDef methods[] = {
+    {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
+    {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
+    {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
+    {NULL, NULL, 0, NULL},
+};
+
+static struct PyModuleDef module = {PyModuleDef_HEAD_INIT, "_native", "nfd_kernel.c bound to Python", -1, methods,
+                                    NULL, NULL, NULL, NULL};
+
+PyMODINIT_FUNC PyInit__native(void) { return PyModule_Create(&module); }

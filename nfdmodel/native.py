@@ -1,0 +1,90 @@
+"""Which kernel runs the laws: the compiled nfd_kernel.c ("native") or the numpy reference.
+
+nfdmodel/nfd_kernel.c (one dependency-free C99 source, also used by C/C++ DEM codes and the
+LAMMPS plugin) is built at install time into ``nfdmodel._native`` when a C compiler is present.
+It is then the default; ``NFDCAL_BACKEND=numpy`` in the environment forces the numpy kernels
+(the reference it is tested against, and the fallback when it was not built). The laws call
+:func:`turning_point_step` / :func:`hertz_forces` of this module when :func:`active` is true;
+they validate their arguments first, exactly as on the numpy path, so bad input gets the same
+messages on both.
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from .history import HistoryUpdate, check_force, empty_update, field_names
+
+try:
+    from . import _native
+    _MISSING = ""
+except ImportError as exc:           # not built: no compiler at install time, or a wheel without it
+    _native = None
+    _MISSING = f"the compiled kernel nfdmodel._native is not built ({exc})"
+
+LAW_CODES = {"vz": 1, "thornton": 2, "walton-braun": 3}
+
+
+def backend() -> str:
+    """"native" (the compiled nfd_kernel.c) or "numpy" (the reference kernels)."""
+    return "native" if active() else "numpy"
+
+
+def backend_info() -> str:
+    """Why this backend: built or not, forced by NFDCAL_BACKEND or not."""
+    forced = os.environ.get("NFDCAL_BACKEND", "").strip().lower()
+    if _native is None:
+        return f"numpy: {_MISSING}; install a C compiler and the Python headers, then reinstall nfdcal"
+    if forced == "numpy":
+        return "numpy: forced by NFDCAL_BACKEND=numpy (the compiled kernel is built)"
+    return f"native: the compiled kernel {os.path.basename(_native.__file__)} (NFDCAL_BACKEND=numpy forces numpy)"
+
+
+def active() -> bool:
+    return _native is not None and os.environ.get("NFDCAL_BACKEND", "").strip().lower() != "numpy"
+
+
+def kernel_params(pair, Ca: float = 0.0, Kc: float = 0.0, window_P_max: float = float("inf"),
+                  K1: float = 0.0, K2: float = 0.0, c1: float = 0.0) -> tuple:
+    """The nfd_params struct as the binding takes it (the pair's values computed once in Python,
+    so both kernels start from the same numbers)."""
+    return (pair.R_star, pair.E_star, pair.P_Y, pair.delta_Y, pair.a_Y, pair.p_Y, pair.hertz_stiffness,
+            float(Ca), float(Kc), float(window_P_max), float(K1), float(K2), float(c1), pair.P_Y ** (1.0 / 3.0))
+
+
+def _contiguous(array) -> np.ndarray:
+    return np.ascontiguousarray(array, dtype=np.float64)
+
+
+def turning_point_step(law: str, delta, state, pair, params: tuple, three_halves: bool):
+    """The compiled twin of nfdmodel.turning_point.turning_point_step: (P [N], HistoryUpdate,
+    loading statistics (largest Newton count, beyond-window count, largest P_max [N], position
+    of the widest contact, its radius [m]))."""
+    n = delta.shape[0]
+    force = np.empty(n)
+    index = np.empty(n, dtype=np.int64)
+    k, total = _native.unload(three_halves, delta, _contiguous(state.delta_res), _contiguous(state.unloading_stiffness),
+                              _contiguous(state.delta_max), force, index)
+    statistics = (0, 0, 0.0, -1, -1.0, 0.0)
+    if k == 0:
+        update = empty_update(state, n)
+    else:
+        index = index[:k].copy()
+        values = {name: np.empty(k) for name in ("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max")}
+        a_e_max = _contiguous(state.a_e_max) if hasattr(state, "a_e_max") else delta
+        statistics = _native.load(LAW_CODES[law], params, index, delta, a_e_max, force, values["delta_max"],
+                                  values["P_max"], values["delta_res"], values["unloading_stiffness"],
+                                  values["a_e_max"])
+        total += statistics[5]
+        names = field_names(type(state))
+        update = HistoryUpdate(index, type(state)(**{name: values[name] for name in names}), n, int(statistics[0]))
+    check_force(force, delta, pair, float(total))
+    return force, update, statistics
+
+
+def hertz_forces(delta, pair) -> np.ndarray:
+    """k_H <delta>^(3/2) [N] per contact, with the overflow check of the numpy path."""
+    force = np.empty(delta.shape[0])
+    total = _native.hertz(delta, pair.hertz_stiffness, force)
+    return check_force(force, delta, pair, float(total))

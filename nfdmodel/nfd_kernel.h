@@ -1,0 +1,91 @@
+/* nfd_kernel: the runtime contact laws of nfdcal in dependency-free C99 (math.h only).
+ *
+ * One contact at a time, SI units. A law is a step function
+ *
+ *     status = nfd_<law>_step(delta, &params, &history, &force, &new_history);
+ *
+ * delta: the approach ("overlap") of the two centres [m]; history: the contact's turning point
+ * (all zeros for a virgin contact); force: the normal force [N] (>= 0); new_history: the
+ * trial history of this step (commit it by copying it over `history` once the step is
+ * accepted). The laws are those of nfdmodel (README, The model; nfdmodel/reference.py is the
+ * plain Python transcription, branch by branch):
+ *
+ *   hertz          P = (4/3) E* sqrt(R*) <delta>^(3/2)                       (no history)
+ *   vz             Vu-Quoc & Zhang (1999): Hertz to delta_Y, then the root of the corrected
+ *                  F(P) = (P - P_Y) + c1 P^(1/3) - sqrt((1 + Kc (P - P_Y)) R* delta) / Ca,
+ *                  c1 = (3 R* / (4 E*))^(1/3) / Ca, by Newton on u = P^(1/3);
+ *   thornton       Thornton (1997): Hertz to delta_Y, then P = P_Y + pi p_Y R* (delta - delta_Y);
+ *   walton_braun   Walton & Braun (1986): P = K1 delta on loading;
+ *
+ * and every law with memory unloads and reloads on P = K_u <delta - delta_res>^n (n = 3/2;
+ * walton_braun: n = 1) through its turning point (delta_max, P_max). Fill nfd_params with
+ * nfd_pair(); then set the law's constants (Ca, Kc for vz; K1, K2 for walton_braun).
+ *
+ * Status: NFD_OK; NFD_BEYOND_WINDOW (the force is returned, but the turning point lies beyond
+ * the load window the vz constants were fitted on: an extrapolation); NFD_FULL_CONTACT (vz: the
+ * contact radius a_e + Ca (P - P_Y) reached R*, no contact law holds there: the force is not
+ * computed); NFD_NOT_FINITE (delta or the force is not a finite number).
+ *
+ * License: the same as nfdcal. This file and nfd_kernel.c may be copied into any C or C++ code.
+ */
+#ifndef NFD_KERNEL_H
+#define NFD_KERNEL_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define NFD_OK 0
+#define NFD_BEYOND_WINDOW 1
+#define NFD_FULL_CONTACT (-1)
+#define NFD_NOT_FINITE (-2)
+
+/* Per contact pair, precomputed once (nfd_pair), then the law's constants. */
+typedef struct {
+    double R_star;        /* effective radius R* [m]: 1/R* = 1/R_i + 1/R_j (a wall: R* = R)   */
+    double E_star;        /* effective modulus E* [Pa]: 1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j */
+    double P_Y;           /* first-yield force [N] = pi^3 R*^2 p_Y^3 / (6 E*^2)              */
+    double delta_Y;       /* approach at first yield [m] = a_Y^2 / R*                         */
+    double a_Y;           /* contact radius at first yield [m]                                 */
+    double p_Y;           /* yield pressure A_Y(nu) sigma_Y [Pa] of the body that yields first */
+    double hertz_k;       /* (4/3) E* sqrt(R*) [N/m^1.5]                                       */
+    double Ca;            /* vz: plastic contact-radius rate [m/N]                            */
+    double Kc;            /* vz: curvature-factor rate [1/N]                                   */
+    double c1;            /* vz: (3 R* / (4 E*))^(1/3) / Ca [N^(2/3)] (nfd_vz_constants)       */
+    double u_Y;           /* vz: P_Y^(1/3) [N^(1/3)] (nfd_vz_constants)                        */
+    double window_P_max;  /* vz: the largest force [N] the constants were fitted on (inf: any) */
+    double K1, K2;        /* walton_braun: loading and unloading stiffness [N/m], K1 <= K2     */
+} nfd_params;
+
+/* One contact's history (named fields; all zeros for a virgin contact). */
+typedef struct {
+    double delta_max;     /* largest approach so far (turning point) [m]                      */
+    double P_max;         /* force there [N]                                                   */
+    double delta_res;     /* approach where the unloading curve reaches 0 [m]                 */
+    double K_u;           /* constant of the unloading curve P = K_u <delta - delta_res>^n    */
+    double a_e_max;       /* vz: Hertz radius at P_max [m] (starts the next Newton solve)     */
+} nfd_history;
+
+/* nfd_params of a contact pair from R* [m], E* [Pa] and p_Y = A_Y(nu) sigma_Y [Pa]; the vz and
+ * walton_braun constants are zero and the window unlimited until set. */
+nfd_params nfd_pair(double R_star, double E_star, double p_Y);
+
+/* Set the vz constants Ca [m/N], Kc [1/N] and what the solve precomputes from them. */
+void nfd_vz_constants(nfd_params *p, double Ca, double Kc);
+
+int nfd_hertz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out);
+/* vz: *iterations (if not NULL) receives the Newton iterations of a plastic loading step (else 0). */
+int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out,
+                int *iterations);
+int nfd_thornton_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out);
+int nfd_walton_braun_step(double delta, const nfd_params *p, const nfd_history *h, double *force,
+                          nfd_history *out);
+
+/* On request, after a step: the contact radii [m] of a history at force P [N] (vz): the Hertz
+ * radius a_e, the plastic radius a_p = Ca <P_max - P_Y> and a_ep = a_e + a_p. */
+void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, double *a_e, double *a_p, double *a_ep);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

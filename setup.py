@@ -1,0 +1,10 @@
+"""Build of the optional compiled kernel (nfdmodel._native: nfdmodel/nfd_kernel.c and its binding).
+
+Everything else is declared in pyproject.toml. ``optional=True``: without a C compiler (or the
+Python headers) the build of the extension is skipped with a warning, the install succeeds and
+nfdmodel runs on its numpy kernels (nfdmodel.backend() says "numpy" and why).
+"""
+from setuptools import Extension, setup
+
+setup(ext_modules=[Extension("nfdmodel._native", sources=["nfdmodel/_native.c", "nfdmodel/nfd_kernel.c"],
+                             extra_compile_args=["-std=c99", "-O3"], optional=True)])

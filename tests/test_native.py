@@ -1,0 +1,180 @@
+"""The compiled kernel (nfdmodel/nfd_kernel.c through nfdmodel._native) against the numpy
+reference: every law over hypothesis-generated multi-step histories (loading, unloading,
+reloading through the turning point, separation, re-contact, large jumps), float32 and empty
+input, the stability report's extreme constants, collisions, the same error messages, and the
+backend switch."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import nfdmodel
+from nfdmodel import VZParams, WaltonBraunParams, collide, get_law, native
+
+pytestmark = pytest.mark.skipif(native._native is None, reason="the compiled kernel is not built here")
+
+REF = VZParams.reference()
+PAIR = REF.pair
+RTOL = 1e-12
+
+
+def params_for(name, Ca_factor=1.0, Kc_factor=1.0, pair=PAIR):
+    if name == "vz":
+        return VZParams(pair, REF.Ca * Ca_factor, REF.Kc * Kc_factor)
+    if name == "walton-braun":
+        return WaltonBraunParams.from_vz(VZParams(pair, REF.Ca, REF.Kc))
+    return pair
+
+
+def run(name, params, deltas, backend, monkeypatch, dtype=np.float64):
+    """Forces and histories of a law along ``deltas`` (steps x contacts) on one backend."""
+    monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
+    law = get_law(name)
+    state = law.initial_state(deltas.shape[1])
+    forces, histories = [], []
+    for row in deltas:
+        P, update = law.step(row.astype(dtype), state, params)
+        law.commit(state, update)
+        forces.append(P)
+        histories.append({f: getattr(state, f).copy() for f in ("delta_max", "P_max", "delta_res", "unloading_stiffness")}
+                         if name != "hertz" else {})
+    return np.array(forces), histories
+
+
+def assert_same(a, b):
+    np.testing.assert_allclose(a, b, rtol=RTOL, atol=1e-300)
+
+
+paths = st.lists(st.lists(st.floats(-3.0, 500.0, allow_nan=False), min_size=1, max_size=25), min_size=1, max_size=6)
+
+
+@pytest.mark.parametrize("name", ["vz", "thornton", "walton-braun", "hertz"])
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow,
+                                                                 HealthCheck.function_scoped_fixture])
+@given(contact_paths=paths, float32=st.booleans())
+def test_native_equals_numpy_over_random_histories(name, contact_paths, float32, monkeypatch):
+    steps = max(len(p) for p in contact_paths)
+    deltas = np.array([[p[min(k, len(p) - 1)] for p in contact_paths] for k in range(steps)]) * PAIR.delta_Y
+    dtype = np.float32 if float32 else np.float64
+    params = params_for(name)
+    P_numpy, h_numpy = run(name, params, deltas, "numpy", monkeypatch, dtype)
+    P_native, h_native = run(name, params, deltas, "native", monkeypatch, dtype)
+    assert_same(P_native, P_numpy)
+    for a, b in zip(h_native, h_numpy):
+        for field in a:
+            assert_same(a[field], b[field])
+
+
+@pytest.mark.parametrize("Ca_factor, Kc_factor", [(1e-3, 0.0), (1.0, 1.0), (1e3, 1e-3), (1e3, 1.0), (1.0, 1e-3)])
+def test_native_equals_numpy_at_the_stability_report_s_extremes(Ca_factor, Kc_factor, monkeypatch):
+    params = params_for("vz", Ca_factor, Kc_factor)
+    top = min(0.5 * PAIR.R_star, 0.6 * params.full_contact_approach)
+    overlaps = np.geomspace(1e-15 * PAIR.R_star, top, 300)
+    deltas = np.array([overlaps, 0.5 * overlaps, overlaps, 1.5 * overlaps])    # load, unload, reload, beyond
+    (P_n, h_n), (P_c, h_c) = (run("vz", params, deltas, b, monkeypatch) for b in ("numpy", "native"))
+    assert_same(P_c, P_n)
+    for a, b in zip(h_c, h_n):
+        for field in a:
+            assert_same(a[field], b[field])
+
+
+def test_jumps_far_from_the_turning_point_and_the_iteration_counts(monkeypatch):
+    rng = np.random.default_rng(3)
+    law = get_law("vz")
+    delta_max = PAIR.delta_Y * np.exp(rng.uniform(np.log(2), np.log(300), 2000))
+    counts = {}
+    for backend in ("numpy", "native"):
+        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
+        _, state = law.force(delta_max, law.initial_state(delta_max.size), REF)
+        P, update = law.step(delta_max * rng.uniform(1.0, 3.0, delta_max.size), state, REF)
+        counts[backend] = (P, update.newton_iterations)
+        rng = np.random.default_rng(3)
+        delta_max = PAIR.delta_Y * np.exp(rng.uniform(np.log(2), np.log(300), 2000))
+    assert_same(counts["native"][0], counts["numpy"][0])
+    assert counts["native"][1] == counts["numpy"][1]
+
+
+def test_empty_input_and_window_flags_match(monkeypatch):
+    window_params = VZParams.reference()
+    delta = window_params.loading_approach(PAIR.P_Y * np.array([10.0, 100.0, 300.0]))
+    results = {}
+    for backend in ("numpy", "native"):
+        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
+        law = get_law("vz")
+        empty = law.step(np.empty(0), law.initial_state(0), window_params)
+        assert empty[0].shape == (0,) and empty[1].size == 0
+        _, update = law.step_function(delta, law.initial_state(3), window_params)
+        results[backend] = (update.beyond_window, update.largest_load_over_P_Y)
+    assert results["native"][0] == results["numpy"][0] == 2
+    assert results["native"][1] == pytest.approx(results["numpy"][1], rel=RTOL)
+
+
+@pytest.mark.parametrize("name", ["vz", "thornton", "walton-braun", "hertz"])
+def test_collisions_agree_to_1e_10(name, monkeypatch):
+    v = np.array([0.002, 0.02, 0.1, 0.2])
+    e = {}
+    for backend in ("numpy", "native"):
+        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
+        e[backend] = collide(name, params_for(name), v).e_velocity
+    np.testing.assert_allclose(e["native"], e["numpy"], rtol=1e-10)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: get_law("vz").step(np.array([1e-6, np.nan]), get_law("vz").initial_state(2), REF),
+    lambda: get_law("vz").step(np.array([1e300]), get_law("vz").initial_state(1), REF),
+    lambda: get_law("vz").step(np.array([0.05]), get_law("vz").initial_state(1), REF),       # a > R*
+    lambda: get_law("thornton").step(np.array([1.0, 2.0]), get_law("thornton").initial_state(3), PAIR),
+    lambda: get_law("hertz").step(np.array([1e300]), get_law("hertz").initial_state(1), PAIR),
+])
+def test_bad_input_gives_the_same_message_on_both_backends(call, monkeypatch):
+    messages = []
+    for backend in ("numpy", "native"):
+        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
+        with pytest.raises(ValueError) as info:
+            call()
+        messages.append(str(info.value))
+    assert messages[0] == messages[1]
+
+
+def test_backend_switch_and_its_reason(monkeypatch):
+    monkeypatch.setenv("NFDCAL_BACKEND", "")
+    assert nfdmodel.backend() == "native" and nfdmodel.backend_info().startswith("native: ")
+    monkeypatch.setenv("NFDCAL_BACKEND", "numpy")
+    assert nfdmodel.backend() == "numpy" and "forced by NFDCAL_BACKEND=numpy" in nfdmodel.backend_info()
+    # without the compiled module (a machine without a compiler), numpy, and it says why
+    code = ("import sys; sys.modules['nfdmodel._native'] = None; import nfdmodel, json; "
+            "print(json.dumps([nfdmodel.backend(), nfdmodel.backend_info()]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={**os.environ, "NFDCAL_BACKEND": ""}).stdout
+    backend, why = json.loads(out)
+    assert backend == "numpy" and "not built" in why
+
+
+def test_the_c_source_ships_with_the_package_and_compiles_alone(tmp_path):
+    """The kernel is one dependency-free C99 source: it compiles on its own, warning-free, and a
+    C caller gets the same force as Python."""
+    import shutil
+    from pathlib import Path
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    source = Path(nfdmodel.__file__).parent
+    main = tmp_path / "main.c"
+    main.write_text('#include <stdio.h>\n#include "nfd_kernel.h"\nint main(void) {\n'
+                    f'  nfd_params p = nfd_pair({PAIR.R_star!r}, {PAIR.E_star!r}, {PAIR.p_Y!r});\n'
+                    f'  nfd_vz_constants(&p, {REF.Ca!r}, {REF.Kc!r});\n'
+                    '  nfd_history h = {0, 0, 0, 0, 0}, next; double P; int iterations;\n'
+                    '  int status = nfd_vz_step(1.56e-5, &p, &h, &P, &next, &iterations);\n'
+                    '  printf("%d %.17g\\n", status, P); return 0; }\n')
+    binary = tmp_path / "main"
+    subprocess.run([compiler, "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", f"-I{source}",
+                    str(main), str(source / "nfd_kernel.c"), "-lm", "-o", str(binary)], check=True)
+    status, force = subprocess.run([str(binary)], capture_output=True, text=True, check=True).stdout.split()
+    expected = get_law("vz").force_function(np.array([1.56e-5]), get_law("vz").initial_state(1), REF)[0][0]
+    assert int(status) == 0 and float(force) == pytest.approx(expected, rel=1e-12)
