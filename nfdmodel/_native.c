@@ -169,7 +169,90 @@ static PyObject *native_hertz(PyObject *self, PyObject *args)
     return PyFloat_FromDouble(sum);
 }
 
+/* One sphere-on-flat impact per velocity, leap-frog (nfdmodel.collision._time_loop, the same
+ * operations per step): the velocities are independent, so each runs its own loop until it
+ * separates; the sweep's step count is the largest. */
+static PyObject *native_collide(PyObject *self, PyObject *args)
+{
+    int law;
+    PyObject *params_tuple;
+    Py_buffer v_in, v_out, contact_time, loading_area, unloading_area, P_max_out, delta_max_out, delta_res_out;
+    double dt, mass;
+    long long max_steps;
+    nfd_params p;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "iOy*ddLw*w*w*w*w*w*w*", &law, &params_tuple, &v_in, &dt, &mass, &max_steps, &v_out,
+                          &contact_time, &loading_area, &unloading_area, &P_max_out, &delta_max_out, &delta_res_out))
+        return NULL;
+    Py_ssize_t n = v_in.len / 8;
+    long long steps = 0;
+    int max_iterations = 0, status = NFD_OK;
+    Py_ssize_t failed_at = -1;
+    double failed_delta = 0.0;
+    if (read_params(params_tuple, &p)) {
+        const double *v0 = v_in.buf;
+        double *vo = v_out.buf, *ct = contact_time.buf, *la = loading_area.buf, *ua = unloading_area.buf;
+        double *pm = P_max_out.buf, *dm = delta_max_out.buf, *dr = delta_res_out.buf;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < n && status >= 0; ++i) {
+            nfd_history h = {0.0, 0.0, 0.0, 0.0, 0.0}, next;
+            double delta = 0.0, force = 0.0, velocity = v0[i], loading = 0.0, unloading = 0.0;
+            double peak = 0.0, deepest = 0.0, time_out = 0.0, v_sep = 0.0;
+            long long step = 0;
+            for (;;) {
+                if (step >= max_steps) { status = -10; failed_at = i; break; }
+                velocity = velocity - force * (dt / mass);
+                double delta_new = delta + velocity * dt;
+                double force_new = 0.0;
+                int iterations = 0, code;
+                if (law == 0) {
+                    code = nfd_hertz_step(delta_new, &p, &h, &force_new, &next);
+                } else if (law == 1) {
+                    code = nfd_vz_step(delta_new, &p, &h, &force_new, &next, &iterations);
+                } else if (law == 2) {
+                    code = nfd_thornton_step(delta_new, &p, &h, &force_new, &next);
+                } else {
+                    code = nfd_walton_braun_step(delta_new, &p, &h, &force_new, &next);
+                }
+                if (code < 0) { status = code; failed_at = i; failed_delta = delta_new; break; }
+                h = next;
+                if (iterations > max_iterations) max_iterations = iterations;
+                double increment = delta_new - delta;
+                double area = 0.5 * (force + force_new) * increment;
+                int separating = force_new == 0.0 && velocity < 0.0;
+                if (separating) {
+                    double residual = law == 0 ? 0.0 : h.delta_res;
+                    double fraction = (delta - residual) / (increment < 0 ? -increment : 1.0);
+                    fraction = fraction < 0.0 ? 0.0 : (fraction > 1.0 ? 1.0 : fraction);
+                    area = 0.5 * force * fraction * increment;
+                    time_out = ((double)step + fraction) * dt;
+                    v_sep = velocity;
+                }
+                if (increment > 0) loading += area;
+                if (increment < 0) unloading += -area;
+                if (force_new > peak) peak = force_new;
+                if (delta_new > deepest) deepest = delta_new;
+                delta = delta_new;
+                force = force_new;
+                ++step;
+                if (separating) break;
+            }
+            if (step > steps) steps = step;
+            vo[i] = v_sep; ct[i] = time_out; la[i] = loading; ua[i] = unloading;
+            pm[i] = peak; dm[i] = deepest; dr[i] = law == 0 ? 0.0 : h.delta_res;
+        }
+        Py_END_ALLOW_THREADS
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&v_in); PyBuffer_Release(&v_out); PyBuffer_Release(&contact_time);
+    PyBuffer_Release(&loading_area); PyBuffer_Release(&unloading_area); PyBuffer_Release(&P_max_out);
+    PyBuffer_Release(&delta_max_out); PyBuffer_Release(&delta_res_out);
+    if (failed) return NULL;
+    return Py_BuildValue("Liind", steps, max_iterations, status, failed_at, failed_delta);
+}
+
 static PyMethodDef methods[] = {
+    {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import native
 from .history import HertzState
 from .parameters import as_pair
 from .registry import ContactLaw, get_law
@@ -287,7 +288,10 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))
 
-    path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history)
+    if native.active() and not history and law.name in native.COLLISION_CODES:
+        path = native.collide(law.name, law_params, pair, v_in, dt, pair.mass_star, max_steps)
+    else:
+        path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history)
     in_range, over_window = _window_check(law, law_params, path["P_max"], v_in)
     return CollisionResult(law.name, v_in, path["v_out"], -path["v_out"] / v_in,
                            np.sqrt(path["unloading_area"] / np.maximum(path["loading_area"], 1e-300)),

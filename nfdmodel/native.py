@@ -24,6 +24,8 @@ except ImportError as exc:           # not built: no compiler at install time, o
     _MISSING = f"the compiled kernel nfdmodel._native is not built ({exc})"
 
 LAW_CODES = {"vz": 1, "thornton": 2, "walton-braun": 3}
+COLLISION_CODES = {"hertz": 0, **LAW_CODES}
+_STEPS_EXCEEDED = -10
 
 
 def backend() -> str:
@@ -88,3 +90,34 @@ def hertz_forces(delta, pair) -> np.ndarray:
     force = np.empty(delta.shape[0])
     total = _native.hertz(delta, pair.hertz_stiffness, force)
     return check_force(force, delta, pair, float(total))
+
+
+def law_params(name: str, params, pair) -> tuple:
+    """The nfd_params tuple of a law's parameters."""
+    if name == "vz":
+        return kernel_params(pair, params.Ca, params.Kc, params.window_force, c1=params.c1)
+    if name == "walton-braun":
+        return kernel_params(pair, K1=params.K1, K2=params.K2)
+    return kernel_params(pair)
+
+
+def collide(name: str, params, pair, v_in, dt: float, mass: float, max_steps: int) -> dict:
+    """The leap-frog impacts of nfdmodel.collision in C, every velocity in one call: the same
+    per-velocity results as collision._time_loop (history not recorded)."""
+    v_in = np.ascontiguousarray(v_in, dtype=np.float64)
+    out = {key: np.zeros(v_in.size) for key in ("v_out", "contact_time", "loading_area", "unloading_area", "P_max",
+                                                "delta_max", "delta_res")}
+    steps, iterations, status, failed_at, failed_delta = _native.collide(
+        COLLISION_CODES[name], law_params(name, params, pair), v_in, float(dt), float(mass), int(max_steps),
+        out["v_out"], out["contact_time"], out["loading_area"], out["unloading_area"], out["P_max"],
+        out["delta_max"], out["delta_res"])
+    if status == _STEPS_EXCEEDED:
+        raise ValueError(f"max_steps = {max_steps} reached before separation at v_in = {v_in[failed_at]:g} m/s: "
+                         f"increase max_steps or dt (dt = {dt:g} s)")
+    if status < 0:          # a contact radius at R*, or an overflow: the numpy step says which, in its words
+        from .registry import get_law
+
+        law = get_law(name)
+        law.step_function(np.array([failed_delta]), law.initial_state(1), params)
+        raise ValueError(f"delta out of range at delta = {failed_delta:g} m (v_in = {v_in[failed_at]:g} m/s)")
+    return {**out, "steps": int(steps), "max_iterations": int(iterations), "history": None}

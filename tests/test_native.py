@@ -178,3 +178,20 @@ def test_the_c_source_ships_with_the_package_and_compiles_alone(tmp_path):
     status, force = subprocess.run([str(binary)], capture_output=True, text=True, check=True).stdout.split()
     expected = get_law("vz").force_function(np.array([1.56e-5]), get_law("vz").initial_state(1), REF)[0][0]
     assert int(status) == 0 and float(force) == pytest.approx(expected, rel=1e-12)
+
+
+def test_the_collision_loop_in_c_gives_the_python_loop_s_numbers_and_errors(monkeypatch):
+    v = np.linspace(0.02, 0.2, 10)
+    results = {}
+    for backend in ("numpy", "native"):
+        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
+        r = collide("vz", REF, v, dt=1e-6)
+        results[backend] = r
+        with pytest.raises(ValueError) as info:
+            collide("vz", REF, v, dt=1e-6, max_steps=100)
+        results[backend + " error"] = str(info.value)
+    a, b = results["numpy"], results["native"]
+    for field in ("v_out", "e_velocity", "e_energy", "P_max", "delta_max", "delta_res", "contact_time"):
+        np.testing.assert_allclose(getattr(b, field), getattr(a, field), rtol=1e-12)
+    assert (a.steps, a.max_newton_iterations) == (b.steps, b.max_newton_iterations)
+    assert results["numpy error"] == results["native error"]
