@@ -199,7 +199,7 @@ def flag_values(flag: str, count, hostile: bool):
     if flag in ("--law",):
         return st.lists(st.sampled_from(LAWS), min_size=1, max_size=1)
     if flag == "--ship":
-        return st.lists(st.sampled_from(("radius", "force", "both", "")), min_size=1, max_size=1)
+        return st.lists(st.sampled_from(("radius", "force", "table", "both", "")), min_size=1, max_size=1)
     if flag in ("--accuracy",):
         return st.lists(st.text(max_size=20), min_size=1, max_size=1)
     if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE"):

@@ -58,6 +58,24 @@ def test_runtime_law_follows_the_fe_force(coarse_result):
         assert vz.max_force_error < hertz.max_force_error    # plasticity matters
 
 
+def test_table_law_meets_the_fe_restitution_and_force_on_every_path(coarse_result, tmp_path):
+    """The vz-table law takes C_R at each peak from the work the FE returned there, so its
+    quasi-static e is the FE's up to the loading curve's interpolation (wide_window: <= 1.1 %
+    over 10-1000 P_Y); its force follows the FE along the whole cycle better than the two
+    constants. Shipped (``ship="table"``), the parameter file is that law."""
+    for peak, comparisons in coarse_result.comparisons.items():
+        path = next(p for p in coarse_result.load_paths.paths if p.peak == peak)
+        table = next(c for c in comparisons if c.law == "vz-table")
+        vz = next(c for c in comparisons if c.law == "vz")
+        assert table.restitution == pytest.approx(path.restitution, rel=0.01)
+        assert abs(table.restitution / path.restitution - 1) < abs(vz.restitution / path.restitution - 1)
+        assert table.max_force_error < 0.05
+    shipped = dataclasses.replace(coarse_result, shipped="table")
+    calibration_report.write_calibration_parameters(tmp_path / "parameters.json", shipped, {"note": "test"})
+    params = load_parameters(tmp_path / "parameters.json")
+    assert params.x == coarse_result.table_params.x and params.g == coarse_result.table_params.g
+
+
 def test_first_yield_matches_theory():
     """The first quadrature point yields at P_Y(nu) = pi^3 R^2 (A_Y sigma_Y)^3 / (6 E*^2) within 3 % (default mesh)."""
     material = Material.reference()
@@ -184,7 +202,8 @@ def test_readme_reference_numbers_at_the_default_mesh():
 
 def test_v_max_calibrates_a_window_that_covers_the_impact(tmp_path, capsys):
     """--v-max: load paths to the force the impact produces (estimated with the master table,
-    re-estimated with the new constants); the impact then runs inside the window."""
+    re-estimated with the shipped law); the parameter file ships the vz-table law (the default
+    with --v-max) and the impact then runs inside its window."""
     from nfdmodel import collide, load_parameters
 
     code = main(["calibrate", "--v-max", "0.012", "--contact-size", "1.6e-4", "--no-plots", "--json", "--quiet",
@@ -194,8 +213,9 @@ def test_v_max_calibrates_a_window_that_covers_the_impact(tmp_path, capsys):
     rounds = out["v_max"]["rounds"]
     assert rounds[-1]["covered"] and 1 <= len(rounds) <= 2
     assert out["window"]["P_max_over_P_Y"] == pytest.approx(rounds[-1]["P_top_over_P_Y"], rel=1e-6)
+    assert json.loads((tmp_path / "parameters.json").read_text())["law"] == "vz-table"
     params = load_parameters(tmp_path / "parameters.json")
-    assert collide("vz", params, [0.012]).in_calibrated_range.tolist() == [True]
+    assert collide("vz-table", params, [0.012]).in_calibrated_range.tolist() == [True]
 
 
 def test_v_max_beyond_the_fe_is_refused_before_meshing(capsys, monkeypatch):

@@ -225,7 +225,7 @@ def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
     calibration shipping the force fit (which needs the unloading), collisions with the
     calibrated law and plots; the parameter file reproduces the printed Ca, Kc and drives
     nfdmodel directly."""
-    from nfdmodel import collide, load_parameters
+    from nfdmodel import VZTableParams, collide, load_parameters
 
     path = write(tmp_path, """
         [scene]
@@ -245,7 +245,7 @@ def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
         ship = "force"
         [collision]
         v_in_over_v_Y = [2.0, 20.0]
-        laws = ["vz", "thornton"]
+        laws = ["vz", "vz-table", "thornton"]
         [outputs]
         plots = true
         histories = true
@@ -272,6 +272,10 @@ def test_run_full_calibration_scene_end_to_end(tmp_path, monkeypatch, capsys):
     vz_rows = [dict(zip(header, r)) for r in rows if dict(zip(header, r))["law"] == "vz"]
     direct = collide("vz", params, [float(r["v_in"]) for r in vz_rows], dt=None)
     assert [float(r["e_velocity"]) for r in vz_rows] == pytest.approx(direct.e_velocity.tolist(), rel=1e-9)
+    table_rows = [dict(zip(header, r)) for r in rows if dict(zip(header, r))["law"] == "vz-table"]
+    table = VZTableParams(params.pair, *(tuple(cal["table"][k]) for k in ("P_over_P_Y", "a_p_over_a_Y", "C_R")))
+    direct = collide("vz-table", table, [float(r["v_in"]) for r in table_rows], dt=None)
+    assert [float(r["e_velocity"]) for r in table_rows] == pytest.approx(direct.e_velocity.tolist(), rel=1e-9)
     assert list(out.glob("*.png")) and list(out.glob("*.csv"))
     assert (out / "collision.png").is_file()   # the scene asked for plots: e(v_in) of its laws
 
@@ -312,6 +316,10 @@ def test_the_calibration_window_from_the_scene_s_impacts(tmp_path, monkeypatch, 
     ('[calibration]\nv_max = 0.1\nv_max_from = "collision"\n[collision]\nv_in = [0.1]\n', "not both"),
     ('[calibration]\nv_max_from = "collision"\n', "needs a \\[collision\\] stage"),
     ('[load_paths]\nP_max = [500.0]\n[calibration]\nv_max = 0.1\n', "do not give load_paths.P_max too"),
+    ('[collision]\nv_in = [0.1]\nlaws = ["vz-table"]\n', "'vz-table' takes its tables from this scene's FE"),
+    ('[load_paths]\nunload = false\n[calibration]\n[collision]\nv_in = [0.1]\nlaws = ["vz-table"]\n',
+     "'vz-table' takes its tables"),
+    ('[load_paths]\nunload = false\n[calibration]\nship = "table"\n', "'table' fits the unloading too"),
 ])
 def test_v_max_keys_are_checked(tmp_path, extra, needle):
     path = write(tmp_path, '[scene]\nname = "w"\n' + MATERIAL + extra)

@@ -35,8 +35,10 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")
-    parser.add_argument("--ship", default="radius", choices=("radius", "force"),
-                        help="which fit the parameter file ships (default radius: the paper's)")
+    parser.add_argument("--ship", default=None, choices=("radius", "force", "table"),
+                        help="which law the parameter file ships: the paper's two constants fitted to the"
+                             " contact radius (radius, the default) or to the force (force), or the vz-table"
+                             " law (table, the default with --v-max: two constants miss wide windows)")
     parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
                         " reference case, results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R> for another)")
     parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
@@ -77,6 +79,7 @@ def run(ns) -> int:
     if peaks is not None and not all(p > 0 for p in peaks):
         raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
     v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
+    ship = ns.ship or ("table" if v_max is not None else "radius")
     if v_max is not None:
         if peaks is not None:
             raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
@@ -108,9 +111,9 @@ def run(ns) -> int:
     rounds = None
     with progress_reporter(ns.quiet) as progress:
         if v_max is None:
-            result = calibration.calibrate(spec, progress=progress, ship=ns.ship)
+            result = calibration.calibrate(spec, progress=progress, ship=ship)
         else:                           # round 1 is the plan above; more rounds if it falls short
-            found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ns.ship,
+            found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ship,
                                                         contact_size=contact_size)
             result, rounds = found.result, list(found.rounds)
     out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
@@ -121,8 +124,14 @@ def run(ns) -> int:
     lines = [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
              f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
              f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]
-    lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}, "
-              f"residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
+    lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}"
+              + (f" (vz-table {p['models']['vz-table']['e']:.4f})" if "vz-table" in p["models"] else "")
+              + f", residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
+    if summary.get("table") is not None:
+        table = summary["table"]
+        lines.append(f"vz-table law: {len(table['P_over_P_Y'])} nodes to {table['P_over_P_Y'][-1]:.4g} P_Y, a_p/a_Y "
+                     f"{table['a_p_over_a_Y'][-1]:.4g} and C_R {table['C_R'][-1]:.4g} at the last"
+                     + ("; shipped" if ship == "table" else f"; shipped: the {ship} fit of the two constants"))
     window = CalibrationWindow.from_record(summary["window"])
     lines.append(f"calibrated window: {window.describe()}"
                  + (f"; covers impacts up to v_in = {v_max:g} m/s ({len(rounds)} FE calibration(s): "

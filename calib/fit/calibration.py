@@ -8,7 +8,10 @@ Vu-Quoc & Zhang (1999), sections 2-3 (README, The model: The NFD law on loading;
      (C_R = a_ep^2 / (R alpha) = 1 + Kc <P - P_Y>) by least squares (calib.fit);
   3. also fit (Ca, Kc) to the FE force-approach curves through the runtime law itself
      (nfdmodel vz), i.e. what a DEM code feels;
-  4. drive nfdmodel's vz, thornton and hertz laws along the FE approach histories and compare.
+  4. fit the vz-table law's tables (calib.fit.table_fit) to the FE loading curve and the work
+     each unloading returned: the law for windows beyond two constants;
+  5. drive nfdmodel's vz, vz-table, thornton and hertz laws along the FE approach histories and
+     compare.
 The parameter file written from the result is read by ``nfdmodel.load_parameters``, so the
 shipped runtime law is exactly the calibrated one.
 """
@@ -71,7 +74,7 @@ class CalibrationResult:
     radius_fit: RadiusLawFit
     window: list[dict]
     force_fit: ForceLawFit | None     # None for a loading-only calibration
-    shipped: str                       # which fit the parameter file ships ("radius" or "force")
+    shipped: str                       # which fit the parameter file ships (SHIPPABLE)
     comparisons: dict = field(repr=False)   # peak -> list[ModelComparison]
     mesh_info: dict = field(default_factory=dict)
     wall_time_s: float = 0.0
@@ -81,19 +84,33 @@ class CalibrationResult:
 
     @property
     def params(self) -> VZParams:
-        """The shipped runtime parameters, with the window they were fitted on."""
+        """The two-constant law's parameters (the force fit when that is shipped, else the radius
+        fit), with the window they were fitted on."""
         if self.shipped == "force":
             return VZParams(self.spec.pair, self.force_fit.Ca, self.force_fit.Kc, self.fitted_window)
         return VZParams(self.spec.pair, self.radius_fit.Ca.slope, self.radius_fit.Kc.slope, self.fitted_window)
 
     @cached_property
     def table_params(self) -> VZTableParams | None:
-        """The vz-table law fitted to the same loading points (calib.fit.table_fit), or None
-        when they do not determine an admissible table (too few points, a narrow window)."""
+        """The vz-table law fitted to the same loading points and the unloading paths' returned
+        work (calib.fit.table_fit), or None when they do not determine an admissible table (no
+        unloading path, too few points)."""
         try:
-            return fit_tables(self.radius_data, self.spec.pair, self.fitted_window)
+            return self.fit_table()
         except ValueError:
             return None
+
+    def fit_table(self) -> VZTableParams:
+        """:attr:`table_params`, or the ValueError saying why the FE paths determine none."""
+        paths = self.load_paths.paths
+        return fit_tables(self.radius_data, self.spec.pair, [p.peak for p in paths],
+                          [p.unloading_work for p in paths], self.fitted_window)
+
+    @property
+    def shipped_params(self) -> VZParams | VZTableParams:
+        """What the parameter file ships: the vz-table law (``shipped == "table"``) or the
+        two-constant law of :attr:`params`."""
+        return self.fit_table() if self.shipped == "table" else self.params
 
     @property
     def fitted_window(self) -> CalibrationWindow:
@@ -134,6 +151,9 @@ def _path_history(path) -> tuple[np.ndarray, np.ndarray]:
     return approach, force
 
 
+SHIPPABLE = ("radius", "force", "table")   # the paper's two constants, fitted to the radius or the force; the tables
+
+
 def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = None,
               ship: str = "radius", unload: bool = True) -> CalibrationResult:
     """Run the FE load paths of ``spec`` and fit the NFD parameters (see module docstring).
@@ -142,10 +162,10 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
     uses only loading points) and no force fit, model comparison or restitution.
     """
 
-    if ship not in ("radius", "force"):
-        raise ValueError(f"ship must be 'radius' or 'force', got {ship!r}")
-    if ship == "force" and not unload:
-        raise ValueError("ship = 'force' fits the force along load-unload paths: it needs unload=True")
+    if ship not in SHIPPABLE:
+        raise ValueError(f"ship must be one of {', '.join(map(repr, SHIPPABLE))}, got {ship!r}")
+    if ship in ("force", "table") and not unload:
+        raise ValueError(f"ship = {ship!r} fits the load-unload paths: it needs unload=True")
     check_fittable(spec)                # before the mesh: a plan that cannot be fitted costs nothing
     say = progress or (lambda message: None)
     t0 = time.perf_counter()
@@ -203,6 +223,11 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
             comparisons.append(ModelComparison(label, law_force, e,
                                                float(np.abs(law_force - force).max() / path.peak)))
         result.comparisons[path.peak] = comparisons
+    if ship == "table":
+        try:
+            result.fit_table()
+        except ValueError as exc:
+            raise ValueError(f"ship = 'table': {exc}") from None
     result.wall_time_s = time.perf_counter() - t0
     result.timings = {"mesh_s": t_mesh, "first_yield_s": t_yield, "load_paths_s": paths.wall_time_s,
                       "factorizations": paths.factorizations,

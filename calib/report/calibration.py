@@ -53,14 +53,17 @@ def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -
     """The parameter file of a calibration: the shipped fit, both fits' figures, the FE errors."""
     s = summary(result)
     fit = {"shipped": result.shipped,
-           "why": ("radius: the paper's definition (least squares of a_p and C_R - 1 against "
-                   "P - P_Y on the FE loading points)" if result.shipped == "radius" else
-                   "force: minimises the runtime law's force error along the FE P-alpha paths"),
+           "why": {"radius": "radius: the paper's definition (least squares of a_p and C_R - 1 against "
+                             "P - P_Y on the FE loading points)",
+                   "force": "force: minimises the runtime law's force error along the FE P-alpha paths",
+                   "table": "table: the vz-table law, load-dependent a_p and C_R from the FE loading curve "
+                            "and the work each FE unloading returned (meets the FE's restitution at every "
+                            "path)"}[result.shipped],
            "radius_fit": s["radius_fit"], "force_fit": s["force_fit"], "loading_only": s["loading_only"]}
     fe_errors = {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
                  "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
                            for p in s["paths"]]}
-    return write_parameter_file(path, result.params, result.spec.radius, result.spec.material, fit,
+    return write_parameter_file(path, result.shipped_params, result.spec.radius, result.spec.material, fit,
                                 stamp, fe_errors=fe_errors, mesh=result.mesh_info)
 
 
@@ -93,7 +96,7 @@ def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None
 def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
     plt = output.pyplot()
     pair = result.spec.pair
-    colors = {"vz": "C3", "vz (force fit)": "C4", "vz (radius fit)": "C4", "thornton": "C2", "hertz": "C7"}
+    colors = {"vz": "C3", "vz (force fit)": "C4", "vz (radius fit)": "C4", "vz-table": "C1", "thornton": "C2", "hertz": "C7"}
 
     fig, ax = plt.subplots(figsize=(7, 5))
     for k, path in enumerate(result.load_paths.paths):

@@ -99,13 +99,18 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
             output.write_csv(out / "loading.csv", result.load_paths.loading_rows,
                              comment=output.stamp_comment(stamp))
     s = calibration.summary(result)
-    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh", "window")},
-            "loading_only": not unload, "shipped_fit": s["shipped_fit"], "v_max": v_max}, result.params
+    laws = {"vz": result.params, "vz-table": result.table_params}
+    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh", "window",
+                                 "table")},
+            "loading_only": not unload, "shipped_fit": s["shipped_fit"], "v_max": v_max}, laws
 
 
-def _run_collision(scene, material, out, params, progress) -> dict:
+def _run_collision(scene, material, out, calibrated, progress) -> dict:
+    """The scene's impacts with every law; vz and vz-table with this scene's calibration
+    (``calibrated``: law -> parameters) or, without one, vz with the master table's constants."""
     pair = material.pair()
     source = "calibration"
+    params = None if calibrated is None else calibrated["vz"]
     if params is None and "vz" in scene.collision.laws:
         table = MasterTable.load()
         values = table.parameters(material.E, material.nu, material.sigma_y, material.R, material.rho)
@@ -120,7 +125,13 @@ def _run_collision(scene, material, out, params, progress) -> dict:
     for law in scene.collision.laws:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            result = collide(law, params if params is not None else pair, velocities, dt=None)
+            if law == "vz-table":
+                if calibrated["vz-table"] is None:
+                    raise ValueError(f"collision.laws: 'vz-table': {material.name}'s FE paths determine no "
+                                     f"table (calibrate with ship = 'table' to see why)")
+                result = collide(law, calibrated["vz-table"], velocities, dt=None)
+            else:
+                result = collide(law, params if params is not None else pair, velocities, dt=None)
         rows += [{"law": law, "v_in_over_v_Y": r["v_in"] / pair.v_Y, **r} for r in result.records()]
     stamp = output.stamp(time.perf_counter() - t0, vz_parameters=source)
     output.write_csv(out / "collision.csv", rows, comment=output.stamp_comment(stamp))
@@ -165,15 +176,15 @@ def run_scene(scene: Scene, out: str | Path | None = None, progress=None) -> dic
         if n > 1 and progress is not None:  # name the material in each message
             say = lambda message, head=f"material {k}/{n} ({material.name}): ": progress(head + message)  # noqa: E731
         entry = {"material": material.inputs()}
-        params = None
+        calibrated = None
         if scene.hertz is not None:
             entry["hertz"] = _run_hertz(scene, material, folder, say)
         if scene.calibration_ship is not None:
-            entry["calibration"], params = _run_calibration(scene, material, folder, say)
+            entry["calibration"], calibrated = _run_calibration(scene, material, folder, say)
         elif scene.load_paths is not None:
             entry["load_paths"] = _run_load_paths(scene, material, folder, say)
         if scene.collision is not None:
-            entry["collision"] = _run_collision(scene, material, folder, params, say)
+            entry["collision"] = _run_collision(scene, material, folder, calibrated, say)
         results.append(entry)
     wall = time.perf_counter() - t0
     summary = {"scene": scene.name, "source": scene.source, "stages": scene.stages(), "materials": results,

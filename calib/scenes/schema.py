@@ -8,7 +8,7 @@
     [hertz]        P_max [N] or P_max_over_P_Y, P_min [N] (default P_max / 1000), steps (25)
     [load_paths]   P_max = [N, ...] or P_max_over_P_Y = [...], unload (true), loading_steps (48,
                    increments up to the largest P_max), unloading_steps (16)
-    [calibration]  ship = "radius" | "force"            (fit Ca, Kc; needs [load_paths] above P_Y)
+    [calibration]  ship = "radius" | "force" | "table"  (fit Ca, Kc and the vz-table law; needs [load_paths] above P_Y)
                    v_max [m/s] or v_max_from = "collision": load paths to the force of the fastest
                    impact (calib.fit.impact_window) instead of [load_paths] P_max
     [collision]    v_in = [m/s, ...] or v_in_over_v_Y = [...], laws = ["vz", "thornton", "hertz"]
@@ -56,7 +56,7 @@ Positive = Annotated[Number, Field(gt=0)]
 Ratio = Annotated[Number, Field(gt=0, le=1e4)]          # a multiple of P_Y or v_Y
 PoissonRatio = Annotated[Number, Field(ge=0, lt=0.5)]
 Flag = Annotated[bool, Strict()]
-Law = Literal["vz", "thornton", "hertz", "walton-braun"]
+Law = Literal["vz", "vz-table", "thornton", "hertz", "walton-braun"]
 
 
 def _list_of(item):
@@ -216,7 +216,7 @@ class _Grid(_Table):
 
 
 class _Calibration(_Table):
-    ship: Literal["radius", "force"] = "radius"
+    ship: Literal["radius", "force", "table"] = "radius"
     v_max: Positive | None = None                     # [m/s]: the window covers impacts up to it
     v_max_from: Literal["collision"] | None = None    # ... or up to the [collision] stage's fastest
 
@@ -260,9 +260,14 @@ class SceneFile(_Table):
             raise ValueError("material: missing: give [[material]] tables or a [grid]")
         if self.material is not None and len({m.name for m in self.material}) != len(self.material):
             raise ValueError("material.name: names must be unique")
-        if (self.calibration is not None and self.calibration.ship == "force" and self.load_paths is not None
-                and not self.load_paths.unload):
-            raise ValueError("calibration.ship: 'force' fits the unloading too: needs load_paths.unload = true")
+        if (self.calibration is not None and self.calibration.ship in ("force", "table")
+                and self.load_paths is not None and not self.load_paths.unload):
+            raise ValueError(f"calibration.ship: {self.calibration.ship!r} fits the unloading too: needs "
+                             f"load_paths.unload = true")
+        if (self.collision is not None and "vz-table" in self.collision.laws
+                and (self.calibration is None or (self.load_paths is not None and not self.load_paths.unload))):
+            raise ValueError("collision.laws: 'vz-table' takes its tables from this scene's FE: needs a "
+                             "[calibration] stage with load_paths.unload = true")
         if self.hertz is None and self.load_paths is None and self.calibration is None and self.collision is None:
             raise ValueError("scene: nothing to run: add [hertz], [load_paths], [calibration] or [collision]")
         if self.calibration is not None and self.calibration.v_max_from == "collision" and self.collision is None:
