@@ -3,14 +3,16 @@
  *
  * A step is two calls, so that Python allocates the trial history of exactly the contacts that
  * load (nfdmodel.native):
- *   unload(three_halves, delta, delta_res, K_u, delta_max, force, index) -> (k, force_sum)
+ *   unload(three_halves, delta, delta_res, K_u, delta_max, force, index) -> (k, finite)
  *       the unloading/reloading force of every contact, P = K_u <delta - delta_res>^n, and the
  *       positions of the k contacts with delta > delta_max (written to index[0:k]);
  *   load(law, params, index, delta, a_e_max, force, delta_max', P_max', delta_res', K_u', a_e_max')
  *       -> (largest Newton count, beyond-window count, largest P_max, position of the largest
- *           contact radius, that radius, the sum of the loading forces)
+ *           contact radius, that radius, finite)
  *       the loading branch of those k contacts: force[index[i]] and the new history at i.
- *   hertz(delta, k, force) -> force_sum
+ *   hertz(delta, k, force) -> finite
+ * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
+ * needs: a value that is finite exactly when the forces are).
  * law: 1 vz, 2 thornton, 3 walton_braun; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
  * window P_max, K1, K2, c1, P_Y^(1/3)) [SI].
  */
@@ -47,6 +49,7 @@ static PyObject *native_unload(PyObject *self, PyObject *args)
         const double *d = delta.buf, *res = delta_res.buf, *K = K_u.buf, *dmax = delta_max.buf;
         double *f = force.buf;
         int64_t *idx = index.buf;
+        int finite = 1;
         Py_BEGIN_ALLOW_THREADS
         for (Py_ssize_t i = 0; i < n; ++i) {
             double gap = d[i] - res[i];
@@ -60,9 +63,11 @@ static PyObject *native_unload(PyObject *self, PyObject *args)
                 p = gap * K[i];
             }
             f[i] = p;
-            sum += p;
-            if (d[i] > dmax[i]) idx[k++] = i;
+            finite &= p - p == 0.0;
+            idx[k] = i;                     /* branch-free: kept only when loading */
+            k += d[i] > dmax[i];
         }
+        sum = finite ? 0.0 : INFINITY;
         Py_END_ALLOW_THREADS
     }
     int failed = PyErr_Occurred() != NULL;
@@ -105,31 +110,42 @@ static PyObject *native_load(PyObject *self, PyObject *args)
         const double *d = delta.buf, *ae = a_e_max.buf;
         double *f = force.buf, *dm = o_dmax.buf, *P = o_P.buf, *res = o_res.buf, *K = o_K.buf, *aeo = o_ae.buf;
         Py_BEGIN_ALLOW_THREADS
-        for (Py_ssize_t i = 0; i < k; ++i) {
-            int64_t j = idx[i];
-            if (j < 0 || j >= n) { bad = i; break; }
-            nfd_history h = {0.0, 0.0, 0.0, 0.0, ae[j]};
-            h.delta_max = -INFINITY;                     /* the caller selected loading contacts */
-            nfd_history out;
-            double force_j = 0.0;
-            int iterations = 0, status;
-            if (law == 1) {
-                status = nfd_vz_step(d[j], &p, &h, &force_j, &out, &iterations);
-                double excess = out.P_max - p.P_Y;
-                double radius = out.a_e_max + p.Ca * (excess > 0.0 ? excess : 0.0);
-                if (radius > widest_radius || widest < 0) { widest_radius = radius; widest = i; }
-                if (out.P_max > p.window_P_max) ++beyond;
-                if (out.P_max > largest_P) largest_P = out.P_max;
-            } else if (law == 2) {
-                status = nfd_thornton_step(d[j], &p, &h, &force_j, &out);
-            } else {
-                status = nfd_walton_braun_step(d[j], &p, &h, &force_j, &out);
+        for (Py_ssize_t i = 0; i < k; ++i)
+            if (idx[i] < 0 || idx[i] >= n) { bad = i; break; }
+        if (bad < 0 && law == 1) {
+            /* vz: gather, the batch solve (vectorised fast path), scatter the forces */
+            for (Py_ssize_t i = 0; i < k; ++i) {
+                dm[i] = d[idx[i]];
+                aeo[i] = ae[idx[i]];
             }
-            (void)status;
-            if (iterations > max_iterations) max_iterations = iterations;
-            f[j] = force_j;
-            sum += force_j;
-            dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
+            max_iterations = nfd_vz_load((size_t)k, &p, dm, aeo, P, res, K);
+            int finite = 1;
+            for (Py_ssize_t i = 0; i < k; ++i) {
+                double P_i = P[i];
+                f[idx[i]] = P_i;
+                finite &= P_i - P_i == 0.0;
+                beyond += P_i > p.window_P_max;
+                largest_P = P_i > largest_P ? P_i : largest_P;
+                double excess = P_i - p.P_Y;
+                double radius = aeo[i] + p.Ca * (excess > 0.0 ? excess : 0.0);
+                if (radius > widest_radius || widest < 0) { widest_radius = radius; widest = i; }
+            }
+            sum = finite ? 0.0 : INFINITY;
+        } else if (bad < 0) {
+            for (Py_ssize_t i = 0; i < k; ++i) {
+                int64_t j = idx[i];
+                nfd_history h = {0.0, 0.0, 0.0, 0.0, ae[j]};
+                h.delta_max = -INFINITY;                     /* the caller selected loading contacts */
+                nfd_history out;
+                double force_j = 0.0;
+                if (law == 2)
+                    nfd_thornton_step(d[j], &p, &h, &force_j, &out);
+                else
+                    nfd_walton_braun_step(d[j], &p, &h, &force_j, &out);
+                f[j] = force_j;
+                sum += force_j;
+                dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
+            }
         }
         Py_END_ALLOW_THREADS
         if (bad >= 0) PyErr_Format(PyExc_ValueError, "index[%zd] out of range 0..%zd", bad, n - 1);
@@ -152,6 +168,7 @@ static PyObject *native_hertz(PyObject *self, PyObject *args)
     if (check_length(&force, n, 8, "force")) {
         const double *d = delta.buf;
         double *f = force.buf;
+        int finite = 1;
         Py_BEGIN_ALLOW_THREADS
         for (Py_ssize_t i = 0; i < n; ++i) {
             double x = d[i] > 0.0 ? d[i] : 0.0;
@@ -159,8 +176,9 @@ static PyObject *native_hertz(PyObject *self, PyObject *args)
             p *= x;
             p *= k;
             f[i] = p;
-            sum += p;
+            finite &= p - p == 0.0;
         }
+        sum = finite ? 0.0 : INFINITY;
         Py_END_ALLOW_THREADS
     }
     int failed = PyErr_Occurred() != NULL;

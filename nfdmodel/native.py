@@ -66,7 +66,7 @@ def turning_point_step(law: str, delta, state, pair, params: tuple, three_halves
     n = delta.shape[0]
     force = np.empty(n)
     index = np.empty(n, dtype=np.int64)
-    k, total = _native.unload(three_halves, delta, _contiguous(state.delta_res), _contiguous(state.unloading_stiffness),
+    k, finite = _native.unload(three_halves, delta, _contiguous(state.delta_res), _contiguous(state.unloading_stiffness),
                               _contiguous(state.delta_max), force, index)
     statistics = (0, 0, 0.0, -1, -1.0, 0.0)
     if k == 0:
@@ -78,10 +78,10 @@ def turning_point_step(law: str, delta, state, pair, params: tuple, three_halves
         statistics = _native.load(LAW_CODES[law], params, index, delta, a_e_max, force, values["delta_max"],
                                   values["P_max"], values["delta_res"], values["unloading_stiffness"],
                                   values["a_e_max"])
-        total += statistics[5]
+        finite += statistics[5]          # 0.0 when every force is finite, else inf or NaN
         names = field_names(type(state))
         update = HistoryUpdate(index, type(state)(**{name: values[name] for name in names}), n, int(statistics[0]))
-    check_force(force, delta, pair, float(total))
+    check_force(force, delta, pair, float(finite))
     return force, update, statistics
 
 

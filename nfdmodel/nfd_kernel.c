@@ -8,6 +8,8 @@
 #include "nfd_kernel.h"
 
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #define NFD_PI 3.14159265358979323846
 #define NFD_TOLERANCE 1e-10          /* relative, on P, of the vz plastic-loading solve       */
@@ -94,14 +96,15 @@ static void vz_residual(double u, double b, const nfd_params *p, double c1, doub
     *slope = s;
 }
 
-/* The root u = P^(1/3) of F (nfdmodel.vz_curve.vz_plastic_solve): two Newton steps accepted
- * in the quadratic regime, else a safeguarded Newton on the bracket [u_lo, u_hi]. */
-static double vz_solve(double delta, double u_start, const nfd_params *p, double c1, int *iterations)
+/* The fast path of the root u = P^(1/3) of F (nfdmodel.vz_curve.vz_plastic_solve): two Newton
+ * steps from u_lo = max(u_start, u_Y), accepted in the quadratic regime. Branch-free, so that a
+ * loop over many contacts vectorises (nfd_vz_load). Returns 1 when accepted (*u the root). */
+static inline int vz_fast(double delta, double u_start, const nfd_params *p, double *u_out)
 {
     const double tol_u = NFD_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
-    double R_delta = p->R_star * delta;
-    double b = sqrt(R_delta);
+    double c1 = p->c1;
+    double b = sqrt(p->R_star * delta);
     b /= p->Ca;
     double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
     double u_min = u_lo * (1.0 - 1e-15);
@@ -111,29 +114,39 @@ static double vz_solve(double delta, double u_start, const nfd_params *p, double
     vz_residual(u_lo, b, p, c1, one_minus, &F, &slope);
     step_1 = F / slope;
     u = u_lo - step_1;
-    if (u < u_min) u = u_min;
+    u = u < u_min ? u_min : u;
     ok = slope > 0.0;
     vz_residual(u, b, p, c1, one_minus, &F, &slope);
-    ok = ok && slope > 0.0;
+    ok &= slope > 0.0;
     step_2 = F / slope;
     u -= step_2;
-    {
-        double abs_1 = fabs(step_1), abs_2 = fabs(step_2);
-        int accept = abs_2 <= abs_1 * 0.01;
-        double error = abs_2 * 10.0;
-        error *= abs_2;
-        error *= abs_2;
-        double allowed = u * tol_u;
-        allowed *= abs_1;
-        allowed *= abs_1;
-        accept = accept && error <= allowed;
-        accept = accept || abs_2 <= u * (0.01 * tol_u);
-        ok = ok && accept && u >= u_min;
-    }
-    *iterations = 2;
-    if (ok) return u;
+    double abs_1 = fabs(step_1), abs_2 = fabs(step_2);
+    int accept = abs_2 <= abs_1 * 0.01;
+    double error = abs_2 * 10.0;
+    error *= abs_2;
+    error *= abs_2;
+    double allowed = u * tol_u;
+    allowed *= abs_1;
+    allowed *= abs_1;
+    accept &= error <= allowed;
+    accept |= abs_2 <= u * (0.01 * tol_u);
+    ok &= accept & (u >= u_min);
+    *u_out = u;
+    return ok;
+}
 
-    /* the safe path */
+/* The safe path, when the fast one was not accepted: a safeguarded Newton on the bracket
+ * [u_lo, u_hi] from the fast path's last iterate u_fast; *iterations counts both paths. */
+static double vz_safe(double delta, double u_start, double u_fast, const nfd_params *p, int *iterations)
+{
+    const double tol_u = NFD_TOLERANCE / 3.0;
+    const double one_minus = 1.0 - p->Kc * p->P_Y;
+    double c1 = p->c1;
+    double R_delta = p->R_star * delta;
+    double b = sqrt(R_delta);
+    b /= p->Ca;
+    double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
+    double F, slope, u = u_fast;
     double Ca = p->Ca, Kc = p->Kc;
     double x_hi = (R_delta * Kc + sqrt((R_delta * Kc) * (R_delta * Kc) + 4.0 * (Ca * Ca) * R_delta)) / (2.0 * (Ca * Ca));
     double lo = u_lo;
@@ -167,6 +180,64 @@ static double vz_solve(double delta, double u_start, const nfd_params *p, double
     return ua;
 }
 
+/* nextafter(x, 0) for a finite x > 0 (the largest double below x), as integer arithmetic on its
+ * bits so that loops calling it still vectorise. */
+static inline double below(double x)
+{
+    int64_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    bits -= 1;
+    memcpy(&x, &bits, sizeof x);
+    return x;
+}
+
+/* The turning point of a plastic loading step at the root u = P^(1/3)
+ * (nfdmodel.vz_curve.vz_turning_point): P_max, delta_res, K_u, a_e,max. Branch-free. */
+static inline void vz_turning_point(double delta, double u, const nfd_params *p, double *P_out,
+                                    double *delta_res_out, double *K_u_out, double *a_e_out)
+{
+    double radius_per_cube_root = p->c1 * p->Ca;
+    double P = u * u;
+    P *= u;
+    double a_e = u * radius_per_cube_root;
+    double curvature = P - p->P_Y;
+    curvature *= p->Kc;
+    curvature += 1.0;
+    curvature *= p->R_star;
+    double recovery = a_e * a_e;
+    recovery /= curvature;
+    double delta_res = delta - recovery;
+    delta_res = delta_res < 0.0 ? 0.0 : delta_res;
+    /* delta_res >= delta only when the recovery underflows: keep the gap positive */
+    delta_res = delta_res >= delta ? below(delta) : delta_res;
+    double gap = delta - delta_res;
+    double stiffness = sqrt(gap);
+    stiffness *= gap;
+    *P_out = P;
+    *delta_res_out = delta_res;
+    *K_u_out = P / stiffness;
+    *a_e_out = a_e;
+}
+
+/* Hertz loading below first yield as a turning point (delta <= delta_Y). */
+static inline void vz_hertz_turning_point(double delta, const nfd_params *p, nfd_history *out)
+{
+    double P = hertz(delta, p->hertz_k);
+    out->delta_max = delta;
+    out->P_max = P;
+    out->delta_res = 0.0;
+    out->K_u = p->hertz_k;
+    out->a_e_max = sqrt(p->R_star * (delta > 0.0 ? delta : 0.0));
+}
+
+static inline int vz_status(const nfd_params *p, double P, double a_e)
+{
+    if (!isfinite(P)) return NFD_NOT_FINITE;
+    double excess = P - p->P_Y;
+    if (!(a_e + p->Ca * (excess > 0.0 ? excess : 0.0) < p->R_star)) return NFD_FULL_CONTACT;
+    return P > p->window_P_max ? NFD_BEYOND_WINDOW : NFD_OK;
+}
+
 int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out,
                 int *iterations)
 {
@@ -178,49 +249,59 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
         return NFD_OK;
     }
     if (!(delta > p->delta_Y)) {                    /* Hertz below first yield */
-        double P = hertz(delta, p->hertz_k);
-        out->delta_max = delta;
-        out->P_max = P;
-        out->delta_res = 0.0;
-        out->K_u = p->hertz_k;
-        out->a_e_max = sqrt(p->R_star * (delta > 0.0 ? delta : 0.0));
-        *force = P;
-        return isfinite(P) ? NFD_OK : NFD_NOT_FINITE;
+        vz_hertz_turning_point(delta, p, out);
+        *force = out->P_max;
+        return isfinite(out->P_max) ? NFD_OK : NFD_NOT_FINITE;
     }
     /* c1 = (3 R* / (4 E*))^(1/3) / Ca, as VZParams.c1; a_e = u c1 Ca */
-    double c1 = p->c1;
-    double radius_per_cube_root = c1 * p->Ca;
-    double start = h->a_e_max;
-    start /= radius_per_cube_root;
-    int count = 0;
-    double u = vz_solve(delta, start, p, c1, &count);
+    double start = h->a_e_max / (p->c1 * p->Ca);
+    double u;
+    int count = 2;
+    if (!vz_fast(delta, start, p, &u)) u = vz_safe(delta, start, u, p, &count);
     if (iterations) *iterations = count;
-    double P = u * u;
-    P *= u;
-    double a_e = u * radius_per_cube_root;
-    /* the turning point (nfdmodel.vz_curve.vz_turning_point) */
-    double curvature = P - p->P_Y;
-    curvature *= p->Kc;
-    curvature += 1.0;
-    curvature *= p->R_star;
-    double recovery = a_e * a_e;
-    recovery /= curvature;
-    double delta_res = delta - recovery;
-    if (delta_res < 0.0) delta_res = 0.0;
-    if (delta_res >= delta) delta_res = nextafter(delta, 0.0);
-    double gap = delta - delta_res;
-    double stiffness = sqrt(gap);
-    stiffness *= gap;
     out->delta_max = delta;
-    out->P_max = P;
-    out->delta_res = delta_res;
-    out->K_u = P / stiffness;
-    out->a_e_max = a_e;
-    *force = P;
-    if (!isfinite(P)) return NFD_NOT_FINITE;
-    double excess = P - p->P_Y;
-    if (!(a_e + p->Ca * (excess > 0.0 ? excess : 0.0) < p->R_star)) return NFD_FULL_CONTACT;
-    return P > p->window_P_max ? NFD_BEYOND_WINDOW : NFD_OK;
+    vz_turning_point(delta, u, p, &out->P_max, &out->delta_res, &out->K_u, &out->a_e_max);
+    *force = out->P_max;
+    return vz_status(p, out->P_max, out->a_e_max);
+}
+
+int nfd_vz_load(size_t n, const nfd_params *params, const double *restrict delta, double *restrict a_e_max,
+                double *restrict P_max, double *restrict delta_res, double *restrict K_u)
+{
+    const nfd_params local = *params;     /* not aliased by the outputs: the loops vectorise */
+    const nfd_params *p = &local;
+    const double radius_per_cube_root = p->c1 * p->Ca;
+    int most = 0;
+    size_t i;
+    /* Four passes, the two long ones branch-free so that the compiler vectorises them (fused
+     * into one, gcc 12 no longer does). 1. the fast path for every contact: meanwhile P_max
+     * holds u, delta_res the Newton start, K_u 1 where the fast path holds, else 0 */
+    for (i = 0; i < n; ++i) {
+        double start = a_e_max[i] / radius_per_cube_root;
+        double u;
+        int ok = vz_fast(delta[i], start, p, &u);
+        P_max[i] = u;
+        delta_res[i] = start;
+        K_u[i] = ok ? 1.0 : 0.0;
+    }
+    /* 2. the safe path where the fast one did not hold (rare: large jumps) */
+    for (i = 0; i < n; ++i) {
+        if (!(delta[i] > p->delta_Y)) continue;          /* Hertz: pass 4 */
+        int count = 2;
+        if (K_u[i] == 0.0) P_max[i] = vz_safe(delta[i], delta_res[i], P_max[i], p, &count);
+        if (count > most) most = count;
+    }
+    /* 3. the turning points (vectorised) */
+    for (i = 0; i < n; ++i)
+        vz_turning_point(delta[i], P_max[i], p, &P_max[i], &delta_res[i], &K_u[i], &a_e_max[i]);
+    /* 4. contacts still below first yield load on Hertz */
+    for (i = 0; i < n; ++i) {
+        if (delta[i] > p->delta_Y) continue;
+        nfd_history h;
+        vz_hertz_turning_point(delta[i], p, &h);
+        P_max[i] = h.P_max; delta_res[i] = h.delta_res; K_u[i] = h.K_u; a_e_max[i] = h.a_e_max;
+    }
+    return most;
 }
 
 void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, double *a_e, double *a_p, double *a_ep)

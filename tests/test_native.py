@@ -180,6 +180,58 @@ def test_the_c_source_ships_with_the_package_and_compiles_alone(tmp_path):
     assert int(status) == 0 and float(force) == pytest.approx(expected, rel=1e-12)
 
 
+def test_the_batch_solve_of_the_c_api_equals_the_step_contact_by_contact(tmp_path):
+    """nfd_vz_load (many loading contacts at once, its fast path vectorised) gives bit for bit
+    nfd_vz_step's turning points and the largest Newton count, over first loading below and
+    above yield, small increments from a turning point and large jumps (the safe path)."""
+    import shutil
+    from pathlib import Path
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    source = Path(nfdmodel.__file__).parent
+    main = tmp_path / "batch.c"
+    main.write_text(r"""
+#include <stdio.h>
+#include <string.h>
+#include "nfd_kernel.h"
+#define N 3000
+int main(void) {
+  nfd_params p = nfd_pair(%r, %r, %r);
+  nfd_vz_constants(&p, %r, %r);
+  static double delta[N], a_e[N], P[N], res[N], K[N];
+  static nfd_history start[N], expected[N];
+  int most = 0, mismatches = 0;
+  for (int i = 0; i < N; ++i) {
+    nfd_history virgin = {0, 0, 0, 0, 0};
+    double f;
+    int it;
+    double d_old = p.delta_Y * (0.01 + 0.1 * (i %% 997));        /* a turning point, or none */
+    nfd_vz_step(d_old, &p, &virgin, &f, &start[i], &it);
+    if (i %% 5 == 0) memset(&start[i], 0, sizeof start[i]);        /* first loading */
+    double factor = (i %% 3 == 0) ? 1.0 + 1e-4 * (i %% 7) + 1e-9 : 1.0 + 0.37 * (i %% 11);   /* small or a jump */
+    delta[i] = (start[i].delta_max > 0 ? start[i].delta_max : p.delta_Y * 0.02 * (i %% 200)) * factor + 1e-12;
+    a_e[i] = start[i].a_e_max;
+    nfd_vz_step(delta[i], &p, &start[i], &f, &expected[i], &it);
+    if (it > most) most = it;
+  }
+  int batch_most = nfd_vz_load(N, &p, delta, a_e, P, res, K);
+  for (int i = 0; i < N; ++i)
+    mismatches += memcmp(&P[i], &expected[i].P_max, 8) || memcmp(&res[i], &expected[i].delta_res, 8)
+                  || memcmp(&K[i], &expected[i].K_u, 8) || memcmp(&a_e[i], &expected[i].a_e_max, 8);
+  printf("%%d %%d %%d\n", mismatches, most, batch_most);
+  return 0;
+}
+""" % (PAIR.R_star, PAIR.E_star, PAIR.p_Y, REF.Ca, REF.Kc))
+    binary = tmp_path / "batch"
+    subprocess.run([compiler, "-std=c99", "-Wall", "-Wextra", "-Werror", "-O3", "-fno-math-errno", f"-I{source}",
+                    str(main), str(source / "nfd_kernel.c"), "-lm", "-o", str(binary)], check=True)
+    mismatches, most, batch_most = map(int, subprocess.run([str(binary)], capture_output=True, text=True,
+                                                             check=True).stdout.split())
+    assert mismatches == 0 and most == batch_most and most > 2      # the safe path was exercised
+
+
 def test_the_collision_loop_in_c_gives_the_python_loop_s_numbers_and_errors(monkeypatch):
     v = np.linspace(0.02, 0.2, 10)
     results = {}
