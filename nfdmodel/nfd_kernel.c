@@ -265,6 +265,11 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
     return vz_status(p, out->P_max, out->a_e_max);
 }
 
+/* x86-64 with gcc or clang: also compiled for AVX2 (4 doubles per instruction instead of 2),
+ * chosen at load time on CPUs that have it; the same IEEE operations, so the same numbers. */
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
 int nfd_vz_load(size_t n, const nfd_params *params, const double *restrict delta, double *restrict a_e_max,
                 double *restrict P_max, double *restrict delta_res, double *restrict K_u)
 {

@@ -2,8 +2,11 @@
 
     .venv/bin/python tests/benchmarks/bench_nfdmodel.py [--contacts 1000000] [--repeats 5]
 
-1. Force evaluation for N contacts with random histories, `vz` against `hertz` in the same run
-   (target: vz <= 3x hertz). Histories: turning points delta_max log-uniform in [2, 100] delta_Y
+1. Force evaluation for N contacts with random histories, `vz` against Hertz in the same run, on
+   both backends (the compiled kernel "native" and the numpy reference; nfdmodel.backend).
+   Baselines: numpy's fastest Hertz, k d sqrt(d) in three array operations, and the native
+   `hertz` law. Targets (issue 13): native vz step <= 1.5x numpy's k d sqrt(d) and <= 2x native
+   hertz. Histories: turning points delta_max log-uniform in [2, 100] delta_Y
    (every contact has yielded). Then one DEM-like step: a fraction f of the contacts loads
    beyond its turning point by a relative increment uniform in (0, 1e-3] (plastic loading: a
    Newton solve), the others unload/reload below it (uniform in [delta_res, delta_max]) or are
@@ -14,6 +17,11 @@
    its history does; the contacts it moved are restored, untimed, before each repeat). Each is
    timed over --repeats back-to-back runs (best of), hertz first, as before. Newton iterations
    per plastically loading contact: mean and max.
+   Memory floor: the bytes a step must move per contact (module constants below: what each
+   pass reads and writes, float64 and int64) divided by the machine's bandwidth, measured in the
+   same run as a large array copy; "floor x" is that time over numpy's k d sqrt(d), the ratio no
+   kernel with this data layout (separate history arrays, a sparse update, then the commit)
+   can beat.
 2. The 10-velocity collision sweep (0.02..0.2 m/s, dt = 1e-6 s, reference case) per law
    (target: <= 1 s).
 """
@@ -24,9 +32,20 @@ import time
 import warnings
 from dataclasses import fields
 
+import os
+
 import numpy as np
 
-from nfdmodel import RangeWarning, VZParams, VZState, collide, get_law, vz_newton_iterations
+from nfdmodel import RangeWarning, VZParams, VZState, backend, collide, get_law, vz_newton_iterations
+
+# Bytes per contact of one vz step + in-place commit (float64 / int64 = 8 bytes):
+UNLOADING_BYTES = 8 * (4 + 2)     # read delta, delta_res, K_u, delta_max; write force, index
+# per contact that loads: gather delta and a_e_max (2), write the 5 trial fields (5), the solve's
+# passes (read 2 write 3; read 2; read 2 write 4; read 1), scatter the force with the statistics
+# (read index, P, a_e; write force: 4), the commit (read index and 5 fields, read-modify-write 5
+# history arrays at random positions: 6 + 10)
+LOADING_BYTES = 8 * (2 + 5 + (5 + 2 + 6 + 1) + 4 + 6 + 10)
+HERTZ_BYTES = 8 * 6                # k d sqrt(d): three passes, each reads 8 and writes 8 bytes
 
 
 def best_time(function, repeats: int, setup=None) -> float:
@@ -58,10 +77,24 @@ def random_histories(params, n: int, loading_fraction: float | None, rng):
     return state, delta
 
 
-def force_benchmark(n: int, repeats: int, loading_fraction, rng) -> dict:
+def bandwidth(n: int, repeats: int) -> float:
+    """Bytes per second of a large copy (read + write), the machine's streaming bandwidth."""
+    source, target = np.ones(4 * n), np.empty(4 * n)
+    return 2 * source.nbytes / best_time(lambda: np.copyto(target, source), repeats)
+
+
+def numpy_hertz(delta, k):
+    """numpy's fastest Hertz force: k d sqrt(d), three array operations."""
+    force = np.sqrt(delta)
+    np.multiply(force, delta, out=force)
+    return np.multiply(force, k, out=force)
+
+
+def force_benchmark(n: int, repeats: int, loading_fraction, rng, bytes_per_second: float) -> dict:
     params = VZParams.reference()
     vz, hertz = get_law("vz"), get_law("hertz")
     state, delta = random_histories(params, n, loading_fraction, rng)
+    positive = np.maximum(delta, 0.0)
     hertz_state = hertz.initial_state(n)
     owned = VZState(**{f.name: getattr(state, f.name).copy() for f in fields(state)})  # to mutate
     committed = [np.empty(0, dtype=np.int64)]
@@ -80,9 +113,12 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng) -> dict:
         committed[0] = update.index
         return force, update
 
+    t_numpy_hertz = best_time(lambda: numpy_hertz(positive, params.pair.hertz_stiffness), repeats)
     t_hertz = best_time(lambda: hertz.force(delta, hertz_state, params.pair), repeats)
     t_pure = best_time(lambda: vz.force(delta, state, params), repeats)
     t_step = best_time(step_and_commit, repeats, fresh_history)
+    with numpy_backend():
+        t_numpy_step = best_time(step_and_commit, repeats, fresh_history)
     # check: same force and history both ways
     fresh_history()
     force_step, update = step_and_commit()
@@ -92,12 +128,33 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng) -> dict:
     iterations = vz_newton_iterations(delta, state, params)
     solved = iterations[iterations > 0]
     assert int(solved.max() if solved.size else 0) == update.newton_iterations
+    loading = solved.size / n
+    floor = n * (UNLOADING_BYTES + loading * LOADING_BYTES) / bytes_per_second
     return {"scenario": "jump" if loading_fraction is None else f"f={loading_fraction:g}",
-            "n": n, "hertz_ms": 1e3 * t_hertz, "pure_ms": 1e3 * t_pure, "step_ms": 1e3 * t_step,
+            "n": n, "numpy_hertz_ms": 1e3 * t_numpy_hertz, "hertz_ms": 1e3 * t_hertz, "pure_ms": 1e3 * t_pure,
+            "step_ms": 1e3 * t_step, "numpy_step_ms": 1e3 * t_numpy_step,
+            "step_over_numpy_hertz": t_step / t_numpy_hertz, "step_over_hertz": t_step / t_hertz,
+            "numpy_step_over_numpy_hertz": t_numpy_step / t_numpy_hertz,
+            "bytes_per_contact": UNLOADING_BYTES + loading * LOADING_BYTES, "floor_ms": 1e3 * floor,
+            "floor_over_numpy_hertz": floor / t_numpy_hertz,
             "pure_ratio": t_pure / t_hertz, "step_ratio": t_step / t_hertz,
             "plastic_loading_fraction": solved.size / n,
             "newton_mean": float(solved.mean()) if solved.size else 0.0,
             "newton_max": update.newton_iterations}
+
+
+class numpy_backend:
+    """Within the block the laws run on the numpy reference kernels (NFDCAL_BACKEND=numpy)."""
+
+    def __enter__(self):
+        self.saved = os.environ.get("NFDCAL_BACKEND")
+        os.environ["NFDCAL_BACKEND"] = "numpy"
+
+    def __exit__(self, *exc):
+        if self.saved is None:
+            os.environ.pop("NFDCAL_BACKEND")
+        else:
+            os.environ["NFDCAL_BACKEND"] = self.saved
 
 
 def collision_benchmark(repeats: int) -> list[dict]:
@@ -122,17 +179,24 @@ def main(argv=None) -> int:
     # the window check itself is timed (it is part of law.step), its warning is not printed
     warnings.simplefilter("ignore", RangeWarning)
     rng = np.random.default_rng(ns.seed)
-    print(f"Force evaluation, {ns.contacts:,} contacts, best of {ns.repeats} (target vz <= 3x hertz)")
-    print("  pure = vz force (step + copying commit); step = vz step + in-place commit")
-    print(f"{'scenario':>9} {'hertz ms':>9} {'pure ms':>8} {'step ms':>8} {'pure/hertz':>11} "
-          f"{'step/hertz':>11} {'plastic-loading':>16} {'Newton mean':>12} {'Newton max':>11}")
+    speed = bandwidth(ns.contacts, ns.repeats)
+    print(f"Force evaluation, {ns.contacts:,} contacts, best of {ns.repeats}; backend {backend()}; "
+          f"copy bandwidth {speed / 1e9:.1f} GB/s")
+    print("  k d sqrt(d) = numpy's fastest Hertz; hertz = the native hertz law's force; pure = vz force")
+    print("  (step + copying commit); step = vz step + in-place commit, native and numpy kernels;")
+    print("  floor = bytes per contact / bandwidth (targets: step <= 1.5x k d sqrt(d), <= 2x hertz)")
+    print(f"{'scenario':>9} {'kdsqrt ms':>9} {'hertz ms':>9} {'pure ms':>8} {'step ms':>8} {'numpy ms':>9} "
+          f"{'step/kdsqrt':>11} {'step/hertz':>10} {'numpy/kdsqrt':>12} {'B/contact':>9} {'floor x':>8} "
+          f"{'plastic':>8} {'Newton':>7} {'max':>4}")
     for loading_fraction in (0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5, None):
-        r = force_benchmark(ns.contacts, ns.repeats, loading_fraction, rng)
-        print(f"{r['scenario']:>9} {r['hertz_ms']:9.2f} {r['pure_ms']:8.2f} {r['step_ms']:8.2f} "
-              f"{r['pure_ratio']:11.2f} {r['step_ratio']:11.2f} "
-              f"{100 * r['plastic_loading_fraction']:15.1f}% {r['newton_mean']:12.2f} {r['newton_max']:11d}")
+        r = force_benchmark(ns.contacts, ns.repeats, loading_fraction, rng, speed)
+        print(f"{r['scenario']:>9} {r['numpy_hertz_ms']:9.2f} {r['hertz_ms']:9.2f} {r['pure_ms']:8.2f} "
+              f"{r['step_ms']:8.2f} {r['numpy_step_ms']:9.2f} {r['step_over_numpy_hertz']:11.2f} "
+              f"{r['step_over_hertz']:10.2f} {r['numpy_step_over_numpy_hertz']:12.2f} {r['bytes_per_contact']:9.0f} "
+              f"{r['floor_over_numpy_hertz']:8.2f} {100 * r['plastic_loading_fraction']:7.1f}% "
+              f"{r['newton_mean']:7.2f} {r['newton_max']:4d}")
     print()
-    print("Collision sweep, 10 velocities 0.02..0.2 m/s, dt = 1e-6 s (target <= 1 s)")
+    print(f"Collision sweep, 10 velocities 0.02..0.2 m/s, dt = 1e-6 s, backend {backend()} (target <= 10 ms)")
     print(f"{'law':>13} {'seconds':>8} {'steps':>6} {'max Newton':>11}")
     for r in collision_benchmark(max(1, ns.repeats // 2)):
         print(f"{r['law']:>13} {r['seconds']:8.3f} {r['steps']:6d} {r['max_newton']:11d}")
