@@ -158,6 +158,63 @@ static PyObject *native_load(PyObject *self, PyObject *args)
     return Py_BuildValue("indndd", max_iterations, beyond, largest_P, widest, widest_radius, sum);
 }
 
+/* load_table(params, x, f, g, index, delta, P_max_history, force, delta_max', P_max', delta_res', K_u', a_e_max')
+ * -> as load: the vz_table law's loading branch of the selected contacts (start: the history's
+ * P_max). A ValueError when the table breaks nfd_table_init's rules. */
+static PyObject *native_load_table(PyObject *self, PyObject *args)
+{
+    PyObject *params_tuple;
+    Py_buffer x, fv, gv, index, delta, P_hist, force, o_dmax, o_P, o_res, o_K, o_ae;
+    nfd_params p;
+    nfd_table table;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "Oy*y*y*y*y*y*w*w*w*w*w*w*", &params_tuple, &x, &fv, &gv, &index, &delta, &P_hist,
+                          &force, &o_dmax, &o_P, &o_res, &o_K, &o_ae))
+        return NULL;
+    Py_ssize_t k = index.len / 8, n = delta.len / 8, nodes = x.len / 8;
+    int max_iterations = 0, finite = 1;
+    Py_ssize_t beyond = 0, widest = -1, bad = -1;
+    double largest_P = 0.0, widest_radius = -1.0;
+    if (read_params(params_tuple, &p) && check_length(&fv, nodes, 8, "f") && check_length(&gv, nodes, 8, "g") &&
+        check_length(&P_hist, n, 8, "P_max") && check_length(&force, n, 8, "force") &&
+        check_length(&o_dmax, k, 8, "delta_max") && check_length(&o_P, k, 8, "P_max'") &&
+        check_length(&o_res, k, 8, "delta_res") && check_length(&o_K, k, 8, "K_u") && check_length(&o_ae, k, 8, "a_e_max")) {
+        if (nodes > NFD_TABLE_MAX_NODES || nfd_table_init(&table, (int)nodes, x.buf, fv.buf, gv.buf) != 0) {
+            PyErr_Format(PyExc_ValueError, "table out of range: 2..%d nodes with x[0] = 1, f[0] = 0, g[0] = 1, x "
+                         "increasing, f non-decreasing, g > 0", NFD_TABLE_MAX_NODES);
+        } else {
+            const int64_t *idx = index.buf;
+            const double *d = delta.buf, *Ph = P_hist.buf;
+            double *f = force.buf, *dm = o_dmax.buf, *P = o_P.buf, *res = o_res.buf, *K = o_K.buf, *aeo = o_ae.buf;
+            Py_BEGIN_ALLOW_THREADS
+            for (Py_ssize_t i = 0; i < k; ++i) {
+                int64_t j = idx[i];
+                if (j < 0 || j >= n) { bad = i; break; }
+                nfd_history h = {-INFINITY, Ph[j], 0.0, 0.0, 0.0}, out;   /* the caller selected loading contacts */
+                double force_j = 0.0;
+                int iterations = 0;
+                nfd_vz_table_step(d[j], &p, &table, &h, &force_j, &out, &iterations);
+                if (iterations > max_iterations) max_iterations = iterations;
+                f[j] = force_j;
+                finite &= force_j - force_j == 0.0;
+                dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
+                beyond += out.P_max > p.window_P_max;
+                largest_P = out.P_max > largest_P ? out.P_max : largest_P;
+                double radius = out.P_max > p.P_Y ? nfd_vz_table_radius(&p, &table, out.P_max) : out.a_e_max;
+                if (radius > widest_radius || widest < 0) { widest_radius = radius; widest = i; }
+            }
+            Py_END_ALLOW_THREADS
+            if (bad >= 0) PyErr_Format(PyExc_ValueError, "index[%zd] out of range 0..%zd", bad, n - 1);
+        }
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&x); PyBuffer_Release(&fv); PyBuffer_Release(&gv); PyBuffer_Release(&index);
+    PyBuffer_Release(&delta); PyBuffer_Release(&P_hist); PyBuffer_Release(&force); PyBuffer_Release(&o_dmax);
+    PyBuffer_Release(&o_P); PyBuffer_Release(&o_res); PyBuffer_Release(&o_K); PyBuffer_Release(&o_ae);
+    if (failed) return NULL;
+    return Py_BuildValue("indndd", max_iterations, beyond, largest_P, widest, widest_radius, finite ? 0.0 : INFINITY);
+}
+
 static PyObject *native_hertz(PyObject *self, PyObject *args)
 {
     Py_buffer delta, force;
@@ -273,6 +330,7 @@ static PyMethodDef methods[] = {
     {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
+    {"load_table", native_load_table, METH_VARARGS, "the vz_table loading branch of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {NULL, NULL, 0, NULL},
 };

@@ -74,10 +74,15 @@ def turning_point_step(law: str, delta, state, pair, params: tuple, three_halves
     else:
         index = index[:k].copy()
         values = {name: np.empty(k) for name in ("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max")}
-        a_e_max = _contiguous(state.a_e_max) if hasattr(state, "a_e_max") else delta
-        statistics = _native.load(LAW_CODES[law], params, index, delta, a_e_max, force, values["delta_max"],
-                                  values["P_max"], values["delta_res"], values["unloading_stiffness"],
-                                  values["a_e_max"])
+        outputs = (values["delta_max"], values["P_max"], values["delta_res"], values["unloading_stiffness"],
+                   values["a_e_max"])
+        if law == "vz-table":           # params: (kernel parameters, (x, f, g) of the table)
+            kernel, (x, f, g) = params
+            statistics = _native.load_table(kernel, _contiguous(x), _contiguous(f), _contiguous(g), index, delta,
+                                            _contiguous(state.P_max), force, *outputs)
+        else:
+            a_e_max = _contiguous(state.a_e_max) if hasattr(state, "a_e_max") else delta
+            statistics = _native.load(LAW_CODES[law], params, index, delta, a_e_max, force, *outputs)
         finite += statistics[5]          # 0.0 when every force is finite, else inf or NaN
         names = field_names(type(state))
         update = HistoryUpdate(index, type(state)(**{name: values[name] for name in names}), n, int(statistics[0]))

@@ -317,6 +317,187 @@ void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, doubl
     *a_ep = *a_e + *a_p;
 }
 
+/* ------------------------------------------------------------------------------ vz_table */
+#define NFD_TABLE_TOLERANCE 1e-12    /* relative, on x = P / P_Y (nfdmodel.vz_table)            */
+#define NFD_TABLE_MAX_ITERATIONS 100
+
+/* PCHIP end slope (nfdmodel.pchip._end_slope). */
+static double end_slope(double h0, double h1, double s0, double s1)
+{
+    double d = ((2.0 * h0 + h1) * s0 - h0 * s1) / (h0 + h1);
+    int sign_d = (d > 0.0) - (d < 0.0), sign_s0 = (s0 > 0.0) - (s0 < 0.0), sign_s1 = (s1 > 0.0) - (s1 < 0.0);
+    if (sign_d != sign_s0) return 0.0;
+    if (sign_s0 != sign_s1 && fabs(d) > fabs(3.0 * s0)) return 3.0 * s0;
+    return d;
+}
+
+/* PCHIP node slopes (nfdmodel.pchip.pchip_slopes, Fritsch-Butland as scipy). */
+static void pchip_slopes(int n, const double *x, const double *y, double *d)
+{
+    if (n == 2) {
+        d[0] = d[1] = (y[1] - y[0]) / (x[1] - x[0]);
+        return;
+    }
+    for (int k = 1; k < n - 1; ++k) {
+        double h0 = x[k] - x[k - 1], h1 = x[k + 1] - x[k];
+        double s0 = (y[k] - y[k - 1]) / h0, s1 = (y[k + 1] - y[k]) / h1;
+        double w1 = 2.0 * h1 + h0, w2 = h1 + 2.0 * h0;
+        d[k] = s0 * s1 > 0.0 ? (w1 + w2) / (w1 / s0 + w2 / s1) : 0.0;
+    }
+    double h0 = x[1] - x[0], h1 = x[2] - x[1];
+    d[0] = end_slope(h0, h1, (y[1] - y[0]) / h0, (y[2] - y[1]) / h1);
+    double hl = x[n - 1] - x[n - 2], hm = x[n - 2] - x[n - 3];
+    d[n - 1] = end_slope(hl, hm, (y[n - 1] - y[n - 2]) / hl, (y[n - 2] - y[n - 3]) / hm);
+}
+
+/* (value, slope) of a table at z (nfdmodel.pchip.pchip_evaluate: the cubic Hermite form, straight
+ * continuations beyond the end nodes). */
+static void pchip_evaluate(const nfd_table *t, const double *y, const double *d, double z, double *value,
+                           double *slope)
+{
+    int n = t->n;
+    if (z > t->x[n - 1]) {
+        *value = y[n - 1] + d[n - 1] * (z - t->x[n - 1]);
+        *slope = d[n - 1];
+        return;
+    }
+    if (z < t->x[0]) {
+        *value = y[0] + d[0] * (z - t->x[0]);
+        *slope = d[0];
+        return;
+    }
+    int lo = 0, hi = n - 1;               /* the segment: x[k] <= z < x[k+1], k <= n - 2 */
+    while (hi - lo > 1) {
+        int mid = (lo + hi) / 2;
+        if (t->x[mid] <= z) lo = mid; else hi = mid;
+    }
+    int k = lo;
+    double x0 = t->x[k], x1 = t->x[k + 1];
+    double h = x1 - x0;
+    double s = (z - x0) / h;
+    double y0 = y[k], y1 = y[k + 1], d0 = d[k], d1 = d[k + 1];
+    double s2 = s * s;
+    double s3 = s2 * s;
+    *value = (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * d0 + (3 * s2 - 2 * s3) * y1 + (s3 - s2) * h * d1;
+    *slope = (6 * s2 - 6 * s) * (y0 - y1) / h + (3 * s2 - 4 * s + 1) * d0 + (3 * s2 - 2 * s) * d1;
+}
+
+/* D(z) = delta/delta_Y on the loading curve at z = P/P_Y >= 1 and dD/dz
+ * (nfdmodel.vz_table.VZTableParams.scaled_approach). */
+static void table_approach(const nfd_table *t, double z, double *D, double *dD)
+{
+    double f, df, g, dg;
+    pchip_evaluate(t, t->f, t->df, z, &f, &df);
+    pchip_evaluate(t, t->g, t->dg, z, &g, &dg);
+    double c = cbrt(z);
+    double radius = c + f;
+    double value = radius * radius / g;
+    *D = value;
+    *dD = (2.0 * radius * (1.0 / (3.0 * c * c) + df) - value * dg) / g;
+}
+
+int nfd_table_init(nfd_table *t, int n, const double *x, const double *f, const double *g)
+{
+    if (n < 2 || n > NFD_TABLE_MAX_NODES || x[0] != 1.0 || f[0] != 0.0 || g[0] != 1.0) return -1;
+    for (int k = 0; k < n; ++k) {
+        if (!(isfinite(x[k]) && isfinite(f[k]) && isfinite(g[k]) && g[k] > 0.0)) return -1;
+        if (k > 0 && !(x[k] > x[k - 1] && f[k] >= f[k - 1])) return -1;
+        t->x[k] = x[k]; t->f[k] = f[k]; t->g[k] = g[k];
+    }
+    t->n = n;
+    pchip_slopes(n, t->x, t->f, t->df);
+    pchip_slopes(n, t->x, t->g, t->dg);
+    for (int k = 0; k < n; ++k) {
+        double slope;
+        table_approach(t, t->x[k], &t->D[k], &slope);
+    }
+    return 0;
+}
+
+/* x >= 1 with D(x) = d (> 1) (nfdmodel.vz_table.VZTableParams.solve): the segment of the node
+ * approaches brackets the root, doubled beyond the table; Newton inside it from the start
+ * (the last turning point), bisection where Newton strays. */
+static double table_solve(const nfd_table *t, double d, double start, int *iterations)
+{
+    int n = t->n, k = -1;
+    for (int j = 0; j < n; ++j)           /* k = searchsorted(D, d, "right") - 1 */
+        if (t->D[j] <= d) k = j;
+    int kk = k < 0 ? 0 : (k > n - 1 ? n - 1 : k);
+    double low = t->x[kk];
+    double high = k < n - 1 ? t->x[k + 1 < 0 ? 0 : k + 1] : t->x[n - 1] * 2.0;
+    if (k >= n - 1) {
+        for (;;) {
+            double D, dD;
+            table_approach(t, high, &D, &dD);
+            if (!(D < d)) break;
+            low = high;
+            high *= 2.0;
+        }
+    }
+    double z = start < low ? low : (start > high ? high : start);
+    int iteration;
+    for (iteration = 1; iteration <= NFD_TABLE_MAX_ITERATIONS; ++iteration) {
+        double D, dD;
+        table_approach(t, z, &D, &dD);
+        double residual = D - d;
+        if (residual < 0.0) low = z; else high = z;
+        double candidate = z - residual / dD;
+        if (!(candidate > low && candidate < high)) candidate = 0.5 * (low + high);
+        int done = fabs(candidate - z) <= NFD_TABLE_TOLERANCE * candidate;
+        z = candidate;
+        if (done || high - low <= NFD_TABLE_TOLERANCE * high) break;
+    }
+    *iterations = iteration > NFD_TABLE_MAX_ITERATIONS ? NFD_TABLE_MAX_ITERATIONS : iteration;
+    return z;
+}
+
+double nfd_vz_table_radius(const nfd_params *p, const nfd_table *t, double P)
+{
+    double z = P / p->P_Y, f, df;
+    pchip_evaluate(t, t->f, t->df, z, &f, &df);
+    return p->a_Y * (cbrt(z) + f);
+}
+
+int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
+                      nfd_history *out, int *iterations)
+{
+    if (iterations) *iterations = 0;
+    if (!isfinite(delta)) return NFD_NOT_FINITE;
+    if (!(delta > h->delta_max)) {                  /* unloading or reloading */
+        *force = unloading(delta, h, 1);
+        *out = *h;
+        return NFD_OK;
+    }
+    if (!(delta > p->delta_Y)) {                    /* Hertz below first yield */
+        vz_hertz_turning_point(delta, p, out);
+        *force = out->P_max;
+        return isfinite(out->P_max) ? NFD_OK : NFD_NOT_FINITE;
+    }
+    double start = h->P_max / p->P_Y;
+    int count = 0;
+    double z = table_solve(t, delta / p->delta_Y, start > 1.0 ? start : 1.0, &count);
+    if (iterations) *iterations = count;
+    double P = z * p->P_Y;
+    double f, df, g, dg;
+    pchip_evaluate(t, t->f, t->df, z, &f, &df);
+    pchip_evaluate(t, t->g, t->dg, z, &g, &dg);
+    double c = cbrt(z);
+    double recovery = p->delta_Y * (c * c) / g;     /* a_e,max^2 / (C_Rmax R*) */
+    double delta_res = delta - recovery;
+    delta_res = delta_res < 0.0 ? 0.0 : delta_res;
+    delta_res = delta_res >= delta ? below(delta) : delta_res;
+    double gap = delta - delta_res;
+    out->delta_max = delta;
+    out->P_max = P;
+    out->delta_res = delta_res;
+    out->K_u = P / (gap * sqrt(gap));
+    out->a_e_max = p->a_Y * c;
+    *force = P;
+    if (!isfinite(P)) return NFD_NOT_FINITE;
+    if (!(p->a_Y * (c + f) < p->R_star)) return NFD_FULL_CONTACT;
+    return P > p->window_P_max ? NFD_BEYOND_WINDOW : NFD_OK;
+}
+
 /* ------------------------------------------------------------------------------- thornton */
 int nfd_thornton_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out)
 {

@@ -16,6 +16,9 @@
  *                  c1 = (3 R* / (4 E*))^(1/3) / Ca, by Newton on u = P^(1/3);
  *   thornton       Thornton (1997): Hertz to delta_Y, then P = P_Y + pi p_Y R* (delta - delta_Y);
  *   walton_braun   Walton & Braun (1986): P = K1 delta on loading;
+ *   vz_table       the NFD structure with load-dependent a_p = a_Y f(x) and C_R = g(x),
+ *                  x = P / P_Y, monotone cubic (PCHIP) tables (nfd_table): the force solves
+ *                  delta / delta_Y = D(x) = (x^(1/3) + f(x))^2 / g(x) (bracketed Newton);
  *
  * and every law with memory unloads and reloads on P = K_u <delta - delta_res>^n (n = 3/2;
  * walton_braun: n = 1) through its turning point (delta_max, P_max). Fill nfd_params with
@@ -68,6 +71,17 @@ typedef struct {
     double a_e_max;       /* vz: Hertz radius at P_max [m] (starts the next Newton solve)     */
 } nfd_history;
 
+/* The vz_table law's tables (nfdmodel.vz_table.VZTableParams): node loads x = P/P_Y (x[0] = 1,
+ * increasing), a_p/a_Y = f (f[0] = 0, non-decreasing) and C_R = g (g[0] = 1, > 0) at them; the
+ * PCHIP node slopes and D at the nodes are filled in by nfd_table_init. A plain struct (no
+ * pointers): copy it, broadcast it, write it to a restart file. */
+#define NFD_TABLE_MAX_NODES 64
+typedef struct {
+    int n;
+    double x[NFD_TABLE_MAX_NODES], f[NFD_TABLE_MAX_NODES], g[NFD_TABLE_MAX_NODES];
+    double df[NFD_TABLE_MAX_NODES], dg[NFD_TABLE_MAX_NODES], D[NFD_TABLE_MAX_NODES];
+} nfd_table;
+
 /* nfd_params of a contact pair from R* [m], E* [Pa] and p_Y = A_Y(nu) sigma_Y [Pa]; the vz and
  * walton_braun constants are zero and the window unlimited until set. */
 nfd_params nfd_pair(double R_star, double E_star, double p_Y);
@@ -82,6 +96,18 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
 int nfd_thornton_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out);
 int nfd_walton_braun_step(double delta, const nfd_params *p, const nfd_history *h, double *force,
                           nfd_history *out);
+
+/* Fill *t from n nodes (2 <= n <= NFD_TABLE_MAX_NODES); returns 0, or -1 when the nodes break
+ * the rules above (nfdmodel checks the law's admissibility, D increasing and e <= 1, when the
+ * table is fitted or read: use tables from nfdcal). */
+int nfd_table_init(nfd_table *t, int n, const double *x, const double *f, const double *g);
+
+/* vz_table: history as for vz (a_e_max unused); p as for any law (window_P_max optional). */
+int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
+                      nfd_history *out, int *iterations);
+
+/* The vz_table contact radius a_Y (x^(1/3) + f(x)) [m] on the loading curve at P [N] >= P_Y. */
+double nfd_vz_table_radius(const nfd_params *p, const nfd_table *t, double P);
 
 /* vz for many contacts at once, all of them loading beyond their turning points (delta[i] >
  * their history's delta_max; structure of arrays, the layout of a vectorised DEM code): in,

@@ -34,6 +34,7 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import brentq
 
+from . import native
 from .hertz import hertz_kernel
 from .history import TurningPointHistory, check_delta, check_state, restore_shape, step_and_commit
 from .materials import ContactPair
@@ -317,6 +318,16 @@ def vz_table_step(delta, state: VZTableState, params: VZTableParams):
         raise ValueError(f"params for law 'vz-table' must be VZTableParams, got {type(params).__name__}")
     check_state(state, VZTableState, "vz-table")
     delta, shape = check_delta(delta, state.n)
+    if native.active():
+        pair = params.pair
+        kernel = native.kernel_params(pair, window_P_max=params.window_force)
+        force, update, (_, beyond, largest_P, widest, widest_radius, _) = native.turning_point_step(
+            "vz-table", delta, state, pair, (kernel, (params.x, params.f, params.g)), True)
+        if update.size:
+            check_contact_radius_below_R(widest_radius, pair.R_star, float(update.values.delta_max[widest]), params)
+            if beyond:
+                update = dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=largest_P / pair.P_Y)
+        return restore_shape(force, shape), update
     force, update = turning_point_step(delta, state, _loading_branch(params), True, params.pair)
     if update.size:
         pair = params.pair

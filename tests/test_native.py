@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import nfdmodel
-from nfdmodel import VZParams, WaltonBraunParams, collide, get_law, native
+from nfdmodel import VZParams, VZTableParams, WaltonBraunParams, collide, get_law, native
 
 pytestmark = pytest.mark.skipif(native._native is None, reason="the compiled kernel is not built here")
 
@@ -23,7 +23,14 @@ PAIR = REF.pair
 RTOL = 1e-12
 
 
+NODES = np.geomspace(1.0, 1000.0, 17)
+F_NODES = 0.03 * (NODES - 1.0) ** 0.8
+TABLE = VZTableParams(PAIR, tuple(NODES), tuple(F_NODES), tuple(1.0 + 0.25 * F_NODES ** 0.9))   # bends over 1..1000 P_Y
+
+
 def params_for(name, Ca_factor=1.0, Kc_factor=1.0, pair=PAIR):
+    if name == "vz-table":
+        return TABLE
     if name == "vz":
         return VZParams(pair, REF.Ca * Ca_factor, REF.Kc * Kc_factor)
     if name == "walton-braun":
@@ -53,7 +60,7 @@ def assert_same(a, b):
 paths = st.lists(st.lists(st.floats(-3.0, 500.0, allow_nan=False), min_size=1, max_size=25), min_size=1, max_size=6)
 
 
-@pytest.mark.parametrize("name", ["vz", "thornton", "walton-braun", "hertz"])
+@pytest.mark.parametrize("name", ["vz", "vz-table", "thornton", "walton-braun", "hertz"])
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow,
                                                                  HealthCheck.function_scoped_fixture])
 @given(contact_paths=paths, float32=st.booleans())
@@ -178,6 +185,54 @@ def test_the_c_source_ships_with_the_package_and_compiles_alone(tmp_path):
     status, force = subprocess.run([str(binary)], capture_output=True, text=True, check=True).stdout.split()
     expected = get_law("vz").force_function(np.array([1.56e-5]), get_law("vz").initial_state(1), REF)[0][0]
     assert int(status) == 0 and float(force) == pytest.approx(expected, rel=1e-12)
+
+
+def test_a_c_caller_gets_the_vz_table_law_of_python(tmp_path):
+    """nfd_table_init + nfd_vz_table_step from C: the same forces and turning points as the
+    numpy kernel along a load-unload-reload path through and beyond the table."""
+    import shutil
+    from pathlib import Path
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    source = Path(nfdmodel.__file__).parent
+    deltas = np.concatenate([np.geomspace(0.5, 300.0, 40), np.linspace(300.0, 100.0, 5), np.geomspace(150.0, 1500.0, 20)])
+    listing = lambda values: ", ".join(repr(float(v)) for v in values)       # noqa: E731
+    main = tmp_path / "table.c"
+    main.write_text(f"""
+#include <stdio.h>
+#include "nfd_kernel.h"
+int main(void) {{
+  double x[] = {{{listing(TABLE.x)}}}, f[] = {{{listing(TABLE.f)}}}, g[] = {{{listing(TABLE.g)}}};
+  double d[] = {{{listing(deltas * PAIR.delta_Y)}}};
+  nfd_params p = nfd_pair({PAIR.R_star!r}, {PAIR.E_star!r}, {PAIR.p_Y!r});
+  nfd_table t;
+  if (nfd_table_init(&t, {len(TABLE.x)}, x, f, g) != 0) return 1;
+  nfd_history h = {{0, 0, 0, 0, 0}}, next;
+  for (int i = 0; i < {deltas.size}; ++i) {{
+    double P; int it;
+    int status = nfd_vz_table_step(d[i], &p, &t, &h, &P, &next, &it);
+    printf("%d %.17g %.17g %.17g\\n", status, P, next.delta_res, next.K_u);
+    h = next;
+  }}
+  return 0;
+}}
+""")
+    binary = tmp_path / "table"
+    subprocess.run([compiler, "-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-O2", f"-I{source}",
+                    str(main), str(source / "nfd_kernel.c"), "-lm", "-o", str(binary)], check=True)
+    rows = np.array([line.split() for line in subprocess.run([str(binary)], capture_output=True, text=True,
+                                                                check=True).stdout.splitlines()], dtype=float)
+    os.environ["NFDCAL_BACKEND"] = "numpy"
+    try:
+        law, state, expected = get_law("vz-table"), get_law("vz-table").initial_state(1), []
+        for delta in deltas * PAIR.delta_Y:
+            P, state = law.force(np.array([delta]), state, TABLE)
+            expected.append([0.0, P[0], state.delta_res[0], state.unloading_stiffness[0]])
+    finally:
+        del os.environ["NFDCAL_BACKEND"]
+    np.testing.assert_allclose(rows, np.array(expected), rtol=1e-12)
 
 
 def test_the_batch_solve_of_the_c_api_equals_the_step_contact_by_contact(tmp_path):
