@@ -10,6 +10,7 @@ messages on both.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 
 import numpy as np
@@ -41,6 +42,30 @@ def backend_info() -> str:
     if forced == "numpy":
         return "numpy: forced by NFDCAL_BACKEND=numpy (the compiled kernel is built)"
     return f"native: the compiled kernel {os.path.basename(_native.__file__)} (NFDCAL_BACKEND=numpy forces numpy)"
+
+
+@contextlib.contextmanager
+def use_backend(name: str):
+    """Within the block the laws run on ``name`` ("native" or "numpy"; NFDCAL_BACKEND set and
+    restored). ValueError if the native kernel is asked for and not built."""
+    if name not in ("native", "numpy"):
+        raise ValueError(f"backend out of range: 'native' or 'numpy', got {name!r}")
+    if name == "native" and _native is None:
+        raise ValueError(f"backend 'native' is not available: {_MISSING}")
+    saved = os.environ.get("NFDCAL_BACKEND")
+    os.environ["NFDCAL_BACKEND"] = name
+    try:
+        yield
+    finally:
+        if saved is None:
+            os.environ.pop("NFDCAL_BACKEND", None)
+        else:
+            os.environ["NFDCAL_BACKEND"] = saved
+
+
+def available_backends() -> tuple[str, ...]:
+    """The backends this install can run: ("native", "numpy") or ("numpy",)."""
+    return ("numpy",) if _native is None else ("native", "numpy")
 
 
 def active() -> bool:

@@ -1,12 +1,15 @@
 """Runtime model on extreme inputs: regressions for the failures the stability grid found, and the
 stability report itself (calib.studies.runtime_stability, `nfdcal stability`)."""
 import json
+
 import subprocess
 import sys
 import warnings
 
 import numpy as np
 import pytest
+
+import nfdmodel
 
 from nfdmodel import (ContactPair, Material, TimeStepWarning, VZParams, collide, collision_reference,
                       get_law)
@@ -122,6 +125,10 @@ def test_stability_report_small_grid(tmp_path, monkeypatch):
     data = json.loads((tmp_path / study.JSON_NAME).read_text())
     assert data["stamp"]["git_commit"] and len(data["rows"]) == summary["cases"]
     csv_lines = (tmp_path / study.CSV_NAME).read_text().splitlines()
-    assert csv_lines[0].startswith("# git_commit") and any(line.startswith("group,law,R") for line in csv_lines)
+    assert csv_lines[0].startswith("# git_commit") and any(line.startswith("backend,group,law,R") for line in csv_lines)
+    # every case on every backend this install has, with the same outcomes
+    assert set(summary["backends"]) == set(nfdmodel.native.available_backends())
+    assert summary.get("backends_disagree", []) == []
+    assert len({r["backend"] for r in data["rows"]}) == len(summary["backends"])
     if "stability" in __import__("calib.cli", fromlist=["x"]).COMMAND_MODULES:
         assert main(["stability", "--runtime", "--out", str(tmp_path)]) == 0

@@ -3,7 +3,10 @@
 Regenerate with ``nfdcal stability [--out DIR]`` (default DIR = results/stability; about 30 s on
 one core). Files:
 
-* runtime_stability.csv   one row per case: inputs, largest Newton iteration count, errors,
+Every case runs on each backend of this install (the compiled kernel "native" and the numpy
+reference; column ``backend``), and a case whose outcome differs between them is a failure.
+
+* runtime_stability.csv   one row per case and backend: inputs, largest Newton iteration count, errors,
                           outcome ("ok", "warned: <TimeStepWarning>", "clear error: <message>",
                           or "FAIL: <why>", which must never appear);
 * runtime_stability.json  stamp (commit, wall time), the summary (counts per outcome, largest
@@ -46,7 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from calib.output import RESULTS, stamp, stamp_comment, write_csv, write_json
-from nfdmodel import (NEWTON_MAX_ITERATIONS, ContactPair, Material, TimeStepWarning, VZParams, collide,
+from nfdmodel import (native, NEWTON_MAX_ITERATIONS, ContactPair, Material, TimeStepWarning, VZParams, collide,
                       collision_reference, get_law, vz_newton_iterations)
 
 DEFAULT_OUT = RESULTS / "stability"
@@ -64,7 +67,7 @@ CONTINUITY_LIMIT = 1e-12          # relative force jump allowed at a turning poi
 YOUNG = 70e9                      # Pa; E / sigma_Y sets sigma_Y
 DENSITY = 2699.0                  # kg/m^3
 
-COLUMNS = ("group", "law", "R", "nu", "E_over_sigma_y", "Ca_factor", "Kc_factor", "Ca_hat",
+COLUMNS = ("backend", "group", "law", "R", "nu", "E_over_sigma_y", "Ca_factor", "Kc_factor", "Ca_hat",
            "Kc_hat", "dtype", "overlap_min_over_R", "overlap_max_over_R", "load_max_over_P_Y",
            "v_over_v_Y", "dt", "steps_per_contact", "steps_per_unloading", "newton_max",
            "force_error", "continuity_error", "e_velocity_error", "e_energy_error",
@@ -343,10 +346,22 @@ def summarize(rows: list[dict]) -> dict:
 
 
 def generate(out_dir=DEFAULT_OUT) -> dict:
-    """Run every case, write runtime_stability.csv/.json into ``out_dir``; return the summary."""
+    """Run every case on every backend this install has (the compiled kernel and the numpy
+    reference), write runtime_stability.csv/.json into ``out_dir``; return the summary (per
+    backend, and the cases whose outcome differs between them)."""
     started = time.perf_counter()
-    rows = force_rows() + collision_rows() + dt_rows()
-    summary = summarize(rows)
+    per_backend = {}
+    for name in native.available_backends():
+        with native.use_backend(name):
+            per_backend[name] = [{**row, "backend": name} for row in force_rows() + collision_rows() + dt_rows()]
+    rows = [row for backend_rows in per_backend.values() for row in backend_rows]
+    summary = {**summarize(rows), "backends": {name: summarize(r) for name, r in per_backend.items()}}
+    if len(per_backend) == 2:
+        pairs = zip(per_backend["native"], per_backend["numpy"])
+        summary["backends_disagree"] = [f"{a['group']}/{a['law']} R {a['R']} nu {a['nu']} E/sigma_Y {a['E_over_sigma_y']}: "
+                                        f"native {a['outcome']} / numpy {b['outcome']}"
+                                        for a, b in pairs if a["outcome"].split(":")[0] != b["outcome"].split(":")[0]]
+        summary["failures"] += [f"backends disagree: {d}" for d in summary["backends_disagree"]]
     st = stamp(time.perf_counter() - started, accuracy_limit=ACCURACY_LIMIT,
                command="nfdcal stability")
     out = Path(out_dir)

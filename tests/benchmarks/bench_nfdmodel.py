@@ -32,11 +32,9 @@ import time
 import warnings
 from dataclasses import fields
 
-import os
-
 import numpy as np
 
-from nfdmodel import RangeWarning, VZParams, VZState, backend, collide, get_law, vz_newton_iterations
+from nfdmodel import RangeWarning, VZParams, VZState, backend, collide, get_law, native, vz_newton_iterations
 
 # Bytes per contact of one vz step + in-place commit (float64 / int64 = 8 bytes):
 UNLOADING_BYTES = 8 * (4 + 2)     # read delta, delta_res, K_u, delta_max; write force, index
@@ -117,7 +115,7 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng, bytes_per_secon
     t_hertz = best_time(lambda: hertz.force(delta, hertz_state, params.pair), repeats)
     t_pure = best_time(lambda: vz.force(delta, state, params), repeats)
     t_step = best_time(step_and_commit, repeats, fresh_history)
-    with numpy_backend():
+    with native.use_backend("numpy"):
         t_numpy_step = best_time(step_and_commit, repeats, fresh_history)
     # check: same force and history both ways
     fresh_history()
@@ -141,20 +139,6 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng, bytes_per_secon
             "plastic_loading_fraction": solved.size / n,
             "newton_mean": float(solved.mean()) if solved.size else 0.0,
             "newton_max": update.newton_iterations}
-
-
-class numpy_backend:
-    """Within the block the laws run on the numpy reference kernels (NFDCAL_BACKEND=numpy)."""
-
-    def __enter__(self):
-        self.saved = os.environ.get("NFDCAL_BACKEND")
-        os.environ["NFDCAL_BACKEND"] = "numpy"
-
-    def __exit__(self, *exc):
-        if self.saved is None:
-            os.environ.pop("NFDCAL_BACKEND")
-        else:
-            os.environ["NFDCAL_BACKEND"] = self.saved
 
 
 def collision_benchmark(repeats: int) -> list[dict]:
