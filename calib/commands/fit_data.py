@@ -172,7 +172,8 @@ def run(ns) -> int:
         f"first yield: P_Y = {summary['P_Y']:.4g} N, a_Y = {summary['a_Y']:.4g} m, v_Y = {summary['v_Y']:.4g} m/s",
         f"model: {choice.why}",
         *([f"note: {result.note}"] if result.note else []),
-        f"identifiability: {result.identifiability['summary']}",
+        *[("identifiability: " if k == 0 else "  ") + part
+          for k, part in enumerate(result.identifiability["summary"].split("; "))],
         f"window: {window.describe()} (the data's range; beyond it the constants are an extrapolation)",
         f"rms residual: {100 * result.rms_residual:.3g} % ("
         + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()) + ")",
