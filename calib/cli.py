@@ -21,7 +21,7 @@ import warnings
 from calib.optional import MissingOptionalPart
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
-COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "stability")
+COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "fit_data", "stability")
 
 
 class _Parser(argparse.ArgumentParser):
@@ -82,7 +82,7 @@ def build_parser() -> _Parser:
     return parser
 
 
-OUTPUT_FLAGS = ("out", "params_out", "master_out")   # the flags that name where results go
+OUTPUT_FLAGS = ("out", "params_out", "master_out", "plot")   # the flags that name where results go
 
 
 def name_the_output_flag(ns, message: str) -> str:

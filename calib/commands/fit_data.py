@@ -1,0 +1,183 @@
+"""``nfdcal fit-data``: the vz law's parameters from measurements, without an FE model.
+
+    nfdcal fit-data --impacts drops.csv --E 70e9 --nu 0.3 --R 0.01 --rho 2700 [--json]
+    nfdcal fit-data --force-approach press.csv --E ... --sigma-y 100e6 --free --params-out p.json --plot fit.png
+
+Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s]) and/or quasi-static
+force-approach curves (approach [m], force [N], optional test) of a sphere on a rigid flat are
+fitted through the runtime law (calib.fit.from_data states the equations): the constrained model
+fits sigma_Y alone with Ca_hat, Kc_hat from the master table at (nu, E / sigma_Y); --free fits
+Ca_hat, Kc_hat (and sigma_Y when the data determine it). Both are fitted and compared by AICc,
+in words. --sigma-y is the constrained fit's start and the value the free fit holds when the data
+do not determine sigma_Y. --params-out and --plot never replace an existing file unless
+--overwrite is given. Bad data: one line naming the file, the row and the column (exit 2).
+"""
+from __future__ import annotations
+
+import time
+
+from calib.commands.common import MATERIAL_RANGES, add_summary_arguments, flag_name, number, print_summary
+
+SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves",
+                                   description=__doc__.split("\n\n")[0])
+    parser.add_argument("--impacts", default=None, metavar="CSV",
+                        help="drop tests: columns v_in [m/s], e [-]; optional P_max [N], contact_time [s]")
+    parser.add_argument("--force-approach", dest="force_approach", default=None, metavar="CSV",
+                        help="quasi-static curves: columns approach [m], force [N]; optional test (a label "
+                             "per virgin specimen)")
+    for key, text in (("E", "Young's modulus [Pa]"), ("nu", "Poisson's ratio (0 <= nu < 0.5)"),
+                      ("R", "sphere radius [m]"), ("rho", "density [kg/m^3]")):
+        parser.add_argument(flag_name(key), dest=key, default=None, help=f"{text} (required)")
+    parser.add_argument("--sigma-y", dest="sigma_y", default=None,
+                        help="yield stress [Pa]: the constrained fit's start, the free fit's value when the data "
+                             "do not determine it (default: estimated)")
+    parser.add_argument("--free", action="store_true", help="use the free model (Ca_hat, Kc_hat fitted)")
+    parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
+    parser.add_argument("--params-out", default=None, metavar="JSON",
+                        help="write a parameter file (nfdmodel.load_parameters, nfdcal collide --params)")
+    parser.add_argument("--plot", default=None, metavar="PNG", help="draw the data against the fitted law")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace an existing --params-out or --plot file (refused otherwise)")
+    add_summary_arguments(parser, progress=False)
+    parser.set_defaults(run=run)
+
+
+def specimen_from_args(ns):
+    """The Specimen (E, nu, R, rho) and the --sigma-y value (None when not given) from the flags;
+    every error names the flag and its range."""
+    from calib.fit.from_data import Specimen
+    from nfdmodel.materials import check_radius
+    from nfdmodel.validation import check_solid
+
+    missing = [flag_name(k) for k in SPECIMEN_FLAGS if getattr(ns, k) is None]
+    if missing:
+        raise ValueError(f"missing {', '.join(missing)}: the specimen's material and size are needed (SI units)")
+    values = {k: number(flag_name(k), getattr(ns, k), **MATERIAL_RANGES[k]) for k in SPECIMEN_FLAGS}
+    check_solid("E", values["E"])
+    check_solid("rho", values["rho"])
+    check_radius("R", values["R"])
+    sigma_y = number("--sigma-y", ns.sigma_y, None, **MATERIAL_RANGES["sigma_y"])
+    if sigma_y is not None:
+        check_solid("sigma_y", sigma_y)
+    return Specimen(values["E"], values["nu"], values["R"], values["rho"]), sigma_y
+
+
+def check_outputs(ns) -> None:
+    """Before any work: each output path names a regular file (or nothing yet), an existing file only
+    with --overwrite, and --params-out and --plot differ."""
+    from pathlib import Path
+
+    from calib import output
+
+    given = [p for p in (ns.params_out, ns.plot) if p]
+    if len(given) == 2 and Path(ns.params_out).resolve() == Path(ns.plot).resolve():
+        raise ValueError(f"--params-out and --plot name the same file {ns.params_out}: give two paths")
+    for path in given:
+        target = output.writable_target(path)
+        if target.exists() and not ns.overwrite:
+            raise ValueError(f"{path} exists: give --overwrite to replace it (an existing file is never "
+                             f"replaced unasked)")
+
+
+def summary_of(choice, data, specimen, files) -> dict:
+    """The --json object (SI units; calib.fit.from_data defines every figure)."""
+    result = choice.result
+    values, errors = result.values, result.standard_errors
+    out = {}
+    for key in ("sigma_y", "Ca", "Kc", "Ca_hat", "Kc_hat"):
+        out[key] = values[key]
+        out[f"{key}_se"] = errors[key]
+    pair = result.params.pair
+    fits = {}
+    for name, fit in (("constrained", choice.constrained), ("free", choice.free)):
+        if fit is not None:
+            fits[name] = {"fitted": list(fit.spec.free), "values": fit.values, "standard_errors": fit.standard_errors,
+                          "rms_residual": fit.rms_residual, "note": fit.note}
+    out.update({
+        "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
+        "model": {"chosen": choice.used, "fitted": list(result.spec.free), "why": choice.why,
+                  "preferred_by_aicc": choice.preferred, "note": result.note,
+                  **({"free_model_error": choice.free_error} if choice.free_error else {})},
+        "aic": {name: fit.aic for name, fit in (("constrained", choice.constrained), ("free", choice.free))
+                if fit is not None},
+        "aicc": {name: fit.aicc for name, fit in (("constrained", choice.constrained), ("free", choice.free))
+                 if fit is not None},
+        "correlation": {"parameters": list(result.spec.free), "matrix": result.correlation.tolist()},
+        "identifiability": result.identifiability,
+        "window": result.params.window.record(),
+        "n_points": result.n_points,
+        "rms_residual": result.rms_residual,
+        "rms_residual_by_group": {k: float((v @ v / v.size) ** 0.5) for k, v in result.residuals.items()},
+        "residuals": {k: v.tolist() for k, v in result.residuals.items()},
+        "fits": fits,
+        "files": files,
+        "specimen": {"E": specimen.E, "nu": specimen.nu, "R": specimen.R, "rho": specimen.rho},
+        "units": {"sigma_y": "Pa", "Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_Y": "m/s",
+                  "residuals": "relative: (law - measured) / measured; force: / max(|P|, 0.05 x smallest peak)"},
+    })
+    return out
+
+
+def _percent(value, error) -> str:
+    return "held" if error is None else f"+- {100 * error / value:.2g} %"
+
+
+def run(ns) -> int:
+    from calib import output
+    from calib.fit import from_data
+    from calib.fit.master_table import MasterTable
+
+    started = time.perf_counter()
+    if ns.impacts is None and ns.force_approach is None:
+        raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
+    specimen, sigma_y = specimen_from_args(ns)
+    check_outputs(ns)
+    table = MasterTable.load(ns.table)
+    data = from_data.Measurements(
+        impacts=from_data.read_impacts(ns.impacts) if ns.impacts else None,
+        forces=from_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
+    choice = from_data.fit_measurements(data, specimen, table, "free" if ns.free else "constrained", sigma_y)
+    result = choice.result
+    summary = summary_of(choice, data, specimen, data.files)
+    if ns.params_out:
+        from calib.report.calibration import write_parameter_file
+
+        fit = {"source": "measurements", "files": data.files, "model": summary["model"],
+               "standard_errors": {k: summary[f"{k}_se"] for k in ("sigma_y", "Ca", "Kc", "Ca_hat", "Kc_hat")},
+               "correlation": summary["correlation"], "aicc": summary["aicc"], "n_points": result.n_points,
+               "rms_residual": result.rms_residual}
+        write_parameter_file(ns.params_out, result.params, specimen.R, specimen.material(result.values["sigma_y"]),
+                             fit, output.stamp(time.perf_counter() - started))
+        summary["params_out"] = ns.params_out
+    if ns.plot:
+        from calib.report.measurements import plot_fit
+
+        plot_fit(ns.plot, choice, data, specimen, table)
+        summary["plot"] = ns.plot
+    values, errors = result.values, result.standard_errors
+    counts = ", ".join(f"{n} {k} value(s)" for k, n in data.group_sizes().items())
+    window = result.params.window
+    lines = [
+        f"{choice.used} model fitted to {counts} ({', '.join(data.files)}): {', '.join(result.spec.free)}",
+        f"sigma_Y = {values['sigma_y']:.4g} Pa ({_percent(values['sigma_y'], errors['sigma_y'])})",
+        f"Ca = {values['Ca']:.4g} m/N ({_percent(values['Ca'], errors['Ca'])}), Kc = {values['Kc']:.4g} 1/N "
+        f"({_percent(values['Kc'], errors['Kc'])})",
+        f"Ca_hat = {values['Ca_hat']:.4g} ({_percent(values['Ca_hat'], errors['Ca_hat'])}), Kc_hat = "
+        f"{values['Kc_hat']:.4g} ({_percent(values['Kc_hat'], errors['Kc_hat'])})"
+        + (" (from the master table)" if choice.used == "constrained" else ""),
+        f"first yield: P_Y = {summary['P_Y']:.4g} N, a_Y = {summary['a_Y']:.4g} m, v_Y = {summary['v_Y']:.4g} m/s",
+        f"model: {choice.why}",
+        *([f"note: {result.note}"] if result.note else []),
+        *[("identifiability: " if k == 0 else "  ") + part
+          for k, part in enumerate(result.identifiability["summary"].split("; "))],
+        f"window: {window.describe()} (the data's range; beyond it the constants are an extrapolation)",
+        f"rms residual: {100 * result.rms_residual:.3g} % ("
+        + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()) + ")",
+    ] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []) \
+      + ([f"plot written to {ns.plot}"] if ns.plot else [])
+    print_summary(ns, summary, lines)
+    return 0

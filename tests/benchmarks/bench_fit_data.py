@@ -1,0 +1,82 @@
+"""Benchmark: how well ``nfdcal fit-data`` recovers known parameters from synthetic drop tests.
+
+Not a timed test: prints, over seeded trials, the bias of the estimates (mean estimate / true - 1,
+with the standard error of that mean; target: unbiased within 1 %) and the coverage (the share of
+trials whose true value lies within 2 standard errors of the estimate; target >= 90 %).
+
+Data: the paper's aluminium sphere (E = 70 GPa, nu = 0.3, R = 0.1 m, rho = 2699 kg/m^3), e(v_in)
+from the law itself (nfdmodel.collision_reference, the exact quasi-static restitution), each
+trial with its own noise level drawn from 1..3 % (multiplicative Gaussian on e, a measured
+e capped at 1 as the reader refuses e > 1):
+
+    constrained   sigma_Y = 100 MPa, Ca_hat, Kc_hat of the master table; 12 tests at 2..100 v_Y;
+                  fitted: sigma_Y alone (started by the fit's own scan, no --sigma-y)
+    free          Ca_hat = 0.032, Kc_hat = 0.014 (off the table), sigma_Y = 100 MPa given;
+                  20 tests at 1.5..300 v_Y; fitted: Ca_hat, Kc_hat (and sigma_Y if the
+                  identifiability analysis finds it determined: the last column counts those trials)
+
+Usage: .venv/bin/python tests/benchmarks/bench_fit_data.py [--trials 50] [--seed 1]
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from calib.fit import from_data
+from calib.fit.master_table import MasterTable
+
+ALUMINIUM = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)
+SIGMA_Y = 100e6
+FREE_TRUTH = {"Ca_hat": 0.032, "Kc_hat": 0.014}
+
+
+def synthetic(params, v_over_v_Y, rng) -> tuple[from_data.Measurements, float]:
+    noise = rng.uniform(0.01, 0.03)
+    v = params.pair.v_Y * v_over_v_Y
+    e = from_data.predict_impacts(params, v)["e"]
+    e = np.minimum(e * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
+    return from_data.Measurements(impacts=from_data.ImpactData("synthetic", v, e, None, None,
+                                                               np.arange(1, v.size + 1))), noise
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--trials", type=int, default=50)
+    parser.add_argument("--seed", type=int, default=1)
+    ns = parser.parse_args(argv)
+    table = MasterTable.load()
+    rng = np.random.default_rng(ns.seed)
+    constrained_truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": SIGMA_Y}, table)
+    free_truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": SIGMA_Y, **FREE_TRUTH}, None)
+    records = {("constrained", "sigma_y"): [], ("free", "Ca_hat"): [], ("free", "Kc_hat"): []}
+    sigma_fitted = 0
+    started = time.perf_counter()
+    for _ in range(ns.trials):
+        data, _ = synthetic(constrained_truth, np.geomspace(2.0, 100.0, 12), rng)
+        fit = from_data.fit_constrained(data, ALUMINIUM, table)
+        records[("constrained", "sigma_y")].append((fit.values["sigma_y"], fit.standard_errors["sigma_y"]))
+        data, _ = synthetic(free_truth, np.geomspace(1.5, 300.0, 20), rng)
+        fit = from_data.fit_free(data, ALUMINIUM, SIGMA_Y, None, table)
+        sigma_fitted += "sigma_y" in fit.spec.free
+        for name in FREE_TRUTH:
+            records[("free", name)].append((fit.values[name], fit.standard_errors[name]))
+    truth = {"sigma_y": SIGMA_Y, **FREE_TRUTH}
+    print(f"{ns.trials} trials, seed {ns.seed}, noise 1..3 % on e, {time.perf_counter() - started:.0f} s")
+    print("| model | parameter | true | mean estimate | bias | median relative SE | coverage (2 SE) | sigma_Y fitted |")
+    print("|---|---|---|---|---|---|---|---|")
+    for (model, name), rows in records.items():
+        estimate = np.array([r[0] for r in rows])
+        se = np.array([r[1] for r in rows])
+        true = truth[name]
+        bias = estimate.mean() / true - 1.0
+        bias_se = estimate.std(ddof=1) / np.sqrt(estimate.size) / true
+        coverage = np.mean(np.abs(estimate - true) <= 2.0 * se)
+        print(f"| {model} | {name} | {true:.4g} | {estimate.mean():.4g} | {100 * bias:+.2f} % (+- {100 * bias_se:.2f}) "
+              f"| {100 * np.median(se / estimate):.2f} % | {100 * coverage:.0f} % | "
+              f"{sigma_fitted if model == 'free' else '-'} of {ns.trials} |")
+
+
+if __name__ == "__main__":
+    main()
