@@ -78,6 +78,7 @@ from __future__ import annotations
 import csv
 import math
 import warnings
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -622,9 +623,61 @@ def starting_sigma_y(data: Measurements, specimen: Specimen, table: MasterTable,
 
 def fit_constrained(data: Measurements, specimen: Specimen, table: MasterTable,
                     sigma_y_start: float | None = None) -> FitResult:
-    """sigma_Y alone; Ca_hat, Kc_hat from the master table at (nu, E / sigma_Y)."""
+    """sigma_Y alone; Ca_hat, Kc_hat from the master table at (nu, E / sigma_Y); the standard
+    errors include the table's own uncertainty (:func:`with_table_uncertainty`)."""
     start = starting_sigma_y(data, specimen, table, sigma_y_start)
-    return fit_model(data, specimen, ModelSpec("constrained", ("sigma_y",)), {"sigma_y": start}, table)
+    result = fit_model(data, specimen, ModelSpec("constrained", ("sigma_y",)), {"sigma_y": start}, table)
+    return with_table_uncertainty(result, data, specimen, table)
+
+
+def with_table_uncertainty(result: FitResult, data: Measurements, specimen: Specimen,
+                           table: MasterTable) -> FitResult:
+    """The constrained model's standard errors with the master table's own uncertainty added.
+
+    The table's Ca_hat, Kc_hat carry relative errors eps_c, eps_k (standard uncertainties u_c,
+    u_k: calib.fit.master_table.RELATIVE_UNCERTAINTY, systematic, independent). The fitted
+    ln sigma_Y moves with them by s_c eps_c + s_k eps_k, s_j = -(J_s . J_j) / (J_s . J_s) (the
+    least-squares response, J the weighted residuals' derivatives in ln sigma_Y, ln Ca_hat,
+    ln Kc_hat at the fit). Each reported quantity q (sigma_Y, Ca_hat, Kc_hat, Ca, Kc) then has
+    Var ln q = (dq/d eta)^2 Var_fit(ln sigma_Y) + (dq/d eps_c)^2 u_c^2 + (dq/d eps_k)^2 u_k^2, the
+    derivatives by central differences of the chain eta, eps -> sigma_Y -> table -> q."""
+    from calib.fit.master_table import RELATIVE_UNCERTAINTY
+
+    sizes, scale = data.group_sizes(), result.group_scale
+    log_sigma = math.log(result.values["sigma_y"])
+    table_values = {"Ca_hat": result.values["Ca_hat"], "Kc_hat": result.values["Kc_hat"]}
+
+    def residuals(theta):              # ln sigma_Y, ln Ca_hat, ln Kc_hat, the table bypassed
+        values = dict(zip(("sigma_y", "Ca_hat", "Kc_hat"), np.exp(theta)))
+        groups = data.relative_residuals(law_parameters(specimen, values, None))
+        return np.concatenate([groups[name] / scale[name] for name in sizes])
+
+    centre = np.array([log_sigma, math.log(table_values["Ca_hat"]), math.log(table_values["Kc_hat"])])
+    jac = _jacobian(residuals, centre, centre - 1.0, centre + 1.0)
+    along = float(jac[:, 0] @ jac[:, 0])
+    if not along > 0.0:
+        return result
+    response = -(jac[:, 1:].T @ jac[:, 0]) / along          # s_c, s_k
+
+    def reported(noise):                 # (eta, eps_c, eps_k) -> ln of sigma_Y, Ca_hat, Kc_hat, Ca, Kc
+        sigma_y = math.exp(log_sigma + noise[0] + response @ noise[1:])
+        law = law_parameters(specimen, {"sigma_y": sigma_y}, table)
+        Ca_hat, Kc_hat = law.Ca_hat * math.exp(noise[1]), law.Kc_hat * math.exp(noise[2])
+        law = VZParams.from_dimensionless(law.pair, Ca_hat, Kc_hat)
+        return np.log([sigma_y, Ca_hat, Kc_hat, law.Ca, law.Kc])
+
+    step = 1e-5
+    gradient = np.column_stack([(reported(step * e) - reported(-step * e)) / (2 * step) for e in np.eye(3)])
+    variance = np.array([float(result.covariance_log[0, 0]), RELATIVE_UNCERTAINTY["Ca_hat"] ** 2,
+                         RELATIVE_UNCERTAINTY["Kc_hat"] ** 2])
+    relative = np.sqrt(gradient**2 @ variance)
+    names = ("sigma_y", "Ca_hat", "Kc_hat", "Ca", "Kc")
+    errors = {**result.standard_errors,
+              **{name: float(result.values[name] * r) for name, r in zip(names, relative)}}
+    note = (result.note + " " if result.note else "") + (
+        f"standard errors include the master table's own uncertainty ({100 * RELATIVE_UNCERTAINTY['Ca_hat']:.1f} % "
+        f"Ca_hat, {100 * RELATIVE_UNCERTAINTY['Kc_hat']:.1f} % Kc_hat)")
+    return dataclasses.replace(result, standard_errors=errors, note=note)
 
 
 def joint_relative_se(result: FitResult, data: Measurements, specimen: Specimen) -> dict | None:
