@@ -120,6 +120,30 @@ TABLE_PARAMETERS = {"law": "vz-table", "table": {"P_over_P_Y": [1.0, 10.0, 100.0
                     "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "R": 0.1}}
 
 
+# drop tests of the paper's aluminium sphere (e from the law's energy balance, rounded)
+IMPACT_ROWS = (("0.002", "0.94"), ("0.01", "0.83"), ("0.05", "0.68"), ("0.2", "0.55"))
+CSV_CELLS = ("", "nan", "-1", "0", "1.5", "1e400", "text", "inf", "0.5", "1e-9")
+
+
+@st.composite
+def impacts_text(draw) -> str:
+    """A drop-test CSV (or force-approach data under the same name): the valid one with cells
+    replaced, a column renamed or dropped, rows removed, or truncated now and then."""
+    header = ["v_in", "e"]
+    rows = [list(r) for r in IMPACT_ROWS[:draw(st.integers(1, len(IMPACT_ROWS)))]]
+    for _ in range(draw(st.integers(0, 2))):
+        row = draw(st.integers(0, len(rows) - 1))
+        rows[row][draw(st.integers(0, 1))] = draw(st.sampled_from(CSV_CELLS))
+    if rarely(draw, 8):
+        header[draw(st.integers(0, 1))] = draw(st.sampled_from(("V_in", "e ", "P_max", "approach", "")))
+    if rarely(draw, 8):
+        header, rows = ["approach", "force"], [["1e-6", "10"], ["2e-6", "30"], ["1e-6", "5"], ["5e-7", "0"]]
+    text = "\n".join(",".join(r) for r in [header] + rows) + "\n"
+    if rarely(draw, 10):
+        text = text[:draw(st.integers(0, len(text)))]
+    return text
+
+
 def json_value():
     return st.one_of(st.sampled_from(("1e9", "-1", None, [], {}, True, "nan", 0, -1.0, 1e308, 5e-324)),
                      st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=5))
@@ -164,11 +188,14 @@ COMMANDS = {
     "run": {"SCENE": 1, "--out": 1, "--v-max": 1, "--json": 0, "--quiet": 0, "--list": 0},
     "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},
+    "fit-data": {"--impacts": 1, "--force-approach": 1, "--free": 0, "--table": 1, "--params-out": 1, "--plot": 1,
+                 "--overwrite": 0, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
 }
-REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",)}
+REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",),
+            "fit-data": ("--impacts", "--E", "--nu", "--R", "--rho")}
 FE_COMMANDS = ("calibrate", "hertz", "run", "table")
 LAWS = ("vz", "vz-table", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
-OUTPUT_FLAGS = ("--out", "--params-out", "--master-out")
+OUTPUT_FLAGS = ("--out", "--params-out", "--master-out", "--plot")
 
 
 @dataclass
@@ -191,6 +218,8 @@ def path_value(flag: str):
         return st.sampled_from(("input.json",) * 6 + ("missing.json", "folder", "scene.toml"))
     if flag == "--table":
         return st.sampled_from(("missing.csv", "folder", "input.json", "scene.toml"))
+    if flag in ("--impacts", "--force-approach"):
+        return st.sampled_from(("impacts.csv",) * 6 + ("missing.csv", "folder", "input.json"))
     return st.sampled_from(("scene.toml",) * 6 + ("reference", "steel", "master_grid", "missing.toml",
                                                   "folder", "bogus"))
 
@@ -202,7 +231,7 @@ def flag_values(flag: str, count, hostile: bool):
         return st.lists(st.sampled_from(("radius", "force", "table", "both", "")), min_size=1, max_size=1)
     if flag in ("--accuracy",):
         return st.lists(st.text(max_size=20), min_size=1, max_size=1)
-    if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE"):
+    if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE", "--impacts", "--force-approach"):
         return st.lists(path_value(flag), min_size=1, max_size=1)
     if flag == "--dt":
         return st.lists(st.one_of(st.just("auto"), number_text(flag, hostile)), min_size=1, max_size=1)
@@ -235,7 +264,7 @@ def command_case(draw) -> Case:
     if rarely(draw, 15):                         # an unknown flag or a stray token
         argv.insert(draw(st.integers(1, len(argv))), draw(st.sampled_from(("--bogus", "-x", "extra", "--", "-1e-3"))))
     files = {"input.json": draw(parameter_text()), "scene.toml": draw(scene_text()),
-             "existing.json": "{}\n"}
+             "existing.json": "{}\n", "impacts.csv": draw(impacts_text())}
     return Case(argv=argv, files=files)
 
 
