@@ -188,7 +188,7 @@ COMMANDS = {
     "run": {"SCENE": 1, "--out": 1, "--v-max": 1, "--json": 0, "--quiet": 0, "--list": 0},
     "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},
-    "fit-data": {"--impacts": 1, "--force-approach": 1, "--free": 0, "--table": 1, "--params-out": 1, "--plot": 1,
+    "fit-data": {"--impacts": 1, "--force-approach": 1, "--free": 0, "--pair": 0, "--table": 1, "--params-out": 1, "--plot": 1,
                  "--overwrite": 0, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
 }
 REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",),

@@ -113,6 +113,24 @@ def test_fe_paths_return_the_force_fit(tmp_path, table):
     assert all(fit.identifiability["determined"].values())
 
 
+def test_two_sphere_tests_give_the_material_s_law(tmp_path, capsys, table):
+    """--pair: head-on impacts of two identical spheres (R* = R/2, E* = E/(2(1 - nu^2)),
+    m* = m/2, v_in the relative speed) return sigma_Y, and the parameter file is the same
+    material's sphere on a rigid flat (same sigma_Y, Ca_hat, Kc_hat)."""
+    pair_specimen = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0, two_spheres=True)
+    truth = from_data.law_parameters(pair_specimen, {"sigma_y": 100e6}, table)
+    assert truth.pair.R_star == pytest.approx(0.05)
+    impacts = write_impacts(tmp_path / "pairs.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.01, seed=5))
+    params_out = tmp_path / "p.json"
+    assert main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--pair", "--json",
+                 "--params-out", str(params_out)]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["sigma_y"] == pytest.approx(100e6, rel=0.02) and summary["specimen"]["tested"] == "two identical spheres"
+    params = load_parameters(params_out)
+    assert params.pair.R_star == pytest.approx(0.1) and params.pair.sigma_y == pytest.approx(summary["sigma_y"])
+    assert params.Ca_hat == pytest.approx(summary["Ca_hat"]) and params.Kc_hat == pytest.approx(summary["Kc_hat"])
+
+
 def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     """--params-out writes through the one writer: nfdmodel.load_parameters reads it back, and a
     collision with it gives the fitted law's e; an existing file is refused without --overwrite."""

@@ -36,6 +36,9 @@ def add_parser(subparsers) -> None:
                         help="yield stress [Pa]: the constrained fit's start, the free fit's value when the data "
                              "do not determine it (default: estimated)")
     parser.add_argument("--free", action="store_true", help="use the free model (Ca_hat, Kc_hat fitted)")
+    parser.add_argument("--pair", action="store_true",
+                        help="the tests are head-on impacts (or presses) of two identical spheres, v_in their "
+                             "relative speed (default: a sphere on a massive rigid flat)")
     parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (nfdmodel.load_parameters, nfdcal collide --params)")
@@ -63,7 +66,7 @@ def specimen_from_args(ns):
     sigma_y = number("--sigma-y", ns.sigma_y, None, **MATERIAL_RANGES["sigma_y"])
     if sigma_y is not None:
         check_solid("sigma_y", sigma_y)
-    return Specimen(values["E"], values["nu"], values["R"], values["rho"]), sigma_y
+    return Specimen(values["E"], values["nu"], values["R"], values["rho"], bool(ns.pair)), sigma_y
 
 
 def check_outputs(ns) -> None:
@@ -115,7 +118,8 @@ def summary_of(choice, data, specimen, files) -> dict:
         "residuals": {k: v.tolist() for k, v in result.residuals.items()},
         "fits": fits,
         "files": files,
-        "specimen": {"E": specimen.E, "nu": specimen.nu, "R": specimen.R, "rho": specimen.rho},
+        "specimen": {"E": specimen.E, "nu": specimen.nu, "R": specimen.R, "rho": specimen.rho,
+                     "tested": "two identical spheres" if specimen.two_spheres else "sphere on flat"},
         "units": {"sigma_y": "Pa", "Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_Y": "m/s",
                   "residuals": "relative: (law - measured) / measured; force: / max(|P|, 0.05 x smallest peak)"},
     })
@@ -150,8 +154,11 @@ def run(ns) -> int:
                "standard_errors": {k: summary[f"{k}_se"] for k in ("sigma_y", "Ca", "Kc", "Ca_hat", "Kc_hat")},
                "correlation": summary["correlation"], "aicc": summary["aicc"], "n_points": result.n_points,
                "rms_residual": result.rms_residual}
-        write_parameter_file(ns.params_out, result.params, specimen.R, specimen.material(result.values["sigma_y"]),
-                             fit, output.stamp(time.perf_counter() - started))
+        # a parameter file describes the sphere on a rigid flat: from two-sphere tests, the same material
+        write_parameter_file(ns.params_out, specimen.sphere_flat_params(result.params), specimen.R,
+                             specimen.material(result.values["sigma_y"]),
+                             {**fit, "tested": "two identical spheres" if specimen.two_spheres else "sphere on flat"},
+                             output.stamp(time.perf_counter() - started))
         summary["params_out"] = ns.params_out
     if ns.plot:
         from calib.report.measurements import plot_fit

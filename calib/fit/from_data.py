@@ -262,20 +262,39 @@ def read_force_approach(path) -> ForceApproachData:
 
 @dataclass(frozen=True)
 class Specimen:
-    """What the user knows: E [Pa], nu [-], R [m], rho [kg/m^3] of the sphere (on a rigid flat)."""
+    """What the user knows: E [Pa], nu [-], R [m], rho [kg/m^3] of the sphere, and how it was
+    tested: ``two_spheres`` False, a sphere on a massive rigid flat (R* = R, E* = E/(1 - nu^2),
+    m* = m); True, head-on impacts of two identical spheres (R* = R/2, E* = E/(2(1 - nu^2)),
+    m* = m/2, v_in the relative speed, the approach that of the two centres). The law's
+    dimensionless constants Ca_hat, Kc_hat are the material's either way (a << R)."""
 
     E: float
     nu: float
     R: float
     rho: float
+    two_spheres: bool = False
 
     def material(self, sigma_y: float) -> Material:
         return Material(self.E, self.nu, sigma_y, self.rho)
 
     def pair(self, sigma_y: float) -> ContactPair:
+        """The tested contact pair."""
         with warnings.catch_warnings():          # the radius was checked (and warned about) once
             warnings.simplefilter("ignore", PlausibilityWarning)
-            return ContactPair.sphere_flat(self.material(sigma_y), self.R)
+            material = self.material(sigma_y)
+            if self.two_spheres:
+                return ContactPair.sphere_sphere(material, self.R, material, self.R)
+            return ContactPair.sphere_flat(material, self.R)
+
+    def sphere_flat_params(self, params: VZParams) -> VZParams:
+        """The fitted law for this sphere on a rigid flat (what a parameter file describes): the
+        same sigma_Y, Ca_hat, Kc_hat and window (in P/P_Y), the pair's own P_Y and a_Y."""
+        if not self.two_spheres:
+            return params
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            pair = ContactPair.sphere_flat(self.material(params.pair.sigma_y), self.R)
+        return VZParams.from_dimensionless(pair, params.Ca_hat, params.Kc_hat, params.window)
 
     def sigma_y_bounds(self, model: str, table: MasterTable | None) -> tuple[float, float]:
         """[Pa]: E / sigma_Y inside the master table (constrained) or 20..1e4 (free)."""
