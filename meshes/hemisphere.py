@@ -31,8 +31,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import hashlib
-import json
 import os
 import tempfile
 import threading
@@ -46,6 +44,7 @@ from platformdirs import user_cache_dir
 from skfem import MeshTri2
 
 from calib.output import new_file_mode
+from meshes.keys import stable_key
 
 GENERATOR_VERSION = 2  # bump when the meshing recipe changes: invalidates the cache
 _GMSH_LOCK = threading.Lock()  # gmsh is a process-wide singleton and not thread-safe
@@ -115,9 +114,8 @@ class HemisphereMeshSpec:
         return np.minimum(self.far_size, self.contact_size + self.growth * distance_outside)
 
     def cache_key(self) -> str:
-        payload = json.dumps({"spec": asdict(self), "generator": GENERATOR_VERSION},
-                             sort_keys=True)
-        return hashlib.sha256(payload.encode()).hexdigest()[:16]
+        """The mesh cache's key: a hash of the spec (floats to 12 digits, meshes.keys)."""
+        return stable_key({"spec": asdict(self), "generator": GENERATOR_VERSION})
 
     def describe(self) -> dict:
         """A JSON-able description (for result stamps)."""

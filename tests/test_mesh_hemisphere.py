@@ -96,3 +96,16 @@ def test_cache_reuses_rebuilds_corrupt_and_reports_missing(cache, coarse):
 def test_different_specs_get_different_cache_keys():
     assert COARSE.cache_key() != HemisphereMeshSpec().cache_key()
     assert COARSE.cache_key() == HemisphereMeshSpec(**COARSE.__dict__).cache_key()
+
+
+def test_cache_keys_survive_a_last_digit_change_but_not_a_real_one():
+    """A library upgrade moves computed sizes by an ulp (A_Y's bounded search, numpy's cbrt): the
+    key stays, so finished results stay finished; a change at 1e-9 is another mesh."""
+    from meshes.keys import canonical, stable_key
+
+    h = 0.0001131141190195884
+    spec = HemisphereMeshSpec(contact_size=h)
+    assert HemisphereMeshSpec(contact_size=0.00011311411901958833).cache_key() == spec.cache_key()
+    assert HemisphereMeshSpec(contact_size=h * (1 + 1e-9)).cache_key() != spec.cache_key()
+    assert canonical({"a": (0.1 + 0.2, [1, True, None, "x"])}) == {"a": [0.3, [1, True, None, "x"]]}
+    assert stable_key({"x": 0.3}) == stable_key({"x": 0.1 + 0.2})

@@ -15,8 +15,6 @@ or, with ``scheduler``, a Dask distributed cluster.
 """
 from __future__ import annotations
 
-import hashlib
-import json
 import time
 import traceback
 from dataclasses import asdict
@@ -29,6 +27,7 @@ from calib.fit.recipe import check_fittable
 from calib.scenes.plan import calibration_spec, spec_options
 from calib.scenes.schema import SceneError
 from calib.sweep.runner import cached_result, run_sweep
+from meshes.keys import stable_key
 from nfdmodel import VZParams
 
 TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
@@ -41,7 +40,8 @@ COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a
 
 def task_key(spec, loading_only: bool, v_max: float | None = None) -> str:
     """Hash of what determines a row: E, nu, sigma_Y, R, load plan, mesh, recipe version, and the
-    impact velocity the window must cover (when the load plan comes from it)."""
+    impact velocity the window must cover (when the load plan comes from it); floats to 12
+    digits (meshes.keys), so a library upgrade keeps finished rows finished."""
     m = spec.material
     fields = {"E": m.E, "nu": m.nu, "sigma_y": m.sigma_y, "R": spec.radius,
               "plan": asdict(spec.plan), "mesh": spec.mesh.cache_key(),
@@ -49,8 +49,7 @@ def task_key(spec, loading_only: bool, v_max: float | None = None) -> str:
               "tolerance": spec.residual_tolerance}
     if v_max is not None:               # absent otherwise: the keys of existing rows stay valid
         fields["v_max"] = v_max
-    payload = json.dumps(fields, sort_keys=True)
-    return hashlib.sha256(payload.encode()).hexdigest()[:16]
+    return stable_key(fields)
 
 
 def tasks_for(scene) -> list[dict]:

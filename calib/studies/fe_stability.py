@@ -24,8 +24,6 @@ that change estimates the coarse mesh's error and bounds the fine one's). Column
 """
 from __future__ import annotations
 
-import hashlib
-import json
 import math
 import time
 from pathlib import Path
@@ -34,6 +32,7 @@ from calib import output
 from calib.fit.calibration import calibrate
 from calib.fit.recipe import calibration_spec
 from calib.sweep.runner import run_sweep
+from meshes.keys import stable_key
 from nfdmodel import Material, VZParams
 
 DEFAULT_OUT = output.RESULTS / "stability"
@@ -76,9 +75,8 @@ COLUMNS = ("case", "nu", "E_over_sigma_y", "R", "P_max_over_P_Y", "mesh_ratio", 
 
 def _task(case, mesh_ratio: float) -> dict:
     name, nu, ratio, R, peaks = case
-    key = hashlib.sha256(json.dumps({"case": case, "mesh_ratio": mesh_ratio, "version": VERSION,
-                                     "steps": [LOADING_STEPS, UNLOADING_STEPS]},
-                                    sort_keys=True).encode()).hexdigest()[:16]
+    key = stable_key({"case": case, "mesh_ratio": mesh_ratio, "version": VERSION,
+                      "steps": [LOADING_STEPS, UNLOADING_STEPS]})
     return {"name": name, "nu": nu, "ratio": ratio, "R": R, "peaks": peaks, "mesh_ratio": mesh_ratio,
             "key": key}
 

@@ -9,14 +9,13 @@ estimates the discretisation error (first order in h, results/calibration/mesh_l
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 from pathlib import Path
 
 from calib import output
 from calib.fit.calibration import calibrate, summary
 from calib.fit.recipe import reference_spec
 from calib.sweep.runner import run_sweep
-
+from meshes.keys import stable_key
 
 LADDER_SIZES = (1.6e-4, 8e-5, 4e-5, 2e-5)  # contact element sizes [m]
 
@@ -59,8 +58,9 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = output.RESULTS / "calibrat
         if material is not None:
             spec = dataclasses.replace(spec, material=material)
         # the key covers everything that changes a rung: mesh, material, load plan, tolerance
-        recipe = repr((spec.material, spec.plan, spec.residual_tolerance, spec.contact_radius_method))
-        tasks.append({"key": spec.mesh.cache_key() + "-" + hashlib.sha256(recipe.encode()).hexdigest()[:12],
+        recipe = {"material": dataclasses.asdict(spec.material), "plan": dataclasses.asdict(spec.plan),
+                  "tolerance": spec.residual_tolerance, "radius_method": spec.contact_radius_method}
+        tasks.append({"key": spec.mesh.cache_key() + "-" + stable_key(recipe, 12),
                       "spec": spec, "contact_size": size})
     # one rung at a time: the wall times are part of the result
     rows = run_sweep(tasks, ladder_rung, out / "ladder", mesh_of=lambda task: task["spec"].mesh,

@@ -23,8 +23,6 @@ that keeps the FE data; the laws are refitted and compared from them on every ru
 from __future__ import annotations
 
 import argparse
-import hashlib
-import json
 import sys
 import time
 import warnings
@@ -39,6 +37,7 @@ from calib.fit.impact_window import reach_velocity
 from calib.fit.least_squares import radius_law_data
 from calib.fit.table_fit import fit_tables
 from calib.sweep.runner import run_sweep
+from meshes.keys import stable_key
 from nfdmodel import ContactPair, Material, RangeWarning, VZParams, collide
 
 LOADS_OVER_YIELD = (10.0, 30.0, 100.0, 300.0, 1000.0)
@@ -58,8 +57,7 @@ def material_task(ratio: float) -> dict:
     if len(peaks) < len(LOADS_OVER_YIELD):      # as far as the FE reaches
         peaks += (reach,)
     spec = recipe.calibration_spec(material, RADIUS, peaks=peaks, loading_steps=LOADING_STEPS)
-    key = hashlib.sha256(json.dumps({"ratio": ratio, "peaks": peaks, "mesh": spec.mesh.cache_key(),
-                                     "steps": LOADING_STEPS}, sort_keys=True).encode()).hexdigest()[:16]
+    key = stable_key({"ratio": ratio, "peaks": peaks, "mesh": spec.mesh.cache_key(), "steps": LOADING_STEPS})
     return {"key": key, "E_over_sigma_y": ratio, "spec": spec,
             "unreachable": [k for k in LOADS_OVER_YIELD if k * pair.P_Y > reach * (1 + 1e-9)],
             "reach_over_P_Y": reach / pair.P_Y}
