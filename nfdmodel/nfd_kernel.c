@@ -447,6 +447,12 @@ static double table_solve(const nfd_table *t, double d, double start, int *itera
         z = candidate;
         if (done || high - low <= NFD_TABLE_TOLERANCE * high) break;
     }
+    {   /* one more Newton step inside the bracket (nfdmodel.vz_table: the root to round-off) */
+        double D, dD;
+        table_approach(t, z, &D, &dD);
+        double candidate = z - (D - d) / dD;
+        if ((candidate >= low && candidate <= high) || fabs(candidate - z) <= 1e-9 * z) z = candidate;
+    }
     *iterations = iteration > NFD_TABLE_MAX_ITERATIONS ? NFD_TABLE_MAX_ITERATIONS : iteration;
     return z;
 }

@@ -45,6 +45,7 @@ from .window import CalibrationWindow, check_contact_radius_below_R
 
 NEWTON_TOLERANCE = 1e-12        # relative, on x = P / P_Y
 NEWTON_MAX_ITERATIONS = 100     # never reached: bisection halves the bracket when Newton strays
+POLISH_STEP = 1e-9              # the final Newton step is taken when this small (relative), bracket or not
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(16)
 _SAMPLES_PER_SEGMENT = 64       # admissibility checks: points per table segment
 _LARGEST_LOAD = 1e8             # x beyond which nothing is checked (the law stops at a = R* first)
@@ -280,6 +281,12 @@ class VZTableParams:
             x = candidate
             if done.all() or np.all(high - low <= NEWTON_TOLERANCE * high):
                 break
+        # one more Newton step, kept inside the bracket: every contact ends at its root to round-off,
+        # however many iterations the others needed (so a contact-by-contact kernel gives the same)
+        D, dD = self.scaled_approach(x, derivative=True)
+        candidate = x - (D - d) / dD
+        polish = ((candidate >= low) & (candidate <= high)) | (np.abs(candidate - x) <= POLISH_STEP * x)
+        x = np.where(polish, candidate, x)
         return x, iterations
 
     @cached_property
