@@ -21,12 +21,23 @@ def flags(parser) -> set[str]:
     return {option for action in parser._actions for option in action.option_strings}
 
 
+def actions(parser) -> dict[str, argparse.ArgumentParser]:
+    """A command's own sub-commands (nfdcal lammps build / path), or {} when it has none."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
+
+
 @pytest.mark.parametrize("command", cli.COMMAND_MODULES)
 def test_every_command_has_json_and_writes_to_out(command):
-    options = flags(subparsers()[command])
-    assert "--json" in options
-    if command != "material":          # material writes only the file --params-out names
-        assert "--out" in options
+    parser = subparsers()[command]
+    for name, each in (actions(parser) or {command: parser}).items():
+        options = flags(each)
+        assert "--json" in options, name
+        # material writes only the file --params-out names; lammps path only prints a path
+        if name not in ("material", "path"):
+            assert "--out" in options, name
 
 
 def test_one_name_per_meaning_across_commands():
