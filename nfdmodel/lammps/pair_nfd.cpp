@@ -462,8 +462,8 @@ class PairNfd : public Pair {
                 if (status == NFD_NOT_FINITE)
                     error->one(FLERR, fmt::format("pair_style {}: the force of the contact of atoms {} and {} is not a "
                                                   "finite number (overlap {:.6g} m)", name(), tag[i], tag[j], delta));
-                if (status == NFD_BEYOND_WINDOW && h.P_max <= p.window_P_max && (j < nlocal || tag[i] < tag[j])) {
-                    ++beyond_count;            // counted once: when it first leaves, by one rank
+                if (status == NFD_BEYOND_WINDOW && (j < nlocal || tag[i] < tag[j])) {   // one rank per contact
+                    if (h.P_max <= p.window_P_max) ++beyond_count;      // counted when it first leaves
                     const double load = next.P_max / p.P_Y;
                     if (load > beyond_largest) {
                         beyond_largest = load;
