@@ -12,6 +12,11 @@
 #include <string.h>
 
 #define NFD_PI 3.14159265358979323846
+#ifdef __cplusplus                   /* C++ callers (the LAMMPS plugin) include this source */
+#define NFD_RESTRICT __restrict
+#else
+#define NFD_RESTRICT restrict
+#endif
 #define NFD_TOLERANCE 1e-10          /* relative, on P, of the vz plastic-loading solve       */
 #define NFD_MAX_ITERATIONS 200       /* never reached: the bracket halves at worst every other */
 
@@ -270,8 +275,8 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
 #if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-int nfd_vz_load(size_t n, const nfd_params *params, const double *restrict delta, double *restrict a_e_max,
-                double *restrict P_max, double *restrict delta_res, double *restrict K_u)
+int nfd_vz_load(size_t n, const nfd_params *params, const double *NFD_RESTRICT delta, double *NFD_RESTRICT a_e_max,
+                double *NFD_RESTRICT P_max, double *NFD_RESTRICT delta_res, double *NFD_RESTRICT K_u)
 {
     const nfd_params local = *params;     /* not aliased by the outputs: the loops vectorise */
     const nfd_params *p = &local;

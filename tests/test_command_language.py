@@ -21,12 +21,23 @@ def flags(parser) -> set[str]:
     return {option for action in parser._actions for option in action.option_strings}
 
 
+def actions(parser) -> dict[str, argparse.ArgumentParser]:
+    """A command's own sub-commands (nfdcal lammps build / path), or {} when it has none."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return dict(action.choices)
+    return {}
+
+
 @pytest.mark.parametrize("command", cli.COMMAND_MODULES)
 def test_every_command_has_json_and_writes_to_out(command):
-    options = flags(subparsers()[command.replace("_", "-")])     # module fit_data: command fit-data
-    assert "--json" in options
-    if command not in ("material", "fit_data"):   # these write only the files --params-out (--plot) name
-        assert "--out" in options
+    parser = subparsers()[command.replace("_", "-")]     # module fit_data: command fit-data
+    for name, each in (actions(parser) or {command: parser}).items():
+        options = flags(each)
+        assert "--json" in options, name
+        # material and fit-data write only the files --params-out (--plot) name; lammps path prints a path
+        if name not in ("material", "fit_data", "path"):
+            assert "--out" in options, name
 
 
 def test_one_name_per_meaning_across_commands():

