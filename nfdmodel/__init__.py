@@ -10,24 +10,23 @@ Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_sta
 ``law.commit(state, update)`` (in place, for a caller that owns its history);
 :func:`collide` simulates sphere-on-flat impacts (:mod:`nfdmodel.collision`); SI units throughout.
 """
+from . import reference_case
 from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
                         collision_reference)
 from .hertz import hertz_force, hertz_step
-from .history import (HertzState, HistoryUpdate, ThorntonState, TurningPointHistory, VZState,
-                      WaltonBraunState)
+from .history import HertzState, HistoryUpdate, ThorntonState, TurningPointHistory, VZState, WaltonBraunState
+from .materials import ContactPair, Material, yield_factor
+from .native import backend, backend_info
+from .parameter_file import load_parameters, parameter_record
 from .parameters import VZParams, WaltonBraunParams
 from .registry import LAWS, ContactDetails, ContactLaw, get_law
 from .thornton import thornton_force, thornton_step
+from .validation import PlausibilityWarning, check_real
 from .vz import vz_force, vz_force_with_iterations, vz_newton_iterations, vz_step
 from .vz_curve import NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, vz_plastic_force
-from .walton_braun import walton_braun_force, walton_braun_step
-from . import reference_case
-from .materials import ContactPair, Material, yield_factor
-from .validation import PlausibilityWarning, check_real
-from .parameter_file import load_parameters, parameter_record
-from .window import CalibrationWindow, RangeWarning
 from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_step
-from .native import backend, backend_info
+from .walton_braun import walton_braun_force, walton_braun_step
+from .window import CalibrationWindow, RangeWarning
 
 __all__ = [
     "Material", "ContactPair", "yield_factor", "VZParams", "WaltonBraunParams", "get_law", "LAWS",

@@ -21,8 +21,8 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import reference_case
-from .validation import LARGEST_POSSIBLE_RADIUS, LARGEST_USUAL_RADIUS, PlausibilityWarning, check_real, check_solid, unit_slip
-
+from .validation import (LARGEST_POSSIBLE_RADIUS, LARGEST_USUAL_RADIUS, PlausibilityWarning, check_real, check_solid,
+                         unit_slip)
 
 
 def axis_stress_difference(zeta, nu: float):

@@ -243,8 +243,12 @@ static inline int vz_status(const nfd_params *p, double P, double a_e)
     return P > p->window_P_max ? NFD_BEYOND_WINDOW : NFD_OK;
 }
 
-int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out,
-                int *iterations)
+/* The branches vz and vz_table share: a non-finite approach, unloading or reloading below the
+ * turning point, Hertz loading below first yield. Returns their status, or PLASTIC_LOADING when
+ * the contact loads beyond first yield and the law's own solve must run. */
+#define PLASTIC_LOADING 100
+static int elastic_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out,
+                        int *iterations)
 {
     if (iterations) *iterations = 0;
     if (!isfinite(delta)) return NFD_NOT_FINITE;
@@ -258,6 +262,14 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
         *force = out->P_max;
         return isfinite(out->P_max) ? NFD_OK : NFD_NOT_FINITE;
     }
+    return PLASTIC_LOADING;
+}
+
+int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out,
+                int *iterations)
+{
+    int status = elastic_step(delta, p, h, force, out, iterations);
+    if (status != PLASTIC_LOADING) return status;
     /* c1 = (3 R* / (4 E*))^(1/3) / Ca, as VZParams.c1; a_e = u c1 Ca */
     double start = h->a_e_max / (p->c1 * p->Ca);
     double u;
@@ -472,18 +484,8 @@ double nfd_vz_table_radius(const nfd_params *p, const nfd_table *t, double P)
 int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
                       nfd_history *out, int *iterations)
 {
-    if (iterations) *iterations = 0;
-    if (!isfinite(delta)) return NFD_NOT_FINITE;
-    if (!(delta > h->delta_max)) {                  /* unloading or reloading */
-        *force = unloading(delta, h, 1);
-        *out = *h;
-        return NFD_OK;
-    }
-    if (!(delta > p->delta_Y)) {                    /* Hertz below first yield */
-        vz_hertz_turning_point(delta, p, out);
-        *force = out->P_max;
-        return isfinite(out->P_max) ? NFD_OK : NFD_NOT_FINITE;
-    }
+    int status = elastic_step(delta, p, h, force, out, iterations);
+    if (status != PLASTIC_LOADING) return status;
     double start = h->P_max / p->P_Y;
     int count = 0;
     double z = table_solve(t, delta / p->delta_Y, start > 1.0 ? start : 1.0, &count);

@@ -16,10 +16,10 @@ import math
 import warnings
 from pathlib import Path
 
-from .parameters import VZParams
-from .vz_table import VZTableParams
 from .materials import ContactPair, Material
+from .parameters import VZParams
 from .validation import PlausibilityWarning
+from .vz_table import VZTableParams
 from .window import CalibrationWindow, RangeWarning
 
 _CONSISTENCY = 1e-4

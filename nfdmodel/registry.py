@@ -29,14 +29,14 @@ from typing import Callable
 import numpy as np
 
 from .hertz import hertz_force, hertz_step, hertz_work
-from .history import (HertzState, HistoryUpdate, ThorntonState, VZState, WaltonBraunState, apply_update,
-                      check_state, check_update, contact_count)
+from .history import (HertzState, HistoryUpdate, ThorntonState, VZState, WaltonBraunState, apply_update, check_state,
+                      check_update, contact_count)
 from .parameters import VZParams, as_pair
 from .thornton import TINY, thornton_force, thornton_loading_work, thornton_step
 from .vz import vz_force, vz_step
 from .vz_curve import vz_loading_work
-from .walton_braun import walton_braun_force, walton_braun_params, walton_braun_step
 from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_loading_work, vz_table_step
+from .walton_braun import walton_braun_force, walton_braun_params, walton_braun_step
 from .window import warn_beyond_window
 
 

@@ -18,6 +18,7 @@ delta_res = delta_max - a_e,max^2 / (C_Rmax R*). Every function takes the law's 
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 NEWTON_TOLERANCE = 1e-10        # relative tolerance on P of the vz plastic-loading solve

@@ -37,6 +37,7 @@ from hypothesis import strategies as st
 
 from calib import cli
 
+
 # ----------------------------------------------------------------------------- values
 def rarely(draw, one_in: int) -> bool:
     """True once in ``one_in`` draws. Not ``integers(0, n) == 0``: hypothesis favours the

@@ -6,12 +6,12 @@ import json
 import numpy as np
 import pytest
 
-from calib.fit import calibration, recipe
-from calib.report import calibration as calibration_report
 from calib.cli import main
 from calib.fe import ContactSolver
 from calib.fe.loadpath import separation_approach
 from calib.fe.von_mises import VonMisesMaterial
+from calib.fit import calibration, recipe
+from calib.report import calibration as calibration_report
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 from nfdmodel import ContactPair, Material, load_parameters, reference_case
 

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from calib.cli import main
-from calib.fit import from_data
+from calib.fit import from_data, measured_data
 from calib.fit.master_table import MasterTable
 from nfdmodel import collide, load_parameters
 
@@ -37,7 +37,7 @@ def drop_tests(params, v_over_v_Y, noise, seed, P_max_noise=None) -> from_data.M
     exact = from_data.predict_impacts(params, v)
     e = np.minimum(exact["e"] * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
     P_max = None if P_max_noise is None else exact["P_max"] * (1.0 + P_max_noise * rng.standard_normal(v.size))
-    return from_data.Measurements(impacts=from_data.ImpactData("synthetic.csv", v, e, P_max, None,
+    return from_data.Measurements(impacts=measured_data.ImpactData("synthetic.csv", v, e, P_max, None,
                                                                np.arange(1, v.size + 1)))
 
 
@@ -101,7 +101,7 @@ def test_fe_paths_return_the_force_fit(tmp_path, table):
     is exactly what fit-data does with a force-approach curve. sigma_Y is held at the given
     100 MPa because the identifiability analysis finds that these paths do not determine it together
     with Ca_hat and Kc_hat (tested below); the law's Ca and Kc in SI units they do determine."""
-    data = from_data.Measurements(forces=from_data.read_force_approach(fe_paths_csv(tmp_path / "fe.csv")))
+    data = from_data.Measurements(forces=measured_data.read_force_approach(fe_paths_csv(tmp_path / "fe.csv")))
     assert data.forces.n_points == 147 and data.forces.force_floor == pytest.approx(25.0)
     fit = from_data.fit_free(data, ALUMINIUM, 100e6, None, table)
     reference = json.loads((ROOT / "results" / "calibration" / "calibration.json").read_text())
@@ -237,6 +237,6 @@ def test_output_that_is_a_folder_is_refused_before_work(tmp_path, capsys):
 def test_repeats_and_optional_columns_are_read(tmp_path):
     path = tmp_path / "drops.csv"
     path.write_text("# lab 3\nv_in,e,P_max,contact_time\n0.01,0.9,120,\n0.01,0.91,,\n0.05,0.7,800,1e-4\n")
-    data = from_data.read_impacts(path)
+    data = measured_data.read_impacts(path)
     assert data.v_in.tolist() == [0.01, 0.01, 0.05] and data.n_points == 3 + 2 + 1
     assert math.isnan(data.P_max[1]) and data.rows.tolist() == [1, 2, 3]

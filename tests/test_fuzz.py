@@ -4,9 +4,8 @@ the output paths, or a hang. Thousands more: tests/benchmarks/fuzz_cli.py."""
 import tempfile
 from pathlib import Path
 
-from hypothesis import HealthCheck, given, settings
-
 from fuzzing import command_case, run_case
+from hypothesis import HealthCheck, given, settings
 
 CASES = 250
 

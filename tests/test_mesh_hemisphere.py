@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from meshes.hemisphere import (HemisphereMeshSpec, hemisphere_mesh, load_msh, mesh_path)
+from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh, load_msh, mesh_path
 
 COARSE = HemisphereMeshSpec(radius=0.1, contact_size=2e-4, refined_radius=2e-3,
                             refined_depth=1e-3, far_size=2e-2, growth=0.3)

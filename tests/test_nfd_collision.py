@@ -4,8 +4,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from nfdmodel import ContactPair, Material, VZParams, collide, collision_reference
-from nfdmodel import WaltonBraunParams
+from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, collide, collision_reference
 
 REF = VZParams.reference()
 PAIR = REF.pair

@@ -8,9 +8,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from nfdmodel import (ContactPair, Material, VZParams, WaltonBraunParams, get_law,
-                      vz_newton_iterations)
-from nfdmodel import reference
+from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, get_law, reference, vz_newton_iterations
 from nfdmodel.history import ThorntonState, VZState
 
 REF = VZParams.reference()

@@ -1,7 +1,6 @@
 """Runtime model on extreme inputs: regressions for the failures the stability grid found, and the
 stability report itself (calib.studies.runtime_stability, `nfdcal stability`)."""
 import json
-
 import subprocess
 import sys
 import warnings
@@ -10,9 +9,7 @@ import numpy as np
 import pytest
 
 import nfdmodel
-
-from nfdmodel import (ContactPair, Material, TimeStepWarning, VZParams, collide, collision_reference,
-                      get_law)
+from nfdmodel import ContactPair, Material, TimeStepWarning, VZParams, collide, collision_reference, get_law
 from nfdmodel.parameters import vz_largest_admissible_Kc
 
 REF = VZParams.reference()

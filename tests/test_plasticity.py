@@ -13,15 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from calib.fe.material import elastic_matrix
-from calib.fe.von_mises import (
-    YIELD_TOLERANCE,
-    PlasticState,
-    VonMisesMaterial,
-    equivalent_plastic_strain_increment,
-    radial_return,
-    von_mises_stress,
-    yielded_points,
-)
+from calib.fe.von_mises import (YIELD_TOLERANCE, PlasticState, VonMisesMaterial, equivalent_plastic_strain_increment,
+                                radial_return, von_mises_stress, yielded_points)
 
 # The reference case: aluminium (E 70 GPa, nu 0.3, sigma_Y 100 MPa).
 E, NU, SIGMA_Y = 70e9, 0.3, 100e6

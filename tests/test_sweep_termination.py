@@ -8,7 +8,6 @@ import time
 from pathlib import Path
 
 import pytest
-
 from conftest import TINY_GRID_SCENE
 
 # ~10 s per material: longer than the checks below

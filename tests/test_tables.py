@@ -3,13 +3,12 @@ without recomputation, and the master table with ``nfdcal material``."""
 import json
 
 import pytest
-
-from calib import cli, scenes
-import calib.fit.calibration
-from calib.scenes import table as tables
-from calib.fit.master_table import MasterTable
-
 from conftest import TINY_GRID_SCENE
+
+import calib.fit.calibration
+from calib import cli, scenes
+from calib.fit.master_table import MasterTable
+from calib.scenes import table as tables
 
 COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
 

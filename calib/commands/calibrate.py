@@ -16,9 +16,8 @@ from __future__ import annotations
 
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
-from nfdmodel import CalibrationWindow
+from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
-from nfdmodel import reference_case
 
 
 def add_parser(subparsers) -> None:

@@ -132,7 +132,7 @@ def _percent(value, error) -> str:
 
 def run(ns) -> int:
     from calib import output
-    from calib.fit import from_data
+    from calib.fit import from_data, measured_data
     from calib.fit.master_table import MasterTable
 
     started = time.perf_counter()
@@ -142,8 +142,8 @@ def run(ns) -> int:
     check_outputs(ns)
     table = MasterTable.load(ns.table)
     data = from_data.Measurements(
-        impacts=from_data.read_impacts(ns.impacts) if ns.impacts else None,
-        forces=from_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
+        impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
+        forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
     choice = from_data.fit_measurements(data, specimen, table, "free" if ns.free else "constrained", sigma_y)
     result = choice.result
     summary = summary_of(choice, data, specimen, data.files)

@@ -14,7 +14,8 @@ peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 """
 from __future__ import annotations
 
-from calib.commands.common import add_material_arguments, add_summary_arguments, material_from_args, number, print_summary
+from calib.commands.common import (add_material_arguments, add_summary_arguments, material_from_args, number,
+                                   print_summary)
 from nfdmodel import reference_case
 
 DEFAULT_OUT = "results/hertz"

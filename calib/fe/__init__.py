@@ -9,13 +9,13 @@ tie, contact candidates), ``state`` (states and step records), ``active_set``, `
 Import the public names from ``calib.fe``.
 """
 from calib.fe.elastic import ElasticMaterial
+from calib.fe.loadpath import (LoadPathPlan, LoadPathResults, PathResult, advance, plastic_zone, run_load_path,
+                               run_load_paths)
 from calib.fe.material import Material, elastic_matrix, lame_constants
 from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_pressure
 from calib.fe.solver import ContactSolver
 from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult
 from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
-from calib.fe.loadpath import (LoadPathPlan, LoadPathResults, PathResult, advance, plastic_zone,
-                              run_load_path, run_load_paths)
 
 __all__ = ["ContactSolver", "ContactState", "StepNotConverged", "StepRecord", "StepResult",
            "contact_radius_from_gap", "contact_radius_from_pressure", "run_load_path",

@@ -56,14 +56,14 @@ from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, quadrature_strain, to_form_layout
 from calib.fe.dofs import contact_dofs
 from calib.fe.forms import internal_force, tangent_stiffness
+from calib.fe.linsolve import METHODS as LINEAR_SOLVERS
+from calib.fe.linsolve import factorize
 from calib.fe.material import Material
-from calib.fe.linsolve import METHODS as LINEAR_SOLVERS, factorize
 from calib.fe.newton import solve_newton
-from calib.fe.recovery import (CONTACT_RADIUS_METHODS, contact_radius_from_gap,
-                               contact_radius_from_pressure, lumped_contact_pressure)
+from calib.fe.recovery import (CONTACT_RADIUS_METHODS, contact_radius_from_gap, contact_radius_from_pressure,
+                               lumped_contact_pressure)
 from calib.fe.rescue import rescue_step
-from calib.fe.state import (ContactState, StepNotConverged, StepRecord, StepResult,
-                            displacement_rate, radius_exponents)
+from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult, displacement_rate, radius_exponents
 from nfdmodel import check_real
 
 

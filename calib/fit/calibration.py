@@ -33,8 +33,8 @@ from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, f
                                      radius_law_data, relative_force_residuals, window_study)
 from calib.fit.recipe import CalibrationSpec, check_fittable
 from calib.fit.table_fit import fit_tables
-from meshes.hemisphere import hemisphere_mesh
 from calib.output import git_commit
+from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, VZTableParams, get_law
 
 

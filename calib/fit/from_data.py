@@ -75,10 +75,9 @@ without the correction over-fits.
 """
 from __future__ import annotations
 
-import csv
+import dataclasses
 import math
 import warnings
-import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -87,18 +86,13 @@ from scipy import optimize
 
 from calib.fit.calibration import drive_law
 from calib.fit.master_table import MasterTable
-from nfdmodel import CalibrationWindow, ContactPair, Material, PlausibilityWarning, RangeWarning, VZParams
-from nfdmodel import collision_reference
-from nfdmodel.validation import check_solid
+from calib.fit.measured_data import ForceApproachData, ImpactData
+from nfdmodel import (CalibrationWindow, ContactPair, Material, PlausibilityWarning, RangeWarning, VZParams,
+                      collision_reference)
 
-IMPACT_COLUMNS = {"v_in": "m/s", "e": "-"}
-IMPACT_OPTIONAL = {"P_max": "N", "contact_time": "s"}
-FORCE_COLUMNS = {"approach": "m", "force": "N"}
-FORCE_OPTIONAL = {"test": "label"}
 MODELS = ("constrained", "free")
 DETERMINED_RELATIVE_SE = 0.10   # a parameter is determined by the data when its relative SE <= 10 %
 AICC_MARGIN = 2.0               # the free model must beat the constrained one's AICc by more than this
-FORCE_FLOOR_FRACTION = 0.05     # P_floor = this x the smallest test's peak force (the FE force fit's)
 # log-space bounds: E / sigma_Y as the FE calibration accepts it (20..1e4; the constrained model:
 # the master table's 50..5000); the dimensionless constants around the FE's 0.024-0.034, 0.010-0.016
 E_OVER_SIGMA_Y_RANGE = (20.0, 1e4)
@@ -106,156 +100,6 @@ BOUNDS = {"Ca_hat": (1e-3, 1.0), "Kc_hat": (1e-5, 1.0)}
 SUGGESTED_WINDOWS = ((1.2, 3.0), (3.0, 10.0), (10.0, 30.0), (30.0, 100.0), (100.0, 300.0), (1.5, 300.0))
 TESTS_PER_SUGGESTED_WINDOW = 10
 _PENALTY = 10.0                 # residual of an inadmissible trial point (the step is rejected)
-
-
-# ---------------------------------------------------------------- reading and validating the data
-
-@dataclass(frozen=True)
-class ImpactData:
-    """Drop tests: v_in [m/s], e [-]; P_max [N] and contact_time [s] with NaN where a test did not
-    measure them (None when the file has no such column); ``rows``: each test's data row number."""
-
-    path: str
-    v_in: np.ndarray
-    e: np.ndarray
-    P_max: np.ndarray | None
-    contact_time: np.ndarray | None
-    rows: np.ndarray
-
-    @property
-    def n_points(self) -> int:
-        return int(self.e.size + sum(int(np.isfinite(x).sum()) for x in (self.P_max, self.contact_time)
-                                     if x is not None))
-
-
-@dataclass(frozen=True)
-class ForceApproachData:
-    """Quasi-static force-approach histories: one (label, approach [m], force [N]) per test."""
-
-    path: str
-    tests: tuple
-
-    @property
-    def n_points(self) -> int:
-        return int(sum(approach.size for _, approach, _ in self.tests))
-
-    @property
-    def force_floor(self) -> float:
-        """P_floor [N] = 0.05 x the smallest test's peak force (module doc)."""
-        return FORCE_FLOOR_FRACTION * min(float(np.max(force)) for _, _, force in self.tests)
-
-
-def _read_rows(path, what: str, required: dict, optional: dict) -> tuple[list[str], list[tuple[int, int, list[str]]]]:
-    """(header, [(data row number, line number, fields)]) of a CSV; ValueError naming the file and
-    what is wrong (missing file, not text, no header, missing or unknown column, ragged row)."""
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"{what} file not found: {path}")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except UnicodeDecodeError:
-        raise ValueError(f"{what} file {path}: not a text (UTF-8) CSV file") from None
-    lines = [(number, line) for number, line in enumerate(text.splitlines(), start=1)
-             if line.strip() and not line.lstrip().startswith("#")]
-    allowed = ", ".join([f"{k} [{u}]" for k, u in required.items()] + [f"{k} [{u}] (optional)"
-                                                                        for k, u in optional.items()])
-    if not lines:
-        raise ValueError(f"{what} file {path}: no header line (need the columns {allowed})")
-    parsed = list(csv.reader([line for _, line in lines]))
-    header = [name.strip() for name in parsed[0]]
-    unknown = [name for name in header if name not in required and name not in optional]
-    if unknown:
-        raise ValueError(f"{what} file {path}: unknown column(s) {', '.join(map(repr, unknown))} (line "
-                         f"{lines[0][0]}); allowed: {allowed}")
-    missing = [name for name in required if name not in header]
-    if missing:
-        raise ValueError(f"{what} file {path}: missing column(s) {', '.join(map(repr, missing))} (line "
-                         f"{lines[0][0]}); need {allowed}")
-    doubled = sorted({name for name in header if header.count(name) > 1})
-    if doubled:
-        raise ValueError(f"{what} file {path}: column(s) {', '.join(map(repr, doubled))} appear twice")
-    rows = []
-    for row, ((line, _), fields) in enumerate(zip(lines[1:], parsed[1:]), start=1):
-        if len(fields) != len(header):
-            raise ValueError(f"{what} file {path}: row {row} (line {line}): {len(fields)} field(s), the "
-                             f"header has {len(header)}")
-        rows.append((row, line, [f.strip() for f in fields]))
-    return header, rows
-
-
-def _cell(path, what, row, line, column, text, unit, low, high=None, low_inclusive=False,
-          optional=False) -> float:
-    """One numeric cell: a finite float in its range, NaN for an empty optional cell; else a
-    ValueError naming the file, the row, the line and the column."""
-    where = f"{what} file {path}: row {row} (line {line}), column {column!r}"
-    if text == "" and optional:
-        return math.nan
-    try:
-        value = float(text)
-    except ValueError:
-        raise ValueError(f"{where}: not a number: {text!r}") from None
-    bounds = (f"{column} {'>=' if low_inclusive else '>'} {low:g}" if low is not None else "") + \
-             (f" and {column} <= {high:g}" if high is not None else "")
-    unit = "" if unit == "-" else f" {unit}"
-    if not math.isfinite(value):
-        raise ValueError(f"{where}: must be a finite number ({bounds}{unit}), got {text!r}")
-    if (low is not None and (value < low or (value == low and not low_inclusive))) or \
-            (high is not None and value > high):
-        raise ValueError(f"{where}: out of range: need {bounds}{unit}, got {value:g}")
-    return value
-
-
-def read_impacts(path) -> ImpactData:
-    """The drop tests of ``path`` (module doc: columns v_in, e; optional P_max, contact_time)."""
-    what = "impacts"
-    header, rows = _read_rows(path, what, IMPACT_COLUMNS, IMPACT_OPTIONAL)
-    if not rows:
-        raise ValueError(f"{what} file {path}: no data rows")
-    index = {name: header.index(name) for name in header}
-    ranges = {"v_in": ("m/s", 0.0, None), "e": ("-", 0.0, 1.0), "P_max": ("N", 0.0, None),
-              "contact_time": ("s", 0.0, None)}
-    values = {name: [] for name in header}
-    for row, line, fields in rows:
-        for name in header:
-            unit, low, high = ranges[name]
-            value = _cell(path, what, row, line, name, fields[index[name]], unit, low, high,
-                          optional=name in IMPACT_OPTIONAL)
-            if name == "v_in":
-                try:
-                    check_solid("v_in", value)
-                except ValueError as exc:
-                    raise ValueError(f"{what} file {path}: row {row} (line {line}), column 'v_in': {exc}") from None
-            values[name].append(value)
-    arrays = {name: np.asarray(v, dtype=float) for name, v in values.items()}
-    return ImpactData(str(path), arrays["v_in"], arrays["e"], arrays.get("P_max"), arrays.get("contact_time"),
-                      np.array([row for row, _, _ in rows]))
-
-
-def read_force_approach(path) -> ForceApproachData:
-    """The force-approach histories of ``path`` (module doc: columns approach, force; optional test)."""
-    what = "force-approach"
-    header, rows = _read_rows(path, what, FORCE_COLUMNS, FORCE_OPTIONAL)
-    if not rows:
-        raise ValueError(f"{what} file {path}: no data rows")
-    index = {name: header.index(name) for name in header}
-    tests: dict[str, list] = {}
-    for row, line, fields in rows:
-        label = fields[index["test"]] if "test" in index else ""
-        if "test" in index and label == "":
-            raise ValueError(f"{what} file {path}: row {row} (line {line}), column 'test': empty label "
-                             f"(rows with the same label are one test)")
-        approach = _cell(path, what, row, line, "approach", fields[index["approach"]], "m", None)
-        force = _cell(path, what, row, line, "force", fields[index["force"]], "N", None)
-        tests.setdefault(label, []).append((row, approach, force))
-    out = []
-    for label, points in tests.items():
-        approach = np.array([a for _, a, _ in points])
-        force = np.array([f for _, _, f in points])
-        if not force.max() > 0.0:
-            raise ValueError(f"{what} file {path}: test {label or '(the only one)'} (rows {points[0][0]}.."
-                             f"{points[-1][0]}), column 'force': no positive force, nothing to fit")
-        out.append((label, approach, force))
-    return ForceApproachData(str(path), tuple(out))
 
 
 # ---------------------------------------------------------------- the specimen and the law

@@ -49,9 +49,8 @@ from pathlib import Path
 import numpy as np
 
 from calib.output import RESULTS, stamp, stamp_comment, write_csv, write_json
-from nfdmodel import (NEWTON_MAX_ITERATIONS, ContactPair, Material,
-                      TimeStepWarning, VZParams, collide, collision_reference,
-                      get_law, native, vz_newton_iterations)
+from nfdmodel import (NEWTON_MAX_ITERATIONS, ContactPair, Material, TimeStepWarning, VZParams, collide,
+                      collision_reference, get_law, native, vz_newton_iterations)
 
 DEFAULT_OUT = RESULTS / "stability"
 CSV_NAME = "runtime_stability.csv"

@@ -695,18 +695,16 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
     record.author = "nfdcal";
     record.handle = handle;
     record.style = "pair";
-    record.name = "nfd/vz";
-    record.info = "nfdcal: Vu-Quoc & Zhang elastoplastic normal contact, FE-calibrated (nfd_kernel.c)";
-    record.creator.v1 = &create_vz;
-    record_style(&record, lmp);
-    record.name = "nfd/hertz";
-    record.info = "nfdcal: Hertz normal contact (nfd_kernel.c)";
-    record.creator.v1 = &create_hertz;
-    record_style(&record, lmp);
-    record.name = "nfd/thornton";
-    record.info = "nfdcal: Thornton (1997) elastoplastic normal contact (nfd_kernel.c)";
-    record.creator.v1 = &create_thornton;
-    record_style(&record, lmp);
+    const struct { const char *name, *info; decltype(record.creator.v1) create; } pair_styles[] = {
+        {"nfd/vz", "nfdcal: Vu-Quoc & Zhang elastoplastic normal contact, FE-calibrated (nfd_kernel.c)", &create_vz},
+        {"nfd/hertz", "nfdcal: Hertz normal contact (nfd_kernel.c)", &create_hertz},
+        {"nfd/thornton", "nfdcal: Thornton (1997) elastoplastic normal contact (nfd_kernel.c)", &create_thornton}};
+    for (const auto &style : pair_styles) {
+        record.name = style.name;
+        record.info = style.info;
+        record.creator.v1 = style.create;
+        record_style(&record, lmp);
+    }
     record.style = "fix";
     record.name = "nfd/history";
     record.info = "nfdcal: contact history of pair_style nfd/* (internal)";

@@ -10,15 +10,14 @@ from __future__ import annotations
 
 import time
 
-
 TARGET_S = 60.0
 
 
 def main() -> None:
-    from calib.fit.calibration import calibrate
-    from calib.fit.recipe import reference_spec
     from calib.fe import ContactSolver
     from calib.fe.elastic import ElasticMaterial
+    from calib.fit.calibration import calibrate
+    from calib.fit.recipe import reference_spec
     from meshes.hemisphere import hemisphere_mesh
 
     spec = reference_spec()

@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from calib.fit import from_data
+from calib.fit import from_data, measured_data
 from calib.fit.master_table import MasterTable
 
 ALUMINIUM = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)
@@ -37,7 +37,7 @@ def synthetic(params, v_over_v_Y, rng) -> tuple[from_data.Measurements, float]:
     v = params.pair.v_Y * v_over_v_Y
     e = from_data.predict_impacts(params, v)["e"]
     e = np.minimum(e * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
-    return from_data.Measurements(impacts=from_data.ImpactData("synthetic", v, e, None, None,
+    return from_data.Measurements(impacts=measured_data.ImpactData("synthetic", v, e, None, None,
                                                                np.arange(1, v.size + 1))), noise
 
 

@@ -5,7 +5,7 @@
 1. Force evaluation for N contacts with random histories, `vz` against Hertz in the same run, on
    both backends (the compiled kernel "native" and the numpy reference; nfdmodel.backend).
    Baselines: numpy's fastest Hertz, k d sqrt(d) in three array operations, and the native
-   `hertz` law. Targets (issue 13): native vz step <= 1.5x numpy's k d sqrt(d) and <= 2x native
+   `hertz` law. Targets: native vz step <= 1.5x numpy's k d sqrt(d) and <= 2x native
    hertz. Histories: turning points delta_max log-uniform in [2, 100] delta_Y
    (every contact has yielded). Then one DEM-like step: a fraction f of the contacts loads
    beyond its turning point by a relative increment uniform in (0, 1e-3] (plastic loading: a

@@ -20,10 +20,10 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # tests/: the fuzzer's grammar
 
+from fuzzing import command_case, run_case  # noqa: E402
 from hypothesis import HealthCheck, given, seed, settings  # noqa: E402
 
 from calib import output  # noqa: E402
-from fuzzing import command_case, run_case  # noqa: E402
 
 
 def main(argv=None) -> int:
