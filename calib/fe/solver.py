@@ -53,9 +53,10 @@ import numpy as np
 from skfem import Basis, ElementTriP2, ElementVector, asm
 
 from calib.fe.active_set import next_active_set, predict_active_set
-from calib.fe.axisym import quadrature_radius, quadrature_strain, to_form_layout
+from calib.fe.axisym import quadrature_radius, to_form_layout
 from calib.fe.dofs import contact_dofs
-from calib.fe.forms import internal_force, tangent_stiffness
+from calib.fe.element_arrays import ElementArrays
+from calib.fe.forms import tangent_stiffness
 from calib.fe.linsolve import METHODS as LINEAR_SOLVERS
 from calib.fe.linsolve import factorize
 from calib.fe.material import Material
@@ -123,6 +124,7 @@ class ContactSolver:
         self.node_r, self.node_z, self.r_dof, self.z_dof = dofs.node_r, dofs.node_z, dofs.r_dof, dofs.z_dof
         self.T, self.TT, self.plate, self.n_q = dofs.T, dofs.TT, dofs.plate, dofs.n_q
         self.top_z_dof = dofs.top_z_dof
+        self.elements = ElementArrays(self.basis, self.T)   # B, weights, the fixed K_q pattern
         self.candidate_nodes, self.candidate_r = dofs.candidate_nodes, dofs.candidate_r
         self.candidate_z0, self.candidate_q = dofs.candidate_z0, dofs.candidate_q
         self.candidate_weight = dofs.candidate_weight
@@ -131,7 +133,7 @@ class ContactSolver:
         self.stiffness_scale = float(getattr(material, "E", 1.0)) * self.radius  # [N/m]
         # [N]: a force far below any of interest (E R^2 is the body's natural force unit)
         self.force_floor = 1e-14 * self.stiffness_scale * self.radius
-        self._K_q = None  # linear materials: the constant tangent in q-space
+        self._K_q = None  # the elastic tangent in q-space (on self.elements' pattern)
         self._factor_cache: OrderedDict = OrderedDict()
         self._last_free, self._last_factor = None, None  # nonlinear: reuse the symbolic analysis
         self.factorization_count = 0
@@ -153,7 +155,7 @@ class ContactSolver:
 
     def strain(self, displacement) -> np.ndarray:
         """Strain at the quadrature points, (E, Q, 4) [-]."""
-        return quadrature_strain(self.basis, displacement, self.r_qp)
+        return self.elements.strain(displacement)
 
     def stress(self, state: ContactState) -> np.ndarray:
         """Stress of a state at the quadrature points, (E, Q, 4) [Pa] (pure)."""
@@ -181,15 +183,11 @@ class ContactSolver:
         if not inelastic.any():
             return f_int, lambda: K_q, stress, trial
         elements = np.flatnonzero(inelastic)
-        plastic_basis = Basis(self.basis.mesh, self.basis.elem, intorder=self.quadrature_order,
-                              elements=elements)
-        f_int = f_int + asm(internal_force, plastic_basis,
-                            stress=to_form_layout(stress_correction[elements]))
+        f_int = f_int + self.elements.internal_force(stress_correction[elements], elements)
 
         def tangent():
-            K = asm(tangent_stiffness, plastic_basis,
-                    tangent=to_form_layout(tangent_correction[elements]))
-            return K_q + (self.TT @ K @ self.T).tocsr()
+            data = K_q.data + self.elements.stiffness_data(tangent_correction[elements], elements)
+            return self.elements.matrix(data)
 
         return f_int, tangent, stress, trial
 
@@ -212,7 +210,7 @@ class ContactSolver:
             self._elastic_D = np.array(tangent[0, 0])  # (4, 4): homogeneous material
             self._K_full = asm(tangent_stiffness, self.basis,
                                tangent=to_form_layout(tangent)).tocsr()
-            self._K_q = (self.TT @ self._K_full @ self.T).tocsr()
+            self._K_q = self.elements.matrix(self.elements.stiffness_data(tangent, slice(None)))
         return self._K_q
 
     def factor(self, K_q, free, key):
@@ -220,7 +218,7 @@ class ContactSolver:
         if key is not None and key in self._factor_cache:
             self._factor_cache.move_to_end(key)
             return self._factor_cache[key], 0
-        matrix = K_q[free][:, free]
+        matrix = self.elements.restricted(K_q.data, free)   # K_q[free][:, free]
         free_bytes = free.tobytes()
         if key is None and self._last_free == free_bytes and self._last_factor.update(matrix):
             # same constraints, same pattern (Newton iterations of one active set): numeric
