@@ -4,6 +4,8 @@ Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m},
      "window": {"P_min_over_P_Y": -, "P_max_over_P_Y": -, "a_max_over_R": -, "source": text}, ...}
+Written by a calibration, also the estimated relative discretisation errors (``ERROR_KEYS``:
+numbers >= 0, or null for one mesh) and how they were obtained ("discretisation").
 Only law, Ca, Kc and material are needed; a file without "window" (written before windows were
 recorded) is read with the default recipe's window, 1..41.2 P_Y, and a RangeWarning saying so; any other key must be one of ``KEYS`` (a typo is named,
 never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
@@ -23,9 +25,14 @@ from .vz_table import VZTableParams
 from .window import CalibrationWindow, RangeWarning
 
 _CONSISTENCY = 1e-4
+# the estimated relative discretisation errors of the FE calibration (two meshes, Richardson
+# extrapolation; null for a one-mesh calibration): each a number >= 0 [-] or null
+ERROR_KEYS = ("Ca_rel_error_estimate", "Kc_rel_error_estimate", "Ca_hat_rel_error_estimate",
+              "Kc_hat_rel_error_estimate", "table_rel_error_estimate", "e_rel_error_estimate",
+              "alpha_rel_error_estimate")
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
 KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "material", "window", "units",
-        "fit", "fe_errors", "mesh", "stamp")
+        "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation",)
 TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 
@@ -72,6 +79,11 @@ def load_parameters(path) -> VZParams | VZTableParams:
     if not isinstance(data, dict):
         raise ValueError(f"parameter file {path}: expected a JSON object at the top level")
     _check_keys(path, data, KEYS, "")
+    for key in ERROR_KEYS:
+        value = data.get(key)
+        if value is not None and (not isinstance(value, (int, float)) or isinstance(value, bool)
+                                  or not math.isfinite(value) or value < 0):
+            raise ValueError(f"parameter file {path}: {key} must be a number >= 0 or null, got {value!r}")
     law = data.get("law", "vz")
     if law not in ("vz", "vz-table"):
         raise ValueError(f"parameter file {path}: law must be 'vz' or 'vz-table', got {law!r}")

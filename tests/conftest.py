@@ -47,7 +47,7 @@ def coarse_calibration():
     spec = recipe.reference_spec(contact_size=COARSE.contact_size)
     spec = dataclasses.replace(spec, plan=LoadPathPlan(peaks=(500.0, 1000.0), loading_step=125.0,
                                                        unloading_steps=8, first_load=20.0))
-    return calibration.calibrate(spec)
+    return calibration.calibrate(spec, meshes=1)
 
 
 # a small grid scene for the sweep tests: coarse meshes, the loading branch only

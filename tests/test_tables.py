@@ -166,7 +166,7 @@ def fe_over_table(nu, ratio):
     material = Material(ratio * 100e6, nu, 100e6, 2700.0)
     spec = recipe.calibration_spec(material, 0.1, peaks_over_yield=(13.7, 27.4, 41.2),
                                    level="coarse", loading_steps=48)
-    params = calibration.calibrate(spec, unload=False).params
+    params = calibration.calibrate(spec, unload=False, meshes=1).params
     Ca_hat, Kc_hat = MasterTable.load().lookup(nu, ratio)
     return params.Ca_hat / Ca_hat, params.Kc_hat / Kc_hat
 

@@ -41,7 +41,9 @@ def run(ns) -> int:
                                              values["Kc_hat"], CalibrationWindow.from_record(values["window"]))
         write_parameter_file(ns.params_out, params, radius, material,
                              {"shipped": "master table", "accuracy": values["accuracy"],
-                              "table": values["table"]}, output.stamp(0.0))
+                              "table": values["table"]}, output.stamp(0.0),
+                             Ca_rel_error_estimate=values["Ca_rel_error_estimate"],
+                             Kc_rel_error_estimate=values["Kc_rel_error_estimate"])
         values["params_out"] = ns.params_out
     print_summary(ns, values, [
         f"Ca = {values['Ca']:.4g} m/N, Kc = {values['Kc']:.4g} 1/N (Ca_hat = {values['Ca_hat']:.4g}, "

@@ -11,7 +11,10 @@ Vu-Quoc & Zhang (1999), sections 2-3 (README, The model: The NFD law on loading;
   4. fit the vz-table law's tables (calib.fit.table_fit) to the FE loading curve and the work
      each unloading returned: the law for windows beyond two constants;
   5. drive nfdmodel's vz, vz-table, thornton and hertz laws along the FE approach histories and
-     compare.
+     compare;
+  6. repeat 1-4 on a second mesh (contact element 2h, on another process while the first runs)
+     and ship the Richardson-extrapolated constants with their estimated discretisation error
+     (calib.fit.extrapolation).
 The parameter file written from the result is read by ``nfdmodel.load_parameters``, so the
 shipped runtime law is exactly the calibrated one.
 """
@@ -29,11 +32,14 @@ from calib.fe import ContactSolver
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.loadpath import LoadPathResults, run_load_paths
 from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
+from calib.fit import extrapolation
+from calib.fit.extrapolation import Estimate
 from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
                                      radius_law_data, relative_force_residuals, window_study)
-from calib.fit.recipe import CalibrationSpec, check_fittable
+from calib.fit.recipe import CalibrationSpec, check_fittable, coarse_spec
 from calib.fit.table_fit import fit_tables
 from calib.output import git_commit
+from calib.sweep.runner import in_background
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, VZTableParams, get_law
 
@@ -81,14 +87,33 @@ class CalibrationResult:
     timings: dict = field(default_factory=dict)
     solver: object = field(default=None, repr=False)  # the FE solver (for VTU output)
     radius_fit_force_error: dict = field(default_factory=dict)  # the force-fit metric, for the radius fit
+    mesh_pair: dict | None = None     # the second mesh (calib.fit.extrapolation): None for one mesh
+
+    def fitted_constants(self, fit: str) -> tuple[float, float]:
+        """(Ca [m/N], Kc [1/N]) of this mesh's radius or force fit."""
+        if fit == "force":
+            return self.force_fit.Ca, self.force_fit.Kc
+        return self.radius_fit.Ca.slope, self.radius_fit.Kc.slope
+
+    def constants(self, fit: str) -> dict[str, Estimate] | None:
+        """Ca and Kc of the radius or force fit from both meshes (extrapolated, with their error
+        estimates), or None for a one-mesh calibration."""
+        if self.mesh_pair is None or self.mesh_pair[f"{fit}_fit"] is None:
+            return None
+        coarse = self.mesh_pair[f"{fit}_fit"]
+        fine = self.fitted_constants(fit)
+        return {name: extrapolation.richardson(fine[k], coarse[k]) for k, name in enumerate(("Ca", "Kc"))}
 
     @property
     def params(self) -> VZParams:
         """The two-constant law's parameters (the force fit when that is shipped, else the radius
-        fit), with the window they were fitted on."""
-        if self.shipped == "force":
-            return VZParams(self.spec.pair, self.force_fit.Ca, self.force_fit.Kc, self.fitted_window)
-        return VZParams(self.spec.pair, self.radius_fit.Ca.slope, self.radius_fit.Kc.slope, self.fitted_window)
+        fit; extrapolated from both meshes when there are two), with the window they were
+        fitted on."""
+        fit = "force" if self.shipped == "force" else "radius"
+        estimates = self.constants(fit)
+        Ca, Kc = ((estimates["Ca"].value, estimates["Kc"].value) if estimates is not None
+                  else self.fitted_constants(fit))
+        return VZParams(self.spec.pair, Ca, Kc, self.fitted_window)
 
     @cached_property
     def table_params(self) -> VZTableParams | None:
@@ -100,11 +125,45 @@ class CalibrationResult:
         except ValueError:
             return None
 
-    def fit_table(self) -> VZTableParams:
-        """:attr:`table_params`, or the ValueError saying why the FE paths determine none."""
+    def fine_table(self) -> VZTableParams:
+        """The vz-table law of this mesh alone (ValueError when its FE paths determine none)."""
         paths = self.load_paths.paths
         return fit_tables(self.radius_data, self.spec.pair, [p.peak for p in paths],
                           [p.unloading_work for p in paths], self.fitted_window)
+
+    def fit_table(self) -> VZTableParams:
+        """:attr:`table_params`, or the ValueError saying why the FE paths determine none: the
+        node values extrapolated from both meshes where the coarse mesh has a table on the same
+        nodes and the result is admissible, else this mesh's."""
+        table = self.fine_table()
+        coarse = None if self.mesh_pair is None else self.mesh_pair.get("table")
+        if coarse is None or not np.allclose(coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):
+            return table
+        f, _ = extrapolation.extrapolated_table(table.f, coarse["a_p_over_a_Y"])
+        g, _ = extrapolation.extrapolated_table(table.g, coarse["C_R"])
+        try:
+            return VZTableParams(self.spec.pair, table.x, f, g, table.window)
+        except ValueError:              # an inadmissible extrapolation: this mesh's table ships
+            return table
+
+    def table_rel_error_estimate(self) -> float | None:
+        """The largest estimated relative error over the table's nodes (a_p/a_Y and C_R), or None."""
+        coarse = None if self.mesh_pair is None else self.mesh_pair.get("table")
+        table = self.table_params
+        if coarse is None or table is None or not np.allclose(coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):
+            return None
+        fine = self.fine_table()
+        return max(extrapolation.extrapolated_table(fine.f, coarse["a_p_over_a_Y"])[1],
+                   extrapolation.extrapolated_table(fine.g, coarse["C_R"])[1])
+
+    def path_estimates(self) -> list[dict[str, Estimate]] | None:
+        """e and alpha_max of each load path from both meshes (not extrapolated: the fine mesh's,
+        the change as the error estimate), or None for one mesh."""
+        if self.mesh_pair is None:
+            return None
+        return [{"e": extrapolation.unextrapolated(path.restitution, coarse["e"]),
+                 "alpha_max": extrapolation.unextrapolated(path.alpha_max, coarse["alpha_max"])}
+                for path, coarse in zip(self.load_paths.paths, self.mesh_pair["paths"])]
 
     @property
     def shipped_params(self) -> VZParams | VZTableParams:
@@ -154,20 +213,60 @@ def _path_history(path) -> tuple[np.ndarray, np.ndarray]:
 SHIPPABLE = ("radius", "force", "table")   # the paper's two constants, fitted to the radius or the force; the tables
 
 
+MESH_COUNTS = (1, 2)   # one mesh (studies of the FE itself), or two and Richardson extrapolation
+
+
 def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = None,
-              ship: str = "radius", unload: bool = True) -> CalibrationResult:
+              ship: str = "radius", unload: bool = True, meshes: int = 2,
+              parallel: bool = True) -> CalibrationResult:
     """Run the FE load paths of ``spec`` and fit the NFD parameters (see module docstring).
 
     ``unload=False``: the loading branch only (about half the FE steps): the radius fit (which
     uses only loading points) and no force fit, model comparison or restitution.
+    ``meshes=2`` (default): also solve the mesh with contact element 2h (calib.fit.recipe.
+    coarse_spec) on another process when ``parallel`` and the machine allow, and ship the
+    extrapolated constants (calib.fit.extrapolation); ``meshes=1``: this mesh's constants only.
     """
 
     if ship not in SHIPPABLE:
         raise ValueError(f"ship must be one of {', '.join(map(repr, SHIPPABLE))}, got {ship!r}")
     if ship in ("force", "table") and not unload:
         raise ValueError(f"ship = {ship!r} fits the load-unload paths: it needs unload=True")
+    if meshes not in MESH_COUNTS:
+        raise ValueError(f"meshes must be 1 or 2, got {meshes!r}")
     check_fittable(spec)                # before the mesh: a plan that cannot be fitted costs nothing
     say = progress or (lambda message: None)
+    t0 = time.perf_counter()
+    if meshes == 1:
+        result = calibrate_mesh(spec, say, unload)
+    else:
+        coarse = coarse_spec(spec)
+        hemisphere_mesh(spec.mesh)      # gmsh is a process-wide singleton: both meshes are built
+        hemisphere_mesh(coarse.mesh)    # here, the other process only reads the cache
+        say(f"second mesh: contact element {coarse.mesh.contact_size:.3g} m (Richardson extrapolation)")
+        with in_background(mesh_figures_of, {"spec": coarse, "unload": unload}, parallel) as coarse_figures:
+            result = calibrate_mesh(spec, say, unload)
+            result.mesh_pair = coarse_figures()
+        estimates = result.constants("radius")
+        extrapolation.warn_if_not_asymptotic(estimates, (spec.mesh.contact_size, coarse.mesh.contact_size))
+    result.shipped = ship
+    compare_models(result)
+    if ship == "table":
+        try:
+            result.fit_table()
+        except ValueError as exc:
+            raise ValueError(f"ship = 'table': {exc}") from None
+    result.wall_time_s = time.perf_counter() - t0
+    result.timings["fit_s"] = (result.wall_time_s - result.timings["mesh_s"] - result.timings["first_yield_s"]
+                               - result.timings["load_paths_s"])
+    if result.mesh_pair is not None:
+        result.timings["second_mesh_s"] = result.mesh_pair["wall_time_s"]
+    return result
+
+
+def calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool) -> CalibrationResult:
+    """Steps 1-3 of the module docstring on the mesh of ``spec``: FE load paths, the radius fit and
+    (``unload``) the force fit; no model comparison, no second mesh."""
     t0 = time.perf_counter()
     hemisphere = hemisphere_mesh(spec.mesh)
     t_mesh = time.perf_counter() - t0
@@ -191,9 +290,10 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
     radius_fit = fit_radius_law(data)
     window = window_study(data)
 
-    histories = [_path_history(p) for p in paths.paths]
     force_fit, radius_fit_force_error = None, {}
     if unload:
+        histories = [_path_history(p) for p in paths.paths]
+
         def predict_force(approach, Ca, Kc):
             return drive_law("vz", VZParams(pair, Ca, Kc), approach)[0]
 
@@ -206,40 +306,73 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
                                   "max_relative_force_error": float(np.abs(residuals).max())}
     result = CalibrationResult(spec=spec, P_Y=pair.P_Y, P_Y_fe=P_Y_fe, load_paths=paths,
                                radius_data=data, radius_fit=radius_fit, window=window,
-                               force_fit=force_fit, shipped=ship, comparisons={}, solver=solver,
+                               force_fit=force_fit, shipped="radius", comparisons={}, solver=solver,
                                radius_fit_force_error=radius_fit_force_error,
                                mesh_info={**spec.mesh.describe(), "elements": int(hemisphere.mesh.nelements),
                                           "dofs": int(solver.n_dofs)})
-    for path, (approach, force) in zip(paths.paths, histories):
-        comparisons = []
-        other_fit = "force" if ship == "radius" else "radius"
-        other_params = (VZParams(pair, force_fit.Ca, force_fit.Kc) if other_fit == "force"
-                        else VZParams(pair, radius_fit.Ca.slope, radius_fit.Kc.slope))
+    result.wall_time_s = time.perf_counter() - t0
+    result.timings = {"mesh_s": t_mesh, "first_yield_s": t_yield, "load_paths_s": paths.wall_time_s,
+                      "factorizations": paths.factorizations}
+    return result
+
+
+def mesh_figures(result: CalibrationResult) -> dict:
+    """What the extrapolation needs of one mesh's calibration (picklable, JSON-able): its mesh,
+    wall time [s], both fits' (Ca [m/N], Kc [1/N]), the vz-table law's nodes, e and alpha_max [m]
+    of each path."""
+    try:
+        table = result.fine_table()
+        table = {"P_over_P_Y": list(table.x), "a_p_over_a_Y": list(table.f), "C_R": list(table.g)}
+    except ValueError:
+        table = None
+    return {"contact_size": result.spec.mesh.contact_size, "dofs": result.mesh_info["dofs"],
+            "elements": result.mesh_info["elements"], "wall_time_s": result.wall_time_s,
+            "factorizations": result.timings["factorizations"], "P_Y_fe": result.P_Y_fe,
+            "radius_fit": list(result.fitted_constants("radius")),
+            "force_fit": None if result.force_fit is None else list(result.fitted_constants("force")),
+            "table": table,
+            "paths": [{"P_max": p.peak, "e": p.restitution, "alpha_max": p.alpha_max} for p in result.load_paths.paths]}
+
+
+def mesh_figures_of(task: dict) -> dict:
+    """:func:`mesh_figures` of ``calibrate_mesh(task["spec"])`` (module level: it runs on another
+    process)."""
+    return mesh_figures(calibrate_mesh(task["spec"], lambda message: None, task["unload"]))
+
+
+def compare_models(result: CalibrationResult) -> None:
+    """Step 5: the shipped law, the other fit, the vz-table law, Thornton and Hertz driven along
+    each FE path's approach history (``result.comparisons``)."""
+    pair = result.spec.pair
+    result.__dict__.pop("table_params", None)    # the second mesh may have changed it
+    result.comparisons = {}
+    for path in result.load_paths.paths:
+        approach, force = _path_history(path)
+        other_fit = "force" if result.shipped == "radius" else "radius"
+        other = result.constants(other_fit)
+        other_params = VZParams(pair, *((other["Ca"].value, other["Kc"].value) if other is not None
+                                        else result.fitted_constants(other_fit)))
         models = [("vz", "vz", result.params), (f"vz ({other_fit} fit)", "vz", other_params)]
         if result.table_params is not None:
             models.append(("vz-table", "vz-table", result.table_params))
+        comparisons = []
         for label, law_name, params in models + [("thornton", "thornton", pair), ("hertz", "hertz", pair)]:
             law_force, e = drive_law(law_name, params, approach)
             comparisons.append(ModelComparison(label, law_force, e,
                                                float(np.abs(law_force - force).max() / path.peak)))
         result.comparisons[path.peak] = comparisons
-    if ship == "table":
-        try:
-            result.fit_table()
-        except ValueError as exc:
-            raise ValueError(f"ship = 'table': {exc}") from None
-    result.wall_time_s = time.perf_counter() - t0
-    result.timings = {"mesh_s": t_mesh, "first_yield_s": t_yield, "load_paths_s": paths.wall_time_s,
-                      "factorizations": paths.factorizations,
-                      "fit_s": result.wall_time_s - t_mesh - t_yield - paths.wall_time_s}
-    return result
 
 
 def summary(result: CalibrationResult) -> dict:
-    """The ``nfdcal calibrate --json`` object (SI units)."""
+    """The ``nfdcal calibrate --json`` object (SI units). Ca, Kc, Ca_hat, Kc_hat: the shipped
+    two-constant law (extrapolated from two meshes), with ``*_rel_error_estimate`` its estimated
+    relative discretisation error (None for a one-mesh calibration); ``radius_fit``/``force_fit``:
+    the fits on the first (finer) mesh."""
     params = result.params
+    errors = discretisation_errors(result)
     return {
         "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
+        **errors,
         "P_Y": result.P_Y, "P_Y_fe": result.P_Y_fe,
         "P_Y_fe_rel_error": result.P_Y_fe / result.P_Y - 1.0,
         "window": params.window.record(),
@@ -260,7 +393,45 @@ def summary(result: CalibrationResult) -> dict:
                    "alpha_residual": p.alpha_residual,
                    "P_max_reached": max(r["P"] for r in p.rows),
                    "steps": len(p.rows),
+                   **({} if result.mesh_pair is None else
+                      {"e_rel_error_estimate": estimates["e"].rel_error_estimate,
+                       "alpha_max_rel_error_estimate": estimates["alpha_max"].rel_error_estimate}),
                    "models": {c.law: {"e": c.restitution, "max_force_error_rel": c.max_force_error}
                               for c in result.comparisons[p.peak]}}
-                  for p in result.load_paths.paths],
+                  for p, estimates in zip(result.load_paths.paths,
+                                          result.path_estimates() or [None] * len(result.load_paths.paths))],
     }
+
+
+def discretisation_errors(result: CalibrationResult) -> dict:
+    """The estimated relative discretisation errors of what a calibration ships (the keys of
+    ``nfdcal calibrate --json``, the parameter file and the tables), and the meshes they come
+    from; the errors are None for a one-mesh calibration."""
+    fit = "force" if result.shipped == "force" else "radius"
+    constants = result.constants(fit)
+    paths = result.path_estimates()
+    errors = {"Ca_rel_error_estimate": None, "Kc_rel_error_estimate": None, "e_rel_error_estimate": None,
+              "alpha_rel_error_estimate": None, "table_rel_error_estimate": result.table_rel_error_estimate()}
+    if constants is not None:
+        errors["Ca_rel_error_estimate"] = constants["Ca"].rel_error_estimate
+        errors["Kc_rel_error_estimate"] = constants["Kc"].rel_error_estimate
+    if paths:
+        errors["e_rel_error_estimate"] = max(p["e"].rel_error_estimate for p in paths)
+        errors["alpha_rel_error_estimate"] = max(p["alpha_max"].rel_error_estimate for p in paths)
+    errors["Ca_hat_rel_error_estimate"] = errors["Ca_rel_error_estimate"]   # exact scalings of Ca, Kc
+    errors["Kc_hat_rel_error_estimate"] = errors["Kc_rel_error_estimate"]
+    pair = result.mesh_pair
+    errors["discretisation"] = {
+        "meshes": 1 if pair is None else 2,
+        "contact_sizes": [result.spec.mesh.contact_size] + ([] if pair is None else [pair["contact_size"]]),
+        "dofs": [result.mesh_info["dofs"]] + ([] if pair is None else [pair["dofs"]]),
+        "method": ("one mesh: no estimate" if pair is None else
+                   f"Richardson extrapolation of Ca, Kc (and the vz-table nodes) from contact elements h and "
+                   f"{extrapolation.REFINEMENT:g}h, order {extrapolation.ORDER:g}; error estimate: its sensitivity "
+                   f"to the order +-{extrapolation.ORDER_SPREAD:g}; e and alpha: the finer mesh's, the change as "
+                   f"the estimate"),
+        "extrapolated": None if constants is None else {name: e.extrapolated for name, e in constants.items()},
+        "Ca": None if constants is None else constants["Ca"].record(),
+        "Kc": None if constants is None else constants["Kc"].record(),
+        "second_mesh_wall_time_s": None if pair is None else pair["wall_time_s"]}
+    return errors

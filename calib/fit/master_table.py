@@ -33,6 +33,7 @@ DATA_DIR = Path(__file__).resolve().parent.parent / "data"   # calib/data: shipp
 DEFAULT_TABLE = DATA_DIR / "master_table.csv"
 AXES = ("nu", "E_over_sigma_y")
 VALUES = ("Ca_hat", "Kc_hat")
+ERRORS = ("Ca_hat_rel_error_estimate", "Kc_hat_rel_error_estimate")   # per node, optional columns
 
 
 def read_rows(path: str | Path) -> list[dict]:
@@ -62,6 +63,7 @@ class MasterTable:
     Kc_hat: np.ndarray
     meta: dict = field(default_factory=dict)
     path: Path | None = None
+    errors: dict = field(default_factory=dict)   # ERRORS -> (len(nu), len(E_over_sigma_y)), when the table has them
 
     @classmethod
     def from_rows(cls, rows: list[dict], meta: dict | None = None, path: Path | None = None) -> "MasterTable":
@@ -85,7 +87,25 @@ class MasterTable:
         if nu.size < 2 or ratio.size < 2:
             raise ValueError(f"master table{where}: need at least 2 values of nu and of E/sigma_Y, "
                              f"got {nu.size} x {ratio.size}")
-        return cls(nu, ratio, values["Ca_hat"], values["Kc_hat"], meta or {}, path)
+        errors = {}
+        for key in ERRORS:              # the nodes' discretisation error estimates (two-mesh tables)
+            if key in rows[0]:
+                grid = np.full((nu.size, ratio.size), np.nan)
+                for r in rows:
+                    v = r[key]
+                    grid[np.searchsorted(nu, float(r["nu"])), np.searchsorted(ratio, float(r["E_over_sigma_y"]))] = \
+                        float(v) if isinstance(v, float) and math.isfinite(v) and v >= 0 else np.nan
+                if not np.isnan(grid).any():
+                    errors[key] = grid
+        return cls(nu, ratio, values["Ca_hat"], values["Kc_hat"], meta or {}, path, errors)
+
+    def node_error_estimates(self, nu: float, E_over_sigma_y: float) -> dict:
+        """The largest estimated relative discretisation error of the (up to four) grid nodes
+        around (nu, E / sigma_Y), per constant, or {} for a table without them."""
+        self._check(nu, E_over_sigma_y)
+        i = np.clip(np.searchsorted(self.nu, nu), 1, self.nu.size - 1)
+        j = np.clip(np.searchsorted(self.E_over_sigma_y, E_over_sigma_y), 1, self.E_over_sigma_y.size - 1)
+        return {key: float(grid[i - 1:i + 1, j - 1:j + 1].max()) for key, grid in self.errors.items()}
 
     @classmethod
     def load(cls, path: str | Path | None = None) -> "MasterTable":
@@ -131,13 +151,18 @@ class MasterTable:
                                  f"{P_max_over_P_Y:g} P_Y, a/R* of the law at the top")
 
     def parameters(self, E: float, nu: float, sigma_y: float, R: float, rho: float = 2700.0) -> dict:
-        """Ca, Kc [SI] and the dimensionless values of a sphere (E, nu, sigma_Y, R) on a rigid flat."""
+        """Ca, Kc [SI] and the dimensionless values of a sphere (E, nu, sigma_Y, R) on a rigid flat;
+        ``*_rel_error_estimate``: the surrounding nodes' largest discretisation error estimate
+        (None for a table without them; the interpolation's own error is in ``accuracy``)."""
 
         material = Material(E, nu, sigma_y, rho)
         pair = ContactPair.sphere_flat(material, R)
         Ca_hat, Kc_hat = self.lookup(float(nu), float(E) / float(sigma_y))
         params = VZParams.from_dimensionless(pair, Ca_hat, Kc_hat, self.window_for(pair, Ca_hat, Kc_hat))
+        nodes = self.node_error_estimates(float(nu), float(E) / float(sigma_y))
         return {"Ca": params.Ca, "Kc": params.Kc, "Ca_hat": Ca_hat, "Kc_hat": Kc_hat,
+                "Ca_rel_error_estimate": nodes.get("Ca_hat_rel_error_estimate"),
+                "Kc_rel_error_estimate": nodes.get("Kc_hat_rel_error_estimate"),
                 "window": params.window.record(),
                 "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
                 "E_over_sigma_y": float(E) / float(sigma_y),

@@ -275,6 +275,19 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
                                              unloading_steps=unloading_steps, first_load=first_load))
 
 
+def coarse_spec(spec: CalibrationSpec, ratio: float | None = None) -> CalibrationSpec:
+    """The second mesh of a calibration (calib.fit.extrapolation): the same material, load plan and
+    refined zone (at least two elements wide and deep) with the contact element ``ratio`` x h
+    (default REFINEMENT = 2)."""
+    from calib.fit.extrapolation import REFINEMENT
+
+    h = spec.mesh.contact_size * (ratio or REFINEMENT)
+    mesh = dataclasses.replace(spec.mesh, contact_size=h, refined_radius=max(spec.mesh.refined_radius, 2 * h),
+                               refined_depth=max(spec.mesh.refined_depth, 2 * h),
+                               far_size=max(spec.mesh.far_size, h))   # at least two elements, as mesh_for
+    return dataclasses.replace(spec, mesh=mesh)
+
+
 def reference_spec(level: str | None = None, contact_size: float | None = None) -> CalibrationSpec:
     """The paper's case: aluminium R = 0.1 m (E = 70 GPa, nu = 0.3, sigma_Y = 100 MPa,
     rho = 2699 kg/m^3), paths ABC, ADE, AFG (P_max = 500, 1000, 1500 N)."""

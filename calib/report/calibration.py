@@ -22,6 +22,7 @@ from calib import output
 from calib.fe.von_mises import von_mises_stress
 from calib.fit.calibration import CalibrationResult, summary
 from nfdmodel import parameter_record, reference_case
+from nfdmodel.parameter_file import ERROR_KEYS
 
 DEFAULT_OUT = output.RESULTS / "calibration"
 
@@ -63,8 +64,10 @@ def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -
     fe_errors = {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
                  "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
                            for p in s["paths"]]}
+    errors = {key: s[key] for key in ERROR_KEYS}
     return write_parameter_file(path, result.shipped_params, result.spec.radius, result.spec.material, fit,
-                                stamp, fe_errors=fe_errors, mesh=result.mesh_info)
+                                stamp, **errors, discretisation=s["discretisation"], fe_errors=fe_errors,
+                                mesh=result.mesh_info)
 
 
 def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None:

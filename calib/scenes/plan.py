@@ -1,6 +1,8 @@
 """The plan of a scene: FE specs per material and stage, mesh size and run-time estimates (--dry-run)."""
 from __future__ import annotations
 
+import os
+
 from dataclasses import asdict, dataclass
 
 import meshio
@@ -106,12 +108,20 @@ def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool
     n_load = len(spec.plan.loading_targets())
     n_unload = spec.plan.unloading_steps * len(spec.plan.peaks) if unload else 0
     steps = n_load + n_unload + (3 if calibrate else 0)
+    seconds = steps * step_seconds(dofs) / (3 if elastic else 1)
+    second = ""
+    if calibrate:                       # the second mesh of the extrapolation (calib.fit.extrapolation)
+        coarse = recipe.coarse_spec(spec)
+        coarse_dofs, _ = mesh_dofs(coarse.mesh)
+        coarse_seconds = steps * step_seconds(coarse_dofs)
+        parallel = (os.cpu_count() or 1) >= 2
+        seconds = max(seconds, coarse_seconds) if parallel else seconds + coarse_seconds
+        second = f"; second mesh h = {coarse.mesh.contact_size:.3g} m (~{coarse_dofs} dofs)"
     return PlannedStage("calibration" if calibrate else "load_paths", material_name, spec.mesh.cache_key(),
-                        mesh_path(spec.mesh).is_file(), dofs, exact, steps, elastic,
-                        steps * step_seconds(dofs) / (3 if elastic else 1),
+                        mesh_path(spec.mesh).is_file(), dofs, exact, steps, elastic, seconds,
                         f"{'elastic' if elastic else 'elastoplastic'}, P_max = "
                         f"{', '.join(f'{p:.4g}' for p in spec.plan.peaks)} N, "
-                        f"{'loading and unloading' if unload else 'loading only'}")
+                        f"{'loading and unloading' if unload else 'loading only'}" + second)
 
 
 def plan(scene: Scene) -> list[PlannedStage]:

@@ -2,8 +2,9 @@
 
 One row per material (SI units): inputs (E, nu, sigma_y, rho, R, E/sigma_Y), the yield point
 (P_Y, a_Y, delta_Y from theory, the first-yield formulas; P_Y_fe, the FE first yield), the fit
-(Ca, Kc and the dimensionless Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y) with its quality (R^2 and standard
-error of each slope, number of points), the mesh (contact size, dofs, key), the FE wall time
+(Ca, Kc and the dimensionless Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y: extrapolated from two meshes,
+calib.fit.extrapolation, with their estimated relative discretisation errors and both meshes'
+values) with its quality (R^2 and standard error of each slope on the finer mesh, number of points), the mesh (contact size, dofs, key), the FE wall time
 and the git commit. Ca and Kc are the radius fit of calib.fit.calibration (the paper's definition),
 computed on the loading branch only (the unloading does not enter it) unless the scene unloads.
 
@@ -23,16 +24,18 @@ from pathlib import Path
 from calib import output
 from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
-from calib.fit.recipe import check_fittable
+from calib.fit.recipe import check_fittable, coarse_spec
 from calib.scenes.plan import calibration_spec, spec_options
 from calib.scenes.schema import SceneError
 from calib.sweep.runner import cached_result, run_sweep
 from meshes.keys import stable_key
 from nfdmodel import VZParams
 
-TABLE_VERSION = 1  # bump when the calibration recipe changes: invalidates cached rows
+TABLE_VERSION = 2  # bump when the calibration recipe changes: invalidates cached rows (2: two meshes)
 COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a_Y", "delta_Y",
-           "P_Y_fe", "Ca", "Kc", "Ca_hat", "Kc_hat", "Ca_r2", "Ca_se", "Kc_r2", "Kc_se", "n_points",
+           "P_Y_fe", "Ca", "Kc", "Ca_hat", "Kc_hat", "Ca_rel_error_estimate", "Kc_rel_error_estimate",
+           "Ca_hat_rel_error_estimate", "Kc_hat_rel_error_estimate", "Ca_fine", "Kc_fine", "Ca_coarse",
+           "Kc_coarse", "extrapolated", "Ca_r2", "Ca_se", "Kc_r2", "Kc_se", "n_points",
            "loading_only", "window_P_max_over_P_Y", "window_a_max_over_R", "contact_size", "dofs",
            "elements", "mesh_key", "fe_wall_time_s",
            "git_commit", "status", "error", "key")
@@ -102,7 +105,18 @@ def calibrate_task(task: dict) -> dict:
                                                          unload=not task["loading_only"],
                                                          **task["spec_options"]).result
         fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
-        params = VZParams(pair, fit.Ca.slope, fit.Kc.slope)
+        estimates = result.constants("radius")      # both meshes: extrapolated, with error estimates
+        if estimates is None:
+            params = VZParams(pair, fit.Ca.slope, fit.Kc.slope)
+        else:
+            params = VZParams(pair, estimates["Ca"].value, estimates["Kc"].value)
+            row.update({"Ca_rel_error_estimate": estimates["Ca"].rel_error_estimate,
+                        "Kc_rel_error_estimate": estimates["Kc"].rel_error_estimate,
+                        "Ca_hat_rel_error_estimate": estimates["Ca"].rel_error_estimate,
+                        "Kc_hat_rel_error_estimate": estimates["Kc"].rel_error_estimate,
+                        "Ca_fine": estimates["Ca"].fine, "Kc_fine": estimates["Kc"].fine,
+                        "Ca_coarse": estimates["Ca"].coarse, "Kc_coarse": estimates["Kc"].coarse,
+                        "extrapolated": estimates["Ca"].extrapolated and estimates["Kc"].extrapolated})
         window = result.fitted_window
         row.update({"contact_size": result.spec.mesh.contact_size, "mesh_key": result.spec.mesh.cache_key(),
                     "window_P_max_over_P_Y": window.P_max_over_P_Y, "window_a_max_over_R": window.a_max_over_R})
@@ -131,7 +145,7 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
     t0 = time.perf_counter()
     tasks = tasks_for(scene)
     sweep = run_sweep(tasks, calibrate_task, out / "materials",
-                      keep=is_finished, mesh_of=lambda task: task["spec"].mesh,
+                      keep=is_finished, mesh_of=lambda task: (task["spec"].mesh, coarse_spec(task["spec"]).mesh),
                       workers=workers, scheduler=scheduler, progress=say,
                       describe=lambda row: f"{row['name']} ({row['status']}, {row['fe_wall_time_s']:.0f} s)"
                       + (f" {row['error']}" if row["status"] != "ok" else ""))
@@ -166,8 +180,8 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     failed = [r["name"] for r in rows if r.get("status") != "ok"]
     if failed:
         raise ValueError(f"cannot write the master table: material(s) {', '.join(failed)} failed")
-    columns = ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat", "Ca_r2", "Kc_r2", "contact_size",
-               "dofs", "fe_wall_time_s", "git_commit")
+    columns = ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat", "Ca_hat_rel_error_estimate", "Kc_hat_rel_error_estimate",
+               "extrapolated", "Ca_r2", "Kc_r2", "contact_size", "dofs", "fe_wall_time_s", "git_commit")
     table_rows = [{c: r.get(c) for c in columns} for r in rows]
     MasterTable.from_rows([{k: float(v) for k, v in r.items() if k in ("nu", "E_over_sigma_y", "Ca_hat", "Kc_hat")}
                            for r in table_rows])  # validates a complete regular grid
@@ -176,7 +190,9 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
                              "window_P_max_over_P_Y": window_P_max_over_P_Y, "scene": scene_name,
                              "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
                              "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (the dimensionless constants); radius fit "
-                                           "on the FE loading branch to 13.7, 27.4, 41.2 P_Y"},
+                                           "on the FE loading branch to 13.7, 27.4, 41.2 P_Y, Richardson-extrapolated "
+                                           "from two meshes (contact element h and 2h); *_rel_error_estimate: the "
+                                           "estimated relative discretisation error of each node"},
             "stamp": stamp}
     output.write_csv(path, table_rows, columns=columns, comment=output.stamp_comment(stamp))
     output.write_json(path.with_suffix(".json"), meta)

@@ -101,7 +101,7 @@ def run_case(task: dict) -> dict:
         row.update(outcome=f"clear error: {exc}", wall_time_s=time.perf_counter() - t0)
         return row
     try:
-        result = calibrate(spec)
+        result = calibrate(spec, meshes=1)   # the FE itself under test: one mesh
         pair, last = spec.pair, result.load_paths.paths[-1]
         params = VZParams(pair, result.radius_fit.Ca.slope, result.radius_fit.Kc.slope)
         peak_row = max(result.load_paths.loading_rows, key=lambda r: r["P"])

@@ -48,9 +48,11 @@ def cached_result(folder: Path, key: str, keep: Callable[[dict], bool]) -> dict 
 
 
 def build_meshes(specs: Iterable, progress: Callable[[str], None]) -> None:
-    """Build the hemisphere meshes (meshes.hemisphere.HemisphereMeshSpec) not yet in the cache."""
+    """Build the hemisphere meshes (meshes.hemisphere.HemisphereMeshSpec, or tuples of them) not
+    yet in the cache."""
     seen = set()
-    for spec in specs:
+    flat = [spec for item in specs for spec in (item if isinstance(item, (list, tuple)) else (item,))]
+    for spec in flat:
         if spec is None or spec.cache_key() in seen:
             continue
         seen.add(spec.cache_key())
@@ -82,6 +84,29 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
             yield from pool.imap_unordered(function, tasks)
         pool.close()
     except BaseException:               # Ctrl-C, kill PID, or the caller gave up: no orphans
+        pool.terminate()
+        raise
+    finally:
+        pool.join()
+
+
+@contextlib.contextmanager
+def in_background(function: Callable[[dict], object], task: dict, parallel: bool = True):
+    """``function(task)`` on another local process while the caller works on: yields a callable
+    that returns its result (waiting for it). Runs in this process, when the result is asked
+    for, if ``parallel`` is False, the machine has one core, or this is already a worker process
+    (a sweep's workers are daemons, which may not start processes). The process is spawned and
+    ends with the caller (finished, interrupted or killed), like the sweep's workers."""
+    if not parallel or (os.cpu_count() or 1) < 2 or multiprocessing.current_process().daemon:
+        yield lambda: function(task)
+        return
+    pool = multiprocessing.get_context("spawn").Pool(1, initializer=die_with_parent, initargs=(os.getpid(),))
+    try:
+        with terminate_as_interrupt():
+            pending = pool.apply_async(function, (task,))
+            yield pending.get
+        pool.close()
+    except BaseException:
         pool.terminate()
         raise
     finally:
