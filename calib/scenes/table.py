@@ -188,7 +188,7 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     stamp = output.stamp(sum(r["fe_wall_time_s"] for r in rows), scene=scene_name)
     meta = {"master_table": {"accuracy": accuracy, "accuracy_details": accuracy_details or accuracy,
                              "window_P_max_over_P_Y": window_P_max_over_P_Y, "scene": scene_name,
-                             "interpolation": "linear in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator)",
+                             "interpolation": "PCHIP in nu and in log10(E/sigma_Y) (scipy RegularGridInterpolator, method pchip)",
                              "definition": "Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (the dimensionless constants); radius fit "
                                            "on the FE loading branch to 13.7, 27.4, 41.2 P_Y, Richardson-extrapolated "
                                            "from two meshes (contact element h and 2h); *_rel_error_estimate: the "

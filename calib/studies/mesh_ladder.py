@@ -90,12 +90,12 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = output.RESULTS / "calibrat
 CONVERGED_KEYS = ("Ca", "Kc", "e_1500", "alpha_max_1500")
 
 
-def observed_order(coarse: float, middle: float, fine: float, ratio: float = 2.0) -> float:
-    """p = log(|Q_4h - Q_2h| / |Q_2h - Q_h|) / log(r) from three meshes h, 2h, 4h (NaN when the
+def observed_order(coarse: float, middle: float, fine: float, ratio: float = 2.0) -> float | None:
+    """p = log(|Q_4h - Q_2h| / |Q_2h - Q_h|) / log(r) from three meshes h, 2h, 4h (None when the
     changes are not of one sign: no asymptotic convergence to read an order from)."""
     d_coarse, d_fine = middle - coarse, fine - middle
     if d_coarse * d_fine <= 0:
-        return float("nan")
+        return None
     return float(np.log(abs(d_coarse) / abs(d_fine)) / np.log(ratio))
 
 
@@ -107,10 +107,11 @@ def converged_values(rows: list[dict]) -> dict:
     for key in CONVERGED_KEYS:
         values = [r[key] for r in rows]
         orders = [observed_order(*values[k:k + 3]) for k in range(len(values) - 2)]
-        p = orders[-1] if orders else float("nan")
+        p = orders[-1] if orders else None
         finest = values[-1]
-        converged = finest + (finest - values[-2]) / (2.0 ** p - 1.0) if np.isfinite(p) and p > 0 else finest
-        out[key] = {"converged": float(converged), "observed_orders": orders}
+        converged = finest + (finest - values[-2]) / (2.0 ** p - 1.0) if p is not None and p > 0 else finest
+        out[key] = {"converged": float(converged), "observed_orders": orders,
+                    "extrapolated": bool(p is not None and p > 0)}
     return out
 
 
@@ -142,25 +143,30 @@ def plot_ladder(rows: list[dict], pairs: list[dict], analysis: dict, path: Path)
     floor = 1e-6                        # a log axis has no zero: errors below this are drawn here
     styles = {"Ca": ("C0", "o"), "Kc": ("C1", "s"), "e_1500": ("C2", "^"), "alpha_max_1500": ("C3", "v")}
     labels = {"Ca": "Ca", "Kc": "Kc", "e_1500": "e (1500 N)", "alpha_max_1500": "alpha (1500 N)"}
+    def shown(key, items):          # a quantity whose "converged" value is the finest rung has no error there
+        return items if analysis[key]["extrapolated"] else items[:-1]
+
     for key in CONVERGED_KEYS:
         color, marker = styles[key]
-        axes[0].plot(h, [max(abs(r[f"{key}_rel_error_vs_converged"]), floor) for r in rows], marker + "-",
-                     color=color, label=labels[key])
+        axes[0].plot(shown(key, h), [max(abs(r[f"{key}_rel_error_vs_converged"]), floor) for r in shown(key, rows)],
+                     marker + "-", color=color, label=labels[key] + ("" if analysis[key]["extrapolated"] else
+                                                                     " (vs the finest mesh)"))
     axes[0].set_xscale("log"); axes[0].set_yscale("log")
     axes[0].set_xlabel("contact element size h [m]"); axes[0].set_ylabel("|relative error vs converged|")
     axes[0].legend(fontsize=8); axes[0].grid(alpha=0.3, which="both")
     for key in ("Ca", "Kc", "e_1500"):
         color, marker = styles[key]
-        axes[1].plot([r["wall_time_s"] for r in rows], [max(abs(r[f"{key}_rel_error_vs_converged"]), floor)
-                                                         for r in rows], marker + "-", color=color,
-                     label=f"{labels[key]}, one mesh")
-        axes[1].plot([p["wall_time_parallel_s"] for p in pairs], [max(abs(p[f"{key}_rel_error_vs_converged"]), floor)
-                                                                  for p in pairs], marker + "--", color=color,
-                     mfc="none", label=f"{labels[key]}, two meshes (h, 2h) extrapolated")
+        axes[1].plot([r["wall_time_s"] for r in shown(key, rows)],
+                     [max(abs(r[f"{key}_rel_error_vs_converged"]), floor) for r in shown(key, rows)],
+                     marker + "-", color=color, label=f"{labels[key]}, one mesh")
+        if key in extrapolation.EXTRAPOLATED:      # e ships the finer mesh's value: same points
+            axes[1].plot([p["wall_time_parallel_s"] for p in pairs],
+                         [max(abs(p[f"{key}_rel_error_vs_converged"]), floor) for p in pairs], marker + "--",
+                         color=color, mfc="none", label=f"{labels[key]}, two meshes (h, 2h) extrapolated")
     axes[1].set_xscale("log"); axes[1].set_yscale("log")
     axes[1].set_xlabel("wall time [s] (two meshes: on two cores)"); axes[1].set_ylabel("|relative error vs converged|")
     axes[1].legend(fontsize=7); axes[1].grid(alpha=0.3, which="both")
-    orders = ", ".join(f"{labels[k]} " + "/".join(f"{p:.2f}" for p in analysis[k]["observed_orders"])
+    orders = ", ".join(f"{labels[k]} " + "/".join("-" if p is None else f"{p:.2f}" for p in analysis[k]["observed_orders"])
                        for k in ("Ca", "Kc"))
     fig.suptitle(f"Mesh ladder, nu = {rows[-1].get('nu', 0.3):g}: converged = three finest rungs extrapolated; "
                  f"observed orders {orders}", fontsize=9)

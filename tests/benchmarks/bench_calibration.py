@@ -53,7 +53,7 @@ def main() -> None:
     for key, value in result.timings.items():
         print(f"  {key}: {value:.3g}" if isinstance(value, float) else f"  {key}: {value}")
     own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
-    print(f"peak memory: {own:.0f} MB (this process), {children.ru_maxrss / 1024:.0f} MB (the second mesh's process)")
+    print(f"peak memory: {own:.0f} MB (this process)" + ("" if ns.serial else f", {children.ru_maxrss / 1024:.0f} MB (the second mesh's process)"))
     # on a shared machine the CPU seconds say what the wall time would be on two free cores
     print(f"CPU time: {cpu:.1f} s (this process), {children.ru_utime + children.ru_stime:.1f} s (the second mesh's)")
     print(f"shipped: Ca = {s['Ca']:.5g} m/N (est. error {s['Ca_rel_error_estimate']:.2%}), Kc = {s['Kc']:.5g} 1/N "
