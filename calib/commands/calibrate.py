@@ -123,13 +123,13 @@ def run(ns) -> int:
     lines = [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
              f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
              f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]
-    mesh = summary["discretisation"]
-    if summary["Ca_rel_error_estimate"] is not None:
+    mesh = summary.get("discretisation") or {}
+    if summary.get("Ca_rel_error_estimate") is not None:
         lines.append(f"  mesh-converged: extrapolated from contact elements {mesh['contact_sizes'][0]:.3g} and "
                      f"{mesh['contact_sizes'][1]:.3g} m; estimated discretisation error Ca "
                      f"{summary['Ca_rel_error_estimate']:.2%}, Kc {summary['Kc_rel_error_estimate']:.2%}"
                      + (f", e {summary['e_rel_error_estimate']:.2%}, alpha {summary['alpha_rel_error_estimate']:.2%}"
-                        if summary["e_rel_error_estimate"] is not None else ""))
+                        if summary.get("e_rel_error_estimate") is not None else ""))
     lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}"
               + (f" (vz-table {p['models']['vz-table']['e']:.4f})" if "vz-table" in p["models"] else "")
               + f", residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
