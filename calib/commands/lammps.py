@@ -62,7 +62,7 @@ def run(ns) -> int:
     how = ("cached build (built before; --force rebuilds)" if info["cached"]
            else f"built in {info['build_time_s']:.1f} s")
     print_summary(ns, info, [
-        f"pair styles nfd/vz, nfd/hertz, nfd/thornton for LAMMPS {info['lammps_version']}: {how}",
+        f"pair styles nfd/vz, nfd/hertz, nfd/thornton and wall fixes nfd/wall/* for LAMMPS {info['lammps_version']}: {how}",
         f"compiler: {info['compiler']}",
         "load it in a LAMMPS input with: plugin load <path below> (newton off, atom_style sphere)",
         info["path"]])

@@ -5,6 +5,8 @@
  *     pair_coeff 1 1 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]     (vz)
  *     pair_coeff 1 1 E nu sigma_y                                      (thornton)
  *     pair_coeff 1 1 E nu                                              (hertz)
+ *     fix ID group nfd/wall/vz zlo 0.0 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]   (a rigid flat
+ *                                        wall; nfd/wall/hertz, nfd/wall/thornton: see FixNfdWall)
  *
  * Granular spheres (atom_style sphere: per-atom radius and mass), SI units, newton off. The
  * normal force of each touching pair is the law of nfdmodel/nfd_kernel.c (compiled into this
@@ -33,9 +35,9 @@
  * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact),
  * restart files of the history (write_restart keeps no history).
  *
- * License: the same as nfdcal (this file and nfd_kernel.{h,c}). It is loaded into LAMMPS
- * (GPL-2.0) at run time through LAMMPS' plugin interface and its public C++ headers; it
- * contains no LAMMPS source code.
+ * License: this plugin (this file, compiled together with nfd_kernel.{h,c}) is distributed under
+ * GPL-2.0-or-later, so that it may be loaded into LAMMPS (GPL-2.0) through LAMMPS' plugin
+ * interface and its public C++ headers; it contains no LAMMPS source code.
  */
 
 #include "atom.h"
@@ -54,6 +56,7 @@
 
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -103,6 +106,80 @@ double yield_factor(double nu)
     double peak = axis_stress_difference(0.5 * (a + b), nu);
     double surface = axis_stress_difference(0.0, nu);
     return 1.0 / (peak > surface ? peak : surface);
+}
+
+/* One atom type's (or a wall fix's sphere's) material and law constants. */
+struct Material {
+    double E = 0, nu = 0, sigma_y = 0, p_Y = 0, plane_strain = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
+};
+
+static double positive(LAMMPS *lmp, const std::string &who, const char *text, const char *what)
+{
+    double value = utils::numeric(FLERR, text, false, lmp);
+    if (!(value > 0.0) || !std::isfinite(value))
+        lmp->error->all(FLERR, fmt::format("{}: {} out of range: need a finite number > 0, got {}", who, what, text));
+    return value;
+}
+
+/* The material arguments E nu [sigma_y] [Ca_hat Kc_hat [window P_max/P_Y]] of a law (SI units);
+ * ``who`` starts every error message ("pair_coeff for nfd/vz", "fix nfd/wall/vz"). */
+Material read_material(LAMMPS *lmp, Law law, const std::string &who, int narg, char **arg)
+{
+    const int expected = law == VZ ? 5 : (law == THORNTON ? 3 : 2);
+    const char *usage = law == VZ ? "E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]"
+                                  : (law == THORNTON ? "E nu sigma_y" : "E nu");
+    if (narg != expected && !(law == VZ && narg == expected + 2))
+        lmp->error->all(FLERR, fmt::format("{}: need {} (SI units) after the {}, got {} arguments", who, usage,
+                                           who.rfind("pair_coeff", 0) == 0 ? "types I I" : "wall plane", narg));
+    Material mat;
+    mat.E = positive(lmp, who, arg[0], "E [Pa]");
+    mat.nu = utils::numeric(FLERR, arg[1], false, lmp);
+    if (!(mat.nu >= 0.0 && mat.nu < 0.5))
+        lmp->error->all(FLERR, fmt::format("{}: nu out of range: need 0 <= nu < 0.5, got {}", who, arg[1]));
+    mat.sigma_y = law == HERTZ ? 0.0 : positive(lmp, who, arg[2], "sigma_y [Pa]");
+    mat.p_Y = law == HERTZ ? 0.0 : yield_factor(mat.nu) * mat.sigma_y;
+    mat.plane_strain = mat.E / (1.0 - mat.nu * mat.nu);
+    if (law == VZ) {
+        mat.Ca_hat = positive(lmp, who, arg[3], "Ca_hat = Ca P_Y / a_Y");
+        if (mat.Ca_hat < 1e-8 || mat.Ca_hat > 1e4)
+            lmp->error->all(FLERR, fmt::format("{}: Ca_hat out of range: need 1e-08 <= Ca_hat <= 10000 (the paper's "
+                                               "0.026), got {}", who, arg[3]));
+        mat.Kc_hat = utils::numeric(FLERR, arg[4], false, lmp);
+        if (!(mat.Kc_hat >= 0.0 && mat.Kc_hat <= 1e4))
+            lmp->error->all(FLERR, fmt::format("{}: Kc_hat out of range: need 0 <= Kc_hat <= 10000 (the paper's "
+                                               "0.0098), got {}", who, arg[4]));
+        mat.window = DEFAULT_WINDOW;
+        if (narg == expected + 2) {
+            if (std::strcmp(arg[5], "window") != 0)
+                lmp->error->all(FLERR, fmt::format("{}: unknown keyword '{}' (allowed: window)", who, arg[5]));
+            mat.window = std::strcmp(arg[6], "inf") == 0 ? INFINITY : utils::numeric(FLERR, arg[6], false, lmp);
+            if (!(mat.window >= 1.0))
+                lmp->error->all(FLERR, fmt::format("{}: window out of range: need P_max/P_Y >= 1 (or inf), got {}",
+                                                   who, arg[6]));
+        }
+    }
+    return mat;
+}
+
+/* A contact's nfd_params: R* [m], E* [Pa] and the yielding body's material (its p_Y, Ca_hat,
+ * Kc_hat, window): Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y, window force = window P_Y. */
+nfd_params law_params(Law law, double R_star, double E_star, const Material &yielding)
+{
+    nfd_params p = nfd_pair(R_star, E_star, law == HERTZ ? 1.0 : yielding.p_Y);
+    if (law == VZ) {
+        nfd_vz_constants(&p, yielding.Ca_hat * p.a_Y / p.P_Y, yielding.Kc_hat / p.P_Y);
+        p.window_P_max = yielding.window * p.P_Y;
+    }
+    return p;
+}
+
+int law_step(Law law, double delta, const nfd_params &p, const nfd_history &h, double &force, nfd_history &next)
+{
+    switch (law) {
+    case VZ: return nfd_vz_step(delta, &p, &h, &force, &next, nullptr);
+    case THORNTON: return nfd_thornton_step(delta, &p, &h, &force, &next);
+    default: return nfd_hertz_step(delta, &p, &h, &force, &next);
+    }
 }
 
 class PairNfd;
@@ -330,12 +407,8 @@ class PairNfd : public Pair {
 
     void coeff(int narg, char **arg) override
     {
-        const int expected = law == VZ ? 7 : (law == THORNTON ? 5 : 4);
-        const char *usage = law == VZ ? "I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]"
-                                      : (law == THORNTON ? "I I E nu sigma_y" : "I I E nu");
-        if (narg != expected && !(law == VZ && narg == expected + 2))
-            error->all(FLERR, fmt::format("pair_coeff for {}: need {} (SI units), got {} arguments", name(), usage,
-                                          narg));
+        const std::string who = fmt::format("pair_coeff for {}", name());
+        if (narg < 2) error->all(FLERR, fmt::format("{}: need the types I I, then the material", who));
         if (!allocated) allocate();
         int ilo, ihi, jlo, jhi;
         utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
@@ -343,35 +416,7 @@ class PairNfd : public Pair {
         if (ilo != jlo || ihi != jhi)
             error->all(FLERR, fmt::format("pair_coeff for {} sets the material of one atom type: use I I (got {} {});"
                                           " unlike types are mixed per contact", name(), arg[0], arg[1]));
-        Material mat;
-        mat.E = positive(arg[2], "E [Pa]");
-        mat.nu = utils::numeric(FLERR, arg[3], false, lmp);
-        if (!(mat.nu >= 0.0 && mat.nu < 0.5))
-            error->all(FLERR, fmt::format("pair_coeff for {}: nu out of range: need 0 <= nu < 0.5, got {}", name(),
-                                          arg[3]));
-        mat.sigma_y = law == HERTZ ? 0.0 : positive(arg[4], "sigma_y [Pa]");
-        mat.p_Y = law == HERTZ ? 0.0 : yield_factor(mat.nu) * mat.sigma_y;
-        mat.plane_strain = mat.E / (1.0 - mat.nu * mat.nu);
-        if (law == VZ) {
-            mat.Ca_hat = positive(arg[5], "Ca_hat = Ca P_Y / a_Y");
-            if (mat.Ca_hat < 1e-8 || mat.Ca_hat > 1e4)
-                error->all(FLERR, fmt::format("pair_coeff for nfd/vz: Ca_hat out of range: need 1e-08 <= Ca_hat <= "
-                                              "10000 (the paper's 0.026), got {}", arg[5]));
-            mat.Kc_hat = utils::numeric(FLERR, arg[6], false, lmp);
-            if (!(mat.Kc_hat >= 0.0 && mat.Kc_hat <= 1e4))
-                error->all(FLERR, fmt::format("pair_coeff for nfd/vz: Kc_hat out of range: need 0 <= Kc_hat <= "
-                                              "10000 (the paper's 0.0098), got {}", arg[6]));
-            mat.window = DEFAULT_WINDOW;
-            if (narg == expected + 2) {
-                if (std::strcmp(arg[7], "window") != 0)
-                    error->all(FLERR, fmt::format("pair_coeff for nfd/vz: unknown keyword '{}' (allowed: window)",
-                                                  arg[7]));
-                mat.window = std::strcmp(arg[8], "inf") == 0 ? INFINITY : utils::numeric(FLERR, arg[8], false, lmp);
-                if (!(mat.window >= 1.0))
-                    error->all(FLERR, fmt::format("pair_coeff for nfd/vz: window out of range: need P_max/P_Y >= 1 "
-                                                  "(or inf), got {}", arg[8]));
-            }
-        }
+        const Material mat = read_material(lmp, law, who, narg - 2, arg + 2);
         for (int i = ilo; i <= ihi; ++i) {
             material[i] = mat;
             setflag[i][i] = 1;
@@ -554,19 +599,6 @@ class PairNfd : public Pair {
     std::string history_id() const { return std::string("NFD_HISTORY_") + std::to_string(instance_me); }
 
  private:
-    struct Material {
-        double E = 0, nu = 0, sigma_y = 0, p_Y = 0, plane_strain = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
-    };
-
-    double positive(const char *text, const char *what)
-    {
-        double value = utils::numeric(FLERR, text, false, lmp);
-        if (!(value > 0.0) || !std::isfinite(value))
-            error->all(FLERR, fmt::format("pair_coeff for {}: {} out of range: need a finite number > 0, got {}",
-                                          name(), what, text));
-        return value;
-    }
-
     void allocate()
     {
         allocated = 1;
@@ -596,21 +628,12 @@ class PairNfd : public Pair {
         const double R_star = 1.0 / (1.0 / R_i + 1.0 / R_j);
         const double E_star = 1.0 / (1.0 / a.plane_strain + 1.0 / b.plane_strain);
         const Material &yielding = (a.p_Y < b.p_Y || (a.p_Y == b.p_Y && itype <= jtype)) ? a : b;
-        nfd_params p = nfd_pair(R_star, E_star, law == HERTZ ? 1.0 : yielding.p_Y);
-        if (law == VZ) {
-            nfd_vz_constants(&p, yielding.Ca_hat * p.a_Y / p.P_Y, yielding.Kc_hat / p.P_Y);
-            p.window_P_max = yielding.window * p.P_Y;
-        }
-        return p;
+        return law_params(law, R_star, E_star, yielding);
     }
 
     int step(double delta, const nfd_params &p, const nfd_history &h, double &force, nfd_history &next) const
     {
-        switch (law) {
-        case VZ: return nfd_vz_step(delta, &p, &h, &force, &next, nullptr);
-        case THORNTON: return nfd_thornton_step(delta, &p, &h, &force, &next);
-        default: return nfd_hertz_step(delta, &p, &h, &force, &next);
-        }
+        return law_step(law, delta, p, h, force, next);
     }
 
     static nfd_history unpack(const double *v) { return nfd_history{v[0], v[1], v[2], v[3], v[4]}; }
@@ -642,6 +665,191 @@ class PairNfd : public Pair {
 };
 
 NeighList *FixNfdHistory::neighbor_list() { return pair->list; }
+
+/* ------------------------------------------------------------------------------------------
+ * fix nfd/wall/vz (nfd/wall/hertz, nfd/wall/thornton): a rigid flat wall with the same law.
+ *
+ *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *
+ * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
+ * (lo) or above (hi). Each atom of the group is a sphere of its own radius R on a rigid flat,
+ * exactly the FE calibration's setting (nfdmodel.ContactPair.sphere_flat): R* = R,
+ * E* = E / (1 - nu^2), first yield in the sphere. Overlap delta = R - (distance of the centre
+ * from the plane); the law's force pushes the atom away from the wall along the normal. The
+ * per-atom history (nfd_history) travels with the atom between MPI ranks and is zeroed when the
+ * sphere leaves the wall. Outputs: the global scalar (the total normal force of the group on the
+ * wall [N], extensive) and a per-atom array of the history: 1 delta_max [m], 2 P_max [N],
+ * 3 delta_res [m], 4 K_u, 5 a_e_max [m]. Loads beyond the window are counted and reported at the
+ * end of each run like the pair style's. Not written to restart files.
+ * ------------------------------------------------------------------------------------------ */
+const char *const WALL_NAMES[] = {"nfd/wall/hertz", "nfd/wall/vz", "nfd/wall/thornton"};
+
+class FixNfdWall : public Fix {
+ public:
+    FixNfdWall(LAMMPS *lmp, int narg, char **arg, Law law) : Fix(lmp, narg, arg), law(law)
+    {
+        const std::string who = fmt::format("fix {}", WALL_NAMES[law]);
+        if (narg < 5)
+            error->all(FLERR, fmt::format("{}: need FACE COORD (FACE one of xlo xhi ylo yhi zlo zhi) and the "
+                                          "material", who));
+        const char *faces[] = {"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
+        int face = -1;
+        for (int k = 0; k < 6; ++k)
+            if (std::strcmp(arg[3], faces[k]) == 0) face = k;
+        if (face < 0)
+            error->all(FLERR, fmt::format("{}: FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got '{}'",
+                                          who, arg[3]));
+        dim = face / 2;
+        side = face % 2 == 0 ? 1.0 : -1.0;     // lo: atoms above the plane, pushed in +dim
+        coord = utils::numeric(FLERR, arg[4], false, lmp);
+        if (!std::isfinite(coord)) error->all(FLERR, fmt::format("{}: COORD must be a finite number [m]", who));
+        material = read_material(lmp, law, who, narg - 5, arg + 5);
+
+        scalar_flag = 1;
+        global_freq = 1;
+        extscalar = 1;
+        peratom_flag = 1;
+        size_peratom_cols = NHIST;
+        peratom_freq = 1;
+        create_attribute = 1;
+        maxexchange = NHIST;
+        FixNfdWall::grow_arrays(atom->nmax);
+        atom->add_callback(Atom::GROW);
+        for (int i = 0; i < atom->nmax; ++i) FixNfdWall::set_arrays(i);
+    }
+
+    ~FixNfdWall() override
+    {
+        atom->delete_callback(id, Atom::GROW);
+        memory->destroy(history);
+    }
+
+    int setmask() override { return FixConst::POST_FORCE | FixConst::MIN_POST_FORCE | FixConst::POST_RUN; }
+
+    void init() override
+    {
+        if (!atom->radius_flag || !atom->rmass_flag)
+            error->all(FLERR, fmt::format("fix {} needs per-atom radius and mass: use atom_style sphere",
+                                          WALL_NAMES[law]));
+        beyond_count = 0;
+        beyond_largest = 0.0;
+    }
+
+    void setup(int vflag) override { post_force(vflag); }
+    void min_setup(int vflag) override { post_force(vflag); }
+    void min_post_force(int vflag) override { post_force(vflag); }
+
+    void post_force(int /*vflag*/) override
+    {
+        double **x = atom->x, **f = atom->f;
+        double *radius = atom->radius;
+        int *mask = atom->mask;
+        tagint *tag = atom->tag;
+        total_local = 0.0;
+        for (int i = 0; i < atom->nlocal; ++i) {
+            if (!(mask[i] & groupbit)) continue;
+            double *stored = history[i];
+            const double delta = radius[i] - side * (x[i][dim] - coord);
+            if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
+                for (int n = 0; n < NHIST; ++n) stored[n] = 0.0;
+                continue;
+            }
+            const nfd_params p = law_params(law, radius[i], material.plane_strain, material);
+            const nfd_history h = {stored[0], stored[1], stored[2], stored[3], stored[4]};
+            nfd_history next;
+            double force = 0.0;
+            const int status = law_step(law, delta, p, h, force, next);
+            if (status == NFD_FULL_CONTACT)
+                error->one(FLERR, fmt::format("fix {}: atom {} reached full contact with the wall at overlap {:.6g} m "
+                                              "(delta/R = {:.4g}): the vz law's contact radius reaches R", WALL_NAMES[law],
+                                              tag[i], delta, delta / radius[i]));
+            if (status == NFD_NOT_FINITE)
+                error->one(FLERR, fmt::format("fix {}: the wall force on atom {} is not a finite number (overlap "
+                                              "{:.6g} m)", WALL_NAMES[law], tag[i], delta));
+            if (status == NFD_BEYOND_WINDOW) {
+                if (h.P_max <= p.window_P_max) ++beyond_count;
+                beyond_largest = std::max(beyond_largest, next.P_max / p.P_Y);
+            }
+            stored[0] = next.delta_max;
+            stored[1] = next.P_max;
+            stored[2] = next.delta_res;
+            stored[3] = next.K_u;
+            stored[4] = next.a_e_max;
+            f[i][dim] += side * force;
+            total_local += force;
+        }
+        total_reduced = false;
+    }
+
+    double compute_scalar() override
+    {
+        if (!total_reduced) {
+            MPI_Allreduce(&total_local, &total, 1, MPI_DOUBLE, MPI_SUM, world);
+            total_reduced = true;
+        }
+        return total;
+    }
+
+    void post_run() override
+    {
+        if (law != VZ) return;
+        bigint mine = beyond_count, all = 0;
+        MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+        double largest = 0.0;
+        MPI_Allreduce(&beyond_largest, &largest, 1, MPI_DOUBLE, MPI_MAX, world);
+        if (comm->me == 0) {
+            if (all == 0)
+                utils::logmesg(lmp, fmt::format("fix {}: 0 contacts loaded beyond the calibrated window\n",
+                                                WALL_NAMES[law]));
+            else
+                utils::logmesg(lmp, fmt::format("fix {}: {} contact(s) loaded beyond the calibrated window (up to "
+                                                "P/P_Y = {:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an "
+                                                "extrapolation there\n", WALL_NAMES[law], all, largest,
+                                                material.window));
+        }
+    }
+
+    void grow_arrays(int nmax) override
+    {
+        memory->grow(history, nmax, NHIST, "nfd/wall:history");
+        array_atom = history;
+    }
+
+    void copy_arrays(int i, int j, int /*delflag*/) override
+    {
+        for (int n = 0; n < NHIST; ++n) history[j][n] = history[i][n];
+    }
+
+    void set_arrays(int i) override
+    {
+        for (int n = 0; n < NHIST; ++n) history[i][n] = 0.0;
+    }
+
+    int pack_exchange(int i, double *buf) override
+    {
+        for (int n = 0; n < NHIST; ++n) buf[n] = history[i][n];
+        return NHIST;
+    }
+
+    int unpack_exchange(int nlocal, double *buf) override
+    {
+        for (int n = 0; n < NHIST; ++n) history[nlocal][n] = buf[n];
+        return NHIST;
+    }
+
+    double memory_usage() override { return (double) atom->nmax * NHIST * sizeof(double); }
+
+ private:
+    Law law;
+    Material material;
+    int dim = 2;
+    double side = 1.0, coord = 0.0;
+    double **history = nullptr;
+    double total_local = 0.0, total = 0.0;
+    bool total_reduced = false;
+    bigint beyond_count = 0;
+    double beyond_largest = 0.0;
+};
 
 }    // namespace nfdcal_lammps
 
@@ -678,6 +886,18 @@ void *create_history(void *lmp, int narg, char **arg)
 {
     return new nfdcal_lammps::FixNfdHistory((LAMMPS *) lmp, narg, arg);
 }
+void *create_wall_hertz(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::FixNfdWall((LAMMPS *) lmp, narg, arg, nfdcal_lammps::HERTZ);
+}
+void *create_wall_vz(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::FixNfdWall((LAMMPS *) lmp, narg, arg, nfdcal_lammps::VZ);
+}
+void *create_wall_thornton(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::FixNfdWall((LAMMPS *) lmp, narg, arg, nfdcal_lammps::THORNTON);
+}
 }    // namespace
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
@@ -710,4 +930,14 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
     record.info = "nfdcal: contact history of pair_style nfd/* (internal)";
     record.creator.v2 = &create_history;
     record_style(&record, lmp);
+    const struct { const char *name, *info; decltype(record.creator.v2) create; } wall_styles[] = {
+        {"nfd/wall/vz", "nfdcal: rigid flat wall, Vu-Quoc & Zhang law (nfd_kernel.c)", &create_wall_vz},
+        {"nfd/wall/hertz", "nfdcal: rigid flat wall, Hertz (nfd_kernel.c)", &create_wall_hertz},
+        {"nfd/wall/thornton", "nfdcal: rigid flat wall, Thornton (1997) (nfd_kernel.c)", &create_wall_thornton}};
+    for (const auto &style : wall_styles) {
+        record.name = style.name;
+        record.info = style.info;
+        record.creator.v2 = style.create;
+        record_style(&record, lmp);
+    }
 }
