@@ -352,7 +352,7 @@ def test_wall_on_two_mpi_ranks_equals_one(plugin, tmp_path):
     for nprocs in (1, 2):
         text = wall_input(plugin, args, spheres, 2000, processors="2 1 1" if nprocs == 2 else "")
         text = text.replace("fix 1 all nve/sphere", "velocity all set 150.0 NULL NULL sum yes\nfix 1 all nve/sphere")
-        text = text.replace(f"run 2000", "variable x4 equal x[4]\nvariable v4 equal vz[4]\n"
+        text = text.replace("run 2000", "variable x4 equal x[4]\nvariable v4 equal vz[4]\n"
                                          "thermo_style custom step v_f v_v v_x4 v_v4 f_wall\n"
                                          "thermo_modify format float %.17g\nrun 2000")
         output = run_lammps(text, tmp_path, nprocs)
