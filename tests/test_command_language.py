@@ -35,8 +35,9 @@ def test_every_command_has_json_and_writes_to_out(command):
     for name, each in (actions(parser) or {command: parser}).items():
         options = flags(each)
         assert "--json" in options, name
-        # material and fit-data write only the files --params-out (--plot) name; lammps path prints a path
-        if name not in ("material", "fit_data", "path"):
+        # material and fit-data write only the files --params-out (--plot) name; lammps path prints a path,
+        # export prints input lines
+        if name not in ("material", "fit_data", "path", "export"):
             assert "--out" in options, name
 
 

@@ -374,3 +374,43 @@ def test_bad_wall_arguments_are_named(plugin, tmp_path, args, message):
     text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", f"fix wall all nfd/wall/vz {args}")
     output = run_lammps(text, tmp_path)
     assert "ERROR" in output and message in output, output[-1500:]
+
+
+def test_exported_lines_run_the_same_law_in_lammps(plugin, tmp_path, capsys):
+    """nfdcal export lammps: the pair_coeff and wall lines of a parameter file (here from
+    nfdcal material), pasted into an input, give nfdmodel's collision of that file's law (the wall:
+    its own sphere on a flat; head-on: two such spheres) within 1e-8; bad flags are one line."""
+    import json
+
+    params_file = tmp_path / "al.json"
+    assert cli.main(["material", "--E", "7e10", "--nu", "0.3", "--sigma-y", "1e8", "--rho", "2699",
+                     "--R", str(RADIUS), "--params-out", str(params_file)]) == 0
+    capsys.readouterr()
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--wall", "zlo", "0.0", "--json"]) == 0
+    pair_style, pair_coeff, wall_fix = json.loads(capsys.readouterr().out)["lines"]
+    assert pair_style == "pair_style nfd/vz" and pair_coeff.startswith("pair_coeff 1 1 ")
+    params = nfdmodel.load_parameters(params_file)
+    v_in = 5.0 * params.pair.v_Y
+
+    text = wall_input(plugin, "", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps_for(params, v_in))
+    text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", wall_fix.replace("fix nfd_wall", "fix wall"))
+    output = run_lammps(text, tmp_path)
+    assert "ERROR" not in output, output[-1500:]
+    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
+                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
+    assert rows[-1, 3] / v_in == pytest.approx(nfdmodel.collide("vz", params, [v_in], dt=DT).e_velocity[0], rel=RTOL)
+
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
+    two = VZParams.from_dimensionless(pair, params.Ca_hat, params.Kc_hat, params.window)
+    coeff = pair_coeff.split(maxsplit=3)[3]
+    lmp = measured(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps_for(two, v_in)),
+                              tmp_path), v_in)
+    assert_same(lmp, nfdmodel.collide("vz", two, [v_in], dt=DT))
+
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--wall", "top", "0"]) == 2
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--type", "0"]) == 2
+    assert cli.main(["export", "lammps", "--params", str(tmp_path / "missing.json")]) == 2
+    errors = capsys.readouterr().err.splitlines()
+    assert errors == ["nfdcal export: error: --wall FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got 'top'",
+                      "nfdcal export: error: --type out of range: need an integer >= 1 (a LAMMPS atom type), got 0",
+                      f"nfdcal export: error: parameter file not found: {tmp_path / 'missing.json'}"]
