@@ -364,6 +364,54 @@ def test_wall_on_two_mpi_ranks_equals_one(plugin, tmp_path):
     np.testing.assert_allclose(two, one, rtol=1e-12, atol=1e-300)
 
 
+def wall_rows(output: str) -> np.ndarray:
+    assert "ERROR" not in output, output[-2000:]
+    return np.array([[float(t) for t in line.split()] for line in output.splitlines()
+                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
+
+
+def test_wall_history_goes_through_a_restart_file(plugin, tmp_path):
+    """write_restart in mid-unloading, read_restart in a new LAMMPS with the wall fix defined again
+    (same ID and style): the continued trajectory equals the uninterrupted one to round-off. The
+    same restart with the fix under another ID (no history: a fresh contact at that overlap) does
+    not, so the comparison sees the history."""
+    pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
+    params = VZParams.from_dimensionless(pair, REFERENCE.Ca_hat, REFERENCE.Kc_hat, CalibrationWindow.assumed_default())
+    v_in = 10.0 * pair.v_Y
+    args = material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat)
+    steps = steps_for(params, v_in)
+    sphere = [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)]
+    whole = wall_rows(run_lammps(wall_input(plugin, args, sphere, steps), tmp_path))
+    force = whole[:, 2]
+    peak = int(np.argmax(force))
+    end = peak + int(np.argmax(force[peak:] == 0.0))
+    split = (peak + end) // 2                       # unloading: the force depends on the history
+    assert 0.0 < force[split] < force[peak]
+    first = wall_input(plugin, args, sphere, steps).replace(f"run {steps}", f"run {split}\nwrite_restart wall.restart")
+    run_lammps(first, tmp_path)
+
+    def continued(fix_id: str) -> np.ndarray:
+        text = wall_input(plugin, args, sphere, steps).replace("fix wall all", f"fix {fix_id} all")
+        text = text.replace("f_wall", f"f_{fix_id}").replace(f"run {steps}", f"run {steps - split}")
+        _, tail = text.split("plugin load", 1)
+        text = "atom_modify map array\nread_restart wall.restart\nplugin load" + tail
+        return wall_rows(run_lammps(text, tmp_path))
+
+    again = continued("wall")
+    assert again[0, 0] == split and again[-1, 0] == steps
+    np.testing.assert_allclose(again, whole[split:], rtol=1e-12, atol=1e-300)
+    fresh = continued("other")
+    assert not np.allclose(fresh[:, 2], whole[split:, 2], rtol=1e-6, atol=0.0)
+
+
+def test_wall_refuses_run_style_respa(plugin, tmp_path):
+    text = wall_input(plugin, material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat),
+                      [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1)
+    output = run_lammps(text.replace("run 1", "run_style respa 2 2\nrun 1"), tmp_path)
+    assert "ERROR" in output and "fix nfd/wall/vz: run_style respa is not supported: use run_style verlet" in output, \
+        output[-1500:]
+
+
 @pytest.mark.parametrize("args, message", [
     ("ylo2 0.0 7e10 0.3 1e8 0.026 0.011", "FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got 'ylo2'"),
     ("zlo 0.0 7e10 0.3 1e8 0.026", "need E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] (SI units)"),
@@ -414,3 +462,20 @@ def test_exported_lines_run_the_same_law_in_lammps(plugin, tmp_path, capsys):
     assert errors == ["nfdcal export: error: --wall FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got 'top'",
                       "nfdcal export: error: --type out of range: need an integer >= 1 (a LAMMPS atom type), got 0",
                       f"nfdcal export: error: parameter file not found: {tmp_path / 'missing.json'}"]
+
+
+def test_export_refuses_a_vz_table_file_in_one_line(tmp_path, capsys):
+    """The plugin has the two-constant law only: a vz-table parameter file is one line on stderr
+    naming that, exit code 2, nothing on stdout."""
+    import json
+
+    table = {"law": "vz-table", "table": {"P_over_P_Y": [1.0, 10.0, 100.0], "a_p_over_a_Y": [0.0, 0.25, 1.4],
+                                          "C_R": [1.0, 1.1, 1.5]},
+             "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "R": 0.1}}
+    path = tmp_path / "table.json"
+    path.write_text(json.dumps(table))
+    assert type(nfdmodel.load_parameters(path)).__name__ == "VZTableParams"
+    assert cli.main(["export", "lammps", "--params", str(path), "--wall", "zlo", "0"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1
+    assert "law 'vz-table' is not in the LAMMPS plugin (pair_style nfd/vz takes the two-constant law)" in err

