@@ -372,7 +372,8 @@ def wall_rows(output: str) -> np.ndarray:
 
 def test_wall_history_goes_through_a_restart_file(plugin, tmp_path):
     """write_restart in mid-unloading, read_restart in a new LAMMPS with the wall fix defined again
-    (same ID and style): the continued trajectory equals the uninterrupted one to round-off. The
+    (same ID and style): the continued trajectory equals the uninterrupted one to round-off, also
+    continued on 2 MPI ranks (the sphere on their boundary x = 0). The
     same restart with the fix under another ID (no history: a fresh contact at that overlap) does
     not, so the comparison sees the history."""
     pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
@@ -390,16 +391,18 @@ def test_wall_history_goes_through_a_restart_file(plugin, tmp_path):
     first = wall_input(plugin, args, sphere, steps).replace(f"run {steps}", f"run {split}\nwrite_restart wall.restart")
     run_lammps(first, tmp_path)
 
-    def continued(fix_id: str) -> np.ndarray:
+    def continued(fix_id: str, nprocs: int = 1) -> np.ndarray:
         text = wall_input(plugin, args, sphere, steps).replace("fix wall all", f"fix {fix_id} all")
         text = text.replace("f_wall", f"f_{fix_id}").replace(f"run {steps}", f"run {steps - split}")
         _, tail = text.split("plugin load", 1)
-        text = "atom_modify map array\nread_restart wall.restart\nplugin load" + tail
-        return wall_rows(run_lammps(text, tmp_path))
+        processors = "processors 2 1 1\n" if nprocs == 2 else ""
+        text = f"atom_modify map array\n{processors}read_restart wall.restart\nplugin load" + tail
+        return wall_rows(run_lammps(text, tmp_path, nprocs))
 
     again = continued("wall")
     assert again[0, 0] == split and again[-1, 0] == steps
     np.testing.assert_allclose(again, whole[split:], rtol=1e-12, atol=1e-300)
+    np.testing.assert_allclose(continued("wall", nprocs=2), whole[split:], rtol=1e-12, atol=1e-300)
     fresh = continued("other")
     assert not np.allclose(fresh[:, 2], whole[split:, 2], rtol=1e-6, atol=0.0)
 
