@@ -52,7 +52,7 @@ PLAUSIBLE = {"--E": (70e9, 205e9, 117e9, 1e6, 1e12), "--nu": (0.0, 0.3, 0.49, 0.
              "--Kc": (3e-4, 1e-6, 1e-1), "--K1": (1e8, 1e6), "--K2": (2e8, 1e7),
              "--peaks": (500.0, 1000.0, 1500.0, 10.0, 40.0), "--contact-size": (4e-5, 1e-4, 1e-3, 1e-9),
              "--P-min": (1.0, 10.0), "--P-max": (1500.0, 100.0), "--steps": (2, 25, 1000, 1001),
-             "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3)}
+             "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3), "--type": (1, 2, 0, 1.5)}
 
 
 def number_text(flag: str, hostile: bool):
@@ -191,9 +191,11 @@ COMMANDS = {
               "--json": 0, "--quiet": 0},
     "fit-data": {"--impacts": 1, "--force-approach": 1, "--free": 0, "--pair": 0, "--table": 1, "--params-out": 1, "--plot": 1,
                  "--overwrite": 0, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "export": {"ENGINE": 1, "--params": 1, "--type": 1, "--wall": 2, "--json": 0},
 }
 REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",),
-            "fit-data": ("--impacts", "--E", "--nu", "--R", "--rho")}
+            "fit-data": ("--impacts", "--E", "--nu", "--R", "--rho"), "export": ("ENGINE", "--params")}
+POSITIONAL = ("SCENE", "ENGINE")          # a command's positional argument, first after its name
 FE_COMMANDS = ("calibrate", "hertz", "run", "table")
 LAWS = ("vz", "vz-table", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
 OUTPUT_FLAGS = ("--out", "--params-out", "--master-out", "--plot")
@@ -230,6 +232,11 @@ def flag_values(flag: str, count, hostile: bool):
         return st.lists(st.sampled_from(LAWS), min_size=1, max_size=1)
     if flag == "--ship":
         return st.lists(st.sampled_from(("radius", "force", "table", "both", "")), min_size=1, max_size=1)
+    if flag == "ENGINE":
+        return st.lists(st.sampled_from(("lammps",) * 4 + ("LAMMPS", "liggghts", "")), min_size=1, max_size=1)
+    if flag == "--wall":                     # FACE COORD
+        return st.tuples(st.sampled_from(("zlo", "xhi", "ylo", "top", "", "zlo ")), number_text("--wall", hostile)
+                         ).map(list)
     if flag in ("--accuracy",):
         return st.lists(st.text(max_size=20), min_size=1, max_size=1)
     if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE", "--impacts", "--force-approach"):
@@ -255,7 +262,7 @@ def command_case(draw) -> Case:
     for flag in chosen:
         count = flags[flag]
         values = draw(flag_values(flag, count, flag in hostile)) if count else []
-        if flag == "SCENE":
+        if flag in POSITIONAL:
             argv[1:1] = values
             continue
         if count and flag == bare:

@@ -134,8 +134,9 @@ def measured(output: str, v_in: float) -> dict:
             "report": [line for line in output.splitlines() if line.startswith("pair nfd/vz")]}
 
 
-def steps_for(params: VZParams, v_in: float) -> int:
-    estimate = nfdmodel.collision_reference("vz", params, [v_in]).contact_time_estimate[0]
+def steps_for(params: VZParams | VZTableParams, v_in: float) -> int:
+    law = "vz-table" if isinstance(params, VZTableParams) else "vz"
+    estimate = nfdmodel.collision_reference(law, params, [v_in]).contact_time_estimate[0]
     return int(1.2 * estimate / DT) + 50
 
 
@@ -468,21 +469,36 @@ def test_exported_lines_run_the_same_law_in_lammps(plugin, tmp_path, capsys):
                       f"nfdcal export: error: parameter file not found: {tmp_path / 'missing.json'}"]
 
 
-def test_export_refuses_a_vz_table_file_in_one_line(tmp_path, capsys):
-    """The plugin has the two-constant law only: a vz-table parameter file is one line on stderr
-    naming that, exit code 2, nothing on stdout."""
+def test_exported_vz_table_lines_run_in_lammps(plugin, tmp_path, capsys):
+    """nfdcal export lammps of a vz-table file: pair_style nfd/vz-table, pair_coeff T T file
+    <absolute path> and the wall fix; fed to LAMMPS (run from another folder) they give
+    nfdmodel's vz-table collision on the wall within 1e-8. A path with a space is quoted."""
     import json
 
-    table = {"law": "vz-table", "table": {"P_over_P_Y": [1.0, 10.0, 100.0], "a_p_over_a_Y": [0.0, 0.25, 1.4],
-                                          "C_R": [1.0, 1.1, 1.5]},
-             "material": {"E": 70e9, "nu": 0.3, "sigma_y": 100e6, "rho": 2699.0, "R": 0.1}}
-    path = tmp_path / "table.json"
-    path.write_text(json.dumps(table))
-    assert type(nfdmodel.load_parameters(path)).__name__ == "VZTableParams"
-    assert cli.main(["export", "lammps", "--params", str(path), "--wall", "zlo", "0"]) == 2
-    out, err = capsys.readouterr()
-    assert out == "" and len(err.strip().splitlines()) == 1
-    assert "law 'vz-table' is not in the LAMMPS plugin (pair_style nfd/vz takes the two-constant law)" in err
+    path = table_file(tmp_path)
+    assert cli.main(["export", "lammps", "--params", str(path), "--type", "2", "--wall", "zlo", "0.0", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["law"] == "vz-table" and summary["table_nodes"] == len(TABLE_NODES[0])
+    pair_style, pair_coeff, wall_fix = summary["lines"]
+    assert pair_style == "pair_style nfd/vz-table"
+    assert pair_coeff == f"pair_coeff 2 2 file {path.resolve()}"
+    assert wall_fix == f"fix nfd_wall all nfd/wall/vz-table zlo 0.0 file {path.resolve()}"
+    params = nfdmodel.load_parameters(path)
+    v_in = 5.0 * params.pair.v_Y
+    elsewhere = tmp_path / "run"
+    elsewhere.mkdir()
+    text = wall_input(plugin, "", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps_for(params, v_in))
+    text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", wall_fix.replace("fix nfd_wall", "fix wall"))
+    rows = wall_rows(run_lammps(text, elsewhere))
+    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
+
+    spaced = tmp_path / "with space"
+    spaced.mkdir()
+    (spaced / "t.json").write_text(path.read_text())
+    assert cli.main(["export", "lammps", "--params", str(spaced / "t.json")]) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == f'pair_coeff 1 1 file "{(spaced / "t.json").resolve()}"'
 
 
 # ------------------------------------------------------------------------------ the vz-table law
@@ -514,7 +530,7 @@ def test_vz_table_head_on_matches_nfdmodel(plugin, tmp_path, v_over_v_Y):
     pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
     params = VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW)
     v_in = v_over_v_Y * pair.v_Y
-    steps = int(1.2 * nfdmodel.collision_reference("vz-table", params, [v_in]).contact_time_estimate[0] / DT) + 50
+    steps = steps_for(params, v_in)
     text = impact_input(plugin, aluminium_spheres(v_in), {1: f"file {path}"}, steps, pair_style="nfd/vz-table")
     lmp = measured(run_lammps(text, tmp_path), v_in)
     py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
@@ -529,7 +545,7 @@ def test_vz_table_wall_matches_nfdmodel(plugin, tmp_path):
     path = table_file(tmp_path)
     params = nfdmodel.load_parameters(path)
     v_in = 20.0 * params.pair.v_Y
-    steps = int(1.2 * nfdmodel.collision_reference("vz-table", params, [v_in]).contact_time_estimate[0] / DT) + 50
+    steps = steps_for(params, v_in)
     output = run_lammps(wall_input(plugin, f"file {path}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps,
                                    style="nfd/wall/vz-table"), tmp_path)
     rows = wall_rows(output)
@@ -557,7 +573,7 @@ def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path
     params = VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW)
     v_in = 8.0 * pair.v_Y
     py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
-    steps = int(1.2 * nfdmodel.collision_reference("vz-table", params, [v_in]).contact_time_estimate[0] / DT) + 50
+    steps = steps_for(params, v_in)
     for types in ((1, 2), (2, 1)):
         spheres = [(types[0], R_soft, -R_soft, 0.5 * v_in, soft.rho), (types[1], R_hard, R_hard, -0.5 * v_in, hard.rho)]
         coeffs = dict(sorted({types[0]: f"file {files['soft']}", types[1]: f"file {files['hard']}"}.items()))

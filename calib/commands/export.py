@@ -14,7 +14,12 @@ of ``nfdcal lammps build`` (README, The law inside LAMMPS):
 numbers in SI units to 17 significant digits (LAMMPS reads back the file's values exactly), the
 window the constants were fitted on. The constants are the material's (Ca_hat, Kc_hat of a sphere
 on a flat: the dimensionless constants transfer to any pair, README, Dimensionless constants).
-The vz-table law is not in the plugin: such a file is refused in one line.
+A vz-table file (its tables, too long for a line) is named by its absolute path, which the
+plugin reads:
+
+    pair_style nfd/vz-table
+    pair_coeff T T file /abs/path/params.json
+    fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/path/params.json              (--wall)
 """
 from __future__ import annotations
 
@@ -44,6 +49,15 @@ def exact(value: float) -> str:
     return "inf" if math.isinf(value) else repr(float(value))
 
 
+def quoted(path: str) -> str:
+    """A path as one LAMMPS word: in double quotes when it holds white space or a quote-free '#'."""
+    if any(c.isspace() for c in path) or "#" in path:
+        if '"' in path:
+            raise ValueError(f"--params path out of range: a path with white space must not contain '\"', got {path}")
+        return f'"{path}"'
+    return path
+
+
 def run(ns) -> int:
     from nfdmodel import VZParams, load_parameters
 
@@ -57,21 +71,25 @@ def run(ns) -> int:
             raise ValueError(f"--wall FACE out of range: need one of {' '.join(FACES)}, got {face!r}")
         wall = (face, number("--wall COORD", coord, unit="m"))
     params = load_parameters(ns.params)
-    if not isinstance(params, VZParams):
-        raise ValueError(f"--params {ns.params}: law 'vz-table' is not in the LAMMPS plugin (pair_style nfd/vz takes "
-                         f"the two-constant law): calibrate with --ship radius or --ship force for LAMMPS")
     record = _material_of(ns.params)      # E, nu, sigma_y of the sphere (the pair holds E* only)
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
-    numbers = [record["E"], record["nu"], record["sigma_y"], params.Ca_hat, params.Kc_hat]
-    law_args = " ".join(exact(v) for v in numbers) + f" window {exact(window)}"
+    summary = {"engine": "lammps", "params": str(ns.params), "E": record["E"], "nu": record["nu"],
+               "sigma_y": record["sigma_y"], "window_P_max_over_P_Y": None if math.isinf(window) else window}
+    if isinstance(params, VZParams):
+        law = "vz"
+        numbers = [record["E"], record["nu"], record["sigma_y"], params.Ca_hat, params.Kc_hat]
+        law_args = " ".join(exact(v) for v in numbers) + f" window {exact(window)}"
+        summary.update(law="vz", Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
+    else:
+        law = "vz-table"
+        law_args = f"file {quoted(str(Path(ns.params).resolve()))}"
+        summary.update(law="vz-table", table_nodes=len(params.x))
     kind = int(atom_type)
     lines = ["# nfdcal export lammps: " + f"{ns.params} (load the plugin first: plugin load $(nfdcal lammps path))",
-             "pair_style nfd/vz", f"pair_coeff {kind} {kind} {law_args}"]
+             f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {law_args}"]
     if wall is not None:
-        lines.append(f"fix nfd_wall all nfd/wall/vz {wall[0]} {exact(wall[1])} {law_args}")
-    summary = {"engine": "lammps", "params": str(ns.params), "type": kind, "lines": lines[1:],
-               "E": record["E"], "nu": record["nu"], "sigma_y": record["sigma_y"], "Ca_hat": params.Ca_hat,
-               "Kc_hat": params.Kc_hat, "window_P_max_over_P_Y": None if math.isinf(window) else window}
+        lines.append(f"fix nfd_wall all nfd/wall/{law} {wall[0]} {exact(wall[1])} {law_args}")
+    summary.update(type=kind, lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0
 
