@@ -1,0 +1,124 @@
+"""A pour of polydisperse spheres of two materials onto a rigid floor, as a LAMMPS input.
+
+Used by tests/test_lammps.py (1 against 2 MPI ranks) and tests/benchmarks/bench_lammps.py (the
+time per step of the nfd laws against LAMMPS' own granular styles). SI units throughout.
+
+The spheres start on a square lattice of columns (spacing 2 R_max + 0.2 mm), layer upon layer,
+the lowest layer just above the floor z = 0, each sphere with its own radius (uniform in
+[0.8, 1.2] R_0), material (type 1 aluminium or type 2 steel, alternating at random) and a downward
+velocity uniform in [0.02, 0.10] m/s (6-30 v_Y of aluminium, 1-4 v_Y of steel: most contacts
+yield), a sideways one within +-0.01 m/s and a common drift along x (it carries the spheres across
+the MPI subdomain boundaries: migration with their histories). Gravity 9.81 m/s^2, frictionless
+contacts, periodic in x and y. The random draws come from numpy with a fixed seed, so an input is
+the same on every call.
+
+    pour_input(plugin, n=300, steps=6000, thermo=300, contact="nfd")          # pair nfd/vz + wall fixes
+    pour_input(None, n=3000, contact="granular")                              # hertz/material, coeff_restitution
+
+Thermo columns (``thermo_columns``): step, kinetic energy [J], and for contact="nfd" the contact
+census (compute nfd/contacts: contacts with history, orphan histories, unpaired copies) and the
+spheres touching the floor (the wall fixes' vectors).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+R_0 = 2e-3                          # m: mean radius
+GAP = 0.2e-3                        # m: the lattice's clearance between neighbouring columns
+DT = 1e-7                           # s: a contact lasts >= 120 steps (Hertz, R = 1.6 mm at 0.3 m/s)
+# (E [Pa], nu, sigma_y [Pa], rho [kg/m^3], Ca_hat, Kc_hat): aluminium (the paper's constants),
+# steel (nfdcal material, the README's example)
+MATERIALS = {1: (70e9, 0.30, 100e6, 2699.0, 0.02592, 0.009855), 2: (205e9, 0.29, 655e6, 7800.0, 0.02571, 0.01108)}
+RESTITUTION = 0.8                   # granular comparison: coeff_restitution damping
+
+
+def num(value: float) -> str:
+    return repr(float(value))
+
+
+def spheres(n: int, seed: int = 1, drift: float = 0.0):
+    """(columns per side, box side L [m], rows [(type, R, x, y, z, vx, vy, vz)])."""
+    rng = np.random.default_rng(seed)
+    side = max(2, math.ceil(math.sqrt(n / 3.0)))           # about three layers
+    spacing = 2.0 * 1.2 * R_0 + GAP
+    radius = rng.uniform(0.8, 1.2, n) * R_0
+    kinds = rng.integers(1, 3, n)
+    rows, top = [], {}
+    for k in range(n):
+        layer, cell = divmod(k, side * side)
+        ix, iy = divmod(cell, side)
+        below = top.get(cell, 0.0)                          # the top of the sphere under this one
+        z = below + radius[k] + rng.uniform(0.0, 0.01e-3)
+        top[cell] = z + radius[k]
+        rows.append((int(kinds[k]), radius[k], (ix + 0.5) * spacing, (iy + 0.5) * spacing, z,
+                     rng.uniform(-0.01, 0.01) + drift, rng.uniform(-0.01, 0.01), -rng.uniform(0.02, 0.10)))
+    return side, side * spacing, rows
+
+
+def material_args(kind: int) -> str:
+    E, nu, sigma_y, _, Ca_hat, Kc_hat = MATERIALS[kind]
+    return f"{num(E)} {num(nu)} {num(sigma_y)} {num(Ca_hat)} {num(Kc_hat)} window inf"
+
+
+def thermo_columns(contact: str) -> list[str]:
+    return (["step", "ke", "contacts", "orphans", "unpaired", "on_floor"] if contact == "nfd"
+            else ["step", "ke"])
+
+
+def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int = 300, seed: int = 1,
+               drift: float = 20.0, processors: str = "", contact: str = "nfd", neighbor_every: int = 1) -> str:
+    """The LAMMPS input of the pour (module doc). contact: "nfd" (pair_style nfd/vz, fix
+    nfd/wall/vz per material) or "granular" (pair_style granular hertz/material with damping
+    coeff_restitution e = RESTITUTION, fix wall/gran with the same model, frictionless)."""
+    _, side, rows = spheres(n, seed, drift)
+    height = max(z for *_, z, _, _, _ in rows) + 10 * R_0
+    lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
+             "boundary p p f"] + ([f"processors {processors}"] if processors else [])
+    lines += [f"region box block 0 {num(side)} 0 {num(side)} -0.001 {num(height)}", "create_box 2 box"]
+    for atom, (kind, R, x, y, z, vx, vy, vz) in enumerate(rows, start=1):
+        lines += [f"create_atoms {kind} single {num(x)} {num(y)} {num(z)}",
+                  f"set atom {atom} diameter {num(2 * R)} density {num(MATERIALS[kind][3])} "
+                  f"vx {num(vx)} vy {num(vy)} vz {num(vz)}"]
+    lines += ["group aluminium type 1", "group steel type 2"]
+    if contact == "nfd":
+        lines += [f"plugin load {plugin}", "pair_style nfd/vz"]
+        lines += [f"pair_coeff {kind} {kind} {material_args(kind)}" for kind in (1, 2)]
+        lines += [f"fix floor1 aluminium nfd/wall/vz zlo 0.0 {material_args(1)}",
+                  f"fix floor2 steel nfd/wall/vz zlo 0.0 {material_args(2)}",
+                  "compute census all nfd/contacts",
+                  "variable on_floor equal f_floor1[1]+f_floor2[1]",
+                  "thermo_style custom step ke c_census[1] c_census[2] c_census[3] v_on_floor"]
+    elif contact == "granular":
+        lines += ["pair_style granular"]
+        for kind in (1, 2):
+            E, nu = MATERIALS[kind][:2]
+            lines.append(f"pair_coeff {kind} {kind} hertz/material {num(E)} {RESTITUTION} {num(nu)} "
+                         f"damping coeff_restitution tangential linear_nohistory 0.0 0.0")
+        for kind, group in ((1, "aluminium"), (2, "steel")):
+            E, nu = MATERIALS[kind][:2]
+            lines.append(f"fix floor{kind} {group} wall/gran granular hertz/material {num(E)} {RESTITUTION} {num(nu)} "
+                         f"damping coeff_restitution tangential linear_nohistory 0.0 0.0 zplane 0.0 NULL")
+        lines += ["thermo_style custom step ke"]
+    else:
+        raise ValueError(f"contact out of range: need 'nfd' or 'granular', got {contact!r}")
+    check = "no" if neighbor_every == 1 else "yes"
+    lines += [f"neighbor {num(0.1 * R_0)} bin", f"neigh_modify every {neighbor_every} delay 0 check {check}",
+              "fix gravity all gravity 9.81 vector 0 0 -1", "fix move all nve/sphere", f"timestep {num(DT)}",
+              "thermo_modify format float %.17g", f"thermo {thermo}", f"run {steps}"]
+    return "\n".join(lines) + "\n"
+
+
+def thermo_rows(output: str, columns: int) -> np.ndarray:
+    """The thermo rows (numbers only) of a LAMMPS log."""
+    rows = []
+    for line in output.splitlines():
+        words = line.split()
+        if len(words) != columns or not words[0].isdigit():
+            continue
+        try:
+            rows.append([float(w) for w in words])
+        except ValueError:
+            continue
+    return np.array(rows)
