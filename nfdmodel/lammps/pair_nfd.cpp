@@ -1,12 +1,15 @@
 /* pair_nfd.cpp: the contact laws of nfdcal inside LAMMPS, as a run-time plugin.
  *
  *     plugin load nfdplugin.so            (nfdcal lammps build prints its path)
- *     pair_style nfd/vz                   (or nfd/hertz, nfd/thornton)
+ *     pair_style nfd/vz                   (or nfd/hertz, nfd/thornton, nfd/vz-table)
  *     pair_coeff 1 1 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]     (vz)
+ *     pair_coeff 1 1 file params.json                                  (vz-table: an nfdcal parameter file)
  *     pair_coeff 1 1 E nu sigma_y                                      (thornton)
  *     pair_coeff 1 1 E nu                                              (hertz)
  *     fix ID group nfd/wall/vz zlo 0.0 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]   (a rigid flat
- *                                        wall; nfd/wall/hertz, nfd/wall/thornton: see FixNfdWall)
+ *                                        wall; nfd/wall/hertz, nfd/wall/thornton,
+ *                                        nfd/wall/vz-table zlo 0.0 file params.json: see FixNfdWall)
+ *     compute ID all nfd/contacts         (contacts with history, orphan histories, unpaired copies)
  *
  * Granular spheres (atom_style sphere: per-atom radius and mass), SI units, newton off. The
  * normal force of each touching pair is the law of nfdmodel/nfd_kernel.c (compiled into this
@@ -15,8 +18,9 @@
  *
  *   1/R* = 1/R_i + 1/R_j,  1/E* = (1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j,
  *   first yield in the body with the lower p_Y = A_Y(nu) sigma_Y (a tie: the lower type), whose
- *   Ca_hat, Kc_hat and window the contact uses: Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y,
- *   window force = (P_max/P_Y of the window) P_Y.
+ *   Ca_hat, Kc_hat (vz-table: tables) and window the contact uses: Ca = Ca_hat a_Y / P_Y,
+ *   Kc = Kc_hat / P_Y, window force = (P_max/P_Y of the window) P_Y. The vz-table tables
+ *   (x = P/P_Y, a_p/a_Y, C_R) are dimensionless, so a sphere-on-flat file holds for any pair.
  *
  * The window (keyword `window`, P/P_Y of the largest FE load the constants were fitted on)
  * defaults to 41.2, what nfdcal assumes for constants that do not state theirs (the default

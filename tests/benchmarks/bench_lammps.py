@@ -15,8 +15,8 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
    tests/test_lammps.py) and of pair_style granular normal mdr (LAMMPS' other elastoplastic
    normal model: E, nu, Y = sigma_y, gamma = 0 (no adhesion), psi_b = 0.5, damp = 0 (no viscous
    damping), damping mdr 1), all at dt = 1e-7 s.
-3. results/lammps/pour.png: a 300-sphere pour (no drift) after 20 ms, side view coloured by
-   material, with the start positions faint.
+3. results/lammps/pour.png: a 300-sphere pour (no drift) after 60 ms, side view coloured by
+   material, next to the start.
 
 Usage (about 3 minutes on 2 cores):
     .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 2]
@@ -90,13 +90,17 @@ def timing(plugin: str, folder: Path, spheres: int, steps: int, repeat: int) -> 
             for _ in range(repeat):
                 log = run_lammps(text, folder, nprocs)
                 seconds, done = loop_time(log)
-                runs.append((seconds / done, section_time(log, "Pair") / done, section_time(log, "Modify") / done))
+                last = lammps_pour.thermo_rows(log, len(lammps_pour.thermo_columns(contact)))[-1]
+                census = (int(last[2]), int(last[5])) if contact == "nfd" else (None, None)
+                runs.append((seconds / done, section_time(log, "Pair") / done, section_time(log, "Modify") / done,
+                             *census))
             best[contact] = min(runs)
-        for contact, (per_step, pair, modify) in best.items():
+        for contact, (per_step, pair, modify, contacts, on_floor) in best.items():
             rows.append({"ranks": nprocs, "contact": "nfd/vz + nfd/wall/vz" if contact == "nfd" else
                          "granular hertz/material coeff_restitution + wall/gran", "spheres": spheres, "steps": steps,
                          "us_per_step": 1e6 * per_step, "pair_us_per_step": 1e6 * pair,
-                         "modify_us_per_step": 1e6 * modify,
+                         "modify_us_per_step": 1e6 * modify, "pair_contacts_at_end": contacts,
+                         "on_floor_at_end": on_floor,
                          "ratio_to_granular": per_step / best["granular"][0]})
     return rows
 
@@ -161,19 +165,27 @@ def picture(plugin: str, folder: Path, path: Path, steps: int) -> dict:
     _, side, rows = lammps_pour.spheres(300, drift=0.0)
     start = np.array([(kind, R, x, z) for kind, R, x, _, z, *_ in rows])
     plt = output.pyplot()
-    fig, ax = plt.subplots(figsize=(7.0, 3.2))
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import Circle
+
+    fig, axes = plt.subplots(1, 2, figsize=(9.0, 3.0), sharey=True)
     colours = {1: "tab:grey", 2: "tab:blue"}
-    for kind, name in ((1, "aluminium"), (2, "steel")):
-        old = start[start[:, 0] == kind]
-        ax.scatter(1e3 * old[:, 2], 1e3 * old[:, 3], s=4, color=colours[kind], alpha=0.15)
-        now = final[final[:, 1] == kind]
-        ax.scatter(1e3 * now[:, 3], 1e3 * now[:, 5], s=8, color=colours[kind], label=f"{name} (after)")
-    ax.axhline(0.0, color="k", lw=1)
-    ax.set_xlabel("x [mm]")
+    for ax, (title, points) in zip(axes, (("start", [(k, R, x, z) for k, R, x, z in start]),
+                                          (f"after {steps * lammps_pour.DT * 1e3:.0f} ms",
+                                           [(k, R, x, z) for _, k, R, x, _, z in final]))):
+        circles = [Circle((1e3 * x, 1e3 * z), 1e3 * R) for _, R, x, z in points]
+        ax.add_collection(PatchCollection(circles, facecolors=[colours[int(k)] for k, *_ in points],
+                                          edgecolors="none", alpha=0.85))
+        ax.set_xlim(0.0, 1e3 * side)
+        ax.set_title(f"{title} (grey: aluminium, blue: steel)", fontsize=9)
+        ax.set_xlabel("x [mm] (side view)")
+        ax.set_aspect("equal")
+    ax = axes[0]
     ax.set_ylabel("z [mm]")
-    ax.set_aspect("equal")
-    ax.set_title(f"300 spheres after {steps * lammps_pour.DT * 1e3:.0f} ms (faint: start), nfd/vz + nfd/wall/vz")
-    ax.legend(loc="upper right", fontsize=7)
+    ax.set_ylim(-1.0, 1e3 * float(max(start[:, 3].max(), final[:, 5].max())) + 3.0)
+    for ax in axes:
+        ax.axhline(0.0, color="k", lw=1)
+    fig.suptitle("300 spheres poured onto a rigid floor: pair_style nfd/vz + fix nfd/wall/vz", fontsize=10)
     output.save_figure(fig, path)
     return {"picture_steps": steps, "picture_loop_s": loop_time(log)[0]}
 
@@ -183,7 +195,7 @@ def main(argv=None) -> int:
     parser.add_argument("--spheres", type=int, default=3000)
     parser.add_argument("--steps", type=int, default=10000)
     parser.add_argument("--repeat", type=int, default=2)
-    parser.add_argument("--picture-steps", type=int, default=200000, help="the picture's pour (1e-7 s steps)")
+    parser.add_argument("--picture-steps", type=int, default=600000, help="the picture's pour (1e-7 s steps)")
     parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
     ns = parser.parse_args(argv)
     started = time.perf_counter()
