@@ -155,8 +155,8 @@ static std::string read_on_rank_zero(LAMMPS *lmp, const std::string &who, const 
     MPI_Bcast(&size, 1, MPI_LONG, 0, lmp->world);
     if (size < 0)
         lmp->error->all(FLERR, fmt::format("{}: parameter file {} cannot be read (missing or unreadable): give the "
-                                           "path of a file written by nfdcal (nfdcal calibrate --params-out)", who,
-                                           path));
+                                           "path of a file written by nfdcal (parameters.json of nfdcal calibrate, "
+                                           "--params-out of nfdcal material or fit-data)", who, path));
     text.resize(size);
     MPI_Bcast(text.data(), static_cast<int>(size), MPI_CHAR, 0, lmp->world);
     return text;
