@@ -17,8 +17,16 @@
 #else
 #define NFD_RESTRICT restrict
 #endif
+#if defined(__GNUC__)                /* vz_jump is large: inline it all the same, so that the */
+#define NFD_ALWAYS_INLINE static inline __attribute__((always_inline))   /* loop over a block vectorises */
+#else
+#define NFD_ALWAYS_INLINE static inline
+#endif
 #define NFD_TOLERANCE 1e-10          /* relative, on P, of the vz plastic-loading solve       */
 #define NFD_MAX_ITERATIONS 200       /* never reached: the bracket halves at worst every other */
+#define NFD_JUMP_STEPS 4             /* Newton steps from the explicit start (vz_jump)          */
+#define NFD_JUMP_BLOCK 256           /* contacts per vectorised block of vz_jump (nfd_vz_load) */
+#define NFD_CBRT_SEED 715094163u     /* fdlibm: (1023 - 1023/3 - 0.03306) 2^20                  */
 
 nfd_params nfd_pair(double R_star, double E_star, double p_Y)
 {
@@ -140,8 +148,120 @@ static inline int vz_fast(double delta, double u_start, const nfd_params *p, dou
     return ok;
 }
 
-/* The safe path, when the fast one was not accepted: a safeguarded Newton on the bracket
- * [u_lo, u_hi] from the fast path's last iterate u_fast; *iterations counts both paths. */
+/* y^(1/3) to 2.1e-5 relative for a positive normal y (nfdmodel.vz_curve.cube_root_estimate):
+ * fdlibm's seed, the high 32 bits divided by 3 plus NFD_CBRT_SEED (3.2 %), then one Halley step.
+ * Integer and IEEE operations only: vectorisable, and numpy's numbers bit for bit (cbrt() is
+ * a library call that costs about ten square roots and stops the loop's vectorisation). */
+static inline double cube_root_estimate(double y)
+{
+    uint64_t bits;
+    memcpy(&bits, &y, sizeof bits);
+    uint32_t high = (uint32_t)(bits >> 32);
+    high = high / 3u + NFD_CBRT_SEED;
+    bits = (uint64_t)high << 32;
+    double t;
+    memcpy(&t, &bits, sizeof t);
+    double t3 = t * t;
+    t3 *= t;
+    return t * (t3 + 2.0 * y) / (2.0 * t3 + y);
+}
+
+/* The explicit start u_x [N^(1/3)] of the vz solve at R_delta = R* delta [m^2]
+ * (nfdmodel.vz_curve.vz_explicit_start): the loading curve c1 u = b sqrt(1 + Kc x) - x,
+ * x = u^3 - P_Y, with its right side replaced by the tangent at the plastic asymptote x_B
+ * (a_e neglected), gamma (x_B - x), gamma = (2 + Kc x_B) / (2 (1 + Kc x_B)): the depressed cubic
+ * s^3 + p s = Q in s = u / u_Y, p = 1 / (Ca_hat gamma), Q = 1 + x_B / P_Y, by Cardano without
+ * cancellation: w = (Q/2 + sqrt(Q^2/4 + (p/3)^3))^(1/3), s = Q / (w^2 + p/3 + (p/(3w))^2).
+ * Exact for Kc = 0, above the root for Kc > 0 (the tangent of a concave function). */
+static inline double vz_explicit_start(double R_delta, const nfd_params *p)
+{
+    double Ca = p->Ca, Kc = p->Kc, u_Y = p->u_Y;
+    double curvature = R_delta * Kc;
+    double x_B = sqrt(curvature * curvature + (4.0 * Ca * Ca) * R_delta);
+    x_B += curvature;
+    x_B /= 2.0 * Ca * Ca;
+    double Kc_x = x_B * Kc;
+    double third = Kc_x + 1.0;                       /* p/3 = 2 (1 + Kc x_B) / (3 Ca_hat (2 + Kc x_B)) */
+    third *= (2.0 / 3.0) * (p->c1 / (u_Y * u_Y));    /* c1 / u_Y^2 = 1 / Ca_hat */
+    third /= Kc_x + 2.0;
+    double Q = x_B / p->P_Y;
+    Q += 1.0;
+    double w = sqrt(Q * Q * 0.25 + third * third * third);
+    w += 0.5 * Q;
+    w = cube_root_estimate(w);
+    double v = third / w;
+    double denominator = w * w;
+    denominator += third;
+    denominator += v * v;
+    Q /= denominator;
+    return Q * u_Y;
+}
+
+/* One Newton step of vz_jump: from *u (kept >= u_min afterwards), with the acceptance test of the
+ * fast path on this step and the previous one (*abs_previous, *rising_previous) when check;
+ * an accepted iterate is kept in *result and the step number k in *steps. */
+static inline void vz_jump_step(int k, int check, double b, double u_min, const nfd_params *p, double c1,
+                                double one_minus, double *u, double *abs_previous, int *rising_previous,
+                                double *result, int *steps)
+{
+    const double tol_u = NFD_TOLERANCE / 3.0;
+    double F, slope;
+    vz_residual(*u, b, p, c1, one_minus, &F, &slope);
+    int rising = slope > 0.0;
+    double step = F / slope;
+    double u_newton = *u - step;
+    double abs_step = fabs(step);
+    if (check) {
+        double previous = *abs_previous;
+        int accept = abs_step <= previous * 0.01;
+        double error = abs_step * 10.0;
+        error *= abs_step;
+        error *= abs_step;
+        double allowed = u_newton * tol_u;
+        allowed *= previous;
+        allowed *= previous;
+        accept &= error <= allowed;
+        accept |= abs_step <= u_newton * (0.01 * tol_u);
+        accept &= rising & *rising_previous & (u_newton >= u_min) & (*steps == 0);
+        *result = accept ? u_newton : *result;
+        *steps += accept * k;                   /* (accept holds at one k at most) */
+    }
+    *abs_previous = abs_step;
+    *rising_previous = rising;
+    *u = u_newton < u_min ? u_min : u_newton;
+}
+
+/* Stage 2 of the solve, when the fast path was not accepted (a jump far beyond the turning
+ * point; nfdmodel.vz_curve._jump_newton): NFD_JUMP_STEPS = 4 Newton steps from
+ * min(u_x, u_fast) (both above the root as a rule: u_x is, and the fast path's iterates from
+ * the lower end u_lo overshoot on the convex F) kept >= u_lo, accepted after step k >= 2 by the
+ * fast path's test. Branch-free, the steps written out (so that a loop over contacts
+ * vectorises); an accepted iterate is kept. Returns k, or 0 (then *u_out is the last iterate,
+ * the safe path's start). */
+NFD_ALWAYS_INLINE int vz_jump(double delta, double u_start, double u_fast, const nfd_params *p, double *u_out)
+{
+    const double one_minus = 1.0 - p->Kc * p->P_Y;
+    double c1 = p->c1;
+    double R_delta = p->R_star * delta;
+    double b = sqrt(R_delta);
+    b /= p->Ca;
+    double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
+    double u_min = u_lo * (1.0 - 1e-15);
+    double u = vz_explicit_start(R_delta, p);
+    u = ((u_fast > u_lo) & (u_fast < u)) ? u_fast : u;
+    u = u > u_lo ? u : u_lo;
+    double result = u, abs_previous = 0.0;
+    int rising_previous = 0, steps = 0;
+    vz_jump_step(1, 0, b, u_min, p, c1, one_minus, &u, &abs_previous, &rising_previous, &result, &steps);
+    vz_jump_step(2, 1, b, u_min, p, c1, one_minus, &u, &abs_previous, &rising_previous, &result, &steps);
+    vz_jump_step(3, 1, b, u_min, p, c1, one_minus, &u, &abs_previous, &rising_previous, &result, &steps);
+    vz_jump_step(4, 1, b, u_min, p, c1, one_minus, &u, &abs_previous, &rising_previous, &result, &steps);
+    *u_out = steps > 0 ? result : u;
+    return steps;
+}
+
+/* The safe path, when neither the fast path nor vz_jump was accepted: a safeguarded Newton on
+ * the bracket [u_lo, u_hi] from vz_jump's last iterate u_fast; *iterations counts all three. */
 static double vz_safe(double delta, double u_start, double u_fast, const nfd_params *p, int *iterations)
 {
     const double tol_u = NFD_TOLERANCE / 3.0;
@@ -175,13 +295,13 @@ static double vz_safe(double delta, double u_start, double u_fast, const nfd_par
         if (root) u_new = ua;
         double taken = fabs(u_new - ua);
         if (root || tiny_step || (hi - lo) <= tol_u * lo || (newton_ok && taken <= tol_u * u_new)) {
-            *iterations = 2 + iteration;
+            *iterations = 2 + NFD_JUMP_STEPS + iteration;
             return u_new;
         }
         ua = u_new;
         previous_step = taken;
     }
-    *iterations = 2 + NFD_MAX_ITERATIONS;
+    *iterations = 2 + NFD_JUMP_STEPS + NFD_MAX_ITERATIONS;
     return ua;
 }
 
@@ -274,7 +394,11 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
     double start = h->a_e_max / (p->c1 * p->Ca);
     double u;
     int count = 2;
-    if (!vz_fast(delta, start, p, &u)) u = vz_safe(delta, start, u, p, &count);
+    if (!vz_fast(delta, start, p, &u)) {
+        int steps = vz_jump(delta, start, u, p, &u);
+        if (steps > 0) count = 2 + steps;
+        else u = vz_safe(delta, start, u, p, &count);
+    }
     if (iterations) *iterations = count;
     out->delta_max = delta;
     vz_turning_point(delta, u, p, &out->P_max, &out->delta_res, &out->K_u, &out->a_e_max);
@@ -306,12 +430,36 @@ int nfd_vz_load(size_t n, const nfd_params *params, const double *NFD_RESTRICT d
         delta_res[i] = start;
         K_u[i] = ok ? 1.0 : 0.0;
     }
-    /* 2. the safe path where the fast one did not hold (rare: large jumps) */
-    for (i = 0; i < n; ++i) {
-        if (!(delta[i] > p->delta_Y)) continue;          /* Hertz: pass 4 */
-        int count = 2;
-        if (K_u[i] == 0.0) P_max[i] = vz_safe(delta[i], delta_res[i], P_max[i], p, &count);
-        if (count > most) most = count;
+    /* 2. where the fast path did not hold (jumps far beyond the turning point): vz_jump on blocks
+     * of such contacts gathered into local arrays (a loop the compiler vectorises), then the
+     * safe path where vz_jump was not accepted either */
+    {
+        size_t at[NFD_JUMP_BLOCK], m = 0, j;
+        double d[NFD_JUMP_BLOCK], start[NFD_JUMP_BLOCK], u_fast[NFD_JUMP_BLOCK], u[NFD_JUMP_BLOCK];
+        int steps[NFD_JUMP_BLOCK];
+        for (i = 0; i <= n; ++i) {
+            if (i < n) {
+                if (!(delta[i] > p->delta_Y)) continue;  /* Hertz: pass 4 */
+                if (K_u[i] != 0.0) {
+                    most = most > 2 ? most : 2;
+                    continue;
+                }
+                at[m] = i;
+                d[m] = delta[i];
+                start[m] = delta_res[i];
+                u_fast[m] = P_max[i];
+                if (++m < NFD_JUMP_BLOCK) continue;
+            }
+            for (j = 0; j < m; ++j)                      /* a full block, or the last one */
+                steps[j] = vz_jump(d[j], start[j], u_fast[j], p, &u[j]);
+            for (j = 0; j < m; ++j) {
+                int count = 2 + steps[j];
+                if (steps[j] == 0) u[j] = vz_safe(d[j], start[j], u[j], p, &count);
+                P_max[at[j]] = u[j];
+                most = count > most ? count : most;
+            }
+            m = 0;
+        }
     }
     /* 3. the turning points (vectorised) */
     for (i = 0; i < n; ++i)
