@@ -163,7 +163,7 @@ static inline double cube_root_estimate(double y)
     memcpy(&t, &bits, sizeof t);
     double t3 = t * t;
     t3 *= t;
-    return t * (t3 + 2.0 * y) / (2.0 * t3 + y);
+    return t * ((t3 + 2.0 * y) / (2.0 * t3 + y));     /* the ratio first: no overflow */
 }
 
 /* The explicit start u_x [N^(1/3)] of the vz solve at R_delta = R* delta [m^2]
@@ -406,6 +406,43 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
     return vz_status(p, out->P_max, out->a_e_max);
 }
 
+/* Pass 2 of nfd_vz_load from contact `first` on (the first whose fast path failed): vz_jump on
+ * blocks of such contacts gathered into local arrays (a loop the compiler vectorises), then the
+ * safe path where vz_jump was not accepted either; writes u into P_max. Returns the largest
+ * iteration count. A function of its own, so that the pass-1 loop of nfd_vz_load compiles as
+ * before (inlined there it cost 30 % of a continuation step). */
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+static int vz_jump_block(size_t n, size_t first, const nfd_params *p, const double *NFD_RESTRICT delta,
+                         double *NFD_RESTRICT P_max, const double *NFD_RESTRICT delta_res,
+                         const double *NFD_RESTRICT K_u)
+{
+    size_t at[NFD_JUMP_BLOCK], m = 0, i, j;
+    double d[NFD_JUMP_BLOCK], start[NFD_JUMP_BLOCK], u_fast[NFD_JUMP_BLOCK], u[NFD_JUMP_BLOCK];
+    int steps[NFD_JUMP_BLOCK], most = 2;
+    for (i = first; i <= n; ++i) {
+        if (i < n) {
+            if (!(delta[i] > p->delta_Y) || K_u[i] != 0.0) continue;   /* Hertz, or the fast path held */
+            at[m] = i;
+            d[m] = delta[i];
+            start[m] = delta_res[i];
+            u_fast[m] = P_max[i];
+            if (++m < NFD_JUMP_BLOCK) continue;
+        }
+        for (j = 0; j < m; ++j)                          /* a full block, or the last one */
+            steps[j] = vz_jump(d[j], start[j], u_fast[j], p, &u[j]);
+        for (j = 0; j < m; ++j) {
+            int count = 2 + steps[j];
+            if (steps[j] == 0) u[j] = vz_safe(d[j], start[j], u[j], p, &count);
+            P_max[at[j]] = u[j];
+            most = count > most ? count : most;
+        }
+        m = 0;
+    }
+    return most;
+}
+
 /* x86-64 with gcc or clang: also compiled for AVX2 (4 doubles per instruction instead of 2),
  * chosen at load time on CPUs that have it; the same IEEE operations, so the same numbers. */
 #if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
@@ -430,36 +467,15 @@ int nfd_vz_load(size_t n, const nfd_params *params, const double *NFD_RESTRICT d
         delta_res[i] = start;
         K_u[i] = ok ? 1.0 : 0.0;
     }
-    /* 2. where the fast path did not hold (jumps far beyond the turning point): vz_jump on blocks
-     * of such contacts gathered into local arrays (a loop the compiler vectorises), then the
-     * safe path where vz_jump was not accepted either */
-    {
-        size_t at[NFD_JUMP_BLOCK], m = 0, j;
-        double d[NFD_JUMP_BLOCK], start[NFD_JUMP_BLOCK], u_fast[NFD_JUMP_BLOCK], u[NFD_JUMP_BLOCK];
-        int steps[NFD_JUMP_BLOCK];
-        for (i = 0; i <= n; ++i) {
-            if (i < n) {
-                if (!(delta[i] > p->delta_Y)) continue;  /* Hertz: pass 4 */
-                if (K_u[i] != 0.0) {
-                    most = most > 2 ? most : 2;
-                    continue;
-                }
-                at[m] = i;
-                d[m] = delta[i];
-                start[m] = delta_res[i];
-                u_fast[m] = P_max[i];
-                if (++m < NFD_JUMP_BLOCK) continue;
-            }
-            for (j = 0; j < m; ++j)                      /* a full block, or the last one */
-                steps[j] = vz_jump(d[j], start[j], u_fast[j], p, &u[j]);
-            for (j = 0; j < m; ++j) {
-                int count = 2 + steps[j];
-                if (steps[j] == 0) u[j] = vz_safe(d[j], start[j], u[j], p, &count);
-                P_max[at[j]] = u[j];
-                most = count > most ? count : most;
-            }
-            m = 0;
+    /* 2. where the fast path did not hold (jumps far beyond the turning point): vz_jump_block */
+    for (i = 0; i < n; ++i) {
+        if (!(delta[i] > p->delta_Y)) continue;          /* Hertz: pass 4 */
+        if (K_u[i] == 0.0) {
+            int count = vz_jump_block(n, i, p, delta, P_max, delta_res, K_u);
+            most = count > most ? count : most;
+            break;
         }
+        most = most > 2 ? most : 2;
     }
     /* 3. the turning points (vectorised) */
     for (i = 0; i < n; ++i)

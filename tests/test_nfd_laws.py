@@ -304,3 +304,49 @@ def test_parameters_that_would_create_energy_are_rejected(pair, Ca_hat, Kc_hat):
     with pytest.raises(ValueError, match=r"^Ca, Kc out of range: the vz law would create energy"):
         VZParams.from_dimensionless(pair, Ca_hat, Kc_hat)
     VZParams.reference()  # the paper's parameters are dissipative
+
+
+def test_cube_root_estimate_is_within_2_2e_5_over_the_float_range():
+    from nfdmodel.vz_curve import cube_root_estimate
+    y = np.geomspace(1e-300, 1e300, 200001)
+    assert np.max(np.abs(cube_root_estimate(y) / np.cbrt(y) - 1.0)) < 2.2e-5
+
+
+@pytest.mark.parametrize("Ca_hat, Kc_hat, bound", [
+    (REF.Ca_hat, REF.Kc_hat, 0.11),          # the paper's constants: 10.7 % at P ~ 66 P_Y
+    (REF.Ca_hat, 0.0, 5e-5),                 # Kc = 0: exact but for the cube root's error
+    (1e-3 * REF.Ca_hat, 0.0, 5e-5),
+    (1e3 * REF.Ca_hat, 1e-3 * REF.Kc_hat, 1e-3),
+    (1e3 * REF.Ca_hat, REF.Kc_hat, 1e-3),
+    (1.0, 1.0, 0.04),
+    (1e4, 1e4, 5e-5)])
+def test_explicit_start_is_an_upper_bound_close_to_the_root_over_1_to_1e5_P_Y(Ca_hat, Kc_hat, bound):
+    """vz_explicit_start (tangent of psi at the plastic asymptote, Cardano) against the exact
+    loading curve P -> delta(P) (paper eq. 3.4) over P/P_Y in [1, 1e5]: above the root (up to
+    the cube root's 2.1e-5, at most doubled in s) and within ``bound`` relative in u = P^(1/3)."""
+    from nfdmodel.vz_curve import vz_explicit_start
+    params = VZParams.from_dimensionless(PAIR, Ca_hat, Kc_hat)
+    P = PAIR.P_Y * np.geomspace(1.0 + 1e-9, 1e5, 4001)
+    start = vz_explicit_start(PAIR.R_star * params.loading_approach(P), params)
+    error = start / np.cbrt(P) - 1.0
+    assert error.min() > -5e-5 and error.max() < bound
+
+
+def test_jumps_converge_in_at_most_6_newton_iterations_without_the_safe_path():
+    """Jumps far beyond the turning point (virgin contacts to 2..1e4 delta_Y, yielded ones to 1..3x
+    their delta_max): the two steps from the turning point, then at most 4 from the explicit start
+    (the safe path would count more), to the loading curve within 1e-10."""
+    from nfdmodel.vz_curve import JUMP_NEWTON_STEPS
+    law = get_law("vz")
+    rng = np.random.default_rng(7)
+    top = min(PAIR.R_star, REF.full_contact_approach) / PAIR.delta_Y
+    delta = PAIR.delta_Y * np.exp(rng.uniform(np.log(2.0), np.log(min(1e4, 0.3 * top)), 4000))
+    virgin = law.initial_state(delta.size)
+    counts = vz_newton_iterations(delta, virgin, REF)
+    assert counts.min() >= 2 and counts.max() <= 2 + JUMP_NEWTON_STEPS
+    _, state = law.force(delta, virgin, REF)
+    jump = delta * rng.uniform(1.0, 3.0, delta.size)
+    counts = vz_newton_iterations(jump, state, REF)
+    assert counts.max() <= 2 + JUMP_NEWTON_STEPS and counts.mean() < 4.8
+    P, _ = law.force(jump, state, REF)
+    np.testing.assert_allclose(REF.loading_approach(P), jump, rtol=3e-10)
