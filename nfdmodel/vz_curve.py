@@ -191,14 +191,19 @@ def vz_plastic_solve(delta, P_start, params, tolerance: float = NEWTON_TOLERANCE
     1. Fast path: two Newton steps s1, s2 for all contacts. Accepted when F' > 0 at both
        iterates, |s2| <= 0.01 |s1| (quadratic regime) and the a-posteriori error of the result,
        10 |s2|^3 / s1^2, is below the tolerance, and P >= P_lo. (DEM steps: almost all.)
-    2. The others: safeguarded Newton on the bracket [P_lo, P_hi], P_hi = P_Y + x_hi with
+    2. The others (approaches far beyond the start: jumps): JUMP_NEWTON_STEPS = 4 Newton steps
+       from the lower of :func:`vz_explicit_start` (the loading curve's tangent approximation,
+       above the root) and the fast path's last iterate if that lies above P_lo, kept >= P_lo,
+       accepted after step k >= 2 by the same test on steps k-1 and k (:func:`_jump_newton`).
+    3. The rest (never for the paper's constants): safeguarded Newton on the bracket
+       [P_lo, P_hi] from stage 2's last iterate, P_hi = P_Y + x_hi with
        Ca^2 x_hi^2 = R* delta (1 + Kc x_hi) (a_ep >= Ca x bounds delta(P) from below, so
        F(P_hi) >= 0). A Newton step that leaves the bracket, goes uphill or does not halve the
        previous step is replaced by bisection (geometric while P_hi/P_lo > 2); stop when the
        step or the bracket is below the tolerance. Only unconverged contacts are iterated.
 
     Relative tolerance ``tolerance`` on P (1e-10). Returns (P [N], u = P^(1/3), Newton iterations
-    per contact); P is written into ``out`` if given.
+    per contact: 2, 2 + k after stage 2, 2 + 4 + the safe path's); P is written into ``out``.
     """
     pair = params.pair
     P_Y, Ca, Kc = pair.P_Y, params.Ca, params.Kc
