@@ -112,6 +112,24 @@ static void vz_residual(double u, double b, const nfd_params *p, double c1, doub
 /* The fast path of the root u = P^(1/3) of F (nfdmodel.vz_curve.vz_plastic_solve): two Newton
  * steps from u_lo = max(u_start, u_Y), accepted in the quadratic regime. Branch-free, so that a
  * loop over many contacts vectorises (nfd_vz_load). Returns 1 when accepted (*u the root). */
+/* The acceptance test of two successive Newton steps s_prev, s on u (numpy: vz_curve.newton_converged):
+ * the quadratic regime with a small a-posteriori error, or a step already at round-off level,
+ * ((|s| <= 0.01 |s_prev|) & (10 |s|^3 <= tol_u u s_prev^2)) | (|s| <= 0.01 tol_u u); the operations
+ * in numpy's order, so both kernels accept the same contacts. */
+static inline int newton_converged(double abs_previous, double abs_step, double u, double tol_u)
+{
+    int accept = abs_step <= abs_previous * 0.01;
+    double error = abs_step * 10.0;
+    error *= abs_step;
+    error *= abs_step;
+    double allowed = u * tol_u;
+    allowed *= abs_previous;
+    allowed *= abs_previous;
+    accept &= error <= allowed;
+    accept |= abs_step <= u * (0.01 * tol_u);
+    return accept;
+}
+
 static inline int vz_fast(double delta, double u_start, const nfd_params *p, double *u_out)
 {
     const double tol_u = NFD_TOLERANCE / 3.0;
@@ -133,17 +151,7 @@ static inline int vz_fast(double delta, double u_start, const nfd_params *p, dou
     ok &= slope > 0.0;
     step_2 = F / slope;
     u -= step_2;
-    double abs_1 = fabs(step_1), abs_2 = fabs(step_2);
-    int accept = abs_2 <= abs_1 * 0.01;
-    double error = abs_2 * 10.0;
-    error *= abs_2;
-    error *= abs_2;
-    double allowed = u * tol_u;
-    allowed *= abs_1;
-    allowed *= abs_1;
-    accept &= error <= allowed;
-    accept |= abs_2 <= u * (0.01 * tol_u);
-    ok &= accept & (u >= u_min);
+    ok &= newton_converged(fabs(step_1), fabs(step_2), u, tol_u) & (u >= u_min);
     *u_out = u;
     return ok;
 }
@@ -212,16 +220,7 @@ static inline void vz_jump_step(int k, int check, double b, double u_min, const 
     double u_newton = *u - step;
     double abs_step = fabs(step);
     if (check) {
-        double previous = *abs_previous;
-        int accept = abs_step <= previous * 0.01;
-        double error = abs_step * 10.0;
-        error *= abs_step;
-        error *= abs_step;
-        double allowed = u_newton * tol_u;
-        allowed *= previous;
-        allowed *= previous;
-        accept &= error <= allowed;
-        accept |= abs_step <= u_newton * (0.01 * tol_u);
+        int accept = newton_converged(*abs_previous, abs_step, u_newton, tol_u);
         accept &= rising & *rising_previous & (u_newton >= u_min) & (*steps == 0);
         *result = accept ? u_newton : *result;
         *steps += accept * k;                   /* (accept holds at one k at most) */

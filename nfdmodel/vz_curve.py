@@ -168,6 +168,24 @@ def vz_residual(u, b, params):
     return F, slope
 
 
+def newton_converged(abs_previous, abs_step, u, tol_u):
+    """The acceptance test of two successive Newton steps s_prev, s on u (C: newton_converged):
+    the quadratic regime with a small a-posteriori error, or a step already at round-off level,
+
+        ((|s| <= 0.01 |s_prev|) & (10 |s|^3 <= tol_u u s_prev^2)) | (|s| <= 0.01 tol_u u)
+    """
+    accept = abs_step <= abs_previous * 0.01
+    error = abs_step * 10.0
+    error *= abs_step
+    error *= abs_step
+    allowed = u * tol_u
+    allowed *= abs_previous
+    allowed *= abs_previous
+    accept &= error <= allowed
+    accept |= abs_step <= u * (0.01 * tol_u)
+    return accept
+
+
 def vz_plastic_force(delta, P_start, params, tolerance: float = NEWTON_TOLERANCE):
     """Force on the plastic loading branch (see :func:`vz_plastic_solve`): (P [N], iterations)."""
     delta = np.asarray(delta, dtype=float)
@@ -226,21 +244,7 @@ def vz_plastic_solve(delta, P_start, params, tolerance: float = NEWTON_TOLERANCE
     ok &= np.greater(slope, 0.0)
     step_2 = np.divide(F, slope, out=F)                     # s2
     u -= step_2
-    abs_1, abs_2 = np.abs(step_1, out=step_1), np.abs(step_2, out=step_2)
-    # quadratic regime with a small a-posteriori error, or a step already below round-off level:
-    # ((|s2| <= 0.01 |s1|) & (10 |s2|^3 <= tol_u u s1^2)) | (|s2| <= 0.01 tol_u u)
-    bound = np.multiply(abs_1, 0.01, out=slope)
-    accept = abs_2 <= bound
-    error = np.multiply(abs_2, 10.0)
-    error *= abs_2
-    error *= abs_2
-    allowed = np.multiply(u, tol_u)
-    allowed *= abs_1
-    allowed *= abs_1
-    accept &= np.less_equal(error, allowed)
-    np.multiply(u, 0.01 * tol_u, out=bound)
-    accept |= np.less_equal(abs_2, bound)
-    ok &= accept
+    ok &= newton_converged(np.abs(step_1, out=step_1), np.abs(step_2, out=step_2), u, tol_u)
     ok &= np.greater_equal(u, u_min)
     iterations = np.full(delta.shape[0], 2, dtype=np.int64)
     if ok.all():
@@ -338,17 +342,8 @@ def _jump_newton(u_start, u_lo, b, params, tol_u):
         u_newton = u - step
         abs_step = np.abs(step, out=step)
         if k >= 2:
-            # the fast path's test: ((|s_k| <= 0.01 |s_k-1|) & (10 |s_k|^3 <= tol_u u s_k-1^2))
-            # | (|s_k| <= 0.01 tol_u u), F' > 0 at both iterates, u >= u_lo
-            accept = abs_step <= abs_previous * 0.01
-            error = abs_step * 10.0
-            error *= abs_step
-            error *= abs_step
-            allowed = u_newton * tol_u
-            allowed *= abs_previous
-            allowed *= abs_previous
-            accept &= error <= allowed
-            accept |= abs_step <= u_newton * (0.01 * tol_u)
+            # the fast path's test, F' > 0 at both iterates, u >= u_lo
+            accept = newton_converged(abs_previous, abs_step, u_newton, tol_u)
             accept &= rising & rising_previous & (u_newton >= u_min)
             accept &= steps == 0
             result[accept] = u_newton[accept]

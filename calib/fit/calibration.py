@@ -126,36 +126,54 @@ class CalibrationResult:
         except ValueError:
             return None
 
+    @cached_property
+    def _fine_table_fit(self) -> VZTableParams | str:
+        """This mesh's vz-table fit, or why its FE paths determine none (fitted once)."""
+        paths = self.load_paths.paths
+        try:
+            return fit_tables(self.radius_data, self.spec.pair, [p.peak for p in paths],
+                              [p.unloading_work for p in paths], self.fitted_window)
+        except ValueError as exc:
+            return str(exc)
+
     def fine_table(self) -> VZTableParams:
         """The vz-table law of this mesh alone (ValueError when its FE paths determine none)."""
-        paths = self.load_paths.paths
-        return fit_tables(self.radius_data, self.spec.pair, [p.peak for p in paths],
-                          [p.unloading_work for p in paths], self.fitted_window)
+        fit = self._fine_table_fit
+        if isinstance(fit, str):
+            raise ValueError(fit)
+        return fit
+
+    def _table_extrapolation(self) -> tuple[VZTableParams, tuple | None]:
+        """This mesh's table and, when the second mesh has a table on the same nodes, its node
+        values extrapolated (a_p/a_Y, C_R) with the largest estimated error; ValueError as
+        :meth:`fine_table`."""
+        table = self.fine_table()
+        coarse = None if self.mesh_pair is None else self.mesh_pair.get("table")
+        if coarse is None or not np.allclose(coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):
+            return table, None
+        f, f_error = extrapolation.extrapolated_table(table.f, coarse["a_p_over_a_Y"])
+        g, g_error = extrapolation.extrapolated_table(table.g, coarse["C_R"])
+        return table, (f, g, max(f_error, g_error))
 
     def fit_table(self) -> VZTableParams:
         """:attr:`table_params`, or the ValueError saying why the FE paths determine none: the
         node values extrapolated from both meshes where the coarse mesh has a table on the same
         nodes and the result is admissible, else this mesh's."""
-        table = self.fine_table()
-        coarse = None if self.mesh_pair is None else self.mesh_pair.get("table")
-        if coarse is None or not np.allclose(coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):
+        table, extrapolated = self._table_extrapolation()
+        if extrapolated is None:
             return table
-        f, _ = extrapolation.extrapolated_table(table.f, coarse["a_p_over_a_Y"])
-        g, _ = extrapolation.extrapolated_table(table.g, coarse["C_R"])
         try:
-            return VZTableParams(self.spec.pair, table.x, f, g, table.window)
+            return VZTableParams(self.spec.pair, table.x, extrapolated[0], extrapolated[1], table.window)
         except ValueError:              # an inadmissible extrapolation: this mesh's table ships
             return table
 
     def table_rel_error_estimate(self) -> float | None:
         """The largest estimated relative error over the table's nodes (a_p/a_Y and C_R), or None."""
-        coarse = None if self.mesh_pair is None else self.mesh_pair.get("table")
-        table = self.table_params
-        if coarse is None or table is None or not np.allclose(coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):
+        try:
+            _, extrapolated = self._table_extrapolation()
+        except ValueError:
             return None
-        fine = self.fine_table()
-        return max(extrapolation.extrapolated_table(fine.f, coarse["a_p_over_a_Y"])[1],
-                   extrapolation.extrapolated_table(fine.g, coarse["C_R"])[1])
+        return None if extrapolated is None else extrapolated[2]
 
     def path_estimates(self) -> list[dict[str, Estimate]] | None:
         """e and alpha_max of each load path from both meshes (not extrapolated: the fine mesh's,

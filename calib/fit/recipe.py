@@ -28,6 +28,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from calib.fe.loadpath import LoadPathPlan
+from calib.fit.extrapolation import REFINEMENT
 from meshes.hemisphere import HemisphereMeshSpec, estimate_dofs
 from nfdmodel import ContactPair, Material, reference_case
 
@@ -279,8 +280,6 @@ def coarse_spec(spec: CalibrationSpec, ratio: float | None = None) -> Calibratio
     """The second mesh of a calibration (calib.fit.extrapolation): the same material, load plan and
     refined zone (at least two elements wide and deep) with the contact element ``ratio`` x h
     (default REFINEMENT = 2)."""
-    from calib.fit.extrapolation import REFINEMENT
-
     h = spec.mesh.contact_size * (ratio or REFINEMENT)
     mesh = dataclasses.replace(spec.mesh, contact_size=h, refined_radius=max(spec.mesh.refined_radius, 2 * h),
                                refined_depth=max(spec.mesh.refined_depth, 2 * h),
