@@ -21,7 +21,13 @@
    pass reads and writes, float64 and int64) divided by the machine's bandwidth, measured in the
    same run as a large array copy; "floor x" is that time over numpy's k d sqrt(d), the ratio no
    kernel with this data layout (separate history arrays, a sparse update, then the commit)
-   can beat.
+   can beat. The floor counts 8 bytes per sparse access; memory moves 64-byte lines, so at low
+   loading fractions the sorted updates touch a larger share of the history (column "lines": the
+   fraction of cache lines a sparse pass over n contacts touches, 1 - (1 - f)^8).
+   Solve: the compiled batch solve of the loading contacts alone (nfd_vz_load with its gather and
+   scatter, what the step adds to the unloading pass), ns per loading contact: the arithmetic,
+   which is what a jump adds to a step (6 evaluations of the residual and the explicit start
+   instead of the 2 evaluations of a continuation).
 2. The 10-velocity collision sweep (0.02..0.2 m/s, dt = 1e-6 s, reference case) per law
    (target: <= 1 s).
 """
@@ -35,6 +41,7 @@ from dataclasses import fields
 import numpy as np
 
 from nfdmodel import RangeWarning, VZParams, VZState, backend, collide, get_law, native, vz_newton_iterations
+from nfdmodel.native import _native
 
 # Bytes per contact of one vz step + in-place commit (float64 / int64 = 8 bytes):
 UNLOADING_BYTES = 8 * (4 + 2)     # read delta, delta_res, K_u, delta_max; write force, index
@@ -44,6 +51,7 @@ UNLOADING_BYTES = 8 * (4 + 2)     # read delta, delta_res, K_u, delta_max; write
 # history arrays at random positions: 6 + 10)
 LOADING_BYTES = 8 * (2 + 5 + (5 + 2 + 6 + 1) + 4 + 6 + 10)
 HERTZ_BYTES = 8 * 6                # k d sqrt(d): three passes, each reads 8 and writes 8 bytes
+DOUBLES_PER_LINE = 8               # a 64-byte cache line
 
 
 def best_time(function, repeats: int, setup=None) -> float:
@@ -81,6 +89,20 @@ def bandwidth(n: int, repeats: int) -> float:
     return 2 * source.nbytes / best_time(lambda: np.copyto(target, source), repeats)
 
 
+def solve_time(params, state, delta, repeats: int) -> float:
+    """Best time [s] of the compiled batch solve of the loading contacts (delta > delta_max) alone:
+    nfd_vz_load with its gather of delta, a_e_max and scatter of the forces (NaN on numpy)."""
+    if not native.active():
+        return float("nan")
+    index = np.flatnonzero(delta > state.delta_max).astype(np.int64)
+    outputs = [np.empty(index.size) for _ in range(5)]
+    force = np.empty(delta.size)
+    kernel = native.law_params("vz", params, params.pair)
+    a_e_max = np.ascontiguousarray(state.a_e_max)
+    return best_time(lambda: _native.load(native.LAW_CODES["vz"], kernel, index, delta, a_e_max, force, *outputs),
+                     repeats)
+
+
 def numpy_hertz(delta, k):
     """numpy's fastest Hertz force: k d sqrt(d), three array operations."""
     force = np.sqrt(delta)
@@ -115,6 +137,7 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng, bytes_per_secon
     t_hertz = best_time(lambda: hertz.force(delta, hertz_state, params.pair), repeats)
     t_pure = best_time(lambda: vz.force(delta, state, params), repeats)
     t_step = best_time(step_and_commit, repeats, fresh_history)
+    t_solve = solve_time(params, state, delta, repeats)
     with native.use_backend("numpy"):
         t_numpy_step = best_time(step_and_commit, repeats, fresh_history)
     # check: same force and history both ways
@@ -138,7 +161,9 @@ def force_benchmark(n: int, repeats: int, loading_fraction, rng, bytes_per_secon
             "pure_ratio": t_pure / t_hertz, "step_ratio": t_step / t_hertz,
             "plastic_loading_fraction": solved.size / n,
             "newton_mean": float(solved.mean()) if solved.size else 0.0,
-            "newton_max": update.newton_iterations}
+            "newton_max": update.newton_iterations,
+            "lines_touched": 1.0 - (1.0 - loading) ** DOUBLES_PER_LINE,
+            "solve_ns_per_loading": 1e9 * t_solve / solved.size if solved.size else float("nan")}
 
 
 def collision_benchmark(repeats: int) -> list[dict]:
@@ -168,17 +193,20 @@ def main(argv=None) -> int:
           f"copy bandwidth {speed / 1e9:.1f} GB/s")
     print("  k d sqrt(d) = numpy's fastest Hertz; hertz = the native hertz law's force; pure = vz force")
     print("  (step + copying commit); step = vz step + in-place commit, native and numpy kernels;")
-    print("  floor = bytes per contact / bandwidth (targets: step <= 1.5x k d sqrt(d), <= 2x hertz)")
+    print("  floor = bytes per contact / bandwidth (targets: step <= 1.5x k d sqrt(d), <= 2x hertz);")
+    print("  lines = share of cache lines a sparse pass touches; solve = compiled batch solve alone,")
+    print("  ns per plastically loading contact")
     print(f"{'scenario':>9} {'kdsqrt ms':>9} {'hertz ms':>9} {'pure ms':>8} {'step ms':>8} {'numpy ms':>9} "
           f"{'step/kdsqrt':>11} {'step/hertz':>10} {'numpy/kdsqrt':>12} {'B/contact':>9} {'floor x':>8} "
-          f"{'plastic':>8} {'Newton':>7} {'max':>4}")
+          f"{'lines':>6} {'plastic':>8} {'Newton':>7} {'max':>4} {'solve ns':>8}")
     for loading_fraction in (0.0, 0.01, 0.05, 0.1, 0.2, 0.3, 0.5, None):
         r = force_benchmark(ns.contacts, ns.repeats, loading_fraction, rng, speed)
         print(f"{r['scenario']:>9} {r['numpy_hertz_ms']:9.2f} {r['hertz_ms']:9.2f} {r['pure_ms']:8.2f} "
               f"{r['step_ms']:8.2f} {r['numpy_step_ms']:9.2f} {r['step_over_numpy_hertz']:11.2f} "
               f"{r['step_over_hertz']:10.2f} {r['numpy_step_over_numpy_hertz']:12.2f} {r['bytes_per_contact']:9.0f} "
-              f"{r['floor_over_numpy_hertz']:8.2f} {100 * r['plastic_loading_fraction']:7.1f}% "
-              f"{r['newton_mean']:7.2f} {r['newton_max']:4d}")
+              f"{r['floor_over_numpy_hertz']:8.2f} {r['lines_touched']:6.2f} "
+              f"{100 * r['plastic_loading_fraction']:7.1f}% {r['newton_mean']:7.2f} {r['newton_max']:4d} "
+              f"{r['solve_ns_per_loading']:8.1f}")
     print()
     print(f"Collision sweep, 10 velocities 0.02..0.2 m/s, dt = 1e-6 s, backend {backend()} (target <= 10 ms)")
     print(f"{'law':>13} {'seconds':>8} {'steps':>6} {'max Newton':>11}")
