@@ -647,3 +647,84 @@ def test_pour_on_two_mpi_ranks_equals_one(plugin, tmp_path):
     assert contacts.max() >= 30 and on_floor.max() >= 10           # the census sees a busy pour
     np.testing.assert_allclose(ke, one[:, 1], rtol=1e-12, atol=0.0)
     assert not orphans.any() and not unpaired.any() and not one[:, 3:5].any()
+
+
+# ------------------------------------------------------------------------------ Walton-Braun
+def walton_braun_springs(pair: ContactPair) -> nfdmodel.WaltonBraunParams:
+    """Stiffnesses of a pair as nfdmodel derives them: the secants of the vz law at 40 P_Y."""
+    return nfdmodel.WaltonBraunParams.from_vz(VZParams.from_dimensionless(pair, REFERENCE.Ca_hat, REFERENCE.Kc_hat))
+
+
+def walton_braun_steps(springs: nfdmodel.WaltonBraunParams, v_in: float) -> int:
+    estimate = nfdmodel.collision_reference("walton-braun", springs, [v_in]).contact_time_estimate[0]
+    return int(1.2 * estimate / DT) + 50
+
+
+@pytest.mark.parametrize("v_in", [0.05, 1.0])
+def test_walton_braun_head_on_matches_nfdmodel_and_sqrt_K1_over_K2(plugin, tmp_path, v_in):
+    """pair_style nfd/walton-braun, pair_coeff 1 1 K1 K2: e, P_max and contact time equal
+    nfdmodel.collide('walton-braun') within 1e-8, and e the closed form sqrt(K1/K2) of two linear
+    springs to the leap-frog's time-step error (here < 1e-3)."""
+    springs = walton_braun_springs(ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS))
+    text = impact_input(plugin, aluminium_spheres(v_in), {1: f"{num(springs.K1)} {num(springs.K2)}"},
+                        walton_braun_steps(springs, v_in), pair_style="nfd/walton-braun")
+    lmp = measured(run_lammps(text, tmp_path), v_in)
+    assert_same(lmp, nfdmodel.collide("walton-braun", springs, [v_in], dt=DT))
+    assert lmp["e"] == pytest.approx(math.sqrt(springs.K1 / springs.K2), rel=1e-3)
+
+
+@pytest.mark.parametrize("explicit", [False, True])
+def test_walton_braun_unlike_types_mix_or_take_their_pair_coeff(plugin, tmp_path, explicit):
+    """Types 1 and 2 with their own springs: without pair_coeff 1 2 the contact takes the harmonic
+    mean 2 / (1/K_11 + 1/K_22) of K1 and of K2; with pair_coeff 1 2 K1 K2 it takes those. Both
+    equal nfdmodel's collision of the two spheres (R*, m*) with those stiffnesses within 1e-8."""
+    body_b, R_b = Material(110e9, 0.45, 95e6, 7800.0), 0.006
+    like_a = walton_braun_springs(ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS))
+    like_b = walton_braun_springs(ContactPair.sphere_sphere(body_b, R_b, body_b, R_b))
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, body_b, R_b)
+    if explicit:
+        springs = nfdmodel.WaltonBraunParams(pair, 0.5 * like_a.K1, 0.8 * like_a.K2)
+    else:
+        springs = nfdmodel.WaltonBraunParams(pair, 2.0 / (1.0 / like_a.K1 + 1.0 / like_b.K1),
+                                             2.0 / (1.0 / like_a.K2 + 1.0 / like_b.K2))
+    v_in = 0.5
+    spheres = [(1, RADIUS, -RADIUS, 0.5 * v_in, ALUMINIUM.rho), (2, R_b, R_b, -0.5 * v_in, body_b.rho)]
+    coeffs = {1: f"{num(like_a.K1)} {num(like_a.K2)}", 2: f"{num(like_b.K1)} {num(like_b.K2)}"}
+    text = impact_input(plugin, spheres, coeffs, walton_braun_steps(springs, v_in), pair_style="nfd/walton-braun")
+    if explicit:
+        text = text.replace("pair_coeff 2 2", f"pair_coeff 1 2 {num(springs.K1)} {num(springs.K2)}\npair_coeff 2 2")
+    lmp = measured(run_lammps(text, tmp_path), v_in)
+    assert_same(lmp, nfdmodel.collide("walton-braun", springs, [v_in], dt=DT))
+
+
+def test_walton_braun_wall_matches_nfdmodel(plugin, tmp_path):
+    """fix nfd/wall/walton-braun zlo 0 K1 K2: the sphere-on-flat collision of nfdmodel within 1e-8."""
+    springs = walton_braun_springs(ContactPair.sphere_flat(ALUMINIUM, RADIUS))
+    v_in = 0.3
+    text = wall_input(plugin, f"{num(springs.K1)} {num(springs.K2)}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)],
+                      walton_braun_steps(springs, v_in), style="nfd/wall/walton-braun")
+    output = run_lammps(text, tmp_path)
+    assert "ERROR" not in output, output[-2000:]
+    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
+                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
+    delta, force, velocity, P_max_history, delta_res, wall_total = rows[:, 1:].T
+    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
+    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    py = nfdmodel.collide("walton-braun", springs, [v_in], dt=DT)
+    assert velocity[-1] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert force.max() == pytest.approx(py.P_max[0], rel=RTOL)
+    assert (n - 1 + fraction) * DT == pytest.approx(py.contact_time[0], rel=RTOL)
+
+
+@pytest.mark.parametrize("coeff, message", [
+    ("2e6 1e6", "K2 out of range: need K2 >= K1 = 2e6 N/m"),
+    ("0 1e6", "K1 [N/m] out of range: need a finite number > 0, got 0"),
+    ("1e6", "need K1 K2 (loading and unloading stiffness [N/m], 0 < K1 <= K2) after the types I J, got 1"),
+])
+def test_bad_walton_braun_coefficients_are_named(plugin, tmp_path, coeff, message):
+    text = impact_input(plugin, aluminium_spheres(0.1), {1: coeff}, 1, pair_style="nfd/walton-braun")
+    output = run_lammps(text, tmp_path)
+    assert message in next(line for line in output.splitlines() if line.startswith("ERROR")), output[-1500:]
+    wall = wall_input(plugin, coeff, [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1, style="nfd/wall/walton-braun")
+    output = run_lammps(wall, tmp_path)
+    assert message.replace("types I J", "wall plane") in output, output[-1500:]

