@@ -117,14 +117,19 @@ def run_lammps(text: str, folder: Path, nprocs: int = 1) -> str:
     return done.stdout + done.stderr
 
 
-def measured(output: str, v_in: float) -> dict:
-    """e, P_max, contact time (nfdmodel's definition) and the end-of-run line from the log."""
+def impact_rows(output: str) -> np.ndarray:
+    """The thermo rows of impact_input (step, overlap, force, relative velocity, P_max, delta_res),
+    each step once (a split run repeats its first step)."""
     assert "ERROR" not in output, output[-2000:]
     rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
                      if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){5}\s*", line)])
-    steps = rows[:, 0]
-    _, first = np.unique(steps, return_index=True)      # a split run repeats its first step
-    rows = rows[np.sort(first)]
+    _, first = np.unique(rows[:, 0], return_index=True)
+    return rows[np.sort(first)]
+
+
+def measured(output: str, v_in: float) -> dict:
+    """e, P_max, contact time (nfdmodel's definition) and the end-of-run line from the log."""
+    rows = impact_rows(output)
     delta, force, v_rel, P_max_history, delta_res = rows[:, 1:].T
     n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
     fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
@@ -232,6 +237,50 @@ def test_history_survives_between_runs(plugin, tmp_path):
     split = measured(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps, split=700),
                                 tmp_path), v_in)       # mid-unloading: the history decides the force
     np.testing.assert_allclose(split["rows"], whole["rows"], rtol=1e-12, atol=1e-20)
+
+
+@pytest.mark.parametrize("written_by", ["write_restart", "restart N"])
+def test_pair_history_goes_through_a_restart_file(plugin, tmp_path, written_by):
+    """A restart written at the turning point (between runs by write_restart, or during the run by
+    `restart N`), read back in a new LAMMPS with pair_style and pair_coeff re-issued: the continued
+    impact equals the uninterrupted one to round-off (measured: bit for bit), on 1 rank and on 2
+    with the contact on their boundary x = 0. The log says how many contacts were restored.
+    Continued under another law (nfd/thornton: another history fix ID), LAMMPS lists the unused
+    history and the impact is not the same: the comparison sees the history."""
+    params, coeff = aluminium_pair()
+    v_in = 10.0 * params.pair.v_Y
+    steps = steps_for(params, v_in)
+    text = impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps)
+    whole = impact_rows(run_lammps(text, tmp_path))
+    # at the turning point: the next step unloads from this step's delta_max (restart N writes
+    # the history before this step's forces, and the continued run recomputes the step from it)
+    split = int(np.argmax(whole[:, 2]))
+    assert whole[split + 1, 1] < whole[split, 1] and whole[split, 4] > whole[split - 1, 4]
+    # the first part re-neighbors only at its start (and where LAMMPS writes a restart)
+    text = text.replace("neigh_modify every 1 delay 0 check no", "neigh_modify every 100000 delay 0 check no")
+    if written_by == "write_restart":
+        first = text.replace(f"run {steps}", f"run {split}\nwrite_restart pair.restart")
+    else:
+        first = text.replace(f"run {steps}", f"restart {split} pair.restart pair.next\nrun {split + 5}")
+    output = run_lammps(first, tmp_path)
+    assert "ERROR" not in output, output[-2000:]
+
+    def continued(nprocs: int = 1, law: str = "nfd/vz", law_coeff: str = coeff) -> tuple[np.ndarray, str]:
+        again = impact_input(plugin, aluminium_spheres(v_in), {1: law_coeff}, steps - split, pair_style=law)
+        _, tail = again.split("plugin load", 1)
+        processors = "processors 2 1 1\n" if nprocs == 2 else ""
+        head = f"atom_modify map array\nnewton off\n{processors}read_restart pair.restart\n"
+        output = run_lammps(head + "plugin load" + tail, tmp_path, nprocs)
+        return impact_rows(output), output              # the step number comes with the restart
+
+    for nprocs in (1, 2):
+        rows, output = continued(nprocs)
+        assert "fix NFD_HISTORY_VZ (nfd/history): the history of 1 contact(s) restored from the restart file" \
+            in output
+        np.testing.assert_allclose(rows, whole[split:], rtol=1e-12, atol=1e-300)
+    rows, output = continued(law="nfd/thornton", law_coeff=" ".join(coeff.split()[:3]))
+    assert "fix style: nfd/history, fix ID: NFD_HISTORY_VZ" in output
+    assert not np.allclose(rows[:, 2], whole[split:, 2], rtol=1e-3, atol=0.0)
 
 
 def test_beyond_the_window_is_counted_once_per_contact(plugin, tmp_path):

@@ -46,9 +46,14 @@
  * every contact that involves one of its atoms, so both copies of a contact across a subdomain
  * boundary evolve identically.
  *
- * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact),
- * restart files of the pair history (write_restart keeps no pair history; fix nfd/wall/* writes
- * its per-atom history), run_style respa for fix nfd/wall/*.
+ * The contact history goes into restart files (write_restart, restart N) with each atom (its
+ * partner IDs and values); after read_restart, the same pair_style and pair_coeff re-issued (the
+ * pair style's constants are not in the file) bring it back: the history fix has an ID fixed by
+ * the law (NFD_HISTORY_VZ, ...), which LAMMPS matches with the file's. Restored under another law,
+ * nothing is restored and LAMMPS lists the unused "fix style: nfd/history" at the next run.
+ *
+ * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact; but
+ * walton-braun takes I J), run_style respa for fix nfd/wall/*.
  *
  * License: this plugin (this file, compiled together with nfd_kernel.{h,c}) is distributed under
  * GPL-2.0-or-later, so that it may be loaded into LAMMPS (GPL-2.0) through LAMMPS' plugin
@@ -92,6 +97,9 @@ constexpr int NHIST = 5;                    // the doubles of nfd_history
 constexpr double DEFAULT_WINDOW = 41.2;     // nfdmodel.window.DEFAULT_RECIPE_P_MAX_OVER_P_Y
 enum Law { HERTZ = 0, VZ = 1, THORNTON = 2, VZ_TABLE = 3, WALTON_BRAUN = 4 };
 const char *const LAW_NAMES[] = {"nfd/hertz", "nfd/vz", "nfd/thornton", "nfd/vz-table", "nfd/walton-braun"};
+/* the ID of each law's history fix: fixed, so that read_restart finds the history written by it */
+const char *const HISTORY_IDS[] = {"NFD_HISTORY_HERTZ", "NFD_HISTORY_VZ", "NFD_HISTORY_THORNTON",
+                                   "NFD_HISTORY_VZ_TABLE", "NFD_HISTORY_WALTON_BRAUN"};
 
 /* The laws whose constants were fitted on a load window (the others are exact or have none). */
 inline bool has_window(Law law) { return law == VZ || law == VZ_TABLE; }
@@ -355,7 +363,9 @@ class PairNfd;
  * exchanged (pre_exchange), at the end of a run (post_run) it is copied to per-atom lists of
  * (partner ID, values) -- with newton off a contact of two owned atoms goes to both -- which
  * travel with the atoms (pack/unpack_exchange, copy_arrays); after the next neighbor build
- * (post_neighbor) each list entry takes the values its partner ID had, or zeros.
+ * (post_neighbor) each list entry takes the values its partner ID had, or zeros. The per-atom
+ * lists also go into restart files (pack_restart) and come back when the pair style, re-issued
+ * after read_restart, creates this fix again under the same ID (unpack_restart).
  * ------------------------------------------------------------------------------------------ */
 class FixNfdHistory : public Fix {
  public:
@@ -365,11 +375,17 @@ class FixNfdHistory : public Fix {
         create_attribute = 1;
         maxexchange_dynamic = 1;
         maxexchange = 1;
+        restart_peratom = 1;
         grow_arrays(atom->nmax);
         atom->add_callback(Atom::GROW);
+        atom->add_callback(Atom::RESTART);
     }
 
-    ~FixNfdHistory() override { atom->delete_callback(id, Atom::GROW); }
+    ~FixNfdHistory() override
+    {
+        atom->delete_callback(id, Atom::GROW);
+        atom->delete_callback(id, Atom::RESTART);
+    }
 
     int setmask() override
     {
@@ -381,6 +397,13 @@ class FixNfdHistory : public Fix {
     {
         if (!pair) error->all(FLERR, "fix nfd/history is internal to pair_style nfd/*: define the pair style");
         if (atom->tag_enable == 0) error->all(FLERR, "pair_style nfd/* needs atom IDs (atom_modify id yes)");
+        // said once: what a restart file brought back (each contact is held by both its atoms)
+        bigint all = 0;
+        MPI_Allreduce(&restored, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+        if (all > 0 && comm->me == 0)
+            utils::logmesg(lmp, fmt::format("fix {} ({}): the history of {} contact(s) restored from the restart "
+                                            "file\n", id, style, all / 2));
+        restored = 0;
         // atoms added by a fix in its pre_exchange must come after this fix stored the history
         for (int k = 0; k < modify->nfix; ++k) {
             if (modify->fix[k] == this) break;
@@ -542,6 +565,52 @@ class FixNfdHistory : public Fix {
         return m;
     }
 
+    /* Restart files: per atom [its length, npartner, then per partner its ID and the NHIST
+     * values] (read_restart keeps the values of every fix in atom->extra[i] one after the other,
+     * each led by its own length). Between runs (write_restart) the lists are those post_run
+     * stored. During a run (restart N) LAMMPS re-neighbors on the step it writes, so the lists are
+     * the history before that step's forces; the continued run recomputes that step from them
+     * (setup), so it follows the uninterrupted run all the same (tested). maxsize_restart is
+     * called on every rank. */
+    int maxsize_restart() override
+    {
+        int mine = 0, all = 0;
+        for (int i = 0; i < atom->nlocal; ++i) mine = npartner[i] > mine ? npartner[i] : mine;
+        MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, world);
+        return 2 + (1 + NHIST) * all;
+    }
+
+    int size_restart(int i) override { return 2 + (1 + NHIST) * npartner[i]; }
+
+    int pack_restart(int i, double *buf) override
+    {
+        int m = 1;
+        buf[m++] = npartner[i];
+        for (int k = 0; k < npartner[i]; ++k) {
+            buf[m++] = static_cast<double>(partner[i][k]);
+            for (int n = 0; n < NHIST; ++n) buf[m++] = partner_values[i][NHIST * k + n];
+        }
+        buf[0] = m;
+        return m;
+    }
+
+    void unpack_restart(int nlocal, int nth) override
+    {
+        const double *extra = atom->extra[nlocal];
+        int m = 0;
+        for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
+        ++m;
+        clear_partners(nlocal);
+        const int count = static_cast<int>(extra[m++]);
+        for (int k = 0; k < count; ++k) {
+            const tagint who = static_cast<tagint>(extra[m++]);
+            add_partner(nlocal, who, &extra[m]);
+            m += NHIST;
+        }
+        restored += count;
+        if (1 + (1 + NHIST) * count > maxexchange) maxexchange = 1 + (1 + NHIST) * count;
+    }
+
     double memory_usage() override
     {
         double bytes = (double) values.capacity() * sizeof(double) + (double) touch.capacity() +
@@ -599,6 +668,7 @@ class FixNfdHistory : public Fix {
     }
 
     bigint orphans = 0;
+    bigint restored = 0;                     // partner records read from a restart file
     std::vector<size_t> first;               // per owned atom: its first list entry
     std::vector<double> values;              // NHIST per list entry
     std::vector<unsigned char> touch;        // 1: the entry holds a contact's history
@@ -850,7 +920,7 @@ class PairNfd : public Pair {
 
     const char *name() const { return LAW_NAMES[law]; }
     FixNfdHistory *contact_history() const { return history; }
-    std::string history_id() const { return std::string("NFD_HISTORY_") + std::to_string(instance_me); }
+    std::string history_id() const { return HISTORY_IDS[law]; }
 
  private:
     void allocate()
