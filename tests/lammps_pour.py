@@ -14,6 +14,10 @@ the same on every call.
 
     pour_input(plugin, n=300, steps=6000, thermo=300, contact="nfd")          # pair nfd/vz + wall fixes
     pour_input(None, n=3000, contact="granular")                              # hertz/material, coeff_restitution
+    pile_input(plugin, "pile.data", steps=2000, contact="nfd")                # the same laws on a settled pile
+
+A dense pile (the benchmark's): the pour with more layers (``layers``), settled with the granular
+style and written with write_data, then read back by pile_input for either contact law.
 
 Thermo columns (``thermo_columns``): step, kinetic energy [J], and for contact="nfd" the contact
 census (compute nfd/contacts: contacts with history, orphan histories, unpaired copies) and the
@@ -32,23 +36,35 @@ DT = 1e-7                           # s: a contact lasts >= 120 steps (Hertz, R 
 # steel (nfdcal material, the README's example)
 MATERIALS = {1: (70e9, 0.30, 100e6, 2699.0, 0.02592, 0.009855), 2: (205e9, 0.29, 655e6, 7800.0, 0.02571, 0.01108)}
 RESTITUTION = 0.8                   # granular comparison: coeff_restitution damping
+# m: between staggered layers; two spheres of radius 1.2 R_0 in neighbouring layers are then
+# sqrt(2 (1.2 R_0)^2 + rise^2) >= 2.4 R_0 apart
+STAGGERED_RISE = 1.75 * R_0
 
 
 def num(value: float) -> str:
     return repr(float(value))
 
 
-def spheres(n: int, seed: int = 1, drift: float = 0.0):
-    """(columns per side, box side L [m], rows [(type, R, x, y, z, vx, vy, vz)])."""
+def spheres(n: int, seed: int = 1, drift: float = 0.0, layers: int = 3, staggered: bool = False):
+    """(columns per side, box side L [m], rows [(type, R, x, y, z, vx, vy, vz)]): n spheres in
+    about ``layers`` layers of columns (module doc); staggered: a pile's start instead, at rest,
+    each layer shifted by half the spacing 2 R_max over the one below, so that its spheres fall
+    into the hollows (the layers STAGGERED_RISE apart: no sphere touches another yet)."""
     rng = np.random.default_rng(seed)
-    side = max(2, math.ceil(math.sqrt(n / 3.0)))           # about three layers
-    spacing = 2.0 * 1.2 * R_0 + GAP
+    side = max(2, math.ceil(math.sqrt(n / layers)))
+    spacing = 2.0 * 1.2 * R_0 + (0.0 if staggered else GAP)
     radius = rng.uniform(0.8, 1.2, n) * R_0
     kinds = rng.integers(1, 3, n)
     rows, top = [], {}
     for k in range(n):
         layer, cell = divmod(k, side * side)
         ix, iy = divmod(cell, side)
+        if staggered:
+            shift = 0.5 * (layer % 2)
+            rows.append((int(kinds[k]), radius[k], ((ix + 0.5 + shift) % side) * spacing,
+                         ((iy + 0.5 + shift) % side) * spacing,
+                         1.2 * R_0 + layer * STAGGERED_RISE, drift, 0.0, 0.0))
+            continue
         below = top.get(cell, 0.0)                          # the top of the sphere under this one
         z = below + radius[k] + rng.uniform(0.0, 0.01e-3)
         top[cell] = z + radius[k]
@@ -69,14 +85,16 @@ def thermo_columns(contact: str) -> list[str]:
 
 def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int = 300, seed: int = 1,
                drift: float = 20.0, processors: str = "", contact: str = "nfd", rebuild_every_step: bool = True,
-               dump: str | None = None) -> str:
+               dump: str | None = None, layers: int = 3, staggered: bool = False, dt: float = DT,
+               restitution: float = RESTITUTION, data: str | None = None) -> str:
     """The LAMMPS input of the pour (module doc). contact: "nfd" (pair_style nfd/vz, fix
     nfd/wall/vz per material) or "granular" (pair_style granular hertz/material with damping
-    coeff_restitution e = RESTITUTION, fix wall/gran with the same model, frictionless).
+    coeff_restitution e = restitution, fix wall/gran with the same model, frictionless).
     rebuild_every_step: neighbor lists rebuilt at every step (the tests: the history passes
     through the per-atom store each step), else only when an atom moved half the skin (speed).
-    dump: a file for the final positions (id type radius x y z)."""
-    _, side, rows = spheres(n, seed, drift)
+    dump: a file for the final positions (id type radius x y z); data: a write_data file of the
+    end (a pile for pile_input)."""
+    _, side, rows = spheres(n, seed, drift, layers, staggered)
     height = max(z for *_, z, _, _, _ in rows) + 10 * R_0
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
              "boundary p p f"] + ([f"processors {processors}"] if processors else [])
@@ -85,7 +103,33 @@ def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int 
         lines += [f"create_atoms {kind} single {num(x)} {num(y)} {num(z)}",
                   f"set atom {atom} diameter {num(2 * R)} density {num(MATERIALS[kind][3])} "
                   f"vx {num(vx)} vy {num(vy)} vz {num(vz)}"]
-    lines += ["group aluminium type 1", "group steel type 2"]
+    lines += contact_lines(plugin, contact, restitution)
+    lines += run_lines(steps, thermo, rebuild_every_step, dt)
+    if dump:
+        lines.append(f"write_dump all custom {dump} id type radius x y z modify sort id")
+    if data:
+        lines.append(f"write_data {data}")
+    return "\n".join(lines) + "\n"
+
+
+def pile_input(plugin: str | None, data: str, steps: int, thermo: int | None = None, processors: str = "",
+               contact: str = "nfd") -> str:
+    """The pile of a write_data file (read_data) under either contact law (pour_input's), gravity
+    on, neighbor lists rebuilt when an atom moved half the skin; thermo as pour_input's plus the
+    pair contacts by geometry (compute contact/atom, any pair style: the sum counts each twice)."""
+    lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
+             "boundary p p f"] + ([f"processors {processors}"] if processors else [])
+    lines += [f"read_data {data}", "compute touching all contact/atom",
+              "compute touching_sum all reduce sum c_touching"]
+    lines += [line + " c_touching_sum" if line.startswith("thermo_style") else line
+              for line in contact_lines(plugin, contact)]
+    lines += run_lines(steps, thermo or steps, rebuild_every_step=False)
+    return "\n".join(lines) + "\n"
+
+
+def contact_lines(plugin: str | None, contact: str, restitution: float = RESTITUTION) -> list[str]:
+    """The groups, the contact law between spheres and with the floor z = 0, and thermo_style."""
+    lines = ["group aluminium type 1", "group steel type 2"]
     if contact == "nfd":
         lines += [f"plugin load {plugin}", "pair_style nfd/vz"]
         lines += [f"pair_coeff {kind} {kind} {material_args(kind)}" for kind in (1, 2)]
@@ -98,22 +142,24 @@ def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int 
         lines += ["pair_style granular"]
         for kind in (1, 2):
             E, nu = MATERIALS[kind][:2]
-            lines.append(f"pair_coeff {kind} {kind} hertz/material {num(E)} {RESTITUTION} {num(nu)} "
+            lines.append(f"pair_coeff {kind} {kind} hertz/material {num(E)} {restitution} {num(nu)} "
                          f"damping coeff_restitution tangential linear_nohistory 0.0 0.0")
         for kind, group in ((1, "aluminium"), (2, "steel")):
             E, nu = MATERIALS[kind][:2]
-            lines.append(f"fix floor{kind} {group} wall/gran granular hertz/material {num(E)} {RESTITUTION} {num(nu)} "
+            lines.append(f"fix floor{kind} {group} wall/gran granular hertz/material {num(E)} {restitution} {num(nu)} "
                          f"damping coeff_restitution tangential linear_nohistory 0.0 0.0 zplane 0.0 NULL")
         lines += ["thermo_style custom step ke"]
     else:
         raise ValueError(f"contact out of range: need 'nfd' or 'granular', got {contact!r}")
+    return lines
+
+
+def run_lines(steps: int, thermo: int, rebuild_every_step: bool, dt: float = DT) -> list[str]:
+    """Neighbor settings, gravity, the integrator, the time step dt [s] and the run."""
     check = "no" if rebuild_every_step else "yes"
-    lines += [f"neighbor {num(0.1 * R_0)} bin", f"neigh_modify every 1 delay 0 check {check}",
-              "fix gravity all gravity 9.81 vector 0 0 -1", "fix move all nve/sphere", f"timestep {num(DT)}",
-              "thermo_modify format float %.17g", f"thermo {thermo}", f"run {steps}"]
-    if dump:
-        lines.append(f"write_dump all custom {dump} id type radius x y z modify sort id")
-    return "\n".join(lines) + "\n"
+    return [f"neighbor {num(0.1 * R_0)} bin", f"neigh_modify every 1 delay 0 check {check}",
+            "fix gravity all gravity 9.81 vector 0 0 -1", "fix move all nve/sphere", f"timestep {num(dt)}",
+            "thermo_modify format float %.17g", f"thermo {thermo}", f"run {steps}"]
 
 
 def thermo_rows(output: str, columns: int) -> np.ndarray:

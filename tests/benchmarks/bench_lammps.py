@@ -8,7 +8,12 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
    per contact) against pair_style granular with hertz/material and damping coeff_restitution
    (e = 0.8) with fix wall/gran of the same model. Time per step from LAMMPS' own "Loop time",
    best of --repeat runs, on 1 and 2 MPI ranks; neighbor lists rebuilt when an atom moved half
-   the skin (both styles). Target: nfd/vz <= 1.5x granular.
+   the skin (both styles). Target: nfd/vz <= 1.5x granular. The pour is dilute at its end, so
+   it times the per-pair overhead; then the same on a dense pile: --pile-spheres spheres (default
+   3000) stacked in 8 staggered layers settle once under the granular style (e = 0.1, dt = 5e-7 s,
+   --settle-steps, about 100 s), written with write_data; from that same pile each style runs
+   --pile-steps steps (dt = 1e-7 s, gravity on), with its pair contacts and mean coordination
+   (compute contact/atom) at the start and end of the timed run.
 2. Restitution. Two aluminium spheres (R = 1 cm) meeting head-on at v_in = 1..100 v_Y: e of
    pair_style nfd/vz (the constants of results/calibration/parameters.json), of nfdmodel.collide
    with the same calibrated law (the FE-calibrated reference; the plugin equals it to 1e-8, see
@@ -18,8 +23,9 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
 3. results/lammps/pour.png: a 300-sphere pour (no drift) after 60 ms, side view coloured by
    material, next to the start.
 
-Usage (about 3 minutes on 2 cores):
+Usage (about 6 minutes on 2 cores):
     .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 2]
+        [--pile-spheres 3000] [--settle-steps 200000] [--pile-steps 2000]
 Writes results/lammps/timing.csv, restitution.csv, pour.png and summary.json.
 """
 from __future__ import annotations
@@ -79,30 +85,51 @@ def section_time(log: str, name: str) -> float:
     return float(found[-1]) if found else float("nan")
 
 
-def timing(plugin: str, folder: Path, spheres: int, steps: int, repeat: int) -> list[dict]:
+CONTACT_NAMES = {"nfd": "nfd/vz + nfd/wall/vz", "granular": "granular hertz/material coeff_restitution + wall/gran"}
+
+
+def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make_input) -> list[dict]:
+    """Time per step of both contact laws on one scene, 1 and 2 ranks, best of ``repeat``, the two
+    laws alternating. make_input(contact, processors) -> the input; its thermo's last column is
+    the sum of compute contact/atom (twice the pair contacts, by geometry) for the pile."""
     rows = []
     for nprocs in (1, 2):
-        best = {}
-        for contact in ("nfd", "granular"):
-            text = lammps_pour.pour_input(plugin, n=spheres, steps=steps, thermo=steps, contact=contact,
-                                          rebuild_every_step=False, processors="2 1 1" if nprocs == 2 else "")
-            runs = []
-            for _ in range(repeat):
+        runs = {"nfd": [], "granular": []}
+        for _ in range(repeat):
+            for contact in runs:
+                text = make_input(contact, "2 1 1" if nprocs == 2 else "")
                 log = run_lammps(text, folder, nprocs)
                 seconds, done = loop_time(log)
-                last = lammps_pour.thermo_rows(log, len(lammps_pour.thermo_columns(contact)))[-1]
-                census = (int(last[2]), int(last[5])) if contact == "nfd" else (None, None)
-                runs.append((seconds / done, section_time(log, "Pair") / done, section_time(log, "Modify") / done,
-                             *census))
-            best[contact] = min(runs)
-        for contact, (per_step, pair, modify, contacts, on_floor) in best.items():
-            rows.append({"ranks": nprocs, "contact": "nfd/vz + nfd/wall/vz" if contact == "nfd" else
-                         "granular hertz/material coeff_restitution + wall/gran", "spheres": spheres, "steps": steps,
-                         "us_per_step": 1e6 * per_step, "pair_us_per_step": 1e6 * pair,
-                         "modify_us_per_step": 1e6 * modify, "pair_contacts_at_end": contacts,
-                         "on_floor_at_end": on_floor,
-                         "ratio_to_granular": per_step / best["granular"][0]})
+                columns = len(lammps_pour.thermo_columns(contact)) + (1 if scene == "pile" else 0)
+                thermo = lammps_pour.thermo_rows(log, columns)
+                first, last = thermo[0], thermo[-1]
+                runs[contact].append({
+                    "per_step": seconds / done, "pair": section_time(log, "Pair") / done,
+                    "modify": section_time(log, "Modify") / done,
+                    "pair_contacts_at_end": int(last[-1] / 2) if scene == "pile" else
+                    (int(last[2]) if contact == "nfd" else None),
+                    "on_floor_at_end": int(last[5]) if contact == "nfd" else None,
+                    "coordination_at_start": first[-1] / spheres if scene == "pile" else None,
+                    "coordination_at_end": last[-1] / spheres if scene == "pile" else None})
+        best = {contact: min(found, key=lambda run: run["per_step"]) for contact, found in runs.items()}
+        for contact, run in best.items():
+            rows.append({"scene": scene, "ranks": nprocs, "contact": CONTACT_NAMES[contact], "spheres": spheres,
+                         "steps": steps, "us_per_step": 1e6 * run["per_step"], "pair_us_per_step": 1e6 * run["pair"],
+                         "modify_us_per_step": 1e6 * run["modify"],
+                         **{key: run[key] for key in ("pair_contacts_at_end", "on_floor_at_end",
+                                                      "coordination_at_start", "coordination_at_end")},
+                         "ratio_to_granular": run["per_step"] / best["granular"]["per_step"]})
     return rows
+
+
+def settle_pile(folder: Path, spheres: int, steps: int) -> tuple[Path, float]:
+    """A dense pile (module doc): staggered layers settled with the granular law at e = 0.1 and
+    dt = 5e-7 s, written with write_data. Returns the file and the settle's loop time [s]."""
+    data = folder / "pile.data"
+    text = lammps_pour.pour_input(None, n=spheres, steps=steps, thermo=steps, drift=0.0, contact="granular",
+                                  rebuild_every_step=False, layers=8, staggered=True, dt=5e-7, restitution=0.1,
+                                  data=str(data))
+    return data, loop_time(run_lammps(text, folder))[0]
 
 
 def impact_input(plugin: str, v_in: float, style: str, coeff: str, steps: int) -> str:
@@ -196,6 +223,9 @@ def main(argv=None) -> int:
     parser.add_argument("--steps", type=int, default=10000)
     parser.add_argument("--repeat", type=int, default=2)
     parser.add_argument("--picture-steps", type=int, default=600000, help="the picture's pour (1e-7 s steps)")
+    parser.add_argument("--pile-spheres", type=int, default=3000)
+    parser.add_argument("--settle-steps", type=int, default=200000, help="the pile's settling (5e-7 s steps)")
+    parser.add_argument("--pile-steps", type=int, default=2000, help="timed steps on the pile (1e-7 s)")
     parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
     ns = parser.parse_args(argv)
     started = time.perf_counter()
@@ -203,11 +233,21 @@ def main(argv=None) -> int:
     out = Path(ns.out)
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
-        speed = timing(plugin, folder, ns.spheres, ns.steps, ns.repeat)
-        print(f"{'ranks':>5} {'contact':<55} {'us/step':>9} {'pair':>8} {'modify':>8} {'ratio':>6}")
+        speed = timing(folder, "pour", ns.spheres, ns.steps, ns.repeat, lambda contact, processors:
+                       lammps_pour.pour_input(plugin, n=ns.spheres, steps=ns.steps, thermo=ns.steps, contact=contact,
+                                              rebuild_every_step=False, processors=processors))
+        pile, settle_s = settle_pile(folder, ns.pile_spheres, ns.settle_steps)
+        speed += timing(folder, "pile", ns.pile_spheres, ns.pile_steps, ns.repeat, lambda contact, processors:
+                        lammps_pour.pile_input(plugin, str(pile), ns.pile_steps, contact=contact,
+                                               processors=processors))
+        print(f"{'scene':>5} {'ranks':>5} {'contact':<55} {'us/step':>9} {'pair':>8} {'modify':>8} {'contacts':>8} "
+              f"{'coord.':>6} {'ratio':>6}")
         for r in speed:
-            print(f"{r['ranks']:>5} {r['contact']:<55} {r['us_per_step']:>9.1f} {r['pair_us_per_step']:>8.1f} "
-                  f"{r['modify_us_per_step']:>8.1f} {r['ratio_to_granular']:>6.2f}")
+            coordination = "" if r["coordination_at_end"] is None else f"{r['coordination_at_end']:.2f}"
+            print(f"{r['scene']:>5} {r['ranks']:>5} {r['contact']:<55} {r['us_per_step']:>9.1f} "
+                  f"{r['pair_us_per_step']:>8.1f} {r['modify_us_per_step']:>8.1f} "
+                  f"{r['pair_contacts_at_end'] if r['pair_contacts_at_end'] is not None else '':>8} "
+                  f"{coordination:>6} {r['ratio_to_granular']:>6.2f}")
         sweep = restitution(plugin, folder)
         print(f"\n{'v/v_Y':>6} {'P_max/P_Y':>9} {'e ref':>8} {'e nfd/vz':>9} {'e mdr':>8}")
         for r in sweep:
@@ -217,13 +257,15 @@ def main(argv=None) -> int:
     wall = time.perf_counter() - started
     command = "python tests/benchmarks/bench_lammps.py " + " ".join(argv if argv is not None else sys.argv[1:])
     stamp = output.stamp(wall, command=command.strip(), spheres=ns.spheres, steps=ns.steps, repeat=ns.repeat,
-                         dt_s=DT, lammps=lammps_command.lammps_location()[1], **shot)
+                         dt_s=DT, lammps=lammps_command.lammps_location()[1], pile_spheres=ns.pile_spheres,
+                         settle_steps=ns.settle_steps, settle_loop_s=settle_s, pile_steps=ns.pile_steps, **shot)
     output.write_csv(out / "timing.csv", speed, comment=output.stamp_comment(stamp))
     output.write_csv(out / "restitution.csv", sweep, comment=output.stamp_comment(stamp))
-    ratios = {r["ranks"]: r["ratio_to_granular"] for r in speed if r["contact"].startswith("nfd")}
+    ratios = {f"{r['scene']}, {r['ranks']} rank(s)": r["ratio_to_granular"] for r in speed
+              if r["contact"].startswith("nfd")}
     output.write_json(out / "summary.json", {"ratio_nfd_to_granular": ratios, "target": TARGET_RATIO,
                                              "timing": speed, "restitution": sweep, "stamp": stamp})
-    print(f"\nnfd/vz vs granular: {', '.join(f'{k} rank(s) {v:.2f}x' for k, v in ratios.items())} "
+    print(f"\nnfd/vz vs granular: {', '.join(f'{k} {v:.2f}x' for k, v in ratios.items())} "
           f"(target <= {TARGET_RATIO}x); {wall:.0f} s; written to {output.display_path(out)}")
     return 0
 
