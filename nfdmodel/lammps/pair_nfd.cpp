@@ -46,11 +46,20 @@
  * every contact that involves one of its atoms, so both copies of a contact across a subdomain
  * boundary evolve identically.
  *
- * The contact history goes into restart files (write_restart, restart N) with each atom (its
- * partner IDs and values); after read_restart, the same pair_style and pair_coeff re-issued (the
- * pair style's constants are not in the file) bring it back: the history fix has an ID fixed by
- * the law (NFD_HISTORY_VZ, ...), which LAMMPS matches with the file's. Restored under another law,
- * nothing is restored and LAMMPS lists the unused "fix style: nfd/history" at the next run.
+ * Restart files: the contact history goes into them (write_restart between runs: the per-atom
+ * lists the end of the run stored; restart N during a run: LAMMPS re-neighbors on the step it
+ * writes, so the lists hold the history before that step's forces, from which the continued run
+ * recomputes the step) with each atom, its partner IDs and values, and with them a fingerprint of
+ * each atom type's pair_coeff. The pair style's constants are not in the file (restartinfo = 0):
+ * after read_restart the user issues plugin load, the same pair_style and pair_coeff again, and
+ * the history comes back: the history fix has an ID fixed by the law (NFD_HISTORY_VZ, ...), which
+ * LAMMPS matches with the file's; the log counts the contacts restored. Under another nfd law the
+ * file's history is not read (other values): a WARNING names the law that wrote it, and its
+ * contacts start afresh at their overlap. Under the same law with another pair_coeff of a type
+ * (the window aside), a WARNING names the type: the restored histories go on under other
+ * constants. With no pair style re-issued LAMMPS stops the run ("Must re-specify non-restarted
+ * pair style"); under a pair style that is not nfd it lists the unused "fix style: nfd/history"
+ * at the next run. Data files (write_data) keep no contact history.
  *
  * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact; but
  * walton-braun takes I J), run_style respa for fix nfd/wall/*.
@@ -103,6 +112,42 @@ const char *const HISTORY_IDS[] = {"NFD_HISTORY_HERTZ", "NFD_HISTORY_VZ", "NFD_H
 
 /* The laws whose constants were fitted on a load window (the others are exact or have none). */
 inline bool has_window(Law law) { return law == VZ || law == VZ_TABLE; }
+
+/* The law whose history fix has this ID, or -1. */
+inline int law_of_history_id(const char *id)
+{
+    for (size_t k = 0; k < sizeof(HISTORY_IDS) / sizeof(HISTORY_IDS[0]); ++k)
+        if (std::strcmp(id, HISTORY_IDS[k]) == 0) return static_cast<int>(k);
+    return -1;
+}
+
+/* A 64-bit mixing step (splitmix64): z -> a well-spread 64-bit value, for hashes that only have
+ * to tell equal inputs from different ones. */
+inline uint64_t mix64(uint64_t z)
+{
+    z += 0x9e3779b97f4a7c15ULL;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+/* z folded with the exact bits of a double (so 0.0 and -0.0, or two roundings, differ). */
+inline uint64_t mix_double(uint64_t z, double value)
+{
+    uint64_t bits;
+    std::memcpy(&bits, &value, sizeof(bits));
+    return mix64(z ^ bits);
+}
+
+/* The per-atom fix data of a restart file that read_restart keeps until the next run's init
+ * (fix ID and style of each entry): Modify holds these lists as protected members and reports
+ * unused entries only as a plain log line at that run, so the pair style reads them here (a
+ * pointer to member formed in a derived class: read-only, standard C++; never instantiated) to
+ * say at once when the file holds the contact history of another nfd law. */
+struct RestartFixLists : Modify {
+    static char **Modify::*ids() { return &RestartFixLists::id_restart_peratom; }
+    static char **Modify::*styles() { return &RestartFixLists::style_restart_peratom; }
+};
 
 /* A_Y(nu) = 1 / max over zeta in [0, 3] of |sigma_z - sigma_r| / p0 on the axis of a Hertz
  * contact (nfdmodel.materials.yield_factor, Johnson 1985 eq. 3.45): the same function and the
@@ -365,7 +410,9 @@ class PairNfd;
  * travel with the atoms (pack/unpack_exchange, copy_arrays); after the next neighbor build
  * (post_neighbor) each list entry takes the values its partner ID had, or zeros. The per-atom
  * lists also go into restart files (pack_restart) and come back when the pair style, re-issued
- * after read_restart, creates this fix again under the same ID (unpack_restart).
+ * after read_restart, creates this fix again under the same ID (unpack_restart); with them goes
+ * a fingerprint of each atom type's pair_coeff (write_restart / restart), so that a continuation
+ * under other constants is warned about (check_restored).
  * ------------------------------------------------------------------------------------------ */
 class FixNfdHistory : public Fix {
  public:
@@ -376,6 +423,7 @@ class FixNfdHistory : public Fix {
         maxexchange_dynamic = 1;
         maxexchange = 1;
         restart_peratom = 1;
+        restart_global = 1;
         grow_arrays(atom->nmax);
         atom->add_callback(Atom::GROW);
         atom->add_callback(Atom::RESTART);
@@ -403,7 +451,9 @@ class FixNfdHistory : public Fix {
         if (all > 0 && comm->me == 0)
             utils::logmesg(lmp, fmt::format("fix {} ({}): the history of {} contact(s) restored from the restart "
                                             "file\n", id, style, all / 2));
+        if (all > 0) check_restored();
         restored = 0;
+        written_coeffs.clear();
         // atoms added by a fix in its pre_exchange must come after this fix stored the history
         for (int k = 0; k < modify->nfix; ++k) {
             if (modify->fix[k] == this) break;
@@ -611,6 +661,27 @@ class FixNfdHistory : public Fix {
         if (1 + (1 + NHIST) * count > maxexchange) maxexchange = 1 + (1 + NHIST) * count;
     }
 
+    /* Global restart data: [ntypes, then per atom type the 64-bit fingerprint of its pair_coeff
+     * (PairNfd::coeff_fingerprint)], as raw 64-bit words led by their size in bytes (LAMMPS'
+     * convention: proc 0 writes, every rank reads the broadcast copy in restart()). */
+    void write_restart(FILE *fp) override
+    {
+        std::vector<uint64_t> words = coeff_fingerprints();
+        if (comm->me == 0) {
+            const int size = static_cast<int>(words.size() * sizeof(uint64_t));
+            std::fwrite(&size, sizeof(int), 1, fp);
+            std::fwrite(words.data(), sizeof(uint64_t), words.size(), fp);
+        }
+    }
+
+    void restart(char *buf) override
+    {
+        uint64_t ntypes = 0;
+        std::memcpy(&ntypes, buf, sizeof(ntypes));
+        written_coeffs.assign(1 + ntypes, 0);
+        std::memcpy(written_coeffs.data(), buf, (1 + ntypes) * sizeof(uint64_t));
+    }
+
     double memory_usage() override
     {
         double bytes = (double) values.capacity() * sizeof(double) + (double) touch.capacity() +
@@ -631,6 +702,8 @@ class FixNfdHistory : public Fix {
 
  private:
     NeighList *neighbor_list();
+    std::vector<uint64_t> coeff_fingerprints() const;
+    void check_restored();
 
     void clear_partners(int i)
     {
@@ -652,23 +725,14 @@ class FixNfdHistory : public Fix {
     /* a 64-bit mix of a contact's two tags and its history's bits (splitmix64 steps) */
     static uint64_t copy_hash(tagint low, tagint high, const double *h)
     {
-        auto mix = [](uint64_t z) {
-            z += 0x9e3779b97f4a7c15ULL;
-            z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-            z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-            return z ^ (z >> 31);
-        };
-        uint64_t z = mix(static_cast<uint64_t>(low)) ^ mix(static_cast<uint64_t>(high) + 0x632be59bd9b4e019ULL);
-        for (int n = 0; n < NHIST; ++n) {
-            uint64_t bits;
-            std::memcpy(&bits, &h[n], sizeof(bits));
-            z = mix(z ^ bits);
-        }
+        uint64_t z = mix64(static_cast<uint64_t>(low)) ^ mix64(static_cast<uint64_t>(high) + 0x632be59bd9b4e019ULL);
+        for (int n = 0; n < NHIST; ++n) z = mix_double(z, h[n]);
         return z;
     }
 
     bigint orphans = 0;
     bigint restored = 0;                     // partner records read from a restart file
+    std::vector<uint64_t> written_coeffs;    // the restart file's [ntypes, fingerprint per type]
     std::vector<size_t> first;               // per owned atom: its first list entry
     std::vector<double> values;              // NHIST per list entry
     std::vector<unsigned char> touch;        // 1: the entry holds a contact's history
@@ -922,6 +986,28 @@ class PairNfd : public Pair {
     FixNfdHistory *contact_history() const { return history; }
     std::string history_id() const { return HISTORY_IDS[law]; }
 
+    /* A 64-bit fingerprint of atom type t's pair_coeff: the exact bits of the constants the force
+     * and the history depend on (E, nu, sigma_y, Ca_hat, Kc_hat, K1, K2, the vz-table nodes; not
+     * the window, which only flags loads) and, walton-braun, of each explicit pair_coeff t J (J
+     * and its K1, K2). Equal pair_coeff lines give equal fingerprints; the restart file keeps
+     * them with the histories (FixNfdHistory::write_restart). */
+    uint64_t coeff_fingerprint(int t) const
+    {
+        const Material &m = material[t];
+        uint64_t z = mix64(static_cast<uint64_t>(law) + 1);
+        for (double v : {m.E, m.nu, m.sigma_y, m.Ca_hat, m.Kc_hat, m.K1, m.K2}) z = mix_double(z, v);
+        z = mix64(z ^ static_cast<uint64_t>(m.table.n));
+        for (int n = 0; n < m.table.n; ++n)
+            for (double v : {m.table.x[n], m.table.f[n], m.table.g[n]}) z = mix_double(z, v);
+        if (law == WALTON_BRAUN)
+            for (size_t j = 1; j < explicit_pair[t].size(); ++j)
+                if (explicit_pair[t][j]) {
+                    z = mix64(z ^ static_cast<uint64_t>(j));
+                    z = mix_double(mix_double(z, pair_springs[t][j].K1), pair_springs[t][j].K2);
+                }
+        return z;
+    }
+
  private:
     void allocate()
     {
@@ -940,11 +1026,34 @@ class PairNfd : public Pair {
     void create_history_fix()
     {
         if (history) return;
+        warn_other_histories();
         Fix *fix = modify->get_fix_by_id(history_id());
         if (!fix) fix = modify->add_fix(history_id() + " all nfd/history");
         history = dynamic_cast<FixNfdHistory *>(fix);
         if (!history) error->all(FLERR, fmt::format("fix {} is not the history of pair_style {}", history_id(), name()));
         history->pair = this;
+    }
+
+    /* A restart file just read may hold the contact history of another nfd law (fix nfd/history
+     * under another law's ID): this law cannot use it (other history values), so its contacts
+     * start afresh at their current overlap. Said as a warning when the pair style is set up,
+     * rather than only in LAMMPS' list of unused restart data at the next run. */
+    void warn_other_histories()
+    {
+        if (comm->me != 0 || modify->nfix_restart_peratom == 0) return;
+        char **ids = modify->*RestartFixLists::ids();
+        char **styles = modify->*RestartFixLists::styles();
+        for (int i = 0; i < modify->nfix_restart_peratom; ++i) {
+            if (std::strcmp(styles[i], "nfd/history") != 0 || history_id() == ids[i]) continue;
+            const int other = law_of_history_id(ids[i]);
+            const std::string writer = other < 0 ? std::string("another pair style")
+                                                 : fmt::format("pair_style {}", LAW_NAMES[other]);
+            const std::string remedy = other < 0 ? "" : fmt::format(" (to continue them, use pair_style {})",
+                                                                     LAW_NAMES[other]);
+            error->warning(FLERR, fmt::format("pair_style {}: the restart file holds the contact history of {} (fix "
+                                              "{}), which this pair style does not read: those contacts start "
+                                              "afresh at their current overlap{}", name(), writer, ids[i], remedy));
+        }
     }
 
     /* The contact's nfd_params from the two types and radii (nfdmodel.ContactPair.sphere_sphere);
@@ -997,6 +1106,39 @@ class PairNfd : public Pair {
 };
 
 NeighList *FixNfdHistory::neighbor_list() { return pair->list; }
+
+/* [ntypes, then the fingerprint of each type's pair_coeff] of the pair style now (no pair: [0]). */
+std::vector<uint64_t> FixNfdHistory::coeff_fingerprints() const
+{
+    const int ntypes = pair && pair->allocated ? atom->ntypes : 0;
+    std::vector<uint64_t> words(1 + ntypes, 0);
+    words[0] = static_cast<uint64_t>(ntypes);
+    for (int t = 1; t <= ntypes; ++t) words[t] = pair->coeff_fingerprint(t);
+    return words;
+}
+
+/* After a restart brought histories back (init of the run): the pair_coeff of each type must be
+ * the one the histories were made under, otherwise the contacts go on from a delta_max, P_max,
+ * delta_res, K_u of other constants -- said in a warning naming the types (a deliberate change
+ * stays possible). A file without fingerprints (none written) is not checked. */
+void FixNfdHistory::check_restored()
+{
+    if (written_coeffs.empty() || comm->me != 0) return;
+    const std::vector<uint64_t> now = coeff_fingerprints();
+    std::string differ;
+    int count = 0;
+    if (now.size() != written_coeffs.size()) {
+        differ = "the number of atom types changed";
+    } else {
+        for (size_t t = 1; t < now.size(); ++t)
+            if (now[t] != written_coeffs[t]) differ += (count++ ? " " : "") + std::to_string(t);
+        if (count) differ = fmt::format("the pair_coeff of atom type{} {} differ{} from the restart file's",
+                                        count > 1 ? "s" : "", differ, count > 1 ? "" : "s");
+    }
+    if (!differ.empty())
+        error->warning(FLERR, fmt::format("pair_style {}: {}: the restored contact histories were made under other "
+                                          "constants and go on from them", pair->name(), differ));
+}
 
 /* ------------------------------------------------------------------------------------------
  * compute ID all nfd/contacts: the contact census of pair_style nfd/* (FixNfdHistory::census),
