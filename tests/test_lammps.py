@@ -791,7 +791,7 @@ def walton_braun_steps(springs: nfdmodel.WaltonBraunParams, v_in: float) -> int:
     return int(1.2 * estimate / DT) + 50
 
 
-@pytest.mark.parametrize("v_in", [0.05, 1.0])
+@pytest.mark.parametrize("v_in", [0.05, 0.3, 1.0])
 def test_walton_braun_head_on_matches_nfdmodel_and_sqrt_K1_over_K2(plugin, tmp_path, v_in):
     """pair_style nfd/walton-braun, pair_coeff 1 1 K1 K2: e, P_max and contact time equal
     nfdmodel.collide('walton-braun') within 1e-8, and e the closed form sqrt(K1/K2) of two linear
@@ -804,11 +804,12 @@ def test_walton_braun_head_on_matches_nfdmodel_and_sqrt_K1_over_K2(plugin, tmp_p
     assert lmp["e"] == pytest.approx(math.sqrt(springs.K1 / springs.K2), rel=1e-3)
 
 
-@pytest.mark.parametrize("explicit", [False, True])
+@pytest.mark.parametrize("explicit", [None, "1 2", "2 1"])
 def test_walton_braun_unlike_types_mix_or_take_their_pair_coeff(plugin, tmp_path, explicit):
     """Types 1 and 2 with their own springs: without pair_coeff 1 2 the contact takes the harmonic
-    mean 2 / (1/K_11 + 1/K_22) of K1 and of K2; with pair_coeff 1 2 K1 K2 it takes those. Both
-    equal nfdmodel's collision of the two spheres (R*, m*) with those stiffnesses within 1e-8."""
+    mean 2 / (1/K_11 + 1/K_22) of K1 and of K2; with pair_coeff 1 2 K1 K2 (or 2 1: LAMMPS orders
+    the types) it takes those. Each equals nfdmodel's collision of the two spheres (R*, m*) with
+    those stiffnesses within 1e-8."""
     body_b, R_b = Material(110e9, 0.45, 95e6, 7800.0), 0.006
     like_a = walton_braun_springs(ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS))
     like_b = walton_braun_springs(ContactPair.sphere_sphere(body_b, R_b, body_b, R_b))
@@ -823,13 +824,15 @@ def test_walton_braun_unlike_types_mix_or_take_their_pair_coeff(plugin, tmp_path
     coeffs = {1: f"{num(like_a.K1)} {num(like_a.K2)}", 2: f"{num(like_b.K1)} {num(like_b.K2)}"}
     text = impact_input(plugin, spheres, coeffs, walton_braun_steps(springs, v_in), pair_style="nfd/walton-braun")
     if explicit:
-        text = text.replace("pair_coeff 2 2", f"pair_coeff 1 2 {num(springs.K1)} {num(springs.K2)}\npair_coeff 2 2")
+        pair_line = f"pair_coeff {explicit} {num(springs.K1)} {num(springs.K2)}"
+        text = text.replace("pair_coeff 2 2", f"{pair_line}\npair_coeff 2 2")
     lmp = measured(run_lammps(text, tmp_path), v_in)
     assert_same(lmp, nfdmodel.collide("walton-braun", springs, [v_in], dt=DT))
 
 
 def test_walton_braun_wall_matches_nfdmodel(plugin, tmp_path):
-    """fix nfd/wall/walton-braun zlo 0 K1 K2: the sphere-on-flat collision of nfdmodel within 1e-8."""
+    """fix nfd/wall/walton-braun zlo 0 K1 K2: the sphere-on-flat collision of nfdmodel within 1e-8,
+    and e the closed form sqrt(K1/K2) to the time-step error (< 1e-3)."""
     springs = walton_braun_springs(ContactPair.sphere_flat(ALUMINIUM, RADIUS))
     v_in = 0.3
     text = wall_input(plugin, f"{num(springs.K1)} {num(springs.K2)}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)],
@@ -845,12 +848,17 @@ def test_walton_braun_wall_matches_nfdmodel(plugin, tmp_path):
     assert velocity[-1] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
     assert force.max() == pytest.approx(py.P_max[0], rel=RTOL)
     assert (n - 1 + fraction) * DT == pytest.approx(py.contact_time[0], rel=RTOL)
+    assert velocity[-1] / v_in == pytest.approx(math.sqrt(springs.K1 / springs.K2), rel=1e-3)
 
 
 @pytest.mark.parametrize("coeff, message", [
     ("2e6 1e6", "K2 out of range: need K2 >= K1 = 2e6 N/m"),
     ("0 1e6", "K1 [N/m] out of range: need a finite number > 0, got 0"),
+    ("-1e6 1e6", "K1 [N/m] out of range: need a finite number > 0, got -1e6"),
+    ("1e6 1e400", "K2 [N/m] out of range: need a finite number > 0, got 1e400"),
+    ("inf 1e6", "K1 [N/m] out of range: need a finite number > 0, got inf"),
     ("1e6", "need K1 K2 (loading and unloading stiffness [N/m], 0 < K1 <= K2) after the types I J, got 1"),
+    ("1e6 2e6 3e6", "need K1 K2 (loading and unloading stiffness [N/m], 0 < K1 <= K2) after the types I J, got 3"),
 ])
 def test_bad_walton_braun_coefficients_are_named(plugin, tmp_path, coeff, message):
     text = impact_input(plugin, aluminium_spheres(0.1), {1: coeff}, 1, pair_style="nfd/walton-braun")
@@ -859,3 +867,21 @@ def test_bad_walton_braun_coefficients_are_named(plugin, tmp_path, coeff, messag
     wall = wall_input(plugin, coeff, [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1, style="nfd/wall/walton-braun")
     output = run_lammps(wall, tmp_path)
     assert message.replace("types I J", "wall plane") in output, output[-1500:]
+
+
+@pytest.mark.parametrize("pair_style, types, message", [
+    ("nfd/vz", "1 2", "pair_coeff for nfd/vz sets the material of one atom type: use I I (got 1 2)"),
+    ("nfd/thornton", "1 2", "pair_coeff for nfd/thornton sets the material of one atom type: use I I (got 1 2)"),
+    ("nfd/hertz", "2 1", "pair_coeff for nfd/hertz sets the material of one atom type: use I I (got 1 2)"),
+    ("nfd/walton-braun", "2* 1", "pair_coeff for nfd/walton-braun: types 2* 1 out of range: need I <= J"),
+])
+def test_pair_coeff_of_unlike_types(plugin, tmp_path, pair_style, types, message):
+    """pair_coeff I J (I != J) stays an error for the material laws (they mix per contact); under
+    nfd/walton-braun a wildcard range with no I <= J (LAMMPS orders plain type numbers, not those)
+    is one too, rather than a line that sets nothing."""
+    coeff = {"nfd/vz": aluminium_pair()[1], "nfd/thornton": "70e9 0.3 100e6", "nfd/hertz": "70e9 0.3",
+             "nfd/walton-braun": "1e6 2e6"}[pair_style]
+    text = impact_input(plugin, aluminium_spheres(0.1), {1: coeff, 2: coeff}, 1, pair_style=pair_style)
+    text = text.replace("pair_coeff 2 2", f"pair_coeff {types} {coeff}\npair_coeff 2 2")
+    output = run_lammps(text, tmp_path)
+    assert message in next(line for line in output.splitlines() if line.startswith("ERROR")), output[-1500:]

@@ -62,7 +62,8 @@
  * at the next run. Data files (write_data) keep no contact history.
  *
  * Not supported (clear errors): newton on, pair_coeff for I != J (mixing is per contact; but
- * walton-braun takes I J), run_style respa for fix nfd/wall/*.
+ * walton-braun takes I J, and there a wildcard range with no I <= J, as 2* 1, which LAMMPS does
+ * not reorder, is an error), run_style respa for fix nfd/wall/*.
  *
  * License: this plugin (this file, compiled together with nfd_kernel.{h,c}) is distributed under
  * GPL-2.0-or-later, so that it may be loaded into LAMMPS (GPL-2.0) through LAMMPS' plugin
@@ -91,6 +92,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -204,9 +206,11 @@ Material mixed_springs(const Material &a, const Material &b)
     return mixed;
 }
 
+/* A constant that must be a finite number > 0 (E, sigma_y, Ca_hat, K1, K2). Parsed here rather than
+ * by utils::numeric, so that inf, nan or 1e400 get the message naming the constant and its range. */
 static double positive(LAMMPS *lmp, const std::string &who, const char *text, const char *what)
 {
-    double value = utils::numeric(FLERR, text, false, lmp);
+    const double value = utils::is_double(text) ? std::strtod(text, nullptr) : NAN;
     if (!(value > 0.0) || !std::isfinite(value))
         lmp->error->all(FLERR, fmt::format("{}: {} out of range: need a finite number > 0, got {}", who, what, text));
     return value;
@@ -782,13 +786,18 @@ class PairNfd : public Pair {
         utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
         if (law == WALTON_BRAUN) {        // springs of a type (I I) or of a pair of types (I J)
             const Material springs = read_material(lmp, law, who, narg - 2, arg + 2);
+            int count = 0;
             for (int i = ilo; i <= ihi; ++i)
-                for (int j = std::max(jlo, i); j <= jhi; ++j) {
+                for (int j = std::max(jlo, i); j <= jhi; ++j, ++count) {
                     if (i == j) material[i] = springs;
                     pair_springs[i][j] = pair_springs[j][i] = springs;
                     setflag[i][j] = 1;
                     explicit_pair[i][j] = explicit_pair[j][i] = 1;
                 }
+            // LAMMPS puts two plain type numbers in order itself, not a wildcard (2* 1 sets nothing)
+            if (count == 0)
+                error->all(FLERR, fmt::format("{}: types {} {} out of range: need I <= J (no type pair in these "
+                                              "ranges has I <= J; give the lower types first)", who, arg[0], arg[1]));
             create_history_fix();
             return;
         }
