@@ -14,10 +14,12 @@ the same on every call.
 
     pour_input(plugin, n=300, steps=6000, thermo=300, contact="nfd")          # pair nfd/vz + wall fixes
     pour_input(None, n=3000, contact="granular")                              # hertz/material, coeff_restitution
-    pile_input(plugin, "pile.data", steps=2000, contact="nfd")                # the same laws on a settled pile
+    settle_input(3000, "pile.data")                                          # a dense pile, settled, written
+    pile_input(plugin, "pile.data", steps=2000, contact="nfd")                # the same laws on that pile
 
-A dense pile (the benchmark's): the pour with more layers (``layers``), settled with the granular
-style and written with write_data, then read back by pile_input for either contact law.
+A dense pile (the benchmark's, settle_input): PILE_LAYERS staggered layers at rest fall under
+the granular style (e = PILE_RESTITUTION), then a drag quenches them (SETTLE_QUENCH) into a
+jammed pile, written with write_data and read back by pile_input for either contact law.
 
 Thermo columns (``thermo_columns``): step, kinetic energy [J], and for contact="nfd" the contact
 census (compute nfd/contacts: contacts with history, orphan histories, unpaired copies) and the
@@ -39,6 +41,17 @@ RESTITUTION = 0.8                   # granular comparison: coeff_restitution dam
 # m: between staggered layers; two spheres of radius 1.2 R_0 in neighbouring layers are then
 # sqrt(2 (1.2 R_0)^2 + rise^2) >= 2.4 R_0 apart
 STAGGERED_RISE = 1.75 * R_0
+# The dense pile (settle_input). 3000 spheres in 8 layers settle to a mean coordination of 5.1
+# (7600 pair contacts) with a kinetic energy 1e-5 of its peak, in 95000 steps (about 70 s on 1 core).
+PILE_LAYERS = 8
+PILE_RESTITUTION = 0.1              # strong dissipation at each impact of the fall
+# (steps, dt [s]): the fall, 0.06 s; a Hertz impact at <= 0.5 m/s (R >= 1.6 mm) lasts >= 1.1e-5 s, 11 steps
+SETTLE_FALL = (60000, 1e-6)
+# (steps, dt [s], tau [s]): the quench, a drag -m v / tau on every sphere, tau decreasing: the
+# spheres creep at most at g tau into their places (3 cm/s, then 1 cm/s, then 3 mm/s); dt larger,
+# the speeds being small (a sphere held by its contacts vibrates with a period of ~2e-5 s or more:
+# >= 10 steps)
+SETTLE_QUENCH = ((15000, 2e-6, 3e-3), (10000, 2e-6, 1e-3), (10000, 2e-6, 3e-4))
 
 
 def num(value: float) -> str:
@@ -86,14 +99,13 @@ def thermo_columns(contact: str) -> list[str]:
 def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int = 300, seed: int = 1,
                drift: float = 20.0, processors: str = "", contact: str = "nfd", rebuild_every_step: bool = True,
                dump: str | None = None, layers: int = 3, staggered: bool = False, dt: float = DT,
-               restitution: float = RESTITUTION, data: str | None = None) -> str:
+               restitution: float = RESTITUTION) -> str:
     """The LAMMPS input of the pour (module doc). contact: "nfd" (pair_style nfd/vz, fix
     nfd/wall/vz per material) or "granular" (pair_style granular hertz/material with damping
     coeff_restitution e = restitution, fix wall/gran with the same model, frictionless).
     rebuild_every_step: neighbor lists rebuilt at every step (the tests: the history passes
     through the per-atom store each step), else only when an atom moved half the skin (speed).
-    dump: a file for the final positions (id type radius x y z); data: a write_data file of the
-    end (a pile for pile_input)."""
+    dump: a file for the final positions (id type radius x y z); dt [s]: the time step."""
     _, side, rows = spheres(n, seed, drift, layers, staggered)
     height = max(z for *_, z, _, _, _ in rows) + 10 * R_0
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
@@ -107,9 +119,34 @@ def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int 
     lines += run_lines(steps, thermo, rebuild_every_step, dt)
     if dump:
         lines.append(f"write_dump all custom {dump} id type radius x y z modify sort id")
-    if data:
-        lines.append(f"write_data {data}")
     return "\n".join(lines) + "\n"
+
+
+def settle_input(n: int, data: str, thermo: int = 5000, seed: int = 1) -> str:
+    """The input that makes the dense pile (module doc) and writes it to ``data`` (write_data):
+    n spheres in PILE_LAYERS staggered layers at rest fall for SETTLE_FALL under the granular law
+    (e = PILE_RESTITUTION, no drag), then each SETTLE_QUENCH stage adds fix langevin at T = 0: only
+    its drag, F = -m v / tau on every sphere (no random force), so each sphere relaxes in the same
+    time tau whatever its mass. Thermo: step, kinetic energy [J], sum of compute contact/atom
+    (twice the pair contacts)."""
+    steps, dt = SETTLE_FALL
+    lines = [contact_thermo(line) for line in
+             pour_input(None, n=n, steps=steps, thermo=thermo, seed=seed, drift=0.0, contact="granular",
+                        rebuild_every_step=False, layers=PILE_LAYERS, staggered=True, dt=dt,
+                        restitution=PILE_RESTITUTION).splitlines()]
+    for steps, dt, tau in SETTLE_QUENCH:
+        lines += [f"timestep {num(dt)}", f"fix quench all langevin 0.0 0.0 {num(tau)} {seed}", f"run {steps}",
+                  "unfix quench"]
+    lines.append(f"write_data {data}")
+    return "\n".join(lines) + "\n"
+
+
+def contact_thermo(line: str) -> str:
+    """An input line; thermo_style gets the sum of compute contact/atom (twice the pair contacts by
+    geometry, any pair style) as its last column, defined just before it."""
+    if not line.startswith("thermo_style"):
+        return line
+    return f"compute touching all contact/atom\ncompute touching_sum all reduce sum c_touching\n{line} c_touching_sum"
 
 
 def pile_input(plugin: str | None, data: str, steps: int, thermo: int | None = None, processors: str = "",
@@ -119,10 +156,7 @@ def pile_input(plugin: str | None, data: str, steps: int, thermo: int | None = N
     pair contacts by geometry (compute contact/atom, any pair style: the sum counts each twice)."""
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
              "boundary p p f"] + ([f"processors {processors}"] if processors else [])
-    lines += [f"read_data {data}", "compute touching all contact/atom",
-              "compute touching_sum all reduce sum c_touching"]
-    lines += [line + " c_touching_sum" if line.startswith("thermo_style") else line
-              for line in contact_lines(plugin, contact)]
+    lines += [f"read_data {data}"] + [contact_thermo(line) for line in contact_lines(plugin, contact)]
     lines += run_lines(steps, thermo or steps, rebuild_every_step=False)
     return "\n".join(lines) + "\n"
 

@@ -2,18 +2,22 @@
 
 Not a timed test: prints two tables and writes them, stamped (commit, wall time), with a picture:
 
-1. Speed. The pour of tests/lammps_pour.py at a few thousand spheres (default 3000: aluminium and
-   steel, R 1.6-2.4 mm, gravity, frictionless, a rigid floor), the same input but for the contact
-   law: pair_style nfd/vz with fix nfd/wall/vz (the FE-calibrated elastoplastic law, its history
-   per contact) against pair_style granular with hertz/material and damping coeff_restitution
-   (e = 0.8) with fix wall/gran of the same model. Time per step from LAMMPS' own "Loop time",
-   best of --repeat runs, on 1 and 2 MPI ranks; neighbor lists rebuilt when an atom moved half
-   the skin (both styles). Target: nfd/vz <= 1.5x granular. The pour is dilute at its end, so
-   it times the per-pair overhead; then the same on a dense pile: --pile-spheres spheres (default
-   3000) stacked in 8 staggered layers settle once under the granular style (e = 0.1, dt = 5e-7 s,
-   --settle-steps, about 100 s), written with write_data; from that same pile each style runs
-   --pile-steps steps (dt = 1e-7 s, gravity on), with its pair contacts and mean coordination
-   (compute contact/atom) at the start and end of the timed run.
+1. Speed. Two scenes of a few thousand polydisperse spheres (tests/lammps_pour.py: aluminium and
+   steel, R 1.6-2.4 mm, gravity, frictionless, a rigid floor, periodic in x and y), the same
+   input but for the contact law: pair_style nfd/vz with fix nfd/wall/vz (the FE-calibrated
+   elastoplastic law, its history per contact) against pair_style granular with hertz/material
+   and damping coeff_restitution (e = 0.8) with fix wall/gran of the same model. Time per step
+   from LAMMPS' own "Loop time", the two laws alternating, best of --repeat runs, on 1 and 2 MPI
+   ranks; the same neighbor settings for both (skin 0.2 mm, rebuilt when an atom moved half of
+   it, newton off, comm_modify vel yes). Target: nfd/vz <= 1.5x granular.
+   - The pour (--spheres, default 3000; --steps of 1e-7 s): dilute at its end (a few dozen pair
+     contacts), so it times the per-pair and per-atom overhead.
+   - The dense pile (--pile-spheres, default 3000): lammps_pour.settle_input settles it once
+     (granular, e = 0.1: a fall, then a drag quench; 95000 steps, about 70 s on 1 core) and
+     writes it with write_data; from that same pile each law runs --pile-steps steps of 1e-7 s,
+     gravity on. Each row has the pair contacts by geometry (compute contact/atom, both laws)
+     and with history (compute nfd/contacts, nfd/vz) at the start and end of the timed run, the
+     mean coordination (2 contacts / spheres) and the time per step per sphere and per contact.
 2. Restitution. Two aluminium spheres (R = 1 cm) meeting head-on at v_in = 1..100 v_Y: e of
    pair_style nfd/vz (the constants of results/calibration/parameters.json), of nfdmodel.collide
    with the same calibrated law (the FE-calibrated reference; the plugin equals it to 1e-8, see
@@ -23,9 +27,9 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
 3. results/lammps/pour.png: a 300-sphere pour (no drift) after 60 ms, side view coloured by
    material, next to the start.
 
-Usage (about 6 minutes on 2 cores):
-    .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 2]
-        [--pile-spheres 3000] [--settle-steps 200000] [--pile-steps 2000]
+Usage (about 3 minutes on 2 cores: the pour 30 s, the pile's settle 70 s and its timing 60 s):
+    .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 3]
+        [--pile-spheres 3000] [--pile-steps 5000]
 Writes results/lammps/timing.csv, restitution.csv, pour.png and summary.json.
 """
 from __future__ import annotations
@@ -90,46 +94,65 @@ CONTACT_NAMES = {"nfd": "nfd/vz + nfd/wall/vz", "granular": "granular hertz/mate
 
 def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make_input) -> list[dict]:
     """Time per step of both contact laws on one scene, 1 and 2 ranks, best of ``repeat``, the two
-    laws alternating. make_input(contact, processors) -> the input; its thermo's last column is
-    the sum of compute contact/atom (twice the pair contacts, by geometry) for the pile."""
+    laws alternating. make_input(contact, processors) -> the input (pour_input or pile_input:
+    the pile's thermo ends with the sum of compute contact/atom, twice the pair contacts). The
+    contacts: by geometry on the pile (both laws), with history (nfd/vz's census, column 3; an
+    orphan history, column 4, is an error; column 5, unpaired or differing copies, is kept: on
+    the pile it is 1, the two copies of a contact across the periodic boundary seeing the other
+    atom's image shifted by the box length, rounded, their overlaps differing by ~1e-9 relative)."""
     rows = []
     for nprocs in (1, 2):
         runs = {"nfd": [], "granular": []}
         for _ in range(repeat):
             for contact in runs:
-                text = make_input(contact, "2 1 1" if nprocs == 2 else "")
-                log = run_lammps(text, folder, nprocs)
+                log = run_lammps(make_input(contact, "2 1 1" if nprocs == 2 else ""), folder, nprocs)
                 seconds, done = loop_time(log)
                 columns = len(lammps_pour.thermo_columns(contact)) + (1 if scene == "pile" else 0)
                 thermo = lammps_pour.thermo_rows(log, columns)
                 first, last = thermo[0], thermo[-1]
-                runs[contact].append({
-                    "per_step": seconds / done, "pair": section_time(log, "Pair") / done,
-                    "modify": section_time(log, "Modify") / done,
-                    "pair_contacts_at_end": int(last[-1] / 2) if scene == "pile" else
-                    (int(last[2]) if contact == "nfd" else None),
-                    "on_floor_at_end": int(last[5]) if contact == "nfd" else None,
-                    "coordination_at_start": first[-1] / spheres if scene == "pile" else None,
-                    "coordination_at_end": last[-1] / spheres if scene == "pile" else None})
+                run = {"per_step": seconds / done, "pair": section_time(log, "Pair") / done,
+                       "modify": section_time(log, "Modify") / done}
+                if scene == "pile":
+                    run.update(contacts_at_start=int(first[-1]) // 2, contacts_at_end=int(last[-1]) // 2)
+                if contact == "nfd":
+                    if thermo[:, 3].any():
+                        raise RuntimeError(f"{scene}: nfd/vz lost {int(thermo[:, 3].max())} contact histories")
+                    run.update(history_contacts_at_start=int(first[2]), history_contacts_at_end=int(last[2]),
+                               unpaired_copies_at_end=int(last[4]), on_floor_at_end=int(last[5]))
+                runs[contact].append(run)
         best = {contact: min(found, key=lambda run: run["per_step"]) for contact, found in runs.items()}
         for contact, run in best.items():
-            rows.append({"scene": scene, "ranks": nprocs, "contact": CONTACT_NAMES[contact], "spheres": spheres,
-                         "steps": steps, "us_per_step": 1e6 * run["per_step"], "pair_us_per_step": 1e6 * run["pair"],
-                         "modify_us_per_step": 1e6 * run["modify"],
-                         **{key: run[key] for key in ("pair_contacts_at_end", "on_floor_at_end",
-                                                      "coordination_at_start", "coordination_at_end")},
-                         "ratio_to_granular": run["per_step"] / best["granular"]["per_step"]})
+            contacts = (0.5 * (run["contacts_at_start"] + run["contacts_at_end"]) if scene == "pile" else None)
+            rows.append({
+                "scene": scene, "ranks": nprocs, "contact": CONTACT_NAMES[contact], "spheres": spheres, "steps": steps,
+                "us_per_step": 1e6 * run["per_step"], "ns_per_sphere_step": 1e9 * run["per_step"] / spheres,
+                "ns_per_contact_step": None if contacts is None else 1e9 * run["per_step"] / contacts,
+                "pair_ns_per_contact_step": None if contacts is None else 1e9 * run["pair"] / contacts,
+                "pair_us_per_step": 1e6 * run["pair"], "modify_us_per_step": 1e6 * run["modify"],
+                **{key: run.get(key) for key in ("contacts_at_start", "contacts_at_end", "history_contacts_at_start",
+                                                 "history_contacts_at_end")},
+                "coordination_at_start": None if contacts is None else 2.0 * run["contacts_at_start"] / spheres,
+                "coordination_at_end": None if contacts is None else 2.0 * run["contacts_at_end"] / spheres,
+                **{key: run.get(key) for key in ("on_floor_at_end", "unpaired_copies_at_end")},
+                "ratio_to_granular": run["per_step"] / best["granular"]["per_step"]})
     return rows
 
 
-def settle_pile(folder: Path, spheres: int, steps: int) -> tuple[Path, float]:
-    """A dense pile (module doc): staggered layers settled with the granular law at e = 0.1 and
-    dt = 5e-7 s, written with write_data. Returns the file and the settle's loop time [s]."""
+def settle_pile(folder: Path, spheres: int) -> tuple[Path, dict]:
+    """The dense pile (lammps_pour.settle_input) in ``folder``/pile.data, settled on 1 rank.
+    Returns the file and the settle's record: loop time [s] (its runs summed), steps, simulated
+    time [s], the kinetic energy's peak and end [J], pair contacts and coordination at the end."""
     data = folder / "pile.data"
-    text = lammps_pour.pour_input(None, n=spheres, steps=steps, thermo=steps, drift=0.0, contact="granular",
-                                  rebuild_every_step=False, layers=8, staggered=True, dt=5e-7, restitution=0.1,
-                                  data=str(data))
-    return data, loop_time(run_lammps(text, folder))[0]
+    log = run_lammps(lammps_pour.settle_input(spheres, str(data)), folder)
+    found = re.findall(r"Loop time of ([\d.eE+-]+) on \d+ procs for (\d+) steps", log)
+    thermo = lammps_pour.thermo_rows(log, 3)
+    contacts = int(thermo[-1, 2]) // 2
+    phases = [lammps_pour.SETTLE_FALL[:2]] + [stage[:2] for stage in lammps_pour.SETTLE_QUENCH]
+    return data, {"settle_loop_s": sum(float(seconds) for seconds, _ in found),
+                  "settle_steps": sum(int(steps) for _, steps in found),
+                  "settle_simulated_s": sum(steps * dt for steps, dt in phases),
+                  "settle_ke_peak_J": float(thermo[:, 1].max()), "settle_ke_end_J": float(thermo[-1, 1]),
+                  "settle_contacts_end": contacts, "settle_coordination_end": 2.0 * contacts / spheres}
 
 
 def impact_input(plugin: str, v_in: float, style: str, coeff: str, steps: int) -> str:
@@ -219,46 +242,67 @@ def picture(plugin: str, folder: Path, path: Path, steps: int) -> dict:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spheres", type=int, default=3000)
-    parser.add_argument("--steps", type=int, default=10000)
-    parser.add_argument("--repeat", type=int, default=2)
+    parser.add_argument("--spheres", type=int, default=3000, help="the pour's spheres")
+    parser.add_argument("--steps", type=int, default=10000, help="timed steps of the pour (1e-7 s)")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per law, scene and rank count (the best kept)")
     parser.add_argument("--picture-steps", type=int, default=600000, help="the picture's pour (1e-7 s steps)")
-    parser.add_argument("--pile-spheres", type=int, default=3000)
-    parser.add_argument("--settle-steps", type=int, default=200000, help="the pile's settling (5e-7 s steps)")
-    parser.add_argument("--pile-steps", type=int, default=2000, help="timed steps on the pile (1e-7 s)")
+    parser.add_argument("--pile-spheres", type=int, default=3000, help="the dense pile's spheres")
+    parser.add_argument("--pile-steps", type=int, default=5000, help="timed steps on the pile (1e-7 s)")
     parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
     ns = parser.parse_args(argv)
     started = time.perf_counter()
+    parts = {}                                  # wall time [s] of each part
+
+    def clock(name: str, since: float) -> float:
+        parts[f"{name}_wall_s"] = round(time.perf_counter() - since, 1)
+        return time.perf_counter()
+
     plugin = lammps_command.build_plugin()["path"]
     out = Path(ns.out)
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
+        now = time.perf_counter()
         speed = timing(folder, "pour", ns.spheres, ns.steps, ns.repeat, lambda contact, processors:
                        lammps_pour.pour_input(plugin, n=ns.spheres, steps=ns.steps, thermo=ns.steps, contact=contact,
                                               rebuild_every_step=False, processors=processors))
-        pile, settle_s = settle_pile(folder, ns.pile_spheres, ns.settle_steps)
+        now = clock("pour", now)
+        pile, settled = settle_pile(folder, ns.pile_spheres)
+        now = clock("settle", now)
+        print(f"pile settled: {settled['settle_steps']} steps ({settled['settle_simulated_s']:.3f} s simulated) in "
+              f"{settled['settle_loop_s']:.0f} s; kinetic energy {settled['settle_ke_end_J']:.2e} J "
+              f"(peak {settled['settle_ke_peak_J']:.2e} J), {settled['settle_contacts_end']} pair contacts, "
+              f"coordination {settled['settle_coordination_end']:.2f}")
         speed += timing(folder, "pile", ns.pile_spheres, ns.pile_steps, ns.repeat, lambda contact, processors:
                         lammps_pour.pile_input(plugin, str(pile), ns.pile_steps, contact=contact,
                                                processors=processors))
-        print(f"{'scene':>5} {'ranks':>5} {'contact':<55} {'us/step':>9} {'pair':>8} {'modify':>8} {'contacts':>8} "
-              f"{'coord.':>6} {'ratio':>6}")
+        now = clock("pile", now)
+        print(f"{'scene':>5} {'ranks':>5} {'contact':<55} {'us/step':>8} {'ns/sph.':>7} {'ns/con.':>7} {'pair':>7} "
+              f"{'modify':>7} {'contacts':>11} {'history':>11} {'coord.':>11} {'ratio':>6}")
+
+        def pair(row, key, fmt):
+            first, last = row[f"{key}_at_start"], row[f"{key}_at_end"]
+            return "" if first is None else f"{first:{fmt}}->{last:{fmt}}"
+
         for r in speed:
-            coordination = "" if r["coordination_at_end"] is None else f"{r['coordination_at_end']:.2f}"
-            print(f"{r['scene']:>5} {r['ranks']:>5} {r['contact']:<55} {r['us_per_step']:>9.1f} "
-                  f"{r['pair_us_per_step']:>8.1f} {r['modify_us_per_step']:>8.1f} "
-                  f"{r['pair_contacts_at_end'] if r['pair_contacts_at_end'] is not None else '':>8} "
-                  f"{coordination:>6} {r['ratio_to_granular']:>6.2f}")
+            per_contact = "" if r["ns_per_contact_step"] is None else f"{r['ns_per_contact_step']:.0f}"
+            print(f"{r['scene']:>5} {r['ranks']:>5} {r['contact']:<55} {r['us_per_step']:>8.1f} "
+                  f"{r['ns_per_sphere_step']:>7.1f} {per_contact:>7} {r['pair_us_per_step']:>7.1f} "
+                  f"{r['modify_us_per_step']:>7.1f} {pair(r, 'contacts', 'd'):>11} "
+                  f"{pair(r, 'history_contacts', 'd'):>11} {pair(r, 'coordination', '.2f'):>11} "
+                  f"{r['ratio_to_granular']:>6.2f}")
         sweep = restitution(plugin, folder)
+        now = clock("restitution", now)
         print(f"\n{'v/v_Y':>6} {'P_max/P_Y':>9} {'e ref':>8} {'e nfd/vz':>9} {'e mdr':>8}")
         for r in sweep:
             print(f"{r['v_in_over_v_Y']:>6g} {r['P_max_over_P_Y']:>9.1f} {r['e_reference_nfdmodel']:>8.4f} "
                   f"{r['e_nfd_vz_lammps']:>9.4f} {r['e_mdr_lammps']:>8.4f}")
         shot = picture(plugin, folder, out / "pour.png", ns.picture_steps)
+        clock("picture", now)
     wall = time.perf_counter() - started
     command = "python tests/benchmarks/bench_lammps.py " + " ".join(argv if argv is not None else sys.argv[1:])
     stamp = output.stamp(wall, command=command.strip(), spheres=ns.spheres, steps=ns.steps, repeat=ns.repeat,
                          dt_s=DT, lammps=lammps_command.lammps_location()[1], pile_spheres=ns.pile_spheres,
-                         settle_steps=ns.settle_steps, settle_loop_s=settle_s, pile_steps=ns.pile_steps, **shot)
+                         pile_steps=ns.pile_steps, **settled, **shot, **parts)
     output.write_csv(out / "timing.csv", speed, comment=output.stamp_comment(stamp))
     output.write_csv(out / "restitution.csv", sweep, comment=output.stamp_comment(stamp))
     ratios = {f"{r['scene']}, {r['ranks']} rank(s)": r["ratio_to_granular"] for r in speed
@@ -266,7 +310,8 @@ def main(argv=None) -> int:
     output.write_json(out / "summary.json", {"ratio_nfd_to_granular": ratios, "target": TARGET_RATIO,
                                              "timing": speed, "restitution": sweep, "stamp": stamp})
     print(f"\nnfd/vz vs granular: {', '.join(f'{k} {v:.2f}x' for k, v in ratios.items())} "
-          f"(target <= {TARGET_RATIO}x); {wall:.0f} s; written to {output.display_path(out)}")
+          f"(target <= {TARGET_RATIO}x); {wall:.0f} s ({', '.join(f'{k} {v:.0f}' for k, v in parts.items())}); "
+          f"written to {output.display_path(out)}")
     return 0
 
 
