@@ -1,0 +1,45 @@
+"""The laws' codes, defaults, solver tolerances and admissible ranges, read from ``nfd_limits.h``.
+
+``nfd_limits.h`` (beside this module) is the one table of these numbers for C (the kernel), C++
+(the LAMMPS plugin) and Python: each ``#define NFD_<NAME> <number>`` there is ``limits.<NAME>``
+here (an int when written as one, else a float; every entry of the table is also in ``TABLE``). Nothing else in nfdmodel or calib writes these
+numbers again (tests/test_limits.py).
+"""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+HEADER = Path(__file__).with_name("nfd_limits.h")
+_DEFINE = re.compile(r"^#define\s+NFD_([A-Z0-9_]+)\s+([-+0-9.eE]+)\s*(?:/\*.*)?$")
+
+
+def read_table(path: Path = HEADER) -> dict[str, int | float]:
+    """{NAME: value} of every ``#define NFD_NAME number`` line of the header (guards skipped)."""
+    table: dict[str, int | float] = {}
+    for line in path.read_text(encoding="utf-8").splitlines():
+        match = _DEFINE.match(line.strip())
+        if match:
+            name, text = match.groups()
+            table[name] = int(text) if re.fullmatch(r"[-+]?\d+", text) else float(text)
+    return table
+
+
+TABLE = read_table()
+LAW_HERTZ, LAW_VZ, LAW_THORNTON = TABLE["LAW_HERTZ"], TABLE["LAW_VZ"], TABLE["LAW_THORNTON"]
+LAW_VZ_TABLE, LAW_WALTON_BRAUN, LAW_COUNT = TABLE["LAW_VZ_TABLE"], TABLE["LAW_WALTON_BRAUN"], TABLE["LAW_COUNT"]
+DEFAULT_WINDOW = TABLE["DEFAULT_WINDOW"]
+CA_HAT_MIN, CA_HAT_MAX, KC_HAT_MAX = TABLE["CA_HAT_MIN"], TABLE["CA_HAT_MAX"], TABLE["KC_HAT_MAX"]
+NU_MAX = TABLE["NU_MAX"]
+E_MIN, E_MAX, SIGMA_Y_MIN, SIGMA_Y_MAX = TABLE["E_MIN"], TABLE["E_MAX"], TABLE["SIGMA_Y_MIN"], TABLE["SIGMA_Y_MAX"]
+RHO_MIN, RHO_MAX, V_IN_MAX = TABLE["RHO_MIN"], TABLE["RHO_MAX"], TABLE["V_IN_MAX"]
+RADIUS_USUAL_MAX, RADIUS_MAX = TABLE["RADIUS_USUAL_MAX"], TABLE["RADIUS_MAX"]
+VZ_TOLERANCE, VZ_MAX_ITERATIONS = TABLE["VZ_TOLERANCE"], TABLE["VZ_MAX_ITERATIONS"]
+TABLE_TOLERANCE, TABLE_MAX_ITERATIONS = TABLE["TABLE_TOLERANCE"], TABLE["TABLE_MAX_ITERATIONS"]
+TABLE_MAX_NODES = TABLE["TABLE_MAX_NODES"]
+
+# The names the laws go by in Python, C and LAMMPS (pair_style nfd/<name>), by code.
+LAW_NAMES = {TABLE["LAW_HERTZ"]: "hertz", TABLE["LAW_VZ"]: "vz", TABLE["LAW_THORNTON"]: "thornton",
+             TABLE["LAW_VZ_TABLE"]: "vz-table", TABLE["LAW_WALTON_BRAUN"]: "walton-braun"}
+LAW_CODES = {name: code for code, name in LAW_NAMES.items()}
+CA_HAT_RANGE = (TABLE["CA_HAT_MIN"], TABLE["CA_HAT_MAX"])

@@ -1,0 +1,57 @@
+/* nfd_limits.h: the one table of the laws' codes, defaults, solver tolerances and admissible
+ * ranges, shared by every language of nfdcal:
+ *
+ *   C      nfd_kernel.c includes it (the kernel's tolerances, the law codes of its callers);
+ *   C++    the LAMMPS plugin includes it (its argument checks use these ranges and messages);
+ *   Python nfdmodel/limits.py reads this file at import (every `#define NFD_<NAME> <number>`
+ *          below becomes limits.<NAME>), so nfdmodel's checks use the same numbers.
+ *
+ * Each number is written here once. tests/test_limits.py fails when another source file states
+ * one of them again as a literal, or when a consumer disagrees with this table.
+ * Format (read by a parser): one `#define NFD_<NAME> <number>` per line, a C comment after it.
+ * SI units; "_hat" quantities are dimensionless (README, The model: Dimensionless constants).
+ */
+#ifndef NFD_LIMITS_H
+#define NFD_LIMITS_H
+
+/* Law codes: one number per law, in the kernel, its Python binding and the LAMMPS plugin. */
+#define NFD_LAW_HERTZ 0
+#define NFD_LAW_VZ 1
+#define NFD_LAW_THORNTON 2
+#define NFD_LAW_VZ_TABLE 3
+#define NFD_LAW_WALTON_BRAUN 4
+#define NFD_LAW_COUNT 5
+
+/* The calibrated window P_max/P_Y assumed for constants that do not state theirs: the largest
+ * peak of the default calibration recipe (load paths to 13.7, 27.4 and 41.2 P_Y). */
+#define NFD_DEFAULT_WINDOW 41.2
+
+/* Admissible dimensionless vz constants: Ca_hat = Ca P_Y / a_Y (paper: 0.026) in
+ * [CA_HAT_MIN, CA_HAT_MAX], Kc_hat = Kc P_Y (paper: 0.0098) in [0, KC_HAT_MAX]. */
+#define NFD_CA_HAT_MIN 1e-8
+#define NFD_CA_HAT_MAX 1e4
+#define NFD_KC_HAT_MAX 1e4
+
+/* Poisson's ratio: 0 <= nu < NU_MAX (A_Y(nu) and the Hertz field need a compressible solid). */
+#define NFD_NU_MAX 0.5
+
+/* The range of real solids and impacts: a value outside is a unit slip, refused with the slip named. */
+#define NFD_E_MIN 1e5            /* [Pa] gels */
+#define NFD_E_MAX 2e12           /* [Pa] above diamond, 1.2e12 */
+#define NFD_SIGMA_Y_MIN 1e4      /* [Pa] soft foams */
+#define NFD_SIGMA_Y_MAX 1e11     /* [Pa] whiskers */
+#define NFD_RHO_MIN 10.0         /* [kg/m^3] aerogels */
+#define NFD_RHO_MAX 3e4          /* [kg/m^3] above osmium, 22590 */
+#define NFD_V_IN_MAX 1e4         /* [m/s] hypervelocity above */
+#define NFD_RADIUS_USUAL_MAX 10.0   /* [m] a larger particle is unusual (a boulder): warned */
+#define NFD_RADIUS_MAX 1e4       /* [m] no particle of a contact model is larger: refused */
+
+/* The vz plastic-loading solve (Newton on u = P^(1/3), bracketed). */
+#define NFD_VZ_TOLERANCE 1e-10       /* relative, on P */
+#define NFD_VZ_MAX_ITERATIONS 200    /* never reached: the bracket halves at worst every other step */
+/* The vz_table loading solve (bracketed Newton on x = P/P_Y). */
+#define NFD_TABLE_TOLERANCE 1e-12    /* relative, on x */
+#define NFD_TABLE_MAX_ITERATIONS 100 /* never reached: bisection halves the bracket when Newton strays */
+#define NFD_TABLE_MAX_NODES 64       /* nodes of a vz_table table (nfd_table holds them inline) */
+
+#endif
