@@ -112,7 +112,7 @@ static PyObject *native_load(PyObject *self, PyObject *args)
         Py_BEGIN_ALLOW_THREADS
         for (Py_ssize_t i = 0; i < k; ++i)
             if (idx[i] < 0 || idx[i] >= n) { bad = i; break; }
-        if (bad < 0 && law == 1) {
+        if (bad < 0 && law == NFD_LAW_VZ) {
             /* vz: gather, the batch solve (vectorised fast path), scatter the forces */
             for (Py_ssize_t i = 0; i < k; ++i) {
                 dm[i] = d[idx[i]];
@@ -138,10 +138,7 @@ static PyObject *native_load(PyObject *self, PyObject *args)
                 h.delta_max = -INFINITY;                     /* the caller selected loading contacts */
                 nfd_history out;
                 double force_j = 0.0;
-                if (law == 2)
-                    nfd_thornton_step(d[j], &p, &h, &force_j, &out);
-                else
-                    nfd_walton_braun_step(d[j], &p, &h, &force_j, &out);
+                nfd_step(law, d[j], &p, NULL, &h, &force_j, &out, NULL);
                 f[j] = force_j;
                 sum += force_j;
                 dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
@@ -279,16 +276,8 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
                 velocity = velocity - force * (dt / mass);
                 double delta_new = delta + velocity * dt;
                 double force_new = 0.0;
-                int iterations = 0, code;
-                if (law == 0) {
-                    code = nfd_hertz_step(delta_new, &p, &h, &force_new, &next);
-                } else if (law == 1) {
-                    code = nfd_vz_step(delta_new, &p, &h, &force_new, &next, &iterations);
-                } else if (law == 2) {
-                    code = nfd_thornton_step(delta_new, &p, &h, &force_new, &next);
-                } else {
-                    code = nfd_walton_braun_step(delta_new, &p, &h, &force_new, &next);
-                }
+                int iterations = 0;
+                int code = nfd_step(law, delta_new, &p, NULL, &h, &force_new, &next, &iterations);
                 if (code < 0) { status = code; failed_at = i; failed_delta = delta_new; break; }
                 h = next;
                 if (iterations > max_iterations) max_iterations = iterations;
@@ -296,7 +285,7 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
                 double area = 0.5 * (force + force_new) * increment;
                 int separating = force_new == 0.0 && velocity < 0.0;
                 if (separating) {
-                    double residual = law == 0 ? 0.0 : h.delta_res;
+                    double residual = law == NFD_LAW_HERTZ ? 0.0 : h.delta_res;
                     double fraction = (delta - residual) / (increment < 0 ? -increment : 1.0);
                     fraction = fraction < 0.0 ? 0.0 : (fraction > 1.0 ? 1.0 : fraction);
                     area = 0.5 * force * fraction * increment;
@@ -314,7 +303,7 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
             }
             if (step > steps) steps = step;
             vo[i] = v_sep; ct[i] = time_out; la[i] = loading; ua[i] = unloading;
-            pm[i] = peak; dm[i] = deepest; dr[i] = law == 0 ? 0.0 : h.delta_res;
+            pm[i] = peak; dm[i] = deepest; dr[i] = law == NFD_LAW_HERTZ ? 0.0 : h.delta_res;
         }
         Py_END_ALLOW_THREADS
     }

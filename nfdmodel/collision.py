@@ -288,7 +288,7 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))
 
-    if native.active() and not history and law.name in native.COLLISION_CODES:
+    if native.active() and not history and law.name in native.COLLISION_LAWS:
         path = native.collide(law.name, law_params, pair, v_in, dt, pair.mass_star, max_steps)
     else:
         path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history)

@@ -16,6 +16,9 @@ import os
 import numpy as np
 
 from .history import HistoryUpdate, check_force, empty_update, field_names
+from .limits import LAW_CODES
+
+COLLISION_LAWS = ("hertz", "vz", "thornton", "walton-braun")    # the laws _native.collide runs
 
 try:
     from . import _native
@@ -24,8 +27,6 @@ except ImportError as exc:           # not built: no compiler at install time, o
     _native = None
     _MISSING = f"the compiled kernel nfdmodel._native is not built ({exc})"
 
-LAW_CODES = {"vz": 1, "thornton": 2, "walton-braun": 3}
-COLLISION_CODES = {"hertz": 0, **LAW_CODES}
 _STEPS_EXCEEDED = -10
 
 
@@ -138,7 +139,7 @@ def collide(name: str, params, pair, v_in, dt: float, mass: float, max_steps: in
     out = {key: np.zeros(v_in.size) for key in ("v_out", "contact_time", "loading_area", "unloading_area", "P_max",
                                                 "delta_max", "delta_res")}
     steps, iterations, status, failed_at, failed_delta = _native.collide(
-        COLLISION_CODES[name], law_params(name, params, pair), v_in, float(dt), float(mass), int(max_steps),
+        LAW_CODES[name], law_params(name, params, pair), v_in, float(dt), float(mass), int(max_steps),
         out["v_out"], out["contact_time"], out["loading_area"], out["unloading_area"], out["P_max"],
         out["delta_max"], out["delta_res"])
     if status == _STEPS_EXCEEDED:

@@ -22,8 +22,6 @@
 #else
 #define NFD_ALWAYS_INLINE static inline
 #endif
-#define NFD_TOLERANCE 1e-10          /* relative, on P, of the vz plastic-loading solve       */
-#define NFD_MAX_ITERATIONS 200       /* never reached: the bracket halves at worst every other */
 #define NFD_JUMP_STEPS 4             /* Newton steps from the explicit start (vz_jump)          */
 #define NFD_JUMP_BLOCK 256           /* contacts per vectorised block of vz_jump (nfd_vz_load) */
 #define NFD_CBRT_SEED 715094163u     /* fdlibm: (1023 - 1023/3 - 0.03306) 2^20                  */
@@ -132,7 +130,7 @@ static inline int newton_converged(double abs_previous, double abs_step, double 
 
 static inline int vz_fast(double delta, double u_start, const nfd_params *p, double *u_out)
 {
-    const double tol_u = NFD_TOLERANCE / 3.0;
+    const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
     double c1 = p->c1;
     double b = sqrt(p->R_star * delta);
@@ -212,7 +210,7 @@ static inline void vz_jump_step(int k, int check, double b, double u_min, const 
                                 double one_minus, double *u, double *abs_previous, int *rising_previous,
                                 double *result, int *steps)
 {
-    const double tol_u = NFD_TOLERANCE / 3.0;
+    const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     double F, slope;
     vz_residual(*u, b, p, c1, one_minus, &F, &slope);
     int rising = slope > 0.0;
@@ -263,7 +261,7 @@ NFD_ALWAYS_INLINE int vz_jump(double delta, double u_start, double u_fast, const
  * the bracket [u_lo, u_hi] from vz_jump's last iterate u_fast; *iterations counts all three. */
 static double vz_safe(double delta, double u_start, double u_fast, const nfd_params *p, int *iterations)
 {
-    const double tol_u = NFD_TOLERANCE / 3.0;
+    const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
     double c1 = p->c1;
     double R_delta = p->R_star * delta;
@@ -278,7 +276,7 @@ static double vz_safe(double delta, double u_start, double u_fast, const nfd_par
     if (hi < lo) hi = lo;
     double ua = (u > lo && u < hi) ? u : lo;
     double previous_step = hi - lo;
-    for (int iteration = 1; iteration <= NFD_MAX_ITERATIONS; ++iteration) {
+    for (int iteration = 1; iteration <= NFD_VZ_MAX_ITERATIONS; ++iteration) {
         vz_residual(ua, b, p, c1, one_minus, &F, &slope);
         if (F < 0.0) lo = ua; else hi = ua;
         double step = F / slope;
@@ -300,7 +298,7 @@ static double vz_safe(double delta, double u_start, double u_fast, const nfd_par
         ua = u_new;
         previous_step = taken;
     }
-    *iterations = 2 + NFD_JUMP_STEPS + NFD_MAX_ITERATIONS;
+    *iterations = 2 + NFD_JUMP_STEPS + NFD_VZ_MAX_ITERATIONS;
     return ua;
 }
 
@@ -498,8 +496,6 @@ void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, doubl
 }
 
 /* ------------------------------------------------------------------------------ vz_table */
-#define NFD_TABLE_TOLERANCE 1e-12    /* relative, on x = P / P_Y (nfdmodel.vz_table)            */
-#define NFD_TABLE_MAX_ITERATIONS 100
 
 /* PCHIP end slope (nfdmodel.pchip._end_slope). */
 static double end_slope(double h0, double h1, double s0, double s1)
@@ -727,4 +723,18 @@ int nfd_walton_braun_step(double delta, const nfd_params *p, const nfd_history *
     out->a_e_max = 0.0;
     *force = P;
     return isfinite(P) ? NFD_OK : NFD_NOT_FINITE;
+}
+
+int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
+             nfd_history *out, int *iterations)
+{
+    if (iterations) *iterations = 0;
+    switch (law) {
+    case NFD_LAW_HERTZ: return nfd_hertz_step(delta, p, h, force, out);
+    case NFD_LAW_VZ: return nfd_vz_step(delta, p, h, force, out, iterations);
+    case NFD_LAW_THORNTON: return nfd_thornton_step(delta, p, h, force, out);
+    case NFD_LAW_VZ_TABLE: return nfd_vz_table_step(delta, p, t, h, force, out, iterations);
+    case NFD_LAW_WALTON_BRAUN: return nfd_walton_braun_step(delta, p, h, force, out);
+    default: return NFD_UNKNOWN_LAW;
+    }
 }

@@ -36,6 +36,8 @@
 
 #include <stddef.h>
 
+#include "nfd_limits.h"   /* law codes, tolerances, admissible ranges */
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -44,6 +46,7 @@ extern "C" {
 #define NFD_BEYOND_WINDOW 1
 #define NFD_FULL_CONTACT (-1)
 #define NFD_NOT_FINITE (-2)
+#define NFD_UNKNOWN_LAW (-3)
 
 /* Per contact pair, precomputed once (nfd_pair), then the law's constants. */
 typedef struct {
@@ -75,7 +78,6 @@ typedef struct {
  * increasing), a_p/a_Y = f (f[0] = 0, non-decreasing) and C_R = g (g[0] = 1, > 0) at them; the
  * PCHIP node slopes and D at the nodes are filled in by nfd_table_init. A plain struct (no
  * pointers): copy it, broadcast it, write it to a restart file. */
-#define NFD_TABLE_MAX_NODES 64
 typedef struct {
     int n;
     double x[NFD_TABLE_MAX_NODES], f[NFD_TABLE_MAX_NODES], g[NFD_TABLE_MAX_NODES];
@@ -119,6 +121,12 @@ double nfd_vz_table_radius(const nfd_params *p, const nfd_table *t, double P);
  * a_e_max + Ca <P_max - P_Y> against R* yourself (nfd_vz_step's statuses). */
 int nfd_vz_load(size_t n, const nfd_params *p, const double *delta, double *a_e_max, double *P_max,
                 double *delta_res, double *K_u);     /* the arrays must not overlap */
+
+/* The step of law `law` (NFD_LAW_HERTZ ... NFD_LAW_WALTON_BRAUN, nfd_limits.h): the one dispatch of
+ * every caller. t: the vz_table law's tables (NULL for the other laws); iterations may be NULL.
+ * Returns the law's status, or NFD_UNKNOWN_LAW for a code outside the table. */
+int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
+             nfd_history *out, int *iterations);
 
 /* On request, after a step: the contact radii [m] of a history at force P [N] (vz): the Hertz
  * radius a_e, the plastic radius a_p = Ca <P_max - P_Y> and a_ep = a_e + a_p. */
