@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import ctypes
+import errno
 import io
 import json
 import math
@@ -125,11 +127,15 @@ def to_json(obj: Any) -> str:
     return json.dumps(_to_jsonable(obj), indent=2, allow_nan=False) + "\n"
 
 
+def _umask() -> int:
+    mask = os.umask(0)        # the only way to read it: set and restore at once
+    os.umask(mask)
+    return mask
+
+
 def new_file_mode() -> int:
     """The permission bits a new file gets under the user's umask (0o666 & ~umask)."""
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
+    return 0o666 & ~_umask()
 
 
 def writable_target(path: str | os.PathLike) -> Path:
@@ -177,32 +183,93 @@ def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
     return given
 
 
+_RENAME_EXCHANGE = 2          # renameat2 flag (Linux >= 3.15): swap two paths in one step
+_AT_FDCWD = -100
+
+
+def exchange_paths(first: Path, second: Path) -> bool:
+    """Swap two existing paths in one atomic step (Linux renameat2 with RENAME_EXCHANGE): any
+    reader sees either the old or the new entry under each name, never neither. False where the
+    C library, kernel or file system does not offer it; nothing is changed then."""
+    try:
+        libc = ctypes.CDLL(None, use_errno=True)
+        renameat2 = libc.renameat2
+    except (OSError, AttributeError):
+        return False
+    renameat2.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    if renameat2(_AT_FDCWD, os.fsencode(first), _AT_FDCWD, os.fsencode(second), _RENAME_EXCHANGE) == 0:
+        return True
+    code = ctypes.get_errno()
+    if code in (errno.EINVAL, errno.ENOSYS, errno.EOPNOTSUPP):
+        return False
+    raise OSError(code, os.strerror(code), str(second))
+
+
+def _carry_over(folder: Path, staging: Path) -> None:
+    """Give ``staging`` every entry of ``folder`` that the new results do not replace (hard links,
+    or copies where the file system has none), so that swapping the two folders keeps the user's
+    other files. A new file whose old name is a symbolic link to a file is written through the
+    link (``writable_target``), and the link itself is carried over."""
+    for old in sorted(folder.rglob("*")):
+        new = staging / old.relative_to(folder)
+        if old.is_symlink():
+            if new.exists() and not new.is_symlink() and new.is_file():
+                os.replace(new, writable_target(old))
+            if not new.is_symlink():
+                new.parent.mkdir(parents=True, exist_ok=True)
+                os.symlink(os.readlink(old), new)
+        elif old.is_dir():
+            if new.exists() and not new.is_dir():
+                raise OSError(f"cannot write {old}: it is a folder; give the path of a file")
+            new.mkdir(parents=True, exist_ok=True)
+            shutil.copymode(old, new)
+        elif not new.exists():
+            new.parent.mkdir(parents=True, exist_ok=True)
+            try:
+                os.link(old, new)
+            except OSError:
+                shutil.copy2(old, new)
+        else:
+            writable_target(old)                 # a FIFO, a device, ... is never replaced
+
+
 @contextlib.contextmanager
 def all_or_nothing(folder: str | os.PathLike):
     """A staging folder for a set of results that belong together: write into the folder this
-    yields; only when the block ends without an error are the files moved into ``folder`` (each
-    by an atomic rename, the targets checked like every write). An error, Ctrl-C or kill part
-    way leaves ``folder`` as it was: never half a report."""
+    yields. When the block ends without an error, the staging folder receives the old folder's
+    other files (hard links) and the two are swapped in one atomic rename (``exchange_paths``),
+    so that ``folder`` holds either the whole old set or the whole new one, at any instant. An
+    error, Ctrl-C or kill before the swap leaves ``folder`` as it was; one after it leaves the new
+    set. A symbolic link to a folder is written through (the folder it points to is swapped).
+    Where the platform cannot swap (no renameat2), the old folder is renamed aside, the new one
+    renamed in and the old one removed: a kill between those two renames leaves the old set
+    under ``.NAME.*.old`` beside ``folder`` and no ``folder``."""
     folder = Path(folder)
-    targets = writable_target(folder) if folder.is_symlink() else folder
-    if targets.exists() and not targets.is_dir():
+    real = folder.resolve() if folder.is_symlink() else folder
+    if real.exists() and not real.is_dir():
         raise OSError(f"cannot write into {folder}: it is not a folder")
     try:
-        folder.parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{folder.name}.", suffix=".staging", dir=folder.parent))
+        real.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{real.name}.", suffix=".staging", dir=real.parent))
+        os.chmod(staging, real.stat().st_mode & 0o7777 if real.exists() else 0o777 & ~_umask())
     except OSError as exc:
         raise OSError(f"cannot write into {folder}: {exc.strerror or exc}") from None
     try:
         yield staging
-        files = [f for f in sorted(staging.rglob("*")) if f.is_file()]
-        for staged in files:                                   # check every target first
-            writable_target(folder / staged.relative_to(staging))
-        for staged in files:
-            target = writable_target(folder / staged.relative_to(staging))
-            target.parent.mkdir(parents=True, exist_ok=True)
-            os.replace(staged, target)
+        try:
+            if not real.exists():
+                os.rename(staging, real)
+                return
+            _carry_over(real, staging)
+            if not exchange_paths(staging, real):
+                aside = Path(tempfile.mkdtemp(prefix=f".{real.name}.", suffix=".old", dir=real.parent))
+                os.rename(real, aside / real.name)
+                os.rename(staging, real)
+                shutil.rmtree(aside, ignore_errors=True)
+        except OSError as exc:
+            raise OSError(f"cannot write into {folder}: {exc.strerror or exc}") from None
     finally:
-        shutil.rmtree(staging, ignore_errors=True)
+        shutil.rmtree(staging, ignore_errors=True)     # after a swap: the old set
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:

@@ -154,3 +154,55 @@ def test_the_collision_report_honours_v_in_and_names_its_parameters(tmp_path, ca
              if not line.startswith("#")]
     rows = list(csv.DictReader(lines))
     assert sorted({float(r["v_in"]) for r in rows}) == [0.05, 0.1]
+
+
+def test_a_report_swaps_in_as_a_whole_and_keeps_other_files(tmp_path):
+    """The new set replaces the old one in one rename: files of the old set that the new one does
+    not write stay (hard links), a file link is written through, permissions are kept."""
+    folder = tmp_path / "report"
+    (folder / "sub").mkdir(parents=True)
+    (folder / "keep.csv").write_text("kept")
+    (folder / "sub" / "deep.txt").write_text("deep")
+    elsewhere = tmp_path / "elsewhere.json"
+    elsewhere.write_text("{}")
+    (folder / "linked.json").symlink_to(elsewhere)
+    folder.chmod(0o750)
+    inode_before = (folder / "keep.csv").stat().st_ino
+    with output.all_or_nothing(folder) as staging:
+        output.write_json(staging / "summary.json", {"a": 2})
+        output.write_json(staging / "linked.json", {"b": 3})
+        assert not (folder / "summary.json").exists()              # nothing visible before the swap
+    assert (folder / "keep.csv").read_text() == "kept"
+    assert (folder / "keep.csv").stat().st_ino == inode_before      # linked, not copied
+    assert (folder / "sub" / "deep.txt").read_text() == "deep"
+    assert (folder / "linked.json").is_symlink() and '"b": 3' in elsewhere.read_text()
+    assert '"a": 2' in (folder / "summary.json").read_text()
+    assert folder.stat().st_mode & 0o777 == 0o750
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["elsewhere.json", "report"]   # nothing left aside
+
+
+def test_a_report_swap_without_renameat2_takes_the_two_rename_path(tmp_path, monkeypatch):
+    folder = tmp_path / "report"
+    folder.mkdir()
+    (folder / "old.csv").write_text("kept")
+    monkeypatch.setattr(output, "exchange_paths", lambda first, second: False)
+    with output.all_or_nothing(folder) as staging:
+        output.write_json(staging / "summary.json", {"a": 1})
+    assert sorted(p.name for p in folder.iterdir()) == ["old.csv", "summary.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["report"]
+
+
+def test_a_new_report_folder_is_created_with_the_umask(tmp_path):
+    with output.all_or_nothing(tmp_path / "fresh") as staging:
+        output.write_json(staging / "summary.json", {})
+    assert (tmp_path / "fresh").stat().st_mode & 0o777 == 0o777 & ~output._umask()
+
+
+def test_exchange_paths_swaps_two_folders(tmp_path):
+    first, second = tmp_path / "a", tmp_path / "b"
+    first.mkdir()
+    second.mkdir()
+    (first / "from_a").touch()
+    if not output.exchange_paths(first, second):
+        pytest.skip("no renameat2 RENAME_EXCHANGE here: all_or_nothing uses two renames")
+    assert (second / "from_a").exists() and not list(first.iterdir())
