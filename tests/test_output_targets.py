@@ -1,10 +1,12 @@
 """Where results are written (calib.output): only regular files are ever replaced, a symbolic
-link is written through, errors name the path the user gave (never a temporary file), and new
-files follow the user's umask (results and the mesh cache alike)."""
+link is written through, errors name the path the user gave (never a temporary file), new files
+follow the user's umask (results and the mesh cache alike), a set of results is swapped in as a
+whole, a write killed midway leaves the old file, and no NaN reaches a result file."""
 import os
 import stat
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from calib import output
@@ -206,3 +208,29 @@ def test_exchange_paths_swaps_two_folders(tmp_path):
     if not output.exchange_paths(first, second):
         pytest.skip("no renameat2 RENAME_EXCHANGE here: all_or_nothing uses two renames")
     assert (second / "from_a").exists() and not list(first.iterdir())
+
+
+@pytest.mark.parametrize("interrupt", [KeyboardInterrupt, OSError])
+def test_a_write_killed_midway_leaves_the_old_file_and_no_partial_one(tmp_path, monkeypatch, interrupt):
+    """calib.report writes to a temporary file and renames it: an exception (Ctrl-C, disk full)
+    during the write leaves the previous result intact and no temporary file behind."""
+    target = tmp_path / "result.json"
+    output.write_json(target, {"P_max": 1.0})
+    before = target.read_text()
+
+    def dying_fsync(fd):
+        raise interrupt("killed during the write")
+
+    monkeypatch.setattr(os, "fsync", dying_fsync)
+    with pytest.raises(interrupt):
+        output.write_json(target, {"P_max": 2.0, "rows": list(range(10000))})
+    with pytest.raises(interrupt):
+        output.write_csv(tmp_path / "new.csv", [{"a": 1.0}])
+    assert target.read_text() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.json"]
+
+
+def test_a_nan_row_never_reaches_a_result_file(tmp_path):
+    with pytest.raises(ValueError, match="non-finite"):
+        output.write_json(tmp_path / "r.json", {"rows": [{"e": np.float64("nan")}]})
+    assert not any(tmp_path.iterdir())
