@@ -7,9 +7,11 @@ integrated with leap-frog until it leaves at v_out; the restitution is e = -v_ou
     nfdcal collide --law vz --v-in 0.02 0.04 0.1 [--dt 1e-6] [--json]
     nfdcal collide --report [--out results/collision]      # regenerate results/collision/
 
-Material flags default to the paper's reference case (aluminium sphere, R = 0.1 m); --Ca --Kc
-default to the paper's calibration, or come from a calibrated parameter file (--params FILE,
-which also sets the material). --dt defaults to "auto": the shortest estimated contact time /
+Material flags default to the paper's reference case (aluminium sphere, R = 0.1 m). --Ca --Kc
+default to the constants of the sphere the flags give: the paper's calibration for the reference
+sphere, its dimensionless constants at another radius, the master table's for another material
+(as ``nfdcal material``; outside the table an error); or they come from a calibrated parameter
+file (--params FILE, which also sets the material). --dt defaults to "auto": the shortest estimated contact time /
 2000 or its unloading phase / 100, whichever is smaller (about 3e-7 s for the reference case at
 0.02..0.2 m/s; the paper used 1e-6 s). A dt too large for the contact prints one warning line on
 stderr (nfdmodel.TimeStepWarning); a dt beyond the leap-frog stability limit is an error.
@@ -38,8 +40,10 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--dt", default="auto", help="time step [s] (> 0) or 'auto' (default)")
     add_summary_arguments(parser, progress=False)
     add_material_arguments(parser)
-    parser.add_argument("--Ca", default=None, help=f"vz plastic-radius rate [m/N] (default {DEFAULTS['Ca']:g})")
-    parser.add_argument("--Kc", default=None, help=f"vz curvature rate [1/N] (default {DEFAULTS['Kc']:g})")
+    parser.add_argument("--Ca", default=None, help="vz plastic-radius rate [m/N] (default: the material's, from "
+                        f"the master table; {DEFAULTS['Ca']:g} for the reference sphere)")
+    parser.add_argument("--Kc", default=None, help="vz curvature rate [1/N] (default: the material's, from the "
+                        f"master table; {DEFAULTS['Kc']:g} for the reference sphere)")
     parser.add_argument("--params", default=None, metavar="FILE",
                         help="calibrated parameter file (JSON from `nfdcal calibrate`): material, Ca, Kc")
     parser.add_argument("--K1", default=None, help="walton-braun loading stiffness [N/m] "
@@ -49,6 +53,36 @@ def add_parser(subparsers) -> None:
                         help="regenerate the collision results (CSV, JSON, PNG) into --out")
     parser.add_argument("--out", default=None, help="folder for --report (default results/collision)")
     parser.set_defaults(run=run)
+
+
+def same_solid(material, radius: float) -> bool:
+    """True for the reference sphere's E, nu, sigma_Y and R (the density does not enter Ca, Kc)."""
+    return (material.E, material.nu, material.sigma_y, radius) == (
+        reference_case.E, reference_case.NU, reference_case.SIGMA_Y, reference_case.R)
+
+
+def material_constants(pair, material, radius: float):
+    """The vz law of a sphere given by its material flags alone: the paper's calibration for the
+    reference sphere; the same dimensionless constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y for
+    the reference solid at another radius (they depend on nu and E / sigma_Y only); for another
+    solid the master table's at (nu, E / sigma_Y) (nfdcal material), with its window. Outside the
+    table: a ValueError naming the table's range and what to give instead."""
+    from nfdmodel import VZParams
+
+    reference = VZParams.reference()
+    if same_solid(material, radius):
+        return VZParams(pair, reference_case.CA, reference_case.KC, reference.window)
+    if (material.E, material.nu, material.sigma_y) == (reference_case.E, reference_case.NU, reference_case.SIGMA_Y):
+        return VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat, reference.window)
+    from calib.fit.master_table import MasterTable
+    from nfdmodel import CalibrationWindow
+
+    try:
+        values = MasterTable.load().parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
+    except ValueError as exc:
+        raise ValueError(f"{exc}; or give --Ca and --Kc, or --params FILE") from None
+    return VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"],
+                                       CalibrationWindow.from_record(values["window"]))
 
 
 def build_params(ns):
@@ -72,9 +106,13 @@ def build_params(ns):
         values = {k: number(f"--{k.replace('_', '-')}", v, DEFAULTS[k]) for k, v in flags.items()}
         material = Material(values["E"], values["nu"], values["sigma_y"], values["rho"])
         pair = ContactPair.sphere_flat(material, values["R"])
-        # the paper's constants carry the window they were fitted on; constants typed by hand, none
-        window = VZParams.reference().window if ns.Ca is None and ns.Kc is None else None
-        params = VZParams(pair, number("--Ca", ns.Ca, DEFAULTS["Ca"]), number("--Kc", ns.Kc, DEFAULTS["Kc"]), window)
+        if ns.Ca is None and ns.Kc is None:
+            params = material_constants(pair, material, values["R"])
+        elif (ns.Ca is None or ns.Kc is None) and not same_solid(material, values["R"]):
+            raise ValueError("--Ca, --Kc out of range: give both for this sphere, or neither (then the master "
+                             "table's constants for its material); the defaults are the reference sphere's")
+        else:                           # constants typed by hand: no window stated
+            params = VZParams(pair, number("--Ca", ns.Ca, DEFAULTS["Ca"]), number("--Kc", ns.Kc, DEFAULTS["Kc"]), None)
     if law == "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         default = WaltonBraunParams.from_vz(params)
         K1 = number("--K1", ns.K1, default.K1)
