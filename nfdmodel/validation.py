@@ -3,9 +3,25 @@ ValueError naming the parameter and that range (the CLI prints it as one line, e
 from __future__ import annotations
 
 import math
+import re
 from numbers import Real
 
 import numpy as np
+
+
+# What a person means by a number: digits with an optional point and exponent (Python's float()
+# also reads "0_05" as 5 and "1_000" as 1000); inf and nan are read to be named as not finite.
+_NUMBER_TEXT = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?|[-+]?(inf|infinity|nan)", re.IGNORECASE)
+
+
+def number_from_text(name: str, text: str, allowed: str = "") -> float:
+    """The float a typed number means, or ValueError naming ``name``: digits, one optional point,
+    an optional exponent (surrounding blanks ignored); no underscores, no hexadecimal."""
+    if not _NUMBER_TEXT.fullmatch(text.strip()):
+        what = f" ({allowed})" if allowed else ""
+        hint = "; digits only, no '_' (0_05 is not 0.05)" if "_" in text else ""
+        raise ValueError(f"{name} must be a number{what}, got {text!r}{hint}")
+    return float(text)
 
 
 def check_real(name: str, value, *, low: float | None = None, low_inclusive: bool = False,
@@ -26,6 +42,8 @@ def check_real(name: str, value, *, low: float | None = None, low_inclusive: boo
         raise ValueError(f"{name} must be a number ({allowed}), got {value!r}")
     if isinstance(value, str) and not text:
         raise ValueError(f"{name} must be a number ({allowed}), got the text {value!r}")
+    if isinstance(value, str):
+        value = number_from_text(name, value, allowed)
     if not isinstance(value, (Real, np.number)):
         try:
             value = float(value)

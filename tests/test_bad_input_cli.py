@@ -61,7 +61,15 @@ CLI_CASES = [
     (["hertz", "--nu", "0.5"], "--nu out of range: need --nu >= 0 and --nu < 0.5"),
     (["hertz", "--R", "nan"], "--R must be finite (--R > 0 m)"),
     (["hertz", "--contact-size", "inf"], "--contact-size"),
-    (["hertz", "--E", "abc"], "--E must be a number"),     # material flags are parsed like every command's
+    (["hertz", "--E", "abc"], "--E must be a number"),
+    # numbers as a person writes them: float() alone reads 0_05 as 5 and 1_500 as 1500
+    (["collide", "--v-in", "0_05"], "no '_' (0_05 is not 0.05)"),
+    (["collide", "--v-in", "0.1", "--E", "70_000e6"], "--E must be a number"),
+    (["calibrate", "--quiet", "--peaks", "1_500"], "--peaks must be a number"),
+    (["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "100_e6", "--R", "0.1"], "must be a number"),
+    (["hertz", "--R", "0x1p-3"], "--R must be a number"),
+    (["fit-data", "--impacts", "IMPACTS_UNDERSCORE", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699"],
+     "not a number: '0_05' (digits only"),     # material flags are parsed like every command's
 ]
 
 # argparse's own errors: SystemExit(2) from the parser, one line
@@ -97,6 +105,7 @@ def files(tmp_path):
     write("params_empty.json", "")
     write("params_incomplete.json", json.dumps({**good, "material": {k: v for k, v in good["material"].items() if k != "R"}}))
     write("params_stale.json", json.dumps({**good, "P_Y": "36.6"}))
+    write("impacts_underscore.csv", "v_in,e\n0.02,0.8\n0_05,0.7\n0.1,0.65\n")
     (tmp_path / "params_dir.json").mkdir()
     paths["PARAMS_DIR"] = str(tmp_path / "params_dir.json")
     return {**paths, "PARAMS": str(params), "SCENE_UNKNOWN_KEY": str(unknown), "SCENE_BAD_NU": str(bad_nu),

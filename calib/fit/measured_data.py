@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from nfdmodel.validation import check_solid
+from nfdmodel.validation import check_solid, number_from_text
 
 IMPACT_COLUMNS = {"v_in": "m/s", "e": "-"}
 IMPACT_OPTIONAL = {"P_max": "N", "contact_time": "s"}
@@ -108,9 +108,10 @@ def _cell(path, what, row, line, column, text, unit, low, high=None, low_inclusi
     if text == "" and optional:
         return math.nan
     try:
-        value = float(text)
+        value = number_from_text(column, text)
     except ValueError:
-        raise ValueError(f"{where}: not a number: {text!r}") from None
+        hint = " (digits only, no '_': 0_05 is not 0.05)" if "_" in text else ""
+        raise ValueError(f"{where}: not a number: {text!r}{hint}") from None
     bounds = (f"{column} {'>=' if low_inclusive else '>'} {low:g}" if low is not None else "") + \
              (f" and {column} <= {high:g}" if high is not None else "")
     unit = "" if unit == "-" else f" {unit}"
