@@ -9,6 +9,7 @@ import contextlib
 import csv
 import ctypes
 import errno
+import fcntl
 import io
 import json
 import math
@@ -205,13 +206,21 @@ def exchange_paths(first: Path, second: Path) -> bool:
     raise OSError(code, os.strerror(code), str(second))
 
 
-def _carry_over(folder: Path, staging: Path) -> None:
+def _manifest(name: str) -> str:
+    return f".{name}.files"
+
+
+def _carry_over(folder: Path, staging: Path, stale: set[str]) -> None:
     """Give ``staging`` every entry of ``folder`` that the new results do not replace (hard links,
     or copies where the file system has none), so that swapping the two folders keeps the user's
-    other files. A new file whose old name is a symbolic link to a file is written through the
-    link (``writable_target``), and the link itself is carried over."""
+    other files; the files in ``stale`` (relative paths: the previous set of the same name that
+    the new one does not write) are left behind. A new file whose old name is a symbolic link to
+    a file is written through the link (``writable_target``), and the link itself is carried over."""
     for old in sorted(folder.rglob("*")):
-        new = staging / old.relative_to(folder)
+        relative = old.relative_to(folder)
+        new = staging / relative
+        if relative.as_posix() in stale and not new.exists():
+            continue
         if old.is_symlink():
             if new.exists() and not new.is_symlink() and new.is_file():
                 os.replace(new, writable_target(old))
@@ -234,7 +243,7 @@ def _carry_over(folder: Path, staging: Path) -> None:
 
 
 @contextlib.contextmanager
-def all_or_nothing(folder: str | os.PathLike):
+def all_or_nothing(folder: str | os.PathLike, name: str | None = None):
     """A staging folder for a set of results that belong together: write into the folder this
     yields. When the block ends without an error, the staging folder receives the old folder's
     other files (hard links) and the two are swapped in one atomic rename (``exchange_paths``),
@@ -243,7 +252,12 @@ def all_or_nothing(folder: str | os.PathLike):
     set. A symbolic link to a folder is written through (the folder it points to is swapped).
     Where the platform cannot swap (no renameat2), the old folder is renamed aside, the new one
     renamed in and the old one removed: a kill between those two renames leaves the old set
-    under ``.NAME.*.old`` beside ``folder`` and no ``folder``."""
+    under ``.NAME.*.old`` beside ``folder`` and no ``folder``.
+
+    ``name`` (e.g. "calibration") makes the files a named set: the set's file list is kept in
+    ``folder/.<name>.files``, and the files of the previous set of that name that the new one
+    does not write are removed by the swap (a calibration with other peaks leaves no stale path
+    files), while every other file in ``folder`` stays."""
     folder = Path(folder)
     real = folder.resolve() if folder.is_symlink() else folder
     if real.exists() and not real.is_dir():
@@ -257,10 +271,20 @@ def all_or_nothing(folder: str | os.PathLike):
     try:
         yield staging
         try:
+            stale: set[str] = set()
+            if name is not None:
+                written = sorted(f.relative_to(staging).as_posix() for f in staging.rglob("*") if f.is_file())
+                previous = real / _manifest(name)
+                if previous.is_file():
+                    try:
+                        stale = set(json.loads(previous.read_text(encoding="utf-8"))) - set(written)
+                    except (ValueError, TypeError):
+                        stale = set()               # an unreadable list: keep every old file
+                (staging / _manifest(name)).write_text(json.dumps(written, indent=0), encoding="utf-8")
             if not real.exists():
                 os.rename(staging, real)
                 return
-            _carry_over(real, staging)
+            _carry_over(real, staging, stale)
             if not exchange_paths(staging, real):
                 aside = Path(tempfile.mkdtemp(prefix=f".{real.name}.", suffix=".old", dir=real.parent))
                 os.rename(real, aside / real.name)
@@ -270,6 +294,44 @@ def all_or_nothing(folder: str | os.PathLike):
             raise OSError(f"cannot write into {folder}: {exc.strerror or exc}") from None
     finally:
         shutil.rmtree(staging, ignore_errors=True)     # after a swap: the old set
+
+
+@contextlib.contextmanager
+def one_writer(folder: str | os.PathLike, flag: str = "--out"):
+    """Hold the results folder ``folder`` for this process: a second nfdcal run that asks for it
+    meanwhile gets an OSError at once naming the folder and the process holding it (an advisory
+    lock, ``flock`` on ``.<folder name>.lock`` beside the folder, released when the block ends or
+    the process dies)."""
+    folder = Path(folder)
+    real = folder.resolve() if folder.is_symlink() else folder
+    lock = real.parent / f".{real.name}.lock"
+    while True:                         # the lock file is removed at the end: lock the file the path names
+        try:
+            real.parent.mkdir(parents=True, exist_ok=True)
+            handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o666)
+        except OSError as exc:
+            raise OSError(f"cannot write into {folder}: {exc.strerror or exc}") from None
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = os.pread(handle, 32, 0).decode("ascii", "replace").strip() or "unknown"
+            os.close(handle)
+            raise OSError(f"cannot write into {folder}: another nfdcal run (process {holder}) is writing there; "
+                          f"wait for it to finish or give another {flag}") from None
+        try:
+            if os.fstat(handle).st_ino == os.stat(lock).st_ino:
+                break
+        except FileNotFoundError:
+            pass
+        os.close(handle)                # removed by the run that held it: take the new one
+    try:
+        os.ftruncate(handle, 0)
+        os.pwrite(handle, str(os.getpid()).encode("ascii"), 0)
+        yield real
+    finally:
+        with contextlib.suppress(OSError):
+            os.unlink(lock)
+        os.close(handle)
 
 
 def atomic_write_text(path: str | os.PathLike, text: str) -> Path:

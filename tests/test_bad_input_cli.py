@@ -160,7 +160,12 @@ def test_stability_command_bad_output_folder(tmp_path, monkeypatch, capsys):
     ["calibrate", "--peaks", "10"],                                   # below P_Y = 36.6 N
     ["calibrate", "--peaks", "20", "37"],                             # one load step above P_Y
     ["calibrate", "--E", "210e9", "--nu", "0.29", "--sigma-y", "1.2e9", "--R", "0.005", "--peaks", "1e-3"],
-], ids=["below first yield", "one point above first yield", "another material below first yield"])
+    # windows narrower than 5 P_Y (P_Y = 36.6 N): the FE ran, then a failed or energy-creating fit
+    ["calibrate", "--peaks", "40", "50"], ["calibrate", "--peaks", "90"], ["calibrate", "--peaks", "50", "80"],
+    ["calibrate", "--peaks", "60", "100"],
+    ["calibrate", "--E", "210e9", "--nu", "0.29", "--sigma-y", "1.2e9", "--R", "0.005", "--peaks", "20", "35"],
+], ids=["below first yield", "one point above first yield", "another material below first yield",
+        "to 1.4 P_Y", "to 2.5 P_Y", "to 2.2 P_Y", "to 2.7 P_Y", "another material to 2 P_Y"])
 def test_a_plan_that_cannot_be_fitted_is_refused_before_any_fe(argv, tmp_path, capsys, monkeypatch):
     import meshes.hemisphere
 

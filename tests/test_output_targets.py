@@ -234,3 +234,50 @@ def test_a_nan_row_never_reaches_a_result_file(tmp_path):
     with pytest.raises(ValueError, match="non-finite"):
         output.write_json(tmp_path / "r.json", {"rows": [{"e": np.float64("nan")}]})
     assert not any(tmp_path.iterdir())
+
+
+def test_a_named_set_clears_its_own_stale_files_and_keeps_the_rest(tmp_path):
+    """A calibration with other peaks leaves no path file of the previous one; a user's file and
+    another set's files stay."""
+    folder = tmp_path / "calibration"
+    with output.all_or_nothing(folder, name="calibration") as staging:
+        output.write_json(staging / "parameters.json", {"Ca": 1})
+        output.write_csv(staging / "path_P500.csv", [{"a": 1.0}])
+    with output.all_or_nothing(folder, name="ladder") as staging:
+        output.write_json(staging / "ladder" / "rung.json", {})
+    (folder / "notes.txt").write_text("mine")
+    with output.all_or_nothing(folder, name="calibration") as staging:
+        output.write_json(staging / "parameters.json", {"Ca": 2})
+        output.write_csv(staging / "path_P40.csv", [{"a": 1.0}])
+    names = sorted(p.relative_to(folder).as_posix() for p in folder.rglob("*") if p.is_file())
+    assert names == [".calibration.files", ".ladder.files", "ladder/rung.json", "notes.txt", "parameters.json",
+                     "path_P40.csv"]
+
+
+def test_one_writer_per_results_folder(tmp_path):
+    folder = tmp_path / "calibration"
+    with output.one_writer(folder):
+        with pytest.raises(OSError, match=rf"another nfdcal run \(process {os.getpid()}\) is writing there"):
+            with output.one_writer(folder):
+                pass
+    with output.one_writer(folder):             # released at the end of the block
+        pass
+    assert not list(tmp_path.iterdir())          # the lock file goes with the run
+
+
+def test_each_calibration_has_a_folder_of_its_own(tmp_path, monkeypatch, capsys):
+    """Other peaks, mesh or shipped law than the reference calibration's: a folder of their own."""
+    written = []
+    import calib.fit.calibration as calibration
+    import calib.report.calibration as report
+
+    monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: "result")
+    monkeypatch.setattr(calibration, "summary", lambda result: {
+        "Ca": 1.0, "Kc": 1.0, "Ca_hat": 1.0, "Kc_hat": 1.0, "P_Y": 1.0, "P_Y_fe": 1.0, "wall_time_s": 0.0,
+        "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
+    monkeypatch.setattr(report, "write", lambda result, out, **options: written.append(Path(out)) or Path(out))
+    monkeypatch.chdir(tmp_path)
+    for flags in (["--peaks", "500", "1000"], ["--contact-size", "8e-5"], ["--ship", "force"], ["--ship", "radius"]):
+        assert main(["calibrate", "--quiet", *flags]) == 0
+    assert [p.as_posix() for p in written] == ["results/calibration/peaks500-1000", "results/calibration/h8e-05",
+                                               "results/calibration/ship-force", "results/calibration"]

@@ -39,10 +39,13 @@ def add_parser(subparsers) -> None:
                              " contact radius (radius, the default) or to the force (force), or the vz-table"
                              " law (table, the default with --v-max: two constants miss wide windows)")
     parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
-                        " reference case, results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R> for another)")
+                        " reference case; for another material or other options a folder of its own below it,"
+                        " e.g. results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R>_peaks<P1>-<P2>); one"
+                        " calibration per folder: a run clears the files of the previous one there and refuses"
+                        " a folder another run is writing")
     parser.add_argument("--no-plots", action="store_true", help="skip PNG and VTU outputs")
     parser.add_argument("--ladder", action="store_true",
-                        help="reference sphere and paths on a ladder of 4 meshes: Ca, Kc, e, alpha"
+                        help="reference sphere and paths on a ladder of 5 meshes: Ca, Kc, e, alpha"
                              " against wall time; material flags (not --R) for e.g. a locking study"
                              " at nu = 0.49 (resumes: finished rungs are kept in OUT/ladder/)")
     parser.add_argument("--dry-run", action="store_true",
@@ -51,7 +54,25 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(run=run)
 
 
+def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max) -> str:
+    """The default folder of a calibration under results/calibration: "" for the reference one
+    (which ``collide --report`` reads), else a name made of every option that differs from it
+    (material and R, --peaks, --contact-size, --ship, --v-max), so that each folder holds one
+    calibration."""
+    parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}"]
+    if ns.peaks is not None:
+        parts.append("peaks" + "-".join(f"{p:g}" for p in peaks))
+    if contact_size is not None:
+        parts.append(f"h{contact_size:g}")
+    if ns.ship is not None and ns.ship != ("table" if v_max is not None else "radius"):
+        parts.append(f"ship-{ship}")
+    if v_max is not None:
+        parts.append(f"vmax{v_max:g}")
+    return "_".join(parts)
+
+
 def run(ns) -> int:
+    from calib import output
     from calib.commands.progress import progress_reporter
     from calib.fit import calibration, recipe
     from calib.report import calibration as calibration_report
@@ -92,11 +113,7 @@ def run(ns) -> int:
         recipe.check_fittable(spec)
     except ValueError as exc:
         raise ValueError(f"--peaks: {exc}" if peaks is not None else str(exc)) from None
-    # another material's calibration has a folder of its own: the reference one, which
-    # `collide --report` reads, is written only by the reference calibration or on request
-    default_out = (calibration_report.DEFAULT_OUT if is_reference(ns) and v_max is None else calibration_report.DEFAULT_OUT
-                   / (f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}"
-                      + (f"_vmax{v_max:g}" if v_max is not None else "")))
+    default_out = calibration_report.DEFAULT_OUT / folder_name(ns, material, radius, peaks, contact_size, ship, v_max)
     if ns.dry_run:
         from calib.scenes.plan import calibration_stage, format_stages, stages_summary
 
@@ -108,15 +125,15 @@ def run(ns) -> int:
                        f"outputs: {folder}"] + format_stages(stages))
         return 0
     rounds = None
-    with progress_reporter(ns.quiet) as progress:
+    with output.one_writer(ns.out or default_out), progress_reporter(ns.quiet) as progress:
         if v_max is None:
             result = calibration.calibrate(spec, progress=progress, ship=ship)
         else:                           # round 1 is the plan above; more rounds if it falls short
             found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ship,
                                                         contact_size=contact_size)
             result, rounds = found.result, list(found.rounds)
-    out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
-                                   vtu=not ns.no_plots)
+        out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
+                                       vtu=not ns.no_plots)
     summary = {**calibration.summary(result), "out": str(out)}
     if rounds is not None:
         summary["v_max"] = {"v_max": v_max, "rounds": rounds}

@@ -314,6 +314,11 @@ def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: b
                            [r["contact_radius"] for r in loading],
                            R_star=pair.R_star, E_star=pair.E_star, P_Y=pair.P_Y)
     radius_fit = fit_radius_law(data)
+    if not (radius_fit.Ca.slope > 0 and radius_fit.Kc.slope > 0):
+        raise ValueError(f"P_max out of range: the FE contact radii up to {spec.plan.peaks[-1] / pair.P_Y:.3g} P_Y give "
+                         f"Ca = {radius_fit.Ca.slope:.4g} m/N, Kc = {radius_fit.Kc.slope:.4g} 1/N (need both > 0): "
+                         f"the plastic growth is lost in the discretisation error; load further (--peaks) or "
+                         f"refine the mesh (--contact-size)")
     window = window_study(data)
 
     force_fit, radius_fit_force_error = None, {}

@@ -112,7 +112,7 @@ def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
     pair = ContactPair.sphere_flat(material, radius)
     reach = min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
     for round_number in range(1, MAX_ROUNDS + 1):
-        top = min(MARGIN * needed, reach)
+        top = min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), reach)   # never narrower than a fit needs
         say(f"window round {round_number}: v_max = {v_max:g} m/s needs about {needed / pair.P_Y:.4g} P_Y "
             f"({source}); load paths to {top / pair.P_Y:.4g} P_Y")
         spec = recipe.calibration_spec(material, radius, peaks=tuple(f * top for f in PEAK_FRACTIONS),

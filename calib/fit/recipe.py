@@ -134,6 +134,11 @@ class CalibrationSpec:
 
 
 MIN_FIT_POINTS = 2   # loading points above P_Y the radius fit needs (a slope and its error)
+# The narrowest window the two-mesh radius fit recovers Ca, Kc from (reference sphere, the
+# recipe's meshes, nfdcal calibrate --peaks): largest peaks of 1.4, 2.5 and 2.7 P_Y give a failed
+# fit or constants that create energy (e = 1.005-1.41), 3 P_Y fits outside the asymptotic range
+# of the two meshes, 5 and 8 P_Y fit (Ca_hat 0.021, 0.025; Kc_hat 0.018, 0.019).
+MIN_WINDOW_OVER_P_Y = 5.0
 
 
 def fit_points(plan: LoadPathPlan, P_Y: float) -> int:
@@ -142,12 +147,15 @@ def fit_points(plan: LoadPathPlan, P_Y: float) -> int:
 
 
 def check_fittable(spec: CalibrationSpec) -> None:
-    """ValueError before any FE work when the load plan gives the fit fewer than MIN_FIT_POINTS
-    points above P_Y, naming the smallest admissible largest load: the peaks scaled up until
-    the plan (same increments per peak) has enough points."""
+    """ValueError before any FE work when the load plan cannot give Ca and Kc: fewer than
+    MIN_FIT_POINTS loading points above P_Y, or a largest peak below MIN_WINDOW_OVER_P_Y P_Y
+    (the plastic growth of the contact radius and curvature is then lost in the FE's
+    discretisation error). The message names the smallest admissible largest load: the peaks
+    scaled up (same increments per peak) until both hold."""
     P_Y = spec.pair.P_Y
     plan = spec.plan
-    if fit_points(plan, P_Y) >= MIN_FIT_POINTS:
+    wide_enough = plan.peaks[-1] >= MIN_WINDOW_OVER_P_Y * P_Y * (1.0 - 1e-12)
+    if fit_points(plan, P_Y) >= MIN_FIT_POINTS and wide_enough:
         return
 
     def scaled(factor):
@@ -160,10 +168,14 @@ def check_fittable(spec: CalibrationSpec) -> None:
     while high - low > 1e-4 * high:
         middle = 0.5 * (low + high)
         low, high = (middle, high) if fit_points(scaled(middle), P_Y) < MIN_FIT_POINTS else (low, middle)
-    smallest = high * plan.peaks[-1]
-    raise ValueError(f"P_max out of range: the fit of Ca and Kc needs at least {MIN_FIT_POINTS} load "
-                     f"steps above first yield P_Y = {P_Y:.4g} N, this load plan (largest P_max = "
-                     f"{plan.peaks[-1]:.4g} N) has {fit_points(plan, P_Y)}; the smallest admissible "
+    smallest = max(high * plan.peaks[-1], MIN_WINDOW_OVER_P_Y * P_Y)
+    reason = (f"needs at least {MIN_FIT_POINTS} load steps above first yield P_Y = {P_Y:.4g} N, this load plan "
+              f"(largest P_max = {plan.peaks[-1]:.4g} N) has {fit_points(plan, P_Y)}" if wide_enough or
+              fit_points(plan, P_Y) < MIN_FIT_POINTS else
+              f"needs load paths to at least {MIN_WINDOW_OVER_P_Y:g} P_Y = {MIN_WINDOW_OVER_P_Y * P_Y:.4g} N (below, "
+              f"the plastic growth of the contact is lost in the FE's discretisation error), this load plan reaches "
+              f"{plan.peaks[-1]:.4g} N ({plan.peaks[-1] / P_Y:.3g} P_Y)")
+    raise ValueError(f"P_max out of range: the fit of Ca and Kc {reason}; the smallest admissible "
                      f"largest P_max is {smallest:.4g} N ({smallest / P_Y:.3g} P_Y)")
 
 

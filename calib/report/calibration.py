@@ -173,8 +173,9 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
 def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool = True,
           vtu: bool = True) -> Path:
     """Write the calibration outputs to ``out`` (see the module docstring), all or nothing: a
-    failure part way (a plot, a full disk) leaves the folder as it was."""
-    with output.all_or_nothing(out) as staging:
+    failure part way (a plot, a full disk) leaves the folder as it was. The files of a previous
+    calibration in ``out`` that this one does not write are removed; other files stay."""
+    with output.all_or_nothing(out, name="calibration") as staging:
         _write(result, staging, plots, vtu)
     return Path(out)
 

@@ -65,7 +65,7 @@ def generate(out_dir=DEFAULT_OUT, params_file=None, velocities=None) -> tuple[Pa
     (results/calibration/parameters.json) when it exists, else the paper's Ca, Kc; the source is
     named in summary.json and returned. ``velocities`` [m/s] replace the sweep of the paper's
     figure 20 (0.02 .. 0.2 m/s). The files are written all or nothing (calib.output.all_or_nothing)."""
-    with all_or_nothing(out_dir) as staging, warnings.catch_warnings():
+    with all_or_nothing(out_dir, name="collision") as staging, warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)   # the plots and CSVs show the window instead
         source = _generate(staging, params_file, velocities)
     return Path(out_dir), source
