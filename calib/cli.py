@@ -4,17 +4,16 @@ Every sub-command lives in ``calib.commands``. Bad input (a ValueError from our 
 or an OSError such as a missing input file or an unwritable output folder) is reported as one
 line on stderr with exit code 2, never a traceback; so is a usage error.
 
-A negative value in scientific notation may follow its flag (``--dt -1e-6``): argparse reads a
-token that starts with '-' as an option unless it looks like -1 or -0.5, so before parsing such
-a token is joined to the flag before it (``--dt=-1e-6``, argparse's own spelling of a value)
-when that flag takes exactly one value. Flags that take several values (``--v-in``,
-``--peaks``) are left alone.
+A negative value may follow its flag in any notation (``--dt -1e-6``, ``--wall zlo -1e-3``):
+argparse reads a token that starts with '-' as an option unless it looks like a negative number,
+and its own test for that (-1, -0.5) is widened to scientific notation (``NEGATIVE_NUMBER``), for
+flags of one value and of several alike. The range checks then name what is out of range.
 """
 from __future__ import annotations
 
 import argparse
-import functools
 import importlib
+import re
 import sys
 import warnings
 
@@ -25,45 +24,20 @@ COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", 
                    "export")
 
 
+# A negative number as a person writes it: -1, -0.5, -.5, -1e-6, -2.5E+3 (argparse's own test has no exponent).
+NEGATIVE_NUMBER = re.compile(r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$")
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse whose usage error is ONE line (exit code 2), and which records the flags that
-    take exactly one value in ``one_value_flags`` (a set shared with its sub-parsers)."""
+    """argparse whose usage error is ONE line (exit code 2) and which reads a token like -1e-6
+    after a flag as its value (``NEGATIVE_NUMBER``; no nfdcal flag looks like a number)."""
 
-    def __init__(self, *args, one_value_flags: set[str] | None = None, **kwargs):
+    def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
-        self.one_value_flags = set() if one_value_flags is None else one_value_flags
-
-    def add_argument(self, *args, **kwargs):
-        action = super().add_argument(*args, **kwargs)
-        if action.option_strings and action.nargs is None:
-            self.one_value_flags.update(action.option_strings)
-        return action
-
-    def add_subparsers(self, **kwargs):
-        kwargs.setdefault("parser_class", functools.partial(_Parser, one_value_flags=self.one_value_flags))
-        return super().add_subparsers(**kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message):
         self.exit(2, f"{self.prog}: error: {message}\n")
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
-
-
-def join_negative_values(argv: list[str], one_value_flags: set[str]) -> list[str]:
-    """``['--dt', '-1e-6']`` -> ``['--dt=-1e-6']`` for every flag in ``one_value_flags``."""
-    joined: list[str] = []
-    for token in argv:
-        if joined and joined[-1] in one_value_flags and token.startswith("-") and _is_number(token):
-            joined[-1] = f"{joined[-1]}={token}"
-        else:
-            joined.append(token)
-    return joined
 
 
 def build_parser() -> _Parser:
@@ -99,7 +73,7 @@ def name_the_output_flag(ns, message: str) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
-    ns = parser.parse_args(join_negative_values(argv, parser.one_value_flags))
+    ns = parser.parse_args(argv)
 
     def one_line_warning(message, category, filename, lineno, file=None, line=None):
         print(f"nfdcal {ns.command}: warning: {message}", file=sys.stderr)

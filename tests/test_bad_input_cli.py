@@ -66,6 +66,8 @@ CLI_CASES = [
     (["collide", "--v-in", "0_05"], "no '_' (0_05 is not 0.05)"),
     (["collide", "--v-in", "0.1", "--E", "70_000e6"], "--E must be a number"),
     (["calibrate", "--quiet", "--peaks", "1_500"], "--peaks must be a number"),
+    (["calibrate", "--quiet", "--peaks", "500", "500", "--dry-run"], "need distinct forces, got 500 more than once"),
+    (["calibrate", "--quiet", "--peaks", "500", "1000", "500", "--dry-run"], "got 500 more than once"),
     (["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "100_e6", "--R", "0.1"], "must be a number"),
     (["hertz", "--R", "0x1p-3"], "--R must be a number"),
     (["fit-data", "--impacts", "IMPACTS_UNDERSCORE", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699"],

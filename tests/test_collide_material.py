@@ -58,3 +58,17 @@ def test_constants_that_cannot_follow_the_material_are_refused(argv, needle, cap
     assert main(["collide", "--law", "vz", "--v-in", "0.05", *argv]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and needle in err[0], err
+
+
+@pytest.mark.parametrize("asked, held", [("vz", "vz-table"), ("vz-table", "vz")])
+def test_a_parameter_file_of_another_law_is_named(asked, held, tmp_path, capsys):
+    from nfdmodel import VZTableParams, parameter_record
+
+    pair = ContactPair.sphere_flat(Material.reference(), 0.1)
+    params = (VZTableParams(pair, (1.0, 10.0, 41.0), (0.0, 0.25, 0.9), (1.0, 1.1, 1.3)) if held == "vz-table"
+              else VZParams.reference())
+    path = tmp_path / "p.json"
+    path.write_text(json.dumps(parameter_record(params, 0.1, Material.reference())))
+    assert main(["collide", "--law", asked, "--v-in", "0.05", "--params", str(path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"the file holds the {held} law; give --law {held}" in err[0], err

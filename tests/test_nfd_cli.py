@@ -5,7 +5,7 @@ import json
 import numpy as np
 import pytest
 
-from calib.cli import build_parser, join_negative_values, main
+from calib.cli import build_parser, main
 from nfdmodel import Material, VZParams, load_parameters, parameter_record
 
 
@@ -138,12 +138,20 @@ def test_report_generates_results(tmp_path, capsys, monkeypatch):
     assert summary["thornton_closed_form_check"]["max_relative_error"] < 5e-3
 
 
-@pytest.mark.parametrize("argv, joined", [
-    (["collide", "--dt", "-1e-6"], ["collide", "--dt=-1e-6"]),                  # one value: joined
-    (["collide", "--Kc", "-1E-4", "--json"], ["collide", "--Kc=-1E-4", "--json"]),
-    (["collide", "--v-in", "-1e-3"], ["collide", "--v-in", "-1e-3"]),           # several values: left alone
-    (["collide", "--dt", "auto", "-1e-6"], ["collide", "--dt", "auto", "-1e-6"]),  # not after its flag
-    (["collide", "--law", "-vz"], ["collide", "--law", "-vz"]),                 # not a number
-], ids=["dt", "Kc", "v-in", "stray value", "not a number"])
-def test_negative_values_are_joined_to_one_value_flags(argv, joined):
-    assert join_negative_values(argv, build_parser().one_value_flags) == joined
+@pytest.mark.parametrize("argv, dest, value", [
+    (["collide", "--dt", "-1e-6"], "dt", "-1e-6"),                             # one value
+    (["collide", "--Kc", "-1E-4", "--json"], "Kc", "-1E-4"),
+    (["collide", "--v-in", "0.1", "-1e-3"], "v_in", ["0.1", "-1e-3"]),           # several values
+    (["export", "lammps", "--params", "p.json", "--wall", "zlo", "-1e-3"], "wall", ["zlo", "-1e-3"]),
+    (["collide", "--dt", "-.5"], "dt", "-.5"),
+], ids=["dt", "Kc", "v-in", "wall", "no leading digit"])
+def test_a_negative_number_may_follow_its_flag(argv, dest, value):
+    assert getattr(build_parser().parse_args(argv), dest) == value
+
+
+@pytest.mark.parametrize("argv", [["collide", "--law", "-vz"], ["collide", "--dt", "auto", "-1e-6"]],
+                         ids=["not a number", "a stray value"])
+def test_what_is_not_a_flags_value_stays_a_usage_error(argv, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1

@@ -102,6 +102,10 @@ def build_params(ns):
                   ("vz-table" if isinstance(file_params, VZTableParams) else "vz")).name
     if ns.params is not None:
         params = file_params
+        held = "vz-table" if isinstance(file_params, VZTableParams) else "vz"
+        if law in ("vz", "vz-table") and law != held:
+            raise ValueError(f"--law {law} out of range for --params {ns.params}: the file holds the {held} law; "
+                             f"give --law {held} (or no --law), or one of thornton, hertz, walton-braun")
     else:
         values = {k: number(f"--{k.replace('_', '-')}", v, DEFAULTS[k]) for k, v in flags.items()}
         material = Material(values["E"], values["nu"], values["sigma_y"], values["rho"])

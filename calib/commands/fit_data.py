@@ -148,7 +148,7 @@ def run(ns) -> int:
     result = choice.result
     summary = summary_of(choice, data, specimen, data.files)
     if ns.params_out:
-        from calib.report.calibration import write_parameter_file
+        from calib.report.parameter_file import write_parameter_file
 
         fit = {"source": "measurements", "files": data.files, "model": summary["model"],
                "standard_errors": {k: summary[f"{k}_se"] for k in ("sigma_y", "Ca", "Kc", "Ca_hat", "Kc_hat")},

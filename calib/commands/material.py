@@ -34,7 +34,7 @@ def run(ns) -> int:
     values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
     if ns.params_out:
         from calib import output
-        from calib.report.calibration import write_parameter_file
+        from calib.report.parameter_file import write_parameter_file
         from nfdmodel import CalibrationWindow, ContactPair, VZParams
 
         params = VZParams.from_dimensionless(ContactPair.sphere_flat(material, radius), values["Ca_hat"],

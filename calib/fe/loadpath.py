@@ -58,6 +58,10 @@ class LoadPathPlan:
         object.__setattr__(self, "peaks", peaks)
         if not peaks or not all(np.isfinite(p) and p > 0 for p in peaks):
             raise ValueError(f"peaks (P_max) must be finite forces > 0 [N], got {self.peaks}")
+        repeated = sorted({p for p in peaks if peaks.count(p) > 1})
+        if repeated:            # two paths to one peak: the same FE path twice, weighted twice in the fit
+            raise ValueError(f"peaks (P_max) out of range: need distinct forces, got {', '.join(f'{p:g}' for p in repeated)} "
+                             f"more than once")
         if not (np.isfinite(self.loading_step) and 0 < self.loading_step <= peaks[-1]):
             raise ValueError(f"loading_step must be in (0, max peak = {peaks[-1]:g}] N, got {self.loading_step}")
         if not (isinstance(self.unloading_steps, int) and self.unloading_steps >= 2):

@@ -21,7 +21,8 @@ import numpy as np
 from calib import output
 from calib.fe.von_mises import von_mises_stress
 from calib.fit.calibration import CalibrationResult, summary
-from nfdmodel import parameter_record, reference_case
+from calib.report.parameter_file import write_parameter_file
+from nfdmodel import reference_case
 from nfdmodel.parameter_file import ERROR_KEYS
 
 DEFAULT_OUT = output.RESULTS / "calibration"
@@ -38,16 +39,6 @@ def _derived_columns(rows: list[dict], result: CalibrationResult) -> list[dict]:
         out.append({**r, "a_ep": a_ep, "a_e": a_e, "a_p": a_ep - a_e,
                     "C_R": a_ep**2 / (pair.R_star * r["alpha"]) if r["alpha"] > 0 and a_ep > 0 else 0.0})
     return out
-
-
-def write_parameter_file(path, params, radius: float, material, fit: dict, stamp: dict,
-                         **extra) -> Path:
-    """The one writer of parameter files (JSON, atomically): nfdmodel.parameter_record (law,
-    Ca [m/N], Kc [1/N], the dimensionless constants, the yield point, the material and R [m],
-    units) plus where the constants come from (``fit``), anything in ``extra`` (FE errors,
-    mesh) and the provenance ``stamp``. ``nfdmodel.load_parameters`` reads it back."""
-    return output.write_json(path, {**parameter_record(params, radius, material), "fit": fit,
-                                    **extra, "stamp": stamp})
 
 
 def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -> Path:
