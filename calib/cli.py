@@ -13,8 +13,10 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import re
 import sys
+from pathlib import Path
 import warnings
 
 from calib.optional import MissingOptionalPart
@@ -70,6 +72,31 @@ def name_the_output_flag(ns, message: str) -> str:
     return message
 
 
+INPUT_FLAGS = ("params", "impacts", "force_approach", "table", "scene")   # the flags that name files read
+
+
+def _flag(dest: str) -> str:
+    return dest if dest == "scene" else f"--{dest.replace('_', '-')}"
+
+
+def _same_file(first: str, second: str) -> bool:
+    if os.path.exists(first) and os.path.exists(second):
+        return os.path.samefile(first, second)          # also through links
+    return Path(first).resolve() == Path(second).resolve()
+
+
+def refuse_output_over_input(ns) -> None:
+    """ValueError when an output path names one of the command's input files: an input is never
+    overwritten, not even with --overwrite."""
+    for out_dest in OUTPUT_FLAGS:
+        written = getattr(ns, out_dest, None)
+        for in_dest in INPUT_FLAGS:
+            read = getattr(ns, in_dest, None)
+            if isinstance(written, str) and isinstance(read, str) and written and read and _same_file(written, read):
+                raise ValueError(f"{_flag(out_dest)} {written} out of range: it is the input {_flag(in_dest)} {read}; "
+                                 f"give another path (an input file is never overwritten)")
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(argv)
@@ -80,6 +107,7 @@ def main(argv: list[str] | None = None) -> int:
 
     warnings.showwarning = one_line_warning   # a warning is one line too, never file:line noise
     try:
+        refuse_output_over_input(ns)
         return int(ns.run(ns) or 0)
     except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file
         print(f"nfdcal {ns.command}: error: {name_the_output_flag(ns, str(exc))}", file=sys.stderr)

@@ -70,6 +70,12 @@ CLI_CASES = [
     (["calibrate", "--quiet", "--peaks", "500", "1000", "500", "--dry-run"], "got 500 more than once"),
     (["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "100_e6", "--R", "0.1"], "must be a number"),
     (["hertz", "--R", "0x1p-3"], "--R must be a number"),
+    # an output that is one of the inputs: never overwritten, not even with --overwrite
+    (["fit-data", "--impacts", "IMPACTS_GOOD", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699",
+      "--params-out", "IMPACTS_GOOD", "--overwrite"], "it is the input --impacts"),
+    (["fit-data", "--impacts", "IMPACTS_GOOD", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699",
+      "--plot", "IMPACTS_LINK", "--overwrite"], "it is the input --impacts"),
+    (["material", "--table", "TABLE_COPY", "--params-out", "TABLE_COPY"], "it is the input --table"),
     (["fit-data", "--impacts", "IMPACTS_UNDERSCORE", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699"],
      "not a number: '0_05' (digits only"),     # material flags are parsed like every command's
 ]
@@ -108,6 +114,10 @@ def files(tmp_path):
     write("params_incomplete.json", json.dumps({**good, "material": {k: v for k, v in good["material"].items() if k != "R"}}))
     write("params_stale.json", json.dumps({**good, "P_Y": "36.6"}))
     write("impacts_underscore.csv", "v_in,e\n0.02,0.8\n0_05,0.7\n0.1,0.65\n")
+    write("impacts_good.csv", "v_in,e\n0.02,0.8\n0.05,0.7\n0.1,0.65\n")
+    (tmp_path / "impacts_link.csv").symlink_to(tmp_path / "impacts_good.csv")
+    paths["IMPACTS_LINK"] = str(tmp_path / "impacts_link.csv")
+    write("table_copy.csv", "nu,E_over_sigma_y,Ca_hat,Kc_hat\n")
     (tmp_path / "params_dir.json").mkdir()
     paths["PARAMS_DIR"] = str(tmp_path / "params_dir.json")
     return {**paths, "PARAMS": str(params), "SCENE_UNKNOWN_KEY": str(unknown), "SCENE_BAD_NU": str(bad_nu),
