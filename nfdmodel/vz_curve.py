@@ -21,8 +21,10 @@ import math
 
 import numpy as np
 
-NEWTON_TOLERANCE = 1e-10        # relative tolerance on P of the vz plastic-loading solve
-NEWTON_MAX_ITERATIONS = 200     # never reached: the bracket halves at worst every other step
+from . import limits
+
+NEWTON_TOLERANCE = limits.VZ_TOLERANCE               # relative tolerance on P of the vz plastic-loading solve
+NEWTON_MAX_ITERATIONS = limits.VZ_MAX_ITERATIONS     # never reached: the bracket halves at worst every other step
 JUMP_NEWTON_STEPS = 4           # Newton steps from the explicit start (stage 2 of vz_plastic_solve)
 # fdlibm's cube-root seed: the high 32 bits of y divided by 3 plus (1023 - 1023/3 - 0.0331) 2^20
 # give y^(1/3) to 3.2 % (an exponent divided by 3 with a linear mantissa correction).

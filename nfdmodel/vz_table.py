@@ -34,7 +34,7 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import brentq
 
-from . import native
+from . import limits, native
 from .hertz import hertz_kernel
 from .history import TurningPointHistory, check_delta, check_state, restore_shape, step_and_commit
 from .materials import ContactPair
@@ -43,8 +43,8 @@ from .turning_point import turning_point_step
 from .validation import check_real
 from .window import CalibrationWindow, check_contact_radius_below_R
 
-NEWTON_TOLERANCE = 1e-12        # relative, on x = P / P_Y
-NEWTON_MAX_ITERATIONS = 100     # never reached: bisection halves the bracket when Newton strays
+NEWTON_TOLERANCE = limits.TABLE_TOLERANCE            # relative, on x = P / P_Y
+NEWTON_MAX_ITERATIONS = limits.TABLE_MAX_ITERATIONS  # never reached: bisection halves the bracket when Newton strays
 POLISH_STEP = 1e-9              # the final Newton step is taken when this small (relative), bracket or not
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(16)
 _SAMPLES_PER_SEGMENT = 64       # admissibility checks: points per table segment
