@@ -99,8 +99,15 @@ def test_a_material_at_the_table_s_bounds():
 
 
 def test_the_calibration_s_nu_ranges_are_the_table_s():
+    from pydantic import TypeAdapter, ValidationError
+
     from calib.commands.common import MATERIAL_RANGES
     from calib.fe.material import elastic_constants
+    from calib.scenes.schema import PoissonRatio
+    scene_nu = TypeAdapter(PoissonRatio)
+    assert scene_nu.validate_python(math.nextafter(limits.NU_MAX, 0.0)) < limits.NU_MAX
+    with pytest.raises(ValidationError):
+        scene_nu.validate_python(limits.NU_MAX)
     assert MATERIAL_RANGES["nu"]["high"] == limits.NU_MAX and not MATERIAL_RANGES["nu"].get("high_inclusive")
     assert elastic_constants(7e10, math.nextafter(limits.NU_MAX, 0.0))[1] < limits.NU_MAX
     with pytest.raises(ValueError, match=rf"^nu out of range: need nu >= 0 and nu < {limits.NU_MAX:g}"):

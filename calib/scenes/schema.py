@@ -54,7 +54,7 @@ class SceneError(ValueError):
 Number = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 Positive = Annotated[Number, Field(gt=0)]
 Ratio = Annotated[Number, Field(gt=0, le=1e4)]          # a multiple of P_Y or v_Y
-PoissonRatio = Annotated[Number, Field(ge=0, lt=0.5)]
+PoissonRatio = Annotated[Number, Field(ge=0, lt=limits.NU_MAX)]
 Flag = Annotated[bool, Strict()]
 Law = Literal["vz", "vz-table", "thornton", "hertz", "walton-braun"]
 
