@@ -8,6 +8,14 @@ n-contact history whenever one contact loads plastically.
 
 ``delta`` is the total approach ("overlap") of each contact [m], shape (n,), any float dtype;
 ``state`` the named per-contact history; ``P`` the normal force [N], float64, >= 0.
+
+Adding a law ``new`` (Python side): ``nfdmodel/new.py`` (its history class, a TurningPointHistory
+subclass; its parameters; the virgin-curve loading branch of nfdmodel.turning_point; ``new_step``,
+``new_force`` and ``LAW = ContactLaw(...)``), one entry in ``LAWS`` below, and its scalar step in
+``nfdmodel/reference.py`` (the specification the kernels are tested against). A compiled kernel
+adds ``NFD_LAW_NEW`` to ``nfd_limits.h`` (limits.LAW_CODES follows) and the law to
+``nfd_kernel.{h,c}``; the law module then calls ``native.law_loading("new", ...)`` and states
+``collision_params``.
 """
 from __future__ import annotations
 
