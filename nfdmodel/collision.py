@@ -58,7 +58,6 @@ STEPS_PER_UNLOADING_AUTO = 100    # dt = None: also at most the shortest unloadi
 # dt so small that a contact needs more steps: ValueError. 400 x the automatic resolution
 # (~2500 steps per contact); about 40 s of the numpy time loop (40 us per step).
 MAX_STEPS_LIMIT = 10**6
-FITTED_LAWS = ("vz", "vz-table")   # laws with fitted constants: a window and a domain (a < R*)
 _SMALLEST_ENERGY = 1e-250         # J; below, (1/2) m v^2 and the overlaps underflow
 _LOADING_NODES, _LOADING_WEIGHTS = np.polynomial.legendre.leggauss(24)
 
@@ -161,7 +160,7 @@ def _virgin_force(law: ContactLaw, delta, law_params):
 def _check_within_domain(law: ContactLaw, params, pair, v, energy) -> float:
     """The largest approach [m] the law covers (vz: where its contact radius reaches R*; inf for
     the others); a ValueError naming the largest admissible v_in when an impact goes beyond."""
-    if law.name not in FITTED_LAWS:
+    if not law.fitted:
         return math.inf
     reach = params.full_contact_approach * (1.0 - 1e-9)   # just inside: at the root a = R* exactly
     work = float(law.loading_work(np.array([reach]), np.array([params.full_contact_load]), params)[0])
@@ -288,8 +287,9 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))
 
-    if native.active() and not history and law.name in native.COLLISION_LAWS:
-        path = native.collide(law.name, law_params, pair, v_in, dt, pair.mass_star, max_steps)
+    if native.active() and not history and law.collision_params is not None:
+        path = native.collide(law.name, law.collision_params(law_params), v_in, dt, pair.mass_star, max_steps,
+                              lambda delta: law.step_function(np.array([delta]), law.initial_state(1), law_params))
     else:
         path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history)
     in_range, over_window = _window_check(law, law_params, path["P_max"], v_in)
@@ -304,7 +304,7 @@ def _window_check(law, params, P_max, v_in):
     """(in_calibrated_range, P_max / window's largest force) per velocity, or (None, None) when
     the law's constants state no window; one RangeWarning naming the fastest impact beyond it."""
     window = getattr(params, "window", None)
-    if law.name not in FITTED_LAWS or window is None:
+    if not law.fitted or window is None:
         return None, None
     P_limit = params.window_force
     over = P_max / P_limit

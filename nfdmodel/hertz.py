@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import native
+from .contact_law import ContactLaw
 from .history import HertzState, check_delta, check_force, check_state, empty_update, restore_shape, step_and_commit
 from .parameters import as_pair
 
@@ -44,3 +45,7 @@ def hertz_work(delta_max, P_max, pair):
     """Work of Hertz loading to delta_max: (2/5) k_H delta_max^(5/2) [J]."""
     d = np.maximum(delta_max, 0.0)
     return 0.4 * pair.hertz_stiffness * d**2 * np.sqrt(d)
+
+
+LAW = ContactLaw("hertz", "Hertz elastic contact (Johnson 1985)", hertz_force, HertzState, hertz_work, 1.5, hertz_step,
+                 params_function=lambda params: as_pair(params, "hertz"), collision_params=native.kernel_params)

@@ -24,6 +24,10 @@ class HertzState:
 
     n: int
 
+    @classmethod
+    def virgin(cls, n: int) -> "HertzState":
+        return cls(contact_count(n))
+
 
 @dataclass(frozen=True)
 class TurningPointHistory:

@@ -2,8 +2,8 @@
 
 ``nfd_limits.h`` (beside this module) is the one table of these numbers for C (the kernel), C++
 (the LAMMPS plugin) and Python: each ``#define NFD_<NAME> <number>`` there is ``limits.<NAME>``
-here (an int when written as one, else a float; every entry of the table is also in ``TABLE``). Nothing else in nfdmodel or calib writes these
-numbers again (tests/test_limits.py).
+here (an int when written as one, else a float; every entry of the table is also in ``TABLE``).
+Nothing else in nfdmodel or calib writes these numbers again (tests/test_limits.py).
 """
 from __future__ import annotations
 
@@ -38,8 +38,9 @@ VZ_TOLERANCE, VZ_MAX_ITERATIONS = TABLE["VZ_TOLERANCE"], TABLE["VZ_MAX_ITERATION
 TABLE_TOLERANCE, TABLE_MAX_ITERATIONS = TABLE["TABLE_TOLERANCE"], TABLE["TABLE_MAX_ITERATIONS"]
 TABLE_MAX_NODES = TABLE["TABLE_MAX_NODES"]
 
-# The names the laws go by in Python, C and LAMMPS (pair_style nfd/<name>), by code.
-LAW_NAMES = {TABLE["LAW_HERTZ"]: "hertz", TABLE["LAW_VZ"]: "vz", TABLE["LAW_THORNTON"]: "thornton",
-             TABLE["LAW_VZ_TABLE"]: "vz-table", TABLE["LAW_WALTON_BRAUN"]: "walton-braun"}
+# The names the laws go by in Python, C and LAMMPS (pair_style nfd/<name>), by code: NFD_LAW_VZ_TABLE
+# is "vz-table" (every NFD_LAW_<NAME> but the count).
+LAW_NAMES = {code: key[len("LAW_"):].lower().replace("_", "-") for key, code in TABLE.items()
+             if key.startswith("LAW_") and key != "LAW_COUNT"}
 LAW_CODES = {name: code for code, name in LAW_NAMES.items()}
 CA_HAT_RANGE = (TABLE["CA_HAT_MIN"], TABLE["CA_HAT_MAX"])

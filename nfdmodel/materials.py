@@ -20,7 +20,7 @@ from functools import cached_property, lru_cache
 import numpy as np
 from scipy.optimize import minimize_scalar
 
-from . import reference_case
+from . import limits, reference_case
 from .validation import (LARGEST_POSSIBLE_RADIUS, LARGEST_USUAL_RADIUS, PlausibilityWarning, check_real, check_solid,
                          unit_slip)
 
@@ -56,7 +56,7 @@ def yield_factor(nu: float) -> float:
     Incipient yield when p0 = A_Y sigma_Y (von Mises = Tresca on the axis). A_Y(0.3) = 1.61
     (Vu-Quoc & Zhang 1999, section 3). Valid for 0 <= nu < 0.5 [-].
     """
-    nu = check_real("nu", nu, low=0.0, low_inclusive=True, high=0.5)
+    nu = check_real("nu", nu, low=0.0, low_inclusive=True, high=limits.NU_MAX)
     return _yield_factor_cached(nu)
 
 
@@ -76,7 +76,7 @@ class Material:
 
     def __post_init__(self):
         object.__setattr__(self, "E", check_solid("E", check_real("E", self.E, low=0.0, unit="Pa")))
-        object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=0.5))
+        object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=limits.NU_MAX))
         object.__setattr__(self, "sigma_y", check_solid("sigma_y", check_real("sigma_y", self.sigma_y,
                                                                                low=0.0, unit="Pa")))
         object.__setattr__(self, "rho", check_solid("rho", check_real("rho", self.rho, low=0.0,
@@ -143,7 +143,7 @@ class ContactPair:
         object.__setattr__(self, "R_star", check_real("R", self.R_star, low=0.0, unit="m"))
         object.__setattr__(self, "E_star", check_real("E", self.E_star, low=0.0, unit="Pa"))
         object.__setattr__(self, "sigma_y", check_real("sigma_y", self.sigma_y, low=0.0, unit="Pa"))
-        object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=0.5))
+        object.__setattr__(self, "nu", check_real("nu", self.nu, low=0.0, low_inclusive=True, high=limits.NU_MAX))
         object.__setattr__(self, "mass_star", check_real("mass", self.mass_star, low=0.0, unit="kg"))
         self._check_yield_point()
 

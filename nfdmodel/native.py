@@ -2,11 +2,13 @@
 
 nfdmodel/nfd_kernel.c (one dependency-free C99 source, also used by C/C++ DEM codes and the
 LAMMPS plugin) is built at install time into ``nfdmodel._native`` when a C compiler is present.
-It is then the default; ``NFDCAL_BACKEND=numpy`` in the environment forces the numpy kernels
-(the reference it is tested against, and the fallback when it was not built). The laws call
-:func:`turning_point_step` / :func:`hertz_forces` of this module when :func:`active` is true;
-they validate their arguments first, exactly as on the numpy path, so bad input gets the same
-messages on both.
+It is then the default; ``NFDCAL_BACKEND=numpy`` in the environment when nfdmodel is imported
+forces the numpy kernels (the reference it is tested against, and the fallback when it is not
+built). The environment is read once, at import; :func:`use_backend` switches this module's
+selection for a block (tests, benchmarks) and never touches ``os.environ``, so child processes
+inherit the environment unchanged. The laws call :func:`turning_point_step` /
+:func:`hertz_forces` of this module when :func:`active` is true; they validate their arguments
+first, exactly as on the numpy path, so bad input gets the same messages on both.
 """
 from __future__ import annotations
 
@@ -18,8 +20,6 @@ import numpy as np
 from .history import HistoryUpdate, check_force, empty_update, field_names
 from .limits import LAW_CODES
 
-COLLISION_LAWS = ("hertz", "vz", "thornton", "walton-braun")    # the laws _native.collide runs
-
 try:
     from . import _native
     _MISSING = ""
@@ -28,6 +28,10 @@ except ImportError as exc:           # not built: no compiler at install time, o
     _MISSING = f"the compiled kernel nfdmodel._native is not built ({exc})"
 
 _STEPS_EXCEEDED = -10
+_FORCED_NUMPY = os.environ.get("NFDCAL_BACKEND", "").strip().lower() == "numpy"   # read once
+# The selection: whether the compiled kernel runs, and why (backend_info); use_backend swaps it.
+_selection = {"active": _native is not None and not _FORCED_NUMPY,
+              "why": "forced by NFDCAL_BACKEND=numpy" if _FORCED_NUMPY else ""}
 
 
 def backend() -> str:
@@ -36,32 +40,28 @@ def backend() -> str:
 
 
 def backend_info() -> str:
-    """Why this backend: built or not, forced by NFDCAL_BACKEND or not."""
-    forced = os.environ.get("NFDCAL_BACKEND", "").strip().lower()
+    """Why this backend: built or not, forced by NFDCAL_BACKEND or selected by use_backend."""
     if _native is None:
         return f"numpy: {_MISSING}; install a C compiler and the Python headers, then reinstall nfdcal"
-    if forced == "numpy":
-        return "numpy: forced by NFDCAL_BACKEND=numpy (the compiled kernel is built)"
+    if not _selection["active"]:
+        return f"numpy: {_selection['why']} (the compiled kernel is built)"
     return f"native: the compiled kernel {os.path.basename(_native.__file__)} (NFDCAL_BACKEND=numpy forces numpy)"
 
 
 @contextlib.contextmanager
 def use_backend(name: str):
-    """Within the block the laws run on ``name`` ("native" or "numpy"; NFDCAL_BACKEND set and
-    restored). ValueError if the native kernel is asked for and not built."""
+    """Within the block the laws run on ``name`` ("native" or "numpy"), in this process only
+    (os.environ is not touched). ValueError if the native kernel is asked for and not built."""
     if name not in ("native", "numpy"):
         raise ValueError(f"backend out of range: 'native' or 'numpy', got {name!r}")
     if name == "native" and _native is None:
         raise ValueError(f"backend 'native' is not available: {_MISSING}")
-    saved = os.environ.get("NFDCAL_BACKEND")
-    os.environ["NFDCAL_BACKEND"] = name
+    saved = dict(_selection)
+    _selection.update(active=name == "native", why=f"selected by use_backend({name!r})")
     try:
         yield
     finally:
-        if saved is None:
-            os.environ.pop("NFDCAL_BACKEND", None)
-        else:
-            os.environ["NFDCAL_BACKEND"] = saved
+        _selection.update(saved)
 
 
 def available_backends() -> tuple[str, ...]:
@@ -70,7 +70,8 @@ def available_backends() -> tuple[str, ...]:
 
 
 def active() -> bool:
-    return _native is not None and os.environ.get("NFDCAL_BACKEND", "").strip().lower() != "numpy"
+    """True when the laws run on the compiled kernel (module doc)."""
+    return _selection["active"]
 
 
 def kernel_params(pair, Ca: float = 0.0, Kc: float = 0.0, window_P_max: float = float("inf"),
@@ -85,10 +86,34 @@ def _contiguous(array) -> np.ndarray:
     return np.ascontiguousarray(array, dtype=np.float64)
 
 
-def turning_point_step(law: str, delta, state, pair, params: tuple, three_halves: bool):
-    """The compiled twin of nfdmodel.turning_point.turning_point_step: (P [N], HistoryUpdate,
-    loading statistics (largest Newton count, beyond-window count, largest P_max [N], position
-    of the widest contact, its radius [m]))."""
+def law_loading(name: str, params: tuple):
+    """The compiled virgin-curve loading of law ``name`` (its NFD_LAW_* code, nfd_limits.h) with
+    the nfd_params tuple ``params`` (:func:`kernel_params`), for :func:`turning_point_step`."""
+    code = LAW_CODES[name]
+
+    def load(index, delta, state, force, outputs):
+        a_e_max = _contiguous(state.a_e_max) if hasattr(state, "a_e_max") else delta   # vz's Newton start
+        return _native.load(code, params, index, delta, a_e_max, force, *outputs)
+
+    return load
+
+
+def table_loading(params: tuple, x, f, g):
+    """The compiled loading of the vz-table law: nfd_params ``params`` and the table's nodes
+    x = P/P_Y, f = a_p/a_Y, g = C_R (nfdmodel.vz_table), for :func:`turning_point_step`."""
+    x, f, g = _contiguous(x), _contiguous(f), _contiguous(g)
+
+    def load(index, delta, state, force, outputs):
+        return _native.load_table(params, x, f, g, index, delta, _contiguous(state.P_max), force, *outputs)
+
+    return load
+
+
+def turning_point_step(load, delta, state, pair, three_halves: bool):
+    """The compiled twin of nfdmodel.turning_point.turning_point_step, ``load`` the law's loading
+    (:func:`law_loading`, :func:`table_loading`): (P [N], HistoryUpdate, loading statistics
+    (largest Newton count, beyond-window count, largest P_max [N], position of the widest
+    contact, its radius [m]))."""
     n = delta.shape[0]
     force = np.empty(n)
     index = np.empty(n, dtype=np.int64)
@@ -102,13 +127,7 @@ def turning_point_step(law: str, delta, state, pair, params: tuple, three_halves
         values = {name: np.empty(k) for name in ("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max")}
         outputs = (values["delta_max"], values["P_max"], values["delta_res"], values["unloading_stiffness"],
                    values["a_e_max"])
-        if law == "vz-table":           # params: (kernel parameters, (x, f, g) of the table)
-            kernel, (x, f, g) = params
-            statistics = _native.load_table(kernel, _contiguous(x), _contiguous(f), _contiguous(g), index, delta,
-                                            _contiguous(state.P_max), force, *outputs)
-        else:
-            a_e_max = _contiguous(state.a_e_max) if hasattr(state, "a_e_max") else delta
-            statistics = _native.load(LAW_CODES[law], params, index, delta, a_e_max, force, *outputs)
+        statistics = load(index, delta, state, force, outputs)
         finite += statistics[5]          # 0.0 when every force is finite, else inf or NaN
         names = field_names(type(state))
         update = HistoryUpdate(index, type(state)(**{name: values[name] for name in names}), n, int(statistics[0]))
@@ -123,32 +142,23 @@ def hertz_forces(delta, pair) -> np.ndarray:
     return check_force(force, delta, pair, float(total))
 
 
-def law_params(name: str, params, pair) -> tuple:
-    """The nfd_params tuple of a law's parameters."""
-    if name == "vz":
-        return kernel_params(pair, params.Ca, params.Kc, params.window_force, c1=params.c1)
-    if name == "walton-braun":
-        return kernel_params(pair, K1=params.K1, K2=params.K2)
-    return kernel_params(pair)
-
-
-def collide(name: str, params, pair, v_in, dt: float, mass: float, max_steps: int) -> dict:
+def collide(name: str, kernel: tuple, v_in, dt: float, mass: float, max_steps: int, explain) -> dict:
     """The leap-frog impacts of nfdmodel.collision in C, every velocity in one call: the same
-    per-velocity results as collision._time_loop (history not recorded)."""
+    per-velocity results as collision._time_loop (history not recorded). ``kernel``: the law's
+    nfd_params tuple (:func:`kernel_params`); ``explain(delta)``: the law's numpy step at one
+    approach [m], called where the compiled loop stopped so that its ValueError names the cause
+    in the numpy path's words."""
     v_in = np.ascontiguousarray(v_in, dtype=np.float64)
     out = {key: np.zeros(v_in.size) for key in ("v_out", "contact_time", "loading_area", "unloading_area", "P_max",
                                                 "delta_max", "delta_res")}
     steps, iterations, status, failed_at, failed_delta = _native.collide(
-        LAW_CODES[name], law_params(name, params, pair), v_in, float(dt), float(mass), int(max_steps),
+        LAW_CODES[name], kernel, v_in, float(dt), float(mass), int(max_steps),
         out["v_out"], out["contact_time"], out["loading_area"], out["unloading_area"], out["P_max"],
         out["delta_max"], out["delta_res"])
     if status == _STEPS_EXCEEDED:
         raise ValueError(f"max_steps = {max_steps} reached before separation at v_in = {v_in[failed_at]:g} m/s: "
                          f"increase max_steps or dt (dt = {dt:g} s)")
     if status < 0:          # a contact radius at R*, or an overflow: the numpy step says which, in its words
-        from .registry import get_law
-
-        law = get_law(name)
-        law.step_function(np.array([failed_delta]), law.initial_state(1), params)
+        explain(failed_delta)
         raise ValueError(f"delta out of range at delta = {failed_delta:g} m (v_in = {v_in[failed_at]:g} m/s)")
     return {**out, "steps": int(steps), "max_iterations": int(iterations), "history": None}

@@ -17,14 +17,14 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import brentq
 
-from . import reference_case
+from . import limits, reference_case
 from .materials import ContactPair
 from .validation import check_real
 from .vz_curve import vz_loading_work, vz_residual_approach, vz_turning_point
 from .window import CalibrationWindow
 
-CA_HAT_RANGE = (1e-8, 1e4)      # admissible Ca P_Y / a_Y (paper: 0.026)
-KC_HAT_MAX = 1e4                # admissible Kc P_Y (paper: 0.0098)
+CA_HAT_RANGE = limits.CA_HAT_RANGE      # admissible Ca P_Y / a_Y (paper: 0.026), nfd_limits.h
+KC_HAT_MAX = limits.KC_HAT_MAX          # admissible Kc P_Y (paper: 0.0098), nfd_limits.h
 
 
 def as_pair(params, law: str) -> ContactPair:

@@ -15,6 +15,7 @@ import math
 import numpy as np
 
 from . import native
+from .contact_law import ContactLaw
 from .hertz import hertz_kernel
 from .history import ThorntonState, check_delta, check_state, restore_shape, step_and_commit
 from .materials import ContactPair
@@ -51,7 +52,8 @@ def thornton_step(delta, state: ThorntonState, params):
     check_state(state, ThorntonState, "thornton")
     delta, shape = check_delta(delta, state.n)
     if native.active():
-        force, update, _ = native.turning_point_step("thornton", delta, state, pair, native.kernel_params(pair), True)
+        force, update, _ = native.turning_point_step(native.law_loading("thornton", native.kernel_params(pair)),
+                                                     delta, state, pair, True)
     else:
         force, update = turning_point_step(delta, state, _thornton_loading_branch(pair), True, pair)
     return restore_shape(force, shape), update
@@ -71,3 +73,20 @@ def thornton_loading_work(delta_max, pair: ContactPair):
     plastic_part = np.maximum(delta_max - pair.delta_Y, 0.0)
     return (0.4 * pair.hertz_stiffness * elastic_part**2 * np.sqrt(elastic_part)
             + pair.P_Y * plastic_part + 0.5 * math.pi * pair.p_Y * pair.R_star * plastic_part**2)
+
+
+def thornton_radii(force, a_e, state: ThorntonState, pair: ContactPair):
+    """(a_p, a_ep) [m]: after yield the contact radius at the turning point is a* (a*^2 =
+    (2 P* + P_Y) / (2 pi p_Y), Thornton 1997) and on unloading a ~ P^(1/3) at the fixed R_p*,
+    a_ep = a* (P / P*)^(1/3); below yield the Hertz radius a_e; a_p = a_ep - a_e >= 0."""
+    yielded = state.P_max > pair.P_Y
+    a_sq = np.where(yielded, (2.0 * state.P_max + pair.P_Y) / (2.0 * math.pi * pair.p_Y), 0.0)
+    s = force / np.maximum(state.P_max, TINY)
+    a_ep = np.where(yielded, np.sqrt(a_sq) * np.cbrt(s), a_e)
+    return np.maximum(a_ep - a_e, 0.0), a_ep
+
+
+LAW = ContactLaw("thornton", "Thornton (1997) elastic-perfectly plastic contact", thornton_force, ThorntonState,
+                 lambda delta_max, P_max, pair: thornton_loading_work(delta_max, pair), 1.5, thornton_step,
+                 params_function=lambda params: as_pair(params, "thornton"), radii_function=thornton_radii,
+                 collision_params=native.kernel_params)

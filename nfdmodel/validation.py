@@ -8,6 +8,8 @@ from numbers import Real
 
 import numpy as np
 
+from . import limits
+
 
 # What a person means by a number: digits with an optional point and exponent (Python's float()
 # also reads "0_05" as 5 and "1_000" as 1000); inf and nan are read to be named as not finite.
@@ -59,20 +61,21 @@ def check_real(name: str, value, *, low: float | None = None, low_inclusive: boo
     return value
 
 
-# The range of real solids and impacts (SI). A value outside is a unit slip, not a material: it
-# is refused with the likely slip named. Values inside but unusual for a DEM particle get a
-# PlausibilityWarning that names the slip they would be.
+# The range of real solids and impacts (SI; the bounds are nfd_limits.h's). A value outside is a
+# unit slip, not a material: it is refused with the likely slip named. Values inside but unusual
+# for a DEM particle get a PlausibilityWarning that names the slip they would be.
 SOLID_RANGES = {
-    "E": (1e5, 2e12, "Pa", "Young's modulus of solids: gels 1e5 Pa .. diamond 1.2e12 Pa"),
-    "sigma_y": (1e4, 1e11, "Pa", "yield stress of solids: soft foams 1e4 Pa .. whiskers 1e11 Pa"),
-    "rho": (10.0, 3e4, "kg/m^3", "density of solids: aerogels 10 .. osmium 22,590 kg/m^3"),
-    "v_in": (0.0, 1e4, "m/s", "impact velocity a contact law describes (hypervelocity above)"),
+    "E": (limits.E_MIN, limits.E_MAX, "Pa", "Young's modulus of solids: gels 1e5 Pa .. diamond 1.2e12 Pa"),
+    "sigma_y": (limits.SIGMA_Y_MIN, limits.SIGMA_Y_MAX, "Pa",
+                "yield stress of solids: soft foams 1e4 Pa .. whiskers 1e11 Pa"),
+    "rho": (limits.RHO_MIN, limits.RHO_MAX, "kg/m^3", "density of solids: aerogels 10 .. osmium 22,590 kg/m^3"),
+    "v_in": (0.0, limits.V_IN_MAX, "m/s", "impact velocity a contact law describes (hypervelocity above)"),
 }
 # (factor, unit typed instead): "did you give GPa?" when value x factor falls inside the range
 UNIT_SLIPS = {"E": ((1e9, "GPa"), (1e6, "MPa")), "sigma_y": ((1e6, "MPa"), (1e3, "kPa")),
               "rho": ((1e3, "g/cm^3"),), "v_in": ((1e-3, "mm/s"),), "R": ((1e-3, "mm"), (1e-2, "cm"))}
-LARGEST_USUAL_RADIUS = 10.0    # [m]: DEM particles above it are unusual (a boulder): warned
-LARGEST_POSSIBLE_RADIUS = 1e4  # [m]: no particle of a contact model is larger: refused
+LARGEST_USUAL_RADIUS = limits.RADIUS_USUAL_MAX   # [m]: DEM particles above it are unusual (a boulder): warned
+LARGEST_POSSIBLE_RADIUS = limits.RADIUS_MAX      # [m]: no particle of a contact model is larger: refused
 
 
 class PlausibilityWarning(UserWarning):

@@ -12,12 +12,24 @@ import dataclasses
 import numpy as np
 
 from . import native
+from .contact_law import ContactLaw, plastic_radii
 from .hertz import hertz_kernel
 from .history import VZState, apply_update, check_delta, check_state, restore_shape, step_and_commit
 from .parameters import VZParams
 from .turning_point import turning_point_step
-from .vz_curve import vz_plastic_solve, vz_turning_point
+from .vz_curve import vz_loading_work, vz_plastic_solve, vz_turning_point
 from .window import check_contact_radius_below_R
+
+
+def vz_params(params) -> VZParams:
+    """``params`` when it is a VZParams, else a ValueError naming params."""
+    if not isinstance(params, VZParams):
+        raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
+    return params
+
+
+def _kernel_params(params: VZParams) -> tuple:
+    return native.kernel_params(params.pair, params.Ca, params.Kc, params.window_force, c1=params.c1)
 
 
 def _vz_loading_branch(params: VZParams):
@@ -63,14 +75,13 @@ def vz_step(delta, state: VZState, params: VZParams):
     new turning point (delta_max, P_max, delta_res, K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*), a_e,max;
     paper eqs. 3.19-3.22) and the largest Newton iteration count of the step.
     """
-    if not isinstance(params, VZParams):
-        raise ValueError(f"params for law 'vz' must be VZParams, got {type(params).__name__}")
+    vz_params(params)
     check_state(state, VZState, "vz")
     delta, shape = check_delta(delta, state.n)
     if native.active():
         pair = params.pair
         force, update, (_, beyond, largest_P, widest, widest_radius, _) = native.turning_point_step(
-            "vz", delta, state, pair, native.kernel_params(pair, params.Ca, params.Kc, params.window_force, c1=params.c1), True)
+            native.law_loading("vz", _kernel_params(params)), delta, state, pair, True)
         if update.size:
             check_contact_radius_below_R(widest_radius, pair.R_star, float(update.values.delta_max[widest]), params)
             if beyond:
@@ -126,3 +137,8 @@ def vz_newton_iterations(delta, state: VZState, params: VZParams) -> np.ndarray:
         start = state.a_e_max[plastic] / (params.c1 * params.Ca)
         _, _, counts[plastic] = vz_plastic_solve(delta[plastic], start, params, start_is_cube_root=True)
     return counts
+
+
+LAW = ContactLaw("vz", "Vu-Quoc & Zhang (1999) elastoplastic NFD model", vz_force, VZState, vz_loading_work, 1.5,
+                 vz_step, params_function=vz_params, radii_function=plastic_radii, fitted=True,
+                 collision_params=_kernel_params)

@@ -34,7 +34,8 @@ from functools import cached_property
 import numpy as np
 from scipy.optimize import brentq
 
-from . import native
+from . import limits, native
+from .contact_law import ContactLaw, plastic_radii
 from .hertz import hertz_kernel
 from .history import TurningPointHistory, check_delta, check_state, restore_shape, step_and_commit
 from .materials import ContactPair
@@ -43,8 +44,8 @@ from .turning_point import turning_point_step
 from .validation import check_real
 from .window import CalibrationWindow, check_contact_radius_below_R
 
-NEWTON_TOLERANCE = 1e-12        # relative, on x = P / P_Y
-NEWTON_MAX_ITERATIONS = 100     # never reached: bisection halves the bracket when Newton strays
+NEWTON_TOLERANCE = limits.TABLE_TOLERANCE            # relative, on x = P / P_Y
+NEWTON_MAX_ITERATIONS = limits.TABLE_MAX_ITERATIONS  # never reached: bisection halves the bracket when Newton strays
 POLISH_STEP = 1e-9              # the final Newton step is taken when this small (relative), bracket or not
 _GAUSS_NODES, _GAUSS_WEIGHTS = np.polynomial.legendre.leggauss(16)
 _SAMPLES_PER_SEGMENT = 64       # admissibility checks: points per table segment
@@ -319,17 +320,23 @@ def _loading_branch(params: VZTableParams):
     return branch
 
 
-def vz_table_step(delta, state: VZTableState, params: VZTableParams):
-    """One vz-table step without committing it: (P [N], HistoryUpdate) (module doc)."""
+def vz_table_params(params) -> VZTableParams:
+    """``params`` when it is a VZTableParams, else a ValueError naming params."""
     if not isinstance(params, VZTableParams):
         raise ValueError(f"params for law 'vz-table' must be VZTableParams, got {type(params).__name__}")
+    return params
+
+
+def vz_table_step(delta, state: VZTableState, params: VZTableParams):
+    """One vz-table step without committing it: (P [N], HistoryUpdate) (module doc)."""
+    vz_table_params(params)
     check_state(state, VZTableState, "vz-table")
     delta, shape = check_delta(delta, state.n)
     if native.active():
         pair = params.pair
         kernel = native.kernel_params(pair, window_P_max=params.window_force)
         force, update, (_, beyond, largest_P, widest, widest_radius, _) = native.turning_point_step(
-            "vz-table", delta, state, pair, (kernel, (params.x, params.f, params.g)), True)
+            native.table_loading(kernel, params.x, params.f, params.g), delta, state, pair, True)
         if update.size:
             check_contact_radius_below_R(widest_radius, pair.R_star, float(update.values.delta_max[widest]), params)
             if beyond:
@@ -357,3 +364,10 @@ def vz_table_force(delta, state: VZTableState, params: VZTableParams):
 def vz_table_loading_work(delta_max, P_max, params: VZTableParams):
     """Work on the virgin vz-table curve up to (delta_max, P_max) [J]."""
     return params.loading_work(delta_max, P_max)
+
+
+# The compiled collision loop takes no table (collision_params None): collide runs the numpy loop,
+# whose steps use the compiled table solve when it is active.
+LAW = ContactLaw("vz-table", "the NFD model with load-dependent a_p and C_R tables from the FE", vz_table_force,
+                 VZTableState, vz_table_loading_work, 1.5, vz_table_step, params_function=vz_table_params,
+                 radii_function=plastic_radii, fitted=True)

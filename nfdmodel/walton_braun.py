@@ -10,12 +10,14 @@ from __future__ import annotations
 import numpy as np
 
 from . import native
+from .contact_law import ContactLaw
 from .history import WaltonBraunState, check_delta, check_state, restore_shape, step_and_commit
 from .parameters import VZParams, WaltonBraunParams, as_pair
 from .turning_point import turning_point_step
 
 
 def walton_braun_params(params) -> WaltonBraunParams:
+    """WaltonBraunParams as given, or the defaults of a VZParams / ContactPair (:meth:`WaltonBraunParams.from_vz`)."""
     if isinstance(params, WaltonBraunParams):
         return params
     if isinstance(params, VZParams):
@@ -50,8 +52,17 @@ def walton_braun_step(delta, state: WaltonBraunState, params):
     check_state(state, WaltonBraunState, "walton-braun")
     delta, shape = check_delta(delta, state.n)
     if native.active():
-        force, update, _ = native.turning_point_step("walton-braun", delta, state, wb.pair,
-                                                     native.kernel_params(wb.pair, K1=wb.K1, K2=wb.K2), False)
+        force, update, _ = native.turning_point_step(native.law_loading("walton-braun", _kernel_params(wb)),
+                                                     delta, state, wb.pair, False)
     else:
         force, update = turning_point_step(delta, state, _walton_braun_loading_branch(wb), False, wb.pair)
     return restore_shape(force, shape), update
+
+
+def _kernel_params(wb: WaltonBraunParams) -> tuple:
+    return native.kernel_params(wb.pair, K1=wb.K1, K2=wb.K2)
+
+
+LAW = ContactLaw("walton-braun", "Walton & Braun (1986) bilinear hysteretic spring", walton_braun_force,
+                 WaltonBraunState, lambda delta_max, P_max, wb: 0.5 * wb.K1 * np.maximum(delta_max, 0.0) ** 2, 1.0,
+                 walton_braun_step, params_function=walton_braun_params, collision_params=_kernel_params)

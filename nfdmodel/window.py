@@ -18,11 +18,12 @@ import math
 import warnings
 from dataclasses import dataclass
 
+from . import limits
 from .validation import check_real
 
-# What a parameter file without a window was calibrated on: the default recipe of nfdcal
-# calibrate (load paths to 13.7, 27.4 and 41.2 P_Y; the fit uses the loading points above P_Y).
-DEFAULT_RECIPE_P_MAX_OVER_P_Y = 41.2
+# What a parameter file without a window was calibrated on: the largest peak of the default
+# recipe of nfdcal calibrate (the fit uses the loading points above P_Y); nfd_limits.h.
+DEFAULT_RECIPE_P_MAX_OVER_P_Y = limits.DEFAULT_WINDOW
 
 
 class RangeWarning(UserWarning):
@@ -57,7 +58,8 @@ class CalibrationWindow:
     def assumed_default(cls) -> "CalibrationWindow":
         """The window of the default recipe, for constants that do not state theirs."""
         return cls(1.0, DEFAULT_RECIPE_P_MAX_OVER_P_Y, None,
-                   "assumed: the default recipe of nfdcal calibrate (load paths to 13.7, 27.4, 41.2 P_Y)")
+                   f"assumed: the default recipe of nfdcal calibrate (load paths to 13.7, 27.4, "
+                   f"{DEFAULT_RECIPE_P_MAX_OVER_P_Y:g} P_Y)")
 
     def describe(self) -> str:
         """'P/P_Y 1..41.2, a/R* <= 0.0148'"""

@@ -38,18 +38,19 @@ def params_for(name, Ca_factor=1.0, Kc_factor=1.0, pair=PAIR):
     return pair
 
 
-def run(name, params, deltas, backend, monkeypatch, dtype=np.float64):
+def run(name, params, deltas, backend, dtype=np.float64):
     """Forces and histories of a law along ``deltas`` (steps x contacts) on one backend."""
-    monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
     law = get_law(name)
     state = law.initial_state(deltas.shape[1])
     forces, histories = [], []
-    for row in deltas:
-        P, update = law.step(row.astype(dtype), state, params)
-        law.commit(state, update)
-        forces.append(P)
-        histories.append({f: getattr(state, f).copy() for f in ("delta_max", "P_max", "delta_res", "unloading_stiffness")}
-                         if name != "hertz" else {})
+    with native.use_backend(backend):
+        for row in deltas:
+            P, update = law.step(row.astype(dtype), state, params)
+            law.commit(state, update)
+            forces.append(P)
+            histories.append({f: getattr(state, f).copy() for f in ("delta_max", "P_max", "delta_res",
+                                                                     "unloading_stiffness")}
+                             if name != "hertz" else {})
     return np.array(forces), histories
 
 
@@ -64,13 +65,13 @@ paths = st.lists(st.lists(st.floats(-3.0, 500.0, allow_nan=False), min_size=1, m
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow,
                                                                  HealthCheck.function_scoped_fixture])
 @given(contact_paths=paths, float32=st.booleans())
-def test_native_equals_numpy_over_random_histories(name, contact_paths, float32, monkeypatch):
+def test_native_equals_numpy_over_random_histories(name, contact_paths, float32):
     steps = max(len(p) for p in contact_paths)
     deltas = np.array([[p[min(k, len(p) - 1)] for p in contact_paths] for k in range(steps)]) * PAIR.delta_Y
     dtype = np.float32 if float32 else np.float64
     params = params_for(name)
-    P_numpy, h_numpy = run(name, params, deltas, "numpy", monkeypatch, dtype)
-    P_native, h_native = run(name, params, deltas, "native", monkeypatch, dtype)
+    P_numpy, h_numpy = run(name, params, deltas, "numpy", dtype)
+    P_native, h_native = run(name, params, deltas, "native", dtype)
     assert_same(P_native, P_numpy)
     for a, b in zip(h_native, h_numpy):
         for field in a:
@@ -78,56 +79,56 @@ def test_native_equals_numpy_over_random_histories(name, contact_paths, float32,
 
 
 @pytest.mark.parametrize("Ca_factor, Kc_factor", [(1e-3, 0.0), (1.0, 1.0), (1e3, 1e-3), (1e3, 1.0), (1.0, 1e-3)])
-def test_native_equals_numpy_at_the_stability_report_s_extremes(Ca_factor, Kc_factor, monkeypatch):
+def test_native_equals_numpy_at_the_stability_report_s_extremes(Ca_factor, Kc_factor):
     params = params_for("vz", Ca_factor, Kc_factor)
     top = min(0.5 * PAIR.R_star, 0.6 * params.full_contact_approach)
     overlaps = np.geomspace(1e-15 * PAIR.R_star, top, 300)
     deltas = np.array([overlaps, 0.5 * overlaps, overlaps, 1.5 * overlaps])    # load, unload, reload, beyond
-    (P_n, h_n), (P_c, h_c) = (run("vz", params, deltas, b, monkeypatch) for b in ("numpy", "native"))
+    (P_n, h_n), (P_c, h_c) = (run("vz", params, deltas, b) for b in ("numpy", "native"))
     assert_same(P_c, P_n)
     for a, b in zip(h_c, h_n):
         for field in a:
             assert_same(a[field], b[field])
 
 
-def test_jumps_far_from_the_turning_point_and_the_iteration_counts(monkeypatch):
+def test_jumps_far_from_the_turning_point_and_the_iteration_counts():
     rng = np.random.default_rng(3)
     law = get_law("vz")
     delta_max = PAIR.delta_Y * np.exp(rng.uniform(np.log(2), np.log(300), 2000))
     counts = {}
     for backend in ("numpy", "native"):
-        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
-        _, state = law.force(delta_max, law.initial_state(delta_max.size), REF)
-        P, update = law.step(delta_max * rng.uniform(1.0, 3.0, delta_max.size), state, REF)
-        counts[backend] = (P, update.newton_iterations)
-        rng = np.random.default_rng(3)
-        delta_max = PAIR.delta_Y * np.exp(rng.uniform(np.log(2), np.log(300), 2000))
+        with native.use_backend(backend):
+            _, state = law.force(delta_max, law.initial_state(delta_max.size), REF)
+            P, update = law.step(delta_max * rng.uniform(1.0, 3.0, delta_max.size), state, REF)
+            counts[backend] = (P, update.newton_iterations)
+            rng = np.random.default_rng(3)
+            delta_max = PAIR.delta_Y * np.exp(rng.uniform(np.log(2), np.log(300), 2000))
     assert_same(counts["native"][0], counts["numpy"][0])
     assert counts["native"][1] == counts["numpy"][1]
 
 
-def test_empty_input_and_window_flags_match(monkeypatch):
+def test_empty_input_and_window_flags_match():
     window_params = VZParams.reference()
     delta = window_params.loading_approach(PAIR.P_Y * np.array([10.0, 100.0, 300.0]))
     results = {}
     for backend in ("numpy", "native"):
-        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
-        law = get_law("vz")
-        empty = law.step(np.empty(0), law.initial_state(0), window_params)
-        assert empty[0].shape == (0,) and empty[1].size == 0
-        _, update = law.step_function(delta, law.initial_state(3), window_params)
-        results[backend] = (update.beyond_window, update.largest_load_over_P_Y)
+        with native.use_backend(backend):
+            law = get_law("vz")
+            empty = law.step(np.empty(0), law.initial_state(0), window_params)
+            assert empty[0].shape == (0,) and empty[1].size == 0
+            _, update = law.step_function(delta, law.initial_state(3), window_params)
+            results[backend] = (update.beyond_window, update.largest_load_over_P_Y)
     assert results["native"][0] == results["numpy"][0] == 2
     assert results["native"][1] == pytest.approx(results["numpy"][1], rel=RTOL)
 
 
 @pytest.mark.parametrize("name", ["vz", "thornton", "walton-braun", "hertz"])
-def test_collisions_agree_to_1e_10(name, monkeypatch):
+def test_collisions_agree_to_1e_10(name):
     v = np.array([0.002, 0.02, 0.1, 0.2])
     e = {}
     for backend in ("numpy", "native"):
-        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
-        e[backend] = collide(name, params_for(name), v).e_velocity
+        with native.use_backend(backend):
+            e[backend] = collide(name, params_for(name), v).e_velocity
     np.testing.assert_allclose(e["native"], e["numpy"], rtol=1e-10)
 
 
@@ -138,21 +139,39 @@ def test_collisions_agree_to_1e_10(name, monkeypatch):
     lambda: get_law("thornton").step(np.array([1.0, 2.0]), get_law("thornton").initial_state(3), PAIR),
     lambda: get_law("hertz").step(np.array([1e300]), get_law("hertz").initial_state(1), PAIR),
 ])
-def test_bad_input_gives_the_same_message_on_both_backends(call, monkeypatch):
+def test_bad_input_gives_the_same_message_on_both_backends(call):
     messages = []
     for backend in ("numpy", "native"):
-        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
-        with pytest.raises(ValueError) as info:
-            call()
-        messages.append(str(info.value))
+        with native.use_backend(backend):
+            with pytest.raises(ValueError) as info:
+                call()
+            messages.append(str(info.value))
     assert messages[0] == messages[1]
 
 
 def test_backend_switch_and_its_reason(monkeypatch):
-    monkeypatch.setenv("NFDCAL_BACKEND", "")
-    assert nfdmodel.backend() == "native" and nfdmodel.backend_info().startswith("native: ")
-    monkeypatch.setenv("NFDCAL_BACKEND", "numpy")
-    assert nfdmodel.backend() == "numpy" and "forced by NFDCAL_BACKEND=numpy" in nfdmodel.backend_info()
+    """NFDCAL_BACKEND is read once, at import; use_backend switches this process's selection and
+    never the environment, which a child process inherits unchanged."""
+    environment = dict(os.environ)
+    with native.use_backend("native"):
+        assert nfdmodel.backend() == "native" and nfdmodel.backend_info().startswith("native: ")
+    with native.use_backend("numpy"):
+        assert nfdmodel.backend() == "numpy" and "selected by use_backend('numpy')" in nfdmodel.backend_info()
+        assert dict(os.environ) == environment
+        child = subprocess.run([sys.executable, "-c", "import os; print(os.environ.get('NFDCAL_BACKEND'))"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+        assert child == str(environment.get("NFDCAL_BACKEND"))
+    # the environment after import changes nothing (no read per law call)
+    selected = nfdmodel.backend()
+    monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if selected == "native" else "")
+    assert nfdmodel.backend() == selected
+    # forced at import, and use_backend still switches
+    code = ("import nfdmodel, json\nfrom nfdmodel import native\nfirst = [nfdmodel.backend(), nfdmodel.backend_info()]\n"
+            "with native.use_backend('native'):\n    print(json.dumps(first + [nfdmodel.backend()]))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={**os.environ, "NFDCAL_BACKEND": "numpy"}).stdout
+    backend, why, switched = json.loads(out)
+    assert backend == "numpy" and "forced by NFDCAL_BACKEND=numpy" in why and switched == "native"
     # without the compiled module (a machine without a compiler), numpy, and it says why
     code = ("import sys; sys.modules['nfdmodel._native'] = None; import nfdmodel, json; "
             "print(json.dumps([nfdmodel.backend(), nfdmodel.backend_info()]))")
@@ -224,14 +243,11 @@ int main(void) {{
                     str(main), str(source / "nfd_kernel.c"), "-lm", "-o", str(binary)], check=True)
     rows = np.array([line.split() for line in subprocess.run([str(binary)], capture_output=True, text=True,
                                                                 check=True).stdout.splitlines()], dtype=float)
-    os.environ["NFDCAL_BACKEND"] = "numpy"
-    try:
+    with native.use_backend("numpy"):
         law, state, expected = get_law("vz-table"), get_law("vz-table").initial_state(1), []
         for delta in deltas * PAIR.delta_Y:
             P, state = law.force(np.array([delta]), state, TABLE)
             expected.append([0.0, P[0], state.delta_res[0], state.unloading_stiffness[0]])
-    finally:
-        del os.environ["NFDCAL_BACKEND"]
     np.testing.assert_allclose(rows, np.array(expected), rtol=1e-12)
 
 
@@ -287,16 +303,16 @@ int main(void) {
     assert mismatches == 0 and most == batch_most and most > 2      # the safe path was exercised
 
 
-def test_the_collision_loop_in_c_gives_the_python_loop_s_numbers_and_errors(monkeypatch):
+def test_the_collision_loop_in_c_gives_the_python_loop_s_numbers_and_errors():
     v = np.linspace(0.02, 0.2, 10)
     results = {}
     for backend in ("numpy", "native"):
-        monkeypatch.setenv("NFDCAL_BACKEND", "numpy" if backend == "numpy" else "")
-        r = collide("vz", REF, v, dt=1e-6)
-        results[backend] = r
-        with pytest.raises(ValueError) as info:
-            collide("vz", REF, v, dt=1e-6, max_steps=100)
-        results[backend + " error"] = str(info.value)
+        with native.use_backend(backend):
+            r = collide("vz", REF, v, dt=1e-6)
+            results[backend] = r
+            with pytest.raises(ValueError) as info:
+                collide("vz", REF, v, dt=1e-6, max_steps=100)
+            results[backend + " error"] = str(info.value)
     a, b = results["numpy"], results["native"]
     for field in ("v_out", "e_velocity", "e_energy", "P_max", "delta_max", "delta_res", "contact_time"):
         np.testing.assert_allclose(getattr(b, field), getattr(a, field), rtol=1e-12)

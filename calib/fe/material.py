@@ -20,7 +20,7 @@ from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
-from nfdmodel import check_real
+from nfdmodel import check_real, limits
 
 
 @runtime_checkable
@@ -50,7 +50,7 @@ def elastic_constants(E, nu) -> tuple[float, float]:
     """(E, nu) as floats: Young's modulus E > 0 [Pa] and Poisson's ratio 0 <= nu < 0.5, or a
     ValueError naming the parameter and its range (nfdmodel.check_real, the one validator)."""
     return (check_real("E", E, low=0.0, unit="[Pa] (Young's modulus)"),
-            check_real("nu", nu, low=0.0, low_inclusive=True, high=0.5, unit="(Poisson's ratio)"))
+            check_real("nu", nu, low=0.0, low_inclusive=True, high=limits.NU_MAX, unit="(Poisson's ratio)"))
 
 
 def lame_constants(E: float, nu: float) -> tuple[float, float, float]:

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, limits
 
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"   # calib/data: shipped with the package
 DEFAULT_TABLE = DATA_DIR / "master_table.csv"
@@ -148,10 +148,10 @@ class MasterTable:
 
     def window_for(self, pair: ContactPair, Ca_hat: float, Kc_hat: float) -> CalibrationWindow:
         """The window of the table's constants for ``pair``: P/P_Y of the grid's load plan (the
-        table's metadata; the default recipe's 41.2 if it does not say) and the contact radius the
-        law reaches at its top, a/R* (the nodes' FE radii are not stored)."""
-        P_max_over_P_Y = float(self.meta.get("window_P_max_over_P_Y")
-                               or CalibrationWindow.assumed_default().P_max_over_P_Y)
+        table's metadata; if it does not say, nfd_limits.h's DEFAULT_WINDOW, the default recipe's
+        largest peak) and the contact radius the law reaches at its top, a/R* (the nodes' FE radii
+        are not stored)."""
+        P_max_over_P_Y = float(self.meta.get("window_P_max_over_P_Y") or limits.DEFAULT_WINDOW)
         params = VZParams.from_dimensionless(pair, Ca_hat, Kc_hat)
         a_max = float(params.contact_radius_at(P_max_over_P_Y * pair.P_Y)) / pair.R_star
         return CalibrationWindow(1.0, P_max_over_P_Y, a_max,

@@ -30,7 +30,7 @@ from scipy.optimize import brentq
 from calib.fe.loadpath import LoadPathPlan
 from calib.fit.extrapolation import REFINEMENT
 from meshes.hemisphere import HemisphereMeshSpec, estimate_dofs
-from nfdmodel import ContactPair, Material, reference_case
+from nfdmodel import ContactPair, Material, limits, reference_case
 
 # E / sigma_Y a calibration accepts. Below 20 the yield contact itself is wide (a_Y/R =
 # (pi/2) A_Y sigma_Y / E* > 0.12, the first-yield formulas) and a small-strain, small-contact model is
@@ -182,7 +182,9 @@ def check_fittable(spec: CalibrationSpec) -> None:
 # ----------------------------------------------------------------------------- the recipe
 MESH_LEVELS = {"coarse": 0.1, "default": 1.0 / 37.0, "fine": 1.0 / 74.0}   # contact size / a_max
 REFERENCE_CONTACT_SIZES = {"coarse": 1.6e-4, "default": 4e-5, "fine": 2e-5}  # [m], R = 0.1 m
-DEFAULT_PEAKS_OVER_YIELD = (13.7, 27.4, 41.2)   # the reference peaks in units of P_Y
+# The reference peaks in units of P_Y; the largest is the window assumed for constants that do not
+# state theirs (nfd_limits.h's DEFAULT_WINDOW).
+DEFAULT_PEAKS_OVER_YIELD = (13.7, 27.4, limits.DEFAULT_WINDOW)
 LOADING_STEPS_TO_FIRST_PEAK = 16
 UNLOADING_STEPS = 16
 REFERENCE_FIRST_LOAD = 20.0                     # [N], 0.55 P_Y of the reference sphere

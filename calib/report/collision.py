@@ -25,7 +25,7 @@ import numpy as np
 
 from calib.output import (RESULTS, all_or_nothing, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
                           write_json)
-from nfdmodel import RangeWarning, VZParams, collide, collision_reference, load_parameters
+from nfdmodel import RangeWarning, VZParams, collide, collision_reference, limits, load_parameters
 
 DEFAULT_OUT = RESULTS / "collision"
 LAWS = ("vz", "thornton")
@@ -88,7 +88,7 @@ def _generate(out: Path, params_file, velocities) -> str:
                               "sigma_y": pair.sigma_y, "mass": pair.mass_star, "Ca": params.Ca,
                               "Kc": params.Kc, "A_Y": pair.A_Y, "P_Y": pair.P_Y, "a_Y": pair.a_Y,
                               "delta_Y": pair.delta_Y, "v_Y": v_Y},
-                     "params_source": params_source, "newton_tolerance": 1e-10}
+                     "params_source": params_source, "newton_tolerance": limits.VZ_TOLERANCE}
 
     # 1. Restitution against v_in / v_Y (paper fig. 20).
     rows = []

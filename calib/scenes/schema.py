@@ -37,7 +37,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Strict, Valid
 
 from calib import output
 from calib.fit.recipe import DEFAULT_PEAKS_OVER_YIELD, MESH_LEVELS
-from nfdmodel import ContactPair, Material, reference_case
+from nfdmodel import ContactPair, Material, limits, reference_case
 
 LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
 # Wall time per FE step against dofs, calibrated on the reference calibration
@@ -54,7 +54,7 @@ class SceneError(ValueError):
 Number = Annotated[float, Strict(), Field(allow_inf_nan=False)]
 Positive = Annotated[Number, Field(gt=0)]
 Ratio = Annotated[Number, Field(gt=0, le=1e4)]          # a multiple of P_Y or v_Y
-PoissonRatio = Annotated[Number, Field(ge=0, lt=0.5)]
+PoissonRatio = Annotated[Number, Field(ge=0, lt=limits.NU_MAX)]
 Flag = Annotated[bool, Strict()]
 Law = Literal["vz", "vz-table", "thornton", "hertz", "walton-braun"]
 
@@ -151,7 +151,7 @@ class HertzStage(_Table):
         return self
 
     def loads(self, pair) -> tuple[float, float]:
-        top = self.P_max if self.P_max is not None else (self.P_max_over_P_Y or 41.2) * pair.P_Y
+        top = self.P_max if self.P_max is not None else (self.P_max_over_P_Y or limits.DEFAULT_WINDOW) * pair.P_Y
         return (self.P_min if self.P_min is not None else top / 1000.0), top
 
 

@@ -33,7 +33,7 @@ from calib.fit.calibration import calibrate
 from calib.fit.recipe import calibration_spec
 from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
-from nfdmodel import Material, VZParams
+from nfdmodel import Material, VZParams, limits
 
 DEFAULT_OUT = output.RESULTS / "stability"
 CSV_NAME = "fe_stability.csv"
@@ -45,25 +45,27 @@ UNLOADING_STEPS = 8
 SIGMA_Y = 100e6                    # Pa; E = ratio x SIGMA_Y
 DENSITY = 2700.0                   # kg/m^3 (does not enter the FE)
 
+# peaks [P_Y] to half the default window and to the window itself (nfd_limits.h)
+TO_THE_WINDOW = (limits.DEFAULT_WINDOW / 2, limits.DEFAULT_WINDOW)
 # name, nu, E / sigma_Y, R [m], peaks [P_Y]; the last four must end in a clear error
 CASES = (
-    ("reference material", 0.3, 700.0, 0.1, (20.6, 41.2)),
-    ("soft: E/sigma_Y = 50", 0.3, 50.0, 0.1, (20.6, 41.2)),
-    ("stiff: E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (20.6, 41.2)),
-    ("nu = 0", 0.0, 700.0, 0.1, (20.6, 41.2)),
-    ("nearly incompressible, soft: nu = 0.49, E/sigma_Y = 50", 0.49, 50.0, 0.1, (20.6, 41.2)),
-    ("nearly incompressible, stiff: nu = 0.49, E/sigma_Y = 5000", 0.49, 5000.0, 0.1, (20.6, 41.2)),
+    ("reference material", 0.3, 700.0, 0.1, TO_THE_WINDOW),
+    ("soft: E/sigma_Y = 50", 0.3, 50.0, 0.1, TO_THE_WINDOW),
+    ("stiff: E/sigma_Y = 5000", 0.3, 5000.0, 0.1, TO_THE_WINDOW),
+    ("nu = 0", 0.0, 700.0, 0.1, TO_THE_WINDOW),
+    ("nearly incompressible, soft: nu = 0.49, E/sigma_Y = 50", 0.49, 50.0, 0.1, TO_THE_WINDOW),
+    ("nearly incompressible, stiff: nu = 0.49, E/sigma_Y = 5000", 0.49, 5000.0, 0.1, TO_THE_WINDOW),
     ("deep plastic: P = 100 P_Y, E/sigma_Y = 700", 0.3, 700.0, 0.1, (50.0, 100.0)),
     ("deep plastic: P = 100 P_Y, E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (50.0, 100.0)),
     ("deep plastic, soft: P = 100 P_Y, E/sigma_Y = 100", 0.3, 100.0, 0.1, (50.0, 100.0)),
     ("fully plastic: P = 1000 P_Y, E/sigma_Y = 700", 0.3, 700.0, 0.1, (500.0, 1000.0)),
     ("fully plastic: P = 1000 P_Y, E/sigma_Y = 5000", 0.3, 5000.0, 0.1, (500.0, 1000.0)),
-    ("micro sphere: R = 1 um", 0.3, 700.0, 1e-6, (20.6, 41.2)),
-    ("boulder: R = 10 m", 0.3, 700.0, 10.0, (20.6, 41.2)),
+    ("micro sphere: R = 1 um", 0.3, 700.0, 1e-6, TO_THE_WINDOW),
+    ("boulder: R = 10 m", 0.3, 700.0, 10.0, TO_THE_WINDOW),
     ("beyond the tested load: P = 2000 P_Y", 0.3, 5000.0, 0.1, (1000.0, 2000.0)),
     ("too large a contact: P = 100 P_Y at E/sigma_Y = 20", 0.3, 20.0, 0.1, (50.0, 100.0)),
-    ("E typed in GPa (E/sigma_Y = 7e-7)", 0.3, 70.0 / 100e6, 0.1, (20.6, 41.2)),
-    ("beyond the tested range: E/sigma_Y = 1e5", 0.3, 1e5, 0.1, (20.6, 41.2)),
+    ("E typed in GPa (E/sigma_Y = 7e-7)", 0.3, 70.0 / 100e6, 0.1, TO_THE_WINDOW),
+    ("beyond the tested range: E/sigma_Y = 1e5", 0.3, 1e5, 0.1, TO_THE_WINDOW),
 )
 
 COLUMNS = ("case", "nu", "E_over_sigma_y", "R", "P_max_over_P_Y", "mesh_ratio", "contact_size",

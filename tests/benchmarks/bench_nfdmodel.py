@@ -97,7 +97,7 @@ def solve_time(params, state, delta, repeats: int) -> float:
     index = np.flatnonzero(delta > state.delta_max).astype(np.int64)
     outputs = [np.empty(index.size) for _ in range(5)]
     force = np.empty(delta.size)
-    kernel = native.law_params("vz", params, params.pair)
+    kernel = native.kernel_params(params.pair, params.Ca, params.Kc, params.window_force, c1=params.c1)
     a_e_max = np.ascontiguousarray(state.a_e_max)
     return best_time(lambda: _native.load(native.LAW_CODES["vz"], kernel, index, delta, a_e_max, force, *outputs),
                      repeats)
