@@ -22,9 +22,9 @@ from __future__ import annotations
 
 from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments, material_flags,
                                    number, print_summary)
-from nfdmodel import reference_case
+from nfdmodel import LAWS, reference_case
 
-LAW_NAMES = ("vz", "vz-table", "thornton", "hertz", "walton-braun")
+LAW_NAMES = tuple(LAWS)            # every registered law, in the registry's order
 DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": reference_case.CA, "Kc": reference_case.KC}   # the paper's calibration
 
 

@@ -10,17 +10,17 @@ as one JSON object with ``--json`` (``print_summary``); progress goes to stderr 
 """
 from __future__ import annotations
 
-from nfdmodel import Material, check_real, reference_case
+from nfdmodel import Material, check_real, limits, reference_case
 
 # The paper's reference case (Vu-Quoc & Zhang 1999, section 2): aluminium sphere on a rigid flat.
 MATERIAL_DEFAULTS = {"R": reference_case.R, "E": reference_case.E, "nu": reference_case.NU,
                      "sigma_y": reference_case.SIGMA_Y, "rho": reference_case.RHO}
 MATERIAL_HELP = {"R": "sphere radius [m] (> 0)", "E": "Young's modulus [Pa] (> 0)",
-                 "nu": "Poisson's ratio (0 <= nu < 0.5)", "sigma_y": "yield stress [Pa] (> 0)",
+                 "nu": f"Poisson's ratio (0 <= nu < {limits.NU_MAX:g})", "sigma_y": "yield stress [Pa] (> 0)",
                  "rho": "density [kg/m^3] (> 0)"}
 # allowed range of each material flag (check_real's keywords), as nfdmodel.Material states it
 MATERIAL_RANGES = {"R": {"low": 0.0, "unit": "m"}, "E": {"low": 0.0, "unit": "Pa"},
-                   "nu": {"low": 0.0, "low_inclusive": True, "high": 0.5},
+                   "nu": {"low": 0.0, "low_inclusive": True, "high": limits.NU_MAX},
                    "sigma_y": {"low": 0.0, "unit": "Pa"}, "rho": {"low": 0.0, "unit": "kg/m^3"}}
 
 

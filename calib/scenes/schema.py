@@ -39,7 +39,6 @@ from calib import output
 from calib.fit.recipe import DEFAULT_PEAKS_OVER_YIELD, MESH_LEVELS
 from nfdmodel import ContactPair, Material, limits, reference_case
 
-LAW_NAMES = ("vz", "thornton", "hertz", "walton-braun")
 # Wall time per FE step against dofs, calibrated on the reference calibration
 # (12,112 dofs, 97 FE steps + 3 first-yield solves, 54-58 s on 2 cores): ~0.57 s per step.
 SECONDS_PER_STEP_AT_12K_DOFS = 0.57
