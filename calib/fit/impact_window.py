@@ -31,7 +31,6 @@ from nfdmodel import ContactPair, Material, RangeWarning, VZParams, VZTableParam
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
 MAX_ROUNDS = 3          # FE calibrations at most
 PEAK_FRACTIONS = (1.0 / 3.0, 2.0 / 3.0, 1.0)
-SMALLEST_TOP_OVER_P_Y = 3.0     # a window narrower than this has too few plastic points to fit
 
 
 @dataclass(frozen=True)
@@ -85,10 +84,10 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
         needed = impact_force(params, v_max)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
         needed = math.inf
-    if MARGIN * needed < SMALLEST_TOP_OVER_P_Y * pair.P_Y:     # nothing plastic to fit
-        v_least = reach_velocity(params, SMALLEST_TOP_OVER_P_Y * pair.P_Y / MARGIN)
+    if MARGIN * needed < recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y:     # nothing plastic to fit
+        v_least = reach_velocity(params, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y / MARGIN)
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s reaches only about {needed / pair.P_Y:.3g} P_Y "
-                         f"({source}); a calibration needs loads beyond {SMALLEST_TOP_OVER_P_Y:g} P_Y: need v_max >= "
+                         f"({source}); a calibration needs loads beyond {recipe.MIN_WINDOW_OVER_P_Y:g} P_Y: need v_max >= "
                          f"{v_least:.4g} m/s ({v_least / pair.v_Y:.4g} v_Y) for this material and R")
     if MARGIN * needed > reach:
         v_reach = reach_velocity(params, reach / MARGIN)
