@@ -204,7 +204,9 @@ def check_delta(delta, n_expected: int | None):
     delta = np.ascontiguousarray(delta, dtype=np.float64).reshape(-1)
     # One cheap reduction first; the elementwise check only when something is off.
     if not math.isfinite(float(np.add.reduce(delta))) and not np.isfinite(delta).all():
-        raise ValueError("delta must be finite (no NaN or inf) approaches [m]")
+        bad = np.flatnonzero(~np.isfinite(delta))
+        raise ValueError(f"delta must be finite (no NaN or inf) approaches [m]: contact {bad[0]} is {delta[bad[0]]}"
+                         f" ({bad.size} of {delta.size} contacts)")
     if n_expected is not None and delta.shape[0] != n_expected:
         raise ValueError(f"delta has {delta.shape[0]} contacts but the state holds {n_expected}")
     return delta, shape
