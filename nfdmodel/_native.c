@@ -11,9 +11,10 @@
  *           contact radius, that radius, finite)
  *       the loading branch of those k contacts: force[index[i]] and the new history at i.
  *   hertz(delta, k, force) -> finite
+ *   yield_factor(nu) -> A_Y(nu) of nfd_yield_factor (the caller checks 0 <= nu < NFD_NU_MAX)
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
  * needs: a value that is finite exactly when the forces are).
- * law: 1 vz, 2 thornton, 3 walton_braun; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
+ * law: an NFD_LAW_* code of nfd_limits.h; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
  * window P_max, K1, K2, c1, P_Y^(1/3)) [SI].
  */
 #define PY_SSIZE_T_CLEAN
@@ -315,12 +316,21 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
     return Py_BuildValue("Liind", steps, max_iterations, status, failed_at, failed_delta);
 }
 
+static PyObject *native_yield_factor(PyObject *self, PyObject *args)
+{
+    double nu;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "d", &nu)) return NULL;
+    return PyFloat_FromDouble(nfd_yield_factor(nu));
+}
+
 static PyMethodDef methods[] = {
     {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
     {"load_table", native_load_table, METH_VARARGS, "the vz_table loading branch of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
+    {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},
     {NULL, NULL, 0, NULL},
 };
 

@@ -1,9 +1,6 @@
-/* nfd_kernel.c: the runtime contact laws of nfdcal, one contact at a time (see nfd_kernel.h).
- *
- * The arithmetic follows nfdmodel's numpy kernels operation by operation (same formulas, same
- * order), so both give the same numbers to round-off: the vz Newton solve is the same two-step
- * fast path with the same acceptance test, then the same safeguarded bracketed iteration.
- * C99, math.h only.
+/* nfd_kernel.c: the runtime contact laws of nfdcal, one contact at a time (nfd_kernel.h describes
+ * the laws and the API). The arithmetic follows nfdmodel's numpy kernels operation by operation
+ * (same formulas, same order), so both give the same numbers to round-off. C99, math.h only.
  */
 #include "nfd_kernel.h"
 
@@ -12,7 +9,7 @@
 #include <string.h>
 
 #define NFD_PI 3.14159265358979323846
-#ifdef __cplusplus                   /* C++ callers (the LAMMPS plugin) include this source */
+#ifdef __cplusplus                   /* the LAMMPS plugin compiles this source as C++ */
 #define NFD_RESTRICT __restrict
 #else
 #define NFD_RESTRICT restrict
@@ -22,29 +19,28 @@
 #else
 #define NFD_ALWAYS_INLINE static inline
 #endif
+/* x86-64, gcc or clang: the batch loops also compiled for AVX2, chosen at load time (same numbers) */
+#if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
+#define NFD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define NFD_CLONES
+#endif
 #define NFD_JUMP_STEPS 4             /* Newton steps from the explicit start (vz_jump)          */
 #define NFD_JUMP_BLOCK 256           /* contacts per vectorised block of vz_jump (nfd_vz_load) */
 #define NFD_CBRT_SEED 715094163u     /* fdlibm: (1023 - 1023/3 - 0.03306) 2^20                  */
+#define PLASTIC_LOADING 100          /* elastic_step: the law's own plastic solve must run       */
 
 nfd_params nfd_pair(double R_star, double E_star, double p_Y)
 {
     nfd_params p;
-    double a_Y;
-    p.R_star = R_star;
-    p.E_star = E_star;
-    p.p_Y = p_Y;
+    memset(&p, 0, sizeof p);          /* the law's constants zero until set */
+    p.R_star = R_star; p.E_star = E_star; p.p_Y = p_Y;
     p.P_Y = NFD_PI * NFD_PI * NFD_PI * R_star * R_star * p_Y * p_Y * p_Y / (6.0 * E_star * E_star);
-    a_Y = cbrt(3.0 * p.P_Y * R_star / (4.0 * E_star));
-    p.a_Y = a_Y;
-    p.delta_Y = a_Y * a_Y / R_star;
+    p.a_Y = cbrt(3.0 * p.P_Y * R_star / (4.0 * E_star));
+    p.delta_Y = p.a_Y * p.a_Y / R_star;
     p.hertz_k = 4.0 / 3.0 * E_star * sqrt(R_star);
-    p.Ca = 0.0;
-    p.Kc = 0.0;
-    p.c1 = 0.0;
     p.u_Y = pow(p.P_Y, 1.0 / 3.0);
     p.window_P_max = INFINITY;
-    p.K1 = 0.0;
-    p.K2 = 0.0;
     return p;
 }
 
@@ -56,25 +52,52 @@ void nfd_vz_constants(nfd_params *p, double Ca, double Kc)
     p->u_Y = pow(p->P_Y, 1.0 / 3.0);
 }
 
+/* |sigma_z - sigma_r| / p0 on the axis of a Hertz contact at depth zeta = z/a (Johnson 1985
+ * eq. 3.45; nfdmodel.materials.axis_stress_difference). */
+static double axis_stress_difference(double zeta, double nu)
+{
+    double zeta_atan = zeta * atan2(1.0, zeta);      /* -> 0 at the surface, without 1/zeta */
+    double sigma_z = -1.0 / (1.0 + zeta * zeta);
+    double sigma_r = -(1.0 + nu) * (1.0 - zeta_atan) + 0.5 / (1.0 + zeta * zeta);
+    return fabs(sigma_z - sigma_r);
+}
+
+/* The maximum over zeta in [0, 3] by golden-section search to 1e-13 in zeta (the function is
+ * unimodal there), compared with the surface value |nu - 1/2|. */
+double nfd_yield_factor(double nu)
+{
+    const double ratio = 0.5 * (sqrt(5.0) - 1.0);
+    double a = 0.0, b = 3.0, c = b - ratio * (b - a), d = a + ratio * (b - a);
+    double fc = axis_stress_difference(c, nu), fd = axis_stress_difference(d, nu);
+    while (b - a > 1e-13) {
+        if (fc > fd) {
+            b = d; d = c; fd = fc; c = b - ratio * (b - a);
+            fc = axis_stress_difference(c, nu);
+        } else {
+            a = c; c = d; fc = fd; d = a + ratio * (b - a);
+            fd = axis_stress_difference(d, nu);
+        }
+    }
+    double peak = axis_stress_difference(0.5 * (a + b), nu), surface = axis_stress_difference(0.0, nu);
+    return 1.0 / (peak > surface ? peak : surface);
+}
+
 static double hertz(double delta, double k)
 {
     double d = delta > 0.0 ? delta : 0.0;
-    double f = sqrt(d);
-    f *= d;
-    return f * k;
+    return sqrt(d) * d * k;
 }
 
-/* Unloading and reloading about the turning point: P = K_u <delta - delta_res>^n. */
-static double unloading(double delta, const nfd_history *h, int three_halves)
+/* Unloading and reloading below the turning point (delta <= delta_max): P = K_u <delta - delta_res>^n,
+ * the history unchanged. Returns 0 when the contact loads beyond its turning point instead. */
+static int unloading(double delta, const nfd_history *h, int three_halves, double *force, nfd_history *out)
 {
+    if (delta > h->delta_max) return 0;
     double gap = delta - h->delta_res;
     if (gap < 0.0) gap = 0.0;
-    if (three_halves) {
-        double f = sqrt(gap);
-        f *= gap;
-        return f * h->K_u;
-    }
-    return gap * h->K_u;
+    *force = three_halves ? sqrt(gap) * gap * h->K_u : gap * h->K_u;
+    *out = *h;
+    return 1;
 }
 
 int nfd_hertz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out)
@@ -92,59 +115,36 @@ static void vz_residual(double u, double b, const nfd_params *p, double c1, doub
 {
     double u_sq = u * u;
     double f = u_sq * u;
-    double sqrt_curvature = f * p->Kc;
-    sqrt_curvature += one_minus;
-    sqrt_curvature = sqrt(sqrt_curvature);
-    f -= p->P_Y;
-    f += u * c1;
-    f -= b * sqrt_curvature;
-    *F = f;
-    double s = b / sqrt_curvature;
-    s *= -0.5 * p->Kc;
-    s += 1.0;
-    s *= u_sq * 3.0;
-    s += c1;
-    *slope = s;
+    double sqrt_curvature = sqrt(f * p->Kc + one_minus);
+    *F = f - p->P_Y + u * c1 - b * sqrt_curvature;
+    *slope = (b / sqrt_curvature * (-0.5 * p->Kc) + 1.0) * (u_sq * 3.0) + c1;
 }
 
-/* The fast path of the root u = P^(1/3) of F (nfdmodel.vz_curve.vz_plastic_solve): two Newton
- * steps from u_lo = max(u_start, u_Y), accepted in the quadratic regime. Branch-free, so that a
- * loop over many contacts vectorises (nfd_vz_load). Returns 1 when accepted (*u the root). */
-/* The acceptance test of two successive Newton steps s_prev, s on u (numpy: vz_curve.newton_converged):
- * the quadratic regime with a small a-posteriori error, or a step already at round-off level,
- * ((|s| <= 0.01 |s_prev|) & (10 |s|^3 <= tol_u u s_prev^2)) | (|s| <= 0.01 tol_u u); the operations
- * in numpy's order, so both kernels accept the same contacts. */
+/* The acceptance test of two successive Newton steps s_prev, s on u (vz_curve.newton_converged, in
+ * its order): ((|s| <= 0.01 |s_prev|) & (10 |s|^3 <= tol_u u s_prev^2)) | (|s| <= 0.01 tol_u u). */
 static inline int newton_converged(double abs_previous, double abs_step, double u, double tol_u)
 {
     int accept = abs_step <= abs_previous * 0.01;
-    double error = abs_step * 10.0;
-    error *= abs_step;
-    error *= abs_step;
-    double allowed = u * tol_u;
-    allowed *= abs_previous;
-    allowed *= abs_previous;
-    accept &= error <= allowed;
+    accept &= abs_step * 10.0 * abs_step * abs_step <= u * tol_u * abs_previous * abs_previous;
     accept |= abs_step <= u * (0.01 * tol_u);
     return accept;
 }
 
+/* The fast path of the root u = P^(1/3) of F (nfdmodel.vz_curve.vz_plastic_solve): two Newton
+ * steps from u_lo = max(u_start, u_Y), accepted in the quadratic regime. Branch-free, so that a
+ * loop over many contacts vectorises (nfd_vz_load). Returns 1 when accepted (*u_out the root). */
 static inline int vz_fast(double delta, double u_start, const nfd_params *p, double *u_out)
 {
     const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
-    double c1 = p->c1;
-    double b = sqrt(p->R_star * delta);
-    b /= p->Ca;
+    double c1 = p->c1, b = sqrt(p->R_star * delta) / p->Ca;
     double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
     double u_min = u_lo * (1.0 - 1e-15);
     double F, slope, step_1, step_2, u;
-    int ok;
-
     vz_residual(u_lo, b, p, c1, one_minus, &F, &slope);
     step_1 = F / slope;
-    u = u_lo - step_1;
-    u = u < u_min ? u_min : u;
-    ok = slope > 0.0;
+    u = u_lo - step_1 < u_min ? u_min : u_lo - step_1;
+    int ok = slope > 0.0;
     vz_residual(u, b, p, c1, one_minus, &F, &slope);
     ok &= slope > 0.0;
     step_2 = F / slope;
@@ -154,53 +154,35 @@ static inline int vz_fast(double delta, double u_start, const nfd_params *p, dou
     return ok;
 }
 
-/* y^(1/3) to 2.1e-5 relative for a positive normal y (nfdmodel.vz_curve.cube_root_estimate):
- * fdlibm's seed, the high 32 bits divided by 3 plus NFD_CBRT_SEED (3.2 %), then one Halley step.
- * Integer and IEEE operations only: vectorisable, and numpy's numbers bit for bit (cbrt() is
- * a library call that costs about ten square roots and stops the loop's vectorisation). */
+/* y^(1/3) to 2.1e-5 relative for a positive normal y (nfdmodel.vz_curve.cube_root_estimate: fdlibm's
+ * seed, one Halley step): integer and IEEE operations that vectorise, unlike cbrt(). */
 static inline double cube_root_estimate(double y)
 {
     uint64_t bits;
+    double t;
     memcpy(&bits, &y, sizeof bits);
     uint32_t high = (uint32_t)(bits >> 32);
-    high = high / 3u + NFD_CBRT_SEED;
-    bits = (uint64_t)high << 32;
-    double t;
+    bits = (uint64_t)(high / 3u + NFD_CBRT_SEED) << 32;
     memcpy(&t, &bits, sizeof t);
-    double t3 = t * t;
-    t3 *= t;
+    double t3 = t * t * t;
     return t * ((t3 + 2.0 * y) / (2.0 * t3 + y));     /* the ratio first: no overflow */
 }
 
 /* The explicit start u_x [N^(1/3)] of the vz solve at R_delta = R* delta [m^2]
- * (nfdmodel.vz_curve.vz_explicit_start): the loading curve c1 u = b sqrt(1 + Kc x) - x,
- * x = u^3 - P_Y, with its right side replaced by the tangent at the plastic asymptote x_B
- * (a_e neglected), gamma (x_B - x), gamma = (2 + Kc x_B) / (2 (1 + Kc x_B)): the depressed cubic
- * s^3 + p s = Q in s = u / u_Y, p = 1 / (Ca_hat gamma), Q = 1 + x_B / P_Y, by Cardano without
- * cancellation: w = (Q/2 + sqrt(Q^2/4 + (p/3)^3))^(1/3), s = Q / (w^2 + p/3 + (p/(3w))^2).
- * Exact for Kc = 0, above the root for Kc > 0 (the tangent of a concave function). */
+ * (nfdmodel.vz_curve.vz_explicit_start): the root of the depressed cubic s^3 + p s = Q in
+ * s = u / u_Y, by Cardano without cancellation; exact for Kc = 0, above the root for Kc > 0. */
 static inline double vz_explicit_start(double R_delta, const nfd_params *p)
 {
     double Ca = p->Ca, Kc = p->Kc, u_Y = p->u_Y;
     double curvature = R_delta * Kc;
-    double x_B = sqrt(curvature * curvature + (4.0 * Ca * Ca) * R_delta);
-    x_B += curvature;
-    x_B /= 2.0 * Ca * Ca;
+    double x_B = (sqrt(curvature * curvature + (4.0 * Ca * Ca) * R_delta) + curvature) / (2.0 * Ca * Ca);
     double Kc_x = x_B * Kc;
-    double third = Kc_x + 1.0;                       /* p/3 = 2 (1 + Kc x_B) / (3 Ca_hat (2 + Kc x_B)) */
-    third *= (2.0 / 3.0) * (p->c1 / (u_Y * u_Y));    /* c1 / u_Y^2 = 1 / Ca_hat */
-    third /= Kc_x + 2.0;
-    double Q = x_B / p->P_Y;
-    Q += 1.0;
-    double w = sqrt(Q * Q * 0.25 + third * third * third);
-    w += 0.5 * Q;
-    w = cube_root_estimate(w);
+    /* p/3 = 2 (1 + Kc x_B) / (3 Ca_hat (2 + Kc x_B)), with c1 / u_Y^2 = 1 / Ca_hat */
+    double third = (Kc_x + 1.0) * ((2.0 / 3.0) * (p->c1 / (u_Y * u_Y))) / (Kc_x + 2.0);
+    double Q = x_B / p->P_Y + 1.0;
+    double w = cube_root_estimate(sqrt(Q * Q * 0.25 + third * third * third) + 0.5 * Q);
     double v = third / w;
-    double denominator = w * w;
-    denominator += third;
-    denominator += v * v;
-    Q /= denominator;
-    return Q * u_Y;
+    return Q / (w * w + third + v * v) * u_Y;
 }
 
 /* One Newton step of vz_jump: from *u (kept >= u_min afterwards), with the acceptance test of the
@@ -223,25 +205,19 @@ static inline void vz_jump_step(int k, int check, double b, double u_min, const 
         *result = accept ? u_newton : *result;
         *steps += accept * k;                   /* (accept holds at one k at most) */
     }
-    *abs_previous = abs_step;
-    *rising_previous = rising;
+    *abs_previous = abs_step, *rising_previous = rising;
     *u = u_newton < u_min ? u_min : u_newton;
 }
 
-/* Stage 2 of the solve, when the fast path was not accepted (a jump far beyond the turning
- * point; nfdmodel.vz_curve._jump_newton): NFD_JUMP_STEPS = 4 Newton steps from
- * min(u_x, u_fast) (both above the root as a rule: u_x is, and the fast path's iterates from
- * the lower end u_lo overshoot on the convex F) kept >= u_lo, accepted after step k >= 2 by the
- * fast path's test. Branch-free, the steps written out (so that a loop over contacts
- * vectorises); an accepted iterate is kept. Returns k, or 0 (then *u_out is the last iterate,
- * the safe path's start). */
+/* Stage 2 of the solve, when the fast path was not accepted (nfdmodel.vz_curve._jump_newton):
+ * NFD_JUMP_STEPS Newton steps from min(u_x, u_fast) kept >= u_lo, accepted after step k >= 2 by
+ * the fast path's test; branch-free, the steps written out (a loop over contacts vectorises).
+ * Returns k, or 0 (then *u_out is the last iterate, the safe path's start). */
 NFD_ALWAYS_INLINE int vz_jump(double delta, double u_start, double u_fast, const nfd_params *p, double *u_out)
 {
     const double one_minus = 1.0 - p->Kc * p->P_Y;
-    double c1 = p->c1;
-    double R_delta = p->R_star * delta;
-    double b = sqrt(R_delta);
-    b /= p->Ca;
+    double c1 = p->c1, R_delta = p->R_star * delta;
+    double b = sqrt(R_delta) / p->Ca;
     double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
     double u_min = u_lo * (1.0 - 1e-15);
     double u = vz_explicit_start(R_delta, p);
@@ -263,18 +239,14 @@ static double vz_safe(double delta, double u_start, double u_fast, const nfd_par
 {
     const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
-    double c1 = p->c1;
-    double R_delta = p->R_star * delta;
-    double b = sqrt(R_delta);
-    b /= p->Ca;
-    double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
-    double F, slope, u = u_fast;
-    double Ca = p->Ca, Kc = p->Kc;
+    double c1 = p->c1, R_delta = p->R_star * delta, Ca = p->Ca, Kc = p->Kc;
+    double b = sqrt(R_delta) / p->Ca;
+    double F, slope;
     double x_hi = (R_delta * Kc + sqrt((R_delta * Kc) * (R_delta * Kc) + 4.0 * (Ca * Ca) * R_delta)) / (2.0 * (Ca * Ca));
-    double lo = u_lo;
+    double lo = u_start > p->u_Y ? u_start : p->u_Y;
     double hi = cbrt((p->P_Y + x_hi) * (1.0 + 1e-12));
     if (hi < lo) hi = lo;
-    double ua = (u > lo && u < hi) ? u : lo;
+    double ua = (u_fast > lo && u_fast < hi) ? u_fast : lo;
     double previous_step = hi - lo;
     for (int iteration = 1; iteration <= NFD_VZ_MAX_ITERATIONS; ++iteration) {
         vz_residual(ua, b, p, c1, one_minus, &F, &slope);
@@ -302,13 +274,12 @@ static double vz_safe(double delta, double u_start, double u_fast, const nfd_par
     return ua;
 }
 
-/* nextafter(x, 0) for a finite x > 0 (the largest double below x), as integer arithmetic on its
- * bits so that loops calling it still vectorise. */
+/* nextafter(x, 0) for a finite x > 0, as integer arithmetic on its bits (loops calling it vectorise). */
 static inline double below(double x)
 {
     int64_t bits;
     memcpy(&bits, &x, sizeof bits);
-    bits -= 1;
+    --bits;
     memcpy(&x, &bits, sizeof x);
     return x;
 }
@@ -318,38 +289,26 @@ static inline double below(double x)
 static inline void vz_turning_point(double delta, double u, const nfd_params *p, double *P_out,
                                     double *delta_res_out, double *K_u_out, double *a_e_out)
 {
-    double radius_per_cube_root = p->c1 * p->Ca;
-    double P = u * u;
-    P *= u;
-    double a_e = u * radius_per_cube_root;
-    double curvature = P - p->P_Y;
-    curvature *= p->Kc;
-    curvature += 1.0;
-    curvature *= p->R_star;
-    double recovery = a_e * a_e;
-    recovery /= curvature;
-    double delta_res = delta - recovery;
+    double P = u * u * u;
+    double a_e = u * (p->c1 * p->Ca);
+    double curvature = ((P - p->P_Y) * p->Kc + 1.0) * p->R_star;
+    double delta_res = delta - a_e * a_e / curvature;
     delta_res = delta_res < 0.0 ? 0.0 : delta_res;
     /* delta_res >= delta only when the recovery underflows: keep the gap positive */
     delta_res = delta_res >= delta ? below(delta) : delta_res;
     double gap = delta - delta_res;
-    double stiffness = sqrt(gap);
-    stiffness *= gap;
     *P_out = P;
     *delta_res_out = delta_res;
-    *K_u_out = P / stiffness;
+    *K_u_out = P / (sqrt(gap) * gap);
     *a_e_out = a_e;
 }
 
 /* Hertz loading below first yield as a turning point (delta <= delta_Y). */
 static inline void vz_hertz_turning_point(double delta, const nfd_params *p, nfd_history *out)
 {
-    double P = hertz(delta, p->hertz_k);
-    out->delta_max = delta;
-    out->P_max = P;
-    out->delta_res = 0.0;
-    out->K_u = p->hertz_k;
-    out->a_e_max = sqrt(p->R_star * (delta > 0.0 ? delta : 0.0));
+    nfd_history loaded = {delta, hertz(delta, p->hertz_k), 0.0, p->hertz_k, 0.0};
+    loaded.a_e_max = sqrt(p->R_star * (delta > 0.0 ? delta : 0.0));
+    *out = loaded;
 }
 
 static inline int vz_status(const nfd_params *p, double P, double a_e)
@@ -360,20 +319,14 @@ static inline int vz_status(const nfd_params *p, double P, double a_e)
     return P > p->window_P_max ? NFD_BEYOND_WINDOW : NFD_OK;
 }
 
-/* The branches vz and vz_table share: a non-finite approach, unloading or reloading below the
- * turning point, Hertz loading below first yield. Returns their status, or PLASTIC_LOADING when
- * the contact loads beyond first yield and the law's own solve must run. */
-#define PLASTIC_LOADING 100
+/* The branches vz and vz_table share (a non-finite approach, unloading or reloading, Hertz below
+ * first yield): their status, or PLASTIC_LOADING when the law's own plastic solve must run. */
 static int elastic_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out,
                         int *iterations)
 {
     if (iterations) *iterations = 0;
     if (!isfinite(delta)) return NFD_NOT_FINITE;
-    if (!(delta > h->delta_max)) {                  /* unloading or reloading */
-        *force = unloading(delta, h, 1);
-        *out = *h;
-        return NFD_OK;
-    }
+    if (unloading(delta, h, 1, force, out)) return NFD_OK;
     if (!(delta > p->delta_Y)) {                    /* Hertz below first yield */
         vz_hertz_turning_point(delta, p, out);
         *force = out->P_max;
@@ -387,8 +340,7 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
 {
     int status = elastic_step(delta, p, h, force, out, iterations);
     if (status != PLASTIC_LOADING) return status;
-    /* c1 = (3 R* / (4 E*))^(1/3) / Ca, as VZParams.c1; a_e = u c1 Ca */
-    double start = h->a_e_max / (p->c1 * p->Ca);
+    double start = h->a_e_max / (p->c1 * p->Ca);      /* a_e = u c1 Ca */
     double u;
     int count = 2;
     if (!vz_fast(delta, start, p, &u)) {
@@ -404,16 +356,11 @@ int nfd_vz_step(double delta, const nfd_params *p, const nfd_history *h, double 
 }
 
 /* Pass 2 of nfd_vz_load from contact `first` on (the first whose fast path failed): vz_jump on
- * blocks of such contacts gathered into local arrays (a loop the compiler vectorises), then the
- * safe path where vz_jump was not accepted either; writes u into P_max. Returns the largest
- * iteration count. A function of its own, so that the pass-1 loop of nfd_vz_load compiles as
- * before (inlined there it cost 30 % of a continuation step). */
-#if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-static int vz_jump_block(size_t n, size_t first, const nfd_params *p, const double *NFD_RESTRICT delta,
-                         double *NFD_RESTRICT P_max, const double *NFD_RESTRICT delta_res,
-                         const double *NFD_RESTRICT K_u)
+ * blocks of such contacts (a vectorised loop), then vz_safe where vz_jump was not accepted; writes
+ * u into P_max; returns the largest iteration count. Not inlined: it would slow pass 1 by 30 %. */
+NFD_CLONES static int vz_jump_block(size_t n, size_t first, const nfd_params *p, const double *NFD_RESTRICT delta,
+                                    double *NFD_RESTRICT P_max, const double *NFD_RESTRICT delta_res,
+                                    const double *NFD_RESTRICT K_u)
 {
     size_t at[NFD_JUMP_BLOCK], m = 0, i, j;
     double d[NFD_JUMP_BLOCK], start[NFD_JUMP_BLOCK], u_fast[NFD_JUMP_BLOCK], u[NFD_JUMP_BLOCK];
@@ -440,22 +387,17 @@ static int vz_jump_block(size_t n, size_t first, const nfd_params *p, const doub
     return most;
 }
 
-/* x86-64 with gcc or clang: also compiled for AVX2 (4 doubles per instruction instead of 2),
- * chosen at load time on CPUs that have it; the same IEEE operations, so the same numbers. */
-#if defined(__x86_64__) && defined(__GNUC__) && defined(__linux__)
-__attribute__((target_clones("avx2", "default")))
-#endif
-int nfd_vz_load(size_t n, const nfd_params *params, const double *NFD_RESTRICT delta, double *NFD_RESTRICT a_e_max,
-                double *NFD_RESTRICT P_max, double *NFD_RESTRICT delta_res, double *NFD_RESTRICT K_u)
+NFD_CLONES int nfd_vz_load(size_t n, const nfd_params *params, const double *NFD_RESTRICT delta,
+                           double *NFD_RESTRICT a_e_max, double *NFD_RESTRICT P_max, double *NFD_RESTRICT delta_res,
+                           double *NFD_RESTRICT K_u)
 {
     const nfd_params local = *params;     /* not aliased by the outputs: the loops vectorise */
     const nfd_params *p = &local;
     const double radius_per_cube_root = p->c1 * p->Ca;
     int most = 0;
     size_t i;
-    /* Four passes, the two long ones branch-free so that the compiler vectorises them (fused
-     * into one, gcc 12 no longer does). 1. the fast path for every contact: meanwhile P_max
-     * holds u, delta_res the Newton start, K_u 1 where the fast path holds, else 0 */
+    /* Four passes, the two long ones branch-free (vectorised). 1. the fast path for every contact:
+     * meanwhile P_max holds u, delta_res the Newton start, K_u 1 where the fast path holds, else 0 */
     for (i = 0; i < n; ++i) {
         double start = a_e_max[i] / radius_per_cube_root;
         double u;
@@ -496,7 +438,6 @@ void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, doubl
 }
 
 /* ------------------------------------------------------------------------------ vz_table */
-
 /* PCHIP end slope (nfdmodel.pchip._end_slope). */
 static double end_slope(double h0, double h1, double s0, double s1)
 {
@@ -531,27 +472,20 @@ static void pchip_slopes(int n, const double *x, const double *y, double *d)
 static void pchip_evaluate(const nfd_table *t, const double *y, const double *d, double z, double *value,
                            double *slope)
 {
-    int n = t->n;
-    if (z > t->x[n - 1]) {
-        *value = y[n - 1] + d[n - 1] * (z - t->x[n - 1]);
-        *slope = d[n - 1];
+    int n = t->n, lo = 0, hi = n - 1;
+    if (z > t->x[n - 1] || z < t->x[0]) {
+        int end = z > t->x[n - 1] ? n - 1 : 0;
+        *value = y[end] + d[end] * (z - t->x[end]);
+        *slope = d[end];
         return;
     }
-    if (z < t->x[0]) {
-        *value = y[0] + d[0] * (z - t->x[0]);
-        *slope = d[0];
-        return;
-    }
-    int lo = 0, hi = n - 1;               /* the segment: x[k] <= z < x[k+1], k <= n - 2 */
-    while (hi - lo > 1) {
+    while (hi - lo > 1) {                 /* the segment: x[lo] <= z < x[lo+1], lo <= n - 2 */
         int mid = (lo + hi) / 2;
         if (t->x[mid] <= z) lo = mid; else hi = mid;
     }
-    int k = lo;
-    double x0 = t->x[k], x1 = t->x[k + 1];
-    double h = x1 - x0;
+    double x0 = t->x[lo], h = t->x[lo + 1] - x0;
     double s = (z - x0) / h;
-    double y0 = y[k], y1 = y[k + 1], d0 = d[k], d1 = d[k + 1];
+    double y0 = y[lo], y1 = y[lo + 1], d0 = d[lo], d1 = d[lo + 1];
     double s2 = s * s;
     double s3 = s2 * s;
     *value = (2 * s3 - 3 * s2 + 1) * y0 + (s3 - 2 * s2 + s) * h * d0 + (3 * s2 - 2 * s3) * y1 + (s3 - s2) * h * d1;
@@ -595,25 +529,18 @@ int nfd_table_init(nfd_table *t, int n, const double *x, const double *f, const 
  * (the last turning point), bisection where Newton strays. */
 static double table_solve(const nfd_table *t, double d, double start, int *iterations)
 {
-    int n = t->n, k = -1;
+    int n = t->n, k = -1, iteration;
+    double D, dD;
     for (int j = 0; j < n; ++j)           /* k = searchsorted(D, d, "right") - 1 */
         if (t->D[j] <= d) k = j;
-    int kk = k < 0 ? 0 : (k > n - 1 ? n - 1 : k);
-    double low = t->x[kk];
+    double low = t->x[k < 0 ? 0 : (k > n - 1 ? n - 1 : k)];
     double high = k < n - 1 ? t->x[k + 1 < 0 ? 0 : k + 1] : t->x[n - 1] * 2.0;
-    if (k >= n - 1) {
-        for (;;) {
-            double D, dD;
-            table_approach(t, high, &D, &dD);
-            if (!(D < d)) break;
-            low = high;
-            high *= 2.0;
-        }
+    while (k >= n - 1 && (table_approach(t, high, &D, &dD), D < d)) {    /* beyond the table: doubled */
+        low = high;
+        high *= 2.0;
     }
     double z = start < low ? low : (start > high ? high : start);
-    int iteration;
     for (iteration = 1; iteration <= NFD_TABLE_MAX_ITERATIONS; ++iteration) {
-        double D, dD;
         table_approach(t, z, &D, &dD);
         double residual = D - d;
         if (residual < 0.0) low = z; else high = z;
@@ -623,12 +550,9 @@ static double table_solve(const nfd_table *t, double d, double start, int *itera
         z = candidate;
         if (done || high - low <= NFD_TABLE_TOLERANCE * high) break;
     }
-    {   /* one more Newton step inside the bracket (nfdmodel.vz_table: the root to round-off) */
-        double D, dD;
-        table_approach(t, z, &D, &dD);
-        double candidate = z - (D - d) / dD;
-        if ((candidate >= low && candidate <= high) || fabs(candidate - z) <= 1e-9 * z) z = candidate;
-    }
+    table_approach(t, z, &D, &dD);        /* one more Newton step inside the bracket: the root to round-off */
+    double candidate = z - (D - d) / dD;
+    if ((candidate >= low && candidate <= high) || fabs(candidate - z) <= 1e-9 * z) z = candidate;
     *iterations = iteration > NFD_TABLE_MAX_ITERATIONS ? NFD_TABLE_MAX_ITERATIONS : iteration;
     return z;
 }
@@ -645,25 +569,20 @@ int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, con
 {
     int status = elastic_step(delta, p, h, force, out, iterations);
     if (status != PLASTIC_LOADING) return status;
-    double start = h->P_max / p->P_Y;
+    double start = h->P_max / p->P_Y, f, df, g, dg;
     int count = 0;
     double z = table_solve(t, delta / p->delta_Y, start > 1.0 ? start : 1.0, &count);
     if (iterations) *iterations = count;
     double P = z * p->P_Y;
-    double f, df, g, dg;
     pchip_evaluate(t, t->f, t->df, z, &f, &df);
     pchip_evaluate(t, t->g, t->dg, z, &g, &dg);
     double c = cbrt(z);
-    double recovery = p->delta_Y * (c * c) / g;     /* a_e,max^2 / (C_Rmax R*) */
-    double delta_res = delta - recovery;
+    double delta_res = delta - p->delta_Y * (c * c) / g;     /* a_e,max^2 / (C_Rmax R*) */
     delta_res = delta_res < 0.0 ? 0.0 : delta_res;
     delta_res = delta_res >= delta ? below(delta) : delta_res;
     double gap = delta - delta_res;
-    out->delta_max = delta;
-    out->P_max = P;
-    out->delta_res = delta_res;
-    out->K_u = P / (gap * sqrt(gap));
-    out->a_e_max = p->a_Y * c;
+    nfd_history loaded = {delta, P, delta_res, P / (gap * sqrt(gap)), p->a_Y * c};
+    *out = loaded;
     *force = P;
     if (!isfinite(P)) return NFD_NOT_FINITE;
     if (!(p->a_Y * (c + f) < p->R_star)) return NFD_FULL_CONTACT;
@@ -674,20 +593,12 @@ int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, con
 int nfd_thornton_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out)
 {
     if (!isfinite(delta)) return NFD_NOT_FINITE;
-    if (!(delta > h->delta_max)) {
-        *force = unloading(delta, h, 1);
-        *out = *h;
-        return NFD_OK;
-    }
+    if (unloading(delta, h, 1, force, out)) return NFD_OK;
     if (!(delta > p->delta_Y)) {
-        double P = hertz(delta, p->hertz_k);
-        out->delta_max = delta;
-        out->P_max = P;
-        out->delta_res = 0.0;
-        out->K_u = p->hertz_k;
-        out->a_e_max = 0.0;
-        *force = P;
-        return isfinite(P) ? NFD_OK : NFD_NOT_FINITE;
+        nfd_history elastic = {delta, hertz(delta, p->hertz_k), 0.0, p->hertz_k, 0.0};
+        *out = elastic;
+        *force = elastic.P_max;
+        return isfinite(elastic.P_max) ? NFD_OK : NFD_NOT_FINITE;
     }
     /* P = P_Y + pi p_Y R* (delta - delta_Y); unloading from (P*, delta*) with
        a*^2 = (2 P* + P_Y) / (2 pi p_Y), R_p* = 4 E* a*^3 / (3 P*), delta_p = delta* - a*^2 / R_p* */
@@ -696,11 +607,8 @@ int nfd_thornton_step(double delta, const nfd_params *p, const nfd_history *h, d
     double a_sq = (2.0 * P_safe + p->P_Y) / (2.0 * NFD_PI * p->p_Y);
     double R_p = 4.0 * p->E_star * a_sq * sqrt(a_sq) / (3.0 * P_safe);
     double delta_p = delta - a_sq / R_p;
-    out->delta_max = delta;
-    out->P_max = P;
-    out->delta_res = delta_p > 0.0 ? delta_p : 0.0;
-    out->K_u = 4.0 / 3.0 * p->E_star * sqrt(R_p);
-    out->a_e_max = 0.0;
+    nfd_history plastic = {delta, P, delta_p > 0.0 ? delta_p : 0.0, 4.0 / 3.0 * p->E_star * sqrt(R_p), 0.0};
+    *out = plastic;
     *force = P;
     return isfinite(P) ? NFD_OK : NFD_NOT_FINITE;
 }
@@ -710,17 +618,10 @@ int nfd_walton_braun_step(double delta, const nfd_params *p, const nfd_history *
                           nfd_history *out)
 {
     if (!isfinite(delta)) return NFD_NOT_FINITE;
-    if (!(delta > h->delta_max)) {
-        *force = unloading(delta, h, 0);
-        *out = *h;
-        return NFD_OK;
-    }
+    if (unloading(delta, h, 0, force, out)) return NFD_OK;
     double P = p->K1 * delta;
-    out->delta_max = delta;
-    out->P_max = P;
-    out->delta_res = delta - P / p->K2;
-    out->K_u = p->K2;
-    out->a_e_max = 0.0;
+    nfd_history loaded = {delta, P, delta - P / p->K2, p->K2, 0.0};
+    *out = loaded;
     *force = P;
     return isfinite(P) ? NFD_OK : NFD_NOT_FINITE;
 }

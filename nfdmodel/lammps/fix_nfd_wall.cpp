@@ -1,0 +1,202 @@
+/* fix_nfd_wall.cpp: fix nfd/wall/<law> (fix_nfd_wall.h).
+ *
+ * License: GPL-2.0-or-later (see nfd_law.h).
+ */
+#include "fix_nfd_wall.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "memory.h"
+#include "update.h"
+#include "utils.h"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+namespace nfdcal_lammps {
+
+FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : Fix(lmp, narg, arg), law(law)
+{
+    const std::string who = fmt::format("fix {}", name());
+    if (narg < 5)
+        error->all(FLERR, fmt::format("{}: need FACE COORD (FACE one of xlo xhi ylo yhi zlo zhi) and the material",
+                                      who));
+    const char *faces[] = {"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
+    int face = -1;
+    for (int k = 0; k < 6; ++k)
+        if (std::strcmp(arg[3], faces[k]) == 0) face = k;
+    if (face < 0)
+        error->all(FLERR, fmt::format("{}: FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got '{}'", who,
+                                      arg[3]));
+    dim = face / 2;
+    side = face % 2 == 0 ? 1.0 : -1.0;
+    coord = utils::numeric(FLERR, arg[4], false, lmp);
+    if (!std::isfinite(coord)) error->all(FLERR, fmt::format("{}: COORD must be a finite number [m]", who));
+    material = law->read(lmp, who, true, narg - 5, arg + 5);
+
+    scalar_flag = 1;
+    global_freq = 1;
+    extscalar = 1;
+    vector_flag = 1;
+    size_vector = 1;
+    extvector = 1;
+    peratom_flag = 1;
+    size_peratom_cols = NHIST;
+    peratom_freq = 1;
+    create_attribute = 1;
+    maxexchange = NHIST;
+    restart_peratom = 1;
+    FixNfdWall::grow_arrays(atom->nmax);
+    atom->add_callback(Atom::GROW);
+    atom->add_callback(Atom::RESTART);
+    for (int i = 0; i < atom->nmax; ++i) FixNfdWall::set_arrays(i);
+}
+
+FixNfdWall::~FixNfdWall()
+{
+    atom->delete_callback(id, Atom::GROW);
+    atom->delete_callback(id, Atom::RESTART);
+    memory->destroy(history);
+}
+
+int FixNfdWall::setmask() { return FixConst::POST_FORCE | FixConst::MIN_POST_FORCE | FixConst::POST_RUN; }
+
+void FixNfdWall::init()
+{
+    if (!atom->radius_flag || !atom->rmass_flag)
+        error->all(FLERR, fmt::format("fix {} needs per-atom radius and mass: use atom_style sphere", name()));
+    if (std::strncmp(update->integrate_style, "respa", 5) == 0)
+        error->all(FLERR, fmt::format("fix {}: run_style {} is not supported: use run_style verlet (the plugin has "
+                                      "no access to the rRESPA force levels)", name(), update->integrate_style));
+    beyond_count = 0;
+    beyond_largest = 0.0;
+}
+
+void FixNfdWall::post_force(int /*vflag*/)
+{
+    double **x = atom->x, **f = atom->f;
+    double *radius = atom->radius;
+    int *mask = atom->mask;
+    tagint *tag = atom->tag;
+    total_local = 0.0;
+    touching_local = 0.0;
+    for (int i = 0; i < atom->nlocal; ++i) {
+        if (!(mask[i] & groupbit)) continue;
+        double *stored = history[i];
+        const double delta = radius[i] - side * (x[i][dim] - coord);
+        if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
+            for (int n = 0; n < NHIST; ++n) stored[n] = 0.0;
+            continue;
+        }
+        touching_local += 1.0;
+        const nfd_params p = law->params(radius[i], material);
+        const nfd_history h = load_history(stored);
+        nfd_history next;
+        double force = 0.0;
+        const int status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
+        if (status == NFD_FULL_CONTACT)
+            error->one(FLERR, fmt::format("fix {}: atom {} reached full contact with the wall at overlap {:.6g} m "
+                                          "(delta/R = {:.4g}): the law's contact radius reaches R", name(), tag[i],
+                                          delta, delta / radius[i]));
+        if (status == NFD_NOT_FINITE)
+            error->one(FLERR, fmt::format("fix {}: the wall force on atom {} is not a finite number (overlap {:.6g} m)",
+                                          name(), tag[i], delta));
+        if (status == NFD_BEYOND_WINDOW) {
+            if (h.P_max <= p.window_P_max) ++beyond_count;
+            beyond_largest = std::max(beyond_largest, next.P_max / p.P_Y);
+        }
+        store_history(next, stored);
+        f[i][dim] += side * force;
+        total_local += force;
+    }
+    total_reduced = false;
+}
+
+double FixNfdWall::compute_scalar()
+{
+    if (!total_reduced) {
+        MPI_Allreduce(&total_local, &total, 1, MPI_DOUBLE, MPI_SUM, world);
+        total_reduced = true;
+    }
+    return total;
+}
+
+/* 1: the atoms touching the wall (each holds a history) */
+double FixNfdWall::compute_vector(int /*n*/)
+{
+    double all = 0.0;
+    MPI_Allreduce(&touching_local, &all, 1, MPI_DOUBLE, MPI_SUM, world);
+    return all;
+}
+
+void FixNfdWall::post_run()
+{
+    if (!law->has_window) return;
+    bigint mine = beyond_count, all = 0;
+    MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    double largest = 0.0;
+    MPI_Allreduce(&beyond_largest, &largest, 1, MPI_DOUBLE, MPI_MAX, world);
+    if (comm->me == 0) {
+        if (all == 0)
+            utils::logmesg(lmp, fmt::format("fix {}: 0 contacts loaded beyond the calibrated window\n", name()));
+        else
+            utils::logmesg(lmp, fmt::format("fix {}: {} contact(s) loaded beyond the calibrated window (up to P/P_Y = "
+                                            "{:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an extrapolation "
+                                            "there\n", name(), all, largest, material.window));
+    }
+}
+
+void FixNfdWall::grow_arrays(int nmax)
+{
+    memory->grow(history, nmax, NHIST, "nfd/wall:history");
+    array_atom = history;
+}
+
+void FixNfdWall::copy_arrays(int i, int j, int /*delflag*/)
+{
+    for (int n = 0; n < NHIST; ++n) history[j][n] = history[i][n];
+}
+
+void FixNfdWall::set_arrays(int i)
+{
+    for (int n = 0; n < NHIST; ++n) history[i][n] = 0.0;
+}
+
+int FixNfdWall::pack_exchange(int i, double *buf)
+{
+    for (int n = 0; n < NHIST; ++n) buf[n] = history[i][n];
+    return NHIST;
+}
+
+int FixNfdWall::unpack_exchange(int nlocal, double *buf)
+{
+    for (int n = 0; n < NHIST; ++n) history[nlocal][n] = buf[n];
+    return NHIST;
+}
+
+/* Restart files: per atom [NHIST + 1, the NHIST history values]; read_restart keeps the values of
+ * every fix in atom->extra[i] one after the other, each led by its own length. */
+int FixNfdWall::pack_restart(int i, double *buf)
+{
+    buf[0] = NHIST + 1;
+    for (int n = 0; n < NHIST; ++n) buf[n + 1] = history[i][n];
+    return NHIST + 1;
+}
+
+void FixNfdWall::unpack_restart(int nlocal, int nth)
+{
+    const double *extra = atom->extra[nlocal];
+    int m = 0;
+    for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
+    for (int n = 0; n < NHIST; ++n) history[nlocal][n] = extra[m + 1 + n];
+}
+
+double FixNfdWall::memory_usage() { return (double) atom->nmax * NHIST * sizeof(double); }
+
+}    // namespace nfdcal_lammps

@@ -1,0 +1,76 @@
+/* fix_nfd_wall.h: fix nfd/wall/<law> (nfd/wall/hertz, nfd/wall/vz, nfd/wall/thornton,
+ * nfd/wall/vz-table, nfd/wall/walton-braun), a rigid flat wall with the law of the pair styles.
+ *
+ *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2       (the contact's stiffnesses [N/m])
+ *     fix ID group nfd/wall/vz-table FACE COORD file params.json
+ *
+ * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
+ * (lo) or above (hi). Each atom of the group is a sphere of its own radius R on a rigid flat, the
+ * FE calibration's own setting (nfdmodel.ContactPair.sphere_flat): R* = R, E* = E / (1 - nu^2),
+ * first yield in the sphere; overlap delta = R - (distance of the centre from the plane), the
+ * force pushes the atom away from the wall along the normal. The per-atom history (nfd_history)
+ * travels with the atom between MPI ranks, goes into restart files (read back by a fix of the
+ * same ID and style defined after read_restart) and is zeroed when the sphere leaves the wall.
+ *
+ * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
+ * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
+ * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m]. Loads beyond the window are counted
+ * and reported at the end of each run like the pair style's. Integrators: run_style verlet and
+ * minimization (the force is added after all others, post_force); run_style respa is refused (the
+ * wheel ships no respa.h: the plugin cannot reach the rRESPA force levels).
+ *
+ * License: GPL-2.0-or-later (see nfd_law.h).
+ */
+#ifndef NFD_LAMMPS_FIX_NFD_WALL_H
+#define NFD_LAMMPS_FIX_NFD_WALL_H
+
+#include "fix.h"
+#include "nfd_law.h"
+
+namespace nfdcal_lammps {
+
+class FixNfdWall : public LAMMPS_NS::Fix {
+ public:
+    FixNfdWall(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, const NfdLaw *law);
+    ~FixNfdWall() override;
+
+    int setmask() override;
+    void init() override;
+    void setup(int vflag) override { post_force(vflag); }
+    void min_setup(int vflag) override { post_force(vflag); }
+    void min_post_force(int vflag) override { post_force(vflag); }
+    void post_force(int vflag) override;
+    void post_run() override;
+    double compute_scalar() override;
+    double compute_vector(int n) override;
+
+    void grow_arrays(int nmax) override;
+    void copy_arrays(int i, int j, int delflag) override;
+    void set_arrays(int i) override;
+    int pack_exchange(int i, double *buf) override;
+    int unpack_exchange(int nlocal, double *buf) override;
+    int pack_restart(int i, double *buf) override;
+    void unpack_restart(int nlocal, int nth) override;
+    int size_restart(int /*i*/) override { return NHIST + 1; }
+    int maxsize_restart() override { return NHIST + 1; }
+    double memory_usage() override;
+
+ private:
+    const char *name() const { return law->wall_style.c_str(); }
+
+    const NfdLaw *law;
+    NfdMaterial material;
+    int dim = 2;                  // the wall's normal: 0 x, 1 y, 2 z
+    double side = 1.0;            // +1: atoms above the plane (lo), pushed in +dim; -1: hi
+    double coord = 0.0;           // the plane [m]
+    double **history = nullptr;
+    double total_local = 0.0, total = 0.0, touching_local = 0.0;
+    bool total_reduced = false;
+    LAMMPS_NS::bigint beyond_count = 0;
+    double beyond_largest = 0.0;
+};
+
+}    // namespace nfdcal_lammps
+
+#endif

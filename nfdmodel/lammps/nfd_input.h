@@ -1,0 +1,32 @@
+/* nfd_input.h: the numbers of pair_coeff and wall-fix lines and of nfdcal parameter files, each
+ * checked against its range (nfd_limits.h), with one error line naming the constant and the range.
+ *
+ * License: GPL-2.0-or-later (see nfd_law.h).
+ */
+#ifndef NFD_LAMMPS_INPUT_H
+#define NFD_LAMMPS_INPUT_H
+
+#include "nfd_law.h"
+
+#include <string>
+
+namespace nfdcal_lammps {
+
+/* A constant that must be a finite number > 0 (E, sigma_y, Ca_hat, K1, K2); what names it
+ * ("E [Pa]"). Parsed here rather than by utils::numeric, so that inf, nan or 1e400 get the
+ * message naming the constant and its range. */
+double positive(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *text, const char *what);
+
+/* A number within [low, high] (either end open), or an error naming what and the range text. */
+double number_in(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *text, const char *what, double low,
+                 bool low_open, double high, bool high_open, const std::string &range);
+
+/* The vz-table law of an nfdcal parameter file (nfdmodel/parameter_file.py, law "vz-table"):
+ * material E [Pa], nu, sigma_y [Pa]; table P_over_P_Y, a_p_over_a_Y, C_R (2..NFD_TABLE_MAX_NODES
+ * nodes, the rules of nfd_table_init); window P_max_over_P_Y (absent: the table's last node, as
+ * nfdmodel.VZTableParams). Read on rank 0 and broadcast. */
+NfdMaterial read_parameter_file(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &path);
+
+}    // namespace nfdcal_lammps
+
+#endif

@@ -1,0 +1,67 @@
+/* pair_nfd.h: pair_style nfd/<law> (nfd/hertz, nfd/vz, nfd/thornton, nfd/vz-table,
+ * nfd/walton-braun): one class for every law, the law an NfdLaw (nfd_law.h).
+ *
+ *     pair_style nfd/vz
+ *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *
+ * The normal force of each touching pair of spheres is the law's step of the C kernel
+ * (nfd_step), frictionless, undamped, without torque; its history lives in fix nfd/history.
+ * Granular spheres (atom_style sphere), SI units, newton off (each rank computes every contact
+ * of one of its atoms, so both copies of a contact across a subdomain boundary evolve alike).
+ *
+ * License: GPL-2.0-or-later (see nfd_law.h).
+ */
+#ifndef NFD_LAMMPS_PAIR_NFD_H
+#define NFD_LAMMPS_PAIR_NFD_H
+
+#include "nfd_law.h"
+#include "pair.h"
+
+#include <string>
+#include <vector>
+
+namespace nfdcal_lammps {
+
+class FixNfdHistory;
+
+class PairNfd : public LAMMPS_NS::Pair {
+ public:
+    PairNfd(LAMMPS_NS::LAMMPS *lmp, const NfdLaw *law);
+    ~PairNfd() override;
+
+    void settings(int narg, char **arg) override;
+    void coeff(int narg, char **arg) override;
+    void init_style() override;
+    double init_one(int i, int j) override;
+    void compute(int eflag, int vflag) override;
+    double single(int i, int j, int itype, int jtype, double rsq, double factor_coul, double factor_lj,
+                  double &fforce) override;
+    void *extract(const char *str, int &dim) override;
+    void finish() override;
+
+    const char *name() const { return law->pair_style.c_str(); }
+    FixNfdHistory *contact_history() const { return history; }
+
+    /* A 64-bit fingerprint of atom type t's pair_coeff (NfdLaw::fingerprint) and of each explicit
+     * pair_coeff t J (J and its constants): kept with the histories in restart files. */
+    uint64_t coeff_fingerprint(int t) const;
+
+ private:
+    void allocate();
+    void create_history_fix();
+    void warn_other_histories();
+    const double *find_stored(int i, int j);
+
+    const NfdLaw *law;
+    std::vector<NfdMaterial> material;                 // per atom type, as read
+    std::vector<std::vector<NfdMaterial>> contact;     // per pair of types: NfdLaw::mix, or pair_coeff I J
+    std::vector<std::vector<char>> explicit_pair;      // set by pair_coeff I J (per-type-pair laws)
+    std::vector<double> max_radius;                    // per atom type, pour/deposit included
+    FixNfdHistory *history = nullptr;
+    LAMMPS_NS::bigint beyond_count = 0;
+    double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
+};
+
+}    // namespace nfdcal_lammps
+
+#endif
