@@ -172,8 +172,7 @@ DISTINCTIVE = {                      # table name: regex over the statement's id
 }
 SCANNED = ("nfdmodel", "calib")
 SUFFIXES = (".py", ".c", ".h", ".cpp")
-# nfdmodel/lammps/ (the LAMMPS plugin, C++) is checked by tests/test_lammps.py with the plugin's sources.
-NOT_SCANNED = ("nfdmodel/nfd_limits.h", "nfdmodel/lammps/")
+NOT_SCANNED = ("nfdmodel/nfd_limits.h",)     # the LAMMPS plugin (nfdmodel/lammps/*.h, *.cpp) is scanned too
 _IDENTIFIER = re.compile(r"[A-Za-z_]\w*")
 _C_NUMBER = re.compile(r"(?<![\w.])(\d+\.?\d*(?:[eE][-+]?\d+)?|\.\d+(?:[eE][-+]?\d+)?)[fFlLuU]*(?![\w.])")
 
@@ -272,3 +271,11 @@ def test_no_source_file_restates_a_number_of_the_table():
     assert sum(1 for _ in scanned_files()) > 50
     assert not found, "numbers of nfdmodel/nfd_limits.h written again (read them from nfdmodel.limits or " \
                       f"include nfd_limits.h): {found}"
+
+
+def test_the_plugin_names_each_law_as_the_table_does():
+    """Each NfdLaw of the LAMMPS plugin is built with an NFD_LAW_* code and the name nfdmodel
+    gives that code (pair_style nfd/<name>); every law of the table is there once."""
+    source = (ROOT / "nfdmodel" / "lammps" / "nfd_law.cpp").read_text(encoding="utf-8")
+    declared = {code: name for code, name in re.findall(r"\(\s*NFD_(LAW_\w+)\s*,\s*\"([\w-]+)\"", source)}
+    assert {limits.TABLE[code]: name for code, name in declared.items()} == limits.LAW_NAMES
