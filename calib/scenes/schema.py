@@ -37,7 +37,7 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Strict, Valid
 
 from calib import output
 from calib.fit.recipe import DEFAULT_PEAKS_OVER_YIELD, MESH_LEVELS
-from nfdmodel import ContactPair, Material, limits, reference_case
+from nfdmodel import LAWS, ContactPair, Material, limits, reference_case
 
 # Wall time per FE step against dofs, calibrated on the reference calibration
 # (12,112 dofs, 97 FE steps + 3 first-yield solves, 54-58 s on 2 cores): ~0.57 s per step.
@@ -55,7 +55,7 @@ Positive = Annotated[Number, Field(gt=0)]
 Ratio = Annotated[Number, Field(gt=0, le=1e4)]          # a multiple of P_Y or v_Y
 PoissonRatio = Annotated[Number, Field(ge=0, lt=limits.NU_MAX)]
 Flag = Annotated[bool, Strict()]
-Law = Literal["vz", "vz-table", "thornton", "hertz", "walton-braun"]
+Law = Literal[tuple(LAWS)]          # every law of the registry (nfdmodel.registry)
 
 
 def _list_of(item):
