@@ -263,7 +263,7 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
     dt = check_real("dt", dt, low=0.0, unit="s")
     # Leap-frog is stable for dt < 2/omega; the stiffest phase (unloading) is a half oscillation
     # of duration t_unload = pi/omega, so dt must stay below 2 t_unload / pi. Beyond it the
-    # numbers are meaningless (e = 4.7 was seen), so this is an error, not a warning.
+    # numbers are meaningless (e = 4.7, say), so this is an error, not a warning.
     stability_limit = 2.0 * shortest_unloading / math.pi
     if dt >= stability_limit:
         raise ValueError(f"dt out of range: dt = {dt:g} s is beyond the leap-frog stability limit "
