@@ -104,8 +104,8 @@ def test_readme_opens_with_the_two_setup_commands_and_stays_short():
     assert len(lines) <= 300
 
 
-GUIDES = ("README.md", "nfdmodel/README.md", "calib/README.md", "meshes/README.md", "tests/README.md",
-          "results/README.md", "results/linear_solvers.md")
+GUIDES = ("README.md", "nfdmodel/README.md", "calib/README.md", "tests/README.md", "results/README.md",
+          "results/linear_solvers.md")
 
 
 @pytest.mark.parametrize("guide", GUIDES)
