@@ -54,8 +54,14 @@ def test_command_refuses_what_is_not_a_results_folder_or_a_file(tmp_path, capsys
     assert main(["results-readme", "--out", str(tmp_path / "none")]) == 2
     (tmp_path / "README.md").mkdir()
     assert main(["results-readme", "--out", str(tmp_path)]) == 2
+    (tmp_path / "collision").mkdir()
+    (tmp_path / "collision" / "summary.json").write_text('{"case": {}}', encoding="utf-8")     # another version's
+    assert main(["results-readme", "--out", str(tmp_path)]) == 2
+    (tmp_path / "collision" / "summary.json").write_text("{", encoding="utf-8")               # damaged
+    assert main(["results-readme", "--out", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 2 and "no results folder" in err[0] and "it is a folder" in err[1]
+    assert len(err) == 4 and "no results folder" in err[0] and "it is a folder" in err[1]
+    assert "section 'collision'" in err[2] and "summary.json: not a JSON summary" in err[3]
 
 
 def readmes() -> list[Path]:

@@ -28,7 +28,12 @@ WIDTH = 110        # prose lines are wrapped to this width; table rows are not
 # ---------------------------------------------------------------- reading
 def read_json(path: Path) -> dict | None:
     """The JSON object in ``path``, or None when the file does not exist."""
-    return json.loads(path.read_text(encoding="utf-8")) if path.is_file() else None
+    if not path.is_file():
+        return None
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not a JSON summary ({exc})") from None
 
 
 def _number(text: str):
@@ -478,6 +483,9 @@ def other(root: Path) -> list[str]:
     known = {"calibration", "hertz", "collision", "tables", "stability", "lammps", README}
     rest = sorted(p.name + ("/" if p.is_dir() else "") for p in root.iterdir()
                   if not p.name.startswith(".") and p.name not in known)
+    if (root / "tables").is_dir():     # parameter tables of other scenes
+        rest += sorted(f"tables/{p.name}/" for p in (root / "tables").iterdir()
+                       if p.is_dir() and p.name not in ("master_grid", "master_validation"))
     if not rest:
         return []
     lines = ["## Other files", ""]
@@ -490,12 +498,22 @@ def other(root: Path) -> list[str]:
 SECTIONS = (calibration, mesh_ladder, wide_window, hertz, collision, master_table, stability, lammps, other)
 
 
+def read_section(make, root: Path) -> list[str]:
+    """``make(root)``; a summary without what the index reads (another version's, a damaged one) is
+    a ValueError naming the section, never a traceback."""
+    try:
+        return make(root)
+    except (KeyError, TypeError, IndexError, AttributeError, ZeroDivisionError, StopIteration) as exc:
+        raise ValueError(f"the summary files of the section '{make.__name__}' lack what the index reads "
+                         f"({type(exc).__name__}: {exc}); regenerate them") from None
+
+
 def render(root: str | Path) -> str:
     """The text of ``root``/README.md, from the summary files under ``root``."""
     root = Path(root)
     if not root.is_dir():
         raise ValueError(f"no results folder at {root} (run a command that writes results first)")
-    bodies = [lines for lines in (s(root) for s in SECTIONS) if lines]
+    bodies = [lines for lines in (read_section(s, root) for s in SECTIONS) if lines]
     titles = [b[0][3:] for b in bodies]
     anchor = lambda t: "".join(c for c in t.lower().replace(" ", "-") if c.isalnum() or c in "-_")
     head = ["# Results", "",
