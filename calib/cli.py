@@ -23,7 +23,7 @@ from calib.optional import MissingOptionalPart
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
 COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "fit_data", "stability", "lammps",
-                   "export")
+                   "export", "results_readme")
 
 
 # A negative number as a person writes it: -1, -0.5, -.5, -1e-6, -2.5E+3 (argparse's own test has no exponent).

@@ -9,7 +9,7 @@
  * Each number is written here once. tests/test_limits.py fails when another source file states
  * one of them again as a literal, or when a consumer disagrees with this table.
  * Format (read by a parser): one `#define NFD_<NAME> <number>` per line, a C comment after it.
- * SI units; "_hat" quantities are dimensionless (README, The model: Dimensionless constants).
+ * SI units; "_hat" quantities are dimensionless (nfdmodel/README.md: the dimensionless constants).
  */
 #ifndef NFD_LIMITS_H
 #define NFD_LIMITS_H

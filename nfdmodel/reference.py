@@ -7,7 +7,7 @@ step, ``history`` the contact's turning point (a :class:`History`; the initial o
 zeros), ``P`` the normal force [N]. The new history is returned, never written into the old
 one: the caller commits it when the time step is accepted.
 
-Every elastoplastic law follows one scheme (README, The model: Unloading and reloading):
+Every elastoplastic law follows one scheme (nfdmodel/README.md, The model: Unloading and reloading):
 
 * loading beyond the turning point (delta > delta_max): the law's virgin curve gives P, and
   the turning point moves: (delta_max, P_max) = (delta, P), with the residual approach
@@ -20,7 +20,7 @@ K_u is stored as P_max / (delta_max - delta_res)^n, so the curve passes through 
 point to round-off (continuity of the force).
 
 Constants [SI]: R = R* [m], E = E* [Pa], P_Y [N], delta_Y [m], p_Y = A_Y(nu) sigma_Y [Pa]
-(README, The model: First yield), the vz constants Ca [m/N], Kc [1/N], the Walton-Braun
+(nfdmodel/README.md, The model: First yield), the vz constants Ca [m/N], Kc [1/N], the Walton-Braun
 stiffnesses K1 <= K2 [N/m].
 """
 from __future__ import annotations
@@ -78,7 +78,7 @@ def vz_newton_function(P: float, delta: float, R: float, E: float, P_Y: float, C
         c1 = (3 R / (4 E))^(1/3) / Ca   [N^(2/3)].
 
     F is the plastic contact radius a_p = Ca (P - P_Y) minus its value on the loading curve
-    delta = (a_e + a_p)^2 / (C_R R), divided by Ca (README, The model: The NFD law on loading)."""
+    delta = (a_e + a_p)^2 / (C_R R), divided by Ca (nfdmodel/README.md, The model: The NFD law on loading)."""
     c1 = (3.0 * R / (4.0 * E)) ** (1.0 / 3.0) / Ca
     C_R = 1.0 + Kc * (P - P_Y)
     F = (P - P_Y) + c1 * P ** (1.0 / 3.0) - math.sqrt(C_R * R * delta) / Ca

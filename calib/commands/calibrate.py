@@ -1,7 +1,7 @@
 """``nfdcal calibrate``: FE load paths of a sphere on a rigid flat -> Ca, Kc of the NFD law.
 
 The plastic contact radius is a_p = Ca <P - P_Y> and the curvature factor 1 + Kc <P - P_Y>
-(Vu-Quoc & Zhang 1999, eq. 2.5; README, The model: The NFD law); Ca [m/N] and Kc [1/N] are
+(Vu-Quoc & Zhang 1999, eq. 2.5; nfdmodel/README.md, The NFD law on loading); Ca [m/N] and Kc [1/N] are
 fitted by least squares to FE load paths that go beyond first yield P_Y [N].
 
     nfdcal calibrate                      # the reference case, results into results/calibration

@@ -2,7 +2,7 @@
 
 A sphere of mass m = (4/3) pi R^3 rho hits the flat at v_in; m d2(delta)/dt2 = -P(delta) is
 integrated with leap-frog until it leaves at v_out; the restitution is e = -v_out / v_in
-(README, The model: Restitution).
+(nfdmodel/README.md, Restitution and collisions).
 
     nfdcal collide --law vz --v-in 0.02 0.04 0.1 [--dt 1e-6] [--json]
     nfdcal collide --report [--out results/collision]      # regenerate results/collision/

@@ -5,7 +5,7 @@
 
 Prints, from a parameter file (``nfdcal calibrate``, ``nfdcal material --params-out``,
 ``nfdcal fit-data --params-out``), the lines that put its law into a LAMMPS input with the plugin
-of ``nfdcal lammps build`` (README, The law inside LAMMPS):
+of ``nfdcal lammps build`` (nfdmodel/lammps/README.md):
 
     pair_style nfd/vz
     pair_coeff T T E nu sigma_y Ca_hat Kc_hat window P_max/P_Y
@@ -13,7 +13,7 @@ of ``nfdcal lammps build`` (README, The law inside LAMMPS):
 
 numbers in SI units to 17 significant digits (LAMMPS reads back the file's values exactly), the
 window the constants were fitted on. The constants are the material's (Ca_hat, Kc_hat of a sphere
-on a flat: the dimensionless constants transfer to any pair, README, Dimensionless constants).
+on a flat: the dimensionless constants transfer to any pair, nfdmodel/README.md: the dimensionless constants).
 A vz-table file (its tables, too long for a line) is named by its absolute path, which the
 plugin reads:
 

@@ -2,7 +2,7 @@
 
 An elastic sphere pressed on a rigid flat must reproduce Hertz's contact radius
 a = (3 P R / (4 E*))^(1/3), approach alpha = a^2 / R and peak pressure p0 = 3 P / (2 pi a^2),
-with E* = E / (1 - nu^2) (README, The model: Hertz contact). Default: the reference sphere
+with E* = E / (1 - nu^2) (nfdmodel/README.md, Hertz contact). Default: the reference sphere
 (R = 0.1 m, E = 70 GPa, nu = 0.3), force-controlled from 1 N to 1500 N on the default mesh;
 writes results/hertz/ (hertz.json, hertz_steps.csv, pressure_profile.csv, contact_radius.png,
 approach.png, peak_pressure.png, pressure_profile.png). The material flags are those of every

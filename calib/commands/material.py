@@ -4,7 +4,7 @@
     nfdcal material ... --params-out steel.json     # a parameter file for nfdmodel.load_parameters
 
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
-(calib/data/master_table.csv; README, The model: Dimensionless constants), then
+(calib/data/master_table.csv; nfdmodel/README.md: the dimensionless constants), then
 Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N], Kc [1/N], Ca_hat, Kc_hat, first yield
 P_Y [N], a_Y [m], delta_Y [m] and the table's one-line accuracy statement (the full account is in
 the table's .json, named by ``accuracy_details``). Outside the table: one line naming the parameter and the table's

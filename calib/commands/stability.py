@@ -35,7 +35,7 @@ def run(ns) -> int:
     from calib.studies.runtime_stability import CSV_NAME, DEFAULT_OUT, JSON_NAME, generate
 
     out = Path(ns.out or DEFAULT_OUT)
-    try:            # fail now, not after the 30 s run (the dispatcher reports ValueError in one line)
+    try:            # fail at once, not after the 30 s run (the dispatcher reports ValueError in one line)
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ValueError(f"--out: cannot create the output folder {out}: {exc.strerror or exc}") from None

@@ -33,8 +33,8 @@ def rescue_step(solver, state: ContactState, control: str, target: float) -> Ste
        state, so the accepted step is still one backward-Euler increment), then a
        force-controlled step started from that solution and its active set, so the result
        is the force step itself, to the same residual tolerance. A force-controlled Newton
-       on a perfectly plastic body can run away along the soft plastic mode (alpha grew
-       6x-85x within failing runs after a node was released); a prescribed alpha bounds it.
+       on a perfectly plastic body can run away along the soft plastic mode (alpha grows
+       6x-85x once a node is released); a prescribed alpha bounds it.
 
     The record sums the iterations, factorisations and times of every solve tried.
     """

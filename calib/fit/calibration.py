@@ -1,6 +1,7 @@
 """The calibration: FE load paths of a sphere on a rigid flat -> Ca, Kc of the runtime NFD law.
 
-Vu-Quoc & Zhang (1999), sections 2-3 (README, The model: The NFD law on loading; The FE problem):
+Vu-Quoc & Zhang (1999), sections 2-3 (nfdmodel/README.md, The NFD law on loading; calib/README.md,
+The FE problem):
   1. mesh the hemisphere (meshes.hemisphere), solve the elastic-perfectly plastic von Mises
      contact problem (calib.fe + calib.fe.von_mises) along force-driven load paths with unloading
      (calib.fe.loadpath);

@@ -197,7 +197,7 @@ MEMORY_SHARE = 0.8            # of the machine's memory one FE run may plan to u
 
 
 def machine_memory() -> float:
-    """Physical memory of this machine [bytes]."""
+    """Physical memory of the machine running the FE [bytes]."""
     return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
 
 
@@ -219,8 +219,8 @@ def check_machine(mesh: HemisphereMeshSpec) -> None:
             dataclasses.replace(mesh, contact_size=middle)) <= limit
         low, high = (low, middle) if fits else (middle, high)
     raise ValueError(f"contact_size out of range: a contact element of {mesh.contact_size:.3g} m gives "
-                     f"about {dofs:.3g} dofs and needs about {need / 1e9:.3g} GB; this machine allows "
-                     f"{limit / 1e9:.3g} GB ({MEMORY_SHARE:.0%} of its memory): need contact_size >= "
+                     f"about {dofs:.3g} dofs and needs about {need / 1e9:.3g} GB; one FE run may use "
+                     f"{limit / 1e9:.3g} GB ({MEMORY_SHARE:.0%} of the machine's memory): need contact_size >= "
                      f"{high:.3g} m")
 
 
@@ -254,7 +254,7 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
                                   refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
                                   refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
                                   far_size=max(radius / 10, h))
-    check_machine(mesh)                 # before meshing: a mesh beyond this machine is refused
+    check_machine(mesh)                 # before meshing: a mesh beyond the machine's memory is refused
     return mesh
 
 

@@ -79,7 +79,7 @@ def _generate(out: Path, params_file, velocities) -> str:
     params = load_parameters(params_file) if params_file is not None else VZParams.reference()
     if params_file is None:
         params_source = "paper (Vu-Quoc & Zhang 1999)"
-    else:  # repo-relative when inside the repo: results must not name this machine's paths
+    else:  # repo-relative when inside the repo: results must not name local absolute paths
         resolved = Path(params_file).resolve()
         params_source = display_path(resolved)
     pair = params.pair

@@ -29,7 +29,7 @@ from meshes.hemisphere import hemisphere_mesh, mesh_path
 
 @dataclass(frozen=True)
 class SweepResult:
-    """The rows in task order, and how many were computed now or reused from the folder."""
+    """The rows in task order, and how many were computed in this run or reused from the folder."""
     rows: list
     computed: int
     reused: int

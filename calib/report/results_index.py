@@ -1,0 +1,545 @@
+"""results/README.md: an index of a results folder, generated from its own summary files.
+
+``nfdcal results-readme [--out results] [--check]`` reads the summaries the commands write
+(``calibration/calibration.json``, ``parameters.json``, ``mesh_ladder*.csv``, ``wide_window.json``,
+``hertz/hertz.json``, ``collision/summary.json``, ``tables/*/``, ``stability/*.json``,
+``lammps/summary.json``) and writes ``README.md`` beside them: per folder its files, the command
+that regenerates them, its provenance stamp (code commit, mesh, wall time, date) and its key
+figures. Every number in the file is read from those summaries, so the index is never older than
+the results; a folder whose summary is missing is left out. ``render`` is a pure function of the
+folder's contents (no clock, no machine), so ``--check`` can compare it with the file on disk.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import math
+import re
+import textwrap
+from pathlib import Path
+
+from nfdmodel import reference_case
+
+README = "README.md"
+GENERATOR = "nfdcal results-readme"
+WIDTH = 110        # prose lines are wrapped to this width; table rows are not
+
+
+# ---------------------------------------------------------------- reading
+def read_json(path: Path) -> dict | None:
+    """The JSON object in ``path``, or None when the file does not exist."""
+    if not path.is_file():
+        return None
+    try:
+        return json.loads(path.read_text(encoding="utf-8"))
+    except json.JSONDecodeError as exc:
+        raise ValueError(f"{path}: not a JSON summary ({exc})") from None
+
+
+def _number(text: str):
+    try:
+        value = float(text)
+    except ValueError:
+        return text
+    return int(value) if text.lstrip("-").isdigit() else value
+
+
+def read_csv(path: Path) -> tuple[dict, list[dict]] | None:
+    """(stamp, rows) of a result CSV: its ``# key: json`` header lines and its records (numbers
+    parsed), or None when the file does not exist."""
+    if not path.is_file():
+        return None
+    lines = path.read_text(encoding="utf-8").splitlines()
+    stamp = {}
+    while lines and lines[0].startswith("#"):
+        key, _, value = lines.pop(0)[1:].strip().partition(": ")
+        stamp[key] = json.loads(value)
+    rows = [{k: _number(v) for k, v in row.items()} for row in csv.DictReader(lines)]
+    return stamp, rows
+
+
+# ---------------------------------------------------------------- formatting
+def pct(x: float, digits: int = 2) -> str:
+    """A relative quantity as a signed percentage: 0.0052 -> '+0.52 %'."""
+    return f"{100 * x:+.{digits}f} %"
+
+
+def apct(x: float, digits: int = 2) -> str:
+    """A relative size as an unsigned percentage: 0.0052 -> '0.52 %'."""
+    return f"{100 * abs(x):.{digits}f} %"
+
+
+def g(x, digits: int = 4) -> str:
+    """``x`` to ``digits`` significant digits; powers of ten written out only when very small or large."""
+    if x is None:
+        return "-"
+    if x != 0 and not 1e-3 <= abs(x) < 1e5:
+        return f"{x:.{digits - 1}e}"
+    return f"{x:.{digits}g}"
+
+
+def num(x: float, digits: int = 3) -> str:
+    """``x`` to ``digits`` significant digits, never in powers of ten (a time, a count): 1574.6 -> '1575'."""
+    if x == 0:
+        return "0"
+    decimals = max(0, digits - 1 - math.floor(math.log10(abs(x))))
+    return f"{x:.{decimals}f}"
+
+
+def span(values, fmt=pct) -> str:
+    """'low..high' of ``values`` in ``fmt``."""
+    values = sorted(values)
+    return f"{fmt(values[0])}..{fmt(values[-1])}"
+
+
+def table(header: list[str], rows: list[list]) -> list[str]:
+    """A Markdown table."""
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return out + [""]
+
+
+def provenance(stamp: dict) -> str:
+    """One line: the code commit, the mesh, the wall time and the date of a result."""
+    parts = [f"commit `{stamp.get('git_commit', 'unknown')}`"]
+    mesh = stamp.get("mesh")
+    if isinstance(mesh, dict) and "key" in mesh:
+        dofs = f"{mesh['dofs']} dofs, " if "dofs" in mesh else ""
+        parts.append(f"mesh `{mesh['key']}` ({dofs}contact element {mesh.get('contact_size', 0):g} m)")
+    elif isinstance(mesh, dict) and mesh:
+        parts.append("mesh " + ", ".join(f"{k} = {json.dumps(v)}" for k, v in mesh.items()))
+    if "wall_time_s" in stamp:
+        reused = f", {stamp['reused']} of {stamp['computed'] + stamp['reused']} cases reused" if "reused" in stamp else ""
+        parts.append(f"wall time {num(stamp['wall_time_s'])} s{reused}")
+    if "created_utc" in stamp:
+        parts.append(f"created {stamp['created_utc'][:10]}")
+    return "Provenance: " + "; ".join(parts) + "."
+
+
+def files_line(root: Path, *folders: Path) -> str:
+    """The files of ``folders`` (top level, not hidden) as links relative to ``root``."""
+    links = []
+    for folder in folders:
+        if folder.is_dir():
+            rel = folder.relative_to(root).as_posix()
+            names = sorted(p.name + ("/" if p.is_dir() else "") for p in folder.iterdir() if not p.name.startswith("."))
+            links += [f"[`{n}`]({rel}/{n})" for n in names]
+    return "Files: " + ", ".join(links) + "."
+
+
+def section(title: str, folders: Path | tuple, root: Path, command: str, stamp: dict | None) -> list[str]:
+    folders = folders if isinstance(folders, tuple) else (folders,)
+    lines = [f"## {title}", "", files_line(root, *folders), "", f"Regenerate: `{command}`."]
+    if stamp:
+        lines += ["", provenance(stamp)]
+    return lines + [""]
+
+
+# ---------------------------------------------------------------- sections
+def calibration(root: Path) -> list[str]:
+    folder = root / "calibration"
+    cal, params = read_json(folder / "calibration.json"), read_json(folder / "parameters.json")
+    if cal is None or params is None:
+        return []
+    rc = reference_case
+    top = max(cal["paths"], key=lambda p: p["P_max"])
+    radius, disc = cal["radius_fit"], cal["discretisation"]
+    P_Y, a_Y = params["P_Y"], params["a_Y"]
+    window = cal["window"]
+    lines = section("Reference calibration (`calibration/`)", folder, root, "nfdcal calibrate", cal["stamp"])
+    lines += [f"The material of `parameters.json`: E = {params['material']['E']:g} Pa, nu = "
+              f"{params['material']['nu']:g}, sigma_Y = {params['material']['sigma_y']:g} Pa, R = "
+              f"{params['material']['R']:g} m; law `{params['law']}`, the {cal['shipped_fit']} fit shipped. "
+              f"The paper: Vu-Quoc & Zhang (1999), Abaqus, 2141 CAX6 elements.", ""]
+    fine = f"(the {disc['contact_sizes'][0]:g} m mesh alone: {{}}, R^2 {{:.3f}}, SE {{}})"
+    lines += table(["quantity", "this FE", "paper"], [
+        ["P_Y, first yield of a quadrature point [N]", f"{cal['P_Y_fe']:.4g} (theory {P_Y:.4g})", g(rc.P_Y)],
+        [f"alpha at {top['P_max']:g} N [m]", g(top["alpha_max"]), g(rc.ALPHA_MAX_AFG)],
+        [f"e of the path to {top['P_max']:g} N", f"{top['e']:.4f}", g(rc.E_AFG)],
+        ["Ca [m/N], two meshes extrapolated", f"{g(cal['Ca'])}, estimated error {apct(cal['Ca_rel_error_estimate'])} "
+         + fine.format(g(radius["Ca"]), radius["Ca_r2"], apct(radius["Ca_se"] / radius["Ca"], 1)), g(rc.CA)],
+        ["Kc [1/N], the same", f"{g(cal['Kc'])}, estimated error {apct(cal['Kc_rel_error_estimate'])} "
+         + fine.format(g(radius["Kc"]), radius["Kc_r2"], apct(radius["Kc_se"] / radius["Kc"], 1)), g(rc.KC)],
+        ["Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (theory P_Y, a_Y)", f"{cal['Ca_hat']:.4f}, {cal['Kc_hat']:.4f}",
+         f"{rc.CA * P_Y / a_Y:.4f}, {rc.KC * P_Y:.4f}"],
+        ["calibrated window: P / P_Y, a_max / R", f"{window['P_min_over_P_Y']:.3g}..{window['P_max_over_P_Y']:.3g}, "
+         f"{window['a_max_over_R']:.3g}", ""],
+        ["wall time (both meshes) [s], factorisations of the first", f"{num(cal['wall_time_s'])}, "
+         f"{cal['timings']['factorizations']}", ""],
+    ])
+    labels = {"vz": f"vz, {cal['shipped_fit']} fit (shipped)"}
+    header = ["law"] + [f"e error, {p['P_max']:g} N" for p in cal["paths"]] + \
+             [f"force error / P_max, {p['P_max']:g} N" for p in cal["paths"]]
+    rows = [[labels.get(name, name)]
+            + [pct(p["models"][name]["e"] / p["e"] - 1, 1) for p in cal["paths"]]
+            + [apct(p["models"][name]["max_force_error_rel"], 1) for p in cal["paths"]]
+            for name in cal["paths"][0]["models"]]
+    lines += ["Each law driven along the FE's approach history of each path (`force_approach.png`): "
+              "its restitution against the FE's and its largest force error:", ""]
+    lines += table(header, rows)
+    force = cal["force_fit"]
+    lines += [f"The force fit: Ca = {g(force['Ca'])} m/N, Kc = {g(force['Kc'])} 1/N "
+              f"(the radius fit on the finer mesh: {g(radius['Ca'])}, {g(radius['Kc'])}).", ""]
+    return lines
+
+
+def _order(coarse: float, middle: float, fine: float) -> float:
+    """Observed convergence order of three rungs h, 2h, 4h."""
+    return math.log2((middle - coarse) / (fine - middle))
+
+
+def mesh_ladder(root: Path) -> list[str]:
+    folder = root / "calibration"
+    rungs, pairs = read_csv(folder / "mesh_ladder.csv"), read_csv(folder / "mesh_ladder_pairs.csv")
+    if rungs is None or pairs is None:
+        return []
+    stamp, rows = rungs
+    rows = sorted(rows, key=lambda r: -r["contact_size"])
+    by_h = {r["contact_size"]: r for r in pairs[1]}
+    lines = [f"## Mesh ladder of the reference calibration (`calibration/mesh_ladder*.csv`)", "",
+             "Regenerate: `nfdcal calibrate --ladder`.", "", provenance(stamp), ""]
+    out = []
+    for r in rows:
+        pair = by_h.get(r["contact_size"])
+        out.append([f"{r['contact_size'] * 1e6:g}", r["dofs"], f"{r['Ca'] * 1e7:.4f}", f"{r['Kc'] * 1e4:.4f}",
+                    f"{r['e_1500']:.4f}",
+                    f"{pct(r['Ca_rel_error_vs_converged'])}, {pct(r['Kc_rel_error_vs_converged'])}",
+                    num(r["wall_time_s"]),
+                    "" if pair is None else
+                    f"{pct(pair['Ca_rel_error_vs_converged'])} ({apct(pair['Ca_rel_error_estimate'])}), "
+                    f"{pct(pair['Kc_rel_error_vs_converged'])} ({apct(pair['Kc_rel_error_estimate'])})",
+                    "" if pair is None else num(pair["wall_time_parallel_s"])])
+    lines += table(["h [um]", "dofs", "Ca [1e-7 m/N]", "Kc [1e-4 1/N]", "e at 1500 N",
+                    "one mesh: Ca, Kc vs converged", "wall [s]",
+                    "pair (h, 2h) extrapolated: Ca, Kc vs converged (estimate)", "pair wall, 2 processes [s]"], out)
+    converged = {q: rows[-1][q] / (1 + rows[-1][f"{q}_rel_error_vs_converged"]) for q in ("Ca", "Kc")}
+    orders = {q: ", ".join(f"{_order(*(rows[i + k][q] for k in range(3))):.2f}" for i in range(len(rows) - 2))
+              for q in ("Ca", "Kc")}
+    e = [r["e_1500"] for r in rows]
+    alpha = [r["alpha_max_1500"] for r in rows]
+    lines += [f"Converged (finest rungs extrapolated): Ca = {g(converged['Ca'])} m/N, Kc = {g(converged['Kc'])} 1/N. "
+              f"Observed orders from three consecutive rungs: Ca {orders['Ca']}; Kc {orders['Kc']}. "
+              f"Over the ladder e moves by {apct(max(e) / min(e) - 1)}, alpha by {apct(max(alpha) / min(alpha) - 1)}.",
+              ""]
+    return lines
+
+
+def wide_window(root: Path) -> list[str]:
+    folder = root / "calibration"
+    data = read_json(folder / "wide_window.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    targets = stamp.get("targets", {})
+    lines = [f"## Wide windows: vz against vz-table (`calibration/wide_window.*`)", "",
+             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.wide_window')}`.", "",
+             provenance(stamp), "",
+             "Force error = max |P_law - P_FE| / P_max along loading and unloading; e error = the law's "
+             "quasi-static e against the FE path's; e collision = the law's own impact reaching that P_max"
+             + (f"; targets {apct(targets['force_error'], 0)} and {apct(targets['e_error'], 0)}." if targets else "."),
+             ""]
+    names = {"radius": "vz, radius fit", "force": "vz, force fit", "table": "vz-table"}
+    summary = []
+    for fit, name in names.items():
+        rows = [r for r in data["rows"] if r["fit"] == fit]
+        if rows:
+            summary.append([name, span([r["force_error"] for r in rows], apct), span([r["e_error"] for r in rows]),
+                            f"{sum(r['meets_target'] for r in rows)} of {len(rows)}"])
+    lines += table(["law, fitted over the whole window", "force error", "e error", "paths meeting both"], summary)
+    by_path = {}
+    for r in data["rows"]:
+        by_path.setdefault((r["E_over_sigma_y"], r["P_max_over_P_Y"]), {})[r["fit"]] = r
+    out = []
+    for (ratio, load), fits in sorted(by_path.items()):
+        cells = [f"{fits[f]['force_error'] * 100:.1f} %, {pct(fits[f]['e_error'])}" if f in fits else "-" for f in names]
+        table_fit = fits.get("table")
+        out.append([f"{ratio:g}", f"{load:.0f}", *cells,
+                    pct(table_fit["e_collision_error"]) if table_fit else "-"])
+    lines += table(["E/sigma_Y", "P_max/P_Y"] + [f"{n}: force, e error" for n in names.values()]
+                   + ["vz-table, e collision error"], out)
+    for m in data["materials"]:
+        if m.get("unreachable"):
+            lines += [f"At E/sigma_Y = {m['E_over_sigma_y']:g} the FE reaches {m['reach_over_P_Y']:.0f} P_Y: the paths "
+                      f"to {', '.join(f'{x:g}' for x in m['unreachable'])} P_Y are beyond it.", ""]
+    return lines
+
+
+def hertz(root: Path) -> list[str]:
+    folder = root / "hertz"
+    data = read_json(folder / "hertz.json")
+    if data is None:
+        return []
+    top = data["top_load"]
+    lines = section("Elastic FE against Hertz (`hertz/`)", folder, root, "nfdcal hertz && nfdcal hertz --ladder",
+                    data["stamp"])
+    lines += table(["at P = %g N" % round(top["P"]), "relative error"], [
+        ["contact radius", pct(top["contact_radius_rel_error"])],
+        ["peak pressure", pct(top["peak_pressure_rel_error"])],
+        ["approach alpha", pct(top["alpha_rel_error"])],
+        ["contact force against the plate's reaction", g(top["contact_force_rel_error"], 2)],
+    ])
+    lines += [f"Largest contact-radius error above first yield: {data['max_abs_contact_radius_error_m_above_36N'] * 1e6:.2f}"
+              f" um. The approach follows alpha_Hertz - alpha_FE = k P / (E* R), k = "
+              f"{data['alpha_finite_size']['coefficient_k']:.3f}: the finite hemisphere with a rigid top is "
+              "stiffer than Hertz's half-space.", ""]
+    ladder = read_csv(folder / "mesh_ladder.csv")
+    if ladder:
+        rows = [[f"{r['contact_size'] * 1e6:g}", r["n_dofs"], pct(r["contact_radius_gap_rel_error"]),
+                 f"{r['contact_radius_pressure_max_abs_error_m'] * 1e6:.3g}", pct(r["peak_pressure_rel_error"]),
+                 pct(r["alpha_rel_error"]), f"{r['finite_size_coefficient']:.3f}", num(r["wall_time_s"])]
+                for r in sorted(ladder[1], key=lambda r: -r["contact_size"])]
+        lines += ["Mesh ladder (`mesh_ladder.csv`, " + provenance(ladder[0])[len("Provenance: "):-1] + "):", ""]
+        lines += table(["h [um]", "dofs", "contact radius error", "worst radius error above P_Y [um]",
+                        "peak pressure error", "alpha error", "k", "wall [s]"], rows)
+    return lines
+
+
+def collision(root: Path) -> list[str]:
+    folder = root / "collision"
+    data = read_json(folder / "summary.json")
+    if data is None:
+        return []
+    case, vz, th = data["case"], data["restitution_vz"], data["restitution_thornton"]
+    window = data["vz_window"]
+    lines = section("Collisions of the runtime laws (`collision/`)", folder, root,
+                    data["stamp"].get("command", "nfdcal collide --report"), data["stamp"])
+    lines += [f"Sphere on a rigid flat: R = {case['R']:g} m, mass {g(case['mass'])} kg, P_Y = {g(case['P_Y'])} N, "
+              f"a_Y = {g(case['a_Y'])} m, delta_Y = {g(case['delta_Y'])} m, v_Y = {g(case['v_Y'])} m/s, "
+              f"A_Y = {case['A_Y']:.5g}; vz constants from `{data['params_source']}` (Ca = {g(case['Ca'])} m/N, "
+              f"Kc = {g(case['Kc'])} 1/N), window to {window['P_max_over_P_Y']:.3g} P_Y; dt = {vz['dt']:g} s.", ""]
+    rows = [[f"{v:g}", f"{v / case['v_Y']:.1f}", f"{ev:.4f}", f"{et:.4f}", "yes" if inside else "no"]
+            for v, ev, et, inside in zip(vz["v_in"], vz["e_velocity"], th["e_velocity"],
+                                         window["in_calibrated_range"])]
+    lines += table(["v_in [m/s]", "v_in / v_Y", "e, vz", "e, thornton", "vz inside its window"], rows)
+    tc = data["thornton_closed_form_check"]
+    lines += [f"e from velocities against e from energies: within {g(vz['max_relative_difference_e_velocity_e_energy'], 2)}"
+              f" (vz), {g(th['max_relative_difference_e_velocity_e_energy'], 2)} (thornton); against the exact "
+              f"energy balance: {g(vz['max_relative_error_vs_exact'], 2)}, {g(th['max_relative_error_vs_exact'], 2)}; "
+              f"Thornton's closed form (paper eq. 1.11): {g(tc['max_relative_error'], 2)}.", ""]
+    impact = data.get("impact_vz_v0.04")
+    if impact:
+        lines += [f"The vz impact at 0.04 m/s: P_max = {g(impact['P_max'])} N, delta_max = {g(impact['delta_max'])} m, "
+                  f"residual {g(impact['delta_res'])} m, contact time {g(impact['contact_time'])} s.", ""]
+    dt_rows = [[r["law"], f"{r['dt']:g}", r["steps"], g(r["error_e_velocity"], 2), g(r["error_P_max"], 2),
+                num(r["wall_time_s"] * 1e3)] for r in data["dt_convergence"]]
+    lines += ["Time-step convergence (largest error over the sweep's velocities, `dt_convergence.csv`):", ""]
+    lines += table(["law", "dt [s]", "steps", "e error", "P_max error", "wall [ms]"], dt_rows)
+    return lines
+
+
+def _range(rows, key, fmt=apct) -> str:
+    return span([r[key] for r in rows], fmt)
+
+
+def master_table(root: Path) -> list[str]:
+    folder = root / "tables" / "master_grid"
+    data = read_json(folder / "table.json")
+    if data is None:
+        return []
+    rows = [r for r in data["rows"] if r["status"] == "ok"]
+    nus = sorted({r["nu"] for r in rows})
+    ratios = sorted({r["E_over_sigma_y"] for r in rows})
+    lines = section("The master table (`tables/master_grid/`, `tables/master_validation/`)",
+                    (folder, root / "tables" / "master_validation"), root,
+                    "nfdcal table master_grid --master-out calib/data/master_table.csv --accuracy ... "
+                    "&& nfdcal table master_validation --check-master", data["stamp"])
+    lines += [f"{len(rows)} nodes of {len(data['rows'])}: nu in {{{', '.join(f'{v:g}' for v in nus)}}} x "
+              f"E/sigma_Y in {{{', '.join(f'{v:g}' for v in ratios)}}}; {sum(r['fe_wall_time_s'] for r in rows) / 60:.0f}"
+              f" min of FE time; {min(r['dofs'] for r in rows)}-{max(r['dofs'] for r in rows)} dofs on the finer mesh.",
+              ""]
+    lines += table(["per node", "Ca_hat", "Kc_hat"], [
+        ["estimated discretisation error (two meshes)", _range(rows, "Ca_hat_rel_error_estimate"),
+         _range(rows, "Kc_hat_rel_error_estimate")],
+        ["fit standard error", span([r["Ca_se"] / r["Ca"] for r in rows], apct),
+         span([r["Kc_se"] / r["Kc"] for r in rows], apct)],
+        ["fit R^2", span([r["Ca_r2"] for r in rows], lambda x: f"{x:.3f}"),
+         span([r["Kc_r2"] for r in rows], lambda x: f"{x:.3f}")],
+    ])
+    check = read_json(root / "tables" / "master_validation" / "master_check.json")
+    if check:
+        lines += [f"Interpolation (PCHIP) against direct FE mid-cell (`master_validation/master_check.json`, "
+                  f"limits {apct(check['stamp']['limits']['Ca_hat'], 0)} and {apct(check['stamp']['limits']['Kc_hat'], 0)}):", ""]
+        lines += table(["nu", "E/sigma_Y", "Ca_hat error", "Kc_hat error", "within limits"],
+                       [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", pct(r["Ca_hat_error"]), pct(r["Kc_hat_error"]),
+                         "yes" if r["within_limits"] else "no"] for r in check["rows"]])
+    stiffest = max(ratios)
+    base = {r["nu"]: r for r in rows if r["E_over_sigma_y"] == stiffest}
+    out = []
+    for ratio in sorted(ratios, reverse=True)[1:]:
+        cell = [r for r in rows if r["E_over_sigma_y"] == ratio and r["nu"] in base]
+        out.append([f"{ratio:g}", span([r["window_a_max_over_R"] for r in cell], lambda x: f"{x:.3g}"),
+                    span([r["Ca_hat"] / base[r["nu"]]["Ca_hat"] - 1 for r in cell], lambda x: pct(x, 1)),
+                    span([r["Kc_hat"] / base[r["nu"]]["Kc_hat"] - 1 for r in cell], lambda x: pct(x, 1))])
+    lines += [f"Do the constants depend on nu alone when a << R? Each node against its E/sigma_Y = {stiffest:g} "
+              "value, over all nu:", ""]
+    lines += table(["E/sigma_Y", "a_max / R", "Ca_hat change", "Kc_hat change"], out)
+    reference = read_json(root / "calibration" / "calibration.json")
+    node = next((r for r in rows if r["nu"] == reference_case.NU
+                 and r["E_over_sigma_y"] == reference_case.E / reference_case.SIGMA_Y), None)
+    if node and reference:
+        lines += [f"The node (nu, E/sigma_Y) = ({node['nu']:g}, {node['E_over_sigma_y']:g}): Ca_hat = {node['Ca_hat']:.4g}, "
+                  f"Kc_hat = {node['Kc_hat']:.4g}, against the reference calibration's {reference['Ca_hat']:.4g}, "
+                  f"{reference['Kc_hat']:.4g} ({pct(node['Ca_hat'] / reference['Ca_hat'] - 1, 1)}, "
+                  f"{pct(node['Kc_hat'] / reference['Kc_hat'] - 1, 1)}; its paths also unload).", ""]
+    return lines
+
+
+def stability(root: Path) -> list[str]:
+    folder = root / "stability"
+    runtime, fe, fuzz = (read_json(folder / n) for n in ("runtime_stability.json", "fe_stability.json", "fuzz.json"))
+    if runtime is None and fe is None and fuzz is None:
+        return []
+    lines = [f"## Stability (`stability/`)", "", files_line(root, folder), ""]
+    if runtime:
+        s = runtime["summary"]
+        lines += [f"**Runtime** (`{runtime['stamp'].get('command', 'nfdcal stability')} --runtime`): {s['cases']} "
+                  f"cases, " + ", ".join(f"{n} {k}" for k, n in s["outcomes"].items())
+                  + f", {len(s['failures'])} failures; the backends disagree on {len(s.get('backends_disagree', []))}; "
+                  f"at most {s['newton_max']} Newton iterations. " + provenance(runtime["stamp"]), ""]
+        lines += table(["backend", "cases", "outcomes"],
+                       [[name, b["cases"], ", ".join(f"{n} {k}" for k, n in b["outcomes"].items())]
+                        for name, b in s.get("backends", {}).items()])
+        worst = [[group, ", ".join(f"{k} {g(v, 2)}" for k, v in errs.items())]
+                 for group, errs in s["worst_errors_of_ok_rows"].items()]
+        lines += table(["group", "largest error of the cases that ran"], worst)
+    if fe:
+        s = fe["summary"]
+        lines += [f"**FE** (`nfdcal stability --fe`): {s['runs']} runs, "
+                  + ", ".join(f"{n} {k}" for k, n in s["outcomes"].items()) + f", {len(s['failures'])} failures; "
+                  f"at most {s['newton_max']} Newton iterations. " + provenance(fe["stamp"]), ""]
+        cases = {}
+        for r in fe["rows"]:
+            cases.setdefault(r["case"], []).append(r)
+        out = []
+        for name, runs in cases.items():
+            fine = min(runs, key=lambda r: r["mesh_ratio"])
+            if fine["outcome"] != "ok":
+                out.append([name, fine["outcome"].split(":")[0], "", "", "", ""])
+                continue
+            out.append([name, "ok", f"{fine['Ca_hat']:.4g}, {fine['Kc_hat']:.4g}", f"{fine['e']:.3f}",
+                        ", ".join(pct(fine[k] or 0.0, 1) for k in ("Ca_hat_mesh_change", "Kc_hat_mesh_change")),
+                        fine["newton_max"]])
+        lines += table(["case", "outcome", "Ca_hat, Kc_hat", "e", "mesh change Ca_hat, Kc_hat", "Newton max"], out)
+    if fuzz:
+        lines += [f"**Command-line fuzzer** (`{fuzz['stamp']['command']}`): slowest case "
+                  f"{fuzz['slowest_case_s']:.2g} s. " + provenance(fuzz["stamp"]), ""]
+        lines += table(["command", "cases", "successes", "clean errors", "failures"],
+                       [[r["command"], r["cases"], r["successes"], r["clean_errors"], r["failures"]]
+                        for r in fuzz["rows"]])
+    for path in sorted(folder.glob("mesh_ladder_nu*.csv")):
+        stamp, rows = read_csv(path)
+        rows = sorted(rows, key=lambda r: -r["contact_size"])
+        lines += [f"**Mesh ladder at nu = {rows[0]['nu']:g}** (`{path.name}`, `nfdcal calibrate --ladder --nu "
+                  f"{rows[0]['nu']:g} --out results/stability`): no volumetric locking if the coarse meshes are not "
+                  "stiffer. " + provenance(stamp), ""]
+        lines += table(["h [um]", "dofs", "Ca [1e-7 m/N]", "Kc [1e-4 1/N]", "e at 1500 N",
+                        "change vs finest: alpha, contact radius, Ca, Kc"],
+                       [[f"{r['contact_size'] * 1e6:g}", r["dofs"], f"{r['Ca'] * 1e7:.4f}", f"{r['Kc'] * 1e4:.4f}",
+                         f"{r['e_1500']:.4f}", ", ".join(pct(r[f"{q}_rel_change_vs_finest"]) for q in
+                                                         ("alpha_max_1500", "contact_radius_1500", "Ca", "Kc"))]
+                        for r in rows])
+    return lines
+
+
+def lammps(root: Path) -> list[str]:
+    folder = root / "lammps"
+    data = read_json(folder / "summary.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    lines = section("LAMMPS: the plugin against LAMMPS' granular styles (`lammps/`)", folder, root,
+                    stamp.get("command", "python tests/benchmarks/bench_lammps.py"), stamp)
+    lines += [f"LAMMPS {stamp.get('lammps', '?')}, {stamp['spheres']} spheres, best of {stamp['repeat']}. The pile: "
+              f"{stamp['settle_steps']} settling steps ({num(stamp['settle_loop_s'])} s) to {stamp['settle_contacts_end']}"
+              f" contacts, coordination {stamp['settle_coordination_end']:.3g}, kinetic energy "
+              f"{stamp['settle_ke_end_J'] / stamp['settle_ke_peak_J']:.2g} of its peak; then {stamp['pile_steps']} "
+              f"timed steps.", ""]
+    pairs = {}
+    for r in data["timing"]:
+        pairs.setdefault((r["scene"], r["ranks"]), []).append(r)
+    out = []
+    for (scene, ranks), runs in pairs.items():
+        nfd = next(r for r in runs if r["contact"].startswith("nfd"))
+        ref = next(r for r in runs if not r["contact"].startswith("nfd"))
+        cell = lambda r: (f"{num(r['us_per_step'])} us (pair {num(r['pair_us_per_step'])}, fixes "
+                          f"{num(r['modify_us_per_step'])})")
+        per_contact = lambda r: "-" if r["ns_per_contact_step"] is None else f"{r['ns_per_contact_step']:.0f} ns"
+        contacts = lambda r: "-" if r["contacts_at_end"] is None else f"{r['contacts_at_end']}"
+        out.append([scene, ranks, cell(nfd), cell(ref), f"{nfd['ratio_to_granular']:.2f}",
+                    f"{per_contact(nfd)}, {per_contact(ref)}", f"{contacts(nfd)}, {contacts(ref)}"])
+    lines += table(["scene", "ranks", "nfd/vz + nfd/wall/vz per step", "granular hertz/material + wall/gran",
+                    f"ratio (target <= {data['target']:g})", "per contact: nfd, granular", "contacts at end"], out)
+    rows = [[f"{r['v_in_over_v_Y']:g}", f"{r['P_max_over_P_Y']:.3g}", f"{r['e_reference_nfdmodel']:.4f}",
+             f"{r['e_nfd_vz_lammps']:.4f}", f"{r['e_mdr_lammps']:.4f}", g(r["nfd_minus_reference"], 2),
+             "yes" if r["in_calibrated_window"] else "no"] for r in data["restitution"]]
+    lines += ["Restitution of two aluminium spheres head-on (`restitution.csv`): nfdmodel, the plugin and "
+              "LAMMPS' `granular mdr`:", ""]
+    lines += table(["v_in / v_Y", "P_max / P_Y", "e, nfdmodel", "e, nfd/vz", "e, mdr", "nfd/vz - nfdmodel",
+                    "inside the window"], rows)
+    return lines
+
+
+def other(root: Path) -> list[str]:
+    known = {"calibration", "hertz", "collision", "tables", "stability", "lammps", README}
+    rest = sorted(p.name + ("/" if p.is_dir() else "") for p in root.iterdir()
+                  if not p.name.startswith(".") and p.name not in known)
+    if (root / "tables").is_dir():     # parameter tables of other scenes
+        rest += sorted(f"tables/{p.name}/" for p in (root / "tables").iterdir()
+                       if p.is_dir() and p.name not in ("master_grid", "master_validation"))
+    if not rest:
+        return []
+    lines = ["## Other files", ""]
+    notes = {"linear_solvers.md": " (the FE's sparse direct solver against the alternatives; "
+                                  "`tests/benchmarks/bench_linear_solvers.py`)"}
+    lines += [f"- [`{n}`]({n}){notes.get(n, '')}" for n in rest]
+    return lines + [""]
+
+
+SECTIONS = (calibration, mesh_ladder, wide_window, hertz, collision, master_table, stability, lammps, other)
+
+
+def read_section(make, root: Path) -> list[str]:
+    """``make(root)``; a summary without what the index reads (another version's, a damaged one) is
+    a ValueError naming the section, never a traceback."""
+    try:
+        return make(root)
+    except (KeyError, TypeError, IndexError, AttributeError, ZeroDivisionError, StopIteration) as exc:
+        raise ValueError(f"the summary files of the section '{make.__name__}' lack what the index reads "
+                         f"({type(exc).__name__}: {exc}); regenerate them") from None
+
+
+def render(root: str | Path) -> str:
+    """The text of ``root``/README.md, from the summary files under ``root``."""
+    root = Path(root)
+    if not root.is_dir():
+        raise ValueError(f"no results folder at {root} (run a command that writes results first)")
+    bodies = [lines for lines in (read_section(s, root) for s in SECTIONS) if lines]
+    titles = [b[0][3:] for b in bodies]
+    anchor = lambda t: "".join(c for c in t.lower().replace(" ", "-") if c.isalnum() or c in "-_")
+    head = ["# Results", "",
+            f"Generated by `{GENERATOR}` from the summary files in this folder: do not edit it by hand.",
+            f"`{GENERATOR} --check` exits 1 when this file differs from what the summaries give. Each section",
+            "names its files, the command that regenerates them and their provenance (code commit, mesh, wall time,",
+            "date)."]
+    guides = [name for name in ("README.md", "calib/README.md", "nfdmodel/README.md") if (root.parent / name).is_file()]
+    if guides:   # inside a checkout: where the quantities are defined
+        head += ["What the quantities mean: " + ", ".join(f"[{n}](../{n})" for n in guides) + "."]
+    head += ["", "Contents:", ""] + [f"- [{t}](#{anchor(t)})" for t in titles] + [""]
+    lines = [wrap(line) for line in head + [line for body in bodies for line in body]]
+    return "\n".join(lines).rstrip("\n") + "\n"
+
+
+def wrap(line: str) -> str:
+    """A prose line (or list item) folded to ``WIDTH``; headings and table rows as they are."""
+    if len(line) <= WIDTH or line.startswith(("|", "#")):
+        return line
+    indent = "  " if line.startswith("- ") else ""
+    rows = textwrap.wrap(line, WIDTH, subsequent_indent=indent, break_long_words=False, break_on_hyphens=False)
+    for i in range(1, len(rows)):   # a continuation must not read as Markdown (a list item, a heading, a table)
+        while MARKUP_START.match(rows[i]) and " " in rows[i - 1].strip():
+            head, _, word = rows[i - 1].rpartition(" ")
+            rows[i - 1], rows[i] = head, indent + word + " " + rows[i].lstrip()
+    return "\n".join(rows)
+
+
+MARKUP_START = re.compile(r"^\s*([-+*>#=|]|\d+[.)])(\s|$)")
