@@ -7,7 +7,7 @@
  * delta: the approach ("overlap") of the two centres [m]; history: the contact's turning point
  * (all zeros for a virgin contact); force: the normal force [N] (>= 0); new_history: the
  * trial history of this step (commit it by copying it over `history` once the step is
- * accepted). The laws are those of nfdmodel (README, The model; nfdmodel/reference.py is the
+ * accepted). The laws are those of nfdmodel (nfdmodel/README.md, The model; nfdmodel/reference.py is the
  * plain Python transcription, branch by branch):
  *
  *   hertz          P = (4/3) E* sqrt(R*) <delta>^(3/2)                       (no history)

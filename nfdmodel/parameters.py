@@ -3,7 +3,7 @@
 ``VZParams``: the Vu-Quoc & Zhang (1999) NFD law's pair and its two constants, the plastic
 contact-radius rate Ca [m/N] (a_p = Ca <P - P_Y>) and the curvature rate Kc [1/N]
 (C_R = 1 + Kc <P - P_Y>); in dimensionless form Ca_hat = Ca P_Y / a_Y and Kc_hat = Kc P_Y
-(README, The model: Dimensionless constants). A pair of constants is admissible when the
+(nfdmodel/README.md, The reference case and the dimensionless constants). A pair of constants is admissible when the
 loading curve delta(P) increases monotonically (up to 1e8 P_Y) and no load-unload cycle creates
 energy (restitution e <= 1, up to 1e6 P_Y). ``WaltonBraunParams``: the loading and unloading
 stiffnesses K1 <= K2 [N/m] of Walton & Braun (1986).
@@ -47,7 +47,7 @@ class VZParams:
 
     Validation also requires the loading curve delta(P) = a_ep^2 / (C_R R*) to increase with P
     (checked for P_Y <= P <= 1e8 P_Y); otherwise the displacement-driven force is not unique.
-    Dimensionless forms (README, The model: Dimensionless constants): Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y.
+    Dimensionless forms (nfdmodel/README.md, The reference case and the dimensionless constants): Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y.
     window: the loads the constants were fitted on (:class:`CalibrationWindow`); None when not
     stated, and then no contact is flagged as beyond it.
     """

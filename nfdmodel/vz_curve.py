@@ -5,7 +5,7 @@ a_e = (3 P R* / (4 E*))^(1/3) and the plastic radius a_p = Ca <P - P_Y> (paper e
 sphere's curvature radius is C_R R* with C_R = 1 + Kc <P - P_Y> (paper eq. 3.6), and the
 approach is delta = a_ep^2 / (C_R R*) (paper eqs. 3.4-3.5). Driven by displacement, the force
 on the loading curve is the root P >= P_Y of the corrected Newton function (paper eq. 3.14
-with its dimensional misprint fixed; README, The model: The NFD law on loading)
+with its dimensional misprint fixed; nfdmodel/README.md, The NFD law on loading)
 
     F(P) = (P - P_Y) + c1 P^(1/3) - sqrt((1 + Kc (P - P_Y)) R* delta) / Ca = 0,
     c1 = (3 R* / (4 E*))^(1/3) / Ca  [N^(2/3)].

@@ -33,7 +33,7 @@ def test_paths_reach_their_peaks_and_return_to_zero(coarse_result):
 
 
 def test_coarse_fit_is_within_its_discretisation_error(coarse_result):
-    """Against the default-mesh calibration (README: Ca 2.32e-7 m/N, Kc 2.98e-4 1/N): the mesh
+    """Against the default-mesh calibration (results/calibration: Ca 2.32e-7 m/N, Kc 2.98e-4 1/N on that mesh): the mesh
     ladder measured the 1.6e-4 m mesh 6.8 % (Ca) and 11 % (Kc) off the default mesh on the
     reference paths; this shorter, coarser-stepped plan stays within 8 % and 15 %."""
     fit = coarse_result.radius_fit
@@ -191,7 +191,7 @@ def test_readme_reference_numbers_at_the_default_mesh():
     assert s["mesh"]["dofs"] == 12112 and s["mesh"]["elements"] == 2939
     assert round(s["P_Y_fe"], 2) == 36.37 and round(s["P_Y"], 2) == 36.64
     assert round(afg["alpha_max"], 8) == 1.557e-5 and round(afg["e"], 3) == 0.739
-    # shipped: two meshes extrapolated (README, Mesh convergence), within 0.5 % / 1 % of the
+    # shipped: two meshes extrapolated (calib/README.md, Mesh convergence), within 0.5 % / 1 % of the
     # ladder's converged values, each with its error estimate; the 4e-5 m mesh's own fit beside
     assert float(f"{s['Ca']:.4g}") == 2.365e-7 and float(f"{s['Kc']:.4g}") == 3.091e-4
     assert round(s["Ca_rel_error_estimate"], 4) == 0.0052 and round(s["Kc_rel_error_estimate"], 4) == 0.0085

@@ -139,7 +139,7 @@ def test_shipped_master_table_covers_its_grid_and_states_its_accuracy():
     table = MasterTable.load()
     assert "off-grid" in table.meta["accuracy"] and "recipe" in table.meta["accuracy_details"]
     values = table.parameters(70e9, 0.3, 100e6, 0.1)  # the reference case, a grid node
-    assert values["Ca"] == pytest.approx(2.365e-7, rel=0.01)  # README: 2.365e-7 m/N, the reference calibration (two meshes)
+    assert values["Ca"] == pytest.approx(2.365e-7, rel=0.01)  # results/calibration/parameters.json: 2.365e-7 m/N (two meshes)
     assert table.nu[0] == 0.0 and table.nu[-1] == 0.49                       # the table's stated range
     assert table.E_over_sigma_y[0] == 50.0 and table.E_over_sigma_y[-1] == 5000.0
 
