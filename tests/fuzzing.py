@@ -24,6 +24,7 @@ results/stability/).
 from __future__ import annotations
 
 import contextlib
+import importlib.util
 import io
 import json
 import os
@@ -126,6 +127,38 @@ IMPACT_ROWS = (("0.002", "0.94"), ("0.01", "0.83"), ("0.05", "0.68"), ("0.2", "0
 CSV_CELLS = ("", "nan", "-1", "0", "1.5", "1e400", "text", "inf", "0.5", "1e-9")
 
 
+# a quasi-static load-unload cycle of the paper's sphere (approach [m], force [N]), two specimens
+APPROACH_ROWS = (("0", "0", "a"), ("2e-6", "150", "a"), ("5e-6", "560", "a"), ("8e-6", "1050", "a"),
+                 ("7e-6", "640", "a"), ("6.2e-6", "300", "a"), ("5.6e-6", "0", "a"),
+                 ("0", "0", "b"), ("4e-6", "420", "b"), ("9e-6", "1250", "b"), ("8e-6", "700", "b"))
+# the mistakes users make in a data file: units (mm/s, kN, mm), decimal commas, a second header
+DATA_SLIPS = (lambda v: repr(float(v) * 1e3), lambda v: repr(float(v) * 1e-3), lambda v: v.replace(".", ","),
+              lambda v: v + "_0", lambda v: "-" + v)
+
+
+@st.composite
+def approach_text(draw) -> str:
+    """A force-approach CSV: the valid cycles with cells replaced, a unit slip on a column, the
+    test column dropped, rows removed, or truncated now and then."""
+    header = ["approach", "force", "test"]
+    rows = [list(r) for r in APPROACH_ROWS]
+    if rarely(draw, 4):
+        column = draw(st.integers(0, 1))
+        slip = draw(st.sampled_from(DATA_SLIPS))
+        for row in rows:
+            row[column] = slip(row[column])
+    for _ in range(draw(st.integers(0, 2))):
+        rows[draw(st.integers(0, len(rows) - 1))][draw(st.integers(0, 2))] = draw(st.sampled_from(CSV_CELLS))
+    if rarely(draw, 5):
+        header, rows = header[:2], [r[:2] for r in rows]
+    if rarely(draw, 6):
+        del rows[draw(st.integers(0, len(rows) - 1)):]
+    text = "\n".join(",".join(r) for r in [header] + rows) + "\n"
+    if rarely(draw, 10):
+        text = text[:draw(st.integers(0, len(text)))]
+    return text
+
+
 @st.composite
 def impacts_text(draw) -> str:
     """A drop-test CSV (or force-approach data under the same name): the valid one with cells
@@ -139,6 +172,12 @@ def impacts_text(draw) -> str:
         header[draw(st.integers(0, 1))] = draw(st.sampled_from(("V_in", "e ", "P_max", "approach", "")))
     if rarely(draw, 8):
         header, rows = ["approach", "force"], [["1e-6", "10"], ["2e-6", "30"], ["1e-6", "5"], ["5e-7", "0"]]
+    if rarely(draw, 5):                          # a unit slip on a whole column (v_in in mm/s, ...)
+        column = draw(st.integers(0, 1))
+        slip = draw(st.sampled_from(DATA_SLIPS))
+        for row in rows:
+            if row[column] not in CSV_CELLS:
+                row[column] = slip(row[column])
     text = "\n".join(",".join(r) for r in [header] + rows) + "\n"
     if rarely(draw, 10):
         text = text[:draw(st.integers(0, len(text)))]
@@ -192,10 +231,14 @@ COMMANDS = {
     "fit-data": {"--impacts": 1, "--force-approach": 1, "--free": 0, "--pair": 0, "--table": 1, "--params-out": 1, "--plot": 1,
                  "--overwrite": 0, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "export": {"ENGINE": 1, "--params": 1, "--type": 1, "--wall": 2, "--json": 0},
+    # build and path: the plugin comes from a cache seeded with one build (--force would compile each case)
+    "lammps": {"ACTION": 1, "--out": 1, "--json": 0},
+    "results-readme": {"--out": 1, "--check": 0, "--json": 0},
 }
 REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",),
-            "fit-data": ("--impacts", "--E", "--nu", "--R", "--rho"), "export": ("ENGINE", "--params")}
-POSITIONAL = ("SCENE", "ENGINE")          # a command's positional argument, first after its name
+            "fit-data": ("--impacts", "--E", "--nu", "--R", "--rho"), "export": ("ENGINE", "--params"),
+            "lammps": ("ACTION",)}
+POSITIONAL = ("SCENE", "ENGINE", "ACTION")   # a command's positional argument, first after its name
 FE_COMMANDS = ("calibrate", "hertz", "run", "table")
 LAWS = ("vz", "vz-table", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
 OUTPUT_FLAGS = ("--out", "--params-out", "--master-out", "--plot")
@@ -221,8 +264,10 @@ def path_value(flag: str):
         return st.sampled_from(("input.json",) * 6 + ("missing.json", "folder", "scene.toml"))
     if flag == "--table":
         return st.sampled_from(("missing.csv", "folder", "input.json", "scene.toml"))
-    if flag in ("--impacts", "--force-approach"):
-        return st.sampled_from(("impacts.csv",) * 6 + ("missing.csv", "folder", "input.json"))
+    if flag == "--impacts":
+        return st.sampled_from(("impacts.csv",) * 6 + ("missing.csv", "folder", "input.json", "approach.csv"))
+    if flag == "--force-approach":
+        return st.sampled_from(("approach.csv",) * 6 + ("missing.csv", "folder", "impacts.csv"))
     return st.sampled_from(("scene.toml",) * 6 + ("reference", "steel", "master_grid", "missing.toml",
                                                   "folder", "bogus"))
 
@@ -232,6 +277,8 @@ def flag_values(flag: str, count, hostile: bool):
         return st.lists(st.sampled_from(LAWS), min_size=1, max_size=1)
     if flag == "--ship":
         return st.lists(st.sampled_from(("radius", "force", "table", "both", "")), min_size=1, max_size=1)
+    if flag == "ACTION":
+        return st.lists(st.sampled_from(("build", "path", "path", "bogus", "")), min_size=1, max_size=1)
     if flag == "ENGINE":
         return st.lists(st.sampled_from(("lammps",) * 4 + ("LAMMPS", "liggghts", "")), min_size=1, max_size=1)
     if flag == "--wall":                     # FACE COORD
@@ -273,7 +320,7 @@ def command_case(draw) -> Case:
     if rarely(draw, 15):                         # an unknown flag or a stray token
         argv.insert(draw(st.integers(1, len(argv))), draw(st.sampled_from(("--bogus", "-x", "extra", "--", "-1e-3"))))
     files = {"input.json": draw(parameter_text()), "scene.toml": draw(scene_text()),
-             "existing.json": "{}\n", "impacts.csv": draw(impacts_text())}
+             "existing.json": "{}\n", "impacts.csv": draw(impacts_text()), "approach.csv": draw(approach_text())}
     return Case(argv=argv, files=files)
 
 
@@ -350,6 +397,8 @@ def judge(case: Case, sandbox: Path, code, stdout: str, stderr: str, before: dic
         if name in after and name.endswith((".json", ".csv")) and path.is_file() and \
                 NON_FINITE.search(path.read_text(encoding="utf-8", errors="replace")):
             return f"FAIL: NaN or inf written to {name}"
+    if code == 1 and case.command == "results-readme" and "--check" in case.argv and stdout.strip() and not others:
+        code = 0                                  # --check's answer "stale or missing" is its exit code 1
     if code == 0:
         if others:
             return f"FAIL: exit 0 with stderr {others[0][:120]!r}"
@@ -378,10 +427,30 @@ def materialize(case: Case, sandbox: Path) -> None:
         (sandbox / "link.json").symlink_to("existing.json")
 
 
+PLUGIN_CACHE = {}
+
+
+def seed_plugin_cache(sandbox: Path) -> None:
+    """The sandbox's cache holds a build of the LAMMPS plugin (hard links to one build made once
+    in the user's cache), so `nfdcal lammps build | path` cases do not compile each time."""
+    if "folder" not in PLUGIN_CACHE:
+        from calib.commands import lammps as lammps_command
+
+        PLUGIN_CACHE["folder"] = Path(lammps_command.build_plugin()["path"]).parent
+    built = PLUGIN_CACHE["folder"]
+    target = sandbox / "cache" / "nfdcal" / "lammps" / built.name
+    target.mkdir(parents=True, exist_ok=True)
+    for path in built.iterdir():
+        if path.is_file() and not (target / path.name).exists():
+            os.link(path, target / path.name)
+
+
 def run_case(case: Case, sandbox: Path, timeout_s: float = 60.0) -> Outcome:
     """Run ``case`` in ``sandbox`` (its working folder and mesh cache) and judge the outcome."""
     sandbox = Path(sandbox)
     materialize(case, sandbox)
+    if case.command == "lammps" and importlib.util.find_spec("lammps") is not None:
+        seed_plugin_cache(sandbox)
     before = snapshot(sandbox)
     stdout, stderr = io.StringIO(), io.StringIO()
     cwd, cache = os.getcwd(), os.environ.get("XDG_CACHE_HOME")
