@@ -89,3 +89,14 @@ def test_dry_run_names_the_folder_it_would_write(tmp_path, capsys):
     plan = json.loads(capsys.readouterr().out)
     assert plan["out"] == str(tmp_path / "here") and plan["stages"] and plan["estimated_total_s"] > 0
     assert not (tmp_path / "here").exists()          # a dry run writes nothing
+
+
+def test_a_ladder_dry_run_lists_its_rungs_and_builds_nothing(tmp_path, capsys, monkeypatch):
+    import meshes.hemisphere
+
+    monkeypatch.setattr(meshes.hemisphere, "build_msh", lambda *a, **k: pytest.fail("meshed"))
+    assert cli.main(["calibrate", "--ladder", "--dry-run", "--out", str(tmp_path / "here"), "--json"]) == 0
+    plan = json.loads(capsys.readouterr().out)
+    assert len(plan["stages"]) == 5 and plan["rungs_done"] == [] and plan["estimated_total_s"] > 0
+    assert all("second mesh" not in stage["detail"] for stage in plan["stages"])     # a rung is one mesh
+    assert not (tmp_path / "here").exists()

@@ -71,6 +71,28 @@ def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_m
     return "_".join(parts)
 
 
+def plan_ladder(ns, material, name: str, mesh_ladder) -> int:
+    """--ladder --dry-run: the rungs (mesh, dofs, FE steps, estimated time), which are finished
+    (kept in OUT/ladder/ from an earlier run) and the files the ladder writes."""
+    from pathlib import Path
+
+    from calib.report import calibration as calibration_report
+    from calib.scenes.plan import calibration_stage, format_stages, stages_summary
+
+    out = Path(ns.out or calibration_report.DEFAULT_OUT)
+    tasks = mesh_ladder.ladder_tasks(material=material)
+    stages = [calibration_stage(task["spec"], f"h = {task['contact_size']:g} m", calibrate=True, unload=True,
+                                elastic=False, meshes=1) for task in tasks]
+    done = [task["contact_size"] for task in tasks if (out / "ladder" / f"{task['key']}.json").is_file()]
+    summary = {**stages_summary(stages, out), "rungs_done": done, "writes": [f"{name}.csv", f"{name}_pairs.csv",
+                                                                            f"{name}.png"]}
+    sizes = ", ".join(f"{task['contact_size']:g}" for task in tasks)
+    print_summary(ns, summary, [f"mesh ladder of {len(tasks)} meshes (contact elements {sizes} m), {len(done)} finished in "
+                                f"{out / 'ladder'}; writes {', '.join(summary['writes'])} into {out}"]
+                + format_stages(stages))
+    return 0
+
+
 def run(ns) -> int:
     from calib import output
     from calib.commands.progress import progress_reporter
@@ -79,13 +101,13 @@ def run(ns) -> int:
     from calib.studies import mesh_ladder
 
     if ns.ladder:
-        if ns.dry_run:
-            raise ValueError("--dry-run plans a calibration: do not combine it with --ladder")
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
                              " do not combine it with --R, --peaks or --contact-size")
         material = None if is_reference(ns) else material_from_args(ns)[0]
         name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
+        if ns.dry_run:
+            return plan_ladder(ns, material, name, mesh_ladder)
         with progress_reporter(ns.quiet) as progress:
             path = mesh_ladder.mesh_ladder(out=ns.out or calibration_report.DEFAULT_OUT,
                                            progress=progress, material=material, name=name)

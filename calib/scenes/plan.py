@@ -98,8 +98,10 @@ def hertz_stage(spec, material_name: str, loads: tuple[float, float], steps: int
                         f"elastic, P = {loads[0]:.4g} .. {loads[1]:.4g} N")
 
 
-def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool, elastic: bool) -> PlannedStage:
-    """The load paths (and, with ``calibrate``, the fit) of one material's CalibrationSpec; a
+def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool, elastic: bool,
+                      meshes: int = 2) -> PlannedStage:
+    """The load paths (and, with ``calibrate``, the fit) of one material's CalibrationSpec on
+    ``meshes`` meshes (2: the calibration's extrapolated pair; 1: one mesh, a ladder's rung); a
     plan that cannot be fitted is refused here, so --dry-run refuses it too."""
     if calibrate:
         recipe.check_fittable(spec)
@@ -109,7 +111,7 @@ def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool
     steps = n_load + n_unload + (3 if calibrate else 0)
     seconds = steps * step_seconds(dofs) / (3 if elastic else 1)
     second = ""
-    if calibrate:                       # the second mesh of the extrapolation (calib.fit.extrapolation)
+    if calibrate and meshes == 2:       # the second mesh of the extrapolation (calib.fit.extrapolation)
         coarse = recipe.coarse_spec(spec)
         coarse_dofs, _ = mesh_dofs(coarse.mesh)
         coarse_seconds = steps * step_seconds(coarse_dofs)

@@ -48,6 +48,22 @@ def ladder_rung(task: dict) -> dict:
     return row
 
 
+def ladder_tasks(sizes=LADDER_SIZES, material=None) -> list[dict]:
+    """One task per rung: {key, spec, contact_size}; the key covers everything that changes a
+    rung (mesh, material, load plan, tolerance), so a finished rung is found again in OUT/ladder."""
+    tasks = []
+    for size in sizes:
+        spec = reference_spec(contact_size=size)
+        if material is not None:
+            spec = dataclasses.replace(spec, material=material)
+        recipe = {"material": dataclasses.asdict(spec.material), "plan": dataclasses.asdict(spec.plan),
+                  "tolerance": spec.residual_tolerance, "radius_method": spec.contact_radius_method,
+                  "version": LADDER_VERSION}
+        tasks.append({"key": spec.mesh.cache_key() + "-" + stable_key(recipe, 12),
+                      "spec": spec, "contact_size": size})
+    return tasks
+
+
 def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = output.RESULTS / "calibration", progress=None,
                 material=None, name: str = "mesh_ladder") -> Path:
     """Ca, Kc, e, alpha and contact radius of the reference load paths (500/1000/1500 N on the
@@ -59,17 +75,7 @@ def mesh_ladder(sizes=LADDER_SIZES, out: str | Path = output.RESULTS / "calibrat
     recompute). Writes ``<name>.csv`` and ``<name>.png`` (values and wall time against size).
     """
     out = Path(out)
-    tasks = []
-    for size in sizes:
-        spec = reference_spec(contact_size=size)
-        if material is not None:
-            spec = dataclasses.replace(spec, material=material)
-        # the key covers everything that changes a rung: mesh, material, load plan, tolerance
-        recipe = {"material": dataclasses.asdict(spec.material), "plan": dataclasses.asdict(spec.plan),
-                  "tolerance": spec.residual_tolerance, "radius_method": spec.contact_radius_method,
-                  "version": LADDER_VERSION}
-        tasks.append({"key": spec.mesh.cache_key() + "-" + stable_key(recipe, 12),
-                      "spec": spec, "contact_size": size})
+    tasks = ladder_tasks(sizes, material)
     # one rung at a time: the wall times are part of the result
     rows = run_sweep(tasks, ladder_rung, out / "ladder", mesh_of=lambda task: task["spec"].mesh,
                      progress=progress, describe=lambda row: f"contact size {row['contact_size']:g} m").rows
