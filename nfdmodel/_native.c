@@ -12,6 +12,7 @@
  *       the loading branch of those k contacts: force[index[i]] and the new history at i.
  *   hertz(delta, k, force) -> finite
  *   yield_factor(nu) -> A_Y(nu) of nfd_yield_factor (the caller checks 0 <= nu < NFD_NU_MAX)
+ *   vz_admissible(Ca_hat, Kc_hat) -> (NFD_VZ_* code, P/P_Y, restitution) of nfd_vz_admissible
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
  * needs: a value that is finite exactly when the forces are).
  * law: an NFD_LAW_* code of nfd_limits.h; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
@@ -324,6 +325,15 @@ static PyObject *native_yield_factor(PyObject *self, PyObject *args)
     return PyFloat_FromDouble(nfd_yield_factor(nu));
 }
 
+static PyObject *native_vz_admissible(PyObject *self, PyObject *args)
+{
+    double Ca_hat, Kc_hat, load, restitution;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "dd", &Ca_hat, &Kc_hat)) return NULL;
+    int code = nfd_vz_admissible(Ca_hat, Kc_hat, &load, &restitution);
+    return Py_BuildValue("idd", code, load, restitution);
+}
+
 static PyMethodDef methods[] = {
     {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
@@ -331,6 +341,7 @@ static PyMethodDef methods[] = {
     {"load_table", native_load_table, METH_VARARGS, "the vz_table loading branch of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},
+    {"vz_admissible", native_vz_admissible, METH_VARARGS, "(code, P/P_Y, e) of nfd_vz_admissible(Ca_hat, Kc_hat)"},
     {NULL, NULL, 0, NULL},
 };
 

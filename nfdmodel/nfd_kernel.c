@@ -46,8 +46,7 @@ nfd_params nfd_pair(double R_star, double E_star, double p_Y)
 
 void nfd_vz_constants(nfd_params *p, double Ca, double Kc)
 {
-    p->Ca = Ca;
-    p->Kc = Kc;
+    p->Ca = Ca; p->Kc = Kc;
     p->c1 = pow(3.0 * p->R_star / (4.0 * p->E_star), 1.0 / 3.0) / Ca;
     p->u_Y = pow(p->P_Y, 1.0 / 3.0);
 }
@@ -138,10 +137,9 @@ static inline int vz_fast(double delta, double u_start, const nfd_params *p, dou
     const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
     double c1 = p->c1, b = sqrt(p->R_star * delta) / p->Ca;
-    double u_lo = u_start > p->u_Y ? u_start : p->u_Y;
-    double u_min = u_lo * (1.0 - 1e-15);
+    double u_lo = u_start > p->u_Y ? u_start : p->u_Y, u_min = u_lo * (1.0 - 1e-15);
     double F, slope, step_1, step_2, u;
-    vz_residual(u_lo, b, p, c1, one_minus, &F, &slope);
+    vz_residual(u_lo, b, p, c1, one_minus, &F, &slope);     /* two Newton steps from u_lo */
     step_1 = F / slope;
     u = u_lo - step_1 < u_min ? u_min : u_lo - step_1;
     int ok = slope > 0.0;
@@ -239,9 +237,8 @@ static double vz_safe(double delta, double u_start, double u_fast, const nfd_par
 {
     const double tol_u = NFD_VZ_TOLERANCE / 3.0;
     const double one_minus = 1.0 - p->Kc * p->P_Y;
-    double c1 = p->c1, R_delta = p->R_star * delta, Ca = p->Ca, Kc = p->Kc;
+    double c1 = p->c1, R_delta = p->R_star * delta, Ca = p->Ca, Kc = p->Kc, F, slope;
     double b = sqrt(R_delta) / p->Ca;
-    double F, slope;
     double x_hi = (R_delta * Kc + sqrt((R_delta * Kc) * (R_delta * Kc) + 4.0 * (Ca * Ca) * R_delta)) / (2.0 * (Ca * Ca));
     double lo = u_start > p->u_Y ? u_start : p->u_Y;
     double hi = cbrt((p->P_Y + x_hi) * (1.0 + 1e-12));
@@ -297,10 +294,8 @@ static inline void vz_turning_point(double delta, double u, const nfd_params *p,
     /* delta_res >= delta only when the recovery underflows: keep the gap positive */
     delta_res = delta_res >= delta ? below(delta) : delta_res;
     double gap = delta - delta_res;
-    *P_out = P;
-    *delta_res_out = delta_res;
-    *K_u_out = P / (sqrt(gap) * gap);
-    *a_e_out = a_e;
+    *P_out = P; *delta_res_out = delta_res;
+    *K_u_out = P / (sqrt(gap) * gap); *a_e_out = a_e;
 }
 
 /* Hertz loading below first yield as a turning point (delta <= delta_Y). */
@@ -517,10 +512,8 @@ int nfd_table_init(nfd_table *t, int n, const double *x, const double *f, const 
     t->n = n;
     pchip_slopes(n, t->x, t->f, t->df);
     pchip_slopes(n, t->x, t->g, t->dg);
-    for (int k = 0; k < n; ++k) {
-        double slope;
-        table_approach(t, t->x[k], &t->D[k], &slope);
-    }
+    double slope;
+    for (int k = 0; k < n; ++k) table_approach(t, t->x[k], &t->D[k], &slope);
     return 0;
 }
 
@@ -638,4 +631,67 @@ int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, con
     case NFD_LAW_WALTON_BRAUN: return nfd_walton_braun_step(delta, p, h, force, out);
     default: return NFD_UNKNOWN_LAW;
     }
+}
+
+/* ------------------------------------------------------------------------- vz admissibility */
+/* The 12-point Gauss-Legendre rule on [-1, 1] (numpy.polynomial.legendre.leggauss(12)): nodes +-x. */
+static const double gauss_x[6] = {0.1252334085114689, 0.3678314989981802, 0.5873179542866175,
+                                  0.7699026741943047, 0.9041172563704748, 0.9815606342467192};
+static const double gauss_w[6] = {0.2491470458134027, 0.2334925365383546, 0.20316742672306573,
+                                  0.16007832854334642, 0.10693932599531907, 0.04717533638651141};
+
+/* The k-th of n loads geomspace(first, last, n), as numpy's (its ends exact). */
+static double geomspace(double first, double last, int k, int n)
+{
+    if (k == 0 || k == n - 1) return k == 0 ? first : last;
+    return pow(10.0, log10(first) + (log10(last) - log10(first)) * k / (n - 1));
+}
+
+/* D = delta/delta_Y on the vz loading curve at p = P/P_Y >= 1: (p^(1/3) + Ca_hat (p - 1))^2 / C_R. */
+static double scaled_approach(double p, double Ca_hat, double Kc_hat)
+{
+    double radius = cbrt(p) + Ca_hat * (p - 1.0);
+    return radius * radius / (1.0 + Kc_hat * (p - 1.0));
+}
+
+/* The largest relative excess returned/taken - 1 of a full cycle to the dissipation loads p, *load
+ * its p (VZParams._energy_excess, in units of P_Y delta_Y): returned p (p^(2/3) / C_R) / (5/2),
+ * taken 2/5 (Hertz) + p D(p) - 1 - integral_1^p D dq by Gauss-Legendre panels of width <= 1 in
+ * t = ln(1 + (q - 1)/s), s = min(1, 1/Kc_hat) (vz_curve.vz_loading_work). A NaN stays. */
+static double energy_excess(double Ca_hat, double Kc_hat, double *load)
+{
+    double s = Kc_hat <= 1.0 ? 1.0 : 1.0 / Kc_hat, worst = -INFINITY;
+    int panels = (int)ceil(log1p((NFD_DISSIPATION_LOAD_MAX - 1.0) / s));
+    for (int k = 0; k < NFD_DISSIPATION_POINTS; ++k) {
+        double p = geomspace(NFD_DISSIPATION_LOAD_MIN, NFD_DISSIPATION_LOAD_MAX, k, NFD_DISSIPATION_POINTS);
+        double width = log1p((p - 1.0) / s) / panels, integral = 0.0;
+        for (int panel = 0; panel < panels; ++panel)
+            for (int i = 0; i < 12; ++i) {
+                double x = i < 6 ? -gauss_x[5 - i] : gauss_x[i - 6], w = gauss_w[i < 6 ? 5 - i : i - 6];
+                double q = s * expm1((panel + 0.5 * (x + 1.0)) * width);      /* q - 1 */
+                integral += 0.5 * width * w * scaled_approach(1.0 + q, Ca_hat, Kc_hat) * (s + q);
+            }
+        double taken = 0.4 + p * scaled_approach(p, Ca_hat, Kc_hat) - 1.0 - integral;
+        double excess = p * (cbrt(p) * cbrt(p) / (1.0 + Kc_hat * (p - 1.0))) / 2.5 / taken - 1.0;
+        if (!(excess <= worst) && worst == worst) { worst = excess; *load = p; }
+    }
+    return worst;
+}
+
+int nfd_vz_admissible(double Ca_hat, double Kc_hat, double *load, double *restitution)
+{
+    double least = INFINITY;
+    *load = *restitution = NAN;
+    if (!(Ca_hat >= NFD_CA_HAT_MIN && Ca_hat <= NFD_CA_HAT_MAX && Kc_hat >= 0.0 && Kc_hat <= NFD_KC_HAT_MAX))
+        return NFD_VZ_OUT_OF_RANGE;
+    for (int k = 0; k < NFD_MONOTONE_POINTS; ++k) {    /* VZParams._monotone_violation */
+        double p = geomspace(1.0, NFD_MONOTONE_LOAD_MAX, k, NFD_MONOTONE_POINTS);
+        double A = 2.0 / 3.0 * pow(p, -2.0 / 3.0) + 2.0 * Ca_hat;
+        double slope = A + Kc_hat * (Ca_hat * (p - 1.0) - cbrt(p) * (p + 2.0) / (3.0 * p));
+        if (slope < least) { least = slope; *load = p; }
+    }
+    if (!(least > 0.0)) return NFD_VZ_TURNS_BACK;
+    double excess = energy_excess(Ca_hat, Kc_hat, load);
+    *restitution = sqrt(1.0 + excess);
+    return excess <= NFD_DISSIPATION_SLACK ? NFD_VZ_ADMISSIBLE : NFD_VZ_CREATES_ENERGY;
 }

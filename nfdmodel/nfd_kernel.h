@@ -133,6 +133,19 @@ int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, con
  * p_Y = A_Y sigma_Y. 0 <= nu < NFD_NU_MAX (A_Y(0.3) = 1.61). */
 double nfd_yield_factor(double nu);
 
+/* The admissibility of vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (dimensionless, so one answer for
+ * every pair; nfdmodel.parameters.VZParams decides the same): NFD_VZ_ADMISSIBLE, or NFD_VZ_OUT_OF_RANGE
+ * (outside NFD_CA_HAT_MIN <= Ca_hat <= NFD_CA_HAT_MAX, 0 <= Kc_hat <= NFD_KC_HAT_MAX), NFD_VZ_TURNS_BACK
+ * (the loading curve delta(P) stops increasing near P/P_Y = *load; checked up to NFD_MONOTONE_LOAD_MAX),
+ * NFD_VZ_CREATES_ENERGY (a load-unload cycle to P/P_Y = *load returns more work than it took:
+ * restitution *restitution > 1; checked up to NFD_DISSIPATION_LOAD_MAX). Admissible: *load and
+ * *restitution (<= 1) of the cycle nearest to creating energy. About 2 ms. */
+#define NFD_VZ_ADMISSIBLE 0
+#define NFD_VZ_OUT_OF_RANGE 1
+#define NFD_VZ_TURNS_BACK 2
+#define NFD_VZ_CREATES_ENERGY 3
+int nfd_vz_admissible(double Ca_hat, double Kc_hat, double *load, double *restitution);
+
 /* On request, after a step: the contact radii [m] of a history at force P [N] (vz): the Hertz
  * radius a_e, the plastic radius a_p = Ca <P_max - P_Y> and a_ep = a_e + a_p. */
 void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, double *a_e, double *a_p, double *a_ep);

@@ -32,6 +32,17 @@
 #define NFD_CA_HAT_MAX 1e4
 #define NFD_KC_HAT_MAX 1e4
 
+/* The admissibility of vz constants (nfdmodel.parameters.VZParams, nfd_vz_admissible): the loading
+ * curve delta(P) increases at MONOTONE_POINTS loads geomspace(1, MONOTONE_LOAD_MAX) P_Y, and no full
+ * load-unload cycle to the DISSIPATION_POINTS turning points geomspace(DISSIPATION_LOAD_MIN,
+ * DISSIPATION_LOAD_MAX) P_Y returns more than (1 + DISSIPATION_SLACK) times the work it took (e <= 1). */
+#define NFD_MONOTONE_LOAD_MAX 1e8        /* P/P_Y */
+#define NFD_MONOTONE_POINTS 2000
+#define NFD_DISSIPATION_LOAD_MIN 1.000001 /* P/P_Y: 1 + 1e-6, just past first yield */
+#define NFD_DISSIPATION_LOAD_MAX 1e6     /* P/P_Y */
+#define NFD_DISSIPATION_POINTS 200
+#define NFD_DISSIPATION_SLACK 1e-9       /* relative excess of returned over taken work: round-off */
+
 /* Poisson's ratio: 0 <= nu < NU_MAX (A_Y(nu) and the Hertz field need a compressible solid). */
 #define NFD_NU_MAX 0.5
 

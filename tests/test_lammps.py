@@ -549,6 +549,55 @@ def test_bad_wall_arguments_are_named(plugin, tmp_path, args, message):
     assert "ERROR" in output and message in output, output[-1500:]
 
 
+SOLID = "need 100000 <= E <= 2e+12 Pa (Young's modulus of solids)"
+YIELD = "need 10000 <= sigma_y <= 1e+11 Pa (yield stress of solids)"
+
+
+@pytest.mark.parametrize("style, args, message", [
+    ("vz", "70 0.3 100e6 0.026 0.0098",
+     f"E out of range for a solid: {SOLID}, got 70; did you give GPa? 70 GPa = 7e+10 Pa"),
+    ("vz", "70e3 0.3 100e6 0.026 0.0098",
+     f"E out of range for a solid: {SOLID}, got 70000; did you give MPa? 70000 MPa = 7e+10 Pa"),
+    ("hertz", "7e13 0.3", f"E out of range for a solid: {SOLID}, got 7e+13"),
+    ("thornton", "70e9 0.3 100", f"sigma_y out of range for a solid: {YIELD}, got 100; did you give MPa? 100 MPa = "
+                                 "1e+08 Pa"),
+    ("vz", "70e9 0.3 100 0.026 0.0098", f"sigma_y out of range for a solid: {YIELD}, got 100; did you give MPa?"),
+    ("vz", "70e9 0.5 100e6 0.026 0.0098", "nu out of range: need 0 <= nu < 0.5, got 0.5"),
+    ("vz", "70e9 0.30 100e6 2.631e-7 3.09e-4", "Kc_hat out of range for this Ca_hat: the vz loading curve delta(P) "
+     "stops increasing near P/P_Y = 1e+08 (Ca_hat = 2.631e-07, Kc_hat = 0.000309)"),
+    ("vz", "70e9 0.3 100e6 0.026 0.9", "Kc_hat out of range for this Ca_hat: the vz loading curve delta(P) stops "
+     "increasing near P/P_Y = 9.47 (Ca_hat = 0.026, Kc_hat = 0.9)"),
+    ("vz", "70e9 0.3 100e6 0.06 0.25", "Ca_hat, Kc_hat out of range: the vz law would create energy (restitution "
+     "1.0701 > 1) for a turning point at P/P_Y = 8.6 (Ca_hat = 0.06, Kc_hat = 0.25)"),
+])
+@pytest.mark.parametrize("where", ["pair_coeff", "wall"])
+def test_the_plugin_refuses_what_nfdmodel_refuses(plugin, tmp_path, style, args, message, where):
+    """Each check of nfdmodel, from the bounds of nfd_limits.h, in pair_coeff and in the wall fix: E
+    and sigma_y within the range of solids, naming the likely unit slip (E typed in GPa or MPa,
+    sigma_y in MPa); nu < 0.5; (Ca_hat, Kc_hat) admissible (nfd_vz_admissible, VZParams' check):
+    the SI Ca, Kc typed where Ca_hat, Kc_hat go (LAMMPS would run them at e = 1.0007), a loading
+    curve that turns back, a cycle that creates energy. One line, with the admissible range of
+    Kc_hat that VZParams states, and the failing load and restitution it states."""
+    if where == "pair_coeff":
+        text = impact_input(plugin, aluminium_spheres(0.1), {1: args}, 1, pair_style=f"nfd/{style}")
+        who = f"pair_coeff for nfd/{style}: "
+    else:
+        text = wall_input(plugin, args, [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1, style=f"nfd/wall/{style}")
+        who = f"fix nfd/wall/{style}: "
+    error = next(line for line in run_lammps(text, tmp_path).splitlines() if line.startswith("ERROR"))
+    assert who + message in error, error
+    if "Ca_hat" in message:
+        E, nu, sigma_y, Ca_hat, Kc_hat = map(float, args.split())
+        with pytest.raises(ValueError) as refused:
+            VZParams.from_dimensionless(ContactPair.sphere_flat(Material(E, nu, sigma_y, 2700.0), RADIUS), Ca_hat,
+                                        Kc_hat)
+        stated = str(refused.value)
+        for pattern in (r"P/P_Y = [^ ]+ ", r"restitution [^ ]+ ", r"Kc_hat <= [^;]+;"):
+            if re.search(pattern, stated):
+                assert re.search(pattern, stated)[0][:-1] in error, (stated, error)
+        assert ("did you give Ca [m/N] and Kc [1/N]?" in error) == (Ca_hat < 1e-3)
+
+
 def test_exported_lines_run_the_same_law_in_lammps(plugin, tmp_path, capsys):
     """nfdcal export lammps: the pair_coeff and wall lines of a parameter file (here from
     nfdcal material), pasted into an input, give nfdmodel's collision of that file's law (the wall:
@@ -714,8 +763,18 @@ def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path
     ({"law": "vz-table", "material": {"E": 7e10, "nu": 0.3, "sigma_y": 1e8},
       "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, "x"], "C_R": [1, 1.1]}},
      "table.a_p_over_a_Y[1] out of range: need a finite number, got \"x\""),
+    ({"law": "vz-table", "material": {"E": 70, "nu": 0.3, "sigma_y": 1e8},
+      "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}},
+     "material.E out of range for a solid: need 100000 <= E <= 2e+12 Pa (Young's modulus of solids), got 70; "
+     "did you give GPa? 70 GPa = 7e+10 Pa"),
+    ({"law": "vz-table", "material": {"E": 7e10, "nu": 0.3, "sigma_y": 100},
+      "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}},
+     "material.sigma_y out of range for a solid: need 10000 <= sigma_y <= 1e+11 Pa (yield stress of solids), got "
+     "100; did you give MPa? 100 MPa = 1e+08 Pa"),
 ])
 def test_bad_vz_table_files_are_named(plugin, tmp_path, content, message):
+    """A bad parameter file is one line naming the file, the key and the range, in pair_coeff and in
+    the wall fix (also the material's unit slips: E in GPa, sigma_y in MPa)."""
     import json
 
     path = tmp_path / "bad.json"
@@ -725,6 +784,10 @@ def test_bad_vz_table_files_are_named(plugin, tmp_path, content, message):
     output = run_lammps(text, tmp_path)
     error = next(line for line in output.splitlines() if line.startswith("ERROR"))
     assert f"pair_coeff for nfd/vz-table: parameter file {path}" in error and message in error, error
+    wall = wall_input(plugin, f"file {path}", [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1,
+                      style="nfd/wall/vz-table")
+    error = next(line for line in run_lammps(wall, tmp_path).splitlines() if line.startswith("ERROR"))
+    assert f"fix nfd/wall/vz-table: parameter file {path}" in error and message in error, error
 
 
 def test_pour_on_two_mpi_ranks_equals_one(plugin, tmp_path):

@@ -160,6 +160,53 @@ def test_the_yield_factor_of_the_c_kernel_equals_scipy_s():
     assert native._native.yield_factor(0.3) == pytest.approx(1.61, abs=5e-3)
 
 
+def accepted_by_vzparams(Ca_hat, Kc_hat) -> bool:
+    try:
+        VZParams.from_dimensionless(PAIR, Ca_hat, Kc_hat)
+    except ValueError:
+        return False
+    return True
+
+
+def test_the_c_admissibility_of_vz_constants_decides_as_vzparams():
+    """nfd_vz_admissible (the LAMMPS plugin's check) accepts (Ca_hat, Kc_hat) iff VZParams does, on
+    a grid across and beyond the admissible ranges (Ca_hat 5e-9 .. 2e4, Kc_hat 0 and 1e-9 .. 2e4);
+    where a cycle is checked, the restitution agrees to 1e-10 (measured: 1.5e-12) and the worst
+    turning point is the same load."""
+    codes = set()
+    for Ca_hat in np.concatenate([[5e-9], np.geomspace(1e-8, 1e4, 13), [2e4]]):
+        for Kc_hat in np.concatenate([[0.0], np.geomspace(1e-9, 1e4, 14), [2e4]]):
+            code, load, restitution = native._native.vz_admissible(Ca_hat, Kc_hat)
+            codes.add(code)
+            assert (code == 0) == accepted_by_vzparams(Ca_hat, Kc_hat), (Ca_hat, Kc_hat, code)
+            if code in (0, 3):
+                trial = object.__new__(VZParams)              # VZParams' own cycle check, unchecked pair
+                for name, value in (("pair", PAIR), ("Ca", Ca_hat * PAIR.a_Y / PAIR.P_Y),
+                                    ("Kc", Kc_hat / PAIR.P_Y), ("window", None)):
+                    object.__setattr__(trial, name, value)
+                excess, worst = trial._energy_excess()
+                assert restitution == pytest.approx(np.sqrt(1.0 + excess), rel=1e-10, abs=0.0)
+                assert load == pytest.approx(worst, rel=1e-9)
+    assert codes == {0, 1, 2, 3}          # admissible, out of range, loading turns back, creates energy
+
+
+@pytest.mark.parametrize("Ca_hat", [1e-7, 1e-4, 0.026, 0.3, 3.0, 100.0])
+def test_the_c_admissibility_boundary_is_vzparams_to_1e_8(Ca_hat):
+    """Both directions at the boundary: the largest Kc_hat the C check accepts (bisection to 1e-14)
+    is VZParams' to 1e-8 relative: VZParams accepts Kc_hat (1 - 1e-8) and refuses (1 + 1e-8). The
+    band where the two may differ is thinner (measured: below 1e-12, at Ca_hat = 0.3 between 1e-10
+    and 1e-8: the cycle's excess grows slowly with Kc_hat there). Ca_hat >= 3 is bounded by the
+    monotone loading, below by the energy."""
+    low, high = 0.0, 1e4
+    assert native._native.vz_admissible(Ca_hat, low)[0] == 0 and native._native.vz_admissible(Ca_hat, high)[0] != 0
+    while high - low > 1e-14 * high:
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if native._native.vz_admissible(Ca_hat, middle)[0] == 0 else (low, middle)
+    assert native._native.vz_admissible(Ca_hat, high)[0] == (2 if Ca_hat >= 3.0 else 3)
+    assert accepted_by_vzparams(Ca_hat, low * (1.0 - 1e-8))
+    assert not accepted_by_vzparams(Ca_hat, high * (1.0 + 1e-8))
+
+
 def test_backend_switch_and_its_reason(monkeypatch):
     """NFDCAL_BACKEND is read once, at import; use_backend switches this process's selection and
     never the environment, which a child process inherits unchanged."""

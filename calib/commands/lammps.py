@@ -1,5 +1,5 @@
-"""``nfdcal lammps``: the LAMMPS plugin of the laws (pair_style nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton,
-nfd/walton-braun).
+"""``nfdcal lammps``: the LAMMPS plugin of the laws (pair_style nfd/<law> for each law of nfd_limits.h:
+nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton, nfd/walton-braun).
 
     nfdcal lammps build            # compile it (once per source and LAMMPS version); last line: its path
     nfdcal lammps path             # its path (compiled first if needed): plugin load $(nfdcal lammps path)
@@ -36,6 +36,7 @@ from pathlib import Path
 
 from calib.commands.common import add_summary_arguments, print_summary
 from calib.optional import MissingOptionalPart
+from nfdmodel.limits import LAW_NAMES
 
 PLUGIN_NAME = "nfdplugin.so"
 FLAGS = ("-shared", "-fPIC", "-O2", "-std=c++17", "-ffp-contract=off")
@@ -71,7 +72,7 @@ def run(ns) -> int:
            else f"built in {info['build_time_s']:.1f} s")
     info["python_preload"] = python_preload()
     print_summary(ns, info, [
-        f"pair styles nfd/vz, nfd/vz-table, nfd/hertz, nfd/thornton, nfd/walton-braun, wall fixes nfd/wall/* and "
+        f"pair styles {', '.join(f'nfd/{name}' for name in LAW_NAMES.values())}, wall fixes nfd/wall/* and "
         f"compute nfd/contacts for LAMMPS {info['lammps_version']}: {how}",
         f"compiler: {info['compiler']}",
         "load it in a LAMMPS input with: plugin load <path below> (newton off, atom_style sphere)",

@@ -10,6 +10,9 @@
 #include "error.h"
 #include "force.h"
 #include "update.h"
+#include "utils.h"
+
+#include <string>
 
 using namespace LAMMPS_NS;
 
@@ -27,9 +30,12 @@ ComputeNfdContacts::ComputeNfdContacts(LAMMPS *lmp, int narg, char **arg) : Comp
 void ComputeNfdContacts::init()
 {
     pair = dynamic_cast<PairNfd *>(force->pair);
-    if (!pair || !pair->contact_history())
-        error->all(FLERR, "compute nfd/contacts needs pair_style nfd/vz (nfd/vz-table, nfd/hertz, nfd/thornton, "
-                          "nfd/walton-braun) with its pair_coeff");
+    if (pair && pair->contact_history()) return;
+    std::string styles;
+    for (int code = 0; code < NFD_LAW_COUNT; ++code)
+        if (NfdLaw::of(code)) styles += (styles.empty() ? "" : ", ") + NfdLaw::of(code)->pair_style;
+    error->all(FLERR,
+               fmt::format("compute nfd/contacts needs a pair_style nfd/<law> ({}) with its pair_coeff", styles));
 }
 
 void ComputeNfdContacts::compute_vector()

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 using namespace LAMMPS_NS;
@@ -37,6 +38,58 @@ double number_in(LAMMPS *lmp, const std::string &who, const char *text, const ch
     if ((low_open ? !(v > low) : !(v >= low)) || (high_open ? !(v < high) : !(v <= high)))
         lmp->error->all(FLERR, fmt::format("{}: {} out of range: need {}, got {}", who, what, range, text));
     return v;
+}
+
+double check_solid(LAMMPS *lmp, const std::string &where, const char *name, const std::string &label, double value)
+{
+    const bool modulus = std::strcmp(name, "E") == 0;
+    const double low = modulus ? NFD_E_MIN : NFD_SIGMA_Y_MIN, high = modulus ? NFD_E_MAX : NFD_SIGMA_Y_MAX;
+    if (value >= low && value <= high) return value;
+    const struct { double factor; const char *unit; } slips[2] = {{modulus ? 1e9 : 1e6, modulus ? "GPa" : "MPa"},
+                                                                   {modulus ? 1e6 : 1e3, modulus ? "MPa" : "kPa"}};
+    std::string slip;
+    for (const auto &s : slips)
+        if (slip.empty() && value * s.factor >= low && value * s.factor <= high)
+            slip = fmt::format("; did you give {}? {:g} {} = {:g} Pa", s.unit, value, s.unit, value * s.factor);
+    lmp->error->all(FLERR, fmt::format("{} {} out of range for a solid: need {:g} <= {} <= {:g} Pa ({} of solids), "
+                                       "got {:g}{}", where, label, low, name, high,
+                                       modulus ? "Young's modulus" : "yield stress", value, slip));
+    return value;
+}
+
+/* The largest Kc_hat that nfd_vz_admissible accepts with this Ca_hat, to 1e-6 relative (bisection,
+ * as nfdmodel.parameters.vz_largest_admissible_Kc; Kc_hat = 0 is admissible for any Ca_hat). */
+static double largest_Kc_hat(double Ca_hat)
+{
+    double low = 0.0, high = NFD_KC_HAT_MAX, load, restitution;
+    if (nfd_vz_admissible(Ca_hat, high, &load, &restitution) == NFD_VZ_ADMISSIBLE) return high;
+    while (high - low > 1e-6 * high) {
+        const double middle = 0.5 * (low + high);
+        if (nfd_vz_admissible(Ca_hat, middle, &load, &restitution) == NFD_VZ_ADMISSIBLE) low = middle;
+        else high = middle;
+    }
+    return low;
+}
+
+void check_vz_admissible(LAMMPS *lmp, const std::string &who, double Ca_hat, double Kc_hat)
+{
+    double load, restitution;
+    const int code = nfd_vz_admissible(Ca_hat, Kc_hat, &load, &restitution);
+    if (code == NFD_VZ_ADMISSIBLE) return;
+    const std::string failure =
+        code == NFD_VZ_TURNS_BACK
+            ? fmt::format("Kc_hat out of range for this Ca_hat: the vz loading curve delta(P) stops increasing near "
+                          "P/P_Y = {:.3g}", load)
+            : fmt::format("Ca_hat, Kc_hat out of range: the vz law would create energy (restitution {:.4f} > 1) for a "
+                          "turning point at P/P_Y = {:.3g}", restitution, load);
+    // SI constants typed where the dimensionless ones go: Ca [m/N] of a DEM particle is far below any Ca_hat
+    const std::string slip = Ca_hat < 1e-3 ? "; did you give Ca [m/N] and Kc [1/N]? pair_coeff takes Ca_hat = Ca "
+                                             "P_Y / a_Y and Kc_hat = Kc P_Y (nfdcal export lammps prints them)" : "";
+    lmp->error->all(FLERR, fmt::format("{}: {} (Ca_hat = {:.4g}, Kc_hat = {:.4g}); for Ca_hat = {:.4g} the admissible "
+                                       "range is 0 <= Kc_hat <= {:.4g} (loading curve monotone up to P/P_Y = {:g}, no "
+                                       "energy created up to {:g}): lower Kc_hat or raise Ca_hat{}", who, failure,
+                                       Ca_hat, Kc_hat, Ca_hat, largest_Kc_hat(Ca_hat), NFD_MONOTONE_LOAD_MAX,
+                                       NFD_DISSIPATION_LOAD_MAX, slip));
 }
 
 /* The text of a file, read on rank 0 and broadcast (every rank gets the same bytes). */
@@ -97,10 +150,12 @@ NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::
         if (!material.contains(key)) lmp->error->all(FLERR, fmt::format("{} missing key material.{}", in, key));
     NfdMaterial mat;
     mat.E = file_number(lmp, in + " material.E [Pa]", material["E"], 0.0, true, INFINITY, true, "a number > 0");
+    check_solid(lmp, in, "E", "material.E", mat.E);
     mat.nu = file_number(lmp, in + " material.nu", material["nu"], 0.0, false, NFD_NU_MAX, true,
                          fmt::format("0 <= nu < {:g}", NFD_NU_MAX));
     mat.sigma_y = file_number(lmp, in + " material.sigma_y [Pa]", material["sigma_y"], 0.0, true, INFINITY, true,
                               "a number > 0");
+    check_solid(lmp, in, "sigma_y", "material.sigma_y", mat.sigma_y);
     mat.p_Y = nfd_yield_factor(mat.nu) * mat.sigma_y;
     mat.E_star = mat.E / (1.0 - mat.nu * mat.nu);
     if (!data.contains("table") || !data["table"].is_object())

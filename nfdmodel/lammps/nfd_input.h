@@ -21,6 +21,18 @@ double positive(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *text
 double number_in(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *text, const char *what, double low,
                  bool low_open, double high, bool high_open, const std::string &range);
 
+/* E or sigma_y [Pa] (name "E", "sigma_y"; a finite number > 0) within the range of real solids,
+ * NFD_E_MIN..NFD_E_MAX, NFD_SIGMA_Y_MIN..NFD_SIGMA_Y_MAX (nfdmodel.validation.check_solid), or an error
+ * naming the range and the likely unit slip: "did you give GPa? 70 GPa = 7e+10 Pa". where: the
+ * message's start ("pair_coeff for nfd/vz:"), label: the value's name there ("E", "material.E"). */
+double check_solid(LAMMPS_NS::LAMMPS *lmp, const std::string &where, const char *name, const std::string &label,
+                   double value);
+
+/* Ca_hat, Kc_hat (each within its range) admissible by nfd_vz_admissible (the loading curve
+ * increases, no load-unload cycle creates energy), or an error naming the two constants, the load
+ * where the law fails and the admissible range of Kc_hat for this Ca_hat (nfdmodel.VZParams' check). */
+void check_vz_admissible(LAMMPS_NS::LAMMPS *lmp, const std::string &who, double Ca_hat, double Kc_hat);
+
 /* The vz-table law of an nfdcal parameter file (nfdmodel/parameter_file.py, law "vz-table"):
  * material E [Pa], nu, sigma_y [Pa]; table P_over_P_Y, a_p_over_a_Y, C_R (2..NFD_TABLE_MAX_NODES
  * nodes, the rules of nfd_table_init); window P_max_over_P_Y (absent: the table's last node, as

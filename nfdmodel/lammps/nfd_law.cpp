@@ -75,10 +75,11 @@ class SolidLaw : public NfdLaw {
             lmp->error->all(FLERR, fmt::format("{}: need {} (SI units) after the {}, got {} arguments", who, usage,
                                                after(wall), narg));
         NfdMaterial m;
-        m.E = positive(lmp, who, arg[0], "E [Pa]");
+        m.E = check_solid(lmp, who + ":", "E", "E", positive(lmp, who, arg[0], "E [Pa]"));
         m.nu = number_in(lmp, who, arg[1], "nu", 0.0, false, NFD_NU_MAX, true,
                          fmt::format("0 <= nu < {:g}", NFD_NU_MAX));
-        m.sigma_y = with_yield ? positive(lmp, who, arg[2], "sigma_y [Pa]") : 0.0;
+        if (with_yield)
+            m.sigma_y = check_solid(lmp, who + ":", "sigma_y", "sigma_y", positive(lmp, who, arg[2], "sigma_y [Pa]"));
         m.p_Y = with_yield ? nfd_yield_factor(m.nu) * m.sigma_y : 0.0;
         m.E_star = m.E / (1.0 - m.nu * m.nu);
         return m;
@@ -130,6 +131,7 @@ class VzLaw : public SolidLaw {
                                                "0.026), got {}", who, NFD_CA_HAT_MIN, NFD_CA_HAT_MAX, arg[3]));
         m.Kc_hat = number_in(lmp, who, arg[4], "Kc_hat", 0.0, false, NFD_KC_HAT_MAX, false,
                              fmt::format("0 <= Kc_hat <= {:g} (the paper's 0.0098)", NFD_KC_HAT_MAX));
+        check_vz_admissible(lmp, who, m.Ca_hat, m.Kc_hat);
         m.window = NFD_DEFAULT_WINDOW;
         if (narg == count + 2) {
             if (std::strcmp(arg[5], "window") != 0)
