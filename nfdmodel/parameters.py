@@ -189,9 +189,10 @@ class VZParams:
 
 
 # Loads over which VZParams checks its curve: monotone up to 1e8 P_Y, dissipative up to 1e6 P_Y.
-_MONOTONE_LOADS = np.geomspace(1.0, 1e8, 2000)
-_DISSIPATION_LOADS = np.geomspace(1.0 + 1e-6, 1e6, 200)
-_DISSIPATION_SLACK = 1e-9
+# the checks' loads and slack: the table the C kernel's nfd_vz_admissible uses too (nfd_limits.h)
+_MONOTONE_LOADS = np.geomspace(1.0, limits.MONOTONE_LOAD_MAX, limits.MONOTONE_POINTS)
+_DISSIPATION_LOADS = np.geomspace(limits.DISSIPATION_LOAD_MIN, limits.DISSIPATION_LOAD_MAX, limits.DISSIPATION_POINTS)
+_DISSIPATION_SLACK = limits.DISSIPATION_SLACK
 
 
 def _monotone_slope_terms(Ca_hat: float):

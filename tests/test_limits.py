@@ -169,6 +169,8 @@ DISTINCTIVE = {                      # table name: regex over the statement's id
     "CA_HAT_MIN": _word("ca_hat"), "CA_HAT_MAX": _word("ca_hat"), "KC_HAT_MAX": _word("kc_hat"),
     "VZ_TOLERANCE": r"newton", "VZ_MAX_ITERATIONS": r"newton",
     "TABLE_TOLERANCE": r"newton", "TABLE_MAX_ITERATIONS": r"newton", "TABLE_MAX_NODES": r"node",
+    "MONOTONE_LOAD_MAX": r"monoton", "MONOTONE_POINTS": r"monoton", "DISSIPATION_LOAD_MIN": r"dissipat",
+    "DISSIPATION_LOAD_MAX": r"dissipat", "DISSIPATION_POINTS": r"dissipat", "DISSIPATION_SLACK": r"dissipat|slack",
 }
 SCANNED = ("nfdmodel", "calib")
 SUFFIXES = (".py", ".c", ".h", ".cpp")
