@@ -541,6 +541,12 @@ def test_wall_refuses_run_style_respa(plugin, tmp_path):
     ("ylo2 0.0 7e10 0.3 1e8 0.026 0.011", "FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got 'ylo2'"),
     ("zlo 0.0 7e10 0.3 1e8 0.026", "need E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] (SI units)"),
     ("zlo 0.0 7e10 0.7 1e8 0.026 0.011", "nu out of range: need 0 <= nu < 0.5, got 0.7"),
+    ("zlo abc 7e10 0.3 1e8 0.026 0.011", "COORD out of range: need a finite position [m], got abc"),
+    ("zlo 0.0 7e10 abc 1e8 0.026 0.011", "nu out of range: need 0 <= nu < 0.5, got abc"),
+    ("zlo 0.0 7e10 -1e400 1e8 0.026 0.011", "nu out of range: need 0 <= nu < 0.5, got -1e400"),
+    ("zlo 0.0 7e10 0.3 1e8 0.026 1e", "Kc_hat out of range"),
+    ("zlo 0.0 7e10 0.3 1e8 0.026 0.011 window abc", "window out of range: need P_max/P_Y >= 1 (or inf), got abc"),
+    ("zlo 0.0 7e10 0.3 1e8 0.026 0.011 window 0.5", "window out of range: need P_max/P_Y >= 1 (or inf), got 0.5"),
 ])
 def test_bad_wall_arguments_are_named(plugin, tmp_path, args, message):
     text = wall_input(plugin, "", [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1)

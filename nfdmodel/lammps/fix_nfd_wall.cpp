@@ -4,6 +4,8 @@
  */
 #include "fix_nfd_wall.h"
 
+#include "nfd_input.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "error.h"
@@ -36,8 +38,7 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
                                       arg[3]));
     dim = face / 2;
     side = face % 2 == 0 ? 1.0 : -1.0;
-    coord = utils::numeric(FLERR, arg[4], false, lmp);
-    if (!std::isfinite(coord)) error->all(FLERR, fmt::format("{}: COORD must be a finite number [m]", who));
+    coord = number_in(lmp, who, arg[4], "COORD", -INFINITY, true, INFINITY, true, "a finite position [m]");
     material = law->read(lmp, who, true, narg - 5, arg + 5);
 
     scalar_flag = 1;

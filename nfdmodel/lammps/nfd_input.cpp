@@ -34,8 +34,9 @@ double positive(LAMMPS *lmp, const std::string &who, const char *text, const cha
 double number_in(LAMMPS *lmp, const std::string &who, const char *text, const char *what, double low, bool low_open,
                  double high, bool high_open, const std::string &range)
 {
-    const double v = utils::numeric(FLERR, text, false, lmp);
-    if ((low_open ? !(v > low) : !(v >= low)) || (high_open ? !(v < high) : !(v <= high)))
+    // parsed here (not by utils::numeric): text, inf, nan or 1e400 get the line naming the constant
+    const double v = utils::is_double(text) ? std::strtod(text, nullptr) : NAN;
+    if (!std::isfinite(v) || (low_open ? !(v > low) : !(v >= low)) || (high_open ? !(v < high) : !(v <= high)))
         lmp->error->all(FLERR, fmt::format("{}: {} out of range: need {}, got {}", who, what, range, text));
     return v;
 }

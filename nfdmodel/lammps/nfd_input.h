@@ -17,7 +17,8 @@ namespace nfdcal_lammps {
  * message naming the constant and its range. */
 double positive(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *text, const char *what);
 
-/* A number within [low, high] (either end open), or an error naming what and the range text. */
+/* A finite number within [low, high] (either end open), or an error naming what and the range text
+ * (text, inf, nan and 1e400 too). */
 double number_in(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const char *text, const char *what, double low,
                  bool low_open, double high, bool high_open, const std::string &range);
 

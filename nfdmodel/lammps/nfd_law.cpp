@@ -136,10 +136,8 @@ class VzLaw : public SolidLaw {
         if (narg == count + 2) {
             if (std::strcmp(arg[5], "window") != 0)
                 lmp->error->all(FLERR, fmt::format("{}: unknown keyword '{}' (allowed: window)", who, arg[5]));
-            m.window = std::strcmp(arg[6], "inf") == 0 ? INFINITY : utils::numeric(FLERR, arg[6], false, lmp);
-            if (!(m.window >= 1.0))
-                lmp->error->all(FLERR, fmt::format("{}: window out of range: need P_max/P_Y >= 1 (or inf), got {}",
-                                                   who, arg[6]));
+            m.window = std::strcmp(arg[6], "inf") == 0
+                ? INFINITY : number_in(lmp, who, arg[6], "window", 1.0, false, INFINITY, true, "P_max/P_Y >= 1 (or inf)");
         }
         return m;
     }
