@@ -386,8 +386,9 @@ def master_table(root: Path) -> list[str]:
 
 def stability(root: Path) -> list[str]:
     folder = root / "stability"
-    runtime, fe, fuzz = (read_json(folder / n) for n in ("runtime_stability.json", "fe_stability.json", "fuzz.json"))
-    if runtime is None and fe is None and fuzz is None:
+    runtime, fe, fuzz, plugin = (read_json(folder / n) for n in ("runtime_stability.json", "fe_stability.json",
+                                                                 "fuzz.json", "fuzz_lammps.json"))
+    if runtime is None and fe is None and fuzz is None and plugin is None:
         return []
     lines = [f"## Stability (`stability/`)", "", files_line(root, folder), ""]
     if runtime:
@@ -426,6 +427,13 @@ def stability(root: Path) -> list[str]:
         lines += table(["command", "cases", "successes", "clean errors", "failures"],
                        [[r["command"], r["cases"], r["successes"], r["clean_errors"], r["failures"]]
                         for r in fuzz["rows"]])
+    if plugin:
+        lines += [f"**LAMMPS plugin input fuzzer** (`{plugin['stamp']['command']}`): pair_coeff and wall-fix lines "
+                  "of every law, each an impact that runs without creating energy or an ERROR line naming the "
+                  "command and what is out of range. " + provenance(plugin["stamp"]), ""]
+        lines += table(["law", "command", "cases", "ran", "refused", "failures"],
+                       [[r["law"], r["command"], r["cases"], r["ran"], r["refused"], r["failures"]]
+                        for r in plugin["rows"]])
     for path in sorted(folder.glob("mesh_ladder_nu*.csv")):
         stamp, rows = read_csv(path)
         rows = sorted(rows, key=lambda r: -r["contact_size"])
