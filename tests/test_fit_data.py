@@ -1,4 +1,4 @@
-"""``nfdcal fit-data`` and calib.fit.from_data: the vz law fitted to measurements.
+"""``nfdcal fit-data`` and calib.fit.measured: the vz law fitted to measurements.
 
 Synthetic drop tests come from the law itself (nfdmodel.collision_reference, the exact
 quasi-static restitution) with known parameters and 1-3 % multiplicative noise; the fit must
@@ -15,12 +15,14 @@ import numpy as np
 import pytest
 
 from calib.cli import main
-from calib.fit import from_data, measured_data
 from calib.fit.master_table import MasterTable
+from calib.fit.measured import data as measured_data
+from calib.fit.measured.models import fit_constrained, fit_free, fit_measurements
+from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
 from nfdmodel import collide, load_parameters
 
 ROOT = Path(__file__).resolve().parent.parent
-ALUMINIUM = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)     # the paper's sphere (README)
+ALUMINIUM = Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)     # the paper's sphere (README)
 SPECIMEN_FLAGS = ["--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699"]
 
 
@@ -29,19 +31,19 @@ def table():
     return MasterTable.load()
 
 
-def drop_tests(params, v_over_v_Y, noise, seed, P_max_noise=None) -> from_data.Measurements:
+def drop_tests(params, v_over_v_Y, noise, seed, P_max_noise=None) -> measured_data.Measurements:
     """Drop tests of ``params`` at v_in = v_over_v_Y x v_Y with relative Gaussian noise on e
     (capped at e = 1, as a measured e > 1 is refused)."""
     rng = np.random.default_rng(seed)
     v = params.pair.v_Y * np.asarray(v_over_v_Y, dtype=float)
-    exact = from_data.predict_impacts(params, v)
+    exact = predict_impacts(params, v)
     e = np.minimum(exact["e"] * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
     P_max = None if P_max_noise is None else exact["P_max"] * (1.0 + P_max_noise * rng.standard_normal(v.size))
-    return from_data.Measurements(impacts=measured_data.ImpactData("synthetic.csv", v, e, P_max, None,
-                                                               np.arange(1, v.size + 1)))
+    return measured_data.Measurements(impacts=measured_data.ImpactData("synthetic.csv", v, e, P_max, None,
+                                                                       np.arange(1, v.size + 1)))
 
 
-def write_impacts(path: Path, data: from_data.Measurements) -> Path:
+def write_impacts(path: Path, data: measured_data.Measurements) -> Path:
     rows = ["v_in,e"] + [f"{float(v)!r},{float(e)!r}" for v, e in zip(data.impacts.v_in, data.impacts.e)]
     path.write_text("# synthetic drop tests\n" + "\n".join(rows) + "\n")
     return path
@@ -50,9 +52,9 @@ def write_impacts(path: Path, data: from_data.Measurements) -> Path:
 def test_constrained_model_recovers_sigma_y(table):
     """12 drop tests at 2..100 v_Y, 2 % noise, from the law with the master table's constants at
     sigma_Y = 100 MPa: the constrained fit returns sigma_Y within 3 standard errors (and 3 %)."""
-    truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
     data = drop_tests(truth, np.geomspace(2.0, 100.0, 12), noise=0.02, seed=7)
-    fit = from_data.fit_constrained(data, ALUMINIUM, table)
+    fit = fit_constrained(data, ALUMINIUM, table)
     error = fit.values["sigma_y"] / 100e6 - 1.0
     assert abs(error) < 3 * fit.standard_errors["sigma_y"] / fit.values["sigma_y"] and abs(error) < 0.03
     assert fit.identifiability["determined"] == {"sigma_y": True}
@@ -65,9 +67,9 @@ def test_free_model_recovers_the_constants_and_is_preferred(table):
     20 tests from 1.2 to 300 v_Y with 1 % noise determine both (within 3 standard errors, 5 %),
     sigma_Y stays held (e(v_in) alone does not separate it from Ca_hat, Kc_hat: the identifiability
     report says so), and AICc prefers the free model."""
-    truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.014}, None)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.014}, None)
     data = drop_tests(truth, np.geomspace(1.2, 300.0, 20), noise=0.01, seed=11)
-    choice = from_data.fit_measurements(data, ALUMINIUM, table, "free", sigma_y=100e6)
+    choice = fit_measurements(data, ALUMINIUM, table, "free", sigma_y=100e6)
     fit = choice.result
     assert choice.used == "free" and choice.preferred == "free"
     assert fit.spec.free == ("Ca_hat", "Kc_hat") and fit.standard_errors["sigma_y"] is None
@@ -101,9 +103,9 @@ def test_fe_paths_return_the_force_fit(tmp_path, table):
     is exactly what fit-data does with a force-approach curve. sigma_Y is held at the given
     100 MPa because the identifiability analysis finds that these paths do not determine it together
     with Ca_hat and Kc_hat (tested below); the law's Ca and Kc in SI units they do determine."""
-    data = from_data.Measurements(forces=measured_data.read_force_approach(fe_paths_csv(tmp_path / "fe.csv")))
+    data = measured_data.Measurements(forces=measured_data.read_force_approach(fe_paths_csv(tmp_path / "fe.csv")))
     assert data.forces.n_points == 147 and data.forces.force_floor == pytest.approx(25.0)
-    fit = from_data.fit_free(data, ALUMINIUM, 100e6, None, table)
+    fit = fit_free(data, ALUMINIUM, 100e6, None, table)
     reference = json.loads((ROOT / "results" / "calibration" / "calibration.json").read_text())
     assert fit.spec.free == ("Ca_hat", "Kc_hat") and "sigma_Y held at 1e+08 Pa" in fit.note
     for name in ("Ca", "Kc"):
@@ -117,8 +119,8 @@ def test_two_sphere_tests_give_the_material_s_law(tmp_path, capsys, table):
     """--pair: head-on impacts of two identical spheres (R* = R/2, E* = E/(2(1 - nu^2)),
     m* = m/2, v_in the relative speed) return sigma_Y, and the parameter file is the same
     material's sphere on a rigid flat (same sigma_Y, Ca_hat, Kc_hat)."""
-    pair_specimen = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0, two_spheres=True)
-    truth = from_data.law_parameters(pair_specimen, {"sigma_y": 100e6}, table)
+    pair_specimen = Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0, two_spheres=True)
+    truth = law_parameters(pair_specimen, {"sigma_y": 100e6}, table)
     assert truth.pair.R_star == pytest.approx(0.05)
     impacts = write_impacts(tmp_path / "pairs.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.01, seed=5))
     params_out = tmp_path / "p.json"
@@ -134,7 +136,7 @@ def test_two_sphere_tests_give_the_material_s_law(tmp_path, capsys, table):
 def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     """--params-out writes through the one writer: nfdmodel.load_parameters reads it back, and a
     collision with it gives the fitted law's e; an existing file is refused without --overwrite."""
-    truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
     impacts = write_impacts(tmp_path / "drops.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.02, seed=3))
     params_out, plot = tmp_path / "p.json", tmp_path / "fit.png"
     code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--json", "--params-out", str(params_out),
@@ -151,7 +153,7 @@ def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     assert json.loads(params_out.read_text())["fit"]["source"] == "measurements"
     v = np.array([0.02, 0.1])
     e = collide("vz", params, v, dt=None).e_velocity
-    assert e == pytest.approx(from_data.predict_impacts(params, v)["e"], rel=2e-3)
+    assert e == pytest.approx(predict_impacts(params, v)["e"], rel=2e-3)
 
     before = params_out.read_bytes()
     code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--params-out", str(params_out)])
