@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from calib.fit.measured.data import Measurements
-from calib.fit.measured.regression import FitResult, jacobian
+from calib.fit.measured.regression import FitResult, sensitivities
 from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts, relative_residuals
 
 DETERMINED_RELATIVE_SE = 0.10   # a parameter is determined by the data when its relative SE <= 10 %
@@ -74,7 +74,7 @@ def suggest_velocities(result: FitResult, data: Measurements, specimen: Specimen
         return np.concatenate(present + [np.log(predict_impacts(law, every_v)["e"]) / scale["e"]])
 
     try:
-        jac = jacobian(residuals, centre, centre - 1.0, centre + 1.0)
+        jac = sensitivities(residuals, centre)
     except ValueError as exc:
         return {"summary": f"no suggestion of v_in ({exc})", "windows": []}
     n_present = sum(sizes.values())
@@ -124,7 +124,7 @@ def joint_relative_se(result: FitResult, data: Measurements, specimen: Specimen)
         groups = relative_residuals(data, law_parameters(specimen, dict(zip(names, np.exp(log_theta))), None))
         return np.concatenate([groups[name] / scale[name] for name in sizes])
 
-    jac = jacobian(residuals, centre, centre - 1.0, centre + 1.0)
+    jac = sensitivities(residuals, centre)
     r = residuals(centre)
     if r.size <= len(names):
         return None

@@ -39,7 +39,7 @@ import numpy as np
 from calib.fit.master_table import RELATIVE_UNCERTAINTY, MasterTable
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.identifiability import DETERMINED_RELATIVE_SE, joint_relative_se, with_identifiability
-from calib.fit.measured.regression import FitResult, ModelSpec, fit_model, jacobian, sigma_y_bounds
+from calib.fit.measured.regression import FitResult, ModelSpec, fit_model, sensitivities, sigma_y_bounds
 from calib.fit.measured.specimen import Specimen, law_parameters, relative_residuals
 from nfdmodel import VZParams
 
@@ -92,7 +92,8 @@ def with_table_uncertainty(result: FitResult, data: Measurements, specimen: Spec
     least-squares response, J the weighted residuals' derivatives in ln sigma_Y, ln Ca_hat,
     ln Kc_hat at the fit). Each reported quantity q (sigma_Y, Ca_hat, Kc_hat, Ca, Kc) then has
     Var ln q = (dq/d eta)^2 Var_fit(ln sigma_Y) + (dq/d eps_c)^2 u_c^2 + (dq/d eps_k)^2 u_k^2, the
-    derivatives by central differences of the chain eta, eps -> sigma_Y -> table -> q."""
+    derivatives by forward differences of the chain eta, eps -> sigma_Y -> table -> q
+    (calib.fit.measured.regression.sensitivities)."""
     sizes, scale = data.group_sizes(), result.group_scale
     log_sigma = math.log(result.values["sigma_y"])
     table_values = {"Ca_hat": result.values["Ca_hat"], "Kc_hat": result.values["Kc_hat"]}
@@ -103,7 +104,7 @@ def with_table_uncertainty(result: FitResult, data: Measurements, specimen: Spec
         return np.concatenate([groups[name] / scale[name] for name in sizes])
 
     centre = np.array([log_sigma, math.log(table_values["Ca_hat"]), math.log(table_values["Kc_hat"])])
-    jac = jacobian(residuals, centre, centre - 1.0, centre + 1.0)
+    jac = sensitivities(residuals, centre)
     along = float(jac[:, 0] @ jac[:, 0])
     if not along > 0.0:
         return result
@@ -116,8 +117,7 @@ def with_table_uncertainty(result: FitResult, data: Measurements, specimen: Spec
         law = VZParams.from_dimensionless(law.pair, Ca_hat, Kc_hat)
         return np.log([sigma_y, Ca_hat, Kc_hat, law.Ca, law.Kc])
 
-    step = 1e-5
-    gradient = np.column_stack([(reported(step * e) - reported(-step * e)) / (2 * step) for e in np.eye(3)])
+    gradient = sensitivities(reported, np.zeros(3))
     variance = np.array([float(result.covariance_log[0, 0]), RELATIVE_UNCERTAINTY["Ca_hat"] ** 2,
                          RELATIVE_UNCERTAINTY["Kc_hat"] ** 2])
     relative = np.sqrt(gradient**2 @ variance)

@@ -12,10 +12,19 @@ Applications, section 2.3):
     SE(theta_j) = theta_j SE(log theta_j),   Corr_ij = Cov_ij / sqrt(Cov_ii Cov_jj)
 
 and derived quantities (Ca [m/N], Kc [1/N], Ca_hat of the constrained model) by the delta method
-through their gradients in log theta. The AIC of the fit (calib.fit.measured.models):
+through their gradients in log theta. The fit also returns AIC and AICc (calib.fit.measured.models
+defines them and chooses the model by them).
 
-    AIC  = sum_k n_k ln(RSS_k / n_k) + 2 K,   K = p + (number of groups)
-    AICc = AIC + 2 K (K + 1) / (n - K - 1)
+**Jacobian**: least_squares' own central differences (jac="3-point", relative step 1e-6 in
+log theta, one-sided at a bound), in the iterations and, re-weighted to the final group scales,
+in Cov. Measured on the examples of tests/test_fit_data.py against a Richardson-extrapolated
+reference: J to 1e-10..3e-8 (forward differences, "2-point", at the same step: 1e-6..1e-5), at
+the same number of law evaluations over bench_fit_data's 50 trials as central differences of
+the covariance alone. No analytic J: the residuals pass through the law's energy balance
+(nfdmodel.collision_reference's Newton solve), its history-dependent force driver and the
+master table's PCHIP; an analytic J would state the law's equations a second time. Gradients at a
+fixed point (the delta method, the identifiability report, the table's uncertainty) are forward
+differences of scipy.optimize.approx_fprime (:func:`sensitivities`, to about 1e-7).
 
 **Bounds**: sigma_Y such that E / sigma_Y lies inside the master table (constrained model) or
 in 20..1e4 (free model, as the FE calibration accepts it); Ca_hat, Kc_hat around the FE's
@@ -40,6 +49,9 @@ from nfdmodel import CalibrationWindow, VZParams
 E_OVER_SIGMA_Y_RANGE = (20.0, 1e4)
 BOUNDS = {"Ca_hat": (1e-3, 1.0), "Kc_hat": (1e-5, 1.0)}
 _PENALTY = 10.0                 # residual of an inadmissible trial point (the step is rejected)
+JACOBIAN = "3-point"            # least_squares' finite differences of the weighted residuals (module doc)
+DIFF_STEP = 1e-6                # their relative step in log theta
+STEP = float(np.sqrt(np.finfo(float).eps))   # forward differences elsewhere: the library's relative step
 
 
 def sigma_y_bounds(specimen: Specimen, model: str, table: MasterTable | None) -> tuple[float, float]:
@@ -96,16 +108,15 @@ class FitResult:
         return float(np.sqrt(np.mean(everything**2)))
 
 
-def jacobian(fun, x, lower, upper, step=1e-4) -> np.ndarray:
-    """Central differences of ``fun`` at ``x`` (one-sided at a bound), columns per parameter."""
+def sensitivities(fun, x, upper=None) -> np.ndarray:
+    """d fun / d x at ``x``, one column per parameter, by scipy's forward differences
+    (scipy.optimize.approx_fprime) with the library's relative step sqrt(eps) max(1, |x_j|); a
+    backward step where a forward one would pass ``upper`` (a bound of the fit)."""
     x = np.asarray(x, dtype=float)
-    columns = []
-    for j in range(x.size):
-        up, down = x.copy(), x.copy()
-        up[j] = min(x[j] + step, upper[j])
-        down[j] = max(x[j] - step, lower[j])
-        columns.append((fun(up) - fun(down)) / (up[j] - down[j]))
-    return np.column_stack(columns)
+    step = STEP * np.maximum(1.0, np.abs(x))
+    if upper is not None:
+        step = np.where(x + step > upper, -step, step)
+    return np.reshape(optimize.approx_fprime(x, fun, step), (-1, x.size))
 
 
 def spec_bounds(spec: ModelSpec, specimen: Specimen, table) -> tuple[np.ndarray, np.ndarray]:
@@ -140,15 +151,15 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
 
     x = np.clip(np.log([start[name] for name in spec.free]), lower + 1e-12, upper - 1e-12)
     for _ in range(3 if len(sizes) > 1 else 1):  # re-weight the groups by their scatter
-        solution = optimize.least_squares(weighted, x, bounds=(lower, upper), method="trf", x_scale=1.0,
-                                          diff_step=1e-6, xtol=1e-10, ftol=1e-12, gtol=1e-12)
-        x = solution.x
+        solution = optimize.least_squares(weighted, x, jac=JACOBIAN, bounds=(lower, upper), method="trf",
+                                          x_scale=1.0, diff_step=DIFF_STEP, xtol=1e-10, ftol=1e-12, gtol=1e-12)
+        x, solved_scale = solution.x, scale
         groups = relative_residuals(data, parameters(x))
         scale = {name: max(float(np.sqrt(np.mean(groups[name] ** 2))), 1e-12) for name in sizes}
     params = parameters(x)
-    groups = relative_residuals(data, params)
     residual = np.concatenate([groups[name] / scale[name] for name in sizes])
-    jac = jacobian(weighted, x, lower, upper)
+    # least_squares' J at its solution, its rows re-weighted from the scales it solved with to the final ones
+    jac = solution.jac * np.concatenate([np.full(sizes[name], solved_scale[name] / scale[name]) for name in sizes])[:, None]
     n = residual.size
     variance = float(residual @ residual) / (n - p)
     singular = np.linalg.svd(jac, compute_uv=False)
@@ -166,7 +177,7 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
         return np.log([law.pair.sigma_y, law.Ca_hat, law.Kc_hat, law.Ca, law.Kc])
 
     names = ("sigma_y", "Ca_hat", "Kc_hat", "Ca", "Kc")
-    gradient = jacobian(derived, x, lower, upper)
+    gradient = sensitivities(derived, x, upper)
     derived_sd = np.sqrt(np.maximum(np.einsum("ij,jk,ik->i", gradient, covariance, gradient), 0.0))
     values = dict(zip(names, np.exp(derived(x))))
     values = {k: float(v) for k, v in values.items()}
