@@ -13,12 +13,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy import optimize
 
 from calib.cli import main
 from calib.fit.master_table import MasterTable
 from calib.fit.measured import data as measured_data
+from calib.fit.measured.domain import extended_residuals, full_contact_speed, largest_admissible_Kc_hat
 from calib.fit.measured.models import fit_constrained, fit_free, fit_measurements
-from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
+from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts, relative_residuals
 from nfdmodel import collide, load_parameters
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -79,6 +81,79 @@ def test_free_model_recovers_the_constants_and_is_preferred(table):
         assert abs(error) < 3 * fit.standard_errors[name] / fit.values[name] and abs(error) < 0.05, name
     assert abs(fit.correlation[0, 1]) <= 1.0 and fit.correlation[0, 0] == pytest.approx(1.0)
     assert "suggested_v_in" in fit.identifiability
+
+
+def off_table_drop_tests() -> measured_data.Measurements:
+    """The drop tests of test_free_model_recovers_the_constants_and_is_preferred."""
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.014}, None)
+    return drop_tests(truth, np.geomspace(1.2, 300.0, 20), noise=0.01, seed=11)
+
+
+def test_a_start_the_law_refuses_walks_back_to_the_usual_fit(table):
+    """Where the law cannot be evaluated the fit's residuals continue smoothly
+    (calib.fit.measured.domain), so a fit started there walks back: sigma_Y = 15 MPa puts the
+    fastest test (300 v_Y of 100 MPa) beyond full contact, and Kc_hat = 0.1 lies beyond the largest
+    Kc_hat the law admits at Ca_hat = 0.032 (0.0867). Both return what the usual starts give."""
+    data = off_table_drop_tests()
+    assert extended_residuals(ALUMINIUM, {"sigma_y": 15e6}, table, data).beyond
+    assert extended_residuals(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.1}, None, data).beyond
+    usual = fit_constrained(data, ALUMINIUM, table)
+    walked = fit_constrained(data, ALUMINIUM, table, sigma_y_start=15e6)
+    assert walked.values["sigma_y"] == pytest.approx(usual.values["sigma_y"], rel=1e-6)
+    usual = fit_free(data, ALUMINIUM, 100e6, None, table, free_sigma_y=False)
+    walked = fit_free(data, ALUMINIUM, 100e6, {"Ca_hat": 0.032, "Kc_hat": 0.1}, table, free_sigma_y=False)
+    for name in ("Ca_hat", "Kc_hat"):
+        assert walked.values[name] == pytest.approx(usual.values[name], rel=1e-6), name
+        assert walked.standard_errors[name] == pytest.approx(usual.standard_errors[name], rel=1e-4), name
+
+
+def test_the_fit_objective_is_smooth_across_the_law_s_boundaries(table):
+    """The least-squares cost of the continued residuals is continuous and continuously
+    differentiable across both boundaries of the law (calib.fit.measured.domain), and grows beyond
+    them when the data lie inside: across Kc_hat*(Ca_hat = 0.032), the largest Kc_hat the law
+    admits, and across the sigma_Y at which the fastest drop test reaches full contact. A
+    constant residual there (no gradient, a jump of 10^2 per row) would fail every check."""
+    data = off_table_drop_tests()
+
+    def cost(log_x, values):
+        extended = extended_residuals(ALUMINIUM, values(math.exp(log_x)), table, data)
+        r = extended.residuals["e"]
+        return float(r @ r), bool(extended.beyond)
+
+    def accepted(Kc_hat):
+        return 1.0 if not extended_residuals(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": Kc_hat},
+                                             None, data).beyond else -1.0
+
+    along_Kc = {"sigma_y": 100e6, "Ca_hat": 0.032}
+    Kc_boundary = optimize.bisect(accepted, 0.05, 0.5, rtol=1e-14)
+    fastest = float(data.impacts.v_in.max())
+    sigma_boundary = optimize.brentq(lambda s: full_contact_speed(law_parameters(ALUMINIUM, {"sigma_y": s}, table))
+                                     - fastest, 15e6, 100e6, rtol=1e-14)
+    h = 1e-4
+    for values, boundary, outward in ((lambda k: {**along_Kc, "Kc_hat": k}, Kc_boundary, 1.0),
+                                      (lambda s: {"sigma_y": s}, sigma_boundary, -1.0)):
+        x = math.log(boundary)
+        (inside, was_beyond), (outside, is_beyond) = (cost(x - outward * 1e-9, values),
+                                                      cost(x + outward * 1e-9, values))
+        assert not was_beyond and is_beyond
+        assert outside == pytest.approx(inside, rel=1e-8, abs=1e-8)
+        slope_in = (inside - cost(x - outward * (1e-9 + h), values)[0]) / h
+        slope_out = (cost(x + outward * (1e-9 + h), values)[0] - outside) / h
+        assert slope_out == pytest.approx(slope_in, rel=1e-3) and slope_in > 0.0
+        assert outside < cost(x + outward * 1e-3, values)[0] < cost(x + outward * 1e-2, values)[0]
+
+
+def test_a_best_fit_beyond_the_law_s_constants_is_one_line_naming_it(tmp_path, capsys):
+    """Drop tests of constants 0.5 % inside the largest Kc_hat the law admits at Ca_hat = 0.03,
+    2 % noise (seed 1): the free fit (sigma_Y given) is best beyond that Kc_hat, where the law
+    creates energy; the error names Kc_hat and its bound (exit 2)."""
+    largest = largest_admissible_Kc_hat(ALUMINIUM.pair(100e6), 0.03)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.03, "Kc_hat": 0.995 * largest}, None)
+    impacts = write_impacts(tmp_path / "drops.csv", drop_tests(truth, np.geomspace(1.2, 300.0, 20), 0.02, seed=1))
+    code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--free", "--sigma-y", "100e6"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err
+    assert "cannot be evaluated" in err and "Kc_hat = " in err and "the largest the vz law admits" in err, err
 
 
 def fe_paths_csv(path: Path) -> Path:

@@ -7,6 +7,7 @@ idea per module, each importing only those above it:
 
     data             what was measured: the CSV files, checked (Measurements)
     specimen         the tested specimen and what the law predicts for the data; the residuals
+    domain           where the law can be evaluated; the residuals continued smoothly beyond
     regression       one least-squares fit: parameters, covariance, AIC, the law's window
     identifiability  which parameters the data determine; which drop tests would add most
     models           the constrained and the free model, and the choice between them (AICc)

@@ -71,15 +71,20 @@ class Specimen:
         return VZParams.from_dimensionless(pair, params.Ca_hat, params.Kc_hat, params.window)
 
 
+def dimensionless_constants(specimen: Specimen, values: dict,
+                            table: MasterTable | None) -> tuple[ContactPair, float, float]:
+    """The tested pair at ``values["sigma_y"]`` [Pa] and Ca_hat, Kc_hat [-]: those of ``values``,
+    else the master table's at (nu, E / sigma_Y)."""
+    pair = specimen.pair(values["sigma_y"])
+    if "Ca_hat" in values:
+        return pair, values["Ca_hat"], values["Kc_hat"]
+    return (pair, *table.lookup(specimen.nu, specimen.E / values["sigma_y"]))
+
+
 def law_parameters(specimen: Specimen, values: dict, table: MasterTable | None) -> VZParams:
     """VZParams from ``values`` (sigma_y [Pa], and Ca_hat, Kc_hat; the master table's at
     (nu, E / sigma_Y) when absent)."""
-    pair = specimen.pair(values["sigma_y"])
-    if "Ca_hat" in values:
-        Ca_hat, Kc_hat = values["Ca_hat"], values["Kc_hat"]
-    else:
-        Ca_hat, Kc_hat = table.lookup(specimen.nu, specimen.E / values["sigma_y"])
-    return VZParams.from_dimensionless(pair, Ca_hat, Kc_hat)
+    return VZParams.from_dimensionless(*dimensionless_constants(specimen, values, table))
 
 
 def predict_impacts(params: VZParams, v_in) -> dict:
@@ -95,11 +100,12 @@ def predict_forces(params: VZParams, forces: ForceApproachData) -> list[np.ndarr
         return [drive_law("vz", params, approach)[0] for _, approach, _ in forces.tests]
 
 
-def relative_residuals(data: Measurements, params: VZParams) -> dict[str, np.ndarray]:
-    """Per group (e, P_max, contact_time, force): the relative residuals of the law (module doc)."""
+def relative_residuals(data: Measurements, params: VZParams, impacts: dict | None = None) -> dict[str, np.ndarray]:
+    """Per group (e, P_max, contact_time, force): the relative residuals of the law (module doc).
+    ``impacts``: the law's predictions at the measured v_in (default: :func:`predict_impacts`)."""
     out = {}
     if data.impacts is not None:
-        predicted = predict_impacts(params, data.impacts.v_in)
+        predicted = predict_impacts(params, data.impacts.v_in) if impacts is None else impacts
         out["e"] = predicted["e"] / data.impacts.e - 1.0
         for name in ("P_max", "contact_time"):
             measured = getattr(data.impacts, name)
