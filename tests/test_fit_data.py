@@ -1,4 +1,4 @@
-"""``nfdcal fit-data`` and calib.fit.from_data: the vz law fitted to measurements.
+"""``nfdcal fit-data`` and calib.fit.measured: the vz law fitted to measurements.
 
 Synthetic drop tests come from the law itself (nfdmodel.collision_reference, the exact
 quasi-static restitution) with known parameters and 1-3 % multiplicative noise; the fit must
@@ -13,14 +13,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from scipy import optimize
 
 from calib.cli import main
-from calib.fit import from_data, measured_data
 from calib.fit.master_table import MasterTable
+from calib.fit.measured import data as measured_data
+from calib.fit.measured.domain import extended_residuals, full_contact_speed, largest_admissible_Kc_hat
+from calib.fit.measured.models import fit_constrained, fit_free, fit_measurements
+from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts, relative_residuals
 from nfdmodel import collide, load_parameters
 
 ROOT = Path(__file__).resolve().parent.parent
-ALUMINIUM = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)     # the paper's sphere (README)
+ALUMINIUM = Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)     # the paper's sphere (README)
 SPECIMEN_FLAGS = ["--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699"]
 
 
@@ -29,19 +33,19 @@ def table():
     return MasterTable.load()
 
 
-def drop_tests(params, v_over_v_Y, noise, seed, P_max_noise=None) -> from_data.Measurements:
+def drop_tests(params, v_over_v_Y, noise, seed, P_max_noise=None) -> measured_data.Measurements:
     """Drop tests of ``params`` at v_in = v_over_v_Y x v_Y with relative Gaussian noise on e
     (capped at e = 1, as a measured e > 1 is refused)."""
     rng = np.random.default_rng(seed)
     v = params.pair.v_Y * np.asarray(v_over_v_Y, dtype=float)
-    exact = from_data.predict_impacts(params, v)
+    exact = predict_impacts(params, v)
     e = np.minimum(exact["e"] * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
     P_max = None if P_max_noise is None else exact["P_max"] * (1.0 + P_max_noise * rng.standard_normal(v.size))
-    return from_data.Measurements(impacts=measured_data.ImpactData("synthetic.csv", v, e, P_max, None,
-                                                               np.arange(1, v.size + 1)))
+    return measured_data.Measurements(impacts=measured_data.ImpactData("synthetic.csv", v, e, P_max, None,
+                                                                       np.arange(1, v.size + 1)))
 
 
-def write_impacts(path: Path, data: from_data.Measurements) -> Path:
+def write_impacts(path: Path, data: measured_data.Measurements) -> Path:
     rows = ["v_in,e"] + [f"{float(v)!r},{float(e)!r}" for v, e in zip(data.impacts.v_in, data.impacts.e)]
     path.write_text("# synthetic drop tests\n" + "\n".join(rows) + "\n")
     return path
@@ -50,9 +54,9 @@ def write_impacts(path: Path, data: from_data.Measurements) -> Path:
 def test_constrained_model_recovers_sigma_y(table):
     """12 drop tests at 2..100 v_Y, 2 % noise, from the law with the master table's constants at
     sigma_Y = 100 MPa: the constrained fit returns sigma_Y within 3 standard errors (and 3 %)."""
-    truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
     data = drop_tests(truth, np.geomspace(2.0, 100.0, 12), noise=0.02, seed=7)
-    fit = from_data.fit_constrained(data, ALUMINIUM, table)
+    fit = fit_constrained(data, ALUMINIUM, table)
     error = fit.values["sigma_y"] / 100e6 - 1.0
     assert abs(error) < 3 * fit.standard_errors["sigma_y"] / fit.values["sigma_y"] and abs(error) < 0.03
     assert fit.identifiability["determined"] == {"sigma_y": True}
@@ -65,9 +69,9 @@ def test_free_model_recovers_the_constants_and_is_preferred(table):
     20 tests from 1.2 to 300 v_Y with 1 % noise determine both (within 3 standard errors, 5 %),
     sigma_Y stays held (e(v_in) alone does not separate it from Ca_hat, Kc_hat: the identifiability
     report says so), and AICc prefers the free model."""
-    truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.014}, None)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.014}, None)
     data = drop_tests(truth, np.geomspace(1.2, 300.0, 20), noise=0.01, seed=11)
-    choice = from_data.fit_measurements(data, ALUMINIUM, table, "free", sigma_y=100e6)
+    choice = fit_measurements(data, ALUMINIUM, table, "free", sigma_y=100e6)
     fit = choice.result
     assert choice.used == "free" and choice.preferred == "free"
     assert fit.spec.free == ("Ca_hat", "Kc_hat") and fit.standard_errors["sigma_y"] is None
@@ -77,6 +81,79 @@ def test_free_model_recovers_the_constants_and_is_preferred(table):
         assert abs(error) < 3 * fit.standard_errors[name] / fit.values[name] and abs(error) < 0.05, name
     assert abs(fit.correlation[0, 1]) <= 1.0 and fit.correlation[0, 0] == pytest.approx(1.0)
     assert "suggested_v_in" in fit.identifiability
+
+
+def off_table_drop_tests() -> measured_data.Measurements:
+    """The drop tests of test_free_model_recovers_the_constants_and_is_preferred."""
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.014}, None)
+    return drop_tests(truth, np.geomspace(1.2, 300.0, 20), noise=0.01, seed=11)
+
+
+def test_a_start_the_law_refuses_walks_back_to_the_usual_fit(table):
+    """Where the law cannot be evaluated the fit's residuals continue smoothly
+    (calib.fit.measured.domain), so a fit started there walks back: sigma_Y = 15 MPa puts the
+    fastest test (300 v_Y of 100 MPa) beyond full contact, and Kc_hat = 0.1 lies beyond the largest
+    Kc_hat the law admits at Ca_hat = 0.032 (0.0867). Both return what the usual starts give."""
+    data = off_table_drop_tests()
+    assert extended_residuals(ALUMINIUM, {"sigma_y": 15e6}, table, data).beyond
+    assert extended_residuals(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": 0.1}, None, data).beyond
+    usual = fit_constrained(data, ALUMINIUM, table)
+    walked = fit_constrained(data, ALUMINIUM, table, sigma_y_start=15e6)
+    assert walked.values["sigma_y"] == pytest.approx(usual.values["sigma_y"], rel=1e-6)
+    usual = fit_free(data, ALUMINIUM, 100e6, None, table, free_sigma_y=False)
+    walked = fit_free(data, ALUMINIUM, 100e6, {"Ca_hat": 0.032, "Kc_hat": 0.1}, table, free_sigma_y=False)
+    for name in ("Ca_hat", "Kc_hat"):
+        assert walked.values[name] == pytest.approx(usual.values[name], rel=1e-6), name
+        assert walked.standard_errors[name] == pytest.approx(usual.standard_errors[name], rel=1e-4), name
+
+
+def test_the_fit_objective_is_smooth_across_the_law_s_boundaries(table):
+    """The least-squares cost of the continued residuals is continuous and continuously
+    differentiable across both boundaries of the law (calib.fit.measured.domain), and grows beyond
+    them when the data lie inside: across Kc_hat*(Ca_hat = 0.032), the largest Kc_hat the law
+    admits, and across the sigma_Y at which the fastest drop test reaches full contact. A
+    constant residual there (no gradient, a jump of 10^2 per row) would fail every check."""
+    data = off_table_drop_tests()
+
+    def cost(log_x, values):
+        extended = extended_residuals(ALUMINIUM, values(math.exp(log_x)), table, data)
+        r = extended.residuals["e"]
+        return float(r @ r), bool(extended.beyond)
+
+    def accepted(Kc_hat):
+        return 1.0 if not extended_residuals(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.032, "Kc_hat": Kc_hat},
+                                             None, data).beyond else -1.0
+
+    along_Kc = {"sigma_y": 100e6, "Ca_hat": 0.032}
+    Kc_boundary = optimize.bisect(accepted, 0.05, 0.5, rtol=1e-14)
+    fastest = float(data.impacts.v_in.max())
+    sigma_boundary = optimize.brentq(lambda s: full_contact_speed(law_parameters(ALUMINIUM, {"sigma_y": s}, table))
+                                     - fastest, 15e6, 100e6, rtol=1e-14)
+    h = 1e-4
+    for values, boundary, outward in ((lambda k: {**along_Kc, "Kc_hat": k}, Kc_boundary, 1.0),
+                                      (lambda s: {"sigma_y": s}, sigma_boundary, -1.0)):
+        x = math.log(boundary)
+        (inside, was_beyond), (outside, is_beyond) = (cost(x - outward * 1e-9, values),
+                                                      cost(x + outward * 1e-9, values))
+        assert not was_beyond and is_beyond
+        assert outside == pytest.approx(inside, rel=1e-8, abs=1e-8)
+        slope_in = (inside - cost(x - outward * (1e-9 + h), values)[0]) / h
+        slope_out = (cost(x + outward * (1e-9 + h), values)[0] - outside) / h
+        assert slope_out == pytest.approx(slope_in, rel=1e-3) and slope_in > 0.0
+        assert outside < cost(x + outward * 1e-3, values)[0] < cost(x + outward * 1e-2, values)[0]
+
+
+def test_a_best_fit_beyond_the_law_s_constants_is_one_line_naming_it(tmp_path, capsys):
+    """Drop tests of constants 0.5 % inside the largest Kc_hat the law admits at Ca_hat = 0.03,
+    2 % noise (seed 1): the free fit (sigma_Y given) is best beyond that Kc_hat, where the law
+    creates energy; the error names Kc_hat and its bound (exit 2)."""
+    largest = largest_admissible_Kc_hat(ALUMINIUM.pair(100e6), 0.03)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.03, "Kc_hat": 0.995 * largest}, None)
+    impacts = write_impacts(tmp_path / "drops.csv", drop_tests(truth, np.geomspace(1.2, 300.0, 20), 0.02, seed=1))
+    code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--free", "--sigma-y", "100e6"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err
+    assert "cannot be evaluated" in err and "Kc_hat = " in err and "the largest the vz law admits" in err, err
 
 
 def fe_paths_csv(path: Path) -> Path:
@@ -101,9 +178,9 @@ def test_fe_paths_return_the_force_fit(tmp_path, table):
     is exactly what fit-data does with a force-approach curve. sigma_Y is held at the given
     100 MPa because the identifiability analysis finds that these paths do not determine it together
     with Ca_hat and Kc_hat (tested below); the law's Ca and Kc in SI units they do determine."""
-    data = from_data.Measurements(forces=measured_data.read_force_approach(fe_paths_csv(tmp_path / "fe.csv")))
+    data = measured_data.Measurements(forces=measured_data.read_force_approach(fe_paths_csv(tmp_path / "fe.csv")))
     assert data.forces.n_points == 147 and data.forces.force_floor == pytest.approx(25.0)
-    fit = from_data.fit_free(data, ALUMINIUM, 100e6, None, table)
+    fit = fit_free(data, ALUMINIUM, 100e6, None, table)
     reference = json.loads((ROOT / "results" / "calibration" / "calibration.json").read_text())
     assert fit.spec.free == ("Ca_hat", "Kc_hat") and "sigma_Y held at 1e+08 Pa" in fit.note
     for name in ("Ca", "Kc"):
@@ -117,8 +194,8 @@ def test_two_sphere_tests_give_the_material_s_law(tmp_path, capsys, table):
     """--pair: head-on impacts of two identical spheres (R* = R/2, E* = E/(2(1 - nu^2)),
     m* = m/2, v_in the relative speed) return sigma_Y, and the parameter file is the same
     material's sphere on a rigid flat (same sigma_Y, Ca_hat, Kc_hat)."""
-    pair_specimen = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0, two_spheres=True)
-    truth = from_data.law_parameters(pair_specimen, {"sigma_y": 100e6}, table)
+    pair_specimen = Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0, two_spheres=True)
+    truth = law_parameters(pair_specimen, {"sigma_y": 100e6}, table)
     assert truth.pair.R_star == pytest.approx(0.05)
     impacts = write_impacts(tmp_path / "pairs.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.01, seed=5))
     params_out = tmp_path / "p.json"
@@ -134,7 +211,7 @@ def test_two_sphere_tests_give_the_material_s_law(tmp_path, capsys, table):
 def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     """--params-out writes through the one writer: nfdmodel.load_parameters reads it back, and a
     collision with it gives the fitted law's e; an existing file is refused without --overwrite."""
-    truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
+    truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
     impacts = write_impacts(tmp_path / "drops.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.02, seed=3))
     params_out, plot = tmp_path / "p.json", tmp_path / "fit.png"
     code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--json", "--params-out", str(params_out),
@@ -151,7 +228,7 @@ def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     assert json.loads(params_out.read_text())["fit"]["source"] == "measurements"
     v = np.array([0.02, 0.1])
     e = collide("vz", params, v, dt=None).e_velocity
-    assert e == pytest.approx(from_data.predict_impacts(params, v)["e"], rel=2e-3)
+    assert e == pytest.approx(predict_impacts(params, v)["e"], rel=2e-3)
 
     before = params_out.read_bytes()
     code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--params-out", str(params_out)])

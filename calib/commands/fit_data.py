@@ -5,7 +5,7 @@
 
 Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s]) and/or quasi-static
 force-approach curves (approach [m], force [N], optional test) of a sphere on a rigid flat are
-fitted through the runtime law (calib.fit.from_data states the equations): the constrained model
+fitted through the runtime law (calib.fit.measured states the equations): the constrained model
 fits sigma_Y alone with Ca_hat, Kc_hat from the master table at (nu, E / sigma_Y); --free fits
 Ca_hat, Kc_hat (and sigma_Y when the data determine it). Both are fitted and compared by AICc,
 in words. --sigma-y is the constrained fit's start and the value the free fit holds when the data
@@ -52,7 +52,7 @@ def add_parser(subparsers) -> None:
 def specimen_from_args(ns):
     """The Specimen (E, nu, R, rho) and the --sigma-y value (None when not given) from the flags;
     every error names the flag and its range."""
-    from calib.fit.from_data import Specimen
+    from calib.fit.measured.specimen import Specimen
     from nfdmodel.materials import check_radius
     from nfdmodel.validation import check_solid
 
@@ -87,7 +87,7 @@ def check_outputs(ns) -> None:
 
 
 def summary_of(choice, data, specimen, files) -> dict:
-    """The --json object (SI units; calib.fit.from_data defines every figure)."""
+    """The --json object (SI units; calib.fit.measured defines every figure)."""
     result = choice.result
     values, errors = result.values, result.standard_errors
     out = {}
@@ -132,8 +132,9 @@ def _percent(value, error) -> str:
 
 def run(ns) -> int:
     from calib import output
-    from calib.fit import from_data, measured_data
     from calib.fit.master_table import MasterTable
+    from calib.fit.measured import data as measured_data
+    from calib.fit.measured.models import fit_measurements
 
     started = time.perf_counter()
     if ns.impacts is None and ns.force_approach is None:
@@ -141,10 +142,10 @@ def run(ns) -> int:
     specimen, sigma_y = specimen_from_args(ns)
     check_outputs(ns)
     table = MasterTable.load(ns.table)
-    data = from_data.Measurements(
+    data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
-    choice = from_data.fit_measurements(data, specimen, table, "free" if ns.free else "constrained", sigma_y)
+    choice = fit_measurements(data, specimen, table, "free" if ns.free else "constrained", sigma_y)
     result = choice.result
     summary = summary_of(choice, data, specimen, data.files)
     if ns.params_out:

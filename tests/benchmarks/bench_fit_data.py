@@ -24,21 +24,23 @@ import time
 
 import numpy as np
 
-from calib.fit import from_data, measured_data
 from calib.fit.master_table import MasterTable
+from calib.fit.measured import data as measured_data
+from calib.fit.measured.models import fit_constrained, fit_free
+from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
 
-ALUMINIUM = from_data.Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)
+ALUMINIUM = Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)
 SIGMA_Y = 100e6
 FREE_TRUTH = {"Ca_hat": 0.032, "Kc_hat": 0.014}
 
 
-def synthetic(params, v_over_v_Y, rng) -> tuple[from_data.Measurements, float]:
+def synthetic(params, v_over_v_Y, rng) -> tuple[measured_data.Measurements, float]:
     noise = rng.uniform(0.01, 0.03)
     v = params.pair.v_Y * v_over_v_Y
-    e = from_data.predict_impacts(params, v)["e"]
+    e = predict_impacts(params, v)["e"]
     e = np.minimum(e * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
-    return from_data.Measurements(impacts=measured_data.ImpactData("synthetic", v, e, None, None,
-                                                               np.arange(1, v.size + 1))), noise
+    return measured_data.Measurements(impacts=measured_data.ImpactData("synthetic", v, e, None, None,
+                                                                       np.arange(1, v.size + 1))), noise
 
 
 def main(argv=None):
@@ -48,17 +50,17 @@ def main(argv=None):
     ns = parser.parse_args(argv)
     table = MasterTable.load()
     rng = np.random.default_rng(ns.seed)
-    constrained_truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": SIGMA_Y}, table)
-    free_truth = from_data.law_parameters(ALUMINIUM, {"sigma_y": SIGMA_Y, **FREE_TRUTH}, None)
+    constrained_truth = law_parameters(ALUMINIUM, {"sigma_y": SIGMA_Y}, table)
+    free_truth = law_parameters(ALUMINIUM, {"sigma_y": SIGMA_Y, **FREE_TRUTH}, None)
     records = {("constrained", "sigma_y"): [], ("free", "Ca_hat"): [], ("free", "Kc_hat"): []}
     sigma_fitted = 0
     started = time.perf_counter()
     for _ in range(ns.trials):
         data, _ = synthetic(constrained_truth, np.geomspace(2.0, 100.0, 12), rng)
-        fit = from_data.fit_constrained(data, ALUMINIUM, table)
+        fit = fit_constrained(data, ALUMINIUM, table)
         records[("constrained", "sigma_y")].append((fit.values["sigma_y"], fit.standard_errors["sigma_y"]))
         data, _ = synthetic(free_truth, np.geomspace(1.5, 300.0, 20), rng)
-        fit = from_data.fit_free(data, ALUMINIUM, SIGMA_Y, None, table)
+        fit = fit_free(data, ALUMINIUM, SIGMA_Y, None, table)
         sigma_fitted += "sigma_y" in fit.spec.free
         for name in FREE_TRUTH:
             records[("free", name)].append((fit.values[name], fit.standard_errors[name]))

@@ -1,11 +1,20 @@
-"""Measured data for the law's fit (calib.fit.from_data): drop tests and force-approach curves
-read from CSV and checked, SI units.
+"""What was measured on one specimen, read from CSV and checked (SI units): drop tests and
+quasi-static force-approach curves of a sphere on a rigid flat, the data ``nfdcal fit-data`` fits.
 
-Drop tests: columns v_in [m/s] > 0, e [-] in (0, 1], optional P_max [N], contact_time [s] (an
-empty cell: not measured). Force-approach curves: approach [m], force [N] in the order measured,
-optional test (a label: rows with the same label are one history on a fresh specimen). Any other
-column is refused; every bad cell is one ValueError naming the file, the row, its line and the
-column.
+**Files** (CSV, one header line, lines starting with '#' are comments):
+
+    impacts         v_in [m/s] > 0, e [-] in (0, 1]; optional P_max [N] > 0, contact_time [s] > 0
+                    (an empty cell: not measured in that test). One row per drop test, repeats
+                    at the same v_in allowed.
+    force-approach  approach [m], force [N] along one or more load-unload cycles of one
+                    contact, in the order measured; optional test (a label): rows with the same
+                    label are one history on a fresh (virgin) specimen, in file order.
+
+Any other column is refused; every bad cell is one ValueError naming the file, the row, its line
+and the column. The residual groups of the fit (calib.fit.measured.specimen) are e, P_max,
+contact_time and force; ``Measurements.group_sizes`` counts the values of each. The force
+residuals are scaled by max(|P|, P_floor) with P_floor = 0.05 x the smallest test's peak force,
+the weighting of the FE force fit (calib.fit.least_squares.fit_force_law).
 """
 from __future__ import annotations
 
@@ -24,8 +33,6 @@ FORCE_COLUMNS = {"approach": "m", "force": "N"}
 FORCE_OPTIONAL = {"test": "label"}
 FORCE_FLOOR_FRACTION = 0.05     # P_floor = this x the smallest test's peak force (the FE force fit's)
 
-
-# ---------------------------------------------------------------- reading and validating the data
 
 @dataclass(frozen=True)
 class ImpactData:
@@ -174,3 +181,36 @@ def read_force_approach(path) -> ForceApproachData:
                              f"{points[-1][0]}), column 'force': no positive force, nothing to fit")
         out.append((label, approach, force))
     return ForceApproachData(str(path), tuple(out))
+
+
+@dataclass(frozen=True)
+class Measurements:
+    """Everything measured on one specimen: drop tests and/or force-approach curves."""
+
+    impacts: ImpactData | None = None
+    forces: ForceApproachData | None = None
+
+    def __post_init__(self):
+        if self.impacts is None and self.forces is None:
+            raise ValueError("no data: give drop tests (impacts) or force-approach curves, or both")
+
+    @property
+    def n_points(self) -> int:
+        return sum(d.n_points for d in (self.impacts, self.forces) if d is not None)
+
+    @property
+    def files(self) -> list[str]:
+        return [d.path for d in (self.impacts, self.forces) if d is not None]
+
+    def group_sizes(self) -> dict[str, int]:
+        """The number of measured values per residual group (e, P_max, contact_time, force)."""
+        sizes = {}
+        if self.impacts is not None:
+            sizes["e"] = int(self.impacts.e.size)
+            for name in ("P_max", "contact_time"):
+                measured = getattr(self.impacts, name)
+                if measured is not None and np.isfinite(measured).any():
+                    sizes[name] = int(np.isfinite(measured).sum())
+        if self.forces is not None:
+            sizes["force"] = self.forces.n_points
+        return sizes

@@ -1,0 +1,15 @@
+"""The vz law fitted to measurements of one specimen, without an FE model (``nfdcal fit-data``).
+
+Drop tests e(v_in) and quasi-static force-approach curves of a sphere on a rigid flat give
+sigma_Y [Pa], Ca_hat, Kc_hat [-] (hence Ca [m/N], Kc [1/N]; Vu-Quoc & Zhang 1999, Proc. R. Soc.
+Lond. A 455) with standard errors, an identifiability report and a model choice by AICc. One
+idea per module, each importing only those above it:
+
+    data             what was measured: the CSV files, checked (Measurements)
+    specimen         the tested specimen and what the law predicts for the data; the residuals
+    domain           where the law can be evaluated; the residuals continued smoothly beyond
+    regression       one least-squares fit: parameters, covariance, AIC, the law's window
+    identifiability  which parameters the data determine; which drop tests would add most
+    models           the constrained and the free model, and the choice between them (AICc)
+    bands            the fitted e(v_in) with its confidence band (delta method)
+"""

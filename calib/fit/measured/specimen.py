@@ -1,0 +1,120 @@
+"""The tested specimen and what the vz law predicts for its measurements (``nfdcal fit-data``).
+
+**The law** (README, The model; Vu-Quoc & Zhang 1999, Proc. R. Soc. Lond. A 455, eqs. 2.5,
+3.4-3.7, 3.19-3.22), for a sphere of radius R on a rigid flat (R* = R, E* = E / (1 - nu^2)):
+
+    P_Y = pi^3 R*^2 (A_Y(nu) sigma_Y)^3 / (6 E*^2) [N],   a_Y = (3 P_Y R* / (4 E*))^(1/3) [m]
+    a_p = Ca <P - P_Y>,  C_R = 1 + Kc <P - P_Y>,  Ca = Ca_hat a_Y / P_Y [m/N],  Kc = Kc_hat / P_Y [1/N]
+
+What the law predicts for the data (calib.fit.measured.data):
+
+    impacts         the exact quasi-static impact by energy balance (nfdmodel.collision_reference):
+                    (1/2) m v_in^2 = W_l(delta_max), e = sqrt(W_u / W_l), P_max, contact time
+                    t_load + t_unload. The law is rate-independent, so this is what a time-stepped
+                    collision converges to (``collide``, O(dt^2)) and what a drop test measures.
+                    Scaled, e = e(v_in / v_Y; Ca_hat, Kc_hat) exactly, with
+                    v_Y = sqrt(4 P_Y delta_Y / (5 m)) proportional to sigma_Y^(5/2).
+    force-approach  the law driven along each test's measured approach
+                    (calib.fit.calibration.drive_law, the driver of the FE force fit).
+
+**Residuals** (:func:`relative_residuals`), per group: r = (y_law - y) / y for e, P_max and the
+contact time [-], and r = (P_law - P) / max(|P|, P_floor) for the forces [-] (P_floor:
+calib.fit.measured.data, the FE force fit's weighting).
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from calib.fit.calibration import drive_law
+from calib.fit.master_table import MasterTable
+from calib.fit.measured.data import ForceApproachData, Measurements
+from nfdmodel import ContactPair, Material, PlausibilityWarning, RangeWarning, VZParams, collision_reference
+
+
+@dataclass(frozen=True)
+class Specimen:
+    """What the user knows: E [Pa], nu [-], R [m], rho [kg/m^3] of the sphere, and how it was
+    tested: ``two_spheres`` False, a sphere on a massive rigid flat (R* = R, E* = E/(1 - nu^2),
+    m* = m); True, head-on impacts of two identical spheres (R* = R/2, E* = E/(2(1 - nu^2)),
+    m* = m/2, v_in the relative speed, the approach that of the two centres). The law's
+    dimensionless constants Ca_hat, Kc_hat are the material's either way (a << R)."""
+
+    E: float
+    nu: float
+    R: float
+    rho: float
+    two_spheres: bool = False
+
+    def material(self, sigma_y: float) -> Material:
+        return Material(self.E, self.nu, sigma_y, self.rho)
+
+    def pair(self, sigma_y: float) -> ContactPair:
+        """The tested contact pair."""
+        with warnings.catch_warnings():          # the radius was checked (and warned about) once
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            material = self.material(sigma_y)
+            if self.two_spheres:
+                return ContactPair.sphere_sphere(material, self.R, material, self.R)
+            return ContactPair.sphere_flat(material, self.R)
+
+    def sphere_flat_params(self, params: VZParams) -> VZParams:
+        """The fitted law for this sphere on a rigid flat (what a parameter file describes): the
+        same sigma_Y, Ca_hat, Kc_hat and window (in P/P_Y), the pair's own P_Y and a_Y."""
+        if not self.two_spheres:
+            return params
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            pair = ContactPair.sphere_flat(self.material(params.pair.sigma_y), self.R)
+        return VZParams.from_dimensionless(pair, params.Ca_hat, params.Kc_hat, params.window)
+
+
+def dimensionless_constants(specimen: Specimen, values: dict,
+                            table: MasterTable | None) -> tuple[ContactPair, float, float]:
+    """The tested pair at ``values["sigma_y"]`` [Pa] and Ca_hat, Kc_hat [-]: those of ``values``,
+    else the master table's at (nu, E / sigma_Y)."""
+    pair = specimen.pair(values["sigma_y"])
+    if "Ca_hat" in values:
+        return pair, values["Ca_hat"], values["Kc_hat"]
+    return (pair, *table.lookup(specimen.nu, specimen.E / values["sigma_y"]))
+
+
+def law_parameters(specimen: Specimen, values: dict, table: MasterTable | None) -> VZParams:
+    """VZParams from ``values`` (sigma_y [Pa], and Ca_hat, Kc_hat; the master table's at
+    (nu, E / sigma_Y) when absent)."""
+    return VZParams.from_dimensionless(*dimensionless_constants(specimen, values, table))
+
+
+def predict_impacts(params: VZParams, v_in) -> dict:
+    """e [-], P_max [N], contact_time [s] of sphere-on-flat impacts at ``v_in`` [m/s] (module doc)."""
+    reference = collision_reference("vz", params, v_in)
+    return {"e": reference.restitution, "P_max": reference.P_max, "contact_time": reference.contact_time_estimate}
+
+
+def predict_forces(params: VZParams, forces: ForceApproachData) -> list[np.ndarray]:
+    """The law's force [N] along each test's measured approach (a virgin contact per test)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RangeWarning)
+        return [drive_law("vz", params, approach)[0] for _, approach, _ in forces.tests]
+
+
+def relative_residuals(data: Measurements, params: VZParams, impacts: dict | None = None) -> dict[str, np.ndarray]:
+    """Per group (e, P_max, contact_time, force): the relative residuals of the law (module doc).
+    ``impacts``: the law's predictions at the measured v_in (default: :func:`predict_impacts`)."""
+    out = {}
+    if data.impacts is not None:
+        predicted = predict_impacts(params, data.impacts.v_in) if impacts is None else impacts
+        out["e"] = predicted["e"] / data.impacts.e - 1.0
+        for name in ("P_max", "contact_time"):
+            measured = getattr(data.impacts, name)
+            if measured is not None and np.isfinite(measured).any():
+                seen = np.isfinite(measured)
+                out[name] = predicted[name][seen] / measured[seen] - 1.0
+    if data.forces is not None:
+        floor = data.forces.force_floor
+        predicted = predict_forces(params, data.forces)
+        out["force"] = np.concatenate([(p - f) / np.maximum(np.abs(f), floor)
+                                       for p, (_, _, f) in zip(predicted, data.forces.tests)])
+    return out
