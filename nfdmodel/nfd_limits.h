@@ -65,4 +65,10 @@
 #define NFD_TABLE_MAX_ITERATIONS 100 /* never reached: bisection halves the bracket when Newton strays */
 #define NFD_TABLE_MAX_NODES 64       /* nodes of a vz_table table (nfd_table holds them inline) */
 
+/* The FE's reach (calib.fit.recipe): a calibration runs to at most FE_MAX_LOAD_OVER_YIELD P_Y and
+ * a contact radius of FE_MAX_CONTACT_RADIUS_OVER_R R (a small-strain, a << R contact problem; at
+ * 0.3 R the contact edge has turned by 17 degrees). A window stated beyond them is flagged. */
+#define NFD_FE_MAX_LOAD_OVER_YIELD 1000.0
+#define NFD_FE_MAX_CONTACT_RADIUS_OVER_R 0.3
+
 #endif

@@ -19,7 +19,7 @@ import warnings
 from dataclasses import dataclass
 
 from . import limits
-from .validation import check_real
+from .validation import PlausibilityWarning, check_real
 
 # What a parameter file without a window was calibrated on: the largest peak of the default
 # recipe of nfdcal calibrate (the fit uses the loading points above P_Y); nfd_limits.h.
@@ -53,6 +53,14 @@ class CalibrationWindow:
                                                                 low=0.0, high=1.0))
         if not isinstance(self.source, str):
             raise ValueError(f"window.source must be text, got {type(self.source).__name__}")
+        beyond = [f"P/P_Y up to {high:.3g} (the FE reaches {limits.FE_MAX_LOAD_OVER_YIELD:g})"
+                  for _ in [0] if high > limits.FE_MAX_LOAD_OVER_YIELD * (1.0 + 1e-9)]
+        if self.a_max_over_R is not None and self.a_max_over_R > limits.FE_MAX_CONTACT_RADIUS_OVER_R * (1.0 + 1e-9):
+            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {limits.FE_MAX_CONTACT_RADIUS_OVER_R:g})")
+        if beyond:                  # no FE calibration vouches for constants there (calib.fit.recipe)
+            warnings.warn(f"window beyond the FE's reach: {', '.join(beyond)}; constants stated for it are an "
+                          f"extrapolation no calibration can check ({self.source or 'source not stated'})",
+                          PlausibilityWarning, stacklevel=3)
 
     @classmethod
     def assumed_default(cls) -> "CalibrationWindow":

@@ -104,3 +104,20 @@ def test_an_overlap_where_the_contact_radius_reaches_R_is_an_error_in_both_kerne
 def test_an_impact_beyond_the_law_s_domain_names_the_largest_velocity():
     with pytest.raises(ValueError, match=r"^v_in out of range: at v_in = 20 m/s .* need v_in < 5.5\d* m/s"):
         collide("vz", REF, [0.1, 20.0])
+
+
+@pytest.mark.parametrize("window, flagged", [
+    ((1.0, 41.2, 0.0148), None), ((1.0, 1000.0, 0.3), None),
+    ((1.0, 4.6e4, 0.05), "P/P_Y up to 4.6e+04 (the FE reaches 1000)"),
+    ((1.0, 100.0, 0.9), "a/R* up to 0.9 (the FE reaches 0.3)"),
+], ids=["the reference", "at the reach", "load beyond", "radius beyond"])
+def test_a_window_beyond_the_fes_reach_is_flagged(window, flagged):
+    import warnings
+
+    from nfdmodel import CalibrationWindow, PlausibilityWarning
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        CalibrationWindow(*window, source="test")
+    messages = [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)]
+    assert (messages == []) if flagged is None else (len(messages) == 1 and flagged in messages[0]), messages

@@ -40,7 +40,7 @@ E_OVER_SIGMA_Y_RANGE = (20.0, 1.0e4)
 # The largest contact radius a calibration may reach, over R: beyond it the hemisphere is no
 # longer a small-strain, a << R contact problem (Hertz needs a << R; at 0.3 R the contact
 # edge has turned by 17 degrees).
-CONTACT_RADIUS_LIMIT = 0.3
+CONTACT_RADIUS_LIMIT = limits.FE_MAX_CONTACT_RADIUS_OVER_R     # nfd_limits.h
 # The largest load a calibration runs to, over P_Y (DEM users need up to ~1000). Measured
 # (results/stability/fe_stability.csv): the force-driven FE loads and unloads to 1000 P_Y at
 # E/sigma_Y = 700 and 5000 (ContactSolver.rescue_step takes the steps the ordinary solve cannot);
@@ -48,7 +48,7 @@ CONTACT_RADIUS_LIMIT = 0.3
 # fully plastic (P grows with the contact area, Johnson 1985 sec. 6.3) and a_p = Ca <P - P_Y>
 # (paper eq. 2.5) is an extrapolation: fit such runs knowingly. The runtime law itself takes any
 # P / P_Y (nfdmodel).
-MAX_LOAD_OVER_YIELD = 1000.0
+MAX_LOAD_OVER_YIELD = limits.FE_MAX_LOAD_OVER_YIELD            # nfd_limits.h
 # Ca_hat used to ESTIMATE the plastic radius before the calibration (the reference's is 0.0258,
 # the master table's span 0.024-0.028).
 CA_HAT_ESTIMATE = 0.025
