@@ -128,8 +128,9 @@ def test_a_report_is_written_all_or_nothing(tmp_path):
     assert sorted(p.name for p in folder.iterdir()) == ["old.csv", "sub", "summary.json"]
 
 
-def test_another_material_never_overwrites_the_reference_calibration(tmp_path, monkeypatch):
-    """nfdcal calibrate with material flags writes to a folder of its own."""
+@pytest.fixture
+def calibration_folders(tmp_path, monkeypatch) -> list[Path]:
+    """The folders nfdcal calibrate writes into, in call order (the FE and the writer stubbed)."""
     written = []
     import calib.fit.calibration as calibration
     import calib.report.calibration as report
@@ -140,11 +141,16 @@ def test_another_material_never_overwrites_the_reference_calibration(tmp_path, m
         "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
     monkeypatch.setattr(report, "write", lambda result, out, **options: written.append(Path(out)) or Path(out))
     monkeypatch.chdir(tmp_path)
+    return written
+
+
+def test_another_material_never_overwrites_the_reference_calibration(calibration_folders):
+    """nfdcal calibrate with material flags writes to a folder of its own."""
     assert main(["calibrate", "--E", "210e9", "--nu", "0.29", "--sigma-y", "1.2e9", "--R", "0.005",
                  "--quiet"]) == 0
     assert main(["calibrate", "--quiet"]) == 0
-    assert written[0] == Path("results/calibration/E2.1e+11_nu0.29_sy1.2e+09_R0.005")
-    assert written[1] == Path("results/calibration")
+    assert calibration_folders[0] == Path("results/calibration/E2.1e+11_nu0.29_sy1.2e+09_R0.005")
+    assert calibration_folders[1] == Path("results/calibration")
 
 
 def test_the_collision_report_honours_v_in_and_names_its_parameters(tmp_path, capsys):
@@ -265,19 +271,9 @@ def test_one_writer_per_results_folder(tmp_path):
     assert not list(tmp_path.iterdir())          # the lock file goes with the run
 
 
-def test_each_calibration_has_a_folder_of_its_own(tmp_path, monkeypatch, capsys):
+def test_each_calibration_has_a_folder_of_its_own(calibration_folders):
     """Other peaks, mesh or shipped law than the reference calibration's: a folder of their own."""
-    written = []
-    import calib.fit.calibration as calibration
-    import calib.report.calibration as report
-
-    monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: "result")
-    monkeypatch.setattr(calibration, "summary", lambda result: {
-        "Ca": 1.0, "Kc": 1.0, "Ca_hat": 1.0, "Kc_hat": 1.0, "P_Y": 1.0, "P_Y_fe": 1.0, "wall_time_s": 0.0,
-        "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
-    monkeypatch.setattr(report, "write", lambda result, out, **options: written.append(Path(out)) or Path(out))
-    monkeypatch.chdir(tmp_path)
     for flags in (["--peaks", "500", "1000"], ["--contact-size", "8e-5"], ["--ship", "force"], ["--ship", "radius"]):
         assert main(["calibrate", "--quiet", *flags]) == 0
-    assert [p.as_posix() for p in written] == ["results/calibration/peaks500-1000", "results/calibration/h8e-05",
+    assert [p.as_posix() for p in calibration_folders] == ["results/calibration/peaks500-1000", "results/calibration/h8e-05",
                                                "results/calibration/ship-force", "results/calibration"]
