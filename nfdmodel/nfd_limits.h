@@ -65,4 +65,24 @@
 #define NFD_TABLE_MAX_ITERATIONS 100 /* never reached: bisection halves the bracket when Newton strays */
 #define NFD_TABLE_MAX_NODES 64       /* nodes of a vz_table table (nfd_table holds them inline) */
 
+/* The contact models around the normal law (nfd_friction.h), as LAMMPS's pair_style granular
+ * names them: normal damping, tangential friction, rolling and twisting resistance. */
+#define NFD_DAMPING_NONE 0
+#define NFD_DAMPING_VISCOELASTIC 1
+#define NFD_DAMPING_TSUJI 2
+#define NFD_DAMPING_COEFF_RESTITUTION 3
+#define NFD_TANGENTIAL_NONE 0
+#define NFD_TANGENTIAL_MINDLIN 1
+#define NFD_ROLLING_NONE 0
+#define NFD_ROLLING_SDS 1
+#define NFD_TWISTING_NONE 0
+#define NFD_TWISTING_MARSHALL 1
+#define NFD_TWISTING_SDS 2
+/* A spring history leaving the tangent plane by more than FRAME_EPSILON times its Coulomb limit
+ * is rotated back into it (LAMMPS's EPSILON of the granular sub-models). */
+#define NFD_FRAME_EPSILON 1e-10
+#define NFD_FRICTION_HISTORY 7       /* doubles of nfd_friction_history: xi_t[3], xi_roll[3], theta_twist */
+/* Admissible friction constants: 0 <= mu <= MU_MAX (LAMMPS's classic granular bound). */
+#define NFD_MU_MAX 1e4
+
 #endif
