@@ -256,3 +256,23 @@ def test_walton_braun_needs_a_stiffness_and_unlike_models_do_not_mix(plugin, tmp
     code, output = lammps_pour.run_input(text, tmp_path, timeout=60)
     assert "the pair_coeff of atom types 1 and 2 give other contact models (tangential mindlin, rolling sds, " \
            "twisting marshall; none), which do not mix" in output, output[-1500:]
+
+
+@pytest.mark.parametrize("law", ["vz", "hertz"])
+def test_gross_sliding_on_the_wall_gives_the_coulomb_impulse(plugin, tmp_path, law):
+    """nfd/wall/<law> with mu = 0.2 at 80 degrees, spinning backwards: the contact slides from first
+    touch to separation, and LAMMPS's rebound gives the closed forms v_t - v_t' = mu (v_n + v_n')
+    and omega' - omega = 5 mu (v_n + v_n') / (2 R) to round-off (the wall's torque arm is R)."""
+    material = Material.reference()
+    speed, angle, omega, mu = 0.5, 80.0, -30.0, 0.2
+    constants = f"{num(material.E)} {num(material.nu)}"
+    constants += f" {num(material.sigma_y)} 0.026 0.0098" if law == "vz" else ""
+    fix = f"fix w all nfd/wall/{law} zlo 0.0 {constants} tangential mindlin NULL 0 {mu}"
+    code, output = lammps_pour.run_input(wall_impact_input(plugin, fix, speed, angle, omega, 1500), tmp_path,
+                                         timeout=120)
+    assert code == 0 and "ERROR" not in output, output[-2000:]
+    vx, vz, wy = lammps_pour.thermo_rows(output, 4)[-1, 1:]
+    v_t, v_n = speed * np.sin(np.radians(angle)), speed * np.cos(np.radians(angle))
+    impulse = mu * (v_n + vz)
+    assert vz > 0.0 and v_t - vx == pytest.approx(impulse, rel=1e-12)
+    assert wy - omega == pytest.approx(2.5 * impulse / R_1, rel=1e-12)
