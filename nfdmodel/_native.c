@@ -15,8 +15,8 @@
  *   vz_admissible(Ca_hat, Kc_hat) -> (NFD_VZ_* code, P/P_Y, restitution) of nfd_vz_admissible
  *   contact_step(law, params, table, friction, update, dt, geometry, history, out) -> (status, at)
  *       nfd_contact_step (nfd_friction.h) of n contacts: geometry 16 doubles each (n[3], delta,
- *       R_i, R_j, v[3], omega_i[3], omega_j[3], m*), history 12 (nfd_history, then
- *       nfd_friction_history), out 27 (the new history 12, force 3, torque_i 3, torque_j 3, P,
+ *       R_i, R_j, v[3], omega_i[3], omega_j[3], m*), history 13 (nfd_history, then
+ *       nfd_friction_history), out 28 (the new history 13, force 3, torque_i 3, torque_j 3, P,
  *       F_n, a, F_t 3); table: None or (x, f, g); friction: the nfd_friction fields in order;
  *       status: the first negative law status (at: that contact) or 0.
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
@@ -371,25 +371,26 @@ static PyObject *native_contact_step(PyObject *self, PyObject *args)
             PyBuffer_Release(&x); PyBuffer_Release(&fv); PyBuffer_Release(&gv);
         }
     }
-    if (ok && check_length(&history, 12 * n, 8, "history") && check_length(&out, 27 * n, 8, "out")) {
+    if (ok && check_length(&history, 13 * n, 8, "history") && check_length(&out, 28 * n, 8, "out")) {
         const double *g = geometry.buf, *hv = history.buf;
         double *o = out.buf;
         Py_BEGIN_ALLOW_THREADS
-        for (Py_ssize_t i = 0; i < n; ++i, g += 16, hv += 12, o += 27) {
+        for (Py_ssize_t i = 0; i < n; ++i, g += 16, hv += 13, o += 28) {
             nfd_contact c = {{g[0], g[1], g[2]}, g[3], g[4], g[5], {g[6], g[7], g[8]}, {g[9], g[10], g[11]},
                              {g[12], g[13], g[14]}, g[15], dt};
             nfd_history h = {hv[0], hv[1], hv[2], hv[3], hv[4]}, h_out;
-            nfd_friction_history fh = {{hv[5], hv[6], hv[7]}, {hv[8], hv[9], hv[10]}, hv[11]}, fh_out;
+            nfd_friction_history fh = {{hv[5], hv[6], hv[7]}, {hv[8], hv[9], hv[10]}, hv[11], hv[12]}, fh_out;
             nfd_contact_result r;
             int code = nfd_contact_step(law, &c, &p, table_object != Py_None ? &table : NULL, &f, &h, &fh, update,
                                         &h_out, &fh_out, &r);
             if (code < 0) { status = code; at = i; break; }
-            double values[27] = {h_out.delta_max, h_out.P_max, h_out.delta_res, h_out.K_u, h_out.a_e_max,
+            double values[28] = {h_out.delta_max, h_out.P_max, h_out.delta_res, h_out.K_u, h_out.a_e_max,
                                  fh_out.xi_t[0], fh_out.xi_t[1], fh_out.xi_t[2], fh_out.xi_roll[0], fh_out.xi_roll[1],
-                                 fh_out.xi_roll[2], fh_out.theta_twist, r.force[0], r.force[1], r.force[2],
+                                 fh_out.xi_roll[2], fh_out.theta_twist, fh_out.a_previous, r.force[0], r.force[1],
+                                 r.force[2],
                                  r.torque_i[0], r.torque_i[1], r.torque_i[2], r.torque_j[0], r.torque_j[1],
                                  r.torque_j[2], r.P, r.F_n, r.a, r.F_t[0], r.F_t[1], r.F_t[2]};
-            for (int k = 0; k < 27; ++k) o[k] = values[k];
+            for (int k = 0; k < 28; ++k) o[k] = values[k];
         }
         Py_END_ALLOW_THREADS
     }

@@ -16,7 +16,10 @@
  *   F_n      = P - eta v.n, eta the damping prefactor (none 0; viscoelastic c m* a;
  *            tsuji / coeff_restitution c sqrt(m* P / delta), c from nfd_damping_coefficient)
  *   F_t      Mindlin-Deresiewicz: spring xi_t (rotated into the tangent plane, + dt v_t,rel),
- *            F_t = -k_t a xi_t - x_gamma_t eta v_t,rel, capped at mu |F_n| (xi_t rescaled to the cap)
+ *            F_t = -k_t a xi_t - x_gamma_t eta v_t,rel, capped at mu |F_n| (xi_t rescaled to the cap);
+ *            LAMMPS's variants: rescale (xi_t scaled by a/a_old where a shrank), /force (xi_t the
+ *            elastic force, + -k_t a dt v_t,rel): a plastic law takes mindlin_rescale/force
+ *            (nfdmodel/friction.py says why)
  *   M_roll   SDS: spring xi_roll (+ dt v_roll, v_roll = R* (omega_i - omega_j) x n), force
  *            F_r = -k_roll xi_roll - gamma_roll v_roll capped at mu_roll |F_n|, torque R* n x F_r
  *   M_twist  spring theta (+ dt omega_twist, omega_twist = (omega_i - omega_j).n), torque
@@ -47,7 +50,8 @@ extern "C" {
 typedef struct {
     int damping;          /* NFD_DAMPING_*                                                         */
     double damping_coeff; /* c of the prefactor (nfd_damping_coefficient)                          */
-    int tangential;       /* NFD_TANGENTIAL_NONE or NFD_TANGENTIAL_MINDLIN                         */
+    int tangential;       /* NFD_TANGENTIAL_NONE, _MINDLIN, _MINDLIN_RESCALE, _MINDLIN_FORCE or
+                             _MINDLIN_RESCALE_FORCE (LAMMPS's mindlin, mindlin_rescale, ...)       */
     double k_t;           /* Mindlin coefficient [Pa]: stiffness k_t a [N/m]; 8 G* from the materials
                              (nfd_shear_coefficient), as LAMMPS's `tangential mindlin NULL`         */
     double x_gamma_t;     /* tangential damping: x_gamma_t times the normal damping prefactor      */
@@ -59,11 +63,13 @@ typedef struct {
 } nfd_friction;
 
 /* One contact's springs (all zeros for a new contact). xi_t as seen from body i: the other
- * body's view is -xi_t (xi_roll and theta_twist are the same from both bodies). */
+ * body's view is -xi_t (the others are the same from both bodies). */
 typedef struct {
-    double xi_t[3];       /* tangential displacement [m], in the tangent plane                     */
+    double xi_t[3];       /* tangential displacement [m] in the tangent plane (the /force variants:
+                             the elastic tangential force [N])                                     */
     double xi_roll[3];    /* rolling displacement [m]                                              */
     double theta_twist;   /* twist angle [rad]                                                     */
+    double a_previous;    /* the contact radius of the last step [m] (the rescale variants)        */
 } nfd_friction_history;
 
 /* One contact's geometry and motion at this step. */
@@ -172,19 +178,28 @@ static inline void nfd_rotate_rescale(double *v, const double *n)
     v[2] *= scale;
 }
 
-/* Mindlin: advance xi (update), F_t = -k a xi - gamma_t v_t,rel, capped at F_cap (xi set back). */
-static inline void nfd_tangential_mindlin(double *xi, const double *n, const double *v_t, double dt, double stiffness,
-                                          double gamma_t, double F_cap, int update, double *F_t)
+/* Mindlin (variant: an NFD_TANGENTIAL_MINDLIN* code): advance the spring (update), F_t = -k a xi
+ * - gamma_t v_t,rel, capped at F_cap (the spring set back). rescale: where the contact radius a
+ * shrank below the last step's, the spring is first scaled by a / a_previous; /force: the spring
+ * is the elastic force, advanced by -k a dt v_t,rel (F_t = spring - gamma_t v_t,rel). */
+static inline void nfd_tangential_mindlin(int variant, nfd_friction_history *s, double a, const double *n,
+                                          const double *v_t, double dt, double stiffness, double gamma_t, double F_cap,
+                                          int update, double *F_t)
 {
-    double damping[3];
-    int k;
+    double damping[3], *xi = s->xi_t;
+    int k, rescale = variant == NFD_TANGENTIAL_MINDLIN_RESCALE || variant == NFD_TANGENTIAL_MINDLIN_RESCALE_FORCE;
+    int force_form = variant == NFD_TANGENTIAL_MINDLIN_FORCE || variant == NFD_TANGENTIAL_MINDLIN_RESCALE_FORCE;
+    if (rescale && a < s->a_previous)
+        for (k = 0; k < 3; ++k) xi[k] *= a / s->a_previous;
     if (update) {
-        if (fabs(nfd_dot3(xi, n)) * stiffness > NFD_FRAME_EPSILON * F_cap) nfd_rotate_rescale(xi, n);
-        for (k = 0; k < 3; ++k) xi[k] += dt * v_t[k];
+        double along = fabs(nfd_dot3(xi, n));
+        if ((force_form ? along : along * stiffness) > NFD_FRAME_EPSILON * F_cap) nfd_rotate_rescale(xi, n);
+        for (k = 0; k < 3; ++k) xi[k] += force_form ? -stiffness * dt * v_t[k] : dt * v_t[k];
+        if (rescale) s->a_previous = a;
     }
     for (k = 0; k < 3; ++k) {
         damping[k] = -gamma_t * v_t[k];
-        F_t[k] = -stiffness * xi[k] + damping[k];
+        F_t[k] = (force_form ? xi[k] : -stiffness * xi[k]) + damping[k];
     }
     double magnitude = nfd_len3(F_t);
     if (magnitude > F_cap) {
@@ -192,7 +207,7 @@ static inline void nfd_tangential_mindlin(double *xi, const double *n, const dou
             double scale = F_cap / magnitude, back = -1.0 / stiffness;
             for (k = 0; k < 3; ++k) {
                 F_t[k] *= scale;
-                xi[k] = (F_t[k] - damping[k]) * back;
+                xi[k] = force_form ? F_t[k] - damping[k] : (F_t[k] - damping[k]) * back;
             }
         } else {
             F_t[0] = F_t[1] = F_t[2] = 0.0;
@@ -262,12 +277,12 @@ static inline int nfd_contact_step(int law, const nfd_contact *c, const nfd_para
     double F_crit = fabs(r->F_n);
 
     r->F_t[0] = r->F_t[1] = r->F_t[2] = 0.0;
-    if (f->tangential == NFD_TANGENTIAL_MINDLIN) {
+    if (f->tangential != NFD_TANGENTIAL_NONE) {
         for (k = 0; k < 3; ++k) wr[k] = c->R_i * c->omega_i[k] + c->R_j * c->omega_j[k];
         nfd_cross3(wr, n, spin);
         for (k = 0; k < 3; ++k) v_t[k] = (c->v[k] - v_n * n[k]) - spin[k];
-        nfd_tangential_mindlin(fh_out->xi_t, n, v_t, c->dt, f->k_t * r->a, f->x_gamma_t * eta, F_crit * f->mu, update,
-                               r->F_t);
+        nfd_tangential_mindlin(f->tangential, fh_out, r->a, n, v_t, c->dt, f->k_t * r->a, f->x_gamma_t * eta,
+                               F_crit * f->mu, update, r->F_t);
     }
     for (k = 0; k < 3; ++k) r->force[k] = r->F_n * n[k] + r->F_t[k];
     nfd_cross3(n, r->F_t, turn);

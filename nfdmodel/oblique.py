@@ -134,7 +134,8 @@ def oblique_collide(law_name: str, params, friction: Friction, speed, angle, ome
         state = new_state if touching.all() else _keep(law, state, new_state, touching)
         springs = FrictionState(np.where(touching[:, None], new_springs.xi_t, 0.0),
                                 np.where(touching[:, None], new_springs.xi_roll, 0.0),
-                                np.where(touching, new_springs.theta_twist, 0.0))
+                                np.where(touching, new_springs.theta_twist, 0.0),
+                                np.where(touching, new_springs.a_previous, 0.0))
         force = np.where(touching[:, None], forces.force, 0.0)
         torque = np.where(touching[:, None], forces.torque_i, 0.0)
         F_n_last = np.where(touching, forces.F_n, 0.0)

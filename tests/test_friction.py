@@ -3,7 +3,8 @@ reference, and nfdmodel/nfd_friction.h, the C kernel's).
 
 - The C kernel (nfd_contact_step through nfdmodel._native) equals the numpy reference to 1e-12
   (measured: 2e-15) in forces, torques, springs and contact radius over multi-step random
-  histories of every law, every damping model, both twisting models, with and without update.
+  histories of every law, every damping model, the four Mindlin variants, both twisting models,
+  with and without update.
 - Each model's definition, checked on one contact against a closed form: Coulomb sliding caps
   |F_t| at mu |F_n| exactly; a sticking spring gives F_t = -k_t a dt v_t; the spring rotates with
   the contact and keeps its length; the twisting torque of Marshall is k_t a^2/2 theta; the
@@ -42,6 +43,10 @@ MODELS = {
                           mu_twist=1e-3, **FULL),
     "coeff_restitution": Friction(damping="coeff_restitution", damping_value=0.7, **FULL),
     "undamped": Friction(tangential="mindlin", k_t=K_T, mu=0.3, twisting="marshall"),
+    "rescale": Friction(damping="viscoelastic", damping_value=0.4, twisting="marshall",
+                        **(FULL | {"tangential": "mindlin_rescale"})),
+    "force": Friction(damping="tsuji", damping_value=0.8, **(FULL | {"tangential": "mindlin/force"})),
+    "rescale/force": Friction(twisting="marshall", **(FULL | {"tangential": "mindlin_rescale/force"})),
 }
 needs_native = pytest.mark.skipif(native._native is None, reason="the compiled kernel is not built")
 
@@ -75,7 +80,8 @@ def test_the_c_kernel_equals_the_numpy_reference(law_name, model):
         theirs, c_state, c_springs = compiled_contact_step(law, params, friction, contact, c_state, c_springs, update)
         for a, b in ((mine.force, theirs.force), (mine.torque_i, theirs.torque_i), (mine.torque_j, theirs.torque_j),
                      (mine.a, theirs.a), (mine.F_n, theirs.F_n), (springs.xi_t, c_springs.xi_t),
-                     (springs.xi_roll, c_springs.xi_roll), (springs.theta_twist, c_springs.theta_twist)):
+                     (springs.xi_roll, c_springs.xi_roll), (springs.theta_twist, c_springs.theta_twist),
+                     (springs.a_previous, c_springs.a_previous)):
             worst = max(worst, float(np.abs(a - b).max() / (np.abs(a).max() + 1e-300)))
     assert worst < 1e-12
 
@@ -109,7 +115,7 @@ def test_the_spring_rotates_with_the_contact_and_keeps_its_length():
     projected into the new tangent plane with its length kept (then advanced by dt v_t = 0)."""
     law, delta = get_law("hertz"), 2.0 * PAIR.delta_Y
     friction = Friction(tangential="mindlin", k_t=K_T, mu=0.3)
-    springs = FrictionState(np.array([[0.0, 1e-9, 0.0]]), np.zeros((1, 3)), np.zeros(1))
+    springs = FrictionState(np.array([[0.0, 1e-9, 0.0]]), np.zeros((1, 3)), np.zeros(1), np.zeros(1))
     turned = (np.cos(np.pi / 6), np.sin(np.pi / 6), 0.0)
     _, _, out = contact_step(law, PAIR, friction, one(delta, (0.0, 0.0, 0.0), n=turned), law.initial_state(1), springs)
     assert np.linalg.norm(out.xi_t[0]) == pytest.approx(1e-9, rel=1e-14)
@@ -194,7 +200,7 @@ int main(void) {{
   nfd_contact c = {{{{1.0, 0.0, 0.0}}, {delta!r}, 0.01, 0.008, {{{v[0]!r}, {v[1]!r}, {v[2]!r}}},
                     {{0.0, 5.0, 0.0}}, {{0.0, 0.0, 0.0}}, 0.003, 1e-6}};
   nfd_history h = {{0, 0, 0, 0, 0}}, h_out;
-  nfd_friction_history fh = {{{{0, 0, 0}}, {{0, 0, 0}}, 0}}, fh_out;
+  nfd_friction_history fh = {{{{0, 0, 0}}, {{0, 0, 0}}, 0, 0}}, fh_out;
   nfd_contact_result r;
   int status = nfd_contact_step(NFD_LAW_HERTZ, &c, &p, NULL, &f, &h, &fh, 1, &h_out, &fh_out, &r);
   printf("%d %.17g %.17g %.17g %.17g %.17g %.17g\\n", status, r.force[0], r.force[1], r.force[2],
@@ -216,7 +222,8 @@ int main(void) {{
 
 
 @pytest.mark.parametrize("keywords, message", [
-    (dict(tangential="coulomb"), r"^tangential out of range: need one of none, mindlin, got 'coulomb'"),
+    (dict(tangential="coulomb"), r"^tangential out of range: need one of none, mindlin, mindlin_rescale, "
+                                 r"mindlin/force, mindlin_rescale/force, got 'coulomb'"),
     (dict(tangential="mindlin", k_t=0.0, mu=0.3), r"^k_t out of range: need k_t > 0 Pa"),
     (dict(tangential="mindlin", k_t=K_T, mu=-0.1), r"^mu out of range: need mu >= 0 and mu <= 10000"),
     (dict(damping="tsuji", damping_value=1.5), r"^e out of range: need e >= 0 and e <= 1"),

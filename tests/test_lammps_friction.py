@@ -146,6 +146,25 @@ def test_pair_styles_equal_lammps_granular_in_the_elastic_limit(plugin, tmp_path
     assert_same_motion(mine, theirs)
 
 
+@pytest.mark.parametrize("variant", ["mindlin_rescale", "mindlin/force", "mindlin_rescale/force"])
+@pytest.mark.parametrize("wall", [False, True])
+def test_the_mindlin_variants_equal_lammps_granular_in_the_elastic_limit(plugin, tmp_path, variant, wall):
+    """LAMMPS's other Mindlin variants (the spring rescaled where the contact radius shrinks; the
+    spring as an incremental force), with tangential damping, on nfd/vz below first yield."""
+    models = f"damping viscoelastic 0.5 tangential {variant} NULL 0.7 0.3 rolling sds 1000 0 0.1 twisting marshall"
+    constants = nfd_constants("vz", tmp_path)
+    if wall:
+        zero = "pair_style zero 0.001\npair_coeff * *\n"
+        granular = zero + f"fix w all wall/gran granular {granular_line(models, 2.0 * E)} xplane 0 NULL"
+        nfd = zero + f"fix w all nfd/wall/vz xlo 0 {constants} {models}"
+    else:
+        granular = f"pair_style granular\npair_coeff * * {granular_line(models, E)}"
+        nfd = f"pair_style nfd/vz\npair_coeff 1 1 {constants} {models}"
+    theirs = trajectory(oblique_input(plugin, granular, wall, 700), tmp_path)
+    mine = trajectory(oblique_input(plugin, nfd, wall, 700), tmp_path)
+    assert_same_motion(mine, theirs)
+
+
 @pytest.mark.parametrize("style, nprocs", [("hertz", 1), ("hertz", 2), ("vz", 1)])
 def test_wall_fixes_equal_wall_gran_with_e_doubled(plugin, tmp_path, style, nprocs):
     processors = "2 1 1" if nprocs == 2 else ""
@@ -220,7 +239,8 @@ def test_plastic_wall_impacts_equal_nfdmodel_oblique(plugin, tmp_path, law, angl
 
 @pytest.mark.parametrize("keywords, message", [
     ("tangential mindlin NULL 0", "need tangential mindlin k_t|NULL x_gamma_t mu (3 value(s) after the model name)"),
-    ("tangential coulomb 1 0 0.3", "tangential model 'coulomb' out of range: need mindlin"),
+    ("tangential coulomb 1 0 0.3", "tangential model 'coulomb' out of range: need mindlin, mindlin_rescale, "
+                                   "mindlin/force or mindlin_rescale/force"),
     ("tangential mindlin NULL 0 -0.3", "tangential mindlin mu out of range: need 0 <= mu <= 10000, got -0.3"),
     ("tangential mindlin 0 0 0.3", "tangential mindlin k_t [Pa] out of range: need a finite number > 0, got 0"),
     ("twisting marshall", "twisting marshall takes its stiffness and friction from the tangential model"),

@@ -46,7 +46,7 @@ inline void store_history(const nfd_history &h, double *v)
  * on any rank and in either order of a neighbor list, hold the same numbers. */
 inline nfd_friction_history load_friction(const double *v, double sign)
 {
-    return nfd_friction_history{{sign * v[0], sign * v[1], sign * v[2]}, {v[3], v[4], v[5]}, v[6]};
+    return nfd_friction_history{{sign * v[0], sign * v[1], sign * v[2]}, {v[3], v[4], v[5]}, v[6], v[7]};
 }
 
 inline void store_friction(const nfd_friction_history &h, double sign, double *v)
@@ -56,6 +56,7 @@ inline void store_friction(const nfd_friction_history &h, double sign, double *v
         v[3 + k] = h.xi_roll[k];
     }
     v[6] = h.theta_twist;
+    v[7] = h.a_previous;
 }
 
 /* One atom type's (or a wall fix's sphere's) constants, or a contact's after NfdLaw::mix:

@@ -25,7 +25,9 @@ std::string NfdModels::kinds() const
     std::string out;
     auto add = [&out](const std::string &text) { out += (out.empty() ? "" : ", ") + text; };
     if (damping != NFD_DAMPING_NONE) add(std::string("damping ") + damping_names[damping]);
-    if (tangential == NFD_TANGENTIAL_MINDLIN) add("tangential mindlin");
+    static const char *const tangential_names[] = {"none", "mindlin", "mindlin_rescale", "mindlin/force",
+                                                   "mindlin_rescale/force"};
+    if (tangential != NFD_TANGENTIAL_NONE) add(std::string("tangential ") + tangential_names[tangential]);
     if (rolling == NFD_ROLLING_SDS) add("rolling sds");
     if (twisting != NFD_TWISTING_NONE) add(twisting == NFD_TWISTING_MARSHALL ? "twisting marshall" : "twisting sds");
     return out.empty() ? "none" : out;
@@ -90,11 +92,18 @@ NfdModels read_models(LAMMPS *lmp, const std::string &who, int narg, char **arg,
                                                    "coeff_restitution", who, model));
             }
             k += 3;
-        } else if (which == 1) {       // tangential mindlin k_t|NULL x_gamma_t mu
-            if (std::strcmp(model, "mindlin") != 0)
-                lmp->error->all(FLERR, fmt::format("{}: tangential model '{}' out of range: need mindlin", who, model));
+        } else if (which == 1) {       // tangential mindlin[_rescale][/force] k_t|NULL x_gamma_t mu
+            static const char *const variants[] = {"mindlin", "mindlin_rescale", "mindlin/force",
+                                                   "mindlin_rescale/force"};
+            static const int codes[] = {NFD_TANGENTIAL_MINDLIN, NFD_TANGENTIAL_MINDLIN_RESCALE,
+                                        NFD_TANGENTIAL_MINDLIN_FORCE, NFD_TANGENTIAL_MINDLIN_RESCALE_FORCE};
+            for (int v = 0; v < 4; ++v)
+                if (std::strcmp(model, variants[v]) == 0) m.tangential = codes[v];
+            if (m.tangential == NFD_TANGENTIAL_NONE)
+                lmp->error->all(FLERR, fmt::format("{}: tangential model '{}' out of range: need mindlin, "
+                                                   "mindlin_rescale, mindlin/force or mindlin_rescale/force", who,
+                                                   model));
             need(lmp, who, narg, k + 1, 3, "tangential mindlin k_t|NULL x_gamma_t mu");
-            m.tangential = NFD_TANGENTIAL_MINDLIN;
             if (std::strcmp(arg[k + 2], "NULL") == 0) {
                 if (!materials)
                     lmp->error->all(FLERR, fmt::format("{}: tangential mindlin k_t NULL (8 G* of the materials) needs "
@@ -134,7 +143,7 @@ NfdModels read_models(LAMMPS *lmp, const std::string &who, int narg, char **arg,
             }
         }
     }
-    if (m.twisting == NFD_TWISTING_MARSHALL && m.tangential != NFD_TANGENTIAL_MINDLIN)
+    if (m.twisting == NFD_TWISTING_MARSHALL && m.tangential == NFD_TANGENTIAL_NONE)
         lmp->error->all(FLERR, fmt::format("{}: twisting marshall takes its stiffness and friction from the tangential "
                                            "model: add tangential mindlin", who));
     return m;

@@ -3,7 +3,7 @@
  * the normal law alone):
  *
  *     [damping viscoelastic c | damping tsuji e | damping coeff_restitution e]
- *     [tangential mindlin k_t|NULL x_gamma_t mu]
+ *     [tangential mindlin|mindlin_rescale|mindlin/force|mindlin_rescale/force k_t|NULL x_gamma_t mu]
  *     [rolling sds k_roll gamma_roll mu_roll]
  *     [twisting marshall | twisting sds k_twist gamma_twist mu_twist]
  *
