@@ -383,3 +383,41 @@ def test_a_wall_restart_mid_contact_continues_bit_for_bit(plugin, tmp_path, read
     np.testing.assert_array_equal(continued, whole[split:])
     dropped = trajectory(again.replace("fix w all", "fix other all"), tmp_path, readers)
     assert np.abs(dropped - whole[split:]).max() > 1e-5 * np.abs(whole).max()
+
+
+def test_exported_friction_lines_run_the_same_models_in_lammps(plugin, tmp_path, capsys):
+    """nfdcal export lammps --mu --rolling --twisting: the wall line of a parameter file (nfdcal
+    material), pasted into an input, gives nfdmodel's oblique impact of that file's law with
+    those models (mindlin_rescale/force NULL: k_t = 8 G/(2 - nu)) within 1e-8; bad flags are one line."""
+    from calib import cli
+
+    params_file = tmp_path / "al.json"
+    assert cli.main(["material", "--E", "7e10", "--nu", "0.3", "--sigma-y", "1e8", "--rho", "2699",
+                     "--R", str(R_1), "--params-out", str(params_file)]) == 0
+    capsys.readouterr()
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--wall", "zlo", "0.0", "--mu", "0.3",
+                     "--rolling", "1000", "0", "0.1", "--twisting", "marshall", "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["models"] == ("tangential mindlin_rescale/force NULL 0.0 0.3 rolling sds 1000.0 0.0 0.1 "
+                                 "twisting marshall")
+    _, pair_coeff, wall_fix = summary["lines"]
+    assert pair_coeff.endswith(summary["models"]) and wall_fix.endswith(summary["models"])
+    params = nfdmodel.load_parameters(params_file)
+    friction = Friction.mindlin(0.3, Material.reference(), variant="mindlin_rescale/force", rolling="sds",
+                                k_roll=1000.0, mu_roll=0.1, twisting="marshall")
+    reference = oblique_collide("vz", params, friction, 0.5, 30.0, 10.0, dt=DT)
+    fix = wall_fix.replace("fix nfd_wall", "fix w")
+    code, output = lammps_pour.run_input(wall_impact_input(plugin, fix, 0.5, 30.0, 10.0, reference.steps + 20),
+                                         tmp_path, timeout=120)
+    assert code == 0 and "ERROR" not in output, output[-2000:]
+    vx, vz, wy = lammps_pour.thermo_rows(output, 4)[-1, 1:]
+    assert (vx, vz, wy) == pytest.approx((float(reference.v_t_out), float(reference.v_n_out),
+                                          float(reference.omega_out)), rel=1e-8)
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--mu", "-1"]) == 2
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--twisting", "sds", "1"]) == 2
+    assert cli.main(["export", "lammps", "--params", str(params_file), "--mu", "0.3", "--tangential", "coulomb"]) == 2
+    errors = capsys.readouterr().err.splitlines()
+    assert errors == ["nfdcal export: error: mu out of range: need mu >= 0 and mu <= 10000, got -1",
+                      "nfdcal export: error: --twisting out of range: need 'marshall' or 'sds K GAMMA MU_T', got sds 1",
+                      "nfdcal export: error: tangential out of range: need one of none, mindlin, mindlin_rescale, "
+                      "mindlin/force, mindlin_rescale/force, got 'coulomb'"]

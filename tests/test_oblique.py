@@ -131,3 +131,28 @@ def test_on_a_plastic_contact_the_force_variants_dissipate_and_the_displacement_
             assert (plastic.work_friction > 0.1 * incoming).all() and (plastic.e_t < 1.0).all()
         else:
             assert (plastic.work_friction[:3] < -0.03 * incoming[:3]).all() and (plastic.e_t[:3] > 1.0).all()
+
+
+def test_nfdcal_collide_oblique(tmp_path, capsys):
+    """nfdcal collide --angle --mu --omega --json: nfdmodel.oblique_collide's numbers (gross sliding
+    at 80 degrees: the Coulomb closed form); --plot writes the e_t and beta figure; a bad angle is
+    one line, exit 2."""
+    import json
+
+    from calib import cli
+    plot = tmp_path / "e_t.png"
+    assert cli.main(["collide", "--v-in", "0.05", "--angle", "30", "80", "--mu", "0.2", "--omega", "-1",
+                     "--dt", "1e-6", "--plot", str(plot), "--json"]) == 0
+    records = json.loads(capsys.readouterr().out)
+    assert [r["angle"] for r in records] == [30.0, 80.0] and plot.stat().st_size > 10_000
+    friction = Friction.mindlin(0.2, ALUMINIUM, variant="mindlin_rescale/force")
+    reference = oblique_collide("vz", VZParams.reference(), friction, 0.05, [30.0, 80.0], -1.0, dt=1e-6)
+    for record, e_n, e_t, omega in zip(records, reference.e_n, reference.e_t, reference.omega_out):
+        assert (record["e_n"], record["e_t"], record["omega_out"]) == pytest.approx((e_n, e_t, omega), rel=1e-12)
+    sliding = records[1]
+    v_n, v_t = 0.05 * np.cos(np.radians(80.0)), 0.05 * np.sin(np.radians(80.0))
+    v_t_out = sliding["e_t"] * v_t
+    assert v_t - v_t_out == pytest.approx(0.2 * v_n * (1.0 + sliding["e_n"]), rel=1e-12)
+    assert cli.main(["collide", "--v-in", "0.05", "--angle", "95", "--mu", "0.2"]) == 2
+    assert capsys.readouterr().err.strip() == \
+        "nfdcal collide: error: --angle out of range: need --angle >= 0 and --angle < 90 deg, got 95"

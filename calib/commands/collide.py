@@ -21,9 +21,10 @@ exits with code 2).
 
 Oblique impacts (--angle, incidence from the normal [deg], each with each --v-in speed): the
 sphere also slides and spins (--omega [rad/s] about the axis of rolling), with Mindlin friction
---mu (k_t = 8 G/(2 - nu) of the sphere on the rigid flat; nfdmodel.oblique_collide, the models of
-LAMMPS's granular styles); prints e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point), the
-rebound angle and spin; --plot FILE draws e_t and beta against the incidence angle.
+--mu (k_t = 8 G/(2 - nu) of the sphere on the rigid flat; --tangential the variant, default
+mindlin_rescale/force; nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
+e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point), the rebound angle and spin; --plot FILE
+draws e_t and beta against the incidence angle.
 """
 from __future__ import annotations
 
@@ -60,6 +61,8 @@ def add_parser(subparsers) -> None:
                         "normal [deg] (0 <= angle < 90), each at each --v-in speed")
     parser.add_argument("--mu", default=None, help="oblique impacts: Mindlin friction coefficient (default 0: "
                         "frictionless)")
+    parser.add_argument("--tangential", default="mindlin_rescale/force", help="oblique impacts: LAMMPS's Mindlin "
+                        "variant of --mu (default mindlin_rescale/force, the one for a plastic law)")
     parser.add_argument("--omega", default=None, help="oblique impacts: incoming spin [rad/s] about the axis "
                         "of rolling (default 0)")
     parser.add_argument("--plot", default=None, metavar="FILE", help="oblique impacts: a PNG of e_t and beta "
@@ -207,7 +210,7 @@ def run_oblique(ns, law: str, params, speeds, dt) -> int:
     pair = params.pair
     # the sphere's E and nu (on a rigid flat E* = E/(1 - nu^2)): all shear_coefficient reads
     sphere = SimpleNamespace(E=pair.E_star * (1.0 - pair.nu * pair.nu), nu=pair.nu)
-    friction = Friction(tangential="mindlin", k_t=shear_coefficient(sphere), mu=mu) if mu > 0 else Friction()
+    friction = Friction(tangential=ns.tangential, k_t=shear_coefficient(sphere), mu=mu) if mu > 0 else Friction()
     speed, angle = (values.ravel() for values in np.meshgrid(speeds, angles, indexing="ij"))
     if dt is None:                                         # collide's automatic dt at the slowest normal speed
         normal = np.maximum(speed * np.cos(np.radians(angle)), 1e-300)
