@@ -6,16 +6,19 @@ law did not produce.
   rolling sds k 0 mu_r twisting marshall`` equal LAMMPS's own ``pair_style granular hertz/material
   E 0 nu damping viscoelastic`` with the same models (zero normal damping, so that granular's
   damping prefactor and with it the tangential damping is zero), step by step in positions,
-  velocities and spins, to 1e-12 of each column's largest value (measured: 7e-16), for an oblique
-  impact of two spheres of unequal radii with spins about all three axes, on 1 MPI rank and on 2
-  with the contact on their boundary; the wall fixes equal ``fix wall/gran`` of the same models
-  with the sphere's E doubled (wall/gran mixes the sphere with itself: E* = E/(2 (1 - nu^2)), so
-  2E gives the rigid flat's E/(1 - nu^2) and k_t = 8 G/(2 - nu)). Also with damping (every damping
-  model of both, a tangential damping x_gamma_t, rolling and twisting damping): the same.
+  velocities and spins, to 1e-12 of each column's largest value (measured: at most 1.9e-15), for
+  an oblique impact of two spheres of unequal radii with spins about all three axes, on 1 MPI rank
+  and on 2 with the contact on their boundary; the wall fixes equal ``fix wall/gran`` of the same
+  models with the sphere's E doubled (wall/gran mixes the sphere with itself: E* = E/(2 (1 -
+  nu^2)), so 2E gives the rigid flat's E/(1 - nu^2) and k_t = 8 G/(2 - nu)). Also with damping
+  (every damping model of both, a tangential damping x_gamma_t, rolling and twisting damping) and
+  with each of LAMMPS's Mindlin variants: the same.
 - A plastic normal law on the wall (nfd/wall/vz, nfd/wall/thornton) with friction and spin equals
   nfdmodel.oblique_collide (the numpy reference of the same models and the same integrator) to
-  1e-8 in the rebound velocities and spin.
-- Frictionless inputs keep their numbers (tests/test_lammps.py), and bad model keywords are named.
+  1e-8 in the rebound velocities and spin; gross sliding gives the Coulomb closed forms.
+- MPI and restarts: a pour with friction on 1 and 2 ranks; restarts mid-contact bit for bit.
+- Frictionless inputs keep their numbers (tests/test_lammps.py); the exported lines run; bad
+  model keywords are named.
 """
 from __future__ import annotations
 

@@ -20,8 +20,9 @@
  * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
  * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
  * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
- * spring [m], 9-11 the rolling spring [m], 12 the twist angle). Loads beyond the window are counted
- * and reported at the end of each run like the pair style's, in a line naming the fix's ID.
+ * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]). Loads
+ * beyond the window are counted and reported at the end of each run like the pair style's, in a
+ * line naming the fix's ID.
  * Integrators: run_style verlet and minimization (the force is added after all others,
  * post_force); run_style respa is refused (the wheel ships no respa.h: the plugin cannot reach the
  * rRESPA force levels).
