@@ -156,20 +156,21 @@ def contact_thermo(line: str) -> str:
 
 
 def pile_input(plugin: str | None, data: str, steps: int, thermo: int | None = None, processors: str = "",
-               contact: str = "nfd") -> str:
+               contact: str = "nfd", models: str = "") -> str:
     """The pile of a write_data file (read_data) under either contact law (pour_input's), gravity
     on, neighbor lists rebuilt when an atom moved half the skin; thermo as pour_input's plus the
     pair contacts by geometry (compute contact/atom, any pair style: the sum counts each twice)."""
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
              "boundary p p f"] + ([f"processors {processors}"] if processors else [])
-    lines += [f"read_data {data}"] + [contact_thermo(line) for line in contact_lines(plugin, contact)]
+    lines += [f"read_data {data}"] + [contact_thermo(line) for line in contact_lines(plugin, contact, models=models)]
     lines += run_lines(steps, thermo or steps, rebuild_every_step=False)
     return "\n".join(lines) + "\n"
 
 
 def contact_lines(plugin: str | None, contact: str, restitution: float = RESTITUTION, models: str = "") -> list[str]:
     """The groups, the contact law between spheres and with the floor z = 0, and thermo_style;
-    models: keywords after the nfd constants (nfd only)."""
+    models: tangential, rolling and twisting keywords (LAMMPS's granular syntax, which the nfd
+    styles read too) after the constants, in place of granular's frictionless linear_nohistory."""
     lines = ["group aluminium type 1", "group steel type 2"]
     after = f" {models}" if models else ""
     if contact == "nfd":
@@ -181,15 +182,16 @@ def contact_lines(plugin: str | None, contact: str, restitution: float = RESTITU
                   "variable on_floor equal f_floor1[1]+f_floor2[1]",
                   "thermo_style custom step ke c_census[1] c_census[2] c_census[3] v_on_floor"]
     elif contact == "granular":
+        tangential = models or "tangential linear_nohistory 0.0 0.0"
         lines += ["pair_style granular"]
         for kind in (1, 2):
             E, nu = MATERIALS[kind][:2]
             lines.append(f"pair_coeff {kind} {kind} hertz/material {num(E)} {restitution} {num(nu)} "
-                         f"damping coeff_restitution tangential linear_nohistory 0.0 0.0")
+                         f"damping coeff_restitution {tangential}")
         for kind, group in ((1, "aluminium"), (2, "steel")):
             E, nu = MATERIALS[kind][:2]
             lines.append(f"fix floor{kind} {group} wall/gran granular hertz/material {num(E)} {restitution} {num(nu)} "
-                         f"damping coeff_restitution tangential linear_nohistory 0.0 0.0 zplane 0.0 NULL")
+                         f"damping coeff_restitution {tangential} zplane 0.0 NULL")
         lines += ["thermo_style custom step ke"]
     else:
         raise ValueError(f"contact out of range: need 'nfd' or 'granular', got {contact!r}")
