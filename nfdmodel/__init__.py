@@ -8,15 +8,20 @@ Force laws are pure vectorised functions ``(delta, state, params) -> (P, new_sta
 :mod:`nfdmodel.walton_braun`; by name through :mod:`nfdmodel.registry`), also available as ``law.step(delta, state, params) -> (P, update)``
 (a sparse :class:`HistoryUpdate`: only the contacts whose turning point moved) plus
 ``law.commit(state, update)`` (in place, for a caller that owns its history);
-:func:`collide` simulates sphere-on-flat impacts (:mod:`nfdmodel.collision`); SI units throughout.
+:func:`collide` simulates sphere-on-flat impacts (:mod:`nfdmodel.collision`); :class:`Friction` and
+:func:`contact_step` add damping, friction, rolling and twisting resistance around a law
+(:mod:`nfdmodel.friction`), :func:`oblique_collide` oblique impacts with spin (:mod:`nfdmodel.oblique`);
+SI units throughout.
 """
 from . import reference_case
 from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
                         collision_reference)
+from .friction import Contact, ContactForces, Friction, FrictionState, contact_step, shear_coefficient
 from .hertz import hertz_force, hertz_step
 from .history import HertzState, HistoryUpdate, ThorntonState, TurningPointHistory, VZState, WaltonBraunState
 from .materials import ContactPair, Material, yield_factor
 from .native import backend, backend_info
+from .oblique import ObliqueResult, oblique_collide
 from .parameter_file import load_parameters, parameter_record
 from .parameters import VZParams, WaltonBraunParams
 from .registry import LAWS, ContactDetails, ContactLaw, get_law
@@ -38,4 +43,6 @@ __all__ = [
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
     "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step", "backend", "backend_info",
+    "Friction", "FrictionState", "Contact", "ContactForces", "contact_step", "shear_coefficient", "oblique_collide",
+    "ObliqueResult",
 ]

@@ -13,6 +13,12 @@
  *   hertz(delta, k, force) -> finite
  *   yield_factor(nu) -> A_Y(nu) of nfd_yield_factor (the caller checks 0 <= nu < NFD_NU_MAX)
  *   vz_admissible(Ca_hat, Kc_hat) -> (NFD_VZ_* code, P/P_Y, restitution) of nfd_vz_admissible
+ *   contact_step(law, params, table, friction, update, dt, geometry, history, out) -> (status, at)
+ *       nfd_contact_step (nfd_friction.h) of n contacts: geometry 16 doubles each (n[3], delta,
+ *       R_i, R_j, v[3], omega_i[3], omega_j[3], m*), history 13 (nfd_history, then
+ *       nfd_friction_history), out 28 (the new history 13, force 3, torque_i 3, torque_j 3, P,
+ *       F_n, a, F_t 3); table: None or (x, f, g); friction: the nfd_friction fields in order;
+ *       status: the first negative law status (at: that contact) or 0.
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
  * needs: a value that is finite exactly when the forces are).
  * law: an NFD_LAW_* code of nfd_limits.h; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
@@ -23,7 +29,7 @@
 #include <math.h>
 #include <stdint.h>
 
-#include "nfd_kernel.h"
+#include "nfd_friction.h"
 
 static int check_length(Py_buffer *buffer, Py_ssize_t count, Py_ssize_t itemsize, const char *name)
 {
@@ -334,6 +340,66 @@ static PyObject *native_vz_admissible(PyObject *self, PyObject *args)
     return Py_BuildValue("idd", code, load, restitution);
 }
 
+static PyObject *native_contact_step(PyObject *self, PyObject *args)
+{
+    int law, update;
+    double dt;
+    PyObject *params_tuple, *table_object, *friction_tuple;
+    Py_buffer geometry, history, out;
+    nfd_params p;
+    nfd_table table;
+    nfd_friction f;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "iOOOpdy*y*w*", &law, &params_tuple, &table_object, &friction_tuple, &update, &dt,
+                          &geometry, &history, &out))
+        return NULL;
+    Py_ssize_t n = geometry.len / (16 * 8), at = -1;
+    int status = NFD_OK, ok = read_params(params_tuple, &p);
+    ok = ok && PyArg_ParseTuple(friction_tuple, "ididddidddiddd", &f.damping, &f.damping_coeff, &f.tangential,
+                                &f.k_t, &f.x_gamma_t, &f.mu, &f.rolling, &f.k_roll, &f.gamma_roll, &f.mu_roll,
+                                &f.twisting, &f.k_twist, &f.gamma_twist, &f.mu_twist);
+    if (ok && table_object != Py_None) {
+        Py_buffer x, fv, gv;
+        ok = PyArg_ParseTuple(table_object, "y*y*y*", &x, &fv, &gv);
+        if (ok) {
+            Py_ssize_t nodes = x.len / 8;
+            if (nodes > NFD_TABLE_MAX_NODES || fv.len != x.len || gv.len != x.len ||
+                nfd_table_init(&table, (int)nodes, x.buf, fv.buf, gv.buf) != 0) {
+                PyErr_SetString(PyExc_ValueError, "table out of range: the rules of nfd_table_init");
+                ok = 0;
+            }
+            PyBuffer_Release(&x); PyBuffer_Release(&fv); PyBuffer_Release(&gv);
+        }
+    }
+    if (ok && check_length(&history, 13 * n, 8, "history") && check_length(&out, 28 * n, 8, "out")) {
+        const double *g = geometry.buf, *hv = history.buf;
+        double *o = out.buf;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < n; ++i, g += 16, hv += 13, o += 28) {
+            nfd_contact c = {{g[0], g[1], g[2]}, g[3], g[4], g[5], {g[6], g[7], g[8]}, {g[9], g[10], g[11]},
+                             {g[12], g[13], g[14]}, g[15], dt};
+            nfd_history h = {hv[0], hv[1], hv[2], hv[3], hv[4]}, h_out;
+            nfd_friction_history fh = {{hv[5], hv[6], hv[7]}, {hv[8], hv[9], hv[10]}, hv[11], hv[12]}, fh_out;
+            nfd_contact_result r;
+            int code = nfd_contact_step(law, &c, &p, table_object != Py_None ? &table : NULL, &f, &h, &fh, update,
+                                        &h_out, &fh_out, &r);
+            if (code < 0) { status = code; at = i; break; }
+            double values[28] = {h_out.delta_max, h_out.P_max, h_out.delta_res, h_out.K_u, h_out.a_e_max,
+                                 fh_out.xi_t[0], fh_out.xi_t[1], fh_out.xi_t[2], fh_out.xi_roll[0], fh_out.xi_roll[1],
+                                 fh_out.xi_roll[2], fh_out.theta_twist, fh_out.a_previous, r.force[0], r.force[1],
+                                 r.force[2],
+                                 r.torque_i[0], r.torque_i[1], r.torque_i[2], r.torque_j[0], r.torque_j[1],
+                                 r.torque_j[2], r.P, r.F_n, r.a, r.F_t[0], r.F_t[1], r.F_t[2]};
+            for (int k = 0; k < 28; ++k) o[k] = values[k];
+        }
+        Py_END_ALLOW_THREADS
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&geometry); PyBuffer_Release(&history); PyBuffer_Release(&out);
+    if (failed) return NULL;
+    return Py_BuildValue("in", status, at);
+}
+
 static PyMethodDef methods[] = {
     {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
@@ -341,6 +407,7 @@ static PyMethodDef methods[] = {
     {"load_table", native_load_table, METH_VARARGS, "the vz_table loading branch of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},
+    {"contact_step", native_contact_step, METH_VARARGS, "nfd_contact_step of n contacts (nfd_friction.h)"},
     {"vz_admissible", native_vz_admissible, METH_VARARGS, "(code, P/P_Y, e) of nfd_vz_admissible(Ca_hat, Kc_hat)"},
     {NULL, NULL, 0, NULL},
 };

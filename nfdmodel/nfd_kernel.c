@@ -2,7 +2,7 @@
  * the laws and the API). The arithmetic follows nfdmodel's numpy kernels operation by operation
  * (same formulas, same order), so both give the same numbers to round-off. C99, math.h only.
  */
-#include "nfd_kernel.h"
+#include "nfd_friction.h"  /* nfd_kernel.h, and the contact models around the laws (static inline) */
 
 #include <math.h>
 #include <stdint.h>

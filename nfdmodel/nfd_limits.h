@@ -71,4 +71,27 @@
 #define NFD_FE_MAX_LOAD_OVER_YIELD 1000.0
 #define NFD_FE_MAX_CONTACT_RADIUS_OVER_R 0.3
 
+/* The contact models around the normal law (nfd_friction.h), as LAMMPS's pair_style granular
+ * names them: normal damping, tangential friction, rolling and twisting resistance. */
+#define NFD_DAMPING_NONE 0
+#define NFD_DAMPING_VISCOELASTIC 1
+#define NFD_DAMPING_TSUJI 2
+#define NFD_DAMPING_COEFF_RESTITUTION 3
+#define NFD_TANGENTIAL_NONE 0
+#define NFD_TANGENTIAL_MINDLIN 1
+#define NFD_TANGENTIAL_MINDLIN_RESCALE 2
+#define NFD_TANGENTIAL_MINDLIN_FORCE 3
+#define NFD_TANGENTIAL_MINDLIN_RESCALE_FORCE 4
+#define NFD_ROLLING_NONE 0
+#define NFD_ROLLING_SDS 1
+#define NFD_TWISTING_NONE 0
+#define NFD_TWISTING_MARSHALL 1
+#define NFD_TWISTING_SDS 2
+/* A spring history leaving the tangent plane by more than FRAME_EPSILON times its Coulomb limit
+ * is rotated back into it (LAMMPS's EPSILON of the granular sub-models). */
+#define NFD_FRAME_EPSILON 1e-10
+#define NFD_FRICTION_HISTORY 8       /* doubles of nfd_friction_history: xi_t[3], xi_roll[3], theta_twist, a_previous */
+/* Admissible friction constants: 0 <= mu <= MU_MAX (LAMMPS's classic granular bound). */
+#define NFD_MU_MAX 1e4
+
 #endif

@@ -104,13 +104,14 @@ def thermo_columns(contact: str) -> list[str]:
 def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int = 300, seed: int = 1,
                drift: float = 20.0, processors: str = "", contact: str = "nfd", rebuild_every_step: bool = True,
                dump: str | None = None, layers: int = 3, staggered: bool = False, dt: float = DT,
-               restitution: float = RESTITUTION) -> str:
+               restitution: float = RESTITUTION, models: str = "") -> str:
     """The LAMMPS input of the pour (module doc). contact: "nfd" (pair_style nfd/vz, fix
     nfd/wall/vz per material) or "granular" (pair_style granular hertz/material with damping
     coeff_restitution e = restitution, fix wall/gran with the same model, frictionless).
     rebuild_every_step: neighbor lists rebuilt at every step (the tests: the history passes
     through the per-atom store each step), else only when an atom moved half the skin (speed).
-    dump: a file for the final positions (id type radius x y z); dt [s]: the time step."""
+    dump: a file for the final positions (id type radius x y z); dt [s]: the time step; models:
+    contact-model keywords after the nfd constants (pair_coeff and wall fixes), e.g. friction."""
     _, side, rows = spheres(n, seed, drift, layers, staggered)
     height = max(z for *_, z, _, _, _ in rows) + 10 * R_0
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
@@ -120,7 +121,7 @@ def pour_input(plugin: str | None, n: int = 300, steps: int = 6000, thermo: int 
         lines += [f"create_atoms {kind} single {num(x)} {num(y)} {num(z)}",
                   f"set atom {atom} diameter {num(2 * R)} density {num(MATERIALS[kind][3])} "
                   f"vx {num(vx)} vy {num(vy)} vz {num(vz)}"]
-    lines += contact_lines(plugin, contact, restitution)
+    lines += contact_lines(plugin, contact, restitution, models)
     lines += run_lines(steps, thermo, rebuild_every_step, dt)
     if dump:
         lines.append(f"write_dump all custom {dump} id type radius x y z modify sort id")
@@ -155,38 +156,42 @@ def contact_thermo(line: str) -> str:
 
 
 def pile_input(plugin: str | None, data: str, steps: int, thermo: int | None = None, processors: str = "",
-               contact: str = "nfd") -> str:
+               contact: str = "nfd", models: str = "") -> str:
     """The pile of a write_data file (read_data) under either contact law (pour_input's), gravity
     on, neighbor lists rebuilt when an atom moved half the skin; thermo as pour_input's plus the
     pair contacts by geometry (compute contact/atom, any pair style: the sum counts each twice)."""
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
              "boundary p p f"] + ([f"processors {processors}"] if processors else [])
-    lines += [f"read_data {data}"] + [contact_thermo(line) for line in contact_lines(plugin, contact)]
+    lines += [f"read_data {data}"] + [contact_thermo(line) for line in contact_lines(plugin, contact, models=models)]
     lines += run_lines(steps, thermo or steps, rebuild_every_step=False)
     return "\n".join(lines) + "\n"
 
 
-def contact_lines(plugin: str | None, contact: str, restitution: float = RESTITUTION) -> list[str]:
-    """The groups, the contact law between spheres and with the floor z = 0, and thermo_style."""
+def contact_lines(plugin: str | None, contact: str, restitution: float = RESTITUTION, models: str = "") -> list[str]:
+    """The groups, the contact law between spheres and with the floor z = 0, and thermo_style;
+    models: tangential, rolling and twisting keywords (LAMMPS's granular syntax, which the nfd
+    styles read too) after the constants, in place of granular's frictionless linear_nohistory."""
     lines = ["group aluminium type 1", "group steel type 2"]
+    after = f" {models}" if models else ""
     if contact == "nfd":
         lines += [f"plugin load {plugin}", "pair_style nfd/vz"]
-        lines += [f"pair_coeff {kind} {kind} {material_args(kind)}" for kind in (1, 2)]
-        lines += [f"fix floor1 aluminium nfd/wall/vz zlo 0.0 {material_args(1)}",
-                  f"fix floor2 steel nfd/wall/vz zlo 0.0 {material_args(2)}",
+        lines += [f"pair_coeff {kind} {kind} {material_args(kind)}{after}" for kind in (1, 2)]
+        lines += [f"fix floor1 aluminium nfd/wall/vz zlo 0.0 {material_args(1)}{after}",
+                  f"fix floor2 steel nfd/wall/vz zlo 0.0 {material_args(2)}{after}",
                   "compute census all nfd/contacts",
                   "variable on_floor equal f_floor1[1]+f_floor2[1]",
                   "thermo_style custom step ke c_census[1] c_census[2] c_census[3] v_on_floor"]
     elif contact == "granular":
+        tangential = models or "tangential linear_nohistory 0.0 0.0"
         lines += ["pair_style granular"]
         for kind in (1, 2):
             E, nu = MATERIALS[kind][:2]
             lines.append(f"pair_coeff {kind} {kind} hertz/material {num(E)} {restitution} {num(nu)} "
-                         f"damping coeff_restitution tangential linear_nohistory 0.0 0.0")
+                         f"damping coeff_restitution {tangential}")
         for kind, group in ((1, "aluminium"), (2, "steel")):
             E, nu = MATERIALS[kind][:2]
             lines.append(f"fix floor{kind} {group} wall/gran granular hertz/material {num(E)} {restitution} {num(nu)} "
-                         f"damping coeff_restitution tangential linear_nohistory 0.0 0.0 zplane 0.0 NULL")
+                         f"damping coeff_restitution {tangential} zplane 0.0 NULL")
         lines += ["thermo_style custom step ke"]
     else:
         raise ValueError(f"contact out of range: need 'nfd' or 'granular', got {contact!r}")

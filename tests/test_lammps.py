@@ -459,7 +459,7 @@ def test_sphere_on_the_wall_matches_nfdmodel(plugin, tmp_path, v_over_v_Y):
     assert P_max_history[n - 1] == pytest.approx(py.P_max[0], rel=RTOL)
     assert contact_time == pytest.approx(py.contact_time[0], rel=RTOL)
     assert delta_res[-1] == 0.0                                  # off the wall: the history is cleared
-    assert "fix nfd/wall/vz: 0 contacts loaded beyond the calibrated window" in output
+    assert "fix wall (nfd/wall/vz): 0 contacts loaded beyond the calibrated window" in output
 
 
 def test_wall_on_two_mpi_ranks_equals_one(plugin, tmp_path):
@@ -724,7 +724,7 @@ def test_vz_table_wall_matches_nfdmodel(plugin, tmp_path):
     py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
     assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
     assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
-    assert "fix nfd/wall/vz-table: 0 contacts loaded beyond the calibrated window" in output
+    assert "fix wall (nfd/wall/vz-table): 0 contacts loaded beyond the calibrated window" in output
 
 
 def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path):

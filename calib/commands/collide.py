@@ -5,6 +5,7 @@ integrated with leap-frog until it leaves at v_out; the restitution is e = -v_ou
 (nfdmodel/README.md, Restitution and collisions).
 
     nfdcal collide --law vz --v-in 0.02 0.04 0.1 [--dt 1e-6] [--json]
+    nfdcal collide --v-in 0.1 --angle 10 30 60 --mu 0.3 [--omega W] [--plot e_t.png]   # oblique
     nfdcal collide --report [--out results/collision]      # regenerate results/collision/
 
 Material flags default to the paper's reference case (aluminium sphere, R = 0.1 m). --Ca --Kc
@@ -17,6 +18,13 @@ file (--params FILE, which also sets the material). --dt defaults to "auto": the
 stderr (nfdmodel.TimeStepWarning); a dt beyond the leap-frog stability limit is an error.
 Bad input: a ValueError naming the parameter and its range (the dispatcher prints one line and
 exits with code 2).
+
+Oblique impacts (--angle, incidence from the normal [deg], each with each --v-in speed): the
+sphere also slides and spins (--omega [rad/s] about the axis of rolling), with Mindlin friction
+--mu (k_t = 8 G/(2 - nu) of the sphere on the rigid flat; --tangential the variant, default
+mindlin_rescale/force; nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
+e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point), the rebound angle and spin; --plot FILE
+draws e_t and beta against the incidence angle.
 """
 from __future__ import annotations
 
@@ -49,6 +57,16 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--K1", default=None, help="walton-braun loading stiffness [N/m] "
                         "(default: vz secant to 40 P_Y)")
     parser.add_argument("--K2", default=None, help="walton-braun unloading stiffness [N/m] (>= K1)")
+    parser.add_argument("--angle", nargs="+", metavar="DEG", help="oblique impacts: incidence angles from the "
+                        "normal [deg] (0 <= angle < 90), each at each --v-in speed")
+    parser.add_argument("--mu", default=None, help="oblique impacts: Mindlin friction coefficient (default 0: "
+                        "frictionless)")
+    parser.add_argument("--tangential", default="mindlin_rescale/force", help="oblique impacts: LAMMPS's Mindlin "
+                        "variant of --mu (default mindlin_rescale/force, the one for a plastic law)")
+    parser.add_argument("--omega", default=None, help="oblique impacts: incoming spin [rad/s] about the axis "
+                        "of rolling (default 0)")
+    parser.add_argument("--plot", default=None, metavar="FILE", help="oblique impacts: a PNG of e_t and beta "
+                        "against the incidence angle")
     parser.add_argument("--report", action="store_true",
                         help="regenerate the collision results (CSV, JSON, PNG) into --out")
     parser.add_argument("--out", default=None, help="folder for --report (default results/collision)")
@@ -151,6 +169,8 @@ def run(ns) -> int:
 
     velocities = np.array([number("--v-in", v) for v in ns.v_in])
     law, params = build_params(ns)
+    if ns.angle is not None or ns.mu is not None or ns.omega is not None or ns.plot is not None:
+        return run_oblique(ns, law, params, velocities, dt)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = collide(law, params, velocities, dt=dt)
@@ -170,3 +190,66 @@ def run(ns) -> int:
         lines.append(f"calibrated window: {params.window.describe()} ({params.window.source})")
     print_summary(ns, records, lines)
     return 0
+
+
+def run_oblique(ns, law: str, params, speeds, dt) -> int:
+    """The oblique impacts of --angle/--mu/--omega (module doc): a table or JSON records, --plot."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from nfdmodel import collision_reference
+    from nfdmodel.collision import STEPS_PER_CONTACT_AUTO
+    from nfdmodel.friction import Friction, shear_coefficient
+    from nfdmodel.oblique import oblique_collide
+
+    angles = np.array([number("--angle", a, low=0.0, low_inclusive=True, high=90.0, unit="deg")
+                       for a in (ns.angle or ["0"])])
+    mu = number("--mu", ns.mu, 0.0, low=0.0, low_inclusive=True)
+    omega = number("--omega", ns.omega, 0.0, unit="rad/s")
+    pair = params.pair
+    # the sphere's E and nu (on a rigid flat E* = E/(1 - nu^2)): all shear_coefficient reads
+    sphere = SimpleNamespace(E=pair.E_star * (1.0 - pair.nu * pair.nu), nu=pair.nu)
+    friction = Friction(tangential=ns.tangential, k_t=shear_coefficient(sphere), mu=mu) if mu > 0 else Friction()
+    speed, angle = (values.ravel() for values in np.meshgrid(speeds, angles, indexing="ij"))
+    if dt is None:                                         # collide's automatic dt at the slowest normal speed
+        normal = np.maximum(speed * np.cos(np.radians(angle)), 1e-300)
+        dt = float(collision_reference(law, params, [normal.min()]).contact_time_estimate[0]) / STEPS_PER_CONTACT_AUTO
+    result = oblique_collide(law, params, friction, speed, angle, omega, dt=dt)
+    records = [{"v_in": float(s), "angle": float(a), "e_n": float(en), "e_t": float(et), "beta": float(b),
+                "angle_out": float(ao), "omega_out": float(w), "P_max": float(p), "contact_time": float(ct)}
+               for s, a, en, et, b, ao, w, p, ct in zip(speed, angle, result.e_n, result.e_t, result.beta,
+                                                        result.angle_out, result.omega_out, result.P_max,
+                                                        result.contact_time)]
+    lines = [f"law {law}, oblique: R = {pair.R_star:g} m, mu = {mu:g}, omega_in = {omega:g} rad/s, dt = {dt:.3g} s",
+             f"{'v_in m/s':>10} {'angle deg':>10} {'e_n':>9} {'e_t':>9} {'beta':>9} {'angle_out':>10} "
+             f"{'omega_out':>11} {'P_max N':>10} {'contact s':>11}"]
+    lines += [f"{r['v_in']:10.4g} {r['angle']:10.4g} {r['e_n']:9.5f} {r['e_t']:9.5f} {r['beta']:9.5f} "
+              f"{r['angle_out']:10.4f} {r['omega_out']:11.5g} {r['P_max']:10.5g} {r['contact_time']:11.4g}"
+              for r in records]
+    if ns.plot is not None:
+        plot_oblique(ns.plot, records, law, mu)
+        lines.append(f"plot written to {ns.plot}")
+    print_summary(ns, records, lines)
+    return 0
+
+
+def plot_oblique(path: str, records: list[dict], law: str, mu: float) -> None:
+    """e_t and beta against the incidence angle, one line per speed."""
+    from pathlib import Path
+
+    from calib.output import pyplot, save_figure
+
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(9, 3.5))
+    for speed in sorted({r["v_in"] for r in records}):
+        rows = [r for r in records if r["v_in"] == speed and r["angle"] > 0.0]
+        for ax, key in zip(axes, ("e_t", "beta")):
+            ax.plot([r["angle"] for r in rows], [r[key] for r in rows], marker="o", ms=3, label=f"{speed:g} m/s")
+    for ax, label in zip(axes, ("e_t = v_t' / v_t (centre)", "beta = -V' / V (contact point)")):
+        ax.set_xlabel("incidence angle from the normal [deg]")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend()
+    fig.suptitle(f"{law}, Mindlin friction mu = {mu:g}: tangential restitution")
+    save_figure(fig, Path(path))

@@ -20,6 +20,12 @@ plugin reads:
     pair_style nfd/vz-table
     pair_coeff T T file /abs/path/params.json
     fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/path/params.json              (--wall)
+
+The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
+Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
+(--tangential another of LAMMPS's Mindlin variants, --x-gamma-t its damping), --rolling K GAMMA
+MU_R ``rolling sds K GAMMA MU_R``, --twisting marshall (or sds K GAMMA MU_T), --damping MODEL VALUE
+``damping viscoelastic|tsuji|coeff_restitution VALUE``.
 """
 from __future__ import annotations
 
@@ -40,6 +46,16 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--type", default="1", metavar="T", help="the LAMMPS atom type of the material (default 1)")
     parser.add_argument("--wall", nargs=2, default=None, metavar=("FACE", "COORD"),
                         help="also the rigid flat wall fix: FACE one of xlo xhi ylo yhi zlo zhi, COORD [m]")
+    parser.add_argument("--mu", default=None, help="friction coefficient: tangential MODEL NULL X_GAMMA_T MU")
+    parser.add_argument("--tangential", default="mindlin_rescale/force",
+                        help="the Mindlin variant of --mu (default mindlin_rescale/force: the one for a plastic law)")
+    parser.add_argument("--x-gamma-t", default="0", help="tangential damping of --mu (default 0)")
+    parser.add_argument("--rolling", nargs=3, default=None, metavar=("K", "GAMMA", "MU_R"),
+                        help="rolling sds K [N/m] GAMMA [N s/m] MU_R")
+    parser.add_argument("--twisting", nargs="+", default=None, metavar="MODEL",
+                        help="twisting marshall, or sds K [N m/rad] GAMMA [N m s/rad] MU_T [m]")
+    parser.add_argument("--damping", nargs=2, default=None, metavar=("MODEL", "VALUE"),
+                        help="damping viscoelastic C [1/(m s)], or tsuji|coeff_restitution E")
     add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run)
 
@@ -84,6 +100,10 @@ def run(ns) -> int:
         law = "vz-table"
         law_args = f"file {quoted(str(Path(ns.params).resolve()))}"
         summary.update(law="vz-table", table_nodes=len(params.x))
+    models = model_keywords(ns)
+    if models:
+        law_args += " " + models
+        summary.update(models=models)
     kind = int(atom_type)
     lines = ["# nfdcal export lammps: " + f"{ns.params} (load the plugin first: plugin load $(nfdcal lammps path))",
              f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {law_args}"]
@@ -97,3 +117,39 @@ def run(ns) -> int:
 def _material_of(path) -> dict:
     """The file's material record (E [Pa], nu, sigma_y [Pa]), which load_parameters has checked."""
     return json.loads(Path(path).read_text(encoding="utf-8"))["material"]
+
+
+def model_keywords(ns) -> str:
+    """The contact-model keywords of the flags, in LAMMPS's order, checked by nfdmodel.friction."""
+    from nfdmodel.friction import Friction
+
+    keywords, options = [], {}
+    if ns.damping is not None:
+        model, value = ns.damping
+        options.update(damping=model, damping_value=number("--damping VALUE", value))
+        keywords.append(f"damping {model} {exact(options['damping_value'])}")
+    if ns.mu is not None:
+        mu, x_gamma_t = number("--mu", ns.mu), number("--x-gamma-t", ns.x_gamma_t)
+        options.update(tangential=ns.tangential, k_t=1.0, mu=mu, x_gamma_t=x_gamma_t)    # k_t NULL: 8 G*
+        keywords.append(f"tangential {ns.tangential} NULL {exact(x_gamma_t)} {exact(mu)}")
+    if ns.rolling is not None:
+        k, gamma, mu_r = (number(f"--rolling {name}", value) for name, value in zip(("K", "GAMMA", "MU_R"), ns.rolling))
+        options.update(rolling="sds", k_roll=k, gamma_roll=gamma, mu_roll=mu_r)
+        keywords.append(f"rolling sds {exact(k)} {exact(gamma)} {exact(mu_r)}")
+    if ns.twisting is not None:
+        model, *values = ns.twisting
+        if model == "marshall" and not values:
+            options.update(twisting="marshall")
+            keywords.append("twisting marshall")
+        elif model == "sds" and len(values) == 3:
+            k, gamma, mu_t = (number(f"--twisting sds {name}", value) for name, value in zip(("K", "GAMMA", "MU_T"),
+                                                                                          values))
+            options.update(twisting="sds", k_twist=k, gamma_twist=gamma, mu_twist=mu_t)
+            keywords.append(f"twisting sds {exact(k)} {exact(gamma)} {exact(mu_t)}")
+        else:
+            raise ValueError("--twisting out of range: need 'marshall' or 'sds K GAMMA MU_T', got "
+                             f"{' '.join(ns.twisting)}")
+    if ns.tangential != "mindlin_rescale/force" and ns.mu is None:
+        raise ValueError("--tangential applies with --mu only")
+    Friction(**options)                # each value within its range, named otherwise
+    return " ".join(keywords)

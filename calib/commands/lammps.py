@@ -81,7 +81,7 @@ def run(ns) -> int:
     return 0
 
 
-KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_limits.h")     # nfdmodel/: the C kernel and its table
+KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_friction.h", "nfd_limits.h")   # nfdmodel/: the C kernel, its table
 PLUGIN_UNITS = ("nfd_plugin.cpp", "pair_nfd.cpp")                    # two of nfdmodel/lammps/*.cpp, as a check
 
 

@@ -85,13 +85,13 @@ void FixNfdHistory::pre_exchange()
             if (!touching(i, jj)) continue;
             int j = jlist[jj] & NEIGHMASK;
             const double *h = value(i, jj);
-            add_partner(i, tag[j], h);
-            if (j < nlocal_neigh) add_partner(j, tag[i], h);
+            add_partner(i, tag[j], h, width);
+            if (j < nlocal_neigh) add_partner(j, tag[i], h, width);
         }
     }
     int largest = 0;
     for (int i = 0; i < nlocal_neigh; ++i) largest = npartner[i] > largest ? npartner[i] : largest;
-    maxexchange = 1 + (1 + NHIST) * largest;
+    maxexchange = 1 + (1 + width) * largest;
     for (int i = nlocal_neigh; i < atom->nlocal; ++i) clear_partners(i);
 }
 
@@ -108,7 +108,7 @@ void FixNfdHistory::post_neighbor()
         first[i] = entries;
         entries += list->numneigh[i];
     }
-    values.assign(NHIST * entries, 0.0);
+    values.assign(width * entries, 0.0);
     touch.assign(entries, 0);
     // matched[i][m]: partner record m of owned atom i went to a list entry (its own, or, for two
     // owned atoms, the other atom's copy did); a record matched by neither is an orphan
@@ -123,7 +123,7 @@ void FixNfdHistory::post_neighbor()
             tagint jtag = tag[j];
             for (int m = 0; m < npartner[i]; ++m) {
                 if (partner[i][m] != jtag) continue;
-                std::memcpy(value(i, jj), &partner_values[i][NHIST * m], NHIST * sizeof(double));
+                std::memcpy(value(i, jj), &partner_values[i][width * m], width * sizeof(double));
                 touch[first[i] + jj] = 1;
                 matched[i][m] = 1;
                 break;
@@ -139,10 +139,10 @@ void FixNfdHistory::post_neighbor()
 }
 
 /* A 64-bit mix of a contact's two tags and its history's bits (splitmix64 steps). */
-static uint64_t copy_hash(tagint low, tagint high, const double *h)
+static uint64_t copy_hash(tagint low, tagint high, const double *h, int doubles)
 {
     uint64_t z = mix64(static_cast<uint64_t>(low)) ^ mix64(static_cast<uint64_t>(high) + 0x632be59bd9b4e019ULL);
-    for (int n = 0; n < NHIST; ++n) z = mix_double(z, h[n]);
+    for (int n = 0; n < doubles; ++n) z = mix_double(z, h[n]);
     return z;
 }
 
@@ -168,7 +168,7 @@ void FixNfdHistory::census(double *out)
                 const bool lower = tag[i] < tag[j];
                 mine[0] += lower ? 1 : 0;
                 mine[2] += lower ? 1 : -1;
-                hash ^= copy_hash(std::min(tag[i], tag[j]), std::max(tag[i], tag[j]), value(i, jj));
+                hash ^= copy_hash(std::min(tag[i], tag[j]), std::max(tag[i], tag[j]), value(i, jj), width);
             }
         }
     }
@@ -201,7 +201,7 @@ int FixNfdHistory::pack_exchange(int i, double *buf)
     buf[m++] = npartner[i];
     for (int k = 0; k < npartner[i]; ++k) {
         buf[m++] = static_cast<double>(partner[i][k]);
-        for (int n = 0; n < NHIST; ++n) buf[m++] = partner_values[i][NHIST * k + n];
+        for (int n = 0; n < width; ++n) buf[m++] = partner_values[i][width * k + n];
     }
     return m;
 }
@@ -213,10 +213,10 @@ int FixNfdHistory::unpack_exchange(int nlocal, double *buf)
     int count = static_cast<int>(buf[m++]);
     for (int k = 0; k < count; ++k) {
         tagint who = static_cast<tagint>(buf[m++]);
-        add_partner(nlocal, who, &buf[m]);
-        m += NHIST;
+        add_partner(nlocal, who, &buf[m], width);
+        m += width;
     }
-    if (1 + (1 + NHIST) * count > maxexchange) maxexchange = 1 + (1 + NHIST) * count;
+    if (1 + (1 + width) * count > maxexchange) maxexchange = 1 + (1 + width) * count;
     return m;
 }
 
@@ -231,10 +231,10 @@ int FixNfdHistory::maxsize_restart()
     int mine = 0, all = 0;
     for (int i = 0; i < atom->nlocal; ++i) mine = npartner[i] > mine ? npartner[i] : mine;
     MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MAX, world);
-    return 2 + (1 + NHIST) * all;
+    return 2 + (1 + width) * all;
 }
 
-int FixNfdHistory::size_restart(int i) { return 2 + (1 + NHIST) * npartner[i]; }
+int FixNfdHistory::size_restart(int i) { return 2 + (1 + width) * npartner[i]; }
 
 int FixNfdHistory::pack_restart(int i, double *buf)
 {
@@ -242,7 +242,7 @@ int FixNfdHistory::pack_restart(int i, double *buf)
     buf[m++] = npartner[i];
     for (int k = 0; k < npartner[i]; ++k) {
         buf[m++] = static_cast<double>(partner[i][k]);
-        for (int n = 0; n < NHIST; ++n) buf[m++] = partner_values[i][NHIST * k + n];
+        for (int n = 0; n < width; ++n) buf[m++] = partner_values[i][width * k + n];
     }
     buf[0] = m;
     return m;
@@ -253,16 +253,23 @@ void FixNfdHistory::unpack_restart(int nlocal, int nth)
     const double *extra = atom->extra[nlocal];
     int m = 0;
     for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
-    ++m;
+    const int length = static_cast<int>(extra[m++]);
     clear_partners(nlocal);
     const int count = static_cast<int>(extra[m++]);
+    // the file's record width (NHIST, or NHIST + NFRICTION): a file with springs widens a fix
+    // that holds none yet, before any record is stored; otherwise each record is fitted
+    const int written = count > 0 ? (length - 2) / count - 1 : width;
+    if (count > 0 && written > width && !have_list) set_width(written);
+    std::vector<double> record(width, 0.0);
     for (int k = 0; k < count; ++k) {
         const tagint who = static_cast<tagint>(extra[m++]);
-        add_partner(nlocal, who, &extra[m]);
-        m += NHIST;
+        std::fill(record.begin(), record.end(), 0.0);
+        std::copy(&extra[m], &extra[m] + std::min(written, width), record.begin());
+        add_partner(nlocal, who, record.data(), width);
+        m += written;
     }
     restored += count;
-    if (1 + (1 + NHIST) * count > maxexchange) maxexchange = 1 + (1 + NHIST) * count;
+    if (1 + (1 + width) * count > maxexchange) maxexchange = 1 + (1 + width) * count;
 }
 
 /* Global restart data: [ntypes, then per atom type the 64-bit fingerprint of its pair_coeff
@@ -270,6 +277,7 @@ void FixNfdHistory::unpack_restart(int nlocal, int nth)
  * every rank reads the broadcast copy in restart()). */
 void FixNfdHistory::write_restart(FILE *fp)
 {
+    refresh_springs();
     std::vector<uint64_t> words = coeff_fingerprints();
     if (comm->me == 0) {
         const int size = static_cast<int>(words.size() * sizeof(uint64_t));
@@ -336,11 +344,61 @@ void FixNfdHistory::clear_partners(int i)
     partner_values[i].clear();
 }
 
-void FixNfdHistory::add_partner(int i, tagint who, const double *h)
+void FixNfdHistory::add_partner(int i, tagint who, const double *h, int doubles)
 {
     partner[i].push_back(who);
-    partner_values[i].insert(partner_values[i].end(), h, h + NHIST);
+    partner_values[i].insert(partner_values[i].end(), h, h + doubles);
     ++npartner[i];
+}
+
+void FixNfdHistory::set_width(int doubles)
+{
+    if (doubles == width) return;
+    const int keep = std::min(doubles, width);
+    auto restride = [&](std::vector<double> &v) {
+        const size_t records = v.size() / width;
+        std::vector<double> out(records * doubles, 0.0);
+        for (size_t r = 0; r < records; ++r)
+            std::copy(&v[r * width], &v[r * width] + keep, &out[r * doubles]);
+        v.swap(out);
+    };
+    for (auto &v : partner_values) restride(v);
+    restride(values);
+    width = doubles;
+}
+
+/* Before a restart file is written (every rank, before the per-atom records are packed): the
+ * per-atom records hold the history the last re-neighboring stored -- during a run, the history
+ * before this step's forces, which the continued run recomputes (setup) -- and the springs are
+ * set to their values after this step's forces, which the set-up step evaluates without advancing
+ * them (as LAMMPS's granular styles do). A contact that began on this step gets a record of a
+ * virgin normal history with its springs. Between runs (post_run stored everything) nothing
+ * changes. */
+void FixNfdHistory::refresh_springs()
+{
+    if (width == NHIST || !have_list || !pair || !pair->list) return;
+    NeighList *list = pair->list;
+    tagint *tag = atom->tag;
+    std::vector<double> fresh(width, 0.0);
+    auto refresh = [&](int owner, tagint who, const double *h) {
+        for (int m = 0; m < npartner[owner]; ++m)
+            if (partner[owner][m] == who) {
+                std::copy(h + NHIST, h + width, &partner_values[owner][width * m + NHIST]);
+                return;
+            }
+        std::copy(h + NHIST, h + width, fresh.begin() + NHIST);
+        add_partner(owner, who, fresh.data(), width);
+    };
+    for (int ii = 0; ii < list->inum; ++ii) {
+        const int i = list->ilist[ii];
+        const int *jlist = list->firstneigh[i];
+        for (int jj = 0; jj < list->numneigh[i]; ++jj) {
+            if (!touching(i, jj)) continue;
+            const int j = jlist[jj] & NEIGHMASK;
+            refresh(i, tag[j], value(i, jj));
+            if (j < nlocal_neigh) refresh(j, tag[i], value(i, jj));
+        }
+    }
 }
 
 }    // namespace nfdcal_lammps

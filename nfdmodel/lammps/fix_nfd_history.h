@@ -11,6 +11,11 @@
  * a fingerprint of each atom type's pair_coeff (write_restart / restart), so that a continuation
  * under other constants is warned about (check_restored).
  *
+ * Each record holds width() doubles: the nfd_history (NHIST), then, when the pair style has
+ * contact models (nfd_models.h), the nfd_friction_history (NFRICTION). A restart file of either
+ * width is read into the width of the pair style (the springs of a frictionless file start at
+ * zero; a frictionless continuation drops them).
+ *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
 #ifndef NFD_LAMMPS_FIX_NFD_HISTORY_H
@@ -60,8 +65,12 @@ class FixNfdHistory : public LAMMPS_NS::Fix {
      * both, and the two copies must be the same). */
     void census(double *out);
 
-    // for the pair style: the history of list entry jj of owned atom i
-    double *value(int i, int jj) { return &values[NHIST * (first[i] + jj)]; }
+    // for the pair style: the history of list entry jj of owned atom i (width() doubles)
+    double *value(int i, int jj) { return &values[width * (first[i] + jj)]; }
+    int stride() const { return width; }
+    /* NHIST, or NHIST + NFRICTION with contact models: the stored records are re-strided (the
+     * springs of records that had none start at zero) */
+    void set_width(int doubles);
     bool touching(int i, int jj) const { return touch[first[i] + jj] != 0; }
     void set_touching(int i, int jj, bool on) { touch[first[i] + jj] = on ? 1 : 0; }
     bool ready() const;
@@ -72,7 +81,8 @@ class FixNfdHistory : public LAMMPS_NS::Fix {
     std::vector<uint64_t> coeff_fingerprints() const;
     void check_restored();
     void clear_partners(int i);
-    void add_partner(int i, LAMMPS_NS::tagint who, const double *h);
+    void add_partner(int i, LAMMPS_NS::tagint who, const double *h, int doubles);
+    void refresh_springs();
 
     std::vector<int> npartner;
     std::vector<std::vector<LAMMPS_NS::tagint>> partner;
@@ -81,7 +91,8 @@ class FixNfdHistory : public LAMMPS_NS::Fix {
     LAMMPS_NS::bigint restored = 0;          // partner records read from a restart file
     std::vector<uint64_t> written_coeffs;    // the restart file's [ntypes, fingerprint per type]
     std::vector<size_t> first;               // per owned atom: its first list entry
-    std::vector<double> values;              // NHIST per list entry
+    int width = NHIST;                       // doubles per record (set_width)
+    std::vector<double> values;              // width per list entry
     std::vector<unsigned char> touch;        // 1: the entry holds a contact's history
     int nlocal_neigh = 0;
     bool have_list = false;

@@ -39,7 +39,11 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
     dim = face / 2;
     side = face % 2 == 0 ? 1.0 : -1.0;
     coord = number_in(lmp, who, arg[4], "COORD", -INFINITY, true, INFINITY, true, "a finite position [m]");
-    material = law->read(lmp, who, true, narg - 5, arg + 5);
+    const int models_at = first_model_keyword(narg - 5, arg + 5);
+    material = law->read(lmp, who, true, models_at, arg + 5);
+    material.models = read_models(lmp, who, narg - 5 - models_at, arg + 5 + models_at, !law->per_type_pair);
+    material.friction = contact_friction(material.models, material.E, material.nu, INFINITY, 0.0);
+    width = material.models.any() ? NHIST + NFRICTION : NHIST;
 
     scalar_flag = 1;
     global_freq = 1;
@@ -48,10 +52,10 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
     size_vector = 1;
     extvector = 1;
     peratom_flag = 1;
-    size_peratom_cols = NHIST;
+    size_peratom_cols = width;
     peratom_freq = 1;
     create_attribute = 1;
-    maxexchange = NHIST;
+    maxexchange = width;
     restart_peratom = 1;
     FixNfdWall::grow_arrays(atom->nmax);
     atom->add_callback(Atom::GROW);
@@ -75,6 +79,9 @@ void FixNfdWall::init()
     if (std::strncmp(update->integrate_style, "respa", 5) == 0)
         error->all(FLERR, fmt::format("fix {}: run_style {} is not supported: use run_style verlet (the plugin has "
                                       "no access to the rRESPA force levels)", name(), update->integrate_style));
+    if (material.models.any() && (!atom->omega_flag || !atom->torque_flag))
+        error->all(FLERR, fmt::format("fix {} with contact models needs per-atom spins and torques: use atom_style "
+                                      "sphere", name()));
     beyond_count = 0;
     beyond_largest = 0.0;
 }
@@ -92,7 +99,7 @@ void FixNfdWall::post_force(int /*vflag*/)
         double *stored = history[i];
         const double delta = radius[i] - side * (x[i][dim] - coord);
         if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
-            for (int n = 0; n < NHIST; ++n) stored[n] = 0.0;
+            for (int n = 0; n < width; ++n) stored[n] = 0.0;
             continue;
         }
         touching_local += 1.0;
@@ -100,7 +107,30 @@ void FixNfdWall::post_force(int /*vflag*/)
         const nfd_history h = load_history(stored);
         nfd_history next;
         double force = 0.0;
-        const int status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
+        nfd_contact_result out;
+        int status;
+        if (material.models.any()) {       // the sphere on a rigid flat (R_j = 0), normal side e_dim
+            nfd_contact c;
+            for (int d = 0; d < 3; ++d) {
+                c.n[d] = d == dim ? side : 0.0;
+                c.v[d] = atom->v[i][d];
+                c.omega_i[d] = atom->omega[i][d];
+                c.omega_j[d] = 0.0;
+            }
+            c.delta = delta;
+            c.R_i = radius[i];
+            c.R_j = 0.0;
+            c.m_star = atom->rmass[i];
+            c.dt = update->dt;
+            const nfd_friction_history springs = load_friction(stored + NHIST, 1.0);
+            nfd_friction_history springs_next;
+            status = nfd_contact_step(law->code, &c, &p, &material.table, &material.friction, &h, &springs,
+                                      update->setupflag ? 0 : 1, &next, &springs_next, &out);
+            if (status >= 0) store_friction(springs_next, 1.0, stored + NHIST);
+            force = out.F_n;
+        } else {
+            status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
+        }
         if (status == NFD_FULL_CONTACT)
             error->one(FLERR, fmt::format("fix {}: atom {} reached full contact with the wall at overlap {:.6g} m "
                                           "(delta/R = {:.4g}): the law's contact radius reaches R", name(), tag[i],
@@ -113,7 +143,14 @@ void FixNfdWall::post_force(int /*vflag*/)
             beyond_largest = std::max(beyond_largest, next.P_max / p.P_Y);
         }
         store_history(next, stored);
-        f[i][dim] += side * force;
+        if (material.models.any()) {
+            for (int d = 0; d < 3; ++d) {
+                f[i][d] += out.force[d];
+                atom->torque[i][d] += out.torque_i[d];
+            }
+        } else {
+            f[i][dim] += side * force;
+        }
         total_local += force;
     }
     total_reduced = false;
@@ -145,49 +182,52 @@ void FixNfdWall::post_run()
     MPI_Allreduce(&beyond_largest, &largest, 1, MPI_DOUBLE, MPI_MAX, world);
     if (comm->me == 0) {
         if (all == 0)
-            utils::logmesg(lmp, fmt::format("fix {}: 0 contacts loaded beyond the calibrated window\n", name()));
+            utils::logmesg(lmp, fmt::format("fix {} ({}): 0 contacts loaded beyond the calibrated window\n", id,
+                                            name()));
         else
-            utils::logmesg(lmp, fmt::format("fix {}: {} contact(s) loaded beyond the calibrated window (up to P/P_Y = "
-                                            "{:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an extrapolation "
-                                            "there\n", name(), all, largest, material.window));
+            utils::logmesg(lmp, fmt::format("fix {} ({}): {} contact(s) loaded beyond the calibrated window (up to "
+                                            "P/P_Y = {:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an "
+                                            "extrapolation there\n", id, name(), all, largest, material.window));
     }
 }
 
 void FixNfdWall::grow_arrays(int nmax)
 {
-    memory->grow(history, nmax, NHIST, "nfd/wall:history");
+    memory->grow(history, nmax, width, "nfd/wall:history");
     array_atom = history;
 }
 
 void FixNfdWall::copy_arrays(int i, int j, int /*delflag*/)
 {
-    for (int n = 0; n < NHIST; ++n) history[j][n] = history[i][n];
+    for (int n = 0; n < width; ++n) history[j][n] = history[i][n];
 }
 
 void FixNfdWall::set_arrays(int i)
 {
-    for (int n = 0; n < NHIST; ++n) history[i][n] = 0.0;
+    for (int n = 0; n < width; ++n) history[i][n] = 0.0;
 }
 
 int FixNfdWall::pack_exchange(int i, double *buf)
 {
-    for (int n = 0; n < NHIST; ++n) buf[n] = history[i][n];
-    return NHIST;
+    for (int n = 0; n < width; ++n) buf[n] = history[i][n];
+    return width;
 }
 
 int FixNfdWall::unpack_exchange(int nlocal, double *buf)
 {
-    for (int n = 0; n < NHIST; ++n) history[nlocal][n] = buf[n];
-    return NHIST;
+    for (int n = 0; n < width; ++n) history[nlocal][n] = buf[n];
+    return width;
 }
 
-/* Restart files: per atom [NHIST + 1, the NHIST history values]; read_restart keeps the values of
- * every fix in atom->extra[i] one after the other, each led by its own length. */
+/* Restart files: per atom [width + 1, the width history values]; read_restart keeps the values of
+ * every fix in atom->extra[i] one after the other, each led by its own length. A record of the
+ * other width (a file written with or without contact models) gives what both hold: the springs
+ * of a frictionless file start at zero. */
 int FixNfdWall::pack_restart(int i, double *buf)
 {
-    buf[0] = NHIST + 1;
-    for (int n = 0; n < NHIST; ++n) buf[n + 1] = history[i][n];
-    return NHIST + 1;
+    buf[0] = width + 1;
+    for (int n = 0; n < width; ++n) buf[n + 1] = history[i][n];
+    return width + 1;
 }
 
 void FixNfdWall::unpack_restart(int nlocal, int nth)
@@ -195,9 +235,10 @@ void FixNfdWall::unpack_restart(int nlocal, int nth)
     const double *extra = atom->extra[nlocal];
     int m = 0;
     for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
-    for (int n = 0; n < NHIST; ++n) history[nlocal][n] = extra[m + 1 + n];
+    const int written = static_cast<int>(extra[m]) - 1;
+    for (int n = 0; n < width; ++n) history[nlocal][n] = n < written ? extra[m + 1 + n] : 0.0;
 }
 
-double FixNfdWall::memory_usage() { return (double) atom->nmax * NHIST * sizeof(double); }
+double FixNfdWall::memory_usage() { return (double) atom->nmax * width * sizeof(double); }
 
 }    // namespace nfdcal_lammps

@@ -4,21 +4,28 @@
  *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
  *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2       (the contact's stiffnesses [N/m])
  *     fix ID group nfd/wall/vz-table FACE COORD file params.json
+ *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
  *
  * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
  * (lo) or above (hi). Each atom of the group is a sphere of its own radius R on a rigid flat, the
  * FE calibration's own setting (nfdmodel.ContactPair.sphere_flat): R* = R, E* = E / (1 - nu^2),
  * first yield in the sphere; overlap delta = R - (distance of the centre from the plane), the
- * force pushes the atom away from the wall along the normal. The per-atom history (nfd_history)
+ * force pushes the atom away from the wall along the normal. With contact models (the keywords of
+ * nfd_models.h after the constants) the contact is the kernel's nfd_contact_step on a rigid flat
+ * (R_j = 0: LAMMPS's fix wall/gran with the sphere's E doubled), with torques, k_t NULL = 8 G /
+ * (2 - nu). The per-atom history (nfd_history, then the nfd_friction_history)
  * travels with the atom between MPI ranks, goes into restart files (read back by a fix of the
  * same ID and style defined after read_restart) and is zeroed when the sphere leaves the wall.
  *
  * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
  * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
- * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m]. Loads beyond the window are counted
- * and reported at the end of each run like the pair style's. Integrators: run_style verlet and
- * minimization (the force is added after all others, post_force); run_style respa is refused (the
- * wheel ships no respa.h: the plugin cannot reach the rRESPA force levels).
+ * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
+ * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]). Loads
+ * beyond the window are counted and reported at the end of each run like the pair style's, in a
+ * line naming the fix's ID.
+ * Integrators: run_style verlet and minimization (the force is added after all others,
+ * post_force); run_style respa is refused (the wheel ships no respa.h: the plugin cannot reach the
+ * rRESPA force levels).
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
@@ -52,8 +59,8 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     int unpack_exchange(int nlocal, double *buf) override;
     int pack_restart(int i, double *buf) override;
     void unpack_restart(int nlocal, int nth) override;
-    int size_restart(int /*i*/) override { return NHIST + 1; }
-    int maxsize_restart() override { return NHIST + 1; }
+    int size_restart(int /*i*/) override { return width + 1; }
+    int maxsize_restart() override { return width + 1; }
     double memory_usage() override;
 
  private:
@@ -61,6 +68,7 @@ class FixNfdWall : public LAMMPS_NS::Fix {
 
     const NfdLaw *law;
     NfdMaterial material;
+    int width = NHIST;            // doubles per atom: NHIST, or NHIST + NFRICTION with contact models
     int dim = 2;                  // the wall's normal: 0 x, 1 y, 2 z
     double side = 1.0;            // +1: atoms above the plane (lo), pushed in +dim; -1: hi
     double coord = 0.0;           // the plane [m]

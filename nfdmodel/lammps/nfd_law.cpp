@@ -55,6 +55,12 @@ uint64_t NfdLaw::fingerprint(const NfdMaterial &m) const
     z = mix64(z ^ static_cast<uint64_t>(m.table.n));
     for (int n = 0; n < m.table.n; ++n)
         for (double v : {m.table.x[n], m.table.f[n], m.table.g[n]}) z = mix_double(z, v);
+    if (!m.models.any()) return z;       // the fingerprint of a frictionless material is the law's alone
+    const NfdModels &c = m.models;
+    z = mix64(z ^ static_cast<uint64_t>(c.damping + 8 * (c.tangential + 8 * (c.rolling + 8 * c.twisting))));
+    for (double v : {c.damping_value, c.k_t, c.x_gamma_t, c.mu, c.k_roll, c.gamma_roll, c.mu_roll, c.k_twist,
+                     c.gamma_twist, c.mu_twist})
+        z = mix_double(z, v);
     return z;
 }
 

@@ -13,7 +13,7 @@
 #ifndef NFD_LAMMPS_LAW_H
 #define NFD_LAMMPS_LAW_H
 
-#include "../nfd_kernel.h"
+#include "nfd_models.h"
 
 #include <cmath>
 #include <cstdint>
@@ -27,6 +27,8 @@ class LAMMPS;
 namespace nfdcal_lammps {
 
 constexpr int NHIST = 5;    // the doubles of an nfd_history, as stored per contact and per atom
+// with contact models: then the nfd_friction_history's (nfd_friction.h), NHIST + NFRICTION in all
+constexpr int NFRICTION = NFD_FRICTION_HISTORY;
 
 inline nfd_history load_history(const double *v) { return nfd_history{v[0], v[1], v[2], v[3], v[4]}; }
 
@@ -39,15 +41,36 @@ inline void store_history(const nfd_history &h, double *v)
     v[4] = h.a_e_max;
 }
 
+/* The springs stored after the normal history (v + NHIST); the tangential one as seen from the
+ * atom of the lower ID (sign = +1 when atom i has it, else -1), so that both atoms of a contact,
+ * on any rank and in either order of a neighbor list, hold the same numbers. */
+inline nfd_friction_history load_friction(const double *v, double sign)
+{
+    return nfd_friction_history{{sign * v[0], sign * v[1], sign * v[2]}, {v[3], v[4], v[5]}, v[6], v[7]};
+}
+
+inline void store_friction(const nfd_friction_history &h, double sign, double *v)
+{
+    for (int k = 0; k < 3; ++k) {
+        v[k] = sign * h.xi_t[k];
+        v[3 + k] = h.xi_roll[k];
+    }
+    v[6] = h.theta_twist;
+    v[7] = h.a_previous;
+}
+
 /* One atom type's (or a wall fix's sphere's) constants, or a contact's after NfdLaw::mix:
  * E [Pa], nu, sigma_y [Pa]; p_Y = A_Y(nu) sigma_Y [Pa] (nfd_yield_factor); E_star [Pa]: one
  * body's E / (1 - nu^2) (its E* on a rigid flat), a contact's E* after mixing; the vz constants
  * Ca_hat, Kc_hat; the vz-table tables (x = P/P_Y, a_p/a_Y, C_R: dimensionless, so they hold for
- * any pair); the window P_max/P_Y; the Walton-Braun stiffnesses K1 <= K2 [N/m]. */
+ * any pair); the window P_max/P_Y; the Walton-Braun stiffnesses K1 <= K2 [N/m]; the contact
+ * models after the constants (nfd_models.h) and, for a contact (or a wall), their kernel form. */
 struct NfdMaterial {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, E_star = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
     double K1 = 0, K2 = 0;
     nfd_table table{};
+    NfdModels models;
+    nfd_friction friction{};
 };
 
 /* A 64-bit mixing step (splitmix64), for hashes that only tell equal inputs from different ones. */
@@ -83,8 +106,9 @@ class NfdLaw {
     const bool has_window;           // constants fitted on a load window: loads beyond it are counted
     const bool per_type_pair;        // pair_coeff I J sets a pair of types (else I I, mixed per contact)
 
-    /* The constants of `pair_coeff I J ...` (wall = false) or of a wall fix after its plane; who
-     * starts every error message ("pair_coeff for nfd/vz", "fix nfd/wall/vz"). */
+    /* The constants of `pair_coeff I J ...` (wall = false) or of a wall fix after its plane, up to
+     * the contact models (read by read_models); who starts every error message ("pair_coeff for
+     * nfd/vz", "fix nfd/wall/vz"). */
     virtual NfdMaterial read(LAMMPS_NS::LAMMPS *lmp, const std::string &who, bool wall, int narg,
                              char **arg) const = 0;
 
@@ -98,7 +122,8 @@ class NfdLaw {
     virtual nfd_params params(double R_star, const NfdMaterial &c) const = 0;
 
     /* The exact bits of the constants the force and the history depend on (not the window, which
-     * only flags loads), seeded with the law: equal pair_coeff lines, equal fingerprints. */
+     * only flags loads; the contact models when any is on), seeded with the law: equal pair_coeff
+     * lines, equal fingerprints. */
     uint64_t fingerprint(const NfdMaterial &m) const;
 
  protected:

@@ -2,7 +2,10 @@
  *
  * Each contact takes its constants from the two atoms' types (NfdLaw::mix, once per pair of
  * types in init_one) and its radii (1/R* = 1/R_i + 1/R_j, per contact), as
- * nfdmodel.ContactPair.sphere_sphere. A contact whose turning point moves beyond the window of
+ * nfdmodel.ContactPair.sphere_sphere. With contact models (nfd_models.h) a contact is the
+ * kernel's nfd_contact_step: the normal law's force, normal damping, friction, rolling and
+ * twisting resistance, forces and torques on both atoms; the springs are advanced on every step
+ * but the set-up step of a run (as LAMMPS's granular styles). A contact whose turning point moves beyond the window of
  * its constants is counted once; the count is reported in one line at the end of each run. A
  * contact that reaches full contact (the law's contact radius reaches R*) stops the run with an
  * error naming the two atoms.
@@ -21,6 +24,7 @@
 #include "modify.h"
 #include "neigh_list.h"
 #include "neighbor.h"
+#include "update.h"
 #include "utils.h"
 
 #include <mpi.h>
@@ -81,7 +85,10 @@ void PairNfd::coeff(int narg, char **arg)
     if (!law->per_type_pair && (ilo != jlo || ihi != jhi))
         error->all(FLERR, fmt::format("pair_coeff for {} sets the material of one atom type: use I I (got {} {}); "
                                       "unlike types are mixed per contact", name(), arg[0], arg[1]));
-    const NfdMaterial constants = law->read(lmp, who, false, narg - 2, arg + 2);
+    const int models_at = first_model_keyword(narg - 2, arg + 2);
+    NfdMaterial constants = law->read(lmp, who, false, models_at, arg + 2);
+    constants.models = read_models(lmp, who, narg - 2 - models_at, arg + 2 + models_at, !law->per_type_pair);
+    constants.friction = contact_friction(constants.models, constants.E, constants.nu, constants.E, constants.nu);
     int count = 0;
     for (int i = ilo; i <= ihi; ++i)
         for (int j = std::max(jlo, i); j <= jhi; ++j, ++count) {
@@ -113,6 +120,21 @@ void PairNfd::init_style()
     create_history_fix();
     history->pair = this;
 
+    // contact models on any type (mixing requires the same on all) or explicit pair: the springs
+    // are stored with the history, and the contacts need velocities and spins of both atoms
+    models_on = false;
+    for (int i = 1; i <= atom->ntypes; ++i)
+        for (int j = i; j <= atom->ntypes; ++j)
+            models_on = models_on || (i == j && material[i].models.any()) ||
+                (explicit_pair[i][j] && contact[i][j].models.any());
+    history->set_width(models_on ? NHIST + NFRICTION : NHIST);
+    if (models_on && (!atom->omega_flag || !atom->torque_flag))
+        error->all(FLERR, fmt::format("pair_style {} with contact models needs per-atom spins and torques: use "
+                                      "atom_style sphere", name()));
+    if (models_on && !comm->ghost_velocity)
+        error->all(FLERR, fmt::format("pair_style {} with contact models needs the velocities of ghost atoms: add "
+                                      "'comm_modify vel yes'", name()));
+
     // the largest radius of each type, including the particles fix pour / deposit will insert
     const int ntypes = atom->ntypes;
     std::vector<double> mine(ntypes + 1, 0.0);
@@ -138,7 +160,17 @@ void PairNfd::init_style()
  * pair_coeff I J) and its cutoff, the sum of the largest radii. */
 double PairNfd::init_one(int i, int j)
 {
-    if (!explicit_pair[i][j]) contact[i][j] = contact[j][i] = law->mix(material[i], material[j]);
+    if (!explicit_pair[i][j]) {
+        const NfdMaterial &a = material[i], &b = material[j];
+        if (!a.models.same_kinds(b.models))
+            error->all(FLERR, fmt::format("pair_style {}: the pair_coeff of atom types {} and {} give other contact "
+                                          "models ({}; {}), which do not mix: give both the same models", name(), i,
+                                          j, a.models.kinds(), b.models.kinds()));
+        NfdMaterial mixed = law->mix(a, b);
+        mixed.models = mix_models(a.models, b.models);
+        mixed.friction = contact_friction(mixed.models, a.E, a.nu, b.E, b.nu);
+        contact[i][j] = contact[j][i] = mixed;
+    }
     return max_radius[i] + max_radius[j];
 }
 
@@ -168,7 +200,7 @@ void PairNfd::compute(int eflag, int vflag)
             double *stored = history->value(i, jj);
             if (rsq >= radsum * radsum) {         // apart: the contact (if any) is over
                 if (history->touching(i, jj)) {
-                    for (int n = 0; n < NHIST; ++n) stored[n] = 0.0;
+                    for (int n = 0; n < history->stride(); ++n) stored[n] = 0.0;
                     history->set_touching(i, jj, false);
                 }
                 continue;
@@ -180,23 +212,13 @@ void PairNfd::compute(int eflag, int vflag)
             const nfd_history h = load_history(stored);
             nfd_history next;
             double force = 0.0;
-            const int status = nfd_step(law->code, delta, &p, &c.table, &h, &force, &next, nullptr);
-            if (status == NFD_FULL_CONTACT)
-                error->one(FLERR, fmt::format("pair_style {}: the contact of atoms {} and {} reached full contact at "
-                                              "overlap {:.6g} m (delta/R* = {:.4g}, P/P_Y = {:.4g}): the law's contact "
-                                              "radius reaches R*, where no contact law holds", name(), tag[i], tag[j],
-                                              delta, delta / p.R_star, next.P_max / p.P_Y));
-            if (status == NFD_NOT_FINITE)
-                error->one(FLERR, fmt::format("pair_style {}: the force of the contact of atoms {} and {} is not a "
-                                              "finite number (overlap {:.6g} m)", name(), tag[i], tag[j], delta));
-            if (status == NFD_BEYOND_WINDOW && (j < nlocal || tag[i] < tag[j])) {   // one rank per contact
-                if (h.P_max <= p.window_P_max) ++beyond_count;      // counted when it first leaves
-                const double load = next.P_max / p.P_Y;
-                if (load > beyond_largest) {
-                    beyond_largest = load;
-                    window_of_largest = p.window_P_max / p.P_Y;
-                }
+            if (c.models.any()) {
+                contact_with_models(i, j, delx, dely, delz, r, c, p, stored);
+                history->set_touching(i, jj, true);
+                continue;
             }
+            const int status = nfd_step(law->code, delta, &p, &c.table, &h, &force, &next, nullptr);
+            check_status(status, i, j, delta, p, h, next);
             store_history(next, stored);
             history->set_touching(i, jj, true);
 
@@ -213,6 +235,76 @@ void PairNfd::compute(int eflag, int vflag)
             if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, fx, fy, fz, delx, dely, delz);
         }
     }
+}
+
+/* A negative status of the kernel stops the run naming the two atoms; a turning point beyond the
+ * window is counted (once per contact, when it first leaves; by one rank per contact). */
+void PairNfd::check_status(int status, int i, int j, double delta, const nfd_params &p, const nfd_history &h,
+                           const nfd_history &next)
+{
+    tagint *tag = atom->tag;
+    if (status == NFD_FULL_CONTACT)
+        error->one(FLERR, fmt::format("pair_style {}: the contact of atoms {} and {} reached full contact at "
+                                      "overlap {:.6g} m (delta/R* = {:.4g}, P/P_Y = {:.4g}): the law's contact "
+                                      "radius reaches R*, where no contact law holds", name(), tag[i], tag[j],
+                                      delta, delta / p.R_star, next.P_max / p.P_Y));
+    if (status == NFD_NOT_FINITE)
+        error->one(FLERR, fmt::format("pair_style {}: the force of the contact of atoms {} and {} is not a "
+                                      "finite number (overlap {:.6g} m)", name(), tag[i], tag[j], delta));
+    if (status == NFD_BEYOND_WINDOW && (j < atom->nlocal || tag[i] < tag[j])) {
+        if (h.P_max <= p.window_P_max) ++beyond_count;
+        const double load = next.P_max / p.P_Y;
+        if (load > beyond_largest) {
+            beyond_largest = load;
+            window_of_largest = p.window_P_max / p.P_Y;
+        }
+    }
+}
+
+/* A contact with models (nfd_contact_step): the normal law, damping, friction, rolling and
+ * twisting; the force on both atoms (j only if owned: newton off), the torques, the history and
+ * springs stored in the list entry (the tangential spring as seen from the lower atom ID). */
+void PairNfd::contact_with_models(int i, int j, double delx, double dely, double delz, double r,
+                                  const NfdMaterial &c, const nfd_params &p, double *stored)
+{
+    double **v = atom->v, **omega = atom->omega, **f = atom->f, **torque = atom->torque;
+    double *radius = atom->radius, *rmass = atom->rmass;
+    const int nlocal = atom->nlocal;
+    const double rinv = 1.0 / r, sign = atom->tag[i] < atom->tag[j] ? 1.0 : -1.0;
+    nfd_contact k;
+    k.n[0] = delx * rinv;
+    k.n[1] = dely * rinv;
+    k.n[2] = delz * rinv;
+    k.delta = radius[i] + radius[j] - r;
+    k.R_i = radius[i];
+    k.R_j = radius[j];
+    for (int d = 0; d < 3; ++d) {
+        k.v[d] = v[i][d] - v[j][d];
+        k.omega_i[d] = omega[i][d];
+        k.omega_j[d] = omega[j][d];
+    }
+    k.m_star = rmass[i] * rmass[j] / (rmass[i] + rmass[j]);
+    k.dt = update->dt;
+    const nfd_history h = load_history(stored);
+    const nfd_friction_history springs = load_friction(stored + NHIST, sign);
+    nfd_history next;
+    nfd_friction_history springs_next;
+    nfd_contact_result out;
+    const int status = nfd_contact_step(law->code, &k, &p, &c.table, &c.friction, &h, &springs,
+                                        update->setupflag ? 0 : 1, &next, &springs_next, &out);
+    check_status(status, i, j, k.delta, p, h, next);
+    store_history(next, stored);
+    store_friction(springs_next, sign, stored + NHIST);
+    for (int d = 0; d < 3; ++d) {
+        f[i][d] += out.force[d];
+        torque[i][d] += out.torque_i[d];
+    }
+    if (j < nlocal)
+        for (int d = 0; d < 3; ++d) {
+            f[j][d] -= out.force[d];
+            torque[j][d] += out.torque_j[d];
+        }
+    if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, out.force[0], out.force[1], out.force[2], delx, dely, delz);
 }
 
 /* One contact's force from its stored history, not committed (compute pair/local); extra values:

@@ -2,10 +2,13 @@
  * nfd/walton-braun): one class for every law, the law an NfdLaw (nfd_law.h).
  *
  *     pair_style nfd/vz
- *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] [damping ...] [tangential ...]
+ *                [rolling ...] [twisting ...]
  *
  * The normal force of each touching pair of spheres is the law's step of the C kernel
- * (nfd_step), frictionless, undamped, without torque; its history lives in fix nfd/history.
+ * (nfd_step); with the contact models of nfd_models.h (LAMMPS's granular keywords) the contact
+ * is nfd_contact_step, with damping, friction, rolling and twisting resistance and torques.
+ * Without them: frictionless, undamped, no torque. The history lives in fix nfd/history.
  * Granular spheres (atom_style sphere), SI units, newton off (each rank computes every contact
  * of one of its atoms, so both copies of a contact across a subdomain boundary evolve alike).
  *
@@ -48,6 +51,10 @@ class PairNfd : public LAMMPS_NS::Pair {
 
  private:
     void allocate();
+    void check_status(int status, int i, int j, double delta, const nfd_params &p, const nfd_history &h,
+                      const nfd_history &next);
+    void contact_with_models(int i, int j, double delx, double dely, double delz, double r, const NfdMaterial &c,
+                             const nfd_params &p, double *stored);
     void create_history_fix();
     void warn_other_histories();
     const double *find_stored(int i, int j);
@@ -58,6 +65,7 @@ class PairNfd : public LAMMPS_NS::Pair {
     std::vector<std::vector<char>> explicit_pair;      // set by pair_coeff I J (per-type-pair laws)
     std::vector<double> max_radius;                    // per atom type, pour/deposit included
     FixNfdHistory *history = nullptr;
+    bool models_on = false;                            // contact models on some pair of types
     LAMMPS_NS::bigint beyond_count = 0;
     double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
 };

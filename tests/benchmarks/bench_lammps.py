@@ -12,6 +12,9 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
    it, newton off, comm_modify vel yes). Target: nfd/vz <= 1.5x granular.
    - The pour (--spheres, default 3000; --steps of 1e-7 s): dilute at its end (a few dozen pair
      contacts), so it times the per-pair and per-atom overhead.
+   - With --friction, the pile again with friction and rolling resistance on both sides
+     (FRICTION: tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1 after each law's constants;
+     granular keeps its e = 0.8 damping): the issue's target there is nfd/vz <= 1.3x granular.
    - The dense pile (--pile-spheres, default 3000): lammps_pour.settle_input settles it once
      (granular, e = 0.1: a fall, then a drag quench; 95000 steps, about 70 s on 1 core) and
      writes it with write_data; from that same pile each law runs --pile-steps steps of 1e-7 s,
@@ -57,6 +60,7 @@ DT = 1e-7                       # s
 RADIUS = 0.01                   # m: the restitution sweep's spheres
 SPEEDS_OVER_V_Y = (1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 100.0)
 TARGET_RATIO = 1.5
+FRICTION = "tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1"   # --friction: both laws, both sides
 
 
 def run_lammps(text: str, folder: Path, nprocs: int = 1) -> str:
@@ -97,12 +101,12 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
             for contact in runs:
                 log = run_lammps(make_input(contact, "2 1 1" if nprocs == 2 else ""), folder, nprocs)
                 seconds, done = loop_time(log)
-                columns = len(lammps_pour.thermo_columns(contact)) + (1 if scene == "pile" else 0)
+                columns = len(lammps_pour.thermo_columns(contact)) + (1 if scene.startswith("pile") else 0)
                 thermo = lammps_pour.thermo_rows(log, columns)
                 first, last = thermo[0], thermo[-1]
                 run = {"per_step": seconds / done, "pair": section_time(log, "Pair") / done,
                        "modify": section_time(log, "Modify") / done}
-                if scene == "pile":
+                if scene.startswith("pile"):
                     run.update(contacts_at_start=int(first[-1]) // 2, contacts_at_end=int(last[-1]) // 2)
                 if contact == "nfd":
                     if thermo[:, 3].any():
@@ -112,7 +116,8 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
                 runs[contact].append(run)
         best = {contact: min(found, key=lambda run: run["per_step"]) for contact, found in runs.items()}
         for contact, run in best.items():
-            contacts = (0.5 * (run["contacts_at_start"] + run["contacts_at_end"]) if scene == "pile" else None)
+            contacts = (0.5 * (run["contacts_at_start"] + run["contacts_at_end"]) if scene.startswith("pile")
+                        else None)
             rows.append({
                 "scene": scene, "ranks": nprocs, "contact": CONTACT_NAMES[contact], "spheres": spheres, "steps": steps,
                 "us_per_step": 1e6 * run["per_step"], "ns_per_sphere_step": 1e9 * run["per_step"] / spheres,
@@ -238,6 +243,8 @@ def main(argv=None) -> int:
     parser.add_argument("--picture-steps", type=int, default=600000, help="the picture's pour (1e-7 s steps)")
     parser.add_argument("--pile-spheres", type=int, default=3000, help="the dense pile's spheres")
     parser.add_argument("--pile-steps", type=int, default=5000, help="timed steps on the pile (1e-7 s)")
+    parser.add_argument("--friction", action="store_true", help="also the pile with friction and rolling "
+                        "resistance (scene 'pile+friction')")
     parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
     ns = parser.parse_args(argv)
     started = time.perf_counter()
@@ -266,6 +273,12 @@ def main(argv=None) -> int:
                         lammps_pour.pile_input(plugin, str(pile), ns.pile_steps, contact=contact,
                                                processors=processors))
         now = clock("pile", now)
+        if ns.friction:
+            speed += timing(folder, "pile+friction", ns.pile_spheres, ns.pile_steps, ns.repeat,
+                            lambda contact, processors: lammps_pour.pile_input(
+                                plugin, str(pile), ns.pile_steps, contact=contact, processors=processors,
+                                models=FRICTION))
+            now = clock("pile_friction", now)
         print(f"{'scene':>5} {'ranks':>5} {'contact':<55} {'us/step':>8} {'ns/sph.':>7} {'ns/con.':>7} {'pair':>7} "
               f"{'modify':>7} {'contacts':>11} {'history':>11} {'coord.':>11} {'ratio':>6}")
 
