@@ -7,7 +7,8 @@ aluminium set (E = 70 GPa, nu = 0.3, sigma_Y = 100 MPa, the paper's Ca_hat, Kc_h
 parameter file; Walton-Braun stiffnesses) and then have values replaced by edge numbers (0,
 negatives, NaN, inf, 1e400, subnormals, text), by the unit slips users make (E in GPa, sigma_Y in
 MPa, nu in percent, the SI Ca and Kc typed where Ca_hat and Kc_hat go), an argument dropped or
-added, a ``window`` keyword with any value. The input is a head-on impact of two 1 cm aluminium
+added, a ``window`` keyword with any value, the contact-model keywords of LAMMPS's granular
+(damping, tangential, rolling, twisting) with valid or hostile values. The input is a head-on impact of two 1 cm aluminium
 spheres (pair) or of one sphere on the wall z = 0 (wall fix) for ``STEPS`` steps.
 
 The outcome is judged like the command line's (tests/fuzzing.py):
@@ -57,6 +58,14 @@ EDGES = ("0", "-0", "-1", "1e400", "-1e400", "nan", "inf", "-inf", "5e-324", "1e
          "1_000", "1,5", "1e", "0.5", "1e-12", "1e12", "3")
 LAWS = tuple(VALID) + ("bogus",)
 WINDOWS = ("41.2", "inf", "1", "0.5", "0", "-3", "nan", "abc", "1e400", "")
+# the contact models after the constants (LAMMPS granular's keywords), valid and not
+MODELS = ("tangential mindlin_rescale/force NULL 0 0.3", "tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1",
+          "tangential mindlin 2e9 0.5 0.3 twisting marshall", "damping viscoelastic 0.1",
+          "damping coeff_restitution 0.8 tangential mindlin/force NULL 1 0.5",
+          "rolling sds 1000 0 0.1 twisting sds 1 0 0.1", "twisting marshall",
+          "tangential mindlin NULL 0 -0.3", "tangential mindlin NULL 0 nan", "tangential bogus NULL 0 0.3",
+          "damping tsuji 2", "rolling sds 1000 0", "tangential mindlin abc 0 0.3", "damping viscoelastic 1e400",
+          "tangential mindlin NULL 0 1e5", "rolling", "twisting sds 1 0 inf")
 
 
 @dataclass
@@ -84,6 +93,8 @@ def plugin_case(draw) -> PluginCase:
         args = args[:-1] if draw(st.booleans()) else args + [draw(st.sampled_from(EDGES))]
     if law in ("vz", "vz-table") and draw(st.sampled_from(range(4))) == 0:
         args += ["window", draw(st.sampled_from(WINDOWS))]
+    if law != "bogus" and draw(st.sampled_from(range(3))) == 0:    # friction, rolling, twisting, damping
+        args += draw(st.sampled_from(MODELS)).split()
     if draw(st.sampled_from(range(8))) == 0:            # both slips of the SI constants at once
         args = ["70e9", "0.3", "100e6", "2.631e-7", "3.09e-4"] if law == "vz" else args
     v_in = draw(st.sampled_from((0.01, 0.1, 0.5, 2.0)))
@@ -158,8 +169,8 @@ def judge(case: PluginCase, code: int, output: str) -> str:
         return f"FAIL: exit code {code} without an ERROR line"
     message = errors[0]
     named = re.search(r"pair_coeff|pair_style|nfd/wall|plugin|Unrecognized (pair|fix) style", message)
-    if not named or not re.search(r"out of range|need|unknown|unrecognized|must|cannot|invalid|illegal|full contact",
-                                  message, re.I):
+    if not named or not re.search(r"out of range|need|unknown|unrecognized|must|cannot|invalid|illegal|full contact|"
+                                  r"takes .* from|add ", message, re.I):
         return f"FAIL: the error names no parameter: {message[:160]!r}"
     return "refused"
 
