@@ -34,6 +34,13 @@ def with_identifiability(result: FitResult, data: Measurements, specimen: Specim
     weakest = {name: float(v) for name, v in zip(free, vt[-1] * np.sign(vt[-1][np.argmax(np.abs(vt[-1]))]))}
     said = [f"{name} to {100 * rel:.2g} %" for name, rel in relative.items()]
     text = f"the data determine {', '.join(said)} (relative standard errors)"
+    scatter = result.scatter
+    if scatter is not None and not scatter.estimable:
+        at_reference = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in scatter.se_at_reference.items())
+        text = (f"the data lie on the law to its numerical precision (noise-free or identical values): their scatter "
+                f"cannot be estimated, so the relative standard errors ({', '.join(said)}) are the law's numerical "
+                f"precision, not a measurement's" + (f"; at 1 % scatter the same tests would determine {at_reference}"
+                                                     if at_reference else ""))
     loose = [name for name, ok in determined.items() if not ok]
     if loose:
         combination = " ".join(f"{v:+.2f} ln {name}" for name, v in weakest.items())
