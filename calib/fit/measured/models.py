@@ -172,8 +172,13 @@ def fit_free(data: Measurements, specimen: Specimen, sigma_y: float, start: dict
         return FitResult(**{**held.__dict__, "note": f"{held_note}: the data cannot fit sigma_Y with Ca_hat, Kc_hat"})
     said = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in joint.items()) if joint else ""
     if free_sigma_y or max(joint.values()) <= DETERMINED_RELATIVE_SE:
-        three = _fit(data, specimen, ModelSpec("free", ("sigma_y", "Ca_hat", "Kc_hat")),
-                          {**held.values}, table, note="sigma_Y fitted with Ca_hat, Kc_hat (the data determine all three)")
+        try:
+            three = _fit(data, specimen, ModelSpec("free", ("sigma_y", "Ca_hat", "Kc_hat")),
+                         {**held.values}, table, note="sigma_Y fitted with Ca_hat, Kc_hat (the data determine all three)")
+        except DataMismatch as exc:
+            if free_sigma_y:
+                raise
+            return FitResult(**{**held.__dict__, "note": f"{held_note}: fitted together with Ca_hat, Kc_hat: {exc}"})
         if free_sigma_y or all(three.identifiability["determined"].values()):
             return three
         said = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in three.identifiability["relative_se"].items())

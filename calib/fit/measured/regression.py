@@ -31,6 +31,13 @@ in 20..1e4 (free model, as the FE calibration accepts it); Ca_hat, Kc_hat around
 0.024-0.034, 0.010-0.016. Inside them the law refuses constants that create energy and drop
 tests beyond full contact; there the residuals continue smoothly (calib.fit.measured.domain),
 and a fit that ends there is a ValueError naming what the law refuses.
+
+**Data the model cannot fit** (:class:`DataMismatch`, a ValueError; calib.fit.measured.diagnosis
+names the likely cause): a fit that ends beyond the law's domain, on a bound (the bound is no
+estimate: the data ask for a value the model does not cover), with J singular (the data do not
+change with a parameter), or with no measured value beyond first yield (every drop test slower
+than v_Y, every force below P_Y: there the law is Hertz's whatever sigma_Y, Ca_hat and Kc_hat).
+Each fit also carries the verdict of calib.fit.measured.scatter on its residuals.
 """
 from __future__ import annotations
 
@@ -179,10 +186,9 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
     variance = float(residual @ residual) / (n - p)
     singular = np.linalg.svd(jac, compute_uv=False)
     if not (singular.size and singular[-1] > 1e-12 * max(singular[0], 1e-300)):
-        raise ValueError(f"the {spec.model} model's parameters ({', '.join(spec.free)}) are not determined by "
-                         f"{', '.join(data.files)}: the law's prediction does not change with "
-                         f"{'some of them' if p > 1 else spec.free[0]} over these data (are all tests elastic, "
-                         f"e = 1?)")
+        raise DataMismatch(f"the {spec.model} model's parameters ({', '.join(spec.free)}) are not determined by "
+                           f"{', '.join(data.files)}: the law's prediction does not change with "
+                           f"{'some of them' if p > 1 else spec.free[0]} over these data")
     unscaled = np.linalg.inv(jac.T @ jac)
     covariance = unscaled * variance
     unscaled_sd = np.sqrt(np.diag(unscaled))      # the correlation does not depend on s^2 (0 for exact data)
