@@ -117,22 +117,23 @@ def _law_impacts(params: VZParams, v_in: np.ndarray) -> dict:
 def _interpolated_impacts(params: VZParams, speeds: np.ndarray) -> dict:
     """The law's predictions at sorted distinct ``speeds`` [m/s] from nodes and a spline (module doc)."""
     v_Y = params.pair.v_Y
-    out = {name: np.empty(speeds.size) for name in ("e", "P_max", "contact_time")}
+    names = ("e", "P_max", "contact_time")
+    out = np.empty((speeds.size, len(names)))
+
+    def interpolate(where, x_nodes, speeds_at_nodes, x_wanted):   # ln e, ln P_max, ln t_c: one spline, 3 columns
+        at = _law_impacts(params, speeds_at_nodes)
+        out[where] = np.exp(make_interp_spline(x_nodes, np.log(np.column_stack([at[n] for n in names])),
+                                               k=SPLINE_DEGREE)(x_wanted))
+
     elastic = speeds <= v_Y
     if elastic.any():
         nodes = np.geomspace(speeds[0], v_Y, ELASTIC_NODES)
-        at = _law_impacts(params, nodes)
-        for name, y in at.items():
-            out[name][elastic] = np.exp(make_interp_spline(np.log(nodes), np.log(y), k=SPLINE_DEGREE)(
-                np.log(speeds[elastic])))
+        interpolate(elastic, np.log(nodes), nodes, np.log(speeds[elastic]))
     if not elastic.all():
         u_max = math.sqrt(math.log(speeds[-1] / v_Y))
         u = np.linspace(0.0, u_max, max(int(math.ceil(NODES_PER_UNIT_U * u_max)) + 1, 4 * SPLINE_DEGREE))
-        at = _law_impacts(params, v_Y * np.exp(u**2))
-        wanted = np.sqrt(np.log(speeds[~elastic] / v_Y))
-        for name, y in at.items():
-            out[name][~elastic] = np.exp(make_interp_spline(u, np.log(y), k=SPLINE_DEGREE)(wanted))
-    return out
+        interpolate(~elastic, u, v_Y * np.exp(u**2), np.sqrt(np.log(speeds[~elastic] / v_Y)))
+    return {name: out[:, k] for k, name in enumerate(names)}
 
 
 def predict_impacts(params: VZParams, v_in) -> dict:
