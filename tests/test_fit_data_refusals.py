@@ -8,12 +8,13 @@ the data agree with a model whose residual exceeds their scatter. Each class is 
 several cases: columns in other units, random values, data below first yield, nu beyond the
 master table, noise-free data, a plot name that is not a PNG's.
 """
+import dataclasses
 import json
 import math
 
 import numpy as np
 import pytest
-from test_fit_data import ALUMINIUM, SPECIMEN_FLAGS, drop_tests, fe_paths_csv, write_impacts
+from test_fit_data import ALUMINIUM, SPECIMEN_FLAGS, drop_tests, fe_paths_csv
 
 from calib.cli import main
 from calib.fit.calibration import drive_law
@@ -116,7 +117,8 @@ def random_e_csv(tmp_path, seed, n=12):
     rng = np.random.default_rng(seed)
     v = np.geomspace(0.003, 0.17, n)
     path = tmp_path / "random.csv"
-    path.write_text("v_in,e\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(v.tolist(), rng.uniform(0.3, 0.95, n).tolist())))
+    e = rng.uniform(0.3, 0.95, n)
+    path.write_text("v_in,e\n" + "".join(f"{a!r},{b!r}\n" for a, b in zip(v.tolist(), e.tolist())))
     return path
 
 
@@ -211,7 +213,8 @@ BELOW_YIELD = [
     ("e < 1 below v_Y, sigma_Y held", "impacts", 0.97, ["--free", "--sigma-y", "100e6"],
      ["(held)", "determine Ca_hat, Kc_hat"]),
     ("forces below P_Y", "forces", None, [], ["below first yield, P_Y", "loaded beyond P_Y"]),
-    ("forces below P_Y, sigma_Y held", "forces", None, ["--free", "--sigma-y", "100e6"], ["(held)", "loaded beyond P_Y"]),
+    ("forces below P_Y, sigma_Y held", "forces", None, ["--free", "--sigma-y", "100e6"],
+     ["(held)", "loaded beyond P_Y"]),
 ]
 
 
@@ -303,7 +306,8 @@ def test_the_plot_name_must_be_a_png_s(tmp_path, capsys, table, name, accepted):
 # --- item 10: many rows ---------------------------------------------------------------------------------
 
 INTERPOLATED = {"master table, 100 MPa": {"sigma_y": 100e6}, "softest": {"sigma_y": 14.1e6},
-                "hardest": {"sigma_y": 1.3e9}, "Ca_hat 0.5, Kc_hat 0.9": {"sigma_y": 100e6, "Ca_hat": 0.5, "Kc_hat": 0.9},
+                "hardest": {"sigma_y": 1.3e9},
+                "Ca_hat 0.5, Kc_hat 0.9": {"sigma_y": 100e6, "Ca_hat": 0.5, "Kc_hat": 0.9},
                 "Ca_hat 0.001, Kc_hat 1e-5": {"sigma_y": 100e6, "Ca_hat": 0.001, "Kc_hat": 1e-5}}
 
 
@@ -327,7 +331,8 @@ def test_repeated_speeds_are_evaluated_once(table, monkeypatch):
     v = np.repeat(params.pair.v_Y * np.geomspace(2.0, 100.0, 7), 5)
     sizes = []
     law_impacts = specimen_module._law_impacts
-    monkeypatch.setattr(specimen_module, "_law_impacts", lambda p, speeds: sizes.append(speeds.size) or law_impacts(p, speeds))
+    monkeypatch.setattr(specimen_module, "_law_impacts",
+                        lambda p, speeds: sizes.append(speeds.size) or law_impacts(p, speeds))
     predicted = predict_impacts(params, v)
     assert sizes == [7]
     for name, y in specimen_module._law_impacts(params, v).items():
@@ -397,7 +402,6 @@ def test_compare_says_agree_only_within_the_scatter(table):
     data = drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.02, seed=7)
     choice = fit_measurements(data, ALUMINIUM, table)
     assert "the data agree with the master table" in choice.why
-    import dataclasses
     implausible = dataclasses.replace(choice.constrained, scatter=dataclasses.replace(
         choice.constrained.scatter, implausible=("e",)))
     verdict = compare(implausible, choice.free, "constrained").why

@@ -221,7 +221,8 @@ def run(ns) -> int:
         *([] if scatter.estimable else [
             f"scatter: not estimable: the law reproduces these data to {result.rms_residual:.1g} (rms relative "
             f"residual), as noise-free (synthetic) or identical values do; the standard errors below are then the "
-            f"law's numerical precision" + (" and the master table's uncertainty" if choice.used == "constrained" else "")
+            f"law's numerical precision"
+            + (" and the master table's uncertainty" if choice.used == "constrained" else "")
             + ", not a measurement's precision"]),
         *([] if scatter.within_repeats else [f"lack of fit: {scatter.describe_lack_of_fit()}"]),
         f"sigma_Y = {values['sigma_y']:.4g} Pa ({_percent(values['sigma_y'], errors['sigma_y'], noise_free)})",

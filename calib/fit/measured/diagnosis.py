@@ -62,7 +62,8 @@ def rescaled(data: Measurements, column: str, factor: float) -> Measurements:
     """``data`` with one column multiplied by ``factor``."""
     if column in ("v_in", "P_max", "contact_time"):
         impacts = data.impacts
-        return dataclasses.replace(data, impacts=dataclasses.replace(impacts, **{column: getattr(impacts, column) * factor}))
+        scaled = dataclasses.replace(impacts, **{column: getattr(impacts, column) * factor})
+        return dataclasses.replace(data, impacts=scaled)
     index = 1 if column == "approach" else 2
     tests = tuple(tuple(x * factor if k == index else x for k, x in enumerate(test)) for test in data.forces.tests)
     return dataclasses.replace(data, forces=dataclasses.replace(data.forces, tests=tests))

@@ -73,8 +73,8 @@ def starting_sigma_y(data: Measurements, specimen: Specimen, table: MasterTable,
             best, best_cost = float(sigma_y), cost
     if best is None:
         reason, at = next(iter(refused.items()))
-        raise DataMismatch(f"{', '.join(data.files)}: the law cannot be evaluated for these data at any yield stress of "
-                         f"the master table (sigma_Y {low:.3g}..{high:.3g} Pa); at {at:.3g} Pa: {reason}")
+        raise DataMismatch(f"{', '.join(data.files)}: the law cannot be evaluated for these data at any yield stress "
+                           f"of the master table (sigma_Y {low:.3g}..{high:.3g} Pa); at {at:.3g} Pa: {reason}")
     return best
 
 
@@ -173,8 +173,8 @@ def fit_free(data: Measurements, specimen: Specimen, sigma_y: float, start: dict
     said = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in joint.items()) if joint else ""
     if free_sigma_y or max(joint.values()) <= DETERMINED_RELATIVE_SE:
         try:
-            three = _fit(data, specimen, ModelSpec("free", ("sigma_y", "Ca_hat", "Kc_hat")),
-                         {**held.values}, table, note="sigma_Y fitted with Ca_hat, Kc_hat (the data determine all three)")
+            three = _fit(data, specimen, ModelSpec("free", ("sigma_y", "Ca_hat", "Kc_hat")), {**held.values}, table,
+                         note="sigma_Y fitted with Ca_hat, Kc_hat (the data determine all three)")
         except DataMismatch as exc:
             if free_sigma_y:
                 raise

@@ -65,8 +65,8 @@ STEP = float(np.sqrt(np.finfo(float).eps))   # forward differences elsewhere: th
 
 
 class DataMismatch(ValueError):
-    """The data do not fit the model for a reason of the data (best at an edge of its range, where
-    the law cannot be evaluated, or all below first yield): calib.fit.measured.diagnosis names
+    """The data do not fit the model for a reason of the data (module doc: best beyond the law's
+    domain or on a bound, J singular, all below first yield): calib.fit.measured.diagnosis names
     the likely cause."""
 
 
@@ -174,7 +174,7 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
         scale = {name: max(float(np.sqrt(np.mean(groups[name] ** 2))), 1e-12) for name in sizes}
     if extended.beyond:
         raise DataMismatch(f"{', '.join(data.files)}: the {spec.model} model fits these data best where the vz law "
-                         f"cannot be evaluated: {'; '.join(extended.beyond)}")
+                           f"cannot be evaluated: {'; '.join(extended.beyond)}")
     params = parameters(x)
     check_beyond_first_yield(data, spec, specimen, params, x <= lower + 1e-6)
     check_inside_bounds(data, spec, specimen, x, solution.active_mask, (lower, upper), table)
@@ -216,14 +216,14 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
                      {}, params, note, jac, scatter)
 
 
-def _range(values: np.ndarray, unit: str) -> str:
+def _range(values: np.ndarray, unit: str = "") -> str:
     low, high = float(values.min()), float(values.max())
-    return f"{low:.3g} {unit}" if low == high else f"{low:.3g}..{high:.3g} {unit}"
+    return (f"{low:.3g}" if low == high else f"{low:.3g}..{high:.3g}") + (f" {unit}" if unit else "")
 
 
 def check_beyond_first_yield(data: Measurements, spec: ModelSpec, specimen: Specimen, params: VZParams,
                              at_lower_bound) -> None:
-    """A ValueError when no measured value lies beyond first yield at the fit's sigma_Y: every drop
+    """A DataMismatch when no measured value lies beyond first yield at the fit's sigma_Y: every drop
     test slower than v_Y, every force below P_Y. Below first yield the law is Hertz's whatever
     sigma_Y, Ca_hat and Kc_hat, so such data determine none of them (only a lower bound of sigma_Y);
     the message says which data would. ``at_lower_bound``: per fitted parameter, whether it ended
@@ -241,12 +241,12 @@ def check_beyond_first_yield(data: Measurements, spec: ModelSpec, specimen: Spec
     elif at_lower_bound[spec.free.index("sigma_y")]:
         where = f"the softest material the {spec.model} model admits, E/sigma_Y = {specimen.E / pair.sigma_y:.4g}"
     else:
-        where = "the fit's"
+        where = "fitted"
     what = "sigma_Y" if "sigma_y" in spec.free else ", ".join(spec.free)
     said, wanted = [], []
     if data.impacts is not None:
         e = data.impacts.e
-        dissipated = (f"; their e = {_range(e, '').strip()} < 1 is dissipation the vz law does not have below first "
+        dissipated = (f"; their e = {_range(e)} < 1 is dissipation the vz law does not have below first "
                       f"yield (damping, adhesion, vibration of the set-up)") if float(e.min()) < 1.0 else ""
         said.append(f"every drop test ({Path(data.impacts.path).name}: v_in = {_range(data.impacts.v_in, 'm/s')}) is "
                     f"slower than first yield, v_Y = {pair.v_Y:.3g} m/s{dissipated}")
@@ -257,13 +257,13 @@ def check_beyond_first_yield(data: Measurements, spec: ModelSpec, specimen: Spec
                     f"P_Y = {pair.P_Y:.4g} N")
         wanted.append("force-approach curves loaded beyond P_Y (P_Y grows as sigma_Y^3)")
     raise DataMismatch(f"the {spec.model} model cannot fit {what} to these data: at sigma_Y = {pair.sigma_y:.4g} Pa "
-                     f"({where}) {' and '.join(said)}; there the law is Hertz's, whatever Ca_hat, Kc_hat and for any "
-                     f"larger sigma_Y, so these data do not determine {what}: {' or '.join(wanted)} would")
+                       f"({where}) {' and '.join(said)}; there the law is Hertz's, whatever Ca_hat, Kc_hat and for any "
+                       f"larger sigma_Y, so these data do not determine {what}: {' or '.join(wanted)} would")
 
 
 def check_inside_bounds(data: Measurements, spec: ModelSpec, specimen: Specimen, x, active_mask, bounds,
                         table) -> None:
-    """A ValueError when a fitted parameter ends on a bound of the fit (module doc: Bounds): the data
+    """A DataMismatch when a fitted parameter ends on a bound of the fit (module doc: Bounds): the data
     ask for a value the model does not cover, and the bound is no estimate."""
     for i in np.flatnonzero(active_mask):
         name, value = spec.free[i], float(np.exp(x[i]))
@@ -275,14 +275,14 @@ def check_inside_bounds(data: Measurements, spec: ModelSpec, specimen: Specimen,
                      else f"the {spec.model} model")
             softer = side == "lower"
             raise DataMismatch(f"{', '.join(data.files)}: the {spec.model} model fits these data best at sigma_Y = "
-                             f"{value:.4g} Pa, E/sigma_Y = {ratio:.4g}, the edge of {cover} (E/sigma_Y "
-                             f"{specimen.E / high:.4g}..{specimen.E / low:.4g}): the data ask for a "
-                             f"{'softer' if softer else 'harder'} material (a {'lower' if softer else 'higher'} "
-                             f"sigma_Y) than it covers; check the data's units and the material flags, or calibrate "
-                             f"this material by FE (nfdcal calibrate)")
+                               f"{value:.4g} Pa, E/sigma_Y = {ratio:.4g}, the edge of {cover} (E/sigma_Y "
+                               f"{specimen.E / high:.4g}..{specimen.E / low:.4g}): the data ask for a "
+                               f"{'softer' if softer else 'harder'} material (a {'lower' if softer else 'higher'} "
+                               f"sigma_Y) than it covers; check the data's units and the material flags, or calibrate "
+                               f"this material by FE (nfdcal calibrate)")
         raise DataMismatch(f"{', '.join(data.files)}: the {spec.model} model fits these data best at {name} = "
-                         f"{value:.4g}, the {side} end of its range ({low:.4g}..{high:.4g}): the data ask for a "
-                         f"{name} the vz law's fit does not cover; check the data's units and the material flags")
+                           f"{value:.4g}, the {side} end of its range ({low:.4g}..{high:.4g}): the data ask for a "
+                           f"{name} the vz law's fit does not cover; check the data's units and the material flags")
 
 
 def data_window(params: VZParams, data: Measurements) -> CalibrationWindow:

@@ -77,8 +77,8 @@ class Scatter:
     def describe_lack_of_fit(self) -> str:
         f = self.lack_of_fit
         return (f"the law misses the repeated drop tests by more than they scatter (rms {100 * f['rms_lack']:.3g} % "
-                f"about the law against {100 * f['rms_pure']:.3g} % between repeats at the same v_in; F = {f['F']:.3g}, "
-                f"p = {f['p']:.2g})")
+                f"about the law against {100 * f['rms_pure']:.3g} % between repeats at the same v_in; "
+                f"F = {f['F']:.3g}, p = {f['p']:.2g})")
 
     def record(self) -> dict:
         return {"groups": self.groups, "plausible": self.plausible, "implausible": list(self.implausible),
