@@ -285,6 +285,7 @@ def test_noise_free_data_say_that_the_scatter_cannot_be_estimated(tmp_path, caps
     assert code == 0, err
     assert "scatter: not estimable" in out and "not a measurement's precision" in out
     assert "numerical precision" in out and "identifiability: the data determine" not in out
+    assert "at 1 % scatter the same tests would determine sigma_y to" in out
     code, out, _ = run(["--impacts", str(path), *SPECIMEN_FLAGS, *flags, "--json"], capsys)
     assert json.loads(out)["scatter"]["estimable"] is False
 
