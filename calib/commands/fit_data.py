@@ -9,12 +9,19 @@ fitted through the runtime law (calib.fit.measured states the equations): the co
 fits sigma_Y alone with Ca_hat, Kc_hat from the master table at (nu, E / sigma_Y); --free fits
 Ca_hat, Kc_hat (and sigma_Y when the data determine it). Both are fitted and compared by AICc,
 in words. --sigma-y is the constrained fit's start and the value the free fit holds when the data
-do not determine sigma_Y. --params-out and --plot never replace an existing file unless
+do not determine sigma_Y. --params-out and --plot (a PNG) never replace an existing file unless
 --overwrite is given. Bad data: one line naming the file, the row and the column (exit 2).
+Data the law cannot fit are refused (exit 2, nothing written) with their likely cause
+(calib.fit.measured.diagnosis: a column in other units, swapped columns, a wrong material):
+a fit at the edge of the model's range, data all below first yield, and a residual far above
+any plausible scatter (calib.fit.measured.scatter); --force reports and writes such a fit,
+flagged. Repeated v_in are evaluated once and many distinct ones interpolated
+(calib.fit.measured.specimen), so 100k rows fit in seconds.
 """
 from __future__ import annotations
 
 import time
+from pathlib import Path
 
 from calib.commands.common import MATERIAL_RANGES, add_summary_arguments, flag_name, number, print_summary
 
@@ -42,9 +49,13 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (nfdmodel.load_parameters, nfdcal collide --params)")
-    parser.add_argument("--plot", default=None, metavar="PNG", help="draw the data against the fitted law")
+    parser.add_argument("--plot", default=None, metavar="PNG",
+                        help="draw the data against the fitted law (a PNG image: the name ends in .png)")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace an existing --params-out or --plot file (refused otherwise)")
+    parser.add_argument("--force", action="store_true",
+                        help="report and write a fit whose residual is far above any plausible scatter (refused "
+                             "otherwise), flagged as such in the summary and the parameter file")
     add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run)
 
@@ -71,9 +82,8 @@ def specimen_from_args(ns):
 
 def check_outputs(ns) -> None:
     """Before any work: each output path names a regular file (or nothing yet), an existing file only
-    with --overwrite, and --params-out and --plot differ."""
-    from pathlib import Path
-
+    with --overwrite, --params-out and --plot differ, and the plot's name ends in .png (the plot is
+    a PNG, calib.output.save_figure; another extension would name a format it is not)."""
     from calib import output
 
     given = [p for p in (ns.params_out, ns.plot) if p]
@@ -84,6 +94,8 @@ def check_outputs(ns) -> None:
         if target.exists() and not ns.overwrite:
             raise ValueError(f"{path} exists: give --overwrite to replace it (an existing file is never "
                              f"replaced unasked)")
+    if ns.plot and Path(ns.plot).suffix.lower() != ".png":
+        raise ValueError("--plot: the plot is a PNG image; give a file name ending in .png")
 
 
 def summary_of(choice, data, specimen, files) -> dict:
@@ -115,6 +127,7 @@ def summary_of(choice, data, specimen, files) -> dict:
         "n_points": result.n_points,
         "rms_residual": result.rms_residual,
         "rms_residual_by_group": {k: float((v @ v / v.size) ** 0.5) for k, v in result.residuals.items()},
+        "scatter": result.scatter.record(),
         "residuals": {k: v.tolist() for k, v in result.residuals.items()},
         "fits": fits,
         "files": files,
@@ -126,15 +139,40 @@ def summary_of(choice, data, specimen, files) -> dict:
     return out
 
 
-def _percent(value, error) -> str:
-    return "held" if error is None else f"+- {100 * error / value:.2g} %"
+def _percent(value, error, noise_free: str = "") -> str:
+    if error is None:
+        return "held"
+    return f"+- {100 * error / value:.2g} %" + (f", {noise_free}" if noise_free else "")
+
+
+def fit_or_cause(data, specimen, table, model: str, sigma_y, force: bool):
+    """Both models fitted (calib.fit.measured.models.fit_measurements) and the warning to print
+    with --force (else ""). Data the law cannot fit: a ValueError naming the likely cause
+    (calib.fit.measured.diagnosis), unless ``force`` accepts a fit far above plausible scatter."""
+    from calib.fit.measured import diagnosis
+    from calib.fit.measured.models import fit_measurements
+    from calib.fit.measured.regression import DataMismatch
+
+    try:
+        choice = fit_measurements(data, specimen, table, model, sigma_y)
+    except DataMismatch as exc:
+        raise ValueError(f"{exc}; {diagnosis.likely_cause(data, specimen, table, model, sigma_y)}") from None
+    scatter = choice.result.scatter
+    if scatter.plausible:
+        return choice, ""
+    message = diagnosis.implausible_fit_message(scatter, choice.used,
+                                                diagnosis.likely_cause(data, specimen, table, model, sigma_y))
+    if not force:
+        raise ValueError(f"{message}; nothing written (--force reports and writes this fit anyway)")
+    return choice, message
 
 
 def run(ns) -> int:
+    import sys
+
     from calib import output
     from calib.fit.master_table import MasterTable
     from calib.fit.measured import data as measured_data
-    from calib.fit.measured.models import fit_measurements
 
     started = time.perf_counter()
     if ns.impacts is None and ns.force_approach is None:
@@ -145,16 +183,21 @@ def run(ns) -> int:
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
-    choice = fit_measurements(data, specimen, table, "free" if ns.free else "constrained", sigma_y)
+    choice, warning = fit_or_cause(data, specimen, table, "free" if ns.free else "constrained", sigma_y, ns.force)
+    if warning:
+        print(f"nfdcal fit-data: warning: {warning}; reported and written as --force asks", file=sys.stderr)
     result = choice.result
     summary = summary_of(choice, data, specimen, data.files)
+    if warning:
+        summary["implausible"] = warning
     if ns.params_out:
         from calib.report.parameter_file import write_parameter_file
 
         fit = {"source": "measurements", "files": data.files, "model": summary["model"],
                "standard_errors": {k: summary[f"{k}_se"] for k in ("sigma_y", "Ca", "Kc", "Ca_hat", "Kc_hat")},
                "correlation": summary["correlation"], "aicc": summary["aicc"], "n_points": result.n_points,
-               "rms_residual": result.rms_residual}
+               "rms_residual": result.rms_residual, "scatter": summary["scatter"],
+               **({"implausible": warning} if warning else {})}
         # a parameter file describes the sphere on a rigid flat: from two-sphere tests, the same material
         write_parameter_file(ns.params_out, specimen.sphere_flat_params(result.params), specimen.R,
                              specimen.material(result.values["sigma_y"]),
@@ -169,13 +212,24 @@ def run(ns) -> int:
     values, errors = result.values, result.standard_errors
     counts = ", ".join(f"{n} {k} value(s)" for k, n in data.group_sizes().items())
     window = result.params.window
+    scatter = result.scatter
+    noise_free = "" if scatter.estimable else (
+        "the master table's uncertainty only" if choice.used == "constrained" else "numerical precision only")
     lines = [
         f"{choice.used} model fitted to {counts} ({', '.join(data.files)}): {', '.join(result.spec.free)}",
-        f"sigma_Y = {values['sigma_y']:.4g} Pa ({_percent(values['sigma_y'], errors['sigma_y'])})",
-        f"Ca = {values['Ca']:.4g} m/N ({_percent(values['Ca'], errors['Ca'])}), Kc = {values['Kc']:.4g} 1/N "
-        f"({_percent(values['Kc'], errors['Kc'])})",
-        f"Ca_hat = {values['Ca_hat']:.4g} ({_percent(values['Ca_hat'], errors['Ca_hat'])}), Kc_hat = "
-        f"{values['Kc_hat']:.4g} ({_percent(values['Kc_hat'], errors['Kc_hat'])})"
+        *([f"WARNING: {warning}"] if warning else []),
+        *([] if scatter.estimable else [
+            f"scatter: not estimable: the law reproduces these data to {result.rms_residual:.1g} (rms relative "
+            f"residual), as noise-free (synthetic) or identical values do; the standard errors below are then the "
+            f"law's numerical precision"
+            + (" and the master table's uncertainty" if choice.used == "constrained" else "")
+            + ", not a measurement's precision"]),
+        *([] if scatter.within_repeats else [f"lack of fit: {scatter.describe_lack_of_fit()}"]),
+        f"sigma_Y = {values['sigma_y']:.4g} Pa ({_percent(values['sigma_y'], errors['sigma_y'], noise_free)})",
+        f"Ca = {values['Ca']:.4g} m/N ({_percent(values['Ca'], errors['Ca'], noise_free)}), Kc = {values['Kc']:.4g} "
+        f"1/N ({_percent(values['Kc'], errors['Kc'], noise_free)})",
+        f"Ca_hat = {values['Ca_hat']:.4g} ({_percent(values['Ca_hat'], errors['Ca_hat'], noise_free)}), Kc_hat = "
+        f"{values['Kc_hat']:.4g} ({_percent(values['Kc_hat'], errors['Kc_hat'], noise_free)})"
         + (" (from the master table)" if choice.used == "constrained" else ""),
         f"first yield: P_Y = {summary['P_Y']:.4g} N, a_Y = {summary['a_Y']:.4g} m, v_Y = {summary['v_Y']:.4g} m/s",
         f"model: {choice.why}",

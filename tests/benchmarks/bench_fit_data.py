@@ -15,7 +15,13 @@ e capped at 1 as the reader refuses e > 1):
                   20 tests at 1.5..300 v_Y; fitted: Ca_hat, Kc_hat (and sigma_Y if the
                   identifiability analysis finds it determined: the last column counts those trials)
 
-Usage: .venv/bin/python tests/benchmarks/bench_fit_data.py [--trials 50] [--seed 1]
+A second table tests the refusal of implausible fits (calib.fit.measured.scatter) on the same
+two designs at fixed noise levels (0, 1, 3 % must never be refused; 10 and 20 % show where the
+chi-square test against the ceiling of plausible scatter starts to refuse): per noise level, the
+largest chi2 / threshold of the e residuals over the trials and the number of fits refused, as
+implausible or as data the model cannot fit (calib.fit.measured.regression.DataMismatch).
+
+Usage: .venv/bin/python tests/benchmarks/bench_fit_data.py [--trials 50] [--seed 1] [--refusal-trials 20]
 """
 from __future__ import annotations
 
@@ -27,6 +33,7 @@ import numpy as np
 from calib.fit.master_table import MasterTable
 from calib.fit.measured import data as measured_data
 from calib.fit.measured.models import fit_constrained, fit_free
+from calib.fit.measured.regression import DataMismatch
 from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
 
 ALUMINIUM = Specimen(E=70e9, nu=0.3, R=0.1, rho=2699.0)
@@ -34,8 +41,8 @@ SIGMA_Y = 100e6
 FREE_TRUTH = {"Ca_hat": 0.032, "Kc_hat": 0.014}
 
 
-def synthetic(params, v_over_v_Y, rng) -> tuple[measured_data.Measurements, float]:
-    noise = rng.uniform(0.01, 0.03)
+def synthetic(params, v_over_v_Y, rng, noise=None) -> tuple[measured_data.Measurements, float]:
+    noise = rng.uniform(0.01, 0.03) if noise is None else noise
     v = params.pair.v_Y * v_over_v_Y
     e = predict_impacts(params, v)["e"]
     e = np.minimum(e * (1.0 + noise * rng.standard_normal(v.size)), 1.0)
@@ -47,6 +54,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=50)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--refusal-trials", type=int, default=20, help="trials per noise level of the second table")
     ns = parser.parse_args(argv)
     table = MasterTable.load()
     rng = np.random.default_rng(ns.seed)
@@ -78,6 +86,43 @@ def main(argv=None):
         print(f"| {model} | {name} | {true:.4g} | {estimate.mean():.4g} | {100 * bias:+.2f} % (+- {100 * bias_se:.2f}) "
               f"| {100 * np.median(se / estimate):.2f} % | {100 * coverage:.0f} % | "
               f"{sigma_fitted if model == 'free' else '-'} of {ns.trials} |")
+
+    plausibility(ns.refusal_trials, ns.seed, table, constrained_truth, free_truth)
+
+
+PLAUSIBILITY_NOISE = (0.0, 0.01, 0.03, 0.10, 0.20)
+
+
+def plausibility(trials: int, seed: int, table, constrained_truth, free_truth) -> None:
+    """The second table (module doc)."""
+    rng = np.random.default_rng(seed + 1)
+    started = time.perf_counter()
+    rows = []
+    for noise in PLAUSIBILITY_NOISE:
+        ratios, refused, mismatched = {"constrained": [], "free": []}, {"constrained": 0, "free": 0}, \
+            {"constrained": 0, "free": 0}
+        for _ in range(trials):
+            for model, truth, design in (("constrained", constrained_truth, np.geomspace(2.0, 100.0, 12)),
+                                         ("free", free_truth, np.geomspace(1.5, 300.0, 20))):
+                data, _ = synthetic(truth, design, rng, noise)
+                try:
+                    fit = (fit_constrained(data, ALUMINIUM, table) if model == "constrained"
+                           else fit_free(data, ALUMINIUM, SIGMA_Y, None, table))
+                except DataMismatch:
+                    mismatched[model] += 1
+                    continue
+                group = fit.scatter.groups["e"]
+                ratios[model].append(group["chi2"] / group["threshold"])
+                refused[model] += not fit.scatter.plausible
+        rows.append((noise, ratios, refused, mismatched))
+    print(f"\nrefusal of implausible fits: {trials} trials per noise level, {time.perf_counter() - started:.0f} s")
+    print("| noise on e | model | largest chi2 / threshold | refused as implausible | refused as not fittable |")
+    print("|---|---|---|---|---|")
+    for noise, ratios, refused, mismatched in rows:
+        for model in ("constrained", "free"):
+            largest = f"{max(ratios[model]):.3g}" if ratios[model] else "-"
+            print(f"| {100 * noise:g} % | {model} | {largest} | {refused[model]} of {trials} | "
+                  f"{mismatched[model]} of {trials} |")
 
 
 if __name__ == "__main__":

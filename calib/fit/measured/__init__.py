@@ -8,8 +8,10 @@ idea per module, each importing only those above it:
     data             what was measured: the CSV files, checked (Measurements)
     specimen         the tested specimen and what the law predicts for the data; the residuals
     domain           where the law can be evaluated; the residuals continued smoothly beyond
+    scatter          whether a fit's residual is the data's scatter (chi-square, lack of fit)
     regression       one least-squares fit: parameters, covariance, AIC, the law's window
     identifiability  which parameters the data determine; which drop tests would add most
     models           the constrained and the free model, and the choice between them (AICc)
+    diagnosis        the likely cause of data the law does not fit (units, columns, material)
     bands            the fitted e(v_in) with its confidence band (delta method)
 """

@@ -18,6 +18,7 @@ import numpy as np
 
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.regression import FitResult, sensitivities
+from calib.fit.measured.scatter import REFERENCE_SCATTER
 from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts, relative_residuals
 
 DETERMINED_RELATIVE_SE = 0.10   # a parameter is determined by the data when its relative SE <= 10 %
@@ -34,6 +35,13 @@ def with_identifiability(result: FitResult, data: Measurements, specimen: Specim
     weakest = {name: float(v) for name, v in zip(free, vt[-1] * np.sign(vt[-1][np.argmax(np.abs(vt[-1]))]))}
     said = [f"{name} to {100 * rel:.2g} %" for name, rel in relative.items()]
     text = f"the data determine {', '.join(said)} (relative standard errors)"
+    scatter = result.scatter
+    if scatter is not None and not scatter.estimable:
+        at_reference = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in scatter.se_at_reference.items())
+        text = (f"the data lie on the law to its numerical precision (noise-free or identical values): their scatter "
+                f"cannot be estimated, so the relative standard errors ({', '.join(said)}) are the law's numerical "
+                f"precision, not a measurement's" + (f"; at 1 % scatter the same tests would determine {at_reference}"
+                                                     if at_reference else ""))
     loose = [name for name, ok in determined.items() if not ok]
     if loose:
         combination = " ".join(f"{v:+.2f} ln {name}" for name, v in weakest.items())
@@ -58,11 +66,13 @@ def suggest_velocities(result: FitResult, data: Measurements, specimen: Specimen
     """Which drop tests would determine sigma_Y, Ca_hat and Kc_hat together: for each candidate
     window of v_in / v_Y (``SUGGESTED_WINDOWS``), the relative standard errors expected from the
     present data (every group, weighted by its scatter) plus ten tests spread geometrically over
-    the window at the present scatter of e: Cov = (J^T J)^-1 with the new rows appended to J."""
+    the window at the present scatter of e: Cov = (J^T J)^-1 with the new rows appended to J.
+    Noise-free data (calib.fit.measured.scatter): at 1 % scatter in every group instead."""
     names = ("sigma_y", "Ca_hat", "Kc_hat")
     centre = np.log([result.values[name] for name in names])
     pair = result.params.pair
-    scale = result.group_scale
+    noise_free = result.scatter is not None and not result.scatter.estimable
+    scale = {name: REFERENCE_SCATTER for name in result.group_scale} if noise_free else result.group_scale
     sizes = data.group_sizes()
     candidates = {w: pair.v_Y * np.geomspace(w[0], w[1], TESTS_PER_SUGGESTED_WINDOW) for w in SUGGESTED_WINDOWS}
     every_v = np.concatenate(list(candidates.values()))
@@ -97,7 +107,8 @@ def suggest_velocities(result: FitResult, data: Measurements, specimen: Specimen
     worst = max(best["expected_relative_se"].values())
     lo, hi = best["v_in"]
     tests = (f"{TESTS_PER_SUGGESTED_WINDOW} more drop tests at v_in = {lo:.3g}..{hi:.3g} m/s "
-             f"({best['v_in_over_v_Y'][0]:g}..{best['v_in_over_v_Y'][1]:g} v_Y)")
+             f"({best['v_in_over_v_Y'][0]:g}..{best['v_in_over_v_Y'][1]:g} v_Y)"
+             + (f" (at {100 * REFERENCE_SCATTER:g} % scatter)" if noise_free else ""))
     expected = ", ".join(f"{k} {100 * v:.2g} %" for k, v in best["expected_relative_se"].items())
     if worst <= DETERMINED_RELATIVE_SE:
         summary = f"{tests} would determine sigma_Y, Ca_hat and Kc_hat together (expected: {expected})"

@@ -26,7 +26,9 @@ supported, and the simpler one, which carries the master table's FE information,
 AICc rather than BIC: the vz law is an approximation of the contact, never the true model that
 BIC's consistency argument assumes; the question is which model predicts e at other speeds
 better, which is what AIC estimates, and drop-test sets are small (10-30 tests), where AIC
-without the correction over-fits.
+without the correction over-fits. No verdict says that the data agree with a model whose
+residual exceeds the data's scatter (plausible scatter, or the scatter between repeats:
+calib.fit.measured.scatter); it says by how much instead.
 """
 from __future__ import annotations
 
@@ -39,7 +41,7 @@ import numpy as np
 from calib.fit.master_table import RELATIVE_UNCERTAINTY, MasterTable
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.identifiability import DETERMINED_RELATIVE_SE, joint_relative_se, with_identifiability
-from calib.fit.measured.regression import FitResult, ModelSpec, fit_model, sensitivities, sigma_y_bounds
+from calib.fit.measured.regression import DataMismatch, FitResult, ModelSpec, fit_model, sensitivities, sigma_y_bounds
 from calib.fit.measured.specimen import Specimen, law_parameters, relative_residuals
 from nfdmodel import VZParams
 
@@ -59,24 +61,39 @@ def starting_sigma_y(data: Measurements, specimen: Specimen, table: MasterTable,
     low, high = sigma_y_bounds(specimen, "constrained", table)
     if given is not None:
         return float(np.clip(given, low, high))
-    best, best_cost = None, math.inf
+    best, best_cost, refused = None, math.inf, {}
     for sigma_y in np.geomspace(low, high, 25):
         try:
             groups = relative_residuals(data, law_parameters(specimen, {"sigma_y": sigma_y}, table))
-        except ValueError:
+        except ValueError as exc:
+            refused.setdefault(str(exc), float(sigma_y))
             continue
         cost = sum(float(np.mean(g**2)) for g in groups.values())
         if cost < best_cost:
             best, best_cost = float(sigma_y), cost
     if best is None:
-        raise ValueError("no yield stress inside the master table's range reproduces these data")
+        reason, at = next(iter(refused.items()))
+        raise DataMismatch(f"{', '.join(data.files)}: the law cannot be evaluated for these data at any yield stress "
+                           f"of the master table (sigma_Y {low:.3g}..{high:.3g} Pa); at {at:.3g} Pa: {reason}")
     return best
+
+
+def check_table_covers(specimen: Specimen, table: MasterTable) -> None:
+    """A ValueError when the specimen's nu lies outside the master table's nu range, naming both:
+    the constrained model takes Ca_hat, Kc_hat from the table."""
+    low, high = float(table.nu[0]), float(table.nu[-1])
+    if not low <= specimen.nu <= high:
+        raise ValueError(f"nu = {specimen.nu:g} is outside the master table's nu range {low:g}..{high:g}: the "
+                         f"constrained model takes Ca_hat, Kc_hat from that table; fit the free model (--free with "
+                         f"--sigma-y, the yield stress from a tensile test) or calibrate this material by FE "
+                         f"(nfdcal calibrate)")
 
 
 def fit_constrained(data: Measurements, specimen: Specimen, table: MasterTable,
                     sigma_y_start: float | None = None) -> FitResult:
     """sigma_Y alone; Ca_hat, Kc_hat from the master table at (nu, E / sigma_Y); the standard
     errors include the table's own uncertainty (:func:`with_table_uncertainty`)."""
+    check_table_covers(specimen, table)
     start = starting_sigma_y(data, specimen, table, sigma_y_start)
     result = _fit(data, specimen, ModelSpec("constrained", ("sigma_y",)), {"sigma_y": start}, table)
     return with_table_uncertainty(result, data, specimen, table)
@@ -155,8 +172,13 @@ def fit_free(data: Measurements, specimen: Specimen, sigma_y: float, start: dict
         return FitResult(**{**held.__dict__, "note": f"{held_note}: the data cannot fit sigma_Y with Ca_hat, Kc_hat"})
     said = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in joint.items()) if joint else ""
     if free_sigma_y or max(joint.values()) <= DETERMINED_RELATIVE_SE:
-        three = _fit(data, specimen, ModelSpec("free", ("sigma_y", "Ca_hat", "Kc_hat")),
-                          {**held.values}, table, note="sigma_Y fitted with Ca_hat, Kc_hat (the data determine all three)")
+        try:
+            three = _fit(data, specimen, ModelSpec("free", ("sigma_y", "Ca_hat", "Kc_hat")), {**held.values}, table,
+                         note="sigma_Y fitted with Ca_hat, Kc_hat (the data determine all three)")
+        except DataMismatch as exc:
+            if free_sigma_y:
+                raise
+            return FitResult(**{**held.__dict__, "note": f"{held_note}: fitted together with Ca_hat, Kc_hat: {exc}"})
         if free_sigma_y or all(three.identifiability["determined"].values()):
             return three
         said = ", ".join(f"{name} to {100 * rel:.2g} %" for name, rel in three.identifiability["relative_se"].items())
@@ -182,6 +204,19 @@ class ModelChoice:
         return self.free if self.used == "free" else self.constrained
 
 
+def misfit(fit: FitResult) -> str:
+    """In words, how the fit's residual exceeds the data's scatter (calib.fit.measured.scatter),
+    or "" when it does not."""
+    scatter = fit.scatter
+    if scatter is None:
+        return ""
+    if not scatter.plausible:
+        return "far above any plausible scatter (" + scatter.describe_implausible() + ")"
+    if not scatter.within_repeats:
+        return "beyond the scatter between repeats (" + scatter.describe_lack_of_fit() + ")"
+    return ""
+
+
 def compare(constrained: FitResult | None, free: FitResult | None, requested: str,
             free_error: str = "", constrained_error: str = "") -> ModelChoice:
     """The model used is the one ``requested``; AICc's verdict (module doc) is reported in words."""
@@ -202,6 +237,13 @@ def compare(constrained: FitResult | None, free: FitResult | None, requested: st
         verdict = (f"the data favour the free model ({label} {b:.1f} against {a:.1f} constrained, lower by "
                    f"{difference:.1f} > {AICC_MARGIN:g}): the measured contact differs from the master table's "
                    f"Ca_hat, Kc_hat beyond the scatter")
+        if misfit(free):
+            verdict += f"; but the free model too leaves residuals {misfit(free)}"
+    elif misfit(constrained):
+        verdict = (f"the free model's extra parameters do not lower {label} by more than {AICC_MARGIN:g} ({a:.1f} "
+                   f"constrained, {b:.1f} free), but the constrained model leaves residuals {misfit(constrained)}: "
+                   f"these data do not agree with the master table's Ca_hat, Kc_hat"
+                   + (", nor with the free model's" if misfit(free) else ""))
     else:
         verdict = (f"the constrained model suffices ({label} {a:.1f} against {b:.1f} free; the free model's "
                    f"extra parameters do not lower it by more than {AICC_MARGIN:g}): the data agree with the "
@@ -219,18 +261,20 @@ def fit_measurements(data: Measurements, specimen: Specimen, table: MasterTable,
     the constrained fit's start and the free fit's held value (default: the constrained estimate)."""
     if requested not in MODELS:
         raise ValueError(f"model must be one of {', '.join(MODELS)}, got {requested!r}")
-    constrained, constrained_error = None, ""
+    constrained, constrained_error, mismatch = None, "", False
     try:
         constrained = fit_constrained(data, specimen, table, sigma_y)
     except ValueError as exc:
         if requested == "constrained":
             raise
-        constrained_error = str(exc)
+        constrained_error, mismatch = str(exc), isinstance(exc, DataMismatch)
     free, free_error = None, ""
     try:
         held = sigma_y if sigma_y is not None else (constrained.values["sigma_y"] if constrained else None)
         if held is None:
-            raise ValueError("give --sigma-y (the constrained model, which would estimate it, could not be fitted)")
+            raise (DataMismatch if mismatch else ValueError)(
+                f"give --sigma-y (the constrained model, which would estimate it, could not be fitted: "
+                f"{constrained_error})")
         start = ({"Ca_hat": constrained.values["Ca_hat"], "Kc_hat": constrained.values["Kc_hat"]}
                  if constrained else None)
         free = fit_free(data, specimen, held, start, table,

@@ -31,6 +31,13 @@ in 20..1e4 (free model, as the FE calibration accepts it); Ca_hat, Kc_hat around
 0.024-0.034, 0.010-0.016. Inside them the law refuses constants that create energy and drop
 tests beyond full contact; there the residuals continue smoothly (calib.fit.measured.domain),
 and a fit that ends there is a ValueError naming what the law refuses.
+
+**Data the model cannot fit** (:class:`DataMismatch`, a ValueError; calib.fit.measured.diagnosis
+names the likely cause): a fit that ends beyond the law's domain, on a bound (the bound is no
+estimate: the data ask for a value the model does not cover), with J singular (the data do not
+change with a parameter), or with no measured value beyond first yield (every drop test slower
+than v_Y, every force below P_Y: there the law is Hertz's whatever sigma_Y, Ca_hat and Kc_hat).
+Each fit also carries the verdict of calib.fit.measured.scatter on its residuals.
 """
 from __future__ import annotations
 
@@ -44,6 +51,7 @@ from scipy import optimize
 from calib.fit.master_table import MasterTable
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.domain import extended_residuals
+from calib.fit.measured.scatter import Scatter, assess
 from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
 from nfdmodel import CalibrationWindow, VZParams
 
@@ -54,6 +62,12 @@ BOUNDS = {"Ca_hat": (1e-3, 1.0), "Kc_hat": (1e-5, 1.0)}
 JACOBIAN = "3-point"            # least_squares' finite differences of the weighted residuals (module doc)
 DIFF_STEP = 1e-6                # their relative step in log theta
 STEP = float(np.sqrt(np.finfo(float).eps))   # forward differences elsewhere: the library's relative step
+
+
+class DataMismatch(ValueError):
+    """The data do not fit the model for a reason of the data (module doc: best beyond the law's
+    domain or on a bound, J singular, all below first yield): calib.fit.measured.diagnosis names
+    the likely cause."""
 
 
 def sigma_y_bounds(specimen: Specimen, model: str, table: MasterTable | None) -> tuple[float, float]:
@@ -103,6 +117,7 @@ class FitResult:
     params: VZParams
     note: str = ""
     jacobian: np.ndarray | None = None
+    scatter: Scatter | None = None
 
     @property
     def rms_residual(self) -> float:
@@ -158,9 +173,11 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
         groups = extended.residuals
         scale = {name: max(float(np.sqrt(np.mean(groups[name] ** 2))), 1e-12) for name in sizes}
     if extended.beyond:
-        raise ValueError(f"{', '.join(data.files)}: the {spec.model} model fits these data best where the vz law "
-                         f"cannot be evaluated: {'; '.join(extended.beyond)}")
+        raise DataMismatch(f"{', '.join(data.files)}: the {spec.model} model fits these data best where the vz law "
+                           f"cannot be evaluated: {'; '.join(extended.beyond)}")
     params = parameters(x)
+    check_beyond_first_yield(data, spec, specimen, params, x <= lower + 1e-6)
+    check_inside_bounds(data, spec, specimen, x, solution.active_mask, (lower, upper), table)
     residual = np.concatenate([groups[name] / scale[name] for name in sizes])
     n = residual.size
     # least_squares' J at its solution, its rows re-weighted from the scales it solved with to the final ones
@@ -169,13 +186,13 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
     variance = float(residual @ residual) / (n - p)
     singular = np.linalg.svd(jac, compute_uv=False)
     if not (singular.size and singular[-1] > 1e-12 * max(singular[0], 1e-300)):
-        raise ValueError(f"the {spec.model} model's parameters ({', '.join(spec.free)}) are not determined by "
-                         f"{', '.join(data.files)}: the law's prediction does not change with "
-                         f"{'some of them' if p > 1 else spec.free[0]} over these data (are all tests elastic, "
-                         f"e = 1?)")
-    covariance = np.linalg.inv(jac.T @ jac) * variance
-    sd = np.sqrt(np.diag(covariance))
-    correlation = covariance / np.outer(sd, sd)
+        raise DataMismatch(f"the {spec.model} model's parameters ({', '.join(spec.free)}) are not determined by "
+                           f"{', '.join(data.files)}: the law's prediction does not change with "
+                           f"{'some of them' if p > 1 else spec.free[0]} over these data")
+    unscaled = np.linalg.inv(jac.T @ jac)
+    covariance = unscaled * variance
+    unscaled_sd = np.sqrt(np.diag(unscaled))      # the correlation does not depend on s^2 (0 for exact data)
+    correlation = unscaled / np.outer(unscaled_sd, unscaled_sd)
 
     def derived(log_theta) -> np.ndarray:
         law = parameters(log_theta)
@@ -193,8 +210,79 @@ def fit_model(data: Measurements, specimen: Specimen, spec: ModelSpec, start: di
     aic = float(sum(sizes[k] * math.log(max(rss[k] / sizes[k], 1e-300)) for k in sizes) + 2 * K)
     aicc = aic + 2.0 * K * (K + 1) / (n - K - 1) if n - K - 1 > 0 else None
     params = VZParams(params.pair, params.Ca, params.Kc, data_window(params, data))
+    unweighted = jac * np.concatenate([np.full(sizes[name], scale[name]) for name in sizes])[:, None]
+    scatter = assess(data, {name: groups[name] for name in sizes}, p, unweighted, spec.free)
     return FitResult(spec, values, standard_errors, covariance, correlation, groups, scale, rss, n, aic, aicc,
-                     {}, params, note, jac)
+                     {}, params, note, jac, scatter)
+
+
+def _range(values: np.ndarray, unit: str = "") -> str:
+    low, high = float(values.min()), float(values.max())
+    return (f"{low:.3g}" if low == high else f"{low:.3g}..{high:.3g}") + (f" {unit}" if unit else "")
+
+
+def check_beyond_first_yield(data: Measurements, spec: ModelSpec, specimen: Specimen, params: VZParams,
+                             at_lower_bound) -> None:
+    """A DataMismatch when no measured value lies beyond first yield at the fit's sigma_Y: every drop
+    test slower than v_Y, every force below P_Y. Below first yield the law is Hertz's whatever
+    sigma_Y, Ca_hat and Kc_hat, so such data determine none of them (only a lower bound of sigma_Y);
+    the message says which data would. ``at_lower_bound``: per fitted parameter, whether it ended
+    on its lower bound."""
+    pair = params.pair
+    beyond = 0
+    if data.impacts is not None:
+        beyond += int(np.count_nonzero(data.impacts.v_in > pair.v_Y))
+    if data.forces is not None:
+        beyond += sum(int(np.count_nonzero(force > pair.P_Y)) for _, _, force in data.forces.tests)
+    if beyond:
+        return
+    if "sigma_y" not in spec.free:
+        where = "held"
+    elif at_lower_bound[spec.free.index("sigma_y")]:
+        where = f"the softest material the {spec.model} model admits, E/sigma_Y = {specimen.E / pair.sigma_y:.4g}"
+    else:
+        where = "fitted"
+    what = "sigma_Y" if "sigma_y" in spec.free else ", ".join(spec.free)
+    said, wanted = [], []
+    if data.impacts is not None:
+        e = data.impacts.e
+        dissipated = (f"; their e = {_range(e)} < 1 is dissipation the vz law does not have below first "
+                      f"yield (damping, adhesion, vibration of the set-up)") if float(e.min()) < 1.0 else ""
+        said.append(f"every drop test ({Path(data.impacts.path).name}: v_in = {_range(data.impacts.v_in, 'm/s')}) is "
+                    f"slower than first yield, v_Y = {pair.v_Y:.3g} m/s{dissipated}")
+        wanted.append("drop tests faster than v_Y (v_Y grows as sigma_Y^(5/2))")
+    if data.forces is not None:
+        peak = max(float(force.max()) for _, _, force in data.forces.tests)
+        said.append(f"every force of {Path(data.forces.path).name} (at most {peak:.4g} N) is below first yield, "
+                    f"P_Y = {pair.P_Y:.4g} N")
+        wanted.append("force-approach curves loaded beyond P_Y (P_Y grows as sigma_Y^3)")
+    raise DataMismatch(f"the {spec.model} model cannot fit {what} to these data: at sigma_Y = {pair.sigma_y:.4g} Pa "
+                       f"({where}) {' and '.join(said)}; there the law is Hertz's, whatever Ca_hat, Kc_hat and for any "
+                       f"larger sigma_Y, so these data do not determine {what}: {' or '.join(wanted)} would")
+
+
+def check_inside_bounds(data: Measurements, spec: ModelSpec, specimen: Specimen, x, active_mask, bounds,
+                        table) -> None:
+    """A DataMismatch when a fitted parameter ends on a bound of the fit (module doc: Bounds): the data
+    ask for a value the model does not cover, and the bound is no estimate."""
+    for i in np.flatnonzero(active_mask):
+        name, value = spec.free[i], float(np.exp(x[i]))
+        side = "lower" if active_mask[i] < 0 else "upper"
+        low, high = (float(np.exp(b[i])) for b in bounds)
+        if name == "sigma_y":
+            ratio = specimen.E / value
+            cover = ("the master table" if spec.model == "constrained" and table is not None
+                     else f"the {spec.model} model")
+            softer = side == "lower"
+            raise DataMismatch(f"{', '.join(data.files)}: the {spec.model} model fits these data best at sigma_Y = "
+                               f"{value:.4g} Pa, E/sigma_Y = {ratio:.4g}, the edge of {cover} (E/sigma_Y "
+                               f"{specimen.E / high:.4g}..{specimen.E / low:.4g}): the data ask for a "
+                               f"{'softer' if softer else 'harder'} material (a {'lower' if softer else 'higher'} "
+                               f"sigma_Y) than it covers; check the data's units and the material flags, or calibrate "
+                               f"this material by FE (nfdcal calibrate)")
+        raise DataMismatch(f"{', '.join(data.files)}: the {spec.model} model fits these data best at {name} = "
+                           f"{value:.4g}, the {side} end of its range ({low:.4g}..{high:.4g}): the data ask for a "
+                           f"{name} the vz law's fit does not cover; check the data's units and the material flags")
 
 
 def data_window(params: VZParams, data: Measurements) -> CalibrationWindow:

@@ -14,8 +14,24 @@ What the law predicts for the data (calib.fit.measured.data):
                     collision converges to (``collide``, O(dt^2)) and what a drop test measures.
                     Scaled, e = e(v_in / v_Y; Ca_hat, Kc_hat) exactly, with
                     v_Y = sqrt(4 P_Y delta_Y / (5 m)) proportional to sigma_Y^(5/2).
-    force-approach  the law driven along each test's measured approach
-                    (calib.fit.calibration.drive_law, the driver of the FE force fit).
+    force-approach  the law driven along each test's measured approach, as
+                    calib.fit.calibration.drive_law (the driver of the FE force fit) drives it,
+                    but every row at once: the law's history is its turning point (nfdmodel.history:
+                    delta_max and what follows from it), which after rows 1..k is the virgin
+                    state loaded to the running maximum M_k = max(0, delta_1..delta_k). So
+                    P_k = P(delta_k; virgin loaded to M_k): two calls of the law on n contacts
+                    instead of n calls on one (10k rows: 1.3 ms instead of 1.1 s).
+
+**Many drop tests** (:func:`predict_impacts`): repeated v_in are evaluated once. Data with more
+than ``EXACT_SPEEDS`` distinct v_in get the law's e, P_max and contact time at nodes and a
+quintic spline between them (scipy.interpolate.make_interp_spline) of ln y: below v_Y in ln v
+(Hertz: ln y is linear in ln v, reproduced exactly), above v_Y in u = sqrt(ln(v / v_Y)), which
+smooths the law's onset of plasticity at v_Y, ``NODES_PER_UNIT_U`` nodes per unit of u. Measured
+against the law at 4001 speeds from 0.3 v_Y to 1e4 v_Y (or full contact) for sigma_Y 14 MPa..1.3
+GPa and Ca_hat 0.001..0.5, Kc_hat 1e-5..0.9: e and P_max within 4e-10, the contact time within
+5e-8, far below any measured scatter; the nodes sit at fixed u, so
+the spline moves smoothly with the parameters and the fit's finite differences see no jumps
+(tests/test_fit_data_refusals.py::test_many_drop_tests_are_interpolated_within_1e_8).
 
 **Residuals** (:func:`relative_residuals`), per group: r = (y_law - y) / y for e, P_max and the
 contact time [-], and r = (P_law - P) / max(|P|, P_floor) for the forces [-] (P_floor:
@@ -23,15 +39,21 @@ calib.fit.measured.data, the FE force fit's weighting).
 """
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.interpolate import make_interp_spline
 
-from calib.fit.calibration import drive_law
 from calib.fit.master_table import MasterTable
 from calib.fit.measured.data import ForceApproachData, Measurements
-from nfdmodel import ContactPair, Material, PlausibilityWarning, RangeWarning, VZParams, collision_reference
+from nfdmodel import ContactPair, Material, PlausibilityWarning, RangeWarning, VZParams, collision_reference, get_law
+
+EXACT_SPEEDS = 500              # at most this many distinct v_in: the law at each (more: interpolated)
+NODES_PER_UNIT_U = 72           # interpolation nodes per unit of u = sqrt(ln(v / v_Y)) above v_Y
+ELASTIC_NODES = 8               # nodes below v_Y (the law is Hertz there: exact in ln v)
+SPLINE_DEGREE = 5
 
 
 @dataclass(frozen=True)
@@ -87,17 +109,59 @@ def law_parameters(specimen: Specimen, values: dict, table: MasterTable | None) 
     return VZParams.from_dimensionless(*dimensionless_constants(specimen, values, table))
 
 
-def predict_impacts(params: VZParams, v_in) -> dict:
-    """e [-], P_max [N], contact_time [s] of sphere-on-flat impacts at ``v_in`` [m/s] (module doc)."""
+def _law_impacts(params: VZParams, v_in: np.ndarray) -> dict:
     reference = collision_reference("vz", params, v_in)
     return {"e": reference.restitution, "P_max": reference.P_max, "contact_time": reference.contact_time_estimate}
 
 
-def predict_forces(params: VZParams, forces: ForceApproachData) -> list[np.ndarray]:
-    """The law's force [N] along each test's measured approach (a virgin contact per test)."""
+def _interpolated_impacts(params: VZParams, speeds: np.ndarray) -> dict:
+    """The law's predictions at sorted distinct ``speeds`` [m/s] from nodes and a spline (module doc)."""
+    v_Y = params.pair.v_Y
+    names = ("e", "P_max", "contact_time")
+    out = np.empty((speeds.size, len(names)))
+
+    def interpolate(where, x_nodes, speeds_at_nodes, x_wanted):   # ln e, ln P_max, ln t_c: one spline, 3 columns
+        at = _law_impacts(params, speeds_at_nodes)
+        out[where] = np.exp(make_interp_spline(x_nodes, np.log(np.column_stack([at[n] for n in names])),
+                                               k=SPLINE_DEGREE)(x_wanted))
+
+    elastic = speeds <= v_Y
+    if elastic.any():
+        nodes = np.geomspace(speeds[0], v_Y, ELASTIC_NODES)
+        interpolate(elastic, np.log(nodes), nodes, np.log(speeds[elastic]))
+    if not elastic.all():
+        u_max = math.sqrt(math.log(speeds[-1] / v_Y))
+        u = np.linspace(0.0, u_max, max(int(math.ceil(NODES_PER_UNIT_U * u_max)) + 1, 4 * SPLINE_DEGREE))
+        interpolate(~elastic, u, v_Y * np.exp(u**2), np.sqrt(np.log(speeds[~elastic] / v_Y)))
+    return {name: out[:, k] for k, name in enumerate(names)}
+
+
+def predict_impacts(params: VZParams, v_in) -> dict:
+    """e [-], P_max [N], contact_time [s] of sphere-on-flat impacts at ``v_in`` [m/s] (module doc:
+    the law at each distinct v_in, interpolated beyond ``EXACT_SPEEDS`` of them)."""
+    v_in = np.asarray(v_in, dtype=float)
+    speeds, inverse = np.unique(v_in, return_inverse=True)
+    if speeds.size == v_in.size and speeds.size <= EXACT_SPEEDS:
+        return _law_impacts(params, v_in)
+    at = _law_impacts(params, speeds) if speeds.size <= EXACT_SPEEDS else _interpolated_impacts(params, speeds)
+    return {name: y[inverse.reshape(v_in.shape)] for name, y in at.items()}
+
+
+def drive_along(params: VZParams, approach: np.ndarray) -> np.ndarray:
+    """The vz law's force [N] along one contact's approach history [m], every row at once
+    (module doc): the virgin contact loaded to the running maximum, then set to each row."""
+    law = get_law("vz")
+    turning = np.maximum.accumulate(np.maximum(approach, 0.0))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
-        return [drive_law("vz", params, approach)[0] for _, approach, _ in forces.tests]
+        at_turning, loaded = law.force(turning, law.initial_state(approach.size), params)
+        force, _ = law.force(approach, loaded, params)
+    return np.where(approach >= turning, at_turning, force)
+
+
+def predict_forces(params: VZParams, forces: ForceApproachData) -> list[np.ndarray]:
+    """The law's force [N] along each test's measured approach (a virgin contact per test)."""
+    return [drive_along(params, approach) for _, approach, _ in forces.tests]
 
 
 def relative_residuals(data: Measurements, params: VZParams, impacts: dict | None = None) -> dict[str, np.ndarray]:
