@@ -53,14 +53,21 @@ class CalibrationWindow:
                                                                 low=0.0, high=1.0))
         if not isinstance(self.source, str):
             raise ValueError(f"window.source must be text, got {type(self.source).__name__}")
-        beyond = [f"P/P_Y up to {high:.3g} (the FE reaches {limits.FE_MAX_LOAD_OVER_YIELD:g})"
-                  for _ in [0] if high > limits.FE_MAX_LOAD_OVER_YIELD * (1.0 + 1e-9)]
-        if self.a_max_over_R is not None and self.a_max_over_R > limits.FE_MAX_CONTACT_RADIUS_OVER_R * (1.0 + 1e-9):
-            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {limits.FE_MAX_CONTACT_RADIUS_OVER_R:g})")
+        beyond = self.beyond_fe_reach()
         if beyond:                  # no FE calibration vouches for constants there (calib.fit.recipe)
             warnings.warn(f"window beyond the FE's reach: {', '.join(beyond)}; constants stated for it are an "
                           f"extrapolation no calibration can check ({self.source or 'source not stated'})",
                           PlausibilityWarning, stacklevel=3)
+
+    def beyond_fe_reach(self) -> list[str]:
+        """How far the window reaches beyond what an FE calibration runs to (nfd_limits.h:
+        FE_MAX_LOAD_OVER_YIELD, FE_MAX_CONTACT_RADIUS_OVER_R), as text; [] inside it."""
+        beyond = []
+        if self.P_max_over_P_Y > limits.FE_MAX_LOAD_OVER_YIELD * (1.0 + 1e-9):
+            beyond.append(f"P/P_Y up to {self.P_max_over_P_Y:.3g} (the FE reaches {limits.FE_MAX_LOAD_OVER_YIELD:g})")
+        if self.a_max_over_R is not None and self.a_max_over_R > limits.FE_MAX_CONTACT_RADIUS_OVER_R * (1.0 + 1e-9):
+            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {limits.FE_MAX_CONTACT_RADIUS_OVER_R:g})")
+        return beyond
 
     @classmethod
     def assumed_default(cls) -> "CalibrationWindow":

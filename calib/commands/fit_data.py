@@ -237,6 +237,8 @@ def run(ns) -> int:
         *[("identifiability: " if k == 0 else "  ") + part
           for k, part in enumerate(result.identifiability["summary"].split("; "))],
         f"window: {window.describe()} (the data's range; beyond it the constants are an extrapolation)",
+        *([f"window beyond the FE's reach: {', '.join(window.beyond_fe_reach())}: no FE calibration vouches for the "
+           f"law there, the master table's constants included"] if window.beyond_fe_reach() else []),
         f"rms residual: {100 * result.rms_residual:.3g} % ("
         + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()) + ")",
     ] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []) \

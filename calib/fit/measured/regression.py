@@ -42,6 +42,7 @@ Each fit also carries the verdict of calib.fit.measured.scatter on its residuals
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,7 +54,7 @@ from calib.fit.measured.data import Measurements
 from calib.fit.measured.domain import extended_residuals
 from calib.fit.measured.scatter import Scatter, assess
 from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
-from nfdmodel import CalibrationWindow, VZParams
+from nfdmodel import CalibrationWindow, PlausibilityWarning, VZParams
 
 # log-space bounds: E / sigma_Y as the FE calibration accepts it (20..1e4; the constrained model:
 # the master table's 50..5000); the dimensionless constants around the FE's 0.024-0.034, 0.010-0.016
@@ -300,4 +301,6 @@ def data_window(params: VZParams, data: Measurements) -> CalibrationWindow:
     high = max(float(loads.max()), low)
     a_max = float(params.contact_radius_at(high * P_Y)) / params.pair.R_star
     sources = ", ".join(Path(f).name for f in data.files)
-    return CalibrationWindow(low, high, min(a_max, 1.0), f"measurements ({sources}), fitted by nfdcal fit-data")
+    with warnings.catch_warnings():     # the command states the final fit's reach (beyond_fe_reach), once
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        return CalibrationWindow(low, high, min(a_max, 1.0), f"measurements ({sources}), fitted by nfdcal fit-data")
