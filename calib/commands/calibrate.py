@@ -30,7 +30,8 @@ def add_parser(subparsers) -> None:
                              " for the reference case, else 13.7 27.4 41.2 x P_Y)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="calibrate for impacts up to V [m/s]: the load paths reach the force such an impact"
-                             " produces (re-estimated with the new constants until covered); not with --peaks")
+                             " produces (re-estimated with the new constants until covered), unloading paths"
+                             " log-spaced over the whole window, which is declared from the lowest; not with --peaks")
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")
@@ -107,8 +108,9 @@ def run(ns) -> int:
         from calib.fit import impact_window
 
         needed, _, _ = impact_window.check_reach(material, radius, v_max)   # before any mesh
-        peaks = tuple(f * impact_window.MARGIN * needed for f in impact_window.PEAK_FRACTIONS)
-    spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
+        spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
+    else:
+        spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
     try:                                # before any mesh: name the flag that sets the load plan
         recipe.check_fittable(spec)
     except ValueError as exc:
