@@ -17,12 +17,14 @@ unloading peaks are log-spaced over the whole window,
 
     P_k = P_low (P_top / P_low)^(k / n),  k = 0 .. n,  n = ceil(PATHS_PER_DECADE log10(P_top / P_low)),
 
-from P_low = LOWEST_PEAK_OVER_P_Y x P_Y, and the loading branch is stepped geometrically
-(LOADING_STEPS_PER_DECADE increments per decade of load, :class:`GeometricLoadPathPlan`), so
-every decade of the window has loading points and unloading paths alike. The table's declared
-window starts at the lowest unloading peak (table_fit), the load below which its C_R was not
-measured. The between-node error of the shipped law against FE paths that did not build it is
-measured by calib.studies.between_nodes (results/calibration/between_nodes.*).
+from P_low = LOWEST_PEAK_OVER_P_Y x P_Y, or higher where the calibration mesh (sized for P_top)
+does not resolve the contact there (:func:`lowest_peak`), and the loading branch is stepped
+geometrically (LOADING_STEPS_PER_DECADE increments per decade of load,
+:class:`GeometricLoadPathPlan`), so every decade of the window has loading points and unloading
+paths alike. The table's declared window starts at the lowest unloading peak (table_fit), the
+load below which its C_R was not measured. The between-node error of the shipped law against FE
+paths that did not build it is measured by calib.studies.between_nodes
+(results/calibration/between_nodes.*).
 
 The FE bounds the window: P <= 1000 P_Y and contact radius <= 0.3 R (calib.fit.recipe). An
 impact beyond that is refused before any meshing, naming the largest v_in this FE can vouch for

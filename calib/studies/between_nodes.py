@@ -9,7 +9,7 @@ declared window, not only where it was fitted. For E/sigma_Y = 700 (the paper's 
 mesh level (two meshes, as the commands do):
 
 - ``log``: ``nfdcal calibrate --v-max V``, V = V_MAX or the fastest impact the FE vouches for
-  (unloading paths log-spaced from 2 P_Y to the top);
+  (unloading paths log-spaced from the lowest load its mesh resolves to the top);
 - ``thirds``: the same top with three unloading paths at 1/3, 2/3 and 1 of it, the default
   recipe's proportions (the fewest paths a table takes);
 - ``narrow``: ``nfdcal calibrate`` (two constants, the radius fit; the reference paths 500,
@@ -65,7 +65,7 @@ NU, SIGMA_Y, RHO, RADIUS = 0.3, 100e6, 2699.0, 0.1   # E/sigma_Y = 700: the pape
 V_MAX = 2.0                 # [m/s], or the fastest impact the FE vouches for
 THIRDS = (1.0 / 3.0, 2.0 / 3.0, 1.0)
 PLANS = ("log", "thirds", "narrow")
-LAW_NAMES = {"log": "vz-table, paths log-spaced from 2 P_Y (--v-max)",
+LAW_NAMES = {"log": "vz-table, paths log-spaced over the window (--v-max)",
              "thirds": "vz-table, paths at 1/3, 2/3, 1 of the top",
              "narrow": "vz, two constants (nfdcal calibrate)"}
 SAME_PEAK = 1e-6            # relative: a check peak this close to an unloading peak is that node
@@ -341,13 +341,14 @@ MARKERS = {"log": "o-", "thirds": "s--", "narrow": "^:"}
 
 
 def _plot(rows: list[dict], path: Path) -> None:
-    """e error and force error against the check peak, per material and law; the windows shaded."""
+    """e error and force error against the check peak, per material and law, up to the top of
+    each law's window (beyond it the law warns that it extrapolates)."""
     plt = output.pyplot()
     fig, (ax_e, ax_force) = plt.subplots(1, 2, figsize=(13, 4.5))
     for k, ratio in enumerate(sorted({r["E_over_sigma_y"] for r in rows})):
         for plan, marker in MARKERS.items():
-            sel = sorted((r for r in rows if r["E_over_sigma_y"] == ratio and r["plan"] == plan),
-                         key=lambda r: r["P_max_over_P_Y"])
+            sel = sorted((r for r in rows if r["E_over_sigma_y"] == ratio and r["plan"] == plan
+                          and r["where"] != "above window"), key=lambda r: r["P_max_over_P_Y"])
             if not sel:
                 continue
             x = [r["P_max_over_P_Y"] for r in sel]
@@ -362,7 +363,8 @@ def _plot(rows: list[dict], path: Path) -> None:
     for ax, label in ((ax_e, "e_law / e_FE - 1 [%]"), (ax_force, "max |P_law - P_FE| / P_max [%]")):
         ax.set_xscale("log"), ax.set_xlabel("P_max / P_Y of the FE check path"), ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    ax_e.set_title("quasi-static e against FE paths the law did not see (x: outside its window)", fontsize=9)
+    ax_e.set_title("quasi-static e against FE paths the law did not see (x: below its window;"
+                   " beyond it: not shown)", fontsize=9)
     ax_force.set_title("force error along those paths (target 5 %)", fontsize=9)
     ax_e.legend(fontsize=6)
     output.save_figure(fig, path)
