@@ -27,8 +27,8 @@ then the trapezoid rule on the FE's loading points):
    the node values with the piecewise-linear interpolant of the nodes as the model, through
    non-negative increments (scipy.optimize.lsq_linear with bounds), so f is monotone by
    construction. Nodes: x = 1, the peaks, and geometric nodes up to the largest load
-   (NODE_COUNT of them, at most half the loading points; those within 10 % of a peak dropped;
-   one between 1 and x_1 at least).
+   (NODES_PER_DECADE per decade, at most half the loading points; those within 10 % of a peak
+   dropped; one between 1 and x_1 at least).
 
 So the law's loading curve is the FE's and its restitution the FE's at every path. g - 1 = k f
 between the peaks too, the paper's proportion taken piecewise, would make the loading curve
@@ -48,6 +48,7 @@ start low (calib.fit.impact_window.window_peaks) for the window to reach down.
 from __future__ import annotations
 
 import dataclasses
+import math
 from typing import Sequence
 
 import numpy as np
@@ -57,16 +58,23 @@ from calib.fit.least_squares import RadiusLawData
 from nfdmodel import CalibrationWindow, ContactPair, VZTableParams
 from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
-NODE_COUNT = 25                 # geometric nodes from first yield to the largest load
+NODES_PER_DECADE = 8            # geometric nodes per decade of load, first yield to the largest load
 MIN_NODE_COUNT = 3              # ... at least (fewer loading points above P_Y: refused)
 NODE_CLEARANCE = 0.1            # geometric nodes closer than this (in ln x) to a peak are dropped
 E2_CEILING = 1.0 - 1e-6         # e^2 at a peak at most this (e < 1: the law creates no energy)
 
 
-def table_nodes(x_max: float, peaks: Sequence[float] = (), count: int = NODE_COUNT) -> np.ndarray:
-    """Node loads x = P/P_Y: 1, the ``peaks`` (x), and geometric nodes up to ``x_max``."""
+def node_count(x_max: float) -> int:
+    """Geometric nodes from 1 to x_max: NODES_PER_DECADE per decade (the same on every mesh of a
+    load plan, so two meshes' tables extrapolate node by node)."""
+    return max(MIN_NODE_COUNT, math.ceil(NODES_PER_DECADE * math.log10(x_max) - 1e-9) + 1)
+
+
+def table_nodes(x_max: float, peaks: Sequence[float] = (), count: int | None = None) -> np.ndarray:
+    """Node loads x = P/P_Y: 1, the ``peaks`` (x), and ``count`` (default :func:`node_count`)
+    geometric nodes up to ``x_max``."""
     peaks = np.asarray([p for p in peaks if 1.0 < p <= x_max], dtype=float)
-    geometric = np.geomspace(1.0, x_max, count)
+    geometric = np.geomspace(1.0, x_max, count or node_count(x_max))
     if peaks.size:
         distance = np.abs(np.log(geometric[:, None] / peaks[None, :])).min(axis=1)
         geometric = geometric[(distance > NODE_CLEARANCE) | (geometric == 1.0)]
@@ -104,7 +112,7 @@ class LoadingWork:
 
 
 def fit_tables(data: RadiusLawData, pair: ContactPair, peaks: Sequence[float], unloading_work: Sequence[float],
-               window: CalibrationWindow | None = None, count: int = NODE_COUNT) -> VZTableParams:
+               window: CalibrationWindow | None = None, count: int | None = None) -> VZTableParams:
     """VZTableParams from the FE loading points above P_Y and the elastic work [J] the FE returned
     unloading from each peak [N] (module doc), declared on ``window`` from the lowest peak up
     (its source kept; None: the peaks to the largest load); a ValueError when they do not
@@ -113,7 +121,7 @@ def fit_tables(data: RadiusLawData, pair: ContactPair, peaks: Sequence[float], u
     order = np.argsort(data.force[above])
     x = data.force[above][order] / pair.P_Y
     D = data.approach[above][order] / pair.delta_Y
-    count = min(count, x.size // 2)    # coarse load steps: fewer nodes, two points per node
+    count = min(count or node_count(float(x.max())), x.size // 2)    # coarse load steps: two points per node
     if count < MIN_NODE_COUNT:
         raise ValueError(f"the FE loading branch has {x.size} points above P_Y: need >= {2 * MIN_NODE_COUNT} "
                          f"to fit a table")

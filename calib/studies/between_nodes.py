@@ -70,7 +70,7 @@ LAW_NAMES = {"log": "vz-table, paths log-spaced over the window (--v-max)",
              "narrow": "vz, two constants (nfdcal calibrate)"}
 SAME_PEAK = 1e-6            # relative: a check peak this close to an unloading peak is that node
 MERGE = 0.02                # relative: check peaks closer than this are one path
-CALIBRATION_VERSION = 2     # part of a calibration's key: bump when the FE or the fits change
+CALIBRATION_VERSION = 3     # part of a calibration's key: bump when the FE or the fits change
 CHECK_VERSION = 1           # part of a check path's key: bump when its FE changes
 
 
@@ -138,6 +138,7 @@ def run_calibration(task: dict) -> dict:
             "fe_steps": len(result.load_paths.loading_rows) + sum(
                 r["branch"] == "unloading" for p in result.load_paths.paths for r in p.rows),
             "paths": [path_record(p.peak, p.restitution, p.rows) for p in result.load_paths.paths],
+            "table_rel_error_estimate": result.table_rel_error_estimate(),
             "wall_time_s": time.perf_counter() - t0, "timings": result.timings, "git_commit": output.git_commit()}
 
 
@@ -286,6 +287,7 @@ def summarize(rows: list[dict], calibrations: list[dict]) -> list[dict]:
                     "window": calibration["shipped"]["window"],
                     "unloading_peaks_over_P_Y": calibration["unloading_peaks_over_P_Y"],
                     "calibration_wall_time_s": calibration["wall_time_s"], "dofs": calibration["dofs"],
+                    "table_rel_error_estimate": calibration.get("table_rel_error_estimate"),
                     "loading_steps": calibration["loading_steps"], "fe_steps": calibration["fe_steps"],
                     "rounds": calibration["rounds"],
                     **{f"worst_{key}_{name}": worst(places, key)
