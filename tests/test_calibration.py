@@ -208,8 +208,9 @@ def test_readme_reference_numbers_at_the_default_mesh():
 
 def test_v_max_calibrates_a_window_that_covers_the_impact(tmp_path, capsys):
     """--v-max: load paths to the force the impact produces (estimated with the master table,
-    re-estimated with the shipped law); the parameter file ships the vz-table law (the default
-    with --v-max) and the impact then runs inside its window."""
+    re-estimated with the shipped law), unloaded from log-spaced peaks over the whole window;
+    the parameter file ships the vz-table law (the default with --v-max), its window from the
+    lowest unloading peak to the top, and the impact then runs inside it."""
     from nfdmodel import collide, load_parameters
 
     code = main(["calibrate", "--v-max", "0.012", "--contact-size", "1.6e-4", "--no-plots", "--json", "--quiet",
@@ -222,6 +223,10 @@ def test_v_max_calibrates_a_window_that_covers_the_impact(tmp_path, capsys):
     assert json.loads((tmp_path / "parameters.json").read_text())["law"] == "vz-table"
     params = load_parameters(tmp_path / "parameters.json")
     assert collide("vz-table", params, [0.012]).in_calibrated_range.tolist() == [True]
+    peaks = rounds[-1]["unloading_peaks_over_P_Y"]
+    assert len(peaks) >= 2 and peaks[-1] == pytest.approx(rounds[-1]["P_top_over_P_Y"])
+    assert params.window.P_min_over_P_Y == pytest.approx(peaks[0], rel=1e-9)
+    assert params.window.P_max_over_P_Y == pytest.approx(peaks[-1], rel=1e-6)
 
 
 def test_v_max_beyond_the_fe_is_refused_before_meshing(capsys, monkeypatch):

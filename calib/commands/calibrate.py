@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
-from nfdmodel import CalibrationWindow, reference_case
+from nfdmodel import reference_case
 from nfdmodel.validation import check_solid
 
 
@@ -30,7 +30,8 @@ def add_parser(subparsers) -> None:
                              " for the reference case, else 13.7 27.4 41.2 x P_Y)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="calibrate for impacts up to V [m/s]: the load paths reach the force such an impact"
-                             " produces (re-estimated with the new constants until covered); not with --peaks")
+                             " produces (re-estimated with the new constants until covered), unloading paths"
+                             " log-spaced over the whole window, which is declared from the lowest; not with --peaks")
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")
@@ -129,8 +130,9 @@ def run(ns) -> int:
         from calib.fit import impact_window
 
         needed, _, _ = impact_window.check_reach(material, radius, v_max)   # before any mesh
-        peaks = tuple(f * impact_window.MARGIN * needed for f in impact_window.PEAK_FRACTIONS)
-    spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
+        spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
+    else:
+        spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
     try:                                # before any mesh: name the flag that sets the load plan
         recipe.check_fittable(spec)
     except ValueError as exc:
@@ -177,7 +179,7 @@ def run(ns) -> int:
         lines.append(f"vz-table law: {len(table['P_over_P_Y'])} nodes to {table['P_over_P_Y'][-1]:.4g} P_Y, a_p/a_Y "
                      f"{table['a_p_over_a_Y'][-1]:.4g} and C_R {table['C_R'][-1]:.4g} at the last"
                      + ("; shipped" if ship == "table" else f"; shipped: the {ship} fit of the two constants"))
-    window = CalibrationWindow.from_record(summary["window"])
+    window = result.shipped_params.window           # the shipped law's: the table's starts at its lowest path
     lines.append(f"calibrated window: {window.describe()}"
                  + (f"; covers impacts up to v_in = {v_max:g} m/s ({len(rounds)} FE calibration(s): "
                     f"it reaches {rounds[-1]['P_max_of_v_max_over_P_Y']:.4g} P_Y)" if rounds else ""))

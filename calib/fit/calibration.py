@@ -150,7 +150,8 @@ class CalibrationResult:
         :meth:`fine_table`."""
         table = self.fine_table()
         coarse = None if self.mesh_pair is None else self.mesh_pair.get("table")
-        if coarse is None or not np.allclose(coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):
+        if coarse is None or len(coarse["P_over_P_Y"]) != len(table.x) or not np.allclose(
+                coarse["P_over_P_Y"], table.x, rtol=1e-6, atol=0):     # other nodes: this mesh's table
             return table, None
         f, f_error = extrapolation.extrapolated_table(table.f, coarse["a_p_over_a_Y"])
         g, g_error = extrapolation.extrapolated_table(table.g, coarse["C_R"])

@@ -8,9 +8,23 @@ sphere of mass m* hitting a rigid flat at v_max, the energy balance of the law,
 
 gives P_max (nfdmodel.collision_reference). So: estimate P_max with the best constants at hand
 (the master table at (nu, E/sigma_Y), else the paper's Ca_hat, Kc_hat), calibrate on load paths
-to P_top = MARGIN x that estimate (peaks at 1/3, 2/3 and 1 of it, the default recipe's
-proportions), re-estimate with the new constants, and repeat until the window covers the impact
-(at most MAX_ROUNDS FE calibrations; one or two in practice).
+to P_top = MARGIN x that estimate, re-estimate with the new constants, and repeat until the
+window covers the impact (at most MAX_ROUNDS FE calibrations; one or two in practice).
+
+The impacts below v_max load the contact anywhere from P_Y to P_top, and the vz-table law
+(calib.fit.table_fit) takes its curvature factor C_R from the FE's unloading paths: so the
+unloading peaks are log-spaced over the whole window,
+
+    P_k = P_low (P_top / P_low)^(k / n),  k = 0 .. n,  n = ceil(PATHS_PER_DECADE log10(P_top / P_low)),
+
+from P_low = LOWEST_PEAK_OVER_P_Y x P_Y, or higher where the calibration mesh (sized for P_top)
+does not resolve the contact there (:func:`lowest_peak`), and the loading branch is stepped
+geometrically (LOADING_STEPS_PER_DECADE increments per decade of load,
+:class:`GeometricLoadPathPlan`), so every decade of the window has loading points and unloading
+paths alike. The table's declared window starts at the lowest unloading peak (table_fit), the
+load below which its C_R was not measured. The between-node error of the shipped law against FE
+paths that did not build it is measured by calib.studies.between_nodes
+(results/calibration/between_nodes.*).
 
 The FE bounds the window: P <= 1000 P_Y and contact radius <= 0.3 R (calib.fit.recipe). An
 impact beyond that is refused before any meshing, naming the largest v_in this FE can vouch for
@@ -18,11 +32,17 @@ impact beyond that is refused before any meshing, naming the largest v_in this F
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass
 from typing import Callable
 
+import numpy as np
+
+from scipy.optimize import brentq
+
+from calib.fe.loadpath import LoadPathPlan
 from calib.fit import recipe
 from calib.fit.calibration import CalibrationResult, calibrate
 from calib.fit.master_table import MasterTable
@@ -30,7 +50,89 @@ from nfdmodel import ContactPair, Material, RangeWarning, VZParams, VZTableParam
 
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
 MAX_ROUNDS = 3          # FE calibrations at most
-PEAK_FRACTIONS = (1.0 / 3.0, 2.0 / 3.0, 1.0)
+LOWEST_PEAK_OVER_P_Y = 2.0      # the lowest unloading path [P_Y], on a mesh that resolves it
+# ... and no lower than where the contact spans this many contact elements (estimated radius):
+# on the mesh of a 1000 P_Y window (the reference sphere, 3.1e-4 m) the FE's approach at 1.5-8
+# P_Y (1.6-2.8 elements) scatters by 3-5 % about the converged one, its e by ~1 % and its
+# plastic radius vanishes at 1.5 P_Y; from 3 elements (10 P_Y) the approach is within 1 %
+CONTACT_ELEMENTS_AT_LOWEST = 3.0
+PATHS_PER_DECADE = 2.5          # unloading paths per decade of load, at least
+LOADING_STEPS_PER_DECADE = 16   # loading increments per decade of load
+
+
+@dataclass(frozen=True)
+class GeometricLoadPathPlan(LoadPathPlan):
+    """A LoadPathPlan whose loading increments grow with the load: each load at most
+    ``loading_ratio`` times the one before (and at most ``loading_step`` above it), every peak hit
+    exactly, so a window of decades is sampled evenly in log P."""
+    loading_ratio: float = 10.0 ** (1.0 / LOADING_STEPS_PER_DECADE)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if not (np.isfinite(self.loading_ratio) and self.loading_ratio > 1.0):
+            raise ValueError(f"loading_ratio must be a finite number > 1, got {self.loading_ratio}")
+
+    def loading_targets(self) -> list[float]:
+        targets = [self.first_load if self.first_load is not None else min(self.loading_step, self.peaks[0])]
+        for peak in self.peaks:
+            last = targets[-1]
+            n = max(1, math.ceil(math.log(peak / last) / math.log(self.loading_ratio) - 1e-9))
+            while peak * (1.0 - (last / peak) ** (1.0 / n)) > self.loading_step * (1.0 + 1e-9):
+                n += 1
+            targets.extend(np.geomspace(last, peak, n + 1)[1:].tolist())
+        return targets
+
+
+def lowest_peak(pair: ContactPair, contact_size: float) -> float:
+    """The lowest unloading peak [N] on a mesh of contact element ``contact_size`` [m]:
+    LOWEST_PEAK_OVER_P_Y x P_Y, or higher, where the contact first spans CONTACT_ELEMENTS_AT_LOWEST
+    elements (recipe.estimated_contact_radius, the estimate the mesh is sized by)."""
+    low = LOWEST_PEAK_OVER_P_Y * pair.P_Y
+    need = CONTACT_ELEMENTS_AT_LOWEST * contact_size
+    if recipe.estimated_contact_radius(pair, low) >= need:
+        return low
+    high = 2.0 * low
+    while recipe.estimated_contact_radius(pair, high) < need:
+        high *= 2.0
+    return float(brentq(lambda P: recipe.estimated_contact_radius(pair, P) - need, low, high, rtol=1e-9))
+
+
+def window_peaks(low: float, top: float) -> tuple[float, ...]:
+    """The unloading peaks [N] of a window from ``low`` to ``top`` [N]: log-spaced,
+    PATHS_PER_DECADE per decade at least (module doc); the top alone when ``low`` >= ``top``."""
+    if not low < top:
+        return (float(top),)
+    n = max(1, math.ceil(PATHS_PER_DECADE * math.log10(top / low) - 1e-9))
+    return tuple(float(p) for p in np.geomspace(low, top, n + 1))
+
+
+def window_spec(material: Material, radius: float, top: float, *, loading_steps: int | None = None,
+                **spec_options) -> recipe.CalibrationSpec:
+    """The CalibrationSpec of a window to ``top`` [N]: the recipe's mesh for it, unloading paths at
+    :func:`window_peaks` from :func:`lowest_peak` up, the loading branch stepped geometrically
+    (LOADING_STEPS_PER_DECADE per decade, or ``loading_steps`` increments from the first load to
+    the top); ``spec_options``: the mesh and unloading options of calib.fit.recipe.calibration_spec."""
+    spec = recipe.calibration_spec(material, radius, peaks=(top,), loading_steps=1, **spec_options)
+    plan = spec.plan
+    ratio = (10.0 ** (1.0 / LOADING_STEPS_PER_DECADE) if loading_steps is None
+             else (top / plan.first_load) ** (1.0 / loading_steps))
+    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size), top)
+    return dataclasses.replace(spec, plan=GeometricLoadPathPlan(
+        peaks=peaks, loading_step=top, unloading_steps=plan.unloading_steps,
+        first_load=min(plan.first_load, peaks[0]), loading_ratio=ratio))
+
+
+def window_top(pair: ContactPair, needed: float) -> float:
+    """The top [N] of the load paths for an impact reaching ``needed`` [N]: MARGIN beyond it,
+    never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the FE's reach."""
+    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), fe_reach(pair))
+
+
+def impact_spec(material: Material, radius: float, needed: float, **spec_options) -> recipe.CalibrationSpec:
+    """The CalibrationSpec of a calibration round for an impact reaching ``needed`` [N]:
+    :func:`window_spec` to :func:`window_top` (``spec_options`` as there)."""
+    return window_spec(material, radius, window_top(ContactPair.sphere_flat(material, radius), needed),
+                       **spec_options)
 
 
 @dataclass(frozen=True)
@@ -51,6 +153,12 @@ def estimating_constants(material: Material, radius: float) -> tuple[VZParams, s
     except (ValueError, OSError):       # outside the table (or none shipped): the paper's constants
         reference = VZParams.reference()
         return VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat), "the paper's constants"
+
+
+def fe_reach(pair: ContactPair) -> float:
+    """The largest load [N] this FE vouches for: P <= MAX_LOAD_OVER_YIELD P_Y and the contact
+    radius <= CONTACT_RADIUS_LIMIT R (calib.fit.recipe)."""
+    return min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
 
 
 def _law_of(params) -> str:
@@ -79,7 +187,7 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
     ValueError before any FE when the FE cannot reach it, naming the largest v_in it can vouch for."""
     params, source = estimating_constants(material, radius)
     pair = params.pair
-    reach = min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+    reach = fe_reach(pair)
     try:
         needed = impact_force(params, v_max)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
@@ -101,27 +209,28 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
 
 def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
                           progress: Callable[[str], None] | None = None, ship: str = "radius",
-                          unload: bool = True, **spec_options) -> ImpactWindow:
+                          unload: bool = True, meshes: int = 2, **spec_options) -> ImpactWindow:
     """Calibrate until the window covers the impact at v_max [m/s] (module doc). ``spec_options``
-    go to calib.fit.recipe.calibration_spec (mesh level or contact size, steps); ``unload``
-    False: loading branches only (the radius fit)."""
+    go to :func:`window_spec` (mesh level or contact size, steps); ``unload`` False: loading
+    branches only (the radius fit); ``meshes``: as calib.fit.calibration.calibrate."""
     say = progress or (lambda message: None)
     needed, _, source = check_reach(material, radius, v_max)
     rounds = []
     pair = ContactPair.sphere_flat(material, radius)
-    reach = min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+    reach = fe_reach(pair)
     for round_number in range(1, MAX_ROUNDS + 1):
-        top = min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), reach)   # never narrower than a fit needs
+        spec = impact_spec(material, radius, needed, **spec_options)
+        top = spec.plan.peaks[-1]
         say(f"window round {round_number}: v_max = {v_max:g} m/s needs about {needed / pair.P_Y:.4g} P_Y "
-            f"({source}); load paths to {top / pair.P_Y:.4g} P_Y")
-        spec = recipe.calibration_spec(material, radius, peaks=tuple(f * top for f in PEAK_FRACTIONS),
-                                       **spec_options)
-        result = calibrate(spec, progress=progress, ship=ship, unload=unload)
+            f"({source}); {len(spec.plan.peaks)} load paths from {spec.plan.peaks[0] / pair.P_Y:.4g} to "
+            f"{top / pair.P_Y:.4g} P_Y")
+        result = calibrate(spec, progress=progress, ship=ship, unload=unload, meshes=meshes)
         shipped = result.shipped_params
         needed = impact_force(shipped, v_max)
         source = f"round {round_number} constants"
         covered = needed <= shipped.window_force * (1.0 + 1e-9)
         rounds.append({"round": round_number, "P_top": top, "P_top_over_P_Y": top / pair.P_Y,
+                       "unloading_peaks_over_P_Y": [p / pair.P_Y for p in spec.plan.peaks],
                        "P_max_of_v_max": needed, "P_max_of_v_max_over_P_Y": needed / pair.P_Y,
                        "covered": covered})
         if covered:

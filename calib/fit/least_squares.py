@@ -124,6 +124,9 @@ def window_study(data: RadiusLawData, min_points: int = 3) -> list[dict]:
     return rows
 
 
+INADMISSIBLE_RESIDUAL = 1e3     # relative force error scored for constants the law refuses
+
+
 @dataclass(frozen=True)
 class ForceLawFit:
     """Ca, Kc minimising the relative force error of the runtime law along FE approach histories."""
@@ -145,10 +148,17 @@ def fit_force_law(predict_force, histories: Sequence[tuple[np.ndarray, np.ndarra
     force_floor: forces below it are weighted as if equal to it [N] (relative error of small
         forces near separation would otherwise dominate).
     The residual is (P_law - P_FE) / max(P_FE, force_floor); parameters are fitted in log space so
-    they stay positive.
+    they stay positive. Constants the law refuses (a turning point that would create energy:
+    C_R growing fast against a_p, tried on paths from a few P_Y) score INADMISSIBLE_RESIDUAL at
+    every point, so the fit stays among admissible ones.
     """
+    points = sum(len(approach) for approach, _ in histories)
+
     def residuals(log_params):
-        return relative_force_residuals(predict_force, histories, *np.exp(log_params), force_floor)
+        try:
+            return relative_force_residuals(predict_force, histories, *np.exp(log_params), force_floor)
+        except ValueError:
+            return np.full(points, INADMISSIBLE_RESIDUAL)
 
     solution = optimize.least_squares(residuals, np.log([Ca0, Kc0]), method="lm", xtol=1e-12, ftol=1e-12)
     Ca, Kc = np.exp(solution.x)

@@ -31,7 +31,7 @@ def calibration_spec(scene: Scene, material: SceneMaterial):
             peaks = stage.peaks(material.pair())
         else:
             needed, _, _ = impact_window.check_reach(material.material(), material.R, v_max)
-            peaks = tuple(f * impact_window.MARGIN * needed for f in impact_window.PEAK_FRACTIONS)
+            return impact_window.impact_spec(material.material(), material.R, needed, **spec_options(scene))
         return recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene))
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None

@@ -126,29 +126,32 @@ def fitted_laws(row: dict) -> dict:
     return laws
 
 
+def law_against_path(law: str, params, path: dict) -> dict:
+    """One law along one FE path (``approach`` [m], ``force`` [N], ``P_max`` [N], ``e``): the
+    force error along the path, the quasi-static cycle's e and the law's collision e at the v_in
+    reaching the same P_max (module doc; no collision keys beyond the law's domain)."""
+    law_force, e_law = drive_law(law, params, path["approach"])
+    v_in = reach_velocity(params, path["P_max"])     # the law's impact reaching the same P_max
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RangeWarning)
+            e_collision = float(collide(law, params, [v_in]).e_velocity[0])
+    except ValueError:                  # beyond the law's domain: no impact to compare
+        e_collision = float("nan")
+    return {"force_error": float(np.abs(law_force - path["force"]).max() / path["P_max"]),
+            "e_fe": path["e"], "e_law": e_law, "e_error": e_law / path["e"] - 1.0,
+            "v_in": v_in, "v_in_over_v_Y": v_in / params.pair.v_Y,
+            **({"e_collision": e_collision, "e_collision_error": e_collision / path["e"] - 1.0}
+               if e_collision == e_collision else {})}
+
+
 def compare_laws(row: dict) -> list[dict]:
-    """Per FE path and fitted law: force error along the path, the quasi-static cycle's e and the
-    law's collision e at the v_in reaching the same P_max (module doc)."""
+    """Per FE path and fitted law: :func:`law_against_path`."""
     pair = material_pair(row["E_over_sigma_y"])
     laws = fitted_laws(row)
-    rows = []
-    for path in fe_paths(row):
-        for fit, (law, params) in laws.items():
-            law_force, e_law = drive_law(law, params, path["approach"])
-            v_in = reach_velocity(params, path["P_max"])     # the law's impact reaching the same P_max
-            try:
-                with warnings.catch_warnings():
-                    warnings.simplefilter("ignore", RangeWarning)
-                    e_collision = float(collide(law, params, [v_in]).e_velocity[0])
-            except ValueError:          # beyond the law's domain: no impact to compare
-                e_collision = float("nan")
-            rows.append({"E_over_sigma_y": row["E_over_sigma_y"], "P_max_over_P_Y": path["P_max"] / pair.P_Y,
-                         "fit": fit, "force_error": float(np.abs(law_force - path["force"]).max() / path["P_max"]),
-                         "e_fe": path["e"], "e_law": e_law, "e_error": e_law / path["e"] - 1.0,
-                         "v_in": v_in, "v_in_over_v_Y": v_in / pair.v_Y,
-                         **({"e_collision": e_collision, "e_collision_error": e_collision / path["e"] - 1.0}
-                            if e_collision == e_collision else {})})
-    return rows
+    return [{"E_over_sigma_y": row["E_over_sigma_y"], "P_max_over_P_Y": path["P_max"] / pair.P_Y, "fit": fit,
+             **law_against_path(law, params, path)}
+            for path in fe_paths(row) for fit, (law, params) in laws.items()]
 
 
 def generate(out=output.RESULTS / "calibration", workers: int = 2, ratios=STRENGTH_RATIOS, progress=None) -> dict:
