@@ -130,18 +130,24 @@ def coarse_mesh(spec: SphereMeshSpec) -> SphereMeshSpec:
 
 def tasks_for(setup: ImpactSetup, velocities, variants=VARIANTS) -> list[dict]:
     """The sweep tasks: one per velocity and variant (module docstring), keyed by what decides them."""
-    material = setup.material
     tasks = []
     for v in velocities:
         fine = impact_mesh(setup, v)
         for variant in variants:
             mesh = coarse_mesh(fine) if variant == "coarse mesh" else fine
             steps = setup.steps_per_contact // 2 if variant == "coarse dt" else setup.steps_per_contact
-            task = {"v_in": float(v), "variant": variant, "E": material.E, "nu": material.nu,
-                    "sigma_y": None if setup.elastic else material.sigma_y, "rho": material.rho, "R": setup.radius,
-                    "mesh": dataclasses.asdict(mesh), "steps_per_contact": steps}
-            tasks.append({**task, "key": stable_key({**task, "version": VERSION})})
+            tasks.append(task_of(setup, v, variant, mesh, steps))
     return tasks
+
+
+def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec, steps_per_contact: int) -> dict:
+    """One sweep task; its key hashes what decides the run (not the variant's label, so the
+    study and the convergence ladders share a run they both need)."""
+    material = setup.material
+    task = {"v_in": float(v_in), "E": material.E, "nu": material.nu,
+            "sigma_y": None if setup.elastic else material.sigma_y, "rho": material.rho, "R": setup.radius,
+            "mesh": dataclasses.asdict(mesh), "steps_per_contact": int(steps_per_contact)}
+    return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
 
 
 # ---------------------------------------------------------------- one impact (a sweep worker)
@@ -179,11 +185,12 @@ def run_impacts(setup: ImpactSetup, velocities, cases: Path, *, workers: int = 1
                 + (f"e = {row['e']:.4f}, {row['wall_time_s']:.1f} s" if row["status"] == "ok" else row["error"]))
     swept = run_sweep(tasks, run_task, cases, keep=lambda row: row.get("status") == "ok", workers=workers,
                       progress=progress, describe=describe)
-    failed = [row for row in swept.rows if row["status"] != "ok"]
+    rows = [{**row, "variant": task["variant"]} for task, row in zip(tasks, swept.rows)]   # a shared run's label
+    failed = [row for row in rows if row["status"] != "ok"]
     if failed:
         raise ValueError(f"the FE impact at v_in = {failed[0]['v_in']:g} m/s ({failed[0]['variant']}) failed: "
                          f"{failed[0]['error']}")
-    return swept.rows, {"computed": swept.computed, "reused": swept.reused}
+    return rows, {"computed": swept.computed, "reused": swept.reused}
 
 
 # ---------------------------------------------------------------- the comparison

@@ -22,7 +22,6 @@ from typing import Callable
 
 from calib import output
 from calib.studies import impact
-from meshes.keys import stable_key
 
 DT_FACTORS = (0.25, 0.5, 1.0, 2.0)      # N / N0
 MESH_FACTORS = (4.0, 2.0, 1.0)          # h / h0
@@ -41,11 +40,8 @@ def tasks(setup: impact.ImpactSetup, v_in: float) -> list[dict]:
         mesh = dataclasses.replace(fine, contact_size=h, refined_radius=max(fine.refined_radius, 2 * h),
                                    refined_depth=max(fine.refined_depth, 2 * h), far_size=max(fine.far_size, h))
         steps = int(round(setup.steps_per_contact * (factor if ladder == "dt" else 1.0)))
-        task = {"v_in": float(v_in), "variant": f"h = {h:.3g} m, N = {steps}", "E": setup.material.E,
-                "nu": setup.material.nu, "sigma_y": None if setup.elastic else setup.material.sigma_y,
-                "rho": setup.material.rho, "R": setup.radius, "mesh": dataclasses.asdict(mesh),
-                "steps_per_contact": steps}
-        runs[task["variant"]] = {**task, "key": stable_key({**task, "version": impact.VERSION})}
+        task = impact.task_of(setup, v_in, f"h = {h:.3g} m, N = {steps}", mesh, steps)
+        runs[task["key"]] = task
     return list(runs.values())
 
 
@@ -59,11 +55,12 @@ def run(setup: impact.ImpactSetup, v_in: float, out: Path, *, workers: int = 1,
         impact.sphere_mesh(impact.SphereMeshSpec(**spec))
     swept = impact.run_sweep(todo, impact.run_task, Path(out) / "cases", keep=lambda row: row.get("status") == "ok",
                              workers=workers, progress=progress,
-                             describe=lambda row: f"{row['variant']}: {row.get('wall_time_s', 0):.1f} s")
-    failed = [row for row in swept.rows if row["status"] != "ok"]
+                             describe=lambda row: f"{row['v_in']:g} m/s: {row.get('wall_time_s', 0):.1f} s")
+    rows = [{**row, "variant": task["variant"]} for task, row in zip(todo, swept.rows)]
+    failed = [row for row in rows if row["status"] != "ok"]
     if failed:
         raise ValueError(f"the FE impact {failed[0]['variant']} failed: {failed[0]['error']}")
-    by_variant = {task["variant"]: (task, row) for task, row in zip(todo, swept.rows)}
+    by_variant = {task["variant"]: (task, row) for task, row in zip(todo, rows)}
     h0, N0 = todo[0]["mesh"]["contact_size"], setup.steps_per_contact
     dt_rows = sorted((row for task, row in by_variant.values() if task["mesh"]["contact_size"] == h0),
                      key=lambda row: row["dt"], reverse=True)
