@@ -4,7 +4,8 @@ impact.csv   one row per velocity: v_in, v_in / v_Y, the FE's e, P_max [N], cont
              alpha_max [m] (approach of the centre of mass), dent [m], the energy fractions of the
              kinetic energy in (plastic work, residual-stress energy, vibration energy, balance
              residual), each compared quantity's estimated relative discretisation error, and the
-             quasi-static laws' e, P_max, contact time (vz, Thornton and its closed form, Hertz)
+             quasi-static laws' e, P_max, contact time (vz, Thornton and its closed form, Hertz) and
+             LAMMPS' mdr restitution where known
 impact.json  the same records with the case, the vz constants' source and the provenance stamp
              (calib.output.stamp)
 impact.png   e, P_max / P_Y and contact time against v_in / v_Y: the FE (error bars: the estimate)
@@ -22,7 +23,7 @@ from calib import output
 
 LAW_COLUMNS = (("vz", "e"), ("vz", "P_max"), ("vz", "contact_time"), ("vz", "delta_max"), ("vz", "delta_res"),
                ("thornton", "e"), ("thornton", "e_closed_form"), ("thornton", "P_max"), ("thornton", "contact_time"),
-               ("hertz", "P_max"), ("hertz", "contact_time"))
+               ("hertz", "P_max"), ("hertz", "contact_time"), ("mdr", "e"))
 COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_time", "alpha_max", "dent",
            "contact_radius_max", "plastic_fraction", "residual_stress_fraction", "vibration_fraction",
            "balance_residual_fraction", "e_rel_error_estimate", "P_max_rel_error_estimate",
@@ -41,7 +42,8 @@ def write(out: Path, records: list[dict], rows: list[dict], summary: dict, plots
     """Write the files into ``out`` (a staging folder: the caller swaps the set in); their paths."""
     out = Path(out)
     table = [flat(r) for r in records]
-    columns = list(COLUMNS) + [f"{law}_{key}" for law, key in LAW_COLUMNS if f"{law}_{key}" in table[0]]
+    columns = list(COLUMNS) + [f"{law}_{key}" for law, key in LAW_COLUMNS
+                               if any(f"{law}_{key}" in row for row in table)]
     written = [output.write_csv(out / "impact.csv", table, columns, comment=output.stamp_comment(summary["stamp"])),
                output.write_json(out / "impact.json", {**summary, "impacts": records})]
     if plots:
@@ -56,15 +58,15 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.4))
     panels = (("e", "restitution e", 1.0), ("P_max", "P_max / P_Y", 1.0 / P_Y), ("contact_time", "contact time [ms]", 1e3))
     styles = {"vz": ("C0", "-", f"vz law ({summary['vz_source']})"), "thornton": ("C2", "--", "Thornton"),
-              "hertz": ("0.5", ":", "Hertz")}
+              "hertz": ("0.5", ":", "Hertz"), "mdr": ("C4", "-.", "LAMMPS granular mdr")}
     for ax, (key, label, scale) in zip(axes, panels):
         error = np.array([abs(r[f"{key}_rel_error_estimate"] or 0.0) * r[key] for r in records]) * scale
         ax.errorbar(x, np.array([r[key] for r in records]) * scale, yerr=error, fmt="o", color="C3", capsize=3,
                     label="dynamic FE (whole sphere)")
         for law, (colour, line, name) in styles.items():
-            if all(law in r["models"] for r in records):
-                ax.plot(x, [r["models"][law][key] * scale for r in records], line, color=colour, marker=".",
-                        label=name)
+            known = [(xi, r["models"][law][key] * scale) for xi, r in zip(x, records) if key in r["models"].get(law, {})]
+            if known:
+                ax.plot(*zip(*known), line, color=colour, marker=".", label=name)
         if key == "e" and all("thornton" in r["models"] for r in records):
             ax.plot(x, [r["models"]["thornton"]["e_closed_form"] for r in records], "x", color="C2",
                     label="Thornton closed form")
