@@ -15,6 +15,7 @@ from calib.cli import main
 from calib.fe import ElasticMaterial, VonMisesMaterial
 from calib.fe.impact import contact_time_estimate, residual_state, run_impact
 from calib.fe.newmark import ImpactSolver
+from calib.studies.impact import STUDY_VELOCITIES_OVER_V_Y
 from meshes.hemisphere import HemisphereMeshSpec
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import ContactPair, Material, collision_reference, load_parameters, reference_case
@@ -225,5 +226,6 @@ def test_dry_run_plans_without_computing(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert main(["impact", "--dry-run", "--json"]) == 0
     plan = json.loads(capsys.readouterr().out)
-    assert len(plan["runs"]) == 12 and plan["out"] == "results/impact" and plan["estimated_total_s"] > 0
+    assert len(plan["runs"]) == 3 * len(STUDY_VELOCITIES_OVER_V_Y)        # fine, coarse mesh, coarse dt
+    assert plan["out"] == "results/impact" and plan["estimated_total_s"] > 0
     assert not (tmp_path / "results").exists()
