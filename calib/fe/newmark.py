@@ -174,7 +174,7 @@ class ImpactSolver:
         self.basis = Basis(sphere.mesh, ElementVector(ElementTriP2()), intorder=quadrature_order)
         self.n_elements, self.n_qp = quadrature_radius(self.basis).shape
         reach = contact_radius if contact_radius is not None else sphere.spec.refined_radius
-        self.dofs, self.elements = sphere_dofs(sphere, self.basis, None, self.rho, quadrature_order, reach)
+        self.dofs, self.elements = sphere_dofs(sphere, self.basis, self.rho, quadrature_order, reach)
         self.T, self.TT = self.dofs.T, self.dofs.TT
         self.mass = self.dofs.mass
         self.mass_matrix = self.elements.matrix(self.dofs.mass_data)

@@ -68,12 +68,11 @@ class SphereDofs:
         return self.T.shape[1]
 
 
-def sphere_dofs(sphere, basis, elements: ElementArrays | None, rho: float, quadrature_order: int,
+def sphere_dofs(sphere, basis, rho: float, quadrature_order: int,
                 contact_radius: float) -> tuple[SphereDofs, ElementArrays]:
     """The unknowns, candidates (surface nodes with r <= ``contact_radius`` [m], below the centre)
     and mass (density ``rho`` [kg/m^3]) of ``sphere`` (meshes.sphere.SphereMesh) on ``basis`` (P2
-    vector basis of its mesh); returns them with the ElementArrays of the reduction (built here
-    when ``elements`` is None)."""
+    vector basis of its mesh), with the ElementArrays of the reduction u = T q."""
     m = sphere.mesh
     radius = float(sphere.spec.radius if sphere.spec is not None else sphere.radius)
     n_dofs = basis.N
@@ -89,7 +88,7 @@ def sphere_dofs(sphere, basis, elements: ElementArrays | None, rho: float, quadr
     T = sp.csr_matrix((np.ones(kept.size), (kept, np.arange(kept.size))), shape=(n_dofs, kept.size))
     q_of_dof = np.full(n_dofs, -1)
     q_of_dof[kept] = np.arange(kept.size)
-    elements = elements if elements is not None else ElementArrays(basis, T)
+    elements = ElementArrays(basis, T)
 
     surface = facet_nodes(sphere.boundaries["surface"])
     tol = 1e-9 * radius
