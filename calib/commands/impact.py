@@ -163,6 +163,10 @@ def run(ns) -> int:
                      + (f"{error:>7.2%}" if error is not None else f"{'-':>7}"))
     lines.append("vibr., balance: vibration energy and the energy balance's residual over the kinetic energy in;"
                  " err e: estimated discretisation error of e")
+    worst = impact.largest_vibration(records)
+    lines.append(f"largest vibration energy left: {worst['largest_fraction']:.2g} of the kinetic energy in, at "
+                 f"{worst['v_in_over_v_Y']:.3g} v_Y (returned to the rebound it would change e by "
+                 f"{worst['e_change_if_returned']:.2g})")
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

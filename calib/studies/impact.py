@@ -102,17 +102,29 @@ def estimated_force(setup: ImpactSetup, v_in: float) -> float:
         return math.inf
 
 
-def check_reach(setup: ImpactSetup, velocities) -> None:
-    """ValueError before any FE when an impact goes beyond what the FE vouches for (P <= 1000 P_Y,
-    contact radius <= 0.3 R), naming the largest v_in it can."""
+def largest_load(setup: ImpactSetup) -> float:
+    """The largest P_max [N] the FE vouches for: 1000 P_Y (unless elastic) and a contact radius of at
+    most 0.3 R (calib.fit.recipe); Hertz's load at that radius when it is reached below first yield."""
     pair = setup.pair
-    reach = recipe.largest_admissible_load(pair) if setup.elastic else \
-        min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+    limit = recipe.CONTACT_RADIUS_LIMIT * pair.R_star
+    if setup.elastic or recipe.estimated_contact_radius(pair, pair.P_Y) >= limit:
+        hertz = 4.0 * pair.E_star * limit ** 3 / (3.0 * pair.R_star)
+        return hertz if setup.elastic else min(hertz, pair.P_Y)
+    return min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+
+
+def check_reach(setup: ImpactSetup, velocities) -> None:
+    """ValueError before any FE when an impact goes beyond what the FE vouches for (``largest_load``),
+    naming the largest v_in it can."""
+    pair = setup.pair
+    reach = largest_load(setup)
     for v in velocities:
         if estimated_force(setup, v) > reach:
-            params, _ = impact_window.estimating_constants(setup.material, setup.radius)
-            v_reach = (math.sqrt(2.0 * 0.4 * reach * float(pair.hertz_approach(reach)) / pair.mass_star)
-                       if setup.elastic else impact_window.reach_velocity(params, reach))
+            if setup.elastic or reach <= pair.P_Y:              # Hertz: (1/2) m v^2 = (2/5) P alpha
+                v_reach = math.sqrt(0.8 * reach * float(pair.hertz_approach(reach)) / pair.mass_star)
+            else:
+                v_reach = impact_window.reach_velocity(impact_window.estimating_constants(setup.material,
+                                                                                          setup.radius)[0], reach)
             raise ValueError(f"--v-in out of range: the impact at {v:g} m/s goes beyond what this FE vouches for "
                              f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= "
                              f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {v_reach:.4g} m/s "
@@ -307,6 +319,15 @@ def _relative_change(other, value):
     return float(other / value - 1.0)
 
 
+def largest_vibration(records: list[dict]) -> dict:
+    """Where the sphere keeps the most vibration energy after it separates (the measure of the
+    quasi-static assumption: the laws have no vibration): its fraction of the kinetic energy in, at
+    which v_in / v_Y, and the fraction the restitution's square loses to it there."""
+    worst = max(records, key=lambda r: r["vibration_fraction"])
+    return {"largest_fraction": worst["vibration_fraction"], "v_in_over_v_Y": worst["v_in_over_v_Y"],
+            "e_change_if_returned": math.sqrt(worst["e"] ** 2 + worst["vibration_fraction"]) / worst["e"] - 1.0}
+
+
 def reference_setup(**options) -> ImpactSetup:
     """The paper's aluminium sphere (nfdmodel.reference_case)."""
     return ImpactSetup(material=Material.reference(), radius=reference_case.R, **options)
@@ -335,6 +356,7 @@ def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progre
                         "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
                         "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact},
                "vz_source": source, "variants": list(variants),
+               "vibration": largest_vibration(records),
                "stamp": output.stamp(time.perf_counter() - started, mesh=fine[-1]["mesh"], **counts,
                                      fe_wall_time_s=sum(row["wall_time_s"] for row in rows))}
     with output.all_or_nothing(out, name="impact") as staging:
