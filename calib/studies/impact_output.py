@@ -71,6 +71,8 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
             ax.plot(x, [r["models"]["thornton"]["e_closed_form"] for r in records], "x", color="C2",
                     label="Thornton closed form")
         ax.set_xscale("log")
+        if key == "P_max":
+            ax.set_yscale("log")
         ax.set_xlabel("v_in / v_Y")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
