@@ -228,29 +228,31 @@ def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
 
 def law_predictions(setup: ImpactSetup, v_in: float, params) -> dict:
     """The quasi-static laws' impact at v_in [m/s] (module docstring): per law e, P_max [N],
-    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e; Hertz's P_max, time."""
+    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e. Below first yield
+    (v_in <= v_Y) every law is Hertz's, and an elastic run is compared with Hertz alone."""
     from calib.report.collision import thornton_closed_form
 
     pair = setup.pair
-    out = {}
-    laws = (("vz", params), ("thornton", pair)) if not setup.elastic else (("hertz", pair),)
-    for name, law_params in laws:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RangeWarning)        # the window is reported, not warned
-            ref = collision_reference(name, law_params, [v_in])
-        out[name] = {"e": float(ref.restitution[0]), "P_max": float(ref.P_max[0]),
-                     "contact_time": float(ref.contact_time_estimate[0]), "delta_max": float(ref.delta_max[0]),
-                     "delta_res": float(ref.delta_res[0])}
-    if not setup.elastic:
-        out["thornton"]["e_closed_form"] = float(thornton_closed_form(v_in, pair.v_Y)) if v_in >= pair.v_Y else 1.0
+    hertz_delta = (5.0 * pair.mass_star * v_in ** 2 / (4.0 * pair.hertz_stiffness)) ** 0.4
+    hertz = {"e": 1.0, "P_max": float(pair.hertz_stiffness * hertz_delta ** 1.5),
+             "contact_time": float(pair.hertz_contact_time(v_in)), "delta_max": float(hertz_delta), "delta_res": 0.0}
+    if setup.elastic:
+        return {"hertz": hertz}
+    out = {"vz": dict(hertz), "thornton": {**hertz, "e_closed_form": 1.0}}
+    if v_in > pair.v_Y:
+        for name, law_params in (("vz", params), ("thornton", pair)):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RangeWarning)        # the window is reported, not warned
+                ref = collision_reference(name, law_params, [v_in])
+            out[name] = {"e": float(ref.restitution[0]), "P_max": float(ref.P_max[0]),
+                         "contact_time": float(ref.contact_time_estimate[0]), "delta_max": float(ref.delta_max[0]),
+                         "delta_res": float(ref.delta_res[0])}
+        out["thornton"]["e_closed_form"] = float(thornton_closed_form(v_in, pair.v_Y))
+    out["hertz"] = hertz
     mdr = mdr_restitution(v_in / pair.v_Y)
     if mdr is not None and recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius,
                                                       setup.material.sigma_y):
         out["mdr"] = {"e": mdr}
-    hertz_delta = (5.0 * pair.mass_star * v_in ** 2 / (4.0 * pair.hertz_stiffness)) ** 0.4
-    out["hertz"] = {"e": 1.0, "P_max": float(pair.hertz_stiffness * hertz_delta ** 1.5),
-                    "contact_time": float(pair.hertz_contact_time(v_in)), "delta_max": float(hertz_delta),
-                    "delta_res": 0.0}
     return out
 
 
