@@ -294,6 +294,7 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params) -> list[dict]:
                                           "internal_work_error", "contact_work", "solver_residual_work",
                                           "recontacts", "dt", "steps", "newton_iterations", "dofs", "mass",
                                           "wall_time_s")},
+                  "cpu_time_s": fine.get("cpu_time_s"),
                   "plastic_fraction": fine["plastic_work"] / kinetic,
                   "residual_stress_fraction": fine["residual_stress_energy"] / kinetic,
                   "vibration_fraction": fine["vibration_energy"] / kinetic,

@@ -28,7 +28,7 @@ COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_tim
            "contact_radius_max", "plastic_fraction", "residual_stress_fraction", "vibration_fraction",
            "balance_residual_fraction", "e_rel_error_estimate", "P_max_rel_error_estimate",
            "contact_time_rel_error_estimate", "alpha_max_rel_error_estimate", "dent_rel_error_estimate",
-           "dt", "steps", "dofs", "contact_size", "wall_time_s")
+           "dt", "steps", "dofs", "contact_size", "wall_time_s", "cpu_time_s")
 
 
 def flat(record: dict) -> dict:
