@@ -22,7 +22,7 @@ import warnings
 from calib.optional import MissingOptionalPart
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
-COMMAND_MODULES = ("collide", "hertz", "calibrate", "run", "table", "material", "fit_data", "stability", "lammps",
+COMMAND_MODULES = ("collide", "hertz", "calibrate", "impact", "run", "table", "material", "fit_data", "stability", "lammps",
                    "export", "results_readme")
 
 

@@ -187,6 +187,26 @@ def mesh_path(spec: HemisphereMeshSpec, cache_dir=None) -> Path:
 
 def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
     """Mesh the hemisphere section with gmsh and write ``path`` (.msh 4.1), atomically."""
+
+    def quarter_disc(geo):
+        pole = geo.addPoint(0.0, 0.0, 0.0)
+        centre = geo.addPoint(0.0, 1.0, 0.0)
+        equator = geo.addPoint(1.0, 1.0, 0.0)
+        axis = geo.addLine(pole, centre)
+        top = geo.addLine(centre, equator)
+        surface = geo.addCircleArc(equator, centre, pole)
+        loop = geo.addCurveLoop([axis, top, surface])
+        body = geo.addPlaneSurface([loop])
+        return (("axis", 1, [axis]), ("top", 1, [top]), ("surface", 1, [surface]), ("body", 2, [body]))
+
+    return mesh_section(spec, path, "hemisphere", quarter_disc)
+
+
+def mesh_section(spec, path: str | os.PathLike, name: str, geometry) -> Path:
+    """Mesh an r-z section with gmsh at the size ``spec.size_at`` and write ``path`` (.msh 4.1),
+    atomically. ``geometry(geo)`` adds the section in units of R to gmsh's built-in kernel ``geo``
+    and returns its physical groups as (name, dim, tags); ``spec`` has the fields of
+    HemisphereMeshSpec."""
     import gmsh  # here, not at the top: loading gmsh takes ~0.3 s and reading a cached mesh needs none
 
     path = Path(path)
@@ -202,20 +222,12 @@ def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
         gmsh.initialize(readConfigFiles=False)
         try:
             gmsh.option.setNumber("General.Terminal", 0)
-            gmsh.model.add("hemisphere")
+            gmsh.model.add(name)
             geo = gmsh.model.geo
-            pole = geo.addPoint(0.0, 0.0, 0.0)
-            centre = geo.addPoint(0.0, 1.0, 0.0)
-            equator = geo.addPoint(1.0, 1.0, 0.0)
-            axis = geo.addLine(pole, centre)
-            top = geo.addLine(centre, equator)
-            surface = geo.addCircleArc(equator, centre, pole)
-            loop = geo.addCurveLoop([axis, top, surface])
-            body = geo.addPlaneSurface([loop])
+            groups = geometry(geo)
             geo.synchronize()
-            for name, dim, tags in (("axis", 1, [axis]), ("top", 1, [top]),
-                                    ("surface", 1, [surface]), ("body", 2, [body])):
-                gmsh.model.addPhysicalGroup(dim, tags, name=name)
+            for group, dim, tags in groups:
+                gmsh.model.addPhysicalGroup(dim, tags, name=group)
             # The size comes from the callback only (no size from points, boundary or curvature).
             for option in ("Mesh.MeshSizeFromPoints", "Mesh.MeshSizeFromCurvature",
                            "Mesh.MeshSizeExtendFromBoundary"):
@@ -254,6 +266,20 @@ def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
     """
 
     path = Path(path)
+    mesh = read_quadratic_triangles(path)
+    if radius is None:
+        radius = spec.radius if spec is not None else float(mesh.p[1].max())
+    boundaries = identify_boundaries(mesh, radius)
+    return HemisphereMesh(spec=spec, path=path, mesh=mesh, boundaries=boundaries)
+
+
+def read_quadratic_triangles(path: str | os.PathLike):
+    """The 6-node triangles of a gmsh .msh file as a scikit-fem ``MeshTri2`` (counter-clockwise).
+
+    Raises FileNotFoundError for a missing file and ValueError for a file that holds no readable
+    quadratic triangle mesh.
+    """
+    path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"mesh file not found: {path}")
     try:
@@ -272,10 +298,7 @@ def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,
     except (Exception, SystemExit) as exc:  # meshio raises many kinds of errors on a corrupt
         # file, and calls sys.exit(1) on an empty one: never let it end the caller's process
         raise ValueError(f"mesh file {path} is not a readable quadratic triangle mesh: {exc}") from exc
-    if radius is None:
-        radius = spec.radius if spec is not None else float(mesh.p[1].max())
-    boundaries = identify_boundaries(mesh, radius)
-    return HemisphereMesh(spec=spec, path=path, mesh=mesh, boundaries=boundaries)
+    return mesh
 
 
 def identify_boundaries(mesh, radius: float) -> dict:

@@ -1,0 +1,172 @@
+"""``nfdcal impact``: the whole sphere thrown at the rigid flat by the dynamic FE, against the laws.
+
+The sphere (mass (4/3) pi R^3 rho) flies at v_in toward a rigid frictionless flat, hits it,
+rebounds and separates; Newmark's average acceleration with the exact active set
+(calib.fe.newmark, calib.fe.impact). Per velocity: e (rebound speed of the centre of mass over
+v_in), P_max, contact time, alpha_max (approach of the centre of mass), the residual dent and the
+energy balance (kinetic in and out, plastic work, residual-stress and vibration energy, the
+residual), each with its estimated discretisation error (a run on the doubled contact element
+and one at twice the time step), against the quasi-static laws (vz, Thornton, Hertz).
+
+    nfdcal impact                                  # the reference sphere at 0.5, 2, 10, 30 v_Y -> results/impact
+    nfdcal impact --v-in 0.04 --json               # one impact, the record as JSON
+    nfdcal impact --sigma-y 1e11 --v-in 0.04       # never yields: Hertz's limit
+    nfdcal impact --convergence --v-in 0.04        # error against run time: dt and mesh ladders
+
+Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
+OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, impact.png,
+histories.png into --out (calib.studies.impact_output); --convergence writes convergence.*.
+"""
+from __future__ import annotations
+
+import os
+
+from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
+                                   number, print_summary)
+
+SECONDS_PER_STEP_AT_13K_DOFS = 0.2     # an elastoplastic time step (tests/benchmarks/bench_impact.py: 18.5 s, 93 steps)
+
+
+def add_parser(subparsers) -> None:
+    parser = subparsers.add_parser(
+        "impact", help="dynamic FE impact of the whole sphere: e, P_max, contact time, energy balance",
+        description=__doc__.split("\n\n")[0])
+    add_material_arguments(parser)
+    parser.add_argument("--v-in", nargs="+", metavar="V", default=None,
+                        help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
+    parser.add_argument("--steps-per-contact", default=None,
+                        help="time steps per estimated contact time (integer 10 .. 10000, default 100)")
+    parser.add_argument("--contact-size", default=None,
+                        help="element size at the contact [m] (default: the calibration's mesh for the impact)")
+    parser.add_argument("--params", default=None, metavar="FILE",
+                        help="vz parameter file the FE is compared with (default: results/calibration/parameters.json"
+                             " for the reference sphere, else the master table's constants)")
+    parser.add_argument("--no-error-estimate", action="store_true",
+                        help="run the fine impact only (no discretisation error estimate: a third of the work)")
+    parser.add_argument("--convergence", action="store_true",
+                        help="at the first --v-in (default 0.04 m/s): time-step and mesh ladders, error against run time")
+    parser.add_argument("--workers", default=None,
+                        help="processes for the velocities (integer >= 1, default: 2 or the machine's cores if fewer)")
+    parser.add_argument("--out", default=None,
+                        help="output folder (default results/impact, or a folder below it named by what differs from"
+                             " the reference sphere)")
+    parser.add_argument("--no-plots", action="store_true", help="skip the PNG plots")
+    parser.add_argument("--dry-run", action="store_true",
+                        help="print the plan (velocities, meshes, runs, estimated time, output folder) and exit")
+    add_summary_arguments(parser)
+    parser.set_defaults(run=run)
+
+
+def integer(flag: str, text, default: int, low: int, high: int) -> int:
+    """``text`` as an integer in [low, high] (a ValueError naming the flag and the range)."""
+    if text is None:
+        return default
+    value = number(flag, text, low=low, low_inclusive=True, high=high, high_inclusive=True)
+    if value != int(value):
+        raise ValueError(f"{flag} out of range: need an integer in [{low}, {high}], got {text}")
+    return int(value)
+
+
+def options(ns):
+    """(setup, velocities, workers, params file) from the flags, every value checked before any work."""
+    from nfdmodel.validation import check_solid
+
+    from calib.studies import impact
+
+    material, radius = material_from_args(ns)
+    contact_size = number("--contact-size", ns.contact_size, None, low=0.0, unit="m")
+    steps = integer("--steps-per-contact", ns.steps_per_contact, impact.DEFAULT_STEPS_PER_CONTACT, 10, 10000)
+    workers = integer("--workers", ns.workers, min(2, os.cpu_count() or 1), 1, 256)
+    setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps)
+    if ns.v_in is None:
+        velocities = (impact.CONVERGENCE_VELOCITY,) if ns.convergence else impact.study_velocities(setup)
+    else:
+        velocities = tuple(check_solid("v_in", number("--v-in", v, low=0.0, unit="m/s")) for v in ns.v_in)
+    if ns.params is not None and not os.path.isfile(ns.params):
+        raise ValueError(f"--params {ns.params}: no such file")
+    return setup, tuple(sorted(set(velocities))), workers
+
+
+def default_out(ns, setup) -> str:
+    """results/impact for the reference sphere with the default mesh and steps, else a folder below
+    it named by what differs."""
+    from calib.studies import impact
+
+    material = setup.material
+    parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{setup.radius:g}"]
+    if setup.contact_size is not None:
+        parts.append(f"h{setup.contact_size:g}")
+    if setup.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:
+        parts.append(f"steps{setup.steps_per_contact}")
+    return str(impact.DEFAULT_OUT / "_".join(parts)) if parts else str(impact.DEFAULT_OUT)
+
+
+def plan(ns, setup, velocities, variants, out) -> int:
+    """--dry-run: the runs, their meshes and an estimate of the time; nothing is computed."""
+    from pathlib import Path
+
+    from calib.studies import impact, impact_convergence
+    from meshes.sphere import SphereMeshSpec
+
+    impact.check_reach(setup, velocities)
+    tasks = impact.tasks_for(setup, velocities, variants) if not ns.convergence else \
+        impact_convergence.tasks(setup, velocities[0])
+    runs = []
+    for task in tasks:
+        spec = SphereMeshSpec(**task["mesh"])
+        dofs = spec.estimate_dofs()
+        steps = int(1.1 * task["steps_per_contact"]) + 10
+        runs.append({"v_in": task["v_in"], "variant": task["variant"], "contact_size": spec.contact_size,
+                     "dofs_estimate": dofs, "steps_estimate": steps, "finished": (Path(out) / "cases" / f"{task['key']}.json").is_file(),
+                     "estimate_s": steps * SECONDS_PER_STEP_AT_13K_DOFS * dofs / 13000})
+    total = sum(r["estimate_s"] for r in runs if not r["finished"])
+    summary = {"out": out, "runs": runs, "estimated_total_s": total}
+    lines = [f"{len(runs)} FE impact(s) of E = {setup.material.E:.4g} Pa, nu = {setup.material.nu:g}, sigma_Y = "
+             f"{setup.material.sigma_y:.4g} Pa, rho = {setup.material.rho:g} kg/m^3, R = {setup.radius:g} m; outputs: {out}",
+             f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
+    lines += [f"{r['v_in']:>11.4g} {r['variant']:<16} {r['contact_size']:>11.3g} ~{r['dofs_estimate']:>7} "
+              f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
+    lines.append(f"estimated total: {total:.0f} s on one process ({SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
+                 f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
+    print_summary(ns, summary, lines)
+    return 0
+
+
+def run(ns) -> int:
+    from pathlib import Path
+
+    from calib import output
+    from calib.commands.progress import progress_reporter
+    from calib.studies import impact, impact_convergence
+
+    setup, velocities, workers = options(ns)
+    variants = ("fine",) if ns.no_error_estimate else impact.VARIANTS
+    out = ns.out or default_out(ns, setup)
+    if ns.dry_run:
+        return plan(ns, setup, velocities, variants, out)
+    with output.one_writer(out), progress_reporter(ns.quiet) as progress:
+        if ns.convergence:
+            summary = impact_convergence.run(setup, velocities[0], Path(out), workers=workers, progress=progress,
+                                             plots=not ns.no_plots)
+            print_summary(ns, summary, impact_convergence.lines(summary))
+            return 0
+        records = impact.study(setup, velocities, Path(out), workers=workers, progress=progress, variants=variants,
+                               params_file=ns.params, plots=not ns.no_plots)
+    lines = [f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>7} {'vz e':>7} {'P_max [N]':>10} {'vz P_max':>9} "
+             f"{'t_c [ms]':>8} {'vz t_c':>7} {'dent [m]':>9} {'vibr.':>8} {'balance':>9} {'err e':>7}"]
+    for r in records:
+        vz = r["models"].get("vz", r["models"]["hertz"])
+        error = r["e_rel_error_estimate"]
+        lines.append(f"{r['v_in']:>10.4g} {r['v_in_over_v_Y']:>7.3g} {r['e']:>7.4f} {vz['e']:>7.4f} {r['P_max']:>10.4g} "
+                     f"{vz['P_max']:>9.4g} {r['contact_time'] * 1e3:>8.4f} {vz['contact_time'] * 1e3:>7.4f} "
+                     f"{r['dent']:>9.3g} {r['vibration_fraction']:>8.2g} {r['balance_residual_fraction']:>9.2g} "
+                     + (f"{error:>7.2%}" if error is not None else f"{'-':>7}"))
+    lines.append("vibr., balance: vibration energy and the energy balance's residual over the kinetic energy in;"
+                 " err e: estimated discretisation error of e")
+    worst = impact.largest_vibration(records)
+    lines.append(f"largest vibration energy left: {worst['largest_fraction']:.2g} of the kinetic energy in, at "
+                 f"{worst['v_in_over_v_Y']:.3g} v_Y (returned to the rebound it would change e by "
+                 f"{worst['e_change_if_returned']:.2g})")
+    lines.append(f"results written to {out}")
+    print_summary(ns, records, lines)
+    return 0

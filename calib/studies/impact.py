@@ -1,0 +1,367 @@
+"""Impacts of the whole sphere by the dynamic FE, against the quasi-static laws (``nfdcal impact``).
+
+Each velocity runs three FE impacts (calib.fe.impact.run_impact) through the one sweep runner
+(calib.sweep.runner: parallel, resumable, one file per finished impact in OUT/cases/):
+
+  fine          the mesh of the impact (below) and dt = t_c / steps_per_contact: what ships;
+  coarse mesh   the contact element doubled (the refined zone kept, as calib.fit.recipe.coarse_spec);
+  coarse dt     dt doubled.
+
+Discretisation error, shipped like the calibration's (calib/README.md, Mesh convergence): the
+fine values ship, not extrapolated, with
+
+    Q_rel_error_estimate = |Q_2h / Q_h - 1| + |Q_2dt / Q_dt - 1|
+
+the change between the meshes and between the time steps, each the coarser run's error for a
+first-order convergence and a bound of the finer's. First order in dt is what the time-step
+ladder measures (results/impact/convergence.json: observed orders 0.7-0.9 for e, the contact time,
+alpha_max and the dent at 24 v_Y), below the trapezoidal rule's second order on smooth motion:
+the contact's onset and release at each node fall inside steps. The energy fractions ship as they
+are (their balance residual says how well they close).
+
+Mesh: the hemisphere recipe's mesh for the impact's largest contact radius (calib.fit.recipe:
+the reference mesh family for the reference sphere while it covers the contact), estimated from
+the vz law's P_max at v_in with the master table's constants (calib.fit.impact_window), the same
+sizes on the whole sphere (meshes.sphere). The FE vouches for P <= 1000 P_Y and a contact radius
+<= 0.3 R (calib.fit.recipe): a faster impact is refused before meshing, naming the largest v_in.
+
+The quasi-static laws at each v_in (exact by energy balance, nfdmodel.collision_reference): vz
+with the constants of a parameter file (the reference calibration, results/calibration/
+parameters.json, for the reference sphere when it exists), else the master table's (the paper's
+outside the table); Thornton's law and its closed-form restitution (paper eq. 1.11); Hertz's
+P_max and contact time 2.868 (m^2 / (R E*^2 v_in))^(1/5). And, where results/lammps/restitution.csv
+holds it, the restitution of LAMMPS' ``granular mdr`` normal model (two aluminium spheres head-on,
+tests/lammps_pour.py) at the same v_in / v_Y, interpolated linearly in log(v_in / v_Y) between its
+velocities: e depends on v_in / v_Y alone for a given nu and E*/sigma_Y (nfdmodel/README.md, The
+reference case and the dimensionless constants), so the pair's e is the sphere-on-flat one's.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+import warnings
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from calib import output
+from calib.fe.elastic import ElasticMaterial
+from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, ImpactNotConverged, run_impact
+from calib.fe.newmark import ImpactSolver
+from calib.fe.von_mises import VonMisesMaterial
+from calib.fit import impact_window, recipe
+from calib.sweep.runner import run_sweep
+from meshes.keys import stable_key
+from meshes.sphere import SphereMeshSpec, sphere_mesh
+from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference, load_parameters,
+                      reference_case)
+
+DEFAULT_OUT = output.RESULTS / "impact"
+CALIBRATED_PARAMETERS = output.RESULTS / "calibration" / "parameters.json"
+LAMMPS_RESTITUTION = output.RESULTS / "lammps" / "restitution.csv"   # LAMMPS' granular mdr, e(v_in / v_Y)
+STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
+CONVERGENCE_VELOCITY = 0.04      # m/s: the reference sphere at 24 v_Y, the benchmark's impact
+VERSION = 2                       # bump when the FE or the recipe changes: invalidates finished cases
+VARIANTS = ("fine", "coarse mesh", "coarse dt")
+COMPARED = ("e", "P_max", "contact_time", "alpha_max", "dent")
+HISTORY_POINTS = 400              # at most this many history samples per case file
+
+
+@dataclasses.dataclass(frozen=True)
+class ImpactSetup:
+    """What an impact run needs besides v_in: the sphere's material (calib's nfdmodel.Material; an
+    elastic run ignores sigma_y), R [m], elastic (no yield: Hertz's limit), the mesh level or
+    contact size [m], steps per contact."""
+
+    material: Material
+    radius: float
+    elastic: bool = False
+    level: str | None = None
+    contact_size: float | None = None
+    steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT
+
+    @property
+    def pair(self) -> ContactPair:
+        return ContactPair.sphere_flat(self.material, self.radius)
+
+
+# ---------------------------------------------------------------- before any mesh
+def estimated_force(setup: ImpactSetup, v_in: float) -> float:
+    """P_max [N] the impact at v_in [m/s] is expected to reach: Hertz's for an elastic run, else the
+    vz law's with the master table's constants (calib.fit.impact_window)."""
+    pair = setup.pair
+    hertz = float(pair.hertz_stiffness * (5.0 * pair.mass_star * v_in ** 2 / (4.0 * pair.hertz_stiffness)) ** 0.6)
+    if setup.elastic or v_in <= pair.v_Y:
+        return hertz
+    params, _ = impact_window.estimating_constants(setup.material, setup.radius)
+    try:
+        return impact_window.impact_force(params, v_in)
+    except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
+        return math.inf
+
+
+def largest_load(setup: ImpactSetup) -> float:
+    """The largest P_max [N] the FE vouches for: 1000 P_Y (unless elastic) and a contact radius of at
+    most 0.3 R (calib.fit.recipe); Hertz's load at that radius when it is reached below first yield."""
+    pair = setup.pair
+    limit = recipe.CONTACT_RADIUS_LIMIT * pair.R_star
+    if setup.elastic or recipe.estimated_contact_radius(pair, pair.P_Y) >= limit:
+        hertz = 4.0 * pair.E_star * limit ** 3 / (3.0 * pair.R_star)
+        return hertz if setup.elastic else min(hertz, pair.P_Y)
+    return min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+
+
+def check_reach(setup: ImpactSetup, velocities) -> None:
+    """ValueError before any FE when an impact goes beyond what the FE vouches for (``largest_load``),
+    naming the largest v_in it can."""
+    pair = setup.pair
+    reach = largest_load(setup)
+    for v in velocities:
+        if estimated_force(setup, v) > reach:
+            if setup.elastic or reach <= pair.P_Y:              # Hertz: (1/2) m v^2 = (2/5) P alpha
+                v_reach = math.sqrt(0.8 * reach * float(pair.hertz_approach(reach)) / pair.mass_star)
+            else:
+                v_reach = impact_window.reach_velocity(impact_window.estimating_constants(setup.material,
+                                                                                          setup.radius)[0], reach)
+            raise ValueError(f"--v-in out of range: the impact at {v:g} m/s goes beyond what this FE vouches for "
+                             f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= "
+                             f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {v_reach:.4g} m/s "
+                             f"({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
+
+
+def impact_mesh(setup: ImpactSetup, v_in: float) -> SphereMeshSpec:
+    """The sphere mesh of the impact at v_in [m/s] (module docstring)."""
+    pair = setup.pair
+    a_max = recipe.estimated_contact_radius(pair, estimated_force(setup, v_in))
+    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius)
+    hemisphere = recipe.mesh_for(setup.radius, a_max, reference=reference, level=setup.level,
+                                 contact_size=setup.contact_size)
+    return SphereMeshSpec.from_hemisphere(hemisphere)
+
+
+def coarse_mesh(spec: SphereMeshSpec) -> SphereMeshSpec:
+    """The contact element doubled, the refined zone at least two elements wide and deep."""
+    h = 2.0 * spec.contact_size
+    return dataclasses.replace(spec, contact_size=h, refined_radius=max(spec.refined_radius, 2 * h),
+                               refined_depth=max(spec.refined_depth, 2 * h), far_size=max(spec.far_size, h))
+
+
+def tasks_for(setup: ImpactSetup, velocities, variants=VARIANTS) -> list[dict]:
+    """The sweep tasks: one per velocity and variant (module docstring), keyed by what decides them."""
+    tasks = []
+    for v in velocities:
+        fine = impact_mesh(setup, v)
+        for variant in variants:
+            mesh = coarse_mesh(fine) if variant == "coarse mesh" else fine
+            steps = setup.steps_per_contact // 2 if variant == "coarse dt" else setup.steps_per_contact
+            tasks.append(task_of(setup, v, variant, mesh, steps))
+    return tasks
+
+
+def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec, steps_per_contact: int) -> dict:
+    """One sweep task; its key hashes what decides the run (not the variant's label, so the
+    study and the convergence ladders share a run they both need)."""
+    material = setup.material
+    task = {"v_in": float(v_in), "E": material.E, "nu": material.nu,
+            "sigma_y": None if setup.elastic else material.sigma_y, "rho": material.rho, "R": setup.radius,
+            "mesh": dataclasses.asdict(mesh), "steps_per_contact": int(steps_per_contact)}
+    return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
+
+
+# ---------------------------------------------------------------- one impact (a sweep worker)
+def run_task(task: dict) -> dict:
+    """One FE impact as a row (never raises: a failure is a row with status "failed")."""
+    from threadpoolctl import threadpool_limits    # one BLAS thread per FE process (calib/README.md)
+
+    started = time.perf_counter()
+    base = {"key": task["key"], "v_in": task["v_in"], "variant": task["variant"]}
+    try:
+        with threadpool_limits(1):
+            spec = SphereMeshSpec(**task["mesh"])
+            mesh = sphere_mesh(spec)
+            material = (ElasticMaterial(task["E"], task["nu"]) if task["sigma_y"] is None
+                        else VonMisesMaterial(task["E"], task["nu"], task["sigma_y"]))
+            solver = ImpactSolver(mesh, material, task["rho"])
+            result = run_impact(solver, task["v_in"], steps_per_contact=task["steps_per_contact"])
+    except (ImpactNotConverged, ValueError, np.linalg.LinAlgError) as exc:
+        return {**base, "status": "failed", "error": str(exc), "wall_time_s": time.perf_counter() - started}
+    history = result.history
+    every = max(1, math.ceil(history["time"].size / HISTORY_POINTS))
+    return {**base, **result.record(), "status": "ok", "error": "", "mesh": spec.describe(),
+            "git_commit": output.git_commit(), "history": {k: v[::every] for k, v in history.items()}}
+
+
+def run_impacts(setup: ImpactSetup, velocities, cases: Path, *, workers: int = 1,
+                progress: Callable[[str], None] | None = None, variants=VARIANTS) -> tuple[list[dict], dict]:
+    """Every task of ``tasks_for`` through the sweep runner (finished cases in ``cases``); returns
+    (rows, counts {computed, reused}). Raises ValueError naming the first impact that failed."""
+    check_reach(setup, velocities)
+    tasks = tasks_for(setup, velocities, variants)
+    for spec in {task["mesh"]["contact_size"]: task["mesh"] for task in tasks}.values():
+        sphere_mesh(SphereMeshSpec(**spec))           # built here, one at a time (gmsh is one per process)
+    describe = (lambda row: f"v_in = {row['v_in']:g} m/s ({row['variant']}): "
+                + (f"e = {row['e']:.4f}, {row['wall_time_s']:.1f} s" if row["status"] == "ok" else row["error"]))
+    swept = run_sweep(tasks, run_task, cases, keep=lambda row: row.get("status") == "ok", workers=workers,
+                      progress=progress, describe=describe)
+    rows = [{**row, "variant": task["variant"]} for task, row in zip(tasks, swept.rows)]   # a shared run's label
+    failed = [row for row in rows if row["status"] != "ok"]
+    if failed:
+        raise ValueError(f"the FE impact at v_in = {failed[0]['v_in']:g} m/s ({failed[0]['variant']}) failed: "
+                         f"{failed[0]['error']}")
+    return rows, {"computed": swept.computed, "reused": swept.reused}
+
+
+# ---------------------------------------------------------------- the comparison
+def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
+    """(vz parameters, their source): the file given, the reference calibration for the reference
+    sphere when it exists, else the master table's (the paper's outside it)."""
+    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y)
+    if params_file is None and reference and CALIBRATED_PARAMETERS.is_file():
+        params_file = CALIBRATED_PARAMETERS
+    if params_file is not None:
+        return load_parameters(params_file), output.display_path(params_file)
+    params, source = impact_window.estimating_constants(setup.material, setup.radius)
+    return params, source
+
+
+def law_predictions(setup: ImpactSetup, v_in: float, params) -> dict:
+    """The quasi-static laws' impact at v_in [m/s] (module docstring): per law e, P_max [N],
+    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e. Below first yield
+    (v_in <= v_Y) every law is Hertz's, and an elastic run is compared with Hertz alone."""
+    from calib.report.collision import thornton_closed_form
+
+    pair = setup.pair
+    hertz_delta = (5.0 * pair.mass_star * v_in ** 2 / (4.0 * pair.hertz_stiffness)) ** 0.4
+    hertz = {"e": 1.0, "P_max": float(pair.hertz_stiffness * hertz_delta ** 1.5),
+             "contact_time": float(pair.hertz_contact_time(v_in)), "delta_max": float(hertz_delta), "delta_res": 0.0}
+    if setup.elastic:
+        return {"hertz": hertz}
+    out = {"vz": dict(hertz), "thornton": {**hertz, "e_closed_form": 1.0}}
+    if v_in > pair.v_Y:
+        for name, law_params in (("vz", params), ("thornton", pair)):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RangeWarning)        # the window is reported, not warned
+                ref = collision_reference(name, law_params, [v_in])
+            out[name] = {"e": float(ref.restitution[0]), "P_max": float(ref.P_max[0]),
+                         "contact_time": float(ref.contact_time_estimate[0]), "delta_max": float(ref.delta_max[0]),
+                         "delta_res": float(ref.delta_res[0])}
+        out["thornton"]["e_closed_form"] = float(thornton_closed_form(v_in, pair.v_Y))
+    out["hertz"] = hertz
+    mdr = mdr_restitution(v_in / pair.v_Y)
+    if mdr is not None and recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius,
+                                                      setup.material.sigma_y):
+        out["mdr"] = {"e": mdr}
+    return out
+
+
+def mdr_restitution(v_over_v_Y: float) -> float | None:
+    """LAMMPS' mdr restitution at v_in / v_Y from results/lammps/restitution.csv (module docstring),
+    None outside its velocities or without the file."""
+    if not LAMMPS_RESTITUTION.is_file():
+        return None
+    import csv
+
+    with LAMMPS_RESTITUTION.open(encoding="utf-8") as handle:
+        rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
+    try:
+        x = np.log([float(row["v_in_over_v_Y"]) for row in rows])
+        e = np.array([float(row["e_mdr_lammps"]) for row in rows])
+    except (KeyError, ValueError):
+        return None
+    if not x.size or not x[0] <= math.log(v_over_v_Y) <= x[-1]:
+        return None
+    return float(np.interp(math.log(v_over_v_Y), x, e))
+
+
+def impact_records(setup: ImpactSetup, rows: list[dict], params) -> list[dict]:
+    """One record per velocity: the fine run's values, the error estimates from the other
+    variants (module docstring), the energy fractions and the laws' predictions."""
+    pair = setup.pair
+    by_velocity: dict[float, dict] = {}
+    for row in rows:
+        by_velocity.setdefault(row["v_in"], {})[row["variant"]] = row
+    records = []
+    for v_in in sorted(by_velocity):
+        runs = by_velocity[v_in]
+        fine = runs["fine"]
+        kinetic = fine["kinetic_in"]
+        record = {"v_in": v_in, "v_in_over_v_Y": v_in / pair.v_Y, "P_max_over_P_Y": fine["P_max"] / pair.P_Y,
+                  **{k: fine[k] for k in ("e", "v_out", "P_max", "time_P_max", "contact_time", "alpha_max", "dent",
+                                          "contact_radius_max", "kinetic_in", "kinetic_out", "plastic_work",
+                                          "residual_stress_energy", "vibration_energy", "balance_residual",
+                                          "internal_work_error", "contact_work", "solver_residual_work",
+                                          "recontacts", "dt", "steps", "newton_iterations", "dofs", "mass",
+                                          "wall_time_s")},
+                  "cpu_time_s": fine.get("cpu_time_s"),
+                  "plastic_fraction": fine["plastic_work"] / kinetic,
+                  "residual_stress_fraction": fine["residual_stress_energy"] / kinetic,
+                  "vibration_fraction": fine["vibration_energy"] / kinetic,
+                  "balance_residual_fraction": fine["balance_residual"] / kinetic,
+                  "contact_size": fine["mesh"]["contact_size"], "mesh_key": fine["mesh"]["key"]}
+        for quantity in COMPARED:
+            value = fine[quantity]
+            mesh_change = _relative_change(runs.get("coarse mesh", {}).get(quantity), value)
+            dt_change = _relative_change(runs.get("coarse dt", {}).get(quantity), value)
+            record[f"{quantity}_mesh_change"] = mesh_change
+            record[f"{quantity}_dt_change"] = dt_change
+            record[f"{quantity}_rel_error_estimate"] = (
+                None if mesh_change is None or dt_change is None else abs(mesh_change) + abs(dt_change))
+        record["wall_time_s_all_runs"] = sum(run["wall_time_s"] for run in runs.values())
+        record["models"] = law_predictions(setup, v_in, params)
+        records.append(record)
+    return records
+
+
+def _relative_change(other, value):
+    if other is None:
+        return None
+    if value == 0.0:
+        return 0.0 if other == 0.0 else None
+    return float(other / value - 1.0)
+
+
+def largest_vibration(records: list[dict]) -> dict:
+    """Where the sphere keeps the most vibration energy after it separates (the measure of the
+    quasi-static assumption: the laws have no vibration): its fraction of the kinetic energy in, at
+    which v_in / v_Y, and the fraction the restitution's square loses to it there."""
+    worst = max(records, key=lambda r: r["vibration_fraction"])
+    return {"largest_fraction": worst["vibration_fraction"], "v_in_over_v_Y": worst["v_in_over_v_Y"],
+            "e_change_if_returned": math.sqrt(worst["e"] ** 2 + worst["vibration_fraction"]) / worst["e"] - 1.0}
+
+
+def reference_setup(**options) -> ImpactSetup:
+    """The paper's aluminium sphere (nfdmodel.reference_case)."""
+    return ImpactSetup(material=Material.reference(), radius=reference_case.R, **options)
+
+
+def study_velocities(setup: ImpactSetup) -> tuple[float, ...]:
+    """The study's velocities [m/s]: STUDY_VELOCITIES_OVER_V_Y x v_Y."""
+    return tuple(k * setup.pair.v_Y for k in STUDY_VELOCITIES_OVER_V_Y)
+
+
+def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progress: Callable[[str], None] | None = None,
+          variants=VARIANTS, params_file=None, plots: bool = True) -> list[dict]:
+    """Run the impacts (finished ones reused from OUT/cases/) and write the study's files into
+    ``out`` as one set (calib.studies.impact_output); returns the per-velocity records."""
+    from calib.studies import impact_output
+
+    started = time.perf_counter()
+    params, source = law_parameters(setup, params_file)      # a bad file is refused before any FE
+    out = Path(out)
+    rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
+    records = impact_records(setup, rows, params)
+    pair = setup.pair
+    fine = [row for row in rows if row["variant"] == "fine"]
+    summary = {"case": {"E": setup.material.E, "nu": setup.material.nu,
+                        "sigma_y": None if setup.elastic else setup.material.sigma_y, "rho": setup.material.rho,
+                        "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
+                        "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact},
+               "vz_source": source, "variants": list(variants),
+               "vibration": largest_vibration(records),
+               "stamp": output.stamp(time.perf_counter() - started, mesh=fine[-1]["mesh"], **counts,
+                                     fe_wall_time_s=sum(row["wall_time_s"] for row in rows))}
+    with output.all_or_nothing(out, name="impact") as staging:
+        impact_output.write(staging, records, rows, summary, plots)
+    return records

@@ -1,0 +1,99 @@
+"""The files of ``nfdcal impact``: impact.csv, impact.json (stamped), impact.png, histories.png.
+
+impact.csv   one row per velocity: v_in, v_in / v_Y, the FE's e, P_max [N], contact_time [s],
+             alpha_max [m] (approach of the centre of mass), dent [m], the energy fractions of the
+             kinetic energy in (plastic work, residual-stress energy, vibration energy, balance
+             residual), each compared quantity's estimated relative discretisation error, and the
+             quasi-static laws' e, P_max, contact time (vz, Thornton and its closed form, Hertz) and
+             LAMMPS' mdr restitution where known
+impact.json  the same records with the case, the vz constants' source and the provenance stamp
+             (calib.output.stamp)
+impact.png   e, P_max / P_Y and contact time against v_in / v_Y: the FE (error bars: the estimate)
+             against the laws
+histories.png  the FE's contact force and approach against time, one curve per velocity
+Definitions: calib.fe.impact; the study: calib.studies.impact.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from calib import output
+
+LAW_COLUMNS = (("vz", "e"), ("vz", "P_max"), ("vz", "contact_time"), ("vz", "delta_max"), ("vz", "delta_res"),
+               ("thornton", "e"), ("thornton", "e_closed_form"), ("thornton", "P_max"), ("thornton", "contact_time"),
+               ("hertz", "P_max"), ("hertz", "contact_time"), ("mdr", "e"))
+COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_time", "alpha_max", "dent",
+           "contact_radius_max", "plastic_fraction", "residual_stress_fraction", "vibration_fraction",
+           "balance_residual_fraction", "e_rel_error_estimate", "P_max_rel_error_estimate",
+           "contact_time_rel_error_estimate", "alpha_max_rel_error_estimate", "dent_rel_error_estimate",
+           "dt", "steps", "dofs", "contact_size", "wall_time_s", "cpu_time_s")
+
+
+def flat(record: dict) -> dict:
+    """A record with the laws' predictions as columns (``vz_e``, ``thornton_P_max``, ...)."""
+    models = record["models"]
+    return {**{k: record[k] for k in COLUMNS},
+            **{f"{law}_{key}": models[law].get(key, "") for law, key in LAW_COLUMNS if law in models}}
+
+
+def write(out: Path, records: list[dict], rows: list[dict], summary: dict, plots: bool) -> list[Path]:
+    """Write the files into ``out`` (a staging folder: the caller swaps the set in); their paths."""
+    out = Path(out)
+    table = [flat(r) for r in records]
+    columns = list(COLUMNS) + [f"{law}_{key}" for law, key in LAW_COLUMNS
+                               if any(f"{law}_{key}" in row for row in table)]
+    written = [output.write_csv(out / "impact.csv", table, columns, comment=output.stamp_comment(summary["stamp"])),
+               output.write_json(out / "impact.json", {**summary, "impacts": records})]
+    if plots:
+        written += [plot_comparison(out / "impact.png", records, summary), plot_histories(out / "histories.png", rows)]
+    return [Path(p) for p in written]
+
+
+def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
+    plt = output.pyplot()
+    x = np.array([r["v_in_over_v_Y"] for r in records])
+    P_Y = summary["case"]["P_Y"]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4.4))
+    panels = (("e", "restitution e", 1.0), ("P_max", "P_max / P_Y", 1.0 / P_Y), ("contact_time", "contact time [ms]", 1e3))
+    styles = {"vz": ("C0", "-", f"vz law ({summary['vz_source']})"), "thornton": ("C2", "--", "Thornton"),
+              "hertz": ("0.5", ":", "Hertz"), "mdr": ("C4", "-.", "LAMMPS granular mdr")}
+    for ax, (key, label, scale) in zip(axes, panels):
+        error = np.array([abs(r[f"{key}_rel_error_estimate"] or 0.0) * r[key] for r in records]) * scale
+        ax.errorbar(x, np.array([r[key] for r in records]) * scale, yerr=error, fmt="o", color="C3", capsize=3,
+                    label="dynamic FE (whole sphere)")
+        for law, (colour, line, name) in styles.items():
+            known = [(xi, r["models"][law][key] * scale) for xi, r in zip(x, records) if key in r["models"].get(law, {})]
+            if known:
+                ax.plot(*zip(*known), line, color=colour, marker=".", label=name)
+        if key == "e" and all("thornton" in r["models"] for r in records):
+            ax.plot(x, [r["models"]["thornton"]["e_closed_form"] for r in records], "x", color="C2",
+                    label="Thornton closed form")
+        ax.set_xscale("log")
+        if key == "P_max":
+            ax.set_yscale("log")
+        ax.set_xlabel("v_in / v_Y")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    fig.suptitle("Impact of the whole sphere on a rigid flat: dynamic FE against the quasi-static laws")
+    return output.save_figure(fig, path)
+
+
+def plot_histories(path: Path, rows: list[dict]) -> Path:
+    plt = output.pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.4))
+    fine = sorted((r for r in rows if r["variant"] == "fine"), key=lambda r: r["v_in"])
+    for k, row in enumerate(fine):
+        history = row["history"]
+        t = np.asarray(history["time"]) / row["contact_time"]
+        label = f"v_in = {row['v_in']:.3g} m/s"
+        axes[0].plot(t, np.asarray(history["P"]) / row["P_max"], color=f"C{k}", label=label)
+        axes[1].plot(t, np.asarray(history["alpha"]) / row["alpha_max"], color=f"C{k}", label=label)
+    for ax, label in zip(axes, ("P / P_max", "approach of the centre of mass / its largest")):
+        ax.set_xlabel("t / contact time")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=8)
+    return output.save_figure(fig, path)
