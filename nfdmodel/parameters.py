@@ -109,6 +109,10 @@ class VZParams:
         end of the law's domain (a contact law needs a << R). a_ep increases with P and is below
         R* at P_Y (a_Y << R*) and above it at P_Y + R*/Ca, so the root is bracketed."""
         pair = self.pair
+        if pair.a_Y >= pair.R_star:     # the bracket's lower end is not below R*: the domain is empty
+            raise ValueError(f"sigma_y out of range: at first yield the contact radius a_Y = {pair.a_Y:.4g} m already "
+                             f"reaches R* = {pair.R_star:.4g} m (E/sigma_y = {pair.E_star / pair.sigma_y:.3g} is far below "
+                             f"the elastic-plastic solids a contact law describes): the vz law has no domain")
         return float(brentq(lambda P: float(self.contact_radius_at(P)) - pair.R_star, pair.P_Y,
                             pair.P_Y + pair.R_star / self.Ca, xtol=1e-12 * pair.P_Y, rtol=1e-12))
 
