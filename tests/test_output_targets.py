@@ -135,7 +135,12 @@ def calibration_folders(tmp_path, monkeypatch) -> list[Path]:
     import calib.fit.calibration as calibration
     import calib.report.calibration as report
 
-    monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: "result")
+    from types import SimpleNamespace
+
+    from nfdmodel import CalibrationWindow
+
+    result = SimpleNamespace(shipped_params=SimpleNamespace(window=CalibrationWindow(1.0, 41.2, None, "stub")))
+    monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: result)
     monkeypatch.setattr(calibration, "summary", lambda result: {
         "Ca": 1.0, "Kc": 1.0, "Ca_hat": 1.0, "Kc_hat": 1.0, "P_Y": 1.0, "P_Y_fe": 1.0, "wall_time_s": 0.0,
         "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
