@@ -125,7 +125,7 @@ def small_window():
 def test_a_small_window_is_right_between_its_paths(small_window):
     """The shipped vz-table law against FE paths to the midpoints between its unloading peaks:
     force within 5 % and e (quasi-static and the law's collision at the v_in reaching the same
-    P_max) within 2 % (issue 26's target), on the calibration's own mesh."""
+    P_max) within 2 % (the study's target), on the calibration's own mesh."""
     result, checks = small_window
     law = result.shipped_params
     assert isinstance(law, VZTableParams) and len(result.spec.plan.peaks) >= 4

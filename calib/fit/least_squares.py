@@ -170,7 +170,7 @@ def fit_force_law(predict_force, histories: Sequence[tuple[np.ndarray, np.ndarra
 def relative_force_residuals(predict_force, histories, Ca: float, Kc: float,
                              force_floor: float) -> np.ndarray:
     """(P_law - P_FE) / max(P_FE, force_floor) at every point of every history (the metric
-    ``fit_force_law`` minimises; also used to score any other (Ca, Kc))."""
+    ``fit_force_law`` minimises; it scores any given (Ca, Kc) too)."""
     parts = []
     for approach, force in histories:
         predicted = predict_force(np.asarray(approach, float), Ca, Kc)

@@ -49,7 +49,7 @@ CONTACT_RADIUS_LIMIT = limits.FE_MAX_CONTACT_RADIUS_OVER_R     # nfd_limits.h
 # (paper eq. 2.5) is an extrapolation: fit such runs knowingly. The runtime law itself takes any
 # P / P_Y (nfdmodel).
 MAX_LOAD_OVER_YIELD = limits.FE_MAX_LOAD_OVER_YIELD            # nfd_limits.h
-# Ca_hat used to ESTIMATE the plastic radius before the calibration (the reference's is 0.0258,
+# Ca_hat that estimates the plastic radius for sizing a calibration's mesh (the reference's is 0.0258,
 # the master table's span 0.024-0.028).
 CA_HAT_ESTIMATE = 0.025
 

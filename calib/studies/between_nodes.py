@@ -27,7 +27,7 @@ calib.studies.wide_window:
     e error     = e_law / e_FE - 1     (the quasi-static cycle; e_collision: the law's impact at
                                         the v_in reaching the same P_max)
 
-Target inside each law's declared window: force error <= 5 %, |e error| <= 2 % (issue 26).
+Target inside each law's declared window: force error <= 5 %, |e error| <= 2 %.
 The calibrations' wall times (the FE cost of log against thirds) are in the JSON.
 
     python -m calib.studies.between_nodes [--out results/calibration] [--workers 1]

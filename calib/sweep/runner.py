@@ -152,7 +152,7 @@ def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path,
     ``function(task) -> row`` never raises (a failure is a row that ``keep`` rejects: reported,
     not stored, retried on the next run). ``keep(row)``: whether a row is a finished result worth
     storing and reusing. ``mesh_of(task)``: the mesh spec a task needs (built beforehand).
-    ``prune``: delete stored results of tasks no longer in the sweep. ``progress`` receives one
+    ``prune``: delete stored results of tasks that are not in this sweep. ``progress`` receives one
     line per finished task (``describe(row)`` appended).
     """
     if scheduler:  # before any work: a missing Dask is one line, not a failure after meshing

@@ -14,7 +14,7 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
      contacts), so it times the per-pair and per-atom overhead.
    - With --friction, the pile again with friction and rolling resistance on both sides
      (FRICTION: tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1 after each law's constants;
-     granular keeps its e = 0.8 damping): the issue's target there is nfd/vz <= 1.3x granular.
+     granular keeps its e = 0.8 damping): the target there is nfd/vz <= 1.3x granular.
    - The dense pile (--pile-spheres, default 3000): lammps_pour.settle_input settles it once
      (granular, e = 0.1: a fall, then a drag quench; 95000 steps, about 70 s on 1 core) and
      writes it with write_data; from that same pile each law runs --pile-steps steps of 1e-7 s,
