@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
-from nfdmodel import reference_case
+from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
 
@@ -179,7 +179,8 @@ def run(ns) -> int:
         lines.append(f"vz-table law: {len(table['P_over_P_Y'])} nodes to {table['P_over_P_Y'][-1]:.4g} P_Y, a_p/a_Y "
                      f"{table['a_p_over_a_Y'][-1]:.4g} and C_R {table['C_R'][-1]:.4g} at the last"
                      + ("; shipped" if ship == "table" else f"; shipped: the {ship} fit of the two constants"))
-    window = result.shipped_params.window           # the shipped law's: the table's starts at its lowest path
+    shipped = summary["table"] if ship == "table" and summary.get("table") else summary   # the table's window
+    window = CalibrationWindow.from_record(shipped["window"])                          # starts at its lowest path
     lines.append(f"calibrated window: {window.describe()}"
                  + (f"; covers impacts up to v_in = {v_max:g} m/s ({len(rounds)} FE calibration(s): "
                     f"it reaches {rounds[-1]['P_max_of_v_max_over_P_Y']:.4g} P_Y)" if rounds else ""))

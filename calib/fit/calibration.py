@@ -411,7 +411,7 @@ def summary(result: CalibrationResult) -> dict:
         "window": params.window.record(),
         "table": (None if result.table_params is None else
                   {"P_over_P_Y": list(result.table_params.x), "a_p_over_a_Y": list(result.table_params.f),
-                   "C_R": list(result.table_params.g)}),
+                   "C_R": list(result.table_params.g), "window": result.table_params.window.record()}),
         "shipped_fit": result.shipped,
         "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
                        "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,

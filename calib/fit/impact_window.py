@@ -39,7 +39,6 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-
 from scipy.optimize import brentq
 
 from calib.fe.loadpath import LoadPathPlan

@@ -33,13 +33,12 @@ then the trapezoid rule on the FE's loading points):
 So the law's loading curve is the FE's and its restitution the FE's at every path. g - 1 = k f
 between the peaks too, the paper's proportion taken piecewise, would make the loading curve
 decrease with f where C_R grows fast against a_p (below ~10 P_Y: f and g then fit the curve as
-steps, e several per cent off between the paths); C_R interpolated in the load does not.
-The runtime interpolates the same nodes monotonically (PCHIP). The
-contact radius the law implies, a_Y (x^(1/3) + f), is the one consistent with that curve and
-that energy, not the FE's measured one (whose tables, in the paper's definition
-C_R = a_ep^2 / (R* alpha), make small cycles near first yield create energy and miss the
-restitution by several per cent over wide windows: results/calibration/wide_window).
-VZTableParams checks its own admissibility.
+steps, e several per cent off between the paths); C_R interpolated in the load does not. The
+runtime interpolates the same nodes monotonically (PCHIP). The contact radius the law implies,
+a_Y (x^(1/3) + f), is the one consistent with that curve and that energy, not the FE's measured
+one (whose tables, in the paper's definition C_R = a_ep^2 / (R* alpha), make small cycles near
+first yield create energy and miss the restitution by several per cent over wide windows:
+results/calibration/wide_window). VZTableParams checks its own admissibility.
 
 The table's window starts at the lowest unloading peak: below it C_R follows a_p, not a
 measured C_R (the laws' e there: results/calibration/between_nodes), so the paths must
