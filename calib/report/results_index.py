@@ -1,7 +1,7 @@
 """results/README.md: an index of a results folder, generated from its own summary files.
 
 ``nfdcal results-readme [--out results] [--check]`` reads the summaries the commands write
-(``calibration/calibration.json``, ``parameters.json``, ``mesh_ladder*.csv``, ``wide_window.json``,
+(``calibration/calibration.json``, ``parameters.json``, ``mesh_ladder*.csv``, ``wide_window.json``, ``between_nodes.json``,
 ``hertz/hertz.json``, ``collision/summary.json``, ``tables/*/``, ``stability/*.json``,
 ``lammps/summary.json``) and writes ``README.md`` beside them: per folder its files, the command
 that regenerates them, its provenance stamp (code commit, mesh, wall time, date) and its key
@@ -264,6 +264,37 @@ def wide_window(root: Path) -> list[str]:
     return lines
 
 
+def between_nodes(root: Path) -> list[str]:
+    folder = root / "calibration"
+    data = read_json(folder / "between_nodes.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    targets = stamp.get("targets", {})
+    lines = [f"## Between the nodes of a shipped law (`calibration/between_nodes.*`)", "",
+             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.between_nodes')}`.", "",
+             provenance(stamp), "",
+             "Each law a calibration ships, checked against FE load-unload paths that did not build it, at peaks "
+             "between its unloading paths, inside its declared window and below it. e error = the law's "
+             "quasi-static e against the FE path's; force error = max |P_law - P_FE| / P_max"
+             + (f"; targets {apct(targets['e_error'], 0)} in e and {apct(targets['force_error'], 0)} in force "
+                "inside the window." if targets else "."), ""]
+    out = []
+    for law in data["laws"]:
+        window = law["window"]
+        below = law.get("worst_e_error_below")
+        out.append([f"{law['E_over_sigma_y']:g}", law["law"], f"{law['v_max']:g}",
+                    f"{window['P_min_over_P_Y']:.3g} - {window['P_max_over_P_Y']:.0f}",
+                    apct(law["worst_e_error_inside"]), apct(law["worst_force_error_inside"]),
+                    apct(below) if below is not None else "-",
+                    "yes" if law.get("meets_target_inside") else "no"])
+    lines += table(["E/sigma_Y", "law", "v_max (m/s)", "window (P/P_Y)", "worst e error inside",
+                    "worst force error inside", "worst e error below", "meets both inside"], out)
+    for failure in data.get("failures", []):
+        lines += [f"Not computed: {failure}", ""]
+    return lines
+
+
 def hertz(root: Path) -> list[str]:
     folder = root / "hertz"
     data = read_json(folder / "hertz.json")
@@ -503,7 +534,7 @@ def other(root: Path) -> list[str]:
     return lines + [""]
 
 
-SECTIONS = (calibration, mesh_ladder, wide_window, hertz, collision, master_table, stability, lammps, other)
+SECTIONS = (calibration, mesh_ladder, wide_window, between_nodes, hertz, collision, master_table, stability, lammps, other)
 
 
 def read_section(make, root: Path) -> list[str]:
