@@ -55,6 +55,23 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(run=run)
 
 
+def accuracy_lines(accuracy: dict) -> list[str]:
+    """Each law of the calibration against its own FE paths, the shipped one named, a miss of the
+    targets said and the law that meets them offered (calib.fit.calibration.accuracy)."""
+    if not accuracy:
+        return []
+    targets = accuracy["targets"]
+    bounds = f"{targets['e_error']:.0%} in e, {targets['force_error']:.0%} in force"
+    lines = [f"{law} law against these FE paths: e {r['worst_e_error']:+.2%}, force {r['worst_force_error']:.2%} at "
+             f"worst" + ("; shipped" if law == accuracy["shipped"] else "")
+             + ("" if r["within_target"] else f" (beyond the targets {bounds})")
+             for law, r in accuracy["laws"].items()]
+    shipped, table = accuracy["laws"].get(accuracy["shipped"]), accuracy["laws"].get("vz-table")
+    if shipped is not None and not shipped["within_target"] and table is not None and table["within_target"]:
+        lines.append("  the vz-table law meets them: --ship table (its window starts at the lowest unloading path)")
+    return lines
+
+
 def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max) -> str:
     """The default folder of a calibration under results/calibration: "" for the reference one
     (which ``collide --report`` reads), else a name made of every option that differs from it
@@ -172,13 +189,15 @@ def run(ns) -> int:
                      + (f", e {summary['e_rel_error_estimate']:.2%}, alpha {summary['alpha_rel_error_estimate']:.2%}"
                         if summary.get("e_rel_error_estimate") is not None else ""))
     lines += [f"  P_max {p['P_max']:8.4g} N: alpha_max {p['alpha_max']:.4e} m, e {p['e']:.4f}"
-              + (f" (vz-table {p['models']['vz-table']['e']:.4f})" if "vz-table" in p["models"] else "")
+              + " (" + ", ".join(f"{law} {p['models'][law]['e']:.4f}" for law in ("vz", "vz-table")
+                                 if law in p["models"]) + ")"
               + f", residual alpha {p['alpha_residual']:.4e} m" for p in summary["paths"]]
     if summary.get("table") is not None:
         table = summary["table"]
         lines.append(f"vz-table law: {len(table['P_over_P_Y'])} nodes to {table['P_over_P_Y'][-1]:.4g} P_Y, a_p/a_Y "
                      f"{table['a_p_over_a_Y'][-1]:.4g} and C_R {table['C_R'][-1]:.4g} at the last"
                      + ("; shipped" if ship == "table" else f"; shipped: the {ship} fit of the two constants"))
+    lines += accuracy_lines(summary.get("accuracy") or {})
     shipped = summary["table"] if ship == "table" and summary.get("table") else summary   # the table's window
     window = CalibrationWindow.from_record(shipped["window"])                          # starts at its lowest path
     lines.append(f"calibrated window: {window.describe()}"

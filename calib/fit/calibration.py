@@ -45,6 +45,10 @@ from calib.sweep.runner import in_background
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, VZTableParams, get_law
 
+# What a shipped law must meet against the FE at every peak inside its window: |e_law / e_FE - 1| and
+# max |P_law - P_FE| / P_max along loading and unloading (calib/README.md, Accuracy of a shipped law).
+E_TARGET, FORCE_TARGET = 0.02, 0.05
+
 
 def first_yield_load(hemisphere, material: Material) -> float:
     """Force [N] at which the first quadrature point reaches the von Mises yield stress, from the
@@ -413,6 +417,7 @@ def summary(result: CalibrationResult) -> dict:
                   {"P_over_P_Y": list(result.table_params.x), "a_p_over_a_Y": list(result.table_params.f),
                    "C_R": list(result.table_params.g), "window": result.table_params.window.record()}),
         "shipped_fit": result.shipped,
+        "accuracy": accuracy(result),
         "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
                        "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,
                        "Kc_se": result.radius_fit.Kc.standard_error, "Kc_r2": result.radius_fit.Kc.r_squared,
@@ -434,6 +439,30 @@ def summary(result: CalibrationResult) -> dict:
                   for p, estimates in zip(result.load_paths.paths,
                                           result.path_estimates() or [None] * len(result.load_paths.paths))],
     }
+
+
+def accuracy(result: CalibrationResult) -> dict:
+    """Each runtime law of the calibration (the two constants "vz", the table "vz-table") against the
+    FE paths it was calibrated on: worst |e_law / e_FE - 1| and worst max |P_law - P_FE| / P_max
+    over the paths, and whether both meet E_TARGET, FORCE_TARGET. ``shipped`` names the law the
+    parameter file ships. {} without unloading paths (no e to compare)."""
+    records = {}
+    for path in result.load_paths.paths:
+        for c in result.comparisons.get(path.peak, []):
+            if c.law not in ("vz", "vz-table"):
+                continue
+            record = records.setdefault(c.law, {"worst_e_error": 0.0, "worst_force_error": 0.0})
+            e_error = c.restitution / path.restitution - 1.0
+            if abs(e_error) >= abs(record["worst_e_error"]):
+                record["worst_e_error"], record["e_error_at_P_max"] = e_error, path.peak
+            record["worst_force_error"] = max(record["worst_force_error"], c.max_force_error)
+    for record in records.values():
+        record["within_target"] = bool(abs(record["worst_e_error"]) <= E_TARGET
+                                       and record["worst_force_error"] <= FORCE_TARGET)
+    if not records:
+        return {}
+    return {"laws": records, "shipped": "vz-table" if result.shipped == "table" else "vz",
+            "targets": {"e_error": E_TARGET, "force_error": FORCE_TARGET}}
 
 
 def discretisation_errors(result: CalibrationResult) -> dict:

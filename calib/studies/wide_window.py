@@ -32,7 +32,7 @@ import numpy as np
 
 from calib import output
 from calib.fit import recipe
-from calib.fit.calibration import calibrate, drive_law, summary
+from calib.fit.calibration import E_TARGET, FORCE_TARGET, calibrate, drive_law, summary
 from calib.fit.impact_window import reach_velocity
 from calib.fit.least_squares import radius_law_data
 from calib.fit.table_fit import fit_tables
@@ -44,7 +44,6 @@ LOADS_OVER_YIELD = (10.0, 30.0, 100.0, 300.0, 1000.0)
 STRENGTH_RATIOS = (100.0, 700.0, 5000.0)        # E / sigma_Y
 NU, SIGMA_Y, RHO, RADIUS = 0.3, 100e6, 2699.0, 0.1   # E/sigma_Y = 700: the paper's aluminium
 LOADING_STEPS = 400                             # increments to the largest peak
-FORCE_TARGET, E_TARGET = 0.05, 0.02
 
 
 def material_task(ratio: float) -> dict:
