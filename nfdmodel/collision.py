@@ -302,20 +302,31 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
 
 def _window_check(law, params, P_max, v_in):
     """(in_calibrated_range, P_max / window's largest force) per velocity, or (None, None) when
-    the law's constants state no window; one RangeWarning naming the fastest impact beyond it."""
+    the law's constants state no window. An impact is inside when it stays elastic (P_max <= P_Y:
+    Hertz, exact) or peaks inside the window, P_min <= P_max <= the window's largest force; a peak
+    between P_Y and P_min unloads where no FE unloading path measured the law (the vz-table law
+    extrapolates its C_R there). One RangeWarning for the impacts above the window, one for those
+    below it, each naming the worst."""
     window = getattr(params, "window", None)
     if not law.fitted or window is None:
         return None, None
-    P_limit = params.window_force
+    P_limit, P_Y = params.window_force, params.pair.P_Y
     over = P_max / P_limit
-    in_range = P_max <= P_limit
-    if not in_range.all():
-        worst = int(np.argmax(np.where(in_range, -np.inf, P_max)))
-        warnings.warn(f"{law.name} law used beyond its calibrated window: {int((~in_range).sum())} of {v_in.size} "
-                      f"impact(s), up to v_in = {v_in[worst]:g} m/s reaching P/P_Y = {P_max[worst] / params.pair.P_Y:.4g}"
+    above = P_max > P_limit
+    below = (P_max > P_Y * (1.0 + 1e-9)) & (P_max < window.P_min_over_P_Y * P_Y * (1.0 - 1e-9))
+    if above.any():
+        worst = int(np.argmax(np.where(above, P_max, -np.inf)))
+        warnings.warn(f"{law.name} law used beyond its calibrated window: {int(above.sum())} of {v_in.size} "
+                      f"impact(s), up to v_in = {v_in[worst]:g} m/s reaching P/P_Y = {P_max[worst] / P_Y:.4g}"
                       f" (fitted on {window.describe()}); calibrate for these impacts (nfdcal calibrate --peaks)",
                       RangeWarning, stacklevel=3)
-    return in_range, over
+    if below.any():
+        worst = int(np.argmin(np.where(below, P_max, np.inf)))
+        warnings.warn(f"{law.name} law used below its calibrated window: {int(below.sum())} of {v_in.size} "
+                      f"impact(s) yield and unload below its lowest measured unloading, down to v_in = "
+                      f"{v_in[worst]:g} m/s reaching P/P_Y = {P_max[worst] / P_Y:.4g} (fitted on {window.describe()}); "
+                      f"calibrate with a lower unloading path (nfdcal calibrate --peaks)", RangeWarning, stacklevel=3)
+    return ~(above | below), over
 
 
 def _time_loop(law, law_params, v_in, dt: float, mass: float, max_steps: int, history: bool) -> dict:

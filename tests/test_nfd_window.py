@@ -61,6 +61,21 @@ def test_collisions_report_whether_each_impact_stayed_in_the_window():
     assert hertz["in_calibrated_range"] is None and hertz["P_max_over_window"] is None
 
 
+def test_collisions_flag_impacts_that_yield_below_the_lowest_unloading_path():
+    """An impact whose peak lies between first yield and the window's lowest load unloads where the FE
+    measured nothing: flagged and warned, like one above the window; an elastic impact (P_max <= P_Y,
+    Hertz) is inside for any window."""
+    params = VZParams(PAIR, REF.Ca, REF.Kc, CalibrationWindow(10.0, 40.0, None, "lowest path at 10 P_Y"))
+    elastic = collide("hertz", PAIR, [1e-4])
+    assert elastic.P_max[0] < PAIR.P_Y                       # 0.1 mm/s stays elastic for the reference pair
+    loads = collide("vz", VZParams(PAIR, REF.Ca, REF.Kc), [1e-4, 0.004, 0.02]).P_max / PAIR.P_Y
+    assert loads[0] < 1.0 < loads[1] < 10.0 < loads[2] < 40.0
+    with pytest.warns(RangeWarning, match=r"below its calibrated window: 1 of 3 impact\(s\)") as caught:
+        result = collide("vz", params, [1e-4, 0.004, 0.02])
+    assert len(caught) == 1
+    assert result.in_calibrated_range.tolist() == [True, False, True]
+
+
 def test_parameter_files_keep_the_window_and_old_files_say_what_is_assumed(tmp_path):
     material = Material.reference()
     window = CalibrationWindow(1.07, 41.2, 0.0148, "FE mesh abc, commit 123")
