@@ -68,7 +68,8 @@ def accuracy_lines(accuracy: dict) -> list[str]:
              for law, r in accuracy["laws"].items()]
     shipped, table = accuracy["laws"].get(accuracy["shipped"]), accuracy["laws"].get("vz-table")
     if shipped is not None and not shipped["within_target"] and table is not None and table["within_target"]:
-        lines.append("  the vz-table law meets them: --ship table (its window starts at the lowest unloading path)")
+        lines.append("  the vz-table law meets them: --ship table (unloading paths log-spaced from near P_Y to the top; "
+                     "its window starts at the lowest)")
     return lines
 
 
@@ -150,6 +151,10 @@ def run(ns) -> int:
         spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
     else:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
+        if ship == "table" and peaks is None:   # the table's C_R needs unloading paths across the window
+            from calib.fit import impact_window
+
+            spec = impact_window.window_spec(material, radius, spec.plan.peaks[-1], contact_size=contact_size)
     try:                                # before any mesh: name the flag that sets the load plan
         recipe.check_fittable(spec)
     except ValueError as exc:

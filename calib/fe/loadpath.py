@@ -21,7 +21,12 @@ to zero. Near separation the unloading is elastic and Hertzian, P ~ (alpha - alp
 points gives alpha_res, checked by a displacement-controlled FE step there (its force is
 recorded, and is zero up to the extrapolation error).
 
-Restitution (paper 2.1 / 4.7):  e = sqrt( W_unloading / W_loading ),  W = int P d(alpha) [J].
+Restitution (paper 2.1 / 4.7):  e = sqrt( W_unloading / W_loading ),  W = int P d(alpha) [J],
+by the trapezoid rule between the FE points, except on the two segments that end at P = 0: the
+loading from zero to the first load (below first yield by the recipe, calib.fit.recipe) and the
+unloading to separation are Hertzian, P ~ |alpha - alpha_0|^(3/2), whose work is exactly
+(2/5) P |Delta alpha|; the trapezoid's 1/2 there overstates W_loading by 2.3 % on a path from
+0.5 P_Y to 2 P_Y (e 1.7 % low).
 """
 from __future__ import annotations
 
@@ -186,9 +191,19 @@ def advance(solver: ContactSolver, state: ContactState, control: str, target: fl
     return state
 
 
-def _work(alpha: np.ndarray, force: np.ndarray) -> float:
-    """W = int P d(alpha) [J] by the trapezoid rule (the history is monotone in alpha)."""
-    return float(abs(np.trapezoid(force, alpha)))
+def contact_work(alpha: np.ndarray, force: np.ndarray) -> float:
+    """W = |int P d(alpha)| [J] of a loading history from P = 0 or an unloading history to
+    separation (monotone in alpha): the trapezoid rule, and (2/5) P |Delta alpha| on the segment at
+    the unloaded end (the end of smaller force: zero, or the FE's residual force at separation),
+    where P ~ |alpha - alpha_0|^(3/2) (Hertz; module docstring), P the force at its other end."""
+    alpha, force = np.asarray(alpha, dtype=float), np.asarray(force, dtype=float)
+    step = np.abs(np.diff(alpha))
+    segment = 0.5 * (force[:-1] + force[1:]) * step
+    if force[0] <= force[-1]:           # contact begins at the first point
+        segment[0] = 0.4 * force[1] * step[0]
+    else:                               # ... or separates at the last
+        segment[-1] = 0.4 * force[-2] * step[-1]
+    return float(np.sum(segment))
 
 
 def separation_approach(alpha: Sequence[float], force: Sequence[float]) -> float:
@@ -262,7 +277,7 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
         p_load = np.array([0.0] + [r["P"] for r in loading_part])
         a_unload = np.array([peak_state.alpha] + [r["alpha"] for r in unloading_rows])
         p_unload = np.array([peak_state.force] + [max(r["P"], 0.0) for r in unloading_rows])
-        w_load, w_unload = _work(a_load, p_load), _work(a_unload, p_unload)
+        w_load, w_unload = contact_work(a_load, p_load), contact_work(a_unload, p_unload)
         paths.append(PathResult(peak=peak, rows=path_loading + unloading_rows,
                                 alpha_max=peak_state.alpha, alpha_residual=alpha_res,
                                 restitution=float(np.sqrt(w_unload / w_load)),
