@@ -135,6 +135,11 @@ def section(title: str, folders: Path | tuple, root: Path, command: str, stamp: 
     return lines + [""]
 
 
+def study_header(title: str, stamp: dict, command: str) -> list[str]:
+    """The title, the command that regenerates a study (its stamp's, else ``command``) and its provenance."""
+    return [f"## {title}", "", f"Regenerate: `{stamp.get('command', command)}`.", "", provenance(stamp), ""]
+
+
 # ---------------------------------------------------------------- sections
 def calibration(root: Path) -> list[str]:
     folder = root / "calibration"
@@ -225,15 +230,12 @@ def mesh_ladder(root: Path) -> list[str]:
 
 
 def wide_window(root: Path) -> list[str]:
-    folder = root / "calibration"
-    data = read_json(folder / "wide_window.json")
+    data = read_json(root / "calibration" / "wide_window.json")
     if data is None:
         return []
-    stamp = data["stamp"]
-    targets = stamp.get("targets", {})
-    lines = [f"## Wide windows: vz against vz-table (`calibration/wide_window.*`)", "",
-             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.wide_window')}`.", "",
-             provenance(stamp), "",
+    targets = data["stamp"].get("targets", {})
+    lines = study_header("Wide windows: vz against vz-table (`calibration/wide_window.*`)", data["stamp"],
+                         "python -m calib.studies.wide_window") + [
              "Force error = max |P_law - P_FE| / P_max along loading and unloading; e error = the law's "
              "quasi-static e against the FE path's; e collision = the law's own impact reaching that P_max"
              + (f"; targets {apct(targets['force_error'], 0)} and {apct(targets['e_error'], 0)}." if targets else "."),
@@ -265,15 +267,12 @@ def wide_window(root: Path) -> list[str]:
 
 
 def between_nodes(root: Path) -> list[str]:
-    folder = root / "calibration"
-    data = read_json(folder / "between_nodes.json")
+    data = read_json(root / "calibration" / "between_nodes.json")
     if data is None:
         return []
-    stamp = data["stamp"]
-    targets = stamp.get("targets", {})
-    lines = [f"## Between the nodes of a shipped law (`calibration/between_nodes.*`)", "",
-             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.between_nodes')}`.", "",
-             provenance(stamp), "",
+    targets = data["stamp"].get("targets", {})
+    lines = study_header("Between the nodes of a shipped law (`calibration/between_nodes.*`)", data["stamp"],
+                         "python -m calib.studies.between_nodes") + [
              "Each law a calibration ships, checked against FE load-unload paths that did not build it, at peaks "
              "between its unloading paths, inside its declared window and below it. e error = the law's "
              "quasi-static e against the FE path's; force error = max |P_law - P_FE| / P_max"
