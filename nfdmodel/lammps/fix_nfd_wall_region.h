@@ -22,9 +22,9 @@
  * wall/gran/region).
  *
  * History: one per contact, keyed by the region's facet (Contact::iwall), kept for as many contacts
- * as the region style can hold at once (Region::tmax: a block 3 from inside and 1 from outside, a
- * cylinder 3 and 1, a sphere 1, a union the sum of its parts); an atom touching more facets at once
- * (a sphere larger than the box it is in) stops the run with an error naming it. A facet the atom
+ * as the region style can touch at once (Region::tmax: a block 3 from inside, 1 from outside); an
+ * atom touching more facets at once (a sphere wider than the box it is in) stops the run with an
+ * error naming it. A facet the atom
  * leaves loses its history; an atom the region does not hold touches nothing. The histories travel
  * with the atom between MPI ranks and go into restart files (read back by a fix of the same ID and
  * style defined after read_restart), with the region's motion (as wall/gran/region).
