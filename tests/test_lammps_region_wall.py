@@ -18,8 +18,8 @@
   same plane to 1e-12 (measured: 5.6e-17; the law and its history are the plane wall's code, the
   normal from the region's contact vector differs in the last bit).
 - Restart: write_restart (on 1 or 2 ranks) while both corner contacts unload, continued on 1 or 2
-  ranks: every later step equals the uninterrupted run bit for bit; a fix of another ID (no
-  history) does not.
+  ranks, and on the moving block: every later step equals the uninterrupted run bit for bit; a
+  fix of another ID (no history) does not.
 - Each wall fix's end-of-run line names its ID and style; bad input is one line naming the
   parameter and its range.
 """
@@ -80,7 +80,7 @@ SCENES = {
     "rotating cylinder": ("variable turn equal 20*time\n"
                           "region wall cylinder z 0 0 0.03 -0.04 0.04 side in rotate v_turn 0 0 0 0 0 1",
                           (0.03 - R, 0.0, 0.0), (0.5, 0.0, 0.1)),
-    "moving block": ("variable shift equal 0.4*time\n"
+    "moving block": ("variable shift equal 4e-8*step\n"       # 0.4 m/s along x (the same bits after a restart)
                      "region wall block -0.05 0.05 -0.04 0.04 -0.04 0.0 side out move v_shift NULL NULL",
                      (0.0, 0.0, R), (0.0, 0.1, -0.5)),
 }
@@ -194,28 +194,29 @@ def test_every_law_on_a_block_face_equals_its_plane_wall(plugin, tmp_path, law):
     assert_same_motion(region, plane)
 
 
-def restart_inputs(plugin: str, fix: str, split: int, writers: int) -> tuple[str, str]:
-    """(a run on `writers` ranks writing a restart at step split of the box-corner impact; the
-    continued run of a new LAMMPS that reads it, defines the region again, re-issues plugin load and
-    the fix, and dumps every step from split on)."""
+def restart_inputs(plugin: str, scene: str, fix: str, split: int, writers: int) -> tuple[str, str]:
+    """(a run of ``scene`` on ``writers`` ranks writing a restart at step split; the continued run of
+    a new LAMMPS that reads it, defines the region again, re-issues plugin load and the fix, and
+    dumps every step from split on)."""
     processors = "2 1 1" if writers == 2 else ""
-    first = wall_input(plugin, "box corner", fix, processors=processors)
+    first = wall_input(plugin, scene, fix, processors=processors)
     first = first.replace(f"run {STEPS}", f"run {split}\nwrite_restart wall.restart")
-    again = wall_input(plugin, "box corner", fix, STEPS - split)
-    _, tail = again.split("region wall", 1)
-    return first, "atom_modify map array\nnewton off\nread_restart wall.restart\nregion wall" + tail
+    again = wall_input(plugin, scene, fix, STEPS - split)
+    tail = again[again.index(SCENES[scene][0]):]
+    return first, "atom_modify map array\nnewton off\nread_restart wall.restart\n" + tail
 
 
-@pytest.mark.parametrize("writers, readers", [(1, 1), (1, 2), (2, 1)])
-def test_a_restart_mid_contact_continues_bit_for_bit(plugin, tmp_path, writers, readers):
-    """nfd/wall/region/vz (aluminium: it yields) with friction, rolling and twisting in a box's
-    corner, write_restart at step 400 while both faces' contacts unload (written on 1 or 2 ranks):
+@pytest.mark.parametrize("scene, writers, readers", [("box corner", 1, 1), ("box corner", 1, 2),
+                                                     ("box corner", 2, 1), ("moving block", 1, 1)])
+def test_a_restart_mid_contact_continues_bit_for_bit(plugin, tmp_path, scene, writers, readers):
+    """nfd/wall/region/vz (aluminium: it yields) with friction, rolling and twisting, write_restart
+    at step 400 while the contacts unload (in a box's corner, both faces'), written on 1 or 2 ranks:
     the continued run (1 or 2 ranks) equals the uninterrupted one bit for bit; with the fix under
-    another ID (no history) it does not."""
+    another ID (no history) it does not; the same on a moving block."""
     fix = f"fix w all nfd/wall/region/vz wall {ALUMINIUM} {MODELS}"
-    whole = trajectory(wall_input(plugin, "box corner", fix), tmp_path)
+    whole = trajectory(wall_input(plugin, scene, fix), tmp_path)
     split = 400
-    first, again = restart_inputs(plugin, fix, split, writers)
+    first, again = restart_inputs(plugin, scene, fix, split, writers)
     run(first, tmp_path, writers, name="in.first")
     continued = trajectory(again, tmp_path, readers)
     assert continued.shape == whole[split:].shape

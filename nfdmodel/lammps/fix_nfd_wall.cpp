@@ -37,16 +37,16 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
     dim = face / 2;
     side = face % 2 == 0 ? 1.0 : -1.0;
     coord = number_in(lmp, who(), arg[4], "COORD", -INFINITY, true, INFINITY, true, "a finite position [m]");
-    read_constants(narg, arg, 5, geometry);
+    read_constants(narg, arg, geometry);
     allocate(1, false);
 }
 
-FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int /*first_constant*/) :
-    Fix(lmp, narg, arg), law(law)
+FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant) :
+    Fix(lmp, narg, arg), law(law), first(first_constant)
 {
 }
 
-void FixNfdWall::read_constants(int narg, char **arg, int first, const char *geometry)
+void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
 {
     if (narg <= first) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
     const int models_at = first_model_keyword(narg - first, arg + first);

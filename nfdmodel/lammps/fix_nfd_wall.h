@@ -69,15 +69,16 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     double memory_usage() override;
 
  protected:
-    /* The part every wall fix shares (FixNfdWallRegion): Fix's set-up only; the derived
-     * constructor reads its geometry, then read_constants and allocate. */
+    /* The part every wall fix shares (FixNfdWallRegion), whose constants start at
+     * arg[first_constant]: Fix's set-up only; the derived constructor reads its geometry, then
+     * calls read_constants and allocate. */
     FixNfdWall(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant);
 
     /* "fix nfd/wall/vz", "fix nfd/wall/region/vz": what starts every message */
     std::string who() const { return std::string("fix ") + style; }
     /* The law's constants and contact models from arg[first] on; geometry: what precedes them,
      * for the message of a short line. */
-    void read_constants(int narg, char **arg, int first, const char *geometry);
+    void read_constants(int narg, char **arg, const char *geometry);
     /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
      * width doubles of the history]; registers the per-atom callbacks and the outputs. */
     void allocate(int slots, bool tagged);
@@ -90,6 +91,7 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     void end_forces() { total_reduced = false; }
 
     const NfdLaw *law;
+    const int first;              // the index of the first constant in the fix's arguments
     NfdMaterial material;
     int width = NHIST;            // doubles per history: NHIST, or NHIST + NFRICTION with contact models
     int slots = 1;                // contacts kept per atom

@@ -13,7 +13,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 
 using namespace LAMMPS_NS;
 
@@ -24,15 +23,13 @@ FixNfdWallRegion::FixNfdWallRegion(LAMMPS *lmp, int narg, char **arg, const NfdL
 {
     const char *geometry = "REGION-ID (the ID of a region)";
     if (narg < 5) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
-    region_id = utils::strdup(arg[3]);
+    region_id = arg[3];
     region = find_region();
-    read_constants(narg, arg, 4, geometry);
+    read_constants(narg, arg, geometry);
     allocate(region->tmax, true);
     scratch.assign(row, 0.0);
     restart_global = 1;
 }
-
-FixNfdWallRegion::~FixNfdWallRegion() { delete[] region_id; }
 
 Region *FixNfdWallRegion::find_region() const
 {
@@ -58,10 +55,13 @@ void FixNfdWallRegion::init()
         region = now;
         region->reset_vel();
     }
-    if (motion_from_restart_failed && comm->me == 0)
-        error->warning(FLERR, fmt::format("{}: the restart file's motion of region {} does not fit the region: its "
-                                          "motion starts afresh", who(), region_id));
-    motion_from_restart_failed = false;
+    if (motion_from_restart_failed) {
+        if (comm->me == 0)
+            error->warning(FLERR, fmt::format("{}: the restart file's motion of region {} does not fit the region: "
+                                              "its motion starts afresh", who(), region_id));
+        region->reset_vel();
+        motion_from_restart_failed = false;
+    }
 }
 
 void FixNfdWallRegion::match_slots(int i, int nc)

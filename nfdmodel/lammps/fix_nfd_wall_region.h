@@ -41,6 +41,7 @@
 
 #include "fix_nfd_wall.h"
 
+#include <string>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -52,7 +53,6 @@ namespace nfdcal_lammps {
 class FixNfdWallRegion : public FixNfdWall {
  public:
     FixNfdWallRegion(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, const NfdLaw *law);
-    ~FixNfdWallRegion() override;
 
     void init() override;
     void post_force(int vflag) override;
@@ -66,7 +66,7 @@ class FixNfdWallRegion : public FixNfdWall {
      * history of its facet or starting at zero; the other slots emptied. */
     void match_slots(int i, int nc);
 
-    char *region_id = nullptr;
+    std::string region_id;
     LAMMPS_NS::Region *region = nullptr;
     bool motion_from_restart_failed = false;
     std::vector<double> scratch;    // one atom's row while its slots are rearranged
