@@ -24,10 +24,10 @@
  * History: one per contact, keyed by the region's facet (Contact::iwall), kept for as many contacts
  * as the region style can touch at once (Region::tmax: a block 3 from inside, 1 from outside); an
  * atom touching more facets at once (a sphere wider than the box it is in) stops the run with an
- * error naming it. A facet the atom
- * leaves loses its history; an atom the region does not hold touches nothing. The histories travel
- * with the atom between MPI ranks and go into restart files (read back by a fix of the same ID and
- * style defined after read_restart), with the region's motion (as wall/gran/region).
+ * error naming it. A facet the atom leaves loses its history; an atom the region does not hold
+ * touches nothing. The histories travel with the atom between MPI ranks and go into restart files
+ * (read back by a fix of the same ID and style defined after read_restart), with the region's
+ * motion (as wall/gran/region).
  *
  * Outputs: the global scalar, the sum of the contacts' normal forces [N]; the vector [1], the
  * contacts; the per-atom array, slot after slot (Region::tmax slots): 1 the facet (iwall + 1; 0 an
