@@ -34,8 +34,8 @@ from pathlib import Path
 import numpy as np
 from skfem import MeshTri2
 
-from meshes.hemisphere import (HemisphereMesh, HemisphereMeshSpec, default_cache_dir, hemisphere_mesh,
-                               mesh_section, read_quadratic_triangles)
+from meshes.hemisphere import (HemisphereMeshSpec, default_cache_dir, hemisphere_mesh, mesh_section,
+                               read_quadratic_triangles)
 from meshes.keys import stable_key
 
 BLOCK_GENERATOR_VERSION = 1  # bump when the block's meshing recipe changes: invalidates the cache
@@ -92,11 +92,11 @@ class PairMesh:
     """Two bodies in one MeshTri2 (module docstring).
 
     mesh          skfem.MeshTri2, x[0] = r, x[1] = z [m]
-    body          body index of every element (0 sphere, 1 counter-body)
-    boundaries    per body, facet indices: body 0 'axis', 'top', 'surface'; body 1 'axis',
-                  'bottom', 'surface' (and 'side' for the block)
-    R1            sphere radius [m]; R2 counter-sphere radius [m] or inf for the block
-    block_size    L [m] of the block (None for a counter-sphere)
+    body          body index of every element (0 upper body, the sphere; 1 the counter-body)
+    boundaries    per body, facet indices: 'axis', 'surface' (the contact side), the far face
+                  ('top' for body 0, 'bottom' for body 1) and 'side' for a block
+    R1, R2        the bodies' radii of curvature at the contact [m] (inf for a block)
+    block_sizes   L [m] of each body that is a block (None for a sphere)
     specs         the two mesh specs (for result stamps)
     """
 
@@ -105,13 +105,19 @@ class PairMesh:
     boundaries: tuple = field(repr=False)
     R1: float
     R2: float
-    block_size: float | None
+    block_sizes: tuple
     specs: tuple = field(repr=False)
     build_time_s: float = 0.0
 
     @property
-    def radius(self) -> float:
-        return self.R1
+    def block_size(self) -> float | None:
+        """L [m] of a block counter-body (None for a counter-sphere)."""
+        return self.block_sizes[1]
+
+    @property
+    def smallest_size(self) -> float:
+        """The smallest radius or block size of the two bodies [m]."""
+        return min(x for x in (self.R1, self.R2, *self.block_sizes) if x is not None)
 
     def describe(self) -> dict:
         return {"sphere": self.specs[0].describe(), "counter": self.specs[1].describe(),
@@ -119,66 +125,59 @@ class PairMesh:
                 "elements": int(self.mesh.nelements), "nodes": int(self.mesh.doflocs.shape[1])}
 
 
-def pair_mesh(sphere: HemisphereMeshSpec, counter: HemisphereMeshSpec, cache_dir=None) -> PairMesh:
-    """Sphere ``sphere`` over the counter-body ``counter``: a BlockMeshSpec (a flat block of size
-    L = counter.radius) or a HemisphereMeshSpec (a sphere of radius counter.radius)."""
-    t0 = time.perf_counter()
-    top = hemisphere_mesh(sphere, cache_dir).mesh
-    if isinstance(counter, BlockMeshSpec):
-        below = block_mesh(counter, cache_dir)
-        points_below, cells_below = below.doflocs, six_node_cells(below)
-        R2, block = float("inf"), float(counter.radius)
+def _section(spec, sign: float, cache_dir):
+    """(points, 6-node cells, R, L) of one body: a hemisphere or a block, z scaled by ``sign``
+    (+1: above the plane z = 0, pole or face at the origin; -1: below)."""
+    if isinstance(spec, BlockMeshSpec):
+        mesh, R, L = block_mesh(spec, cache_dir), float("inf"), float(spec.radius)
+        flip = sign > 0                     # the block is meshed below z = 0
     else:
-        below = hemisphere_mesh(counter, cache_dir).mesh
-        # mirrored: z -> -z reverses the orientation, so vertices 1, 2 and edges 01, 20 swap
-        points_below = below.doflocs * np.array([[1.0], [-1.0]])
-        cells_below = six_node_cells(below)[[0, 2, 1, 5, 4, 3]]
-        R2, block = float(counter.radius), None
-    n_top = top.doflocs.shape[1]
-    points = np.hstack([top.doflocs, points_below])
-    cells = np.hstack([six_node_cells(top), cells_below + n_top])
+        mesh, R, L = hemisphere_mesh(spec, cache_dir).mesh, float(spec.radius), None
+        flip = sign < 0                     # the hemisphere is meshed above z = 0
+    points, cells = mesh.doflocs, six_node_cells(mesh)
+    if flip:    # z -> -z reverses the orientation, so vertices 1, 2 and edges 01, 20 swap
+        points, cells = points * np.array([[1.0], [-1.0]]), cells[[0, 2, 1, 5, 4, 3]]
+    return points, cells, R, L
+
+
+def pair_mesh(sphere: HemisphereMeshSpec, counter: HemisphereMeshSpec, cache_dir=None) -> PairMesh:
+    """Body 1 over body 2: each a HemisphereMeshSpec (a sphere of that radius) or a BlockMeshSpec (a
+    flat block of size L = its radius; body 1 a block only for the contact patch test)."""
+    t0 = time.perf_counter()
+    p1, c1, R1, L1 = _section(sphere, +1.0, cache_dir)
+    p2, c2, R2, L2 = _section(counter, -1.0, cache_dir)
+    points = np.hstack([p1, p2])
+    cells = np.hstack([c1, c2 + p1.shape[1]])
     mesh = MeshTri2(np.ascontiguousarray(points), np.ascontiguousarray(cells))
-    body = np.concatenate([np.zeros(top.nelements, dtype=int), np.ones(below.nelements, dtype=int)])
-    boundaries = identify_pair_boundaries(mesh, body, float(sphere.radius), R2, block)
-    return PairMesh(mesh=mesh, body=body, boundaries=boundaries, R1=float(sphere.radius), R2=R2,
-                    block_size=block, specs=(sphere, counter), build_time_s=time.perf_counter() - t0)
+    body = np.concatenate([np.zeros(c1.shape[1], dtype=int), np.ones(c2.shape[1], dtype=int)])
+    boundaries = identify_pair_boundaries(mesh, body, (R1, R2), (L1, L2))
+    return PairMesh(mesh=mesh, body=body, boundaries=boundaries, R1=R1, R2=R2, block_sizes=(L1, L2),
+                    specs=(sphere, counter), build_time_s=time.perf_counter() - t0)
 
 
-def identify_pair_boundaries(mesh, body, R1: float, R2: float, block: float | None) -> tuple:
+def identify_pair_boundaries(mesh, body, radii: tuple, blocks: tuple) -> tuple:
     """Per body, the boundary facets of each named boundary (see PairMesh); ValueError when a
     boundary facet fits none (not the sections this module builds)."""
     boundary = mesh.boundary_facets()
     owner = body[mesh.f2t[0, boundary]]
     nodes = np.vstack([mesh.facets[:, boundary], mesh.nvertices + boundary[None, :]])
     r, z = mesh.doflocs[0][nodes], mesh.doflocs[1][nodes]
-    scale = max(R1, R2 if np.isfinite(R2) else block)
-    tol = 1e-9 * scale
-
-    def on(condition):
-        return np.all(condition, axis=0)
-
-    tests = [{"axis": on(np.abs(r) <= tol), "top": on(np.abs(z - R1) <= tol)}, {"axis": on(np.abs(r) <= tol)}]
-    tests[0]["surface"] = on(np.abs(np.hypot(r, z - R1) - R1) <= tol) & ~tests[0]["top"]
-    if block is None:
-        tests[1]["bottom"] = on(np.abs(z + R2) <= tol)
-        tests[1]["surface"] = on(np.abs(np.hypot(r, z + R2) - R2) <= tol) & ~tests[1]["bottom"]
-    else:
-        tests[1]["bottom"] = on(np.abs(z + block) <= tol)
-        tests[1]["side"] = on(np.abs(r - block) <= tol)
-        tests[1]["surface"] = on(np.abs(z) <= tol)
     found = []
-    for k in (0, 1):
+    for k, (sign, far_name) in enumerate(((1.0, "top"), (-1.0, "bottom"))):
+        R, L = radii[k], blocks[k]
+        tol = 1e-9 * (L if L is not None else R)
+        axis = np.all(np.abs(r) <= tol, axis=0)
+        if L is None:
+            far = np.all(np.abs(z - sign * R) <= tol, axis=0)
+            tests = {far_name: far, "surface": np.all(np.abs(np.hypot(r, z - sign * R) - R) <= tol, axis=0) & ~far}
+        else:
+            tests = {far_name: np.all(np.abs(z - sign * L) <= tol, axis=0),
+                     "side": np.all(np.abs(r - L) <= tol, axis=0), "surface": np.all(np.abs(z) <= tol, axis=0)}
         mine = owner == k
-        named = {name: boundary[mine & test & ~tests[k]["axis"]] if name != "axis" else boundary[mine & test]
-                 for name, test in tests[k].items()}
+        named = {"axis": boundary[mine & axis], **{name: boundary[mine & test & ~axis] for name, test in tests.items()}}
         count = sum(v.size for v in named.values())
         if count != mine.sum() or any(v.size == 0 for v in named.values()):
             raise ValueError(f"body {k} of the pair mesh has {mine.sum() - count} boundary facets off its named "
                              f"boundaries, counts {{{', '.join(f'{n}: {v.size}' for n, v in named.items())}}}")
         found.append(named)
     return tuple(found)
-
-
-def hemisphere_of(pair: PairMesh) -> HemisphereMesh:
-    """Body 1 alone as a HemisphereMesh (for the rigid-flat solver on the same sphere mesh)."""
-    return hemisphere_mesh(pair.specs[0])

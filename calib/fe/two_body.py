@@ -143,8 +143,8 @@ class _Chain:
 class _Reduced:
     """The two-body problem of one active set, as calib.fe.newton.solve_newton sees a solver."""
 
-    def __init__(self, solver: "TwoBodySolver", S, c):
-        self.solver, self.S, self.ST = solver, S, S.T.tocsr()
+    def __init__(self, solver: "TwoBodySolver", S, c, pattern: bytes):
+        self.solver, self.S, self.ST, self.pattern = solver, S, S.T.tocsr(), pattern
         self.T, self.TT = _Affine(solver.T, S, c), _Chain(self.ST, solver.TT)
         self.plate = S.shape[1] - 1
         for name in ("stiffness_scale", "force_floor", "max_newton_iterations", "residual_tolerance"):
@@ -155,20 +155,22 @@ class _Reduced:
         return f_int, lambda: (self.ST @ tangent() @ self.S).tocsr(), stress, trial
 
     def factor(self, K_p, free, key):
-        return self.solver.factor(K_p, free, key)
+        return self.solver.factor(K_p, free, key, self.pattern)
 
 
 class TwoBodySolver:
     """Sphere on a deformable counter-body (module docstring); the interface of ContactSolver.
 
     pair_mesh: meshes.counter_body.PairMesh; material1, material2: calib.fe Materials (sphere,
-    counter-body). Options as ContactSolver's.
+    counter-body). Options as ContactSolver's; ``contact_zone``: the contact candidates are the
+    sphere's surface nodes within contact_zone x the smallest radius or block size [m] (1: the
+    whole face, for two blocks).
     """
 
     def __init__(self, pair_mesh, material1, material2, *, residual_tolerance: float = 1e-8,
                  max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
                  linear_solver: str | None = None, contact_radius_method: str = "pressure",
-                 quadrature_order: int = 4):
+                 quadrature_order: int = 4, contact_zone: float = CONTACT_ZONE):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         if contact_radius_method not in ("pressure", "gap", "node"):
@@ -183,7 +185,8 @@ class TwoBodySolver:
         self.contact_radius_method = contact_radius_method
         self.is_linear = self.material.is_linear
         R1, R2 = pair_mesh.R1, pair_mesh.R2
-        self.radius = 1.0 / (1.0 / R1 + 1.0 / R2)   # R* [m] (R2 = inf for the block)
+        # R* [m] (R2 = inf for a block); two blocks (the patch test): the smaller block's size
+        self.radius = 1.0 / (1.0 / R1 + 1.0 / R2) if min(R1, R2) < np.inf else pair_mesh.smallest_size
 
         self.basis = Basis(mesh, ElementVector(ElementTriP2()), intorder=quadrature_order)
         self.r_qp = quadrature_radius(self.basis)
@@ -210,9 +213,8 @@ class TwoBodySolver:
         q_of_dof = np.full(self.n_dofs, -1)
         q_of_dof[kept] = np.arange(kept.size)
 
-        smallest = min(R1, R2, pair_mesh.block_size or np.inf)
         gap = mortar_gap(mesh, pair_mesh.boundaries[0]["surface"], pair_mesh.boundaries[1]["surface"],
-                         CONTACT_ZONE * smallest)
+                         contact_zone * pair_mesh.smallest_size)
         self.gap = gap
         self.candidate_nodes, self.candidate_r = gap.nodes, gap.r
         self.candidate_weight, self.candidate_g0 = gap.weight, gap.g0
@@ -230,6 +232,7 @@ class TwoBodySolver:
         self.force_floor = 1e-14 * self.stiffness_scale * self.radius
         self._K_q = None
         self._factor_cache: OrderedDict = OrderedDict()
+        self._last_pattern, self._last_factor = None, None
         self.factorization_count = 0
 
     # ----------------------------------------------------------------- state
@@ -287,13 +290,22 @@ class TwoBodySolver:
 
         return f_int, tangent_matrix, stress, trial
 
-    def factor(self, K_p, free, key):
-        """Factorisation of K_p[free, free]; reused for linear materials while ``key`` repeats."""
+    def factor(self, K_p, free, key, pattern=None):
+        """Factorisation of K_p[free, free]; reused for linear materials while ``key`` repeats, and
+        refactorised numerically only (same ordering and symbolic analysis) while ``pattern`` (the
+        active set and the constraints) repeats."""
         if key is not None and key in self._factor_cache:
             self._factor_cache.move_to_end(key)
             return self._factor_cache[key], 0
-        factor = factorize(K_p[free][:, free].tocsr(), self.linear_solver)
+        matrix = K_p[free][:, free].tocsr()
+        pattern = None if pattern is None else pattern + free.tobytes()
+        if key is None and pattern is not None and self._last_pattern == pattern and self._last_factor.update(matrix):
+            self.factorization_count += 1
+            return self._last_factor, 1
+        factor = factorize(matrix, self.linear_solver)
         self.factorization_count += 1
+        if key is None:
+            self._last_pattern, self._last_factor = pattern, factor
         if key is not None:
             self._factor_cache[key] = factor
             while len(self._factor_cache) > 4:
@@ -365,7 +377,7 @@ class TwoBodySolver:
         while iterations < self.max_active_set_iterations:
             iterations += 1
             S, c, free_q = self.reduction(active)
-            reduced = _Reduced(self, S, c)
+            reduced = _Reduced(self, S, c, control.encode() + active.tobytes())
             n_p = S.shape[1]
             constrained = np.array([n_p - 1] if control == "displacement" else [], dtype=int)
             constrained_target = np.array([-target] if control == "displacement" else [])
