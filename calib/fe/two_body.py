@@ -19,7 +19,9 @@ calib.fe.axisym, calib.fe.element_arrays), and
     solved exactly by the primal active set of calib.fe.active_set: an active node's u_z is
     eliminated as the affine function u_z1,i = G_i u_z2 - g0_i of the master's, so the unknowns
     are q = S p + c (S sparse, one per active set) and Newton (calib.fe.newton, the one Newton
-    with the consistent tangent) runs on p with K_p = S^T K_q S, r_p = S^T r_q.
+    with the consistent tangent) runs on p with K_p = S^T K_q S, r_p = S^T r_q; the gap closure
+    enters as a constrained unknown (TwoBodySolver.reduction), like the rigid plate's prescribed
+    approach in calib.fe.solver, so Newton's first solve is an elastic predictor.
 
 The load steps, the secant predictor, the rescue solve (calib.fe.rescue) and the load paths
 (calib.fe.loadpath.run_load_paths) are the rigid-flat solver's: TwoBodySolver offers the same
@@ -121,13 +123,13 @@ class PairMaterial:
 
 
 class _Affine:
-    """u = T (S p + c): what ``solver.T @ p`` means to calib.fe.newton for one active set."""
+    """u = T (S p + d): what ``solver.T @ p`` means to calib.fe.newton for one active set."""
 
-    def __init__(self, T, S, c):
-        self.T, self.S, self.c = T, S, c
+    def __init__(self, T, S, d):
+        self.T, self.S, self.d = T, S, d
 
     def __matmul__(self, p):
-        return self.T @ (self.S @ p + self.c)
+        return self.T @ (self.S @ p + self.d)
 
 
 class _Chain:
@@ -143,10 +145,10 @@ class _Chain:
 class _Reduced:
     """The two-body problem of one active set, as calib.fe.newton.solve_newton sees a solver."""
 
-    def __init__(self, solver: "TwoBodySolver", S, c, pattern: bytes):
+    def __init__(self, solver: "TwoBodySolver", S, d, pattern: bytes):
         self.solver, self.S, self.ST, self.pattern = solver, S, S.T.tocsr(), pattern
-        self.T, self.TT = _Affine(solver.T, S, c), _Chain(self.ST, solver.TT)
-        self.plate = S.shape[1] - 1
+        self.T, self.TT = _Affine(solver.T, S, d), _Chain(self.ST, solver.TT)
+        self.plate = S.shape[1] - 2          # the last q entry; theta follows it
         for name in ("stiffness_scale", "force_floor", "max_newton_iterations", "residual_tolerance"):
             setattr(self, name, getattr(solver, name))
 
@@ -312,22 +314,29 @@ class TwoBodySolver:
                 self._factor_cache.popitem(last=False)
         return factor, 1
 
-    def reduction(self, active):
-        """(S, c, free_q): q = S p + c for the active set (module docstring); free_q marks the q
-        entries that are p entries (all but the active slaves' u_z)."""
+    def reduction(self, active, q_from):
+        """(S, d): q = S p + d for the active set (module docstring), p = (the q entries that are
+        not active slaves' u_z, then theta). The active slaves follow u_z1,i = G_i u_z2 + (1 - theta)
+        d_i - theta g0_i, d_i their offset in ``q_from``, so theta = 0 is ``q_from`` itself and
+        theta = 1 closes the gaps: theta, constrained to 1, enters Newton's first solve as an
+        increment spread over both bodies (an elastic predictor), never as a jump of the contact
+        nodes alone, which a plastic body would read as flow."""
         slave_q = self.candidate_q[active]
         free_q = np.ones(self.n_q, dtype=bool)
         free_q[slave_q] = False
+        n_free = int(free_q.sum())
         p_of_q = np.full(self.n_q, -1)
-        p_of_q[free_q] = np.arange(int(free_q.sum()))
+        p_of_q[free_q] = np.arange(n_free)
         G = self.G_q[np.flatnonzero(active)].tocoo()
-        rows = np.concatenate([np.flatnonzero(free_q), slave_q[G.row]])
-        cols = np.concatenate([p_of_q[free_q], p_of_q[G.col]])
-        data = np.concatenate([np.ones(int(free_q.sum())), G.data])
-        S = sp.csr_matrix((data, (rows, cols)), shape=(self.n_q, int(free_q.sum())))
-        c = np.zeros(self.n_q)
-        c[slave_q] = -self.candidate_g0[active]
-        return S, c, free_q
+        offset = q_from[slave_q] - self.G_q[np.flatnonzero(active)] @ q_from
+        closure = -self.candidate_g0[active] - offset
+        rows = np.concatenate([np.flatnonzero(free_q), slave_q[G.row], slave_q])
+        cols = np.concatenate([p_of_q[free_q], p_of_q[G.col], np.full(slave_q.size, n_free)])
+        data = np.concatenate([np.ones(n_free), G.data, closure])
+        S = sp.csr_matrix((data, (rows, cols)), shape=(self.n_q, n_free + 1))
+        d = np.zeros(self.n_q)
+        d[slave_q] = offset
+        return S, d, free_q
 
     def gaps(self, q) -> np.ndarray:
         """g_i [m] of every candidate at the unknowns q."""
@@ -376,26 +385,29 @@ class TwoBodySolver:
         converged, message, residual_norm, stress, trial = False, "", np.inf, None, None
         while iterations < self.max_active_set_iterations:
             iterations += 1
-            S, c, free_q = self.reduction(active)
-            reduced = _Reduced(self, S, c, control.encode() + active.tobytes())
-            n_p = S.shape[1]
-            constrained = np.array([n_p - 1] if control == "displacement" else [], dtype=int)
-            constrained_target = np.array([-target] if control == "displacement" else [])
-            free = np.ones(n_p, dtype=bool)
-            free[constrained] = False
-            key = (control, active.tobytes()) if self.is_linear else None
-            runs = [solve_newton(reduced, q[free_q].copy(), state, control, target, constrained,
-                                 constrained_target, free, key, history)]
-            if not runs[0].ok and iterations > 1:
-                runs.append(solve_newton(reduced, q_start[free_q].copy(), state, control, target, constrained,
-                                         constrained_target, free, key, history))
+            runs = []
+            for q_from in ((q,) if iterations == 1 else (q, q_start)):
+                # from the previous set's solution; if Newton fails there, from the committed state
+                # (a node that held plastic flow and is released can make the former diverge)
+                S, d, free_q = self.reduction(active, q_from)
+                reduced = _Reduced(self, S, d, control.encode() + active.tobytes())
+                n_p = S.shape[1]
+                constrained = np.array([n_p - 1] + ([reduced.plate] if control == "displacement" else []))
+                constrained_target = np.array([1.0] + ([-target] if control == "displacement" else []))
+                free = np.ones(n_p, dtype=bool)
+                free[constrained] = False
+                key = (control, active.tobytes()) if self.is_linear else None
+                runs.append(solve_newton(reduced, np.append(q_from[free_q], 0.0), state, control, target,
+                                         constrained, constrained_target, free, key, history))
+                if runs[-1].ok:
+                    break
             for run in runs:
                 newton_total += run.iterations
                 factorizations += run.factorizations
                 t_assembly += run.time_assembly
                 t_solve += run.time_solve
             newton = runs[-1]
-            q = S @ newton.q + c
+            q = S @ newton.q + d
             f_int, stress, trial = newton.f_int, newton.stress, newton.trial
             residual_norm, scale = newton.residual_norm, newton.scale
             if not newton.ok:
