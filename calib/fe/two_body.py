@@ -177,7 +177,7 @@ class TwoBodySolver:
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         if contact_radius_method not in ("pressure", "gap", "node"):
             raise ValueError(f"contact_radius_method must be 'pressure', 'gap' or 'node', got {contact_radius_method!r}")
-        self.pair_mesh = pair_mesh
+        self.pair_mesh = self.hemisphere = pair_mesh   # .hemisphere.mesh: the mesh, as ContactSolver's
         mesh = pair_mesh.mesh
         self.material = PairMaterial((material1, material2), pair_mesh.body)
         self.residual_tolerance = float(residual_tolerance)
