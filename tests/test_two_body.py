@@ -142,3 +142,35 @@ def test_first_yield_in_the_weaker_body_at_the_pairs_hertz_load(mesh_cache, sphe
     loads = first_yield_loads(mesh, elastic(sphere), elastic(counter), (sphere.sigma_y, counter.sigma_y), pair.P_Y)
     assert loads[yields] == pytest.approx(pair.P_Y, rel=1.5e-2)
     assert loads[1 - yields] > 10 * pair.P_Y
+
+
+def test_counter_flags_take_their_ranges_from_the_limits_table(capsys):
+    """--counter-E outside the solid range of nfd_limits.h: one line naming the flag and the range
+    nfdmodel.limits states, exit code 2, before any FE work."""
+    from calib.cli import main
+    from nfdmodel import limits
+
+    assert main(["hertz", "--counter-E", "1"]) == 2
+    message = capsys.readouterr().err.strip()
+    assert "\n" not in message and "--counter-E" in message
+    assert f"{limits.E_MIN:g}" in message and f"{limits.E_MAX:g}" in message
+
+
+def test_a_parameter_file_states_the_counter_body_and_is_read_back_as_the_pair(tmp_path):
+    """parameter_record with the counter-body; load_parameters rebuilds the pair from it (E*, R*,
+    yield point), and a file whose P_Y is the rigid flat's is refused as inconsistent."""
+    import json
+
+    from nfdmodel import VZParams, load_parameters, parameter_record
+
+    counter = {"shape": "sphere", "E": STEEL.E, "nu": STEEL.nu, "sigma_y": None, "R": R1 / 2}
+    pair = ContactPair.sphere_counter(ALUMINIUM, R1, STEEL.E, STEEL.nu, None, R1 / 2)
+    record = parameter_record(VZParams(pair, 2e-7, 1e-4), R1, ALUMINIUM, counter)
+    path = tmp_path / "pair.json"
+    path.write_text(json.dumps(record))
+    loaded_pair = load_parameters(path).pair
+    assert (loaded_pair.E_star, loaded_pair.R_star, loaded_pair.P_Y) == pytest.approx((pair.E_star, R1 / 3, pair.P_Y))
+    record["P_Y"] = ContactPair.sphere_flat(ALUMINIUM, R1).P_Y
+    path.write_text(json.dumps(record))
+    with pytest.raises(ValueError, match="P_Y"):
+        load_parameters(path)
