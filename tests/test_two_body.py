@@ -83,6 +83,17 @@ def test_two_elastic_bodies_give_hertz_with_the_pairs_modulus_and_radius(mesh_ca
     assert record.contact_force == pytest.approx(P, rel=1e-8)       # the contact carries the plate's load
 
 
+def test_the_condensed_elastic_counter_body_is_the_whole_one(mesh_cache):
+    """The static condensation of an elastic counter-body onto its contact surface is exact: the
+    same approach, contact radius and peak pressure as with every dof of both bodies, to 1e-10."""
+    mesh = pair_mesh(spec(R1), spec(R1 / 2), cache_dir=mesh_cache)
+    condensed, whole = (TwoBodySolver(mesh, elastic(ALUMINIUM), elastic(STEEL), condense=flag) for flag in (True, False))
+    assert condensed.n_q < 0.6 * whole.n_q
+    a, b = loaded(condensed).record, loaded(whole).record
+    for name in ("alpha", "contact_radius", "peak_pressure"):
+        assert getattr(a, name) == pytest.approx(getattr(b, name), rel=1e-10), name
+
+
 def test_the_block_is_large_enough(mesh_cache):
     """Domain size: contact radius and peak pressure do not change with the block's size L (within
     0.05 %); the approach of the far points grows with L towards the half-space's as 1/L (the

@@ -26,7 +26,10 @@ calib.fe.axisym, calib.fe.element_arrays), and
 The load steps, the secant predictor, the rescue solve (calib.fe.rescue) and the load paths
 (calib.fe.loadpath.run_load_paths) are the rigid-flat solver's: TwoBodySolver offers the same
 interface (solve_force, solve_displacement, solve_step, rescue_step, commit, initial_state).
-Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius from pressure or gap,
+An elastic counter-body (a wall) is condensed statically onto the u_z of its contact surface
+(TwoBodySolver._condensation, exact for a linear body without loads of its own): the unknowns
+are then the sphere's and about a hundred of the counter-body's, and a step costs about what the
+rigid flat's does. Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius from pressure or gap,
 first yield in each body (``first_yield_loads``). Small strain and a << R1, R2 throughout (as
 Hertz): the gap is measured along z at the same r, the projections do not follow the tangential
 displacements. Frictionless: identical bodies (no relative slip) and a flat counter-body are
@@ -58,6 +61,7 @@ from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_press
 from calib.fe.rescue import rescue_step
 from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult, displacement_rate, radius_exponents
 from calib.fe.von_mises import von_mises_stress
+from meshes.counter_body import six_node_cells
 from nfdmodel import check_real
 
 # candidates for contact: the sphere's surface nodes within this fraction of the smallest body
@@ -166,13 +170,14 @@ class TwoBodySolver:
     pair_mesh: meshes.counter_body.PairMesh; material1, material2: calib.fe Materials (sphere,
     counter-body). Options as ContactSolver's; ``contact_zone``: the contact candidates are the
     sphere's surface nodes within contact_zone x the smallest radius or block size [m] (1: the
-    whole face, for two blocks).
+    whole face, for two blocks); ``condense``: an elastic counter-body is condensed onto its contact
+    surface (False: both bodies in the unknowns, for checking the condensation).
     """
 
     def __init__(self, pair_mesh, material1, material2, *, residual_tolerance: float = 1e-8,
                  max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
                  linear_solver: str | None = None, contact_radius_method: str = "pressure",
-                 quadrature_order: int = 4, contact_zone: float = CONTACT_ZONE):
+                 quadrature_order: int = 4, contact_zone: float = CONTACT_ZONE, condense: bool = True):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         if contact_radius_method not in ("pressure", "gap", "node"):
@@ -205,29 +210,49 @@ class TwoBodySolver:
         axis = np.union1d(nodes(0, "axis"), nodes(1, "axis"))
         top, bottom = nodes(0, "top"), nodes(1, "bottom")
         eliminated = np.union1d(np.union1d(self.r_dof[axis], self.z_dof[top]), self.z_dof[bottom])
-        kept = np.setdiff1d(np.arange(self.n_dofs), eliminated)
-        self.kept, self.plate, self.n_q = kept, int(kept.size), int(kept.size) + 1
-        rows = np.concatenate([kept, self.z_dof[top]])
-        cols = np.concatenate([np.arange(kept.size), np.full(top.size, self.plate)])
-        self.T = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n_dofs, self.n_q))
-        self.TT = self.T.T.tocsr()
-        self.top_z_dof = int(self.z_dof[top[0]])
-        q_of_dof = np.full(self.n_dofs, -1)
-        q_of_dof[kept] = np.arange(kept.size)
-
+        unknown = np.setdiff1d(np.arange(self.n_dofs), eliminated)
         gap = mortar_gap(mesh, pair_mesh.boundaries[0]["surface"], pair_mesh.boundaries[1]["surface"],
                          contact_zone * pair_mesh.smallest_size)
         self.gap = gap
+        # an elastic counter-body is condensed onto the u_z of its contact surface (module docstring)
+        self.condensed = bool(condense and getattr(material2, "is_linear", False))
+        body2 = np.unique(six_node_cells(mesh)[:, pair_mesh.body == 1])
+        body2_dofs = np.union1d(self.r_dof[body2], self.z_dof[body2])
+        master_dofs = self.z_dof[gap.master_nodes]
+        if self.condensed:
+            interior = np.setdiff1d(np.intersect1d(unknown, body2_dofs), master_dofs)
+            kept = np.concatenate([np.setdiff1d(unknown, body2_dofs), master_dofs])
+        else:
+            kept = unknown
+        self.kept, self.plate, self.n_q = kept, int(kept.size), int(kept.size) + 1
+        q_of_dof = np.full(self.n_dofs, -1)
+        q_of_dof[kept] = np.arange(kept.size)
+        # the element arrays see the sphere (and an uncondensed counter-body): one unknown per dof
+        direct = np.setdiff1d(kept, master_dofs) if self.condensed else kept
+        rows = np.concatenate([direct, self.z_dof[top]])
+        cols = np.concatenate([q_of_dof[direct], np.full(top.size, self.plate)])
+        T_elements = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n_dofs, self.n_q))
+        self.elements = ElementArrays(self.basis, T_elements)
+        self.material_D = self.material.elastic_tangent(self.n_qp)
+        self._K_full = asm(tangent_stiffness, self.basis, tangent=to_form_layout(self.material_D)).tocsr()
+        self._S_block = None
+        if self.condensed:
+            T_counter, self._S_block = self._condensation(interior, master_dofs, q_of_dof[master_dofs])
+            self.T = (T_elements + T_counter).tocsr()
+        else:
+            self.T = T_elements
+        self.TT = self.T.T.tocsr()
+        self.top_z_dof = int(self.z_dof[top[0]])
+
         self.candidate_nodes, self.candidate_r = gap.nodes, gap.r
         self.candidate_weight, self.candidate_g0 = gap.weight, gap.g0
         self.candidate_q = q_of_dof[self.z_dof[gap.nodes]]
-        master_q = q_of_dof[self.z_dof[gap.master_nodes]]
+        master_q = q_of_dof[master_dofs]
         if np.any(self.candidate_q < 0) or np.any(master_q < 0):
             raise ValueError("a contact node's u_z is constrained: the contact zone reaches a loaded face")
         G = gap.G.tocoo()
         self.master_q = master_q
         self.G_q = sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, self.n_q))
-        self.elements = ElementArrays(self.basis, self.T)
 
         self.gap_tolerance = 1e-12 * self.radius
         self.stiffness_scale = float(self.material.E) * self.radius
@@ -259,12 +284,36 @@ class TwoBodySolver:
         return self.material.update(self.strain(state.displacement), state.material_state)[0]
 
     # ----------------------------------------------------------------- assembly
+    def _condensation(self, interior, master, master_q):
+        """(T block, K block) of the elastic counter-body condensed onto its contact surface's u_z:
+        with X = K_ii^-1 K_im (i its other unknowns, m the master u_z), u_i = -X u_m and
+
+            S_m = K_mm - K_mi X    [N/m]   (Guyan 1965, AIAA J. 3, 380: exact for a static elastic body)
+
+        so the counter-body adds S_m to the unknowns u_m and nothing else; its full displacement
+        (for stress, strain, output) is T q."""
+        K = self._K_full
+        K_ii, K_im = K[interior][:, interior].tocsr(), K[interior][:, master].toarray()
+        X = factorize(K_ii, self.linear_solver).solve(K_im)
+        S_m = K[master][:, master].toarray() - K[master][:, interior] @ X
+        S_m = 0.5 * (S_m + S_m.T)                       # symmetric up to round-off
+        cols = np.broadcast_to(master_q, X.shape)
+        T_block = sp.csr_matrix(
+            (np.concatenate([-X.ravel(), np.ones(master.size)]),
+             (np.concatenate([np.repeat(interior, master.size), master]), np.concatenate([cols.ravel(), master_q]))),
+            shape=(self.n_dofs, self.n_q))
+        rows, cols = np.meshgrid(master_q, master_q, indexing="ij")
+        K_block = sp.csr_matrix((S_m.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_q, self.n_q))
+        return T_block, K_block
+
+    def _with_counter(self, K_q):
+        return K_q if self._S_block is None else (K_q + self._S_block).tocsr()
+
     def _linear_tangent(self):
         if self._K_q is None:
-            D = self.material.elastic_tangent(self.n_qp)
-            self._D = D
-            self._K_full = asm(tangent_stiffness, self.basis, tangent=to_form_layout(D)).tocsr()
-            self._K_q = self.elements.matrix(self.elements.stiffness_data(D, slice(None)))
+            self._D = self.material_D
+            self._K_q_elements = self.elements.matrix(self.elements.stiffness_data(self._D, slice(None)))
+            self._K_q = self._with_counter(self._K_q_elements)
         return self._K_q
 
     def assemble(self, displacement, committed):
@@ -287,8 +336,8 @@ class TwoBodySolver:
         f_int = f_int + self.elements.internal_force(stress_correction[elements], elements)
 
         def tangent_matrix():
-            return self.elements.matrix(K_q.data + self.elements.stiffness_data(tangent_correction[elements],
-                                                                                 elements))
+            return self._with_counter(self.elements.matrix(
+                self._K_q_elements.data + self.elements.stiffness_data(tangent_correction[elements], elements)))
 
         return f_int, tangent_matrix, stress, trial
 
