@@ -185,3 +185,19 @@ def test_a_parameter_file_states_the_counter_body_and_is_read_back_as_the_pair(t
     path.write_text(json.dumps(record))
     with pytest.raises(ValueError, match="P_Y"):
         load_parameters(path)
+
+
+def test_calibrate_plans_the_pair_before_any_fe(capsys):
+    """nfdcal calibrate --dry-run with a counter-body: the load plan in units of the pair's P_Y
+    (nfdmodel.ContactPair.sphere_counter), the counter-body named, no FE run."""
+    import json
+
+    from calib.cli import main
+
+    assert main(["calibrate", "--dry-run", "--json", "--counter-E", f"{STEEL.E:g}", "--counter-nu", f"{STEEL.nu:g}"]) == 0
+    plan = json.loads(capsys.readouterr().out)
+    assert main(["calibrate", "--dry-run", "--counter-E", f"{STEEL.E:g}", "--counter-nu", f"{STEEL.nu:g}"]) == 0
+    text = capsys.readouterr().out
+    pair = ContactPair.sphere_counter(Material.reference(), R1, STEEL.E, STEEL.nu)
+    assert f"P_Y = {pair.P_Y:.4g} N" in text and "counter-body: flat" in text
+    assert "on_E2e+11_nu0.28_sy-elastic_flat" in json.dumps(plan)
