@@ -4,6 +4,9 @@ Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m},
      "window": {"P_min_over_P_Y": -, "P_max_over_P_Y": -, "a_max_over_R": -, "source": text}, ...}
+A calibration against a deformable counter-body (``nfdcal calibrate --counter-E ...``) also states it:
+    "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null}
+and the pair (E*, R*, the yield point) is ContactPair.sphere_counter's; absent or null: a rigid flat.
 Written by a calibration, also the estimated relative discretisation errors (``ERROR_KEYS``:
 numbers >= 0, or null for one mesh) and how they were obtained ("discretisation").
 Only law, Ca, Kc and material are needed; a file without "window" (written before windows were
