@@ -13,12 +13,12 @@ calib.fe.axisym, calib.fe.element_arrays), and
   * body 2's far face (z = -R2, or the block's bottom z = -L): u_z = 0. So alpha [m] is the
     approach of the two far points, the quantity a DEM law takes (for two spheres, the sum of
     the two bodies' approaches);
-  * the two surfaces in frictionless unilateral contact: the lumped mortar gap g_i >= 0 of the
+  * the two surfaces in frictionless unilateral contact: the dual mortar gap g_i >= 0 of the
     sphere's surface nodes against the counter-body's surface (calib.fe.contact_pair, which
     says why mortar and not node-to-segment), reaction lambda_i >= 0, g_i lambda_i = 0,
     solved exactly by the primal active set of calib.fe.active_set: an active node's u_z is
     eliminated as the affine function u_z1,i = G_i u_z2 - g0_i of the master's, so the unknowns
-    are q = S p + c (S sparse, one per active set) and Newton (calib.fe.newton, the one Newton
+    are q = S p + d (S sparse, one per active set) and Newton (calib.fe.newton, the one Newton
     with the consistent tangent) runs on p with K_p = S^T K_q S, r_p = S^T r_q; the gap closure
     enters as a constrained unknown (TwoBodySolver.reduction), like the rigid plate's prescribed
     approach in calib.fe.solver, so Newton's first solve is an elastic predictor.
@@ -28,13 +28,13 @@ The load steps, the secant predictor, the rescue solve (calib.fe.rescue) and the
 interface (solve_force, solve_displacement, solve_step, rescue_step, commit, initial_state).
 An elastic counter-body (a wall) is condensed statically onto the u_z of its contact surface
 (TwoBodySolver._condensation, exact for a linear body without loads of its own): the unknowns
-are then the sphere's and about a hundred of the counter-body's, and a step costs about what the
-rigid flat's does. Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius from pressure or gap,
-first yield in each body (``first_yield_loads``). Small strain and a << R1, R2 throughout (as
+are then the sphere's and the counter-body's contact-surface u_z (6,300 instead of 12,000 on the
+Hertz test mesh). Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius
+from pressure or gap, first yield in each body (``first_yield_loads``). Small strain and a << R1, R2 throughout (as
 Hertz): the gap is measured along z at the same r, the projections do not follow the tangential
 displacements. Frictionless: identical bodies (no relative slip) and a flat counter-body are
-exact in this respect; unlike spheres slip relative to each other by O(a^2/R), which changes
-the gap by O(a^3/R^2), a relative O(a/R) (below 5 % of the small-strain error itself).
+exact in this respect (a tangential shift leaves a flat's z unchanged); unlike spheres slip
+relative to each other by O(a^2/R), which changes the gap by O(a^3/R^2), a relative O(a/R).
 
 References: Johnson 1985, Contact Mechanics, ch. 4 (Hertz, E*, R*); Wriggers 2006,
 Computational Contact Mechanics, ch. 6 (active set); Puso & Laursen 2004 (mortar contact);
