@@ -107,6 +107,12 @@ def check_calibration_inputs(material: Material, radius: float, largest_peak: fl
                          f"({P_limit / pair.P_Y:.4g} P_Y) for this material and R")
 
 
+def smallest_radius(radius: float, counter=None) -> float:
+    """The radius [m] that bounds the contact (a <= CONTACT_RADIUS_LIMIT x it): the sphere's, or a
+    smaller counter-sphere's."""
+    return min(radius, counter.R) if counter is not None and counter.R is not None else radius
+
+
 @dataclass(frozen=True)
 class CalibrationSpec:
     """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance, and
@@ -125,7 +131,8 @@ class CalibrationSpec:
             raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
         if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
             raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
-        check_calibration_inputs(self.material, self.radius, self.plan.peaks[-1], self.pair)
+        check_calibration_inputs(self.material, smallest_radius(self.radius, self.counter), self.plan.peaks[-1],
+                                 self.pair)
         a_max = estimated_contact_radius(self.pair, self.plan.peaks[-1])
         if self.mesh.refined_radius < 0.99 * a_max:   # a contact wider than the fine zone
             raise ValueError(f"mesh refined_radius {self.mesh.refined_radius:.4g} m is smaller than the "
@@ -286,7 +293,7 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
         else:
             peaks = tuple(float(k * pair.P_Y) for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD))
     peaks = tuple(sorted(float(p) for p in peaks))
-    check_calibration_inputs(material, radius, peaks[-1], pair)   # before sizing a mesh from it
+    check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair)   # before sizing a mesh
     a_max = estimated_contact_radius(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
                     contact_size_over_a_max=contact_size_over_a_max)
