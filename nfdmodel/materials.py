@@ -193,6 +193,38 @@ class ContactPair:
         return cls(R_star, E_star, first_to_yield.sigma_y, first_to_yield.nu, m_i * m_j / (m_i + m_j))
 
     @classmethod
+    def sphere_counter(cls, material: Material, R: float, E2: float, nu2: float, sigma_y2: float | None = None,
+                       R2: float | None = None, rho2: float | None = None) -> "ContactPair":
+        """Sphere (``material``, radius R [m]) on a deformable counter-body: Young's modulus E2 [Pa],
+        Poisson's ratio nu2, yield stress sigma_y2 [Pa] (None: elastic, it never yields), radius R2
+        [m] (None: a flat, the half-space of a wall), density rho2 [kg/m^3] (None: the sphere's).
+
+            1/R* = 1/R + 1/R2,  1/E* = (1 - nu^2)/E + (1 - nu2^2)/E2   (Johnson 1985 eq. 4.22)
+
+        the yield point from the body with the lower A_Y(nu) sigma_y (as sphere_sphere); m* the
+        pair's reduced mass (the sphere's own against a flat)."""
+        if not isinstance(material, Material):
+            raise ValueError(f"material must be a Material, got {type(material).__name__}")
+        R = check_radius("R", R)
+        E2 = check_solid("E", check_real("counter E", E2, low=0.0, unit="Pa"), "counter E")
+        nu2 = check_real("counter nu", nu2, low=0.0, low_inclusive=True, high=limits.NU_MAX)
+        E_star = 1.0 / (1.0 / material.plane_strain_modulus + (1.0 - nu2 ** 2) / E2)
+        yielding = [(material.sigma_y, material.nu)]
+        if sigma_y2 is not None:
+            sigma_y2 = check_solid("sigma_y", check_real("counter sigma_y", sigma_y2, low=0.0, unit="Pa"),
+                                   "counter sigma_y")
+            yielding.append((sigma_y2, nu2))
+        sigma_y, nu = min(yielding, key=lambda s: yield_factor(s[1]) * s[0])
+        mass = material.sphere_mass(R)
+        if R2 is None:
+            return cls(R, E_star, sigma_y, nu, mass)
+        R2 = check_radius("counter R", R2)
+        rho2 = material.rho if rho2 is None else check_solid("rho", check_real("counter rho", rho2, low=0.0,
+                                                                                 unit="kg/m^3"), "counter rho")
+        mass2 = 4.0 / 3.0 * math.pi * R2 ** 3 * rho2
+        return cls(1.0 / (1.0 / R + 1.0 / R2), E_star, sigma_y, nu, mass * mass2 / (mass + mass2))
+
+    @classmethod
     def reference(cls) -> "ContactPair":
         """The paper's reference case: aluminium sphere R = 0.1 m on a rigid flat."""
         return cls.sphere_flat(Material.reference(), reference_case.R)

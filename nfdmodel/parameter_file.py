@@ -4,6 +4,9 @@ Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m},
      "window": {"P_min_over_P_Y": -, "P_max_over_P_Y": -, "a_max_over_R": -, "source": text}, ...}
+A calibration against a deformable counter-body (``nfdcal calibrate --counter-E ...``) also states it:
+    "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null}
+and the pair (E*, R*, the yield point) is ContactPair.sphere_counter's; absent or null: a rigid flat.
 Written by a calibration, also the estimated relative discretisation errors (``ERROR_KEYS``:
 numbers >= 0, or null for one mesh) and how they were obtained ("discretisation").
 Only law, Ca, Kc and material are needed; a file without "window" (written before windows were
@@ -31,15 +34,20 @@ ERROR_KEYS = ("Ca_rel_error_estimate", "Kc_rel_error_estimate", "Ca_hat_rel_erro
               "Kc_hat_rel_error_estimate", "table_rel_error_estimate", "e_rel_error_estimate",
               "alpha_rel_error_estimate")
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
-KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "material", "window", "units",
-        "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation",)
+KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "material", "counter_body", "window",
+        "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation",)
 TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
+# the deformable counter-body the constants were calibrated against (absent or null: a rigid flat):
+# shape "flat" or "sphere", E [Pa], nu, sigma_y [Pa] (null: elastic), R [m] (null: a flat)
+COUNTER_KEYS = ("shape", "E", "nu", "sigma_y", "R")
 
 
-def parameter_record(params: VZParams | VZTableParams, R: float, material: Material) -> dict:
-    """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat):
-    the vz constants, or the vz-table law's nodes."""
+def parameter_record(params: VZParams | VZTableParams, R: float, material: Material,
+                     counter: dict | None = None) -> dict:
+    """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat, or on
+    the deformable ``counter`` body, a COUNTER_KEYS record): the vz constants, or the vz-table
+    law's nodes."""
     pair = params.pair
     if isinstance(params, VZTableParams):
         law = {"law": "vz-table", "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
@@ -49,6 +57,7 @@ def parameter_record(params: VZParams | VZTableParams, R: float, material: Mater
     return {**law, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
             "material": {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y,
                          "rho": material.rho, "R": R},
+            **({"counter_body": dict(counter)} if counter is not None else {}),
             **({"window": params.window.record()} if params.window is not None else {}),
             "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "E": "Pa",
                       "sigma_y": "Pa", "rho": "kg/m^3", "R": "m"}}
@@ -62,9 +71,25 @@ def _check_keys(path, data: dict, allowed: tuple, where: str) -> None:
                          f"{', '.join(map(repr, unknown))}; allowed: {', '.join(allowed)}")
 
 
+def _pair(path, material: Material, R, counter) -> ContactPair:
+    """The contact pair of the file: the sphere on a rigid flat, or on its counter-body."""
+    if counter is None:
+        return ContactPair.sphere_flat(material, R)
+    if not isinstance(counter, dict):
+        raise ValueError(f"'counter_body' must be an object with {', '.join(COUNTER_KEYS)} or null, got {counter!r}")
+    _check_keys(path, counter, COUNTER_KEYS, " in 'counter_body'")
+    missing = [k for k in COUNTER_KEYS if k not in counter]
+    if missing:
+        raise ValueError(f"counter_body: missing key(s) {', '.join(missing)}")
+    if counter["shape"] != ("flat" if counter["R"] is None else "sphere"):
+        raise ValueError(f"counter_body: shape must be 'flat' (R null) or 'sphere' (R a radius), got "
+                         f"{counter['shape']!r} with R = {counter['R']!r}")
+    return ContactPair.sphere_counter(material, R, counter["E"], counter["nu"], counter["sigma_y"], counter["R"])
+
+
 def load_parameters(path) -> VZParams | VZTableParams:
-    """VZParams (law "vz") or VZTableParams (law "vz-table") for the sphere-on-flat pair described
-    by the JSON parameter file at ``path``.
+    """VZParams (law "vz") or VZTableParams (law "vz-table") for the pair described by the JSON
+    parameter file at ``path``: the sphere on a rigid flat, or on its "counter_body".
 
     Raises FileNotFoundError if the file is missing, ValueError naming the key for a corrupted
     file, a missing or out-of-range value, or derived values inconsistent with the material.
@@ -115,7 +140,7 @@ def load_parameters(path) -> VZParams | VZTableParams:
         try:
             material = Material(material_data["E"], material_data["nu"], material_data["sigma_y"],
                                 material_data["rho"])
-            pair = ContactPair.sphere_flat(material, material_data["R"])
+            pair = _pair(path, material, material_data["R"], data.get("counter_body"))
             if law == "vz":
                 params = VZParams(pair, data["Ca"], data["Kc"], window)
             else:

@@ -92,12 +92,14 @@ def unit_slip(name: str, value: float) -> str:
     return ""
 
 
-def check_solid(name: str, value: float) -> float:
-    """``value`` (already a finite float) inside the range of real solids, or ValueError naming
-    the parameter, the range and the likely unit slip."""
+def check_solid(name: str, value: float, label: str | None = None) -> float:
+    """``value`` (already a finite float) inside the range of real solids for the quantity ``name``
+    (a key of SOLID_RANGES), or ValueError naming the parameter (``label``, default ``name``), the
+    range and the likely unit slip."""
     low, high, unit, what = SOLID_RANGES[name]
     if not low <= value <= high:
         kind = "an impact" if name == "v_in" else "a solid"
-        raise ValueError(f"{name} out of range for {kind}: need {low:g} <= {name} <= {high:g} {unit} "
+        label = label or name
+        raise ValueError(f"{label} out of range for {kind}: need {low:g} <= {label} <= {high:g} {unit} "
                          f"({what}), got {value:g}{unit_slip(name, value)}")
     return value

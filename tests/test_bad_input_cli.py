@@ -28,6 +28,15 @@ CLI_CASES = [
     (["calibrate", "--quiet", "--peaks", "nan"], "peaks"),
     (["calibrate", "--quiet", "--contact-size", "-1"], "contact-size"),
     (["hertz", "--E", "-70e9"], "E"),
+    # the deformable counter-body: checked before any FE work, ranges from nfdmodel.limits
+    (["calibrate", "--quiet", "--counter-E", "70"], "--counter-E out of range for a solid"),
+    (["calibrate", "--quiet", "--counter-E", "2e11", "--counter-nu", "0.5"], "--counter-nu out of range"),
+    (["calibrate", "--quiet", "--counter-E", "2e11", "--counter-sigma-y", "1e300"], "--counter-sigma-y out of range"),
+    (["calibrate", "--quiet", "--counter-E", "2e11", "--counter-R", "0"], "--counter-R out of range"),
+    (["calibrate", "--quiet", "--counter-R", "0.1"], "--counter-E out of range"),          # a counter-body needs E
+    (["calibrate", "--quiet", "--counter-E", "2e11", "--v-max", "1"], "--v-max"),
+    (["hertz", "--counter-E", "abc"], "--counter-E"),
+    (["hertz", "--counter-E", "2e11", "--ladder"], "--ladder"),
     (["run", "/nonexistent/scene.toml"], "scene.toml"),
     (["run", "SCENE_UNKNOWN_KEY"], "colour"),
     (["run", "SCENE_BAD_NU"], "nu"),

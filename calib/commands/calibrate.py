@@ -14,8 +14,8 @@ stderr when it is a terminal (silence it with --quiet).
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
-                                   number, print_summary)
+from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
+                                   counter_from_args, is_reference, material_from_args, number, print_summary)
 from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
@@ -25,6 +25,7 @@ def add_parser(subparsers) -> None:
         "calibrate", help="FE calibration of Ca and Kc (the reference case by default)",
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
+    add_counter_arguments(parser)
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
                         help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
                              " for the reference case, else 13.7 27.4 41.2 x P_Y)")
@@ -73,12 +74,15 @@ def accuracy_lines(accuracy: dict) -> list[str]:
     return lines
 
 
-def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max) -> str:
+def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max, counter=None) -> str:
     """The default folder of a calibration under results/calibration: "" for the reference one
     (which ``collide --report`` reads), else a name made of every option that differs from it
-    (material and R, --peaks, --contact-size, --ship, --v-max), so that each folder holds one
-    calibration."""
+    (material and R, the counter-body, --peaks, --contact-size, --ship, --v-max), so that each
+    folder holds one calibration."""
     parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}"]
+    if counter is not None:
+        parts.append(f"on_E{counter.E:g}_nu{counter.nu:g}_sy{'-elastic' if counter.sigma_y is None else f'{counter.sigma_y:g}'}"
+                     f"_{'flat' if counter.R is None else f'R{counter.R:g}'}")
     if ns.peaks is not None:
         parts.append("peaks" + "-".join(f"{p:g}" for p in peaks))
     if contact_size is not None:
@@ -112,6 +116,10 @@ def plan_ladder(ns, material, name: str, mesh_ladder) -> int:
     return 0
 
 
+def counter_absent(ns) -> bool:
+    return all(getattr(ns, key, None) is None for key in ("counter_E", "counter_nu", "counter_sigma_y", "counter_R"))
+
+
 def run(ns) -> int:
     from calib import output
     from calib.commands.progress import progress_reporter
@@ -120,9 +128,9 @@ def run(ns) -> int:
     from calib.studies import mesh_ladder
 
     if ns.ladder:
-        if ns.R is not None or ns.peaks is not None or ns.contact_size is not None:
+        if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns):
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
-                             " do not combine it with --R, --peaks or --contact-size")
+                             " do not combine it with --R, --peaks, --contact-size or the --counter-* flags")
         material = None if is_reference(ns) else material_from_args(ns)[0]
         name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
         if ns.dry_run:
@@ -133,6 +141,7 @@ def run(ns) -> int:
         print_summary(ns, {"out": str(path)}, [f"mesh ladder written to {path}"])
         return 0
     material, radius = material_from_args(ns)
+    counter = counter_from_args(ns, material)
     contact_size = number("--contact-size", ns.contact_size)
     if contact_size is not None and not contact_size > 0:
         raise ValueError(f"--contact-size out of range: need > 0 m, got {contact_size:g}")
@@ -141,6 +150,9 @@ def run(ns) -> int:
         raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
     v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
     ship = ns.ship or ("table" if v_max is not None else "radius")
+    if v_max is not None and counter is not None:
+        raise ValueError("--v-max sizes the window from impacts of the sphere on a rigid flat: with a counter-body "
+                         "give the load paths by --peaks (or none: 13.7 27.4 41.2 x the pair's P_Y)")
     if v_max is not None:
         if peaks is not None:
             raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
@@ -150,16 +162,18 @@ def run(ns) -> int:
         needed, _, _ = impact_window.check_reach(material, radius, v_max)   # before any mesh
         spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
     else:
-        spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size)
+        spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter)
         if ship == "table" and peaks is None:   # the table's C_R needs unloading paths across the window
             from calib.fit import impact_window
 
-            spec = impact_window.window_spec(material, radius, spec.plan.peaks[-1], contact_size=contact_size)
+            spec = impact_window.window_spec(material, radius, spec.plan.peaks[-1], contact_size=contact_size,
+                                             counter=counter)
     try:                                # before any mesh: name the flag that sets the load plan
         recipe.check_fittable(spec)
     except ValueError as exc:
         raise ValueError(f"--peaks: {exc}" if peaks is not None else str(exc)) from None
-    default_out = calibration_report.DEFAULT_OUT / folder_name(ns, material, radius, peaks, contact_size, ship, v_max)
+    default_out = calibration_report.DEFAULT_OUT / folder_name(ns, material, radius, peaks, contact_size, ship, v_max,
+                                                               counter)
     if ns.dry_run:
         from calib.scenes.plan import calibration_stage, format_stages, stages_summary
 
@@ -167,8 +181,10 @@ def run(ns) -> int:
         folder = ns.out or default_out
         print_summary(ns, stages_summary(stages, folder),
                       [f"calibration of E = {material.E:.4g} Pa, nu = {material.nu:g}, sigma_Y = "
-                       f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N",
-                       f"outputs: {folder}"] + format_stages(stages))
+                       f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N"]
+                      + ([f"{counter.label()} (the FE holds both bodies: about twice the dofs below)"]
+                         if counter is not None else [])
+                      + [f"outputs: {folder}"] + format_stages(stages))
         return 0
     rounds = None
     with output.one_writer(ns.out or default_out), progress_reporter(ns.quiet) as progress:
@@ -180,10 +196,12 @@ def run(ns) -> int:
             result, rounds = found.result, list(found.rounds)
         out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
                                        vtu=not ns.no_plots)
-    summary = {**calibration.summary(result), "out": str(out)}
+    summary = {**calibration.summary(result), "out": str(out),
+               **({"counter_body": counter.describe()} if counter is not None else {})}
     if rounds is not None:
         summary["v_max"] = {"v_max": v_max, "rounds": rounds}
-    lines = [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
+    lines = ([counter.label() + f"; the pair's E* = {spec.pair.E_star:.4g} Pa, R* = {spec.pair.R_star:.4g} m"]
+             if counter is not None else []) + [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
              f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
              f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]
     mesh = summary.get("discretisation") or {}

@@ -72,8 +72,50 @@ def material_from_args(ns) -> tuple[Material, float]:
     return Material(values["E"], values["nu"], values["sigma_y"], values["rho"]), values["R"]
 
 
+COUNTER_HELP = {"counter_E": "the counter-body's Young's modulus [Pa]: the sphere is pressed on a deformable body of "
+                              "this material instead of a rigid flat (absent: the rigid flat)",
+                "counter_nu": f"the counter-body's Poisson's ratio (0 <= nu < {limits.NU_MAX:g}; default the sphere's)",
+                "counter_sigma_y": "the counter-body's yield stress [Pa] (absent: elastic)",
+                "counter_R": "the counter-body's radius [m]: a sphere (absent: a flat)"}
+
+
+def add_counter_arguments(parser) -> None:
+    """--counter-E --counter-nu --counter-sigma-y --counter-R: the deformable counter-body."""
+    for key, help_text in COUNTER_HELP.items():
+        parser.add_argument(flag_name(key), dest=key, default=None, help=help_text)
+
+
+def counter_from_args(ns, material: Material):
+    """calib.fit.counter.CounterBody from the counter flags, None when none is given (the rigid
+    flat); an error names the flag and its range (the ranges of nfdmodel.limits)."""
+    from nfdmodel.materials import check_radius
+    from nfdmodel.validation import check_solid
+
+    given = {key: getattr(ns, key, None) for key in COUNTER_HELP}
+    if all(v is None for v in given.values()):
+        return None
+    if given["counter_E"] is None:
+        named = ", ".join(flag_name(k) for k, v in given.items() if v is not None)
+        raise ValueError(f"--counter-E out of range: need a Young's modulus > 0 Pa for the counter-body that {named} "
+                         f"describe(s), got none")
+    E = check_solid("E", number("--counter-E", given["counter_E"], **MATERIAL_RANGES["E"]), "--counter-E")
+    nu = number("--counter-nu", given["counter_nu"], material.nu, **MATERIAL_RANGES["nu"])
+    sigma_y = given["counter_sigma_y"]
+    if sigma_y is not None:
+        sigma_y = check_solid("sigma_y", number("--counter-sigma-y", sigma_y, **MATERIAL_RANGES["sigma_y"]),
+                              "--counter-sigma-y")
+    R = given["counter_R"]
+    if R is not None:
+        R = check_radius("--counter-R", number("--counter-R", R, **MATERIAL_RANGES["R"]))
+    from calib.fit.counter import CounterBody
+
+    return CounterBody(E, nu, sigma_y, R)
+
+
 def is_reference(ns) -> bool:
-    """True when no material flag differs from the reference case."""
+    """True when no material flag differs from the reference case and no counter-body is given."""
+    if any(getattr(ns, key, None) is not None for key in COUNTER_HELP):
+        return False
     return all(text is None or number(flag_name(k), text) == MATERIAL_DEFAULTS[k]
                for k, text in material_flags(ns).items())
 

@@ -98,6 +98,9 @@ def run(ns) -> int:
         raise ValueError("--wall-region REGION-ID out of range: need letters, digits and underscores (a LAMMPS "
                          f"region ID), got {ns.wall_region!r}")
     params = load_parameters(ns.params)
+    if json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body") is not None:
+        raise ValueError(f"--params out of range: {ns.params} holds constants calibrated for the sphere on a deformable "
+                         f"counter-body; the LAMMPS plugin takes sphere-on-rigid-flat constants only")
     record = _material_of(ns.params)      # E, nu, sigma_y of the sphere (the pair holds E* only)
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
     summary = {"engine": "lammps", "params": str(ns.params), "E": record["E"], "nu": record["nu"],

@@ -1,6 +1,7 @@
 """``nfdcal hertz``: the Hertz-limit validation of the FE contact solver.
 
-An elastic sphere pressed on a rigid flat must reproduce Hertz's contact radius
+An elastic sphere pressed on a rigid flat (or, with --counter-E [--counter-nu --counter-R], on an
+elastic counter-body: the two-body FE, Hertz with the pair's E* and R*) must reproduce Hertz's contact radius
 a = (3 P R / (4 E*))^(1/3), approach alpha = a^2 / R and peak pressure p0 = 3 P / (2 pi a^2),
 with E* = E / (1 - nu^2) (nfdmodel/README.md, Hertz contact). Default: the reference sphere
 (R = 0.1 m, E = 70 GPa, nu = 0.3), force-controlled from 1 N to 1500 N on the default mesh;
@@ -14,8 +15,8 @@ peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_material_arguments, add_summary_arguments, material_from_args, number,
-                                   print_summary)
+from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
+                                   counter_from_args, material_from_args, number, print_summary)
 from nfdmodel import reference_case
 
 DEFAULT_OUT = "results/hertz"
@@ -30,6 +31,7 @@ def add_parser(subparsers):
     p.add_argument("--P-max", dest="P_max", default=None, help=f"top load [N] (> P_min, default {P_MAX:g})")
     p.add_argument("--steps", type=int, default=25, help="number of loads, geometric (2 .. 1000, default 25)")
     add_material_arguments(p)
+    add_counter_arguments(p)
     p.add_argument("--contact-size", dest="contact_size", default=None,
                    help="element size at the contact [m] (> 0; default mesh: 4e-5 for R = 0.1)")
     p.add_argument("--ladder", action="store_true",
@@ -51,7 +53,10 @@ def run(ns) -> int:
     if not 2 <= ns.steps <= 1000:
         raise ValueError(f"--steps must be in [2, 1000], got {ns.steps}")
     material, radius = material_from_args(ns)
+    counter = counter_from_args(ns, material)
     contact_size = number("--contact-size", ns.contact_size, None, low=0.0, unit="m")
+    if counter is not None and ns.ladder:
+        raise ValueError("--ladder runs the rigid flat's mesh ladder: do not combine it with the --counter-* flags")
 
     from pathlib import Path
 
@@ -63,8 +68,8 @@ def run(ns) -> int:
         from calib.studies.hertz import LADDER_CONTACT_SIZES, hertz_spec
 
         sizes = [h * radius / reference_case.R for h in LADDER_CONTACT_SIZES] if ns.ladder else [contact_size]
-        stages = [hertz_stage(hertz_spec(material, radius, P_max, h), "sphere", (P_min, P_max), ns.steps)
-                  for h in sizes]
+        stages = [hertz_stage(hertz_spec(material, radius, P_max, h, counter=counter), "sphere", (P_min, P_max),
+                              ns.steps) for h in sizes]
         print_summary(ns, stages_summary(stages, out), [f"outputs: {out}"] + format_stages(stages))
         return 0
     if ns.ladder:
@@ -72,7 +77,7 @@ def run(ns) -> int:
                                        P_min=P_min, P_max=P_max, steps=ns.steps)
     else:
         summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min,
-                                      P_max=P_max, steps=ns.steps, contact_size=contact_size)
+                                      P_max=P_max, steps=ns.steps, contact_size=contact_size, counter=counter)
     print_summary(ns, summary, ladder_lines(summary, out) if ns.ladder else hertz_lines(summary, out))
     return 0
 
@@ -80,7 +85,13 @@ def run(ns) -> int:
 def hertz_lines(summary: dict, out) -> list[str]:
     """The readable summary: the case, then FE against Hertz at the top load."""
     case, top, mesh = summary["case"], summary["top_load"], summary["stamp"]["mesh"]
-    return [f"Hertz check: R = {case['radius']:g} m, E = {case['E']:.4g} Pa, nu = {case['nu']:g}; "
+    counter = case.get("counter_body")
+    on = ""
+    if counter is not None:
+        shape = "flat" if counter["R"] is None else f"sphere R = {counter['R']:g} m"
+        on = (f" on a {shape} of E = {counter['E']:.4g} Pa, nu = {counter['nu']:g} (E* = {case['E_star']:.4g} Pa,"
+              f" R* = {case['R_star']:.4g} m)")
+    return [f"Hertz check: R = {case['radius']:g} m, E = {case['E']:.4g} Pa, nu = {case['nu']:g}{on}; "
             f"{case['steps']} loads {case['P_min']:g} .. {case['P_max']:g} N; mesh: contact element "
             f"{mesh['contact_size']:.3g} m, {mesh['n_dofs']} dofs; {summary['stamp']['wall_time_s']:.1f} s",
             f"at P = {top['P']:.4g} N, FE against Hertz:",

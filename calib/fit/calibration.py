@@ -266,8 +266,8 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
         result = calibrate_mesh(spec, say, unload)
     else:
         coarse = coarse_spec(spec)
-        hemisphere_mesh(spec.mesh)      # gmsh is a process-wide singleton: both meshes are built
-        hemisphere_mesh(coarse.mesh)    # here, the other process only reads the cache
+        for one in (spec, coarse):      # gmsh is a process-wide singleton: every mesh is built
+            _body_meshes(one)           # here, the other process only reads the cache
         say(f"second mesh: contact element {coarse.mesh.contact_size:.3g} m (Richardson extrapolation)")
         with in_background(mesh_figures_of, {"spec": coarse, "unload": unload}, parallel) as coarse_figures:
             result = calibrate_mesh(spec, say, unload)
@@ -298,21 +298,42 @@ def calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bo
         return _calibrate_mesh(spec, say, unload)
 
 
+def _body_meshes(spec: CalibrationSpec):
+    """The mesh of the FE of ``spec``: the hemisphere, or with a counter-body the pair of bodies
+    (meshes.counter_body)."""
+    if spec.counter is None:
+        return hemisphere_mesh(spec.mesh)
+    from meshes.counter_body import pair_mesh
+
+    return pair_mesh(spec.mesh, spec.counter.mesh_spec(spec.mesh))
+
+
+def _solver_and_first_yield(spec: CalibrationSpec, mesh):
+    """(the FE solver of ``spec`` on ``mesh``, the FE's first-yield load [N]): the rigid flat's, or
+    the two-body FE's (calib.fe.two_body) with first yield in whichever body yields first."""
+    material = spec.material
+    sphere = VonMisesMaterial(material.E, material.nu, material.sigma_y)
+    options = {"residual_tolerance": spec.residual_tolerance, "contact_radius_method": spec.contact_radius_method}
+    if spec.counter is None:
+        return ContactSolver(mesh, sphere, **options), first_yield_load(mesh, material)
+    from calib.fe.two_body import TwoBodySolver, first_yield_loads
+
+    counter = spec.counter
+    loads = first_yield_loads(mesh, ElasticMaterial(material.E, material.nu), ElasticMaterial(counter.E, counter.nu),
+                              (material.sigma_y, counter.sigma_y), spec.pair.P_Y)
+    return TwoBodySolver(mesh, sphere, counter.fe_material(), **options), min(x for x in loads if x is not None)
+
+
 def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool) -> CalibrationResult:
     t0 = time.perf_counter()
-    hemisphere = hemisphere_mesh(spec.mesh)
+    hemisphere = _body_meshes(spec)
     t_mesh = time.perf_counter() - t0
     pair = spec.pair
-    material = spec.material
 
     t1 = time.perf_counter()
-    P_Y_fe = first_yield_load(hemisphere, material)
+    solver, P_Y_fe = _solver_and_first_yield(spec, hemisphere)
     t_yield = time.perf_counter() - t1
     say(f"first yield: P_Y(FE) = {P_Y_fe:.4g} N, theory {pair.P_Y:.4g} N")
-
-    solver = ContactSolver(hemisphere, VonMisesMaterial(material.E, material.nu, material.sigma_y),
-                           residual_tolerance=spec.residual_tolerance,
-                           contact_radius_method=spec.contact_radius_method)
     paths = run_load_paths(solver, spec.plan, progress=say, unload=unload)
 
     loading = paths.loading_rows
@@ -346,7 +367,9 @@ def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: b
                                force_fit=force_fit, shipped="radius", comparisons={}, solver=solver,
                                radius_fit_force_error=radius_fit_force_error,
                                mesh_info={**spec.mesh.describe(), "elements": int(hemisphere.mesh.nelements),
-                                          "dofs": int(solver.n_dofs)})
+                                          "dofs": int(solver.n_dofs),
+                                          **({"counter": spec.counter.mesh_spec(spec.mesh).describe()}
+                                             if spec.counter is not None else {})})
     result.wall_time_s = time.perf_counter() - t0
     result.timings = {"mesh_s": t_mesh, "first_yield_s": t_yield, "load_paths_s": paths.wall_time_s,
                       "factorizations": paths.factorizations}

@@ -77,10 +77,12 @@ def largest_admissible_load(pair: ContactPair) -> float:
     return float(brentq(lambda P: estimated_contact_radius(pair, P) - limit, pair.P_Y, hi, rtol=1e-6))
 
 
-def check_calibration_inputs(material: Material, radius: float, largest_peak: float) -> None:
+def check_calibration_inputs(material: Material, radius: float, largest_peak: float,
+                             pair: ContactPair | None = None) -> None:
     """ValueError naming the parameter and its allowed range when a calibration cannot be
     meaningful: E / sigma_Y outside E_OVER_SIGMA_Y_RANGE, or a largest load P_max whose contact
-    radius would exceed CONTACT_RADIUS_LIMIT R (small strain, a << R)."""
+    radius would exceed CONTACT_RADIUS_LIMIT R (small strain, a << R). ``pair``: the contact
+    pair (default: the sphere on a rigid flat; a counter-body's, calib.fit.counter)."""
     ratio = material.E / material.sigma_y
     low, high = E_OVER_SIGMA_Y_RANGE
     if not low <= ratio <= high:
@@ -88,7 +90,7 @@ def check_calibration_inputs(material: Material, radius: float, largest_peak: fl
         raise ValueError(f"E/sigma_Y out of range for a calibration: need {low:g} <= E/sigma_Y <= "
                          f"{high:g}, got {ratio:.3g} (E = {material.E:g} Pa, sigma_Y = "
                          f"{material.sigma_y:g} Pa){hint}")
-    pair = ContactPair.sphere_flat(material, radius)
+    pair = pair or ContactPair.sphere_flat(material, radius)
     if largest_peak > MAX_LOAD_OVER_YIELD * pair.P_Y:
         raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N is "
                          f"{largest_peak / pair.P_Y:.4g} P_Y; the FE calibration runs to P_max <= "
@@ -105,9 +107,16 @@ def check_calibration_inputs(material: Material, radius: float, largest_peak: fl
                          f"({P_limit / pair.P_Y:.4g} P_Y) for this material and R")
 
 
+def smallest_radius(radius: float, counter=None) -> float:
+    """The radius [m] that bounds the contact (a <= CONTACT_RADIUS_LIMIT x it): the sphere's, or a
+    smaller counter-sphere's."""
+    return min(radius, counter.R) if counter is not None and counter.R is not None else radius
+
+
 @dataclass(frozen=True)
 class CalibrationSpec:
-    """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance."""
+    """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance, and
+    the counter-body (calib.fit.counter.CounterBody; None: the rigid flat)."""
 
     material: Material
     radius: float
@@ -115,13 +124,15 @@ class CalibrationSpec:
     plan: LoadPathPlan
     residual_tolerance: float = 1e-8
     contact_radius_method: str = "gap"
+    counter: object = None
 
     def __post_init__(self):
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
         if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
             raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
-        check_calibration_inputs(self.material, self.radius, self.plan.peaks[-1])
+        check_calibration_inputs(self.material, smallest_radius(self.radius, self.counter), self.plan.peaks[-1],
+                                 self.pair)
         a_max = estimated_contact_radius(self.pair, self.plan.peaks[-1])
         if self.mesh.refined_radius < 0.99 * a_max:   # a contact wider than the fine zone
             raise ValueError(f"mesh refined_radius {self.mesh.refined_radius:.4g} m is smaller than the "
@@ -130,6 +141,8 @@ class CalibrationSpec:
 
     @property
     def pair(self) -> ContactPair:
+        if self.counter is not None:
+            return self.counter.pair(self.material, self.radius)
         return ContactPair.sphere_flat(self.material, self.radius)
 
 
@@ -261,24 +274,26 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
 def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_over_yield=None,
                      level: str | None = None, contact_size: float | None = None,
                      contact_size_over_a_max: float | None = None, loading_steps: int | None = None,
-                     unloading_steps: int = UNLOADING_STEPS) -> CalibrationSpec:
+                     unloading_steps: int = UNLOADING_STEPS, counter=None) -> CalibrationSpec:
     """The CalibrationSpec of ``material`` on a sphere of radius R [m] (see the module docstring).
 
     peaks [N] or peaks_over_yield [-] (not both); loading_steps: force increments up to the
     largest peak (default 16 up to the smallest); the mesh options as in ``mesh_for``. Raises
     ValueError naming the parameter when the material or the load cannot be calibrated.
+    ``counter``: calib.fit.counter.CounterBody (None: the rigid flat); the load plan is then in units
+    of the pair's P_Y and the mesh sized by the pair's contact radius.
     """
     if peaks is not None and peaks_over_yield is not None:
         raise ValueError("give peaks [N] or peaks_over_yield [-], not both")
-    pair = ContactPair.sphere_flat(material, radius)
-    reference = is_reference_sphere(material.E, material.nu, radius, material.sigma_y)
+    pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
+    reference = counter is None and is_reference_sphere(material.E, material.nu, radius, material.sigma_y)
     if peaks is None:
         if peaks_over_yield is None and reference:
             peaks = reference_case.PEAKS
         else:
             peaks = tuple(float(k * pair.P_Y) for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD))
     peaks = tuple(sorted(float(p) for p in peaks))
-    check_calibration_inputs(material, radius, peaks[-1])   # before sizing a mesh from it
+    check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair)   # before sizing a mesh
     a_max = estimated_contact_radius(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
                     contact_size_over_a_max=contact_size_over_a_max)
@@ -287,7 +302,8 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
     first_load = min(REFERENCE_FIRST_LOAD if reference else 0.5 * pair.P_Y, peaks[0])
     return CalibrationSpec(material=material, radius=radius, mesh=mesh,
                            plan=LoadPathPlan(peaks=peaks, loading_step=loading_step,
-                                             unloading_steps=unloading_steps, first_load=first_load))
+                                             unloading_steps=unloading_steps, first_load=first_load),
+                           counter=counter)
 
 
 def coarse_spec(spec: CalibrationSpec, ratio: float | None = None) -> CalibrationSpec:

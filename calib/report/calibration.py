@@ -56,8 +56,9 @@ def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -
                  "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}
                            for p in s["paths"]]}
     errors = {key: s[key] for key in ERROR_KEYS}
+    counter = result.spec.counter.describe() if result.spec.counter is not None else None
     return write_parameter_file(path, result.shipped_params, result.spec.radius, result.spec.material, fit,
-                                stamp, **errors, discretisation=s["discretisation"], fe_errors=fe_errors,
+                                stamp, counter, **errors, discretisation=s["discretisation"], fe_errors=fe_errors,
                                 mesh=result.mesh_info)
 
 

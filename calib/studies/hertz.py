@@ -22,7 +22,7 @@ import numpy as np
 from calib import output
 from calib.fe import ContactSolver, run_load_path
 from calib.fe.elastic import ElasticMaterial
-from calib.fit.recipe import hertz_mesh, is_reference_sphere
+from calib.fit.recipe import hertz_mesh, is_reference_sphere, mesh_for
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import ContactPair, Material, reference_case
 
@@ -48,29 +48,35 @@ def default_loads(P_min=1.0, P_max=1500.0, steps=25):
 
 
 def hertz_spec(material: Material, radius: float, top_load: float,
-               contact_size: float | None = None):
-    """The mesh of a Hertz run to ``top_load`` [N] (calib.fit.recipe.hertz_mesh)."""
+               contact_size: float | None = None, counter=None):
+    """The sphere's mesh of a Hertz run to ``top_load`` [N] (calib.fit.recipe.hertz_mesh; with a
+    counter-body, calib.fit.counter.CounterBody, mesh_for at the pair's Hertz radius)."""
+    if counter is not None:
+        return mesh_for(radius, float(counter.pair(material, radius).hertz_radius(top_load)),
+                        contact_size=contact_size)
     return hertz_mesh(ContactPair.sphere_flat(material, radius), top_load, contact_size=contact_size,
                       reference=is_reference_sphere(material.E, material.nu, radius))
 
 
 def run_hertz(spec=None, *, material: Material | None = None, radius: float = reference_case.R,
               loads=None, cache_dir=None, contact_radius_method="pressure",
-              linear_solver=None) -> HertzRun:
+              linear_solver=None, counter=None) -> HertzRun:
     """Force-controlled elastic FE run of ``material`` (E, nu; the reference aluminium by default)
-    on a sphere of radius R [m], compared with Hertz at every load [N].
+    on a sphere of radius R [m], compared with Hertz at every load [N]. ``counter``: an elastic
+    counter-body (calib.fit.counter.CounterBody, its sigma_Y unused) instead of the rigid flat, the
+    two-body FE (calib.fe.two_body) compared with Hertz of the pair's E* and R*.
 
     ``spec``: meshes.hemisphere.HemisphereMeshSpec (default: ``hertz_spec``). Returns a HertzRun;
     raises ValueError on bad input and calib.fe.StepNotConverged if a step fails.
     """
     t_start = time.perf_counter()
     material = material or Material.reference()
-    pair = ContactPair.sphere_flat(material, radius)
+    pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
     loads = default_loads() if loads is None else np.asarray(loads, dtype=float)
     if loads.ndim != 1 or loads.size < 1 or not np.all(np.isfinite(loads)) or np.any(loads <= 0):
         raise ValueError("loads must be a non-empty list of finite forces > 0 [N]")
     if spec is None:
-        spec = hertz_spec(material, radius, float(loads.max()))
+        spec = hertz_spec(material, radius, float(loads.max()), counter=counter)
     elif spec.radius != radius:
         raise ValueError(f"mesh radius {spec.radius} m differs from the sphere radius R = {radius} m")
     a_top = float(pair.hertz_radius(loads.max()))
@@ -79,12 +85,23 @@ def run_hertz(spec=None, *, material: Material | None = None, radius: float = re
                          f"refined_radius {spec.refined_radius:.3g} m: lower P_max")
 
     t0 = time.perf_counter()
-    hemisphere = hemisphere_mesh(spec, cache_dir=cache_dir)
+    if counter is None:
+        hemisphere = hemisphere_mesh(spec, cache_dir=cache_dir)
+    else:
+        from meshes.counter_body import pair_mesh
+
+        hemisphere = pair_mesh(spec, counter.mesh_spec(spec), cache_dir=cache_dir)
     time_mesh = time.perf_counter() - t0
     t0 = time.perf_counter()
-    solver = ContactSolver(hemisphere, ElasticMaterial(material.E, material.nu),
-                           contact_radius_method=contact_radius_method,
-                           linear_solver=linear_solver)
+    if counter is None:
+        solver = ContactSolver(hemisphere, ElasticMaterial(material.E, material.nu),
+                               contact_radius_method=contact_radius_method, linear_solver=linear_solver)
+    else:
+        from calib.fe.two_body import TwoBodySolver
+
+        solver = TwoBodySolver(hemisphere, ElasticMaterial(material.E, material.nu),
+                               ElasticMaterial(counter.E, counter.nu), contact_radius_method=contact_radius_method,
+                               linear_solver=linear_solver)
     time_setup = time.perf_counter() - t0
     t0 = time.perf_counter()
     results, _ = run_load_path(solver, loads, control="force")
@@ -129,7 +146,8 @@ def run_hertz(spec=None, *, material: Material | None = None, radius: float = re
                 "alpha_hertz": top["alpha_hertz"], "alpha_rel_error": top["alpha_rel_error"],
                 "contact_force_rel_error": top["contact_force_rel_error"],
                 "wall_time_s": wall}
-    mesh = {**spec.describe(), "n_elements": int(solver.n_elements), "n_dofs": int(solver.n_dofs),
+    mesh = {**spec.describe(), **({"counter": counter.mesh_spec(spec).describe()} if counter is not None else {}),
+            "n_elements": int(solver.n_elements), "n_dofs": int(solver.n_dofs),
             "n_contact_candidates": int(solver.candidate_r.size),
             "build_or_load_time_s": hemisphere.build_time_s}
     return HertzRun(rows=rows, top_load=top_load, pressure_profile=profile, mesh=mesh,
@@ -178,21 +196,25 @@ def run_ladder(contact_sizes=LADDER_CONTACT_SIZES, *, cache_dir=None, loads=None
 
 # --------------------------------------------------------------------------- results/
 def write_hertz_results(out, *, material: Material | None = None, radius: float = reference_case.R,
-                        P_min=1.0, P_max=1500.0, steps=25, contact_size=None, cache_dir=None):
-    """Run the validation and write JSON + CSV + PNG into ``out``; returns the JSON summary."""
+                        P_min=1.0, P_max=1500.0, steps=25, contact_size=None, cache_dir=None, counter=None):
+    """Run the validation and write JSON + CSV + PNG into ``out``; returns the JSON summary.
+    ``counter``: an elastic counter-body instead of the rigid flat (run_hertz)."""
 
     out = Path(out)
     material = material or Material.reference()
     E, nu = material.E, material.nu
-    spec = hertz_spec(material, radius, P_max, contact_size)
+    spec = hertz_spec(material, radius, P_max, contact_size, counter=counter)
     run = run_hertz(spec, material=material, radius=radius, loads=default_loads(P_min, P_max, steps),
-                    cache_dir=cache_dir)
+                    cache_dir=cache_dir, counter=counter)
+    run_pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
     stamp = output.stamp(run.wall_time_s, mesh=run.mesh, time_mesh_s=run.time_mesh_s,
                          time_setup_s=run.time_setup_s, time_steps_s=run.time_steps_s,
                          time_assembly_s=sum(r["time_assembly_s"] for r in run.rows),
                          time_solve_s=sum(r["time_solve_s"] for r in run.rows))
     summary = {"case": {"radius": radius, "E": E, "nu": nu, "P_min": P_min, "P_max": P_max,
-                        "steps": steps, "material": "linear elastic", "control": "force"},
+                        "steps": steps, "material": "linear elastic", "control": "force",
+                        **({"counter_body": counter.describe(), "E_star": run_pair.E_star, "R_star": run_pair.R_star}
+                           if counter is not None else {})},
                "top_load": run.top_load,
                "alpha_finite_size": {
                    "coefficient_k": run.finite_size_coefficient,
@@ -211,15 +233,15 @@ def write_hertz_results(out, *, material: Material | None = None, radius: float 
                                         run.pressure_profile["pressure_hertz"])]
     output.write_csv(out / "pressure_profile.csv", profile_rows,
                      comment=output.stamp_comment(stamp))
-    plot_hertz(out, run, material, radius)
+    plot_hertz(out, run, material, radius, counter)
     return summary
 
 
-def plot_hertz(out, run, material: Material, radius: float):
+def plot_hertz(out, run, material: Material, radius: float, counter=None):
     """contact_radius.png, approach.png, peak_pressure.png (FE and Hertz against P, and the
     relative error) and pressure_profile.png (at the top load) into ``out``."""
 
-    pair = ContactPair.sphere_flat(material, radius)
+    pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
     E, nu = material.E, material.nu
     plt = output.pyplot()
     P = np.array([r["P"] for r in run.rows])
@@ -235,7 +257,9 @@ def plot_hertz(out, run, material: Material, radius: float):
         ax.plot(Pf, fn(Pf), "k-", label="Hertz")
         ax.plot(P, [r[key] for r in run.rows], "o", mfc="none", label=label)
         ax.set_xscale("log"), ax.set_yscale("log"), ax.set_ylabel(ylabel), ax.legend()
-        ax.set_title(f"Sphere on rigid flat, R = {radius} m, E = {E:.3g} Pa, nu = {nu}")
+        ax.set_title(f"Sphere on rigid flat, R = {radius} m, E = {E:.3g} Pa, nu = {nu}" if counter is None else
+                     f"Sphere R = {radius} m, E = {E:.3g} Pa, nu = {nu}; E* = {pair.E_star:.3g} Pa, "
+                     f"R* = {pair.R_star:.3g} m", fontsize=9)
         ax_err.semilogx(P, [100 * r[f"{key}_rel_error"] for r in run.rows], "o-", ms=3)
         ax_err.axhline(0, color="k", lw=0.5)
         ax_err.set_xlabel("P [N]"), ax_err.set_ylabel("FE / Hertz - 1 [%]")

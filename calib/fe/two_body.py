@@ -1,0 +1,550 @@
+"""Axisymmetric FE of a sphere pressed on a deformable counter-body: two meshes, exact contact.
+
+Problem. Body 1, the sphere of radius R1 (material 1), and body 2, a sphere of radius R2 or a
+flat block (material 2), meshed as one two-component section (meshes.counter_body), touch at
+the origin. Each material is elastic or elastic-perfectly plastic von Mises
+(calib.fe.elastic, calib.fe.von_mises: the one return mapping). Equilibrium as in
+calib.fe.solver, r(u) = f_int(u) - f_ext = 0 with the axisymmetric weak form (calib.fe.forms,
+calib.fe.axisym, calib.fe.element_arrays), and
+
+  * both axes r = 0: u_r = 0;
+  * body 1's equatorial face z = R1: a rigid plate, all its u_z tied to one unknown
+    q_plate = -alpha; its reaction P = -(T^T f_int)_plate is the contact force [N];
+  * body 2's far face (z = -R2, or the block's bottom z = -L): u_z = 0. So alpha [m] is the
+    approach of the two far points, the quantity a DEM law takes (for two spheres, the sum of
+    the two bodies' approaches);
+  * the two surfaces in frictionless unilateral contact: the dual mortar gap g_i >= 0 of the
+    sphere's surface nodes against the counter-body's surface (calib.fe.contact_pair, which
+    says why mortar and not node-to-segment), reaction lambda_i >= 0, g_i lambda_i = 0,
+    solved exactly by the primal active set of calib.fe.active_set: an active node's u_z is
+    eliminated as the affine function u_z1,i = G_i u_z2 - g0_i of the master's, so the unknowns
+    are q = S p + d (S sparse, one per active set) and Newton (calib.fe.newton, the one Newton
+    with the consistent tangent) runs on p with K_p = S^T K_q S, r_p = S^T r_q; the gap closure
+    enters as a constrained unknown (TwoBodySolver.reduction), like the rigid plate's prescribed
+    approach in calib.fe.solver, so Newton's first solve is an elastic predictor.
+
+The load steps, the secant predictor, the rescue solve (calib.fe.rescue) and the load paths
+(calib.fe.loadpath.run_load_paths) are the rigid-flat solver's: TwoBodySolver offers the same
+interface (solve_force, solve_displacement, solve_step, rescue_step, commit, initial_state).
+An elastic counter-body (a wall) is condensed statically onto the u_z of its contact surface
+(TwoBodySolver._condensation, exact for a linear body without loads of its own): the unknowns
+are then the sphere's and the counter-body's contact-surface u_z (6,300 instead of 12,000 on the
+Hertz test mesh). Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius
+from pressure or gap, first yield in each body (``first_yield_loads``). Small strain and a << R1, R2 throughout (as
+Hertz): the gap is measured along z at the same r, the projections do not follow the tangential
+displacements. Frictionless: identical bodies (no relative slip) and a flat counter-body are
+exact in this respect (a tangential shift leaves a flat's z unchanged); unlike spheres slip
+relative to each other by O(a^2/R), which changes the gap by O(a^3/R^2), a relative O(a/R).
+
+References: Johnson 1985, Contact Mechanics, ch. 4 (Hertz, E*, R*); Wriggers 2006,
+Computational Contact Mechanics, ch. 6 (active set); Puso & Laursen 2004 (mortar contact);
+Mesarovic & Fleck 2000, Int. J. Solids Struct. 37, 7071 (dissimilar elastic-plastic spheres).
+"""
+from __future__ import annotations
+
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from skfem import Basis, ElementTriP2, ElementVector, asm
+
+from calib.fe.active_set import next_active_set, predict_active_set
+from calib.fe.axisym import quadrature_radius, to_form_layout
+from calib.fe.contact_pair import mortar_gap
+from calib.fe.element_arrays import ElementArrays
+from calib.fe.forms import tangent_stiffness
+from calib.fe.linsolve import factorize
+from calib.fe.newton import solve_newton
+from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_pressure, lumped_contact_pressure
+from calib.fe.rescue import rescue_step
+from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult, displacement_rate, radius_exponents
+from calib.fe.von_mises import von_mises_stress
+from meshes.counter_body import six_node_cells
+from nfdmodel import check_real
+
+# candidates for contact: the sphere's surface nodes within this fraction of the smallest body
+# dimension (min(R1, R2, L)); the recipe's largest contact is FE_MAX_CONTACT_RADIUS_OVER_R R below it
+CONTACT_ZONE = 0.5
+
+
+@dataclass(frozen=True, eq=False)
+class PairState:
+    """The two materials' quadrature-point states; ``equivalent_plastic_strain`` (E, Q) in the pair
+    mesh's element order (zero in an elastic body), as calib.fe.loadpath.plastic_zone reads it."""
+
+    states: tuple
+    elements: tuple = field(repr=False)
+    shape: tuple = ()
+
+    @property
+    def equivalent_plastic_strain(self) -> np.ndarray:
+        out = np.zeros(self.shape)
+        for state, elements in zip(self.states, self.elements):
+            eps = getattr(state, "equivalent_plastic_strain", None)
+            if eps is not None:
+                out[elements] = eps
+        return out
+
+
+class PairMaterial:
+    """Material 1 on body 1's elements, material 2 on body 2's: a calib.fe.material.Material.
+
+    ``E`` = E* and ``nu`` = 0 so that E / (1 - nu^2) is the pair's effective modulus
+    1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 [Pa] (the force scales and Hertz warm starts use it).
+    """
+
+    def __init__(self, materials, body: np.ndarray):
+        self.materials = tuple(materials)
+        self.elements = tuple(np.flatnonzero(body == k) for k in (0, 1))
+        self.is_linear = all(getattr(m, "is_linear", False) for m in self.materials)
+        self.E = 1.0 / sum((1.0 - m.nu ** 2) / m.E for m in self.materials)
+        self.nu = 0.0
+        self.n_elements = int(body.size)
+
+    def initial_state(self, n_elements: int, n_qp: int) -> PairState:
+        return PairState(tuple(m.initial_state(e.size, n_qp) for m, e in zip(self.materials, self.elements)),
+                         self.elements, (n_elements, n_qp))
+
+    def update(self, strain, committed: PairState):
+        strain = np.asarray(strain)
+        stress = np.empty(strain.shape)
+        tangent = np.empty(strain.shape + (4,))
+        states = []
+        for material, elements, state in zip(self.materials, self.elements, committed.states):
+            s, t, trial = material.update(strain[elements], state)
+            stress[elements], tangent[elements] = s, t
+            states.append(trial)
+        return stress, tangent, PairState(tuple(states), self.elements, committed.shape)
+
+    def elastic_tangent(self, n_qp: int) -> np.ndarray:
+        """D of each element's body, (E, Q, 4, 4) [Pa]."""
+        D = np.empty((self.n_elements, n_qp, 4, 4))
+        for material, elements in zip(self.materials, self.elements):
+            D[elements] = material.elastic_tangent()
+        return D
+
+
+class _Affine:
+    """u = T (S p + d): what ``solver.T @ p`` means to calib.fe.newton for one active set."""
+
+    def __init__(self, T, S, d):
+        self.T, self.S, self.d = T, S, d
+
+    def __matmul__(self, p):
+        return self.T @ (self.S @ p + self.d)
+
+
+class _Chain:
+    """S^T T^T f: the reduced residual of the full internal force."""
+
+    def __init__(self, ST, TT):
+        self.ST, self.TT = ST, TT
+
+    def __matmul__(self, f):
+        return self.ST @ (self.TT @ f)
+
+
+class _Reduced:
+    """The two-body problem of one active set, as calib.fe.newton.solve_newton sees a solver."""
+
+    def __init__(self, solver: "TwoBodySolver", S, d, pattern: bytes):
+        self.solver, self.S, self.ST, self.pattern = solver, S, S.T.tocsr(), pattern
+        self.T, self.TT = _Affine(solver.T, S, d), _Chain(self.ST, solver.TT)
+        self.plate = S.shape[1] - 2          # the last q entry; theta follows it
+        for name in ("stiffness_scale", "force_floor", "max_newton_iterations", "residual_tolerance"):
+            setattr(self, name, getattr(solver, name))
+
+    def assemble(self, displacement, committed):
+        f_int, tangent, stress, trial = self.solver.assemble(displacement, committed)
+        return f_int, lambda: (self.ST @ tangent() @ self.S).tocsr(), stress, trial
+
+    def factor(self, K_p, free, key):
+        return self.solver.factor(K_p, free, key, self.pattern)
+
+
+class TwoBodySolver:
+    """Sphere on a deformable counter-body (module docstring); the interface of ContactSolver.
+
+    pair_mesh: meshes.counter_body.PairMesh; material1, material2: calib.fe Materials (sphere,
+    counter-body). Options as ContactSolver's; ``contact_zone``: the contact candidates are the
+    sphere's surface nodes within contact_zone x the smallest radius or block size [m] (1: the
+    whole face, for two blocks); ``condense``: an elastic counter-body is condensed onto its contact
+    surface (False: both bodies in the unknowns, for checking the condensation).
+    """
+
+    def __init__(self, pair_mesh, material1, material2, *, residual_tolerance: float = 1e-8,
+                 max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
+                 linear_solver: str | None = None, contact_radius_method: str = "pressure",
+                 quadrature_order: int = 4, contact_zone: float = CONTACT_ZONE, condense: bool = True):
+        if not (0 < residual_tolerance < 1):
+            raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
+        if contact_radius_method not in ("pressure", "gap", "node"):
+            raise ValueError(f"contact_radius_method must be 'pressure', 'gap' or 'node', got {contact_radius_method!r}")
+        self.pair_mesh = self.hemisphere = pair_mesh   # .hemisphere.mesh: the mesh, as ContactSolver's
+        mesh = pair_mesh.mesh
+        self.material = PairMaterial((material1, material2), pair_mesh.body)
+        self.residual_tolerance = float(residual_tolerance)
+        self.max_newton_iterations = max_newton_iterations
+        self.max_active_set_iterations = max_active_set_iterations
+        self.linear_solver = linear_solver
+        self.contact_radius_method = contact_radius_method
+        self.is_linear = self.material.is_linear
+        R1, R2 = pair_mesh.R1, pair_mesh.R2
+        # R* [m] (R2 = inf for a block); two blocks (the patch test): the smaller block's size
+        self.radius = 1.0 / (1.0 / R1 + 1.0 / R2) if min(R1, R2) < np.inf else pair_mesh.smallest_size
+
+        self.basis = Basis(mesh, ElementVector(ElementTriP2()), intorder=quadrature_order)
+        self.r_qp = quadrature_radius(self.basis)
+        self.n_elements, self.n_qp = self.r_qp.shape
+        self.n_dofs = self.basis.N
+        self.node_r, self.node_z = mesh.doflocs
+        self.r_dof = np.concatenate([self.basis.nodal_dofs[0], self.basis.facet_dofs[0]])
+        self.z_dof = np.concatenate([self.basis.nodal_dofs[1], self.basis.facet_dofs[1]])
+
+        def nodes(body, name):
+            facets = pair_mesh.boundaries[body][name]
+            return np.unique(np.concatenate([mesh.facets[:, facets].ravel(), mesh.nvertices + facets]))
+
+        axis = np.union1d(nodes(0, "axis"), nodes(1, "axis"))
+        top, bottom = nodes(0, "top"), nodes(1, "bottom")
+        eliminated = np.union1d(np.union1d(self.r_dof[axis], self.z_dof[top]), self.z_dof[bottom])
+        unknown = np.setdiff1d(np.arange(self.n_dofs), eliminated)
+        gap = mortar_gap(mesh, pair_mesh.boundaries[0]["surface"], pair_mesh.boundaries[1]["surface"],
+                         contact_zone * pair_mesh.smallest_size)
+        self.gap = gap
+        # an elastic counter-body is condensed onto the u_z of its contact surface (module docstring)
+        self.condensed = bool(condense and getattr(material2, "is_linear", False))
+        body2 = np.unique(six_node_cells(mesh)[:, pair_mesh.body == 1])
+        body2_dofs = np.union1d(self.r_dof[body2], self.z_dof[body2])
+        master_dofs = self.z_dof[gap.master_nodes]
+        if self.condensed:
+            interior = np.setdiff1d(np.intersect1d(unknown, body2_dofs), master_dofs)
+            kept = np.concatenate([np.setdiff1d(unknown, body2_dofs), master_dofs])
+        else:
+            kept = unknown
+        self.kept, self.plate, self.n_q = kept, int(kept.size), int(kept.size) + 1
+        q_of_dof = np.full(self.n_dofs, -1)
+        q_of_dof[kept] = np.arange(kept.size)
+        # the element arrays see the sphere (and an uncondensed counter-body): one unknown per dof
+        direct = np.setdiff1d(kept, master_dofs) if self.condensed else kept
+        rows = np.concatenate([direct, self.z_dof[top]])
+        cols = np.concatenate([q_of_dof[direct], np.full(top.size, self.plate)])
+        T_elements = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n_dofs, self.n_q))
+        self.elements = ElementArrays(self.basis, T_elements)
+        self.material_D = self.material.elastic_tangent(self.n_qp)
+        self._K_full = asm(tangent_stiffness, self.basis, tangent=to_form_layout(self.material_D)).tocsr()
+        self._S_block = None
+        if self.condensed:
+            T_counter, self._S_block = self._condensation(interior, master_dofs, q_of_dof[master_dofs])
+            self.T = (T_elements + T_counter).tocsr()
+        else:
+            self.T = T_elements
+        self.TT = self.T.T.tocsr()
+        self.top_z_dof = int(self.z_dof[top[0]])
+
+        self.candidate_nodes, self.candidate_r = gap.nodes, gap.r
+        self.candidate_weight, self.candidate_g0 = gap.weight, gap.g0
+        self.candidate_q = q_of_dof[self.z_dof[gap.nodes]]
+        master_q = q_of_dof[master_dofs]
+        if np.any(self.candidate_q < 0) or np.any(master_q < 0):
+            raise ValueError("a contact node's u_z is constrained: the contact zone reaches a loaded face")
+        G = gap.G.tocoo()
+        self.master_q = master_q
+        self.G_q = sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, self.n_q))
+
+        self.gap_tolerance = 1e-12 * self.radius
+        self.stiffness_scale = float(self.material.E) * self.radius
+        self.force_floor = 1e-14 * self.stiffness_scale * self.radius
+        self._K_q = None
+        self._factor_cache: OrderedDict = OrderedDict()
+        self._last_pattern, self._last_factor = None, None
+        self.factorization_count = 0
+
+    # ----------------------------------------------------------------- state
+    def initial_state(self) -> ContactState:
+        """Undeformed, unloaded, only the poles touching."""
+        active = np.zeros(self.candidate_r.size, dtype=bool)
+        active[0] = True
+        return ContactState(displacement=np.zeros(self.n_dofs),
+                            material_state=self.material.initial_state(self.n_elements, self.n_qp),
+                            active=active)
+
+    def commit(self, result: StepResult) -> ContactState:
+        if not result.converged:
+            raise StepNotConverged(f"cannot commit an unconverged step: {result.message}")
+        return result.state
+
+    def strain(self, displacement) -> np.ndarray:
+        return self.elements.strain(displacement)
+
+    def stress(self, state: ContactState) -> np.ndarray:
+        """Stress of a state at the quadrature points, (E, Q, 4) [Pa]."""
+        return self.material.update(self.strain(state.displacement), state.material_state)[0]
+
+    # ----------------------------------------------------------------- assembly
+    def _condensation(self, interior, master, master_q):
+        """(T block, K block) of the elastic counter-body condensed onto its contact surface's u_z:
+        with X = K_ii^-1 K_im (i its other unknowns, m the master u_z), u_i = -X u_m and
+
+            S_m = K_mm - K_mi X    [N/m]   (Guyan 1965, AIAA J. 3, 380: exact for a static elastic body)
+
+        so the counter-body adds S_m to the unknowns u_m and nothing else; its full displacement
+        (for stress, strain, output) is T q."""
+        K = self._K_full
+        K_ii, K_im = K[interior][:, interior].tocsr(), K[interior][:, master].toarray()
+        X = factorize(K_ii, self.linear_solver).solve(K_im)
+        S_m = K[master][:, master].toarray() - K[master][:, interior] @ X
+        S_m = 0.5 * (S_m + S_m.T)                       # symmetric up to round-off
+        cols = np.broadcast_to(master_q, X.shape)
+        T_block = sp.csr_matrix(
+            (np.concatenate([-X.ravel(), np.ones(master.size)]),
+             (np.concatenate([np.repeat(interior, master.size), master]), np.concatenate([cols.ravel(), master_q]))),
+            shape=(self.n_dofs, self.n_q))
+        rows, cols = np.meshgrid(master_q, master_q, indexing="ij")
+        K_block = sp.csr_matrix((S_m.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_q, self.n_q))
+        return T_block, K_block
+
+    def _with_counter(self, K_q):
+        return K_q if self._S_block is None else (K_q + self._S_block).tocsr()
+
+    def _linear_tangent(self):
+        if self._K_q is None:
+            self._D = self.material_D
+            self._K_q_elements = self.elements.matrix(self.elements.stiffness_data(self._D, slice(None)))
+            self._K_q = self._with_counter(self._K_q_elements)
+        return self._K_q
+
+    def assemble(self, displacement, committed):
+        """(f_int [N], tangent K_q on demand, stress, trial state), as ContactSolver.assemble: the
+        elastic part from the elastic stiffness, the plastic correction on the flowed elements."""
+        K_q = self._linear_tangent()
+        f_int = self._K_full @ displacement
+        if self.is_linear:
+            return f_int, lambda: K_q, None, committed
+        strain = self.strain(displacement)
+        stress, tangent, trial = self.material.update(strain, committed)
+        stress_correction = stress - np.einsum("eqij,eqj->eqi", self._D, strain)
+        tangent_correction = tangent - self._D
+        scale = max(float(np.abs(stress).max()), 1e-300)
+        inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > 1e-13 * scale) | \
+                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(self._D).max())
+        if not inelastic.any():
+            return f_int, lambda: K_q, stress, trial
+        elements = np.flatnonzero(inelastic)
+        f_int = f_int + self.elements.internal_force(stress_correction[elements], elements)
+
+        def tangent_matrix():
+            return self._with_counter(self.elements.matrix(
+                self._K_q_elements.data + self.elements.stiffness_data(tangent_correction[elements], elements)))
+
+        return f_int, tangent_matrix, stress, trial
+
+    def factor(self, K_p, free, key, pattern=None):
+        """Factorisation of K_p[free, free]; reused for linear materials while ``key`` repeats, and
+        refactorised numerically only (same ordering and symbolic analysis) while ``pattern`` (the
+        active set and the constraints) repeats."""
+        if key is not None and key in self._factor_cache:
+            self._factor_cache.move_to_end(key)
+            return self._factor_cache[key], 0
+        matrix = K_p[free][:, free].tocsr()
+        pattern = None if pattern is None else pattern + free.tobytes()
+        if key is None and pattern is not None and self._last_pattern == pattern and self._last_factor.update(matrix):
+            self.factorization_count += 1
+            return self._last_factor, 1
+        factor = factorize(matrix, self.linear_solver)
+        self.factorization_count += 1
+        if key is None:
+            self._last_pattern, self._last_factor = pattern, factor
+        if key is not None:
+            self._factor_cache[key] = factor
+            while len(self._factor_cache) > 4:
+                self._factor_cache.popitem(last=False)
+        return factor, 1
+
+    def reduction(self, active, q_from):
+        """(S, d): q = S p + d for the active set (module docstring), p = (the q entries that are
+        not active slaves' u_z, then theta). The active slaves follow u_z1,i = G_i u_z2 + (1 - theta)
+        d_i - theta g0_i, d_i their offset in ``q_from``, so theta = 0 is ``q_from`` itself and
+        theta = 1 closes the gaps: theta, constrained to 1, enters Newton's first solve as an
+        increment spread over both bodies (an elastic predictor), never as a jump of the contact
+        nodes alone, which a plastic body would read as flow."""
+        slave_q = self.candidate_q[active]
+        free_q = np.ones(self.n_q, dtype=bool)
+        free_q[slave_q] = False
+        n_free = int(free_q.sum())
+        p_of_q = np.full(self.n_q, -1)
+        p_of_q[free_q] = np.arange(n_free)
+        G = self.G_q[np.flatnonzero(active)].tocoo()
+        offset = q_from[slave_q] - self.G_q[np.flatnonzero(active)] @ q_from
+        closure = -self.candidate_g0[active] - offset
+        rows = np.concatenate([np.flatnonzero(free_q), slave_q[G.row], slave_q])
+        cols = np.concatenate([p_of_q[free_q], p_of_q[G.col], np.full(slave_q.size, n_free)])
+        data = np.concatenate([np.ones(n_free), G.data, closure])
+        S = sp.csr_matrix((data, (rows, cols)), shape=(self.n_q, n_free + 1))
+        d = np.zeros(self.n_q)
+        d[slave_q] = offset
+        return S, d, free_q
+
+    def gaps(self, q) -> np.ndarray:
+        """g_i [m] of every candidate at the unknowns q."""
+        return q[self.candidate_q] - self.G_q @ q + self.candidate_g0
+
+    # ----------------------------------------------------------------- steps
+    def solve_displacement(self, state: ContactState, alpha: float) -> StepResult:
+        """Equilibrium at approach ``alpha`` [m] of the two far points."""
+        return self.solve_step(state, "displacement", check_real("alpha", alpha, unit="m"))
+
+    def solve_force(self, state: ContactState, force: float) -> StepResult:
+        """Equilibrium at the contact force ``force`` = P [N] > 0."""
+        force = check_real("force", force, unit="N")
+        if not force > 0:
+            raise ValueError(f"force must be > 0 [N], got {force}")
+        return self.solve_step(state, "force", force)
+
+    def predict_active_set(self, state: ContactState, control: str, target: float):
+        return predict_active_set(state, control, target, self.candidate_r, self.radius, self.material)
+
+    def rescue_step(self, state: ContactState, control: str, target: float) -> StepResult:
+        return rescue_step(self, state, control, target)
+
+    def _q_of(self, displacement):
+        q = np.empty(self.n_q)
+        q[:self.plate] = displacement[self.kept]
+        q[self.plate] = displacement[self.top_z_dof]
+        return q
+
+    def solve_step(self, state: ContactState, control: str, target: float,
+                   start: ContactState | None = None) -> StepResult:
+        """One load step (as ContactSolver.solve_step): active sets outside, Newton on p inside."""
+        t_start = time.perf_counter()
+        q = self._q_of(state.displacement)
+        q_start = q.copy()
+        if start is not None:
+            q = self._q_of(start.displacement)
+        elif (control == "force" and state.displacement_rate is not None
+                and np.sign(target - state.force) == state.load_direction):
+            q = self._q_of(state.displacement + state.displacement_rate * (target - state.force))
+        active = self.predict_active_set(state, control, target) if start is None else start.active.copy()
+        visited = {active.tobytes()}
+        history: list[float] = []
+        newton_total = factorizations = iterations = 0
+        t_assembly = t_solve = 0.0
+        converged, message, residual_norm, stress, trial = False, "", np.inf, None, None
+        while iterations < self.max_active_set_iterations:
+            iterations += 1
+            runs = []
+            for q_from in ((q,) if iterations == 1 else (q, q_start)):
+                # from the previous set's solution; if Newton fails there, from the committed state
+                # (a node that held plastic flow and is released can make the former diverge)
+                S, d, free_q = self.reduction(active, q_from)
+                reduced = _Reduced(self, S, d, control.encode() + active.tobytes())
+                n_p = S.shape[1]
+                constrained = np.array([n_p - 1] + ([reduced.plate] if control == "displacement" else []))
+                constrained_target = np.array([1.0] + ([-target] if control == "displacement" else []))
+                free = np.ones(n_p, dtype=bool)
+                free[constrained] = False
+                key = (control, active.tobytes()) if self.is_linear else None
+                runs.append(solve_newton(reduced, np.append(q_from[free_q], 0.0), state, control, target,
+                                         constrained, constrained_target, free, key, history))
+                if runs[-1].ok:
+                    break
+            for run in runs:
+                newton_total += run.iterations
+                factorizations += run.factorizations
+                t_assembly += run.time_assembly
+                t_solve += run.time_solve
+            newton = runs[-1]
+            q = S @ newton.q + d
+            f_int, stress, trial = newton.f_int, newton.stress, newton.trial
+            residual_norm, scale = newton.residual_norm, newton.scale
+            if not newton.ok:
+                message = newton.message or (f"Newton did not reach the residual tolerance in "
+                                             f"{self.max_newton_iterations} iterations (relative residual "
+                                             f"{residual_norm:.3g})")
+                break
+            r_q = self.TT @ f_int
+            reaction = r_q[self.candidate_q]
+            update = next_active_set(active, reaction, self.gaps(q), visited,
+                                     force_tolerance=10.0 * self.residual_tolerance * scale,
+                                     gap_tolerance=self.gap_tolerance, force_scale=scale,
+                                     length_scale=self.radius, force_control=control == "force")
+            if update.settled:
+                converged = True
+                break
+            if update.active is None:
+                message = "active set cycles"
+                break
+            active = update.active
+        else:
+            message = f"active set did not settle in {self.max_active_set_iterations} iterations"
+        if not converged:
+            record = self._record(control, target, state.alpha, state.force, 0.0, (0.0,) * 4, 0.0,
+                                  int(active.sum()), newton_total, iterations, factorizations, residual_norm,
+                                  False, t_assembly, t_solve, time.perf_counter() - t_start)
+            empty = np.zeros(0)
+            return StepResult(state=state, record=record, converged=False, message=message, pressure_r=empty,
+                              pressure=empty, contact_reaction=empty, gap=empty,
+                              residual_history=tuple(history))
+        u = self.T @ q
+        reaction = np.where(active, reaction, 0.0)
+        gap = self.gaps(q)
+        alpha, P = -q[self.plate], -r_q[self.plate]
+        pressure = lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
+        radii = {"gap": contact_radius_from_gap(self.candidate_r, gap, active),
+                 "pressure": contact_radius_from_pressure(self.candidate_r, pressure, active),
+                 "node": float(self.candidate_r[active].max()) if active.any() else 0.0}
+        chosen = radii[self.contact_radius_method]
+        new_state = ContactState(displacement=u, material_state=trial, active=active, alpha=float(alpha),
+                                 force=float(P), contact_radius=chosen,
+                                 radius_exponents=radius_exponents(state, alpha, P, chosen),
+                                 **displacement_rate(state, control, u, P))
+        record = self._record(control, target, alpha, P, float(reaction.sum()),
+                              (chosen, radii["gap"], radii["pressure"], radii["node"]), float(pressure.max()),
+                              int(active.sum()), newton_total, iterations, factorizations, residual_norm, True,
+                              t_assembly, t_solve, time.perf_counter() - t_start)
+        return StepResult(state=new_state, record=record, converged=True, message="converged",
+                          pressure_r=self.candidate_r.copy(), pressure=pressure, contact_reaction=reaction,
+                          gap=gap, stress=stress, residual_history=tuple(history))
+
+    def _record(self, control, target, alpha, P, contact_force, radii, peak_pressure, n_contact, newton,
+                active_iterations, factorizations, residual_norm, converged, t_assembly, t_solve, wall):
+        return StepRecord(control=control, target=float(target), alpha=float(alpha), P=float(P),
+                          contact_force=contact_force, contact_radius=radii[0], contact_radius_gap=radii[1],
+                          contact_radius_pressure=radii[2], contact_radius_node=radii[3],
+                          peak_pressure=peak_pressure, n_contact_nodes=n_contact, newton_iterations=newton,
+                          active_set_iterations=active_iterations, factorizations=factorizations,
+                          residual_norm=float(residual_norm), residual_tolerance=self.residual_tolerance,
+                          converged=converged, time_assembly_s=t_assembly, time_solve_s=t_solve, wall_time_s=wall)
+
+    # ----------------------------------------------------------------- yield
+    def yield_ratios(self, state: ContactState) -> tuple:
+        """Per body, max von Mises stress / sigma_Y [-] (None for an elastic body)."""
+        q = von_mises_stress(self.stress(state))
+        return tuple(float(q[elements].max()) / material.sigma_y if hasattr(material, "sigma_y") else None
+                     for material, elements in zip(self.material.materials, self.material.elements))
+
+
+def first_yield_loads(pair_mesh, material1, material2, sigma_y: tuple, guess: float) -> tuple:
+    """Force [N] at which each body's first quadrature point reaches its yield stress (None for a
+    body without one), from the elastic two-body solution: the peak stress grows as P^(1/3)
+    (Hertz, Johnson 1985 eq. 4.23), so fixed-point updates P <- P (sigma_Y / q_max)^3 from
+    ``guess`` converge (as calib.fit.calibration.first_yield_load for the rigid flat).
+    ``material1``, ``material2``: elastic materials of the two bodies; ``sigma_y``: their yield
+    stresses [Pa] (None: elastic)."""
+    solver = TwoBodySolver(pair_mesh, material1, material2)
+    loads = []
+    for k, sy in enumerate(sigma_y):
+        if sy is None:
+            loads.append(None)
+            continue
+        load = guess
+        for _ in range(3):
+            result = solver.solve_force(solver.initial_state(), load)
+            if not result.converged:
+                raise RuntimeError(f"elastic first-yield solve at P = {load:g} N: {result.message}")
+            q_max = float(von_mises_stress(solver.stress(result.state))[solver.material.elements[k]].max())
+            load *= (sy / q_max) ** 3
+        loads.append(float(load))
+    return tuple(loads)
