@@ -24,9 +24,6 @@ import os
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
 
-SECONDS_PER_STEP_AT_13K_DOFS = 0.2     # an elastoplastic time step (tests/benchmarks/bench_impact.py: 18.5 s, 93 steps)
-
-
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "impact", help="dynamic FE impact of the whole sphere: e, P_max, contact time, energy balance",
@@ -43,6 +40,9 @@ def add_parser(subparsers) -> None:
                              " for the reference sphere, else the master table's constants)")
     parser.add_argument("--no-error-estimate", action="store_true",
                         help="run the fine impact only (no discretisation error estimate: a third of the work)")
+    parser.add_argument("--no-quasi-static", action="store_true",
+                        help="skip the quasi-static FE load-unload path to each impact's P_max (the comparison of the"
+                             " dynamic FE with the quasi-static assumption)")
     parser.add_argument("--convergence", action="store_true",
                         help="at the first --v-in (default 0.04 m/s): time-step and mesh ladders, error against run time")
     parser.add_argument("--workers", default=None,
@@ -106,19 +106,11 @@ def plan(ns, setup, velocities, variants, out) -> int:
     from pathlib import Path
 
     from calib.studies import impact, impact_convergence
-    from meshes.sphere import SphereMeshSpec
 
     impact.check_reach(setup, velocities)
     tasks = impact.tasks_for(setup, velocities, variants) if not ns.convergence else \
         impact_convergence.tasks(setup, velocities[0])
-    runs = []
-    for task in tasks:
-        spec = SphereMeshSpec(**task["mesh"])
-        dofs = spec.estimate_dofs()
-        steps = int(1.1 * task["steps_per_contact"]) + 10
-        runs.append({"v_in": task["v_in"], "variant": task["variant"], "contact_size": spec.contact_size,
-                     "dofs_estimate": dofs, "steps_estimate": steps, "finished": (Path(out) / "cases" / f"{task['key']}.json").is_file(),
-                     "estimate_s": steps * SECONDS_PER_STEP_AT_13K_DOFS * dofs / 13000})
+    runs = impact.planned_runs(tasks, Path(out) / "cases")
     total = sum(r["estimate_s"] for r in runs if not r["finished"])
     summary = {"out": out, "runs": runs, "estimated_total_s": total}
     lines = [f"{len(runs)} FE impact(s) of E = {setup.material.E:.4g} Pa, nu = {setup.material.nu:g}, sigma_Y = "
@@ -126,7 +118,7 @@ def plan(ns, setup, velocities, variants, out) -> int:
              f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
     lines += [f"{r['v_in']:>11.4g} {r['variant']:<16} {r['contact_size']:>11.3g} ~{r['dofs_estimate']:>7} "
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
-    lines.append(f"estimated total: {total:.0f} s on one process ({SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
+    lines.append(f"estimated total: {total:.0f} s on one process ({impact.SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
                  f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
     print_summary(ns, summary, lines)
     return 0
@@ -151,22 +143,32 @@ def run(ns) -> int:
             print_summary(ns, summary, impact_convergence.lines(summary))
             return 0
         records = impact.study(setup, velocities, Path(out), workers=workers, progress=progress, variants=variants,
-                               params_file=ns.params, plots=not ns.no_plots)
+                               params_file=ns.params, plots=not ns.no_plots, quasi_static=not ns.no_quasi_static)
     lines = [f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>7} {'vz e':>7} {'P_max [N]':>10} {'vz P_max':>9} "
-             f"{'t_c [ms]':>8} {'vz t_c':>7} {'dent [m]':>9} {'vibr.':>8} {'balance':>9} {'err e':>7}"]
+             f"{'t_c [ms]':>8} {'vz t_c':>7} {'dent [m]':>9} {'vibr.':>8} {'balance':>9} {'err e':>7} {'qs e':>7}"]
     for r in records:
         vz = r["models"].get("vz", r["models"]["hertz"])
         error = r["e_rel_error_estimate"]
         lines.append(f"{r['v_in']:>10.4g} {r['v_in_over_v_Y']:>7.3g} {r['e']:>7.4f} {vz['e']:>7.4f} {r['P_max']:>10.4g} "
                      f"{vz['P_max']:>9.4g} {r['contact_time'] * 1e3:>8.4f} {vz['contact_time'] * 1e3:>7.4f} "
                      f"{r['dent']:>9.3g} {r['vibration_fraction']:>8.2g} {r['balance_residual_fraction']:>9.2g} "
-                     + (f"{error:>7.2%}" if error is not None else f"{'-':>7}"))
+                     + (f"{error:>7.2%}" if error is not None else f"{'-':>7}")
+                     + (f" {r['quasi_static']['e']:>7.4f}" if "quasi_static" in r else f" {'-':>7}"))
     lines.append("vibr., balance: vibration energy and the energy balance's residual over the kinetic energy in;"
-                 " err e: estimated discretisation error of e")
+                 " err e: estimated discretisation error of e; qs e: the quasi-static FE path's at the same P_max")
     worst = impact.largest_vibration(records)
     lines.append(f"largest vibration energy left: {worst['largest_fraction']:.2g} of the kinetic energy in, at "
                  f"{worst['v_in_over_v_Y']:.3g} v_Y (returned to the rebound it would change e by "
                  f"{worst['e_change_if_returned']:.2g})")
+    limit = impact.quasi_static_limit(records)
+    if limit:
+        fails = limit["fails_from_v_in_over_v_Y"]
+        lines.append(f"dynamic over quasi-static FE at the same P_max: e {limit['largest_e_change']:+.2%} at most (at "
+                     f"{limit['largest_e_change_at_v_in_over_v_Y']:.3g} v_Y), contact time "
+                     f"{limit['largest_contact_time_change']:+.2%} (at {limit['largest_contact_time_change_at_v_in_over_v_Y']:.3g}"
+                     f" v_Y); " + ("no discretisation error estimate (--no-error-estimate)" if not limit["error_estimated"] else
+                                   "within the discretisation errors at every v_in" if fails is None else
+                                   f"beyond the discretisation errors from {fails:.3g} v_Y"))
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

@@ -53,6 +53,7 @@ from calib.fe.newmark import ImpactSolver
 from calib.fe.von_mises import VonMisesMaterial
 from calib.fit import impact_window, recipe
 from calib.sweep.runner import run_sweep
+from meshes.hemisphere import hemisphere_mesh
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference, load_parameters,
@@ -60,6 +61,8 @@ from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_r
 
 DEFAULT_OUT = output.RESULTS / "impact"
 CALIBRATED_PARAMETERS = output.RESULTS / "calibration" / "parameters.json"
+# the vz-table law of the reference sphere: nfdcal calibrate --v-max 0.504 --out results/impact/vz_table
+TABLE_PARAMETERS = DEFAULT_OUT / "vz_table" / "parameters.json"
 LAMMPS_RESTITUTION = output.RESULTS / "lammps" / "restitution.csv"   # LAMMPS' granular mdr, e(v_in / v_Y)
 STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
 CONVERGENCE_VELOCITY = 0.04      # m/s: the reference sphere at 24 v_Y, the benchmark's impact
@@ -67,6 +70,8 @@ VERSION = 2                       # bump when the FE or the recipe changes: inva
 VARIANTS = ("fine", "coarse mesh", "coarse dt")
 COMPARED = ("e", "P_max", "contact_time", "alpha_max", "dent")
 HISTORY_POINTS = 400              # at most this many history samples per case file
+SECONDS_PER_STEP_AT_13K_DOFS = 0.2     # an elastoplastic time step (tests/benchmarks/bench_impact.py: 18.5 s, 93 steps)
+QUASI_STATIC_PATH_ERROR = 1e-3    # relative error of a quasi-static path's e and t_c from its load steps
 
 
 @dataclasses.dataclass(frozen=True)
@@ -170,6 +175,20 @@ def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec,
     return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
 
 
+def planned_runs(tasks: list[dict], cases: Path) -> list[dict]:
+    """Per task, what a dry run shows: v_in, variant, contact element [m], estimated dofs and time
+    steps, whether ``cases`` holds it finished, and the estimated wall time [s] on one process."""
+    runs = []
+    for task in tasks:
+        spec = SphereMeshSpec(**task["mesh"])
+        dofs = spec.estimate_dofs()
+        steps = int(1.1 * task["steps_per_contact"]) + 10
+        runs.append({"v_in": task["v_in"], "variant": task["variant"], "contact_size": spec.contact_size,
+                     "dofs_estimate": dofs, "steps_estimate": steps, "finished": (Path(cases) / f"{task['key']}.json").is_file(),
+                     "estimate_s": steps * SECONDS_PER_STEP_AT_13K_DOFS * dofs / 13000})
+    return runs
+
+
 # ---------------------------------------------------------------- one impact (a sweep worker)
 def run_task(task: dict) -> dict:
     """One FE impact as a row (never raises: a failure is a row with status "failed")."""
@@ -226,10 +245,17 @@ def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
     return params, source
 
 
-def law_predictions(setup: ImpactSetup, v_in: float, params) -> dict:
+def table_parameters(setup: ImpactSetup):
+    """The vz-table law's parameters for the reference sphere (TABLE_PARAMETERS), else None."""
+    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y)
+    return load_parameters(TABLE_PARAMETERS) if reference and TABLE_PARAMETERS.is_file() else None
+
+
+def law_predictions(setup: ImpactSetup, v_in: float, params, table=None) -> dict:
     """The quasi-static laws' impact at v_in [m/s] (module docstring): per law e, P_max [N],
-    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e. Below first yield
-    (v_in <= v_Y) every law is Hertz's, and an elastic run is compared with Hertz alone."""
+    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e; the vz-table law's
+    (``table``: its parameters) where given. Below first yield (v_in <= v_Y) every law is Hertz's,
+    and an elastic run is compared with Hertz alone."""
     from calib.report.collision import thornton_closed_form
 
     pair = setup.pair
@@ -239,11 +265,15 @@ def law_predictions(setup: ImpactSetup, v_in: float, params) -> dict:
     if setup.elastic:
         return {"hertz": hertz}
     out = {"vz": dict(hertz), "thornton": {**hertz, "e_closed_form": 1.0}}
+    if table is not None:
+        out["vz_table"] = dict(hertz)
     if v_in > pair.v_Y:
-        for name, law_params in (("vz", params), ("thornton", pair)):
+        laws = (("vz", "vz", params), ("thornton", "thornton", pair)) + \
+            ((("vz_table", "vz-table", table),) if table is not None else ())
+        for name, law, law_params in laws:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RangeWarning)        # the window is reported, not warned
-                ref = collision_reference(name, law_params, [v_in])
+                ref = collision_reference(law, law_params, [v_in])
             out[name] = {"e": float(ref.restitution[0]), "P_max": float(ref.P_max[0]),
                          "contact_time": float(ref.contact_time_estimate[0]), "delta_max": float(ref.delta_max[0]),
                          "delta_res": float(ref.delta_res[0])}
@@ -275,9 +305,14 @@ def mdr_restitution(v_over_v_Y: float) -> float | None:
     return float(np.interp(math.log(v_over_v_Y), x, e))
 
 
-def impact_records(setup: ImpactSetup, rows: list[dict], params) -> list[dict]:
+def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, quasi_static=()) -> list[dict]:
     """One record per velocity: the fine run's values, the error estimates from the other
-    variants (module docstring), the energy fractions and the laws' predictions."""
+    variants (module docstring), the energy fractions, the laws' predictions (``table``: the
+    vz-table law's parameters) and the quasi-static FE at the same P_max (``quasi_static``: rows of
+    calib.studies.impact_quasistatic, with the dynamic FE's relative difference to each)."""
+    from calib.studies import impact_quasistatic
+
+    static = {row["v_in"]: row for row in quasi_static}
     pair = setup.pair
     by_velocity: dict[float, dict] = {}
     for row in rows:
@@ -309,7 +344,10 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params) -> list[dict]:
             record[f"{quantity}_rel_error_estimate"] = (
                 None if mesh_change is None or dt_change is None else abs(mesh_change) + abs(dt_change))
         record["wall_time_s_all_runs"] = sum(run["wall_time_s"] for run in runs.values())
-        record["models"] = law_predictions(setup, v_in, params)
+        record["models"] = law_predictions(setup, v_in, params, table)
+        if v_in in static:
+            record["quasi_static"] = {k: v for k, v in static[v_in].items() if k not in ("path", "key", "status", "error")}
+            record["dynamic_over_quasi_static"] = impact_quasistatic.compared(record, static[v_in])
         records.append(record)
     return records
 
@@ -331,6 +369,55 @@ def largest_vibration(records: list[dict]) -> dict:
             "e_change_if_returned": math.sqrt(worst["e"] ** 2 + worst["vibration_fraction"]) / worst["e"] - 1.0}
 
 
+def quasi_static_limit(records: list[dict]) -> dict:
+    """Where the quasi-static assumption fails: the smallest v_in at which the dynamic FE's e or
+    contact time differs from the quasi-static FE's at the same P_max by more than the sum of both
+    estimated discretisation errors (the dynamic one's, and e's mesh change for the quasi-static
+    path, whose loading steps add 1e-3), with the largest differences and the vibration energy left."""
+    compared = [r for r in records if "dynamic_over_quasi_static" in r]
+    if not compared:
+        return {}
+    failing = []
+    estimated = all(r.get("e_rel_error_estimate") is not None for r in compared)
+    for r in compared if estimated else ():
+        change = r["dynamic_over_quasi_static"]
+        allowed = 2.0 * (r.get("e_rel_error_estimate") or 0.0) + QUASI_STATIC_PATH_ERROR
+        allowed_t = 2.0 * (r.get("contact_time_rel_error_estimate") or 0.0) + QUASI_STATIC_PATH_ERROR
+        if abs(change["e"]) > allowed or abs(change["contact_time"]) > allowed_t:
+            failing.append(r["v_in_over_v_Y"])
+    worst_e = max(compared, key=lambda r: abs(r["dynamic_over_quasi_static"]["e"]))
+    worst_t = max(compared, key=lambda r: abs(r["dynamic_over_quasi_static"]["contact_time"]))
+    return {"fails_from_v_in_over_v_Y": min(failing) if failing else None, "error_estimated": estimated,
+            "largest_e_change": worst_e["dynamic_over_quasi_static"]["e"],
+            "largest_e_change_at_v_in_over_v_Y": worst_e["v_in_over_v_Y"],
+            "largest_contact_time_change": worst_t["dynamic_over_quasi_static"]["contact_time"],
+            "largest_contact_time_change_at_v_in_over_v_Y": worst_t["v_in_over_v_Y"],
+            "vibration": largest_vibration(records)}
+
+
+def run_quasi_static(setup: ImpactSetup, rows: list[dict], cases: Path, *, workers: int = 1,
+                     progress: Callable[[str], None] | None = None) -> tuple[list[dict], dict]:
+    """The quasi-static FE path to each yielding fine impact's P_max (calib.studies.impact_quasistatic)
+    through the sweep runner (finished ones in ``cases``); (rows, counts {computed, reused})."""
+    from calib.studies import impact_quasistatic
+
+    fine = [row for row in rows if row["variant"] == "fine" and row["P_max"] > setup.pair.P_Y]
+    if setup.elastic or not fine:
+        return [], {"computed": 0, "reused": 0}
+    tasks = [impact_quasistatic.task_of(setup.material, setup.radius, row) for row in fine]
+    for task in tasks:
+        hemisphere_mesh(SphereMeshSpec(**task["mesh"]).contact_zone)     # gmsh is one per process
+    describe = (lambda row: f"v_in = {row['v_in']:g} m/s (quasi-static FE path): "
+                + (f"e = {row['e']:.4f}, {row['wall_time_s']:.1f} s" if row["status"] == "ok" else row["error"]))
+    swept = run_sweep(tasks, impact_quasistatic.run_task, cases, keep=lambda row: row.get("status") == "ok",
+                      workers=workers, progress=progress, describe=describe)
+    failed = [row for row in swept.rows if row["status"] != "ok"]
+    if failed:
+        raise ValueError(f"the quasi-static FE path of the impact at v_in = {failed[0]['v_in']:g} m/s failed: "
+                         f"{failed[0]['error']}")
+    return swept.rows, {"computed": swept.computed, "reused": swept.reused}
+
+
 def reference_setup(**options) -> ImpactSetup:
     """The paper's aluminium sphere (nfdmodel.reference_case)."""
     return ImpactSetup(material=Material.reference(), radius=reference_case.R, **options)
@@ -342,26 +429,32 @@ def study_velocities(setup: ImpactSetup) -> tuple[float, ...]:
 
 
 def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progress: Callable[[str], None] | None = None,
-          variants=VARIANTS, params_file=None, plots: bool = True) -> list[dict]:
-    """Run the impacts (finished ones reused from OUT/cases/) and write the study's files into
-    ``out`` as one set (calib.studies.impact_output); returns the per-velocity records."""
+          variants=VARIANTS, params_file=None, plots: bool = True, quasi_static: bool = True) -> list[dict]:
+    """Run the impacts (finished ones reused from OUT/cases/) and, with ``quasi_static``, the
+    quasi-static FE paths at their peak forces (OUT/quasi_static_cases/), and write the study's
+    files into ``out`` as one set (calib.studies.impact_output); returns the per-velocity records."""
     from calib.studies import impact_output
 
     started = time.perf_counter()
     params, source = law_parameters(setup, params_file)      # a bad file is refused before any FE
+    table = table_parameters(setup)
     out = Path(out)
     rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
-    records = impact_records(setup, rows, params)
+    static, static_counts = (run_quasi_static(setup, rows, out / "quasi_static_cases", workers=workers,
+                                              progress=progress) if quasi_static else ([], None))
+    records = impact_records(setup, rows, params, table, static)
     pair = setup.pair
     fine = [row for row in rows if row["variant"] == "fine"]
     summary = {"case": {"E": setup.material.E, "nu": setup.material.nu,
                         "sigma_y": None if setup.elastic else setup.material.sigma_y, "rho": setup.material.rho,
                         "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
                         "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact},
-               "vz_source": source, "variants": list(variants),
-               "vibration": largest_vibration(records),
+               "vz_source": source, "vz_table_source": output.display_path(TABLE_PARAMETERS) if table else None,
+               "variants": list(variants),
+               "vibration": largest_vibration(records), "quasi_static": quasi_static_limit(records),
                "stamp": output.stamp(time.perf_counter() - started, mesh=fine[-1]["mesh"], **counts,
-                                     fe_wall_time_s=sum(row["wall_time_s"] for row in rows))}
+                                     fe_wall_time_s=sum(row["wall_time_s"] for row in rows),
+                                     **({"quasi_static_" + k: v for k, v in static_counts.items()} if static_counts else {}))}
     with output.all_or_nothing(out, name="impact") as staging:
         impact_output.write(staging, records, rows, summary, plots)
     return records

@@ -4,12 +4,15 @@ impact.csv   one row per velocity: v_in, v_in / v_Y, the FE's e, P_max [N], cont
              alpha_max [m] (approach of the centre of mass), dent [m], the energy fractions of the
              kinetic energy in (plastic work, residual-stress energy, vibration energy, balance
              residual), each compared quantity's estimated relative discretisation error, and the
-             quasi-static laws' e, P_max, contact time (vz, Thornton and its closed form, Hertz) and
-             LAMMPS' mdr restitution where known
+             quasi-static laws' e, P_max, contact time (vz, vz-table, Thornton and its closed form,
+             Hertz), LAMMPS' mdr restitution where known, the quasi-static FE path at the same P_max
+             (quasi_static_*: e, the v_in that reaches P_max, P_max at the dynamic v_in, contact time,
+             alpha_max, dent) and the dynamic FE's relative difference to it (dynamic_over_quasi_static_*)
 impact.json  the same records with the case, the vz constants' source and the provenance stamp
              (calib.output.stamp)
 impact.png   e, P_max / P_Y and contact time against v_in / v_Y: the FE (error bars: the estimate)
-             against the laws
+             against the laws and the quasi-static FE paths (e, contact time: at the same P_max;
+             P_max: the path's loading branch at the same v_in)
 histories.png  the FE's contact force and approach against time, one curve per velocity
 Definitions: calib.fe.impact; the study: calib.studies.impact.
 """
@@ -22,6 +25,7 @@ import numpy as np
 from calib import output
 
 LAW_COLUMNS = (("vz", "e"), ("vz", "P_max"), ("vz", "contact_time"), ("vz", "delta_max"), ("vz", "delta_res"),
+               ("vz_table", "e"), ("vz_table", "P_max"), ("vz_table", "contact_time"),
                ("thornton", "e"), ("thornton", "e_closed_form"), ("thornton", "P_max"), ("thornton", "contact_time"),
                ("hertz", "P_max"), ("hertz", "contact_time"), ("mdr", "e"))
 COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_time", "alpha_max", "dent",
@@ -29,21 +33,27 @@ COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_tim
            "balance_residual_fraction", "e_rel_error_estimate", "P_max_rel_error_estimate",
            "contact_time_rel_error_estimate", "alpha_max_rel_error_estimate", "dent_rel_error_estimate",
            "dt", "steps", "dofs", "contact_size", "wall_time_s", "cpu_time_s")
+QUASI_STATIC_COLUMNS = ("e", "v_in_quasi_static", "P_max_at_v_in", "contact_time", "alpha_max", "dent", "wall_time_s")
+CHANGE_COLUMNS = ("e", "contact_time", "alpha_max", "dent", "v_in", "P_max")
 
 
 def flat(record: dict) -> dict:
     """A record with the laws' predictions as columns (``vz_e``, ``thornton_P_max``, ...)."""
     models = record["models"]
+    static, change = record.get("quasi_static", {}), record.get("dynamic_over_quasi_static", {})
     return {**{k: record[k] for k in COLUMNS},
-            **{f"{law}_{key}": models[law].get(key, "") for law, key in LAW_COLUMNS if law in models}}
+            **{f"{law}_{key}": models[law].get(key, "") for law, key in LAW_COLUMNS if law in models},
+            **{f"quasi_static_{key}": static[key] for key in QUASI_STATIC_COLUMNS if key in static},
+            **{f"dynamic_over_quasi_static_{key}": change[key] for key in CHANGE_COLUMNS if key in change}}
 
 
 def write(out: Path, records: list[dict], rows: list[dict], summary: dict, plots: bool) -> list[Path]:
     """Write the files into ``out`` (a staging folder: the caller swaps the set in); their paths."""
     out = Path(out)
     table = [flat(r) for r in records]
-    columns = list(COLUMNS) + [f"{law}_{key}" for law, key in LAW_COLUMNS
-                               if any(f"{law}_{key}" in row for row in table)]
+    extra = ([f"{law}_{key}" for law, key in LAW_COLUMNS] + [f"quasi_static_{key}" for key in QUASI_STATIC_COLUMNS]
+             + [f"dynamic_over_quasi_static_{key}" for key in CHANGE_COLUMNS])
+    columns = list(COLUMNS) + [name for name in extra if any(name in row for row in table)]
     written = [output.write_csv(out / "impact.csv", table, columns, comment=output.stamp_comment(summary["stamp"])),
                output.write_json(out / "impact.json", {**summary, "impacts": records})]
     if plots:
@@ -57,7 +67,9 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
     P_Y = summary["case"]["P_Y"]
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.4))
     panels = (("e", "restitution e", 1.0), ("P_max", "P_max / P_Y", 1.0 / P_Y), ("contact_time", "contact time [ms]", 1e3))
-    styles = {"vz": ("C0", "-", f"vz law ({summary['vz_source']})"), "thornton": ("C2", "--", "Thornton"),
+    styles = {"vz": ("C0", "-", f"vz law ({summary['vz_source']})"),
+              "vz_table": ("C1", "-", f"vz-table law ({summary.get('vz_table_source')})"),
+              "thornton": ("C2", "--", "Thornton"),
               "hertz": ("0.5", ":", "Hertz"), "mdr": ("C4", "-.", "LAMMPS granular mdr")}
     for ax, (key, label, scale) in zip(axes, panels):
         error = np.array([abs(r[f"{key}_rel_error_estimate"] or 0.0) * r[key] for r in records]) * scale
@@ -67,6 +79,10 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
             known = [(xi, r["models"][law][key] * scale) for xi, r in zip(x, records) if key in r["models"].get(law, {})]
             if known:
                 ax.plot(*zip(*known), line, color=colour, marker=".", label=name)
+        column = "P_max_at_v_in" if key == "P_max" else key      # P_max: the path's at the same v_in
+        static = [(xi, r["quasi_static"][column] * scale) for xi, r in zip(x, records) if "quasi_static" in r]
+        if static:
+            ax.plot(*zip(*static), "s", mfc="none", color="k", label="quasi-static FE path (same P_max; P_max: same v_in)")
         if key == "e" and all("thornton" in r["models"] for r in records):
             ax.plot(x, [r["models"]["thornton"]["e_closed_form"] for r in records], "x", color="C2",
                     label="Thornton closed form")
