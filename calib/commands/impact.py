@@ -12,9 +12,11 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal impact --v-in 0.04 --json               # one impact, the record as JSON
     nfdcal impact --sigma-y 1e11 --v-in 0.04       # never yields: Hertz's limit
     nfdcal impact --convergence --v-in 0.04        # error against run time: dt and mesh ladders
+    nfdcal impact --drops drops.csv                # drop tests (fit-data's file) against the FE: OUT/drops.csv
+    nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
 
 Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
-OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, impact.png,
+OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, drop_tests.csv, impact.png,
 histories.png into --out (calib.studies.impact_output); --convergence writes convergence.*.
 """
 from __future__ import annotations
@@ -31,6 +33,9 @@ def add_parser(subparsers) -> None:
     add_material_arguments(parser)
     parser.add_argument("--v-in", nargs="+", metavar="V", default=None,
                         help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
+    parser.add_argument("--drops", default=None, metavar="CSV",
+                        help="drop tests (fit-data's impacts file: v_in, e; optional P_max, contact_time): the FE at"
+                             " their velocities, each test against it in OUT/drops.csv (not with --v-in)")
     parser.add_argument("--steps-per-contact", default=None,
                         help="time steps per estimated contact time (integer 10 .. 10000, default 100)")
     parser.add_argument("--contact-size", default=None,
@@ -78,7 +83,13 @@ def options(ns):
     steps = integer("--steps-per-contact", ns.steps_per_contact, impact.DEFAULT_STEPS_PER_CONTACT, 10, 10000)
     workers = integer("--workers", ns.workers, min(2, os.cpu_count() or 1), 1, 256)
     setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps)
-    if ns.v_in is None:
+    if ns.drops is not None:
+        from calib.studies import impact_drops
+
+        if ns.v_in is not None or ns.convergence:
+            raise ValueError("--drops sets the velocities from the drop tests: do not combine it with --v-in or --convergence")
+        velocities = impact_drops.velocities(impact_drops.read(ns.drops))
+    elif ns.v_in is None:
         velocities = (impact.CONVERGENCE_VELOCITY,) if ns.convergence else impact.study_velocities(setup)
     else:
         velocities = tuple(check_solid("v_in", number("--v-in", v, low=0.0, unit="m/s")) for v in ns.v_in)
@@ -124,6 +135,20 @@ def plan(ns, setup, velocities, variants, out) -> int:
     return 0
 
 
+def drop_lines(drops, records, out) -> list[str]:
+    """--drops: each test against the FE in OUT/drops.csv; the summary as lines."""
+    from calib import output
+    from calib.studies import impact_drops
+
+    rows = impact_drops.compare(impact_drops.read(drops), records)
+    path = impact_drops.write_comparison(out / "drops.csv", rows, output.stamp(0.0, drop_tests=str(drops)))
+    s = impact_drops.summary(rows)
+    extra = "".join(f", {key.replace('_ratio_mean', '')} test/FE - 1 = {s[key]:+.2%} (mean)"
+                    for key in ("P_max_ratio_mean", "contact_time_ratio_mean") if key in s)
+    return [f"drop tests {drops}: {s['tests']} tests, e_test - e_FE = {s['e_change_mean']:+.4f} (mean), "
+            f"{s['e_change_rms']:.4f} (rms){extra}; per test: {path}"]
+
+
 def run(ns) -> int:
     from pathlib import Path
 
@@ -160,6 +185,8 @@ def run(ns) -> int:
     lines.append(f"largest vibration energy left: {worst['largest_fraction']:.2g} of the kinetic energy in, at "
                  f"{worst['v_in_over_v_Y']:.3g} v_Y (returned to the rebound it would change e by "
                  f"{worst['e_change_if_returned']:.2g})")
+    if ns.drops is not None:
+        lines += drop_lines(ns.drops, records, Path(out))
     limit = impact.quasi_static_limit(records)
     if limit:
         fails = limit["fails_from_v_in_over_v_Y"]

@@ -1,4 +1,4 @@
-"""The files of ``nfdcal impact``: impact.csv, impact.json (stamped), impact.png, histories.png.
+"""The files of ``nfdcal impact``: impact.csv, impact.json (stamped), drop_tests.csv, impact.png, histories.png.
 
 impact.csv   one row per velocity: v_in, v_in / v_Y, the FE's e, P_max [N], contact_time [s],
              alpha_max [m] (approach of the centre of mass), dent [m], the energy fractions of the
@@ -10,6 +10,8 @@ impact.csv   one row per velocity: v_in, v_in / v_Y, the FE's e, P_max [N], cont
              alpha_max, dent) and the dynamic FE's relative difference to it (dynamic_over_quasi_static_*)
 impact.json  the same records with the case, the vz constants' source and the provenance stamp
              (calib.output.stamp)
+drop_tests.csv  v_in, e, P_max, contact_time: the impacts as ``nfdcal fit-data --impacts`` reads
+             drop tests (calib.studies.impact_drops)
 impact.png   e, P_max / P_Y and contact time against v_in / v_Y: the FE (error bars: the estimate)
              against the laws and the quasi-static FE paths (e, contact time: at the same P_max;
              P_max: the path's loading branch at the same v_in)
@@ -23,6 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
+from calib.studies import impact_drops
 
 LAW_COLUMNS = (("vz", "e"), ("vz", "P_max"), ("vz", "contact_time"), ("vz", "delta_max"), ("vz", "delta_res"),
                ("vz_table", "e"), ("vz_table", "P_max"), ("vz_table", "contact_time"),
@@ -55,7 +58,8 @@ def write(out: Path, records: list[dict], rows: list[dict], summary: dict, plots
              + [f"dynamic_over_quasi_static_{key}" for key in CHANGE_COLUMNS])
     columns = list(COLUMNS) + [name for name in extra if any(name in row for row in table)]
     written = [output.write_csv(out / "impact.csv", table, columns, comment=output.stamp_comment(summary["stamp"])),
-               output.write_json(out / "impact.json", {**summary, "impacts": records})]
+               output.write_json(out / "impact.json", {**summary, "impacts": records}),
+               impact_drops.write_fit_data_file(out / "drop_tests.csv", records, summary["stamp"])]
     if plots:
         written += [plot_comparison(out / "impact.png", records, summary), plot_histories(out / "histories.png", rows)]
     return [Path(p) for p in written]
