@@ -501,7 +501,8 @@ def impact(root: Path) -> list[str]:
               f"its estimated discretisation error (mesh and time step); qs FE = the quasi-static FE load-unload path to "
               f"the same P_max thrown as a collision; vz constants from `{data['vz_source']}`"
               + (f", vz-table from `{data['vz_table_source']}`" if data.get("vz_table_source") else "")
-              + "; vibr. = vibration energy left after separation over the kinetic energy in.", ""]
+              + "; vibr. = vibration energy left after separation over the kinetic energy in; balance residual: "
+              "over the kinetic energy in (at twice dt): the time discretisation's (calib.studies.impact).", ""]
     rows = []
     for r in data["impacts"]:
         m, qs = r["models"], r.get("quasi_static", {})
@@ -512,7 +513,9 @@ def impact(root: Path) -> list[str]:
                      f"{qs['e']:.4f}" if qs else "-", law("vz"), law("vz_table"), law("thornton"),
                      f"{m['thornton']['e_closed_form']:.4f}" if "thornton" in m else "-", law("mdr"),
                      f"{r['contact_time'] * 1e3:.4g}", f"{qs['contact_time'] * 1e3:.4g}" if qs else "-",
-                     g(r["vibration_fraction"], 2), g(r["balance_residual_fraction"], 2)])
+                     g(r["vibration_fraction"], 2), g(r["balance_residual_fraction"], 2)
+                     + (f" ({g(r['balance_residual_fraction_coarse_dt'], 2)})"
+                        if r.get("balance_residual_fraction_coarse_dt") is not None else "")])
     lines += table(["v_in / v_Y", "P_max / P_Y", "e, FE", "e, qs FE", "vz", "vz-table", "Thornton", "Thornton closed",
                     "LAMMPS mdr", "t_c FE [ms]", "t_c qs FE [ms]", "vibr.", "balance residual"], rows)
     limit = data.get("quasi_static") or {}
