@@ -187,15 +187,11 @@ def run(ns) -> int:
                  f"{worst['e_change_if_returned']:.2g})")
     if ns.drops is not None:
         lines += drop_lines(ns.drops, records, Path(out))
+    from calib.studies import impact_output
+
     limit = impact.quasi_static_limit(records)
     if limit:
-        fails = limit["fails_from_v_in_over_v_Y"]
-        lines.append(f"dynamic over quasi-static FE at the same P_max: e {limit['largest_e_change']:+.2%} at most (at "
-                     f"{limit['largest_e_change_at_v_in_over_v_Y']:.3g} v_Y), contact time "
-                     f"{limit['largest_contact_time_change']:+.2%} (at {limit['largest_contact_time_change_at_v_in_over_v_Y']:.3g}"
-                     f" v_Y); " + ("no discretisation error estimate (--no-error-estimate)" if not limit["error_estimated"] else
-                                   "within the discretisation errors at every v_in" if fails is None else
-                                   f"beyond the discretisation errors from {fails:.3g} v_Y"))
+        lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

@@ -50,6 +50,18 @@ def flat(record: dict) -> dict:
             **{f"dynamic_over_quasi_static_{key}": change[key] for key in CHANGE_COLUMNS if key in change}}
 
 
+def quasi_static_words(limit: dict) -> str:
+    """``quasi_static_limit`` in one sentence."""
+    parts = []
+    for key, name in (("e", "e"), ("contact_time", "the contact time")):
+        fails = limit[f"{key}_fails_from_v_in_over_v_Y"]
+        verdict = ("no error estimate" if not limit["error_estimated"] else
+                   "within the errors at every v_in" if fails is None else f"beyond the errors from {fails:.3g} v_Y")
+        parts.append(f"{name} {limit[f'largest_{key}_change']:+.2%} at most (at "
+                     f"{limit[f'largest_{key}_change_at_v_in_over_v_Y']:.3g} v_Y; {verdict})")
+    return "; ".join(parts) + f"; vibration energy left at most {limit['vibration']['largest_fraction']:.2g} of the kinetic energy in"
+
+
 def write(out: Path, records: list[dict], rows: list[dict], summary: dict, plots: bool) -> list[Path]:
     """Write the files into ``out`` (a staging folder: the caller swaps the set in); their paths."""
     out = Path(out)
