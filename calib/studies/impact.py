@@ -391,8 +391,8 @@ def largest_vibration(records: list[dict]) -> dict:
 
 
 def quasi_static_limit(records: list[dict]) -> dict:
-    """Where the quasi-static assumption fails: for e and for the contact time, the smallest v_in /
-    v_Y at which the dynamic FE differs from the quasi-static FE at the same P_max by more than the
+    """Where the quasi-static assumption fails: for e, the contact time (both at the same P_max) and
+    P_max (at the same v_in), the smallest v_in / v_Y at which the dynamic FE differs from the quasi-static FE at the same P_max by more than the
     estimated errors (twice the dynamic FE's, its mesh and time step, as the quasi-static path shares
     the mesh sizes, plus the path's sampling error; None: nowhere), the largest differences and the
     vibration energy left."""
@@ -401,9 +401,9 @@ def quasi_static_limit(records: list[dict]) -> dict:
         return {}
     estimated = all(r.get("e_rel_error_estimate") is not None for r in compared)
     out = {"error_estimated": estimated, "vibration": largest_vibration(records)}
-    for key in ("e", "contact_time"):
+    for key in ("e", "contact_time", "P_max"):         # P_max: at the same v_in
         beyond = [r["v_in_over_v_Y"] for r in compared if estimated and abs(r["dynamic_over_quasi_static"][key]) >
-                  2.0 * r[f"{key}_rel_error_estimate"] + r["quasi_static"][f"{key}_rel_error_estimate"]]
+                  2.0 * r[f"{key}_rel_error_estimate"] + r["quasi_static"].get(f"{key}_rel_error_estimate", 0.0)]
         worst = max(compared, key=lambda r: abs(r["dynamic_over_quasi_static"][key]))
         out[f"{key}_fails_from_v_in_over_v_Y"] = min(beyond) if beyond else None
         out[f"largest_{key}_change"] = worst["dynamic_over_quasi_static"][key]

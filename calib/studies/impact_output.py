@@ -53,7 +53,7 @@ def flat(record: dict) -> dict:
 def quasi_static_words(limit: dict) -> str:
     """``quasi_static_limit`` in one sentence."""
     parts = []
-    for key, name in (("e", "e"), ("contact_time", "the contact time")):
+    for key, name in (("e", "e"), ("contact_time", "the contact time"), ("P_max", "P_max at the same v_in")):
         fails = limit[f"{key}_fails_from_v_in_over_v_Y"]
         verdict = ("no error estimate" if not limit["error_estimated"] else
                    "within the errors at every v_in" if fails is None else f"beyond the errors from {fails:.3g} v_Y")

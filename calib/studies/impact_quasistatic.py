@@ -197,3 +197,17 @@ def _thrown(path: dict, mass: float, v_in: float) -> dict:
             "loading_work": w_load, "unloading_work": w_unload}
 
 
+
+
+def compared(record: dict, quasi_static: dict) -> dict:
+    """The dynamic FE over the quasi-static FE at the same P_max, as relative differences:
+    e, contact time, alpha_max, dent, the velocity that reaches P_max, and P_max at the same v_in."""
+    def change(a, b):
+        return None if b in (None, 0.0) else float(a / b - 1.0)
+
+    return {"e": change(record["e"], quasi_static["e"]),
+            "contact_time": change(record["contact_time"], quasi_static["contact_time"]),
+            "alpha_max": change(record["alpha_max"], quasi_static["alpha_max"]),
+            "dent": change(record["dent"], quasi_static["dent"]),
+            "v_in": change(record["v_in"], quasi_static["v_in_quasi_static"]),
+            "P_max": change(record["P_max"], quasi_static["P_max_at_v_in"])}
