@@ -108,7 +108,8 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
         ax.set_xlabel("v_in / v_Y")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    # in the P_max panel's empty lower right, off the restitution points
+    axes[1].legend(*axes[0].get_legend_handles_labels(), fontsize=7, loc="lower right")
     fig.suptitle("Impact of the whole sphere on a rigid flat: dynamic FE against the quasi-static laws")
     return output.save_figure(fig, path)
 
