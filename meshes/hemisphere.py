@@ -37,6 +37,7 @@ import threading
 import time
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
+from typing import ClassVar
 
 import meshio
 import numpy as np
@@ -54,8 +55,9 @@ MIN_CONTACT_SIZE_OVER_RADIUS = 1e-6   # smallest contact element / sphere radius
 
 
 @dataclass(frozen=True)
-class HemisphereMeshSpec:
-    """Parameters of the hemisphere mesh [m]; validated on construction.
+class SectionMeshSpec:
+    """Sizes of an r-z section's mesh [m] (the hemisphere's here, the whole sphere's in
+    meshes.sphere); validated on construction.
 
     radius          R, sphere radius
     contact_size    element size in the refined zone (the paper: 2.3e-5 m)
@@ -113,6 +115,12 @@ class HemisphereMeshSpec:
         distance_outside = self.refined_depth * np.maximum(rho - 1.0, 0.0)
         return np.minimum(self.far_size, self.contact_size + self.growth * distance_outside)
 
+
+
+@dataclass(frozen=True)
+class HemisphereMeshSpec(SectionMeshSpec):
+    """Parameters of the hemisphere mesh [m] (SectionMeshSpec: the fields and their ranges)."""
+
     def cache_key(self) -> str:
         """The mesh cache's key: a hash of the spec (floats to 12 digits, meshes.keys)."""
         return stable_key({"spec": asdict(self), "generator": GENERATOR_VERSION})
@@ -124,14 +132,16 @@ class HemisphereMeshSpec:
 
 
 @dataclass(frozen=True)
-class HemisphereMesh:
-    """A loaded hemisphere mesh: the scikit-fem mesh and its boundaries.
+class SectionMesh:
+    """A loaded r-z section mesh: the scikit-fem mesh and its boundaries.
 
     ``mesh`` is a ``skfem.MeshTri2`` (curved isoparametric 6-node triangles; x[0] = r, x[1] = z).
-    ``boundaries`` maps 'axis', 'top', 'surface' to facet indices of ``mesh``.
+    ``boundaries`` maps the section's boundary names to facet indices of ``mesh``; HEIGHT: the
+    section's height over R (its largest z is HEIGHT R).
     """
 
-    spec: HemisphereMeshSpec | None
+    HEIGHT: ClassVar[float] = 1.0
+    spec: SectionMeshSpec | None
     path: Path | None
     mesh: object
     boundaries: dict = field(repr=False)
@@ -139,7 +149,12 @@ class HemisphereMesh:
 
     @property
     def radius(self) -> float:
-        return float(self.mesh.p[1].max())
+        return float(self.mesh.p[1].max()) / self.HEIGHT
+
+
+@dataclass(frozen=True)
+class HemisphereMesh(SectionMesh):
+    """A loaded hemisphere mesh; ``boundaries``: 'axis', 'top', 'surface'."""
 
 
 def _element_integral(spec: HemisphereMeshSpec) -> float:
@@ -176,13 +191,15 @@ def default_cache_dir() -> Path:
     return Path(user_cache_dir("nfdcal", appauthor=False)) / "meshes"
 
 
-def _validated_cache_dir(cache_dir) -> Path:
-    return Path(cache_dir) if cache_dir is not None else default_cache_dir()
+def cache_path(spec, name: str, cache_dir=None) -> Path:
+    """Where the .msh file of the section ``name`` of ``spec`` is cached (the user's mesh cache by
+    default): ``<name>-<key>.msh``."""
+    return (Path(cache_dir) if cache_dir is not None else default_cache_dir()) / f"{name}-{spec.cache_key()}.msh"
 
 
 def mesh_path(spec: HemisphereMeshSpec, cache_dir=None) -> Path:
     """Where the .msh file of ``spec`` is cached."""
-    return _validated_cache_dir(cache_dir) / f"hemisphere-{spec.cache_key()}.msh"
+    return cache_path(spec, "hemisphere", cache_dir)
 
 
 def build_msh(spec: HemisphereMeshSpec, path: str | os.PathLike) -> Path:
@@ -301,10 +318,11 @@ def read_quadratic_triangles(path: str | os.PathLike):
     return mesh
 
 
-def identify_boundaries(mesh, radius: float) -> dict:
-    """Facets of the axis (r = 0), the top face (z = R) and the curved surface (|x - c| = R).
+def identify_boundaries(mesh, radius: float, top: bool = True) -> dict:
+    """Facets of the axis (r = 0), the top face (z = R; the hemisphere's, ``top``) and the curved
+    surface (|x - (0, R)| = R).
 
-    Geometric and exact for this domain: a boundary facet's three nodes (two vertices and the
+    Geometric and exact for these domains: a boundary facet's three nodes (two vertices and the
     mid-side node) all lie on the line/circle of its boundary. Tolerance 1e-9 R (round-off of
     the stored coordinates, far below any element size).
     """
@@ -316,38 +334,38 @@ def identify_boundaries(mesh, radius: float) -> dict:
                        mesh.dofs.facet_dofs[0, boundary][None, :]])
     r, z = mesh.doflocs[0][nodes], mesh.doflocs[1][nodes]
     on_axis = np.all(np.abs(r) <= tol, axis=0)
-    on_top = np.all(np.abs(z - R) <= tol, axis=0)
-    on_circle = np.all(np.abs(np.hypot(r, z - R) - R) <= tol, axis=0) & ~on_top
+    on_top = np.all(np.abs(z - R) <= tol, axis=0) if top else np.zeros_like(on_axis)
+    on_circle = np.all(np.abs(np.hypot(r, z - R) - R) <= tol, axis=0) & ~on_top & ~on_axis
     found = {"axis": boundary[on_axis], "top": boundary[on_top], "surface": boundary[on_circle]}
+    if not top:
+        del found["top"]
     unassigned = boundary.size - sum(v.size for v in found.values())
     if unassigned or any(v.size == 0 for v in found.values()):
-        raise ValueError(f"mesh is not the hemisphere section of radius {R}: "
-                         f"{unassigned} boundary facets off the axis/top/surface, "
+        raise ValueError(f"mesh is not the {'hemisphere' if top else 'sphere'} section of radius {R}: "
+                         f"{unassigned} boundary facets off the {'/'.join(found)}, "
                          f"counts {{{', '.join(f'{k}: {v.size}' for k, v in found.items())}}}")
     return found
 
 
-def hemisphere_mesh(spec: HemisphereMeshSpec | None = None, cache_dir=None,
-                    rebuild: bool = False) -> HemisphereMesh:
-    """The mesh of ``spec`` (default: ``HemisphereMeshSpec()``), from the cache or freshly built.
-
-    A cached file that cannot be read (corrupt, truncated, wrong content) is rebuilt.
-    ``build_time_s`` of the result is the time spent meshing and loading [s].
-    """
-
-    spec = spec if spec is not None else HemisphereMeshSpec()
-    t0 = time.perf_counter()
-    path = mesh_path(spec, cache_dir)
+def cached_mesh(path: Path, build, load, rebuild: bool = False):
+    """``load(path)`` of the cached .msh file, or of the one ``build(path)`` writes when there is
+    none, when ``rebuild``, or when the cached one cannot be read (corrupt, truncated, wrong
+    content); ``build_time_s`` of the result: the time spent meshing and loading [s]."""
+    started = time.perf_counter()
     if path.is_file() and not rebuild:
         try:
-            loaded = load_msh(path, spec)
-            return _with_time(loaded, time.perf_counter() - t0)
+            return replace(load(path), build_time_s=time.perf_counter() - started)
         except ValueError:
-            pass  # corrupt cache entry: rebuild below
-    build_msh(spec, path)
-    return _with_time(load_msh(path, spec), time.perf_counter() - t0)
+            pass  # corrupt cache entry: rebuilt below
+    build(path)
+    return replace(load(path), build_time_s=time.perf_counter() - started)
 
 
-def _with_time(loaded: HemisphereMesh, seconds: float) -> HemisphereMesh:
+def hemisphere_mesh(spec: HemisphereMeshSpec | None = None, cache_dir=None,
+                    rebuild: bool = False) -> HemisphereMesh:
+    """The mesh of ``spec`` (default: ``HemisphereMeshSpec()``), from the cache or freshly built
+    (``cached_mesh``)."""
 
-    return replace(loaded, build_time_s=seconds)
+    spec = spec if spec is not None else HemisphereMeshSpec()
+    return cached_mesh(mesh_path(spec, cache_dir), lambda path: build_msh(spec, path),
+                       lambda path: load_msh(path, spec), rebuild)

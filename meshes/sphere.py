@@ -18,33 +18,21 @@ the same sizes are two files (``sphere-<key>.msh`` beside ``hemisphere-<key>.msh
 """
 from __future__ import annotations
 
-import time
-from dataclasses import asdict, dataclass, field, fields, replace
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
 
-from meshes.hemisphere import (GENERATOR_VERSION, HemisphereMeshSpec, default_cache_dir, estimate_dofs,
-                               mesh_section, read_quadratic_triangles)
+from meshes.hemisphere import (GENERATOR_VERSION, HemisphereMeshSpec, SectionMesh, SectionMeshSpec, cache_path,
+                               cached_mesh, estimate_dofs, identify_boundaries, mesh_section,
+                               read_quadratic_triangles)
 from meshes.keys import stable_key
 
 
 @dataclass(frozen=True)
-class SphereMeshSpec:
-    """Sizes of the sphere mesh [m] (meshes.hemisphere.HemisphereMeshSpec states each field and
-    its range; validated by it, with the same messages)."""
-
-    radius: float = 0.1
-    contact_size: float = 4.0e-5
-    refined_radius: float = 1.6e-3
-    refined_depth: float = 0.5e-3
-    far_size: float = 1.0e-2
-    growth: float = 0.2
-
-    def __post_init__(self):
-        checked = HemisphereMeshSpec(**asdict(self))
-        for name in (f.name for f in fields(self)):      # numpy scalars become floats there
-            object.__setattr__(self, name, getattr(checked, name))
+class SphereMeshSpec(SectionMeshSpec):
+    """Sizes of the sphere mesh [m] (meshes.hemisphere.SectionMeshSpec states each field and its
+    range, and validates them)."""
 
     @classmethod
     def from_hemisphere(cls, spec: HemisphereMeshSpec) -> "SphereMeshSpec":
@@ -55,10 +43,6 @@ class SphereMeshSpec:
     def contact_zone(self) -> HemisphereMeshSpec:
         """The hemisphere spec of the same sizes (the lower half of this mesh)."""
         return HemisphereMeshSpec(**asdict(self))
-
-    def size_at(self, r, z):
-        """Target element size h(r, z) [m] (meshes.hemisphere)."""
-        return self.contact_zone.size_at(r, z)
 
     def estimate_dofs(self) -> int:
         """Degrees of freedom without meshing: the hemisphere's estimate plus the upper half at
@@ -77,24 +61,15 @@ class SphereMeshSpec:
 
 
 @dataclass(frozen=True)
-class SphereMesh:
-    """A loaded sphere mesh: ``mesh`` (skfem.MeshTri2, x[0] = r, x[1] = z) and ``boundaries``
-    ('axis', 'surface': facet indices)."""
+class SphereMesh(SectionMesh):
+    """A loaded sphere mesh; ``boundaries``: 'axis', 'surface'."""
 
-    spec: SphereMeshSpec | None
-    path: Path | None
-    mesh: object
-    boundaries: dict = field(repr=False)
-    build_time_s: float = 0.0
-
-    @property
-    def radius(self) -> float:
-        return float(self.mesh.p[1].max()) / 2.0
+    HEIGHT = 2.0
 
 
 def mesh_path(spec: SphereMeshSpec, cache_dir=None) -> Path:
     """Where the .msh file of ``spec`` is cached (the user's mesh cache by default)."""
-    return (Path(cache_dir) if cache_dir is not None else default_cache_dir()) / f"sphere-{spec.cache_key()}.msh"
+    return cache_path(spec, "sphere", cache_dir)
 
 
 def build_msh(spec: SphereMeshSpec, path) -> Path:
@@ -115,40 +90,16 @@ def build_msh(spec: SphereMeshSpec, path) -> Path:
     return mesh_section(spec, path, "sphere", half_disc)
 
 
-def identify_boundaries(mesh, radius: float) -> dict:
-    """Facets of the axis (r = 0) and of the surface (|x - (0, R)| = R), geometrically (all three
-    nodes of a facet on the line or circle, to 1e-9 R)."""
-    tol = 1e-9 * radius
-    boundary = mesh.boundary_facets()
-    nodes = np.vstack([mesh.facets[:, boundary], mesh.dofs.facet_dofs[0, boundary][None, :]])
-    r, z = mesh.doflocs[0][nodes], mesh.doflocs[1][nodes]
-    on_axis = np.all(np.abs(r) <= tol, axis=0)
-    on_circle = np.all(np.abs(np.hypot(r, z - radius) - radius) <= tol, axis=0) & ~on_axis
-    found = {"axis": boundary[on_axis], "surface": boundary[on_circle]}
-    unassigned = boundary.size - sum(v.size for v in found.values())
-    if unassigned or any(v.size == 0 for v in found.values()):
-        raise ValueError(f"mesh is not the sphere section of radius {radius}: {unassigned} boundary facets off the "
-                         f"axis/surface, counts {{{', '.join(f'{k}: {v.size}' for k, v in found.items())}}}")
-    return found
-
-
 def load_msh(path, spec: SphereMeshSpec | None = None) -> SphereMesh:
     """Read a sphere .msh (FileNotFoundError if missing, ValueError if it is not this section)."""
     mesh = read_quadratic_triangles(path)
-    radius = spec.radius if spec is not None else float(mesh.p[1].max()) / 2.0
-    return SphereMesh(spec=spec, path=Path(path), mesh=mesh, boundaries=identify_boundaries(mesh, radius))
+    radius = spec.radius if spec is not None else float(mesh.p[1].max()) / SphereMesh.HEIGHT
+    return SphereMesh(spec=spec, path=Path(path), mesh=mesh, boundaries=identify_boundaries(mesh, radius, top=False))
 
 
 def sphere_mesh(spec: SphereMeshSpec | None = None, cache_dir=None, rebuild: bool = False) -> SphereMesh:
-    """The mesh of ``spec`` (default ``SphereMeshSpec()``), from the cache or freshly built (a
-    corrupt cached file is rebuilt); ``build_time_s``: time spent meshing and loading [s]."""
+    """The mesh of ``spec`` (default ``SphereMeshSpec()``), from the cache or freshly built
+    (meshes.hemisphere.cached_mesh)."""
     spec = spec if spec is not None else SphereMeshSpec()
-    started = time.perf_counter()
-    path = mesh_path(spec, cache_dir)
-    if path.is_file() and not rebuild:
-        try:
-            return replace(load_msh(path, spec), build_time_s=time.perf_counter() - started)
-        except ValueError:
-            pass                        # corrupt cache entry: rebuilt below
-    build_msh(spec, path)
-    return replace(load_msh(path, spec), build_time_s=time.perf_counter() - started)
+    return cached_mesh(mesh_path(spec, cache_dir), lambda path: build_msh(spec, path),
+                       lambda path: load_msh(path, spec), rebuild)

@@ -15,7 +15,7 @@ cache and every output inside it), and judges the outcome:
   output paths (``--out``, ``--params-out``, ``--master-out``, the default ``results/`` and the
   mesh cache), an input file changed, or a hang (more than ``timeout_s``).
 
-The commands that run the FE (calibrate, hertz, run, table) get ``--dry-run``: everything up to
+The commands that run the FE (calibrate, hertz, impact, run, table) get ``--dry-run``: everything up to
 the first mesh (validation, plausibility, the load plan, the memory check) runs, the FE does
 not; the runtime commands (collide, material) run in full. Used by tests/test_fuzz.py (a few
 hundred derandomized cases) and tests/benchmarks/fuzz_cli.py (thousands; table in
@@ -53,7 +53,8 @@ PLAUSIBLE = {"--E": (70e9, 205e9, 117e9, 1e6, 1e12), "--nu": (0.0, 0.3, 0.49, 0.
              "--Kc": (3e-4, 1e-6, 1e-1), "--K1": (1e8, 1e6), "--K2": (2e8, 1e7),
              "--peaks": (500.0, 1000.0, 1500.0, 10.0, 40.0), "--contact-size": (4e-5, 1e-4, 1e-3, 1e-9),
              "--P-min": (1.0, 10.0), "--P-max": (1500.0, 100.0), "--steps": (2, 25, 1000, 1001),
-             "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3), "--type": (1, 2, 0, 1.5)}
+             "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3), "--type": (1, 2, 0, 1.5),
+             "--steps-per-contact": (100, 20, 10, 9, 10000, 10001)}
 
 
 def number_text(flag: str, hostile: bool):
@@ -86,10 +87,12 @@ SCENE_LINES = (  # (section, key, literal) of a valid scene that exercises every
     ("load_paths", "P_max_over_P_Y", "[13.7, 27.4]"), ("load_paths", "unload", "true"),
     ("calibration", "ship", '"radius"'),
     ("collision", "v_in_over_v_Y", "[2.0, 20.0]"), ("collision", "laws", '["vz", "thornton"]'),
+    ("impact", "v_in_over_v_Y", "[0.5, 20.0]"), ("impact", "error_estimate", "false"),
     ("outputs", "plots", "false"), ("outputs", "histories", "false"))
 SCENE_SECTIONS = tuple(dict.fromkeys([s for s, _, _ in SCENE_LINES] + ["grid", "bogus"]))
 SCENE_KEYS_EXTRA = ("contact_size", "E_over_sigma_y", "velocities", "bogus", "P_max", "unloading_steps",
-                    "loading_steps", "out", "level", "v_in", "v_max", "v_max_from")
+                    "loading_steps", "out", "level", "v_in", "v_max", "v_max_from", "error_estimate", "quasi_static",
+                    "steps_per_contact")
 
 
 @st.composite
@@ -225,6 +228,9 @@ COMMANDS = {
                   "--ladder": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "hertz": {"--P-min": 1, "--P-max": 1, "--steps": 1, "--contact-size": 1, "--ladder": 0, "--out": 1,
               "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "impact": {"--v-in": "+", "--steps-per-contact": 1, "--contact-size": 1, "--params": 1, "--drops": 1,
+               "--no-error-estimate": 0, "--no-quasi-static": 0, "--convergence": 0, "--workers": 1, "--out": 1,
+               "--no-plots": 0, "--json": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "run": {"SCENE": 1, "--out": 1, "--v-max": 1, "--json": 0, "--quiet": 0, "--list": 0},
     "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},
@@ -239,7 +245,7 @@ REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",),
             "fit-data": ("--impacts", "--E", "--nu", "--R", "--rho"), "export": ("ENGINE", "--params"),
             "lammps": ("ACTION",)}
 POSITIONAL = ("SCENE", "ENGINE", "ACTION")   # a command's positional argument, first after its name
-FE_COMMANDS = ("calibrate", "hertz", "run", "table")
+FE_COMMANDS = ("calibrate", "hertz", "impact", "run", "table")
 LAWS = ("vz", "vz-table", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
 OUTPUT_FLAGS = ("--out", "--params-out", "--master-out", "--plot")
 
@@ -264,7 +270,7 @@ def path_value(flag: str):
         return st.sampled_from(("input.json",) * 6 + ("missing.json", "folder", "scene.toml"))
     if flag == "--table":
         return st.sampled_from(("missing.csv", "folder", "input.json", "scene.toml"))
-    if flag == "--impacts":
+    if flag in ("--impacts", "--drops"):
         return st.sampled_from(("impacts.csv",) * 6 + ("missing.csv", "folder", "input.json", "approach.csv"))
     if flag == "--force-approach":
         return st.sampled_from(("approach.csv",) * 6 + ("missing.csv", "folder", "impacts.csv"))
@@ -286,7 +292,7 @@ def flag_values(flag: str, count, hostile: bool):
                          ).map(list)
     if flag in ("--accuracy",):
         return st.lists(st.text(max_size=20), min_size=1, max_size=1)
-    if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE", "--impacts", "--force-approach"):
+    if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE", "--impacts", "--drops", "--force-approach"):
         return st.lists(path_value(flag), min_size=1, max_size=1)
     if flag == "--dt":
         return st.lists(st.one_of(st.just("auto"), number_text(flag, hostile)), min_size=1, max_size=1)

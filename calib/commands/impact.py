@@ -12,9 +12,11 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal impact --v-in 0.04 --json               # one impact, the record as JSON
     nfdcal impact --sigma-y 1e11 --v-in 0.04       # never yields: Hertz's limit
     nfdcal impact --convergence --v-in 0.04        # error against run time: dt and mesh ladders
+    nfdcal impact --drops drops.csv                # drop tests (fit-data's file) against the FE: OUT/drops.csv
+    nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
 
 Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
-OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, impact.png,
+OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, drop_tests.csv, impact.png,
 histories.png into --out (calib.studies.impact_output); --convergence writes convergence.*.
 """
 from __future__ import annotations
@@ -24,9 +26,6 @@ import os
 from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
                                    number, print_summary)
 
-SECONDS_PER_STEP_AT_13K_DOFS = 0.2     # an elastoplastic time step (tests/benchmarks/bench_impact.py: 18.5 s, 93 steps)
-
-
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "impact", help="dynamic FE impact of the whole sphere: e, P_max, contact time, energy balance",
@@ -34,6 +33,9 @@ def add_parser(subparsers) -> None:
     add_material_arguments(parser)
     parser.add_argument("--v-in", nargs="+", metavar="V", default=None,
                         help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
+    parser.add_argument("--drops", default=None, metavar="CSV",
+                        help="drop tests (fit-data's impacts file: v_in, e; optional P_max, contact_time): the FE at"
+                             " their velocities, each test against it in OUT/drops.csv (not with --v-in)")
     parser.add_argument("--steps-per-contact", default=None,
                         help="time steps per estimated contact time (integer 10 .. 10000, default 100)")
     parser.add_argument("--contact-size", default=None,
@@ -43,6 +45,9 @@ def add_parser(subparsers) -> None:
                              " for the reference sphere, else the master table's constants)")
     parser.add_argument("--no-error-estimate", action="store_true",
                         help="run the fine impact only (no discretisation error estimate: a third of the work)")
+    parser.add_argument("--no-quasi-static", action="store_true",
+                        help="skip the quasi-static FE load-unload path to each impact's P_max (the comparison of the"
+                             " dynamic FE with the quasi-static assumption)")
     parser.add_argument("--convergence", action="store_true",
                         help="at the first --v-in (default 0.04 m/s): time-step and mesh ladders, error against run time")
     parser.add_argument("--workers", default=None,
@@ -78,7 +83,13 @@ def options(ns):
     steps = integer("--steps-per-contact", ns.steps_per_contact, impact.DEFAULT_STEPS_PER_CONTACT, 10, 10000)
     workers = integer("--workers", ns.workers, min(2, os.cpu_count() or 1), 1, 256)
     setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps)
-    if ns.v_in is None:
+    if ns.drops is not None:
+        from calib.studies import impact_drops
+
+        if ns.v_in is not None or ns.convergence:
+            raise ValueError("--drops sets the velocities from the drop tests: do not combine it with --v-in or --convergence")
+        velocities = impact_drops.velocities(impact_drops.read(ns.drops))
+    elif ns.v_in is None:
         velocities = (impact.CONVERGENCE_VELOCITY,) if ns.convergence else impact.study_velocities(setup)
     else:
         velocities = tuple(check_solid("v_in", number("--v-in", v, low=0.0, unit="m/s")) for v in ns.v_in)
@@ -106,19 +117,11 @@ def plan(ns, setup, velocities, variants, out) -> int:
     from pathlib import Path
 
     from calib.studies import impact, impact_convergence
-    from meshes.sphere import SphereMeshSpec
 
     impact.check_reach(setup, velocities)
     tasks = impact.tasks_for(setup, velocities, variants) if not ns.convergence else \
         impact_convergence.tasks(setup, velocities[0])
-    runs = []
-    for task in tasks:
-        spec = SphereMeshSpec(**task["mesh"])
-        dofs = spec.estimate_dofs()
-        steps = int(1.1 * task["steps_per_contact"]) + 10
-        runs.append({"v_in": task["v_in"], "variant": task["variant"], "contact_size": spec.contact_size,
-                     "dofs_estimate": dofs, "steps_estimate": steps, "finished": (Path(out) / "cases" / f"{task['key']}.json").is_file(),
-                     "estimate_s": steps * SECONDS_PER_STEP_AT_13K_DOFS * dofs / 13000})
+    runs = impact.planned_runs(tasks, Path(out) / "cases")
     total = sum(r["estimate_s"] for r in runs if not r["finished"])
     summary = {"out": out, "runs": runs, "estimated_total_s": total}
     lines = [f"{len(runs)} FE impact(s) of E = {setup.material.E:.4g} Pa, nu = {setup.material.nu:g}, sigma_Y = "
@@ -126,10 +129,24 @@ def plan(ns, setup, velocities, variants, out) -> int:
              f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
     lines += [f"{r['v_in']:>11.4g} {r['variant']:<16} {r['contact_size']:>11.3g} ~{r['dofs_estimate']:>7} "
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
-    lines.append(f"estimated total: {total:.0f} s on one process ({SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
+    lines.append(f"estimated total: {total:.0f} s on one process ({impact.SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
                  f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
     print_summary(ns, summary, lines)
     return 0
+
+
+def drop_lines(drops, records, out) -> list[str]:
+    """--drops: each test against the FE in OUT/drops.csv; the summary as lines."""
+    from calib import output
+    from calib.studies import impact_drops
+
+    rows = impact_drops.compare(impact_drops.read(drops), records)
+    path = impact_drops.write_comparison(out / "drops.csv", rows, output.stamp(0.0, drop_tests=str(drops)))
+    s = impact_drops.summary(rows)
+    extra = "".join(f", {key.replace('_ratio_mean', '')} test/FE - 1 = {s[key]:+.2%} (mean)"
+                    for key in ("P_max_ratio_mean", "contact_time_ratio_mean") if key in s)
+    return [f"drop tests {drops}: {s['tests']} tests, e_test - e_FE = {s['e_change_mean']:+.4f} (mean), "
+            f"{s['e_change_rms']:.4f} (rms){extra}; per test: {path}"]
 
 
 def run(ns) -> int:
@@ -151,22 +168,30 @@ def run(ns) -> int:
             print_summary(ns, summary, impact_convergence.lines(summary))
             return 0
         records = impact.study(setup, velocities, Path(out), workers=workers, progress=progress, variants=variants,
-                               params_file=ns.params, plots=not ns.no_plots)
+                               params_file=ns.params, plots=not ns.no_plots, quasi_static=not ns.no_quasi_static)
     lines = [f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>7} {'vz e':>7} {'P_max [N]':>10} {'vz P_max':>9} "
-             f"{'t_c [ms]':>8} {'vz t_c':>7} {'dent [m]':>9} {'vibr.':>8} {'balance':>9} {'err e':>7}"]
+             f"{'t_c [ms]':>8} {'vz t_c':>7} {'dent [m]':>9} {'vibr.':>8} {'balance':>9} {'err e':>7} {'qs e':>7}"]
     for r in records:
         vz = r["models"].get("vz", r["models"]["hertz"])
         error = r["e_rel_error_estimate"]
         lines.append(f"{r['v_in']:>10.4g} {r['v_in_over_v_Y']:>7.3g} {r['e']:>7.4f} {vz['e']:>7.4f} {r['P_max']:>10.4g} "
                      f"{vz['P_max']:>9.4g} {r['contact_time'] * 1e3:>8.4f} {vz['contact_time'] * 1e3:>7.4f} "
                      f"{r['dent']:>9.3g} {r['vibration_fraction']:>8.2g} {r['balance_residual_fraction']:>9.2g} "
-                     + (f"{error:>7.2%}" if error is not None else f"{'-':>7}"))
+                     + (f"{error:>7.2%}" if error is not None else f"{'-':>7}")
+                     + (f" {r['quasi_static']['e']:>7.4f}" if "quasi_static" in r else f" {'-':>7}"))
     lines.append("vibr., balance: vibration energy and the energy balance's residual over the kinetic energy in;"
-                 " err e: estimated discretisation error of e")
+                 " err e: estimated discretisation error of e; qs e: the quasi-static FE path's at the same P_max")
     worst = impact.largest_vibration(records)
     lines.append(f"largest vibration energy left: {worst['largest_fraction']:.2g} of the kinetic energy in, at "
                  f"{worst['v_in_over_v_Y']:.3g} v_Y (returned to the rebound it would change e by "
                  f"{worst['e_change_if_returned']:.2g})")
+    if ns.drops is not None:
+        lines += drop_lines(ns.drops, records, Path(out))
+    from calib.studies import impact_output
+
+    limit = impact.quasi_static_limit(records)
+    if limit:
+        lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

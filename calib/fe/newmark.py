@@ -48,11 +48,10 @@ from typing import NamedTuple
 import numpy as np
 from skfem import Basis, ElementTriP2, ElementVector
 
-from calib.fe.active_set import next_active_set
 from calib.fe.axisym import quadrature_radius
+from calib.fe.contact_loop import solve_contact
 from calib.fe.linsolve import factorize
 from calib.fe.material import Material
-from calib.fe.newton import solve_newton
 from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
 from calib.fe.sphere_dofs import sphere_dofs
 
@@ -137,16 +136,6 @@ class _FreeBlock:
         x = np.zeros(self.free.size)
         x[self.free] = b
         return self.factor.solve(x)[self.free]
-
-
-class _WithTolerance:
-    """The solver as calib.fe.newton.solve_newton reads it, with another residual tolerance."""
-
-    def __init__(self, solver, tolerance: float):
-        self._solver, self.residual_tolerance = solver, tolerance
-
-    def __getattr__(self, name):
-        return getattr(self._solver, name)
 
 
 class ImpactSolver:
@@ -309,48 +298,12 @@ class ImpactSolver:
         q_predicted = state.q + (0.0 if state.displacement_rate is None else dt * state.displacement_rate)
         active = self.predict_active_set(state, dt, base)
         start = NewtonStart(self.T @ state.q, state.material_state, float(force_scale))
-        visited = {active.tobytes()}
-        history: list[float] = []
-        q = q_predicted.copy()
-        newton_total = iterations = 0
-        message, converged, newton = "", False, None
-        # Trial sets are solved to ACTIVE_SET_TOLERANCE only (enough to tell tensile reactions and
-        # penetrations apart); the set that settles is solved again to the full tolerance and checked.
-        final = self.residual_tolerance >= ACTIVE_SET_TOLERANCE
-        while iterations < self.max_active_set_iterations:
-            iterations += 1
-            constrained = dofs.candidate_q[active]
-            target = -dofs.candidate_z0[active]
-            free = np.ones(dofs.n_q, dtype=bool)
-            free[constrained] = False
-            key = (dt, active.tobytes()) if self.is_linear else None
-            problem = self if final else _WithTolerance(self, ACTIVE_SET_TOLERANCE)
-            runs = [solve_newton(problem, q.copy(), start, "dynamic", 0.0, constrained, target, free, key, history)]
-            if not runs[0].ok and iterations > 1:      # the predictor is the safe start for a new set
-                runs.append(solve_newton(problem, q_predicted.copy(), start, "dynamic", 0.0, constrained, target,
-                                         free, key, history))
-            newton_total += sum(run.iterations for run in runs)
-            newton = runs[-1]
-            q = newton.q
-            if not newton.ok:
-                message = newton.message or f"Newton did not converge (relative residual {newton.residual_norm:.3g})"
-                break
-            update = next_active_set(active, newton.residual[dofs.candidate_q], dofs.candidate_z0 + q[dofs.candidate_q],
-                                     visited, force_tolerance=10.0 * problem.residual_tolerance * newton.scale,
-                                     gap_tolerance=self.gap_tolerance, force_scale=newton.scale,
-                                     length_scale=self.radius, force_control=False)
-            if update.settled and final:
-                converged = True
-                break
-            if update.settled:
-                final = True                  # the same set again, to the full tolerance
-                continue
-            if update.active is None:
-                message = "active set cycles"
-                break
-            active = update.active
-        else:
-            message = f"active set did not settle in {self.max_active_set_iterations} iterations"
+        # Trial sets are solved to ACTIVE_SET_TOLERANCE only; the set that settles is solved again to the full
+        # tolerance and checked (calib.fe.contact_loop).
+        loop = solve_contact(self, q_predicted.copy(), q_predicted, start, "dynamic", 0.0, active, key_prefix=dt,
+                             residual_history=[], trial_tolerance=ACTIVE_SET_TOLERANCE)
+        newton, active, converged, message = loop.newton, loop.active, loop.converged, loop.message
+        newton_total, iterations, q = loop.newton_iterations, loop.active_set_iterations, newton.q
         if converged and active.size and active[-1]:
             converged, message = False, (f"the contact reached the last candidate node (r = {dofs.candidate_r[-1]:.4g} m):"
                                          f" the mesh's refined zone is too small for this impact")

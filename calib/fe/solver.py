@@ -54,13 +54,13 @@ from skfem import Basis, ElementTriP2, ElementVector, asm
 
 from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, to_form_layout
+from calib.fe.contact_loop import solve_contact
 from calib.fe.dofs import contact_dofs
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
 from calib.fe.linsolve import METHODS as LINEAR_SOLVERS
 from calib.fe.linsolve import factorize
 from calib.fe.material import Material
-from calib.fe.newton import solve_newton
 from calib.fe.recovery import (CONTACT_RADIUS_METHODS, contact_radius_from_gap, contact_radius_from_pressure,
                                lumped_contact_pressure)
 from calib.fe.rescue import rescue_step
@@ -265,7 +265,6 @@ class ContactSolver:
         active sets, Newton inside. ``start``: a state whose displacement and active set start the
         iteration instead of the predictors (the rescue solve)."""
         t_start = time.perf_counter()
-        t_assembly = t_solve = 0.0
         q = np.empty(self.n_q)
         q[:self.plate] = state.displacement[self.dofs.kept]
         q[self.plate] = state.displacement[self.top_z_dof]
@@ -285,61 +284,16 @@ class ContactSolver:
             q[:self.plate] = u_predicted[self.dofs.kept]
             q[self.plate] = u_predicted[self.top_z_dof]
         active = self.predict_active_set(state, control, target) if start is None else start.active.copy()
-        visited = {active.tobytes()}
         residual_history: list[float] = []
-        newton_total = factorizations = active_set_iterations = 0
-        message = ""
-        converged = False
-        stress = trial = None
-        residual_norm = np.inf
-        tolerance = self.residual_tolerance
-        while active_set_iterations < self.max_active_set_iterations:
-            active_set_iterations += 1
-            constrained = self.candidate_q[active]
-            constrained_target = -self.candidate_z0[active]
-            if control == "displacement":
-                constrained = np.append(constrained, self.plate)
-                constrained_target = np.append(constrained_target, -target)
-            free = np.ones(self.n_q, dtype=bool)
-            free[constrained] = False
-            key = (control, active.tobytes()) if self.is_linear else None
-            runs = [solve_newton(self, q.copy(), state, control, target, constrained,
-                                 constrained_target, free, key, residual_history)]
-            if not runs[0].ok and active_set_iterations > 1:
-                # Continuing from the previous set's solution can diverge when a node that
-                # held plastic flow is released (its plastic tangent does not describe the
-                # unloading); the committed state is a safe start for the new set.
-                runs.append(solve_newton(self, q_start.copy(), state, control, target, constrained,
-                                         constrained_target, free, key, residual_history))
-            for run in runs:  # the record counts the work of a discarded run too
-                newton_total += run.iterations
-                factorizations += run.factorizations
-                t_assembly += run.time_assembly
-                t_solve += run.time_solve
-            newton = runs[-1]
-            q, f_int, residual, stress, trial = (newton.q, newton.f_int, newton.residual,
-                                                 newton.stress, newton.trial)
-            residual_norm, scale = newton.residual_norm, newton.scale
-            if not newton.ok:
-                message = newton.message or (f"Newton did not reach the residual tolerance"
-                                             f" {tolerance:g} in {self.max_newton_iterations}"
-                                             f" iterations (relative residual {residual_norm:.3g})")
-                break
-            # release tensile reactions, add penetrating nodes (calib.fe.active_set)
-            update = next_active_set(active, residual[self.candidate_q],
-                                     self.candidate_z0 + q[self.candidate_q], visited,
-                                     force_tolerance=10.0 * self.residual_tolerance * scale,
-                                     gap_tolerance=self.gap_tolerance, force_scale=scale,
-                                     length_scale=self.radius, force_control=control == "force")
-            if update.settled:
-                converged = True
-                break
-            if update.active is None:
-                message = "active set cycles"
-                break
-            active = update.active
-        else:
-            message = f"active set did not settle in {self.max_active_set_iterations} iterations"
+        loop = solve_contact(self, q, q_start, state, control, target, active, key_prefix=control,
+                             residual_history=residual_history,
+                             plate=self.plate if control == "displacement" else None,
+                             update_set=next_active_set)
+        newton, active, converged, message = loop.newton, loop.active, loop.converged, loop.message
+        newton_total, factorizations = loop.newton_iterations, loop.factorizations
+        active_set_iterations, t_assembly, t_solve = loop.active_set_iterations, loop.time_assembly, loop.time_solve
+        q, f_int, residual, stress = newton.q, newton.f_int, newton.residual, newton.stress
+        trial, residual_norm = newton.trial, newton.residual_norm
 
         record_time = time.perf_counter() - t_start
         if not converged:

@@ -28,44 +28,26 @@ from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import ElementTriP2, FacetBasis, asm
+from skfem import asm
 
+from calib.fe.dofs import NodeDofs, Numbering
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import mass as mass_form
-from calib.fe.forms import surface_weight
 
 
 @dataclass(frozen=True)
-class SphereDofs:
-    """The reduction u = T q, the contact candidates and the mass of one sphere mesh.
-
-    node_r, node_z [m] of every P2 node; r_dof, z_dof per node; T (n_dofs, n_q), TT = T^T;
-    candidate_nodes/_r/_z0/_q/_weight as in calib.fe.dofs.ContactDofs; translation: the unit
-    rigid translation along z in q [-]; pole_q: q index of the bottom pole's u_z; mass_data: M_q
-    on the ElementArrays pattern [kg]; mass: m_h [kg]; massless_fraction: the consistent mass of
-    the candidates' dofs over m_h (moved to the others) [-].
+class SphereDofs(NodeDofs):
+    """The reduction u = T q, the contact candidates (calib.fe.dofs.NodeDofs) and the mass of one
+    sphere mesh: translation: the unit rigid translation along z in q [-]; pole_q: q index of the
+    bottom pole's u_z; mass_data: M_q on the ElementArrays pattern [kg]; mass: m_h [kg];
+    massless_fraction: the consistent mass of the candidates' dofs over m_h (moved to the others) [-].
     """
 
-    node_r: np.ndarray
-    node_z: np.ndarray
-    r_dof: np.ndarray
-    z_dof: np.ndarray
-    T: sp.csr_matrix
-    TT: sp.csr_matrix
-    candidate_nodes: np.ndarray
-    candidate_r: np.ndarray
-    candidate_z0: np.ndarray
-    candidate_q: np.ndarray
-    candidate_weight: np.ndarray
-    translation: np.ndarray
-    pole_q: int
-    mass_data: np.ndarray
-    mass: float
-    massless_fraction: float
-
-    @property
-    def n_q(self) -> int:
-        return self.T.shape[1]
+    translation: np.ndarray = None
+    pole_q: int = 0
+    mass_data: np.ndarray = None
+    mass: float = 0.0
+    massless_fraction: float = 0.0
 
 
 def sphere_dofs(sphere, basis, rho: float, quadrature_order: int,
@@ -73,47 +55,32 @@ def sphere_dofs(sphere, basis, rho: float, quadrature_order: int,
     """The unknowns, candidates (surface nodes with r <= ``contact_radius`` [m], below the centre)
     and mass (density ``rho`` [kg/m^3]) of ``sphere`` (meshes.sphere.SphereMesh) on ``basis`` (P2
     vector basis of its mesh), with the ElementArrays of the reduction u = T q."""
-    m = sphere.mesh
     radius = float(sphere.spec.radius if sphere.spec is not None else sphere.radius)
-    n_dofs = basis.N
-    node_r, node_z = m.doflocs
-    r_dof = np.concatenate([basis.nodal_dofs[0], basis.facet_dofs[0]])
-    z_dof = np.concatenate([basis.nodal_dofs[1], basis.facet_dofs[1]])
-
-    def facet_nodes(facets):
-        return np.unique(np.concatenate([m.facets[:, facets].ravel(), m.nvertices + facets]))
-
-    axis_nodes = facet_nodes(sphere.boundaries["axis"])
-    kept = np.setdiff1d(np.arange(n_dofs), r_dof[axis_nodes])
-    T = sp.csr_matrix((np.ones(kept.size), (kept, np.arange(kept.size))), shape=(n_dofs, kept.size))
-    q_of_dof = np.full(n_dofs, -1)
-    q_of_dof[kept] = np.arange(kept.size)
+    nodes = Numbering(sphere.mesh, basis)
+    node_r, node_z = nodes.node_r, nodes.node_z
+    T, kept, q_of_dof = nodes.reduction(nodes.r_dof[nodes.facet_nodes(sphere.boundaries["axis"])])
     elements = ElementArrays(basis, T)
 
-    surface = facet_nodes(sphere.boundaries["surface"])
+    surface = nodes.facet_nodes(sphere.boundaries["surface"])
     tol = 1e-9 * radius
     lower = surface[(node_z[surface] < radius) & (node_r[surface] <= contact_radius + tol)]
-    candidates = lower[np.argsort(node_r[lower])]
-    candidate_q = q_of_dof[z_dof[candidates]]
-    surface_basis = FacetBasis(m, ElementTriP2(), facets=sphere.boundaries["surface"], intorder=quadrature_order)
-    weight = asm(surface_weight, surface_basis)[candidates]
+    contact = nodes.candidates(lower, q_of_dof, sphere.boundaries["surface"], quadrature_order)
+    candidates, candidate_q = contact["candidate_nodes"], contact["candidate_q"]
 
     translation = np.zeros(kept.size)
-    translation[q_of_dof[z_dof]] = 1.0
+    translation[q_of_dof[nodes.z_dof]] = 1.0
     M_q = (T.T @ asm(mass_form, basis, rho=rho) @ T).tocsr()
     full_mass = float(translation @ (M_q @ translation))
     massless = np.zeros(kept.size, dtype=bool)
-    candidate_dofs = np.concatenate([q_of_dof[r_dof[candidates]], candidate_q])
+    candidate_dofs = np.concatenate([q_of_dof[nodes.r_dof[candidates]], candidate_q])
     massless[candidate_dofs[candidate_dofs >= 0]] = True    # the pole's u_r is no unknown
     keep = sp.diags((~massless).astype(float))
     M_kept = (keep @ M_q @ keep).tocsr()
     kept_mass = float(translation @ (M_kept @ translation))
     M_kept = M_kept * (full_mass / kept_mass)
     pole = candidates[np.argmin(node_r[candidates])]
-    dofs = SphereDofs(node_r=node_r, node_z=node_z, r_dof=r_dof, z_dof=z_dof, T=T, TT=T.T.tocsr(),
-                      candidate_nodes=candidates, candidate_r=node_r[candidates], candidate_z0=node_z[candidates],
-                      candidate_q=candidate_q, candidate_weight=weight, translation=translation,
-                      pole_q=int(q_of_dof[z_dof[pole]]), mass_data=pattern_data(elements, M_kept),
+    dofs = SphereDofs(**contact, T=T, TT=T.T.tocsr(), translation=translation,
+                      pole_q=int(q_of_dof[nodes.z_dof[pole]]), mass_data=pattern_data(elements, M_kept),
                       mass=full_mass, massless_fraction=1.0 - kept_mass / full_mass)
     return dofs, elements
 

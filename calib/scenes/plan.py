@@ -9,6 +9,8 @@ import meshio
 from calib.fit import impact_window, recipe
 from calib.scenes.schema import SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial
 from meshes.hemisphere import estimate_dofs, mesh_path
+from meshes.sphere import SphereMeshSpec
+from meshes.sphere import mesh_path as sphere_mesh_path
 
 
 # ----------------------------------------------------------------------------- FE specs
@@ -145,7 +147,33 @@ def plan(scene: Scene) -> list[PlannedStage]:
         if scene.collision is not None:
             out.append(PlannedStage("collision", material.name, "-", True, 0, True, 0, False, 1.0,
                                     f"laws {', '.join(scene.collision.laws)}"))
+        if scene.impact is not None:
+            out.append(impact_stage(scene, material))
     return out
+
+
+def impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
+    """The planned dynamic FE impacts of ``material`` (calib.studies.impact: the fine runs, and the
+    coarse-mesh and coarse-dt ones with the error estimate); refused here when beyond the FE's reach."""
+    from calib.scenes.run import impact_setup
+    from calib.studies import impact
+
+    setup = impact_setup(scene, material)
+    velocities = tuple(sorted(set(scene.impact.velocities(material.pair()))))
+    try:
+        impact.check_reach(setup, velocities)
+    except ValueError as exc:
+        raise SceneError(f"scene {scene.source}: impact.v_in: material {material.name}: {exc}") from None
+    tasks = impact.tasks_for(setup, velocities, impact.VARIANTS if scene.impact.error_estimate else ("fine",))
+    runs = impact.planned_runs(tasks, scene.out_dir() / (material.name if len(scene.materials) > 1 else "")
+                               / "impact" / "cases")
+    largest = max(runs, key=lambda r: r["dofs_estimate"])
+    mesh = SphereMeshSpec(**tasks[-1]["mesh"])
+    return PlannedStage("impact", material.name, mesh.cache_key(), sphere_mesh_path(mesh).is_file(),
+                        largest["dofs_estimate"], False, sum(r["steps_estimate"] for r in runs), False,
+                        sum(r["estimate_s"] for r in runs if not r["finished"]),
+                        f"{len(tasks)} FE impacts at v_in = {', '.join(f'{v:.4g}' for v in velocities)} m/s"
+                        + ("; quasi-static FE paths at their P_max" if scene.impact.quasi_static else ""))
 
 
 def format_stages(stages: list[PlannedStage]) -> list[str]:

@@ -143,6 +143,33 @@ def _run_collision(scene, material, out, calibrated, progress) -> dict:
     return {"rows": len(rows), "vz_parameters": source, "restitution": restitution}
 
 
+def impact_setup(scene, material):
+    """The ImpactSetup (calib.studies.impact) of ``material`` with the scene's mesh choice and steps."""
+    from calib.studies.impact import ImpactSetup
+
+    mesh = scene.mesh
+    return ImpactSetup(material=material.material(), radius=material.R, contact_size=mesh.contact_size,
+                       level=mesh.level if mesh.level not in (None, "default") else None,
+                       steps_per_contact=scene.impact.steps_per_contact)
+
+
+def _run_impact(scene, material, out, progress) -> dict:
+    """The scene's dynamic FE impacts (calib.studies.impact) into OUT/impact/: per v_in the FE's e,
+    P_max, contact time and, where run, the quasi-static FE's e at the same P_max."""
+    from calib.studies import impact
+
+    stage = scene.impact
+    setup = impact_setup(scene, material)
+    velocities = tuple(sorted(set(stage.velocities(material.pair()))))
+    progress(f"impact: {material.name}, {len(velocities)} velocities (dynamic FE of the whole sphere)")
+    records = impact.study(setup, velocities, out / "impact", variants=impact.VARIANTS if stage.error_estimate
+                           else ("fine",), plots=scene.outputs.plots, quasi_static=stage.quasi_static, progress=progress)
+    return {"out": str(out / "impact"),
+            "impacts": [{"v_in": r["v_in"], "e": r["e"], "P_max": r["P_max"], "contact_time": r["contact_time"],
+                         "e_rel_error_estimate": r["e_rel_error_estimate"],
+                         "quasi_static_e": r.get("quasi_static", {}).get("e")} for r in records]}
+
+
 def plot_restitution(rows: list[dict], v_Y: float, title: str, path: Path) -> None:
     """e(v_in / v_Y) of every law in ``rows`` (collision records with a "law" key) into ``path``."""
     plt = output.pyplot()
@@ -185,6 +212,8 @@ def run_scene(scene: Scene, out: str | Path | None = None, progress=None) -> dic
             entry["load_paths"] = _run_load_paths(scene, material, folder, say)
         if scene.collision is not None:
             entry["collision"] = _run_collision(scene, material, folder, calibrated, say)
+        if scene.impact is not None:
+            entry["impact"] = _run_impact(scene, material, folder, say)
         results.append(entry)
     wall = time.perf_counter() - t0
     summary = {"scene": scene.name, "source": scene.source, "stages": scene.stages(), "materials": results,
@@ -216,5 +245,9 @@ def summary_lines(summary: dict) -> list[str]:
             for law, r in entry["collision"]["restitution"].items():
                 lines.append(f"  collision {law}: e = {min(r['e']):.4f} .. {max(r['e']):.4f} over v_in = "
                              f"{min(r['v_in']):.4g} .. {max(r['v_in']):.4g} m/s")
+        for r in entry.get("impact", {}).get("impacts", ()):
+            lines.append(f"  impact (dynamic FE) at v_in = {r['v_in']:.4g} m/s: e = {r['e']:.4f}, P_max = {r['P_max']:.4g} N, "
+                         f"contact time {r['contact_time'] * 1e3:.4g} ms"
+                         + (f"; quasi-static FE e = {r['quasi_static_e']:.4f}" if r["quasi_static_e"] is not None else ""))
     lines.append(f"results in {summary['out']}")
     return lines

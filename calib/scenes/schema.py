@@ -12,6 +12,10 @@
                    v_max [m/s] or v_max_from = "collision": load paths to the force of the fastest
                    impact (calib.fit.impact_window) instead of [load_paths] P_max
     [collision]    v_in = [m/s, ...] or v_in_over_v_Y = [...], laws = ["vz", "thornton", "hertz"]
+    [impact]       v_in = [m/s, ...] or v_in_over_v_Y = [...]: the dynamic FE impact of the whole sphere
+                   (``nfdcal impact``, calib.studies.impact) against the laws and the quasi-static FE;
+                   error_estimate (true: the coarse-mesh and coarse-dt runs too), quasi_static (true),
+                   steps_per_contact (100); the scene's mesh contact_size or level sizes its mesh
     [outputs]      out (folder, default results/scenes/<name>), plots, vtu, histories (booleans)
 
 The file is parsed with the standard library (tomllib) and validated by pydantic models (frozen,
@@ -176,12 +180,11 @@ class LoadPathStage(_Table):
         return tuple(sorted(k * pair.P_Y for k in ratios))
 
 
-class CollisionStage(_Table):
-    """Impacts at v_in [m/s] (or v_in_over_v_Y x v_Y) with each of ``laws``."""
+class _Velocities(_Table):
+    """Impact velocities: v_in [m/s] or v_in_over_v_Y (x v_Y)."""
 
     v_in: _list_of(Positive) | None = None
     v_in_over_v_Y: _list_of(Ratio) | None = None
-    laws: _list_of(Law) = ("vz", "thornton", "hertz")
 
     @model_validator(mode="after")
     def _one_velocity_list(self):
@@ -191,6 +194,20 @@ class CollisionStage(_Table):
 
     def velocities(self, pair) -> tuple[float, ...]:
         return self.v_in if self.v_in is not None else tuple(k * pair.v_Y for k in self.v_in_over_v_Y)
+
+
+class CollisionStage(_Velocities):
+    """Impacts at v_in [m/s] (or v_in_over_v_Y x v_Y) with each of ``laws``."""
+
+    laws: _list_of(Law) = ("vz", "thornton", "hertz")
+
+
+class ImpactStage(_Velocities):
+    """Dynamic FE impacts at v_in [m/s] (or v_in_over_v_Y x v_Y): calib.studies.impact."""
+
+    error_estimate: Flag = True
+    quasi_static: Flag = True
+    steps_per_contact: Annotated[int, Strict(), Field(ge=10, le=10000)] = 100
 
 
 class Outputs(_Table):
@@ -237,6 +254,7 @@ class SceneFile(_Table):
     load_paths: LoadPathStage | None = None
     calibration: _Calibration | None = None
     collision: CollisionStage | None = None
+    impact: ImpactStage | None = None
     outputs: Outputs = Outputs()
 
     @model_validator(mode="before")
@@ -267,8 +285,9 @@ class SceneFile(_Table):
                 and (self.calibration is None or (self.load_paths is not None and not self.load_paths.unload))):
             raise ValueError("collision.laws: 'vz-table' takes its tables from this scene's FE: needs a "
                              "[calibration] stage with load_paths.unload = true")
-        if self.hertz is None and self.load_paths is None and self.calibration is None and self.collision is None:
-            raise ValueError("scene: nothing to run: add [hertz], [load_paths], [calibration] or [collision]")
+        if (self.hertz is None and self.load_paths is None and self.calibration is None and self.collision is None
+                and self.impact is None):
+            raise ValueError("scene: nothing to run: add [hertz], [load_paths], [calibration], [collision] or [impact]")
         if self.calibration is not None and self.calibration.v_max_from == "collision" and self.collision is None:
             raise ValueError("calibration.v_max_from: 'collision' needs a [collision] stage")
         if (self.calibration is not None and (self.calibration.v_max or self.calibration.v_max_from)
@@ -290,6 +309,7 @@ class Scene:
     calibration_v_max: float | None = None      # [m/s]: the window from the impacts (impact_window)
     calibration_v_max_from_collision: bool = False
     collision: CollisionStage | None = None
+    impact: ImpactStage | None = None
     outputs: Outputs = Outputs()
     description: str = ""
     source: str = ""
@@ -318,6 +338,8 @@ class Scene:
             names.append("load_paths")
         if self.collision is not None:
             names.append("collision")
+        if self.impact is not None:
+            names.append("impact")
         return names
 
 
@@ -448,7 +470,7 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
                  calibration_ship=None if file.calibration is None else file.calibration.ship,
                  calibration_v_max=None if file.calibration is None else file.calibration.v_max,
                  calibration_v_max_from_collision=file.calibration is not None and file.calibration.v_max_from == "collision",
-                 collision=file.collision, outputs=file.outputs, description=file.scene.description,
+                 collision=file.collision, impact=file.impact, outputs=file.outputs, description=file.scene.description,
                  source=source, is_grid=file.grid is not None)
 
 

@@ -25,10 +25,26 @@ the vz law's P_max at v_in with the master table's constants (calib.fit.impact_w
 sizes on the whole sphere (meshes.sphere). The FE vouches for P <= 1000 P_Y and a contact radius
 <= 0.3 R (calib.fit.recipe): a faster impact is refused before meshing, naming the largest v_in.
 
+Energy balance. Its residual (calib.fe.impact) is the time discretisation's: the trapezoidal
+internal work against the return mapping's energy in the steps that yield (internal_work_error),
+and the work of the contact reactions of nodes that touch or leave the flat inside a step (their
+contact is found at the step's end; contact_work). Both shrink with dt: on the reference sphere
+the residual falls from 3.4e-3 to 1.1e-3 of the kinetic energy in at 300 v_Y, and from 5.2e-4 to
+1.5e-4 (to 6.3e-5 at 200 steps) at 24 v_Y, from 50 to 100 steps per contact, while the contact
+element changes it by about 10 % (results/impact/convergence.json); each record carries it at
+twice dt too (balance_residual_fraction_coarse_dt).
+
+Quasi-static FE (calib.studies.impact_quasistatic): the hemisphere of the impact's mesh sizes
+pressed to the impact's P_max and unloaded, its loop thrown as a collision of the sphere's mass:
+e, contact time, alpha_max and dent at the same P_max, and the loading branch's force at the same
+v_in. ``quasi_static_limit`` states from which v_in the dynamic FE differs from it by more than
+the discretisation errors, with the vibration energy left.
+
 The quasi-static laws at each v_in (exact by energy balance, nfdmodel.collision_reference): vz
 with the constants of a parameter file (the reference calibration, results/calibration/
 parameters.json, for the reference sphere when it exists), else the master table's (the paper's
-outside the table); Thornton's law and its closed-form restitution (paper eq. 1.11); Hertz's
+outside the table); the vz-table law of ``nfdcal calibrate --v-max`` for the reference sphere
+(TABLE_PARAMETERS, when it exists); Thornton's law and its closed-form restitution (paper eq. 1.11); Hertz's
 P_max and contact time 2.868 (m^2 / (R E*^2 v_in))^(1/5). And, where results/lammps/restitution.csv
 holds it, the restitution of LAMMPS' ``granular mdr`` normal model (two aluminium spheres head-on,
 tests/lammps_pour.py) at the same v_in / v_Y, interpolated linearly in log(v_in / v_Y) between its
@@ -53,6 +69,7 @@ from calib.fe.newmark import ImpactSolver
 from calib.fe.von_mises import VonMisesMaterial
 from calib.fit import impact_window, recipe
 from calib.sweep.runner import run_sweep
+from meshes.hemisphere import hemisphere_mesh
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference, load_parameters,
@@ -60,6 +77,8 @@ from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_r
 
 DEFAULT_OUT = output.RESULTS / "impact"
 CALIBRATED_PARAMETERS = output.RESULTS / "calibration" / "parameters.json"
+# the vz-table law of the reference sphere: nfdcal calibrate --v-max 0.504 --out results/impact/vz_table
+TABLE_PARAMETERS = DEFAULT_OUT / "vz_table" / "parameters.json"
 LAMMPS_RESTITUTION = output.RESULTS / "lammps" / "restitution.csv"   # LAMMPS' granular mdr, e(v_in / v_Y)
 STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
 CONVERGENCE_VELOCITY = 0.04      # m/s: the reference sphere at 24 v_Y, the benchmark's impact
@@ -67,6 +86,7 @@ VERSION = 2                       # bump when the FE or the recipe changes: inva
 VARIANTS = ("fine", "coarse mesh", "coarse dt")
 COMPARED = ("e", "P_max", "contact_time", "alpha_max", "dent")
 HISTORY_POINTS = 400              # at most this many history samples per case file
+SECONDS_PER_STEP_AT_13K_DOFS = 0.2     # an elastoplastic time step (tests/benchmarks/bench_impact.py: 18.5 s, 93 steps)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -170,6 +190,20 @@ def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec,
     return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
 
 
+def planned_runs(tasks: list[dict], cases: Path) -> list[dict]:
+    """Per task, what a dry run shows: v_in, variant, contact element [m], estimated dofs and time
+    steps, whether ``cases`` holds it finished, and the estimated wall time [s] on one process."""
+    runs = []
+    for task in tasks:
+        spec = SphereMeshSpec(**task["mesh"])
+        dofs = spec.estimate_dofs()
+        steps = int(1.1 * task["steps_per_contact"]) + 10
+        runs.append({"v_in": task["v_in"], "variant": task["variant"], "contact_size": spec.contact_size,
+                     "dofs_estimate": dofs, "steps_estimate": steps, "finished": (Path(cases) / f"{task['key']}.json").is_file(),
+                     "estimate_s": steps * SECONDS_PER_STEP_AT_13K_DOFS * dofs / 13000})
+    return runs
+
+
 # ---------------------------------------------------------------- one impact (a sweep worker)
 def run_task(task: dict) -> dict:
     """One FE impact as a row (never raises: a failure is a row with status "failed")."""
@@ -226,10 +260,17 @@ def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
     return params, source
 
 
-def law_predictions(setup: ImpactSetup, v_in: float, params) -> dict:
+def table_parameters(setup: ImpactSetup):
+    """The vz-table law's parameters for the reference sphere (TABLE_PARAMETERS), else None."""
+    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y)
+    return load_parameters(TABLE_PARAMETERS) if reference and TABLE_PARAMETERS.is_file() else None
+
+
+def law_predictions(setup: ImpactSetup, v_in: float, params, table=None) -> dict:
     """The quasi-static laws' impact at v_in [m/s] (module docstring): per law e, P_max [N],
-    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e. Below first yield
-    (v_in <= v_Y) every law is Hertz's, and an elastic run is compared with Hertz alone."""
+    contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e; the vz-table law's
+    (``table``: its parameters) where given. Below first yield (v_in <= v_Y) every law is Hertz's,
+    and an elastic run is compared with Hertz alone."""
     from calib.report.collision import thornton_closed_form
 
     pair = setup.pair
@@ -239,11 +280,15 @@ def law_predictions(setup: ImpactSetup, v_in: float, params) -> dict:
     if setup.elastic:
         return {"hertz": hertz}
     out = {"vz": dict(hertz), "thornton": {**hertz, "e_closed_form": 1.0}}
+    if table is not None:
+        out["vz_table"] = dict(hertz)
     if v_in > pair.v_Y:
-        for name, law_params in (("vz", params), ("thornton", pair)):
+        laws = (("vz", "vz", params), ("thornton", "thornton", pair)) + \
+            ((("vz_table", "vz-table", table),) if table is not None else ())
+        for name, law, law_params in laws:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RangeWarning)        # the window is reported, not warned
-                ref = collision_reference(name, law_params, [v_in])
+                ref = collision_reference(law, law_params, [v_in])
             out[name] = {"e": float(ref.restitution[0]), "P_max": float(ref.P_max[0]),
                          "contact_time": float(ref.contact_time_estimate[0]), "delta_max": float(ref.delta_max[0]),
                          "delta_res": float(ref.delta_res[0])}
@@ -275,10 +320,17 @@ def mdr_restitution(v_over_v_Y: float) -> float | None:
     return float(np.interp(math.log(v_over_v_Y), x, e))
 
 
-def impact_records(setup: ImpactSetup, rows: list[dict], params) -> list[dict]:
+def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, quasi_static=()) -> list[dict]:
     """One record per velocity: the fine run's values, the error estimates from the other
-    variants (module docstring), the energy fractions and the laws' predictions."""
+    variants (module docstring), the energy fractions, the laws' predictions (``table``: the
+    vz-table law's parameters) and the quasi-static FE at the same P_max (``quasi_static``: rows of
+    calib.studies.impact_quasistatic, with the dynamic FE's relative difference to each)."""
+    from calib.studies import impact_quasistatic
+
     pair = setup.pair
+    # the path's values from its stored points (cheap): a finished case gets the current recipe
+    static = {row["v_in"]: {**row, **impact_quasistatic.thrown(row["path"], pair.mass_star, row["v_in"])}
+              for row in quasi_static}
     by_velocity: dict[float, dict] = {}
     for row in rows:
         by_velocity.setdefault(row["v_in"], {})[row["variant"]] = row
@@ -308,8 +360,15 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params) -> list[dict]:
             record[f"{quantity}_dt_change"] = dt_change
             record[f"{quantity}_rel_error_estimate"] = (
                 None if mesh_change is None or dt_change is None else abs(mesh_change) + abs(dt_change))
+        coarse_dt = runs.get("coarse dt")
+        # the balance residual is the time discretisation's (module docstring): it shrinks with dt
+        record["balance_residual_fraction_coarse_dt"] = (coarse_dt["balance_residual"] / coarse_dt["kinetic_in"]
+                                                        if coarse_dt else None)
         record["wall_time_s_all_runs"] = sum(run["wall_time_s"] for run in runs.values())
-        record["models"] = law_predictions(setup, v_in, params)
+        record["models"] = law_predictions(setup, v_in, params, table)
+        if v_in in static:
+            record["quasi_static"] = {k: v for k, v in static[v_in].items() if k not in ("path", "key", "status", "error")}
+            record["dynamic_over_quasi_static"] = impact_quasistatic.compared(record, static[v_in])
         records.append(record)
     return records
 
@@ -331,6 +390,50 @@ def largest_vibration(records: list[dict]) -> dict:
             "e_change_if_returned": math.sqrt(worst["e"] ** 2 + worst["vibration_fraction"]) / worst["e"] - 1.0}
 
 
+def quasi_static_limit(records: list[dict]) -> dict:
+    """Where the quasi-static assumption fails: for e, the contact time (both at the same P_max) and
+    P_max (at the same v_in), the smallest v_in / v_Y at which the dynamic FE differs from the quasi-static FE at the same P_max by more than the
+    estimated errors (twice the dynamic FE's, its mesh and time step, as the quasi-static path shares
+    the mesh sizes, plus the path's sampling error; None: nowhere), the largest differences and the
+    vibration energy left."""
+    compared = [r for r in records if "dynamic_over_quasi_static" in r]
+    if not compared:
+        return {}
+    estimated = all(r.get("e_rel_error_estimate") is not None for r in compared)
+    out = {"error_estimated": estimated, "vibration": largest_vibration(records)}
+    for key in ("e", "contact_time", "P_max"):         # P_max: at the same v_in
+        beyond = [r["v_in_over_v_Y"] for r in compared if estimated and abs(r["dynamic_over_quasi_static"][key]) >
+                  2.0 * r[f"{key}_rel_error_estimate"] + r["quasi_static"].get(f"{key}_rel_error_estimate", 0.0)]
+        worst = max(compared, key=lambda r: abs(r["dynamic_over_quasi_static"][key]))
+        out[f"{key}_fails_from_v_in_over_v_Y"] = min(beyond) if beyond else None
+        out[f"largest_{key}_change"] = worst["dynamic_over_quasi_static"][key]
+        out[f"largest_{key}_change_at_v_in_over_v_Y"] = worst["v_in_over_v_Y"]
+    return out
+
+
+def run_quasi_static(setup: ImpactSetup, rows: list[dict], cases: Path, *, workers: int = 1,
+                     progress: Callable[[str], None] | None = None) -> tuple[list[dict], dict]:
+    """The quasi-static FE path to each yielding fine impact's P_max (calib.studies.impact_quasistatic)
+    through the sweep runner (finished ones in ``cases``); (rows, counts {computed, reused})."""
+    from calib.studies import impact_quasistatic
+
+    fine = [row for row in rows if row["variant"] == "fine" and row["P_max"] > setup.pair.P_Y]
+    if setup.elastic or not fine:
+        return [], {"computed": 0, "reused": 0}
+    tasks = [impact_quasistatic.task_of(setup.material, setup.radius, row) for row in fine]
+    for task in tasks:
+        hemisphere_mesh(SphereMeshSpec(**task["mesh"]).contact_zone)     # gmsh is one per process
+    describe = (lambda row: f"v_in = {row['v_in']:g} m/s (quasi-static FE path): "
+                + (f"e = {row['e']:.4f}, {row['wall_time_s']:.1f} s" if row["status"] == "ok" else row["error"]))
+    swept = run_sweep(tasks, impact_quasistatic.run_task, cases, keep=lambda row: row.get("status") == "ok",
+                      workers=workers, progress=progress, describe=describe)
+    failed = [row for row in swept.rows if row["status"] != "ok"]
+    if failed:
+        raise ValueError(f"the quasi-static FE path of the impact at v_in = {failed[0]['v_in']:g} m/s failed: "
+                         f"{failed[0]['error']}")
+    return swept.rows, {"computed": swept.computed, "reused": swept.reused}
+
+
 def reference_setup(**options) -> ImpactSetup:
     """The paper's aluminium sphere (nfdmodel.reference_case)."""
     return ImpactSetup(material=Material.reference(), radius=reference_case.R, **options)
@@ -342,26 +445,32 @@ def study_velocities(setup: ImpactSetup) -> tuple[float, ...]:
 
 
 def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progress: Callable[[str], None] | None = None,
-          variants=VARIANTS, params_file=None, plots: bool = True) -> list[dict]:
-    """Run the impacts (finished ones reused from OUT/cases/) and write the study's files into
-    ``out`` as one set (calib.studies.impact_output); returns the per-velocity records."""
+          variants=VARIANTS, params_file=None, plots: bool = True, quasi_static: bool = True) -> list[dict]:
+    """Run the impacts (finished ones reused from OUT/cases/) and, with ``quasi_static``, the
+    quasi-static FE paths at their peak forces (OUT/quasi_static_cases/), and write the study's
+    files into ``out`` as one set (calib.studies.impact_output); returns the per-velocity records."""
     from calib.studies import impact_output
 
     started = time.perf_counter()
     params, source = law_parameters(setup, params_file)      # a bad file is refused before any FE
+    table = table_parameters(setup)
     out = Path(out)
     rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
-    records = impact_records(setup, rows, params)
+    static, static_counts = (run_quasi_static(setup, rows, out / "quasi_static_cases", workers=workers,
+                                              progress=progress) if quasi_static else ([], None))
+    records = impact_records(setup, rows, params, table, static)
     pair = setup.pair
     fine = [row for row in rows if row["variant"] == "fine"]
     summary = {"case": {"E": setup.material.E, "nu": setup.material.nu,
                         "sigma_y": None if setup.elastic else setup.material.sigma_y, "rho": setup.material.rho,
                         "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
                         "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact},
-               "vz_source": source, "variants": list(variants),
-               "vibration": largest_vibration(records),
+               "vz_source": source, "vz_table_source": output.display_path(TABLE_PARAMETERS) if table else None,
+               "variants": list(variants),
+               "vibration": largest_vibration(records), "quasi_static": quasi_static_limit(records),
                "stamp": output.stamp(time.perf_counter() - started, mesh=fine[-1]["mesh"], **counts,
-                                     fe_wall_time_s=sum(row["wall_time_s"] for row in rows))}
+                                     fe_wall_time_s=sum(row["wall_time_s"] for row in rows),
+                                     **({"quasi_static_" + k: v for k, v in static_counts.items()} if static_counts else {}))}
     with output.all_or_nothing(out, name="impact") as staging:
         impact_output.write(staging, records, rows, summary, plots)
     return records

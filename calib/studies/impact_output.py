@@ -1,15 +1,20 @@
-"""The files of ``nfdcal impact``: impact.csv, impact.json (stamped), impact.png, histories.png.
+"""The files of ``nfdcal impact``: impact.csv, impact.json (stamped), drop_tests.csv, impact.png, histories.png.
 
 impact.csv   one row per velocity: v_in, v_in / v_Y, the FE's e, P_max [N], contact_time [s],
              alpha_max [m] (approach of the centre of mass), dent [m], the energy fractions of the
              kinetic energy in (plastic work, residual-stress energy, vibration energy, balance
              residual), each compared quantity's estimated relative discretisation error, and the
-             quasi-static laws' e, P_max, contact time (vz, Thornton and its closed form, Hertz) and
-             LAMMPS' mdr restitution where known
+             quasi-static laws' e, P_max, contact time (vz, vz-table, Thornton and its closed form,
+             Hertz), LAMMPS' mdr restitution where known, the quasi-static FE path at the same P_max
+             (quasi_static_*: e, the v_in that reaches P_max, P_max at the dynamic v_in, contact time,
+             alpha_max, dent) and the dynamic FE's relative difference to it (dynamic_over_quasi_static_*)
 impact.json  the same records with the case, the vz constants' source and the provenance stamp
              (calib.output.stamp)
+drop_tests.csv  v_in, e, P_max, contact_time: the impacts as ``nfdcal fit-data --impacts`` reads
+             drop tests (calib.studies.impact_drops)
 impact.png   e, P_max / P_Y and contact time against v_in / v_Y: the FE (error bars: the estimate)
-             against the laws
+             against the laws and the quasi-static FE paths (e, contact time: at the same P_max;
+             P_max: the path's loading branch at the same v_in)
 histories.png  the FE's contact force and approach against time, one curve per velocity
 Definitions: calib.fe.impact; the study: calib.studies.impact.
 """
@@ -20,8 +25,10 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
+from calib.studies import impact_drops
 
 LAW_COLUMNS = (("vz", "e"), ("vz", "P_max"), ("vz", "contact_time"), ("vz", "delta_max"), ("vz", "delta_res"),
+               ("vz_table", "e"), ("vz_table", "P_max"), ("vz_table", "contact_time"),
                ("thornton", "e"), ("thornton", "e_closed_form"), ("thornton", "P_max"), ("thornton", "contact_time"),
                ("hertz", "P_max"), ("hertz", "contact_time"), ("mdr", "e"))
 COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_time", "alpha_max", "dent",
@@ -29,23 +36,42 @@ COLUMNS = ("v_in", "v_in_over_v_Y", "P_max_over_P_Y", "e", "P_max", "contact_tim
            "balance_residual_fraction", "e_rel_error_estimate", "P_max_rel_error_estimate",
            "contact_time_rel_error_estimate", "alpha_max_rel_error_estimate", "dent_rel_error_estimate",
            "dt", "steps", "dofs", "contact_size", "wall_time_s", "cpu_time_s")
+QUASI_STATIC_COLUMNS = ("e", "v_in_quasi_static", "P_max_at_v_in", "contact_time", "alpha_max", "dent", "wall_time_s")
+CHANGE_COLUMNS = ("e", "contact_time", "alpha_max", "dent", "v_in", "P_max")
 
 
 def flat(record: dict) -> dict:
     """A record with the laws' predictions as columns (``vz_e``, ``thornton_P_max``, ...)."""
     models = record["models"]
+    static, change = record.get("quasi_static", {}), record.get("dynamic_over_quasi_static", {})
     return {**{k: record[k] for k in COLUMNS},
-            **{f"{law}_{key}": models[law].get(key, "") for law, key in LAW_COLUMNS if law in models}}
+            **{f"{law}_{key}": models[law].get(key, "") for law, key in LAW_COLUMNS if law in models},
+            **{f"quasi_static_{key}": static[key] for key in QUASI_STATIC_COLUMNS if key in static},
+            **{f"dynamic_over_quasi_static_{key}": change[key] for key in CHANGE_COLUMNS if key in change}}
+
+
+def quasi_static_words(limit: dict) -> str:
+    """``quasi_static_limit`` in one sentence."""
+    parts = []
+    for key, name in (("e", "e"), ("contact_time", "the contact time"), ("P_max", "P_max at the same v_in")):
+        fails = limit[f"{key}_fails_from_v_in_over_v_Y"]
+        verdict = ("no error estimate" if not limit["error_estimated"] else
+                   "within the errors at every v_in" if fails is None else f"beyond the errors from {fails:.3g} v_Y")
+        parts.append(f"{name} {limit[f'largest_{key}_change']:+.2%} at most (at "
+                     f"{limit[f'largest_{key}_change_at_v_in_over_v_Y']:.3g} v_Y; {verdict})")
+    return "; ".join(parts) + f"; vibration energy left at most {limit['vibration']['largest_fraction']:.2g} of the kinetic energy in"
 
 
 def write(out: Path, records: list[dict], rows: list[dict], summary: dict, plots: bool) -> list[Path]:
     """Write the files into ``out`` (a staging folder: the caller swaps the set in); their paths."""
     out = Path(out)
     table = [flat(r) for r in records]
-    columns = list(COLUMNS) + [f"{law}_{key}" for law, key in LAW_COLUMNS
-                               if any(f"{law}_{key}" in row for row in table)]
+    extra = ([f"{law}_{key}" for law, key in LAW_COLUMNS] + [f"quasi_static_{key}" for key in QUASI_STATIC_COLUMNS]
+             + [f"dynamic_over_quasi_static_{key}" for key in CHANGE_COLUMNS])
+    columns = list(COLUMNS) + [name for name in extra if any(name in row for row in table)]
     written = [output.write_csv(out / "impact.csv", table, columns, comment=output.stamp_comment(summary["stamp"])),
-               output.write_json(out / "impact.json", {**summary, "impacts": records})]
+               output.write_json(out / "impact.json", {**summary, "impacts": records}),
+               impact_drops.write_fit_data_file(out / "drop_tests.csv", records, summary["stamp"])]
     if plots:
         written += [plot_comparison(out / "impact.png", records, summary), plot_histories(out / "histories.png", rows)]
     return [Path(p) for p in written]
@@ -57,7 +83,9 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
     P_Y = summary["case"]["P_Y"]
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.4))
     panels = (("e", "restitution e", 1.0), ("P_max", "P_max / P_Y", 1.0 / P_Y), ("contact_time", "contact time [ms]", 1e3))
-    styles = {"vz": ("C0", "-", f"vz law ({summary['vz_source']})"), "thornton": ("C2", "--", "Thornton"),
+    styles = {"vz": ("C0", "-", f"vz law ({summary['vz_source']})"),
+              "vz_table": ("C1", "-", f"vz-table law ({summary.get('vz_table_source')})"),
+              "thornton": ("C2", "--", "Thornton"),
               "hertz": ("0.5", ":", "Hertz"), "mdr": ("C4", "-.", "LAMMPS granular mdr")}
     for ax, (key, label, scale) in zip(axes, panels):
         error = np.array([abs(r[f"{key}_rel_error_estimate"] or 0.0) * r[key] for r in records]) * scale
@@ -67,6 +95,10 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
             known = [(xi, r["models"][law][key] * scale) for xi, r in zip(x, records) if key in r["models"].get(law, {})]
             if known:
                 ax.plot(*zip(*known), line, color=colour, marker=".", label=name)
+        column = "P_max_at_v_in" if key == "P_max" else key      # P_max: the path's at the same v_in
+        static = [(xi, r["quasi_static"][column] * scale) for xi, r in zip(x, records) if "quasi_static" in r]
+        if static:
+            ax.plot(*zip(*static), "s", mfc="none", color="k", label="quasi-static FE path (same P_max; P_max: same v_in)")
         if key == "e" and all("thornton" in r["models"] for r in records):
             ax.plot(x, [r["models"]["thornton"]["e_closed_form"] for r in records], "x", color="C2",
                     label="Thornton closed form")
@@ -76,7 +108,8 @@ def plot_comparison(path: Path, records: list[dict], summary: dict) -> Path:
         ax.set_xlabel("v_in / v_Y")
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=8)
+    # in the P_max panel's empty lower right, off the restitution points
+    axes[1].legend(*axes[0].get_legend_handles_labels(), fontsize=7, loc="lower right")
     fig.suptitle("Impact of the whole sphere on a rigid flat: dynamic FE against the quasi-static laws")
     return output.save_figure(fig, path)
 
