@@ -32,6 +32,9 @@
  * `update` = 0 evaluates the forces of the stored springs without advancing them (LAMMPS's set-up
  * step after a `run` or a restart file, which recomputes the forces of the current positions).
  * A spring that would exceed its cap is set back to the cap, also when update = 0, as LAMMPS does.
+ * A capped force is the force of the spring as set back (the cap to round-off), so that evaluating
+ * the stored spring again gives the same force bit for bit (a restart continues bit for bit); with
+ * update = 0 a force beyond its cap by no more than that round-off (NFD_CAP_SLACK) is not capped again.
  *
  * License: the same as nfdcal (nfd_kernel.h). The models are LAMMPS's; no LAMMPS source is copied.
  */
@@ -45,6 +48,10 @@
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* With update = 0, a stored spring's force beyond its cap by at most this fraction is the round-off of
+ * a spring set back to the cap at the step that stored it: left as it is (not set back again). */
+#define NFD_CAP_SLACK 1e-12
 
 /* The contact models and constants of a pair (per pair of atom types, or a wall). */
 typedef struct {
@@ -202,12 +209,12 @@ static inline void nfd_tangential_mindlin(int variant, nfd_friction_history *s, 
         F_t[k] = (force_form ? xi[k] : -stiffness * xi[k]) + damping[k];
     }
     double magnitude = nfd_len3(F_t);
-    if (magnitude > F_cap) {
+    if (magnitude > (update ? F_cap : F_cap * (1.0 + NFD_CAP_SLACK))) {
         if (nfd_len3(xi) != 0.0) {
             double scale = F_cap / magnitude, back = -1.0 / stiffness;
             for (k = 0; k < 3; ++k) {
-                F_t[k] *= scale;
-                xi[k] = force_form ? F_t[k] - damping[k] : (F_t[k] - damping[k]) * back;
+                xi[k] = force_form ? F_t[k] * scale - damping[k] : (F_t[k] * scale - damping[k]) * back;
+                F_t[k] = (force_form ? xi[k] : -stiffness * xi[k]) + damping[k];
             }
         } else {
             F_t[0] = F_t[1] = F_t[2] = 0.0;
@@ -227,13 +234,13 @@ static inline void nfd_rolling_sds(double *xi, const double *n, const double *v_
     }
     for (k = 0; k < 3; ++k) F_r[k] = -f->k_roll * spring[k] + -f->gamma_roll * v_roll[k];
     double magnitude = nfd_len3(F_r);
-    if (magnitude > F_cap) {
+    if (magnitude > (update ? F_cap : F_cap * (1.0 + NFD_CAP_SLACK))) {
         if (nfd_len3(spring) != 0.0) {
             double k_inv = 1.0 / f->k_roll, magnitude_inv = 1.0 / magnitude;
             double back = -F_cap * k_inv * magnitude_inv, drag = -f->gamma_roll * k_inv;
             for (k = 0; k < 3; ++k) {
                 spring[k] = back * F_r[k] + drag * v_roll[k];
-                F_r[k] *= F_cap * magnitude_inv;
+                F_r[k] = -f->k_roll * spring[k] + -f->gamma_roll * v_roll[k];
             }
         } else {
             F_r[0] = F_r[1] = F_r[2] = 0.0;
@@ -249,9 +256,9 @@ static inline double nfd_twisting(double *theta, double w, double dt, double k, 
     if (update) *theta += w * dt;
     double M = -k * *theta - gamma * w;
     double sign = (double) ((w > 0.0) - (w < 0.0));
-    if (fabs(M) > M_cap) {
+    if (fabs(M) > M_cap) {      /* set back: the torque of the spring as set back, -M_cap sign to round-off */
         *theta = (M_cap * sign - gamma * w) / k;
-        M = -M_cap * sign;
+        M = -k * *theta - gamma * w;
     }
     return M;
 }

@@ -34,6 +34,7 @@
 #ifndef NFD_KERNEL_H
 #define NFD_KERNEL_H
 
+#include <math.h>
 #include <stddef.h>
 
 #include "nfd_limits.h"   /* law codes, tolerances, admissible ranges */
@@ -90,6 +91,37 @@ nfd_params nfd_pair(double R_star, double E_star, double p_Y);
 
 /* Set the vz constants Ca [m/N], Kc [1/N] and what the solve precomputes from them. */
 void nfd_vz_constants(nfd_params *p, double Ca, double Kc);
+
+/* The nfd_params of a contact of effective radius R_star [m] from `unit`, those of the same pair of
+ * materials and law constants at R* = 1 m (nfd_pair(1.0, E*, p_Y), then the law's constants with
+ * Ca_hat, Kc_hat and the window P_max/P_Y, which hold for any R*): for many contacts of one pair of
+ * materials and varying radii, a square root per contact in place of nfd_pair's cube root and
+ * powers. Every quantity is a power of R* times its value at 1 m (Hertz, first yield at the same
+ * p_Y): P_Y, window_P_max ~ R*^2; a_Y, delta_Y ~ R*; hertz_k ~ sqrt(R*); Ca ~ 1/R* (Ca = Ca_hat
+ * a_Y / P_Y), Kc ~ 1/R*^2; u_Y = P_Y^(1/3) ~ R*^(2/3), c1 ~ R*^(4/3). Equal to nfd_pair's to
+ * round-off (hertz_k bit for bit). with_roots: also u_Y and c1 (a cube root), which only vz's
+ * plastic loading step reads, i.e. when delta > the history's delta_max; without, they are NaN
+ * (a step that would need them returns NFD_NOT_FINITE, never a wrong force). */
+static inline void nfd_pair_scaled(const nfd_params *unit, double R_star, int with_roots, nfd_params *p)
+{
+    double R_squared = R_star * R_star;
+    *p = *unit;
+    p->R_star = R_star;
+    p->P_Y = unit->P_Y * R_squared;
+    p->delta_Y = unit->delta_Y * R_star;
+    p->a_Y = unit->a_Y * R_star;
+    p->hertz_k = unit->hertz_k * sqrt(R_star);
+    p->Ca = unit->Ca / R_star;
+    p->Kc = unit->Kc / R_squared;
+    p->window_P_max = unit->window_P_max * R_squared;
+    if (with_roots) {
+        double root = cbrt(R_star);
+        p->c1 = unit->c1 * (R_star * root);
+        p->u_Y = unit->u_Y * (root * root);
+    } else {
+        p->c1 = p->u_Y = NAN;
+    }
+}
 
 int nfd_hertz_step(double delta, const nfd_params *p, const nfd_history *h, double *force, nfd_history *out);
 /* vz: *iterations (if not NULL) receives the Newton iterations of a plastic loading step (else 0). */

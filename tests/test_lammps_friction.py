@@ -62,12 +62,12 @@ def num(value) -> str:
     return repr(float(value))
 
 
-def granular_line(models: str, E_value: float) -> str:
+def granular_line(models: str, E_value: float, nu: float = NU) -> str:
     """hertz/material E eta_n0 nu damping MODEL, then the tangential/rolling/twisting keywords of
     an nfd ``damping MODEL value ...`` line (granular keeps the damping value in its normal model)."""
     match = re.match(r"damping (\w+) ([\d.e+-]+) (.*)", models)
     model, value, rest = match.groups() if match else ("viscoelastic", "0", models)
-    return f"hertz/material {num(E_value)} {value} {num(NU)} damping {model} {rest}"
+    return f"hertz/material {num(E_value)} {value} {num(nu)} damping {model} {rest}"
 
 
 def oblique_input(plugin: str, interaction: str, wall: bool, steps: int, processors: str = "") -> str:
@@ -145,6 +145,31 @@ def test_pair_styles_equal_lammps_granular_in_the_elastic_limit(plugin, tmp_path
     nfd = f"pair_style nfd/{style}\npair_coeff 1 1 {nfd_constants(style, tmp_path)} {MODELS}"
     theirs = trajectory(oblique_input(plugin, granular, False, 700, processors), tmp_path, nprocs)
     mine = trajectory(oblique_input(plugin, nfd, False, 700, processors), tmp_path, nprocs)
+    assert np.abs(theirs[-1, 9 + 6:9 + 9] - theirs[0, 9 + 6:9 + 9]).max() > 1.0     # the contact turned atom 2
+    assert_same_motion(mine, theirs)
+
+
+def test_unlike_types_mix_k_t_null_as_lammps_granular(plugin, tmp_path):
+    """Two atom types of other materials (E, NU and E_2, NU_2), k_t NULL on both: the unlike pair
+    takes LAMMPS's k_t of its mixed hertz/material model, 8 G(E_12, sqrt(NU NU_2)) with 1/E_12 =
+    (1 - NU^2)/E + (1 - NU_2^2)/E_2 (not 8 G* of the two materials, 1.83x stiffer here, which turns
+    atom 2 otherwise by far more than the tolerance), equal to granular in the elastic limit."""
+    E_2, NU_2 = 2.05e11, 0.25
+    two_types = {"create_box 1 box": "create_box 2 box",
+                 f"create_atoms 1 single {num(R_2)} 0 0": f"create_atoms 2 single {num(R_2)} 0 0"}
+
+    def unlike(text: str) -> str:
+        for old, new in two_types.items():
+            assert old in text
+            text = text.replace(old, new)
+        return text
+
+    granular = (f"pair_style granular\npair_coeff 1 1 {granular_line(MODELS, E)}\n"
+                f"pair_coeff 2 2 {granular_line(MODELS, E_2, NU_2)}")
+    nfd = (f"pair_style nfd/vz\npair_coeff 1 1 {num(E)} {num(NU)} {num(HARD)} 0.026 0.0098 {MODELS}\n"
+           f"pair_coeff 2 2 {num(E_2)} {num(NU_2)} {num(HARD)} 0.026 0.0098 {MODELS}")
+    theirs = trajectory(unlike(oblique_input(plugin, granular, False, 700)), tmp_path)
+    mine = trajectory(unlike(oblique_input(plugin, nfd, False, 700)), tmp_path)
     assert np.abs(theirs[-1, 9 + 6:9 + 9] - theirs[0, 9 + 6:9 + 9]).max() > 1.0     # the contact turned atom 2
     assert_same_motion(mine, theirs)
 

@@ -11,7 +11,10 @@
  * k_t [Pa] (stiffness k_t a), NULL: 8 G* of the two materials; x_gamma_t [-]; mu [-]; k_roll
  * [N/m], gamma_roll [N s/m], mu_roll [-]; k_twist [N m/rad], gamma_twist [N m s/rad], mu_twist [m].
  * Unlike types mix as LAMMPS's granular does: the same models on both, each constant the
- * geometric mean sqrt(a b) (k_t NULL on either: 8 G* of the two materials).
+ * geometric mean sqrt(a b); k_t NULL on either: LAMMPS's k_t of its mixed hertz/material model,
+ * 8 G(E_ij, nu_ij) = 8 E_ij / (4 (2 - nu_ij)(1 + nu_ij)) of the mixed modulus 1/E_ij = (1 - nu_i^2)/E_i
+ * + (1 - nu_j^2)/E_j and nu_ij = sqrt(nu_i nu_j), not 8 G* of the two materials (for two types of
+ * one material, 1 / (2 (1 - nu^2)) of the like-type k_t, as in LAMMPS).
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
@@ -67,8 +70,16 @@ NfdModels read_models(LAMMPS_NS::LAMMPS *lmp, const std::string &who, int narg, 
 NfdModels mix_models(const NfdModels &a, const NfdModels &b);
 
 /* The kernel's nfd_friction of a contact with models m between bodies (E_i, nu_i) and (E_j,
- * nu_j) [Pa, -] (a rigid flat: E_j = INFINITY), for k_t NULL. */
-nfd_friction contact_friction(const NfdModels &m, double E_i, double nu_i, double E_j, double nu_j);
+ * nu_j) [Pa, -] (a rigid flat: E_j = INFINITY), for k_t NULL: 8 G* of the two bodies
+ * (nfd_shear_coefficient), or with unlike_types (atom types I != J mixed by init_one) LAMMPS's
+ * k_t of the mixed material (mixed_shear_coefficient). */
+nfd_friction contact_friction(const NfdModels &m, double E_i, double nu_i, double E_j, double nu_j,
+                              bool unlike_types = false);
+
+/* k_t NULL [Pa] of two unlike atom types as pair_style granular mixes it (hertz/material then
+ * mindlin): 8 / (2 f), f = 2 (2 - nu) (1 + nu) / E of E = 1 / ((1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j)
+ * and nu = sqrt(nu_i nu_j). */
+double mixed_shear_coefficient(double E_i, double nu_i, double E_j, double nu_j);
 
 }    // namespace nfdcal_lammps
 

@@ -58,12 +58,25 @@ class PairNfd : public LAMMPS_NS::Pair {
     void create_history_fix();
     void warn_other_histories();
     const double *find_stored(int i, int j);
+    nfd_params contact_params(int itype, int jtype, double R_i, double R_j, const nfd_history &h, double delta) const;
+
+    /* What a contact of two atom types takes from its types, set in init_one: the nfd_params at
+     * R* = 1 m (NfdLaw::params(1.0, ...); nfd_pair_scaled gives a contact's from them) and the
+     * contact constants (NfdLaw::mix or pair_coeff I J) with their models. */
+    struct TypePair {
+        nfd_params unit{};
+        const NfdMaterial *constants = nullptr;
+        bool models = false;
+    };
+    const TypePair &type_pair(int itype, int jtype) const { return type_pairs[itype * (ntypes_set + 1) + jtype]; }
 
     const NfdLaw *law;
     std::vector<NfdMaterial> material;                 // per atom type, as read
     std::vector<std::vector<NfdMaterial>> contact;     // per pair of types: NfdLaw::mix, or pair_coeff I J
     std::vector<std::vector<char>> explicit_pair;      // set by pair_coeff I J (per-type-pair laws)
     std::vector<double> max_radius;                    // per atom type, pour/deposit included
+    std::vector<TypePair> type_pairs;                  // (ntypes + 1)^2, row-major (type_pair)
+    int ntypes_set = 0;
     FixNfdHistory *history = nullptr;
     bool models_on = false;                            // contact models on some pair of types
     LAMMPS_NS::bigint beyond_count = 0;
