@@ -149,11 +149,13 @@ def test_pair_styles_equal_lammps_granular_in_the_elastic_limit(plugin, tmp_path
     assert_same_motion(mine, theirs)
 
 
-def test_unlike_types_mix_k_t_null_as_lammps_granular(plugin, tmp_path):
-    """Two atom types of other materials (E, NU and E_2, NU_2), k_t NULL on both: the unlike pair
-    takes LAMMPS's k_t of its mixed hertz/material model, 8 G(E_12, sqrt(NU NU_2)) with 1/E_12 =
-    (1 - NU^2)/E + (1 - NU_2^2)/E_2 (not 8 G* of the two materials, 1.83x stiffer here, which turns
-    atom 2 otherwise by far more than the tolerance), equal to granular in the elastic limit."""
+def test_unlike_types_take_k_t_null_of_the_two_materials(plugin, tmp_path):
+    """Two atom types of other materials (E, NU and E_2, NU_2), k_t NULL on both: the unlike pair takes
+    8 G* of the two materials, G* = 1 / ((2 - NU)/G + (2 - NU_2)/G_2), and the pair's E*. Granular gets
+    that pair explicitly (pair_coeff 1 2: its hertz/material mixes an explicit E' with itself, so E' =
+    2 (1 - NU^2) E*; k_t = 8 G* given as a number) and the motion must be the same: granular's own
+    NULL mixing for unlike types takes 8 G of its effective modulus, 0.55x of this here, which turns
+    atom 2 by far more than the tolerance (checked: the run with NULL in granular differs)."""
     E_2, NU_2 = 2.05e11, 0.25
     two_types = {"create_box 1 box": "create_box 2 box",
                  f"create_atoms 1 single {num(R_2)} 0 0": f"create_atoms 2 single {num(R_2)} 0 0"}
@@ -164,14 +166,22 @@ def test_unlike_types_mix_k_t_null_as_lammps_granular(plugin, tmp_path):
             text = text.replace(old, new)
         return text
 
-    granular = (f"pair_style granular\npair_coeff 1 1 {granular_line(MODELS, E)}\n"
-                f"pair_coeff 2 2 {granular_line(MODELS, E_2, NU_2)}")
+    E_star = 1.0 / ((1.0 - NU ** 2) / E + (1.0 - NU_2 ** 2) / E_2)
+    G, G_2 = E / (2.0 * (1.0 + NU)), E_2 / (2.0 * (1.0 + NU_2))
+    k_t = 8.0 / ((2.0 - NU) / G + (2.0 - NU_2) / G_2)
+    pair_12 = granular_line(MODELS.replace("mindlin NULL", f"mindlin {num(k_t)}"), 2.0 * (1.0 - NU ** 2) * E_star)
+    granular_null = (f"pair_style granular\npair_coeff 1 1 {granular_line(MODELS, E)}\n"
+                     f"pair_coeff 2 2 {granular_line(MODELS, E_2, NU_2)}")
+    granular = granular_null + f"\npair_coeff 1 2 {pair_12}"
     nfd = (f"pair_style nfd/vz\npair_coeff 1 1 {num(E)} {num(NU)} {num(HARD)} 0.026 0.0098 {MODELS}\n"
            f"pair_coeff 2 2 {num(E_2)} {num(NU_2)} {num(HARD)} 0.026 0.0098 {MODELS}")
     theirs = trajectory(unlike(oblique_input(plugin, granular, False, 700)), tmp_path)
     mine = trajectory(unlike(oblique_input(plugin, nfd, False, 700)), tmp_path)
     assert np.abs(theirs[-1, 9 + 6:9 + 9] - theirs[0, 9 + 6:9 + 9]).max() > 1.0     # the contact turned atom 2
     assert_same_motion(mine, theirs)
+    lammps_mixing = trajectory(unlike(oblique_input(plugin, granular_null, False, 700)), tmp_path)
+    with pytest.raises(AssertionError):
+        assert_same_motion(mine, lammps_mixing)
 
 
 @pytest.mark.parametrize("variant", ["mindlin_rescale", "mindlin/force", "mindlin_rescale/force"])

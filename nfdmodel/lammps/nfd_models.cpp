@@ -167,22 +167,13 @@ NfdModels mix_models(const NfdModels &a, const NfdModels &b)
     return m;
 }
 
-double mixed_shear_coefficient(double E_i, double nu_i, double E_j, double nu_j)
-{
-    const double E = 1.0 / ((1.0 - nu_i * nu_i) / E_i + (1.0 - nu_j * nu_j) / E_j);
-    const double nu = std::sqrt(nu_i * nu_j);
-    const double factor = 2.0 * (2.0 - nu) * (1.0 + nu) / E;
-    return 8.0 * (1.0 / (factor + factor));
-}
-
-nfd_friction contact_friction(const NfdModels &m, double E_i, double nu_i, double E_j, double nu_j, bool unlike_types)
+nfd_friction contact_friction(const NfdModels &m, double E_i, double nu_i, double E_j, double nu_j)
 {
     nfd_friction f;
     f.damping = m.damping;
     f.damping_coeff = nfd_damping_coefficient(m.damping, m.damping_value);
     f.tangential = m.tangential;
-    f.k_t = m.k_t >= 0.0 ? m.k_t
-        : (unlike_types ? mixed_shear_coefficient(E_i, nu_i, E_j, nu_j) : nfd_shear_coefficient(E_i, nu_i, E_j, nu_j));
+    f.k_t = m.k_t < 0.0 ? nfd_shear_coefficient(E_i, nu_i, E_j, nu_j) : m.k_t;
     f.x_gamma_t = m.x_gamma_t;
     f.mu = m.mu;
     f.rolling = m.rolling;

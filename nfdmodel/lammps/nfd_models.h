@@ -11,10 +11,10 @@
  * k_t [Pa] (stiffness k_t a), NULL: 8 G* of the two materials; x_gamma_t [-]; mu [-]; k_roll
  * [N/m], gamma_roll [N s/m], mu_roll [-]; k_twist [N m/rad], gamma_twist [N m s/rad], mu_twist [m].
  * Unlike types mix as LAMMPS's granular does: the same models on both, each constant the
- * geometric mean sqrt(a b); k_t NULL on either: LAMMPS's k_t of its mixed hertz/material model,
- * 8 G(E_ij, nu_ij) = 8 E_ij / (4 (2 - nu_ij)(1 + nu_ij)) of the mixed modulus 1/E_ij = (1 - nu_i^2)/E_i
- * + (1 - nu_j^2)/E_j and nu_ij = sqrt(nu_i nu_j), not 8 G* of the two materials (for two types of
- * one material, 1 / (2 (1 - nu^2)) of the like-type k_t, as in LAMMPS).
+ * geometric mean sqrt(a b); k_t NULL on either: 8 G* of the two materials, G* = 1 / ((2 - nu_i)/G_i
+ * + (2 - nu_j)/G_j). (LAMMPS's granular takes 8 G of its mixed hertz/material modulus there, which
+ * treats the effective modulus as a material's: for two types of one material 1 / (2 (1 - nu^2)) of
+ * the like-type k_t, 0.55 at nu = 0.3. The physical G* keeps types of one material alike.)
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
@@ -71,15 +71,8 @@ NfdModels mix_models(const NfdModels &a, const NfdModels &b);
 
 /* The kernel's nfd_friction of a contact with models m between bodies (E_i, nu_i) and (E_j,
  * nu_j) [Pa, -] (a rigid flat: E_j = INFINITY), for k_t NULL: 8 G* of the two bodies
- * (nfd_shear_coefficient), or with unlike_types (atom types I != J mixed by init_one) LAMMPS's
- * k_t of the mixed material (mixed_shear_coefficient). */
-nfd_friction contact_friction(const NfdModels &m, double E_i, double nu_i, double E_j, double nu_j,
-                              bool unlike_types = false);
-
-/* k_t NULL [Pa] of two unlike atom types as pair_style granular mixes it (hertz/material then
- * mindlin): 8 / (2 f), f = 2 (2 - nu) (1 + nu) / E of E = 1 / ((1 - nu_i^2)/E_i + (1 - nu_j^2)/E_j)
- * and nu = sqrt(nu_i nu_j). */
-double mixed_shear_coefficient(double E_i, double nu_i, double E_j, double nu_j);
+ * (nfd_shear_coefficient). */
+nfd_friction contact_friction(const NfdModels &m, double E_i, double nu_i, double E_j, double nu_j);
 
 }    // namespace nfdcal_lammps
 

@@ -176,7 +176,7 @@ double PairNfd::init_one(int i, int j)
                                           j, a.models.kinds(), b.models.kinds()));
         NfdMaterial mixed = law->mix(a, b);
         mixed.models = mix_models(a.models, b.models);
-        mixed.friction = contact_friction(mixed.models, a.E, a.nu, b.E, b.nu, i != j);
+        mixed.friction = contact_friction(mixed.models, a.E, a.nu, b.E, b.nu);
         contact[i][j] = contact[j][i] = mixed;
     }
     for (const auto &ij : {std::make_pair(i, j), std::make_pair(j, i)}) {
