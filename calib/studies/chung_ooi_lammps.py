@@ -74,7 +74,7 @@ def case_input(case, dt: float, steps: int, contact: str, plugin: str, plastic: 
     lines.append(f"plugin load {plugin}")
     restitutions = [None] * n if case.restitution is None else list(case.restitution)
     if case.partner is None:
-        lines += ["pair_style zero 0.001", "pair_coeff * *"]
+        lines += [f"pair_style zero {num(2.0 * R_i)}", "pair_coeff * *"]     # bins of the size of the spheres
         for k, e in enumerate(restitutions):
             group = "all" if case.restitution is None else f"g{k}"
             if group != "all":

@@ -4,8 +4,10 @@ they spread. Writes results/lammps/heap.{csv,json,png}.
 A column of n aluminium spheres (the paper's material and vz constants, nfd/vz; radii uniform in
 [0.9, 1.1] R_0, R_0 = 2 mm, rho = 2699 kg/m^3) stands on a square footprint of FOOTPRINT x
 FOOTPRINT lattice columns (spacing 2.2 R_0 + 0.2 mm, a jitter of +-0.2 mm) layer upon layer,
-at rest, over the floor z = 0 (fix nfd/wall/vz with the same models), and collapses under gravity
-(9.81 m/s^2). Two runs of the same column:
+at rest, over a rough floor -- BASE x BASE fixed spheres of R_0 on a square lattice of the same
+spacing resting on z = 0, the heap's spheres falling into its hollows (on a smooth flat a sphere
+rolls away: DEM heaps stand on rough bases) -- with the flat z = 0 below (fix nfd/wall/vz), and
+collapses under gravity (9.81 m/s^2). Two runs of the same column:
 
     friction    tangential mindlin_rescale/force NULL 0 0.3   (mu = 0.3, k_t = 8 G*: the Mindlin
                 rolling sds 1e4 0 0.1                           variant for a plastic law)
@@ -24,7 +26,8 @@ the fit over whatever bins it has, near 0).
 
     python -m calib.studies.heap [--out results/lammps] [--n 300] [--smoke]
 
---smoke: 40 spheres and 0.02 s (the CI's: the machinery, not the angle). SI units.
+--smoke: 40 spheres and 0.02 s (the CI's: the machinery, not the angle). Heights are above the
+base's top (2 R_0). SI units.
 """
 from __future__ import annotations
 
@@ -43,12 +46,14 @@ RHO = 2699.0                     # kg/m^3
 VZ_CONSTANTS = "70000000000.0 0.3 100000000.0 0.02592 0.009855 window inf"
 FRICTION = "tangential mindlin_rescale/force NULL 0 0.3 rolling sds 10000.0 0 0.1 twisting marshall"
 DAMPING = "damping coeff_restitution 0.5"
-FOOTPRINT = 5                    # lattice columns per side of the column's square footprint
+FOOTPRINT = 6                    # lattice columns per side of the column's square footprint
 GAP = 0.2e-3                     # m: lattice clearance
 DT = 2e-7                        # s: a 1 m/s Hertz impact of R = 1.8 mm lasts >= 50 steps
 CHUNK = 2000                     # steps between kinetic-energy checks
 SETTLED = 1e-6                   # kinetic energy / its peak that counts as settled
 GRAVITY = 9.81
+BASE = 30                        # the rough floor: BASE x BASE fixed spheres of R_0
+BASE_SPACING = 2.2 * R_0 + GAP   # m: their lattice (a sphere of the heap sits in a hollow)
 
 
 def column(n: int, seed: int = 7) -> list[tuple[float, float, float, float]]:
@@ -67,22 +72,33 @@ def column(n: int, seed: int = 7) -> list[tuple[float, float, float, float]]:
     return rows
 
 
+def base(count: int = BASE) -> list[tuple[float, float]]:
+    """(x, y) of the rough floor's fixed spheres: a square lattice of count^2, spacing BASE_SPACING."""
+    offsets = (np.arange(count) - 0.5 * (count - 1)) * BASE_SPACING
+    return [(float(x), float(y)) for x in offsets for y in offsets]
+
+
 def setup_lines(plugin: str, rows, models: str) -> list[str]:
-    """The LAMMPS input of the column (module doc) up to the run."""
+    """The LAMMPS input of the column on the rough floor (module doc) up to the run."""
     top = max(z for *_, z in rows) + 0.02
-    half = 0.5 * math.sqrt(len(rows)) * 2.2 * R_0 * 4 + 0.05     # room to spread into one layer
+    half = 0.5 * BASE * BASE_SPACING + 0.01
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
              "boundary m m m", f"region box block {-half!r} {half!r} {-half!r} {half!r} -0.001 {top!r}",
-             "create_box 1 box"]
+             "create_box 2 box"]
     for atom, (R, x, y, z) in enumerate(rows, start=1):
-        lines += [f"create_atoms 1 single {x!r} {y!r} {z!r}",
+        lines += [f"create_atoms 1 single {x!r} {y!r} {z + 2 * R_0!r}",
                   f"set atom {atom} diameter {2 * R!r} density {RHO!r}"]
+    for x, y in base():
+        lines.append(f"create_atoms 2 single {x!r} {y!r} {R_0!r}")
     after = f" {models}" if models else ""
-    lines += [f"plugin load {plugin}", "pair_style nfd/vz", f"pair_coeff 1 1 {VZ_CONSTANTS}{after}",
-              f"fix floor all nfd/wall/vz zlo 0.0 {VZ_CONSTANTS}{after}",
-              f"neighbor {0.2 * R_0!r} bin", "neigh_modify every 1 delay 0 check yes",
-              f"fix gravity all gravity {GRAVITY!r} vector 0 0 -1", "fix move all nve/sphere",
-              f"timestep {DT!r}", "thermo_style custom step ke", "thermo 0"]
+    lines += ["set type 2 diameter " + repr(2 * R_0) + f" density {RHO!r}", "group mobile type 1",
+              "group base type 2", f"plugin load {plugin}", "pair_style nfd/vz",
+              f"pair_coeff 1 1 {VZ_CONSTANTS}{after}", f"pair_coeff 2 2 {VZ_CONSTANTS}{after}",
+              f"fix floor mobile nfd/wall/vz zlo 0.0 {VZ_CONSTANTS}{after}",
+              f"neighbor {0.2 * R_0!r} bin", "neigh_modify every 1 delay 0 check yes exclude type 2 2",
+              f"fix gravity mobile gravity {GRAVITY!r} vector 0 0 -1", "fix move mobile nve/sphere",
+              f"timestep {DT!r}", "compute mobile_ke mobile ke", "thermo_style custom step c_mobile_ke",
+              "thermo 0"]
     return lines
 
 
@@ -107,15 +123,17 @@ def settle(plugin: str, rows, models: str, max_time: float) -> dict:
         while step * DT < max_time:
             lmp.command(f"run {CHUNK} pre no post no")
             step += CHUNK
-            ke = float(lmp.get_thermo("ke"))
+            lmp.command("run 0 pre no post no")
+            ke = float(lmp.extract_compute("mobile_ke", 0, 0))
             peak = max(peak, ke)
             history.append((step * DT, ke))
             if peak > 0.0 and ke < SETTLED * peak:
                 break
         wall = time.perf_counter() - started
-        n = len(rows)
-        x = np.ctypeslib.as_array(lmp.gather_atoms("x", 1, 3)).reshape(n, 3)
-        radius = np.ctypeslib.as_array(lmp.gather_atoms("radius", 1, 1))
+        n = len(rows)       # the heap's spheres come first (atom IDs 1..n)
+        x = np.ctypeslib.as_array(lmp.gather_atoms("x", 1, 3)).reshape(-1, 3)[:n]
+        x[:, 2] -= 2.0 * R_0                           # heights above the base's top
+        radius = np.ctypeslib.as_array(lmp.gather_atoms("radius", 1, 1))[:n]
         return {"history": np.array(history), "peak": peak, "x": x.copy(), "radius": radius.copy(),
                 "steps": step, "wall_time_s": wall, "settled": bool(peak > 0.0 and history[-1][1] < SETTLED * peak)}
     finally:
