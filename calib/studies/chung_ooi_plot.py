@@ -105,8 +105,7 @@ def plot(path: Path, elastic: list[dict], plastic: list[dict]) -> Path:
             ax.plot(case.values, -ref["v_t_out_sliding"] / v_n, "--", color=colour, lw=0.8)
         ax.set_xlabel("omega R / v_n")
         ax.set_ylabel("-v_t' / v_n (relative)")
-        ax.set_title(f"test {test}: " + ("sphere on flat" if test == 6 else "on a sphere 5R, 1000 rho")
-                     + ", mu = 0.4")
+        ax.set_title(f"test {test}: " + ("spinning sphere on a flat" if test == 6 else "on a sphere 5 R, 1000 rho"))
         ax.legend(fontsize=7)
     # test 7
     ax = axes[2, 1]
@@ -117,7 +116,7 @@ def plot(path: Path, elastic: list[dict], plastic: list[dict]) -> Path:
     ax.set_xscale("log")
     ax.set_xlabel("omega [rad/s] (and -omega)")
     ax.set_ylabel("omega'/omega - 1, v_t'/v")
-    ax.set_title("test 7: counter-spinning spheres, no slip")
+    ax.set_title("test 7: spins omega, -omega (no slip)")
     ax.legend(fontsize=7)
     # plastic: e_t against Psi = tan / (mu (1 + e_n)), and e_n against the angle
     ax = axes[2, 2]
@@ -128,15 +127,15 @@ def plot(path: Path, elastic: list[dict], plastic: list[dict]) -> Path:
         ax.plot(psi[keep], model["e_t"][keep], "o-", color=str(shade), ms=3,
                 label=f"vz {case.speed[0]:g} m/s: e_n {model['e_n_head_on'][0]:.3f}")
         if "lammps" in entry:
-            v = entry["lammps"]["nfd/vz"]["velocities"]
-            v_t = case.speed * np.sin(np.radians(case.angle))
-            ax.plot(psi[keep], (v[:, 0, 0] / v_t)[keep], "o", color="tab:red", ms=5, mfc="none")
+            v = entry["lammps"]["nfd/vz"]["velocities"][keep]
+            v_t = (case.speed * np.sin(np.radians(case.angle)))[keep]
+            ax.plot(psi[keep], v[:, 0, 0] / v_t, "o", color="tab:red", ms=5, mfc="none")
     grid = np.linspace(1.0, 12.0, 100)
     ax.plot(grid, 1.0 - 1.0 / grid, "k--", lw=0.8, label="gross sliding 1 - 1/Psi")
     ax.set_xscale("log")
     ax.set_xlabel("Psi = tan(angle) / (mu (1 + e_n))")
     ax.set_ylabel("e_t")
-    ax.set_title("plastic (vz, aluminium, mu = 0.3), Wu, Thornton & Li 2009's normalisation")
+    ax.set_title("plastic vz, mu = 0.3 (Wu, Thornton & Li 2009)")
     ax.legend(fontsize=7)
     fig.suptitle("Chung & Ooi (2011) tests 1-8, elastic limit: nfdmodel (lines), plugin (circles), granular "
                  "(crosses), closed forms (dashed: gross sliding, dotted: no slip)")
