@@ -66,7 +66,8 @@ class ObliqueResult:
     e_n, e_t, beta (module doc); P_max [N]; contact_time [s]; kinetic_energy_lost, work_normal,
     work_friction [J]; delta_max [m]; impulse_n, impulse_t [N s] the normal force's and the
     tangential force's (along the tangent of each step's normal, in the x-z plane) impulses on i;
-    normal_turn [rad] the angle the contact normal turned by at parting (a flat: 0); steps of the
+    normal_turn [rad] the angle the contact normal turned by at parting (a flat: 0); velocities
+    (..., 4, 3) out in the fixed frame: v_i, v_j [m/s], omega_i, omega_j [rad/s]; steps of the
     longest impact."""
 
     v_n: np.ndarray
@@ -94,6 +95,7 @@ class ObliqueResult:
     impulse_n: np.ndarray | None = None
     impulse_t: np.ndarray | None = None
     normal_turn: np.ndarray | None = None
+    velocities: np.ndarray | None = None
 
 
 @dataclass
@@ -270,7 +272,8 @@ def oblique_collide(law_name: str, params, friction: Friction, speed, angle, ome
                          shaped(ke_in - ke_out), shaped(work_normal), shaped(work_friction), step,
                          shaped(omega_j), shaped(omega_j_out), shaped(v_t_i), shaped(v_t_j),
                          shaped(delta_max), shaped(impulse_n), shaped(impulse_t),
-                         shaped(np.arctan2(n_parting[:, 0], n_parting[:, 2])))
+                         shaped(np.arctan2(n_parting[:, 0], n_parting[:, 2])),
+                         np.stack([body_i.v, body_j.v, body_i.w, body_j.w], axis=1).reshape(shape + (4, 3)))
 
 
 def _keep(law, state, new_state, touching):
