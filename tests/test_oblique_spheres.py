@@ -10,9 +10,12 @@ against the sphere-on-flat impact, which the law did not produce.
 - Energy: the kinetic energy of both spheres lost equals the normal plus the frictional work to
   1e-11 of the kinetic energy (measured 7e-13), with rolling, twisting and normal damping; the
   sliding impacts dissipate, the plastic law's normal work is its hysteresis.
-- A partner a million times larger and 10^18 times heavier is a flat: the sphere-on-flat impact's
-  rebound, spin and restitutions within 1e-5 (the partner's curvature changes R* by 1e-6;
-  measured 1.6e-6; a different code path: both bodies move, the geometry from the centres).
+- A partner a million times larger and 10^18 times heavier is a flat (a different code path: both
+  bodies move, the geometry from the centres): the sphere-on-flat impact's normal rebound and
+  peak force within 1e-5 (the partner's curvature changes R* by 1e-6; measured 1.6e-6), its
+  tangential rebound, spin and e_t within 1e-3 (measured 6e-4), beta within 2e-3 (measured
+  8.6e-4; a difference of velocities, near 0 at 70 deg) (between spheres LAMMPS's
+  torque arm is R - delta/2, on a wall R, delta/R = 1e-4, amplified near sticking).
 - The normal restitution of an oblique impact is the head-on one at the same normal speed,
   within the normal's turn (the centrifugal term of the turning line of centres).
 """
@@ -78,8 +81,11 @@ def test_a_huge_heavy_partner_is_a_flat():
                            dt=DT)
     sphere = oblique_collide("vz", VZParams.from_dimensionless(pair, 0.026, 0.0098), friction, 0.5, angles, 20.0,
                              dt=DT, partner=(R_big, m_big))
-    for name in ("v_n_out", "v_t_out", "omega_out", "e_n", "e_t", "beta"):
-        np.testing.assert_allclose(getattr(sphere, name), getattr(flat, name), rtol=1e-5, atol=1e-9, err_msg=name)
+    for name in ("v_n_out", "e_n", "P_max"):
+        np.testing.assert_allclose(getattr(sphere, name), getattr(flat, name), rtol=1e-5, err_msg=name)
+    for name in ("v_t_out", "omega_out", "e_t"):
+        np.testing.assert_allclose(getattr(sphere, name), getattr(flat, name), rtol=1e-3, err_msg=name)
+    np.testing.assert_allclose(sphere.beta, flat.beta, rtol=0.0, atol=2e-3)
 
 
 def test_the_normal_restitution_of_two_spheres_is_the_head_on_one():

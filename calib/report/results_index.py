@@ -512,12 +512,12 @@ def chung_ooi(root: Path) -> list[str]:
     lines += table(["test", "material", "impacts", "against the closed forms", "plugin vs nfdmodel",
                     "plugin vs granular"], rows)
     prow = [[f"{p['speed_m_s']:g}", f"{p['P_max_over_P_Y'][0]:.3g}..{p['P_max_over_P_Y'][1]:.3g}",
-             f"{p['e_n_head_on']:.4f}", g(p["e_n_angle_spread"], 2), p["slid_throughout"],
+             f"{p['e_n_head_on']:.4f}", g(p["e_n_minus_head_on"], 2), p["slid_throughout"],
              g(p.get("sliding_e_t_error"), 2), g(p.get("plugin_vs_nfdmodel"), 2)] for p in data["plastic"]]
     lines += ["Plastic (vz, the paper's aluminium, R = 2.5 mm on a flat, mu = 0.3, mindlin_rescale/force): e_n "
               "does not depend on the angle, e_t = 1 - 1/Psi, Psi = tan / (mu (1 + e_n)), where it slides "
               "(Wu, Thornton & Li 2009):", ""]
-    lines += table(["v [m/s]", "P_max / P_Y", "e_n head-on", "e_n spread over angles", "sliding impacts",
+    lines += table(["v [m/s]", "P_max / P_Y", "e_n head-on at v", "e_n - head-on at the same v_n", "sliding impacts",
                     "e_t - (1 - 1/Psi)", "nfd/wall/vz vs nfdmodel"], prow)
     return lines
 

@@ -85,7 +85,7 @@ PLASTIC_MU = 0.3
 MATERIALS = {"glass": (48e9, 0.20, 2800.0), "limestone": (20e9, 0.25, 2500.0),
              "aluminium alloy": (70e9, 0.30, 2699.0), "magnesium alloy": (40e9, 0.35, 1800.0),
              "aluminium oxide": (380e9, 0.23, 4000.0), "cast iron": (100e9, 0.25, 7000.0),
-             "aluminium alloy 0.33": (70e9, 0.33, 2700.0), "steel": (208e9, 0.30, 7850.0),
+             "aluminium alloy, nu 0.33": (70e9, 0.33, 2700.0), "steel": (208e9, 0.30, 7850.0),
              "polyethylene": (1e9, 0.40, 1400.0), "nylon": (2.5e9, 0.40, 1000.0),
              "copper": (120e9, 0.35, 8900.0)}
 
@@ -150,7 +150,7 @@ def cases() -> list[Case]:
     for material in ("aluminium oxide", "cast iron"):
         sweep(3, material, 0.0025, 3.9, 0.0 * e, restitution=e, variable="e_in", values=e)
     angles = np.array([2.0, 5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0, 60.0, 70.0, 80.0, 85.0])
-    for material in ("aluminium oxide", "aluminium alloy 0.33"):
+    for material in ("aluminium oxide", "aluminium alloy, nu 0.33"):
         sweep(4, material, 0.0025, 3.9, angles, mu=0.092, variable="angle", values=angles)
     ratio = np.array([0.05, 0.25, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 5.0, 6.0, 8.0, 10.0, 12.0])
     for material in ("steel", "polyethylene"):       # tan(angle) = v_t / v_n = ratio mu
@@ -158,14 +158,14 @@ def cases() -> list[Case]:
         sweep(5, material, 0.01, np.hypot(5.0, tangential), np.degrees(np.arctan2(tangential, 5.0)), mu=0.3,
               variable="v_t/(mu v_n)", values=ratio)
     spin = np.array([0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 7.0, 10.0])
-    for material in ("aluminium alloy 0.33", "nylon"):
+    for material in ("aluminium alloy, nu 0.33", "nylon"):
         sweep(6, material, 0.1, 0.2, 0.0 * spin, omega=spin * 0.2 / 0.1, mu=0.4, variable="omega R/v_n",
               values=spin)
-    for material in ("aluminium alloy 0.33", "copper"):
+    for material in ("aluminium alloy, nu 0.33", "copper"):
         w = np.array([0.175, 0.5, 1.0, 2.0, 5.0, 10.0, 21.0])
         sweep(7, material, 0.1, 0.4, 0.0 * w, omega=w, omega_partner=-w, mu=0.4, partner=(0.1, 1.0),
               variable="omega", values=w)
-    for material in ("aluminium alloy 0.33", "nylon"):
+    for material in ("aluminium alloy, nu 0.33", "nylon"):
         spin8 = np.array([0.1, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 8.0])
         sweep(8, material, 0.1, 0.2, 0.0 * spin8, omega=spin8 * 0.2 / 0.1, mu=0.4, partner=(0.5, 1000.0),
               variable="omega R/v_n", values=spin8)
