@@ -24,7 +24,7 @@ is atan of minus the least-squares slope of those tops between 20 % and 80 % of 
 height (a frictionless run that spreads into one layer has no such flank: its angle is that of
 the fit over whatever bins it has, near 0).
 
-    python -m calib.studies.heap [--out results/lammps] [--n 300] [--smoke]
+    python -m calib.studies.heap [--out results/lammps] [--n 200] [--smoke]
 
 --smoke: 40 spheres and 0.02 s (the CI's: the machinery, not the angle). Heights are above the
 base's top (2 R_0). SI units.
@@ -52,7 +52,7 @@ DT = 2e-7                        # s: a 1 m/s Hertz impact of R = 1.8 mm lasts >
 CHUNK = 2000                     # steps between kinetic-energy checks
 SETTLED = 1e-6                   # kinetic energy / its peak that counts as settled
 GRAVITY = 9.81
-BASE = 30                        # the rough floor: BASE x BASE fixed spheres of R_0
+BASE = 20                        # the rough floor: BASE x BASE fixed spheres of R_0
 BASE_SPACING = 2.2 * R_0 + GAP   # m: their lattice (a sphere of the heap sits in a hollow)
 
 
@@ -161,7 +161,7 @@ def repose_angle(x: np.ndarray, radius: np.ndarray) -> tuple[float, np.ndarray, 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default="results/lammps")
-    parser.add_argument("--n", type=int, default=300, help="spheres (default 300)")
+    parser.add_argument("--n", type=int, default=200, help="spheres (default 200)")
     parser.add_argument("--max-time", type=float, default=1.0, help="simulated seconds at most per run")
     parser.add_argument("--smoke", action="store_true", help="40 spheres, 0.02 s (CI)")
     parser.add_argument("--damping", default=DAMPING, help=f"normal damping keywords, or '' for none "
