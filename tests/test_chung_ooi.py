@@ -13,7 +13,8 @@ LAMMPS, a few impacts of each (the full sweeps: results/lammps/chung_ooi.*).
 - LAMMPS: the plugin (nfd/hertz, nfd/wall/hertz) equals nfdmodel and LAMMPS's granular
   hertz/material (wall/gran with E doubled) in the final velocities and spins to 1e-12 of the
   speed (measured 1e-15) on a flat (test 4), per-sphere damping (test 3) and two unequal spheres
-  (test 8); nfd/wall/vz equals nfdmodel's plastic oblique impacts to 1e-8.
+  (test 8); nfd/wall/vz and the nfd/vz pair style (two unequal spheres, spinning, 150-340 P_Y)
+  equal nfdmodel's plastic oblique impacts to 1e-8 (measured 2e-15 and 3e-14).
 """
 from __future__ import annotations
 
@@ -123,3 +124,25 @@ def test_the_plugin_equals_nfdmodel_on_plastic_oblique_impacts():
     model = co.run_plastic(c, dt)
     plugin = runner.run_case(c, dt, "nfd/vz", plastic=True)["velocities"]
     assert agreement(plugin, model["velocities"], c) < 1e-8
+
+
+@lammps_needed
+def test_the_plugin_pair_style_equals_nfdmodel_on_plastic_oblique_impacts_of_two_spheres():
+    """nfd/vz between two unequal aluminium spheres (the paper's constants: the contact yields) with
+    mindlin_rescale/force, both spinning: nfdmodel's two-sphere impact to 1e-8 (measured 3e-14)."""
+    from calib.studies import chung_ooi_lammps as runner
+    from nfdmodel import ContactPair, Material, VZParams
+    from nfdmodel.friction import Friction
+    from nfdmodel.oblique import oblique_collide
+    material = Material.reference()
+    c = co.Case(8, "aluminium alloy", 0.01, np.array([0.5, 0.5]), np.array([20.0, 60.0]), np.array([-20.0, 10.0]),
+                np.array([5.0, 0.0]), mu=0.3, partner=(0.008, 1.0))
+    pair = ContactPair.sphere_sphere(material, 0.01, material, 0.008)
+    params = VZParams.from_dimensionless(pair, 0.026, 0.0098)
+    friction = Friction.mindlin(0.3, material, material, variant="mindlin_rescale/force")
+    dt = 1e-7
+    model = oblique_collide("vz", params, friction, c.speed, c.angle, c.omega, dt=dt,
+                            partner=(0.008, material.sphere_mass(0.008)), omega_partner=c.omega_partner)
+    assert (model.P_max > 10.0 * pair.P_Y).all()
+    plugin = runner.run_case(c, dt, "nfd/vz", plastic=True, steps=model.steps + 20)["velocities"]
+    assert agreement(plugin, model.velocities, c) < 1e-8

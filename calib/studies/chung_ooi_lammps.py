@@ -92,6 +92,11 @@ def case_input(case, dt: float, steps: int, contact: str, plugin: str, plastic: 
                 break
     elif contact == "granular":
         lines += ["pair_style granular", f"pair_coeff * * {granular(case, restitutions[0], E)}"]
+    elif contact == "nfd/vz":
+        from calib.studies.chung_ooi import plastic_params
+        params, material = plastic_params()
+        lines += ["pair_style nfd/vz", f"pair_coeff 1 1 {num(material.E)} {num(material.nu)} {num(material.sigma_y)} "
+                                       f"0.026 0.0098 window inf {models(case, restitutions[0], plastic)}"]
     else:
         lines += ["pair_style nfd/hertz", f"pair_coeff 1 1 {num(E)} {num(nu)} {models(case, restitutions[0])}"]
     lines += [f"neighbor {num(0.1 * R_i)} bin", "neigh_modify every 1 delay 0 check no", "fix 1 all nve/sphere",

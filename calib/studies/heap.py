@@ -3,7 +3,7 @@ they spread. Writes results/lammps/heap.{csv,json,png}.
 
 A column of n aluminium spheres (the paper's material and vz constants, nfd/vz; radii uniform in
 [0.9, 1.1] R_0, R_0 = 2 mm, rho = 2699 kg/m^3) stands on a square footprint of FOOTPRINT x
-FOOTPRINT lattice columns (spacing 2.2 R_0 + 0.2 mm, a jitter of +-0.2 mm) layer upon layer,
+FOOTPRINT lattice columns (spacing 2.2 R_0 + 0.2 mm, a jitter of +-0.08 mm) layer upon layer,
 at rest, over a rough floor -- BASE x BASE fixed spheres of R_0 on a square lattice of the same
 spacing resting on z = 0, the heap's spheres falling into its hollows (on a smooth flat a sphere
 rolls away: DEM heaps stand on rough bases) -- with the flat z = 0 below (fix nfd/wall/vz), and
@@ -61,7 +61,7 @@ def column(n: int, seed: int = 7) -> list[tuple[float, float, float, float]]:
     rng = np.random.default_rng(seed)
     spacing = 2.2 * R_0 + GAP
     radius = rng.uniform(0.9, 1.1, n) * R_0
-    jitter = rng.uniform(-GAP, GAP, (n, 2))
+    jitter = rng.uniform(-0.4 * GAP, 0.4 * GAP, (n, 2))     # neighbours stay >= 0.2 GAP apart
     rows = []
     for k in range(n):
         layer, cell = divmod(k, FOOTPRINT * FOOTPRINT)
