@@ -17,7 +17,8 @@ collapses under gravity (9.81 m/s^2). Two runs of the same column:
 each with the normal damping DAMPING on top of the law's plastic dissipation (stated in the
 summary; below first yield the law is elastic, and a sphere resting on its neighbours rattles
 without it). A run stops when the kinetic energy falls below SETTLED = 1e-6 of its peak (checked
-every CHUNK steps; no fix langevin, no drag) or at max_time. The heap's angle of repose: the
+every CHUNK steps; no fix langevin, no drag) or at max_time (the frictionless run's spheres that
+leave the base slide on the flat without end: its kinetic energy stays above SETTLED). The heap's angle of repose: the
 spheres' heights z against their distance r from the vertical axis through the heap's centre of
 mass; the surface is the highest sphere top (z + R) of each radial bin of width 2 R_0, and the angle
 is atan of minus the least-squares slope of those tops between 20 % and 80 % of the heap's
