@@ -563,6 +563,58 @@ def impact(root: Path) -> list[str]:
     return lines
 
 
+def chung_ooi(root: Path) -> list[str]:
+    data = read_json(root / "lammps" / "chung_ooi.json")
+    if data is None:
+        return []
+    stamp, worst = data["stamp"], data["worst"]
+    lines = ["## Chung & Ooi (2011) benchmark tests 1-8 (`lammps/chung_ooi.*`)", "",
+             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.chung_ooi')}`.", "", provenance(stamp), "",
+             "Elastic limit (Hertz, Mindlin, no damping but test 3's) through nfdmodel, the plugin and LAMMPS "
+             f"{stamp.get('lammps') or '?'}'s granular, against the closed forms the paper's curves are built on "
+             "(the paper's curves themselves were not at hand). Errors: Hertz's overlap, force, contact time "
+             "(tests 1, 2), the restitution asked (3), the Coulomb rebound and spin where the contact slides "
+             "throughout (4-8; two spheres: the line of centres turns), the no-slip Mindlin spring (scipy) where "
+             "it hardly slips; agreement: final velocities and spins over the speed (and speed / R).", ""]
+    rows = []
+    for t in data["tests"]:
+        closed = [f"{k.replace('_error', '')} {g(t[k], 2)}" for k in ("delta_max_error", "F_max_error", "t_c_error",
+                                                                       "sliding_v_t_error", "sliding_omega_error",
+                                                                       "no_slip_beta_error") if t.get(k) is not None]
+        if "e_out_minus_e_in" in t:
+            closed.append(f"e - e asked {g(t['e_out_minus_e_in'], 2)}")
+        rows.append([t["test"], t["material"], t["impacts"], ", ".join(closed) or "-",
+                     g(t.get("plugin_vs_nfdmodel"), 2), g(t.get("plugin_vs_granular"), 2)])
+    lines += table(["test", "material", "impacts", "against the closed forms", "plugin vs nfdmodel",
+                    "plugin vs granular"], rows)
+    prow = [[f"{p['speed_m_s']:g}", f"{p['P_max_over_P_Y'][0]:.3g}..{p['P_max_over_P_Y'][1]:.3g}",
+             f"{p['e_n_head_on']:.4f}", g(p["e_n_minus_head_on"], 2), p["slid_throughout"],
+             g(p.get("sliding_e_t_error"), 2), g(p.get("plugin_vs_nfdmodel"), 2)] for p in data["plastic"]]
+    lines += ["Plastic (vz, the paper's aluminium, R = 2.5 mm on a flat, mu = 0.3, mindlin_rescale/force): e_n "
+              "does not depend on the angle, e_t = 1 - 1/Psi, Psi = tan / (mu (1 + e_n)), where it slides "
+              "(Wu, Thornton & Li 2009):", ""]
+    lines += table(["v [m/s]", "P_max / P_Y", "e_n head-on at v", "e_n - head-on at the same v_n", "sliding impacts",
+                    "e_t - (1 - 1/Psi)", "nfd/wall/vz vs nfdmodel"], prow)
+    return lines
+
+
+def heap(root: Path) -> list[str]:
+    data = read_json(root / "lammps" / "heap.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    lines = [f"## A heap in LAMMPS (`lammps/heap.*`)", "",
+             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.heap')}`.", "", provenance(stamp), "",
+             f"{data['spheres']} aluminium spheres (nfd/vz) collapse from a column onto a rough base; normal damping "
+             f"`{data['damping'] or 'none'}` in both runs ({data['damping_note']}).", ""]
+    rows = [[name, r["models"], f"{r['time_s']:.3g}", "yes" if r["settled"] else "no", g(r["ke_end_over_peak"], 2),
+             f"{r['angle_of_repose_deg']:.1f}", f"{1e3 * r['height_m']:.1f}", f"{1e3 * r['radius_m']:.1f}"]
+            for name, r in data["runs"].items()]
+    lines += table(["run", "models", "time [s]", f"settled (KE < {data['settled_below']:g} peak)", "KE / peak",
+                    "angle of repose [deg]", "height [mm]", "radius [mm]"], rows)
+    return lines
+
+
 def other(root: Path) -> list[str]:
     known = {"calibration", "hertz", "collision", "tables", "stability", "lammps", "impact", README}
     rest = sorted(p.name + ("/" if p.is_dir() else "") for p in root.iterdir()
@@ -580,7 +632,7 @@ def other(root: Path) -> list[str]:
 
 
 SECTIONS = (calibration, mesh_ladder, wide_window, between_nodes, hertz, collision, impact, master_table, stability,
-            lammps, other)
+            lammps, chung_ooi, heap, other)
 
 
 def read_section(make, root: Path) -> list[str]:

@@ -1,0 +1,176 @@
+"""The files of calib.studies.chung_ooi: chung_ooi.csv (one row per impact), chung_ooi.json (per test
+and material: the errors against the closed forms and the LAMMPS agreement; stamped), chung_ooi.png.
+
+Agreement of two runs of the same impacts (nfdmodel, the plugin, granular): the largest difference
+of the final velocities (both bodies) over the case's largest speed, and of the final spins over
+that speed / R_i.
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from calib import output
+
+
+def agreement(a: np.ndarray, b: np.ndarray, case) -> float:
+    """Largest difference of (impacts, 4, 3) velocities and spins, scaled (module doc)."""
+    speed = float(np.max(case.speed))
+    scale = np.array([speed, speed, speed / case.R, speed / case.R])[None, :, None]
+    return float(np.max(np.abs(a - b) / scale))
+
+
+def relative(a, b) -> float:
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    keep = np.isfinite(a) & np.isfinite(b)
+    return float(np.max(np.abs(a[keep] / b[keep] - 1.0))) if keep.any() else math.nan
+
+
+def largest(values) -> float | None:
+    """The largest magnitude of the finite values, None when there is none."""
+    values = np.asarray(values, dtype=float)
+    values = values[np.isfinite(values)]
+    return float(np.max(np.abs(values))) if values.size else None
+
+
+def case_summary(entry: dict) -> dict:
+    """Per test and material: the errors against the closed forms (module doc of chung_ooi)."""
+    case, model, ref = entry["case"], entry["nfdmodel"], entry["reference"]
+    speed = float(np.max(case.speed))
+    out = {"test": case.test, "material": case.material, "impacts": int(case.speed.size), "dt_s": entry["dt"],
+           "mu": case.mu}
+    if case.test in (1, 2):
+        out |= {"delta_max_m": float(model["delta_max"][0]), "F_max_N": float(model["P_max"][0]),
+                "t_c_s": float(model["contact_time"][0]), "e_n": float(model["e_n"][0]),
+                "delta_max_error": relative(model["delta_max"], ref["delta_max"]),
+                "F_max_error": relative(model["P_max"], ref["F_max"]),
+                "t_c_error": relative(model["contact_time"], ref["t_c"]), "e_n_error": largest(model["e_n"] - 1.0)}
+    if case.test == 3:
+        out |= {"e_in": case.restitution.tolist(), "e_out": model["e_n"].tolist(),
+                "e_out_minus_e_in": largest(model["e_n"] - case.restitution)}
+    if case.test >= 4:
+        slid, stuck = ref["slid_throughout"], ref["stuck"]
+        out |= {"slid_throughout": int(slid.sum()), "stuck": int(stuck.sum()),
+                "sliding_v_t_error": largest((model["v_t_out"] - ref["v_t_out_sliding"])[slid] / speed),
+                "sliding_omega_error": largest((model["omega_out"] - ref["omega_out_sliding"])[slid] * case.R / speed),
+                "no_slip_beta_error": largest((model["beta"] - ref["beta_no_slip"])[stuck]) if stuck.any() else None,
+                "e_n_error": largest(model["e_n"] - 1.0), "largest_normal_turn_rad": largest(model["normal_turn"])}
+    if case.test == 7:
+        out |= {"v_t_out_largest": largest(model["v_t_out"]) / speed,
+                "omega_change_largest": largest((model["omega_out"] - case.omega) / case.omega)}
+    energy = model["kinetic_energy_lost"] - model["work_normal"] - model["work_friction"]
+    out["energy_balance_error"] = largest(energy / (0.5 * case.pair().mass_star * case.speed ** 2))
+    if "lammps" in entry:
+        plugin, gran = entry["lammps"]["nfd/hertz"]["velocities"], entry["lammps"]["granular"]["velocities"]
+        out |= {"plugin_vs_nfdmodel": agreement(plugin, model["velocities"], case),
+                "plugin_vs_granular": agreement(plugin, gran, case),
+                "granular_vs_nfdmodel": agreement(gran, model["velocities"], case)}
+    return out
+
+
+def plastic_summary(entry: dict) -> dict:
+    case, model = entry["case"], entry["nfdmodel"]
+    with np.errstate(divide="ignore"):
+        psi = np.tan(np.radians(case.angle)) / (case.mu * (1.0 + model["e_n"]))
+    slid = model["slid_throughout"]
+    out = {"speed_m_s": float(case.speed[0]), "dt_s": entry["dt"], "mu": case.mu,
+           "P_max_over_P_Y": [float(model["P_max_over_P_Y"].min()), float(model["P_max_over_P_Y"].max())],
+           "e_n_head_on": float(model["e_n_head_on"][0]), "e_n_angle_spread": float(np.ptp(model["e_n"])),
+           "e_n_minus_head_on": largest(model["e_n"] - model["e_n_head_on"]),
+           "slid_throughout": int(slid.sum()),
+           "sliding_e_t_error": largest((model["e_t"] - (1.0 - 1.0 / np.where(slid, psi, 1.0)))[slid])}
+    if "lammps" in entry:
+        out["plugin_vs_nfdmodel"] = agreement(entry["lammps"]["nfd/vz"]["velocities"], model["velocities"], case)
+    return out
+
+
+def case_line(entry: dict) -> str:
+    s = case_summary(entry)
+    keys = [k for k in s if k.endswith(("_error", "_vs_nfdmodel", "_vs_granular")) and s[k] is not None]
+    keys += ["e_out_minus_e_in"] if "e_out_minus_e_in" in s else []
+    return f"test {s['test']} {s['material']}: " + ", ".join(f"{k} {s[k]:.2e}" for k in keys)
+
+
+def plastic_line(entry: dict) -> str:
+    s = plastic_summary(entry)
+    keys = [k for k in s if k.endswith(("_error", "_vs_nfdmodel", "_head_on")) and s[k] is not None]
+    return f"plastic {s['speed_m_s']:g} m/s: " + ", ".join(f"{k} {s[k]:.3g}" for k in keys)
+
+
+COLUMNS = ["test", "material", "variable", "value", "speed", "angle", "omega", "omega_partner", "e_n", "e_t", "beta",
+           "angle_out", "v_t_out", "omega_out", "omega_partner_out", "P_max", "delta_max", "contact_time",
+           "slid_throughout", "stuck", "ref_e_n", "ref_delta_max", "ref_F_max", "ref_t_c", "ref_v_t_out_sliding",
+           "ref_omega_out_sliding", "ref_beta_no_slip", "plugin_vs_nfdmodel", "plugin_vs_granular"]
+
+
+def rows(elastic: list[dict], plastic: list[dict]) -> list[dict]:
+    out = []
+    for entry in elastic + plastic:
+        case, model = entry["case"], entry["nfdmodel"]
+        ref = entry.get("reference", {})
+        for k in range(case.speed.size):
+            row = {"test": case.test if "reference" in entry else f"{case.test} plastic {case.speed[0]:g} m/s",
+                   "material": case.material, "variable": case.variable, "value": float(case.values[k]),
+                   "speed": float(case.speed[k]), "angle": float(case.angle[k]), "omega": float(case.omega[k]),
+                   "omega_partner": float(case.omega_partner[k])}
+            for name in ("e_n", "e_t", "beta", "angle_out", "v_t_out", "omega_out", "omega_partner_out", "P_max",
+                         "delta_max", "contact_time", "slid_throughout", "stuck"):
+                if name in model:
+                    row[name] = model[name][k].item()
+                elif name in ref:
+                    row[name] = bool(ref[name][k])
+            for name in ("e_n", "delta_max", "F_max", "t_c", "v_t_out_sliding", "omega_out_sliding", "beta_no_slip"):
+                if name in ref and np.isfinite(ref[name][k]):
+                    row["ref_" + name] = float(ref[name][k])
+            for label, contact in (("plugin_vs_nfdmodel", None), ("plugin_vs_granular", "granular")):
+                lammps = entry.get("lammps")
+                if not lammps:
+                    continue
+                mine = next(iter(lammps.values()))["velocities"][k:k + 1]
+                other = model["velocities"][k:k + 1] if contact is None else lammps.get(contact, {}).get("velocities")
+                if other is not None:
+                    row[label] = agreement(mine, other if contact is None else other[k:k + 1], case)
+            out.append(row)
+    return out
+
+
+def write(out: Path, elastic: list[dict], plastic: list[dict], wall_time: float, no_lammps: bool) -> list[Path]:
+    out.mkdir(parents=True, exist_ok=True)
+    command = "python -m calib.studies.chung_ooi --out " + str(out) + (" --no-lammps" if no_lammps else "")
+    stamp = output.stamp(wall_time, command=command, lammps=_lammps_version())
+    summary = {"stamp": stamp, "tests": [case_summary(e) for e in elastic],
+               "plastic": [plastic_summary(e) for e in plastic],
+               "worst": _worst(elastic, plastic)}
+    paths = [output.write_json(out / "chung_ooi.json", summary),
+             output.write_csv(out / "chung_ooi.csv", rows(elastic, plastic), COLUMNS,
+                              comment=output.stamp_comment(stamp))]
+    from calib.studies import chung_ooi_plot
+    paths.append(chung_ooi_plot.plot(out / "chung_ooi.png", elastic, plastic))
+    return paths
+
+
+def _worst(elastic, plastic) -> dict:
+    tests = [case_summary(e) for e in elastic]
+    worst = {}
+    for key in ("delta_max_error", "F_max_error", "t_c_error", "e_out_minus_e_in", "sliding_v_t_error",
+                "sliding_omega_error", "no_slip_beta_error", "energy_balance_error", "plugin_vs_nfdmodel",
+                "plugin_vs_granular", "granular_vs_nfdmodel"):
+        values = [t[key] for t in tests if t.get(key) is not None and np.isfinite(t[key])]
+        if values:
+            worst[key] = float(max(np.abs(values)))
+    plastic_rows = [plastic_summary(e) for e in plastic]
+    for key in ("e_n_minus_head_on", "sliding_e_t_error", "plugin_vs_nfdmodel"):
+        values = [t[key] for t in plastic_rows if t.get(key) is not None]
+        if values:
+            worst["plastic_" + key] = float(max(values))
+    return worst
+
+
+def _lammps_version() -> str | None:
+    try:
+        from calib.commands import lammps as lammps_command
+        return lammps_command.lammps_location()[1]
+    except Exception:           # noqa: BLE001  (the stamp only names it)
+        return None
