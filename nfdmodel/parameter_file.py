@@ -71,16 +71,22 @@ def _check_keys(path, data: dict, allowed: tuple, where: str) -> None:
                          f"{', '.join(map(repr, unknown))}; allowed: {', '.join(allowed)}")
 
 
+def _check_object(path, value, keys, name: str, alternative: str = "") -> None:
+    """ValueError naming the file and ``name`` unless ``value`` is an object with exactly ``keys``."""
+    if not isinstance(value, dict):
+        raise ValueError(f"parameter file {path}: '{name}' must be an object with {', '.join(keys)}{alternative}, "
+                         f"got {value!r}")
+    _check_keys(path, value, keys, f" in '{name}'")
+    missing = [k for k in keys if k not in value]
+    if missing:
+        raise ValueError(f"parameter file {path}: {name}: missing key(s) {', '.join(missing)}")
+
+
 def _pair(path, material: Material, R, counter) -> ContactPair:
     """The contact pair of the file: the sphere on a rigid flat, or on its counter-body."""
     if counter is None:
         return ContactPair.sphere_flat(material, R)
-    if not isinstance(counter, dict):
-        raise ValueError(f"'counter_body' must be an object with {', '.join(COUNTER_KEYS)} or null, got {counter!r}")
-    _check_keys(path, counter, COUNTER_KEYS, " in 'counter_body'")
-    missing = [k for k in COUNTER_KEYS if k not in counter]
-    if missing:
-        raise ValueError(f"counter_body: missing key(s) {', '.join(missing)}")
+    _check_object(path, counter, COUNTER_KEYS, "counter_body", " or null")
     if counter["shape"] != ("flat" if counter["R"] is None else "sphere"):
         raise ValueError(f"counter_body: shape must be 'flat' (R null) or 'sphere' (R a radius), got "
                          f"{counter['shape']!r} with R = {counter['R']!r}")
@@ -121,13 +127,7 @@ def load_parameters(path) -> VZParams | VZTableParams:
     if missing:
         raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")
     if law == "vz-table":
-        table = data["table"]
-        if not isinstance(table, dict):
-            raise ValueError(f"parameter file {path}: table must be an object with {', '.join(TABLE_KEYS)}")
-        _check_keys(path, table, TABLE_KEYS, " in 'table'")
-        absent = [k for k in TABLE_KEYS if k not in table]
-        if absent:
-            raise ValueError(f"parameter file {path}: table: missing key(s) {', '.join(absent)}")
+        _check_object(path, data["table"], TABLE_KEYS, "table")
     if "window" in data:
         try:
             window = CalibrationWindow.from_record(data["window"])

@@ -64,11 +64,12 @@ from calib.fe.material import Material
 from calib.fe.recovery import (CONTACT_RADIUS_METHODS, contact_radius_from_gap, contact_radius_from_pressure,
                                lumped_contact_pressure)
 from calib.fe.rescue import rescue_step
-from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult, displacement_rate, radius_exponents
+from calib.fe.state import (ContactState, QuadratureStates, StepNotConverged, StepRecord, StepResult,
+                             displacement_rate, radius_exponents)
 from nfdmodel import check_real
 
 
-class ContactSolver:
+class ContactSolver(QuadratureStates):
     """Sphere (hemisphere mesh) on a rigid frictionless flat, any ``calib.fe.material.Material``.
 
     Parameters
@@ -137,29 +138,6 @@ class ContactSolver:
         self._factor_cache: OrderedDict = OrderedDict()
         self._last_free, self._last_factor = None, None  # nonlinear: reuse the symbolic analysis
         self.factorization_count = 0
-
-    # ----------------------------------------------------------------- state
-    def initial_state(self) -> ContactState:
-        """Undeformed, unloaded, only the pole touching the flat."""
-        active = np.zeros(self.candidate_r.size, dtype=bool)
-        active[0] = True  # the pole
-        return ContactState(displacement=np.zeros(self.n_dofs),
-                            material_state=self.material.initial_state(self.n_elements, self.n_qp),
-                            active=active)
-
-    def commit(self, result: StepResult) -> ContactState:
-        """The state to continue from after ``result``: refuses an unconverged step."""
-        if not result.converged:
-            raise StepNotConverged(f"cannot commit an unconverged step: {result.message}")
-        return result.state
-
-    def strain(self, displacement) -> np.ndarray:
-        """Strain at the quadrature points, (E, Q, 4) [-]."""
-        return self.elements.strain(displacement)
-
-    def stress(self, state: ContactState) -> np.ndarray:
-        """Stress of a state at the quadrature points, (E, Q, 4) [Pa] (pure)."""
-        return self.material.update(self.strain(state.displacement), state.material_state)[0]
 
     # ----------------------------------------------------------------- assembly
     def assemble(self, displacement, committed):

@@ -95,6 +95,34 @@ class StepNotConverged(RuntimeError):
     """A load step did not meet the residual tolerance or its active set did not settle."""
 
 
+class QuadratureStates:
+    """The state methods every contact solver shares (the press, the pair): it needs ``candidate_r``
+    (contact candidates, the pole first), ``n_dofs``, ``material`` (initial_state, update),
+    ``n_elements``, ``n_qp`` and ``elements`` (strain)."""
+
+    def initial_state(self) -> ContactState:
+        """Undeformed, unloaded, only the pole touching."""
+        active = np.zeros(self.candidate_r.size, dtype=bool)
+        active[0] = True  # the pole
+        return ContactState(displacement=np.zeros(self.n_dofs),
+                            material_state=self.material.initial_state(self.n_elements, self.n_qp),
+                            active=active)
+
+    def commit(self, result: StepResult) -> ContactState:
+        """The state to continue from after ``result``: refuses an unconverged step."""
+        if not result.converged:
+            raise StepNotConverged(f"cannot commit an unconverged step: {result.message}")
+        return result.state
+
+    def strain(self, displacement) -> np.ndarray:
+        """Strain at the quadrature points, (E, Q, 4) [-]."""
+        return self.elements.strain(displacement)
+
+    def stress(self, state: ContactState) -> np.ndarray:
+        """Stress of a state at the quadrature points, (E, Q, 4) [Pa] (pure)."""
+        return self.material.update(self.strain(state.displacement), state.material_state)[0]
+
+
 def displacement_rate(before: ContactState, control: str, displacement, force: float) -> dict:
     """du/dP and the load direction over a force-controlled step (for the secant predictor)."""
     change = force - before.force

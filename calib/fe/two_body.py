@@ -59,7 +59,8 @@ from calib.fe.linsolve import factorize
 from calib.fe.newton import solve_newton
 from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_pressure, lumped_contact_pressure
 from calib.fe.rescue import rescue_step
-from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult, displacement_rate, radius_exponents
+from calib.fe.state import (ContactState, QuadratureStates, StepRecord, StepResult, displacement_rate,
+                             radius_exponents)
 from calib.fe.von_mises import von_mises_stress
 from meshes.counter_body import six_node_cells
 from nfdmodel import check_real
@@ -164,7 +165,7 @@ class _Reduced:
         return self.solver.factor(K_p, free, key, self.pattern)
 
 
-class TwoBodySolver:
+class TwoBodySolver(QuadratureStates):
     """Sphere on a deformable counter-body (module docstring); the interface of ContactSolver.
 
     pair_mesh: meshes.counter_body.PairMesh; material1, material2: calib.fe Materials (sphere,
@@ -261,27 +262,6 @@ class TwoBodySolver:
         self._factor_cache: OrderedDict = OrderedDict()
         self._last_pattern, self._last_factor = None, None
         self.factorization_count = 0
-
-    # ----------------------------------------------------------------- state
-    def initial_state(self) -> ContactState:
-        """Undeformed, unloaded, only the poles touching."""
-        active = np.zeros(self.candidate_r.size, dtype=bool)
-        active[0] = True
-        return ContactState(displacement=np.zeros(self.n_dofs),
-                            material_state=self.material.initial_state(self.n_elements, self.n_qp),
-                            active=active)
-
-    def commit(self, result: StepResult) -> ContactState:
-        if not result.converged:
-            raise StepNotConverged(f"cannot commit an unconverged step: {result.message}")
-        return result.state
-
-    def strain(self, displacement) -> np.ndarray:
-        return self.elements.strain(displacement)
-
-    def stress(self, state: ContactState) -> np.ndarray:
-        """Stress of a state at the quadrature points, (E, Q, 4) [Pa]."""
-        return self.material.update(self.strain(state.displacement), state.material_state)[0]
 
     # ----------------------------------------------------------------- assembly
     def _condensation(self, interior, master, master_q):

@@ -568,8 +568,8 @@ def chung_ooi(root: Path) -> list[str]:
     if data is None:
         return []
     stamp, worst = data["stamp"], data["worst"]
-    lines = ["## Chung & Ooi (2011) benchmark tests 1-8 (`lammps/chung_ooi.*`)", "",
-             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.chung_ooi')}`.", "", provenance(stamp), "",
+    lines = study_header("Chung & Ooi (2011) benchmark tests 1-8 (`lammps/chung_ooi.*`)", stamp,
+                         "python -m calib.studies.chung_ooi") + [
              "Elastic limit (Hertz, Mindlin, no damping but test 3's) through nfdmodel, the plugin and LAMMPS "
              f"{stamp.get('lammps') or '?'}'s granular, against the closed forms the paper's curves are built on "
              "(the paper's curves themselves were not at hand). Errors: Hertz's overlap, force, contact time "
@@ -603,8 +603,7 @@ def heap(root: Path) -> list[str]:
     if data is None:
         return []
     stamp = data["stamp"]
-    lines = [f"## A heap in LAMMPS (`lammps/heap.*`)", "",
-             f"Regenerate: `{stamp.get('command', 'python -m calib.studies.heap')}`.", "", provenance(stamp), "",
+    lines = study_header("A heap in LAMMPS (`lammps/heap.*`)", stamp, "python -m calib.studies.heap") + [
              f"{data['spheres']} aluminium spheres (nfd/vz) collapse from a column onto a rough base; normal damping "
              f"`{data['damping'] or 'none'}` in both runs ({data['damping_note']}).", ""]
     rows = [[name, r["models"], f"{r['time_s']:.3g}", "yes" if r["settled"] else "no", g(r["ke_end_over_peak"], 2),
