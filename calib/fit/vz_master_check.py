@@ -1,0 +1,87 @@
+"""The vz master table against direct FE at materials between its nodes (its stated accuracy).
+
+For each off-grid material of the scene (calib.fit.vz_master_build, kind "check": the same FE
+calibration at the FE's reach, unloading paths log-spaced over its window, so their peaks lie
+between the table's load nodes too), the law interpolated in the table (calib.fit.vz_master_table)
+is driven along every FE load-unload path (calib.studies.wide_window.law_against_path):
+
+    force error = max |P_law(alpha) - P_FE(alpha)| / P_max    along loading and unloading [-]
+    e error     = e_law / e_FE - 1     (the quasi-static cycle to the FE's largest approach) [-]
+
+A path counts as inside when its peak lies in the table's window at that material. The rms of the
+e errors inside is the law's model-form uncertainty in e that fit-data adds to its covariance
+(calib.fit.measured.table_law), the rms of the force errors along loading its uncertainty in force.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import Material
+
+
+def material_of(row: dict) -> tuple[Material, float]:
+    return Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"], row["rho"]), row["R"]
+
+
+def fe_paths(row: dict) -> list[dict]:
+    """Each FE load-unload path of a stored task row: its approach [m] and force [N] history
+    (the loading rows up to its peak, then its unloading), P_max [N], e, loading and unloading work [J]."""
+    P = np.asarray(row["loading"]["P"], dtype=float)
+    alpha = np.asarray(row["loading"]["alpha"], dtype=float)
+    out = []
+    for path in row["paths"]:
+        up = P <= path["P_max"] * (1 + 1e-9)
+        approach = np.concatenate([alpha[up], path["unloading"]["alpha"]])
+        force = np.concatenate([P[up], path["unloading"]["P"]])
+        out.append({"approach": approach, "force": force, "P_max": path["P_max"], "e": path["e"],
+                    "loading_work": path["loading_work"], "unloading_work": path["unloading_work"],
+                    "alpha_max": path["alpha_max"], "loading_points": int(up.sum())})
+    return out
+
+
+def loading_force_error(law, path: dict) -> float:
+    """rms of (P_law - P_FE) / P_FE along the FE loading branch inside the law's window [-]."""
+    from calib.fit.calibration import drive_law
+
+    n = path["loading_points"]
+    approach, force = path["approach"][:n], path["force"][:n]
+    above = force >= law.window.P_min_over_P_Y * law.pair.P_Y * (1 - 1e-9)
+    predicted, _ = drive_law("vz-table", law, approach)
+    return float(np.sqrt(np.mean((predicted[above] / force[above] - 1.0) ** 2))) if above.any() else float("nan")
+
+
+def check_material(row: dict, table: VZMasterTable) -> list[dict]:
+    """Per FE path of one check row: the interpolated law's errors (module doc)."""
+    from calib.studies.wide_window import law_against_path
+
+    material, R = material_of(row)
+    law = table.law(material, R)
+    window = law.window
+    out = []
+    for path in fe_paths(row):
+        x = path["P_max"] / law.pair.P_Y
+        compared = law_against_path("vz-table", law, path)
+        out.append({"name": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"],
+                    "P_max_over_P_Y": x, "inside": bool(window.P_min_over_P_Y * (1 - 1e-9) <= x
+                                                        <= window.P_max_over_P_Y * (1 + 1e-9)),
+                    "window_low": window.P_min_over_P_Y, "window_top": window.P_max_over_P_Y,
+                    "e_fe": compared["e_fe"], "e_law": compared["e_law"], "e_error": compared["e_error"],
+                    "force_error": compared["force_error"],
+                    "loading_force_rms_error": loading_force_error(law, path)})
+    return out
+
+
+def accuracy(rows: list[dict]) -> dict:
+    """Summary of :func:`check_material` rows inside the window: largest and rms e error, largest
+    force error and rms loading force error."""
+    inside = [r for r in rows if r["inside"]]
+    if not inside:
+        return {"paths": 0}
+    e = np.array([r["e_error"] for r in inside])
+    force = np.array([r["force_error"] for r in inside])
+    loading = np.array([r["loading_force_rms_error"] for r in inside])
+    return {"paths": len(inside), "materials": len({r["name"] for r in inside}),
+            "e_error_max": float(np.abs(e).max()), "e_error_rms": float(np.sqrt(np.mean(e**2))),
+            "e_error_mean": float(e.mean()),
+            "force_error_max": float(force.max()), "loading_force_error_rms": float(np.sqrt(np.nanmean(loading**2)))}
