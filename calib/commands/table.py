@@ -82,9 +82,12 @@ def run_vz_master(ns) -> int:
     result = {"scene": scene["name"], "folder": str(folder), "tasks": len(rows), "failed": len(failed)}
     lines = [vz_master_build.describe(r) for r in rows]
     if ns.master_out and not failed:
+        from calib.fit import vz_master_check
+
         path = vz_master_build.write_master(rows, ns.master_out, scene, ns.accuracy)
-        result["master_table"] = str(path)
-        lines.append(f"vz master table written to {path}")
+        checked = vz_master_check.measure_and_state(rows, path, folder)
+        result["master_table"], result["accuracy"] = str(path), checked
+        lines.append(f"vz master table written to {path}; accuracy {checked['statement']}")
     lines.append(f"scene {scene['name']}: {len(rows)} task(s), {len(failed)} failed; FE data in {folder}/nodes")
     print_summary(ns, result, lines)
     return 1 if failed else 0

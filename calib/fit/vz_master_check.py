@@ -85,3 +85,40 @@ def accuracy(rows: list[dict]) -> dict:
             "e_error_max": float(np.abs(e).max()), "e_error_rms": float(np.sqrt(np.mean(e**2))),
             "e_error_mean": float(e.mean()),
             "force_error_max": float(force.max()), "loading_force_error_rms": float(np.sqrt(np.nanmean(loading**2)))}
+
+
+def measure_and_state(rows: list[dict], table_path, folder) -> dict:
+    """Check the table at ``table_path`` against every finished check row: write
+    FOLDER/vz_master_check.{csv,json} and state the measured accuracy in the table's .json
+    (``accuracy``, ``accuracy_details``, ``model_form``: the rms e and loading-force errors inside
+    the window, the u_g of calib.fit.measured.table_law). Returns the accuracy summary."""
+    import json
+    from pathlib import Path
+
+    from calib import output
+
+    table = VZMasterTable.load(table_path)
+    checks = [r for r in rows if r.get("kind") == "check" and r.get("status") == "ok"]
+    compared = [c for row in checks for c in check_material(row, table)]
+    summary = accuracy(compared)
+    stamp = output.stamp(0.0, table=str(table_path))
+    folder = Path(folder)
+    output.write_csv(folder / "vz_master_check.csv", compared, comment=output.stamp_comment(stamp))
+    output.write_json(folder / "vz_master_check.json", {"rows": compared, "accuracy": summary, "stamp": stamp})
+    if summary.get("paths"):
+        statement = (f"against direct FE at {summary['materials']} off-grid materials ({summary['paths']} load-unload "
+                     f"paths inside the window, peaks between the load nodes): e within {100 * summary['e_error_max']:.2g} % "
+                     f"(rms {100 * summary['e_error_rms']:.2g} %), force within {100 * summary['force_error_max']:.2g} % "
+                     f"of P_max, loading force rms {100 * summary['loading_force_error_rms']:.2g} %")
+    else:
+        statement = "not checked against off-grid FE"
+    meta_path = Path(table_path).with_suffix(".json")
+    meta = json.loads(meta_path.read_text(encoding="utf-8"))
+    meta["vz_master_table"].update({"accuracy": statement, "accuracy_details": summary,
+                                    "model_form": {"e": summary.get("e_error_rms", 0.0),
+                                                   "force": summary.get("loading_force_error_rms", 0.0),
+                                                   "definition": "rms relative errors of the interpolated law against "
+                                                                 "off-grid FE inside the window (e of the quasi-static "
+                                                                 "cycle, force along loading)"}})
+    output.write_json(meta_path, meta)
+    return {**summary, "statement": statement}
