@@ -85,6 +85,7 @@ def load_scene(name: str) -> dict:
              "contact_size_over_a_max": (float(grid["contact_size_over_a_max"]) if "contact_size_over_a_max" in grid
                                          else None),
              "top_over_P_Y": float(grid.get("top_over_P_Y", X_LIMIT)),
+             "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"])}
                         for c in raw.get("check", [])]}
@@ -102,7 +103,8 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
-              "contact_size_over_a_max": scene["contact_size_over_a_max"], "top_over_P_Y": scene["top_over_P_Y"],
+              "contact_size_over_a_max": scene["contact_size_over_a_max"],
+              "top_over_P_Y": scene["top_over_P_Y"] if kind == "node" else scene["check_top_over_P_Y"],
               "meshes": scene["meshes"] if kind == "node" else scene["check_meshes"]}
     return {"key": stable_key(fields), "kind": kind, "name": name or f"nu{nu:g}_E{ratio:g}sy",
             "material": material, **fields}

@@ -17,7 +17,9 @@ each; e capped at 1) on every measured value. Fitted: sigma_Y alone (calib.fit.m
 no start given), its 95 % interval including the law's model-form error. Printed and written
 (results/fit_data/fe_benchmark.csv, .json, stamped): per data kind and noise level, over the
 materials and trials, the bias (mean of sigma_fit / sigma_true - 1), the rms error and the
-coverage of the 95 % intervals. Targets: |error| within 3 %, coverage >= 90 %.
+coverage of the 95 % intervals. Targets: |error| within 3 %, coverage >= 90 %. For comparison,
+the noise-free data also go through the two-constant constrained model (``nfdcal fit-data``
+without --law: Ca_hat, Kc_hat of the master table; "vz: ..." rows; its interval: +-1.96 SE).
 
 Usage: .venv/bin/python tests/benchmarks/bench_fit_data_fe.py [--trials 10] [--seed 1]
        [--nodes results/tables/vz_master_grid/nodes] [--out results/fit_data]
@@ -106,12 +108,30 @@ def run(nodes: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]
                                 "se_model_rel": result.se_model / result.sigma_y,
                                 "covered": bool(low <= sets["sigma_y"] <= high), "rms_residual": result.rms_residual,
                                 "consistent": result.consistent})
+        for kind in ("drops e", "force"):
+            out.append(two_constant_fit(kind, noisy(sets, 0.0, rng), sets, row))
     return out
+
+
+def two_constant_fit(kind: str, values: dict, sets: dict, row: dict) -> dict:
+    """The noise-free data through the two-constant constrained model (module doc)."""
+    from calib.fit.master_table import MasterTable
+    from calib.fit.measured.models import fit_constrained
+
+    record = {"material": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"],
+              "kind": f"vz: {kind}", "noise": 0.0, "trial": 0}
+    try:
+        result = fit_constrained(measurements(kind, values, row["name"]), sets["specimen"], MasterTable.load())
+    except ValueError as exc:
+        return {**record, "error": str(exc)[:200]}
+    estimate, se = result.values["sigma_y"], result.standard_errors["sigma_y"] or 0.0
+    return {**record, "sigma_y_error": estimate / sets["sigma_y"] - 1.0, "se_rel": se / estimate,
+            "covered": bool(abs(estimate - sets["sigma_y"]) <= 1.959964 * se), "rms_residual": result.rms_residual}
 
 
 def summarise(rows: list[dict]) -> list[dict]:
     out = []
-    for kind in KINDS:
+    for kind in KINDS + ("vz: drops e", "vz: force"):
         for noise in NOISES:
             sel = [r for r in rows if r["kind"] == kind and r["noise"] == noise]
             ok = [r for r in sel if "sigma_y_error" in r]

@@ -43,6 +43,7 @@ from nfdmodel import ContactPair, PlausibilityWarning, RangeWarning, VZTablePara
 
 Z95 = 1.959963984540054            # the two-sided 95 % normal quantile
 STEP = 1e-5                        # the central-difference step in ln sigma_Y
+SCAN_POINTS = 13                   # the coarse scan of ln sigma_Y over the table that starts the fit
 CONSISTENT = 2.0                   # residual / expected level above this: the law does not describe the data
 
 
@@ -162,11 +163,11 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
         return float(r @ r)
 
     if sigma_y_start is None:                         # a coarse scan: the fit starts in the right basin
-        grid = np.linspace(low, high, 25)
+        grid = np.linspace(low, high, SCAN_POINTS)
         theta = float(grid[int(np.argmin([cost(t) for t in grid]))])
     else:
         theta = float(np.clip(math.log(sigma_y_start), low, high))
-    for _ in range(3 if len(sizes) > 1 else 2):       # re-weight the groups by their scatter
+    for _ in range(3 if len(sizes) > 1 else 1):       # re-weight the groups by their scatter (one group: no need)
         span = 0.3
         best = optimize.minimize_scalar(cost, bounds=(max(low, theta - span), min(high, theta + span)),
                                         method="bounded", options={"xatol": 1e-9})
