@@ -121,8 +121,8 @@ class VZMasterTable:
         lr = float(np.clip(np.log10(E_over_sigma_y), *np.log10(self.E_over_sigma_y[[0, -1]])))
         log_ratio = np.log10(self.E_over_sigma_y)
         both = np.stack([self.f, self.g], axis=-1)                 # (nu, ratio, x, 2)
-        at_nu = pchip_along(self.nu, both, nu)                         # (ratio, x, 2)
         finite = np.all(np.isfinite(both), axis=(0, 3))                # (ratio, x): every nu reaches x_k
+        at_nu = pchip_along(self.nu, np.where(np.isfinite(both), both, 0.0), nu)   # (ratio, x, 2); unreached: unused
         reach = np.array([self._reaches(finite[:, k], log_ratio, lr) for k in range(self.x.size)])
         stop = int(np.argmin(reach)) if not reach.all() else self.x.size   # the loads up to the first unreached one
         value = np.empty((stop, 2))

@@ -14,7 +14,8 @@ From each material:
 
 with 0 % noise (one trial) and 1 %, 3 % multiplicative Gaussian noise (``--trials`` seeded trials
 each; e capped at 1) on every measured value. Fitted: sigma_Y alone (calib.fit.measured.table_law,
-no start given), its 95 % interval including the law's model-form error. Printed and written
+no start given), its 95 % interval including the law's model-form error, measured on the other
+five materials (leave one out: a material does not set its own interval). Printed and written
 (results/fit_data/fe_benchmark.csv, .json, stamped): per data kind and noise level, over the
 materials and trials, the bias (mean of sigma_fit / sigma_true - 1), the rms error and the
 coverage of the 95 % intervals. Targets: |error| within 3 %, coverage >= 90 %. For comparison,
@@ -35,33 +36,13 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
-from calib.fit.measured.data import ForceApproachData, ImpactData, Measurements
-from calib.fit.measured.specimen import Specimen
 from calib.fit.measured.table_law import fit
-from calib.fit.vz_master_check import fe_paths, material_of
+from calib.fit.vz_master_check import DATA_KINDS, fe_datasets, measurements
 from calib.fit.vz_master_table import VZMasterTable
-from nfdmodel import ContactPair
 
 NOISES = (0.0, 0.01, 0.03)
-KINDS = ("drops e", "drops e+P", "force")
+KINDS = DATA_KINDS
 TARGET_ERROR, TARGET_COVERAGE = 0.03, 0.90
-
-
-def fe_datasets(row: dict, table: VZMasterTable) -> dict:
-    """The noise-free drop tests and force-approach curve of one FE check row (module doc)."""
-    material, R = material_of(row)
-    pair = ContactPair.sphere_flat(material, R)
-    window = table.law(material, R).window
-    paths = fe_paths(row)
-    inside = [p for p in paths if window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / pair.P_Y
-              <= window.P_max_over_P_Y * (1 + 1e-9)]
-    drops = {"v_in": np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside]),
-             "e": np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside]),
-             "P_max": np.array([p["P_max"] for p in inside])}
-    top = max(inside, key=lambda p: p["P_max"])
-    return {"specimen": Specimen(material.E, material.nu, R, material.rho), "sigma_y": material.sigma_y,
-            "drops": drops, "force": (top["approach"], top["force"]), "window": (window.P_min_over_P_Y,
-                                                                                window.P_max_over_P_Y)}
 
 
 def noisy(sets: dict, noise: float, rng) -> dict:
@@ -73,12 +54,12 @@ def noisy(sets: dict, noise: float, rng) -> dict:
     return {"v_in": d["v_in"], "e": e, "P_max": P, "approach": approach, "force": force}
 
 
-def measurements(kind: str, values: dict, name: str) -> Measurements:
-    rows = np.arange(1, values["v_in"].size + 1)
-    if kind == "force":
-        return Measurements(forces=ForceApproachData(f"{name}_force.csv", (("fe", values["approach"], values["force"]),)))
-    P = values["P_max"] if kind == "drops e+P" else None
-    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, None, rows))
+def left_out_model_form(table: VZMasterTable, name: str) -> dict:
+    """u per data kind from the other check materials' noise-free fit errors (the table's .json):
+    the material under test does not set its own interval."""
+    errors = table.meta.get("accuracy_details", {}).get("sigma_y_fit_errors", {})
+    others = [e for n, e in errors.items() if n != name]
+    return {kind: float(np.sqrt(np.mean([e[kind] ** 2 for e in others]))) for kind in DATA_KINDS} if others else {}
 
 
 def run(nodes: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]:
@@ -89,6 +70,7 @@ def run(nodes: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]
     out = []
     for row in rows:
         sets = fe_datasets(row, table)
+        form = left_out_model_form(table, row["name"])
         for noise in NOISES:
             for trial in range(1 if noise == 0 else trials):
                 values = noisy(sets, noise, rng)
@@ -98,7 +80,7 @@ def run(nodes: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]
                               "window_low": sets["window"][0], "window_top": sets["window"][1]}
                     try:
                         result = fit(measurements(kind, values, row["name"]), sets["specimen"], table,
-                                     noise=noise or None)
+                                     noise=noise or None, model_form=form)
                     except ValueError as exc:
                         out.append({**record, "error": str(exc)[:200]})
                         continue

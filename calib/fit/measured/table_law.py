@@ -11,17 +11,18 @@ e, P_max, contact time), force-approach curves by the law driven along each meas
 (force: / max(|P|, P_floor)); each group is weighted by 1 / s_g, s_g its rms residual
 (re-estimated), as calib.fit.measured.regression.
 
-**Uncertainty.** Var(theta) = V_stat + V_model:
+**Uncertainty.** Var(ln sigma_Y) = V_stat + V_model:
 
-    V_stat  = s^2 / (J^T J),     s^2 = sum r_w^2 / (n - 1),   J = d r_w / d theta (weighted)
-    V_model = sum_g (b_g u_g)^2,  b_g = (J_g^T 1 / s_g) / (J^T J)
+    V_stat  = s^2 / (J^T J),     s^2 = sum r_w^2 / (n - 1),   J = d r_w / d ln sigma_Y (weighted)
+    V_model = u^2
 
-b_g is the least-squares response of theta to a common relative error of the law in group g, and
-u_g the law's model-form standard uncertainty in that group, measured against direct FE at
-off-grid materials across the table (calib.fit.vz_master_check; the table's .json,
-``model_form``), combined with the surrounding nodes' estimated discretisation error. The
-model-form error is systematic (the same sign over a test series), so it does not shrink with
-more data; the 95 % interval is theta +- 1.96 sqrt(V_stat + V_model).
+u is the law's model-form standard uncertainty in ln sigma_Y for this kind of data (drop tests
+on e, on e and P_max, a force-approach curve), measured against direct FE across the table: the
+rms error of this very fit on the noise-free FE data of off-grid materials
+(calib.fit.vz_master_check; the table's .json, ``model_form.sigma_y``), combined with the
+surrounding nodes' estimated discretisation error when the table has it. The model-form error is
+systematic (the same for every test of a series), so it does not shrink with more data; the 95 %
+interval is sigma_Y exp(+-1.96 sqrt(V_stat + V_model)).
 
 **What the summary says.** The rms residual is compared with the law's model-form level and with
 the scatter the residuals show (calib.fit.measured.scatter); the fit is called consistent with
@@ -99,14 +100,21 @@ def residuals(law: VZTableParams, data: Measurements) -> dict[str, np.ndarray]:
     return out
 
 
-def model_form_uncertainty(table: VZMasterTable, nu: float, E_over_sigma_y: float) -> dict[str, float]:
-    """u_g per group [-]: the table's measured model-form error (its .json ``model_form``: rms
-    against off-grid FE) combined in quadrature with the surrounding nodes' discretisation error."""
-    form = table.meta.get("model_form", {})
+def data_kind(data: Measurements) -> str:
+    """Which measured model-form error applies: "force" when a force-approach curve is fitted,
+    else "drops e+P" with P_max, else "drops e"."""
+    if data.forces is not None:
+        return "force"
+    return "drops e+P" if "P_max" in data.group_sizes() else "drops e"
+
+
+def model_form_uncertainty(table: VZMasterTable, nu: float, E_over_sigma_y: float, kind: str,
+                           model_form: dict | None = None) -> float:
+    """u [-] in ln sigma_Y (module doc): ``model_form`` (kind -> u), else the table's measured one,
+    combined in quadrature with the surrounding nodes' discretisation error estimate."""
+    form = table.meta.get("model_form", {}).get("sigma_y", {}) if model_form is None else model_form
     node = table.tables(nu, E_over_sigma_y)["rel_error_estimate"] or 0.0
-    e = math.hypot(float(form.get("e", 0.0)), node)
-    force = math.hypot(float(form.get("force", 0.0)), node)
-    return {"e": e, "P_max": force, "contact_time": force, "force": force}
+    return math.hypot(float(form.get(kind, 0.0)), node)
 
 
 @dataclass(frozen=True)
@@ -121,7 +129,7 @@ class TableLawFit:
     residuals: dict
     group_scale: dict
     law: VZTableParams
-    uncertainty: dict
+    uncertainty: dict           # the data kind, u in ln sigma_Y, the law's measured errors per group
     verdict: str
     consistent: bool
     data_window: tuple = field(default=(float("nan"), float("nan")))
@@ -139,9 +147,10 @@ def sigma_y_range(specimen: Specimen, table: VZMasterTable) -> tuple[float, floa
 
 
 def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_start: float | None = None,
-        noise: float | None = None) -> TableLawFit:
+        noise: float | None = None, model_form: dict | None = None) -> TableLawFit:
     """The constrained fit of sigma_Y on the vz-table law (module doc). ``noise``: the stated
-    relative measurement noise [-] (None: not stated). A ValueError naming the cause when the
+    relative measurement noise [-] (None: not stated); ``model_form``: kind -> u in ln sigma_Y
+    (default: the table's measured one). A ValueError naming the cause when the
     data cannot be fitted inside the table (nu outside it, best sigma_Y on its edge)."""
     table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table
     low, high = np.log(sigma_y_range(specimen, table))
@@ -186,23 +195,22 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     along = float(jac @ jac)
     n = r_w.size
     v_stat = float(r_w @ r_w) / max(n - 1, 1) / along if along > 0 else math.inf
-    u = model_form_uncertainty(table, specimen.nu, specimen.E / math.exp(theta))
-    offsets = np.cumsum([0] + [sizes[name] for name in sizes])
-    v_model = 0.0
-    for k, name in enumerate(sizes):
-        b = float(jac[offsets[k]:offsets[k + 1]].sum() / scale[name]) / along
-        v_model += (b * u[name]) ** 2
+    kind = data_kind(data)
+    u = model_form_uncertainty(table, specimen.nu, specimen.E / math.exp(theta), kind, model_form)
+    v_model = u * u
     sigma_y = math.exp(theta)
     se_stat, se_model = sigma_y * math.sqrt(v_stat), sigma_y * math.sqrt(v_model)
     v = v_stat + v_model
     interval = (sigma_y * math.exp(-Z95 * math.sqrt(v)), sigma_y * math.exp(Z95 * math.sqrt(v)))
     law = table_law(specimen, sigma_y, table)
     rms = {name: float(np.sqrt(np.mean(g[name] ** 2))) for name in sizes}
-    expected = {name: math.hypot(u[name], noise or 0.0) for name in sizes}
+    level_of = table.meta.get("model_form", {}).get("residual_rms", {})
+    law_error = {name: float(level_of.get(f"{kind}: {name}", 0.0)) for name in sizes}
+    expected = {name: math.hypot(law_error[name], noise or 0.0) for name in sizes}
     excess = {name: rms[name] / max(expected[name], 1e-12) for name in sizes}
     consistent = all(ratio <= CONSISTENT for ratio in excess.values())
-    level = "the law's model-form level" + (f" and the stated noise {100 * noise:.2g} %" if noise else
-                                             " (no noise stated)")
+    level = "the law's residual on noise-free FE data" + (f" and the stated noise {100 * noise:.2g} %" if noise else
+                                                          " (no noise stated)")
     said = ", ".join(f"{name} {100 * rms[name]:.2g} % against {100 * expected[name]:.2g} %" for name in sizes)
     verdict = (f"rms residuals within {CONSISTENT:g}x {level} ({said}): consistent with the vz-table law of the vz "
                f"master table" if consistent else
@@ -211,7 +219,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
                + "; the interval assumes it does")
     window = _data_window(law, data)
     return TableLawFit(sigma_y, se_stat, se_model, sigma_y * math.sqrt(v), interval, g, scale, law,
-                       u, verdict, consistent, window)
+                       {"kind": kind, "u_ln_sigma_y": u, "law_error": law_error}, verdict, consistent, window)
 
 
 def _data_window(law: VZTableParams, data: Measurements) -> tuple[float, float]:
