@@ -3,7 +3,7 @@
 In dimensionless form the vz-table law (nfdmodel.vz_table, calib.fit.table_fit) is two tables of
 x = P/P_Y, the plastic radius f = a_p/a_Y and the curvature factor g = C_R, and for a sphere on a
 rigid flat (small strain, peaks at multiples of P_Y) they depend only on nu and E/sigma_Y. Each node
-(nu, E/sigma_Y) of the built-in scene ``vz_master_grid`` (calib/scenes/builtin/vz_master_grid.toml)
+(nu, E/sigma_Y) of the built-in scene ``vz_master_grid`` (calib/scenes/builtin/sweeps/vz_master_grid.toml)
 is one calibration of ``nfdcal calibrate --v-max`` to the top of the scene's window, at most the
 FE's reach (calib.fit.impact_window: unloading paths log-spaced from the lowest load its mesh
 resolves to min(top, 1000 P_Y, a <= 0.3 R), loading stepped geometrically), on the scene's mesh
@@ -37,7 +37,7 @@ from calib.fit.calibration import calibrate
 from meshes.keys import stable_key
 from nfdmodel import ContactPair, Material, VZTableParams
 
-BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin"
+BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweeps"   # not scenes of the schema
 SCENE = "vz_master_grid"
 NODES_PER_DECADE = 8            # common table loads per decade of P/P_Y
 X_LIMIT = 1000.0                # the common loads reach this (calib.fit.recipe.MAX_LOAD_OVER_YIELD)

@@ -1,7 +1,7 @@
 """Benchmark: sigma_Y recovered by fit-data's vz-table model from FE data the law did not make.
 
 The project's FE stands in for the laboratory (material known): the off-grid materials of the
-scene vz_master_grid (calib/scenes/builtin/vz_master_grid.toml, ``[[check]]``; not table nodes,
+scene vz_master_grid (calib/scenes/builtin/sweeps/vz_master_grid.toml, ``[[check]]``; not table nodes,
 nu 0.22-0.45, E/sigma_Y 150-3000), each an FE calibration at the FE's reach with unloading paths
 log-spaced over its window (their data in results/tables/vz_master_grid/nodes/, kind "check").
 From each material:
