@@ -150,3 +150,10 @@ def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path
         vz_master_build.write_master([{**fe_rows[0], "kind": "node"}], tmp_path / "t.csv", scene, "test")
     material = Material(70e9, 0.3, 100e6, 2700.0)
     assert material.E / material.sigma_y == 700.0
+
+
+def test_the_law_is_admissible_everywhere_in_the_table(table):
+    for nu in np.linspace(table.nu[0], table.nu[-1], 5):
+        for ratio in np.geomspace(table.E_over_sigma_y[0], table.E_over_sigma_y[-1], 9):
+            law = table.law(Material(ratio * 100e6, float(nu), 100e6, 2700.0), 0.1)
+            assert law.window.P_min_over_P_Y < law.window.P_max_over_P_Y <= law.x[-1] * (1 + 1e-12)

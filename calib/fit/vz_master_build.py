@@ -9,8 +9,9 @@ FE's reach (calib.fit.impact_window: unloading paths log-spaced from the lowest 
 resolves to min(top, 1000 P_Y, a <= 0.3 R), loading stepped geometrically), on the scene's mesh
 (contact element a fraction of the largest contact radius) and, with ``meshes = 2``, on the mesh
 of contact element 2h (calib.fit.extrapolation: node values Richardson-extrapolated, their
-estimated relative error kept). The table stores f and g resampled on common loads x_k (NODES_PER_DECADE per decade from 1 to
-1000; loads beyond a node's window are empty) and each node's window [x_low, x_top].
+estimated relative error kept). The table stores f and g resampled on common loads x_k
+(NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
+window are empty) and each node's window [x_low, x_top].
 
 The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
 between its nodes in material and in load (calib.fit.vz_master_check) and are the data of the
@@ -41,6 +42,7 @@ BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweep
 SCENE = "vz_master_grid"
 NODES_PER_DECADE = 8            # common table loads per decade of P/P_Y
 X_LIMIT = 1000.0                # the common loads reach this (calib.fit.recipe.MAX_LOAD_OVER_YIELD)
+TOP_MERGE = 0.02                # column tops (and common loads) closer than this, relative: one load
 REACH_MARGIN = 1e-6             # the top load this far inside the FE's reach (its check is exact)
 TASK_VERSION = 1                # part of a task's key: bump when the FE or the fit changes
 
@@ -189,14 +191,30 @@ def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return f, g
 
 
-def master_rows(rows: list[dict]) -> list[dict]:
-    """One row per grid node and common load: nu, E/sigma_Y, x, f, g, the node's window and its
-    estimated discretisation error (the CSV of calib.fit.vz_master_table)."""
+def table_loads(nodes: list[dict]) -> np.ndarray:
+    """The table's loads: :func:`common_loads` and the top of each E/sigma_Y column (the lowest
+    window top over its nu), so a material's window ends at its columns' top, not a step below."""
+    tops = {}
+    for row in nodes:
+        top = row["window"]["P_max_over_P_Y"]
+        tops[row["E_over_sigma_y"]] = min(tops.get(row["E_over_sigma_y"], top), top)
+    kept = []
+    for top in sorted(tops.values()):            # tops within TOP_MERGE of each other: the lowest
+        if not kept or top > kept[-1] * (1 + TOP_MERGE):
+            kept.append(top)
     x = common_loads()
+    x = x[x <= kept[-1] * (1 + 1e-9)]
+    x = x[np.min(np.abs(np.log(x[:, None] / np.array(kept)[None, :])), axis=1) > np.log1p(TOP_MERGE)]
+    return np.unique(np.concatenate([x, kept]))
+
+
+def master_rows(rows: list[dict]) -> list[dict]:
+    """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window and its
+    estimated discretisation error (the CSV of calib.fit.vz_master_table)."""
+    nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
+    x = table_loads(nodes)
     out = []
-    for row in rows:
-        if row.get("kind") != "node" or row.get("status") != "ok":
-            continue
+    for row in nodes:
         f, g = resample(row, x)
         for k in range(x.size):
             out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_over_P_Y": float(x[k]),
@@ -210,17 +228,17 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                  wall_time_s: float | None = None) -> Path:
     """calib/data/vz_master_table.{csv,json}: the table rows and its stamp (mesh, commit, accuracy)."""
     path = Path(path)
-    table_rows = master_rows(rows)
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     if len(nodes) != len(scene["nu"]) * len(scene["E_over_sigma_y"]):
         raise ValueError(f"vz master table: {len(nodes)} of {len(scene['nu']) * len(scene['E_over_sigma_y'])} grid "
                          f"nodes are calibrated; run the scene to the end first")
+    table_rows = master_rows(rows)
     stamp = output.stamp(sum(r["wall_time_s"] for r in nodes) if wall_time_s is None else wall_time_s,
                          mesh={"level": scene["level"], "meshes": scene["meshes"]}, scene=scene["name"],
                          node_commits=sorted({r["git_commit"] for r in nodes}))
     meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],
                                 "nu": scene["nu"], "E_over_sigma_y": scene["E_over_sigma_y"],
-                                "P_over_P_Y": list(common_loads()), "accuracy": accuracy,
+                                "P_over_P_Y": list(table_loads(nodes)), "accuracy": accuracy,
                                 "accuracy_details": accuracy_details or {},
                                 "definition": "a_p_over_a_Y = f, C_R = g of the vz-table law at P/P_Y (calib.fit."
                                               "table_fit) of the FE calibration at the node's reach (nfdcal calibrate "
