@@ -2,6 +2,7 @@
 
     nfdcal fit-data --impacts drops.csv --E 70e9 --nu 0.3 --R 0.01 --rho 2700 [--json]
     nfdcal fit-data --force-approach press.csv --E ... --sigma-y 100e6 --free --params-out p.json --plot fit.png
+    nfdcal fit-data --impacts drops.csv --E 70e9 --nu 0.3 --R 0.1 --rho 2700 --law vz-table [--noise 0.01]
 
 Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s]) and/or quasi-static
 force-approach curves (approach [m], force [N], optional test) of a sphere on a rigid flat are
@@ -17,6 +18,12 @@ a fit at the edge of the model's range, data all below first yield, and a residu
 any plausible scatter (calib.fit.measured.scatter); --force reports and writes such a fit,
 flagged. Repeated v_in are evaluated once and many distinct ones interpolated
 (calib.fit.measured.specimen), so 100k rows fit in seconds.
+
+``--law vz-table``: the constrained model on the load-dependent law of the vz master table
+(calib.fit.measured.table_law: a_p/a_Y and C_R against P/P_Y from FE paths over the whole
+window), sigma_Y alone, its standard error and 95 % interval including the law's model-form
+error measured against off-grid FE; --noise states the data's relative noise, against which
+(with the model-form level) the residual is judged. --free, --plot and --force do not apply.
 """
 from __future__ import annotations
 
@@ -42,6 +49,13 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--sigma-y", dest="sigma_y", default=None,
                         help="yield stress [Pa]: the constrained fit's start, the free fit's value when the data "
                              "do not determine it (default: estimated)")
+    parser.add_argument("--law", default="vz", choices=("vz", "vz-table"),
+                        help="vz: the two-constant law (default); vz-table: the load-dependent law of the vz master "
+                             "table, sigma_Y fitted over the data's whole window")
+    parser.add_argument("--noise", default=None, metavar="REL",
+                        help="the data's stated relative noise (e.g. 0.01), with --law vz-table")
+    parser.add_argument("--vz-table", default=None, metavar="CSV",
+                        help="vz master table CSV for --law vz-table (default: the shipped one)")
     parser.add_argument("--free", action="store_true", help="use the free model (Ca_hat, Kc_hat fitted)")
     parser.add_argument("--pair", action="store_true",
                         help="the tests are head-on impacts (or presses) of two identical spheres, v_in their "
@@ -179,6 +193,10 @@ def run(ns) -> int:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)
     check_outputs(ns)
+    if ns.law == "vz-table":
+        return run_table_law(ns, specimen, sigma_y, started)
+    if ns.noise is not None or ns.vz_table is not None:
+        raise ValueError("--noise and --vz-table apply to --law vz-table")
     table = MasterTable.load(ns.table)
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
@@ -243,5 +261,66 @@ def run(ns) -> int:
         + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()) + ")",
     ] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []) \
       + ([f"plot written to {ns.plot}"] if ns.plot else [])
+    print_summary(ns, summary, lines)
+    return 0
+
+
+def run_table_law(ns, specimen, sigma_y, started: float) -> int:
+    """``--law vz-table``: sigma_Y on the vz master table's law (calib.fit.measured.table_law)."""
+    from calib import output
+    from calib.fit.measured import data as measured_data
+    from calib.fit.measured.table_law import fit
+    from calib.fit.vz_master_table import VZMasterTable
+
+    for flag, given in (("--free", ns.free), ("--plot", ns.plot), ("--force", ns.force), ("--table", ns.table)):
+        if given:
+            raise ValueError(f"{flag} does not apply to --law vz-table (sigma_Y alone on the vz master table's law)")
+    noise = number("--noise", ns.noise, None, low=0.0, high=0.5, high_inclusive=True)
+    table = VZMasterTable.load(ns.vz_table)
+    data = measured_data.Measurements(
+        impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
+        forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
+    result = fit(data, specimen, table, sigma_y, noise)
+    law = result.law
+    pair = law.pair
+    low, high = result.interval95
+    summary = {"law": "vz-table", "sigma_y": result.sigma_y, "sigma_y_se": result.se,
+               "sigma_y_se_statistical": result.se_stat, "sigma_y_se_model_form": result.se_model,
+               "sigma_y_interval95": [low, high], "model_form_uncertainty": result.uncertainty,
+               "rms_residual": result.rms_residual,
+               "rms_residual_by_group": {k: float((v @ v / v.size) ** 0.5) for k, v in result.residuals.items()},
+               "residuals": {k: v.tolist() for k, v in result.residuals.items()},
+               "consistent": result.consistent, "verdict": result.verdict, "noise": noise,
+               "data_window_P_over_P_Y": list(result.data_window), "law_window": law.window.record(),
+               "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
+               "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
+               "files": data.files, "vz_master_table": str(table.path), "accuracy": table.accuracy,
+               "units": {"sigma_y": "Pa", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_Y": "m/s",
+                         "residuals": "relative: (law - measured) / measured; force: / max(|P|, 0.05 x smallest peak)"}}
+    if ns.params_out:
+        from calib.report.parameter_file import write_parameter_file
+        from nfdmodel import ContactPair, VZTableParams
+
+        flat = VZTableParams(ContactPair.sphere_flat(specimen.material(result.sigma_y), specimen.R), law.x, law.f,
+                             law.g, law.window)
+        write_parameter_file(ns.params_out, flat, specimen.R, specimen.material(result.sigma_y),
+                             {"source": "measurements", "files": data.files, "model": "vz-table (vz master table)",
+                              "sigma_y_se": result.se, "sigma_y_interval95": [low, high], "verdict": result.verdict},
+                             output.stamp(time.perf_counter() - started))
+        summary["params_out"] = ns.params_out
+    window = law.window
+    outside = result.data_window[1] > window.P_max_over_P_Y * (1 + 1e-9) or result.data_window[0] < window.P_min_over_P_Y
+    lines = [f"vz-table model (vz master table) fitted to {', '.join(f'{v.size} {k}' for k, v in result.residuals.items())} "
+             f"value(s) ({', '.join(data.files)}): sigma_Y",
+             f"sigma_Y = {result.sigma_y:.4g} Pa +- {100 * result.se / result.sigma_y:.2g} % (statistical "
+             f"{100 * result.se_stat / result.sigma_y:.2g} %, model form {100 * result.se_model / result.sigma_y:.2g} %); "
+             f"95 % interval {low:.4g}..{high:.4g} Pa",
+             f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
+             f"data window: P/P_Y {result.data_window[0]:.3g}..{result.data_window[1]:.4g}; the law's measured window "
+             f"{window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g}"
+             + (" (the data reach outside it: there the law is not measured)" if outside else ""),
+             f"rms residual: " + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()),
+             f"model: {result.verdict}",
+             f"table accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else [])
     print_summary(ns, summary, lines)
     return 0

@@ -2,6 +2,7 @@
 
     nfdcal material --E 205e9 --nu 0.29 --sigma-y 655e6 --R 0.005 --json
     nfdcal material ... --params-out steel.json     # a parameter file for nfdmodel.load_parameters
+    nfdcal material ... --v-max 0.5                 # the vz-table law for impacts up to 0.5 m/s
 
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
 (calib/data/master_table.csv; nfdmodel/README.md: the dimensionless constants), then
@@ -9,6 +10,11 @@ Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N], Kc [1/N], Ca_hat, Kc_
 P_Y [N], a_Y [m], delta_Y [m] and the table's one-line accuracy statement (the full account is in
 the table's .json, named by ``accuracy_details``). Outside the table: one line naming the parameter and the table's
 range (exit 2).
+
+With ``--v-max V`` (spelled as ``nfdcal calibrate --v-max``): the vz-table law (a_p/a_Y and C_R
+against P/P_Y) from the master table of the load-dependent law (calib/data/vz_master_table.csv,
+calib.fit.vz_master_table), declared on the window its surrounding nodes measured; an impact at V
+beyond that window is refused (one line naming the largest v_in the table vouches for, exit 2).
 """
 from __future__ import annotations
 
@@ -20,6 +26,10 @@ def add_parser(subparsers) -> None:
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
+    parser.add_argument("--v-max", default=None, metavar="V",
+                        help="the vz-table law for impacts up to V [m/s] from the vz master table (no FE)")
+    parser.add_argument("--vz-table", default=None, metavar="CSV",
+                        help="vz master table CSV for --v-max (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params)")
     add_summary_arguments(parser, progress=False)
@@ -30,6 +40,10 @@ def run(ns) -> int:
     from calib.fit.master_table import MasterTable
 
     material, radius = material_from_args(ns)
+    if ns.v_max is not None:
+        return run_vz_table(ns, material, radius)
+    if ns.vz_table is not None:
+        raise ValueError("--vz-table needs --v-max (the vz-table law); without it the two-constant table answers")
     table = MasterTable.load(ns.table)
     values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
     if ns.params_out:
@@ -53,4 +67,53 @@ def run(ns) -> int:
         f"a/R* <= {values['window']['a_max_over_R']:.3g} (beyond it the constants are an extrapolation)",
         f"accuracy: {values['accuracy']}"]
         + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
+    return 0
+
+
+def run_vz_table(ns, material, radius) -> int:
+    """``--v-max``: the vz-table law of the material from the vz master table (module doc)."""
+    from calib import output
+    from calib.commands.common import number
+    from calib.fit import impact_window
+    from calib.fit.vz_master_table import VZMasterTable
+    from nfdmodel.validation import check_solid
+
+    v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
+    check_solid("v_in", v_max)
+    if ns.table is not None:
+        raise ValueError("--table is the two-constant master table; with --v-max give --vz-table")
+    table = VZMasterTable.load(ns.vz_table)
+    law = table.law(material, radius)
+    values = table.tables(material.nu, material.E / material.sigma_y)
+    pair = law.pair
+    window = law.window
+    v_top = impact_window.reach_velocity(law, window.P_max_over_P_Y * pair.P_Y)
+    v_low = impact_window.reach_velocity(law, window.P_min_over_P_Y * pair.P_Y)
+    if v_max > v_top * (1 + 1e-9):
+        raise ValueError(f"v_max out of range: the vz master table's window for this material ends at "
+                         f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {v_top:.4g} m/s ({v_top / pair.v_Y:.4g} v_Y)")
+    P_max = impact_window.impact_force(law, v_max)
+    summary = {"law": "vz-table", "v_max": v_max, "P_max_of_v_max": P_max, "P_max_of_v_max_over_P_Y": P_max / pair.P_Y,
+               "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
+               "window": window.record(), "v_in_window": [v_low, v_top],
+               "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
+               "E_over_sigma_y": material.E / material.sigma_y,
+               "rel_error_estimate": values["rel_error_estimate"],
+               "units": {"P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_max": "m/s", "v_Y": "m/s"},
+               "source": "vz master table interpolation", "table_file": str(table.path), "accuracy": table.accuracy}
+    if ns.params_out:
+        from calib.report.parameter_file import write_parameter_file
+
+        write_parameter_file(ns.params_out, law, radius, material,
+                             {"shipped": "vz master table", "accuracy": table.accuracy, "table": str(table.path)},
+                             output.stamp(0.0), table_rel_error_estimate=values["rel_error_estimate"])
+        summary["params_out"] = ns.params_out
+    below = (f"; impacts below {v_low:.3g} m/s load under the lowest measured path (C_R there follows a_p)"
+             if v_max > v_low else "")
+    print_summary(ns, summary, [
+        f"vz-table law: {len(law.x)} nodes, P/P_Y 1..{law.x[-1]:.4g}; C_R = {law.g[-1]:.4g}, a_p/a_Y = {law.f[-1]:.4g} at the top",
+        f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, delta_Y = {pair.delta_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
+        f"window: P/P_Y {window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} (impacts {v_low:.3g}..{v_top:.3g} m/s); "
+        f"v_max = {v_max:g} m/s reaches {P_max / pair.P_Y:.4g} P_Y{below}",
+        f"accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0

@@ -5,6 +5,8 @@
     nfdcal table my_sweep.toml --scheduler tcp://10.0.0.5:8786    # a Dask distributed cluster
     nfdcal table master_grid --master-out calib/data/master_table.csv --accuracy "..."
     nfdcal table master_validation --check-master     # off-grid FE against the interpolation
+    nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv   # the vz-table law's
+                                                      # master table (calib.fit.vz_master_build)
 
 Writes OUT/table.csv and OUT/table.json (one row per material: inputs, P_Y, a_Y, Ca, Kc, Ca_hat,
 Kc_hat, R^2 and standard errors, mesh, FE wall time, git commit) and one JSON per finished
@@ -43,6 +45,55 @@ def add_parser(subparsers) -> None:
 
 
 def run(ns) -> int:
+    from calib.fit import vz_master_build
+
+    if vz_master_build.is_vz_master_scene(ns.scene):
+        return run_vz_master(ns)
+    return run_parameter_table(ns)
+
+
+def run_vz_master(ns) -> int:
+    """The vz-table law's master table scene: every node and check to the FE's reach, resumably;
+    with --master-out the table (calib.fit.vz_master_build)."""
+    from pathlib import Path
+
+    from calib.commands.progress import progress_reporter
+    from calib.fit import vz_master_build
+
+    try:
+        workers = int(ns.workers)
+    except ValueError:
+        raise ValueError(f"--workers must be an integer in [1, 64], got {ns.workers!r}") from None
+    if not 1 <= workers <= 64:
+        raise ValueError(f"--workers must be an integer in [1, 64], got {ns.workers!r}")
+    if ns.v_max is not None or ns.check_master:
+        raise ValueError("--v-max and --check-master do not apply to a vz master scene (its nodes run to the FE's reach)")
+    scene = vz_master_build.load_scene(ns.scene)
+    folder = Path(ns.out or Path("results") / "tables" / scene["name"])
+    tasks = vz_master_build.tasks_for(scene)
+    if ns.dry_run:
+        lines = [f"{t['kind']} {t['name']}: nu {t['nu']:g}, E/sigma_Y {t['E_over_sigma_y']:g}" for t in tasks]
+        print_summary(ns, {"scene": scene["name"], "tasks": len(tasks), "folder": str(folder)},
+                      lines + [f"{len(tasks)} calibration(s) to the FE's reach in {folder}/nodes"])
+        return 0
+    with progress_reporter(ns.quiet, None) as progress:
+        rows = vz_master_build.run(scene, folder, workers=workers, scheduler=ns.scheduler, progress=progress)
+    failed = [r for r in rows if r.get("status") != "ok"]
+    result = {"scene": scene["name"], "folder": str(folder), "tasks": len(rows), "failed": len(failed)}
+    lines = [vz_master_build.describe(r) for r in rows]
+    if ns.master_out and not failed:
+        from calib.fit import vz_master_check
+
+        path = vz_master_build.write_master(rows, ns.master_out, scene, ns.accuracy)
+        checked = vz_master_check.measure_and_state(rows, path, folder)
+        result["master_table"], result["accuracy"] = str(path), checked
+        lines.append(f"vz master table written to {path}; accuracy {checked['statement']}")
+    lines.append(f"scene {scene['name']}: {len(rows)} task(s), {len(failed)} failed; FE data in {folder}/nodes")
+    print_summary(ns, result, lines)
+    return 1 if failed else 0
+
+
+def run_parameter_table(ns) -> int:
     from calib import output, scenes
     from calib.commands.progress import progress_reporter
 

@@ -1,0 +1,250 @@
+"""Building the master table of the vz-table law from FE load-unload paths over the whole window.
+
+In dimensionless form the vz-table law (nfdmodel.vz_table, calib.fit.table_fit) is two tables of
+x = P/P_Y, the plastic radius f = a_p/a_Y and the curvature factor g = C_R, and for a sphere on a
+rigid flat (small strain, peaks at multiples of P_Y) they depend only on nu and E/sigma_Y. Each node
+(nu, E/sigma_Y) of the built-in scene ``vz_master_grid`` (calib/scenes/builtin/sweeps/vz_master_grid.toml)
+is one calibration of ``nfdcal calibrate --v-max`` to the top of the scene's window, at most the
+FE's reach (calib.fit.impact_window: unloading paths log-spaced from the lowest load its mesh
+resolves to min(top, 1000 P_Y, a <= 0.3 R), loading stepped geometrically), on the scene's mesh
+(contact element a fraction of the largest contact radius) and, with ``meshes = 2``, on the mesh
+of contact element 2h (calib.fit.extrapolation: node values Richardson-extrapolated, their
+estimated relative error kept). The table stores f and g resampled on common loads x_k
+(NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
+window are empty) and each node's window [x_low, x_top].
+
+The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
+between its nodes in material and in load (calib.fit.vz_master_check) and are the data of the
+fit-data benchmark (tests/benchmarks/fit_data_fe.py). Every node and check is one task of the one
+sweep runner (calib.sweep.runner, ``OUT/nodes/<key>.json``): a rerun resumes, and the FE data of each
+task (loading curve, each path's peak, e, loading and unloading work, unloading branch) is kept.
+
+    nfdcal table vz_master_grid [--workers 2] [--out results/tables/vz_master_grid]
+        [--master-out calib/data/vz_master_table.csv]
+"""
+from __future__ import annotations
+
+import dataclasses
+import time
+import tomllib
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from calib import output
+from calib.fit import impact_window
+from calib.fit.calibration import calibrate
+from meshes.keys import stable_key
+from nfdmodel import ContactPair, Material, VZTableParams
+
+BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweeps"   # not scenes of the schema
+SCENE = "vz_master_grid"
+NODES_PER_DECADE = 8            # common table loads per decade of P/P_Y
+X_LIMIT = 1000.0                # the common loads reach this (calib.fit.recipe.MAX_LOAD_OVER_YIELD)
+TOP_MERGE = 0.02                # column tops (and common loads) closer than this, relative: one load
+REACH_MARGIN = 1e-6             # the top load this far inside the FE's reach (its check is exact)
+TASK_VERSION = 1                # part of a task's key: bump when the FE or the fit changes
+
+
+def common_loads() -> np.ndarray:
+    """x_k = P/P_Y of the table: 1, then NODES_PER_DECADE per decade up to X_LIMIT."""
+    n = int(round(NODES_PER_DECADE * np.log10(X_LIMIT)))
+    return np.geomspace(1.0, X_LIMIT, n + 1)
+
+
+def is_vz_master_scene(name: str) -> bool:
+    """Whether ``name`` (a built-in scene name or a .toml path) is a vz master-table scene."""
+    path = scene_path(name)
+    if path is None:
+        return False
+    try:
+        return "vz_master" in tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, tomllib.TOMLDecodeError):
+        return False
+
+
+def scene_path(name: str) -> Path | None:
+    path = Path(name)
+    if path.suffix == ".toml" and path.is_file():
+        return path
+    builtin = BUILTIN / f"{name}.toml"
+    return builtin if builtin.is_file() else None
+
+
+def load_scene(name: str) -> dict:
+    """The scene's [vz_master] grid and [[check]] materials (ValueError naming a bad field)."""
+    path = scene_path(name)
+    if path is None:
+        raise ValueError(f"scene not found: {name!r}")
+    raw = tomllib.loads(path.read_text(encoding="utf-8"))
+    grid = raw.get("vz_master", {})
+    scene = {"name": raw.get("scene", {}).get("name", path.stem), "source": str(path),
+             "nu": [float(v) for v in grid.get("nu", [])],
+             "E_over_sigma_y": [float(v) for v in grid.get("E_over_sigma_y", [])],
+             "sigma_y": float(grid.get("sigma_y", 100e6)), "rho": float(grid.get("rho", 2700.0)),
+             "R": float(grid.get("R", 0.1)), "level": str(grid.get("level", "default")),
+             "contact_size_over_a_max": (float(grid["contact_size_over_a_max"]) if "contact_size_over_a_max" in grid
+                                         else None),
+             "top_over_P_Y": float(grid.get("top_over_P_Y", X_LIMIT)),
+             "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
+             "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
+             "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"])}
+                        for c in raw.get("check", [])]}
+    for axis in ("nu", "E_over_sigma_y"):
+        if len(scene[axis]) < 2:
+            raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
+    for key in ("meshes", "check_meshes"):
+        if scene[key] not in (1, 2):
+            raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
+    return scene
+
+
+def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None) -> dict:
+    """One calibration at the FE's reach (kind "node" or "check")."""
+    material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
+    fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
+              "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
+              "contact_size_over_a_max": scene["contact_size_over_a_max"],
+              "top_over_P_Y": scene["top_over_P_Y"] if kind == "node" else scene["check_top_over_P_Y"],
+              "meshes": scene["meshes"] if kind == "node" else scene["check_meshes"]}
+    return {"key": stable_key(fields), "kind": kind, "name": name or f"nu{nu:g}_E{ratio:g}sy",
+            "material": material, **fields}
+
+
+def tasks_for(scene: dict) -> list[dict]:
+    """The grid's nodes and the off-grid checks, the softer materials first (their reach, and so
+    their FE, is the smallest: a partial run has whole E/sigma_Y columns)."""
+    nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
+    checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"]) for c in scene["checks"]]
+    return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
+
+
+def run_task(item: dict) -> dict:
+    """The calibration of one task (runs in a worker; never raises: a failure is a row)."""
+    material, R = item["material"], item["R"]
+    pair = ContactPair.sphere_flat(material, R)
+    t0 = time.perf_counter()
+    try:
+        top = min(impact_window.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
+                  item["top_over_P_Y"] * pair.P_Y)
+        mesh = ({"contact_size_over_a_max": item["contact_size_over_a_max"]} if item["contact_size_over_a_max"]
+                else {"level": item["level"]})
+        spec = impact_window.window_spec(material, R, top, **mesh)
+        result = calibrate(spec, ship="table", meshes=item["meshes"], parallel=False)
+        table = result.fit_table()
+        fine = result.fine_table()
+    except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
+        return {"key": item["key"], "status": "failed", "name": item["name"],
+                "error": f"{type(exc).__name__}: {exc}"[:300]}
+    paths = result.load_paths
+    return {"key": item["key"], "status": "ok", "kind": item["kind"], "name": item["name"],
+            "nu": item["nu"], "E_over_sigma_y": item["E_over_sigma_y"], "sigma_y": item["sigma_y"],
+            "rho": item["rho"], "R": R, "level": item["level"], "meshes": item["meshes"],
+            "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "P_Y_fe": result.P_Y_fe,
+            "table": {"x": list(table.x), "f": list(table.f), "g": list(table.g)},
+            "fine_table": {"x": list(fine.x), "f": list(fine.f), "g": list(fine.g)},
+            "window": table.window.record(),
+            "table_rel_error_estimate": result.table_rel_error_estimate(),
+            "loading": {"P": [r["P"] for r in paths.loading_rows], "alpha": [r["alpha"] for r in paths.loading_rows]},
+            "paths": [{"P_max": p.peak, "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
+                       "e": p.restitution, "loading_work": p.loading_work, "unloading_work": p.unloading_work,
+                       "unloading": {"P": [r["P"] for r in p.rows if r["branch"] == "unloading"],
+                                     "alpha": [r["alpha"] for r in p.rows if r["branch"] == "unloading"]}}
+                      for p in paths.paths],
+            "mesh": dataclasses.asdict(spec.mesh), "dofs": result.mesh_info["dofs"],
+            "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit()}
+
+
+def is_finished(row: dict) -> bool:
+    return row.get("status") == "ok"
+
+
+def describe(row: dict) -> str:
+    if row.get("status") != "ok":
+        return f"{row.get('name')} failed: {row.get('error')}"
+    return (f"{row['name']}: window {row['window']['P_min_over_P_Y']:.3g}-{row['window']['P_max_over_P_Y']:.4g} P_Y,"
+            f" {len(row['paths'])} paths, {row['wall_time_s']:.0f} s")
+
+
+def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None = None,
+        progress: Callable[[str], None] | None = None, kinds: tuple = ("node", "check")) -> list[dict]:
+    """Every task of ``scene`` (resumable, calib.sweep.runner) in ``folder``/nodes; the rows."""
+    from calib.sweep.runner import run_sweep
+
+    tasks = [t for t in tasks_for(scene) if t["kind"] in kinds]
+    result = run_sweep(tasks, run_task, Path(folder) / "nodes", keep=is_finished, workers=workers,
+                       scheduler=scheduler, progress=progress, describe=describe)
+    return result.rows
+
+
+def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """f, g of a node's table (nfdmodel's monotone interpolation of its nodes) at the common loads
+    ``x`` inside its window [1, top]; NaN above it."""
+    pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
+                                            row["rho"]), row["R"])
+    params = VZTableParams(pair, tuple(row["table"]["x"]), tuple(row["table"]["f"]), tuple(row["table"]["g"]))
+    top = row["window"]["P_max_over_P_Y"]
+    inside = x <= top * (1 + 1e-9)
+    f, g = np.full(x.size, np.nan), np.full(x.size, np.nan)
+    f[inside], g[inside] = params.tables(x[inside])
+    return f, g
+
+
+def table_loads(nodes: list[dict]) -> np.ndarray:
+    """The table's loads: :func:`common_loads` and the top of each E/sigma_Y column (the lowest
+    window top over its nu), so a material's window ends at its columns' top, not a step below."""
+    tops = {}
+    for row in nodes:
+        top = row["window"]["P_max_over_P_Y"]
+        tops[row["E_over_sigma_y"]] = min(tops.get(row["E_over_sigma_y"], top), top)
+    kept = []
+    for top in sorted(tops.values()):            # tops within TOP_MERGE of each other: the lowest
+        if not kept or top > kept[-1] * (1 + TOP_MERGE):
+            kept.append(top)
+    x = common_loads()
+    x = x[x <= kept[-1] * (1 + 1e-9)]
+    x = x[np.min(np.abs(np.log(x[:, None] / np.array(kept)[None, :])), axis=1) > np.log1p(TOP_MERGE)]
+    return np.unique(np.concatenate([x, kept]))
+
+
+def master_rows(rows: list[dict]) -> list[dict]:
+    """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window and its
+    estimated discretisation error (the CSV of calib.fit.vz_master_table)."""
+    nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
+    x = table_loads(nodes)
+    out = []
+    for row in nodes:
+        f, g = resample(row, x)
+        for k in range(x.size):
+            out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_over_P_Y": float(x[k]),
+                        "a_p_over_a_Y": float(f[k]), "C_R": float(g[k]),
+                        "window_low": row["window"]["P_min_over_P_Y"], "window_top": row["window"]["P_max_over_P_Y"],
+                        "rel_error_estimate": row["table_rel_error_estimate"]})
+    return out
+
+
+def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str, accuracy_details: dict | None = None,
+                 wall_time_s: float | None = None) -> Path:
+    """calib/data/vz_master_table.{csv,json}: the table rows and its stamp (mesh, commit, accuracy)."""
+    path = Path(path)
+    nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
+    if len(nodes) != len(scene["nu"]) * len(scene["E_over_sigma_y"]):
+        raise ValueError(f"vz master table: {len(nodes)} of {len(scene['nu']) * len(scene['E_over_sigma_y'])} grid "
+                         f"nodes are calibrated; run the scene to the end first")
+    table_rows = master_rows(rows)
+    stamp = output.stamp(sum(r["wall_time_s"] for r in nodes) if wall_time_s is None else wall_time_s,
+                         mesh={"level": scene["level"], "meshes": scene["meshes"]}, scene=scene["name"],
+                         node_commits=sorted({r["git_commit"] for r in nodes}))
+    meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],
+                                "nu": scene["nu"], "E_over_sigma_y": scene["E_over_sigma_y"],
+                                "P_over_P_Y": list(table_loads(nodes)), "accuracy": accuracy,
+                                "accuracy_details": accuracy_details or {},
+                                "definition": "a_p_over_a_Y = f, C_R = g of the vz-table law at P/P_Y (calib.fit."
+                                              "table_fit) of the FE calibration at the node's reach (nfdcal calibrate "
+                                              "--v-max), node values Richardson-extrapolated from two meshes; empty "
+                                              "above the node's window; window_low: its lowest unloading path"},
+            "stamp": stamp}
+    output.write_csv(path, table_rows, comment=output.stamp_comment(stamp))
+    output.write_json(path.with_suffix(".json"), meta)
+    return path

@@ -1,0 +1,186 @@
+"""The vz master table against direct FE at materials between its nodes (its stated accuracy).
+
+For each off-grid material of the scene (calib.fit.vz_master_build, kind "check": the same FE
+calibration at the FE's reach, unloading paths log-spaced over its window, so their peaks lie
+between the table's load nodes too), the law interpolated in the table (calib.fit.vz_master_table)
+is driven along every FE load-unload path (calib.studies.wide_window.law_against_path):
+
+    force error = max |P_law(alpha) - P_FE(alpha)| / P_max    along loading and unloading [-]
+    e error     = e_law / e_FE - 1     (the quasi-static cycle to the FE's largest approach) [-]
+
+A path counts as inside when its peak lies in the table's window at that material.
+
+What that error does to an inverse fit is measured directly: fit-data's vz-table model
+(calib.fit.measured.table_law) fits sigma_Y to each check material's noise-free FE data (drop
+tests from the paths inside the window, v_in = sqrt(2 W_l / m*), e = sqrt(W_u / W_l), P_max the FE
+peak; the force-approach curve of the highest such path), and the rms of ln(sigma_fit / sigma_true)
+over the materials, per kind of data, is the model-form standard uncertainty fit-data adds to
+its statistical one (the table's .json, ``model_form.sigma_y``).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from calib.fit.measured.data import ForceApproachData, ImpactData, Measurements
+from calib.fit.measured.specimen import Specimen
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import ContactPair, Material
+
+DATA_KINDS = ("drops e", "drops e+P", "force")
+
+
+def material_of(row: dict) -> tuple[Material, float]:
+    return Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"], row["rho"]), row["R"]
+
+
+def fe_paths(row: dict) -> list[dict]:
+    """Each FE load-unload path of a stored task row: its approach [m] and force [N] history
+    (the loading rows up to its peak, then its unloading), P_max [N], e, loading and unloading work [J]."""
+    P = np.asarray(row["loading"]["P"], dtype=float)
+    alpha = np.asarray(row["loading"]["alpha"], dtype=float)
+    out = []
+    for path in row["paths"]:
+        up = P <= path["P_max"] * (1 + 1e-9)
+        approach = np.concatenate([alpha[up], path["unloading"]["alpha"]])
+        force = np.concatenate([P[up], path["unloading"]["P"]])
+        out.append({"approach": approach, "force": force, "P_max": path["P_max"], "e": path["e"],
+                    "loading_work": path["loading_work"], "unloading_work": path["unloading_work"],
+                    "alpha_max": path["alpha_max"], "loading_points": int(up.sum())})
+    return out
+
+
+def loading_force_error(law, path: dict) -> float | None:
+    """rms of (P_law - P_FE) / P_FE along the FE loading branch inside the law's window [-]."""
+    from calib.fit.calibration import drive_law
+
+    n = path["loading_points"]
+    approach, force = path["approach"][:n], path["force"][:n]
+    above = force >= law.window.P_min_over_P_Y * law.pair.P_Y * (1 - 1e-9)
+    predicted, _ = drive_law("vz-table", law, approach)
+    return float(np.sqrt(np.mean((predicted[above] / force[above] - 1.0) ** 2))) if above.any() else None
+
+
+def check_material(row: dict, table: VZMasterTable) -> list[dict]:
+    """Per FE path of one check row: the interpolated law's errors (module doc)."""
+    from calib.studies.wide_window import law_against_path
+
+    material, R = material_of(row)
+    law = table.law(material, R)
+    window = law.window
+    out = []
+    for path in fe_paths(row):
+        x = path["P_max"] / law.pair.P_Y
+        compared = law_against_path("vz-table", law, path)
+        out.append({"name": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"],
+                    "P_max_over_P_Y": x, "inside": bool(window.P_min_over_P_Y * (1 - 1e-9) <= x
+                                                        <= window.P_max_over_P_Y * (1 + 1e-9)),
+                    "window_low": window.P_min_over_P_Y, "window_top": window.P_max_over_P_Y,
+                    "e_fe": compared["e_fe"], "e_law": compared["e_law"], "e_error": compared["e_error"],
+                    "force_error": compared["force_error"],
+                    "loading_force_rms_error": loading_force_error(law, path)})
+    return out
+
+
+def fe_datasets(row: dict, table: VZMasterTable) -> dict:
+    """The noise-free drop tests and force-approach curve of one FE row (module doc): the specimen,
+    the true sigma_Y [Pa], drops (v_in [m/s], e, P_max [N]), force (approach [m], force [N])."""
+    material, R = material_of(row)
+    pair = ContactPair.sphere_flat(material, R)
+    window = table.law(material, R).window
+    inside = [p for p in fe_paths(row) if window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / pair.P_Y
+              <= window.P_max_over_P_Y * (1 + 1e-9)]
+    if not inside:
+        raise ValueError(f"{row['name']}: no FE path inside the table's window {window.describe()}")
+    drops = {"v_in": np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside]),
+             "e": np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside]),
+             "P_max": np.array([p["P_max"] for p in inside])}
+    top = max(inside, key=lambda p: p["P_max"])
+    return {"specimen": Specimen(material.E, material.nu, R, material.rho), "sigma_y": material.sigma_y,
+            "drops": drops, "force": (top["approach"], top["force"]),
+            "window": (window.P_min_over_P_Y, window.P_max_over_P_Y)}
+
+
+def measurements(kind: str, values: dict, name: str) -> Measurements:
+    """Measurements of one DATA_KINDS from ``values`` (v_in, e, P_max, approach, force)."""
+    if kind == "force":
+        return Measurements(forces=ForceApproachData(f"{name}_force.csv", (("fe", values["approach"], values["force"]),)))
+    rows = np.arange(1, values["v_in"].size + 1)
+    P = values["P_max"] if kind == "drops e+P" else None
+    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, None, rows))
+
+
+def fit_errors(row: dict, table: VZMasterTable) -> dict:
+    """ln(sigma_fit / sigma_true) of the vz-table fit to one row's noise-free FE data, per kind."""
+    from calib.fit.measured.table_law import fit
+
+    sets = fe_datasets(row, table)
+    values = {**sets["drops"], "approach": sets["force"][0], "force": sets["force"][1]}
+    out = {"residual_rms": {}}
+    for kind in DATA_KINDS:
+        result = fit(measurements(kind, values, row["name"]), sets["specimen"], table, model_form={})
+        out[kind] = math.log(result.sigma_y / sets["sigma_y"])
+        for group, r in result.residuals.items():
+            out["residual_rms"][f"{kind}: {group}"] = float(np.sqrt(np.mean(r**2)))
+    return out
+
+
+def accuracy(rows: list[dict]) -> dict:
+    """Summary of :func:`check_material` rows inside the window: largest and rms e error, largest
+    force error and rms loading force error."""
+    inside = [r for r in rows if r["inside"]]
+    if not inside:
+        return {"paths": 0}
+    e = np.array([r["e_error"] for r in inside])
+    force = np.array([r["force_error"] for r in inside])
+    loading = np.array([r["loading_force_rms_error"] for r in inside if r["loading_force_rms_error"] is not None])
+    return {"paths": len(inside), "materials": len({r["name"] for r in inside}),
+            "e_error_max": float(np.abs(e).max()), "e_error_rms": float(np.sqrt(np.mean(e**2))),
+            "e_error_mean": float(e.mean()),
+            "force_error_max": float(force.max()), "loading_force_error_rms": float(np.sqrt(np.mean(loading**2)))}
+
+
+def measure_and_state(rows: list[dict], table_path, folder) -> dict:
+    """Check the table at ``table_path`` against every finished check row: write
+    FOLDER/vz_master_check.{csv,json} and state the measured accuracy in the table's .json
+    (``accuracy``, ``accuracy_details``, ``model_form``: the rms e and loading-force errors inside
+    the window, the u_g of calib.fit.measured.table_law). Returns the accuracy summary."""
+    import json
+    from pathlib import Path
+
+    from calib import output
+
+    table = VZMasterTable.load(table_path)
+    checks = [r for r in rows if r.get("kind") == "check" and r.get("status") == "ok"]
+    compared = [c for row in checks for c in check_material(row, table)]
+    summary = accuracy(compared)
+    errors = {row["name"]: fit_errors(row, table) for row in checks}
+    sigma_form = {kind: float(np.sqrt(np.mean([e[kind] ** 2 for e in errors.values()]))) for kind in DATA_KINDS} \
+        if errors else {}
+    groups = sorted({g for e in errors.values() for g in e["residual_rms"]})
+    residual_form = {g: float(np.sqrt(np.mean([e["residual_rms"][g] ** 2 for e in errors.values()]))) for g in groups}
+    summary["sigma_y_fit_errors"] = errors
+    stamp = output.stamp(0.0, table=str(table_path))
+    folder = Path(folder)
+    output.write_csv(folder / "vz_master_check.csv", compared, comment=output.stamp_comment(stamp))
+    output.write_json(folder / "vz_master_check.json", {"rows": compared, "accuracy": summary, "stamp": stamp})
+    if summary.get("paths"):
+        statement = (f"against direct FE at {summary['materials']} off-grid materials ({summary['paths']} load-unload "
+                     f"paths inside the window, peaks between the load nodes): e within {100 * summary['e_error_max']:.2g} % "
+                     f"(rms {100 * summary['e_error_rms']:.2g} %), force within {100 * summary['force_error_max']:.2g} % "
+                     f"of P_max, loading force rms {100 * summary['loading_force_error_rms']:.2g} %; sigma_Y fitted to "
+                     f"their noise-free FE data rms " + ", ".join(f"{k} {100 * v:.2g} %" for k, v in sigma_form.items()))
+    else:
+        statement = "not checked against off-grid FE"
+    meta_path = Path(table_path).with_suffix(".json")
+    meta = json.loads(meta_path.read_text(encoding="utf-8"))
+    meta["vz_master_table"].update({"accuracy": statement, "accuracy_details": summary,
+                                    "model_form": {"sigma_y": sigma_form, "residual_rms": residual_form,
+                                                   "definition": "rms of ln(sigma_fit / sigma_true) of fit-data's "
+                                                                 "vz-table model on the noise-free FE data of the "
+                                                                 "off-grid check materials, per kind of data; "
+                                                                 "residual_rms: the rms residual of those fits per "
+                                                                 "kind and group"}})
+    output.write_json(meta_path, meta)
+    return {**summary, "statement": statement}

@@ -1,0 +1,162 @@
+"""The master table of the vz-table law: a_p/a_Y and C_R against P/P_Y over (nu, E / sigma_Y).
+
+The vz-table law (nfdmodel.vz_table) loads along D(x) = (x^(1/3) + f(x))^2 / g(x) and unloads
+with C_R = g(x_m) frozen (x = P/P_Y, D = alpha/delta_Y, f = a_p/a_Y, g = C_R; calib.fit.table_fit).
+For a sphere on a rigid flat f and g are functions of x, nu and E / sigma_Y only, so one FE
+calibration per grid node (nu, E / sigma_Y), at the FE's reach, gives them for every material
+(calib.fit.vz_master_build writes calib/data/vz_master_table.{csv,json}). At a material:
+
+    f(x_k), g(x_k) = PCHIP in nu, then PCHIP in log10(E / sigma_Y) of the node values at each
+                     common load x_k (monotone cubics: exact on the nodes, no overshoot),
+
+using at each x_k the E / sigma_Y columns that reach it (a softer material's window ends lower:
+P <= 1000 P_Y and a <= 0.3 R); the material's window runs from the largest lowest-unloading-path
+load of the surrounding nodes to the largest x_k that the columns around it reach. Then
+
+    a_p = a_Y f,   C_R = g   (nfdmodel.VZTableParams(pair, x_k, f, g, window))
+
+numpy/scipy only (``nfdcal material --v-max`` answers in a fraction of a second). Its accuracy,
+against direct FE at off-grid materials (calib.fit.vz_master_check), is in the table's .json.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import PchipInterpolator
+
+from calib.fit.master_table import DATA_DIR, read_rows
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
+
+DEFAULT_TABLE = DATA_DIR / "vz_master_table.csv"
+
+
+def pchip_along(axis: np.ndarray, values: np.ndarray, at: float) -> np.ndarray:
+    """Monotone cubics through (axis, values[i, ...]) along axis 0, at ``at`` (lines through two points)."""
+    if axis.size == 1:
+        return values[0]
+    if axis.size == 2:
+        t = (at - axis[0]) / (axis[1] - axis[0])
+        return (1.0 - t) * values[0] + t * values[1]
+    return PchipInterpolator(axis, values, axis=0, extrapolate=False)(at)
+
+
+@dataclass(frozen=True)
+class VZMasterTable:
+    """f, g at the common loads x over the grid nu x E_over_sigma_y (NaN above a node's window)."""
+    nu: np.ndarray
+    E_over_sigma_y: np.ndarray
+    x: np.ndarray
+    f: np.ndarray                 # (len(nu), len(E_over_sigma_y), len(x))
+    g: np.ndarray
+    window_low: np.ndarray        # (len(nu), len(E_over_sigma_y)): the lowest unloading path [P_Y]
+    window_top: np.ndarray
+    rel_error: np.ndarray         # the nodes' estimated discretisation error (NaN: not estimated)
+    meta: dict = field(default_factory=dict)
+    path: Path | None = None
+
+    @classmethod
+    def from_rows(cls, rows: list[dict], meta: dict | None = None, path: Path | None = None) -> "VZMasterTable":
+        where = f" in {path}" if path else ""
+        need = ("nu", "E_over_sigma_y", "P_over_P_Y", "a_p_over_a_Y", "C_R", "window_low", "window_top")
+        if not rows or any(k not in rows[0] for k in need):
+            raise ValueError(f"vz master table{where}: need the columns {', '.join(need)}")
+        nu = np.unique([float(r["nu"]) for r in rows])
+        ratio = np.unique([float(r["E_over_sigma_y"]) for r in rows])
+        x = np.unique([float(r["P_over_P_Y"]) for r in rows])
+        shape = (nu.size, ratio.size)
+        f, g = np.full(shape + (x.size,), np.nan), np.full(shape + (x.size,), np.nan)
+        low, top, err = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+        for r in rows:
+            i, j, k = (int(np.searchsorted(a, float(r[c]))) for a, c in
+                       ((nu, "nu"), (ratio, "E_over_sigma_y"), (x, "P_over_P_Y")))
+            f[i, j, k], g[i, j, k] = (float(r[c]) if isinstance(r[c], float) else np.nan for c in ("a_p_over_a_Y", "C_R"))
+            low[i, j], top[i, j] = float(r["window_low"]), float(r["window_top"])
+            e = r.get("rel_error_estimate")
+            err[i, j] = float(e) if isinstance(e, float) else np.nan
+        if np.isnan(low).any():
+            missing = [(float(nu[i]), float(ratio[j])) for i, j in zip(*np.nonzero(np.isnan(low)))]
+            raise ValueError(f"vz master table{where}: grid nodes (nu, E/sigma_Y) without a value: {missing}")
+        if nu.size < 2 or ratio.size < 2 or x[0] != 1.0:
+            raise ValueError(f"vz master table{where}: need >= 2 values of nu and of E/sigma_Y and loads from P/P_Y = 1")
+        return cls(nu, ratio, x, f, g, low, top, err, meta or {}, path)
+
+    @classmethod
+    def load(cls, path: str | Path | None = None) -> "VZMasterTable":
+        """The table at ``path`` (default: the shipped one) with its metadata (same name, .json)."""
+        path = Path(path) if path is not None else DEFAULT_TABLE
+        rows = read_rows(path)
+        meta_path = path.with_suffix(".json")
+        meta = json.loads(meta_path.read_text(encoding="utf-8")) if meta_path.is_file() else {}
+        return cls.from_rows(rows, meta.get("vz_master_table", meta), path)
+
+    def check(self, nu: float, E_over_sigma_y: float) -> None:
+        """ValueError naming the parameter and the table's range when (nu, E/sigma_Y) is outside it."""
+        for name, value, axis in (("nu", nu, self.nu), ("E/sigma_Y", E_over_sigma_y, self.E_over_sigma_y)):
+            if not (isinstance(value, (int, float)) and math.isfinite(value)):
+                raise ValueError(f"{name} must be a finite number, got {value!r}")
+            lo, hi = float(axis[0]), float(axis[-1])
+            if not lo * (1 - 1e-12) <= value <= hi * (1 + 1e-12) + 1e-15:
+                raise ValueError(f"{name} = {value:g} is outside the vz master table: need {name} in [{lo:g}, {hi:g}] "
+                                 f"(calibrate this material by FE with `nfdcal calibrate --v-max` instead)")
+
+    @staticmethod
+    def _reaches(columns: np.ndarray, log_ratio: np.ndarray, lr: float) -> bool:
+        """Whether the E/sigma_Y columns that reach a load bracket log10(E/sigma_Y) = lr."""
+        valid = np.nonzero(columns)[0]
+        return bool(valid.size and log_ratio[valid[0]] - 1e-12 <= lr <= log_ratio[valid[-1]] + 1e-12)
+
+    def _bracket(self, axis: np.ndarray, value: float) -> slice:
+        i = int(np.clip(np.searchsorted(axis, value), 1, axis.size - 1))
+        return slice(i - 1, i + 1)
+
+    def tables(self, nu: float, E_over_sigma_y: float) -> dict:
+        """x, f, g at (nu, E/sigma_Y) on the common loads the material's window covers, the window
+        [low, top] in P/P_Y and the surrounding nodes' largest estimated discretisation error."""
+        self.check(nu, E_over_sigma_y)
+        nu = min(max(nu, self.nu[0]), self.nu[-1])
+        lr = float(np.clip(np.log10(E_over_sigma_y), *np.log10(self.E_over_sigma_y[[0, -1]])))
+        log_ratio = np.log10(self.E_over_sigma_y)
+        both = np.stack([self.f, self.g], axis=-1)                 # (nu, ratio, x, 2)
+        finite = np.all(np.isfinite(both), axis=(0, 3))                # (ratio, x): every nu reaches x_k
+        at_nu = pchip_along(self.nu, np.where(np.isfinite(both), both, 0.0), nu)   # (ratio, x, 2); unreached: unused
+        reach = np.array([self._reaches(finite[:, k], log_ratio, lr) for k in range(self.x.size)])
+        stop = int(np.argmin(reach)) if not reach.all() else self.x.size   # the loads up to the first unreached one
+        value = np.empty((stop, 2))
+        k = 0
+        while k < stop:                  # runs of loads reached by the same E/sigma_Y columns: one interpolation
+            end = k + 1
+            while end < stop and np.array_equal(finite[:, end], finite[:, k]):
+                end += 1
+            valid = np.nonzero(finite[:, k])[0]
+            value[k:end] = pchip_along(log_ratio[valid], at_nu[valid, k:end], lr)
+            k = end
+        xs, fs, gs = self.x[:stop], value[:, 0], value[:, 1].copy()
+        if stop < 2:
+            raise ValueError(f"E/sigma_Y = {E_over_sigma_y:g}: the vz master table's nodes around it reach no load above P_Y")
+        f = np.maximum.accumulate(np.maximum(fs, 0.0))    # monotone, as VZTableParams needs
+        f[0], gs[0] = 0.0, 1.0
+        around = (self._bracket(self.nu, nu), self._bracket(self.E_over_sigma_y, 10.0 ** lr))
+        errors = self.rel_error[around]
+        low = float(self.window_low[around].max())
+        return {"x": np.array(xs), "f": f, "g": gs, "low": min(low, xs[-1]), "top": xs[-1],
+                "rel_error_estimate": None if np.isnan(errors).any() else float(errors.max())}
+
+    def law(self, material: Material, R: float) -> VZTableParams:
+        """The vz-table law of a sphere of ``material`` and radius R [m] on a rigid flat, declared on
+        the table's window at that material."""
+        values = self.tables(float(material.nu), float(material.E / material.sigma_y))
+        pair = ContactPair.sphere_flat(material, R)
+        a_top = pair.a_Y * (np.cbrt(values["top"]) + values["f"][-1]) / pair.R_star   # the law's a = a_Y (x^(1/3) + f)
+        name = self.path.name if self.path else "vz master table"
+        window = CalibrationWindow(values["low"], values["top"], float(min(a_top, 1.0)),
+                                   f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
+                                   f"to {values['top']:.4g} P_Y")
+        return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]), window)
+
+    @property
+    def accuracy(self) -> str:
+        return self.meta.get("accuracy", "not stated")

@@ -1,0 +1,170 @@
+"""Benchmark: sigma_Y recovered by fit-data's vz-table model from FE data the law did not make.
+
+The project's FE stands in for the laboratory (material known): the off-grid materials of the
+scene vz_master_grid (calib/scenes/builtin/sweeps/vz_master_grid.toml, ``[[check]]``; not table nodes,
+nu 0.22-0.45, E/sigma_Y 150-3000), each an FE calibration at the FE's reach with unloading paths
+log-spaced over its window (their data in results/tables/vz_master_grid/nodes/, kind "check").
+From each material:
+
+    drop tests      one per FE load-unload path whose peak lies inside the table's window at that
+                    material: v_in = sqrt(2 W_l / m*) (the FE's loading work), e = sqrt(W_u / W_l)
+                    (the work the FE returned), P_max the FE peak; fitted on e alone ("drops e")
+                    and on e and P_max ("drops e+P")
+    force-approach  the FE loading branch to the highest path's peak and its unloading ("force")
+
+with 0 % noise (one trial) and 1 %, 3 % multiplicative Gaussian noise (``--trials`` seeded trials
+each; e capped at 1) on every measured value. Fitted: sigma_Y alone (calib.fit.measured.table_law,
+no start given), its 95 % interval including the law's model-form error, measured on the other
+five materials (leave one out: a material does not set its own interval). Printed and written
+(results/fit_data/fe_benchmark.csv, .json, stamped): per data kind and noise level, over the
+materials and trials, the bias (mean of sigma_fit / sigma_true - 1), the rms error and the
+coverage of the 95 % intervals. Targets: |error| within 3 %, coverage >= 90 %. For comparison,
+the noise-free data also go through the two-constant constrained model (``nfdcal fit-data``
+without --law: Ca_hat, Kc_hat of the master table; "vz: ..." rows; its interval: +-1.96 SE).
+
+Usage: .venv/bin/python tests/benchmarks/bench_fit_data_fe.py [--trials 10] [--seed 1]
+       [--nodes results/tables/vz_master_grid/nodes] [--out results/fit_data]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from calib import output
+from calib.fit.measured.table_law import fit
+from calib.fit.vz_master_check import DATA_KINDS, fe_datasets, measurements
+from calib.fit.vz_master_table import VZMasterTable
+
+NOISES = (0.0, 0.01, 0.03)
+KINDS = DATA_KINDS
+TARGET_ERROR, TARGET_COVERAGE = 0.03, 0.90
+
+
+def noisy(sets: dict, noise: float, rng) -> dict:
+    d = sets["drops"]
+    e = np.minimum(d["e"] * (1 + noise * rng.standard_normal(d["e"].size)), 1.0)
+    P = d["P_max"] * (1 + noise * rng.standard_normal(d["P_max"].size))
+    approach, force = sets["force"]
+    force = force * (1 + noise * rng.standard_normal(force.size))
+    return {"v_in": d["v_in"], "e": e, "P_max": P, "approach": approach, "force": force}
+
+
+def left_out_model_form(table: VZMasterTable, name: str) -> dict:
+    """u per data kind from the other check materials' noise-free fit errors (the table's .json):
+    the material under test does not set its own interval."""
+    errors = table.meta.get("accuracy_details", {}).get("sigma_y_fit_errors", {})
+    others = [e for n, e in errors.items() if n != name]
+    return {kind: float(np.sqrt(np.mean([e[kind] ** 2 for e in others]))) for kind in DATA_KINDS} if others else {}
+
+
+def run(nodes: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]:
+    rows = [json.loads(p.read_text()) for p in sorted(nodes.glob("*.json"))]
+    rows = sorted([r for r in rows if r.get("kind") == "check" and r.get("status") == "ok"],
+                  key=lambda r: r["E_over_sigma_y"])
+    rng = np.random.default_rng(seed)
+    out = []
+    for row in rows:
+        sets = fe_datasets(row, table)
+        form = left_out_model_form(table, row["name"])
+        for noise in NOISES:
+            for trial in range(1 if noise == 0 else trials):
+                values = noisy(sets, noise, rng)
+                for kind in KINDS:
+                    record = {"material": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"],
+                              "kind": kind, "noise": noise, "trial": trial, "n_drops": int(values["v_in"].size),
+                              "window_low": sets["window"][0], "window_top": sets["window"][1]}
+                    try:
+                        result = fit(measurements(kind, values, row["name"]), sets["specimen"], table,
+                                     noise=noise or None, model_form=form)
+                    except ValueError as exc:
+                        out.append({**record, "error": str(exc)[:200]})
+                        continue
+                    low, high = result.interval95
+                    out.append({**record, "sigma_y_error": result.sigma_y / sets["sigma_y"] - 1.0,
+                                "se_rel": result.se / result.sigma_y, "se_stat_rel": result.se_stat / result.sigma_y,
+                                "se_model_rel": result.se_model / result.sigma_y,
+                                "covered": bool(low <= sets["sigma_y"] <= high), "rms_residual": result.rms_residual,
+                                "consistent": result.consistent})
+        for kind in ("drops e", "force"):
+            out.append(two_constant_fit(kind, noisy(sets, 0.0, rng), sets, row))
+    return out
+
+
+def two_constant_fit(kind: str, values: dict, sets: dict, row: dict) -> dict:
+    """The noise-free data through the two-constant constrained model (module doc)."""
+    from calib.fit.master_table import MasterTable
+    from calib.fit.measured.models import fit_constrained
+
+    record = {"material": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"],
+              "kind": f"vz: {kind}", "noise": 0.0, "trial": 0}
+    try:
+        result = fit_constrained(measurements(kind, values, row["name"]), sets["specimen"], MasterTable.load())
+    except ValueError as exc:
+        return {**record, "error": str(exc)[:200]}
+    estimate, se = result.values["sigma_y"], result.standard_errors["sigma_y"] or 0.0
+    return {**record, "sigma_y_error": estimate / sets["sigma_y"] - 1.0, "se_rel": se / estimate,
+            "covered": bool(abs(estimate - sets["sigma_y"]) <= 1.959964 * se), "rms_residual": result.rms_residual}
+
+
+def summarise(rows: list[dict]) -> list[dict]:
+    out = []
+    for kind in KINDS + ("vz: drops e", "vz: force"):
+        for noise in NOISES:
+            sel = [r for r in rows if r["kind"] == kind and r["noise"] == noise]
+            ok = [r for r in sel if "sigma_y_error" in r]
+            if not sel:
+                continue
+            err = np.array([r["sigma_y_error"] for r in ok]) if ok else np.array([np.nan])
+            out.append({"kind": kind, "noise": noise, "fits": len(sel), "failed": len(sel) - len(ok),
+                        "materials": len({r["material"] for r in sel}),
+                        "bias": float(np.mean(err)), "rms_error": float(np.sqrt(np.mean(err**2))),
+                        "max_abs_error": float(np.max(np.abs(err))),
+                        "coverage95": float(np.mean([r["covered"] for r in ok])) if ok else float("nan"),
+                        "median_se_rel": float(np.median([r["se_rel"] for r in ok])) if ok else float("nan")})
+    for s in out:
+        s["meets_target"] = bool(s["max_abs_error"] <= TARGET_ERROR and s["coverage95"] >= TARGET_COVERAGE
+                                 and s["failed"] == 0)
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--trials", type=int, default=10)
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--nodes", default="results/tables/vz_master_grid/nodes")
+    parser.add_argument("--table", default=None, help="vz master table CSV (default: the shipped one)")
+    parser.add_argument("--out", default="results/fit_data")
+    ns = parser.parse_args(argv)
+    started = time.perf_counter()
+    table = VZMasterTable.load(ns.table)
+    rows = run(Path(ns.nodes), ns.trials, ns.seed, table)
+    summary = summarise(rows)
+    print(f"{'data':10s} {'noise':>5s} {'fits':>4s} {'fail':>4s} {'bias':>7s} {'rms':>7s} {'max|e|':>7s} "
+          f"{'cover95':>7s} {'se':>6s}  target")
+    for s in summary:
+        print(f"{s['kind']:10s} {100 * s['noise']:4.0f}% {s['fits']:4d} {s['failed']:4d} {100 * s['bias']:+6.2f}% "
+              f"{100 * s['rms_error']:6.2f}% {100 * s['max_abs_error']:6.2f}% {100 * s['coverage95']:6.0f}% "
+              f"{100 * s['median_se_rel']:5.2f}%  {'met' if s['meets_target'] else 'NOT met'}")
+    per_material = {}
+    for r in rows:
+        if "sigma_y_error" in r and r["noise"] == 0:
+            per_material.setdefault(r["material"], {})[r["kind"]] = r["sigma_y_error"]
+    for name, errors in per_material.items():
+        print(f"  {name}: noise-free error " + ", ".join(f"{k} {100 * v:+.2f} %" for k, v in errors.items()))
+    out = Path(ns.out)
+    stamp = output.stamp(time.perf_counter() - started, command="python tests/benchmarks/bench_fit_data_fe.py "
+                         + " ".join(argv or []), trials=ns.trials, seed=ns.seed, table=str(table.path),
+                         targets={"abs_error": TARGET_ERROR, "coverage95": TARGET_COVERAGE})
+    output.write_csv(out / "fe_benchmark.csv", summary, comment=output.stamp_comment(stamp))
+    output.write_json(out / "fe_benchmark.json", {"summary": summary, "fits": rows, "stamp": stamp})
+    print(f"written to {out}/fe_benchmark.csv, .json ({time.perf_counter() - started:.0f} s)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

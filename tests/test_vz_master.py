@@ -1,0 +1,159 @@
+"""The vz master table (calib.fit.vz_master_table) and fit-data's vz-table model
+(calib.fit.measured.table_law), checked against FE data: the shipped table's own FE nodes
+(results/tables/vz_master_grid/nodes) and the FE load-unload paths of two off-grid materials
+stored in tests/data/vz_master_fe.json (the checks nu0.42_E700sy and nu0.22_E2000sy of the scene
+vz_master_grid; not table nodes, never made by the law)."""
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from calib.cli import main
+from calib.fit import vz_master_build
+from calib.fit.measured.data import ForceApproachData, ImpactData, Measurements
+from calib.fit.measured.specimen import Specimen
+from calib.fit.measured.table_law import fit
+from calib.fit.vz_master_check import check_material, fe_paths, material_of
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import ContactPair, Material
+
+ROOT = Path(__file__).resolve().parent.parent
+FE_DATA = Path(__file__).resolve().parent / "data" / "vz_master_fe.json"
+NODES = ROOT / "results" / "tables" / "vz_master_grid" / "nodes"
+# bounds of the interpolated law against the stored off-grid FE paths inside its window (the
+# table's .json states the figures measured on every check material)
+E_BOUND, FORCE_BOUND = 0.03, 0.06
+SIGMA_Y_BOUND = 0.03            # sigma_Y recovered from the stored FE data within this
+
+
+@pytest.fixture(scope="module")
+def table():
+    return VZMasterTable.load()
+
+
+@pytest.fixture(scope="module")
+def fe_rows():
+    return json.loads(FE_DATA.read_text(encoding="utf-8"))["rows"]
+
+
+def node_rows():
+    rows = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
+    return [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
+
+
+def test_shipped_table_covers_its_grid_and_states_its_measured_accuracy(table):
+    scene = vz_master_build.load_scene("vz_master_grid")
+    assert list(table.nu) == scene["nu"] and list(table.E_over_sigma_y) == scene["E_over_sigma_y"]
+    assert "off-grid" in table.accuracy and table.meta["model_form"]["sigma_y"]["drops e"] > 0
+    assert table.meta["accuracy_details"]["materials"] >= 6
+
+
+def test_the_table_is_exact_on_its_nodes_against_each_node_fe_calibration(table):
+    rows = node_rows()
+    assert len(rows) == table.nu.size * table.E_over_sigma_y.size
+    for row in rows[:: max(1, len(rows) // 5)]:
+        values = table.tables(row["nu"], row["E_over_sigma_y"])
+        f, g = vz_master_build.resample(row, values["x"])
+        assert np.allclose(values["f"], f, rtol=1e-9, atol=1e-12)
+        assert np.allclose(values["g"], g, rtol=1e-9, atol=1e-12)
+        assert values["top"] <= row["window"]["P_max_over_P_Y"] * (1 + 1e-9)
+
+
+@pytest.mark.parametrize("index", [0, 1])
+def test_between_nodes_the_law_follows_the_off_grid_fe(table, fe_rows, index):
+    compared = [c for c in check_material(fe_rows[index], table) if c["inside"]]
+    assert len(compared) >= 3
+    worst_e = max(abs(c["e_error"]) for c in compared)
+    worst_force = max(c["force_error"] for c in compared)
+    assert worst_e <= E_BOUND, compared
+    assert worst_force <= FORCE_BOUND, compared
+
+
+def drop_tests(row, table):
+    material, R = material_of(row)
+    pair = ContactPair.sphere_flat(material, R)
+    window = table.law(material, R).window
+    inside = [p for p in fe_paths(row) if window.P_min_over_P_Y <= p["P_max"] / pair.P_Y <= window.P_max_over_P_Y * 1.000001]
+    v_in = np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside])
+    e = np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside])
+    return Specimen(material.E, material.nu, R, material.rho), material.sigma_y, v_in, e, inside
+
+
+@pytest.mark.parametrize("index", [0, 1])
+def test_fit_data_recovers_sigma_y_from_fe_drop_tests(table, fe_rows, index):
+    specimen, sigma_y, v_in, e, _ = drop_tests(fe_rows[index], table)
+    data = Measurements(impacts=ImpactData("fe_drops.csv", v_in, e, None, None, np.arange(1, e.size + 1)))
+    result = fit(data, specimen, table)
+    assert abs(result.sigma_y / sigma_y - 1) <= SIGMA_Y_BOUND
+    assert result.interval95[0] <= sigma_y <= result.interval95[1]
+
+
+def test_fit_data_recovers_sigma_y_from_an_fe_force_approach_curve(table, fe_rows):
+    specimen, sigma_y, _, _, inside = drop_tests(fe_rows[0], table)
+    top = max(inside, key=lambda p: p["P_max"])
+    data = Measurements(forces=ForceApproachData("fe_force.csv", (("fe", top["approach"], top["force"]),)))
+    result = fit(data, specimen, table)
+    assert abs(result.sigma_y / sigma_y - 1) <= SIGMA_Y_BOUND
+    assert result.interval95[0] <= sigma_y <= result.interval95[1]
+
+
+def test_a_residual_far_above_the_stated_noise_is_never_called_consistent(table, fe_rows):
+    specimen, sigma_y, v_in, e, _ = drop_tests(fe_rows[0], table)
+    skewed = np.minimum(e * np.linspace(0.8, 1.2, e.size), 1.0)      # a trend no yield stress explains
+    data = Measurements(impacts=ImpactData("skewed.csv", v_in, skewed, None, None, np.arange(1, e.size + 1)))
+    result = fit(data, specimen, table, noise=0.001)
+    assert not result.consistent
+    assert "consistent with" not in result.verdict and "agree" not in result.verdict
+
+
+def test_material_v_max_gives_the_law_and_its_window(capsys):
+    assert main(["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "100e6", "--R", "0.1", "--v-max", "0.05",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["law"] == "vz-table" and out["table"]["P_over_P_Y"][0] == 1.0
+    assert out["window"]["P_min_over_P_Y"] <= out["P_max_of_v_max_over_P_Y"] <= out["window"]["P_max_over_P_Y"]
+
+
+@pytest.mark.parametrize("argv, text", [
+    (["material", "--E", "70e9", "--nu", "0.1", "--sigma-y", "100e6", "--R", "0.1", "--v-max", "0.05"], "nu"),
+    (["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "100e6", "--R", "0.1", "--v-max", "50"], "v_max"),
+    (["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "1e6", "--R", "0.1", "--v-max", "0.05"], "E/sigma_Y"),
+    (["material", "--E", "70e9", "--nu", "0.3", "--sigma-y", "100e6", "--R", "0.1", "--v-max", "-1"], "v-max"),
+    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
+      "--law", "vz-table", "--noise", "-0.1"], "noise"),
+    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
+      "--law", "vz-table", "--free"], "--free"),
+    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
+      "--noise", "0.01"], "--noise"),
+])
+def test_bad_input_is_one_line_and_exit_2(argv, text, tmp_path, capsys):
+    impacts = tmp_path / "drops.csv"
+    impacts.write_text("v_in,e\n0.05,0.6\n0.1,0.55\n0.2,0.5\n", encoding="utf-8")
+    argv = [str(impacts) if a == "IMPACTS" else a for a in argv]
+    try:
+        code = main(argv)
+    except SystemExit as exc:                       # argparse's own refusals
+        code = exc.code
+    assert code == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and text in err and "Traceback" not in err
+
+
+def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path):
+    scene = vz_master_build.load_scene("vz_master_grid")
+    tasks = vz_master_build.tasks_for(scene)
+    assert len({t["key"] for t in tasks}) == len(tasks) == 16 + len(scene["checks"])
+    assert [t["E_over_sigma_y"] for t in tasks] == sorted(t["E_over_sigma_y"] for t in tasks)
+    with pytest.raises(ValueError, match="grid nodes"):
+        vz_master_build.write_master([{**fe_rows[0], "kind": "node"}], tmp_path / "t.csv", scene, "test")
+    material = Material(70e9, 0.3, 100e6, 2700.0)
+    assert material.E / material.sigma_y == 700.0
+
+
+def test_the_law_is_admissible_everywhere_in_the_table(table):
+    for nu in np.linspace(table.nu[0], table.nu[-1], 5):
+        for ratio in np.geomspace(table.E_over_sigma_y[0], table.E_over_sigma_y[-1], 9):
+            law = table.law(Material(ratio * 100e6, float(nu), 100e6, 2700.0), 0.1)
+            assert law.window.P_min_over_P_Y < law.window.P_max_over_P_Y <= law.x[-1] * (1 + 1e-12)
