@@ -414,6 +414,48 @@ def master_table(root: Path) -> list[str]:
     return lines
 
 
+def vz_master_table(root: Path) -> list[str]:
+    check = read_json(root / "tables" / "vz_master_grid" / "vz_master_check.json")
+    shipped = read_json(Path(__file__).resolve().parents[1] / "data" / "vz_master_table.json")
+    if check is None or shipped is None:
+        return []
+    law_table = shipped["vz_master_table"]
+    lines = study_header("The master table of the load-dependent law (`tables/vz_master_grid/`)", shipped["stamp"],
+                         "nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv")
+    lines += [f"a_p/a_Y and C_R of the vz-table law at P/P_Y {law_table['P_over_P_Y'][0]:g}..{law_table['P_over_P_Y'][-1]:.4g} "
+              f"({len(law_table['P_over_P_Y'])} loads) over nu {', '.join(f'{x:g}' for x in law_table['nu'])} x E/sigma_Y "
+              f"{', '.join(f'{x:g}' for x in law_table['E_over_sigma_y'])}, each node an FE calibration with unloading "
+              "paths log-spaced over its window (`nodes/`; `nfdcal material --v-max V` reads it). Accuracy, "
+              f"against FE paths of off-grid materials (`vz_master_check.*`): {law_table['accuracy']}.", ""]
+    rows = [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['P_max_over_P_Y']:.3g}",
+             f"{r['window_low']:.3g} - {r['window_top']:.0f}", "yes" if r["inside"] else "no",
+             pct(r["e_error"]), apct(r["force_error"])] for r in check["rows"]]
+    return lines + table(["nu", "E/sigma_Y", "P_max/P_Y", "window (P/P_Y)", "inside", "e error", "force error"], rows)
+
+
+def fit_data_benchmark(root: Path) -> list[str]:
+    data = read_json(root / "fit_data" / "fe_benchmark.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    targets = stamp.get("targets", {})
+    materials = sorted({(f["nu"], f["E_over_sigma_y"]) for f in data["fits"]})
+    lines = study_header("fit-data on FE data the law did not make (`fit_data/`)", stamp,
+                         "python tests/benchmarks/bench_fit_data_fe.py")
+    lines += [f"sigma_Y recovered by `nfdcal fit-data --law vz-table` from FE drop tests (e; e and P_max) and FE "
+              f"force-approach curves of {len(materials)} materials that are not table nodes ((nu, E/sigma_Y) = "
+              + ", ".join(f"({nu:g}, {ratio:g})" for nu, ratio in materials)
+              + f"), noise added to the FE data, {stamp.get('trials', '?')} trials per noise level; coverage = the "
+              "share of 95 % intervals that hold the true sigma_Y"
+              + (f"; targets |error| <= {apct(targets['abs_error'], 0)}, coverage >= {targets['coverage95']:.0%}."
+                 if targets else "."), ""]
+    rows = [[r["kind"], apct(r["noise"], 0), f"{r['fits']}", pct(r["bias"]), apct(r["rms_error"]),
+             apct(r["max_abs_error"]), f"{r['coverage95']:.0%}", "yes" if r["meets_target"] else "no"]
+            for r in data["summary"]]
+    return lines + table(["data", "noise", "fits", "bias", "rms error", "max error", "95 % coverage",
+                          "meets both"], rows)
+
+
 def stability(root: Path) -> list[str]:
     folder = root / "stability"
     runtime, fe, fuzz, plugin = (read_json(folder / n) for n in ("runtime_stability.json", "fe_stability.json",
@@ -615,7 +657,7 @@ def heap(root: Path) -> list[str]:
 
 
 def other(root: Path) -> list[str]:
-    known = {"calibration", "hertz", "collision", "tables", "stability", "lammps", "impact", README}
+    known = {"calibration", "hertz", "collision", "tables", "stability", "lammps", "impact", "fit_data", README}
     rest = sorted(p.name + ("/" if p.is_dir() else "") for p in root.iterdir()
                   if not p.name.startswith(".") and p.name not in known)
     if (root / "tables").is_dir():     # parameter tables of other scenes
@@ -630,8 +672,8 @@ def other(root: Path) -> list[str]:
     return lines + [""]
 
 
-SECTIONS = (calibration, mesh_ladder, wide_window, between_nodes, hertz, collision, impact, master_table, stability,
-            lammps, chung_ooi, heap, other)
+SECTIONS = (calibration, mesh_ladder, wide_window, between_nodes, hertz, collision, impact, master_table,
+            vz_master_table, fit_data_benchmark, stability, lammps, chung_ooi, heap, other)
 
 
 def read_section(make, root: Path) -> list[str]:

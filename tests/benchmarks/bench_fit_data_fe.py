@@ -132,6 +132,12 @@ def summarise(rows: list[dict]) -> list[dict]:
     return out
 
 
+def repo_relative(path) -> str:
+    """``path`` relative to the checkout when inside it (stamps name no machine's folders)."""
+    path, root = Path(path).resolve(), Path(__file__).resolve().parents[2]
+    return path.relative_to(root).as_posix() if path.is_relative_to(root) else str(path)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--trials", type=int, default=10)
@@ -158,7 +164,7 @@ def main(argv=None) -> int:
         print(f"  {name}: noise-free error " + ", ".join(f"{k} {100 * v:+.2f} %" for k, v in errors.items()))
     out = Path(ns.out)
     stamp = output.stamp(time.perf_counter() - started, command="python tests/benchmarks/bench_fit_data_fe.py "
-                         + " ".join(argv or []), trials=ns.trials, seed=ns.seed, table=str(table.path),
+                         + " ".join(argv or []), trials=ns.trials, seed=ns.seed, table=repo_relative(table.path),
                          targets={"abs_error": TARGET_ERROR, "coverage95": TARGET_COVERAGE})
     output.write_csv(out / "fe_benchmark.csv", summary, comment=output.stamp_comment(stamp))
     output.write_json(out / "fe_benchmark.json", {"summary": summary, "fits": rows, "stamp": stamp})
