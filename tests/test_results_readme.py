@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 from calib.cli import main
-from calib.report.results_index import g, render
+from calib.report.index_format import g
+from calib.report.results_index import render
 
 REPO = Path(__file__).resolve().parent.parent
 RESULTS = REPO / "results"
