@@ -39,6 +39,7 @@
 #include "nfd_law.h"
 
 #include <string>
+#include <vector>
 
 namespace nfdcal_lammps {
 
@@ -79,6 +80,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* The law's constants and contact models from arg[first] on; geometry: what precedes them,
      * for the message of a short line. */
     void read_constants(int narg, char **arg, const char *geometry);
+    /* `wall_material E_w nu_w` taken out of rest (the arguments from the first constant on): the
+     * wall's elastic material (p_Y infinite), or nullptr without the keyword (a rigid flat). */
+    const NfdMaterial *read_wall_material(std::vector<char *> &rest);
     /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
      * width doubles of the history]; registers the per-atom callbacks and the outputs. */
     void allocate(int slots, bool tagged);
@@ -92,7 +96,8 @@ class FixNfdWall : public LAMMPS_NS::Fix {
 
     const NfdLaw *law;
     const int first;              // the index of the first constant in the fix's arguments
-    NfdMaterial material;
+    NfdMaterial material;         // the contact's constants: the sphere's, E* with the wall's
+    NfdMaterial wall;             // wall_material: E_w, nu_w, E_w / (1 - nu_w^2)
     int width = NHIST;            // doubles per history: NHIST, or NHIST + NFRICTION with contact models
     int slots = 1;                // contacts kept per atom
     int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged
