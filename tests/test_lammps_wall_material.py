@@ -266,7 +266,8 @@ def test_exported_wall_material_runs_the_sphere_on_that_wall(plugin, tmp_path, c
     py = nfdmodel.collide("vz", on_steel, [v_in], dt=plane.DT)
     assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=plane.RTOL)
 
-    for bad in (["--wall-E", "210e9"], ["--wall-E", "210", "--wall-nu", "0.3"], ["--wall-E", "2e11", "--wall-nu", "0.5"]):
+    for bad in (["--wall-E", "210e9"], ["--wall-E", "210", "--wall-nu", "0.3"],
+                ["--wall-E", "2e11", "--wall-nu", "0.5"]):
         assert cli.main(flags + bad) == 2
     assert cli.main(flags[:4] + ["--wall-E", "2e11", "--wall-nu", "0.3"]) == 2
     errors = capsys.readouterr().err.splitlines()

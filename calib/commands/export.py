@@ -152,8 +152,8 @@ def wall_material(ns) -> str:
     if ns.wall_E is None and ns.wall_nu is None:
         return ""
     if ns.wall_E is None or ns.wall_nu is None:
-        raise ValueError("--wall-E, --wall-nu out of range: give both (the wall's elastic material) or neither (a rigid "
-                         "flat)")
+        raise ValueError("--wall-E, --wall-nu out of range: give both (the wall's elastic material) or neither "
+                         "(a rigid flat)")
     if ns.wall is None and ns.wall_region is None:
         raise ValueError("--wall-E, --wall-nu apply with --wall or --wall-region (the wall fixes)")
     E = number("--wall-E", ns.wall_E, low=0.0, unit="Pa")
