@@ -16,6 +16,7 @@ plugin did not produce:
   written out (G* computed here) to 1e-12, and differs from the rigid flat's 8 G/(2 - nu);
 - nfd/wall/vz with the keyword: e, P_max and contact time equal nfdmodel.collide of
   ContactPair.sphere_wall (1e-8), the loading leaves Hertz of the pair at the closed-form P_Y;
+  nfd/wall/hertz, thornton and vz-table likewise at 10 v_Y (1e-8);
 - the steel floor under an aluminium sphere: the rigid flat's stiffness and first-yield load
   against the elastic wall's, measured in LAMMPS and printed (the issue's 34 % too stiff, 0.56x);
 - the rigid limit: E_w at the top of the range of solids under a gel sphere gives the rigid flat
@@ -45,7 +46,7 @@ from test_lammps_friction import assert_same_motion  # noqa: E402
 import nfdmodel
 from calib import cli
 from calib.commands import lammps as lammps_command
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, limits
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams, limits
 from nfdmodel.materials import yield_factor
 
 ALUMINIUM = plane.ALUMINIUM
@@ -278,3 +279,23 @@ def test_exported_wall_material_runs_the_sphere_on_that_wall(plugin, tmp_path, c
         "of solids), got 210; did you give GPa? 210 GPa = 2.1e+11 Pa",
         "nfdcal export: error: --wall-nu out of range: need --wall-nu >= 0 and --wall-nu < 0.5, got 0.5",
         "nfdcal export: error: --wall-E, --wall-nu apply with --wall or --wall-region (the wall fixes)"], errors
+
+
+@pytest.mark.parametrize("law", ["hertz", "thornton", "vz-table"])
+def test_every_material_law_on_a_steel_wall_matches_nfdmodel(plugin, tmp_path, law):
+    """The other laws of a material with wall_material: nfdmodel.collide of ContactPair.sphere_wall
+    at 10 v_Y of the pair (the same leap-frog at the same dt), e and P_max within 1e-8."""
+    pair = ContactPair.sphere_wall(ALUMINIUM, RADIUS, STEEL_E, STEEL_NU)
+    v_in = 10.0 * pair.v_Y
+    if law == "vz-table":
+        args = f"file {plane.table_file(tmp_path)}"
+        params = VZTableParams(pair, *plane.TABLE_NODES, plane.TABLE_WINDOW)
+    else:
+        args = f"{ALUMINIUM.E!r} {ALUMINIUM.nu!r}" + (f" {ALUMINIUM.sigma_y!r}" if law == "thornton" else "")
+        params = pair
+    steps = int(1.3 * nfdmodel.collision_reference(law, params, [v_in]).contact_time_estimate[0] / plane.DT) + 50
+    rows = impact(plugin, tmp_path, f"nfd/wall/{law}", f"{args} {STEEL}", v_in, steps)
+    py = nfdmodel.collide(law, params, [v_in], dt=plane.DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=plane.RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=plane.RTOL)
+    assert (law == "hertz") == (py.e_velocity[0] > 0.999)             # the plastic laws dissipated
