@@ -118,6 +118,11 @@ def check_radius(name: str, R) -> float:
     return R
 
 
+def _in_series(modulus_i: float, modulus_j: float) -> float:
+    """E* = 1 / (1/E'_i + 1/E'_j) [Pa] of two bodies' plane-strain moduli E' = E/(1 - nu^2)."""
+    return 1.0 / (1.0 / modulus_i + 1.0 / modulus_j)
+
+
 @dataclass(frozen=True)
 class ContactPair:
     """Effective contact properties of a pair and its incipient-yield point.
@@ -172,6 +177,19 @@ class ContactPair:
                    material.sphere_mass(R))
 
     @classmethod
+    def sphere_wall(cls, material: Material, R: float, E_wall: float, nu_wall: float) -> "ContactPair":
+        """Sphere of radius R [m] on a flat elastic wall of E_wall [Pa], nu_wall [-]: R* = R,
+        1/E* = (1 - nu^2)/E + (1 - nu_wall^2)/E_wall, m* = m; first yield in the sphere (the wall
+        stays elastic). The LAMMPS wall fixes' `wall_material E_w nu_w`."""
+        if not isinstance(material, Material):
+            raise ValueError(f"material must be a Material, got {type(material).__name__}")
+        R = check_radius("R", R)
+        E_wall = check_solid("E", check_real("E_wall", E_wall, low=0.0, unit="Pa"))
+        nu_wall = check_real("nu_wall", nu_wall, low=0.0, low_inclusive=True, high=limits.NU_MAX)
+        E_star = _in_series(material.plane_strain_modulus, E_wall / (1.0 - nu_wall**2))
+        return cls(R, E_star, material.sigma_y, material.nu, material.sphere_mass(R))
+
+    @classmethod
     def sphere_sphere(cls, material_i: Material, R_i: float, material_j: Material,
                       R_j: float) -> "ContactPair":
         """Two spheres: 1/R* = 1/R_i + 1/R_j, 1/E* = sum (1 - nu^2)/E, m* = m_i m_j/(m_i + m_j).
@@ -187,7 +205,7 @@ class ContactPair:
         R_i = check_radius("R_i", R_i)
         R_j = check_radius("R_j", R_j)
         R_star = 1.0 / (1.0 / R_i + 1.0 / R_j)
-        E_star = 1.0 / (1.0 / material_i.plane_strain_modulus + 1.0 / material_j.plane_strain_modulus)
+        E_star = _in_series(material_i.plane_strain_modulus, material_j.plane_strain_modulus)
         m_i, m_j = material_i.sphere_mass(R_i), material_j.sphere_mass(R_j)
         first_to_yield = min((material_i, material_j), key=lambda m: yield_factor(m.nu) * m.sigma_y)
         return cls(R_star, E_star, first_to_yield.sigma_y, first_to_yield.nu, m_i * m_j / (m_i + m_j))

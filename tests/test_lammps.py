@@ -492,16 +492,18 @@ def wall_rows(output: str) -> np.ndarray:
                      if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
 
 
-def test_wall_history_goes_through_a_restart_file(plugin, tmp_path):
+@pytest.mark.parametrize("wall_material", ["", " wall_material 210000000000.0 0.3"])
+def test_wall_history_goes_through_a_restart_file(plugin, tmp_path, wall_material):
     """write_restart in mid-unloading, read_restart in a new LAMMPS with the wall fix defined again
     (same ID and style): the continued trajectory equals the uninterrupted one to round-off, also
-    continued on 2 MPI ranks (the sphere on their boundary x = 0). The
+    continued on 2 MPI ranks (the sphere on their boundary x = 0); on a rigid flat and on a steel
+    wall (wall_material: part of the fix's constants). The
     same restart with the fix under another ID (no history: a fresh contact at that overlap) does
     not, so the comparison sees the history."""
     pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
     params = VZParams.from_dimensionless(pair, REFERENCE.Ca_hat, REFERENCE.Kc_hat, CalibrationWindow.assumed_default())
     v_in = 10.0 * pair.v_Y
-    args = material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat)
+    args = material_args(ALUMINIUM, REFERENCE.Ca_hat, REFERENCE.Kc_hat) + wall_material
     steps = steps_for(params, v_in)
     sphere = [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)]
     whole = wall_rows(run_lammps(wall_input(plugin, args, sphere, steps), tmp_path))

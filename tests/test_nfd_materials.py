@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from nfdmodel import ContactPair, Material, VZParams, yield_factor
+from nfdmodel import ContactPair, Material, VZParams, limits, yield_factor
 from nfdmodel.materials import axis_stress_difference
 
 
@@ -122,3 +122,27 @@ def test_nfdmodel_imports_numpy_and_scipy_only():
             "if m in sys.modules]; print(heavy)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
+
+
+def test_sphere_wall_is_hertz_of_the_two_bodies_with_first_yield_in_the_sphere():
+    """ContactPair.sphere_wall (the LAMMPS wall fixes' wall_material): E* of Johnson 1985 section
+    4.2 written out, R* = R, P_Y = (pi A_Y(nu) sigma_Y)^3 R^2 / (6 E*^2) of the sphere's nu and
+    sigma_Y; an aluminium sphere on steel: the rigid flat is E'/E* = 4/3 as stiff and yields at
+    (E*/E')^2 = 0.5625 of the load; the stiffest wall of the range is the rigid flat to E'/E'_w."""
+    aluminium = Material.reference()
+    pair = ContactPair.sphere_wall(aluminium, 0.01, 210e9, 0.3)
+    E_star = 1.0 / ((1 - 0.3**2) / 70e9 + (1 - 0.3**2) / 210e9)
+    assert pair.E_star == pytest.approx(E_star, rel=1e-15) and pair.R_star == 0.01
+    assert pair.P_Y == pytest.approx((math.pi * yield_factor(0.3) * 1e8) ** 3 * 0.01**2 / (6 * E_star**2), rel=1e-14)
+    flat = ContactPair.sphere_flat(aluminium, 0.01)
+    assert flat.E_star / pair.E_star == pytest.approx(4.0 / 3.0, rel=1e-14)
+    assert flat.P_Y / pair.P_Y == pytest.approx(0.5625, rel=1e-14)
+    assert pair.mass_star == flat.mass_star and pair.sigma_y == flat.sigma_y and pair.nu == flat.nu
+    gel = Material(limits.E_MIN, 0.3, limits.SIGMA_Y_MIN, 1000.0)
+    stiffest = ContactPair.sphere_wall(gel, 0.01, limits.E_MAX, 0.3)
+    assert stiffest.E_star / ContactPair.sphere_flat(gel, 0.01).E_star == pytest.approx(
+        1.0 / (1.0 + limits.E_MIN / limits.E_MAX), rel=1e-15)
+    with pytest.raises(ValueError, match=r"^E out of range for a solid: need 100000 <= E <= 2e\+12 Pa"):
+        ContactPair.sphere_wall(aluminium, 0.01, 210.0, 0.3)
+    with pytest.raises(ValueError, match=r"^nu_wall out of range: need nu_wall >= 0 and nu_wall < 0.5"):
+        ContactPair.sphere_wall(aluminium, 0.01, 210e9, 0.5)

@@ -3,6 +3,7 @@
     nfdcal export lammps --params results/calibration/parameters.json
     nfdcal export lammps --params P.json --type 2 --wall zlo 0.0
     nfdcal export lammps --params P.json --wall-region bowl
+    nfdcal export lammps --params P.json --wall zlo 0.0 --wall-E 2.1e11 --wall-nu 0.3
 
 Prints, from a parameter file (``nfdcal calibrate``, ``nfdcal material --params-out``,
 ``nfdcal fit-data --params-out``), the lines that put its law into a LAMMPS input with the plugin
@@ -23,6 +24,11 @@ plugin reads:
     pair_coeff T T file /abs/path/params.json
     fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/path/params.json              (--wall)
     fix nfd_wall_region all nfd/wall/region/vz-table REGION-ID file /abs/path/params.json (--wall-region)
+
+With --wall-E E_W --wall-nu NU_W the wall lines carry ``wall_material E_W NU_W`` after the
+constants: a wall of that elastic material (E* of the sphere and the wall in series, first yield
+in the sphere; nfdmodel/lammps/README.md, Walls of their own material); without them the wall is
+a rigid flat.
 
 The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
 Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
@@ -54,6 +60,10 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--wall-region", default=None, metavar="REGION-ID",
                         help="also the wall fix of a region's surface (fix nfd/wall/region/<law>; the region defined "
                              "in the input)")
+    parser.add_argument("--wall-E", default=None, metavar="E_W",
+                        help="the walls' Young's modulus [Pa] (with --wall-nu: wall_material E_W NU_W; absent: a "
+                             "rigid flat)")
+    parser.add_argument("--wall-nu", default=None, metavar="NU_W", help="the walls' Poisson ratio (with --wall-E)")
     parser.add_argument("--mu", default=None, help="friction coefficient: tangential MODEL NULL X_GAMMA_T MU")
     parser.add_argument("--tangential", default="mindlin_rescale/force",
                         help="the Mindlin variant of --mu (default mindlin_rescale/force: the one for a plastic law)")
@@ -97,6 +107,7 @@ def run(ns) -> int:
     if ns.wall_region is not None and not LAMMPS_ID.fullmatch(ns.wall_region):
         raise ValueError("--wall-region REGION-ID out of range: need letters, digits and underscores (a LAMMPS "
                          f"region ID), got {ns.wall_region!r}")
+    wall_args = wall_material(ns)
     params = load_parameters(ns.params)
     if json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body") is not None:
         raise ValueError(f"--params out of range: {ns.params} holds constants calibrated for the sphere on a deformable "
@@ -114,6 +125,7 @@ def run(ns) -> int:
         law = "vz-table"
         law_args = f"file {quoted(str(Path(ns.params).resolve()))}"
         summary.update(law="vz-table", table_nodes=len(params.x))
+    constants = law_args
     models = model_keywords(ns)
     if models:
         law_args += " " + models
@@ -121,13 +133,38 @@ def run(ns) -> int:
     kind = int(atom_type)
     lines = ["# nfdcal export lammps: " + f"{ns.params} (load the plugin first: plugin load $(nfdcal lammps path))",
              f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {law_args}"]
+    wall_law_args = law_args
+    if wall_args:
+        wall_law_args = f"{constants} {wall_args}" + (f" {models}" if models else "")
+        summary.update(wall_E=number("--wall-E", ns.wall_E), wall_nu=number("--wall-nu", ns.wall_nu))
     if wall is not None:
-        lines.append(f"fix nfd_wall all nfd/wall/{law} {wall[0]} {exact(wall[1])} {law_args}")
+        lines.append(f"fix nfd_wall all nfd/wall/{law} {wall[0]} {exact(wall[1])} {wall_law_args}")
     if ns.wall_region is not None:
-        lines.append(f"fix nfd_wall_region all nfd/wall/region/{law} {ns.wall_region} {law_args}")
+        lines.append(f"fix nfd_wall_region all nfd/wall/region/{law} {ns.wall_region} {wall_law_args}")
     summary.update(type=kind, lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0
+
+
+def wall_material(ns) -> str:
+    """``wall_material E_W NU_W`` of --wall-E --wall-nu (each within the range of nfd_limits.h), or
+    "" without them (a rigid flat)."""
+    from nfdmodel import limits
+    from nfdmodel.validation import unit_slip
+
+    if ns.wall_E is None and ns.wall_nu is None:
+        return ""
+    if ns.wall_E is None or ns.wall_nu is None:
+        raise ValueError("--wall-E, --wall-nu out of range: give both (the wall's elastic material) or neither "
+                         "(a rigid flat)")
+    if ns.wall is None and ns.wall_region is None:
+        raise ValueError("--wall-E, --wall-nu apply with --wall or --wall-region (the wall fixes)")
+    E = number("--wall-E", ns.wall_E, low=0.0, unit="Pa")
+    if not limits.E_MIN <= E <= limits.E_MAX:
+        raise ValueError(f"--wall-E out of range for a solid: need {limits.E_MIN:g} <= --wall-E <= {limits.E_MAX:g} Pa "
+                         f"(Young's modulus of solids), got {E:g}{unit_slip('E', E)}")
+    nu = number("--wall-nu", ns.wall_nu, low=0.0, low_inclusive=True, high=limits.NU_MAX)
+    return f"wall_material {exact(E)} {exact(nu)}"
 
 
 def _material_of(path) -> dict:

@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <vector>
 
 using namespace LAMMPS_NS;
 
@@ -49,12 +50,40 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int
 void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
 {
     if (narg <= first) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
-    const int models_at = first_model_keyword(narg - first, arg + first);
-    material = law->read(lmp, who(), true, models_at, arg + first);
-    material.models = read_models(lmp, who(), narg - first - models_at, arg + first + models_at,
-                                  !law->per_type_pair);
-    material.friction = contact_friction(material.models, material.E, material.nu, INFINITY, 0.0);
+    std::vector<char *> rest(arg + first, arg + narg);    // the constants and models, without wall_material
+    const NfdMaterial *wall = read_wall_material(rest);
+    const int count = static_cast<int>(rest.size());
+    const int models_at = first_model_keyword(count, rest.data());
+    material = law->read(lmp, who(), true, models_at, rest.data());
+    material.models = read_models(lmp, who(), count - models_at, rest.data() + models_at, !law->per_type_pair);
+    // an elastic wall: the pair style's mixing of two bodies, the wall never the one that yields
+    if (wall) material = law->mix(material, *wall);
+    material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
+                                         wall ? wall->nu : 0.0);
     width = material.models.any() ? NHIST + NFRICTION : NHIST;
+}
+
+const NfdMaterial *FixNfdWall::read_wall_material(std::vector<char *> &rest)
+{
+    const std::string keyword = who() + " wall_material";
+    size_t at = 0;
+    while (at < rest.size() && std::strcmp(rest[at], "wall_material") != 0) ++at;
+    if (at == rest.size()) return nullptr;
+    if (law->per_type_pair)
+        error->all(FLERR, fmt::format("{}: wall_material applies to the laws of a material (E nu ...), not to the "
+                                      "stiffnesses of {}", who(), law->wall_style));
+    if (at == 0 || rest.size() < at + 3)
+        error->all(FLERR, fmt::format("{}: need the keyword after the law's constants, followed by E_w [Pa] and "
+                                      "nu_w (the wall's elastic material)", keyword));
+    for (size_t k = at + 3; k < rest.size(); ++k)
+        if (std::strcmp(rest[k], "wall_material") == 0)
+            error->all(FLERR, fmt::format("{}: wall_material given twice", who()));
+    // E_w and nu_w as the hertz law reads a material (E within the range of solids, 0 <= nu < NU_MAX)
+    char *values[2] = {rest[at + 1], rest[at + 2]};
+    wall = NfdLaw::of(NFD_LAW_HERTZ)->read(lmp, keyword, true, 2, values);
+    wall.p_Y = INFINITY;             // elastic: first yield is the sphere's
+    rest.erase(rest.begin() + static_cast<long>(at), rest.begin() + static_cast<long>(at) + 3);
+    return &wall;
 }
 
 void FixNfdWall::allocate(int slots_per_atom, bool tag_slots)

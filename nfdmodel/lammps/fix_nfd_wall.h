@@ -1,9 +1,11 @@
 /* fix_nfd_wall.h: fix nfd/wall/<law> (nfd/wall/hertz, nfd/wall/vz, nfd/wall/thornton,
- * nfd/wall/vz-table, nfd/wall/walton-braun), a rigid flat wall with the law of the pair styles.
+ * nfd/wall/vz-table, nfd/wall/walton-braun), a flat wall, rigid or of its own elastic material,
+ * with the law of the pair styles.
  *
  *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
  *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2       (the contact's stiffnesses [N/m])
  *     fix ID group nfd/wall/vz-table FACE COORD file params.json
+ *     ... [wall_material E_w nu_w]   (the wall's elastic material; absent: a rigid flat)
  *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
  *
  * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
@@ -13,9 +15,16 @@
  * force pushes the atom away from the wall along the normal. With contact models (the keywords of
  * nfd_models.h after the constants) the contact is the kernel's nfd_contact_step on a rigid flat
  * (R_j = 0: LAMMPS's fix wall/gran with the sphere's E doubled), with torques, k_t NULL = 8 G /
- * (2 - nu). The per-atom history (nfd_history, then the nfd_friction_history)
- * travels with the atom between MPI ranks, goes into restart files (read back by a fix of the
- * same ID and style defined after read_restart) and is zeroed when the sphere leaves the wall.
+ * (2 - nu).
+ * With wall_material (every law but walton-braun) the wall is an elastic body of E_w [Pa], nu_w:
+ * the contact is the pair style's of two unlike bodies (NfdLaw::mix, the wall never yielding;
+ * nfdmodel.ContactPair.sphere_wall): 1/E* = (1 - nu^2)/E + (1 - nu_w^2)/E_w, R* as above, first
+ * yield in the sphere at the pair's P_Y = (pi A_Y(nu) sigma_Y)^3 R*^2 / (6 E*^2), the sphere's
+ * plastic constants, k_t NULL = 8 G* with 1/G* = (2 - nu)/G + (2 - nu_w)/G_w (Johnson 1985
+ * section 4.2; README of this folder, Walls of their own material).
+ * The per-atom history (nfd_history, then the nfd_friction_history) travels with the atom
+ * between MPI ranks, goes into restart files (read back by a fix of the same ID and style
+ * defined after read_restart) and is zeroed when the sphere leaves the wall.
  *
  * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
  * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
@@ -39,6 +48,7 @@
 #include "nfd_law.h"
 
 #include <string>
+#include <vector>
 
 namespace nfdcal_lammps {
 
@@ -79,6 +89,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* The law's constants and contact models from arg[first] on; geometry: what precedes them,
      * for the message of a short line. */
     void read_constants(int narg, char **arg, const char *geometry);
+    /* `wall_material E_w nu_w` taken out of rest (the arguments from the first constant on): the
+     * wall's elastic material (p_Y infinite), or nullptr without the keyword (a rigid flat). */
+    const NfdMaterial *read_wall_material(std::vector<char *> &rest);
     /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
      * width doubles of the history]; registers the per-atom callbacks and the outputs. */
     void allocate(int slots, bool tagged);
@@ -92,7 +105,8 @@ class FixNfdWall : public LAMMPS_NS::Fix {
 
     const NfdLaw *law;
     const int first;              // the index of the first constant in the fix's arguments
-    NfdMaterial material;
+    NfdMaterial material;         // the contact's constants: the sphere's, E* with the wall's
+    NfdMaterial wall;             // wall_material: E_w, nu_w, E_w / (1 - nu_w^2)
     int width = NHIST;            // doubles per history: NHIST, or NHIST + NFRICTION with contact models
     int slots = 1;                // contacts kept per atom
     int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged
