@@ -36,7 +36,8 @@ static std::string upper_id(const char *name)
 NfdLaw::NfdLaw(int code, const char *name, const char *title, bool has_window, bool per_type_pair) :
     code(code), pair_style(std::string("nfd/") + name), wall_style(std::string("nfd/wall/") + name),
     history_id(upper_id(name)), pair_info(fmt::format("nfdcal: {} (nfd_kernel.c)", title)),
-    wall_info(fmt::format("nfdcal: rigid flat wall, {} (nfd_kernel.c)", title)), has_window(has_window),
+    wall_info(fmt::format("nfdcal: flat wall (rigid, or elastic with wall_material), {} (nfd_kernel.c)", title)),
+    has_window(has_window),
     per_type_pair(per_type_pair)
 {
 }
