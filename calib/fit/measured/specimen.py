@@ -164,18 +164,24 @@ def predict_forces(params: VZParams, forces: ForceApproachData) -> list[np.ndarr
     return [drive_along(params, approach) for _, approach, _ in forces.tests]
 
 
+def impact_residuals(data: Measurements, predicted: dict) -> dict[str, np.ndarray]:
+    """The drop tests' relative residuals, e and (where measured) P_max and contact_time, of a law's
+    predictions at the measured v_in (arrays by name)."""
+    out = {"e": predicted["e"] / data.impacts.e - 1.0}
+    for name in ("P_max", "contact_time"):
+        measured = getattr(data.impacts, name)
+        if measured is not None and np.isfinite(measured).any():
+            seen = np.isfinite(measured)
+            out[name] = predicted[name][seen] / measured[seen] - 1.0
+    return out
+
+
 def relative_residuals(data: Measurements, params: VZParams, impacts: dict | None = None) -> dict[str, np.ndarray]:
     """Per group (e, P_max, contact_time, force): the relative residuals of the law (module doc).
     ``impacts``: the law's predictions at the measured v_in (default: :func:`predict_impacts`)."""
     out = {}
     if data.impacts is not None:
-        predicted = predict_impacts(params, data.impacts.v_in) if impacts is None else impacts
-        out["e"] = predicted["e"] / data.impacts.e - 1.0
-        for name in ("P_max", "contact_time"):
-            measured = getattr(data.impacts, name)
-            if measured is not None and np.isfinite(measured).any():
-                seen = np.isfinite(measured)
-                out[name] = predicted[name][seen] / measured[seen] - 1.0
+        out.update(impact_residuals(data, predict_impacts(params, data.impacts.v_in) if impacts is None else impacts))
     if data.forces is not None:
         floor = data.forces.force_floor
         predicted = predict_forces(params, data.forces)

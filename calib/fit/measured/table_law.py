@@ -42,7 +42,7 @@ import numpy as np
 from scipy import optimize
 
 from calib.fit.measured.data import Measurements
-from calib.fit.measured.specimen import Specimen
+from calib.fit.measured.specimen import Specimen, impact_residuals
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, PlausibilityWarning, RangeWarning, VZTableParams, collision_reference, get_law
 
@@ -90,13 +90,7 @@ def residuals(law: VZTableParams, data: Measurements) -> dict[str, np.ndarray]:
     predicted = predict(law, data)
     out = {}
     if data.impacts is not None:
-        at = predicted["impacts"]
-        out["e"] = at["e"] / data.impacts.e - 1.0
-        for name in ("P_max", "contact_time"):
-            measured = getattr(data.impacts, name)
-            if measured is not None and np.isfinite(measured).any():
-                seen = np.isfinite(measured)
-                out[name] = at[name][seen] / measured[seen] - 1.0
+        out.update(impact_residuals(data, predicted["impacts"]))
     if data.forces is not None:
         floor = data.forces.force_floor
         parts = []
