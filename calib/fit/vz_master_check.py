@@ -37,17 +37,25 @@ def material_of(row: dict) -> tuple[Material, float]:
 
 def fe_paths(row: dict) -> list[dict]:
     """Each FE load-unload path of a stored task row: its approach [m] and force [N] history
-    (the loading rows up to its peak, then its unloading), P_max [N], e, loading and unloading work [J]."""
+    (the loading rows up to its peak, then its unloading), P_max [N], loading and unloading work [J]
+    and e = sqrt(W_u / W_l), the works from the histories as calib.fe.loadpath takes them
+    (contact_work), so a stored row is read with the FE's current quadrature."""
+    from calib.fe.loadpath import contact_work
+
     P = np.asarray(row["loading"]["P"], dtype=float)
     alpha = np.asarray(row["loading"]["alpha"], dtype=float)
     out = []
     for path in row["paths"]:
         up = P <= path["P_max"] * (1 + 1e-9)
-        approach = np.concatenate([alpha[up], path["unloading"]["alpha"]])
-        force = np.concatenate([P[up], path["unloading"]["P"]])
-        out.append({"approach": approach, "force": force, "P_max": path["P_max"], "e": path["e"],
-                    "loading_work": path["loading_work"], "unloading_work": path["unloading_work"],
-                    "alpha_max": path["alpha_max"], "loading_points": int(up.sum())})
+        down_alpha = np.asarray(path["unloading"]["alpha"], dtype=float)
+        down_P = np.maximum(np.asarray(path["unloading"]["P"], dtype=float), 0.0)
+        loading_work = contact_work(np.r_[0.0, alpha[up]], np.r_[0.0, P[up]])
+        unloading_work = contact_work(np.r_[alpha[up][-1], down_alpha], np.r_[P[up][-1], down_P])
+        out.append({"approach": np.concatenate([alpha[up], down_alpha]),
+                    "force": np.concatenate([P[up], path["unloading"]["P"]]), "P_max": path["P_max"],
+                    "e": float(np.sqrt(unloading_work / loading_work)), "loading_work": loading_work,
+                    "unloading_work": unloading_work, "alpha_max": path["alpha_max"],
+                    "loading_points": int(up.sum())})
     return out
 
 
