@@ -12,11 +12,12 @@ nfdmodel.oblique_collide, and gives
 A curve the source gives once for both materials ("either") is compared with each. Differences
 ours - paper; the spin's over the largest spin of the digitised curve (spin_scale). TOLERANCE, the
 sum of three sources: (1) the digitised abscissae sit up to 0.3 deg off the angles the benchmark
-prescribes, where e_t changes by up to 0.07 per degree (near 5 deg), the spin by 40 rad/s per degree
-(near 10 deg, 0.02 of the scale) and the rebound angle by up to 2 deg per degree (near 50 deg); (2) the ordinates
-are read to about 0.5 % of each axis (0.005 in e_t, 0.5 deg, 0.005 of the spin scale); (3) the
-paper's runs have e_n = 0.98, ours are elastic (e_n = 1): the Coulomb impulse mu (1 + e_n) v_n is 1 %
-larger here (0.002 in e_t, 0.01 in the spin) and v_n' 2 % larger (up to 0.8 deg in the rebound angle).
+prescribes, where e_t changes by up to 0.07 per degree (near 5 deg), the spin by 40 rad/s per
+degree (near 10 deg, 0.02 of the scale) and the rebound angle by up to 2 deg per degree (near
+50 deg); (2) the ordinates are read to about 0.5 % of each axis (0.005 in e_t, 0.5 deg, 0.005 of
+the spin scale); (3) the paper's runs have e_n = 0.98, ours are elastic (e_n = 1): the Coulomb
+impulse mu (1 + e_n) v_n is 1 % larger here (0.002 in e_t, 0.01 in the spin) and v_n' 2 % larger
+(up to 0.8 deg in the rebound angle).
 
 SI units; angles in degrees.
 """
