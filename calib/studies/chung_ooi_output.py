@@ -1,5 +1,7 @@
 """The files of calib.studies.chung_ooi: chung_ooi.csv (one row per impact), chung_ooi.json (per test
-and material: the errors against the closed forms and the LAMMPS agreement; stamped), chung_ooi.png.
+and material: the errors against the closed forms and the LAMMPS agreement, test 4 against the paper's
+digitised curves; stamped), chung_ooi_paper.csv (one row per digitised point of test 4: the paper's value,
+ours, the difference; calib.studies.chung_ooi_paper), chung_ooi.png.
 
 Agreement of two runs of the same impacts (nfdmodel, the plugin, granular): the largest difference
 of the final velocities (both bodies) over the case's largest speed, and of the final spins over
@@ -136,18 +138,26 @@ def rows(elastic: list[dict], plastic: list[dict]) -> list[dict]:
     return out
 
 
-def write(out: Path, elastic: list[dict], plastic: list[dict], wall_time: float, no_lammps: bool) -> list[Path]:
+def write(out: Path, elastic: list[dict], plastic: list[dict], paper: list[dict], wall_time: float,
+          no_lammps: bool) -> list[Path]:
+    from calib.studies import chung_ooi_paper
     out.mkdir(parents=True, exist_ok=True)
     command = "python -m calib.studies.chung_ooi --out " + str(out) + (" --no-lammps" if no_lammps else "")
     stamp = output.stamp(wall_time, command=command, lammps=_lammps_version())
     summary = {"stamp": stamp, "tests": [case_summary(e) for e in elastic],
                "plastic": [plastic_summary(e) for e in plastic],
+               "paper_test4": {"source": "calib/data/chung_ooi_test4.csv", "points": len(paper),
+                               "worst": chung_ooi_paper.worst(paper), "tolerance": chung_ooi_paper.TOLERANCE,
+                               "spin_scale_rad_s": chung_ooi_paper.spin_scale()},
                "worst": _worst(elastic, plastic)}
+    summary["worst"] |= {"paper_" + k: v for k, v in summary["paper_test4"]["worst"].items()}
     paths = [output.write_json(out / "chung_ooi.json", summary),
              output.write_csv(out / "chung_ooi.csv", rows(elastic, plastic), COLUMNS,
+                              comment=output.stamp_comment(stamp)),
+             output.write_csv(out / "chung_ooi_paper.csv", paper, chung_ooi_paper.COLUMNS,
                               comment=output.stamp_comment(stamp))]
     from calib.studies import chung_ooi_plot
-    paths.append(chung_ooi_plot.plot(out / "chung_ooi.png", elastic, plastic))
+    paths.append(chung_ooi_plot.plot(out / "chung_ooi.png", elastic, plastic, paper))
     return paths
 
 

@@ -1,7 +1,8 @@
 """chung_ooi.png: the Chung & Ooi tests against their closed forms (calib.studies.chung_ooi).
 
 Lines: nfdmodel; open circles: the LAMMPS plugin; crosses: LAMMPS's granular; dashed: gross
-sliding; dotted: the no-slip Mindlin spring (scipy); grey: the plastic vz law.
+sliding; dotted: the no-slip Mindlin spring (scipy); squares: the paper's curves of test 4 as digitised
+(calib.studies.chung_ooi_paper; black: one curve for both materials); grey: the plastic vz law.
 """
 from __future__ import annotations
 
@@ -33,7 +34,19 @@ def _series(ax, entry, colour, x, quantity, label):
             ax.plot(x, quantity(*_frame(entry, contact)), marker, color=colour, ms=4, mfc="none")
 
 
-def plot(path: Path, elastic: list[dict], plastic: list[dict]) -> Path:
+def _paper_points(ax, paper: list[dict], quantity: str, materials: list[str], sign: float = 1.0) -> None:
+    """The digitised points of ``quantity``, coloured by material (black: the source's single curve)."""
+    for colour, material in list(zip(COLOURS, materials)) + [("k", None)]:
+        points = [(r["angle"], r["paper"]) for r in paper if r["quantity"] == quantity and (
+            r["material"] == material and r["paper_material"] != "either" if material else
+            r["paper_material"] == "either" and r["material"] == materials[0])]
+        if points:
+            angle, value = np.array(points).T
+            ax.plot(angle, sign * value, "s", color=colour, ms=4, mfc="none",
+                    label="Chung & Ooi (digitised)" if material is None or colour == COLOURS[0] else None)
+
+
+def plot(path: Path, elastic: list[dict], plastic: list[dict], paper: list[dict] = ()) -> Path:
     plt = output.pyplot()
     fig, axes = plt.subplots(3, 3, figsize=(15, 12))
     by_test = {}
@@ -76,6 +89,11 @@ def plot(path: Path, elastic: list[dict], plastic: list[dict]) -> Path:
             else:
                 _series(ax, entry, colour, case.angle, lambda vn, vt, w: w, case.material)
                 ax.plot(case.angle, ref["omega_out_sliding"], "--", color=colour, lw=0.8)
+        materials = [entry["case"].material for entry in by_test[4]]
+        if key == "e_t":
+            _paper_points(ax, paper, "e_t", materials)
+        else:       # the paper draws -omega' (module doc of chung_ooi_paper)
+            _paper_points(ax, paper, "spin_rad_s", materials, sign=-1.0)
         ax.set_xlabel("incidence angle [deg]")
         ax.set_ylabel("e_t = v_t'/v_t" if key == "e_t" else "spin out [rad/s]")
         ax.set_ylim(*((0.0, 1.2) if key == "e_t" else ax.get_ylim()))
