@@ -1,4 +1,5 @@
-"""``nfdcal fit-data`` and calib.fit.measured: the vz law fitted to measurements.
+"""``nfdcal fit-data --law vz`` and calib.fit.measured: the two-constant vz law fitted to
+measurements (the default vz-table law: tests/test_vz_master.py, against FE data).
 
 Synthetic drop tests come from the law itself (nfdmodel.collision_reference, the exact
 quasi-static restitution) with known parameters and 1-3 % multiplicative noise; the fit must
