@@ -234,8 +234,9 @@ COMMANDS = {
     "run": {"SCENE": 1, "--out": 1, "--v-max": 1, "--json": 0, "--quiet": 0, "--list": 0},
     "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},
-    "fit-data": {"--impacts": 1, "--force-approach": 1, "--free": 0, "--pair": 0, "--table": 1, "--params-out": 1, "--plot": 1,
-                 "--overwrite": 0, "--force": 0, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "fit-data": {"--impacts": 1, "--force-approach": 1, "--law": 1, "--noise": 1, "--free": 0, "--pair": 0, "--table": 1,
+                 "--params-out": 1, "--plot": 1, "--overwrite": 0, "--force": 0, "--json": 0,
+                 **{f: 1 for f in MATERIAL_FLAGS}},
     "export": {"ENGINE": 1, "--params": 1, "--type": 1, "--wall": 2, "--wall-E": 1, "--wall-nu": 1, "--json": 0},
     # build and path: the plugin comes from a cache seeded with one build (--force would compile each case)
     "lammps": {"ACTION": 1, "--out": 1, "--json": 0},

@@ -1,4 +1,5 @@
-"""``nfdcal fit-data`` and calib.fit.measured: the vz law fitted to measurements.
+"""``nfdcal fit-data --law vz`` and calib.fit.measured: the two-constant vz law fitted to
+measurements (the default vz-table law: tests/test_vz_master.py, against FE data).
 
 Synthetic drop tests come from the law itself (nfdmodel.collision_reference, the exact
 quasi-static restitution) with known parameters and 1-3 % multiplicative noise; the fit must
@@ -150,7 +151,7 @@ def test_a_best_fit_beyond_the_law_s_constants_is_one_line_naming_it(tmp_path, c
     largest = largest_admissible_Kc_hat(ALUMINIUM.pair(100e6), 0.03)
     truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6, "Ca_hat": 0.03, "Kc_hat": 0.995 * largest}, None)
     impacts = write_impacts(tmp_path / "drops.csv", drop_tests(truth, np.geomspace(1.2, 300.0, 20), 0.02, seed=1))
-    code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--free", "--sigma-y", "100e6"])
+    code = main(["fit-data", "--law", "vz", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--free", "--sigma-y", "100e6"])
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and "Traceback" not in err[0]
     assert "cannot be evaluated" in err[0] and "Kc_hat = " in err[0] and "the largest the vz law admits" in err[0], err
@@ -199,7 +200,7 @@ def test_two_sphere_tests_give_the_material_s_law(tmp_path, capsys, table):
     assert truth.pair.R_star == pytest.approx(0.05)
     impacts = write_impacts(tmp_path / "pairs.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.01, seed=5))
     params_out = tmp_path / "p.json"
-    assert main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--pair", "--json",
+    assert main(["fit-data", "--law", "vz", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--pair", "--json",
                  "--params-out", str(params_out)]) == 0
     summary = json.loads(capsys.readouterr().out)
     assert summary["sigma_y"] == pytest.approx(100e6, rel=0.02) and summary["specimen"]["tested"] == "two identical spheres"
@@ -214,8 +215,8 @@ def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     truth = law_parameters(ALUMINIUM, {"sigma_y": 100e6}, table)
     impacts = write_impacts(tmp_path / "drops.csv", drop_tests(truth, np.geomspace(2.0, 100.0, 12), 0.02, seed=3))
     params_out, plot = tmp_path / "p.json", tmp_path / "fit.png"
-    code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--json", "--params-out", str(params_out),
-                 "--plot", str(plot)])
+    code = main(["fit-data", "--law", "vz", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--json",
+                 "--params-out", str(params_out), "--plot", str(plot)])
     summary = json.loads(capsys.readouterr().out)
     assert code == 0 and plot.stat().st_size > 0
     for key in ("sigma_y", "sigma_y_se", "Ca", "Kc", "Ca_hat", "Kc_hat", "Ca_se", "Kc_se", "Ca_hat_se", "Kc_hat_se",
@@ -231,10 +232,11 @@ def test_parameter_file_loads_and_drives_a_collision(tmp_path, capsys, table):
     assert e == pytest.approx(predict_impacts(params, v)["e"], rel=2e-3)
 
     before = params_out.read_bytes()
-    code = main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--params-out", str(params_out)])
+    code = main(["fit-data", "--law", "vz", "--impacts", str(impacts), *SPECIMEN_FLAGS,
+                 "--params-out", str(params_out)])
     err = capsys.readouterr().err.strip()
     assert code == 2 and "--overwrite" in err and len(err.splitlines()) == 1 and params_out.read_bytes() == before
-    assert main(["fit-data", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--params-out", str(params_out),
+    assert main(["fit-data", "--law", "vz", "--impacts", str(impacts), *SPECIMEN_FLAGS, "--params-out", str(params_out),
                  "--overwrite"]) == 0
 
 
@@ -259,7 +261,7 @@ BAD_IMPACTS = [
 def test_bad_impact_data_is_one_line_naming_file_row_column(tmp_path, capsys, case, text, named):
     path = tmp_path / "drops.csv"
     path.write_text(text)
-    code = main(["fit-data", "--impacts", str(path), *SPECIMEN_FLAGS])
+    code = main(["fit-data", "--law", "vz", "--impacts", str(path), *SPECIMEN_FLAGS])
     captured = capsys.readouterr()
     err = captured.err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err and captured.out == ""

@@ -1,6 +1,6 @@
-"""``nfdcal fit-data`` on data it cannot fit, and on many rows (calib.fit.measured.scatter,
-calib.fit.measured.diagnosis, calib.fit.measured.regression's checks, calib.fit.measured.specimen's
-predictions of many tests).
+"""``nfdcal fit-data --law vz`` (the two-constant law) on data it cannot fit, and on many rows
+(calib.fit.measured.scatter, calib.fit.measured.diagnosis, calib.fit.measured.regression's checks,
+calib.fit.measured.specimen's predictions of many tests).
 
 Data the law cannot fit are one line on stderr, exit code 2, nothing written, naming the likely
 cause; a fit far above plausible scatter is written only with --force and flagged; no summary says
@@ -33,7 +33,8 @@ def table():
 
 
 def run(argv, capsys):
-    code = main(["fit-data", *argv])
+    """fit-data on the two-constant law (--law vz), whose refusals this module tests."""
+    code = main(["fit-data", "--law", "vz", *argv])
     captured = capsys.readouterr()
     return code, captured.out, captured.err.strip()
 

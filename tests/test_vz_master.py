@@ -99,6 +99,26 @@ def test_fit_data_recovers_sigma_y_from_an_fe_force_approach_curve(table, fe_row
     assert result.interval95[0] <= sigma_y <= result.interval95[1]
 
 
+@pytest.mark.parametrize("index", [0, 1])
+def test_fit_data_s_default_law_recovers_sigma_y_from_fe_drop_tests_and_names_it(table, fe_rows, index, tmp_path,
+                                                                                   capsys):
+    """``nfdcal fit-data`` without --law on FE-made drop tests of the two off-grid materials: the
+    vz-table law, sigma_Y within SIGMA_Y_BOUND, its 95 % interval covering the truth; the summary
+    names the law (JSON and text)."""
+    specimen, sigma_y, v_in, e, _ = drop_tests(fe_rows[index], table)
+    impacts = tmp_path / "fe_drops.csv"
+    impacts.write_text("v_in,e\n" + "".join(f"{float(v)!r},{float(r)!r}\n" for v, r in zip(v_in, e)), encoding="utf-8")
+    flags = ["fit-data", "--impacts", str(impacts), "--E", repr(float(specimen.E)), "--nu", repr(float(specimen.nu)),
+             "--R", repr(float(specimen.R)), "--rho", repr(float(specimen.rho))]
+    assert main([*flags, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["law"] == "vz-table"
+    assert abs(out["sigma_y"] / sigma_y - 1) <= SIGMA_Y_BOUND
+    assert out["sigma_y_interval95"][0] <= sigma_y <= out["sigma_y_interval95"][1]
+    assert main(flags) == 0
+    assert capsys.readouterr().out.splitlines()[0].startswith("law: vz-table")
+
+
 def test_a_residual_far_above_the_stated_noise_is_never_called_consistent(table, fe_rows):
     specimen, sigma_y, v_in, e, _ = drop_tests(fe_rows[0], table)
     skewed = np.minimum(e * np.linspace(0.8, 1.2, e.size), 1.0)      # a trend no yield stress explains
@@ -126,7 +146,13 @@ def test_material_v_max_gives_the_law_and_its_window(capsys):
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
       "--law", "vz-table", "--free"], "--free"),
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
-      "--noise", "0.01"], "--noise"),
+      "--law", "vz", "--noise", "0.01"], "--noise"),
+    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
+      "--free"], "--law vz"),
+    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.1", "--R", "0.1", "--rho", "2700"], "--law vz"),
+    # these drops reach 569 P_Y, beyond the table's 400: the default refuses, naming both laws
+    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700"],
+     "--law vz-table fits them"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, text, tmp_path, capsys):
     impacts = tmp_path / "drops.csv"

@@ -1,4 +1,4 @@
-"""Benchmark: sigma_Y recovered by fit-data's vz-table model from FE data the law did not make.
+"""Benchmark: sigma_Y recovered by fit-data's vz-table model (its default) from FE data the law did not make.
 
 The project's FE stands in for the laboratory (material known): the off-grid materials of the
 scene vz_master_grid (calib/scenes/builtin/sweeps/vz_master_grid.toml, ``[[check]]``; not table nodes,
@@ -19,8 +19,8 @@ five materials (leave one out: a material does not set its own interval). Printe
 (results/fit_data/fe_benchmark.csv, .json, stamped): per data kind and noise level, over the
 materials and trials, the bias (mean of sigma_fit / sigma_true - 1), the rms error and the
 coverage of the 95 % intervals. Targets: |error| within 3 %, coverage >= 90 %. For comparison,
-the noise-free data also go through the two-constant constrained model (``nfdcal fit-data``
-without --law: Ca_hat, Kc_hat of the master table; "vz: ..." rows; its interval: +-1.96 SE).
+the noise-free data also go through the two-constant constrained model (``nfdcal fit-data
+--law vz``: Ca_hat, Kc_hat of the master table; "vz: ..." rows; its interval: +-1.96 SE).
 
 Usage: .venv/bin/python tests/benchmarks/bench_fit_data_fe.py [--trials 10] [--seed 1]
        [--nodes results/tables/vz_master_grid/nodes] [--out results/fit_data]
