@@ -46,8 +46,14 @@ class BlockMeshSpec(HemisphereMeshSpec):
     """The flat block's mesh: the fields of HemisphereMeshSpec [m] with ``radius`` = L, the block's
     radius and height (the size field is refined around the contact at the origin)."""
 
+    EXTENT_OVER_R = float(np.sqrt(2.0))   # the far corner (L, L) of the section, |z| up
+
     def cache_key(self) -> str:
         return stable_key({"spec": self.__dict__, "generator": BLOCK_GENERATOR_VERSION, "body": "block"})
+
+    def contains(self, r, z):
+        """True where (r, |z|) [m] lies in the block section [0, L] x [0, L]."""
+        return (r <= self.radius) & (z <= self.radius)
 
     def describe(self) -> dict:
         return {**super().describe(), "body": "flat block (cylinder of radius and height L = radius)",
@@ -70,8 +76,7 @@ def block_mesh(spec: BlockMeshSpec, cache_dir=None, rebuild: bool = False):
         return (("top", 1, [top]), ("side", 1, [side]), ("bottom", 1, [bottom]), ("axis", 1, [axis]),
                 ("body", 2, [body]))
 
-    path = Path(cache_dir) if cache_dir is not None else default_cache_dir()
-    path = path / f"block-{spec.cache_key()}.msh"
+    path = block_path(spec, cache_dir)
     if path.is_file() and not rebuild:
         try:
             return read_quadratic_triangles(path)
@@ -79,6 +84,11 @@ def block_mesh(spec: BlockMeshSpec, cache_dir=None, rebuild: bool = False):
             pass  # corrupt cache entry: rebuild
     mesh_section(spec, path, "block", square)
     return read_quadratic_triangles(path)
+
+
+def block_path(spec: BlockMeshSpec, cache_dir=None) -> Path:
+    """Where the .msh file of the block ``spec`` is cached."""
+    return (Path(cache_dir) if cache_dir is not None else default_cache_dir()) / f"block-{spec.cache_key()}.msh"
 
 
 def six_node_cells(mesh) -> np.ndarray:

@@ -130,6 +130,14 @@ class HemisphereMeshSpec(SectionMeshSpec):
         return {**asdict(self), "element": "P2 triangle (6-node, isoparametric)",
                 "key": self.cache_key()}
 
+    # the section in the (r, |z|) quarter plane, for estimate_dofs: farthest point from the origin
+    # over R, and the membership test
+    EXTENT_OVER_R: ClassVar[float] = 1.0
+
+    def contains(self, r, z):
+        """True where (r, z) [m] lies in the hemisphere section r^2 + (z - R)^2 <= R^2."""
+        return r**2 + (z - self.radius) ** 2 <= self.radius**2
+
 
 @dataclass(frozen=True)
 class SectionMesh:
@@ -162,11 +170,11 @@ def _element_integral(spec: HemisphereMeshSpec) -> float:
     number of elements a mesher filling the section at size h would make, up to a constant."""
     R = spec.radius
     # polar-like quadrature refined towards the pole, where h is smallest
-    s = np.geomspace(1e-7, 1.0, 400) * R  # distance from the pole [m]
+    s = np.geomspace(1e-7, 1.0, 400) * R * spec.EXTENT_OVER_R  # distance from the pole [m]
     theta = np.linspace(0, np.pi / 2, 60)
     S, T = np.meshgrid(s, theta, indexing="ij")
     r, z = S * np.cos(T), S * np.sin(T)
-    inside = r**2 + (z - R) ** 2 <= R**2
+    inside = spec.contains(r, z)
     h = spec.size_at(r, z)
     density = np.where(inside, 1.0 / (np.sqrt(3) / 4 * h**2), 0.0) * S  # Jacobian s
     return float(np.trapezoid(np.trapezoid(density, theta, axis=1), s))

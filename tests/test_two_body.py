@@ -201,3 +201,22 @@ def test_calibrate_plans_the_pair_before_any_fe(capsys):
     pair = ContactPair.sphere_counter(Material.reference(), R1, STEEL.E, STEEL.nu)
     assert f"P_Y = {pair.P_Y:.4g} N" in text and "counter-body: flat" in text
     assert "on_E2e+11_nu0.28_sy-elastic_flat" in json.dumps(plan)
+
+
+def test_dry_run_counts_the_dofs_of_both_bodies(tmp_path):
+    """The --dry-run estimate of a two-body FE (calib.scenes.plan.fe_dofs) against the meshed pair:
+    the sphere's and the block's dofs, each estimated without meshing, add up to the pair mesh's
+    (P2: two dofs per node) within 15 %."""
+    from calib.fit import recipe
+    from calib.fit.counter import CounterBody
+    from calib.scenes.plan import fe_dofs
+    from meshes.hemisphere import estimate_dofs
+
+    counter = CounterBody(STEEL.E, STEEL.nu)
+    calibration = recipe.calibration_spec(ALUMINIUM, R1, counter=counter, contact_size=4e-4)
+    sphere, block = calibration.mesh, counter.mesh_spec(calibration.mesh)
+    meshed = 2 * pair_mesh(sphere, block, cache_dir=tmp_path).mesh.doflocs.shape[1]
+    assert estimate_dofs(sphere) + estimate_dofs(block) == pytest.approx(meshed, rel=0.15)
+    planned, _ = fe_dofs(calibration)
+    assert planned == pytest.approx(meshed, rel=0.15)
+    assert planned > 1.5 * estimate_dofs(sphere)     # the counter-body is counted

@@ -182,7 +182,7 @@ def run(ns) -> int:
         print_summary(ns, stages_summary(stages, folder),
                       [f"calibration of E = {material.E:.4g} Pa, nu = {material.nu:g}, sigma_Y = "
                        f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N"]
-                      + ([f"{counter.label()} (the FE holds both bodies: about twice the dofs below)"]
+                      + ([f"{counter.label()} (the dofs below count both bodies)"]
                          if counter is not None else [])
                       + [f"outputs: {folder}"] + format_stages(stages))
         return 0

@@ -42,6 +42,7 @@ Mesarovic & Fleck 2000, Int. J. Solids Struct. 37, 7071 (dissimilar elastic-plas
 """
 from __future__ import annotations
 
+import copy
 import time
 from collections import OrderedDict
 from dataclasses import dataclass, field
@@ -262,6 +263,21 @@ class TwoBodySolver(QuadratureStates):
         self._factor_cache: OrderedDict = OrderedDict()
         self._last_pattern, self._last_factor = None, None
         self.factorization_count = 0
+
+    def elastic_twin(self, material1, material2) -> "TwoBodySolver":
+        """This solver with the elastic materials ``material1``, ``material2`` of the same E and nu
+        (the first-yield search's): the mesh, element arrays, stiffness and the counter-body's
+        condensation are shared, not rebuilt; the factorisations are its own."""
+        twin = copy.copy(self)
+        twin.material = PairMaterial((material1, material2), self.pair_mesh.body)
+        if not np.array_equal(twin.material.elastic_tangent(self.n_qp), self.material_D):
+            raise ValueError("elastic_twin: the elastic materials must have the solver's E and nu")
+        self._linear_tangent()                  # built once, shared by both
+        twin.is_linear = twin.material.is_linear
+        twin._factor_cache = OrderedDict()
+        twin._last_pattern, twin._last_factor = None, None
+        twin.factorization_count = 0
+        return twin
 
     # ----------------------------------------------------------------- assembly
     def _condensation(self, interior, master, master_q):
@@ -506,14 +522,17 @@ class TwoBodySolver(QuadratureStates):
                      for material, elements in zip(self.material.materials, self.material.elements))
 
 
-def first_yield_loads(pair_mesh, material1, material2, sigma_y: tuple, guess: float) -> tuple:
+def first_yield_loads(pair_mesh, material1, material2, sigma_y: tuple, guess: float,
+                      solver: TwoBodySolver | None = None) -> tuple:
     """Force [N] at which each body's first quadrature point reaches its yield stress (None for a
     body without one), from the elastic two-body solution: the peak stress grows as P^(1/3)
     (Hertz, Johnson 1985 eq. 4.23), so fixed-point updates P <- P (sigma_Y / q_max)^3 from
     ``guess`` converge (as calib.fit.calibration.first_yield_load for the rigid flat).
     ``material1``, ``material2``: elastic materials of the two bodies; ``sigma_y``: their yield
-    stresses [Pa] (None: elastic)."""
-    solver = TwoBodySolver(pair_mesh, material1, material2)
+    stresses [Pa] (None: elastic); ``solver``: a TwoBodySolver on ``pair_mesh`` with these E and nu,
+    whose assembly and condensation are reused (TwoBodySolver.elastic_twin)."""
+    solver = (TwoBodySolver(pair_mesh, material1, material2) if solver is None
+              else solver.elastic_twin(material1, material2))
     loads = []
     for k, sy in enumerate(sigma_y):
         if sy is None:

@@ -319,9 +319,10 @@ def _solver_and_first_yield(spec: CalibrationSpec, mesh):
     from calib.fe.two_body import TwoBodySolver, first_yield_loads
 
     counter = spec.counter
+    solver = TwoBodySolver(mesh, sphere, counter.fe_material(), **options)
     loads = first_yield_loads(mesh, ElasticMaterial(material.E, material.nu), ElasticMaterial(counter.E, counter.nu),
-                              (material.sigma_y, counter.sigma_y), spec.pair.P_Y)
-    return TwoBodySolver(mesh, sphere, counter.fe_material(), **options), min(x for x in loads if x is not None)
+                              (material.sigma_y, counter.sigma_y), spec.pair.P_Y, solver=solver)
+    return solver, min(x for x in loads if x is not None)
 
 
 def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool) -> CalibrationResult:

@@ -49,8 +49,11 @@ def hertz_mesh_spec(scene: Scene, material: SceneMaterial):
 
 
 def mesh_dofs(spec) -> tuple[int, bool]:
-    """(dofs, exact) of a mesh: counted from the cached file if there is one, else estimated."""
-    path = mesh_path(spec)
+    """(dofs, exact) of a mesh (a hemisphere's or a counter-body's block): counted from the cached
+    file if there is one, else estimated."""
+    from meshes.counter_body import BlockMeshSpec, block_path
+
+    path = block_path(spec) if isinstance(spec, BlockMeshSpec) else mesh_path(spec)
     if path.is_file():
         try:
 
@@ -59,6 +62,16 @@ def mesh_dofs(spec) -> tuple[int, bool]:
         except Exception:  # a corrupt cache entry is rebuilt at run time: estimate
             pass
     return estimate_dofs(spec), False
+
+
+def fe_dofs(spec) -> tuple[int, bool]:
+    """(dofs, exact) of the FE of a CalibrationSpec: the sphere's mesh, plus the counter-body's
+    (calib.fit.counter) when there is one."""
+    dofs, exact = mesh_dofs(spec.mesh)
+    if spec.counter is None:
+        return dofs, exact
+    counter_dofs, counter_exact = mesh_dofs(spec.counter.mesh_spec(spec.mesh))
+    return dofs + counter_dofs, exact and counter_exact
 
 
 def step_seconds(dofs: int) -> float:
@@ -107,7 +120,7 @@ def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool
     plan that cannot be fitted is refused here, so --dry-run refuses it too."""
     if calibrate:
         recipe.check_fittable(spec)
-    dofs, exact = mesh_dofs(spec.mesh)
+    dofs, exact = fe_dofs(spec)
     n_load = len(spec.plan.loading_targets())
     n_unload = spec.plan.unloading_steps * len(spec.plan.peaks) if unload else 0
     steps = n_load + n_unload + (3 if calibrate else 0)
@@ -115,7 +128,7 @@ def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool
     second = ""
     if calibrate and meshes == 2:       # the second mesh of the extrapolation (calib.fit.extrapolation)
         coarse = recipe.coarse_spec(spec)
-        coarse_dofs, _ = mesh_dofs(coarse.mesh)
+        coarse_dofs, _ = fe_dofs(coarse)
         coarse_seconds = steps * step_seconds(coarse_dofs)
         parallel = (os.cpu_count() or 1) >= 2
         seconds = max(seconds, coarse_seconds) if parallel else seconds + coarse_seconds
