@@ -183,3 +183,17 @@ def test_the_law_is_admissible_everywhere_in_the_table(table):
         for ratio in np.geomspace(table.E_over_sigma_y[0], table.E_over_sigma_y[-1], 9):
             law = table.law(Material(ratio * 100e6, float(nu), 100e6, 2700.0), 0.1)
             assert law.window.P_min_over_P_Y < law.window.P_max_over_P_Y <= law.x[-1] * (1 + 1e-12)
+
+
+def test_the_interval_widens_for_few_tests_as_students_t():
+    """The 95 % coverage factor: Student's t at the Welch-Satterthwaite degrees of freedom. Table
+    values of t(0.975, nu): 12.706 (1), 2.5706 (5), 2.2281 (10); the normal 1.96 without an
+    estimated part; with half the variance stated (infinite dof) nu = 4 dof_stat."""
+    from calib.fit.measured.table_law import Z95, coverage_factor
+
+    assert coverage_factor(1e-4, 0.0, 1) == pytest.approx(12.706, abs=5e-4)
+    assert coverage_factor(1e-4, 0.0, 5) == pytest.approx(2.5706, abs=5e-5)
+    assert coverage_factor(1e-4, 0.0, 10) == pytest.approx(2.2281, abs=5e-5)
+    assert coverage_factor(1e-4, 1e-4, 5) == pytest.approx(coverage_factor(1e-4, 0.0, 20), rel=1e-12)
+    assert coverage_factor(0.0, 1e-4, 5) == Z95 and coverage_factor(1e-4, 1e-4, 0) == Z95
+    assert Z95 < coverage_factor(1e-4, 0.0, 10 ** 6) < Z95 + 1e-5
