@@ -24,7 +24,7 @@ followed until (1/2) m* v_in^2 = W(delta_max) = integral_0^delta_max P d delta, 
 unloading curve returns E_el = P_max (delta_max - delta_res)/(n + 1), so
 e = sqrt(E_el / W) exactly (no time stepping).
 
-Contact duration (used to size dt and to warn when dt is too large), per velocity:
+Contact duration (it sizes dt and says when dt is too large), per velocity:
 
     t_load   = integral_0^delta_max d delta / sqrt(v_in^2 - 2 W(delta) / m*)
              (Gauss-Legendre in s, delta = delta_max (1 - s^2), which removes the inverse

@@ -305,7 +305,7 @@ class ContactPair:
     def hertz_contact_time(self, v_in) -> float:
         """Duration of an elastic Hertz impact at v_in [m/s]: 2.868 (m*^2/(R* E*^2 v_in))^(1/5) [s].
 
-        (Johnson 1985 eq. 11.24.) Used to size time steps and step limits.
+        (Johnson 1985 eq. 11.24.) It sizes time steps and step limits.
         """
         v_in = np.asarray(v_in, dtype=float)
         return (2.8683 * (self.mass_star**2 / (self.R_star * self.E_star**2 * v_in)) ** 0.2)[()]

@@ -221,7 +221,7 @@ def vz_largest_admissible_Kc(pair: ContactPair, Ca: float) -> float:
     Kc is admissible when the loading curve is monotone up to 1e8 P_Y (a bound known in
     closed form, the slope being linear in Kc_hat: Kc_hat < min over B < 0 of A / (-B), see
     :func:`_monotone_slope_terms`) and no load-unload cycle up to 1e6 P_Y creates energy
-    (bisection below that bound; Kc = 0 always passes). Used to state the admissible range
+    (bisection below that bound; Kc = 0 always passes). It states the admissible range
     in VZParams' error messages.
     """
     Ca = check_real("Ca", Ca, low=0.0, unit="m/N")

@@ -18,7 +18,8 @@ plugin did not produce:
   ContactPair.sphere_wall (1e-8), the loading leaves Hertz of the pair at the closed-form P_Y;
   nfd/wall/hertz, thornton and vz-table likewise at 10 v_Y (1e-8);
 - the steel floor under an aluminium sphere: the rigid flat's stiffness and first-yield load
-  against the elastic wall's, measured in LAMMPS and printed (the issue's 34 % too stiff, 0.56x);
+  against the elastic wall's, measured in LAMMPS and printed (closed form: 33.3 % too stiff,
+  first yield at 0.5625x);
 - the rigid limit: E_w at the top of the range of solids under a gel sphere gives the rigid flat
   to 2 E'/E'_w (measured 5.9e-8; E'/E'_w = 5e-8: the range of E bounds how rigid a wall can be);
 - the region wall with the keyword equals the plane wall with it (1e-12); a restart continues bit
@@ -67,7 +68,7 @@ def in_series(E, nu, E_w, nu_w) -> float:
 
 
 def shear_in_series(E, nu, E_w, nu_w) -> float:
-    """G* [Pa]: 1/G* = (2 - nu)/G + (2 - nu_w)/G_w, G = E/(2 (1 + nu)) (issue 27's unlike bodies)."""
+    """G* [Pa]: 1/G* = (2 - nu)/G + (2 - nu_w)/G_w, G = E/(2 (1 + nu)) (Mindlin's unlike bodies)."""
     return 1.0 / ((2.0 - nu) * 2.0 * (1.0 + nu) / E + (2.0 - nu_w) * 2.0 * (1.0 + nu_w) / E_w)
 
 

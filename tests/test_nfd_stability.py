@@ -68,7 +68,7 @@ def test_dt_beyond_the_stability_limit_or_too_small_is_refused():
     with pytest.raises(ValueError, match=r"^dt out of range: .* stability limit"):
         collide("vz", REF, v, dt=1.01 * limit)
     with pytest.raises(ValueError, match=r"^dt out of range: .* steps"):
-        collide("vz", REF, v, dt=1e-300)       # used to loop for ever
+        collide("vz", REF, v, dt=1e-300)       # a dt below the clock's resolution must not loop for ever
 
 
 def test_cli_prints_the_time_step_warning_as_one_line(tmp_path):
