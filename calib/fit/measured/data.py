@@ -69,9 +69,11 @@ class ForceApproachData:
         return FORCE_FLOOR_FRACTION * min(float(np.max(force)) for _, _, force in self.tests)
 
 
-def _read_rows(path, what: str, required: dict, optional: dict) -> tuple[list[str], list[tuple[int, int, list[str]]]]:
-    """(header, [(data row number, line number, fields)]) of a CSV; ValueError naming the file and
-    what is wrong (missing file, not text, no header, missing or unknown column, ragged row)."""
+def _read_rows(path, what: str, required: dict, optional: dict
+               ) -> tuple[list[str], dict[str, int], list[tuple[int, int, list[str]]]]:
+    """(header, column index by name, [(data row number, line number, fields)]) of a CSV; ValueError
+    naming the file and what is wrong (missing file, not text, no header, missing or unknown column,
+    ragged row, no data rows)."""
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{what} file not found: {path}")
@@ -104,7 +106,9 @@ def _read_rows(path, what: str, required: dict, optional: dict) -> tuple[list[st
             raise ValueError(f"{what} file {path}: row {row} (line {line}): {len(fields)} field(s), the "
                              f"header has {len(header)}")
         rows.append((row, line, [f.strip() for f in fields]))
-    return header, rows
+    if not rows:
+        raise ValueError(f"{what} file {path}: no data rows")
+    return header, {name: header.index(name) for name in header}, rows
 
 
 def _cell(path, what, row, line, column, text, unit, low, high=None, low_inclusive=False,
@@ -133,10 +137,7 @@ def _cell(path, what, row, line, column, text, unit, low, high=None, low_inclusi
 def read_impacts(path) -> ImpactData:
     """The drop tests of ``path`` (module doc: columns v_in, e; optional P_max, contact_time)."""
     what = "impacts"
-    header, rows = _read_rows(path, what, IMPACT_COLUMNS, IMPACT_OPTIONAL)
-    if not rows:
-        raise ValueError(f"{what} file {path}: no data rows")
-    index = {name: header.index(name) for name in header}
+    header, index, rows = _read_rows(path, what, IMPACT_COLUMNS, IMPACT_OPTIONAL)
     ranges = {"v_in": ("m/s", 0.0, None), "e": ("-", 0.0, 1.0), "P_max": ("N", 0.0, None),
               "contact_time": ("s", 0.0, None)}
     values = {name: [] for name in header}
@@ -159,10 +160,7 @@ def read_impacts(path) -> ImpactData:
 def read_force_approach(path) -> ForceApproachData:
     """The force-approach histories of ``path`` (module doc: columns approach, force; optional test)."""
     what = "force-approach"
-    header, rows = _read_rows(path, what, FORCE_COLUMNS, FORCE_OPTIONAL)
-    if not rows:
-        raise ValueError(f"{what} file {path}: no data rows")
-    index = {name: header.index(name) for name in header}
+    header, index, rows = _read_rows(path, what, FORCE_COLUMNS, FORCE_OPTIONAL)
     tests: dict[str, list] = {}
     for row, line, fields in rows:
         label = fields[index["test"]] if "test" in index else ""
