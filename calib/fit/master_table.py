@@ -57,6 +57,25 @@ def read_rows(path: str | Path) -> list[dict]:
     return rows
 
 
+def read_meta(path: Path, key: str) -> dict:
+    """The metadata of a table CSV (its .json beside it; the object under ``key``), {} without one."""
+    meta_path = path.with_suffix(".json")
+    meta = json.loads(meta_path.read_text(encoding="utf-8")) if meta_path.is_file() else {}
+    return meta.get(key, meta)
+
+
+def check_axes(nu_axis, ratio_axis, nu: float, E_over_sigma_y: float, table: str, command: str) -> None:
+    """ValueError naming the parameter and ``table``'s range when (nu, E/sigma_Y) lies outside its
+    grid, and the FE ``command`` that calibrates such a material instead."""
+    for name, value, axis in (("nu", nu, nu_axis), ("E/sigma_Y", E_over_sigma_y, ratio_axis)):
+        if not (isinstance(value, (int, float)) and math.isfinite(value)):
+            raise ValueError(f"{name} must be a finite number, got {value!r}")
+        low, high = float(axis[0]), float(axis[-1])
+        if not (low * (1 - 1e-12) <= value <= high * (1 + 1e-12) + 1e-15):
+            raise ValueError(f"{name} = {value:g} is outside {table}: need {name} in [{low:g}, {high:g}] "
+                             f"(calibrate this material by FE with `{command}` instead)")
+
+
 @dataclass(frozen=True)
 class MasterTable:
     """Ca_hat, Kc_hat on the regular grid nu x E_over_sigma_y (axes ascending)."""
@@ -119,20 +138,10 @@ class MasterTable:
     def load(cls, path: str | Path | None = None) -> "MasterTable":
         """The table at ``path`` (default: the shipped one) with its metadata (same name, .json)."""
         path = Path(path) if path is not None else DEFAULT_TABLE
-        rows = read_rows(path)
-        meta_path = path.with_suffix(".json")
-        meta = json.loads(meta_path.read_text(encoding="utf-8")) if meta_path.is_file() else {}
-        return cls.from_rows(rows, meta.get("master_table", meta), path)
+        return cls.from_rows(read_rows(path), read_meta(path, "master_table"), path)
 
     def _check(self, nu: float, E_over_sigma_y: float) -> None:
-        for name, value, axis in (("nu", nu, self.nu), ("E/sigma_Y", E_over_sigma_y, self.E_over_sigma_y)):
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                raise ValueError(f"{name} must be a finite number, got {value!r}")
-            low, high = float(axis[0]), float(axis[-1])
-            if not (low * (1 - 1e-12) <= value <= high * (1 + 1e-12) + 1e-15):
-                raise ValueError(f"{name} = {value:g} is outside the master table: need {name} in "
-                                 f"[{low:g}, {high:g}] (calibrate this material by FE with "
-                                 f"`nfdcal calibrate` instead)")
+        check_axes(self.nu, self.E_over_sigma_y, nu, E_over_sigma_y, "the master table", "nfdcal calibrate")
 
     def lookup(self, nu: float, E_over_sigma_y: float) -> tuple[float, float]:
         """(Ca_hat, Kc_hat) at (nu, E / sigma_Y): PCHIP in nu and log10(E / sigma_Y)."""

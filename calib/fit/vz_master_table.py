@@ -20,15 +20,13 @@ against direct FE at off-grid materials (calib.fit.vz_master_check), is in the t
 """
 from __future__ import annotations
 
-import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 from scipy.interpolate import PchipInterpolator
 
-from calib.fit.master_table import DATA_DIR, read_rows
+from calib.fit.master_table import DATA_DIR, check_axes, read_meta, read_rows
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
 
 DEFAULT_TABLE = DATA_DIR / "vz_master_table.csv"
@@ -88,20 +86,12 @@ class VZMasterTable:
     def load(cls, path: str | Path | None = None) -> "VZMasterTable":
         """The table at ``path`` (default: the shipped one) with its metadata (same name, .json)."""
         path = Path(path) if path is not None else DEFAULT_TABLE
-        rows = read_rows(path)
-        meta_path = path.with_suffix(".json")
-        meta = json.loads(meta_path.read_text(encoding="utf-8")) if meta_path.is_file() else {}
-        return cls.from_rows(rows, meta.get("vz_master_table", meta), path)
+        return cls.from_rows(read_rows(path), read_meta(path, "vz_master_table"), path)
 
     def check(self, nu: float, E_over_sigma_y: float) -> None:
         """ValueError naming the parameter and the table's range when (nu, E/sigma_Y) is outside it."""
-        for name, value, axis in (("nu", nu, self.nu), ("E/sigma_Y", E_over_sigma_y, self.E_over_sigma_y)):
-            if not (isinstance(value, (int, float)) and math.isfinite(value)):
-                raise ValueError(f"{name} must be a finite number, got {value!r}")
-            lo, hi = float(axis[0]), float(axis[-1])
-            if not lo * (1 - 1e-12) <= value <= hi * (1 + 1e-12) + 1e-15:
-                raise ValueError(f"{name} = {value:g} is outside the vz master table: need {name} in [{lo:g}, {hi:g}] "
-                                 f"(calibrate this material by FE with `nfdcal calibrate --v-max` instead)")
+        check_axes(self.nu, self.E_over_sigma_y, nu, E_over_sigma_y, "the vz master table",
+                   "nfdcal calibrate --v-max")
 
     @staticmethod
     def _reaches(columns: np.ndarray, log_ratio: np.ndarray, lr: float) -> bool:
