@@ -50,14 +50,20 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int
 void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
 {
     if (narg <= first) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
-    std::vector<char *> rest(arg + first, arg + narg);    // the constants and models, without wall_material
+    std::vector<char *> rest(arg + first, arg + narg);    // the constants and models, without the keywords
+    const NfdMaterial *pair = read_pair_constants(rest);
     const NfdMaterial *wall = read_wall_material(rest);
+    if (pair && !wall)
+        error->all(FLERR, fmt::format("{} pair_constants: needs wall_material E_w nu_w, the wall the constants were "
+                                      "calibrated on (on a rigid flat the sphere's own constants are the pair's)",
+                                      who()));
     const int count = static_cast<int>(rest.size());
     const int models_at = first_model_keyword(count, rest.data());
     material = law->read(lmp, who(), true, models_at, rest.data());
     material.models = read_models(lmp, who(), count - models_at, rest.data() + models_at, !law->per_type_pair);
     // an elastic wall: the pair style's mixing of two bodies, the wall never the one that yields
     if (wall) material = law->mix(material, *wall);
+    if (pair) material = NfdLaw::with_pair(material, *pair);
     material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
                                          wall ? wall->nu : 0.0);
     width = material.models.any() ? NHIST + NFRICTION : NHIST;
@@ -84,6 +90,26 @@ const NfdMaterial *FixNfdWall::read_wall_material(std::vector<char *> &rest)
     wall.p_Y = INFINITY;             // elastic: first yield is the sphere's
     rest.erase(rest.begin() + static_cast<long>(at), rest.begin() + static_cast<long>(at) + 3);
     return &wall;
+}
+
+const NfdMaterial *FixNfdWall::read_pair_constants(std::vector<char *> &rest)
+{
+    const std::string keyword = who() + " pair_constants";
+    size_t at = 0;
+    while (at < rest.size() && std::strcmp(rest[at], "pair_constants") != 0) ++at;
+    if (at == rest.size()) return nullptr;
+    if (at == 0) error->all(FLERR, fmt::format("{}: need the keyword after the law's constants", keyword));
+    // its values run up to the next keyword: wall_material or a contact model
+    size_t end = at + 1;
+    while (end < rest.size() && std::strcmp(rest[end], "wall_material") != 0 &&
+           std::strcmp(rest[end], "pair_constants") != 0 && first_model_keyword(1, &rest[end]) == 1)
+        ++end;
+    for (size_t k = end; k < rest.size(); ++k)
+        if (std::strcmp(rest[k], "pair_constants") == 0)
+            error->all(FLERR, fmt::format("{}: pair_constants given twice", who()));
+    pair = law->read_pair(lmp, keyword, static_cast<int>(end - at - 1), rest.data() + at + 1);
+    rest.erase(rest.begin() + static_cast<long>(at), rest.begin() + static_cast<long>(end));
+    return &pair;
 }
 
 void FixNfdWall::allocate(int slots_per_atom, bool tag_slots)

@@ -6,6 +6,8 @@
  *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2       (the contact's stiffnesses [N/m])
  *     fix ID group nfd/wall/vz-table FACE COORD file params.json
  *     ... [wall_material E_w nu_w]   (the wall's elastic material; absent: a rigid flat)
+ *     ... [pair_constants Ca_hat Kc_hat [window W] | pair_constants file pair.json]   (with wall_material:
+ *         the constants calibrated for this sphere on this wall, in place of the sphere's)
  *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
  *
  * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
@@ -92,6 +94,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* `wall_material E_w nu_w` taken out of rest (the arguments from the first constant on): the
      * wall's elastic material (p_Y infinite), or nullptr without the keyword (a rigid flat). */
     const NfdMaterial *read_wall_material(std::vector<char *> &rest);
+    /* `pair_constants ...` taken out of rest: the law's constants calibrated for this sphere on this
+     * wall (NfdLaw::read_pair), used in place of the sphere's; nullptr without the keyword. */
+    const NfdMaterial *read_pair_constants(std::vector<char *> &rest);
     /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
      * width doubles of the history]; registers the per-atom callbacks and the outputs. */
     void allocate(int slots, bool tagged);
@@ -107,6 +112,7 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     const int first;              // the index of the first constant in the fix's arguments
     NfdMaterial material;         // the contact's constants: the sphere's, E* with the wall's
     NfdMaterial wall;             // wall_material: E_w, nu_w, E_w / (1 - nu_w^2)
+    NfdMaterial pair;             // pair_constants: the constants calibrated for the sphere on this wall
     int width = NHIST;            // doubles per history: NHIST, or NHIST + NFRICTION with contact models
     int slots = 1;                // contacts kept per atom
     int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged

@@ -3,7 +3,8 @@
  *
  *     fix ID group nfd/wall/region/vz REGION-ID E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
  *     fix ID group nfd/wall/region/<law> REGION-ID <the constants of fix nfd/wall/<law>>
- *     ... [wall_material E_w nu_w]   (the wall's elastic material, as fix nfd/wall/<law>)
+ *     ... [wall_material E_w nu_w] [pair_constants ...]   (the wall's elastic material and the constants
+ *         calibrated for the sphere on it, as fix nfd/wall/<law>)
  *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
  *
  * The contacts are LAMMPS's own (Region::surface, as fix wall/gran/region finds them): each atom

@@ -6,6 +6,11 @@
  *   vz-table      pair_coeff I I file params.json          (an nfdcal parameter file)
  *   walton-braun  pair_coeff I J K1 K2                      (stiffnesses [N/m], mixed in series)
  *
+ * and, for a pair of unlike types calibrated as a pair (read_pair):
+ *
+ *   vz            pair_coeff I J Ca_hat Kc_hat [window P_max/P_Y]
+ *   vz-table      pair_coeff I J file pair.json             (a counter-body parameter file)
+ *
  * SI units; the dimensionless vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y hold for any
  * pair of the material (README of this folder, Mixing).
  *
@@ -47,6 +52,23 @@ NfdMaterial NfdLaw::mix(const NfdMaterial &a, const NfdMaterial &b) const
     NfdMaterial contact = a.p_Y <= b.p_Y ? a : b;
     contact.E_star = 1.0 / (1.0 / a.E_star + 1.0 / b.E_star);
     return contact;
+}
+
+NfdMaterial NfdLaw::read_pair(LAMMPS *lmp, const std::string &who, int /*narg*/, char ** /*arg*/) const
+{
+    lmp->error->all(FLERR, fmt::format("{}: {} takes no constants of a pair (a contact of unlike types follows from "
+                                       "the two materials): use I I", who, pair_style));
+    return NfdMaterial();
+}
+
+NfdMaterial NfdLaw::with_pair(const NfdMaterial &contact, const NfdMaterial &pair)
+{
+    NfdMaterial calibrated = contact;
+    calibrated.Ca_hat = pair.Ca_hat;
+    calibrated.Kc_hat = pair.Kc_hat;
+    calibrated.window = pair.window;
+    calibrated.table = pair.table;
+    return calibrated;
 }
 
 uint64_t NfdLaw::fingerprint(const NfdMaterial &m) const
@@ -132,21 +154,37 @@ class VzLaw : public SolidLaw {
     NfdMaterial read(LAMMPS *lmp, const std::string &who, bool wall, int narg, char **arg) const override
     {
         NfdMaterial m = read_solid(lmp, who, wall, narg, arg, true, 2);
-        m.Ca_hat = positive(lmp, who, arg[3], "Ca_hat = Ca P_Y / a_Y");
+        read_constants(lmp, who, narg - 3, arg + 3, m);
+        return m;
+    }
+
+    NfdMaterial read_pair(LAMMPS *lmp, const std::string &who, int narg, char **arg) const override
+    {
+        if (narg != 2 && narg != 4)
+            lmp->error->all(FLERR, fmt::format("{}: need Ca_hat Kc_hat [window P_max/P_Y] (the constants calibrated "
+                                               "for this pair), got {} arguments", who, narg));
+        NfdMaterial m;
+        read_constants(lmp, who, narg, arg, m);
+        return m;
+    }
+
+    /* Ca_hat Kc_hat [window W] of arg[0..narg) (narg 2 or 4, checked by the caller), each in its range */
+    static void read_constants(LAMMPS *lmp, const std::string &who, int narg, char **arg, NfdMaterial &m)
+    {
+        m.Ca_hat = positive(lmp, who, arg[0], "Ca_hat = Ca P_Y / a_Y");
         if (m.Ca_hat < NFD_CA_HAT_MIN || m.Ca_hat > NFD_CA_HAT_MAX)
             lmp->error->all(FLERR, fmt::format("{}: Ca_hat out of range: need {:g} <= Ca_hat <= {:g} (the paper's "
-                                               "0.026), got {}", who, NFD_CA_HAT_MIN, NFD_CA_HAT_MAX, arg[3]));
-        m.Kc_hat = number_in(lmp, who, arg[4], "Kc_hat", 0.0, false, NFD_KC_HAT_MAX, false,
+                                               "0.026), got {}", who, NFD_CA_HAT_MIN, NFD_CA_HAT_MAX, arg[0]));
+        m.Kc_hat = number_in(lmp, who, arg[1], "Kc_hat", 0.0, false, NFD_KC_HAT_MAX, false,
                              fmt::format("0 <= Kc_hat <= {:g} (the paper's 0.0098)", NFD_KC_HAT_MAX));
         check_vz_admissible(lmp, who, m.Ca_hat, m.Kc_hat);
         m.window = NFD_DEFAULT_WINDOW;
-        if (narg == count + 2) {
-            if (std::strcmp(arg[5], "window") != 0)
-                lmp->error->all(FLERR, fmt::format("{}: unknown keyword '{}' (allowed: window)", who, arg[5]));
-            m.window = std::strcmp(arg[6], "inf") == 0
-                ? INFINITY : number_in(lmp, who, arg[6], "window", 1.0, false, INFINITY, true, "P_max/P_Y >= 1 (or inf)");
+        if (narg == 4) {
+            if (std::strcmp(arg[2], "window") != 0)
+                lmp->error->all(FLERR, fmt::format("{}: unknown keyword '{}' (allowed: window)", who, arg[2]));
+            m.window = std::strcmp(arg[3], "inf") == 0
+                ? INFINITY : number_in(lmp, who, arg[3], "window", 1.0, false, INFINITY, true, "P_max/P_Y >= 1 (or inf)");
         }
-        return m;
     }
 
     nfd_params params(double R_star, const NfdMaterial &c) const override
@@ -167,6 +205,15 @@ class VzTableLaw : public NfdLaw {
         if (narg != 2 || std::strcmp(arg[0], "file") != 0)
             lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law vz-table) "
                                                "after the {}, got {} arguments", who, after(wall), narg));
+        return read_parameter_file(lmp, who, arg[1]);
+    }
+
+    /* a counter-body parameter file's tables and window (its material is the types') */
+    NfdMaterial read_pair(LAMMPS *lmp, const std::string &who, int narg, char **arg) const override
+    {
+        if (narg != 2 || std::strcmp(arg[0], "file") != 0)
+            lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law vz-table, "
+                                               "calibrated for this pair), got {} arguments", who, narg));
         return read_parameter_file(lmp, who, arg[1]);
     }
 

@@ -112,6 +112,17 @@ class NfdLaw {
     virtual NfdMaterial read(LAMMPS_NS::LAMMPS *lmp, const std::string &who, bool wall, int narg,
                              char **arg) const = 0;
 
+    /* The constants calibrated for one pair of unlike bodies (`pair_coeff I J ...` with I != J, a wall
+     * fix's `pair_constants ...`): vz Ca_hat Kc_hat [window P_max/P_Y], vz-table file PATH, relative to
+     * the pair's P_Y and a_Y (E* of the two bodies in series, R*, first yield in the body with the lower
+     * p_Y). The laws without calibrated constants (hertz, thornton, walton-braun) refuse them. */
+    virtual NfdMaterial read_pair(LAMMPS_NS::LAMMPS *lmp, const std::string &who, int narg, char **arg) const;
+
+    /* A contact's constants (from mix) with the law's constants of a calibrated pair (read_pair) in
+     * place of the yielding body's: Ca_hat, Kc_hat, the tables and the window; E*, p_Y and the models
+     * stay the contact's. */
+    static NfdMaterial with_pair(const NfdMaterial &contact, const NfdMaterial &pair);
+
     /* The constants of a contact of bodies a and b (a of the lower type): E* of the two in series
      * (1/E* = 1/E*_a + 1/E*_b) and the constants of the body that yields first, the lower p_Y
      * (a tie: a), as nfdmodel.ContactPair.sphere_sphere. */

@@ -1,7 +1,8 @@
 /* pair_nfd.cpp: pair_style nfd/<law> (pair_nfd.h).
  *
  * Each contact takes its constants from the two atoms' types (NfdLaw::mix, once per pair of
- * types in init_one) and its radii (1/R* = 1/R_i + 1/R_j, per contact), as
+ * types in init_one; the constants of pair_coeff I J calibrated for that pair in place of the
+ * yielding body's, NfdLaw::with_pair) and its radii (1/R* = 1/R_i + 1/R_j, per contact), as
  * nfdmodel.ContactPair.sphere_sphere. With contact models (nfd_models.h) a contact is the
  * kernel's nfd_contact_step: the normal law's force, normal damping, friction, rolling and
  * twisting resistance, forces and torques on both atoms; the springs are advanced on every step
@@ -90,9 +91,11 @@ void PairNfd::coeff(int narg, char **arg)
     int ilo, ihi, jlo, jhi;
     utils::bounds(FLERR, arg[0], 1, atom->ntypes, ilo, ihi, error);
     utils::bounds(FLERR, arg[1], 1, atom->ntypes, jlo, jhi, error);
-    if (!law->per_type_pair && (ilo != jlo || ihi != jhi))
-        error->all(FLERR, fmt::format("pair_coeff for {} sets the material of one atom type: use I I (got {} {}); "
-                                      "unlike types are mixed per contact", name(), arg[0], arg[1]));
+    if (!law->per_type_pair && (ilo != jlo || ihi != jhi)) {
+        calibrated_pair_coeff(who, narg, arg, ilo, ihi, jlo, jhi);
+        create_history_fix();
+        return;
+    }
     const int models_at = first_model_keyword(narg - 2, arg + 2);
     NfdMaterial constants = law->read(lmp, who, false, models_at, arg + 2);
     constants.models = read_models(lmp, who, narg - 2 - models_at, arg + 2 + models_at, !law->per_type_pair);
@@ -114,6 +117,31 @@ void PairNfd::coeff(int narg, char **arg)
                                       "I <= J; give the lower types first)", who, arg[0], arg[1]));
     // the history fix comes right after the first pair_coeff, before fixes that add atoms
     create_history_fix();
+}
+
+/* pair_coeff I J (I != J) of a law of materials: the constants calibrated for that pair
+ * (NfdLaw::read_pair), used in place of the yielding body's; E*, first yield and the contact models
+ * stay the two types' (init_one). */
+void PairNfd::calibrated_pair_coeff(const std::string &who, int narg, char **arg, int ilo, int ihi, int jlo, int jhi)
+{
+    if (first_model_keyword(narg - 2, arg + 2) < narg - 2)
+        error->all(FLERR, fmt::format("{}: types I J take the constants calibrated for the pair only; its contact "
+                                      "models are its types' (pair_coeff I I ..., mixed)", who));
+    const NfdMaterial constants = law->read_pair(lmp, who, narg - 2, arg + 2);
+    int count = 0;
+    for (int i = ilo; i <= ihi; ++i)
+        for (int j = std::max(jlo, i); j <= jhi; ++j, ++count) {
+            if (i == j)
+                error->all(FLERR, fmt::format("{}: types {} {} out of range: the constants of a pair need I != J in "
+                                              "every pair of the ranges (a type's own go in pair_coeff I I)", who,
+                                              arg[0], arg[1]));
+            pair_constants[i][j] = pair_constants[j][i] = constants;
+            calibrated[i][j] = calibrated[j][i] = 1;
+            setflag[i][j] = 1;
+        }
+    if (count == 0)
+        error->all(FLERR, fmt::format("{}: types {} {} out of range: need I <= J (no type pair in these ranges has "
+                                      "I <= J; give the lower types first)", who, arg[0], arg[1]));
 }
 
 void PairNfd::init_style()
@@ -165,7 +193,8 @@ void PairNfd::init_style()
 }
 
 /* The contact constants of a pair of types (NfdLaw::mix, the lower type first, unless set by
- * pair_coeff I J) and its cutoff, the sum of the largest radii. */
+ * pair_coeff I J; with the constants calibrated for the pair in place of the yielding body's when
+ * given) and its cutoff, the sum of the largest radii. */
 double PairNfd::init_one(int i, int j)
 {
     if (!explicit_pair[i][j]) {
@@ -177,6 +206,7 @@ double PairNfd::init_one(int i, int j)
         NfdMaterial mixed = law->mix(a, b);
         mixed.models = mix_models(a.models, b.models);
         mixed.friction = contact_friction(mixed.models, a.E, a.nu, b.E, b.nu);
+        if (calibrated[i][j]) mixed = NfdLaw::with_pair(mixed, pair_constants[i][j]);
         contact[i][j] = contact[j][i] = mixed;
     }
     for (const auto &ij : {std::make_pair(i, j), std::make_pair(j, i)}) {
@@ -401,6 +431,10 @@ uint64_t PairNfd::coeff_fingerprint(int t) const
             z = mix64(z ^ static_cast<uint64_t>(j));
             z = mix_double(mix_double(z, contact[t][j].K1), contact[t][j].K2);
         }
+    // the constants calibrated for a pair (Ca_hat, Kc_hat, the tables), as the law fingerprints a type's
+    for (size_t j = 1; j < calibrated[t].size(); ++j)
+        if (calibrated[t][j]) z = mix64(z ^ mix64(static_cast<uint64_t>(j) + 0x70616972ULL) ^
+                                        law->fingerprint(pair_constants[t][j]));
     return z;
 }
 
@@ -416,6 +450,8 @@ void PairNfd::allocate()
     max_radius.assign(n + 1, 0.0);
     contact.assign(n + 1, std::vector<NfdMaterial>(n + 1));
     explicit_pair.assign(n + 1, std::vector<char>(n + 1, 0));
+    pair_constants.assign(n + 1, std::vector<NfdMaterial>(n + 1));
+    calibrated.assign(n + 1, std::vector<char>(n + 1, 0));
     ntypes_set = n;
     type_pairs.assign((n + 1) * (n + 1), TypePair());
 }

@@ -4,6 +4,7 @@
  *     pair_style nfd/vz
  *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] [damping ...] [tangential ...]
  *                [rolling ...] [twisting ...]
+ *     pair_coeff I J Ca_hat Kc_hat [window P_max/P_Y]    (I != J: constants calibrated for that pair)
  *
  * The normal force of each touching pair of spheres is the law's step of the C kernel
  * (nfd_step); with the contact models of nfd_models.h (LAMMPS's granular keywords) the contact
@@ -51,6 +52,7 @@ class PairNfd : public LAMMPS_NS::Pair {
 
  private:
     void allocate();
+    void calibrated_pair_coeff(const std::string &who, int narg, char **arg, int ilo, int ihi, int jlo, int jhi);
     void check_status(int status, int i, int j, double delta, const nfd_params &p, const nfd_history &h,
                       const nfd_history &next);
     void contact_with_models(int i, int j, double delx, double dely, double delz, double r, const NfdMaterial &c,
@@ -74,6 +76,8 @@ class PairNfd : public LAMMPS_NS::Pair {
     std::vector<NfdMaterial> material;                 // per atom type, as read
     std::vector<std::vector<NfdMaterial>> contact;     // per pair of types: NfdLaw::mix, or pair_coeff I J
     std::vector<std::vector<char>> explicit_pair;      // set by pair_coeff I J (per-type-pair laws)
+    std::vector<std::vector<NfdMaterial>> pair_constants;   // pair_coeff I J of a law of materials (read_pair)
+    std::vector<std::vector<char>> calibrated;         // ... set for this pair of types
     std::vector<double> max_radius;                    // per atom type, pour/deposit included
     std::vector<TypePair> type_pairs;                  // (ntypes + 1)^2, row-major (type_pair)
     int ntypes_set = 0;
