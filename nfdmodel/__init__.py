@@ -26,6 +26,7 @@ from .parameter_file import load_parameters, parameter_record
 from .parameters import VZParams, WaltonBraunParams
 from .registry import LAWS, ContactDetails, ContactLaw, get_law
 from .thornton import thornton_force, thornton_step
+from .unlike import VZConstants, sphere_sphere_params, sphere_wall_params
 from .validation import PlausibilityWarning, check_real
 from .vz import vz_force, vz_force_with_iterations, vz_newton_iterations, vz_step
 from .vz_curve import NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, vz_plastic_force
@@ -44,5 +45,5 @@ __all__ = [
     "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
     "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step", "backend", "backend_info",
     "Friction", "FrictionState", "Contact", "ContactForces", "contact_step", "shear_coefficient", "oblique_collide",
-    "ObliqueResult",
+    "ObliqueResult", "VZConstants", "sphere_sphere_params", "sphere_wall_params",
 ]

@@ -30,6 +30,20 @@ constants: a wall of that elastic material (E* of the sphere and the wall in ser
 in the sphere; nfdmodel/lammps/README.md, Walls of their own material); without them the wall is
 a rigid flat.
 
+A file calibrated on a deformable counter-body (``nfdcal calibrate --counter-E ...``) gives the
+pair's constants, used in place of the substitution (nfdmodel/lammps/README.md, Mixing); the
+like-type lines take each material's constants from the master table (``nfdcal material``):
+
+    pair_coeff T T E nu sigma_y Ca_hat Kc_hat window W         (the sphere, master table)
+    pair_coeff T2 T2 E2 nu2 sigma_y2 Ca_hat Kc_hat window W    (a sphere counter-body, type T2 = T + 1)
+    pair_coeff T T2 Ca_hat Kc_hat window W                     (the pair's calibrated constants)
+    fix nfd_wall all nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat window W &
+        wall_material E2 nu2 pair_constants Ca_hat Kc_hat window W                 (a flat counter-body)
+
+What the plugin cannot hold is refused in one line: an elastic sphere counter-body (its own
+contacts need a yield stress), a flat counter-body that yields before the sphere (the plugin's
+walls are elastic), a vz-table counter-body file (give the plugin the file: pair_coeff I J file PATH).
+
 The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
 Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
 (--tangential another of LAMMPS's Mindlin variants, --x-gamma-t its damping), --rolling K GAMMA
@@ -55,6 +69,8 @@ def add_parser(subparsers) -> None:
     parser.add_argument("engine", choices=("lammps",), help="the DEM engine (lammps)")
     parser.add_argument("--params", required=True, metavar="FILE", help="a parameter file (nfdcal calibrate, ...)")
     parser.add_argument("--type", default="1", metavar="T", help="the LAMMPS atom type of the material (default 1)")
+    parser.add_argument("--counter-type", default=None, metavar="T2",
+                        help="the atom type of a sphere counter-body of a counter-body file (default T + 1)")
     parser.add_argument("--wall", nargs=2, default=None, metavar=("FACE", "COORD"),
                         help="also the rigid flat wall fix: FACE one of xlo xhi ylo yhi zlo zhi, COORD [m]")
     parser.add_argument("--wall-region", default=None, metavar="REGION-ID",
@@ -107,11 +123,13 @@ def run(ns) -> int:
     if ns.wall_region is not None and not LAMMPS_ID.fullmatch(ns.wall_region):
         raise ValueError("--wall-region REGION-ID out of range: need letters, digits and underscores (a LAMMPS "
                          f"region ID), got {ns.wall_region!r}")
-    wall_args = wall_material(ns)
     params = load_parameters(ns.params)
-    if json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body") is not None:
-        raise ValueError(f"--params out of range: {ns.params} holds constants calibrated for the sphere on a deformable "
-                         f"counter-body; the LAMMPS plugin takes sphere-on-rigid-flat constants only")
+    counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
+    if counter is not None:
+        return run_counter(ns, params, counter, int(atom_type), wall)
+    if ns.counter_type is not None:
+        raise ValueError(f"--counter-type applies to a file calibrated on a counter-body; {ns.params} states none")
+    wall_args = wall_material(ns)
     record = _material_of(ns.params)      # E, nu, sigma_y of the sphere (the pair holds E* only)
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
     summary = {"engine": "lammps", "params": str(ns.params), "E": record["E"], "nu": record["nu"],
@@ -144,6 +162,82 @@ def run(ns) -> int:
     summary.update(type=kind, lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0
+
+
+def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
+    """The lines of a file calibrated on a counter-body (module doc): the like-type lines from the
+    master table, the pair's constants on pair_coeff T T2 (a sphere) or the wall fixes (a flat)."""
+    from nfdmodel import Material, VZParams, yield_factor
+
+    if not isinstance(params, VZParams):
+        raise ValueError(f"--params out of range: {ns.params} is a vz-table law calibrated on a counter-body, which "
+                         f"this command does not write; give the plugin the file: pair_coeff I J file PATH")
+    if ns.wall_E is not None or ns.wall_nu is not None:
+        raise ValueError(f"--wall-E, --wall-nu out of range: {ns.params} states the counter-body's material (the "
+                         f"wall's); leave them out")
+    record = _material_of(ns.params)
+    sphere = Material(record["E"], record["nu"], record["sigma_y"], record["rho"])
+    window = params.window.P_max_over_P_Y if params.window is not None else math.inf
+    pair_args = f"{exact(params.Ca_hat)} {exact(params.Kc_hat)} window {exact(window)}"
+    models = model_keywords(ns)
+    tail = f" {models}" if models else ""
+    sphere_args = like_type_args(sphere, record["R"], "the sphere")
+    lines = [f"# nfdcal export lammps: {ns.params} (load the plugin first: plugin load $(nfdcal lammps path)); "
+             "like-type constants: the master table (nfdcal material), the pair's: the file",
+             "pair_style nfd/vz", f"pair_coeff {kind} {kind} {sphere_args}{tail}"]
+    summary = {"engine": "lammps", "params": str(ns.params), "law": "vz", "type": kind, "counter_body": counter,
+               "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
+               "window_P_max_over_P_Y": None if math.isinf(window) else window}
+    if models:
+        summary.update(models=models)
+    if counter["shape"] == "sphere":
+        if wall is not None or ns.wall_region is not None:
+            raise ValueError(f"--wall, --wall-region out of range: {ns.params} calibrates the sphere on a sphere "
+                             f"counter-body, not on a wall")
+        if counter["sigma_y"] is None:
+            raise ValueError(f"--params out of range: {ns.params}'s counter-body is elastic (counter_body.sigma_y "
+                             f"null), and pair_style nfd/vz needs its yield stress for its own contacts: calibrate "
+                             f"with --counter-sigma-y")
+        other = number("--counter-type", ns.counter_type) if ns.counter_type is not None else kind + 1
+        if other != int(other) or other < 1 or other == kind:
+            raise ValueError(f"--counter-type out of range: need an integer >= 1 other than --type {kind}, got "
+                             f"{ns.counter_type}")
+        other = int(other)
+        body = Material(counter["E"], counter["nu"], counter["sigma_y"], record["rho"])
+        lines.append(f"pair_coeff {other} {other} {like_type_args(body, counter['R'], 'the counter-body')}{tail}")
+        lines.append(f"pair_coeff {min(kind, other)} {max(kind, other)} {pair_args}")
+        summary.update(counter_type=other)
+    else:
+        if ns.counter_type is not None:
+            raise ValueError(f"--counter-type out of range: {ns.params}'s counter-body is a flat (a wall fix)")
+        if wall is None and ns.wall_region is None:
+            raise ValueError(f"--wall out of range: {ns.params} calibrates the sphere on a flat counter-body: give "
+                             f"--wall FACE COORD or --wall-region REGION-ID (the wall fix of that material)")
+        if counter["sigma_y"] is not None and (yield_factor(counter["nu"]) * counter["sigma_y"]
+                                               < yield_factor(sphere.nu) * sphere.sigma_y):
+            raise ValueError(f"--params out of range: {ns.params}'s flat counter-body yields before the sphere (lower "
+                             f"A_Y(nu) sigma_y); the plugin's walls are elastic, their contacts yield in the sphere")
+        wall_args = (f"{sphere_args} wall_material {exact(counter['E'])} {exact(counter['nu'])} pair_constants "
+                     f"{pair_args}{tail}")
+        if wall is not None:
+            lines.append(f"fix nfd_wall all nfd/wall/vz {wall[0]} {exact(wall[1])} {wall_args}")
+        if ns.wall_region is not None:
+            lines.append(f"fix nfd_wall_region all nfd/wall/region/vz {ns.wall_region} {wall_args}")
+    summary.update(lines=lines[1:])
+    print_summary(ns, summary, lines)
+    return 0
+
+
+def like_type_args(material, R: float, which: str) -> str:
+    """E nu sigma_y Ca_hat Kc_hat window W of a material's own contacts, from the master table."""
+    from calib.fit.master_table import MasterTable
+
+    try:
+        values = MasterTable.load(None).parameters(material.E, material.nu, material.sigma_y, R, material.rho)
+    except ValueError as exc:
+        raise ValueError(f"the like-type constants of {which} (master table): {exc}") from None
+    numbers = [material.E, material.nu, material.sigma_y, values["Ca_hat"], values["Kc_hat"]]
+    return " ".join(exact(v) for v in numbers) + f" window {exact(values['window']['P_max_over_P_Y'])}"
 
 
 def wall_material(ns) -> str:

@@ -1,0 +1,89 @@
+"""The vz law of a contact of unlike bodies: the substitution, or the constants calibrated for the pair.
+
+A contact of two bodies takes E* of the two in series and R* (``ContactPair.sphere_sphere``,
+``ContactPair.sphere_wall``; Johnson 1985 section 4.2), exact while both are elastic, and its
+yield point from the body with the lower p_Y = A_Y(nu) sigma_Y:
+
+    P_Y = pi^3 R*^2 p_Y^3 / (6 E*^2) [N],   a_Y = (3 P_Y R* / (4 E*))^(1/3) [m]
+
+Its plastic constants, Ca = Ca_hat a_Y / P_Y [m/N], Kc = Kc_hat / P_Y [1/N], and its window
+(Vu-Quoc & Zhang 1999 eqs. 2.5, 3.6), come from
+
+- the substitution: the dimensionless constants of the body that yields first (a tie: body i),
+  each from a calibration of that body's material on a rigid flat; exact in the Hertz regime and
+  unverified once a body yields on a compliant partner (Mesarovic & Fleck 2000);
+- or the constants calibrated for that pair (``nfdcal calibrate --counter-E ...``: the sphere on
+  its counter-body, whose parameter file states Ca_hat, Kc_hat relative to the pair's P_Y, a_Y),
+  in place of the substitution's, with the same E*, R* and yield point.
+
+The LAMMPS plugin does the same: ``pair_coeff I J Ca_hat Kc_hat [window W]`` and a wall fix's
+``pair_constants`` (nfdmodel/lammps/README.md, Mixing). The dimensionless constants of a pair hold
+for its two materials at any size; the ratio of the radii is the calibration's (a wall: a flat).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .materials import ContactPair, Material, yield_factor
+from .parameters import CA_HAT_RANGE, KC_HAT_MAX, VZParams
+from .validation import check_real
+from .window import CalibrationWindow
+
+
+@dataclass(frozen=True)
+class VZConstants:
+    """The dimensionless vz constants of a material (on a rigid flat) or of a calibrated pair:
+    Ca_hat = Ca P_Y / a_Y [-] in [1e-8, 1e4], Kc_hat = Kc P_Y [-] in [0, 1e4] (nfd_limits.h), the
+    window (None: not stated, nothing is flagged)."""
+
+    Ca_hat: float
+    Kc_hat: float
+    window: CalibrationWindow | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "Ca_hat", check_real("Ca_hat", self.Ca_hat, low=CA_HAT_RANGE[0], low_inclusive=True,
+                                                      high=CA_HAT_RANGE[1], high_inclusive=True))
+        object.__setattr__(self, "Kc_hat", check_real("Kc_hat", self.Kc_hat, low=0.0, low_inclusive=True,
+                                                      high=KC_HAT_MAX, high_inclusive=True))
+        if self.window is not None and not isinstance(self.window, CalibrationWindow):
+            raise ValueError(f"window must be a CalibrationWindow or None, got {type(self.window).__name__}")
+
+    @classmethod
+    def of(cls, params: VZParams) -> "VZConstants":
+        """The dimensionless constants and window of ``params`` (a parameter file's: a material's on a
+        rigid flat, or a pair's, load_parameters of a counter-body file)."""
+        if not isinstance(params, VZParams):
+            raise ValueError(f"params must be VZParams, got {type(params).__name__}")
+        return cls(params.Ca_hat, params.Kc_hat, params.window)
+
+    def params(self, pair: ContactPair) -> VZParams:
+        """The vz law of ``pair``: Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y with the pair's P_Y, a_Y."""
+        return VZParams.from_dimensionless(pair, self.Ca_hat, self.Kc_hat, self.window)
+
+
+def _constants(name: str, value) -> VZConstants:
+    if not isinstance(value, VZConstants):
+        raise ValueError(f"{name} must be VZConstants, got {type(value).__name__}")
+    return value
+
+
+def sphere_sphere_params(material_i: Material, R_i: float, constants_i: VZConstants, material_j: Material,
+                         R_j: float, constants_j: VZConstants, pair: VZConstants | None = None) -> VZParams:
+    """The vz law of spheres i and j (radii [m]; ContactPair.sphere_sphere): the constants calibrated
+    for the pair when given, else those of the body with the lower A_Y(nu) sigma_y (a tie: i)."""
+    constants_i, constants_j = _constants("constants_i", constants_i), _constants("constants_j", constants_j)
+    contact = ContactPair.sphere_sphere(material_i, R_i, material_j, R_j)
+    if pair is not None:
+        return _constants("pair", pair).params(contact)
+    first = yield_factor(material_i.nu) * material_i.sigma_y <= yield_factor(material_j.nu) * material_j.sigma_y
+    return (constants_i if first else constants_j).params(contact)
+
+
+def sphere_wall_params(material: Material, R: float, constants: VZConstants, E_wall: float, nu_wall: float,
+                       pair: VZConstants | None = None) -> VZParams:
+    """The vz law of a sphere (radius R [m]) on an elastic flat wall of E_wall [Pa], nu_wall
+    (ContactPair.sphere_wall: first yield in the sphere): the constants calibrated for the sphere on
+    that wall when given, else the sphere's."""
+    constants = _constants("constants", constants)
+    contact = ContactPair.sphere_wall(material, R, E_wall, nu_wall)
+    return (constants if pair is None else _constants("pair", pair)).params(contact)
