@@ -921,13 +921,17 @@ def test_bad_walton_braun_coefficients_are_named(plugin, tmp_path, coeff, messag
 
 
 @pytest.mark.parametrize("pair_style, types, message", [
-    ("nfd/vz", "1 2", "pair_coeff for nfd/vz sets the material of one atom type: use I I (got 1 2)"),
-    ("nfd/thornton", "1 2", "pair_coeff for nfd/thornton sets the material of one atom type: use I I (got 1 2)"),
-    ("nfd/hertz", "2 1", "pair_coeff for nfd/hertz sets the material of one atom type: use I I (got 1 2)"),
+    ("nfd/vz", "1 2", "pair_coeff for nfd/vz: need Ca_hat Kc_hat [window P_max/P_Y] (the constants calibrated for "
+                      "this pair; a type's material goes in pair_coeff I I), got 5 arguments"),
+    ("nfd/thornton", "1 2", "pair_coeff for nfd/thornton: nfd/thornton takes no constants of a pair (a contact of "
+                            "unlike types follows from the two materials): use I I"),
+    ("nfd/hertz", "2 1", "pair_coeff for nfd/hertz: nfd/hertz takes no constants of a pair (a contact of unlike "
+                         "types follows from the two materials): use I I"),
     ("nfd/walton-braun", "2* 1", "pair_coeff for nfd/walton-braun: types 2* 1 out of range: need I <= J"),
 ])
 def test_pair_coeff_of_unlike_types(plugin, tmp_path, pair_style, types, message):
-    """pair_coeff I J (I != J) stays an error for the material laws (they mix per contact); under
+    """pair_coeff I J (I != J) of a material's numbers is an error: nfd/vz takes the constants calibrated
+    for that pair there (tests/test_lammps_pair_constants.py), hertz and thornton none; under
     nfd/walton-braun a wildcard range with no I <= J (LAMMPS orders plain type numbers, not those)
     is one too, rather than a line that sets nothing."""
     coeff = {"nfd/vz": aluminium_pair()[1], "nfd/thornton": "70e9 0.3 100e6", "nfd/hertz": "70e9 0.3",

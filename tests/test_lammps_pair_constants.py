@@ -241,7 +241,8 @@ def test_what_export_cannot_write_is_one_line(tmp_path, capsys):
 
 @pytest.mark.parametrize("style, line, message", [
     ("nfd/vz", "pair_coeff 1 2 0.03", "pair_coeff for nfd/vz: need Ca_hat Kc_hat [window P_max/P_Y] (the constants "
-                                      "calibrated for this pair), got 1 arguments"),
+                                      "calibrated for this pair; a type's material goes in pair_coeff I I), got 1 "
+                                      "arguments"),
     ("nfd/vz", "pair_coeff 1 2 1e5 0.01", "pair_coeff for nfd/vz: Ca_hat out of range: need 1e-08 <= Ca_hat <= 10000"),
     ("nfd/vz", "pair_coeff 1 2 0.03 -1", "pair_coeff for nfd/vz: Kc_hat out of range: need 0 <= Kc_hat <= 10000"),
     ("nfd/vz", "pair_coeff 1 2 0.03 0.01 window 0.5", "window out of range: need P_max/P_Y >= 1"),

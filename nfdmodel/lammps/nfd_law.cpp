@@ -162,7 +162,8 @@ class VzLaw : public SolidLaw {
     {
         if (narg != 2 && narg != 4)
             lmp->error->all(FLERR, fmt::format("{}: need Ca_hat Kc_hat [window P_max/P_Y] (the constants calibrated "
-                                               "for this pair), got {} arguments", who, narg));
+                                               "for this pair; a type's material goes in pair_coeff I I), got {} "
+                                               "arguments", who, narg));
         NfdMaterial m;
         read_constants(lmp, who, narg, arg, m);
         return m;
@@ -183,7 +184,8 @@ class VzLaw : public SolidLaw {
             if (std::strcmp(arg[2], "window") != 0)
                 lmp->error->all(FLERR, fmt::format("{}: unknown keyword '{}' (allowed: window)", who, arg[2]));
             m.window = std::strcmp(arg[3], "inf") == 0
-                ? INFINITY : number_in(lmp, who, arg[3], "window", 1.0, false, INFINITY, true, "P_max/P_Y >= 1 (or inf)");
+                ? INFINITY
+                : number_in(lmp, who, arg[3], "window", 1.0, false, INFINITY, true, "P_max/P_Y >= 1 (or inf)");
         }
     }
 
