@@ -149,6 +149,34 @@ def test_a_restart_with_a_pair_entry_continues_bit_for_bit(plugin, tmp_path):
     assert "WARNING: pair_style nfd/vz: the pair_coeff of atom types 1 2 differ from the restart file's" in output
 
 
+def test_vz_table_pair_file_equals_nfdmodel(plugin, tmp_path):
+    """pair_style nfd/vz-table, each type its own table file and pair_coeff 1 2 file pair.json (a
+    vz-table file calibrated on the other body: its counter_body record): nfdmodel's vz-table
+    collision of the pair with the pair file's tables (1e-8), not the yielding body's."""
+    from nfdmodel import VZTableParams
+
+    pair_nodes = ((1.0, 10.0, 100.0), (0.0, 0.2, 1.6), (1.0, 1.05, 1.6))
+    files = {}
+    for name, material in (("a", BODY_A), ("b", BODY_B)):
+        table = VZTableParams(ContactPair.sphere_flat(material, R_A), *plane.TABLE_NODES, plane.TABLE_WINDOW)
+        files[name] = tmp_path / f"{name}.json"
+        files[name].write_text(json.dumps(parameter_record(table, R_A, material)))
+    counter = {"shape": "sphere", "E": BODY_B.E, "nu": BODY_B.nu, "sigma_y": BODY_B.sigma_y, "R": R_B}
+    calibrated = VZTableParams(ContactPair.sphere_counter(BODY_A, R_A, BODY_B.E, BODY_B.nu, BODY_B.sigma_y, R_B),
+                               *pair_nodes, plane.TABLE_WINDOW)
+    files["pair"] = tmp_path / "pair.json"
+    files["pair"].write_text(json.dumps(parameter_record(calibrated, R_A, BODY_A, counter)))
+    params = VZTableParams(ContactPair.sphere_sphere(BODY_A, R_A, BODY_B, R_B), *pair_nodes, plane.TABLE_WINDOW)
+    v_in = 8.0 * params.pair.v_Y
+    text = plane.impact_input(plugin, spheres(v_in), {1: f"file {files['a']}", 2: f"file {files['b']}"},
+                              plane.steps_for(params, v_in), pair_style="nfd/vz-table")
+    text = text.replace("neighbor 0.001 bin", f"pair_coeff 1 2 file {files['pair']}\nneighbor 0.001 bin")
+    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    plane.assert_same(plane.measured(plane.run_lammps(text, tmp_path), v_in), py)
+    substituted = VZTableParams(params.pair, *plane.TABLE_NODES, plane.TABLE_WINDOW)
+    assert abs(nfdmodel.collide("vz-table", substituted, [v_in], dt=DT).e_velocity[0] / py.e_velocity[0] - 1) > 1e-3
+
+
 def wall_line(hats_sphere: VZConstants, extra: str) -> str:
     return f"{coeff(BODY_A, hats_sphere)} wall_material {num(STEEL_E)} {num(STEEL_NU)} {extra}".strip()
 
