@@ -152,7 +152,8 @@ def test_a_restart_with_a_pair_entry_continues_bit_for_bit(plugin, tmp_path):
 def test_vz_table_pair_file_equals_nfdmodel(plugin, tmp_path):
     """pair_style nfd/vz-table, each type its own table file and pair_coeff 1 2 file pair.json (a
     vz-table file calibrated on the other body: its counter_body record): nfdmodel's vz-table
-    collision of the pair with the pair file's tables (1e-8), not the yielding body's."""
+    collision of the pair with the pair file's tables (1e-8), not the yielding body's; the file as
+    fix nfd/wall/vz-table's pair_constants on a steel wall likewise."""
     from nfdmodel import VZTableParams
 
     pair_nodes = ((1.0, 10.0, 100.0), (0.0, 0.2, 1.6), (1.0, 1.05, 1.6))
@@ -175,6 +176,17 @@ def test_vz_table_pair_file_equals_nfdmodel(plugin, tmp_path):
     plane.assert_same(plane.measured(plane.run_lammps(text, tmp_path), v_in), py)
     substituted = VZTableParams(params.pair, *plane.TABLE_NODES, plane.TABLE_WINDOW)
     assert abs(nfdmodel.collide("vz-table", substituted, [v_in], dt=DT).e_velocity[0] / py.e_velocity[0] - 1) > 1e-3
+
+    # the same file as a wall's pair_constants: the sphere on that elastic wall with the file's tables
+    on_wall = VZTableParams(ContactPair.sphere_wall(BODY_A, R_A, STEEL_E, STEEL_NU), *pair_nodes, plane.TABLE_WINDOW)
+    v_in = 8.0 * on_wall.pair.v_Y
+    text = plane.wall_input(plugin, f"file {files['a']} wall_material {num(STEEL_E)} {num(STEEL_NU)} pair_constants "
+                            f"file {files['pair']}", [(R_A, 0.0, R_A, -v_in, BODY_A.rho)],
+                            plane.steps_for(on_wall, v_in), style="nfd/wall/vz-table")
+    rows = plane.wall_rows(plane.run_lammps(text, tmp_path))
+    py = nfdmodel.collide("vz-table", on_wall, [v_in], dt=DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
 
 
 def wall_line(hats_sphere: VZConstants, extra: str) -> str:
@@ -251,11 +263,25 @@ def test_exported_counter_body_lines_run_the_pairs_law(plugin, tmp_path, capsys)
 
 
 def test_what_export_cannot_write_is_one_line(tmp_path, capsys):
+    """Each refusal of nfdcal export lammps for a counter-body file is one line naming the flag or
+    the file's record and why (exit 2)."""
     sphere = counter_file(tmp_path, STEEL_SPHERE, VZConstants(0.03, 0.012, WINDOW), "sphere.json")
     elastic = counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": None}, VZConstants(0.03, 0.012), "elastic.json")
     flat = counter_file(tmp_path, STEEL_FLAT, VZConstants(0.03, 0.012, WINDOW), "flat.json")
     soft = counter_file(tmp_path, {**STEEL_FLAT, "sigma_y": 20e6}, VZConstants(0.03, 0.012, WINDOW), "soft.json")
+    from nfdmodel import VZTableParams
+
+    aluminium = Material(70e9, 0.3, 100e6, 2699.0)
+    table = tmp_path / "table.json"
+    table.write_text(json.dumps(parameter_record(VZTableParams(
+        ContactPair.sphere_counter(aluminium, 0.01, 205e9, 0.29, 655e6, 0.006), *plane.TABLE_NODES,
+        plane.TABLE_WINDOW), 0.01, aluminium, STEEL_SPHERE)))
+    rigid = tmp_path / "rigid.json"
+    rigid.write_text(json.dumps(parameter_record(VZConstants(0.03, 0.012, WINDOW).params(
+        ContactPair.sphere_flat(aluminium, 0.01)), 0.01, aluminium)))
     cases = [([sphere, "--wall", "zlo", "0"], "--wall, --wall-region out of range:"),
+             ([table], "is a vz-table law calibrated on a counter-body, which this command does not write"),
+             ([rigid, "--counter-type", "2"], "--counter-type applies to a file calibrated on a counter-body"),
              ([elastic], "counter-body is elastic (counter_body.sigma_y null)"),
              ([sphere, "--counter-type", "1"], "--counter-type out of range: need an integer >= 1 other than --type 1"),
              ([flat], "--wall out of range:"),

@@ -104,7 +104,8 @@ class NfdLaw {
     const std::string history_id;    // "NFD_HISTORY_VZ": fixed, so that read_restart finds the history
     const std::string pair_info, wall_info;    // the plugin registry's descriptions
     const bool has_window;           // constants fitted on a load window: loads beyond it are counted
-    const bool per_type_pair;        // pair_coeff I J sets a pair of types (else I I, mixed per contact)
+    const bool per_type_pair;        // pair_coeff I J sets a pair of types (else I I, mixed per contact,
+                                     // and I J the constants calibrated for a pair: read_pair)
 
     /* The constants of `pair_coeff I J ...` (wall = false) or of a wall fix after its plane, up to
      * the contact models (read by read_models); who starts every error message ("pair_coeff for

@@ -47,7 +47,8 @@ class PairNfd : public LAMMPS_NS::Pair {
     FixNfdHistory *contact_history() const { return history; }
 
     /* A 64-bit fingerprint of atom type t's pair_coeff (NfdLaw::fingerprint) and of each explicit
-     * pair_coeff t J (J and its constants): kept with the histories in restart files. */
+     * pair_coeff t J (J and its constants: walton-braun's stiffnesses, a calibrated pair's
+     * constants): kept with the histories in restart files. */
     uint64_t coeff_fingerprint(int t) const;
 
  private:
