@@ -541,7 +541,7 @@ def test_wall_refuses_run_style_respa(plugin, tmp_path):
 
 @pytest.mark.parametrize("args, message", [
     ("ylo2 0.0 7e10 0.3 1e8 0.026 0.011", "FACE out of range: need one of xlo xhi ylo yhi zlo zhi, got 'ylo2'"),
-    ("zlo 0.0 7e10 0.3 1e8 0.026", "need E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] (SI units)"),
+    ("zlo 0.0 7e10 0.3 1e8 0.026", "need E nu sigma_y Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y] (SI units)"),
     ("zlo 0.0 7e10 0.7 1e8 0.026 0.011", "nu out of range: need 0 <= nu < 0.5, got 0.7"),
     ("zlo abc 7e10 0.3 1e8 0.026 0.011", "COORD out of range: need a finite position [m], got abc"),
     ("zlo 0.0 7e10 abc 1e8 0.026 0.011", "nu out of range: need 0 <= nu < 0.5, got abc"),
@@ -921,8 +921,8 @@ def test_bad_walton_braun_coefficients_are_named(plugin, tmp_path, coeff, messag
 
 
 @pytest.mark.parametrize("pair_style, types, message", [
-    ("nfd/vz", "1 2", "pair_coeff for nfd/vz: need Ca_hat Kc_hat [window P_max/P_Y] (the constants calibrated for "
-                      "this pair; a type's material goes in pair_coeff I I), got 5 arguments"),
+    ("nfd/vz", "1 2", "pair_coeff for nfd/vz: need Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y] (the constants "
+                      "calibrated for this pair; a type's material goes in pair_coeff I I), got 5 arguments"),
     ("nfd/thornton", "1 2", "pair_coeff for nfd/thornton: nfd/thornton takes no constants of a pair (a contact of "
                             "unlike types follows from the two materials): use I I"),
     ("nfd/hertz", "2 1", "pair_coeff for nfd/hertz: nfd/hertz takes no constants of a pair (a contact of unlike "

@@ -38,6 +38,7 @@ from nfdmodel.materials import yield_factor
 
 DT, RTOL, num = plane.DT, plane.RTOL, plane.num
 WINDOW = CalibrationWindow.assumed_default()
+LOW_WINDOW = CalibrationWindow(13.7, 41.2, None, "load paths to 13.7, 27.4, 41.2 P_Y")
 # body A yields first (A_Y(0) sigma_Y below B's, though B's sigma_Y is lower): the substitution takes A's
 BODY_A, R_A, HATS_A = Material(70e9, 0.0, 100e6, 2700.0), 0.01, VZConstants(0.03, 0.012, WINDOW)
 BODY_B, R_B, HATS_B = Material(110e9, 0.45, 95e6, 7800.0), 0.006, VZConstants(0.015, 0.004, WINDOW)
@@ -234,12 +235,14 @@ def test_exported_counter_body_lines_run_the_pairs_law(plugin, tmp_path, capsys)
     """nfdcal export lammps of a file calibrated on a steel sphere: pair_coeff 1 1, 2 2 (the master
     table's like-type constants) and 1 2 (the file's pair constants); an aluminium sphere onto a
     steel one of the file's radii (the file's density for both, as sphere_counter) gives the file's
-    own law (load_parameters) to 1e-8. Calibrated on a steel flat: the wall fix with wall_material
-    and pair_constants gives the file's law on the wall to 1e-8."""
-    path = counter_file(tmp_path, STEEL_SPHERE, VZConstants(0.03, 0.012, WINDOW), "sphere.json")
+    own law (load_parameters) to 1e-8, its window's two ends on the pair's line. Calibrated on a
+    steel flat: the wall fix with wall_material and pair_constants gives the file's law on the wall
+    to 1e-8."""
+    path = counter_file(tmp_path, STEEL_SPHERE, VZConstants(0.03, 0.012, LOW_WINDOW), "sphere.json")
     assert cli.main(["export", "lammps", "--params", str(path), "--json"]) == 0
     pair_style, coeff_1, coeff_2, coeff_12 = json.loads(capsys.readouterr().out)["lines"]
     assert pair_style == "pair_style nfd/vz" and coeff_12.startswith("pair_coeff 1 2 0.03")
+    assert coeff_12.endswith(" window 13.7 41.2")          # the fit's lowest unloading, then its largest load
     params = nfdmodel.load_parameters(path)
     v_in = 5.0 * params.pair.v_Y
     balls = [(1, 0.01, -0.01, 0.5 * v_in, 2699.0), (2, 0.006, 0.006, -0.5 * v_in, 2699.0)]
@@ -294,9 +297,10 @@ def test_what_export_cannot_write_is_one_line(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("style, line, message", [
-    ("nfd/vz", "pair_coeff 1 2 0.03", "pair_coeff for nfd/vz: need Ca_hat Kc_hat [window P_max/P_Y] (the constants "
-                                      "calibrated for this pair; a type's material goes in pair_coeff I I), got 1 "
-                                      "arguments"),
+    ("nfd/vz", "pair_coeff 1 2 0.03", "pair_coeff for nfd/vz: need Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y] "
+                                      "(the constants calibrated for this pair; a type's material goes in pair_coeff "
+                                      "I I), got 1 arguments"),
+    ("nfd/vz", "pair_coeff 1 2 0.03 0.01 window 20 10", "window out of range: need P_max/P_Y >= 20 (or inf), got 10"),
     ("nfd/vz", "pair_coeff 1 2 1e5 0.01", "pair_coeff for nfd/vz: Ca_hat out of range: need 1e-08 <= Ca_hat <= 10000"),
     ("nfd/vz", "pair_coeff 1 2 0.03 -1", "pair_coeff for nfd/vz: Kc_hat out of range: need 0 <= Kc_hat <= 10000"),
     ("nfd/vz", "pair_coeff 1 2 0.03 0.01 window 0.5", "window out of range: need P_max/P_Y >= 1"),
@@ -317,3 +321,38 @@ def test_bad_pair_constants_are_one_error_line(plugin, tmp_path, style, line, me
         text = text.replace("neighbor 0.001 bin", f"{line}\nneighbor 0.001 bin")
     errors = [row for row in plane.run_lammps(text, tmp_path).splitlines() if row.startswith("ERROR")]
     assert len(errors) == 1 and message in errors[0], errors
+
+
+def test_contacts_turning_below_the_window_are_counted(plugin, tmp_path):
+    """`window 13.7 41.2` (the lowest unloading fitted and the largest load): contacts that yield,
+    turn below 13.7 P_Y and end are counted once and reported at the end of the run, as nfdmodel.collide
+    flags them (in_calibrated_range False below the window): four spheres on the wall at 0.5, 1.5,
+    3 and 12 v_Y (elastic, two below, one inside), and the pair entry of two unlike spheres."""
+    params = sphere_wall_params(BODY_A, R_A, HATS_A, STEEL_E, STEEL_NU, pair=VZConstants(0.02, 0.006, LOW_WINDOW))
+    v_Y = params.pair.v_Y
+    speeds = [0.5 * v_Y, 1.5 * v_Y, 3.0 * v_Y, 12.0 * v_Y]
+    with pytest.warns(nfdmodel.RangeWarning, match="below its calibrated window"):
+        py = nfdmodel.collide("vz", params, speeds, dt=DT)
+    below = (~py.in_calibrated_range) & (py.P_max < params.window_force)
+    assert below.tolist() == [False, True, True, False]
+    balls = [(R_A, x, R_A, -v, BODY_A.rho) for x, v in zip((-0.06, -0.02, 0.02, 0.06), speeds)]
+    steps = int(1.5 * plane.steps_for(params, speeds[0]))
+    text = plane.wall_input(plugin, wall_line(HATS_A, f"pair_constants {hats(PAIR)} window 13.7 41.2"), balls, steps)
+    output = plane.run_lammps(text, tmp_path)
+    lowest = py.P_max[below].min() / params.pair.P_Y
+    assert (f"fix wall (nfd/wall/vz): 2 contact(s) unloaded below the calibrated window (yielded and turned at P/P_Y "
+            f"down to {lowest:.4g}, below the lowest unloading fitted, P/P_Y = 13.7)") in output, output[-1500:]
+
+    pair = sphere_sphere_params(BODY_A, R_A, HATS_A, BODY_B, R_B, HATS_B, pair=VZConstants(0.02, 0.006, LOW_WINDOW))
+    v_in = 2.0 * pair.pair.v_Y
+    with pytest.warns(nfdmodel.RangeWarning, match="below its calibrated window"):
+        flagged = nfdmodel.collide("vz", pair, [v_in], dt=DT)
+    assert not flagged.in_calibrated_range[0]
+    for nprocs in (1, 2):
+        output = head_on(plugin, tmp_path, v_in, int(1.5 * plane.steps_for(pair, v_in)),
+                         f"1 2 {hats(PAIR)} window 13.7 41.2", nprocs=nprocs)
+        assert "pair nfd/vz: 1 contact(s) unloaded below the calibrated window (yielded and turned at P/P_Y down " \
+               f"to {flagged.P_max[0] / pair.pair.P_Y:.4g}, below" in output, output[-1500:]
+    output = head_on(plugin, tmp_path, 10.0 * pair.pair.v_Y, int(1.5 * plane.steps_for(pair, 10.0 * pair.pair.v_Y)),
+                     f"1 2 {hats(PAIR)} window 13.7 41.2")
+    assert "pair nfd/vz: 0 contacts unloaded below the calibrated window" in output

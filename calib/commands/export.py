@@ -10,12 +10,13 @@ Prints, from a parameter file (``nfdcal calibrate``, ``nfdcal material --params-
 of ``nfdcal lammps build`` (nfdmodel/lammps/README.md):
 
     pair_style nfd/vz
-    pair_coeff T T E nu sigma_y Ca_hat Kc_hat window P_max/P_Y
+    pair_coeff T T E nu sigma_y Ca_hat Kc_hat window [P_min/P_Y] P_max/P_Y
     fix nfd_wall all nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat window P_max/P_Y   (--wall)
     fix nfd_wall_region all nfd/wall/region/vz REGION-ID E nu ...   (--wall-region: a region's surface)
 
 numbers in SI units to 17 significant digits (LAMMPS reads back the file's values exactly), the
-window the constants were fitted on. The constants are the material's (Ca_hat, Kc_hat of a sphere
+window the constants were fitted on (its lower end, the lowest unloading fitted, when above first
+yield: the plugin counts contacts that turn below it). The constants are the material's (Ca_hat, Kc_hat of a sphere
 on a flat: the dimensionless constants transfer to any pair, nfdmodel/README.md: the dimensionless constants).
 A vz-table file (its tables, too long for a line) is named by its absolute path, which the
 plugin reads:
@@ -137,7 +138,7 @@ def run(ns) -> int:
     if isinstance(params, VZParams):
         law = "vz"
         numbers = [record["E"], record["nu"], record["sigma_y"], params.Ca_hat, params.Kc_hat]
-        law_args = " ".join(exact(v) for v in numbers) + f" window {exact(window)}"
+        law_args = " ".join(exact(v) for v in numbers) + f" window {window_args(params.window)}"
         summary.update(law="vz", Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
     else:
         law = "vz-table"
@@ -178,7 +179,7 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
     record = _material_of(ns.params)
     sphere = Material(record["E"], record["nu"], record["sigma_y"], record["rho"])
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
-    pair_args = f"{exact(params.Ca_hat)} {exact(params.Kc_hat)} window {exact(window)}"
+    pair_args = f"{exact(params.Ca_hat)} {exact(params.Kc_hat)} window {window_args(params.window)}"
     models = model_keywords(ns)
     tail = f" {models}" if models else ""
     sphere_args = like_type_args(sphere, record["R"], "the sphere")
@@ -226,6 +227,15 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
     summary.update(lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0
+
+
+def window_args(window) -> str:
+    """The plugin's window: [P_min/P_Y] P_max/P_Y, the lower end when the fit's lowest unloading is above
+    first yield (contacts turning below it are counted), inf for constants that state none."""
+    if window is None:
+        return "inf"
+    low = f"{exact(window.P_min_over_P_Y)} " if window.P_min_over_P_Y > 1.0 else ""
+    return low + exact(window.P_max_over_P_Y)
 
 
 def like_type_args(material, R: float, which: str) -> str:

@@ -40,6 +40,7 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
     coord = number_in(lmp, who(), arg[4], "COORD", -INFINITY, true, INFINITY, true, "a finite position [m]");
     read_constants(narg, arg, geometry);
     allocate(1, false);
+    counts_below = true;
 }
 
 FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant) :
@@ -158,6 +159,8 @@ void FixNfdWall::init()
                                       "sphere", who()));
     beyond_count = 0;
     beyond_largest = 0.0;
+    below_count = 0;
+    below_lowest = INFINITY;
 }
 
 void FixNfdWall::post_force(int /*vflag*/)
@@ -174,6 +177,7 @@ void FixNfdWall::post_force(int /*vflag*/)
         double *stored = history[i];
         const double delta = radius[i] - side * (x[i][dim] - coord);
         if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
+            if (stored[1] > 0.0) count_below_window(stored, radius[i]);
             for (int k = 0; k < width; ++k) stored[k] = 0.0;
             continue;
         }
@@ -256,6 +260,18 @@ double FixNfdWall::compute_vector(int /*n*/)
     return all;
 }
 
+/* A contact that ends (off the wall) after it yielded and turned below the lowest unloading load of
+ * the window, P_Y < P_max < P_min (nfdmodel.collide's outside the calibrated range): counted. */
+void FixNfdWall::count_below_window(const double *stored, double R_star)
+{
+    if (!law->has_window || !(material.window_min > 1.0)) return;
+    const double P_Y = law->params(R_star, material).P_Y, P_max = load_history(stored).P_max;
+    if (P_max > P_Y * (1.0 + 1e-9) && P_max < material.window_min * P_Y * (1.0 - 1e-9)) {
+        ++below_count;
+        below_lowest = std::min(below_lowest, P_max / P_Y);
+    }
+}
+
 void FixNfdWall::post_run()
 {
     if (!law->has_window) return;
@@ -272,6 +288,19 @@ void FixNfdWall::post_run()
                                             "P/P_Y = {:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an "
                                             "extrapolation there\n", id, style, all, largest, material.window));
     }
+    if (!counts_below || !(material.window_min > 1.0)) return;
+    mine = below_count;
+    MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    double lowest = INFINITY;
+    MPI_Allreduce(&below_lowest, &lowest, 1, MPI_DOUBLE, MPI_MIN, world);
+    if (comm->me != 0) return;
+    if (all == 0)
+        utils::logmesg(lmp, fmt::format("fix {} ({}): 0 contacts unloaded below the calibrated window\n", id, style));
+    else
+        utils::logmesg(lmp, fmt::format("fix {} ({}): {} contact(s) unloaded below the calibrated window (yielded "
+                                        "and turned at P/P_Y down to {:.4g}, below the lowest unloading fitted, P/P_Y "
+                                        "= {:.4g}): the constants are an extrapolation there\n", id, style, all,
+                                        lowest, material.window_min));
 }
 
 void FixNfdWall::grow_arrays(int nmax)

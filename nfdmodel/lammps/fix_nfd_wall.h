@@ -106,6 +106,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     void contact(int i, double delta, const double *n, double R_star, const double *v_wall, double *stored);
     /* Before and after the loop over the atoms: the outputs' sums. */
     void begin_forces();
+    /* A contact ending with its history `stored` (R_star [m]): counted when it turned below the
+     * window's lowest unloading (the plane wall; a region's ended contact leaves no curvature). */
+    void count_below_window(const double *stored, double R_star);
     void end_forces() { total_reduced = false; }
 
     const NfdLaw *law;
@@ -126,8 +129,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     double coord = 0.0;           // the plane [m]
     double total_local = 0.0, total = 0.0, touching_local = 0.0;
     bool total_reduced = false;
-    LAMMPS_NS::bigint beyond_count = 0;
-    double beyond_largest = 0.0;
+    LAMMPS_NS::bigint beyond_count = 0, below_count = 0;
+    double beyond_largest = 0.0, below_lowest = INFINITY;
+    bool counts_below = false;    // the plane wall counts contacts ended below the window
 };
 
 }    // namespace nfdcal_lammps

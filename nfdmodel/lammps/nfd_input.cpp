@@ -181,6 +181,9 @@ NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::
         lmp->error->all(FLERR, fmt::format("{} table out of range: need P_over_P_Y[0] = 1 and increasing, "
                                            "a_p_over_a_Y[0] = 0 and non-decreasing, C_R[0] = 1 and > 0", in));
     mat.window = column[0][n - 1];
+    if (data.contains("window") && data["window"].is_object() && data["window"].contains("P_min_over_P_Y"))
+        mat.window_min = file_number(lmp, in + " window.P_min_over_P_Y", data["window"]["P_min_over_P_Y"], 1.0,
+                                     false, 1e8, false, "1 <= P_min/P_Y <= 1e8");
     if (data.contains("window") && data["window"].is_object() && data["window"].contains("P_max_over_P_Y"))
         mat.window = file_number(lmp, in + " window.P_max_over_P_Y", data["window"]["P_max_over_P_Y"], 1.0, false,
                                  1e8, false, "1 <= P_max/P_Y <= 1e8");

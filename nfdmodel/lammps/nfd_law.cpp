@@ -2,13 +2,13 @@
  *
  *   hertz         pair_coeff I I E nu
  *   thornton      pair_coeff I I E nu sigma_y
- *   vz            pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
+ *   vz            pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y]
  *   vz-table      pair_coeff I I file params.json          (an nfdcal parameter file)
  *   walton-braun  pair_coeff I J K1 K2                      (stiffnesses [N/m], mixed in series)
  *
  * and, for a pair of unlike types calibrated as a pair (read_pair):
  *
- *   vz            pair_coeff I J Ca_hat Kc_hat [window P_max/P_Y]
+ *   vz            pair_coeff I J Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y]
  *   vz-table      pair_coeff I J file pair.json             (a counter-body parameter file)
  *
  * SI units; the dimensionless vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y hold for any
@@ -67,6 +67,7 @@ NfdMaterial NfdLaw::with_pair(const NfdMaterial &contact, const NfdMaterial &pai
     calibrated.Ca_hat = pair.Ca_hat;
     calibrated.Kc_hat = pair.Kc_hat;
     calibrated.window = pair.window;
+    calibrated.window_min = pair.window_min;
     calibrated.table = pair.table;
     return calibrated;
 }
@@ -145,31 +146,33 @@ class VzLaw : public SolidLaw {
  public:
     VzLaw() :
         SolidLaw(NFD_LAW_VZ, "vz", "Vu-Quoc & Zhang elastoplastic normal contact, FE-calibrated", true,
-                 "E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]", 5)
+                 "E nu sigma_y Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y]", 5)
     {
     }
 
     /* Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y, window force = window P_Y; the window defaults to
-     * NFD_DEFAULT_WINDOW (nfdmodel.window), `window inf` never flags a contact. */
+     * NFD_DEFAULT_WINDOW (nfdmodel.window), `window inf` never flags a contact; its lower end P_min/P_Y
+     * (default 1: none) is the lowest unloading the constants were fitted on. */
     NfdMaterial read(LAMMPS *lmp, const std::string &who, bool wall, int narg, char **arg) const override
     {
-        NfdMaterial m = read_solid(lmp, who, wall, narg, arg, true, 2);
+        NfdMaterial m = read_solid(lmp, who, wall, narg == count + 3 ? count + 2 : narg, arg, true, 2);
         read_constants(lmp, who, narg - 3, arg + 3, m);
         return m;
     }
 
     NfdMaterial read_pair(LAMMPS *lmp, const std::string &who, int narg, char **arg) const override
     {
-        if (narg != 2 && narg != 4)
-            lmp->error->all(FLERR, fmt::format("{}: need Ca_hat Kc_hat [window P_max/P_Y] (the constants calibrated "
-                                               "for this pair; a type's material goes in pair_coeff I I), got {} "
-                                               "arguments", who, narg));
+        if (narg != 2 && narg != 4 && narg != 5)
+            lmp->error->all(FLERR, fmt::format("{}: need Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y] (the constants "
+                                               "calibrated for this pair; a type's material goes in pair_coeff I I), "
+                                               "got {} arguments", who, narg));
         NfdMaterial m;
         read_constants(lmp, who, narg, arg, m);
         return m;
     }
 
-    /* Ca_hat Kc_hat [window W] of arg[0..narg) (narg 2 or 4, checked by the caller), each in its range */
+    /* Ca_hat Kc_hat [window [P_min] P_max] of arg[0..narg) (narg 2, 4 or 5, checked by the caller), each in
+     * its range */
     static void read_constants(LAMMPS *lmp, const std::string &who, int narg, char **arg, NfdMaterial &m)
     {
         m.Ca_hat = positive(lmp, who, arg[0], "Ca_hat = Ca P_Y / a_Y");
@@ -180,12 +183,17 @@ class VzLaw : public SolidLaw {
                              fmt::format("0 <= Kc_hat <= {:g} (the paper's 0.0098)", NFD_KC_HAT_MAX));
         check_vz_admissible(lmp, who, m.Ca_hat, m.Kc_hat);
         m.window = NFD_DEFAULT_WINDOW;
-        if (narg == 4) {
+        if (narg >= 4) {
             if (std::strcmp(arg[2], "window") != 0)
                 lmp->error->all(FLERR, fmt::format("{}: unknown keyword '{}' (allowed: window)", who, arg[2]));
-            m.window = std::strcmp(arg[3], "inf") == 0
+            if (narg == 5)
+                m.window_min = number_in(lmp, who, arg[3], "window P_min/P_Y", 1.0, false, INFINITY, true,
+                                         "P_min/P_Y >= 1 (the lowest unloading of the fit)");
+            const char *high = arg[narg - 1];
+            m.window = std::strcmp(high, "inf") == 0
                 ? INFINITY
-                : number_in(lmp, who, arg[3], "window", 1.0, false, INFINITY, true, "P_max/P_Y >= 1 (or inf)");
+                : number_in(lmp, who, high, "window", m.window_min, false, INFINITY, true,
+                            fmt::format("P_max/P_Y >= {:g} (or inf)", m.window_min));
         }
     }
 

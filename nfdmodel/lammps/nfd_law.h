@@ -63,10 +63,12 @@ inline void store_friction(const nfd_friction_history &h, double sign, double *v
  * E [Pa], nu, sigma_y [Pa]; p_Y = A_Y(nu) sigma_Y [Pa] (nfd_yield_factor); E_star [Pa]: one
  * body's E / (1 - nu^2) (its E* on a rigid flat), a contact's E* after mixing; the vz constants
  * Ca_hat, Kc_hat; the vz-table tables (x = P/P_Y, a_p/a_Y, C_R: dimensionless, so they hold for
- * any pair); the window P_max/P_Y; the Walton-Braun stiffnesses K1 <= K2 [N/m]; the contact
- * models after the constants (nfd_models.h) and, for a contact (or a wall), their kernel form. */
+ * any pair); the window P_max/P_Y and its lower end P_min/P_Y; the Walton-Braun stiffnesses
+ * K1 <= K2 [N/m]; the contact models after the constants (nfd_models.h) and, for a contact (or a
+ * wall), their kernel form. */
 struct NfdMaterial {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, E_star = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
+    double window_min = 1.0;
     double K1 = 0, K2 = 0;
     nfd_table table{};
     NfdModels models;
@@ -114,7 +116,7 @@ class NfdLaw {
                              char **arg) const = 0;
 
     /* The constants calibrated for one pair of unlike bodies (`pair_coeff I J ...` with I != J, a wall
-     * fix's `pair_constants ...`): vz Ca_hat Kc_hat [window P_max/P_Y], vz-table file PATH, relative to
+     * fix's `pair_constants ...`): vz Ca_hat Kc_hat [window [P_min] P_max], vz-table file PATH, relative to
      * the pair's P_Y and a_Y (E* of the two bodies in series, R*, first yield in the body with the lower
      * p_Y). The laws without calibrated constants (hertz, thornton, walton-braun) refuse them. */
     virtual NfdMaterial read_pair(LAMMPS_NS::LAMMPS *lmp, const std::string &who, int narg, char **arg) const;

@@ -190,6 +190,9 @@ void PairNfd::init_style()
     beyond_count = 0;
     beyond_largest = 0.0;
     window_of_largest = 0.0;
+    below_count = 0;
+    below_lowest = INFINITY;
+    window_min_of_lowest = 0.0;
 }
 
 /* The contact constants of a pair of types (NfdLaw::mix, the lower type first, unless set by
@@ -254,6 +257,7 @@ void PairNfd::compute(int eflag, int vflag)
             double *stored = history->value(i, jj);
             if (rsq >= radsum * radsum) {         // apart: the contact (if any) is over
                 if (history->touching(i, jj)) {
+                    count_below_window(i, j, stored);
                     for (int n = 0; n < history->stride(); ++n) stored[n] = 0.0;
                     history->set_touching(i, jj, false);
                 }
@@ -312,6 +316,23 @@ void PairNfd::check_status(int status, int i, int j, double delta, const nfd_par
             beyond_largest = load;
             window_of_largest = p.window_P_max / p.P_Y;
         }
+    }
+}
+
+/* A contact that ends (i and j apart) after it yielded and turned below the lowest unloading load of
+ * its constants' window, P_Y < P_max < P_min (what nfdmodel.collide flags as outside the calibrated
+ * range): counted once, by one rank; P_Y of the contact from its types' at R* = 1 m (P_Y ~ R*^2). */
+void PairNfd::count_below_window(int i, int j, const double *stored)
+{
+    const int *type = atom->type;
+    const TypePair &pair = type_pair(type[i], type[j]);
+    if (!(pair.constants->window_min > 1.0) || !(j < atom->nlocal || atom->tag[i] < atom->tag[j])) return;
+    const double R_star = 1.0 / (1.0 / atom->radius[i] + 1.0 / atom->radius[j]);
+    const double P_Y = pair.unit.P_Y * R_star * R_star, P_max = load_history(stored).P_max;
+    if (P_max > P_Y * (1.0 + 1e-9) && P_max < pair.constants->window_min * P_Y * (1.0 - 1e-9)) {
+        ++below_count;
+        below_lowest = std::min(below_lowest, P_max / P_Y);
+        window_min_of_lowest = below_lowest == P_max / P_Y ? pair.constants->window_min : window_min_of_lowest;
     }
 }
 
@@ -399,6 +420,10 @@ void *PairNfd::extract(const char *str, int &dim)
         beyond_as_double = (double) beyond_count;
         return &beyond_as_double;
     }
+    if (std::strcmp(str, "nfd/below_window") == 0) {
+        below_as_double = (double) below_count;
+        return &below_as_double;
+    }
     return nullptr;
 }
 
@@ -421,6 +446,31 @@ void PairNfd::finish()
                                             "P/P_Y = {:.4g}, fitted to P/P_Y <= {:.4g}): the constants are an "
                                             "extrapolation there\n", name(), total, all[0], all[1]));
     }
+    report_below_window();
+}
+
+/* The contacts that ended below the window's lowest unloading, in one line, when some pair of types
+ * has constants whose window states a lower end (P_min/P_Y > 1). */
+void PairNfd::report_below_window()
+{
+    bool stated = false;
+    for (int i = 1; i <= ntypes_set; ++i)
+        for (int j = i; j <= ntypes_set; ++j) stated = stated || contact[i][j].window_min > 1.0;
+    if (!stated) return;          // the same on every rank
+    bigint total = 0, mine = below_count;
+    MPI_Allreduce(&mine, &total, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    double lowest[2] = {below_lowest, window_min_of_lowest}, all[2];
+    MPI_Allreduce(&lowest[0], &all[0], 1, MPI_DOUBLE, MPI_MIN, world);
+    double window = lowest[0] == all[0] ? lowest[1] : 0.0;
+    MPI_Allreduce(&window, &all[1], 1, MPI_DOUBLE, MPI_MAX, world);
+    if (comm->me != 0) return;
+    if (total == 0)
+        utils::logmesg(lmp, fmt::format("pair {}: 0 contacts unloaded below the calibrated window\n", name()));
+    else
+        utils::logmesg(lmp, fmt::format("pair {}: {} contact(s) unloaded below the calibrated window (yielded and "
+                                        "turned at P/P_Y down to {:.4g}, below the lowest unloading fitted, P/P_Y = "
+                                        "{:.4g}): the constants are an extrapolation there\n", name(), total, all[0],
+                                        all[1]));
 }
 
 uint64_t PairNfd::coeff_fingerprint(int t) const

@@ -58,6 +58,8 @@ class PairNfd : public LAMMPS_NS::Pair {
                       const nfd_history &next);
     void contact_with_models(int i, int j, double delx, double dely, double delz, double r, const NfdMaterial &c,
                              const nfd_params &p, double *stored);
+    void count_below_window(int i, int j, const double *stored);
+    void report_below_window();
     void create_history_fix();
     void warn_other_histories();
     const double *find_stored(int i, int j);
@@ -86,6 +88,8 @@ class PairNfd : public LAMMPS_NS::Pair {
     bool models_on = false;                            // contact models on some pair of types
     LAMMPS_NS::bigint beyond_count = 0;
     double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
+    LAMMPS_NS::bigint below_count = 0;                 // contacts ended below the window's lowest unloading
+    double below_lowest = INFINITY, window_min_of_lowest = 0.0, below_as_double = 0.0;
 };
 
 }    // namespace nfdcal_lammps
