@@ -23,7 +23,8 @@
  * nfdmodel.ContactPair.sphere_wall): 1/E* = (1 - nu^2)/E + (1 - nu_w^2)/E_w, R* as above, first
  * yield in the sphere at the pair's P_Y = (pi A_Y(nu) sigma_Y)^3 R*^2 / (6 E*^2), the sphere's
  * plastic constants, k_t NULL = 8 G* with 1/G* = (2 - nu)/G + (2 - nu_w)/G_w (Johnson 1985
- * section 4.2; README of this folder, Walls of their own material).
+ * section 4.2; README of this folder, Walls of their own material); with pair_constants, the
+ * constants calibrated for that sphere on that wall in place of the sphere's (NfdLaw::with_pair).
  * The per-atom history (nfd_history, then the nfd_friction_history) travels with the atom
  * between MPI ranks, goes into restart files (read back by a fix of the same ID and style
  * defined after read_restart) and is zeroed when the sphere leaves the wall.
@@ -33,7 +34,8 @@
  * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
  * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]). Loads
  * beyond the window are counted and reported at the end of each run like the pair style's, in a
- * line naming the fix's ID and style.
+ * line naming the fix's ID and style; the plane wall also counts contacts that end after turning
+ * below the window's lowest unloading (window P_min/P_Y P_max/P_Y).
  * The class is also the shared part of the region wall (FixNfdWallRegion, as LAMMPS's fix
  * wall/gran/region extends fix wall/gran): the constants, one contact's force (contact), the
  * per-atom store of `slots` histories per atom, its migration and restart, the outputs.

@@ -162,7 +162,8 @@ class VzLaw : public SolidLaw {
 
     NfdMaterial read_pair(LAMMPS *lmp, const std::string &who, int narg, char **arg) const override
     {
-        if (narg != 2 && narg != 4 && narg != 5)
+        // the shape first: a material's numbers (E nu sigma_y ...) given to I J get the usage, not a range
+        if (narg != 2 && !((narg == 4 || narg == 5) && std::strcmp(arg[2], "window") == 0))
             lmp->error->all(FLERR, fmt::format("{}: need Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y] (the constants "
                                                "calibrated for this pair; a type's material goes in pair_coeff I I), "
                                                "got {} arguments", who, narg));

@@ -7,7 +7,8 @@
  * kernel's nfd_contact_step: the normal law's force, normal damping, friction, rolling and
  * twisting resistance, forces and torques on both atoms; the springs are advanced on every step
  * but the set-up step of a run (as LAMMPS's granular styles). A contact whose turning point moves beyond the window of
- * its constants is counted once; the count is reported in one line at the end of each run. A
+ * its constants is counted once, and one that ends after turning below the window's lowest unloading
+ * (window P_min/P_Y P_max/P_Y); the counts are reported at the end of each run. A
  * contact that reaches full contact (the law's contact radius reaches R*) stops the run with an
  * error naming the two atoms.
  *
