@@ -492,12 +492,13 @@ def wall_rows(output: str) -> np.ndarray:
                      if re.fullmatch(r"\s*\d+(\s+[-+.\deE]+){6}\s*", line)])
 
 
-@pytest.mark.parametrize("wall_material", ["", " wall_material 210000000000.0 0.3"])
+@pytest.mark.parametrize("wall_material", ["", " wall_material 210000000000.0 0.3",
+                                           " wall_material 210000000000.0 0.3 pair_constants 0.02 0.006"])
 def test_wall_history_goes_through_a_restart_file(plugin, tmp_path, wall_material):
     """write_restart in mid-unloading, read_restart in a new LAMMPS with the wall fix defined again
     (same ID and style): the continued trajectory equals the uninterrupted one to round-off, also
-    continued on 2 MPI ranks (the sphere on their boundary x = 0); on a rigid flat and on a steel
-    wall (wall_material: part of the fix's constants). The
+    continued on 2 MPI ranks (the sphere on their boundary x = 0); on a rigid flat, on a steel
+    wall (wall_material: part of the fix's constants) and with the constants of that pair. The
     same restart with the fix under another ID (no history: a fresh contact at that overlap) does
     not, so the comparison sees the history."""
     pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
