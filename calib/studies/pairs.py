@@ -104,34 +104,52 @@ def rigid_pair() -> ContactPair:
     return ContactPair.sphere_flat(Material(E1, NU, E1 / E_OVER_SIGMA_Y, RHO), R1)
 
 
-def load_plan(pair: ContactPair) -> LoadPathPlan:
-    """The calibration recipe's load paths in units of the pair's P_Y (calib.fit.recipe)."""
-    peaks = tuple(float(k * pair.P_Y) for k in PEAKS_OVER_YIELD)
-    return LoadPathPlan(peaks=peaks, loading_step=peaks[0] / recipe.LOADING_STEPS_TO_FIRST_PEAK,
-                        unloading_steps=recipe.UNLOADING_STEPS, first_load=0.5 * pair.P_Y)
+# a task's plan: the study's (the recipe's) unless the task says otherwise (the tests' shorter paths)
+PLAN = {"peaks_over_yield": PEAKS_OVER_YIELD, "steps_to_first_peak": recipe.LOADING_STEPS_TO_FIRST_PEAK,
+        "unloading_steps": recipe.UNLOADING_STEPS}
 
 
-def meshes(pair: ContactPair, level: str, counter: CounterBody | None = None) -> tuple:
-    """(the sphere's mesh, the counter-body's or None) of the recipe's ``level`` for the pair's largest load."""
-    a_max = recipe.estimated_contact_radius(pair, PEAKS_OVER_YIELD[-1] * pair.P_Y)
-    sphere = recipe.mesh_for(R1, a_max, level=level)
+def load_plan(pair: ContactPair, task: dict | None = None) -> LoadPathPlan:
+    """The calibration recipe's load paths in units of the pair's P_Y (calib.fit.recipe), or the task's."""
+    plan = {k: (task or {}).get(k, v) for k, v in PLAN.items()}
+    peaks = tuple(float(k * pair.P_Y) for k in plan["peaks_over_yield"])
+    return LoadPathPlan(peaks=peaks, loading_step=peaks[0] / plan["steps_to_first_peak"],
+                        unloading_steps=plan["unloading_steps"], first_load=0.5 * pair.P_Y)
+
+
+def meshes(pair: ContactPair, level, counter: CounterBody | None = None, top_over_yield: float | None = None) -> tuple:
+    """(the sphere's mesh, the counter-body's or None) of the recipe's ``level`` (or a contact element of
+    ``level`` x a_max when a number) for the pair's largest load."""
+    a_max = recipe.estimated_contact_radius(pair, (top_over_yield or PEAKS_OVER_YIELD[-1]) * pair.P_Y)
+    sphere = (recipe.mesh_for(R1, a_max, level=level) if isinstance(level, str)
+              else recipe.mesh_for(R1, a_max, contact_size_over_a_max=float(level)))
     return sphere, (None if counter is None else counter.mesh_spec(sphere))
 
 
-def case_task(E1_over_E2: float, yielding: str, shape: str, level: str = LEVEL) -> dict:
+def _task_meshes(task: dict, pair: ContactPair, counter=None) -> tuple:
+    return meshes(pair, task["level"], counter, max(task.get("peaks_over_yield", PEAKS_OVER_YIELD)))
+
+
+def _plan_key(plan: dict) -> dict:
+    """The plan's part of a task key: the peaks, and the steps only when not the study's."""
+    return {"peaks": tuple(plan.get("peaks_over_yield", PEAKS_OVER_YIELD)),
+            **{k: v for k, v in plan.items() if k != "peaks_over_yield" and v != PLAN[k]}}
+
+
+def case_task(E1_over_E2: float, yielding: str, shape: str, level=LEVEL, **plan) -> dict:
     case = {"E1_over_E2": float(E1_over_E2), "yielding": yielding, "shape": shape, "level": level}
     bodies = case_bodies(E1_over_E2, yielding, shape)
-    sphere_mesh, counter_mesh = meshes(case_pair(case), level, bodies["counter"])
+    sphere_mesh, counter_mesh = _task_meshes({**case, **plan}, case_pair(case), bodies["counter"])
     key = stable_key({**case, "version": VERSION, "meshes": [sphere_mesh.cache_key(), counter_mesh.cache_key()],
-                      "peaks": PEAKS_OVER_YIELD})
-    return {"key": key, "kind": "pair", **case}
+                      **_plan_key(plan)})
+    return {"key": key, "kind": "pair", **case, **plan}
 
 
-def rigid_task(level: str = LEVEL) -> dict:
-    sphere_mesh, _ = meshes(rigid_pair(), level)
+def rigid_task(level=LEVEL, **plan) -> dict:
+    sphere_mesh, _ = _task_meshes({"level": level, **plan}, rigid_pair())
     key = stable_key({"rigid": True, "level": level, "version": VERSION, "mesh": sphere_mesh.cache_key(),
-                      "peaks": PEAKS_OVER_YIELD})
-    return {"key": key, "kind": "rigid", "level": level}
+                      **_plan_key(plan)})
+    return {"key": key, "kind": "rigid", "level": level, **plan}
 
 
 def grid_tasks(level: str = LEVEL, ratios=RATIOS, yielding=YIELDING, shapes=SHAPES) -> list[dict]:
@@ -145,10 +163,10 @@ def build_meshes(tasks: list[dict]) -> None:
 
     for task in tasks:
         if task["kind"] == "rigid":
-            hemisphere_mesh(meshes(rigid_pair(), task["level"])[0])
+            hemisphere_mesh(_task_meshes(task, rigid_pair())[0])
         else:
-            pair_mesh(*meshes(case_pair(task), task["level"], case_bodies(task["E1_over_E2"], task["yielding"],
-                                                                          task["shape"])["counter"]))
+            counter = case_bodies(task["E1_over_E2"], task["yielding"], task["shape"])["counter"]
+            pair_mesh(*_task_meshes(task, case_pair(task), counter))
 
 
 # ----------------------------------------------------------------------------- the FE
@@ -184,10 +202,10 @@ def run_pair(task: dict) -> dict:
     pair = counter.pair(sphere, R1)
     sphere_fe = (VonMisesMaterial(sphere.E, sphere.nu, sphere.sigma_y) if bodies["sphere_yields"]
                  else ElasticMaterial(sphere.E, sphere.nu))
-    sphere_mesh, counter_mesh = meshes(pair, task["level"], counter)
+    sphere_mesh, counter_mesh = _task_meshes(task, pair, counter)
     solver = TwoBodySolver(pair_mesh(sphere_mesh, counter_mesh), sphere_fe, counter.fe_material(),
                            contact_radius_method="gap")
-    paths = run_load_paths(solver, load_plan(pair))
+    paths = run_load_paths(solver, load_plan(pair, task))
     return {"fe": _fe_record(paths, solver), "contact_size": sphere_mesh.contact_size,
             "P_Y": pair.P_Y, "E_star": pair.E_star, "R_star": pair.R_star}
 
@@ -198,9 +216,9 @@ def run_rigid(task: dict) -> dict:
     from calib.fit.calibration import calibrate, summary
 
     pair = rigid_pair()
-    sphere_mesh, _ = meshes(pair, task["level"])
+    sphere_mesh, _ = _task_meshes(task, pair)
     spec = recipe.CalibrationSpec(material=Material(E1, NU, E1 / E_OVER_SIGMA_Y, RHO), radius=R1,
-                                  mesh=sphere_mesh, plan=load_plan(pair))
+                                  mesh=sphere_mesh, plan=load_plan(pair, task))
     result = calibrate(spec, meshes=1)
     s = summary(result)
     return {"fe": _fe_record(result.load_paths, result.solver), "contact_size": sphere_mesh.contact_size,
