@@ -584,6 +584,9 @@ def pairs(root: Path) -> list[str]:
                   f"yielding, moves each error by at most {100 * check['largest_change']:.2f} points (e error "
                   f"{span([check['default']['e_error_min'], check['default']['e_error_max']])} against "
                   f"{span([check['grid']['e_error_min'], check['grid']['e_error_max']])}).", ""]
+    if "fe_wall_time_s" in data["stamp"]:
+        lines += [f"The FE of the {len(data['rows'])} cases, the rigid flat and the mesh check: "
+                  f"{data['stamp']['fe_wall_time_s'] / 60:.0f} min of worker time.", ""]
     for failure in data.get("failures", []):
         lines += [f"Not computed: {failure}", ""]
     return lines

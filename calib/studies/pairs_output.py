@@ -91,6 +91,7 @@ def plot(rows: list[dict], path: Path) -> None:
     for ax, key in zip(axes, KEYS):
         ax.set_xscale("log")
         ax.set_xticks([1 / 3, 0.5, 1, 2, 3], ["1/3", "1/2", "1", "2", "3"])
+        ax.minorticks_off()
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set_xlabel("E1 / E2 (sphere / counter-body)")
         ax.set_ylabel("substitution / two-body FE - 1 [%]")
