@@ -574,8 +574,10 @@ def pairs(root: Path) -> list[str]:
                     "vz law e error"], out)
     steer = data.get("steer_e_error", 0.02)
     over = [r for r in data["rows"] if max(abs(r["e_error_min"]), abs(r["e_error_max"])) > steer]
-    lines += [f"|e error| above {apct(steer, 0)} in {len(over)} of {len(data['rows'])} cases: there the tools name a "
-              "pair calibration (calib/data/substitution_error.csv, calib.fit.substitution).", ""]
+    lines += ["Two spheres of equal radius: the columns where the sphere and where the counter-body yields are one "
+              "problem mirrored, and the FE gives them equal (a check of the two-body FE).",
+              "", f"In {len(over)} of {len(data['rows'])} cases the substitution misses e by more than {apct(steer, 0)}: "
+              "there the tools name a pair calibration (calib/data/substitution_error.csv, calib.fit.substitution).", ""]
     check = data.get("mesh_check")
     if check and "largest_change" in check:
         case = check["case"]

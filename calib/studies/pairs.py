@@ -315,14 +315,13 @@ def generate(out=output.RESULTS / "pairs", workers: int = 2, level: str = LEVEL,
         coarse = next((r for r in rows if _match(r, CHECK_CASE)), None)
         mesh_check = pairs_output.mesh_check(coarse, fine)
     wall = time.perf_counter() - started
-    st = output.stamp(wall, mesh={"level": level, "contact_size_over_a_max": recipe.MESH_LEVELS[level],
-                                  "rigid_flat_contact_size": rigid.get("contact_size"),
-                                  "rigid_flat_dofs": rigid.get("fe", {}).get("dofs")},
+    st = output.stamp(wall, mesh={"level": level, "contact_size_over_a_max": recipe.MESH_LEVELS[level]},
                       command="python -m calib.studies.pairs",
                       fe_wall_time_s=sum(row.get("wall_time_s", 0.0) for row in sweep.rows),
                       computed=sweep.computed, reused=sweep.reused)
     result = {"rows": rows, "failures": failures, "mesh_check": mesh_check, "stamp": st,
-              "rigid_flat": {k: rigid.get(k) for k in ("Ca_hat", "Kc_hat", "window", "contact_size", "status", "error")},
+              "rigid_flat": {**{k: rigid.get(k) for k in ("Ca_hat", "Kc_hat", "window", "contact_size", "status", "error")},
+                             "dofs": rigid.get("fe", {}).get("dofs")},
               "steer_e_error": STEER_E_ERROR}
     pairs_output.write(out, result, data_file)
     return result
