@@ -57,10 +57,11 @@ def write(out: Path, result: dict, data_file: Path | None) -> None:
     if result["rows"]:
         plot(result["rows"], out / "pairs.png")
     if data_file is not None and result["rows"]:
-        comment = ("the rigid-flat substitution against the two-body FE (python -m calib.studies.pairs): relative "
-                   "errors substitution / FE - 1 of the force at equal approach, the contact radius at equal force "
-                   "and e at equal P_max/P_Y, over loads 1..41.2 P_Y; E1/E2 of sphere/counter-body, nu = 0.3, the "
-                   "counter a flat or a sphere R2 = R1; yielding: which body has a yield stress (both: equal sigma_Y)\n"
+        comment = ("the rigid-flat substitution against the two-body FE (python -m calib.studies.pairs):\n"
+                   "relative errors substitution / FE - 1 of the force at equal approach, the contact radius at\n"
+                   "equal force and e at equal P_max/P_Y, over loads 1..41.2 P_Y; E1/E2 of sphere/counter-body,\n"
+                   "nu = 0.3, the counter a flat or a sphere R2 = R1; yielding: which body has a yield stress\n"
+                   "(both: equal sigma_Y)\n"
                    + output.stamp_comment({k: st[k] for k in ("git_commit", "mesh", "created_utc")}))
         output.write_csv(data_file, result["rows"], DATA_COLUMNS, comment=comment)
 
