@@ -37,7 +37,7 @@ kinetic energy, 1e-3 at 0.1 m/s in steel). When the contact time t_c >> 2 L / c_
 aluminium sphere on a steel block of L = 2 R1: t_c about 4e-4 s at 0.04 m/s against 7e-5 s) the
 block responds quasi-statically: its static compliance changes alpha by O(a / L) (the size study
 of calib.fit.counter), and the energy it holds at separation stays in the block as vibration
-instead of radiating; calib.fe.impact_pair_run.block_size_effect measures e, P_max and t_c over L.
+instead of radiating; calib.studies.impact_pair.block_size_effect measures e, P_max and t_c over L.
 
 Units: lengths [m], time [s], forces [N], energies [J].
 """

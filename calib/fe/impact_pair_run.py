@@ -13,7 +13,8 @@ Outputs (PairImpactResult), v_in the relative normal velocity of approach [m/s]:
                sphere's own rebound velocity [-]
   alpha(t)   = the approach of the centres of mass (calib.fe.impact_pair.PairImpactSolver.approach) [m]
   P_max, alpha_max: parabola through the largest sample and its neighbours [N], [m]
-  momentum_change: |p_out - p_in| / (m1 v1) of the two free bodies' total z-momentum [-]
+  momentum_change: |p_out - p_in| / (m1 v1) of the two free bodies' total z-momentum [-] (None
+               against a held block, whose far face takes momentum)
   energies [J]: kinetic in (both bodies); the rigid-body kinetic energy out sum m_k v_k^2 / 2;
                plastic work sum sigma_Yk int eps_p dV; internal energy left E_left = KE - KE_out
                + U_el (vibration of both bodies, with the residual-stress energy of a yielded
@@ -52,7 +53,7 @@ class PairImpactResult:
     contact_time: float
     alpha_max: float
     contact_radius_max: float
-    momentum_change: float
+    momentum_change: float | None
     kinetic_in: float
     kinetic_out: float
     plastic_work: float
@@ -127,7 +128,7 @@ def run_pair_impact(solver: PairImpactSolver, v_in: float, *, steps_per_contact:
     return PairImpactResult(
         v_in=float(v_in), v1_in=v1, v2_in=v2, e=v_sep / v_in, v_sep=v_sep, P_max=P_max, time_P_max=time_P_max,
         contact_time=contacts[0], alpha_max=alpha_max, contact_radius_max=float(history["contact_radius"].max()),
-        momentum_change=abs(momentum[1] - momentum[0]) / (solver.masses[0] * v1),
+        momentum_change=(abs(momentum[1] - momentum[0]) / (solver.masses[0] * v1) if solver.free_counter else None),
         kinetic_in=initial.kinetic_energy, kinetic_out=kinetic_out, plastic_work=state.plastic_work,
         energy_left=left, balance_residual=initial.kinetic_energy - kinetic_out - state.plastic_work - left,
         internal_work_error=state.work_internal - state.elastic_energy - state.plastic_work,
