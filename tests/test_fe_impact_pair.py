@@ -162,3 +162,22 @@ def test_counter_dry_run_plans_the_pair(tmp_path, monkeypatch, capsys):
     plan = json.loads(capsys.readouterr().out)
     assert len(plan["runs"]) == 3 and plan["counter"]["shape"] == "sphere" and plan["counter"]["R"] == 0.05
     assert plan["out"].startswith("results/impact/pair_") and not (tmp_path / "results").exists()
+
+
+def test_counter_command_writes_the_records_and_resumes(tmp_path, monkeypatch, capsys):
+    """nfdcal impact on an elastic steel flat, far below first yield: Hertz's impact of the pair."""
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "out"
+    argv = ["impact", "--counter-E", "2.1e11", "--counter-nu", "0.28", "--v-in", "0.001", "--contact-size", "1.6e-4",
+            "--steps-per-contact", "20", "--workers", "1", "--out", str(out), "--json", "--quiet"]
+    assert main(argv) == 0
+    (record,) = json.loads(capsys.readouterr().out)
+    E_star = 1.0 / ((1 - NU ** 2) / E + (1 - STEEL_NU ** 2) / STEEL_E)
+    hertz = hertz_pair_impact(E_star, R, 4.0 / 3.0 * math.pi * R ** 3 * RHO, 0.001)
+    assert record["P_max"] == pytest.approx(hertz["P_max"], rel=0.02)
+    assert record["contact_time"] == pytest.approx(hertz["contact_time"], rel=0.02)
+    assert abs(record["e"] - 1.0) < 5e-3 and abs(record["balance_residual_fraction"]) < 5e-3
+    assert {p.name for p in out.iterdir()} == {"impact_pair.csv", "impact_pair.json", "cases"}
+    assert main(argv) == 0                                          # the finished impact is reused
+    assert json.loads((out / "impact_pair.json").read_text())["stamp"]["reused"] == 1

@@ -21,7 +21,8 @@ With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R) the sphere h
 counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free counter-sphere
 (--v-in: the relative velocity, the pair starting in its centre-of-mass frame; e: the relative
 normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
-pair's E*, R* and reduced mass. Not with --drops, --convergence or --params.
+pair's E*, R* and reduced mass; the fine impact only (no error estimate, no quasi-static comparison,
+no plots). Not with --drops, --convergence or --params.
 
 Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
 OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, drop_tests.csv, impact.png,

@@ -128,8 +128,9 @@ def run_task(task: dict) -> dict:
 
 
 def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int = 1,
-                progress: Callable[[str], None] | None = None) -> list[dict]:
-    """Every velocity's pair impact through the sweep runner; ValueError naming the first that failed."""
+                progress: Callable[[str], None] | None = None) -> tuple[list[dict], dict]:
+    """Every velocity's pair impact through the sweep runner: (rows, counts {computed, reused});
+    ValueError naming the first that failed."""
     impact.check_reach(setup.sphere, velocities)
     tasks = tasks_for(setup, velocities)
     for task in tasks:                  # meshed here, one at a time (gmsh is one per process)
@@ -142,7 +143,7 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
     failed = [row for row in swept.rows if row["status"] != "ok"]
     if failed:
         raise ValueError(f"the pair FE impact at v_in = {failed[0]['v_in']:g} m/s failed: {failed[0]['error']}")
-    return swept.rows
+    return swept.rows, {"computed": swept.computed, "reused": swept.reused}
 
 
 def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
@@ -154,7 +155,7 @@ def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
           progress: Callable[[str], None] | None = None) -> list[dict]:
     """The impacts, written to OUT/impact_pair.csv and .json; returns one record per velocity."""
     started = time.perf_counter()
-    rows = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress)
+    rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress)
     pair = setup.pair
     records = []
     for row in sorted(rows, key=lambda r: r["v_in"]):
@@ -169,7 +170,7 @@ def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
         record["mesh"] = row["mesh"]
         records.append(record)
     stamp = output.stamp(time.perf_counter() - started, counter=setup.counter.describe(),
-                         material=dataclasses.asdict(setup.sphere.material), radius=setup.sphere.radius)
+                         material=dataclasses.asdict(setup.sphere.material), radius=setup.sphere.radius, **counts)
     output.write_json(out / "impact_pair.json", {"stamp": stamp, "impacts": records})
     flat = [{k: v for k, v in r.items() if not isinstance(v, dict)}
             | {f"hertz_{k}": v for k, v in r["hertz"].items()} for r in records]
