@@ -87,12 +87,14 @@ SCENE_LINES = (  # (section, key, literal) of a valid scene that exercises every
     ("load_paths", "P_max_over_P_Y", "[13.7, 27.4]"), ("load_paths", "unload", "true"),
     ("calibration", "ship", '"radius"'),
     ("collision", "v_in_over_v_Y", "[2.0, 20.0]"), ("collision", "laws", '["vz", "thornton"]'),
+    ("hertz.counter", "E", "210e9"), ("hertz.counter", "nu", "0.28"),
     ("impact", "v_in_over_v_Y", "[0.5, 20.0]"), ("impact", "error_estimate", "false"),
+    ("impact.counter", "E", "70e9"), ("impact.counter", "R", "0.1"), ("impact.counter", "sigma_y", "100e6"),
     ("outputs", "plots", "false"), ("outputs", "histories", "false"))
 SCENE_SECTIONS = tuple(dict.fromkeys([s for s, _, _ in SCENE_LINES] + ["grid", "bogus"]))
 SCENE_KEYS_EXTRA = ("contact_size", "E_over_sigma_y", "velocities", "bogus", "P_max", "unloading_steps",
                     "loading_steps", "out", "level", "v_in", "v_max", "v_max_from", "error_estimate", "quasi_static",
-                    "steps_per_contact")
+                    "steps_per_contact", "counter", "E", "nu", "sigma_y", "R")
 
 
 @st.composite
@@ -219,6 +221,7 @@ def parameter_text(draw) -> str:
 
 # ----------------------------------------------------------------------------- argument lists
 MATERIAL_FLAGS = ("--R", "--E", "--nu", "--sigma-y", "--rho")
+COUNTER_FLAGS = ("--counter-E", "--counter-nu", "--counter-sigma-y", "--counter-R")
 # a command's flags: value-taking flags map to how many values they take (1, or "+" for one or more)
 COMMANDS = {
     "collide": {"--law": 1, "--v-in": "+", "--dt": 1, "--Ca": 1, "--Kc": 1, "--K1": 1, "--K2": 1,
@@ -230,7 +233,7 @@ COMMANDS = {
               "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "impact": {"--v-in": "+", "--steps-per-contact": 1, "--contact-size": 1, "--params": 1, "--drops": 1,
                "--no-error-estimate": 0, "--no-quasi-static": 0, "--convergence": 0, "--workers": 1, "--out": 1,
-               "--no-plots": 0, "--json": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+               "--no-plots": 0, "--json": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS + COUNTER_FLAGS}},
     "run": {"SCENE": 1, "--out": 1, "--v-max": 1, "--json": 0, "--quiet": 0, "--list": 0},
     "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},

@@ -14,6 +14,15 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal impact --convergence --v-in 0.04        # error against run time: dt and mesh ladders
     nfdcal impact --drops drops.csv                # drop tests (fit-data's file) against the FE: OUT/drops.csv
     nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
+    nfdcal impact --counter-E 2.1e11 --counter-nu 0.28 --v-in 0.04   # on an elastic steel flat (a held block)
+    nfdcal impact --counter-E 7e10 --counter-R 0.1 --v-in 0.08       # two free spheres at 0.08 m/s relative
+
+With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R) the sphere hits a deformable
+counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free counter-sphere
+(--v-in: the relative velocity, the pair starting in its centre-of-mass frame; e: the relative
+normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
+pair's E*, R* and reduced mass; the fine impact only (no error estimate, no quasi-static comparison,
+no plots). Not with --drops, --convergence or --params.
 
 Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
 OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, drop_tests.csv, impact.png,
@@ -23,14 +32,15 @@ from __future__ import annotations
 
 import os
 
-from calib.commands.common import (add_material_arguments, add_summary_arguments, is_reference, material_from_args,
-                                   number, print_summary)
+from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
+                                   counter_from_args, is_reference, material_from_args, number, print_summary)
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
         "impact", help="dynamic FE impact of the whole sphere: e, P_max, contact time, energy balance",
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
+    add_counter_arguments(parser)
     parser.add_argument("--v-in", nargs="+", metavar="V", default=None,
                         help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
     parser.add_argument("--drops", default=None, metavar="CSV",
@@ -73,7 +83,8 @@ def integer(flag: str, text, default: int, low: int, high: int) -> int:
 
 
 def options(ns):
-    """(setup, velocities, workers, params file) from the flags, every value checked before any work."""
+    """(setup, velocities, workers) from the flags, every value checked before any work; with a
+    counter-body, setup is a calib.studies.impact_pair.PairImpactSetup."""
     from nfdmodel.validation import check_solid
 
     from calib.studies import impact
@@ -83,6 +94,18 @@ def options(ns):
     steps = integer("--steps-per-contact", ns.steps_per_contact, impact.DEFAULT_STEPS_PER_CONTACT, 10, 10000)
     workers = integer("--workers", ns.workers, min(2, os.cpu_count() or 1), 1, 256)
     setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps)
+    counter = counter_from_args(ns, material)
+    if counter is not None:
+        from calib.studies import impact_pair
+
+        for flag, given in (("--drops", ns.drops is not None), ("--convergence", ns.convergence),
+                            ("--params", ns.params is not None)):
+            if given:
+                raise ValueError(f"{flag} is for the rigid flat: do not combine it with --counter-E")
+        setup = impact_pair.PairImpactSetup(setup, counter)
+        velocities = (impact_pair.study_velocities(setup) if ns.v_in is None else
+                      tuple(check_solid("v_in", number("--v-in", v, low=0.0, unit="m/s")) for v in ns.v_in))
+        return setup, tuple(sorted(set(velocities))), workers
     if ns.drops is not None:
         from calib.studies import impact_drops
 
@@ -103,6 +126,15 @@ def default_out(ns, setup) -> str:
     it named by what differs."""
     from calib.studies import impact
 
+    if hasattr(setup, "counter"):
+        c, m = setup.counter, setup.sphere.material
+        parts = [f"pair_E{m.E:g}_nu{m.nu:g}_sy{m.sigma_y:g}_R{setup.sphere.radius:g}_counterE{c.E:g}_nu{c.nu:g}"
+                 f"_sy{c.sigma_y or 0:g}_R{c.R or 0:g}"]
+        if setup.sphere.contact_size is not None:
+            parts.append(f"h{setup.sphere.contact_size:g}")
+        if setup.sphere.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:
+            parts.append(f"steps{setup.sphere.steps_per_contact}")
+        return str(impact.DEFAULT_OUT / "_".join(parts))
     material = setup.material
     parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{setup.radius:g}"]
     if setup.contact_size is not None:
@@ -157,6 +189,8 @@ def run(ns) -> int:
     from calib.studies import impact, impact_convergence
 
     setup, velocities, workers = options(ns)
+    if hasattr(setup, "counter"):
+        return run_pair(ns, setup, velocities, workers)
     variants = ("fine",) if ns.no_error_estimate else impact.VARIANTS
     out = ns.out or default_out(ns, setup)
     if ns.dry_run:
@@ -192,6 +226,45 @@ def run(ns) -> int:
     limit = impact.quasi_static_limit(records)
     if limit:
         lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
+    lines.append(f"results written to {out}")
+    print_summary(ns, records, lines)
+    return 0
+
+
+def run_pair(ns, setup, velocities, workers) -> int:
+    """--counter-E: the sphere on a deformable counter-body (calib.studies.impact_pair)."""
+    from pathlib import Path
+
+    from calib import output
+    from calib.commands.progress import progress_reporter
+    from calib.studies import impact, impact_pair
+
+    out = ns.out or default_out(ns, setup)
+    impact.check_reach(setup.sphere, velocities)
+    if ns.dry_run:
+        tasks = impact_pair.tasks_for(setup, velocities)
+        summary = {"out": out, "counter": setup.counter.describe(), "runs": [
+            {"v_in": t["v_in"], "contact_size": t["sphere_mesh"]["contact_size"],
+             "finished": (Path(out) / "cases" / f"{t['key']}.json").is_file()} for t in tasks]}
+        lines = [f"{len(tasks)} FE pair impact(s) of the sphere E = {setup.sphere.material.E:.4g} Pa, R = "
+                 f"{setup.sphere.radius:g} m on the {setup.counter.label()}; outputs: {out}"]
+        lines += [f"v_in = {r['v_in']:.4g} m/s, contact element {r['contact_size']:.3g} m, "
+                  f"finished: {'yes' if r['finished'] else 'no'}" for r in summary["runs"]]
+        print_summary(ns, summary, lines)
+        return 0
+    with output.one_writer(out), progress_reporter(ns.quiet) as progress:
+        records = impact_pair.study(setup, velocities, Path(out), workers=workers, progress=progress)
+    lines = [setup.counter.label(),
+             f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>8} {'P_max [N]':>10} {'Hertz':>10} {'t_c [ms]':>8} {'Hertz':>8} "
+             f"{'left':>8} {'balance':>9} {'wall s':>7}"]
+    for r in records:
+        h = r["hertz"]
+        lines.append(f"{r['v_in']:>10.4g} {r['v_in_over_v_Y']:>7.3g} {r['e']:>8.5f} {r['P_max']:>10.4g} {h['P_max']:>10.4g} "
+                     f"{r['contact_time'] * 1e3:>8.4f} {h['contact_time'] * 1e3:>8.4f} {r['energy_left_fraction']:>8.2g} "
+                     f"{r['balance_residual_fraction']:>9.2g} {r['wall_time_s']:>7.1f}")
+    lines.append("v_in: relative velocity of approach; e: relative normal velocity of separation over v_in; Hertz: the"
+                 " pair's elastic impact (E*, R*, m*); left: internal energy left in the bodies, balance: the energy"
+                 " balance's residual, both over the kinetic energy in")
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

@@ -143,7 +143,7 @@ class _Run:
 
     def record(self, state: ImpactState, step: ImpactStep | None = None) -> None:
         self.rows.append({"time": state.time, "P": state.force,
-                          "alpha": -self.solver.centre_of_mass_displacement(state.q),
+                          "alpha": self.solver.approach(state.q),
                           "contact_radius": step.contact_radius if step else 0.0,
                           "kinetic": state.kinetic_energy, "elastic": state.elastic_energy,
                           "plastic_work": state.plastic_work})
@@ -203,14 +203,22 @@ def run_impact(solver: ImpactSolver, v_in: float, *, steps_per_contact: int = DE
     t_c = contact_time_estimate(solver.material, solver.rho, solver.radius, v_in)
     dt = t_c / steps_per_contact
     run = _Run(solver, float(v_in), dt, solver.mass * v_in / t_c, progress)
-    state = solver.initial_state(v_in)
+    state, contacts = time_loop(run, solver.initial_state(v_in), t_c)
+    return _result(solver, run, state, contacts, dt, time.perf_counter() - started, time.process_time() - cpu)
+
+
+def time_loop(run: _Run, state: ImpactState, t_c: float) -> tuple[ImpactState, list[float]]:
+    """Steps from ``state`` (first touch) until a tenth of ``t_c`` [s] (at least 5 steps) after the
+    last separation (module docstring): (the last state, the separation times [s]); raises
+    ImpactNotConverged when a step fails at dt / 64 or the bodies are still in contact at 5 t_c."""
+    dt = run.dt
     run.record(state)
     contacts: list[float] = []
     flight_until = math.inf
     h = dt                              # the step: dt, or a part of it after a failure
     while not (contacts and state.time >= flight_until and not state.in_contact):
         if state.time > 5.0 * t_c:
-            raise ImpactNotConverged(f"the sphere has not left the flat after {state.time:.4g} s"
+            raise ImpactNotConverged(f"the bodies are still in contact after {state.time:.4g} s"
                                      f" (5 estimated contact times)")
         step = run.solve(state, h)
         if not step.converged:
@@ -220,11 +228,11 @@ def run_impact(solver: ImpactSolver, v_in: float, *, steps_per_contact: int = DE
             step, t_sep = run.separate(state, step)
             contacts.append(t_sep)
             flight_until = step.state.time + max(AFTER_SEPARATION * t_c, 5 * dt)
-            run.say(f"v_in = {v_in:g} m/s: separated at {t_sep:.6g} s")
+            run.say(f"v_in = {run.v_in:g} m/s: separated at {t_sep:.6g} s")
         state = step.state
         run.record(state, step)
         h = min(dt, 2.0 * h)
-    return _result(solver, run, state, contacts, dt, time.perf_counter() - started, time.process_time() - cpu)
+    return state, contacts
 
 
 def _result(solver: ImpactSolver, run: _Run, state: ImpactState, contacts, dt: float, wall: float,

@@ -206,6 +206,10 @@ class ImpactSolver:
         """z-momentum t . M v [kg m/s]."""
         return float(self.dofs.translation @ (self.mass_matrix @ velocity))
 
+    def approach(self, q) -> float:
+        """alpha = -u_cm [m]: the approach of the centre of mass to the flat since first touch."""
+        return -self.centre_of_mass_displacement(q)
+
     def centre_of_mass_displacement(self, q) -> float:
         """u_z of the centre of mass, t . M q / m [m]."""
         return self.momentum(q) / self.mass

@@ -7,7 +7,8 @@ from dataclasses import asdict, dataclass
 import meshio
 
 from calib.fit import impact_window, recipe
-from calib.scenes.schema import SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial
+from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial,
+                                 stage_pair)
 from meshes.hemisphere import estimate_dofs, mesh_path
 from meshes.sphere import SphereMeshSpec
 from meshes.sphere import mesh_path as sphere_mesh_path
@@ -27,23 +28,27 @@ def calibration_spec(scene: Scene, material: SceneMaterial):
     with a v_max, the first round of calib.fit.impact_window (refused here when the FE cannot
     reach the impact)."""
     stage = scene.load_paths or LoadPathStage()
+    counter = scene.calibration_counter
     try:
         v_max = scene.v_max(material)
         if v_max is None:
-            peaks = stage.peaks(material.pair())
+            peaks = stage.peaks(stage_pair(material, counter))
         else:
             needed, _, _ = impact_window.check_reach(material.material(), material.R, v_max)
             return impact_window.impact_spec(material.material(), material.R, needed, **spec_options(scene))
-        return recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene))
+        return recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene),
+                                       counter=None if counter is None else counter.counter_body(material))
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
 
 
 def hertz_mesh_spec(scene: Scene, material: SceneMaterial):
-    """The mesh of the scene's Hertz stage for ``material`` (calib.fit.recipe.hertz_mesh)."""
-    pair = material.pair()
+    """The mesh of the scene's Hertz stage for ``material`` (calib.fit.recipe.hertz_mesh; on a
+    counter-body, at the pair's Hertz radius)."""
+    pair = stage_pair(material, scene.hertz.counter)
     _, top = scene.hertz.loads(pair)
-    return recipe.hertz_mesh(pair, top, reference=recipe.is_reference_sphere(material.E, material.nu, material.R),
+    reference = scene.hertz.counter is None and recipe.is_reference_sphere(material.E, material.nu, material.R)
+    return recipe.hertz_mesh(pair, top, reference=reference,
                              level=scene.mesh.level, contact_size=scene.mesh.contact_size,
                              contact_size_over_a_max=scene.mesh.contact_size_over_a_max)
 
@@ -146,7 +151,7 @@ def plan(scene: Scene) -> list[PlannedStage]:
     for material in scene.materials:
         if scene.hertz is not None:
             out.append(hertz_stage(hertz_mesh_spec(scene, material), material.name,
-                                   scene.hertz.loads(material.pair()), scene.hertz.steps))
+                                   scene.hertz.loads(stage_pair(material, scene.hertz.counter)), scene.hertz.steps))
         if scene.load_paths is not None:
             try:
                 out.append(calibration_stage(calibration_spec(scene, material), material.name,
@@ -171,6 +176,8 @@ def impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
     from calib.scenes.run import impact_setup
     from calib.studies import impact
 
+    if scene.impact.counter is not None:
+        return pair_impact_stage(scene, material)
     setup = impact_setup(scene, material)
     velocities = tuple(sorted(set(scene.impact.velocities(material.pair()))))
     try:
@@ -187,6 +194,31 @@ def impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
                         sum(r["estimate_s"] for r in runs if not r["finished"]),
                         f"{len(tasks)} FE impacts at v_in = {', '.join(f'{v:.4g}' for v in velocities)} m/s"
                         + ("; quasi-static FE paths at their P_max" if scene.impact.quasi_static else ""))
+
+
+def pair_impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
+    """The planned two-body impacts of ``material`` on the [impact.counter] body (calib.studies.impact_pair)."""
+    from meshes.counter_body import BlockMeshSpec
+
+    from calib.scenes.run import pair_impact_setup
+    from calib.studies import impact, impact_pair
+
+    setup = pair_impact_setup(scene, material)
+    velocities = tuple(sorted(set(scene.impact.velocities(setup.pair))))
+    try:
+        impact.check_reach(setup.sphere, velocities)
+    except ValueError as exc:
+        raise SceneError(f"scene {scene.source}: impact.v_in: material {material.name}: {exc}") from None
+    tasks = impact_pair.tasks_for(setup, velocities)
+    sphere = SphereMeshSpec(**tasks[-1]["sphere_mesh"])
+    counter = (BlockMeshSpec if tasks[-1]["counter_block"] else SphereMeshSpec)(**tasks[-1]["counter_mesh"])
+    dofs = sphere.estimate_dofs() + (counter.estimate_dofs() if isinstance(counter, SphereMeshSpec)
+                                     else estimate_dofs(counter))
+    steps = len(tasks) * (int(1.1 * setup.sphere.steps_per_contact) + 10)
+    return PlannedStage("impact", material.name, sphere.cache_key(), sphere_mesh_path(sphere).is_file(), dofs, False,
+                        steps, False, steps * impact.SECONDS_PER_STEP_AT_13K_DOFS * dofs / 13000,
+                        f"{len(tasks)} two-body FE impacts at v_in = {', '.join(f'{v:.4g}' for v in velocities)} m/s "
+                        f"on the {setup.counter.label()}")
 
 
 def format_stages(stages: list[PlannedStage]) -> list[str]:

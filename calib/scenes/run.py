@@ -16,7 +16,7 @@ from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.report import calibration as calibration_report
 from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed, spec_options
-from calib.scenes.schema import Scene
+from calib.scenes.schema import Scene, stage_pair
 from calib.studies.hertz import plot_hertz, run_hertz
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import CalibrationWindow, VZParams, collide
@@ -24,14 +24,16 @@ from nfdmodel import CalibrationWindow, VZParams, collide
 
 # ----------------------------------------------------------------------------- run
 def _run_hertz(scene, material, out, progress) -> dict:
-    pair = material.pair()
-    low, top = scene.hertz.loads(pair)
+    counter = None if scene.hertz.counter is None else scene.hertz.counter.counter_body(material)
+    low, top = scene.hertz.loads(stage_pair(material, scene.hertz.counter))
     spec = hertz_mesh_spec(scene, material)
-    progress(f"hertz validation: {material.name}, P = {low:.4g} .. {top:.4g} N")
+    progress(f"hertz validation: {material.name}, P = {low:.4g} .. {top:.4g} N"
+             + ("" if counter is None else f" on the {counter.label()}"))
     run = run_hertz(spec, material=material.material(), radius=material.R,
-                    loads=np.geomspace(low, top, scene.hertz.steps))
+                    loads=np.geomspace(low, top, scene.hertz.steps), counter=counter)
     summary = {"material": material.inputs(), "top_load": run.top_load, "mesh": run.mesh,
-               "finite_size_coefficient": run.finite_size_coefficient, "wall_time_s": run.wall_time_s}
+               "finite_size_coefficient": run.finite_size_coefficient, "wall_time_s": run.wall_time_s,
+               **({} if counter is None else {"counter_body": counter.describe()})}
     stamp = output.stamp(run.wall_time_s, mesh=run.mesh)
     output.write_json(out / "hertz.json", {**summary, "stamp": stamp})
     if scene.outputs.histories:
@@ -100,7 +102,9 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
                              comment=output.stamp_comment(stamp))
     s = calibration.summary(result)
     laws = {"vz": result.params, "vz-table": result.table_params}
-    return {**{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh", "window",
+    counter = scene.calibration_counter
+    return {**({} if counter is None else {"counter_body": counter.counter_body(material).describe()}),
+            **{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh", "window",
                                  "table")},
             "loading_only": not unload, "shipped_fit": s["shipped_fit"], "v_max": v_max}, laws
 
@@ -153,11 +157,34 @@ def impact_setup(scene, material):
                        steps_per_contact=scene.impact.steps_per_contact)
 
 
+def pair_impact_setup(scene, material):
+    """The PairImpactSetup (calib.studies.impact_pair) of ``material`` on the [impact.counter] body."""
+    from calib.studies.impact_pair import PairImpactSetup
+
+    return PairImpactSetup(impact_setup(scene, material), scene.impact.counter.counter_body(material))
+
+
+def _run_pair_impact(scene, material, out, progress) -> dict:
+    """The two-body impacts on the [impact.counter] body into OUT/impact/ (calib.studies.impact_pair)."""
+    from calib.studies import impact_pair
+
+    setup = pair_impact_setup(scene, material)
+    velocities = tuple(sorted(set(scene.impact.velocities(setup.pair))))
+    progress(f"impact: {material.name}, {len(velocities)} velocities (two-body dynamic FE on the {setup.counter.label()})")
+    records = impact_pair.study(setup, velocities, out / "impact", progress=progress)
+    return {"out": str(out / "impact"), "counter_body": setup.counter.describe(),
+            "impacts": [{"v_in": r["v_in"], "e": r["e"], "P_max": r["P_max"], "contact_time": r["contact_time"],
+                         "e_rel_error_estimate": None, "quasi_static_e": None} for r in records]}
+
+
 def _run_impact(scene, material, out, progress) -> dict:
     """The scene's dynamic FE impacts (calib.studies.impact) into OUT/impact/: per v_in the FE's e,
-    P_max, contact time and, where run, the quasi-static FE's e at the same P_max."""
+    P_max, contact time and, where run, the quasi-static FE's e at the same P_max; on an
+    [impact.counter] body, the two-body impacts (``_run_pair_impact``)."""
     from calib.studies import impact
 
+    if scene.impact.counter is not None:
+        return _run_pair_impact(scene, material, out, progress)
     stage = scene.impact
     setup = impact_setup(scene, material)
     velocities = tuple(sorted(set(stage.velocities(material.pair()))))
@@ -228,6 +255,12 @@ def summary_lines(summary: dict) -> list[str]:
     for entry in summary["materials"]:
         m = entry["material"]
         lines.append(f"{m['name']} (E {m['E']:.4g} Pa, nu {m['nu']:g}, sigma_Y {m['sigma_y']:.4g} Pa, R {m['R']:g} m):")
+        for stage in ("hertz", "calibration", "impact"):
+            if "counter_body" in entry.get(stage, {}):
+                c = entry[stage]["counter_body"]
+                lines.append(f"  {stage} on a counter-{c['shape']}: E {c['E']:.4g} Pa, nu {c['nu']:g}, "
+                             + ("elastic" if c["sigma_y"] is None else f"sigma_Y {c['sigma_y']:.4g} Pa")
+                             + ("" if c["R"] is None else f", R {c['R']:g} m"))
         if "hertz" in entry:
             top = entry["hertz"]["top_load"]
             lines.append(f"  hertz: at P = {top['P']:.4g} N contact radius {100 * top['contact_radius_rel_error']:+.3f} %,"

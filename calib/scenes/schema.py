@@ -17,6 +17,14 @@
                    error_estimate (true: the coarse-mesh and coarse-dt runs too), quasi_static (true),
                    steps_per_contact (100); the scene's mesh contact_size or level sizes its mesh
     [outputs]      out (folder, default results/scenes/<name>), plots, vtu, histories (booleans)
+    [hertz.counter], [calibration.counter], [impact.counter]
+                   E [Pa], nu (default: the sphere's), sigma_y [Pa] (absent: elastic), R [m] (absent:
+                   a flat): the stage presses the sphere on this deformable counter-body instead of the
+                   rigid flat (calib.fit.counter.CounterBody, whose checks apply), as the commands'
+                   --counter-E/-nu/-sigma-y/-R do; the impact stage then runs the two-body impact
+                   (calib.studies.impact_pair: no error estimate, no quasi-static comparison); a
+                   calibration on a counter-body takes its load paths from [load_paths] (not v_max)
+                   and its constants are the pair's, so no [collision] stage goes with it
 
 The file is parsed with the standard library (tomllib) and validated by pydantic models (frozen,
 unknown keys forbidden, types strict: a string is not a number, 1 is not true) before anything
@@ -139,9 +147,31 @@ class MeshChoice(_Table):
         return self.contact_size_over_a_max if self.contact_size_over_a_max is not None else MESH_LEVELS[self.level or "default"]
 
 
+class SceneCounter(_Table):
+    """A stage's counter-body: E [Pa], nu [-] (None: the sphere's), sigma_y [Pa] (None: elastic),
+    R [m] (None: a flat); calib.fit.counter.CounterBody validates it against nfdmodel.limits."""
+
+    E: Positive
+    nu: PoissonRatio | None = None
+    sigma_y: Positive | None = None
+    R: Positive | None = None
+
+    def counter_body(self, material: SceneMaterial):
+        """The calib.fit.counter.CounterBody under ``material``'s sphere (ValueError out of range)."""
+        from calib.fit.counter import CounterBody
+
+        return CounterBody(self.E, material.nu if self.nu is None else self.nu, self.sigma_y, self.R)
+
+
+def stage_pair(material: SceneMaterial, counter: SceneCounter | None) -> ContactPair:
+    """The Hertz pair of ``material``'s sphere on the stage's counter-body (the rigid flat: None)."""
+    return material.pair() if counter is None else counter.counter_body(material).pair(material.material(), material.R)
+
+
 class HertzStage(_Table):
     """Elastic loading from P_min to P_max [N] (or P_max_over_P_Y x P_Y) in ``steps`` loads."""
 
+    counter: SceneCounter | None = None
     P_max: Positive | None = None
     P_max_over_P_Y: Ratio | None = None
     P_min: Positive | None = None
@@ -205,6 +235,7 @@ class CollisionStage(_Velocities):
 class ImpactStage(_Velocities):
     """Dynamic FE impacts at v_in [m/s] (or v_in_over_v_Y x v_Y): calib.studies.impact."""
 
+    counter: SceneCounter | None = None
     error_estimate: Flag = True
     quasi_static: Flag = True
     steps_per_contact: Annotated[int, Strict(), Field(ge=10, le=10000)] = 100
@@ -235,11 +266,15 @@ class _Calibration(_Table):
     ship: Literal["radius", "force", "table"] = "radius"
     v_max: Positive | None = None                     # [m/s]: the window covers impacts up to it
     v_max_from: Literal["collision"] | None = None    # ... or up to the [collision] stage's fastest
+    counter: SceneCounter | None = None
 
     @model_validator(mode="after")
     def _one_v_max(self):
         if self.v_max is not None and self.v_max_from is not None:
             raise ValueError("give v_max or v_max_from, not both")
+        if self.counter is not None and (self.v_max is not None or self.v_max_from is not None):
+            raise ValueError("the impact window (v_max, v_max_from) is sized for the rigid flat: on a counter-body "
+                             "give the load paths' P_max in [load_paths]")
         return self
 
 
@@ -288,6 +323,9 @@ class SceneFile(_Table):
         if (self.hertz is None and self.load_paths is None and self.calibration is None and self.collision is None
                 and self.impact is None):
             raise ValueError("scene: nothing to run: add [hertz], [load_paths], [calibration], [collision] or [impact]")
+        if self.calibration is not None and self.calibration.counter is not None and self.collision is not None:
+            raise ValueError("collision: the laws of [collision] are the rigid flat's; with calibration.counter "
+                             "run the pair's impacts by [impact] with an [impact.counter] table")
         if self.calibration is not None and self.calibration.v_max_from == "collision" and self.collision is None:
             raise ValueError("calibration.v_max_from: 'collision' needs a [collision] stage")
         if (self.calibration is not None and (self.calibration.v_max or self.calibration.v_max_from)
@@ -308,6 +346,7 @@ class Scene:
     calibration_ship: str | None = None   # None: no calibration
     calibration_v_max: float | None = None      # [m/s]: the window from the impacts (impact_window)
     calibration_v_max_from_collision: bool = False
+    calibration_counter: SceneCounter | None = None
     collision: CollisionStage | None = None
     impact: ImpactStage | None = None
     outputs: Outputs = Outputs()
@@ -449,18 +488,27 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
     else:
         materials = file.material
 
+    # each counter-body checked under each sphere (calib.fit.counter.CounterBody's ranges)
+    for stage in ("hertz", "calibration", "impact"):
+        counter = getattr(getattr(file, stage), "counter", None)
+        for m in materials if counter is not None else ():
+            try:
+                counter.counter_body(m)
+            except ValueError as exc:
+                raise SceneError(f"scene {source}: {stage}.counter: {exc}") from None
     # rules that need each material's contact physics (P_Y)
     if file.hertz is not None:
         for m in materials:
-            low, top = file.hertz.loads(m.pair())
+            low, top = file.hertz.loads(stage_pair(m, file.hertz.counter))
             if not top > low:
                 raise SceneError(f"scene {source}: hertz.P_min: must be < P_max = {top:g} N, got {low:g}")
     load_paths = file.load_paths
     if file.calibration is not None:
         load_paths = load_paths or LoadPathStage()
         for m in materials:
-            P_Y = m.pair().P_Y
-            peaks = load_paths.peaks(m.pair())
+            pair = stage_pair(m, file.calibration.counter)
+            P_Y = pair.P_Y
+            peaks = load_paths.peaks(pair)
             if file.calibration.v_max is not None or file.calibration.v_max_from is not None:
                 continue                # the load paths come from the impacts (checked when planned)
             if not max(peaks) > 2 * P_Y:
@@ -470,6 +518,7 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
                  calibration_ship=None if file.calibration is None else file.calibration.ship,
                  calibration_v_max=None if file.calibration is None else file.calibration.v_max,
                  calibration_v_max_from_collision=file.calibration is not None and file.calibration.v_max_from == "collision",
+                 calibration_counter=None if file.calibration is None else file.calibration.counter,
                  collision=file.collision, impact=file.impact, outputs=file.outputs, description=file.scene.description,
                  source=source, is_grid=file.grid is not None)
 

@@ -1,0 +1,205 @@
+"""``nfdcal impact --counter-*``: dynamic FE impacts of the sphere on a deformable counter-body.
+
+Per relative velocity v_in [m/s]: the two-body FE impact (calib.fe.impact_pair_run) gives e (the
+relative normal velocity of separation over that of approach), P_max, the contact time, alpha_max
+and the energy balance; each beside Hertz's elastic impact of the pair (E*, R*, reduced mass m*;
+Johnson 1985, section 11.4), the limit the FE must reach below first yield.
+
+Meshes: the sphere's is calib.studies.impact.impact_mesh's for the same v_in, its refined zone
+widened by Hertz's ratio of the pair's contact radius to the rigid flat's,
+(R*/R1)^(2/5) (E*_flat/E*)^(1/5) (m*/m1)^(1/5) when above 1 (a = (3 P R* / 4 E*)^(1/3) with
+Hertz's P_max); the counter-body's is calib.fit.counter.CounterBody.mesh_spec of it (a sphere of
+radius R2, or a block of radius and height L = BLOCK_SIZE_OVER_R R1 with its far face held). The
+counter-body's density is the sphere's (nfdmodel.ContactPair.sphere_counter's default).
+
+The velocities run through the sweep runner (resumable: OUT/cases/<key>.json); writes
+impact_pair.csv and impact_pair.json into OUT. Units: SI.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from calib import output
+from calib.fe.elastic import ElasticMaterial
+from calib.fe.impact import ImpactNotConverged
+from calib.fe.impact_pair import PairImpactSolver
+from calib.fe.impact_pair_mesh import impact_pair_mesh
+from calib.fe.impact_pair_run import hertz_pair_impact, run_pair_impact
+from calib.fe.von_mises import VonMisesMaterial
+from calib.fit import recipe
+from calib.fit.counter import BLOCK_SIZE_OVER_R, CounterBody
+from calib.studies import impact
+from calib.sweep.runner import run_sweep
+from meshes.counter_body import BlockMeshSpec
+from meshes.hemisphere import HemisphereMeshSpec
+from meshes.keys import stable_key
+from meshes.sphere import SphereMeshSpec
+from nfdmodel import ContactPair
+
+VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
+COMPARED = ("e", "P_max", "contact_time", "alpha_max")
+
+
+@dataclasses.dataclass(frozen=True)
+class PairImpactSetup:
+    """The sphere's impact setup (calib.studies.impact.ImpactSetup) and the counter-body; ``block_size``:
+    the flat's block L [m] (None: BLOCK_SIZE_OVER_R R1)."""
+
+    sphere: impact.ImpactSetup
+    counter: CounterBody
+    block_size: float | None = None
+
+    @property
+    def pair(self) -> ContactPair:
+        """The Hertz pair (E*, R*, m* with the counter-body of the sphere's density)."""
+        return self.counter.pair(self.sphere.material, self.sphere.radius)
+
+
+def pair_meshes(setup: PairImpactSetup, v_in: float) -> tuple[SphereMeshSpec, object]:
+    """(sphere mesh, counter-body mesh) of the impact at v_in [m/s] (module docstring)."""
+    sphere = impact.impact_mesh(setup.sphere, v_in)
+    flat, pair = setup.sphere.pair, setup.pair
+    widen = ((pair.R_star / flat.R_star) ** 0.4 * (flat.E_star / pair.E_star) ** 0.2
+             * (pair.mass_star / flat.mass_star) ** 0.2)
+    if widen > 1.0:
+        sphere = dataclasses.replace(sphere, refined_radius=min(widen * sphere.refined_radius, 0.9 * sphere.radius))
+    counter = setup.counter.mesh_spec(HemisphereMeshSpec(**dataclasses.asdict(sphere)))
+    if isinstance(counter, BlockMeshSpec):
+        if setup.block_size is not None:
+            counter = dataclasses.replace(counter, radius=setup.block_size, far_size=min(counter.far_size, setup.block_size))
+        return sphere, counter
+    return sphere, SphereMeshSpec(**dataclasses.asdict(counter))
+
+
+def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_dir=None) -> PairImpactSolver:
+    """The two-body impact solver on the meshes ``sphere``, ``counter`` (an elastic sphere when
+    setup.sphere.elastic)."""
+    material = setup.sphere.material
+    first = (ElasticMaterial(material.E, material.nu) if setup.sphere.elastic
+             else VonMisesMaterial(material.E, material.nu, material.sigma_y))
+    second = setup.counter.fe_material()
+    return PairImpactSolver(impact_pair_mesh(sphere, counter, cache_dir), first, second, material.rho, material.rho)
+
+
+def tasks_for(setup: PairImpactSetup, velocities) -> list[dict]:
+    """One sweep task per velocity (its key hashes everything the result depends on)."""
+    tasks = []
+    for v in velocities:
+        sphere, counter = pair_meshes(setup, v)
+        task = {"v_in": float(v), "material": dataclasses.asdict(setup.sphere.material), "radius": setup.sphere.radius,
+                "elastic": setup.sphere.elastic, "counter": setup.counter.describe(),
+                "block_size": setup.block_size, "sphere_mesh": dataclasses.asdict(sphere),
+                "counter_mesh": dataclasses.asdict(counter), "counter_block": isinstance(counter, BlockMeshSpec),
+                "steps_per_contact": setup.sphere.steps_per_contact, "version": VERSION}
+        tasks.append({**task, "key": stable_key(task)})
+    return tasks
+
+
+def run_task(task: dict) -> dict:
+    """One pair impact as a row (never raises: a failure is a row with status "failed")."""
+    from threadpoolctl import threadpool_limits    # one BLAS thread per FE process (calib/README.md)
+
+    from nfdmodel import Material
+
+    started = time.perf_counter()
+    base = {"key": task["key"], "v_in": task["v_in"]}
+    try:
+        with threadpool_limits(1):
+            counter = CounterBody(**{k: task["counter"][k] for k in ("E", "nu", "sigma_y", "R")})
+            setup = PairImpactSetup(impact.ImpactSetup(Material(**task["material"]), task["radius"],
+                                                       elastic=task["elastic"],
+                                                       steps_per_contact=task["steps_per_contact"]),
+                                    counter, task["block_size"])
+            sphere = SphereMeshSpec(**task["sphere_mesh"])
+            counter_mesh = (BlockMeshSpec if task["counter_block"] else SphereMeshSpec)(**task["counter_mesh"])
+            solver = solver_for(setup, sphere, counter_mesh)
+            result = run_pair_impact(solver, task["v_in"], steps_per_contact=task["steps_per_contact"])
+    except (ImpactNotConverged, ValueError, np.linalg.LinAlgError) as exc:
+        return {**base, "status": "failed", "error": str(exc), "wall_time_s": time.perf_counter() - started}
+    hertz = hertz_pair_impact(result.E_star, result.R_star, result.reduced_mass, task["v_in"])
+    return {**base, **result.record(), "hertz": hertz, "status": "ok", "error": "",
+            "mesh": solver.pair_mesh.describe(), "git_commit": output.git_commit()}
+
+
+def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int = 1,
+                progress: Callable[[str], None] | None = None) -> tuple[list[dict], dict]:
+    """Every velocity's pair impact through the sweep runner: (rows, counts {computed, reused});
+    ValueError naming the first that failed."""
+    impact.check_reach(setup.sphere, velocities)
+    tasks = tasks_for(setup, velocities)
+    for task in tasks:                  # meshed here, one at a time (gmsh is one per process)
+        impact_pair_mesh(SphereMeshSpec(**task["sphere_mesh"]),
+                         (BlockMeshSpec if task["counter_block"] else SphereMeshSpec)(**task["counter_mesh"]))
+    describe = (lambda row: f"v_in = {row['v_in']:g} m/s: "
+                + (f"e = {row['e']:.4f}, {row['wall_time_s']:.1f} s" if row["status"] == "ok" else row["error"]))
+    swept = run_sweep(tasks, run_task, cases, keep=lambda row: row.get("status") == "ok", workers=workers,
+                      progress=progress, describe=describe)
+    failed = [row for row in swept.rows if row["status"] != "ok"]
+    if failed:
+        raise ValueError(f"the pair FE impact at v_in = {failed[0]['v_in']:g} m/s failed: {failed[0]['error']}")
+    return swept.rows, {"computed": swept.computed, "reused": swept.reused}
+
+
+def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
+    """0.5, 2 and 10 v_Y of the pair (nfdmodel.ContactPair.v_Y: the body that yields first) [m/s]."""
+    return tuple(f * setup.pair.v_Y for f in (0.5, 2.0, 10.0))
+
+
+def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
+          progress: Callable[[str], None] | None = None) -> list[dict]:
+    """The impacts, written to OUT/impact_pair.csv and .json; returns one record per velocity."""
+    started = time.perf_counter()
+    rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress)
+    pair = setup.pair
+    records = []
+    for row in sorted(rows, key=lambda r: r["v_in"]):
+        record = {k: row[k] for k in ("v_in", "v1_in", "v2_in", "e", "v_sep", "P_max", "contact_time", "alpha_max",
+                                      "contact_radius_max", "momentum_change", "kinetic_in", "plastic_work",
+                                      "energy_left", "balance_residual", "contact_work", "dt", "steps", "dofs",
+                                      "wall_time_s", "cpu_time_s")}
+        record["v_in_over_v_Y"] = row["v_in"] / pair.v_Y
+        record["hertz"] = row["hertz"]
+        record["balance_residual_fraction"] = row["balance_residual"] / row["kinetic_in"]
+        record["energy_left_fraction"] = row["energy_left"] / row["kinetic_in"]
+        record["mesh"] = row["mesh"]
+        records.append(record)
+    stamp = output.stamp(time.perf_counter() - started, counter=setup.counter.describe(),
+                         material=dataclasses.asdict(setup.sphere.material), radius=setup.sphere.radius, **counts)
+    output.write_json(out / "impact_pair.json", {"stamp": stamp, "impacts": records})
+    flat = [{k: v for k, v in r.items() if not isinstance(v, dict)}
+            | {f"hertz_{k}": v for k, v in r["hertz"].items()} for r in records]
+    output.write_csv(out / "impact_pair.csv", flat)
+    return records
+
+
+def block_size_effect(setup: PairImpactSetup, v_in: float, sizes, *, cache_dir=None) -> list[dict]:
+    """e, P_max, contact time and alpha_max of the impact at v_in [m/s] on blocks of the ``sizes``
+    L [m] (a flat counter-body; calib.fe.impact_pair states what the finite block means)."""
+    if not setup.counter.is_flat:
+        raise ValueError("block_size_effect needs a flat counter-body (no counter R)")
+    rows = []
+    for L in sizes:
+        sized = dataclasses.replace(setup, block_size=float(L))
+        sphere, counter = pair_meshes(sized, v_in)
+        result = run_pair_impact(solver_for(sized, sphere, counter, cache_dir), v_in,
+                                 steps_per_contact=setup.sphere.steps_per_contact)
+        rows.append({"block_size": float(L), **{k: getattr(result, k) for k in COMPARED}, "wall_time_s": result.wall_time_s})
+    return rows
+
+
+def wave_return_time(counter: CounterBody, rho: float, block_size: float) -> float:
+    """2 L / c_L [s]: the time a longitudinal wave takes to the held face and back, c_L =
+    sqrt(E (1 - nu) / (rho (1 + nu)(1 - 2 nu))) [m/s]."""
+    nu = counter.nu
+    return 2.0 * block_size / math.sqrt(counter.E * (1 - nu) / (rho * (1 + nu) * (1 - 2 * nu)))
+
+
+def block_size_default(radius: float) -> float:
+    """The flat's block L [m] for a sphere of radius R [m]: BLOCK_SIZE_OVER_R R."""
+    return BLOCK_SIZE_OVER_R * radius
