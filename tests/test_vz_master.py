@@ -197,3 +197,48 @@ def test_the_interval_widens_for_few_tests_as_students_t():
     assert coverage_factor(1e-4, 1e-4, 5) == pytest.approx(coverage_factor(1e-4, 0.0, 20), rel=1e-12)
     assert coverage_factor(0.0, 1e-4, 5) == Z95 and coverage_factor(1e-4, 1e-4, 0) == Z95
     assert Z95 < coverage_factor(1e-4, 0.0, 10 ** 6) < Z95 + 1e-5
+
+
+def test_a_stored_node_refitted_from_its_fe_data_equals_the_fe_calibration_s_own_fit(tmp_path):
+    """refit_row, from the FE data a task row keeps, gives the tables and e that the FE calibration
+    (calibrate(ship="table"): the solver's own paths and works) gave: a row holding another fit
+    (fit_version 1, its tables and e altered) is brought back to them without the FE; through the
+    sweep runner, the stored row is rewritten in place and no task runs."""
+    from calib.sweep.runner import run_sweep
+
+    scene = {**vz_master_build.load_scene("vz_master_grid"), "contact_size_over_a_max": 0.1, "top_over_P_Y": 30.0}
+    task = vz_master_build.task(scene, 0.3, 300.0, "node")
+    fresh = vz_master_build.run_task(task)
+    assert fresh["status"] == "ok" and fresh["fit_version"] == vz_master_build.FIT_VERSION
+    stale = {**fresh, "fit_version": 1, "table": {**fresh["table"], "g": [1.01 * g for g in fresh["table"]["g"]]},
+             "paths": [{**p, "e": 1.002 * p["e"]} for p in fresh["paths"]]}
+    refitted = vz_master_build.refit_row(stale)
+    for key in ("x", "f", "g"):
+        assert np.allclose(refitted["table"][key], fresh["table"][key], rtol=1e-12, atol=1e-15)
+    assert np.allclose([p["e"] for p in refitted["paths"]], [p["e"] for p in fresh["paths"]], rtol=1e-12)
+    assert refitted["window"] == pytest.approx(fresh["window"]) and vz_master_build.refit_row(refitted) is refitted
+    assert vz_master_build.refit_row({**stale, "meshes": 2}) is None     # the second mesh's FE is not kept
+
+    folder = tmp_path / "nodes"
+    folder.mkdir()
+    (folder / f"{task['key']}.json").write_text(json.dumps(stale), encoding="utf-8")
+
+    def no_fe(item):
+        raise AssertionError("the FE ran")
+
+    swept = run_sweep([task], no_fe, folder, keep=vz_master_build.is_finished, refit=vz_master_build.refit_row)
+    assert (swept.computed, swept.reused, swept.refitted) == (0, 1, 1)
+    stored = json.loads((folder / f"{task['key']}.json").read_text(encoding="utf-8"))
+    assert stored["fit_version"] == vz_master_build.FIT_VERSION
+    assert np.allclose(stored["table"]["g"], fresh["table"]["g"], rtol=1e-12)
+
+
+def test_a_row_the_refit_cannot_bring_to_the_current_fit_runs_again(tmp_path):
+    from calib.sweep.runner import run_sweep
+
+    (tmp_path / "a.json").write_text(json.dumps({"key": "a", "fit": 1}), encoding="utf-8")
+    (tmp_path / "b.json").write_text(json.dumps({"key": "b", "fit": 2}), encoding="utf-8")
+    swept = run_sweep([{"key": "a"}, {"key": "b"}], lambda task: {"key": task["key"], "fit": 2}, tmp_path,
+                      refit=lambda row: row if row["fit"] == 2 else None)
+    assert (swept.computed, swept.reused, swept.refitted) == (1, 1, 0)
+    assert json.loads((tmp_path / "a.json").read_text(encoding="utf-8"))["fit"] == 2
