@@ -170,8 +170,11 @@ def test_bad_input_is_one_line_and_exit_2(argv, text, tmp_path, capsys):
 def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path):
     scene = vz_master_build.load_scene("vz_master_grid")
     tasks = vz_master_build.tasks_for(scene)
-    assert len({t["key"] for t in tasks}) == len(tasks) == 16 + len(scene["checks"])
-    assert [t["E_over_sigma_y"] for t in tasks] == sorted(t["E_over_sigma_y"] for t in tasks)
+    assert len({t["key"] for t in tasks}) == len(tasks) == 16 + len(scene["checks"]) + len(scene["refine"]) >= 16 + 2
+    grid = [t for t in tasks if t["kind"] != "refine"]
+    assert [t["E_over_sigma_y"] for t in grid] == sorted(t["E_over_sigma_y"] for t in grid)
+    assert {(t["nu"], t["E_over_sigma_y"]) for t in tasks if t["kind"] == "refine"} <= {
+        (t["nu"], t["E_over_sigma_y"]) for t in grid if t["kind"] == "node"}
     with pytest.raises(ValueError, match="grid nodes"):
         vz_master_build.write_master([{**fe_rows[0], "kind": "node"}], tmp_path / "t.csv", scene, "test")
     material = Material(70e9, 0.3, 100e6, 2700.0)

@@ -13,7 +13,9 @@ estimated relative error kept). The table stores f and g resampled on common loa
 (NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
 window are empty) and each node's window [x_low, x_top].
 
-The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
+Nodes of the scene's ``[[refine]]`` run again on a finer mesh (kind "refine", their own
+contact element a fraction of a_max): against them calib.fit.vz_master_check measures the table's
+discretisation error. The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
 between its nodes in material and in load (calib.fit.vz_master_check) and are the data of the
 fit-data benchmark (tests/benchmarks/fit_data_fe.py). Every node and check is one task of the one
 sweep runner (calib.sweep.runner, ``OUT/nodes/<key>.json``): a rerun resumes, and the FE data of each
@@ -94,34 +96,48 @@ def load_scene(name: str) -> dict:
              "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"])}
-                        for c in raw.get("check", [])]}
+                        for c in raw.get("check", [])],
+             "refine": [{"nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
+                         "contact_size_over_a_max": float(c["contact_size_over_a_max"])} for c in raw.get("refine", [])]}
     for axis in ("nu", "E_over_sigma_y"):
         if len(scene[axis]) < 2:
             raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
+    for refine in scene["refine"]:
+        if refine["nu"] not in scene["nu"] or refine["E_over_sigma_y"] not in scene["E_over_sigma_y"]:
+            raise ValueError(f"scene {path}: [[refine]] nu {refine['nu']:g}, E_over_sigma_y "
+                             f"{refine['E_over_sigma_y']:g} is not a node of the grid")
+        if not 0.0 < refine["contact_size_over_a_max"] < (scene["contact_size_over_a_max"] or 1.0):
+            raise ValueError(f"scene {path}: [[refine]] contact_size_over_a_max must be in (0, the nodes' "
+                             f"{scene['contact_size_over_a_max']}), got {refine['contact_size_over_a_max']:g}")
     for key in ("meshes", "check_meshes"):
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
     return scene
 
 
-def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None) -> dict:
-    """One calibration at the FE's reach (kind "node" or "check")."""
+def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None,
+         contact_size_over_a_max: float | None = None) -> dict:
+    """One calibration at the FE's reach (kind "node", "check", or "refine": a node on the mesh of
+    ``contact_size_over_a_max``)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
+    node_like = kind in ("node", "refine")
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
-              "contact_size_over_a_max": scene["contact_size_over_a_max"],
-              "top_over_P_Y": scene["top_over_P_Y"] if kind == "node" else scene["check_top_over_P_Y"],
-              "meshes": scene["meshes"] if kind == "node" else scene["check_meshes"]}
-    return {"key": stable_key(fields), "kind": kind, "name": name or f"nu{nu:g}_E{ratio:g}sy",
-            "material": material, **fields}
+              "contact_size_over_a_max": contact_size_over_a_max or scene["contact_size_over_a_max"],
+              "top_over_P_Y": scene["top_over_P_Y"] if node_like else scene["check_top_over_P_Y"],
+              "meshes": scene["meshes"] if node_like else scene["check_meshes"]}
+    name = name or f"nu{nu:g}_E{ratio:g}sy" + (f"_amax{1 / contact_size_over_a_max:.3g}" if kind == "refine" else "")
+    return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
 
 
 def tasks_for(scene: dict) -> list[dict]:
     """The grid's nodes and the off-grid checks, the softer materials first (their reach, and so
-    their FE, is the smallest: a partial run has whole E/sigma_Y columns)."""
+    their FE, is the smallest: a partial run has whole E/sigma_Y columns), then the refined nodes."""
     nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
     checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"]) for c in scene["checks"]]
-    return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
+    refined = [task(scene, c["nu"], c["E_over_sigma_y"], "refine", contact_size_over_a_max=c["contact_size_over_a_max"])
+               for c in scene["refine"]]
+    return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"]) + refined
 
 
 def run_task(item: dict) -> dict:
@@ -202,7 +218,7 @@ def describe(row: dict) -> str:
 
 
 def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None = None,
-        progress: Callable[[str], None] | None = None, kinds: tuple = ("node", "check")) -> list[dict]:
+        progress: Callable[[str], None] | None = None, kinds: tuple = ("node", "check", "refine")) -> list[dict]:
     """Every task of ``scene`` (resumable, calib.sweep.runner) in ``folder``/nodes; the rows."""
     from calib.sweep.runner import run_sweep
 
