@@ -276,7 +276,9 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
 
 
 def discretisation_statement(measured: dict) -> str:
-    """The clause of the accuracy statement on the measured discretisation error ('' without one)."""
+    """The clause of the accuracy statement on the measured discretisation error."""
+    from calib.fit import extrapolation
+
     if not measured:
         return "; discretisation not measured"
     nodes = measured["nodes"]
@@ -285,5 +287,5 @@ def discretisation_statement(measured: dict) -> str:
     ratio = min(n["contact_size_ratio"] for n in nodes)
     return (f"; discretisation (against a {ratio:.2g}x finer contact element at {where}): e "
             f"{100 * worst['e_change_max']:.2g} %, force {100 * worst['force_change_max']:.2g} % of P_max (Richardson "
-            f"estimate of the table's error: e {100 * worst['e_error_estimate']:.2g} %, force "
-            f"{100 * worst['force_error_estimate']:.2g} %)")
+            f"estimate of the table's error at order {extrapolation.ORDER:g}, not observed: e "
+            f"{100 * worst['e_error_estimate']:.2g} %, force {100 * worst['force_error_estimate']:.2g} %)")
