@@ -454,7 +454,7 @@ def compare_models(result: CalibrationResult) -> None:
     result.comparisons = {}
     for path in result.load_paths.paths:
         approach, force = _path_history(path)
-        other_fit = "force" if result.shipped == "radius" else "radius"
+        other_fit = "radius" if result.shipped == "force" else "force"   # the fit "vz" is not
         other = result.constants(other_fit)
         other_params = VZParams(pair, *((other["Ca"].value, other["Kc"].value) if other is not None
                                         else result.fitted_constants(other_fit)))
