@@ -251,7 +251,7 @@ def test_calibration_states_each_laws_error_against_its_fe_paths(tmp_path, capsy
     assert code == 0
     out = json.loads(capsys.readouterr().out)
     accuracy = out["accuracy"]
-    assert accuracy["shipped"] == "vz" and accuracy["targets"] == {"e_error": E_TARGET, "force_error": FORCE_TARGET}
+    assert accuracy["shipped"] == "vz-table" and accuracy["targets"] == {"e_error": E_TARGET, "force_error": FORCE_TARGET}
     for law, record in accuracy["laws"].items():
         errors = [p["models"][law]["e"] / p["e"] - 1.0 for p in out["paths"]]
         assert abs(record["worst_e_error"]) == pytest.approx(max(abs(x) for x in errors), rel=1e-12)
@@ -259,18 +259,22 @@ def test_calibration_states_each_laws_error_against_its_fe_paths(tmp_path, capsy
             max(p["models"][law]["max_force_error_rel"] for p in out["paths"]), rel=1e-12)
         assert record["within_target"] == (abs(record["worst_e_error"]) <= E_TARGET
                                            and record["worst_force_error"] <= FORCE_TARGET)
+        assert record["P_max_within_target"] == [
+            p["P_max"] for p in out["paths"] if abs(p["models"][law]["e"] / p["e"] - 1.0) <= E_TARGET
+            and p["models"][law]["max_force_error_rel"] <= FORCE_TARGET]
     # the paper's two constants return too much work on unloading (e above the FE's): the table does not
     assert accuracy["laws"]["vz"]["worst_e_error"] > E_TARGET
     assert abs(accuracy["laws"]["vz-table"]["worst_e_error"]) < E_TARGET
 
 
-def test_ship_table_spreads_the_unloading_paths_over_the_window(tmp_path, capsys):
-    """--ship table without --peaks unloads from near P_Y to the top, so the table's window (from its lowest
-    path) covers the default window, and the table meets the targets against those FE paths."""
+def test_the_default_ships_the_table_with_unloading_paths_spread_over_the_window(tmp_path, capsys):
+    """nfdcal calibrate ships the vz-table law (no --ship) and, without --peaks, unloads from near P_Y to
+    the top, so the table's window (from its lowest path) covers the default window, and the table meets
+    the targets against those FE paths."""
     from calib.fit.calibration import E_TARGET, FORCE_TARGET
     from nfdmodel import load_parameters
 
-    code = main(["calibrate", "--json", "--quiet", "--contact-size", str(COARSE), "--ship", "table",
+    code = main(["calibrate", "--json", "--quiet", "--contact-size", str(COARSE),
                  "--no-plots", "--out", str(tmp_path)])
     assert code == 0
     out = json.loads(capsys.readouterr().out)
@@ -282,3 +286,57 @@ def test_ship_table_spreads_the_unloading_paths_over_the_window(tmp_path, capsys
     table = out["accuracy"]["laws"]["vz-table"]
     assert out["accuracy"]["shipped"] == "vz-table" and table["within_target"]
     assert abs(table["worst_e_error"]) <= E_TARGET and table["worst_force_error"] <= FORCE_TARGET
+
+
+@pytest.mark.parametrize("material", [Material.reference(), Material(210e9, 0.29, 1.2e9, 7800.0)])
+def test_the_added_unloading_paths_keep_the_loading_points_and_so_ca_and_kc(material):
+    """with_unloading_across adds paths from near P_Y below the default plan's lowest peak, each on a
+    load its loading branch already steps to: the loading targets (and so the FE loading points the
+    radius fit of Ca and Kc uses: the paper's reproduction) are the plan's own, its peaks kept."""
+    spec = (recipe.reference_spec() if material == Material.reference()
+            else recipe.calibration_spec(material, 0.005))
+    extended = calibration.with_unloading_across(spec)
+    assert extended.plan.loading_targets() == pytest.approx(spec.plan.loading_targets(), rel=1e-12)
+    assert set(spec.plan.peaks) < set(extended.plan.peaks) and extended.mesh == spec.mesh
+    x = np.array(extended.plan.peaks) / spec.pair.P_Y
+    assert 1.0 < x[0] <= 2.5 and np.all(x[1:] / x[:-1] <= 10 ** 0.4 * 1.1)
+
+
+def test_the_two_constants_are_shipped_only_over_the_paths_where_they_meet_the_targets(coarse_result):
+    """--ship radius: the window runs over the longest run of consecutive FE paths at which the two
+    constants meet 2 % in e and 5 % in force; at none, nothing is declared (the library keeps the fitted
+    window and the record says so; the CLI refuses, test below)."""
+    from calib.fit.calibration import E_TARGET, FORCE_TARGET, ModelComparison, peaks_within_target
+
+    shipped = dataclasses.replace(coarse_result, shipped="radius")
+    for peak, ok in peaks_within_target(shipped, "vz"):         # against each FE path directly
+        path = next(p for p in shipped.load_paths.paths if p.peak == peak)
+        force, e = calibration.drive_law("vz", shipped.params, np.array([r["alpha"] for r in path.rows]))
+        P = np.array([max(r["P"], 0.0) for r in path.rows])
+        assert ok == (abs(e / path.restitution - 1) <= E_TARGET and np.abs(force - P).max() / peak <= FORCE_TARGET)
+    peaks = [p.peak for p in shipped.load_paths.paths]
+    window = shipped.two_constant_window()
+    assert window is None or all(ok for peak, ok in peaks_within_target(shipped, "vz")
+                                 if window.P_min_over_P_Y <= peak / shipped.P_Y <= window.P_max_over_P_Y)
+
+    def meeting_at(good):               # the two constants' comparison made to meet the targets at ``good``
+        out = {}
+        for path in shipped.load_paths.paths:
+            error = 0.0 if path.peak in good else 2 * E_TARGET
+            out[path.peak] = [ModelComparison("vz", np.zeros(1), path.restitution * (1 + error), 0.01)]
+        return dataclasses.replace(shipped, comparisons=out)
+
+    assert meeting_at({peaks[-1]}).two_constant_window().P_min_over_P_Y == pytest.approx(peaks[-1] / shipped.P_Y)
+    both = meeting_at(set(peaks)).shipped_params.window
+    assert (both.P_min_over_P_Y, both.P_max_over_P_Y) == pytest.approx((peaks[0] / shipped.P_Y, peaks[-1] / shipped.P_Y))
+    assert meeting_at(set()).two_constant_window() is None
+    assert meeting_at(set()).shipped_params.window == shipped.fitted_window
+
+
+def test_ship_radius_where_the_two_constants_meet_the_targets_nowhere_is_refused_in_one_line(tmp_path, capsys):
+    code = main(["calibrate", "--quiet", "--contact-size", str(COARSE), "--peaks", "300", "1000", "--ship", "radius",
+                 "--no-plots", "--out", str(tmp_path)])
+    lines = capsys.readouterr().err.strip().splitlines()     # warnings of the FE, then the one error line
+    errors = [line for line in lines if "warning" not in line]
+    assert code == 2 and len(errors) == 1 and "nothing shipped" in errors[0] and "Traceback" not in "".join(lines)
+    assert "Ca = " in errors[0] and "--ship table" in errors[0] and not (tmp_path / "parameters.json").exists()

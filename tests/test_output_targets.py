@@ -139,11 +139,14 @@ def calibration_folders(tmp_path, monkeypatch) -> list[Path]:
 
     from nfdmodel import CalibrationWindow
 
-    result = SimpleNamespace(shipped_params=SimpleNamespace(window=CalibrationWindow(1.0, 41.2, None, "stub")))
+    window = CalibrationWindow(1.0, 41.2, None, "stub")
+    result = SimpleNamespace(shipped_params=SimpleNamespace(window=window), load_paths=SimpleNamespace(paths=[]),
+                             two_constant_window=lambda: window)
     monkeypatch.setattr(calibration, "calibrate", lambda spec, **options: result)
     monkeypatch.setattr(calibration, "summary", lambda result: {
         "Ca": 1.0, "Kc": 1.0, "Ca_hat": 1.0, "Kc_hat": 1.0, "P_Y": 1.0, "P_Y_fe": 1.0, "wall_time_s": 0.0,
-        "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
+        "paths": [], "window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2},
+        "shipped_window": {"P_min_over_P_Y": 1.0, "P_max_over_P_Y": 41.2}})
     monkeypatch.setattr(report, "write", lambda result, out, **options: written.append(Path(out)) or Path(out))
     monkeypatch.chdir(tmp_path)
     return written
@@ -278,7 +281,9 @@ def test_one_writer_per_results_folder(tmp_path):
 
 def test_each_calibration_has_a_folder_of_its_own(calibration_folders):
     """Other peaks, mesh or shipped law than the reference calibration's: a folder of their own."""
-    for flags in (["--peaks", "500", "1000"], ["--contact-size", "8e-5"], ["--ship", "force"], ["--ship", "radius"]):
+    for flags in (["--peaks", "500", "1000"], ["--contact-size", "8e-5"], ["--ship", "force"], ["--ship", "radius"],
+                  ["--ship", "table"]):
         assert main(["calibrate", "--quiet", *flags]) == 0
     assert [p.as_posix() for p in calibration_folders] == ["results/calibration/peaks500-1000", "results/calibration/h8e-05",
-                                               "results/calibration/ship-force", "results/calibration"]
+                                               "results/calibration/ship-force", "results/calibration/ship-radius",
+                                               "results/calibration"]      # the default ships the table

@@ -21,6 +21,7 @@ shipped runtime law is exactly the calibrated one.
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 import warnings
 from dataclasses import asdict, dataclass, field
@@ -193,8 +194,30 @@ class CalibrationResult:
     @property
     def shipped_params(self) -> VZParams | VZTableParams:
         """What the parameter file ships: the vz-table law (``shipped == "table"``) or the
-        two-constant law of :attr:`params`."""
-        return self.fit_table() if self.shipped == "table" else self.params
+        two-constant law of :attr:`params` on :meth:`two_constant_window`."""
+        if self.shipped == "table":
+            return self.fit_table()
+        params = self.params
+        return VZParams(params.pair, params.Ca, params.Kc, self.two_constant_window() or self.fitted_window)
+
+    def two_constant_window(self) -> CalibrationWindow | None:
+        """The window the two-constant law is shipped on: from the lowest to the highest peak of
+        the longest run of consecutive FE paths at which it meets E_TARGET and FORCE_TARGET (the
+        loads between them; those paths' peaks, P/P_Y); the fitted window without unloading paths
+        (no e to check); None when it meets them at no path (then :attr:`shipped_params` keeps the
+        fitted window and :func:`accuracy` records the miss; ``nfdcal calibrate`` refuses to ship it)."""
+        meets = peaks_within_target(self, "vz")
+        if meets is None:
+            return self.fitted_window
+        best, run = [], []
+        for peak, ok in meets:
+            run = run + [peak] if ok else []
+            if len(run) > len(best):
+                best = run
+        if not best:
+            return None
+        return dataclasses.replace(self.fitted_window, P_min_over_P_Y=best[0] / self.P_Y,
+                                   P_max_over_P_Y=best[-1] / self.P_Y)
 
     @property
     def fitted_window(self) -> CalibrationWindow:
@@ -239,6 +262,28 @@ SHIPPABLE = ("radius", "force", "table")   # the paper's two constants, fitted t
 
 
 MESH_COUNTS = (1, 2)   # one mesh (studies of the FE itself), or two and Richardson extrapolation
+
+
+def with_unloading_across(spec: CalibrationSpec) -> CalibrationSpec:
+    """``spec`` with unloading paths added below its lowest peak, from the lowest load its mesh
+    resolves (calib.fit.impact_window.lowest_peak, log-spaced as window_peaks), each moved to the
+    nearest load its loading branch already steps to: the loading points, and with them the radius
+    fit's Ca and Kc, are those of ``spec``'s own paths; the vz-table law's window reaches down to
+    near P_Y (its C_R is measured only at unloading peaks, calib.fit.table_fit)."""
+    from calib.fit import impact_window
+
+    plan = spec.plan
+    targets = np.array(plan.loading_targets())
+    wanted = impact_window.window_peaks(impact_window.lowest_peak(spec.pair, spec.mesh.contact_size), plan.peaks[0])
+    candidates = targets[(targets > spec.pair.P_Y) & (targets < plan.peaks[0] * (1 - 1e-9))]
+    if not candidates.size:
+        return spec
+    added = {float(candidates[np.argmin(np.abs(np.log(candidates / p)))]) for p in wanted[:-1]}
+    extended = dataclasses.replace(plan, peaks=tuple(sorted(added | set(plan.peaks))))
+    if len(extended.loading_targets()) != targets.size or not np.allclose(extended.loading_targets(), targets,
+                                                                          rtol=1e-12, atol=0.0):
+        return spec                     # a plan whose steps the added peaks would move: its own paths only
+    return dataclasses.replace(spec, plan=extended)
 
 
 def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = None,
@@ -409,7 +454,7 @@ def compare_models(result: CalibrationResult) -> None:
     result.comparisons = {}
     for path in result.load_paths.paths:
         approach, force = _path_history(path)
-        other_fit = "force" if result.shipped == "radius" else "radius"
+        other_fit = "radius" if result.shipped == "force" else "force"   # the fit "vz" is not
         other = result.constants(other_fit)
         other_params = VZParams(pair, *((other["Ca"].value, other["Kc"].value) if other is not None
                                         else result.fitted_constants(other_fit)))
@@ -437,6 +482,7 @@ def summary(result: CalibrationResult) -> dict:
         "P_Y": result.P_Y, "P_Y_fe": result.P_Y_fe,
         "P_Y_fe_rel_error": result.P_Y_fe / result.P_Y - 1.0,
         "window": params.window.record(),
+        "shipped_window": result.shipped_params.window.record(),
         "table": (None if result.table_params is None else
                   {"P_over_P_Y": list(result.table_params.x), "a_p_over_a_Y": list(result.table_params.f),
                    "C_R": list(result.table_params.g), "window": result.table_params.window.record()}),
@@ -465,6 +511,18 @@ def summary(result: CalibrationResult) -> dict:
     }
 
 
+def peaks_within_target(result: CalibrationResult, law: str) -> list[tuple[float, bool]] | None:
+    """(P_max [N], whether ``law`` ("vz" or "vz-table") meets E_TARGET and FORCE_TARGET there)
+    for each FE path in load order, or None without unloading paths."""
+    out = []
+    for path in sorted(result.load_paths.paths, key=lambda p: p.peak):
+        for c in result.comparisons.get(path.peak, []):
+            if c.law == law:
+                out.append((path.peak, bool(abs(c.restitution / path.restitution - 1.0) <= E_TARGET
+                                            and c.max_force_error <= FORCE_TARGET)))
+    return out or None
+
+
 def accuracy(result: CalibrationResult) -> dict:
     """Each runtime law of the calibration (the two constants "vz", the table "vz-table") against the
     FE paths it was calibrated on: worst |e_law / e_FE - 1| and worst max |P_law - P_FE| / P_max
@@ -480,9 +538,10 @@ def accuracy(result: CalibrationResult) -> dict:
             if abs(e_error) >= abs(record["worst_e_error"]):
                 record["worst_e_error"], record["e_error_at_P_max"] = e_error, path.peak
             record["worst_force_error"] = max(record["worst_force_error"], c.max_force_error)
-    for record in records.values():
+    for law, record in records.items():
         record["within_target"] = bool(abs(record["worst_e_error"]) <= E_TARGET
                                        and record["worst_force_error"] <= FORCE_TARGET)
+        record["P_max_within_target"] = [peak for peak, ok in peaks_within_target(result, law) if ok]
     if not records:
         return {}
     return {"laws": records, "shipped": "vz-table" if result.shipped == "table" else "vz",

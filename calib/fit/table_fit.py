@@ -171,6 +171,6 @@ def fit_tables(data: RadiusLawData, pair: ContactPair, peaks: Sequence[float], u
     g[nodes >= x_1] = measured_curvature(nodes[nodes >= x_1])
     if window is None:
         window = CalibrationWindow(float(x_1), float(nodes[-1]), None, "the FE unloading paths")
-    elif window.P_min_over_P_Y < x_1:
-        window = dataclasses.replace(window, P_min_over_P_Y=float(x_1))
+    elif window.P_min_over_P_Y < x_1:               # (a single path at the top: the top, to rounding)
+        window = dataclasses.replace(window, P_min_over_P_Y=float(min(x_1, window.P_max_over_P_Y)))
     return VZTableParams(pair, tuple(nodes), tuple(f), tuple(g), window)

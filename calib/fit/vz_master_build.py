@@ -13,11 +13,16 @@ estimated relative error kept). The table stores f and g resampled on common loa
 (NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
 window are empty) and each node's window [x_low, x_top].
 
-The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
+Nodes of the scene's ``[[refine]]`` run again on a finer mesh (kind "refine", their own
+contact element a fraction of a_max): against them calib.fit.vz_master_check measures the table's
+discretisation error. The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
 between its nodes in material and in load (calib.fit.vz_master_check) and are the data of the
 fit-data benchmark (tests/benchmarks/fit_data_fe.py). Every node and check is one task of the one
 sweep runner (calib.sweep.runner, ``OUT/nodes/<key>.json``): a rerun resumes, and the FE data of each
-task (loading curve, each path's peak, e, loading and unloading work, unloading branch) is kept.
+task (loading curve, each path's peak, e, loading and unloading work, unloading branch) is kept. A
+one-mesh task's tables are refitted from those data on every run (:func:`refit_row`, no FE): its
+works from the histories as the FE takes them (calib.fe.loadpath.contact_work), its tables by
+calib.fit.table_fit; ``fit_version`` in the row says which fit it holds.
 
     nfdcal table vz_master_grid [--workers 2] [--out results/tables/vz_master_grid]
         [--master-out calib/data/vz_master_table.csv]
@@ -36,7 +41,7 @@ from calib import output
 from calib.fit import impact_window
 from calib.fit.calibration import calibrate
 from meshes.keys import stable_key
-from nfdmodel import ContactPair, Material, VZTableParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
 
 BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweeps"   # not scenes of the schema
 SCENE = "vz_master_grid"
@@ -44,7 +49,8 @@ NODES_PER_DECADE = 8            # common table loads per decade of P/P_Y
 X_LIMIT = 1000.0                # the common loads reach this (calib.fit.recipe.MAX_LOAD_OVER_YIELD)
 TOP_MERGE = 0.02                # column tops (and common loads) closer than this, relative: one load
 REACH_MARGIN = 1e-6             # the top load this far inside the FE's reach (its check is exact)
-TASK_VERSION = 1                # part of a task's key: bump when the FE or the fit changes
+TASK_VERSION = 1                # part of a task's key: bump when the FE changes
+FIT_VERSION = 2                 # the fit a row holds (1: trapezoid works; 2: Hertz's end segments), refit_row
 
 
 def common_loads() -> np.ndarray:
@@ -90,34 +96,48 @@ def load_scene(name: str) -> dict:
              "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"])}
-                        for c in raw.get("check", [])]}
+                        for c in raw.get("check", [])],
+             "refine": [{"nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
+                         "contact_size_over_a_max": float(c["contact_size_over_a_max"])} for c in raw.get("refine", [])]}
     for axis in ("nu", "E_over_sigma_y"):
         if len(scene[axis]) < 2:
             raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
+    for refine in scene["refine"]:
+        if refine["nu"] not in scene["nu"] or refine["E_over_sigma_y"] not in scene["E_over_sigma_y"]:
+            raise ValueError(f"scene {path}: [[refine]] nu {refine['nu']:g}, E_over_sigma_y "
+                             f"{refine['E_over_sigma_y']:g} is not a node of the grid")
+        if not 0.0 < refine["contact_size_over_a_max"] < (scene["contact_size_over_a_max"] or 1.0):
+            raise ValueError(f"scene {path}: [[refine]] contact_size_over_a_max must be in (0, the nodes' "
+                             f"{scene['contact_size_over_a_max']}), got {refine['contact_size_over_a_max']:g}")
     for key in ("meshes", "check_meshes"):
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
     return scene
 
 
-def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None) -> dict:
-    """One calibration at the FE's reach (kind "node" or "check")."""
+def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None,
+         contact_size_over_a_max: float | None = None) -> dict:
+    """One calibration at the FE's reach (kind "node", "check", or "refine": a node on the mesh of
+    ``contact_size_over_a_max``)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
+    node_like = kind in ("node", "refine")
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
-              "contact_size_over_a_max": scene["contact_size_over_a_max"],
-              "top_over_P_Y": scene["top_over_P_Y"] if kind == "node" else scene["check_top_over_P_Y"],
-              "meshes": scene["meshes"] if kind == "node" else scene["check_meshes"]}
-    return {"key": stable_key(fields), "kind": kind, "name": name or f"nu{nu:g}_E{ratio:g}sy",
-            "material": material, **fields}
+              "contact_size_over_a_max": contact_size_over_a_max or scene["contact_size_over_a_max"],
+              "top_over_P_Y": scene["top_over_P_Y"] if node_like else scene["check_top_over_P_Y"],
+              "meshes": scene["meshes"] if node_like else scene["check_meshes"]}
+    name = name or f"nu{nu:g}_E{ratio:g}sy" + (f"_amax{1 / contact_size_over_a_max:.3g}" if kind == "refine" else "")
+    return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
 
 
 def tasks_for(scene: dict) -> list[dict]:
     """The grid's nodes and the off-grid checks, the softer materials first (their reach, and so
-    their FE, is the smallest: a partial run has whole E/sigma_Y columns)."""
+    their FE, is the smallest: a partial run has whole E/sigma_Y columns), then the refined nodes."""
     nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
     checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"]) for c in scene["checks"]]
-    return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
+    refined = [task(scene, c["nu"], c["E_over_sigma_y"], "refine", contact_size_over_a_max=c["contact_size_over_a_max"])
+               for c in scene["refine"]]
+    return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"]) + refined
 
 
 def run_task(item: dict) -> dict:
@@ -153,7 +173,37 @@ def run_task(item: dict) -> dict:
                                      "alpha": [r["alpha"] for r in p.rows if r["branch"] == "unloading"]}}
                       for p in paths.paths],
             "mesh": dataclasses.asdict(spec.mesh), "dofs": result.mesh_info["dofs"],
-            "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit()}
+            "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit(), "fit_version": FIT_VERSION}
+
+
+def refit_row(row: dict) -> dict | None:
+    """A stored task row with the current fit (FIT_VERSION), from its stored FE data: each path's
+    works and e from its histories (calib.fit.vz_master_check.fe_paths, calib.fe.loadpath.contact_work),
+    the tables from the loading curve and those works (calib.fit.table_fit.fit_tables, the window of
+    the calibration: its loading points above P_Y, its reach and mesh). The row itself when current
+    or failed; None for a two-mesh row (the second mesh's FE data are not kept: the task runs again)."""
+    from calib.fit.least_squares import radius_law_data
+    from calib.fit.table_fit import fit_tables
+    from calib.fit.vz_master_check import fe_paths
+
+    if row.get("status") != "ok" or row.get("fit_version", 1) == FIT_VERSION:
+        return row
+    if row["meshes"] != 1:
+        return None
+    pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
+                                            row["rho"]), row["R"])
+    P, alpha = np.asarray(row["loading"]["P"], dtype=float), np.asarray(row["loading"]["alpha"], dtype=float)
+    data = radius_law_data(P, alpha, np.full(P.size, np.nan),        # contact radii: not kept, not used
+                           R_star=pair.R_star, E_star=pair.E_star, P_Y=pair.P_Y)
+    window = dataclasses.replace(CalibrationWindow.from_record(row["window"]),
+                                 P_min_over_P_Y=float(P[P > pair.P_Y].min() / pair.P_Y))
+    paths = fe_paths(row)
+    table = fit_tables(data, pair, [p["P_max"] for p in paths], [p["unloading_work"] for p in paths], window)
+    record = {"x": list(table.x), "f": list(table.f), "g": list(table.g)}
+    return {**row, "table": record, "fine_table": record, "window": table.window.record(),
+            "paths": [{**stored, "e": p["e"], "loading_work": p["loading_work"], "unloading_work": p["unloading_work"]}
+                      for stored, p in zip(row["paths"], paths)],
+            "fit_version": FIT_VERSION, "fit_commit": output.git_commit()}
 
 
 def is_finished(row: dict) -> bool:
@@ -168,13 +218,13 @@ def describe(row: dict) -> str:
 
 
 def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None = None,
-        progress: Callable[[str], None] | None = None, kinds: tuple = ("node", "check")) -> list[dict]:
+        progress: Callable[[str], None] | None = None, kinds: tuple = ("node", "check", "refine")) -> list[dict]:
     """Every task of ``scene`` (resumable, calib.sweep.runner) in ``folder``/nodes; the rows."""
     from calib.sweep.runner import run_sweep
 
     tasks = [t for t in tasks_for(scene) if t["kind"] in kinds]
     result = run_sweep(tasks, run_task, Path(folder) / "nodes", keep=is_finished, workers=workers,
-                       scheduler=scheduler, progress=progress, describe=describe)
+                       scheduler=scheduler, progress=progress, describe=describe, refit=refit_row)
     return result.rows
 
 
@@ -235,15 +285,17 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
     table_rows = master_rows(rows)
     stamp = output.stamp(sum(r["wall_time_s"] for r in nodes) if wall_time_s is None else wall_time_s,
                          mesh={"level": scene["level"], "meshes": scene["meshes"]}, scene=scene["name"],
-                         node_commits=sorted({r["git_commit"] for r in nodes}))
+                         node_commits=sorted({r["git_commit"] for r in nodes}),
+                         fit_commits=sorted({r.get("fit_commit", r["git_commit"]) for r in nodes}))
     meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],
                                 "nu": scene["nu"], "E_over_sigma_y": scene["E_over_sigma_y"],
                                 "P_over_P_Y": list(table_loads(nodes)), "accuracy": accuracy,
                                 "accuracy_details": accuracy_details or {},
                                 "definition": "a_p_over_a_Y = f, C_R = g of the vz-table law at P/P_Y (calib.fit."
                                               "table_fit) of the FE calibration at the node's reach (nfdcal calibrate "
-                                              "--v-max), node values Richardson-extrapolated from two meshes; empty "
-                                              "above the node's window; window_low: its lowest unloading path"},
+                                              "--v-max), node values Richardson-extrapolated from two meshes when the "
+                                              "scene has meshes = 2; empty above the node's window; window_low: its "
+                                              "lowest unloading path"},
             "stamp": stamp}
     output.write_csv(path, table_rows, comment=output.stamp_comment(stamp))
     output.write_json(path.with_suffix(".json"), meta)

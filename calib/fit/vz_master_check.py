@@ -10,6 +10,15 @@ is driven along every FE load-unload path (calib.studies.wide_window.law_against
 
 A path counts as inside when its peak lies in the table's window at that material.
 
+The table's discretisation error is measured at the scene's refined nodes (kind "refine": a node
+run again on a finer mesh, contact element h_f against the nodes' h): the node's table and the
+finer mesh's, both driven along the finer FE's paths inside both windows, differ by
+
+    e change     = e_h / e_hf - 1,    force change = max |P_h(alpha) - P_hf(alpha)| / P_max
+
+and the node mesh's own error is estimated from that change by Richardson's r^p / (r^p - 1) with
+r = h / h_f and p = calib.fit.extrapolation.ORDER (:func:`discretisation`).
+
 What that error does to an inverse fit is measured directly: fit-data's vz-table model
 (calib.fit.measured.table_law) fits sigma_Y to each check material's noise-free FE data (drop
 tests from the paths inside the window, v_in = sqrt(2 W_l / m*), e = sqrt(W_u / W_l), P_max the FE
@@ -134,6 +143,75 @@ def fit_errors(row: dict, table: VZMasterTable) -> dict:
     return out
 
 
+def node_law(row: dict):
+    """The vz-table law of one stored node (or refined node) row, on its window."""
+    from nfdmodel import CalibrationWindow, VZTableParams
+
+    material, R = material_of(row)
+    table = row["table"]
+    return VZTableParams(ContactPair.sphere_flat(material, R), tuple(table["x"]), tuple(table["f"]),
+                         tuple(table["g"]), CalibrationWindow.from_record(row["window"]))
+
+
+def discretisation(rows: list[dict]) -> dict:
+    """The table's discretisation error at each refined node (module doc): per node the largest
+    e and force change between its table and the finer mesh's along the finer FE paths, the
+    Richardson estimates of the node mesh's error, each law's errors against the finer FE, and
+    the FE's own e change at peaks both meshes unload from; ``worst``: the largest over the nodes.
+    {} without refined nodes."""
+    from calib.fit import extrapolation
+    from calib.fit.calibration import drive_law
+    from calib.studies.wide_window import law_against_path
+
+    nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
+    out = []
+    for fine in (r for r in rows if r.get("kind") == "refine" and r.get("status") == "ok"):
+        node = nodes.get((fine["nu"], fine["E_over_sigma_y"]))
+        if node is None:
+            continue
+        coarse_law, fine_law = node_law(node), node_law(fine)
+        low = max(coarse_law.window.P_min_over_P_Y, fine_law.window.P_min_over_P_Y) * (1 - 1e-9)
+        top = min(coarse_law.window.P_max_over_P_Y, fine_law.window.P_max_over_P_Y) * (1 + 1e-9)
+        node_e = {round(p["P_max"] / node["P_Y"], 6): p["e"] for p in fe_paths(node)}
+        paths = []
+        for path in fe_paths(fine):
+            x = path["P_max"] / fine["P_Y"]
+            if not low <= x <= top:
+                continue
+            P_coarse, e_coarse = drive_law("vz-table", coarse_law, path["approach"])
+            P_fine, e_fine = drive_law("vz-table", fine_law, path["approach"])
+            fe_e = node_e.get(round(x, 6))
+            paths.append({"P_max_over_P_Y": x, "e_change": e_coarse / e_fine - 1.0,
+                          "force_change": float(np.abs(P_coarse - P_fine).max() / path["P_max"]),
+                          "e_error_vs_fine_fe": law_against_path("vz-table", coarse_law, path)["e_error"],
+                          "force_error_vs_fine_fe": law_against_path("vz-table", coarse_law, path)["force_error"],
+                          "fine_e_error_vs_fine_fe": law_against_path("vz-table", fine_law, path)["e_error"],
+                          "fe_e_change": None if fe_e is None else fe_e / path["e"] - 1.0})
+        if not paths:
+            continue
+        ratio = node["mesh"]["contact_size"] / fine["mesh"]["contact_size"]
+        factor = ratio ** extrapolation.ORDER / (ratio ** extrapolation.ORDER - 1.0)
+        e_change = max(abs(p["e_change"]) for p in paths)
+        force_change = max(p["force_change"] for p in paths)
+        fe_changes = [abs(p["fe_e_change"]) for p in paths if p["fe_e_change"] is not None]
+        out.append({"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
+                    "contact_size_ratio": ratio, "contact_sizes": [node["mesh"]["contact_size"], fine["mesh"]["contact_size"]],
+                    "dofs": [node["dofs"], fine["dofs"]], "fine_wall_time_s": fine["wall_time_s"],
+                    "e_change_max": e_change, "force_change_max": force_change,
+                    "e_error_estimate": factor * e_change, "force_error_estimate": factor * force_change,
+                    "fe_e_change_max": max(fe_changes) if fe_changes else None,
+                    "richardson_factor": factor, "by_path": paths})
+    if not out:
+        return {}
+    return {"nodes": out, "worst": {key: max(n[key] for n in out) for key in
+                                    ("e_change_max", "force_change_max", "e_error_estimate", "force_error_estimate")},
+            "definition": "per refined node: the node's table and the table of the same node on a finer mesh, "
+                          "both driven along the finer FE's paths inside both windows: e_change = e_h / e_hf - 1, "
+                          "force_change = max |P_h - P_hf| / P_max; *_error_estimate: Richardson's r^p / (r^p - 1) "
+                          "times the change (r = h / h_f, p = calib.fit.extrapolation.ORDER); fe_e_change: the FE's "
+                          "own e at peaks both meshes unload from"}
+
+
 def accuracy(rows: list[dict]) -> dict:
     """Summary of :func:`check_material` rows inside the window: largest and rms e error, largest
     force error and rms loading force error."""
@@ -169,6 +247,7 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
     groups = sorted({g for e in errors.values() for g in e["residual_rms"]})
     residual_form = {g: float(np.sqrt(np.mean([e["residual_rms"][g] ** 2 for e in errors.values()]))) for g in groups}
     summary["sigma_y_fit_errors"] = errors
+    summary["discretisation"] = discretisation(rows)
     stamp = output.stamp(0.0, table=str(table_path))
     folder = Path(folder)
     output.write_csv(folder / "vz_master_check.csv", compared, comment=output.stamp_comment(stamp))
@@ -179,11 +258,13 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
                      f"(rms {100 * summary['e_error_rms']:.2g} %), force within {100 * summary['force_error_max']:.2g} % "
                      f"of P_max, loading force rms {100 * summary['loading_force_error_rms']:.2g} %; sigma_Y fitted to "
                      f"their noise-free FE data rms " + ", ".join(f"{k} {100 * v:.2g} %" for k, v in sigma_form.items()))
+        statement += discretisation_statement(summary["discretisation"])
     else:
         statement = "not checked against off-grid FE"
     meta_path = Path(table_path).with_suffix(".json")
     meta = json.loads(meta_path.read_text(encoding="utf-8"))
     meta["vz_master_table"].update({"accuracy": statement, "accuracy_details": summary,
+                                    "discretisation": summary["discretisation"],
                                     "model_form": {"sigma_y": sigma_form, "residual_rms": residual_form,
                                                    "definition": "rms of ln(sigma_fit / sigma_true) of fit-data's "
                                                                  "vz-table model on the noise-free FE data of the "
@@ -192,3 +273,19 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
                                                                  "kind and group"}})
     output.write_json(meta_path, meta)
     return {**summary, "statement": statement}
+
+
+def discretisation_statement(measured: dict) -> str:
+    """The clause of the accuracy statement on the measured discretisation error."""
+    from calib.fit import extrapolation
+
+    if not measured:
+        return "; discretisation not measured"
+    nodes = measured["nodes"]
+    worst = measured["worst"]
+    where = ", ".join(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}" for n in nodes)
+    ratio = min(n["contact_size_ratio"] for n in nodes)
+    return (f"; discretisation (against a {ratio:.2g}x finer contact element at {where}): e "
+            f"{100 * worst['e_change_max']:.2g} %, force {100 * worst['force_change_max']:.2g} % of P_max (Richardson "
+            f"estimate of the table's error at order {extrapolation.ORDER:g}, not observed: e "
+            f"{100 * worst['e_error_estimate']:.2g} %, force {100 * worst['force_error_estimate']:.2g} %)")

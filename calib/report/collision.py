@@ -76,7 +76,12 @@ def _generate(out: Path, params_file, velocities) -> str:
     sweep = SWEEP_VELOCITIES if velocities is None else np.sort(np.asarray(velocities, dtype=float))
     if params_file is None and CALIBRATED_PARAMETERS.is_file():
         params_file = CALIBRATED_PARAMETERS
-    params = load_parameters(params_file) if params_file is not None else VZParams.reference()
+    if params_file == CALIBRATED_PARAMETERS:    # the reference calibration's two constants, whichever law it ships
+        from calib.report.parameter_file import two_constant_law
+
+        params = two_constant_law(params_file)
+    else:
+        params = load_parameters(params_file) if params_file is not None else VZParams.reference()
     if params_file is None:
         params_source = "paper (Vu-Quoc & Zhang 1999)"
     else:  # repo-relative when inside the repo: results must not name local absolute paths

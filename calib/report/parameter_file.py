@@ -19,3 +19,19 @@ def write_parameter_file(path, params, radius: float, material, fit: dict, stamp
     and the provenance ``stamp``."""
     return output.write_json(path, {**parameter_record(params, radius, material, counter), "fit": fit,
                                     **extra, "stamp": stamp})
+
+
+def two_constant_law(path):
+    """The paper's two-constant law (nfdmodel.VZParams) of the calibration whose parameter file is
+    ``path``, whichever law that file ships: the file's own law when it is vz, else Ca [m/N] and Kc
+    [1/N] of the calibration's summary beside it (calibration.json, written by nfdcal calibrate:
+    extrapolated from two meshes) on the window they were fitted on."""
+    import json
+
+    from nfdmodel import CalibrationWindow, VZParams, load_parameters
+
+    params = load_parameters(path)
+    if isinstance(params, VZParams):
+        return params
+    summary = json.loads((Path(path).parent / "calibration.json").read_text(encoding="utf-8"))
+    return VZParams(params.pair, summary["Ca"], summary["Kc"], CalibrationWindow.from_record(summary["window"]))

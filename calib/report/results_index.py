@@ -35,11 +35,12 @@ def calibration(root: Path) -> list[str]:
     top = max(cal["paths"], key=lambda p: p["P_max"])
     radius, disc = cal["radius_fit"], cal["discretisation"]
     P_Y, a_Y = params["P_Y"], params["a_Y"]
-    window = cal["window"]
+    window = cal.get("shipped_window", cal["window"])
     lines = section("Reference calibration (`calibration/`)", folder, root, "nfdcal calibrate", cal["stamp"])
     lines += [f"The material of `parameters.json`: E = {params['material']['E']:g} Pa, nu = "
               f"{params['material']['nu']:g}, sigma_Y = {params['material']['sigma_y']:g} Pa, R = "
-              f"{params['material']['R']:g} m; law `{params['law']}`, the {cal['shipped_fit']} fit shipped. "
+              f"{params['material']['R']:g} m; law `{params['law']}`, the {cal['shipped_fit']} fit shipped "
+              f"(Ca and Kc: the two constants of the paper's law, fitted to the contact radius). "
               f"The paper: Vu-Quoc & Zhang (1999), Abaqus, 2141 CAX6 elements.", ""]
     fine = f"(the {disc['contact_sizes'][0]:g} m mesh alone: {{}}, R^2 {{:.3f}}, SE {{}})"
     lines += table(["quantity", "this FE", "paper"], [
@@ -52,12 +53,15 @@ def calibration(root: Path) -> list[str]:
          + fine.format(g(radius["Kc"]), radius["Kc_r2"], apct(radius["Kc_se"] / radius["Kc"], 1)), g(rc.KC)],
         ["Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (theory P_Y, a_Y)", f"{cal['Ca_hat']:.4f}, {cal['Kc_hat']:.4f}",
          f"{rc.CA * P_Y / a_Y:.4f}, {rc.KC * P_Y:.4f}"],
-        ["calibrated window: P / P_Y, a_max / R", f"{window['P_min_over_P_Y']:.3g}..{window['P_max_over_P_Y']:.3g}, "
+        ["calibrated window of the shipped law: P / P_Y, a_max / R", f"{window['P_min_over_P_Y']:.3g}..{window['P_max_over_P_Y']:.3g}, "
          f"{window['a_max_over_R']:.3g}", ""],
         ["wall time (both meshes) [s], factorisations of the first", f"{num(cal['wall_time_s'])}, "
          f"{cal['timings']['factorizations']}", ""],
     ])
-    labels = {"vz": f"vz, {cal['shipped_fit']} fit (shipped)"}
+    shipped = "vz-table" if cal["shipped_fit"] == "table" else "vz"
+    labels = {"vz": f"vz, {'force' if cal['shipped_fit'] == 'force' else 'radius'} fit"}
+    labels = {name: labels.get(name, name) + (" (shipped)" if name == shipped else "")
+              for name in cal["paths"][0]["models"]}
     header = ["law"] + [f"e error, {p['P_max']:g} N" for p in cal["paths"]] + \
              [f"force error / P_max, {p['P_max']:g} N" for p in cal["paths"]]
     rows = [[labels.get(name, name)]

@@ -254,6 +254,10 @@ def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
     reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y)
     if params_file is None and reference and CALIBRATED_PARAMETERS.is_file():
         params_file = CALIBRATED_PARAMETERS
+    if params_file == CALIBRATED_PARAMETERS:    # the reference calibration's two constants, whichever law it ships
+        from calib.report.parameter_file import two_constant_law
+
+        return two_constant_law(params_file), output.display_path(params_file)
     if params_file is not None:
         return load_parameters(params_file), output.display_path(params_file)
     params, source = impact_window.estimating_constants(setup.material, setup.radius)

@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
+from calib.fe.loadpath import contact_work
 from calib.fit import recipe
 from calib.fit.calibration import E_TARGET, FORCE_TARGET, calibrate, drive_law, summary
 from calib.fit.impact_window import reach_velocity
@@ -91,16 +92,19 @@ def material_pair(ratio: float) -> ContactPair:
 
 
 def fe_paths(row: dict) -> list[dict]:
-    """The stored FE paths: approach and force histories [m, N], peak, e and the elastic work the
-    unloading returned (trapezoids from the peak to separation, as the FE's e)."""
+    """The stored FE paths: approach and force histories [m, N], peak, and the works as the FE
+    takes them (calib.fe.loadpath.contact_work: the trapezoid rule, Hertz's (2/5) P |Delta alpha|
+    on the segments from zero and to separation): e = sqrt(W_u / W_l) and the elastic work W_u [J]
+    the unloading returned, so a stored row is read with the FE's current quadrature."""
     paths = []
     for path in row["fe"]["paths"]:
         approach = np.array([r["alpha"] for r in path["rows"]])
         force = np.array([max(r["P"], 0.0) for r in path["rows"]])
         top = int(np.argmax(approach))
-        returned = float(np.sum(0.5 * (force[top:-1] + force[top + 1:]) * -np.diff(approach[top:])))
-        paths.append({"P_max": path["P_max"], "e": path["e"], "approach": approach, "force": force,
-                      "unloading_work": returned})
+        loading = contact_work(np.r_[0.0, approach[:top + 1]], np.r_[0.0, force[:top + 1]])
+        returned = contact_work(approach[top:], force[top:])
+        paths.append({"P_max": path["P_max"], "e": float(np.sqrt(returned / loading)), "approach": approach,
+                      "force": force, "unloading_work": returned})
     return paths
 
 

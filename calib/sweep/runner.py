@@ -5,7 +5,9 @@ A sweep is a list of tasks, each a picklable dict with a ``"key"`` (a hash of ev
 determines its result). ``run_sweep`` reads the finished results from ``FOLDER/<key>.json``,
 runs the rest (in this process, on local processes, or on a Dask distributed cluster), and writes
 each result atomically to ``FOLDER/<key>.json`` the moment it is done, so an interrupted sweep
-loses nothing finished and a rerun computes only what is missing. Missing meshes are built here,
+loses nothing finished and a rerun computes only what is missing. A sweep whose fit changes while
+its FE does not passes ``refit``: every stored result is refitted from the FE data it keeps (no
+FE; the key names the FE, the row its fit) and written back when it changed. Missing meshes are built here,
 one at a time, before any worker starts (gmsh is a process-wide singleton), so workers only read
 the mesh cache.
 """
@@ -29,10 +31,12 @@ from meshes.hemisphere import hemisphere_mesh, mesh_path
 
 @dataclass(frozen=True)
 class SweepResult:
-    """The rows in task order, and how many were computed in this run or reused from the folder."""
+    """The rows in task order, and how many were computed in this run or reused from the folder
+    (``refitted`` of them refitted from their stored FE data)."""
     rows: list
     computed: int
     reused: int
+    refitted: int = 0
 
 
 def cached_result(folder: Path, key: str, keep: Callable[[dict], bool]) -> dict | None:
@@ -146,14 +150,17 @@ def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path,
               keep: Callable[[dict], bool] = lambda row: True, mesh_of: Callable[[dict], object] = lambda task: None,
               workers: int = 1, scheduler: str | None = None, prune: bool = False,
               progress: Callable[[str], None] | None = None,
-              describe: Callable[[dict], str] = lambda row: "") -> SweepResult:
+              describe: Callable[[dict], str] = lambda row: "",
+              refit: Callable[[dict], dict | None] | None = None) -> SweepResult:
     """Run the tasks whose result is not yet in ``folder`` and return every task's row.
 
     ``function(task) -> row`` never raises (a failure is a row that ``keep`` rejects: reported,
     not stored, retried on the next run). ``keep(row)``: whether a row is a finished result worth
     storing and reusing. ``mesh_of(task)``: the mesh spec a task needs (built beforehand).
     ``prune``: delete stored results of tasks that are not in this sweep. ``progress`` receives one
-    line per finished task (``describe(row)`` appended).
+    line per finished task (``describe(row)`` appended). ``refit(row)``: a stored row brought to the
+    current fit from the FE data it keeps (the row itself when it is current; None when its data
+    cannot give the current fit: the task runs again); a changed row is stored in place.
     """
     if scheduler:  # before any work: a missing Dask is one line, not a failure after meshing
         require("distributed", "dask", "a sweep on a Dask cluster (--scheduler)")
@@ -162,13 +169,20 @@ def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path,
     keys = [task["key"] for task in tasks]
     if len(set(keys)) != len(keys):
         raise ValueError("sweep tasks must have distinct keys")
-    rows = {}
+    rows, refitted = {}, 0
     for task in tasks:
         row = cached_result(folder, task["key"], keep)
+        if row is not None and refit is not None:
+            current = refit(row)
+            if current is not None and current != row and keep(current):
+                output.write_json(folder / f"{task['key']}.json", current)
+                refitted += 1
+            row = current if current is not None and keep(current) else None
         if row is not None:
             rows[task["key"]] = row
     todo = [task for task in tasks if task["key"] not in rows]
-    say(f"{len(tasks)} task(s): {len(tasks) - len(todo)} already done, {len(todo)} to run")
+    say(f"{len(tasks)} task(s): {len(tasks) - len(todo)} already done"
+        + (f" ({refitted} refitted from their stored FE data)" if refitted else "") + f", {len(todo)} to run")
     build_meshes((mesh_of(task) for task in todo), say)
     for k, row in enumerate(results(function, todo, workers, scheduler), 1):
         if keep(row):
@@ -180,4 +194,4 @@ def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path,
             if stale.stem not in rows:
                 stale.unlink()
     return SweepResult(rows=[rows[key] for key in keys], computed=len(todo),
-                       reused=len(tasks) - len(todo))
+                       reused=len(tasks) - len(todo), refitted=refitted)
