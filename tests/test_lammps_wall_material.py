@@ -24,7 +24,8 @@ plugin did not produce:
   to 2 E'/E'_w (measured 5.9e-8; E'/E'_w = 5e-8: the range of E bounds how rigid a wall can be);
 - the region wall with the keyword equals the plane wall with it (1e-12); a restart continues bit
   for bit (tests/test_lammps.py, with the keyword); bad input is one line naming wall_material;
-  `nfdcal export lammps --wall-E --wall-nu` writes the keyword, its lines run the same collision.
+  `nfdcal export lammps --wall-E --wall-nu` writes the keyword, its lines run the same collision, and
+  warns where the substitution misses the two-body FE by more than 2 % in e.
 """
 from __future__ import annotations
 
@@ -253,7 +254,10 @@ def test_exported_wall_material_runs_the_sphere_on_that_wall(plugin, tmp_path, c
     capsys.readouterr()
     flags = ["export", "lammps", "--params", str(params_file), "--wall", "zlo", "0.0"]
     assert cli.main(flags + ["--wall-E", "210e9", "--wall-nu", "0.3", "--mu", "0.3", "--json"]) == 0
-    summary = json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    summary = json.loads(captured.out)
+    # aluminium on steel: the substitution misses the two-body FE by more than 2 % in e (results/pairs)
+    assert "calibrate the pair: nfdcal calibrate --counter-E 2.1e+11" in captured.err, captured.err
     pair_style, pair_coeff, wall_fix = summary["lines"]
     assert "wall_material" not in pair_coeff and summary["wall_E"] == STEEL_E and summary["wall_nu"] == STEEL_NU
     assert re.search(r" window \S+ wall_material 210000000000\.0 0\.3 tangential mindlin_rescale/force NULL 0\.0 "

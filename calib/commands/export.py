@@ -156,6 +156,7 @@ def run(ns) -> int:
     if wall_args:
         wall_law_args = f"{constants} {wall_args}" + (f" {models}" if models else "")
         summary.update(wall_E=number("--wall-E", ns.wall_E), wall_nu=number("--wall-nu", ns.wall_nu))
+        steer_wall(record, summary["wall_E"], summary["wall_nu"])
     if wall is not None:
         lines.append(f"fix nfd_wall all nfd/wall/{law} {wall[0]} {exact(wall[1])} {wall_law_args}")
     if ns.wall_region is not None:
@@ -248,6 +249,17 @@ def like_type_args(material, R: float, which: str) -> str:
         raise ValueError(f"the like-type constants of {which} (master table): {exc}") from None
     numbers = [material.E, material.nu, material.sigma_y, values["Ca_hat"], values["Kc_hat"]]
     return " ".join(exact(v) for v in numbers) + f" window {exact(values['window']['P_max_over_P_Y'])}"
+
+
+def steer_wall(record: dict, E_wall: float, nu_wall: float) -> None:
+    """The substitution's measured miss for this sphere on an elastic wall (calib.fit.substitution):
+    one warning line naming the pair calibration where it exceeds 2 % in e."""
+    from calib.fit.counter import CounterBody
+    from calib.fit.substitution import warn_substitution
+    from nfdmodel import Material
+
+    material = Material(E=record["E"], nu=record["nu"], sigma_y=record["sigma_y"], rho=record["rho"])
+    warn_substitution(material, record["R"], CounterBody(E_wall, nu_wall))
 
 
 def wall_material(ns) -> str:
