@@ -27,9 +27,12 @@ The load steps, the secant predictor, the rescue solve (calib.fe.rescue) and the
 (calib.fe.loadpath.run_load_paths) are the rigid-flat solver's: TwoBodySolver offers the same
 interface (solve_force, solve_displacement, solve_step, rescue_step, commit, initial_state).
 An elastic counter-body (a wall) is condensed statically onto the u_z of its contact surface
-(TwoBodySolver._condensation, exact for a linear body without loads of its own): the unknowns
-are then the sphere's and the counter-body's contact-surface u_z (6,300 instead of 12,000 on the
-Hertz test mesh). Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius
+(calib.fe.condensation, exact for a linear body without loads of its own): the unknowns are then
+the sphere's and the counter-body's contact-surface u_z (6,300 instead of 12,000 on the Hertz
+test mesh); its stiffness S_m enters the tangent, its interior displacement is filled in once per
+converged step (``TwoBodySolver.displacement``), and Newton evaluates the sphere's material only.
+A plastic counter-body keeps all its dofs: both materials' states are updated in Newton and
+committed with the step (PairMaterial, PairState). Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius
 from pressure or gap, first yield in each body (``first_yield_loads``). Small strain and a << R1, R2 throughout (as
 Hertz): the gap is measured along z at the same r, the projections do not follow the tangential
 displacements. Frictionless: identical bodies (no relative slip) and a flat counter-body are
@@ -266,6 +269,9 @@ class TwoBodySolver(QuadratureStates):
             self.T = T_elements
         self._K_full = K_full        # f_int = K_full u at Newton's iterates (elastic part)
         self._D_newton = self.material_D[self._newton_elements]
+        # the B matrices and dofs of those elements, gathered once (not per iteration)
+        self._B_newton = np.ascontiguousarray(self.elements.B[self._newton_elements])
+        self._dofs_newton = np.ascontiguousarray(self.elements.element_dofs[self._newton_elements])
         self.TT = self.T.T.tocsr()
         self.top_z_dof = int(self.z_dof[top[0]])
 
@@ -341,8 +347,8 @@ class TwoBodySolver(QuadratureStates):
         if self.is_linear:
             return f_int, lambda: K_q, None, committed
         evaluated = self._newton_elements
-        strain = self._strain(displacement, evaluated)
-        stress, tangent, trial = self.material.update(strain, committed, evaluated)
+        strain = np.matmul(self._B_newton, np.asarray(displacement)[self._dofs_newton][:, None, :, None])[..., 0]
+        stress, tangent, trial = self.material.update(strain, committed, None if self.counter is None else evaluated)
         D = self._D_newton
         stress_correction = stress - np.einsum("eqij,eqj->eqi", D, strain)
         tangent_correction = tangent - D
