@@ -53,7 +53,7 @@ def plastic_pair_paths(request, mesh_cache):
     counter_spec = spec(R2, h, refined=2 * pair.a_Y) if R2 is not None else spec(2 * R1, h, BlockMeshSpec, 2 * pair.a_Y)
     mesh = pair_mesh(spec(R1, h, refined=2 * pair.a_Y), counter_spec, cache_dir=mesh_cache)
     solver = TwoBodySolver(mesh, plastic(sphere), plastic(counter))
-    plan = LoadPathPlan(peaks=(1.03 * pair.P_Y, 3 * pair.P_Y), loading_step=0.5 * pair.P_Y,
+    plan = LoadPathPlan(peaks=(1.03 * pair.P_Y, 3 * pair.P_Y), loading_step=pair.P_Y,
                         first_load=0.97 * pair.P_Y, unloading_steps=8)
     elastic = TwoBodySolver(mesh, ElasticMaterial(sphere.E, sphere.nu), ElasticMaterial(counter.E, counter.nu))
     return solver, pair, weaker, run_load_paths(solver, plan), run_load_paths(elastic, plan)
@@ -76,10 +76,11 @@ def test_first_yield_of_a_plastic_pair_in_the_weaker_body_at_the_pairs_hertz_loa
 def test_a_plastic_pair_returns_at_most_the_work_put_in_and_keeps_its_plastic_state(plastic_pair_paths):
     """Unloading. Energy: the work an unloading returns never exceeds the work put in. The works
     are trapezoid sums over the FE steps (calib.fe.loadpath.contact_work), whose error on these
-    8-step unloadings is about 1e-3 of e, more than the dissipation of the path from 1.03 P_Y; so
-    each path's e is compared with the same path of the two bodies elastic (the same steps and sums:
-    the quadrature error cancels, the dissipation does not): e_plastic <= e_elastic on every path,
-    and the elastic paths return their work (|e - 1| < 2e-3). The path from 3 P_Y dissipates
+    paths (two loading steps above P_Y, eight unloading steps) reaches 2e-3 of e, more than the
+    dissipation of the path from 1.03 P_Y; so each path's e is compared with the same path of the
+    two bodies elastic (the same steps and sums: the quadrature error cancels, the dissipation does
+    not): e_plastic <= e_elastic on every path,
+    and the elastic paths return their work (|e - 1| < 5e-3). The path from 3 P_Y dissipates
     (e_plastic < 0.98 e_elastic, below 1). Recovery: from 3 P_Y the contact separates at a residual
     approach, the permanent dent of the yielded body, over 50 times the elastic pair's (its
     extrapolation error): the plastic state committed along the loading survives the unloading,
@@ -89,7 +90,7 @@ def test_a_plastic_pair_returns_at_most_the_work_put_in_and_keeps_its_plastic_st
     for path, twin in zip(paths.paths, elastic.paths):
         assert 0 < path.unloading_work and 0 < path.loading_work
         assert path.restitution <= twin.restitution
-        assert twin.restitution == pytest.approx(1.0, abs=2e-3)
+        assert twin.restitution == pytest.approx(1.0, abs=5e-3)
         assert abs(path.rows[-1]["P"]) < 1e-4 * path.peak
     top, top_elastic = paths.paths[-1], elastic.paths[-1]
     assert top.restitution < min(1.0, 0.98 * top_elastic.restitution)
@@ -102,14 +103,14 @@ def test_a_plastic_pair_returns_at_most_the_work_put_in_and_keeps_its_plastic_st
 
 
 def test_a_very_strong_plastic_counter_body_is_the_condensed_elastic_one(mesh_cache):
-    """A von Mises counter-body of sigma_Y = 1000 x steel's never yields: loading to 8 P_Y and
-    unloading from 4 and 8 P_Y give the same approaches, contact radii and e as the elastic
+    """A von Mises counter-body of sigma_Y = 1000 x steel's never yields: loading to 6 P_Y and
+    unloading give the same approaches, contact radii and e as the elastic
     counter-body condensed onto its contact surface, to the Newton tolerance (relative residual
     1e-8), although the two solve different systems (every dof of both bodies against the Schur
     complement)."""
     pair = ContactPair.sphere_counter(ALUMINIUM, R1, STEEL.E, STEEL.nu, None, R1 / 2)
     mesh = pair_mesh(spec(R1, 1.6e-4, refined=1.6e-3), spec(R1 / 2, 1.6e-4, refined=1.6e-3), cache_dir=mesh_cache)
-    plan = LoadPathPlan(peaks=(4 * pair.P_Y, 8 * pair.P_Y), loading_step=pair.P_Y, first_load=0.5 * pair.P_Y,
+    plan = LoadPathPlan(peaks=(6 * pair.P_Y,), loading_step=1.5 * pair.P_Y, first_load=0.5 * pair.P_Y,
                         unloading_steps=8)
     strong = TwoBodySolver(mesh, plastic(ALUMINIUM), plastic(STEEL, 1e3 * STEEL.sigma_y))
     condensed = TwoBodySolver(mesh, plastic(ALUMINIUM), ElasticMaterial(STEEL.E, STEEL.nu))

@@ -45,7 +45,8 @@ def differences(rigid: dict, pair: dict) -> dict:
     P_Y(FE) and e of every path (summaries of calib.fit.calibration.summary)."""
     out = {name: pair[name] / rigid[name] - 1.0 for name in ("Ca_hat", "Kc_hat", "P_Y_fe")}
     # the finer mesh's own fit (P_Y and a_Y of the pair are the rigid flat's, so Ca, Kc compare as they are)
-    out.update({f"fine_mesh_{name}": pair["radius_fit"][name] / rigid["radius_fit"][name] - 1.0 for name in ("Ca", "Kc")})
+    out.update({f"fine_mesh_{name}": pair["radius_fit"][name] / rigid["radius_fit"][name] - 1.0
+                for name in ("Ca", "Kc")})
     out["e"] = [b["e"] / a["e"] - 1.0 for a, b in zip(rigid["paths"], pair["paths"])]
     out["alpha_max_half"] = [0.5 * b["alpha_max"] / a["alpha_max"] - 1.0 for a, b in zip(rigid["paths"], pair["paths"])]
     return out
