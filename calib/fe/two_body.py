@@ -35,9 +35,10 @@ A plastic counter-body keeps all its dofs: both materials' states are updated in
 committed with the step (PairMaterial, PairState). Recovery (calib.fe.recovery): pressure
 p_i = lambda_i / w_i, contact radius from pressure or gap, first yield in each body
 (``first_yield_loads``). Small strain and a << R1, R2 throughout (as Hertz): the gap is
-measured along z at the same r, the projections do not follow the tangential displacements. Frictionless: identical bodies (no relative slip) and a flat counter-body are
-exact in this respect (a tangential shift leaves a flat's z unchanged); unlike spheres slip
-relative to each other by O(a^2/R), which changes the gap by O(a^3/R^2), a relative O(a/R).
+measured along z at the same r, the projections do not follow the tangential displacements.
+Frictionless: identical bodies (no relative slip) and a flat counter-body are exact in this
+respect (a tangential shift leaves a flat's z unchanged); unlike spheres slip relative to each
+other by O(a^2/R), which changes the gap by O(a^3/R^2), a relative O(a/R).
 
 References: Johnson 1985, Contact Mechanics, ch. 4 (Hertz, E*, R*); Wriggers 2006,
 Computational Contact Mechanics, ch. 6 (active set); Puso & Laursen 2004 (mortar contact);
