@@ -7,21 +7,23 @@ retained dofs m (for calib.fe.two_body: the u_z of the counter-body's contact su
     f_m = S_m u_m,  S_m = K_mm - K_mi X           [N/m]
 
 exactly (Guyan 1965, AIAA J. 3, 380: exact in statics for a linear body). Both are dense:
-S_m is n_m x n_m, X is n_i x n_m (n_m = 211, n_i = 15,800 on the default calibration mesh of a
-sphere on a steel flat: 3.3e6 entries).
+S_m is n_m x n_m, X is n_i x n_m (n_m = 211, n_i = 15,800 on the default calibration mesh of the
+aluminium sphere of R = 0.1 m on a steel flat: 3.3e6 entries).
 
-Where each enters the two-body Newton iteration, and why (that mesh, 11,900 unknowns, one core):
+Where each enters the two-body Newton iteration, and why (that mesh, 11,900 unknowns; times
+measured on a loaded machine, so their ratios matter):
 
 * S_m stays in the tangent, a dense block of the sparse K_q, factorised with the rest. The sparse
-  LDL^T (AMD ordering) eliminates the 211-node clique last: a factorisation costs 0.143 s with it
-  and 0.129 s with only its diagonal, a numeric refactorisation 0.094 s against 0.088 s. A Schur
-  complement or Woodbury form instead would need K_q without S_m to be regular in m, which it is
-  not (the master u_z have no other stiffness), and n_m extra solves per factorisation.
+  LDL^T (AMD ordering) eliminates the 211-node clique last: a factorisation with it costs 1.11
+  times one with only its diagonal, a numeric refactorisation 1.06 times. A Woodbury form would
+  need K_q without S_m to be regular in m, which it is not (the master u_z have no other
+  stiffness); a Schur complement on m needs K_ss^-1 K_sm, a solve per master u_z coupled to the
+  sphere (up to n_m) per factorisation, to save those 11 %.
 * X stays out of Newton. The iterate carries the sphere's dofs and the master u_z only, the
   counter-body's internal force on them is S_m u_m (``stiffness``), and ``fill`` puts u_i = -X u_m
-  into the displacement once per converged step: one dense product (n_i n_m multiply-adds, a few
-  ms). X inside Newton's reduction u = T q is two sparse products with 3.3e6 entries per iteration
-  (T q and T^T f, 30 ms: more than the rest of an elastic iteration).
+  into the displacement once per converged step: one dense product (n_i n_m multiply-adds). X in
+  Newton's reduction u = T q adds two sparse products with 3.3e6 entries to every iteration
+  (T q and T^T f: a fifth of the load paths' time on that mesh).
 """
 from __future__ import annotations
 
