@@ -137,12 +137,13 @@ def run_load_path(solver: ContactSolver, loads, control: str = "force",
 
 
 def plastic_zone(state: ContactState, quadrature_r: np.ndarray, quadrature_z: np.ndarray) -> dict:
-    """Extent of the yielded region (equivalent plastic strain > 0): depth and radius [m]."""
+    """Extent of the yielded region (equivalent plastic strain > 0): depth below the contact plane
+    z = 0, |z| (the sphere lies above it, a counter-body below), and radius [m]."""
     eps_p = getattr(state.material_state, "equivalent_plastic_strain", None)
     yielded = eps_p > 0 if eps_p is not None else np.zeros(quadrature_r.shape, dtype=bool)
     if not yielded.any():
         return {"plastic_zone_depth": 0.0, "plastic_zone_radius": 0.0, "yielded_points": 0}
-    return {"plastic_zone_depth": float(quadrature_z[yielded].max()),
+    return {"plastic_zone_depth": float(np.abs(quadrature_z[yielded]).max()),
             "plastic_zone_radius": float(quadrature_r[yielded].max()),
             "yielded_points": int(yielded.sum())}
 

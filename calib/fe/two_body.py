@@ -27,14 +27,18 @@ The load steps, the secant predictor, the rescue solve (calib.fe.rescue) and the
 (calib.fe.loadpath.run_load_paths) are the rigid-flat solver's: TwoBodySolver offers the same
 interface (solve_force, solve_displacement, solve_step, rescue_step, commit, initial_state).
 An elastic counter-body (a wall) is condensed statically onto the u_z of its contact surface
-(TwoBodySolver._condensation, exact for a linear body without loads of its own): the unknowns
-are then the sphere's and the counter-body's contact-surface u_z (6,300 instead of 12,000 on the
-Hertz test mesh). Recovery (calib.fe.recovery): pressure p_i = lambda_i / w_i, contact radius
-from pressure or gap, first yield in each body (``first_yield_loads``). Small strain and a << R1, R2 throughout (as
-Hertz): the gap is measured along z at the same r, the projections do not follow the tangential
-displacements. Frictionless: identical bodies (no relative slip) and a flat counter-body are
-exact in this respect (a tangential shift leaves a flat's z unchanged); unlike spheres slip
-relative to each other by O(a^2/R), which changes the gap by O(a^3/R^2), a relative O(a/R).
+(calib.fe.condensation, exact for a linear body without loads of its own): the unknowns are then
+the sphere's and the counter-body's contact-surface u_z (6,300 instead of 12,000 on the Hertz
+test mesh); its stiffness S_m enters the tangent, its interior displacement is filled in once per
+converged step (``TwoBodySolver.displacement``), and Newton evaluates the sphere's material only.
+A plastic counter-body keeps all its dofs: both materials' states are updated in Newton and
+committed with the step (PairMaterial, PairState). Recovery (calib.fe.recovery): pressure
+p_i = lambda_i / w_i, contact radius from pressure or gap, first yield in each body
+(``first_yield_loads``). Small strain and a << R1, R2 throughout (as Hertz): the gap is
+measured along z at the same r, the projections do not follow the tangential displacements.
+Frictionless: identical bodies (no relative slip) and a flat counter-body are exact in this
+respect (a tangential shift leaves a flat's z unchanged); unlike spheres slip relative to each
+other by O(a^2/R), which changes the gap by O(a^3/R^2), a relative O(a/R).
 
 References: Johnson 1985, Contact Mechanics, ch. 4 (Hertz, E*, R*); Wriggers 2006,
 Computational Contact Mechanics, ch. 6 (active set); Puso & Laursen 2004 (mortar contact);
@@ -53,6 +57,7 @@ from skfem import Basis, ElementTriP2, ElementVector, asm
 
 from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, to_form_layout
+from calib.fe.condensation import CondensedBody
 from calib.fe.contact_pair import mortar_gap
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
@@ -109,14 +114,26 @@ class PairMaterial:
         return PairState(tuple(m.initial_state(e.size, n_qp) for m, e in zip(self.materials, self.elements)),
                          self.elements, (n_elements, n_qp))
 
-    def update(self, strain, committed: PairState):
+    def update(self, strain, committed: PairState, elements: np.ndarray | None = None):
+        """(stress, tangent, trial state) of the total ``strain`` (n, Q, 4) of ``elements`` (all when
+        None); a body none of whose elements are given keeps its committed state."""
         strain = np.asarray(strain)
         stress = np.empty(strain.shape)
         tangent = np.empty(strain.shape + (4,))
+        position = None
+        if elements is not None:
+            position = np.full(self.n_elements, -1)
+            position[elements] = np.arange(len(elements))
         states = []
-        for material, elements, state in zip(self.materials, self.elements, committed.states):
-            s, t, trial = material.update(strain[elements], state)
-            stress[elements], tangent[elements] = s, t
+        for material, body, state in zip(self.materials, self.elements, committed.states):
+            rows = body if position is None else position[body]
+            if rows.size and rows.min() < 0:
+                if rows.max() >= 0:
+                    raise ValueError("PairMaterial.update: a body's elements are given all or none")
+                states.append(state)
+                continue
+            s, t, trial = material.update(strain[rows], state)
+            stress[rows], tangent[rows] = s, t
             states.append(trial)
         return stress, tangent, PairState(tuple(states), self.elements, committed.shape)
 
@@ -222,7 +239,6 @@ class TwoBodySolver(QuadratureStates):
         body2_dofs = np.union1d(self.r_dof[body2], self.z_dof[body2])
         master_dofs = self.z_dof[gap.master_nodes]
         if self.condensed:
-            interior = np.setdiff1d(np.intersect1d(unknown, body2_dofs), master_dofs)
             kept = np.concatenate([np.setdiff1d(unknown, body2_dofs), master_dofs])
         else:
             kept = unknown
@@ -236,13 +252,27 @@ class TwoBodySolver(QuadratureStates):
         T_elements = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n_dofs, self.n_q))
         self.elements = ElementArrays(self.basis, T_elements)
         self.material_D = self.material.elastic_tangent(self.n_qp)
-        self._K_full = asm(tangent_stiffness, self.basis, tangent=to_form_layout(self.material_D)).tocsr()
-        self._S_block = None
+        K_full = asm(tangent_stiffness, self.basis, tangent=to_form_layout(self.material_D)).tocsr()
+        self.counter, self._S_block = None, None
+        # the bodies whose material Newton evaluates: the sphere alone when the counter-body is condensed
+        self._newton_elements = self.material.elements[0] if self.condensed else np.arange(self.n_elements)
         if self.condensed:
-            T_counter, self._S_block = self._condensation(interior, master_dofs, q_of_dof[master_dofs])
-            self.T = (T_elements + T_counter).tocsr()
+            interior = np.setdiff1d(np.intersect1d(unknown, body2_dofs), master_dofs)
+            self.counter = CondensedBody.of(K_full, interior, master_dofs, self.material.elements[1], linear_solver)
+            self._S_block = self.counter.stiffness(q_of_dof[master_dofs], self.n_q)
+            # Newton's iterate: the sphere's dofs and the master u_z (calib.fe.condensation: X stays out)
+            self.T = (T_elements + sp.csr_matrix((np.ones(master_dofs.size), (master_dofs, q_of_dof[master_dofs])),
+                                                 shape=(self.n_dofs, self.n_q))).tocsr()
+            sphere = sp.diags(np.where(np.isin(np.arange(self.n_dofs), body2_dofs), 0.0, 1.0))
+            K_full = (sphere @ K_full @ sphere + self.counter.stiffness(master_dofs, self.n_dofs)).tocsr()
+            K_full.eliminate_zeros()
         else:
             self.T = T_elements
+        self._K_full = K_full        # f_int = K_full u at Newton's iterates (elastic part)
+        self._D_newton = self.material_D[self._newton_elements]
+        # the B matrices and dofs of those elements, gathered once (not per iteration)
+        self._B_newton = np.ascontiguousarray(self.elements.B[self._newton_elements])
+        self._dofs_newton = np.ascontiguousarray(self.elements.element_dofs[self._newton_elements])
         self.TT = self.T.T.tocsr()
         self.top_z_dof = int(self.z_dof[top[0]])
 
@@ -280,30 +310,28 @@ class TwoBodySolver(QuadratureStates):
         return twin
 
     # ----------------------------------------------------------------- assembly
-    def _condensation(self, interior, master, master_q):
-        """(T block, K block) of the elastic counter-body condensed onto its contact surface's u_z:
-        with X = K_ii^-1 K_im (i its other unknowns, m the master u_z), u_i = -X u_m and
-
-            S_m = K_mm - K_mi X    [N/m]   (Guyan 1965, AIAA J. 3, 380: exact for a static elastic body)
-
-        so the counter-body adds S_m to the unknowns u_m and nothing else; its full displacement
-        (for stress, strain, output) is T q."""
-        K = self._K_full
-        K_ii, K_im = K[interior][:, interior].tocsr(), K[interior][:, master].toarray()
-        X = factorize(K_ii, self.linear_solver).solve(K_im)
-        S_m = K[master][:, master].toarray() - K[master][:, interior] @ X
-        S_m = 0.5 * (S_m + S_m.T)                       # symmetric up to round-off
-        cols = np.broadcast_to(master_q, X.shape)
-        T_block = sp.csr_matrix(
-            (np.concatenate([-X.ravel(), np.ones(master.size)]),
-             (np.concatenate([np.repeat(interior, master.size), master]), np.concatenate([cols.ravel(), master_q]))),
-            shape=(self.n_dofs, self.n_q))
-        rows, cols = np.meshgrid(master_q, master_q, indexing="ij")
-        K_block = sp.csr_matrix((S_m.ravel(), (rows.ravel(), cols.ravel())), shape=(self.n_q, self.n_q))
-        return T_block, K_block
-
     def _with_counter(self, K_q):
         return K_q if self._S_block is None else (K_q + self._S_block).tocsr()
+
+    def displacement(self, q) -> np.ndarray:
+        """The full dof vector u [m] of the unknowns q (a condensed counter-body's interior filled)."""
+        u = self.T @ q
+        return u if self.counter is None else self.counter.fill(u)
+
+    def _strain(self, displacement, elements) -> np.ndarray:
+        """Strain (len(elements), Q, 4) [-] of ``elements`` only."""
+        a = self.elements
+        return np.matmul(a.B[elements], np.asarray(displacement)[a.element_dofs[elements]][:, None, :, None])[..., 0]
+
+    def _all_stress(self, u, stress):
+        """Newton's stress (E, Q, 4) [Pa] with a condensed counter-body's, D strain(u), added."""
+        if stress is None or self.counter is None:
+            return stress
+        full = np.empty((self.n_elements, self.n_qp, 4))
+        full[self._newton_elements] = stress
+        elements = self.counter.elements
+        full[elements] = np.einsum("eqij,eqj->eqi", self.material_D[elements], self._strain(u, elements))
+        return full
 
     def _linear_tangent(self):
         if self._K_q is None:
@@ -319,21 +347,24 @@ class TwoBodySolver(QuadratureStates):
         f_int = self._K_full @ displacement
         if self.is_linear:
             return f_int, lambda: K_q, None, committed
-        strain = self.strain(displacement)
-        stress, tangent, trial = self.material.update(strain, committed)
-        stress_correction = stress - np.einsum("eqij,eqj->eqi", self._D, strain)
-        tangent_correction = tangent - self._D
+        evaluated = self._newton_elements
+        strain = np.matmul(self._B_newton, np.asarray(displacement)[self._dofs_newton][:, None, :, None])[..., 0]
+        stress, tangent, trial = self.material.update(strain, committed, None if self.counter is None else evaluated)
+        D = self._D_newton
+        stress_correction = stress - np.einsum("eqij,eqj->eqi", D, strain)
+        tangent_correction = tangent - D
         scale = max(float(np.abs(stress).max()), 1e-300)
         inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > 1e-13 * scale) | \
-                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(self._D).max())
+                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(D).max())
         if not inelastic.any():
             return f_int, lambda: K_q, stress, trial
-        elements = np.flatnonzero(inelastic)
-        f_int = f_int + self.elements.internal_force(stress_correction[elements], elements)
+        elements = evaluated[inelastic]
+        stress_correction, tangent_correction = stress_correction[inelastic], tangent_correction[inelastic]
+        f_int = f_int + self.elements.internal_force(stress_correction, elements)
 
         def tangent_matrix():
             return self._with_counter(self.elements.matrix(
-                self._K_q_elements.data + self.elements.stiffness_data(tangent_correction[elements], elements)))
+                self._K_q_elements.data + self.elements.stiffness_data(tangent_correction, elements)))
 
         return f_int, tangent_matrix, stress, trial
 
@@ -483,7 +514,8 @@ class TwoBodySolver(QuadratureStates):
             return StepResult(state=state, record=record, converged=False, message=message, pressure_r=empty,
                               pressure=empty, contact_reaction=empty, gap=empty,
                               residual_history=tuple(history))
-        u = self.T @ q
+        u = self.displacement(q)
+        stress = self._all_stress(u, stress)
         reaction = np.where(active, reaction, 0.0)
         gap = self.gaps(q)
         alpha, P = -q[self.plate], -r_q[self.plate]

@@ -2,7 +2,8 @@
 
 ``nfdcal results-readme [--out results] [--check]`` reads the summaries the commands write
 (``calibration/calibration.json``, ``parameters.json``, ``mesh_ladder*.csv``, ``wide_window.json``, ``between_nodes.json``,
-``hertz/hertz.json``, ``collision/summary.json``, ``tables/*/``, ``pairs/pairs.json``, ``stability/*.json``,
+``identical_spheres.json``, ``hertz/hertz.json``, ``collision/summary.json``, ``tables/*/``, ``pairs/pairs.json``,
+``stability/*.json``,
 ``lammps/summary.json``) and writes ``README.md`` beside them: per folder its files, the command
 that regenerates them, its provenance stamp (code commit, mesh, wall time, date) and its key
 figures. Every number in the file is read from those summaries, so the index is never older than
@@ -181,6 +182,26 @@ def between_nodes(root: Path) -> list[str]:
     for failure in data.get("failures", []):
         lines += [f"Not computed: {failure}", ""]
     return lines
+
+
+def identical_spheres(root: Path) -> list[str]:
+    data = read_json(root / "calibration" / "identical_spheres.json")
+    if data is None:
+        return []
+    rigid, pair, d = data["rigid_flat"], data["identical_spheres"], data["differences"]
+    lines = study_header("Two identical plastic spheres (`calibration/identical_spheres.json`)",
+                         data["stamp"], "python -m calib.studies.identical_spheres") + [
+             "The reference sphere calibrated against a counter-sphere of the same R and material (the two-body "
+             "FE, calib.fe.two_body) and against the rigid flat, two meshes each: the symmetric pair's mid-plane "
+             "is a rigid frictionless flat, so both must give the same constants (matching meshes: the "
+             "differences are the Newton tolerance's, relative residual 1e-8).", ""]
+    rows = [["Ca_hat", f"{rigid['Ca_hat']:.6g}", f"{pair['Ca_hat']:.6g}", g(d["Ca_hat"], 2)],
+            ["Kc_hat", f"{rigid['Kc_hat']:.6g}", f"{pair['Kc_hat']:.6g}", g(d["Kc_hat"], 2)],
+            ["P_Y(FE) [N]", f"{rigid['P_Y_fe']:.6g}", f"{pair['P_Y_fe']:.6g}", g(d["P_Y_fe"], 2)]]
+    rows += [[f"e of the path to {a['P_max']:g} N", f"{a['e']:.6f}", f"{b['e']:.6f}", g(x, 2)]
+             for a, b, x in zip(rigid["paths"], pair["paths"], d["e"])]
+    rows += [["wall time (both meshes) [s]", num(rigid["wall_time_s"]), num(pair["wall_time_s"]), ""]]
+    return lines + table(["quantity", "rigid flat", "two identical spheres", "relative difference"], rows)
 
 
 def hertz(root: Path) -> list[str]:
@@ -615,8 +636,8 @@ def other(root: Path) -> list[str]:
     return lines + [""]
 
 
-SECTIONS = (calibration, mesh_ladder, wide_window, between_nodes, hertz, collision, impact, master_table,
-            vz_master_table, fit_data_benchmark, pairs, stability, lammps, chung_ooi, heap, other)
+SECTIONS = (calibration, mesh_ladder, wide_window, between_nodes, identical_spheres, hertz, collision, impact,
+            master_table, vz_master_table, fit_data_benchmark, pairs, stability, lammps, chung_ooi, heap, other)
 
 
 def read_section(make, root: Path) -> list[str]:
