@@ -174,3 +174,33 @@ def mortar_gap(mesh, slave_facets, master_facets, r_limit: float) -> MortarGap:
         g0[collocated] = node_z[collocated] - np.sum(Nc * master.z[fc].T, axis=0)
     return MortarGap(nodes=nodes, r=node_r, z1=node_z, weight=weight, G=sp.csr_matrix(G), g0=g0,
                      master_nodes=master_nodes)
+
+
+def active_set_reduction(candidate_q: np.ndarray, G_q, candidate_g0: np.ndarray, active: np.ndarray,
+                         q_from: np.ndarray):
+    """(S, d, free_q): q = S p + d eliminates the active slaves' u_z for one active set.
+
+    p = (the q entries that are not active slaves' u_z, then theta). An active slave follows
+    u_z1,i = G_i u_z2 + (1 - theta) o_i - theta g0_i, o_i = q_i - G_i q its offset in ``q_from``
+    (``candidate_q`` the slaves' q indices, ``G_q`` the rows G_i in q numbering, ``candidate_g0``
+    the g0_i [m]): theta = 0 is ``q_from`` itself and theta = 1 closes the gaps. Theta, held at 1,
+    enters Newton's first solve as an increment spread over both bodies (an elastic predictor),
+    never as a jump of the contact nodes alone, which a plastic body would read as flow.
+    """
+    n_q = q_from.size
+    slave_q = candidate_q[active]
+    free_q = np.ones(n_q, dtype=bool)
+    free_q[slave_q] = False
+    n_free = int(free_q.sum())
+    p_of_q = np.full(n_q, -1)
+    p_of_q[free_q] = np.arange(n_free)
+    G_active = G_q[np.flatnonzero(active)]
+    G = G_active.tocoo()
+    offset = q_from[slave_q] - G_active @ q_from
+    rows = np.concatenate([np.flatnonzero(free_q), slave_q[G.row], slave_q])
+    cols = np.concatenate([np.arange(n_free), p_of_q[G.col], np.full(slave_q.size, n_free)])
+    data = np.concatenate([np.ones(n_free), G.data, -candidate_g0[active] - offset])
+    S = sp.csr_matrix((data, (rows, cols)), shape=(n_q, n_free + 1))
+    d = np.zeros(n_q)
+    d[slave_q] = offset
+    return S, d, free_q

@@ -57,7 +57,7 @@ import scipy.sparse as sp
 from skfem import Basis, ElementTriP2, ElementVector, asm
 
 from calib.fe.axisym import quadrature_radius
-from calib.fe.contact_pair import mortar_gap
+from calib.fe.contact_pair import active_set_reduction, mortar_gap
 from calib.fe.active_set import next_active_set
 from calib.fe.dofs import Numbering
 from calib.fe.element_arrays import ElementArrays
@@ -252,28 +252,8 @@ class PairImpactSolver:
         return residual, f_int, matrix, stress, trial
 
     def reduction(self, active, q_from):
-        """(S, d, free_q): q = S p + d for the active set, p = (the q entries that are not active
-        slaves' u_z, then theta). The active slaves follow u_z1,i = G_i u_z2 + (1 - theta) o_i -
-        theta g0_i, o_i their offset in ``q_from``: theta = 0 is ``q_from``, theta = 1 closes the
-        gaps. Theta, held at 1, enters Newton's first solve as an increment spread over both bodies
-        (an elastic predictor, as calib.fe.two_body's), never as a jump of the contact nodes alone,
-        which a plastic body would read as flow."""
-        slave_q = self.candidate_q[active]
-        free_q = np.ones(self.n_q, dtype=bool)
-        free_q[slave_q] = False
-        n_free = int(free_q.sum())
-        p_of_q = np.full(self.n_q, -1)
-        p_of_q[free_q] = np.arange(n_free)
-        G_active = self.G_q[np.flatnonzero(active)]
-        G = G_active.tocoo()
-        offset = q_from[slave_q] - G_active @ q_from
-        rows = np.concatenate([np.flatnonzero(free_q), slave_q[G.row], slave_q])
-        cols = np.concatenate([np.arange(n_free), p_of_q[G.col], np.full(slave_q.size, n_free)])
-        data = np.concatenate([np.ones(n_free), G.data, -self.candidate_g0[active] - offset])
-        S = sp.csr_matrix((data, (rows, cols)), shape=(self.n_q, n_free + 1))
-        d = np.zeros(self.n_q)
-        d[slave_q] = offset
-        return S, d, free_q
+        """(S, d, free_q) of calib.fe.contact_pair.active_set_reduction for the active set."""
+        return active_set_reduction(self.candidate_q, self.G_q, self.candidate_g0, active, q_from)
 
     def _newton(self, q_from, committed, active, force_scale: float, key, tolerance: float):
         """Newton on p for one active set from ``q_from``: (ok, q, r_q, f_int, stress, trial,

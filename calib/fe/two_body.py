@@ -58,7 +58,7 @@ from skfem import Basis, ElementTriP2, ElementVector, asm
 from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, to_form_layout
 from calib.fe.condensation import CondensedBody
-from calib.fe.contact_pair import mortar_gap
+from calib.fe.contact_pair import active_set_reduction, mortar_gap
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
 from calib.fe.linsolve import factorize
@@ -391,28 +391,8 @@ class TwoBodySolver(QuadratureStates):
         return factor, 1
 
     def reduction(self, active, q_from):
-        """(S, d): q = S p + d for the active set (module docstring), p = (the q entries that are
-        not active slaves' u_z, then theta). The active slaves follow u_z1,i = G_i u_z2 + (1 - theta)
-        d_i - theta g0_i, d_i their offset in ``q_from``, so theta = 0 is ``q_from`` itself and
-        theta = 1 closes the gaps: theta, constrained to 1, enters Newton's first solve as an
-        increment spread over both bodies (an elastic predictor), never as a jump of the contact
-        nodes alone, which a plastic body would read as flow."""
-        slave_q = self.candidate_q[active]
-        free_q = np.ones(self.n_q, dtype=bool)
-        free_q[slave_q] = False
-        n_free = int(free_q.sum())
-        p_of_q = np.full(self.n_q, -1)
-        p_of_q[free_q] = np.arange(n_free)
-        G = self.G_q[np.flatnonzero(active)].tocoo()
-        offset = q_from[slave_q] - self.G_q[np.flatnonzero(active)] @ q_from
-        closure = -self.candidate_g0[active] - offset
-        rows = np.concatenate([np.flatnonzero(free_q), slave_q[G.row], slave_q])
-        cols = np.concatenate([p_of_q[free_q], p_of_q[G.col], np.full(slave_q.size, n_free)])
-        data = np.concatenate([np.ones(n_free), G.data, closure])
-        S = sp.csr_matrix((data, (rows, cols)), shape=(self.n_q, n_free + 1))
-        d = np.zeros(self.n_q)
-        d[slave_q] = offset
-        return S, d, free_q
+        """(S, d, free_q) of calib.fe.contact_pair.active_set_reduction for the active set."""
+        return active_set_reduction(self.candidate_q, self.G_q, self.candidate_g0, active, q_from)
 
     def gaps(self, q) -> np.ndarray:
         """g_i [m] of every candidate at the unknowns q."""
