@@ -13,9 +13,10 @@ and sigma_g^2 ~ r_g.r_g / nu_g):
     V_stat = V_lin (1 + 4 sum_g f_g (1 - f_g) / nu_g)             (Meier 1953, Biometrics 9:59-73)
     nu     = V_lin^2 / sum_g (f_g w_g sigma_g^2 / I)^2 / nu_g     (Satterthwaite 1946)
 
-Meier's factor is the first-order variance the estimated weights add; without it two groups of six
-drop tests (e and P_max) covered the truth in 87-89 % of noisy series instead of 95 %. One group:
-f = 1, V_stat = r.r / (n - 1) / J.J with n - 1 degrees of freedom, the usual formula.
+Meier's factor is the first-order variance the estimated weights add. Two groups of six with
+their own scatter (1:1 .. 1:10): the interval covers a common mean in 93.4-95 % of simulated
+series, s^2 / J_w.J_w at n - 1 = 11 degrees of freedom in 89-91 % (tests/test_fit_data_interval.py).
+One group: f = 1, V_stat = r.r / (n - 1) / J.J with n - 1 degrees of freedom, the usual formula.
 
 **Curvature.** At a few percent noise per test, sigma_Y's sensitivities (d ln e / d ln sigma_Y
 0.0-0.5 over a drop-test window) change across the interval, and a symmetric interval from the
