@@ -346,7 +346,8 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
              f"value(s) ({', '.join(data.files)}): sigma_Y",
              f"sigma_Y = {result.sigma_y:.4g} Pa +- {100 * result.se / result.sigma_y:.2g} % (statistical "
              f"{100 * result.se_stat / result.sigma_y:.2g} %, model form {100 * result.se_model / result.sigma_y:.2g} %); "
-             f"95 % interval {low:.4g}..{high:.4g} Pa",
+             f"95 % interval {low:.4g}..{high:.4g} Pa (k {result.uncertainty['coverage_factor']:.3g}, "
+             f"{result.uncertainty['dof_statistical']:.3g} statistical degrees of freedom; calib.fit.measured.interval)",
              f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
              f"data window: P/P_Y {result.data_window[0]:.3g}..{result.data_window[1]:.4g}; the law's measured window "
              f"{window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g}"

@@ -15,21 +15,22 @@ give -0.2 to +0.7 %). Residuals per group g (e, P_max, contact_time, force) are 
 (force: / max(|P|, P_floor)); each group is weighted by 1 / s_g, s_g its rms residual
 (re-estimated), as calib.fit.measured.regression.
 
-**Uncertainty.** Var(ln sigma_Y) = V_stat + V_model:
-
-    V_stat  = s^2 / (J^T J),     s^2 = sum r_w^2 / (n - 1),   J = d r_w / d ln sigma_Y (weighted)
-    V_model = u^2
-
-u is the law's model-form standard uncertainty in ln sigma_Y for this kind of data (drop tests
-on e, on e and P_max, a force-approach curve), measured against direct FE across the table: the
-rms error of this very fit on the noise-free FE data of off-grid materials
+**Uncertainty.** Var(ln sigma_Y) = V_stat + V_model. V_stat is the statistical variance of the
+fit with its groups' scales estimated from their own residuals, and its degrees of freedom
+(calib.fit.measured.interval: the sandwich of the linearised fit, per group degrees of freedom,
+Meier's factor for the estimated weights; one group: s^2 / J^T J, s^2 = sum r^2 / (n - 1));
+V_model = u^2. u is the law's model-form standard uncertainty in ln sigma_Y for this kind of data
+(drop tests on e, on e and P_max, a force-approach curve), measured against direct FE across the
+table: the rms error of this very fit on the noise-free FE data of off-grid materials
 (calib.fit.vz_master_check; the table's .json, ``model_form.sigma_y``), combined with the
 surrounding nodes' estimated discretisation error when the table has it. The model-form error is
 systematic (the same for every test of a series), so it does not shrink with more data. The 95 %
-interval is sigma_Y exp(+-k sqrt(V_stat + V_model)), k Student's t quantile at the Welch-Satterthwaite
-effective degrees of freedom nu = V^2 / (V_stat^2 / (n - 1)) (V_model is stated, not estimated: its
-degrees of freedom are infinite; JCGM 100:2008, G.4): s^2 from six drop tests has five degrees of
-freedom, and 1.96 would cover the truth in about 89 % of noisy series instead of 95 %.
+interval (calib.fit.measured.interval) takes the statistical half-widths below and above the fit
+from the profile of the weighted sum of squares (sigma_Y's sensitivities change across the
+interval at a few percent noise), combines each with u and scales by k, Student's t at the
+Welch-Satterthwaite degrees of freedom (V_model is stated: infinite degrees of freedom; JCGM
+100:2008, G.4): s^2 from six drop tests has five degrees of freedom, and 1.96 would cover the truth
+in about 89 % of noisy series instead of 95 %.
 
 **What the summary says.** The rms residual is compared with the law's model-form level and with
 the scatter the residuals show (calib.fit.measured.scatter); the fit is called consistent with
@@ -42,14 +43,14 @@ import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import optimize
 
 from calib.fit.measured.data import Measurements
+from calib.fit.measured.interval import Z95, coverage_factor, interval95  # noqa: F401 (re-exported)
 from calib.fit.measured.specimen import Specimen, impact_residuals
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, PlausibilityWarning, RangeWarning, VZTableParams, collision_reference, get_law
 
-Z95 = 1.959963984540054            # the two-sided 95 % normal quantile (infinite degrees of freedom)
 STEP = 1e-5                        # the central-difference step in ln sigma_Y
 SCAN_POINTS = 13                   # the coarse scan of ln sigma_Y over the table that starts the fit
 CONSISTENT = 2.0                   # residual / expected level above this: the law does not describe the data
@@ -127,16 +128,6 @@ def model_form_uncertainty(table: VZMasterTable, nu: float, E_over_sigma_y: floa
     return math.hypot(float(form.get(kind, 0.0)), node)
 
 
-def coverage_factor(v_stat: float, v_model: float, dof: int) -> float:
-    """The 95 % coverage factor k of Var = v_stat + v_model (module doc): Student's t at the
-    Welch-Satterthwaite degrees of freedom (v_stat + v_model)^2 / (v_stat^2 / dof); Z95 when v_stat
-    carries no estimated part (dof < 1 or v_stat = 0)."""
-    if dof < 1 or not v_stat > 0.0 or not math.isfinite(v_stat):
-        return Z95
-    effective = (v_stat + v_model) ** 2 / (v_stat ** 2 / dof)
-    return float(stats.t.ppf(0.975, effective))
-
-
 @dataclass(frozen=True)
 class TableLawFit:
     """sigma_Y [Pa] with its standard errors (statistical, model-form, combined), the 95 % interval,
@@ -203,26 +194,23 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
         theta = float(best.x)
         g = groups(theta)
         scale = {name: max(float(np.sqrt(np.mean(g[name] ** 2))), 1e-6) for name in sizes}
+    at_fit = sum(float(g[name] @ g[name]) / scale[name] ** 2 for name in sizes)
     if theta <= low + 1e-6 or theta >= high - 1e-6:
         side = "softer" if theta <= low + 1e-6 else "harder"
         raise ValueError(f"{', '.join(data.files)}: the vz-table model fits these data best at E/sigma_Y = "
                          f"{specimen.E / math.exp(theta):.4g}, the edge of the vz master table (E/sigma_Y "
                          f"{table.E_over_sigma_y[0]:g}..{table.E_over_sigma_y[-1]:g}): the data ask for a {side} material; "
                          f"check the data's units and the material flags, or calibrate by FE (nfdcal calibrate --v-max)")
-    g = groups(theta)
-    r_w = np.concatenate([g[name] / scale[name] for name in sizes])
-    jac = (weighted(theta + STEP) - weighted(theta - STEP)) / (2 * STEP)
-    along = float(jac @ jac)
-    n = r_w.size
-    v_stat = float(r_w @ r_w) / max(n - 1, 1) / along if along > 0 else math.inf
+    plus, minus = groups(theta + STEP), groups(theta - STEP)
+    slope = {name: (plus[name] - minus[name]) / (2 * STEP) for name in sizes}
     kind = data_kind(data)
     u = model_form_uncertainty(table, specimen.nu, specimen.E / math.exp(theta), kind, model_form)
-    v_model = u * u
+    bounded = interval95(theta, g, slope, scale, cost, at_fit, u, (low, high))
     sigma_y = math.exp(theta)
+    v_stat, v_model = bounded.statistical.variance, u * u
     se_stat, se_model = sigma_y * math.sqrt(v_stat), sigma_y * math.sqrt(v_model)
     v = v_stat + v_model
-    k = coverage_factor(v_stat, v_model, n - 1)
-    interval = (sigma_y * math.exp(-k * math.sqrt(v)), sigma_y * math.exp(k * math.sqrt(v)))
+    interval = (math.exp(bounded.low), math.exp(bounded.high))
     law = table_law(specimen, sigma_y, table)
     rms = {name: float(np.sqrt(np.mean(g[name] ** 2))) for name in sizes}
     level_of = table.meta.get("model_form", {}).get("residual_rms", {})
@@ -240,7 +228,10 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
                + "; the interval assumes it does")
     window = _data_window(law, data)
     return TableLawFit(sigma_y, se_stat, se_model, sigma_y * math.sqrt(v), interval, g, scale, law,
-                       {"kind": kind, "u_ln_sigma_y": u, "law_error": law_error}, verdict, consistent, window)
+                       {"kind": kind, "u_ln_sigma_y": u, "law_error": law_error,
+                        "dof_statistical": bounded.statistical.dof, "coverage_factor": bounded.k,
+                        "u_ln_sigma_y_statistical": [bounded.u_minus, bounded.u_plus]},
+                       verdict, consistent, window)
 
 
 def _data_window(law: VZTableParams, data: Measurements) -> tuple[float, float]:
