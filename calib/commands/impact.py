@@ -242,7 +242,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
     from calib.studies import impact, impact_pair
 
     out = ns.out or default_out(ns, setup)
-    variants = ("fine",) if ns.no_error_estimate else impact.VARIANTS
+    variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
     impact.check_reach(setup.sphere, velocities)
     if ns.dry_run:
         tasks = impact_pair.tasks_for(setup, velocities, variants)
@@ -253,7 +253,8 @@ def run_pair(ns, setup, velocities, workers) -> int:
         lines = [f"{len(tasks)} FE pair impact(s) of the sphere E = {setup.sphere.material.E:.4g} Pa, R = "
                  f"{setup.sphere.radius:g} m on the {setup.counter.label()}; outputs: {out}"]
         lines += [f"v_in = {r['v_in']:.4g} m/s ({r['variant']}), contact element {r['contact_size']:.3g} m, "
-                  f"{r['steps_per_contact']} steps per contact, finished: {'yes' if r['finished'] else 'no'}" for r in summary["runs"]]
+                  f"{r['steps_per_contact']} steps per contact, finished: {'yes' if r['finished'] else 'no'}"
+                  for r in summary["runs"]]
         print_summary(ns, summary, lines)
         return 0
     with output.one_writer(out), progress_reporter(ns.quiet) as progress:

@@ -15,7 +15,9 @@ counter-body's density is the sphere's (nfdmodel.ContactPair.sphere_counter's de
 Discretisation error: per velocity the variants of calib.studies.impact (VARIANTS: fine; coarse
 mesh, the contact element doubled on both meshes by calib.studies.impact.coarse_mesh; coarse dt,
 dt doubled) and its estimate Q_rel_error_estimate = |Q_2h / Q_h - 1| + |Q_2dt / Q_dt - 1| for Q
-in COMPARED, with Q_mesh_change and Q_dt_change (the fine values ship, not extrapolated).
+in COMPARED, with Q_mesh_change and Q_dt_change (the fine values ship, not extrapolated). The
+functions below take ``variants`` (default FINE: the fine impact alone, as a scene's impact stage
+asks; nfdcal impact passes calib.studies.impact.VARIANTS unless --no-error-estimate).
 
 The runs go through the sweep runner (resumable: OUT/cases/<key>.json); writes impact_pair.csv
 and impact_pair.json into OUT. Units: SI.
@@ -49,6 +51,7 @@ from nfdmodel import ContactPair
 
 VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
 COMPARED = ("e", "P_max", "contact_time", "alpha_max")
+FINE = ("fine",)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -97,7 +100,7 @@ def coarse_meshes(sphere: SphereMeshSpec, counter) -> tuple[SphereMeshSpec, obje
     return impact.coarse_mesh(sphere), impact.coarse_mesh(counter)
 
 
-def tasks_for(setup: PairImpactSetup, velocities, variants=impact.VARIANTS) -> list[dict]:
+def tasks_for(setup: PairImpactSetup, velocities, variants=FINE) -> list[dict]:
     """One sweep task per velocity and variant (module docstring); its key hashes everything the
     result depends on, not the variant's label."""
     tasks = []
@@ -148,7 +151,7 @@ def run_task(task: dict) -> dict:
 
 
 def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int = 1,
-                progress: Callable[[str], None] | None = None, variants=impact.VARIANTS) -> tuple[list[dict], dict]:
+                progress: Callable[[str], None] | None = None, variants=FINE) -> tuple[list[dict], dict]:
     """Every task of ``tasks_for`` through the sweep runner: (rows, each with its variant, counts
     {computed, reused}); ValueError naming the first that failed."""
     impact.check_reach(setup.sphere, velocities)
@@ -189,9 +192,9 @@ def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
 
 
 def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
-          progress: Callable[[str], None] | None = None, variants=impact.VARIANTS) -> list[dict]:
-    """The impacts (``variants``: calib.studies.impact.VARIANTS, or ("fine",) without the error
-    estimate), written to OUT/impact_pair.csv and .json; returns one record per velocity."""
+          progress: Callable[[str], None] | None = None, variants=FINE) -> list[dict]:
+    """The impacts (``variants``: FINE, or calib.studies.impact.VARIANTS with the error estimate),
+    written to OUT/impact_pair.csv and .json; returns one record per velocity."""
     started = time.perf_counter()
     rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
     pair = setup.pair
