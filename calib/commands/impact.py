@@ -21,8 +21,9 @@ With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R) the sphere h
 counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free counter-sphere
 (--v-in: the relative velocity, the pair starting in its centre-of-mass frame; e: the relative
 normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
-pair's E*, R* and reduced mass; the fine impact only (no error estimate, no quasi-static comparison,
-no plots). Not with --drops, --convergence or --params.
+pair's E*, R* and reduced mass, with the same error estimate (both meshes' contact element doubled,
+dt doubled; --no-error-estimate: the fine impact only). Not with --drops, --convergence, --params,
+--no-quasi-static or --no-plots (a pair impact has neither quasi-static comparison nor plots).
 
 Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
 OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, drop_tests.csv, impact.png,
@@ -99,7 +100,8 @@ def options(ns):
         from calib.studies import impact_pair
 
         for flag, given in (("--drops", ns.drops is not None), ("--convergence", ns.convergence),
-                            ("--params", ns.params is not None)):
+                            ("--params", ns.params is not None), ("--no-quasi-static", ns.no_quasi_static),
+                            ("--no-plots", ns.no_plots)):
             if given:
                 raise ValueError(f"{flag} is for the rigid flat: do not combine it with --counter-E")
         setup = impact_pair.PairImpactSetup(setup, counter)
@@ -240,31 +242,39 @@ def run_pair(ns, setup, velocities, workers) -> int:
     from calib.studies import impact, impact_pair
 
     out = ns.out or default_out(ns, setup)
+    variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
     impact.check_reach(setup.sphere, velocities)
     if ns.dry_run:
-        tasks = impact_pair.tasks_for(setup, velocities)
+        tasks = impact_pair.tasks_for(setup, velocities, variants)
         summary = {"out": out, "counter": setup.counter.describe(), "runs": [
-            {"v_in": t["v_in"], "contact_size": t["sphere_mesh"]["contact_size"],
+            {"v_in": t["v_in"], "variant": t["variant"], "contact_size": t["sphere_mesh"]["contact_size"],
+             "steps_per_contact": t["steps_per_contact"],
              "finished": (Path(out) / "cases" / f"{t['key']}.json").is_file()} for t in tasks]}
         lines = [f"{len(tasks)} FE pair impact(s) of the sphere E = {setup.sphere.material.E:.4g} Pa, R = "
                  f"{setup.sphere.radius:g} m on the {setup.counter.label()}; outputs: {out}"]
-        lines += [f"v_in = {r['v_in']:.4g} m/s, contact element {r['contact_size']:.3g} m, "
-                  f"finished: {'yes' if r['finished'] else 'no'}" for r in summary["runs"]]
+        lines += [f"v_in = {r['v_in']:.4g} m/s ({r['variant']}), contact element {r['contact_size']:.3g} m, "
+                  f"{r['steps_per_contact']} steps per contact, finished: {'yes' if r['finished'] else 'no'}"
+                  for r in summary["runs"]]
         print_summary(ns, summary, lines)
         return 0
     with output.one_writer(out), progress_reporter(ns.quiet) as progress:
-        records = impact_pair.study(setup, velocities, Path(out), workers=workers, progress=progress)
+        records = impact_pair.study(setup, velocities, Path(out), workers=workers, progress=progress,
+                                    variants=variants)
     lines = [setup.counter.label(),
              f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>8} {'P_max [N]':>10} {'Hertz':>10} {'t_c [ms]':>8} {'Hertz':>8} "
-             f"{'left':>8} {'balance':>9} {'wall s':>7}"]
+             f"{'left':>8} {'balance':>9} {'err e':>8} {'err P':>7} {'err t_c':>7} {'wall s':>7}"]
     for r in records:
         h = r["hertz"]
         lines.append(f"{r['v_in']:>10.4g} {r['v_in_over_v_Y']:>7.3g} {r['e']:>8.5f} {r['P_max']:>10.4g} {h['P_max']:>10.4g} "
                      f"{r['contact_time'] * 1e3:>8.4f} {h['contact_time'] * 1e3:>8.4f} {r['energy_left_fraction']:>8.2g} "
-                     f"{r['balance_residual_fraction']:>9.2g} {r['wall_time_s']:>7.1f}")
+                     f"{r['balance_residual_fraction']:>9.2g} "
+                     + "".join(f"{r[f'{q}_rel_error_estimate']:>{w}.2%} " if r[f"{q}_rel_error_estimate"] is not None
+                               else f"{'-':>{w}} " for q, w in (("e", 8), ("P_max", 7), ("contact_time", 7)))
+                     + f"{r['wall_time_s_all_runs']:>7.1f}")
     lines.append("v_in: relative velocity of approach; e: relative normal velocity of separation over v_in; Hertz: the"
                  " pair's elastic impact (E*, R*, m*); left: internal energy left in the bodies, balance: the energy"
-                 " balance's residual, both over the kinetic energy in")
+                 " balance's residual, both over the kinetic energy in; err: estimated discretisation error (doubled contact element and doubled dt);"
+                 " wall s: all runs of the velocity")
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

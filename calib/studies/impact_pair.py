@@ -12,8 +12,15 @@ Hertz's P_max); the counter-body's is calib.fit.counter.CounterBody.mesh_spec of
 radius R2, or a block of radius and height L = BLOCK_SIZE_OVER_R R1 with its far face held). The
 counter-body's density is the sphere's (nfdmodel.ContactPair.sphere_counter's default).
 
-The velocities run through the sweep runner (resumable: OUT/cases/<key>.json); writes
-impact_pair.csv and impact_pair.json into OUT. Units: SI.
+Discretisation error: per velocity the variants of calib.studies.impact (VARIANTS: fine; coarse
+mesh, the contact element doubled on both meshes by calib.studies.impact.coarse_mesh; coarse dt,
+dt doubled) and its estimate Q_rel_error_estimate = |Q_2h / Q_h - 1| + |Q_2dt / Q_dt - 1| for Q
+in COMPARED, with Q_mesh_change and Q_dt_change (the fine values ship, not extrapolated). The
+functions below take ``variants`` (default FINE: the fine impact alone, as a scene's impact stage
+asks; nfdcal impact passes calib.studies.impact.VARIANTS unless --no-error-estimate).
+
+The runs go through the sweep runner (resumable: OUT/cases/<key>.json); writes impact_pair.csv
+and impact_pair.json into OUT. Units: SI.
 """
 from __future__ import annotations
 
@@ -44,6 +51,7 @@ from nfdmodel import ContactPair
 
 VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
 COMPARED = ("e", "P_max", "contact_time", "alpha_max")
+FINE = ("fine",)
 
 
 @dataclasses.dataclass(frozen=True)
@@ -87,18 +95,33 @@ def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_di
     return PairImpactSolver(impact_pair_mesh(sphere, counter, cache_dir), first, second, material.rho, material.rho)
 
 
-def tasks_for(setup: PairImpactSetup, velocities) -> list[dict]:
-    """One sweep task per velocity (its key hashes everything the result depends on)."""
+def coarse_meshes(sphere: SphereMeshSpec, counter) -> tuple[SphereMeshSpec, object]:
+    """Both meshes with the contact element doubled (calib.studies.impact.coarse_mesh on each)."""
+    return impact.coarse_mesh(sphere), impact.coarse_mesh(counter)
+
+
+def tasks_for(setup: PairImpactSetup, velocities, variants=FINE) -> list[dict]:
+    """One sweep task per velocity and variant (module docstring); its key hashes everything the
+    result depends on, not the variant's label."""
     tasks = []
     for v in velocities:
-        sphere, counter = pair_meshes(setup, v)
-        task = {"v_in": float(v), "material": dataclasses.asdict(setup.sphere.material), "radius": setup.sphere.radius,
-                "elastic": setup.sphere.elastic, "counter": setup.counter.describe(),
-                "block_size": setup.block_size, "sphere_mesh": dataclasses.asdict(sphere),
-                "counter_mesh": dataclasses.asdict(counter), "counter_block": isinstance(counter, BlockMeshSpec),
-                "steps_per_contact": setup.sphere.steps_per_contact, "version": VERSION}
-        tasks.append({**task, "key": stable_key(task)})
+        fine_meshes = pair_meshes(setup, v)
+        for variant in variants:
+            sphere, counter = coarse_meshes(*fine_meshes) if variant == "coarse mesh" else fine_meshes
+            steps = setup.sphere.steps_per_contact // (2 if variant == "coarse dt" else 1)
+            task = task_of(setup, v, sphere, counter, steps)
+            tasks.append({**task, "variant": variant})
     return tasks
+
+
+def task_of(setup: PairImpactSetup, v, sphere: SphereMeshSpec, counter, steps_per_contact: int) -> dict:
+    """One sweep task: the impact at v [m/s] on the meshes ``sphere``, ``counter``."""
+    task = {"v_in": float(v), "material": dataclasses.asdict(setup.sphere.material), "radius": setup.sphere.radius,
+            "elastic": setup.sphere.elastic, "counter": setup.counter.describe(),
+            "block_size": setup.block_size, "sphere_mesh": dataclasses.asdict(sphere),
+            "counter_mesh": dataclasses.asdict(counter), "counter_block": isinstance(counter, BlockMeshSpec),
+            "steps_per_contact": int(steps_per_contact), "version": VERSION}
+    return {**task, "key": stable_key(task)}
 
 
 def run_task(task: dict) -> dict:
@@ -128,22 +151,39 @@ def run_task(task: dict) -> dict:
 
 
 def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int = 1,
-                progress: Callable[[str], None] | None = None) -> tuple[list[dict], dict]:
-    """Every velocity's pair impact through the sweep runner: (rows, counts {computed, reused});
-    ValueError naming the first that failed."""
+                progress: Callable[[str], None] | None = None, variants=FINE) -> tuple[list[dict], dict]:
+    """Every task of ``tasks_for`` through the sweep runner: (rows, each with its variant, counts
+    {computed, reused}); ValueError naming the first that failed."""
     impact.check_reach(setup.sphere, velocities)
-    tasks = tasks_for(setup, velocities)
-    for task in tasks:                  # meshed here, one at a time (gmsh is one per process)
+    tasks = tasks_for(setup, velocities, variants)
+    meshes = {stable_key([task["sphere_mesh"], task["counter_mesh"]]): task for task in tasks}
+    for task in meshes.values():        # meshed here, one at a time (gmsh is one per process)
         impact_pair_mesh(SphereMeshSpec(**task["sphere_mesh"]),
                          (BlockMeshSpec if task["counter_block"] else SphereMeshSpec)(**task["counter_mesh"]))
     describe = (lambda row: f"v_in = {row['v_in']:g} m/s: "
                 + (f"e = {row['e']:.4f}, {row['wall_time_s']:.1f} s" if row["status"] == "ok" else row["error"]))
     swept = run_sweep(tasks, run_task, cases, keep=lambda row: row.get("status") == "ok", workers=workers,
                       progress=progress, describe=describe)
-    failed = [row for row in swept.rows if row["status"] != "ok"]
+    rows = [{**row, "variant": task["variant"]} for task, row in zip(tasks, swept.rows)]
+    failed = [row for row in rows if row["status"] != "ok"]
     if failed:
-        raise ValueError(f"the pair FE impact at v_in = {failed[0]['v_in']:g} m/s failed: {failed[0]['error']}")
-    return swept.rows, {"computed": swept.computed, "reused": swept.reused}
+        raise ValueError(f"the pair FE impact at v_in = {failed[0]['v_in']:g} m/s ({failed[0]['variant']}) failed: "
+                         f"{failed[0]['error']}")
+    return rows, {"computed": swept.computed, "reused": swept.reused}
+
+
+def error_estimates(runs: dict) -> dict:
+    """Per quantity of COMPARED from the runs of one velocity ({variant: row}): Q_mesh_change,
+    Q_dt_change and Q_rel_error_estimate (module docstring; None without both coarse runs), as
+    calib.studies.impact.impact_records."""
+    fine, out = runs["fine"], {}
+    for quantity in COMPARED:
+        mesh_change = impact._relative_change(runs.get("coarse mesh", {}).get(quantity), fine[quantity])
+        dt_change = impact._relative_change(runs.get("coarse dt", {}).get(quantity), fine[quantity])
+        out[f"{quantity}_mesh_change"], out[f"{quantity}_dt_change"] = mesh_change, dt_change
+        out[f"{quantity}_rel_error_estimate"] = (None if mesh_change is None or dt_change is None
+                                                 else abs(mesh_change) + abs(dt_change))
+    return out
 
 
 def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
@@ -152,13 +192,19 @@ def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
 
 
 def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
-          progress: Callable[[str], None] | None = None) -> list[dict]:
-    """The impacts, written to OUT/impact_pair.csv and .json; returns one record per velocity."""
+          progress: Callable[[str], None] | None = None, variants=FINE) -> list[dict]:
+    """The impacts (``variants``: FINE, or calib.studies.impact.VARIANTS with the error estimate),
+    written to OUT/impact_pair.csv and .json; returns one record per velocity."""
     started = time.perf_counter()
-    rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress)
+    rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
     pair = setup.pair
+    by_velocity: dict[float, dict] = {}
+    for row in rows:
+        by_velocity.setdefault(row["v_in"], {})[row["variant"]] = row
     records = []
-    for row in sorted(rows, key=lambda r: r["v_in"]):
+    for v_in in sorted(by_velocity):
+        runs = by_velocity[v_in]
+        row = runs["fine"]
         record = {k: row[k] for k in ("v_in", "v1_in", "v2_in", "e", "v_sep", "P_max", "contact_time", "alpha_max",
                                       "contact_radius_max", "momentum_change", "kinetic_in", "plastic_work",
                                       "energy_left", "balance_residual", "contact_work", "dt", "steps", "dofs",
@@ -168,9 +214,13 @@ def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
         record["balance_residual_fraction"] = row["balance_residual"] / row["kinetic_in"]
         record["energy_left_fraction"] = row["energy_left"] / row["kinetic_in"]
         record["mesh"] = row["mesh"]
+        record.update(error_estimates(runs))
+        record["wall_time_s_all_runs"] = sum(run["wall_time_s"] for run in runs.values())
+        record["cpu_time_s_all_runs"] = sum(run["cpu_time_s"] for run in runs.values())
         records.append(record)
     stamp = output.stamp(time.perf_counter() - started, counter=setup.counter.describe(),
-                         material=dataclasses.asdict(setup.sphere.material), radius=setup.sphere.radius, **counts)
+                         material=dataclasses.asdict(setup.sphere.material), radius=setup.sphere.radius,
+                         variants=list(variants), **counts)
     output.write_json(out / "impact_pair.json", {"stamp": stamp, "impacts": records})
     flat = [{k: v for k, v in r.items() if not isinstance(v, dict)}
             | {f"hertz_{k}": v for k, v in r["hertz"].items()} for r in records]
