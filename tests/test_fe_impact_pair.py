@@ -19,7 +19,7 @@ from calib.fe.impact_pair_run import hertz_pair_impact, run_pair_impact
 from calib.fe.newmark import ImpactSolver
 from calib.fit.counter import CounterBody
 from calib.studies import impact
-from calib.studies.impact_pair import PairImpactSetup, block_size_effect, error_estimates, pair_meshes
+from calib.studies.impact_pair import COMPARED, PairImpactSetup, block_size_effect, pair_meshes
 from meshes.counter_body import BlockMeshSpec
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import Material, reference_case
@@ -82,14 +82,14 @@ def steel_block(mesh_cache):
 
 
 def test_doubled_dt_change_shrinks_at_second_order(steel_sphere):
-    """The estimate's dt part (calib.studies.impact_pair.error_estimates) on the elastic pair: the
+    """The estimate's dt part (calib.studies.impact.error_estimates) on the elastic pair: the
     change from doubling dt falls about 4x when dt halves (the average-acceleration scheme is
     second order on smooth elastic motion; 3.2-4.1x measured at 10/20/40 steps per contact), so it
     measures the time discretisation and not noise; no mesh run: its part stays None."""
     solver, at_40 = steel_sphere
     at_10, at_20 = (run_pair_impact(solver, V, steps_per_contact=n).record() for n in (10, 20))
-    coarse = error_estimates({"fine": at_20, "coarse dt": at_10})
-    fine = error_estimates({"fine": at_40.record(), "coarse dt": at_20})
+    coarse = impact.error_estimates({"fine": at_20, "coarse dt": at_10}, COMPARED)
+    fine = impact.error_estimates({"fine": at_40.record(), "coarse dt": at_20}, COMPARED)
     for key in ("P_max", "contact_time", "alpha_max"):
         assert 2.5 < abs(coarse[f"{key}_dt_change"] / fine[f"{key}_dt_change"]) < 6.5, key
         assert fine[f"{key}_mesh_change"] is None and fine[f"{key}_rel_error_estimate"] is None

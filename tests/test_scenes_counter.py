@@ -100,6 +100,7 @@ def test_coarse_pair_scene_runs_hertz_and_impact_on_the_counter_body(tmp_path, m
         [impact]
         v_in = [0.002]
         steps_per_contact = 30
+        error_estimate = false
         [impact.counter]
         E = 210e9
         nu = 0.28

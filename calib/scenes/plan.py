@@ -209,7 +209,7 @@ def pair_impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
         impact.check_reach(setup.sphere, velocities)
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: impact.v_in: material {material.name}: {exc}") from None
-    tasks = impact_pair.tasks_for(setup, velocities)
+    tasks = impact_pair.tasks_for(setup, velocities, impact.VARIANTS if scene.impact.error_estimate else impact_pair.FINE)
     sphere = SphereMeshSpec(**tasks[-1]["sphere_mesh"])
     counter = (BlockMeshSpec if tasks[-1]["counter_block"] else SphereMeshSpec)(**tasks[-1]["counter_mesh"])
     dofs = sphere.estimate_dofs() + (counter.estimate_dofs() if isinstance(counter, SphereMeshSpec)

@@ -166,15 +166,17 @@ def pair_impact_setup(scene, material):
 
 def _run_pair_impact(scene, material, out, progress) -> dict:
     """The two-body impacts on the [impact.counter] body into OUT/impact/ (calib.studies.impact_pair)."""
-    from calib.studies import impact_pair
+    from calib.studies import impact, impact_pair
 
     setup = pair_impact_setup(scene, material)
     velocities = tuple(sorted(set(scene.impact.velocities(setup.pair))))
     progress(f"impact: {material.name}, {len(velocities)} velocities (two-body dynamic FE on the {setup.counter.label()})")
-    records = impact_pair.study(setup, velocities, out / "impact", progress=progress)
+    records = impact_pair.study(setup, velocities, out / "impact", progress=progress,
+                                variants=impact.VARIANTS if scene.impact.error_estimate else impact_pair.FINE)
     return {"out": str(out / "impact"), "counter_body": setup.counter.describe(),
             "impacts": [{"v_in": r["v_in"], "e": r["e"], "P_max": r["P_max"], "contact_time": r["contact_time"],
-                         "e_rel_error_estimate": None, "quasi_static_e": None} for r in records]}
+                         "e_rel_error_estimate": r.get("e_rel_error_estimate"), "quasi_static_e": None}
+                        for r in records]}
 
 
 def _run_impact(scene, material, out, progress) -> dict:

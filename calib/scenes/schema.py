@@ -22,7 +22,8 @@
                    a flat): the stage presses the sphere on this deformable counter-body instead of the
                    rigid flat (calib.fit.counter.CounterBody, whose checks apply), as the commands'
                    --counter-E/-nu/-sigma-y/-R do; the impact stage then runs the two-body impact
-                   (calib.studies.impact_pair: no error estimate, no quasi-static comparison); a
+                   (calib.studies.impact_pair: the error estimate as error_estimate says, no quasi-static
+                   comparison); a
                    calibration on a counter-body takes its load paths from [load_paths] (not v_max)
                    and its constants are the pair's, so no [collision] stage goes with it
 

@@ -356,14 +356,7 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, qua
                   "vibration_fraction": fine["vibration_energy"] / kinetic,
                   "balance_residual_fraction": fine["balance_residual"] / kinetic,
                   "contact_size": fine["mesh"]["contact_size"], "mesh_key": fine["mesh"]["key"]}
-        for quantity in COMPARED:
-            value = fine[quantity]
-            mesh_change = _relative_change(runs.get("coarse mesh", {}).get(quantity), value)
-            dt_change = _relative_change(runs.get("coarse dt", {}).get(quantity), value)
-            record[f"{quantity}_mesh_change"] = mesh_change
-            record[f"{quantity}_dt_change"] = dt_change
-            record[f"{quantity}_rel_error_estimate"] = (
-                None if mesh_change is None or dt_change is None else abs(mesh_change) + abs(dt_change))
+        record.update(error_estimates(runs, COMPARED))
         coarse_dt = runs.get("coarse dt")
         # the balance residual is the time discretisation's (module docstring): it shrinks with dt
         record["balance_residual_fraction_coarse_dt"] = (coarse_dt["balance_residual"] / coarse_dt["kinetic_in"]
@@ -375,6 +368,20 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, qua
             record["dynamic_over_quasi_static"] = impact_quasistatic.compared(record, static[v_in])
         records.append(record)
     return records
+
+
+def error_estimates(runs: dict, quantities) -> dict:
+    """Per quantity Q of ``quantities`` from the runs of one velocity ({variant: row}): Q_mesh_change
+    = Q_2h / Q_h - 1, Q_dt_change = Q_2dt / Q_dt - 1 and Q_rel_error_estimate, their absolute sum
+    (module docstring; None without both coarse runs)."""
+    fine, out = runs["fine"], {}
+    for quantity in quantities:
+        mesh_change = _relative_change(runs.get("coarse mesh", {}).get(quantity), fine[quantity])
+        dt_change = _relative_change(runs.get("coarse dt", {}).get(quantity), fine[quantity])
+        out[f"{quantity}_mesh_change"], out[f"{quantity}_dt_change"] = mesh_change, dt_change
+        out[f"{quantity}_rel_error_estimate"] = (None if mesh_change is None or dt_change is None
+                                                 else abs(mesh_change) + abs(dt_change))
+    return out
 
 
 def _relative_change(other, value):

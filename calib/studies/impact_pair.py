@@ -172,20 +172,6 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
     return rows, {"computed": swept.computed, "reused": swept.reused}
 
 
-def error_estimates(runs: dict) -> dict:
-    """Per quantity of COMPARED from the runs of one velocity ({variant: row}): Q_mesh_change,
-    Q_dt_change and Q_rel_error_estimate (module docstring; None without both coarse runs), as
-    calib.studies.impact.impact_records."""
-    fine, out = runs["fine"], {}
-    for quantity in COMPARED:
-        mesh_change = impact._relative_change(runs.get("coarse mesh", {}).get(quantity), fine[quantity])
-        dt_change = impact._relative_change(runs.get("coarse dt", {}).get(quantity), fine[quantity])
-        out[f"{quantity}_mesh_change"], out[f"{quantity}_dt_change"] = mesh_change, dt_change
-        out[f"{quantity}_rel_error_estimate"] = (None if mesh_change is None or dt_change is None
-                                                 else abs(mesh_change) + abs(dt_change))
-    return out
-
-
 def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
     """0.5, 2 and 10 v_Y of the pair (nfdmodel.ContactPair.v_Y: the body that yields first) [m/s]."""
     return tuple(f * setup.pair.v_Y for f in (0.5, 2.0, 10.0))
@@ -214,7 +200,7 @@ def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
         record["balance_residual_fraction"] = row["balance_residual"] / row["kinetic_in"]
         record["energy_left_fraction"] = row["energy_left"] / row["kinetic_in"]
         record["mesh"] = row["mesh"]
-        record.update(error_estimates(runs))
+        record.update(impact.error_estimates(runs, COMPARED))
         record["wall_time_s_all_runs"] = sum(run["wall_time_s"] for run in runs.values())
         record["cpu_time_s_all_runs"] = sum(run["cpu_time_s"] for run in runs.values())
         records.append(record)
