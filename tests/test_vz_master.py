@@ -255,7 +255,8 @@ def test_the_table_meets_the_targets_against_the_fe_on_a_finer_mesh_and_ships_th
     from calib.studies.wide_window import law_against_path
 
     refined = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
-    refined = [r for r in refined if r.get("kind") == "refine" and r.get("status") == "ok"]
+    refined = [r for r in refined if r.get("kind") == "refine" and r.get("status") == "ok"
+               and r["name"].endswith("_amax35")]     # the 2x finer a_max/49 mesh: the order, in the .json
     assert {r["E_over_sigma_y"] for r in refined} >= {100.0, 5000.0}
     for row in refined:
         material, R = material_of(row)
@@ -269,3 +270,50 @@ def test_the_table_meets_the_targets_against_the_fe_on_a_finer_mesh_and_ships_th
     measured = table.meta["discretisation"]
     assert {n["E_over_sigma_y"] for n in measured["nodes"]} >= {100.0, 5000.0}
     assert 0 < measured["worst"]["e_change_max"] < E_TARGET and "discretisation" in table.accuracy
+
+
+def _mesh_ladder(order, sizes, scale=0.3):
+    """Q_h = Q + C(x) h^p at a few points x (closed form): the signed changes between successive
+    meshes of ``sizes``."""
+    x = np.linspace(0.5, 2.0, 7)
+    values = [1.0 + scale * (1.0 + x**2) * h**order for h in sizes]
+    return [values[k] - values[k + 1] for k in range(len(sizes) - 1)]
+
+
+@pytest.mark.parametrize("order", [0.7, 1.0, 2.0, 3.3])
+def test_the_observed_order_is_the_order_of_a_known_error_law(order):
+    """Three meshes of ratio 1.4 (the scene's a_max/25, /35, /49) on Q_h = Q + C h^p: p comes back, and
+    Richardson's estimate at it is the coarse mesh's exact error."""
+    from calib.fit.vz_master_check import observed_order
+
+    h = np.array([1 / 25, 1 / 35, 1 / 49])
+    d1, d2 = _mesh_ladder(order, h)
+    found = observed_order(d1, d2, 1.4)
+    assert found["status"] == "observed" and found["order"] == pytest.approx(order, rel=1e-9)
+    exact_error = 0.3 * (1.0 + np.linspace(0.5, 2.0, 7) ** 2) * h[0] ** order
+    assert found["richardson_factor"] * d1 == pytest.approx(exact_error, rel=1e-9)
+
+
+def test_the_observed_order_with_unequal_ratios_solves_the_general_relation():
+    from calib.fit.vz_master_check import observed_order
+
+    h = np.array([1 / 25, 1 / 35, 1 / 60])
+    d1, d2 = _mesh_ladder(1.6, h)
+    found = observed_order(d1, d2, h[0] / h[1], h[1] / h[2])
+    assert found["order"] == pytest.approx(1.6, rel=1e-7)
+
+
+def test_an_order_outside_the_range_is_bounded_and_oscillation_gives_the_bounding_estimate():
+    from calib.fit.vz_master_check import ORDER_RANGE, observed_order
+
+    h = np.array([1 / 25, 1 / 35, 1 / 49])
+    d1, d2 = _mesh_ladder(6.0, h)
+    steep = observed_order(d1, d2, 1.4)
+    assert steep["status"] == "bounded" and steep["order_raw"] == pytest.approx(6.0, rel=1e-6)
+    assert steep["order"] == steep["order_used"] == ORDER_RANGE[1]
+    lowest = 1.4 ** ORDER_RANGE[0] / (1.4 ** ORDER_RANGE[0] - 1.0)
+    flipped = observed_order(d1, -0.5 * d1, 1.4)                 # the changes alternate in sign
+    assert flipped["status"] == "oscillating" and flipped["order"] is None
+    assert flipped["order_used"] == ORDER_RANGE[0] and flipped["richardson_factor"] == pytest.approx(lowest)
+    growing = observed_order(0.5 * d1, d1, 1.4)                  # the finer change is the larger
+    assert growing["status"] == "not converging" and growing["richardson_factor"] == pytest.approx(lowest)

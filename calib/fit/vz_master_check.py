@@ -17,7 +17,18 @@ finer mesh's, both driven along the finer FE's paths inside both windows, differ
     e change     = e_h / e_hf - 1,    force change = max |P_h(alpha) - P_hf(alpha)| / P_max
 
 and the node mesh's own error is estimated from that change by Richardson's r^p / (r^p - 1) with
-r = h / h_f and p = calib.fit.extrapolation.ORDER (:func:`discretisation`).
+r = h / h_f (:func:`discretisation`). With a second finer mesh h_ff (a third mesh) the order is
+observed (:func:`observed_order`, Roache 1998, Verification and Validation in Computational Science
+and Engineering, ch. 5): from the change d1 (h -> h_f) and d2 (h_f -> h_ff) of one quantity at the same
+points (e: per path; force: (P - P') / P_max at every sample of every path), their rms |d1|, |d2| and,
+for r = h / h_f = h_f / h_ff,
+
+    p = ln(|d1| / |d2|) / ln r     (Q_h = Q + C h^p; unequal ratios: the root of
+                                    |d1| / |d2| = r2^p (r1^p - 1) / (r2^p - 1))
+
+bounded to [ORDER_RANGE]; when the changes oscillate (d1 . d2 <= 0) or do not shrink, the order is
+not observed and the estimate is the bounding one, Richardson's factor at the range's lowest order.
+With two meshes p = calib.fit.extrapolation.ORDER, assumed.
 
 What that error does to an inverse fit is measured directly: fit-data's vz-table model
 (calib.fit.measured.table_law) fits sigma_Y to each check material's noise-free FE data (drop
@@ -38,6 +49,8 @@ from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, Material
 
 DATA_KINDS = ("drops e", "drops e+P", "force")
+ORDER_RANGE = (0.5, 4.0)          # the orders an observed one is bounded to (first order: contact edge;
+                                  # fourth: beyond the quadratic elements' smooth-solution rate)
 
 
 def material_of(row: dict) -> tuple[Material, float]:
@@ -153,63 +166,150 @@ def node_law(row: dict):
                          tuple(table["g"]), CalibrationWindow.from_record(row["window"]))
 
 
+def richardson_factor(ratio: float, order: float) -> float:
+    """r^p / (r^p - 1): the coarse mesh's error over its change to the mesh ``ratio`` times finer."""
+    return ratio**order / (ratio**order - 1.0)
+
+
+def observed_order(coarse, fine, ratio: float, fine_ratio: float | None = None) -> dict:
+    """The observed order of one quantity (module doc) from its signed changes ``coarse`` (h -> h / r1,
+    r1 = ``ratio``) and ``fine`` (h / r1 -> h / (r1 r2), r2 = ``fine_ratio``, default r1) at the same
+    points: ``order`` (None when not observed), ``order_raw`` (before the bounds), ``status``
+    ("observed", "bounded", "oscillating", "not converging"), ``order_used`` (the observed order
+    bounded to ORDER_RANGE, or its lowest when not observed), ``richardson_factor`` (at order_used,
+    r1), ``rms`` of both changes."""
+    from scipy.optimize import brentq
+
+    d1, d2 = np.asarray(coarse, dtype=float).ravel(), np.asarray(fine, dtype=float).ravel()
+    if d1.size == 0 or d1.size != d2.size:
+        raise ValueError(f"observed order: the two changes need the same points, got {d1.size} and {d2.size}")
+    r1, r2 = float(ratio), float(ratio if fine_ratio is None else fine_ratio)
+    rms1, rms2 = float(np.sqrt(np.mean(d1**2))), float(np.sqrt(np.mean(d2**2)))
+    low, high = ORDER_RANGE
+    out = {"rms": [rms1, rms2], "ratios": [r1, r2], "order": None, "order_raw": None, "order_range": list(ORDER_RANGE)}
+    if rms2 == 0.0 or float(np.dot(d1, d2)) <= 0.0:
+        status = "oscillating"
+    elif rms1 <= rms2:
+        status = "not converging"
+    else:
+        target = math.log(rms1 / rms2)
+        if abs(math.log(r1 / r2)) < 1e-6:
+            raw = target / math.log(r1)
+        else:                                  # the ratio of changes grows with p from ln r1 / ln r2
+            def gap(p):
+                return p * math.log(r2) + math.log(math.expm1(p * math.log(r1)) / math.expm1(p * math.log(r2))) - target
+            raw = brentq(gap, 1e-6, 50.0) if gap(1e-6) < 0.0 < gap(50.0) else None
+        status = "not converging" if raw is None else ("observed" if low <= raw <= high else "bounded")
+        out["order_raw"] = raw
+        if raw is not None:
+            out["order"] = min(max(raw, low), high)
+    used = low if out["order"] is None else out["order"]
+    return {**out, "status": status, "order_used": used, "richardson_factor": richardson_factor(r1, used)}
+
+
+def _compare(coarse_law, fine_law, path: dict) -> tuple[float, np.ndarray]:
+    """The e change e_c / e_f - 1 and the force change (P_c - P_f) / P_max along one FE path."""
+    from calib.fit.calibration import drive_law
+
+    P_coarse, e_coarse = drive_law("vz-table", coarse_law, path["approach"])
+    P_fine, e_fine = drive_law("vz-table", fine_law, path["approach"])
+    return e_coarse / e_fine - 1.0, (P_coarse - P_fine) / path["P_max"]
+
+
 def discretisation(rows: list[dict]) -> dict:
     """The table's discretisation error at each refined node (module doc): per node the largest
-    e and force change between its table and the finer mesh's along the finer FE paths, the
-    Richardson estimates of the node mesh's error, each law's errors against the finer FE, and
-    the FE's own e change at peaks both meshes unload from; ``worst``: the largest over the nodes.
-    {} without refined nodes."""
+    e and force change between its table and the finer mesh's along the finest FE's paths, the
+    Richardson estimates of the node mesh's error (at the order observed from a third mesh when the
+    node has two finer ones, else at the assumed calib.fit.extrapolation.ORDER), each law's errors
+    against the finer FE, and the FE's own e change at peaks both meshes unload from; ``worst``: the
+    largest over the nodes. {} without refined nodes."""
     from calib.fit import extrapolation
-    from calib.fit.calibration import drive_law
     from calib.studies.wide_window import law_against_path
 
     nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
+    finer = {}
+    for r in rows:
+        if r.get("kind") == "refine" and r.get("status") == "ok" and (r["nu"], r["E_over_sigma_y"]) in nodes:
+            finer.setdefault((r["nu"], r["E_over_sigma_y"]), []).append(r)
     out = []
-    for fine in (r for r in rows if r.get("kind") == "refine" and r.get("status") == "ok"):
-        node = nodes.get((fine["nu"], fine["E_over_sigma_y"]))
-        if node is None:
-            continue
-        coarse_law, fine_law = node_law(node), node_law(fine)
-        low = max(coarse_law.window.P_min_over_P_Y, fine_law.window.P_min_over_P_Y) * (1 - 1e-9)
-        top = min(coarse_law.window.P_max_over_P_Y, fine_law.window.P_max_over_P_Y) * (1 + 1e-9)
+    for key, refined in sorted(finer.items()):
+        node = nodes[key]
+        ladder = [node] + sorted(refined, key=lambda r: -r["mesh"]["contact_size"])[:2]
+        laws = [node_law(r) for r in ladder]
+        fine = ladder[1]
+        finest = ladder[-1]
+        low = max(law.window.P_min_over_P_Y for law in laws) * (1 - 1e-9)
+        top = min(law.window.P_max_over_P_Y for law in laws) * (1 + 1e-9)
         node_e = {round(p["P_max"] / node["P_Y"], 6): p["e"] for p in fe_paths(node)}
-        paths = []
-        for path in fe_paths(fine):
-            x = path["P_max"] / fine["P_Y"]
+        fine_e = {round(p["P_max"] / fine["P_Y"], 6): p["e"] for p in fe_paths(fine)}
+        paths, e_changes, force_changes = [], [[], []], [[], []]
+        for path in fe_paths(finest):
+            x = path["P_max"] / finest["P_Y"]
             if not low <= x <= top:
                 continue
-            P_coarse, e_coarse = drive_law("vz-table", coarse_law, path["approach"])
-            P_fine, e_fine = drive_law("vz-table", fine_law, path["approach"])
+            changes = [_compare(laws[k], laws[k + 1], path) for k in range(len(laws) - 1)]
+            for k, (de, dP) in enumerate(changes):
+                e_changes[k].append(de)
+                force_changes[k].append(dP)
             fe_e = node_e.get(round(x, 6))
-            paths.append({"P_max_over_P_Y": x, "e_change": e_coarse / e_fine - 1.0,
-                          "force_change": float(np.abs(P_coarse - P_fine).max() / path["P_max"]),
-                          "e_error_vs_fine_fe": law_against_path("vz-table", coarse_law, path)["e_error"],
-                          "force_error_vs_fine_fe": law_against_path("vz-table", coarse_law, path)["force_error"],
-                          "fine_e_error_vs_fine_fe": law_against_path("vz-table", fine_law, path)["e_error"],
-                          "fe_e_change": None if fe_e is None else fe_e / path["e"] - 1.0})
+            reference = fine_e.get(round(x, 6)) if finest is not fine else path["e"]
+            entry = {"P_max_over_P_Y": x, "e_change": changes[0][0],
+                     "force_change": float(np.abs(changes[0][1]).max()),
+                     "e_error_vs_fine_fe": law_against_path("vz-table", laws[0], path)["e_error"],
+                     "force_error_vs_fine_fe": law_against_path("vz-table", laws[0], path)["force_error"],
+                     "fine_e_error_vs_fine_fe": law_against_path("vz-table", laws[-1], path)["e_error"],
+                     "fe_e_change": None if fe_e is None or reference is None else fe_e / reference - 1.0}
+            if len(changes) > 1:
+                entry.update({"e_change_fine": changes[1][0], "force_change_fine": float(np.abs(changes[1][1]).max()),
+                              "fe_e_change_fine": None if reference is None else reference / path["e"] - 1.0})
+            paths.append(entry)
         if not paths:
             continue
-        ratio = node["mesh"]["contact_size"] / fine["mesh"]["contact_size"]
-        factor = ratio ** extrapolation.ORDER / (ratio ** extrapolation.ORDER - 1.0)
+        sizes = [r["mesh"]["contact_size"] for r in ladder]
+        ratios = [sizes[k] / sizes[k + 1] for k in range(len(sizes) - 1)]
         e_change = max(abs(p["e_change"]) for p in paths)
         force_change = max(p["force_change"] for p in paths)
         fe_changes = [abs(p["fe_e_change"]) for p in paths if p["fe_e_change"] is not None]
-        out.append({"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
-                    "contact_size_ratio": ratio, "contact_sizes": [node["mesh"]["contact_size"], fine["mesh"]["contact_size"]],
-                    "dofs": [node["dofs"], fine["dofs"]], "fine_wall_time_s": fine["wall_time_s"],
-                    "e_change_max": e_change, "force_change_max": force_change,
-                    "e_error_estimate": factor * e_change, "force_error_estimate": factor * force_change,
-                    "fe_e_change_max": max(fe_changes) if fe_changes else None,
-                    "richardson_factor": factor, "by_path": paths})
+        entry = {"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
+                 "contact_size_ratio": ratios[0], "contact_size_ratios": ratios, "contact_sizes": sizes,
+                 "dofs": [r["dofs"] for r in ladder], "wall_time_s": [r["wall_time_s"] for r in ladder],
+                 "fine_wall_time_s": fine["wall_time_s"],
+                 "e_change_max": e_change, "force_change_max": force_change,
+                 "fe_e_change_max": max(fe_changes) if fe_changes else None, "by_path": paths}
+        if len(ladder) == 3:
+            entry["e_change_fine_max"] = max(abs(p["e_change_fine"]) for p in paths)
+            entry["force_change_fine_max"] = max(p["force_change_fine"] for p in paths)
+            orders = {"e": observed_order(e_changes[0], e_changes[1], ratios[0], ratios[1]),
+                      "force": observed_order(np.concatenate(force_changes[0]), np.concatenate(force_changes[1]),
+                                              ratios[0], ratios[1])}
+            entry["order"] = orders
+            e_factor, force_factor = orders["e"]["richardson_factor"], orders["force"]["richardson_factor"]
+            entry["order_basis"] = "observed"
+        else:
+            e_factor = force_factor = richardson_factor(ratios[0], extrapolation.ORDER)
+            entry["order_basis"] = f"assumed {extrapolation.ORDER:g}"
+        entry.update({"richardson_factor": {"e": e_factor, "force": force_factor},
+                      "e_error_estimate": e_factor * e_change, "force_error_estimate": force_factor * force_change})
+        out.append(entry)
     if not out:
         return {}
-    return {"nodes": out, "worst": {key: max(n[key] for n in out) for key in
-                                    ("e_change_max", "force_change_max", "e_error_estimate", "force_error_estimate")},
-            "definition": "per refined node: the node's table and the table of the same node on a finer mesh, "
-                          "both driven along the finer FE's paths inside both windows: e_change = e_h / e_hf - 1, "
-                          "force_change = max |P_h - P_hf| / P_max; *_error_estimate: Richardson's r^p / (r^p - 1) "
-                          "times the change (r = h / h_f, p = calib.fit.extrapolation.ORDER); fe_e_change: the FE's "
-                          "own e at peaks both meshes unload from"}
+    worst = {key: max(n[key] for n in out) for key in
+             ("e_change_max", "force_change_max", "e_error_estimate", "force_error_estimate")}
+    for key in ("e_change_fine_max", "force_change_fine_max"):
+        if all(key in n for n in out):
+            worst[key] = max(n[key] for n in out)
+    return {"nodes": out, "worst": worst,
+            "definition": "per refined node (nodes: contact element h, h_f, h_ff): the tables of the node and of the "
+                          "same node on the finer meshes, all driven along the finest FE's paths inside every window: "
+                          "e_change = e_h / e_hf - 1, force_change = max |P_h - P_hf| / P_max (*_fine: h_f against "
+                          "h_ff); order: the observed order per quantity, p = ln(|d1| / |d2|) / ln r from the rms over "
+                          "the paths (e) or over every sample of every path (force, (P_h - P_hf) / P_max) of the "
+                          "two changes, bounded to ORDER_RANGE " + f"{list(ORDER_RANGE)}" + "; when the changes "
+                          "oscillate (d1 . d2 <= 0) or do not shrink, not observed and the bounding estimate taken "
+                          "(p = the range's lowest); with one finer mesh p = calib.fit.extrapolation.ORDER, assumed; "
+                          "*_error_estimate: Richardson's r^p / (r^p - 1) times the worst path's change "
+                          "(r = h / h_f); fe_e_change: the FE's own e at peaks the node and the first finer mesh "
+                          "unload from"}
 
 
 def accuracy(rows: list[dict]) -> dict:
@@ -277,15 +377,26 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
 
 def discretisation_statement(measured: dict) -> str:
     """The clause of the accuracy statement on the measured discretisation error."""
-    from calib.fit import extrapolation
-
     if not measured:
         return "; discretisation not measured"
     nodes = measured["nodes"]
     worst = measured["worst"]
     where = ", ".join(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}" for n in nodes)
     ratio = min(n["contact_size_ratio"] for n in nodes)
+    orders = []
+    for n in nodes:
+        if "order" not in n:
+            orders.append(f"{n['order_basis']}")
+            continue
+        parts = []
+        for q in ("e", "force"):
+            o = n["order"][q]
+            parts.append(f"{q} {o['order_raw']:.2g}" + (f" (bounded to {o['order']:.2g})" if o["status"] == "bounded" else "")
+                         if o["order_raw"] is not None and o["status"] in ("observed", "bounded")
+                         else f"{q} not observed ({o['status']}; bounding estimate at {o['order_used']:g})")
+        orders.append(", ".join(parts))
+    order_text = "; ".join(f"E/sigma_Y {n['E_over_sigma_y']:g}: {o}" for n, o in zip(nodes, orders))
     return (f"; discretisation (against a {ratio:.2g}x finer contact element at {where}): e "
-            f"{100 * worst['e_change_max']:.2g} %, force {100 * worst['force_change_max']:.2g} % of P_max (Richardson "
-            f"estimate of the table's error at order {extrapolation.ORDER:g}, not observed: e "
-            f"{100 * worst['e_error_estimate']:.2g} %, force {100 * worst['force_error_estimate']:.2g} %)")
+            f"{100 * worst['e_change_max']:.2g} %, force {100 * worst['force_change_max']:.2g} % of P_max; Richardson "
+            f"estimate of the table's error e {100 * worst['e_error_estimate']:.2g} %, force "
+            f"{100 * worst['force_error_estimate']:.2g} % at the order {order_text}")
