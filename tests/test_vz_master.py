@@ -255,8 +255,10 @@ def test_the_table_meets_the_targets_against_the_fe_on_a_finer_mesh_and_ships_th
     from calib.studies.wide_window import law_against_path
 
     refined = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
+    # the 1.4x finer a_max/35 mesh; on the 2x finer a_max/49 mesh the table misses e by 2.7 % at E/sigma_Y 100,
+    # which the check states (its discretisation entry: observed order and the bounding estimate)
     refined = [r for r in refined if r.get("kind") == "refine" and r.get("status") == "ok"
-               and r["name"].endswith("_amax35")]     # the 2x finer a_max/49 mesh: the order, in the .json
+               and r["name"].endswith("_amax35")]
     assert {r["E_over_sigma_y"] for r in refined} >= {100.0, 5000.0}
     for row in refined:
         material, R = material_of(row)
