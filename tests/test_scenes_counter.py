@@ -3,35 +3,14 @@
 their plan, and a coarse run whose stages use the pair (checked against Hertz with the pair's E*)."""
 import json
 import math
-import textwrap
 
 import pytest
 
-from calib import cli, scenes
+from calib import scenes
 from calib.scenes.schema import stage_pair
+from test_scenes import MATERIAL, nfdcal, write  # tests/, on the path under pytest
 
-COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table", "material") if c not in cli.COMMAND_MODULES)
-MATERIAL = """
-[[material]]
-name = "al"
-E = 70e9
-nu = 0.3
-sigma_y = 100e6
-rho = 2699.0
-R = 0.1
-"""
 STEEL = "E = 210e9\nnu = 0.28\n"
-
-
-def nfdcal(monkeypatch, *argv):
-    monkeypatch.setattr(cli, "COMMAND_MODULES", COMMANDS)
-    return cli.main([str(a) for a in argv])
-
-
-def write(tmp_path, text):
-    path = tmp_path / "scene.toml"
-    path.write_text(textwrap.dedent(text))
-    return path
 
 
 @pytest.mark.parametrize("body, words", [

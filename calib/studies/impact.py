@@ -335,12 +335,8 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, qua
     # the path's values from its stored points (cheap): a finished case gets the current recipe
     static = {row["v_in"]: {**row, **impact_quasistatic.thrown(row["path"], pair.mass_star, row["v_in"])}
               for row in quasi_static}
-    by_velocity: dict[float, dict] = {}
-    for row in rows:
-        by_velocity.setdefault(row["v_in"], {})[row["variant"]] = row
     records = []
-    for v_in in sorted(by_velocity):
-        runs = by_velocity[v_in]
+    for v_in, runs in runs_by_velocity(rows):
         fine = runs["fine"]
         kinetic = fine["kinetic_in"]
         record = {"v_in": v_in, "v_in_over_v_Y": v_in / pair.v_Y, "P_max_over_P_Y": fine["P_max"] / pair.P_Y,
@@ -368,6 +364,14 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, qua
             record["dynamic_over_quasi_static"] = impact_quasistatic.compared(record, static[v_in])
         records.append(record)
     return records
+
+
+def runs_by_velocity(rows) -> list[tuple[float, dict]]:
+    """The sweep's rows grouped per v_in [m/s], in increasing order: (v_in, {variant: row})."""
+    grouped: dict[float, dict] = {}
+    for row in rows:
+        grouped.setdefault(row["v_in"], {})[row["variant"]] = row
+    return sorted(grouped.items())
 
 
 def error_estimates(runs: dict, quantities) -> dict:

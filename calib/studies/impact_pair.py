@@ -184,12 +184,8 @@ def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
     started = time.perf_counter()
     rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
     pair = setup.pair
-    by_velocity: dict[float, dict] = {}
-    for row in rows:
-        by_velocity.setdefault(row["v_in"], {})[row["variant"]] = row
     records = []
-    for v_in in sorted(by_velocity):
-        runs = by_velocity[v_in]
+    for _, runs in impact.runs_by_velocity(rows):
         row = runs["fine"]
         record = {k: row[k] for k in ("v_in", "v1_in", "v2_in", "e", "v_sep", "P_max", "contact_time", "alpha_max",
                                       "contact_radius_max", "momentum_change", "kinetic_in", "plastic_work",
