@@ -283,7 +283,8 @@ def test_what_export_cannot_write_is_one_line(tmp_path, capsys):
     rigid.write_text(json.dumps(parameter_record(VZConstants(0.03, 0.012, WINDOW).params(
         ContactPair.sphere_flat(aluminium, 0.01)), 0.01, aluminium)))
     cases = [([sphere, "--wall", "zlo", "0"], "--wall, --wall-region out of range:"),
-             ([table], "is a vz-table law calibrated on a counter-body, which this command does not write"),
+             ([table], "is a vz-table law calibrated on a counter-body, and pair_style nfd/vz-table takes each "
+                       "like type's law as a file: give --like-params-out DIR"),
              ([rigid, "--counter-type", "2"], "--counter-type applies to a file calibrated on a counter-body"),
              ([elastic], "counter-body is elastic (counter_body.sigma_y null)"),
              ([sphere, "--counter-type", "1"], "--counter-type out of range: need an integer >= 1 other than --type 1"),

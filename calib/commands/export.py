@@ -4,6 +4,7 @@
     nfdcal export lammps --params P.json --type 2 --wall zlo 0.0
     nfdcal export lammps --params P.json --wall-region bowl
     nfdcal export lammps --params P.json --wall zlo 0.0 --wall-E 2.1e11 --wall-nu 0.3
+    nfdcal export lammps --params pair.json --like-params-out results/calibration/like   (a counter-body table)
 
 Prints, from a parameter file (``nfdcal calibrate``, ``nfdcal material --params-out``,
 ``nfdcal fit-data --params-out``), the lines that put its law into a LAMMPS input with the plugin
@@ -32,8 +33,9 @@ in the sphere; nfdmodel/lammps/README.md, Walls of their own material); without 
 a rigid flat.
 
 A file calibrated on a deformable counter-body (``nfdcal calibrate --counter-E ...``) gives the
-pair's constants, used in place of the substitution (nfdmodel/lammps/README.md, Mixing); the
-like-type lines take each material's constants from the master table (``nfdcal material``):
+pair's law, used in place of the substitution (nfdmodel/lammps/README.md, Mixing); the like-type
+lines take each material's law from the master tables. A vz file (two constants) writes them on
+the lines, from the master table (``nfdcal material``):
 
     pair_coeff T T E nu sigma_y Ca_hat Kc_hat window W         (the sphere, master table)
     pair_coeff T2 T2 E2 nu2 sigma_y2 Ca_hat Kc_hat window W    (a sphere counter-body, type T2 = T + 1)
@@ -41,9 +43,35 @@ like-type lines take each material's constants from the master table (``nfdcal m
     fix nfd_wall all nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat window W &
         wall_material E2 nu2 pair_constants Ca_hat Kc_hat window W                 (a flat counter-body)
 
+A vz-table file (what ``nfdcal calibrate --counter-E ...`` ships by default) names files, which
+the plugin reads: the pair file itself, and a file per like type that this command writes to
+``--like-params-out DIR`` (required then), ``DIR/like_type_T.json``:
+
+    nfdcal export lammps --params pair.json --like-params-out DIR [--counter-type T2]
+    pair_style nfd/vz-table
+    pair_coeff T T file /abs/DIR/like_type_T.json      (the sphere, vz master table)
+    pair_coeff T2 T2 file /abs/DIR/like_type_T2.json   (a sphere counter-body)
+    pair_coeff T T2 file /abs/pair.json                (the pair's calibrated tables)
+    fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/DIR/like_type_T.json &
+        wall_material E2 nu2 pair_constants file /abs/pair.json                    (a flat counter-body)
+
+Each like-type file is the one ``nfdcal material --v-max V --params-out`` writes for that material
+and radius (calib.commands.material.vz_table_law, the same code): the vz master table's law,
+a_p/a_Y and C_R against P/P_Y, declared on the whole window the table vouches for at that
+material, the material's own range. That law does not depend on V (V is only checked against
+the window), so no V is chosen here: the like-type law covers every impact the table covers. The
+windows are compared in P/P_Y, what the plugin counts per contact: a like-type law ending below
+the pair file's declared P_max/P_Y is named in one warning line (its contacts beyond are counted
+by the plugin at run time). The counter-body's file states the sphere's density (the pair file
+holds no other; the plugin takes each atom's mass from the input). An existing file is never
+replaced unless --overwrite is given, the input --params never; every target is checked before
+any is written.
+
 What the plugin cannot hold is refused in one line: an elastic sphere counter-body (its own
-contacts need a yield stress), a flat counter-body that yields before the sphere (the plugin's
-walls are elastic), a vz-table counter-body file (give the plugin the file: pair_coeff I J file PATH).
+contacts need a yield stress: the plugin's elastic law, nfd/hertz, is a pair style of its own, not
+a type of nfd/vz or nfd/vz-table), a flat counter-body that yields before the sphere (the plugin's
+walls are elastic), a vz-table counter-body file without --like-params-out, a like-type material
+outside the master table.
 
 The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
 Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
@@ -56,6 +84,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import warnings
 from pathlib import Path
 
 from calib.commands.common import add_summary_arguments, number, print_summary
@@ -72,6 +101,11 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--type", default="1", metavar="T", help="the LAMMPS atom type of the material (default 1)")
     parser.add_argument("--counter-type", default=None, metavar="T2",
                         help="the atom type of a sphere counter-body of a counter-body file (default T + 1)")
+    parser.add_argument("--like-params-out", default=None, metavar="DIR",
+                        help="the folder of the like-type law files of a vz-table counter-body file (like_type_T.json; "
+                             "an existing file is replaced only with --overwrite)")
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace existing like_type_T.json files in --like-params-out")
     parser.add_argument("--wall", nargs=2, default=None, metavar=("FACE", "COORD"),
                         help="also the rigid flat wall fix: FACE one of xlo xhi ylo yhi zlo zhi, COORD [m]")
     parser.add_argument("--wall-region", default=None, metavar="REGION-ID",
@@ -100,11 +134,11 @@ def exact(value: float) -> str:
     return "inf" if math.isinf(value) else repr(float(value))
 
 
-def quoted(path: str) -> str:
+def quoted(path: str, flag: str = "--params") -> str:
     """A path as one LAMMPS word: in double quotes when it holds white space or a quote-free '#'."""
     if any(c.isspace() for c in path) or "#" in path:
         if '"' in path:
-            raise ValueError(f"--params path out of range: a path with white space must not contain '\"', got {path}")
+            raise ValueError(f"{flag} path out of range: a path with white space must not contain '\"', got {path}")
         return f'"{path}"'
     return path
 
@@ -128,8 +162,10 @@ def run(ns) -> int:
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
     if counter is not None:
         return run_counter(ns, params, counter, int(atom_type), wall)
-    if ns.counter_type is not None:
-        raise ValueError(f"--counter-type applies to a file calibrated on a counter-body; {ns.params} states none")
+    for flag, given in (("--counter-type", ns.counter_type), ("--like-params-out", ns.like_params_out),
+                        ("--overwrite", ns.overwrite or None)):
+        if given is not None:
+            raise ValueError(f"{flag} applies to a file calibrated on a counter-body; {ns.params} states none")
     wall_args = wall_material(ns)
     record = _material_of(ns.params)      # E, nu, sigma_y of the sphere (the pair holds E* only)
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
@@ -167,29 +203,29 @@ def run(ns) -> int:
 
 
 def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
-    """The lines of a file calibrated on a counter-body (module doc): the like-type lines from the
-    master table, the pair's constants on pair_coeff T T2 (a sphere) or the wall fixes (a flat)."""
+    """The lines of a file calibrated on a counter-body (module doc): the like-type laws from the
+    master tables, the pair's law on pair_coeff T T2 (a sphere) or the wall fixes (a flat)."""
     from nfdmodel import Material, VZParams, yield_factor
 
-    if not isinstance(params, VZParams):
-        raise ValueError(f"--params out of range: {ns.params} is a vz-table law calibrated on a counter-body, which "
-                         f"this command does not write; give the plugin the file: pair_coeff I J file PATH")
+    law = "vz" if isinstance(params, VZParams) else "vz-table"
     if ns.wall_E is not None or ns.wall_nu is not None:
         raise ValueError(f"--wall-E, --wall-nu out of range: {ns.params} states the counter-body's material (the "
                          f"wall's); leave them out")
+    if law == "vz" and (ns.like_params_out is not None or ns.overwrite):
+        raise ValueError(f"--like-params-out, --overwrite apply to a vz-table file calibrated on a counter-body; "
+                         f"{ns.params} is a vz law, whose like-type constants go on the pair_coeff lines")
     record = _material_of(ns.params)
     sphere = Material(record["E"], record["nu"], record["sigma_y"], record["rho"])
     window = params.window.P_max_over_P_Y if params.window is not None else math.inf
-    pair_args = f"{exact(params.Ca_hat)} {exact(params.Kc_hat)} window {window_args(params.window)}"
     models = model_keywords(ns)
     tail = f" {models}" if models else ""
-    sphere_args = like_type_args(sphere, record["R"], "the sphere")
-    lines = [f"# nfdcal export lammps: {ns.params} (load the plugin first: plugin load $(nfdcal lammps path)); "
-             "like-type constants: the master table (nfdcal material), the pair's: the file",
-             "pair_style nfd/vz", f"pair_coeff {kind} {kind} {sphere_args}{tail}"]
-    summary = {"engine": "lammps", "params": str(ns.params), "law": "vz", "type": kind, "counter_body": counter,
-               "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat,
+    bodies = [(kind, sphere, record["R"], "the sphere")]      # each like type: (T, material, R [m], which)
+    summary = {"engine": "lammps", "params": str(ns.params), "law": law, "type": kind, "counter_body": counter,
                "window_P_max_over_P_Y": None if math.isinf(window) else window}
+    if law == "vz":
+        summary.update(Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
+    else:
+        summary.update(table_nodes=len(params.x))
     if models:
         summary.update(models=models)
     if counter["shape"] == "sphere":
@@ -198,16 +234,17 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
                              f"counter-body, not on a wall")
         if counter["sigma_y"] is None:
             raise ValueError(f"--params out of range: {ns.params}'s counter-body is elastic (counter_body.sigma_y "
-                             f"null), and pair_style nfd/vz needs its yield stress for its own contacts: calibrate "
+                             f"null), and pair_style nfd/{law} needs its yield stress for its own contacts: calibrate "
                              f"with --counter-sigma-y")
         other = number("--counter-type", ns.counter_type) if ns.counter_type is not None else kind + 1
         if other != int(other) or other < 1 or other == kind:
             raise ValueError(f"--counter-type out of range: need an integer >= 1 other than --type {kind}, got "
                              f"{ns.counter_type}")
         other = int(other)
-        body = Material(counter["E"], counter["nu"], counter["sigma_y"], record["rho"])
-        lines.append(f"pair_coeff {other} {other} {like_type_args(body, counter['R'], 'the counter-body')}{tail}")
-        lines.append(f"pair_coeff {min(kind, other)} {max(kind, other)} {pair_args}")
+        # the file holds no density of the counter-body: its like-type law states the sphere's (the
+        # plugin takes each atom's mass from the input, not from the file)
+        bodies.append((other, Material(counter["E"], counter["nu"], counter["sigma_y"], record["rho"]), counter["R"],
+                       "the counter-body"))
         summary.update(counter_type=other)
     else:
         if ns.counter_type is not None:
@@ -219,15 +256,80 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
                                                < yield_factor(sphere.nu) * sphere.sigma_y):
             raise ValueError(f"--params out of range: {ns.params}'s flat counter-body yields before the sphere (lower "
                              f"A_Y(nu) sigma_y); the plugin's walls are elastic, their contacts yield in the sphere")
-        wall_args = (f"{sphere_args} wall_material {exact(counter['E'])} {exact(counter['nu'])} pair_constants "
+    if law == "vz":
+        like = {T: like_type_args(body, R, which) for T, body, R, which in bodies}
+        pair_args = f"{exact(params.Ca_hat)} {exact(params.Kc_hat)} window {window_args(params.window)}"
+    else:
+        pair_args = f"file {quoted(str(Path(ns.params).resolve()))}"
+        like = like_type_files(ns, params, bodies, summary)
+    source = "the master table (nfdcal material)" if law == "vz" else "the vz master table (nfdcal material --v-max)"
+    lines = [f"# nfdcal export lammps: {ns.params} (load the plugin first: plugin load $(nfdcal lammps path)); "
+             f"like-type laws: {source}, the pair's: the file",
+             f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {like[kind]}{tail}"]
+    if counter["shape"] == "sphere":
+        other = summary["counter_type"]
+        lines.append(f"pair_coeff {other} {other} {like[other]}{tail}")
+        lines.append(f"pair_coeff {min(kind, other)} {max(kind, other)} {pair_args}")
+    else:
+        wall_args = (f"{like[kind]} wall_material {exact(counter['E'])} {exact(counter['nu'])} pair_constants "
                      f"{pair_args}{tail}")
         if wall is not None:
-            lines.append(f"fix nfd_wall all nfd/wall/vz {wall[0]} {exact(wall[1])} {wall_args}")
+            lines.append(f"fix nfd_wall all nfd/wall/{law} {wall[0]} {exact(wall[1])} {wall_args}")
         if ns.wall_region is not None:
-            lines.append(f"fix nfd_wall_region all nfd/wall/region/vz {ns.wall_region} {wall_args}")
+            lines.append(f"fix nfd_wall_region all nfd/wall/region/{law} {ns.wall_region} {wall_args}")
     summary.update(lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0
+
+
+def like_type_files(ns, params, bodies, summary: dict) -> dict:
+    """``file PATH`` of each like type's vz-table law (module doc), written to --like-params-out DIR
+    as like_type_T.json: every target checked before any is written, an existing file replaced only
+    with --overwrite, the input never. A like law whose window ends below the pair's declared top
+    (in P/P_Y, what the plugin counts) is named in one warning line."""
+    from calib.commands.material import vz_table_law, write_vz_table_law
+    from calib.output import writable_target
+    from nfdmodel import RangeWarning
+
+    if ns.like_params_out is None:
+        raise ValueError(f"--like-params-out out of range: {ns.params} is a vz-table law calibrated on a "
+                         f"counter-body, and pair_style nfd/vz-table takes each like type's law as a file: give "
+                         f"--like-params-out DIR, where to write them (like_type_T.json)")
+    folder = Path(ns.like_params_out)
+    if folder.exists() and not folder.is_dir():
+        raise ValueError(f"--like-params-out {folder} out of range: it is not a folder; give a folder (created "
+                         f"when missing) for the like-type files")
+    found, written = {}, []
+    for T, body, R, which in bodies:
+        try:
+            found[T] = vz_table_law(body, R)
+        except ValueError as exc:
+            raise ValueError(f"the like-type law of {which} (vz master table): {exc}") from None
+        target = folder / f"like_type_{T}.json"
+        try:
+            resolved = writable_target(target).resolve()
+        except OSError as exc:
+            raise ValueError(f"--like-params-out {folder}: {exc}") from None
+        if resolved == Path(ns.params).resolve():
+            raise ValueError(f"--like-params-out {folder} out of range: {target} is the input --params {ns.params}; "
+                             f"give another folder (an input file is never overwritten)")
+        if resolved.exists() and not ns.overwrite:
+            raise ValueError(f"--like-params-out {folder}: {target} exists: give --overwrite to replace it (an "
+                             f"existing file is never replaced unasked)")
+        written.append((target, f"file {quoted(str(target.resolve()), '--like-params-out')}"))
+    top = params.window.P_max_over_P_Y if params.window is not None else params.x[-1]   # the plugin's window
+    laws, args = [], {}
+    for (T, body, R, which), (target, args[T]) in zip(bodies, written):
+        write_vz_table_law(target, found[T], body, R)
+        like_window = found[T]["law"].window
+        laws.append({"type": T, "file": str(target.resolve()), "window": like_window.record(),
+                     "v_in_window": list(found[T]["v_in_window"])})
+        if like_window.P_max_over_P_Y < top:
+            warnings.warn(f"the like-type law of {which} (type {T}) ends at {like_window.P_max_over_P_Y:.4g} P_Y, "
+                          f"below the pair's window ({top:.4g} P_Y): its contacts beyond are counted by the plugin",
+                          RangeWarning, stacklevel=2)
+    summary.update(like_type_laws=laws)
+    return args
 
 
 def window_args(window) -> str:

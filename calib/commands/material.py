@@ -70,25 +70,49 @@ def run(ns) -> int:
     return 0
 
 
-def run_vz_table(ns, material, radius) -> int:
-    """``--v-max``: the vz-table law of the material from the vz master table (module doc)."""
-    from calib import output
-    from calib.commands.common import number
+def vz_table_law(material, radius: float, table_csv=None) -> dict:
+    """The vz-table law of ``material`` (sphere of ``radius`` [m]) from the vz master table (module
+    doc), what ``--v-max`` answers and writes: {"law": VZTableParams, "table": VZMasterTable,
+    "values": its tables' record, "v_in_window": (v_low, v_top) [m/s], the impacts of a sphere on a
+    rigid flat that reach the window's ends}. The law does not depend on v_max (v_max is checked
+    against v_top only)."""
     from calib.fit import impact_window
     from calib.fit.vz_master_table import VZMasterTable
+
+    table = VZMasterTable.load(table_csv)
+    law = table.law(material, radius)
+    window, P_Y = law.window, law.pair.P_Y
+    return {"law": law, "table": table, "values": table.tables(material.nu, material.E / material.sigma_y),
+            "v_in_window": (impact_window.reach_velocity(law, window.P_min_over_P_Y * P_Y),
+                            impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y))}
+
+
+def write_vz_table_law(path, found: dict, material, radius: float) -> None:
+    """The parameter file of a vz_table_law answer (nfdmodel.load_parameters reads it back)."""
+    from calib import output
+    from calib.report.parameter_file import write_parameter_file
+
+    table = found["table"]
+    write_parameter_file(path, found["law"], radius, material,
+                         {"shipped": "vz master table", "accuracy": table.accuracy, "table": str(table.path)},
+                         output.stamp(0.0), table_rel_error_estimate=found["values"]["rel_error_estimate"])
+
+
+def run_vz_table(ns, material, radius) -> int:
+    """``--v-max``: the vz-table law of the material from the vz master table (module doc)."""
+    from calib.commands.common import number
+    from calib.fit import impact_window
     from nfdmodel.validation import check_solid
 
     v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
     check_solid("v_in", v_max)
     if ns.table is not None:
         raise ValueError("--table is the two-constant master table; with --v-max give --vz-table")
-    table = VZMasterTable.load(ns.vz_table)
-    law = table.law(material, radius)
-    values = table.tables(material.nu, material.E / material.sigma_y)
+    found = vz_table_law(material, radius, ns.vz_table)
+    law, table, values = found["law"], found["table"], found["values"]
     pair = law.pair
     window = law.window
-    v_top = impact_window.reach_velocity(law, window.P_max_over_P_Y * pair.P_Y)
-    v_low = impact_window.reach_velocity(law, window.P_min_over_P_Y * pair.P_Y)
+    v_low, v_top = found["v_in_window"]
     if v_max > v_top * (1 + 1e-9):
         raise ValueError(f"v_max out of range: the vz master table's window for this material ends at "
                          f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {v_top:.4g} m/s ({v_top / pair.v_Y:.4g} v_Y)")
@@ -102,11 +126,7 @@ def run_vz_table(ns, material, radius) -> int:
                "units": {"P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_max": "m/s", "v_Y": "m/s"},
                "source": "vz master table interpolation", "table_file": str(table.path), "accuracy": table.accuracy}
     if ns.params_out:
-        from calib.report.parameter_file import write_parameter_file
-
-        write_parameter_file(ns.params_out, law, radius, material,
-                             {"shipped": "vz master table", "accuracy": table.accuracy, "table": str(table.path)},
-                             output.stamp(0.0), table_rel_error_estimate=values["rel_error_estimate"])
+        write_vz_table_law(ns.params_out, found, material, radius)
         summary["params_out"] = ns.params_out
     below = (f"; impacts below {v_low:.3g} m/s load under the lowest measured path (C_R there follows a_p)"
              if v_max > v_low else "")

