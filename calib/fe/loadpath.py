@@ -207,6 +207,22 @@ def contact_work(alpha: np.ndarray, force: np.ndarray) -> float:
     return float(np.sum(segment))
 
 
+PEAK_MATCH = 1e-6    # relative: the loading row of a peak holds the FE's force there, to the Newton tolerance
+
+
+def loading_count_to_peak(force: Sequence[float], peak: float) -> int:
+    """How many loading rows, in load order, belong to the path of ``peak`` [N]: up to and including
+    the row of the peak itself. The plan hits every peak as a force target, and Newton meets it to its
+    residual tolerance (relative 1e-8), so the FE's force there may lie a little above the peak: the
+    peak's row is the one nearest to it, not the last at or below it. ValueError when no row lies
+    within PEAK_MATCH of the peak (a history of another plan)."""
+    force = np.asarray(force, dtype=float)
+    nearest = int(np.argmin(np.abs(force - peak)))
+    if not abs(force[nearest] - peak) <= PEAK_MATCH * peak:
+        raise ValueError(f"no loading row at the peak {peak:g} N (nearest {force[nearest]:g} N)")
+    return nearest + 1
+
+
 def separation_approach(alpha: Sequence[float], force: Sequence[float]) -> float:
     """alpha where P returns to 0, from the last two unloading points, P^(2/3) linear in alpha."""
     (a1, a2), (p1, p2) = alpha[-2:], force[-2:]
@@ -272,7 +288,7 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
         state = solver.commit(result)
         say(f"unloading {name}: residual alpha = {alpha_res:.4g} m")
 
-        loading_part = [r for r in loading_rows if r["P"] <= peak * (1 + 1e-9)]
+        loading_part = loading_rows[:loading_count_to_peak([r["P"] for r in loading_rows], peak)]
         path_loading = [{**r, "path": name} for r in loading_part]
         a_load = np.array([0.0] + [r["alpha"] for r in loading_part])
         p_load = np.array([0.0] + [r["P"] for r in loading_part])

@@ -62,13 +62,13 @@ def fe_paths(row: dict) -> list[dict]:
     (the loading rows up to its peak, then its unloading), P_max [N], loading and unloading work [J]
     and e = sqrt(W_u / W_l), the works from the histories as calib.fe.loadpath takes them
     (contact_work), so a stored row is read with the FE's current quadrature."""
-    from calib.fe.loadpath import contact_work
+    from calib.fe.loadpath import contact_work, loading_count_to_peak
 
     P = np.asarray(row["loading"]["P"], dtype=float)
     alpha = np.asarray(row["loading"]["alpha"], dtype=float)
     out = []
     for path in row["paths"]:
-        up = P <= path["P_max"] * (1 + 1e-9)
+        up = np.arange(P.size) < loading_count_to_peak(P, path["P_max"])
         down_alpha = np.asarray(path["unloading"]["alpha"], dtype=float)
         down_P = np.maximum(np.asarray(path["unloading"]["P"], dtype=float), 0.0)
         loading_work = contact_work(np.r_[0.0, alpha[up]], np.r_[0.0, P[up]])
