@@ -49,7 +49,7 @@ class BlockMeshSpec(HemisphereMeshSpec):
     EXTENT_OVER_R = float(np.sqrt(2.0))   # the far corner (L, L) of the section, |z| up
 
     def cache_key(self) -> str:
-        return stable_key({"spec": self.__dict__, "generator": BLOCK_GENERATOR_VERSION, "body": "block"})
+        return stable_key({"spec": self.key_fields(), "generator": BLOCK_GENERATOR_VERSION, "body": "block"})
 
     def contains(self, r, z):
         """True where (r, |z|) [m] lies in the block section [0, L] x [0, L]."""

@@ -13,12 +13,15 @@ curved surface lie on the circle, so the initial gap of every surface node is ex
 
 Mesh size (a gmsh size callback, evaluated by gmsh wherever it needs a size):
 
-    h(r, z) = min(far_size, contact_size + growth * d(r, z))
+    h(r, z) = min(far_size, max(contact_size, grading * sqrt(r^2 + z^2)) + growth * d(r, z))
     d(r, z) = refined_depth * max(0, sqrt((r / refined_radius)^2 + (z / refined_depth)^2) - 1)
 
-i.e. uniformly ``contact_size`` inside the quarter ellipse of semi-axes refined_radius (along the
-surface, beyond the largest contact radius) and refined_depth (into the body, where the Hertz
-and plastic zones live), then growing linearly with slope ``growth`` up to ``far_size``.
+i.e. ``contact_size`` inside the quarter ellipse of semi-axes refined_radius (along the surface,
+beyond the largest contact radius) and refined_depth (into the body, where the Hertz and plastic
+zones live), then growing linearly with slope ``growth`` up to ``far_size``. With ``grading`` > 0
+the element grows with the distance from the pole, h = grading x distance beyond contact_size:
+a contact of any radius a >= contact_size / grading spans the same a / h = 1 / grading elements,
+so load paths log-spaced over decades of load are resolved alike (grading 0: uniform).
 
 The .msh file is cached under a hash of the spec (and of the generator version): a second
 request reuses it, a corrupt file is rebuilt.
@@ -65,6 +68,8 @@ class SectionMeshSpec:
     refined_depth   ... and this deep under the contact (Hertz / plastic zone, a few contact radii)
     far_size        largest element size (far field)
     growth          slope of the size growth outside the refined zone (dimensionless)
+    grading         h / distance from the pole where that exceeds contact_size (dimensionless,
+                    in [0, 1); 0: a uniform refined zone)
     """
 
     radius: float = 0.1
@@ -73,6 +78,7 @@ class SectionMeshSpec:
     refined_depth: float = 0.5e-3
     far_size: float = 1.0e-2
     growth: float = 0.2
+    grading: float = 0.0
 
     def __post_init__(self):
         for name in ("radius", "contact_size", "refined_radius", "refined_depth", "far_size",
@@ -87,6 +93,12 @@ class SectionMeshSpec:
                     and np.isfinite(value) and value > 0):
                 unit = "" if name == "growth" else " [m]"
                 raise ValueError(f"{name} must be a finite number > 0{unit}, got {value!r}")
+        grading = self.grading
+        if isinstance(grading, np.number):
+            grading = float(grading)
+            object.__setattr__(self, "grading", grading)
+        if not (isinstance(grading, (int, float)) and not isinstance(grading, bool) and 0.0 <= grading < 1.0):
+            raise ValueError(f"grading must be a number in [0, 1), got {grading!r}")
         R = self.radius
         if not self.refined_radius < R:
             raise ValueError(f"refined_radius must be in (0, radius={R}), got {self.refined_radius}")
@@ -108,12 +120,22 @@ class SectionMeshSpec:
         if not self.growth <= 1.0:
             raise ValueError(f"growth must be in (0, 1], got {self.growth}")
 
+    def key_fields(self) -> dict:
+        """The fields a cache key hashes: all of them, grading only when > 0 (so a uniform mesh's key
+        does not depend on the field, and cached meshes stay valid)."""
+        fields = asdict(self)
+        if not fields["grading"]:
+            del fields["grading"]
+        return fields
+
     def size_at(self, r, z):
         """Target element size h(r, z) [m] (module docstring)."""
         rho = np.sqrt((np.asarray(r) / self.refined_radius) ** 2
                       + (np.asarray(z) / self.refined_depth) ** 2)
         distance_outside = self.refined_depth * np.maximum(rho - 1.0, 0.0)
-        return np.minimum(self.far_size, self.contact_size + self.growth * distance_outside)
+        inner = (self.contact_size if not self.grading
+                 else np.maximum(self.contact_size, self.grading * np.hypot(np.asarray(r), np.asarray(z))))
+        return np.minimum(self.far_size, inner + self.growth * distance_outside)
 
 
 
@@ -123,7 +145,7 @@ class HemisphereMeshSpec(SectionMeshSpec):
 
     def cache_key(self) -> str:
         """The mesh cache's key: a hash of the spec (floats to 12 digits, meshes.keys)."""
-        return stable_key({"spec": asdict(self), "generator": GENERATOR_VERSION})
+        return stable_key({"spec": self.key_fields(), "generator": GENERATOR_VERSION})
 
     def describe(self) -> dict:
         """A JSON-able description (for result stamps)."""

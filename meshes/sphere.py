@@ -52,7 +52,7 @@ class SphereMeshSpec(SectionMeshSpec):
 
     def cache_key(self) -> str:
         """The mesh cache's key: a hash of the spec, the generator version and the domain."""
-        return stable_key({"spec": asdict(self), "generator": GENERATOR_VERSION, "domain": "sphere"})
+        return stable_key({"spec": self.key_fields(), "generator": GENERATOR_VERSION, "domain": "sphere"})
 
     def describe(self) -> dict:
         """A JSON-able description (for result stamps)."""

@@ -20,7 +20,8 @@ def coarse(cache):
 
 @pytest.mark.parametrize("field, value", [("radius", -1.0), ("contact_size", 0.0),
                                           ("refined_radius", 0.2), ("far_size", 1.0),
-                                          ("growth", 2.0), ("contact_size", float("nan"))])
+                                          ("growth", 2.0), ("contact_size", float("nan")),
+                                          ("grading", -0.1), ("grading", 1.0)])
 def test_spec_rejects_bad_values_naming_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
         HemisphereMeshSpec(**{field: value})
@@ -77,6 +78,34 @@ def test_contact_zone_is_uniformly_fine_and_far_field_coarse(coarse):
     assert abs(fine.sum() - COARSE.refined_radius / h) <= 1
     np.testing.assert_allclose(length[fine], h, rtol=0.02)
     assert 0.9 * COARSE.far_size < length.max() <= 1.05 * COARSE.far_size
+
+
+def test_a_graded_zone_spans_every_contact_radius_with_the_same_number_of_elements(cache):
+    """grading g: surface elements of size g r beyond contact_size / g (every contact radius a
+    spans a / h = 1 / g of them), uniformly contact_size inside."""
+    graded = HemisphereMeshSpec(radius=0.1, contact_size=5e-5, refined_radius=8e-3, refined_depth=3e-3,
+                                far_size=2e-2, growth=0.3, grading=0.1)
+    m = hemisphere_mesh(graded, cache_dir=cache).mesh
+    facets = hemisphere_mesh(graded, cache_dir=cache).boundaries["surface"]
+    ends = m.p[:, m.facets[:, facets]]
+    length = np.hypot(*(ends[:, 1] - ends[:, 0]))
+    r_mid = ends[0].mean(axis=0)
+    core = r_mid < 0.8 * graded.contact_size / graded.grading
+    np.testing.assert_allclose(length[core], graded.contact_size, rtol=0.05)
+    r0 = graded.contact_size / graded.grading          # where the grading takes over
+    for a in (1e-3, 2e-3, 4e-3):            # the surface elements within a: r0 / h + int_r0^a dr / (g r)
+        assert abs((r_mid < a).sum() - (1.0 + np.log(a / r0)) / graded.grading) <= 1.5
+    ring = (r_mid > 2e-3) & (r_mid < 6e-3)
+    np.testing.assert_allclose(length[ring] / r_mid[ring], graded.grading, rtol=0.12)
+
+
+def test_a_uniform_mesh_key_does_not_depend_on_the_grading_field():
+    from meshes.keys import stable_key
+    from meshes.hemisphere import GENERATOR_VERSION
+
+    fields = {k: v for k, v in COARSE.__dict__.items() if k != "grading"}
+    assert COARSE.cache_key() == stable_key({"spec": fields, "generator": GENERATOR_VERSION})
+    assert HemisphereMeshSpec(**{**COARSE.__dict__, "grading": 0.1}).cache_key() != COARSE.cache_key()
 
 
 def test_cache_reuses_rebuilds_corrupt_and_reports_missing(cache, coarse):
