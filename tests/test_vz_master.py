@@ -319,3 +319,35 @@ def test_an_order_outside_the_range_is_bounded_and_oscillation_gives_the_boundin
     assert flipped["order_used"] == ORDER_RANGE[0] and flipped["richardson_factor"] == pytest.approx(lowest)
     growing = observed_order(0.5 * d1, d1, 1.4)                  # the finer change is the larger
     assert growing["status"] == "not converging" and growing["richardson_factor"] == pytest.approx(lowest)
+
+
+def test_the_reference_ladder_refines_every_size_and_the_loading_steps_by_the_same_ratio():
+    """The [[refine]] levels form a systematic refinement (the condition for an observed order):
+    contact element, grading, growth and far-field size divided by r, loading steps multiplied by r,
+    the same unloading peaks; the graded mesh puts N elements across the lowest path's contact."""
+    from calib.fit import impact_window, recipe
+
+    scene = vz_master_build.load_scene("vz_master_grid")
+    for nu, ratio in {(c["nu"], c["E_over_sigma_y"]) for c in scene["refine"]}:
+        levels = sorted((c for c in scene["refine"] if (c["nu"], c["E_over_sigma_y"]) == (nu, ratio)),
+                        key=lambda c: c["refinement"])
+        assert len(levels) == 3
+        material = vz_master_build.task(scene, nu, ratio, "node")["material"]
+        pair = ContactPair.sphere_flat(material, scene["R"])
+        top = min(impact_window.fe_reach(pair) * (1 - vz_master_build.REACH_MARGIN), scene["top_over_P_Y"] * pair.P_Y)
+        specs = [impact_window.window_spec(material, scene["R"], top,
+                                           elements_per_contact_radius=c["elements_per_contact_radius"],
+                                           refinement=c["refinement"],
+                                           loading_steps_per_decade=c["loading_steps_per_decade"] * c["refinement"])
+                 for c in levels]
+        base = specs[0]
+        low = impact_window.LOWEST_PEAK_OVER_P_Y * pair.P_Y
+        assert base.plan.peaks[0] == pytest.approx(low)
+        assert recipe.estimated_contact_radius(pair, low) / base.mesh.contact_size == pytest.approx(
+            levels[0]["elements_per_contact_radius"])
+        for c, spec in zip(levels, specs):
+            r = c["refinement"]
+            assert spec.plan.peaks == base.plan.peaks
+            for field in ("contact_size", "grading", "growth", "far_size"):
+                assert getattr(spec.mesh, field) == pytest.approx(getattr(base.mesh, field) / r, rel=1e-12), field
+            assert math.log(spec.plan.loading_ratio) == pytest.approx(math.log(base.plan.loading_ratio) / r)

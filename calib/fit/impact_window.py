@@ -106,15 +106,25 @@ def window_peaks(low: float, top: float) -> tuple[float, ...]:
 
 
 def window_spec(material: Material, radius: float, top: float, *, loading_steps: int | None = None,
+                loading_steps_per_decade: float | None = None, elements_per_contact_radius: float | None = None,
                 **spec_options) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a window to ``top`` [N]: the recipe's mesh for it, unloading paths at
     :func:`window_peaks` from :func:`lowest_peak` up, the loading branch stepped geometrically
-    (LOADING_STEPS_PER_DECADE per decade, or ``loading_steps`` increments from the first load to
-    the top); ``spec_options``: the mesh and unloading options of calib.fit.recipe.calibration_spec."""
+    (LOADING_STEPS_PER_DECADE per decade, or ``loading_steps_per_decade``, or ``loading_steps``
+    increments from the first load to the top); ``spec_options``: the mesh and unloading options of
+    calib.fit.recipe.calibration_spec. ``elements_per_contact_radius`` N: the graded mesh on which
+    the contact at every load from LOWEST_PEAK_OVER_P_Y x P_Y up spans N elements
+    (recipe.mesh_for), so the window starts there."""
+    if elements_per_contact_radius is not None:
+        pair = ContactPair.sphere_flat(material, radius)
+        spec_options.update(elements_per_contact_radius=elements_per_contact_radius,
+                            graded_from=recipe.estimated_contact_radius(pair, min(LOWEST_PEAK_OVER_P_Y * pair.P_Y, top)))
     spec = recipe.calibration_spec(material, radius, peaks=(top,), loading_steps=1, **spec_options)
     plan = spec.plan
-    ratio = (10.0 ** (1.0 / LOADING_STEPS_PER_DECADE) if loading_steps is None
-             else (top / plan.first_load) ** (1.0 / loading_steps))
+    if loading_steps is not None:
+        ratio = (top / plan.first_load) ** (1.0 / loading_steps)
+    else:
+        ratio = 10.0 ** (1.0 / (loading_steps_per_decade or LOADING_STEPS_PER_DECADE))
     peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size), top)
     return dataclasses.replace(spec, plan=GeometricLoadPathPlan(
         peaks=peaks, loading_step=top, unloading_steps=plan.unloading_steps,

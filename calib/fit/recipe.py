@@ -21,6 +21,7 @@ plan whichever way it is asked for:
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from dataclasses import dataclass
 
@@ -30,6 +31,8 @@ from scipy.optimize import brentq
 from calib.fe.loadpath import LoadPathPlan
 from calib.fit.extrapolation import REFINEMENT
 from meshes.hemisphere import HemisphereMeshSpec, estimate_dofs
+
+BASE_GROWTH = HemisphereMeshSpec.growth     # the size growth outside the refined zone, before a refinement
 from nfdmodel import ContactPair, Material, limits, reference_case
 
 # E / sigma_Y a calibration accepts. Below 20 the yield contact itself is wide (a_Y/R =
@@ -245,7 +248,9 @@ def is_reference_sphere(E: float, nu: float, radius: float, sigma_y: float | Non
 
 def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str | None = None,
              contact_size: float | None = None,
-             contact_size_over_a_max: float | None = None) -> HemisphereMeshSpec:
+             contact_size_over_a_max: float | None = None,
+             graded_from: float | None = None, elements_per_contact_radius: float | None = None,
+             refinement: float = 1.0) -> HemisphereMeshSpec:
     """The hemisphere mesh [m] for a largest contact radius ``a_max`` [m] on a sphere of radius R.
 
     ``reference``: the reference sphere, which keeps the reference mesh family while a_max fits
@@ -253,7 +258,29 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
     ``contact_size_over_a_max`` (or the ``level``'s ratio) x a_max; the refined zone covers
     1.1 a_max along the surface and 0.35 a_max in depth (at least two elements, at most 0.9 R);
     the far field is graded to R / 10.
+
+    ``graded_from`` a_min [m] with ``elements_per_contact_radius`` N: a graded refined zone
+    (meshes.hemisphere, grading), h = a_min / N and grading 1 / N, so every contact radius from a_min
+    to a_max spans N elements (load paths over decades of load resolved alike). ``refinement`` r:
+    every size divided by r (h, grading, growth and the far field: a systematic refinement, Roache
+    1998, for an observed order of convergence).
     """
+    if not (math.isfinite(refinement) and refinement >= 1.0):
+        raise ValueError(f"refinement must be a finite number >= 1, got {refinement!r}")
+    if graded_from is not None:
+        if not (elements_per_contact_radius is not None and elements_per_contact_radius > 1.0
+                and 0.0 < graded_from <= a_max):
+            raise ValueError(f"a graded mesh needs elements_per_contact_radius > 1 and graded_from in (0, a_max = "
+                             f"{a_max:.4g} m], got {elements_per_contact_radius!r}, {graded_from!r}")
+        N = elements_per_contact_radius * refinement
+        h = graded_from / N
+        mesh = HemisphereMeshSpec(radius=radius, contact_size=h,
+                                  refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
+                                  refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
+                                  far_size=max(radius / 10 / refinement, h), growth=BASE_GROWTH / refinement,
+                                  grading=1.0 / N)
+        check_machine(mesh)
+        return mesh
     level = level or "default"
     if level not in MESH_LEVELS:
         raise ValueError(f"mesh level must be one of {', '.join(MESH_LEVELS)}, got {level!r}")
@@ -263,10 +290,12 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
     else:
         ratio = contact_size_over_a_max if contact_size_over_a_max is not None else MESH_LEVELS[level]
         h = contact_size if contact_size is not None else a_max * ratio
+        h = h / refinement
         mesh = HemisphereMeshSpec(radius=radius, contact_size=h,
                                   refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
                                   refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
-                                  far_size=max(radius / 10, h))
+                                  far_size=max(radius / 10 / refinement, h),
+                                  **({} if refinement == 1.0 else {"growth": BASE_GROWTH / refinement}))
     check_machine(mesh)                 # before meshing: a mesh beyond the machine's memory is refused
     return mesh
 
@@ -274,11 +303,13 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
 def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_over_yield=None,
                      level: str | None = None, contact_size: float | None = None,
                      contact_size_over_a_max: float | None = None, loading_steps: int | None = None,
-                     unloading_steps: int = UNLOADING_STEPS, counter=None) -> CalibrationSpec:
+                     unloading_steps: int = UNLOADING_STEPS, counter=None, graded_from: float | None = None,
+                     elements_per_contact_radius: float | None = None, refinement: float = 1.0) -> CalibrationSpec:
     """The CalibrationSpec of ``material`` on a sphere of radius R [m] (see the module docstring).
 
     peaks [N] or peaks_over_yield [-] (not both); loading_steps: force increments up to the
-    largest peak (default 16 up to the smallest); the mesh options as in ``mesh_for``. Raises
+    largest peak (default 16 up to the smallest); the mesh options (level, contact_size,
+    contact_size_over_a_max, graded_from, elements_per_contact_radius, refinement) as in ``mesh_for``. Raises
     ValueError naming the parameter when the material or the load cannot be calibrated.
     ``counter``: calib.fit.counter.CounterBody (None: the rigid flat); the load plan is then in units
     of the pair's P_Y and the mesh sized by the pair's contact radius.
@@ -296,7 +327,8 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
     check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair)   # before sizing a mesh
     a_max = estimated_contact_radius(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
-                    contact_size_over_a_max=contact_size_over_a_max)
+                    contact_size_over_a_max=contact_size_over_a_max, graded_from=graded_from,
+                    elements_per_contact_radius=elements_per_contact_radius, refinement=refinement)
     loading_step = (peaks[0] / LOADING_STEPS_TO_FIRST_PEAK if loading_steps is None
                     else peaks[-1] / loading_steps)
     first_load = min(REFERENCE_FIRST_LOAD if reference else 0.5 * pair.P_Y, peaks[0])

@@ -13,9 +13,11 @@ estimated relative error kept). The table stores f and g resampled on common loa
 (NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
 window are empty) and each node's window [x_low, x_top].
 
-Nodes of the scene's ``[[refine]]`` run again on a finer mesh (kind "refine", their own
-contact element a fraction of a_max): against them calib.fit.vz_master_check measures the table's
-discretisation error. The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
+Nodes of the scene's ``[[refine]]`` run again as a reference ladder (kind "refine"): graded
+meshes (calib.fit.recipe.mesh_for: N elements across every contact radius from
+impact_window.LOWEST_PEAK_OVER_P_Y x P_Y up) with ``loading_steps_per_decade``, refined
+systematically by each ``refinement`` r (sizes / r, loading steps x r): against them
+calib.fit.vz_master_check measures the table's discretisation error. The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
 between its nodes in material and in load (calib.fit.vz_master_check) and are the data of the
 fit-data benchmark (tests/benchmarks/fit_data_fe.py). Every node and check is one task of the one
 sweep runner (calib.sweep.runner, ``OUT/nodes/<key>.json``): a rerun resumes, and the FE data of each
@@ -98,7 +100,10 @@ def load_scene(name: str) -> dict:
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"])}
                         for c in raw.get("check", [])],
              "refine": [{"nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
-                         "contact_size_over_a_max": float(c["contact_size_over_a_max"])} for c in raw.get("refine", [])]}
+                         "elements_per_contact_radius": float(c.get("elements_per_contact_radius", 0.0)),
+                         "loading_steps_per_decade": float(c.get("loading_steps_per_decade", 0.0)),
+                         "refinement": float(r)}
+                        for c in raw.get("refine", []) for r in c.get("refinement", [1.0])]}
     for axis in ("nu", "E_over_sigma_y"):
         if len(scene[axis]) < 2:
             raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
@@ -106,27 +111,37 @@ def load_scene(name: str) -> dict:
         if refine["nu"] not in scene["nu"] or refine["E_over_sigma_y"] not in scene["E_over_sigma_y"]:
             raise ValueError(f"scene {path}: [[refine]] nu {refine['nu']:g}, E_over_sigma_y "
                              f"{refine['E_over_sigma_y']:g} is not a node of the grid")
-        if not 0.0 < refine["contact_size_over_a_max"] < (scene["contact_size_over_a_max"] or 1.0):
-            raise ValueError(f"scene {path}: [[refine]] contact_size_over_a_max must be in (0, the nodes' "
-                             f"{scene['contact_size_over_a_max']}), got {refine['contact_size_over_a_max']:g}")
+        if not refine["elements_per_contact_radius"] > impact_window.CONTACT_ELEMENTS_AT_LOWEST:
+            raise ValueError(f"scene {path}: [[refine]] elements_per_contact_radius must be > "
+                             f"{impact_window.CONTACT_ELEMENTS_AT_LOWEST:g}, got {refine['elements_per_contact_radius']:g}")
+        if not refine["loading_steps_per_decade"] >= 1.0:
+            raise ValueError(f"scene {path}: [[refine]] loading_steps_per_decade must be >= 1, got "
+                             f"{refine['loading_steps_per_decade']:g}")
+        if not 1.0 <= refine["refinement"] <= 4.0:
+            raise ValueError(f"scene {path}: [[refine]] refinement must be in [1, 4], got {refine['refinement']:g}")
     for key in ("meshes", "check_meshes"):
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
     return scene
 
 
-def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None,
-         contact_size_over_a_max: float | None = None) -> dict:
-    """One calibration at the FE's reach (kind "node", "check", or "refine": a node on the mesh of
-    ``contact_size_over_a_max``)."""
+def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None) -> dict:
+    """One calibration at the FE's reach (kind "node", "check", or "refine": the node on the graded
+    mesh of ``refine``, a [[refine]] entry: N elements across every contact radius, refined
+    systematically by r, sizes / r and loading steps x r)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
     node_like = kind in ("node", "refine")
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
-              "contact_size_over_a_max": contact_size_over_a_max or scene["contact_size_over_a_max"],
+              "contact_size_over_a_max": None if refine else scene["contact_size_over_a_max"],
               "top_over_P_Y": scene["top_over_P_Y"] if node_like else scene["check_top_over_P_Y"],
               "meshes": scene["meshes"] if node_like else scene["check_meshes"]}
-    name = name or f"nu{nu:g}_E{ratio:g}sy" + (f"_amax{1 / contact_size_over_a_max:.3g}" if kind == "refine" else "")
+    if refine:
+        fields.update({key: refine[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade",
+                                                    "refinement")})
+        name = name or (f"nu{nu:g}_E{ratio:g}sy_graded{refine['elements_per_contact_radius']:g}"
+                        f"_r{refine['refinement']:g}")
+    name = name or f"nu{nu:g}_E{ratio:g}sy"
     return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
 
 
@@ -135,8 +150,8 @@ def tasks_for(scene: dict) -> list[dict]:
     their FE, is the smallest: a partial run has whole E/sigma_Y columns), then the refined nodes."""
     nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
     checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"]) for c in scene["checks"]]
-    refined = [task(scene, c["nu"], c["E_over_sigma_y"], "refine", contact_size_over_a_max=c["contact_size_over_a_max"])
-               for c in scene["refine"]]
+    refined = sorted((task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"]),
+                     key=lambda t: t["refinement"])
     return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"]) + refined
 
 
@@ -148,8 +163,14 @@ def run_task(item: dict) -> dict:
     try:
         top = min(impact_window.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
                   item["top_over_P_Y"] * pair.P_Y)
-        mesh = ({"contact_size_over_a_max": item["contact_size_over_a_max"]} if item["contact_size_over_a_max"]
-                else {"level": item["level"]})
+        if item.get("refinement"):          # the graded, systematically refined ladder
+            mesh = {"elements_per_contact_radius": item["elements_per_contact_radius"],
+                    "refinement": item["refinement"],
+                    "loading_steps_per_decade": item["loading_steps_per_decade"] * item["refinement"]}
+        elif item["contact_size_over_a_max"]:
+            mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
+        else:
+            mesh = {"level": item["level"]}
         spec = impact_window.window_spec(material, R, top, **mesh)
         result = calibrate(spec, ship="table", meshes=item["meshes"], parallel=False)
         table = result.fit_table()
@@ -173,6 +194,8 @@ def run_task(item: dict) -> dict:
                                      "alpha": [r["alpha"] for r in p.rows if r["branch"] == "unloading"]}}
                       for p in paths.paths],
             "mesh": dataclasses.asdict(spec.mesh), "dofs": result.mesh_info["dofs"],
+            **({key: item[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade", "refinement")}
+               if item.get("refinement") else {}),
             "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit(), "fit_version": FIT_VERSION}
 
 

@@ -10,25 +10,28 @@ is driven along every FE load-unload path (calib.studies.wide_window.law_against
 
 A path counts as inside when its peak lies in the table's window at that material.
 
-The table's discretisation error is measured at the scene's refined nodes (kind "refine": a node
-run again on a finer mesh, contact element h_f against the nodes' h): the node's table and the
-finer mesh's, both driven along the finer FE's paths inside both windows, differ by
+The table's discretisation error is measured against a reference FE at the scene's refined nodes
+(kind "refine"): the node run again on graded meshes (meshes.hemisphere, grading: N elements across
+every contact radius from the lowest path up, where the nodes' uniform mesh sized on the largest
+contact puts a few under the lowest paths) with more loading steps, refined systematically, every
+element size divided by r and the loading steps multiplied by r (Roache 1998, Verification and
+Validation in Computational Science and Engineering, ch. 5). Every level's table and the node's are
+driven along the finest level's FE paths inside every window; between consecutive levels
 
-    e change     = e_h / e_hf - 1,    force change = max |P_h(alpha) - P_hf(alpha)| / P_max
+    e change     = e_k / e_k+1 - 1,    force change = max |P_k(alpha) - P_k+1(alpha)| / P_max
 
-and the node mesh's own error is estimated from that change by Richardson's r^p / (r^p - 1) with
-r = h / h_f (:func:`discretisation`). With a second finer mesh h_ff (a third mesh) the order is
-observed (:func:`observed_order`, Roache 1998, Verification and Validation in Computational Science
-and Engineering, ch. 5): from the change d1 (h -> h_f) and d2 (h_f -> h_ff) of one quantity at the same
-points (e: per path; force: (P - P') / P_max at every sample of every path), their rms |d1|, |d2| and,
-for r = h / h_f = h_f / h_ff,
+and with three levels the order is observed (:func:`observed_order`) from the change d1 (level 1 ->
+2) and d2 (2 -> 3) of one quantity at the same points (e: per path; force: (P - P') / P_max at every
+sample of every path), their rms |d1|, |d2| and, for r = r1 = r2,
 
     p = ln(|d1| / |d2|) / ln r     (Q_h = Q + C h^p; unequal ratios: the root of
                                     |d1| / |d2| = r2^p (r1^p - 1) / (r2^p - 1))
 
 bounded to [ORDER_RANGE]; when the changes oscillate (d1 . d2 <= 0) or do not shrink, the order is
-not observed and the estimate is the bounding one, Richardson's factor at the range's lowest order.
-With two meshes p = calib.fit.extrapolation.ORDER, assumed.
+not observed and the range's lowest is taken (the bounding estimate). The finest level's own error
+is Richardson's |d2| / (r^p - 1), and the node table's error against the converged FE is bounded by
+its difference from the finest level plus that (:func:`discretisation`). With two levels p =
+calib.fit.extrapolation.ORDER, assumed.
 
 What that error does to an inverse fit is measured directly: fit-data's vz-table model
 (calib.fit.measured.table_law) fits sigma_Y to each check material's noise-free FE data (drop
@@ -217,99 +220,106 @@ def _compare(coarse_law, fine_law, path: dict) -> tuple[float, np.ndarray]:
 
 
 def discretisation(rows: list[dict]) -> dict:
-    """The table's discretisation error at each refined node (module doc): per node the largest
-    e and force change between its table and the finer mesh's along the finest FE's paths, the
-    Richardson estimates of the node mesh's error (at the order observed from a third mesh when the
-    node has two finer ones, else at the assumed calib.fit.extrapolation.ORDER), each law's errors
-    against the finer FE, and the FE's own e change at peaks both meshes unload from; ``worst``: the
-    largest over the nodes. {} without refined nodes."""
+    """The table's discretisation error at each node with a reference ladder (module doc): the
+    refined rows of the node (graded meshes refined systematically by r, kind "refine") ordered by
+    refinement, every law driven along the finest FE's paths inside every window. Per node: the
+    changes between consecutive levels (e, force), their observed order (three levels; two: the
+    assumed calib.fit.extrapolation.ORDER), the finest level's own error d_last / (r^p - 1)
+    (Richardson), the node table's difference from the finest level, and the table's error
+    against the converged FE bounded by the sum of the two; the FE's own e at each peak on every
+    level; ``worst``: the largest over the nodes. {} without a ladder."""
     from calib.fit import extrapolation
     from calib.studies.wide_window import law_against_path
 
     nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
-    finer = {}
+    ladders = {}
     for r in rows:
-        if r.get("kind") == "refine" and r.get("status") == "ok" and (r["nu"], r["E_over_sigma_y"]) in nodes:
-            finer.setdefault((r["nu"], r["E_over_sigma_y"]), []).append(r)
+        if (r.get("kind") == "refine" and r.get("status") == "ok" and r.get("refinement")
+                and (r["nu"], r["E_over_sigma_y"]) in nodes):
+            ladders.setdefault((r["nu"], r["E_over_sigma_y"]), []).append(r)
     out = []
-    for key, refined in sorted(finer.items()):
+    for key, ladder in sorted(ladders.items()):
+        ladder = sorted(ladder, key=lambda r: r["refinement"])[-3:]
+        if len(ladder) < 2:
+            continue
         node = nodes[key]
-        ladder = [node] + sorted(refined, key=lambda r: -r["mesh"]["contact_size"])[:2]
         laws = [node_law(r) for r in ladder]
-        fine = ladder[1]
+        node_table = node_law(node)
         finest = ladder[-1]
-        low = max(law.window.P_min_over_P_Y for law in laws) * (1 - 1e-9)
-        top = min(law.window.P_max_over_P_Y for law in laws) * (1 + 1e-9)
-        node_e = {round(p["P_max"] / node["P_Y"], 6): p["e"] for p in fe_paths(node)}
-        fine_e = {round(p["P_max"] / fine["P_Y"], 6): p["e"] for p in fe_paths(fine)}
-        paths, e_changes, force_changes = [], [[], []], [[], []]
+        low = max(law.window.P_min_over_P_Y for law in laws + [node_table]) * (1 - 1e-9)
+        top = min(law.window.P_max_over_P_Y for law in laws + [node_table]) * (1 + 1e-9)
+        fe_e = [{round(p["P_max"] / r["P_Y"], 6): p["e"] for p in fe_paths(r)} for r in ladder]
+        ratios = [ladder[k + 1]["refinement"] / ladder[k]["refinement"] for k in range(len(ladder) - 1)]
+        paths, e_changes, force_changes = [], [[] for _ in ratios], [[] for _ in ratios]
+        node_e, node_force = [], []
         for path in fe_paths(finest):
             x = path["P_max"] / finest["P_Y"]
             if not low <= x <= top:
                 continue
-            changes = [_compare(laws[k], laws[k + 1], path) for k in range(len(laws) - 1)]
+            changes = [_compare(laws[k], laws[k + 1], path) for k in range(len(ratios))]
             for k, (de, dP) in enumerate(changes):
                 e_changes[k].append(de)
                 force_changes[k].append(dP)
-            fe_e = node_e.get(round(x, 6))
-            reference = fine_e.get(round(x, 6)) if finest is not fine else path["e"]
-            entry = {"P_max_over_P_Y": x, "e_change": changes[0][0],
-                     "force_change": float(np.abs(changes[0][1]).max()),
-                     "e_error_vs_fine_fe": law_against_path("vz-table", laws[0], path)["e_error"],
-                     "force_error_vs_fine_fe": law_against_path("vz-table", laws[0], path)["force_error"],
-                     "fine_e_error_vs_fine_fe": law_against_path("vz-table", laws[-1], path)["e_error"],
-                     "fe_e_change": None if fe_e is None or reference is None else fe_e / reference - 1.0}
-            if len(changes) > 1:
-                entry.update({"e_change_fine": changes[1][0], "force_change_fine": float(np.abs(changes[1][1]).max()),
-                              "fe_e_change_fine": None if reference is None else reference / path["e"] - 1.0})
-            paths.append(entry)
+            de_node, dP_node = _compare(node_table, laws[-1], path)
+            node_e.append(de_node)
+            node_force.append(dP_node)
+            against = law_against_path("vz-table", node_table, path)
+            paths.append({"P_max_over_P_Y": x, "fe_e": [levels.get(round(x, 6)) for levels in fe_e],
+                          "e_changes": [c[0] for c in changes],
+                          "force_changes": [float(np.abs(c[1]).max()) for c in changes],
+                          "table_e_change": de_node, "table_force_change": float(np.abs(dP_node).max()),
+                          "table_e_error_vs_finest_fe": against["e_error"],
+                          "table_force_error_vs_finest_fe": against["force_error"]})
         if not paths:
             continue
-        sizes = [r["mesh"]["contact_size"] for r in ladder]
-        ratios = [sizes[k] / sizes[k + 1] for k in range(len(sizes) - 1)]
-        e_change = max(abs(p["e_change"]) for p in paths)
-        force_change = max(p["force_change"] for p in paths)
-        fe_changes = [abs(p["fe_e_change"]) for p in paths if p["fe_e_change"] is not None]
-        entry = {"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
-                 "contact_size_ratio": ratios[0], "contact_size_ratios": ratios, "contact_sizes": sizes,
-                 "dofs": [r["dofs"] for r in ladder], "wall_time_s": [r["wall_time_s"] for r in ladder],
-                 "fine_wall_time_s": fine["wall_time_s"],
-                 "e_change_max": e_change, "force_change_max": force_change,
-                 "fe_e_change_max": max(fe_changes) if fe_changes else None, "by_path": paths}
-        if len(ladder) == 3:
-            entry["e_change_fine_max"] = max(abs(p["e_change_fine"]) for p in paths)
-            entry["force_change_fine_max"] = max(p["force_change_fine"] for p in paths)
+        if len(ratios) == 2:
             orders = {"e": observed_order(e_changes[0], e_changes[1], ratios[0], ratios[1]),
                       "force": observed_order(np.concatenate(force_changes[0]), np.concatenate(force_changes[1]),
                                               ratios[0], ratios[1])}
-            entry["order"] = orders
-            e_factor, force_factor = orders["e"]["richardson_factor"], orders["force"]["richardson_factor"]
-            entry["order_basis"] = "observed"
+            basis = "observed"
         else:
-            e_factor = force_factor = richardson_factor(ratios[0], extrapolation.ORDER)
-            entry["order_basis"] = f"assumed {extrapolation.ORDER:g}"
-        entry.update({"richardson_factor": {"e": e_factor, "force": force_factor},
-                      "e_error_estimate": e_factor * e_change, "force_error_estimate": force_factor * force_change})
-        out.append(entry)
+            assumed = {"order_used": extrapolation.ORDER, "status": "assumed"}
+            orders = {"e": dict(assumed), "force": dict(assumed)}
+            basis = f"assumed {extrapolation.ORDER:g}"
+        r_last = ratios[-1]
+        finest_factor = {q: 1.0 / (r_last ** orders[q]["order_used"] - 1.0) for q in ("e", "force")}
+        finest_e = [finest_factor["e"] * abs(d) for d in e_changes[-1]]
+        finest_force = [finest_factor["force"] * float(np.abs(d).max()) for d in force_changes[-1]]
+        for entry, fe, ff in zip(paths, finest_e, finest_force):
+            entry.update({"finest_e_error_estimate": fe, "finest_force_error_estimate": ff,
+                          "table_e_error_estimate": abs(entry["table_e_change"]) + fe,
+                          "table_force_error_estimate": entry["table_force_change"] + ff})
+        out.append({"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
+                    "refinements": [r["refinement"] for r in ladder], "ratios": ratios,
+                    "elements_per_contact_radius": [r["elements_per_contact_radius"] * r["refinement"] for r in ladder],
+                    "loading_steps_per_decade": [r["loading_steps_per_decade"] * r["refinement"] for r in ladder],
+                    "contact_sizes": [r["mesh"]["contact_size"] for r in ladder],
+                    "dofs": [r["dofs"] for r in ladder], "wall_time_s": [r["wall_time_s"] for r in ladder],
+                    "order": orders, "order_basis": basis,
+                    "e_change_max": [max(abs(d) for d in ch) for ch in e_changes],
+                    "force_change_max": [max(float(np.abs(d).max()) for d in ch) for ch in force_changes],
+                    "finest_e_error_estimate": max(finest_e), "finest_force_error_estimate": max(finest_force),
+                    "table_e_change_max": max(abs(d) for d in node_e),
+                    "table_force_change_max": max(float(np.abs(d).max()) for d in node_force),
+                    "e_error_estimate": max(p["table_e_error_estimate"] for p in paths),
+                    "force_error_estimate": max(p["table_force_error_estimate"] for p in paths),
+                    "by_path": paths})
     if not out:
         return {}
     worst = {key: max(n[key] for n in out) for key in
-             ("e_change_max", "force_change_max", "e_error_estimate", "force_error_estimate")}
-    for key in ("e_change_fine_max", "force_change_fine_max"):
-        if all(key in n for n in out):
-            worst[key] = max(n[key] for n in out)
+             ("table_e_change_max", "table_force_change_max", "finest_e_error_estimate",
+              "finest_force_error_estimate", "e_error_estimate", "force_error_estimate")}
     return {"nodes": out, "worst": worst,
-            "definition": "per refined node (nodes: contact element h, h_f, h_ff): the tables of the node and of the "
-                          "same node on the finer meshes, all driven along the finest FE's paths inside every window: "
-                          "e_change = e_h / e_hf - 1, force_change = max |P_h - P_hf| / P_max (*_fine: h_f against "
-                          "h_ff); order: the observed order per quantity, p = ln(|d1| / |d2|) / ln r from the rms over "
-                          "the paths (e) or over every sample of every path (force, (P_h - P_hf) / P_max) of the "
-                          "two changes, bounded to ORDER_RANGE " + f"{list(ORDER_RANGE)}" + "; when the changes "
-                          "oscillate (d1 . d2 <= 0) or do not shrink, not observed and the bounding estimate taken "
-                          "(p = the range's lowest); with one finer mesh p = calib.fit.extrapolation.ORDER, assumed; "
-                          "*_error_estimate: Richardson's r^p / (r^p - 1) times the worst path's change "
-                          "(r = h / h_f); fe_e_change: the FE's own e at peaks the node and the first finer mesh "
-                          "unload from"}
+            "definition": "per node with a reference ladder (graded meshes, N elements across every contact radius, "
+                          "sizes / r and loading steps x r): every level's table and the node's, driven along the "
+                          "finest FE's paths inside every window; e_changes[k] = e_k / e_k+1 - 1, force_changes[k] = "
+                          "max |P_k - P_k+1| / P_max between levels k and k + 1; order: observed from the rms of the "
+                          "two changes (e: over the paths; force: over every sample), p = ln(|d1| / |d2|) / ln r, "
+                          "bounded to ORDER_RANGE " + f"{list(ORDER_RANGE)}" + ", its lowest when the changes "
+                          "oscillate or do not shrink (two levels: calib.fit.extrapolation.ORDER, assumed); "
+                          "finest_*_error_estimate: Richardson's |d_last| / (r^p - 1), the finest level's own error; "
+                          "table_*_change: the node table against the finest level's; *_error_estimate: the node "
+                          "table's error against the converged FE, |table change| + the finest level's error"}
 
 
 def accuracy(rows: list[dict]) -> dict:
@@ -381,22 +391,25 @@ def discretisation_statement(measured: dict) -> str:
         return "; discretisation not measured"
     nodes = measured["nodes"]
     worst = measured["worst"]
-    where = ", ".join(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}" for n in nodes)
-    ratio = min(n["contact_size_ratio"] for n in nodes)
-    orders = []
+    parts = []
     for n in nodes:
-        if "order" not in n:
-            orders.append(f"{n['order_basis']}")
-            continue
-        parts = []
+        orders = []
         for q in ("e", "force"):
             o = n["order"][q]
-            parts.append(f"{q} {o['order_raw']:.2g}" + (f" (bounded to {o['order']:.2g})" if o["status"] == "bounded" else "")
-                         if o["order_raw"] is not None and o["status"] in ("observed", "bounded")
-                         else f"{q} not observed ({o['status']}; bounding estimate at {o['order_used']:g})")
-        orders.append(", ".join(parts))
-    order_text = "; ".join(f"E/sigma_Y {n['E_over_sigma_y']:g}: {o}" for n, o in zip(nodes, orders))
-    return (f"; discretisation (against a {ratio:.2g}x finer contact element at {where}): e "
-            f"{100 * worst['e_change_max']:.2g} %, force {100 * worst['force_change_max']:.2g} % of P_max; Richardson "
-            f"estimate of the table's error e {100 * worst['e_error_estimate']:.2g} %, force "
-            f"{100 * worst['force_error_estimate']:.2g} % at the order {order_text}")
+            if o["status"] == "assumed":
+                orders.append(f"{q} assumed {o['order_used']:g}")
+            elif o["status"] in ("observed", "bounded"):
+                orders.append(f"{q} {o['order_raw']:.2g}" + (f" (bounded to {o['order']:.2g})"
+                                                             if o["status"] == "bounded" else ""))
+            else:
+                orders.append(f"{q} not observed ({o['status']}; bounding estimate at {o['order_used']:g})")
+        parts.append(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}, orders " + ", ".join(orders))
+    first = nodes[0]
+    return (f"; discretisation, against the reference FE (graded meshes, {first['elements_per_contact_radius'][0]:g}"
+            f"-{first['elements_per_contact_radius'][-1]:.3g} elements across every contact radius, "
+            f"{first['loading_steps_per_decade'][0]:g}-{first['loading_steps_per_decade'][-1]:.3g} loading steps per "
+            f"decade; {'; '.join(parts)}): the table differs from its finest level by e "
+            f"{100 * worst['table_e_change_max']:.2g} %, force {100 * worst['table_force_change_max']:.2g} % of P_max; "
+            f"that level's own error (Richardson) e {100 * worst['finest_e_error_estimate']:.2g} %, force "
+            f"{100 * worst['finest_force_error_estimate']:.2g} %; the table against the converged FE within e "
+            f"{100 * worst['e_error_estimate']:.2g} %, force {100 * worst['force_error_estimate']:.2g} %")
