@@ -340,14 +340,13 @@ def test_the_reference_ladder_refines_every_size_and_the_loading_steps_by_the_sa
                                            refinement=c["refinement"],
                                            loading_steps_per_decade=c["loading_steps_per_decade"] * c["refinement"])
                  for c in levels]
-        base = specs[0]
+        base, r_base = specs[0], levels[0]["refinement"]
         low = impact_window.LOWEST_PEAK_OVER_P_Y * pair.P_Y
-        assert base.plan.peaks[0] == pytest.approx(low)
-        assert recipe.estimated_contact_radius(pair, low) / base.mesh.contact_size == pytest.approx(
-            levels[0]["elements_per_contact_radius"])
         for c, spec in zip(levels, specs):
-            r = c["refinement"]
-            assert spec.plan.peaks == base.plan.peaks
+            r = c["refinement"] / r_base
+            assert spec.plan.peaks == base.plan.peaks and spec.plan.peaks[0] == pytest.approx(low)
+            assert recipe.estimated_contact_radius(pair, low) / spec.mesh.contact_size == pytest.approx(
+                c["elements_per_contact_radius"] * c["refinement"])
             for field in ("contact_size", "grading", "growth", "far_size"):
                 assert getattr(spec.mesh, field) == pytest.approx(getattr(base.mesh, field) / r, rel=1e-12), field
             assert math.log(spec.plan.loading_ratio) == pytest.approx(math.log(base.plan.loading_ratio) / r)

@@ -262,11 +262,11 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
     ``graded_from`` a_min [m] with ``elements_per_contact_radius`` N: a graded refined zone
     (meshes.hemisphere, grading), h = a_min / N and grading 1 / N, so every contact radius from a_min
     to a_max spans N elements (load paths over decades of load resolved alike). ``refinement`` r:
-    every size divided by r (h, grading, growth and the far field: a systematic refinement, Roache
-    1998, for an observed order of convergence).
+    every size divided by r (h, grading, growth and the far field; r < 1 coarsens): a systematic
+    refinement, Roache 1998, for an observed order of convergence.
     """
-    if not (math.isfinite(refinement) and refinement >= 1.0):
-        raise ValueError(f"refinement must be a finite number >= 1, got {refinement!r}")
+    if not (math.isfinite(refinement) and refinement > 0.0):
+        raise ValueError(f"refinement must be a finite number > 0, got {refinement!r}")
     if graded_from is not None:
         if not (elements_per_contact_radius is not None and elements_per_contact_radius > 1.0
                 and 0.0 < graded_from <= a_max):

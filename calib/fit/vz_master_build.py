@@ -117,8 +117,8 @@ def load_scene(name: str) -> dict:
         if not refine["loading_steps_per_decade"] >= 1.0:
             raise ValueError(f"scene {path}: [[refine]] loading_steps_per_decade must be >= 1, got "
                              f"{refine['loading_steps_per_decade']:g}")
-        if not 1.0 <= refine["refinement"] <= 4.0:
-            raise ValueError(f"scene {path}: [[refine]] refinement must be in [1, 4], got {refine['refinement']:g}")
+        if not 0.5 <= refine["refinement"] <= 4.0:
+            raise ValueError(f"scene {path}: [[refine]] refinement must be in [0.5, 4], got {refine['refinement']:g}")
     for key in ("meshes", "check_meshes"):
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
