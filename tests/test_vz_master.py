@@ -247,20 +247,20 @@ def test_a_row_the_refit_cannot_bring_to_the_current_fit_runs_again(tmp_path):
     assert json.loads((tmp_path / "a.json").read_text(encoding="utf-8"))["fit"] == 2
 
 
-def test_the_table_meets_the_targets_against_the_fe_on_a_finer_mesh_and_ships_that_figure(table):
-    """The refined nodes (the same node's FE on a 1.4x finer contact element, an FE the table never
-    saw): the shipped table's law along their paths inside its window is within the issue's targets
-    (2 % in e, 5 % in force), and the table's .json states the discretisation measured there."""
+def test_the_table_meets_the_targets_against_the_reference_fe_and_ships_that_figure(table):
+    """The reference ladder's finest level (the node's FE on a graded mesh, 35 elements across every
+    contact radius, 45 loading steps per decade: an FE the table never saw): the shipped table's law
+    along its paths inside the table's window is within the targets (2 % in e, 5 % in force), and the
+    table's .json states the discretisation measured there, the table's error against the converged
+    FE (the finest level's Richardson error added) within the targets too."""
     from calib.fit.calibration import E_TARGET, FORCE_TARGET
     from calib.studies.wide_window import law_against_path
 
-    refined = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
-    # the 1.4x finer a_max/35 mesh; on the 2x finer a_max/49 mesh the table misses e by 2.7 % at E/sigma_Y 100,
-    # which the check states (its discretisation entry: observed order and the bounding estimate)
-    refined = [r for r in refined if r.get("kind") == "refine" and r.get("status") == "ok"
-               and r["name"].endswith("_amax35")]
-    assert {r["E_over_sigma_y"] for r in refined} >= {100.0, 5000.0}
-    for row in refined:
+    rows = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
+    ladder = [r for r in rows if r.get("kind") == "refine" and r.get("status") == "ok" and r.get("refinement")]
+    finest = [r for r in ladder if r["refinement"] == max(x["refinement"] for x in ladder)]
+    assert {r["E_over_sigma_y"] for r in finest} >= {100.0, 5000.0}
+    for row in finest:
         material, R = material_of(row)
         law = table.law(material, R)
         inside = [p for p in fe_paths(row) if law.window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / law.pair.P_Y
@@ -271,7 +271,10 @@ def test_the_table_meets_the_targets_against_the_fe_on_a_finer_mesh_and_ships_th
             assert abs(errors["e_error"]) <= E_TARGET and errors["force_error"] <= FORCE_TARGET, (row["name"], errors)
     measured = table.meta["discretisation"]
     assert {n["E_over_sigma_y"] for n in measured["nodes"]} >= {100.0, 5000.0}
-    assert 0 < measured["worst"]["e_change_max"] < E_TARGET and "discretisation" in table.accuracy
+    assert all(n["order_basis"] == "observed" for n in measured["nodes"])
+    worst = measured["worst"]
+    assert 0 < worst["table_e_change_max"] < worst["e_error_estimate"] <= E_TARGET, worst
+    assert 0 < worst["force_error_estimate"] <= FORCE_TARGET and "discretisation" in table.accuracy
 
 
 def _mesh_ladder(order, sizes, scale=0.3):
