@@ -309,6 +309,9 @@ def discretisation(rows: list[dict]) -> dict:
     worst = {key: max(n[key] for n in out) for key in
              ("table_e_change_max", "table_force_change_max", "finest_e_error_estimate",
               "finest_force_error_estimate", "e_error_estimate", "force_error_estimate")}
+    node, path = max(((n, p) for n in out for p in n["by_path"]), key=lambda np_: np_[1]["table_e_error_estimate"])
+    worst["e_error_estimate_at"] = {"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"],
+                                    "P_max_over_P_Y": path["P_max_over_P_Y"], "fe_e": path["fe_e"]}
     return {"nodes": out, "worst": worst,
             "definition": "per node with a reference ladder (graded meshes, N elements across every contact radius, "
                           "sizes / r and loading steps x r): every level's table and the node's, driven along the "
@@ -404,12 +407,14 @@ def discretisation_statement(measured: dict) -> str:
             else:
                 orders.append(f"{q} not observed ({o['status']}; bounding estimate at {o['order_used']:g})")
         parts.append(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}, orders " + ", ".join(orders))
-    first = nodes[0]
-    return (f"; discretisation, against the reference FE (graded meshes, {first['elements_per_contact_radius'][0]:g}"
+    first, at = nodes[0], worst["e_error_estimate_at"]
+    return (f"; discretisation, against the reference FE (graded meshes, {first['elements_per_contact_radius'][0]:.3g}"
             f"-{first['elements_per_contact_radius'][-1]:.3g} elements across every contact radius, "
-            f"{first['loading_steps_per_decade'][0]:g}-{first['loading_steps_per_decade'][-1]:.3g} loading steps per "
+            f"{first['loading_steps_per_decade'][0]:.3g}-{first['loading_steps_per_decade'][-1]:.3g} loading steps per "
             f"decade; {'; '.join(parts)}): the table differs from its finest level by e "
             f"{100 * worst['table_e_change_max']:.2g} %, force {100 * worst['table_force_change_max']:.2g} % of P_max; "
             f"that level's own error (Richardson) e {100 * worst['finest_e_error_estimate']:.2g} %, force "
             f"{100 * worst['finest_force_error_estimate']:.2g} %; the table against the converged FE within e "
-            f"{100 * worst['e_error_estimate']:.2g} %, force {100 * worst['force_error_estimate']:.2g} %")
+            f"{100 * worst['e_error_estimate']:.2g} %, force {100 * worst['force_error_estimate']:.2g} %, the e bound "
+            f"largest at E/sigma_Y {at['E_over_sigma_y']:g}, P_max {at['P_max_over_P_Y']:.4g} P_Y (the levels' FE e "
+            + ", ".join(f"{e:.4f}" for e in at["fe_e"] if e is not None) + ")")
