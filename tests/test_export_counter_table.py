@@ -220,3 +220,42 @@ def test_a_like_type_law_shorter_than_the_pairs_window_is_one_warning(tmp_path, 
     assert len(lines) == 2 and all(line.startswith("nfdcal export: warning: the like-type law of ") and
                                    " P_Y, below the pair's window (1000 P_Y)" in line for line in lines), lines
     assert "(type 1)" in lines[0] and "(type 2)" in lines[1] and out.splitlines()[-1].startswith("pair_coeff 1 2")
+
+
+def test_an_elastic_sphere_counter_body_takes_its_own_contacts_yield_stress_from_the_command(tmp_path, capsys):
+    """A file calibrated on an elastic steel sphere: --counter-sigma-y gives the yield stress of the
+    steel type's own contacts. The lines are those of the same pair with a plastic steel sphere of
+    that yield stress (whose LAMMPS run the test above checks), file for file; a value at which the
+    steel would yield first in the pair (the calibration assumed it elastic), a value for a file that
+    states one, or for a flat, is one line, exit 2, nothing written."""
+    plastic = table_counter_file(tmp_path, STEEL_SPHERE, "plastic.json")
+    elastic = table_counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": None}, "elastic.json")
+    flat = table_counter_file(tmp_path, STEEL_FLAT, "flat.json")
+    sigma = str(STEEL_SPHERE["sigma_y"])
+    one = export(capsys, "--params", plastic, "--like-params-out", tmp_path / "plastic")
+    two = export(capsys, "--params", elastic, "--like-params-out", tmp_path / "elastic", "--counter-sigma-y", sigma)
+    assert two["counter_sigma_y"] == STEEL_SPHERE["sigma_y"]
+    swap = {str((tmp_path / "elastic").resolve()): str((tmp_path / "plastic").resolve()),
+            str(elastic.resolve()): str(plastic.resolve())}
+    renamed = []
+    for line in two["lines"]:
+        for old, new in swap.items():
+            line = line.replace(old, new)
+        renamed.append(line)
+    assert renamed == one["lines"]
+    for name in ("like_type_1.json", "like_type_2.json"):
+        written, expected = (json.loads((tmp_path / kind / name).read_text()) for kind in ("elastic", "plastic"))
+        written.pop("stamp"), expected.pop("stamp")
+        assert written == expected
+
+    low = 0.5 * ALUMINIUM.sigma_y           # the steel would yield before the aluminium
+    cases = [([elastic, "--counter-sigma-y", low], "--counter-sigma-y out of range: need >= "),
+             ([plastic, "--counter-sigma-y", sigma], "--counter-sigma-y out of range: "),
+             ([flat, "--wall", "zlo", "0", "--counter-sigma-y", sigma], "--counter-sigma-y out of range: "),
+             ([elastic], "give --counter-sigma-y SIGMA_Y2")]
+    for args, message in cases:
+        target = tmp_path / "refused"
+        assert cli.main(["export", "lammps", "--params", *map(str, args), "--like-params-out", str(target)]) == 2
+        errors = capsys.readouterr().err.splitlines()
+        assert len(errors) == 1 and message in errors[0], errors
+        assert not target.exists()

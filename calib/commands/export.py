@@ -67,9 +67,13 @@ holds no other; the plugin takes each atom's mass from the input). An existing f
 replaced unless --overwrite is given, the input --params never; every target is checked before
 any is written.
 
-What the plugin cannot hold is refused in one line: an elastic sphere counter-body (its own
-contacts need a yield stress: the plugin's elastic law, nfd/hertz, is a pair style of its own, not
-a type of nfd/vz or nfd/vz-table), a flat counter-body that yields before the sphere (the plugin's
+An elastic sphere counter-body's own contacts need a yield stress (the plugin's elastic law,
+nfd/hertz, is a pair style of its own, not a type of nfd/vz or nfd/vz-table): --counter-sigma-y
+SIGMA_Y2 gives it, at least the value at which the counter-body would yield before the sphere in
+the pair (A_Y(nu) sigma_Y), since the pair was calibrated with it elastic.
+
+What the plugin cannot hold is refused in one line: an elastic sphere counter-body without
+--counter-sigma-y, a flat counter-body that yields before the sphere (the plugin's
 walls are elastic), a vz-table counter-body file without --like-params-out, a like-type material
 outside the master table.
 
@@ -104,6 +108,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--like-params-out", default=None, metavar="DIR",
                         help="the folder of the like-type law files of a vz-table counter-body file (like_type_T.json; "
                              "an existing file is replaced only with --overwrite)")
+    parser.add_argument("--counter-sigma-y", default=None, metavar="SIGMA_Y2",
+                        help="the yield stress [Pa] of the counter-body's own contacts (its like type), for a file "
+                             "calibrated on an elastic sphere counter-body")
     parser.add_argument("--overwrite", action="store_true",
                         help="replace existing like_type_T.json files in --like-params-out")
     parser.add_argument("--wall", nargs=2, default=None, metavar=("FACE", "COORD"),
@@ -163,6 +170,7 @@ def run(ns) -> int:
     if counter is not None:
         return run_counter(ns, params, counter, int(atom_type), wall)
     for flag, given in (("--counter-type", ns.counter_type), ("--like-params-out", ns.like_params_out),
+                        ("--counter-sigma-y", ns.counter_sigma_y),
                         ("--overwrite", ns.overwrite or None)):
         if given is not None:
             raise ValueError(f"{flag} applies to a file calibrated on a counter-body; {ns.params} states none")
@@ -232,10 +240,7 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
         if wall is not None or ns.wall_region is not None:
             raise ValueError(f"--wall, --wall-region out of range: {ns.params} calibrates the sphere on a sphere "
                              f"counter-body, not on a wall")
-        if counter["sigma_y"] is None:
-            raise ValueError(f"--params out of range: {ns.params}'s counter-body is elastic (counter_body.sigma_y "
-                             f"null), and pair_style nfd/{law} needs its yield stress for its own contacts: calibrate "
-                             f"with --counter-sigma-y")
+        counter_sigma_y = like_yield_stress(ns, counter, sphere, law)
         other = number("--counter-type", ns.counter_type) if ns.counter_type is not None else kind + 1
         if other != int(other) or other < 1 or other == kind:
             raise ValueError(f"--counter-type out of range: need an integer >= 1 other than --type {kind}, got "
@@ -243,12 +248,13 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
         other = int(other)
         # the file holds no density of the counter-body: its like-type law states the sphere's (the
         # plugin takes each atom's mass from the input, not from the file)
-        bodies.append((other, Material(counter["E"], counter["nu"], counter["sigma_y"], record["rho"]), counter["R"],
+        bodies.append((other, Material(counter["E"], counter["nu"], counter_sigma_y, record["rho"]), counter["R"],
                        "the counter-body"))
-        summary.update(counter_type=other)
+        summary.update(counter_type=other, counter_sigma_y=counter_sigma_y)
     else:
-        if ns.counter_type is not None:
-            raise ValueError(f"--counter-type out of range: {ns.params}'s counter-body is a flat (a wall fix)")
+        for flag, given in (("--counter-type", ns.counter_type), ("--counter-sigma-y", ns.counter_sigma_y)):
+            if given is not None:
+                raise ValueError(f"{flag} out of range: {ns.params}'s counter-body is a flat (a wall fix)")
         if wall is None and ns.wall_region is None:
             raise ValueError(f"--wall out of range: {ns.params} calibrates the sphere on a flat counter-body: give "
                              f"--wall FACE COORD or --wall-region REGION-ID (the wall fix of that material)")
@@ -280,6 +286,30 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
     summary.update(lines=lines[1:])
     print_summary(ns, summary, lines)
     return 0
+
+
+def like_yield_stress(ns, counter: dict, sphere, law: str) -> float:
+    """The yield stress [Pa] of a sphere counter-body's own contacts: the file's, or for an elastic
+    counter-body (the pair calibrated with it elastic) --counter-sigma-y, which must not make it
+    yield before the sphere in the pair (lower A_Y(nu) sigma_Y: the calibration assumed it elastic)."""
+    from nfdmodel import yield_factor
+
+    given = ns.counter_sigma_y
+    if counter["sigma_y"] is not None:
+        if given is not None:
+            raise ValueError(f"--counter-sigma-y out of range: {ns.params} states the counter-body's yield stress "
+                             f"({counter['sigma_y']:g} Pa); leave it out")
+        return counter["sigma_y"]
+    if given is None:
+        raise ValueError(f"--params out of range: {ns.params}'s counter-body is elastic (counter_body.sigma_y "
+                         f"null), and pair_style nfd/{law} needs its yield stress for its own contacts: give "
+                         f"--counter-sigma-y SIGMA_Y2 [Pa], or calibrate with --counter-sigma-y")
+    sigma = number("--counter-sigma-y", given)
+    lowest = yield_factor(sphere.nu) * sphere.sigma_y / yield_factor(counter["nu"])
+    if not sigma >= lowest:
+        raise ValueError(f"--counter-sigma-y out of range: need >= {lowest:.6g} Pa (A_Y(nu) sigma_Y at least the "
+                         f"sphere's: the pair was calibrated with the counter-body elastic), got {given}")
+    return sigma
 
 
 def like_type_files(ns, params, bodies, summary: dict) -> dict:
