@@ -24,7 +24,8 @@ from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
 
 LADDER_SIZES = (1.6e-4, 8e-5, 4e-5, 2e-5, 1e-5)  # contact element sizes [m]
-LADDER_VERSION = 2   # part of each rung's key: the wall times are results (2: element-array assembly)
+LADDER_VERSION = 3   # part of each rung's key: the wall times are results (2: element-array assembly; 3: e from
+                     # the works with Hertz's end segments, calib.fe.loadpath.contact_work)
 
 
 def ladder_rung(task: dict) -> dict:
