@@ -267,35 +267,30 @@ def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str
     """
     if not (math.isfinite(refinement) and refinement > 0.0):
         raise ValueError(f"refinement must be a finite number > 0, got {refinement!r}")
+    level = level or "default"
+    if level not in MESH_LEVELS:
+        raise ValueError(f"mesh level must be one of {', '.join(MESH_LEVELS)}, got {level!r}")
+    base = HemisphereMeshSpec()
+    grading = 0.0
     if graded_from is not None:
         if not (elements_per_contact_radius is not None and elements_per_contact_radius > 1.0
                 and 0.0 < graded_from <= a_max):
             raise ValueError(f"a graded mesh needs elements_per_contact_radius > 1 and graded_from in (0, a_max = "
                              f"{a_max:.4g} m], got {elements_per_contact_radius!r}, {graded_from!r}")
-        N = elements_per_contact_radius * refinement
-        h = graded_from / N
-        mesh = HemisphereMeshSpec(radius=radius, contact_size=h,
-                                  refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
-                                  refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
-                                  far_size=max(radius / 10 / refinement, h), growth=BASE_GROWTH / refinement,
-                                  grading=1.0 / N)
+        grading = 1.0 / (elements_per_contact_radius * refinement)
+        h = graded_from * grading
+    elif reference and contact_size_over_a_max is None and a_max <= base.refined_radius and refinement == 1.0:
+        mesh = HemisphereMeshSpec(contact_size=contact_size or REFERENCE_CONTACT_SIZES[level])
         check_machine(mesh)
         return mesh
-    level = level or "default"
-    if level not in MESH_LEVELS:
-        raise ValueError(f"mesh level must be one of {', '.join(MESH_LEVELS)}, got {level!r}")
-    base = HemisphereMeshSpec()
-    if reference and contact_size_over_a_max is None and a_max <= base.refined_radius:
-        mesh = HemisphereMeshSpec(contact_size=contact_size or REFERENCE_CONTACT_SIZES[level])
     else:
         ratio = contact_size_over_a_max if contact_size_over_a_max is not None else MESH_LEVELS[level]
-        h = contact_size if contact_size is not None else a_max * ratio
-        h = h / refinement
-        mesh = HemisphereMeshSpec(radius=radius, contact_size=h,
-                                  refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
-                                  refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
-                                  far_size=max(radius / 10 / refinement, h),
-                                  **({} if refinement == 1.0 else {"growth": BASE_GROWTH / refinement}))
+        h = (contact_size if contact_size is not None else a_max * ratio) / refinement
+    mesh = HemisphereMeshSpec(radius=radius, contact_size=h,
+                              refined_radius=min(max(1.1 * a_max, 2 * h), 0.9 * radius),
+                              refined_depth=min(max(0.35 * a_max, 2 * h), 0.9 * radius),
+                              far_size=max(radius / 10 / refinement, h), growth=BASE_GROWTH / refinement,
+                              grading=grading)
     check_machine(mesh)                 # before meshing: a mesh beyond the machine's memory is refused
     return mesh
 
