@@ -208,7 +208,7 @@ def test_what_export_cannot_write_of_a_table_file_is_one_line(tmp_path, capsys):
 
 
 def test_a_like_type_law_shorter_than_the_pairs_window_is_one_warning(tmp_path, capsys):
-    """A pair window to 1000 P_Y beyond the like-type laws' (the vz master table's, 400 P_Y here):
+    """A pair window to 1000 P_Y beyond the like-type laws' (the vz master table's, 250 P_Y here):
     the lines are written, with one warning line per like type naming both windows."""
     nodes = ((1.0, 10.0, 100.0, 1000.0), (0.0, 0.4, 2.0, 8.0), (1.0, 1.2, 1.8, 3.0))
     path = table_counter_file(tmp_path, STEEL_SPHERE, "wide.json", nodes, CalibrationWindow(1.0, 1000.0, None, "wide"))

@@ -5,6 +5,7 @@ stored in tests/data/vz_master_fe.json (the checks nu0.42_E700sy and nu0.22_E200
 vz_master_grid; not table nodes, never made by the law)."""
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -119,6 +120,44 @@ def test_fit_data_s_default_law_recovers_sigma_y_from_fe_drop_tests_and_names_it
     assert capsys.readouterr().out.splitlines()[0].startswith("law: vz-table")
 
 
+@pytest.mark.parametrize("index", [0, 1])
+def test_fit_data_recovers_sigma_y_from_fe_drop_tests_with_contact_times(table, fe_rows, index):
+    """e, P_max and the contact time of each FE loop thrown as a quasi-static impact (the FE's time,
+    not the law's): sigma_Y within the bound, the interval covers it, the contact time's measured
+    level judges the residual."""
+    from calib.fit.vz_master_check import fe_datasets
+
+    sets = fe_datasets(fe_rows[index], table)
+    d = sets["drops"]
+    data = Measurements(impacts=ImpactData("fe_drops.csv", d["v_in"], d["e"], d["P_max"], d["contact_time"],
+                                           np.arange(1, d["e"].size + 1)))
+    result = fit(data, sets["specimen"], table)
+    assert abs(result.sigma_y / sets["sigma_y"] - 1.0) < SIGMA_Y_BOUND
+    assert result.interval95[0] <= sets["sigma_y"] <= result.interval95[1]
+    assert result.uncertainty["kind"] == "drops e+P+t" and result.uncertainty["law_error"]["contact_time"] > 0
+    assert result.consistent and "not judged" not in result.verdict
+
+
+def test_a_group_whose_level_the_table_never_measured_is_not_judged(table, fe_rows):
+    """Contact times against a table that states no level for them, no noise stated: the verdict
+    names them as not judged (no ratio to a zero level) and judges the other groups."""
+    import dataclasses
+
+    from calib.fit.vz_master_check import fe_datasets
+
+    form = dict(table.meta["model_form"])
+    form["residual_rms"] = {k: v for k, v in form["residual_rms"].items() if "contact_time" not in k}
+    blind = dataclasses.replace(table, meta={**table.meta, "model_form": form})
+    sets = fe_datasets(fe_rows[0], table)
+    d = sets["drops"]
+    data = Measurements(impacts=ImpactData("fe_drops.csv", d["v_in"], d["e"], d["P_max"], d["contact_time"],
+                                           np.arange(1, d["e"].size + 1)))
+    result = fit(data, sets["specimen"], blind)
+    assert "contact_time" in result.verdict and "not judged" in result.verdict
+    assert not re.search(r"\de[+]\d", result.verdict)                   # no ratio to a zero level
+    assert result.consistent
+
+
 def test_a_residual_far_above_the_stated_noise_is_never_called_consistent(table, fe_rows):
     specimen, sigma_y, v_in, e, _ = drop_tests(fe_rows[0], table)
     skewed = np.minimum(e * np.linspace(0.8, 1.2, e.size), 1.0)      # a trend no yield stress explains
@@ -150,7 +189,7 @@ def test_material_v_max_gives_the_law_and_its_window(capsys):
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
       "--free"], "--law vz"),
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.1", "--R", "0.1", "--rho", "2700"], "--law vz"),
-    # these drops reach 569 P_Y, beyond the table's 400: the default refuses, naming both laws
+    # these drops reach 569 P_Y, beyond the table's 250: the default refuses, naming both laws
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700"],
      "--law vz-table fits them"),
 ])
@@ -170,7 +209,15 @@ def test_bad_input_is_one_line_and_exit_2(argv, text, tmp_path, capsys):
 def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path):
     scene = vz_master_build.load_scene("vz_master_grid")
     tasks = vz_master_build.tasks_for(scene)
-    assert len({t["key"] for t in tasks}) == len(tasks) == 16 + len(scene["checks"]) + len(scene["refine"]) >= 16 + 2
+    nodes = {t["key"]: t for t in tasks if t["kind"] == "node"}
+    # a ladder level that is a node's own graded mesh and loading runs once, as the node
+    shared = [c for c in scene["refine"] if vz_master_build.task(scene, c["nu"], c["E_over_sigma_y"], "refine",
+                                                                 refine=c)["key"] in nodes]
+    assert {(c["nu"], c["E_over_sigma_y"]) for c in shared} == {(c["nu"], c["E_over_sigma_y"]) for c in scene["refine"]}
+    assert all(c["refinement"] == scene["graded"]["refinement"] for c in shared)
+    assert len({t["key"] for t in tasks}) == len(tasks) == (16 + len(scene["checks"]) + len(scene["refine"])
+                                                             - len(shared))
+    assert all(t["refinement"] == scene["graded"]["refinement"] for t in tasks if t["kind"] != "refine")
     grid = [t for t in tasks if t["kind"] != "refine"]
     assert [t["E_over_sigma_y"] for t in grid] == sorted(t["E_over_sigma_y"] for t in grid)
     assert {(t["nu"], t["E_over_sigma_y"]) for t in tasks if t["kind"] == "refine"} <= {
@@ -289,7 +336,7 @@ def _mesh_ladder(order, sizes, scale=0.3):
 
 @pytest.mark.parametrize("order", [0.7, 1.0, 2.0, 3.3])
 def test_the_observed_order_is_the_order_of_a_known_error_law(order):
-    """Three meshes of ratio 1.4 (the scene's a_max/25, /35, /49) on Q_h = Q + C h^p: p comes back, and
+    """Three meshes of ratio 1.4 (the reference ladder's 17.9, 25, 35 elements) on Q_h = Q + C h^p: p comes back, and
     Richardson's estimate at it is the coarse mesh's exact error."""
     from calib.fit.vz_master_check import observed_order
 

@@ -34,6 +34,7 @@ distinct ones interpolated (calib.fit.measured.specimen), so 100k rows fit in se
 """
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -306,8 +307,11 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
         raise ValueError(f"{exc}; {OUTSIDE_ADVICE}") from None
     law = result.law
     window = law.window
-    outside = (result.data_window[1] > window.P_max_over_P_Y * (1 + 1e-9)
-               or result.data_window[0] < window.P_min_over_P_Y * (1 - 1e-9))
+    # The data's loads P/P_Y are known only as well as P_Y ~ sigma_Y^3: a test at the window's edge
+    # lies inside it somewhere in sigma_Y's 95 % interval.
+    edge = 3.0 * max(math.log(result.interval95[1] / result.sigma_y), math.log(result.sigma_y / result.interval95[0]))
+    outside = (result.data_window[1] > window.P_max_over_P_Y * math.exp(edge) * (1 + 1e-9)
+               or result.data_window[0] < window.P_min_over_P_Y * math.exp(-edge) * (1 - 1e-9))
     if default and outside:
         raise ValueError(f"{', '.join(data.files)}: the data's loads P/P_Y {result.data_window[0]:.3g}.."
                          f"{result.data_window[1]:.4g} reach outside the vz master table's window "

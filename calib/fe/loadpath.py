@@ -282,10 +282,17 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
         result = solver.solve_displacement(state, alpha_res)
         if not result.converged:  # only then: a converging separation step stays bit-identical
             result = solver.rescue_step(state, "displacement", alpha_res)
-        if not result.converged:
-            raise StepNotConverged(f"separation step of path {name} at alpha = {alpha_res:g}: {result.message}")
-        record_unloading(result, state)
-        state = solver.commit(result)
+        if result.converged:
+            record_unloading(result, state)
+            state = solver.commit(result)
+        else:
+            # One step from the last unloading load to separation can cycle in Newton (a reverse
+            # yield that comes and goes, seen at 250 P_Y, E/sigma_Y 5000): cut it, every piece a row.
+            try:
+                state = advance(solver, state, "displacement", alpha_res, plan.min_step_fraction, record_unloading)
+            except StepNotConverged as exc:
+                raise StepNotConverged(f"separation step of path {name} at alpha = {alpha_res:g}: "
+                                       f"{result.message}; cut: {exc}") from None
         say(f"unloading {name}: residual alpha = {alpha_res:.4g} m")
 
         loading_part = loading_rows[:loading_count_to_peak([r["P"] for r in loading_rows], peak)]

@@ -26,7 +26,7 @@ load below which its C_R was not measured. The between-node error of the shipped
 paths that did not build it is measured by calib.studies.between_nodes
 (results/calibration/between_nodes.*).
 
-The FE bounds the window: P <= 1000 P_Y and contact radius <= 0.3 R (calib.fit.recipe). An
+The FE bounds the window: P <= 1000 P_Y and contact radius <= 0.2 R (calib.fit.recipe). An
 impact beyond that is refused before any meshing, naming the largest v_in this FE can vouch for
 (the velocity whose impact reaches that load with the estimating constants).
 """

@@ -41,8 +41,8 @@ from nfdmodel import ContactPair, Material, limits, reference_case
 # below 1e-5 R wide and the mesh grading has not been tested.
 E_OVER_SIGMA_Y_RANGE = (20.0, 1.0e4)
 # The largest contact radius a calibration may reach, over R: beyond it the hemisphere is no
-# longer a small-strain, a << R contact problem (Hertz needs a << R; at 0.3 R the contact
-# edge has turned by 17 degrees).
+# longer a small-strain, a << R contact problem (Hertz needs a << R; at 0.2 R the contact
+# edge has turned by 12 degrees; beyond it the FE's contact stops converging, nfd_limits.h).
 CONTACT_RADIUS_LIMIT = limits.FE_MAX_CONTACT_RADIUS_OVER_R     # nfd_limits.h
 # The largest load a calibration runs to, over P_Y (DEM users need up to ~1000). Measured
 # (results/stability/fe_stability.csv): the force-driven FE loads and unloads to 1000 P_Y at

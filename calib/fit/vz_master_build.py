@@ -6,9 +6,11 @@ rigid flat (small strain, peaks at multiples of P_Y) they depend only on nu and 
 (nu, E/sigma_Y) of the built-in scene ``vz_master_grid`` (calib/scenes/builtin/sweeps/vz_master_grid.toml)
 is one calibration of ``nfdcal calibrate --v-max`` to the top of the scene's window, at most the
 FE's reach (calib.fit.impact_window: unloading paths log-spaced from the lowest load its mesh
-resolves to min(top, 1000 P_Y, a <= 0.3 R), loading stepped geometrically), on the scene's mesh
-(contact element a fraction of the largest contact radius) and, with ``meshes = 2``, on the mesh
-of contact element 2h (calib.fit.extrapolation: node values Richardson-extrapolated, their
+resolves to min(top, 1000 P_Y, a <= 0.2 R), loading stepped geometrically), on the scene's graded mesh
+(``elements_per_contact_radius`` N and ``loading_steps_per_decade`` at level ``refinement``, as a
+[[refine]] entry below; or, with ``contact_size_over_a_max``, a uniform contact element that
+fraction of the largest contact radius) and, with ``meshes = 2``, on the mesh of contact element 2h
+(calib.fit.extrapolation: node values Richardson-extrapolated, their
 estimated relative error kept). The table stores f and g resampled on common loads x_k
 (NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
 window are empty) and each node's window [x_low, x_top].
@@ -94,6 +96,10 @@ def load_scene(name: str) -> dict:
              "R": float(grid.get("R", 0.1)), "level": str(grid.get("level", "default")),
              "contact_size_over_a_max": (float(grid["contact_size_over_a_max"]) if "contact_size_over_a_max" in grid
                                          else None),
+             "graded": ({"elements_per_contact_radius": float(grid["elements_per_contact_radius"]),
+                         "loading_steps_per_decade": float(grid["loading_steps_per_decade"]),
+                         "refinement": float(grid.get("refinement", 1.0))}
+                        if "elements_per_contact_radius" in grid else None),
              "top_over_P_Y": float(grid.get("top_over_P_Y", X_LIMIT)),
              "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
@@ -107,8 +113,9 @@ def load_scene(name: str) -> dict:
     for axis in ("nu", "E_over_sigma_y"):
         if len(scene[axis]) < 2:
             raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
-    for refine in scene["refine"]:
-        if refine["nu"] not in scene["nu"] or refine["E_over_sigma_y"] not in scene["E_over_sigma_y"]:
+    for refine in scene["refine"] + ([scene["graded"]] if scene["graded"] else []):
+        if "nu" in refine and (refine["nu"] not in scene["nu"]
+                               or refine["E_over_sigma_y"] not in scene["E_over_sigma_y"]):
             raise ValueError(f"scene {path}: [[refine]] nu {refine['nu']:g}, E_over_sigma_y "
                              f"{refine['E_over_sigma_y']:g} is not a node of the grid")
         if not refine["elements_per_contact_radius"] > impact_window.CONTACT_ELEMENTS_AT_LOWEST:
@@ -128,9 +135,16 @@ def load_scene(name: str) -> dict:
 def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None) -> dict:
     """One calibration at the FE's reach (kind "node", "check", or "refine": the node on the graded
     mesh of ``refine``, a [[refine]] entry: N elements across every contact radius, refined
-    systematically by r, sizes / r and loading steps x r)."""
+    systematically by r, sizes / r and loading steps x r). Nodes and checks take the grid's graded
+    mesh (its N, steps and r) unless the scene sets contact_size_over_a_max (a uniform mesh); a
+    node is then the same task as the refined node of its level (the same key)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
     node_like = kind in ("node", "refine")
+    if kind == "refine":
+        name = name or (f"nu{nu:g}_E{ratio:g}sy_graded{refine['elements_per_contact_radius']:g}"
+                        f"_r{refine['refinement']:g}")
+    elif not scene["contact_size_over_a_max"]:
+        refine = scene.get("graded")
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
               "contact_size_over_a_max": None if refine else scene["contact_size_over_a_max"],
@@ -139,20 +153,22 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     if refine:
         fields.update({key: refine[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade",
                                                     "refinement")})
-        name = name or (f"nu{nu:g}_E{ratio:g}sy_graded{refine['elements_per_contact_radius']:g}"
-                        f"_r{refine['refinement']:g}")
     name = name or f"nu{nu:g}_E{ratio:g}sy"
     return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
 
 
 def tasks_for(scene: dict) -> list[dict]:
-    """The grid's nodes and the off-grid checks, the softer materials first (their reach, and so
-    their FE, is the smallest: a partial run has whole E/sigma_Y columns), then the refined nodes."""
+    """The refined nodes, the finest (longest) first so that two workers end together, then the
+    grid's nodes and the off-grid checks, the softer materials first (their reach, and so their FE,
+    is the smallest: a partial run has whole E/sigma_Y columns). A refined node that is a node's
+    own task (the same key) runs once, as the node."""
     nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
     checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"]) for c in scene["checks"]]
-    refined = sorted((task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"]),
-                     key=lambda t: t["refinement"])
-    return sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"]) + refined
+    node_keys = {t["key"] for t in nodes}
+    ladder = (task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"])
+    refined = sorted((t for t in ladder if t["key"] not in node_keys),
+                     key=lambda t: (-t["refinement"], -t["E_over_sigma_y"]))
+    return refined + sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
 
 
 def run_task(item: dict) -> dict:
@@ -307,7 +323,11 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                          f"nodes are calibrated; run the scene to the end first")
     table_rows = master_rows(rows)
     stamp = output.stamp(sum(r["wall_time_s"] for r in nodes) if wall_time_s is None else wall_time_s,
-                         mesh={"level": scene["level"], "meshes": scene["meshes"]}, scene=scene["name"],
+                         mesh=({"graded": scene["graded"], "meshes": scene["meshes"]}
+                               if scene.get("graded") and not scene["contact_size_over_a_max"] else
+                               {"contact_size_over_a_max": scene["contact_size_over_a_max"], "meshes": scene["meshes"]}
+                               if scene["contact_size_over_a_max"] else
+                               {"level": scene["level"], "meshes": scene["meshes"]}), scene=scene["name"],
                          node_commits=sorted({r["git_commit"] for r in nodes}),
                          fit_commits=sorted({r.get("fit_commit", r["git_commit"]) for r in nodes}))
     meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],

@@ -36,7 +36,9 @@ calib.fit.extrapolation.ORDER, assumed.
 What that error does to an inverse fit is measured directly: fit-data's vz-table model
 (calib.fit.measured.table_law) fits sigma_Y to each check material's noise-free FE data (drop
 tests from the paths inside the window, v_in = sqrt(2 W_l / m*), e = sqrt(W_u / W_l), P_max the FE
-peak; the force-approach curve of the highest such path), and the rms of ln(sigma_fit / sigma_true)
+peak, the contact time of the FE loop thrown as a quasi-static impact of the mass m*
+(calib.studies.impact_quasistatic; within 0.7 % of the dynamic FE's); the force-approach curve of
+the highest such path), and the rms of ln(sigma_fit / sigma_true)
 over the materials, per kind of data, is the model-form standard uncertainty fit-data adds to
 its statistical one (the table's .json, ``model_form.sigma_y``).
 """
@@ -51,7 +53,7 @@ from calib.fit.measured.specimen import Specimen
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, Material
 
-DATA_KINDS = ("drops e", "drops e+P", "force")
+DATA_KINDS = ("drops e", "drops e+P", "drops e+P+t", "force")   # t: the contact time
 ORDER_RANGE = (0.5, 4.0)          # the orders an observed one is bounded to (first order: contact edge;
                                   # fourth: beyond the quadratic elements' smooth-solution rate)
 
@@ -126,22 +128,38 @@ def fe_datasets(row: dict, table: VZMasterTable) -> dict:
               <= window.P_max_over_P_Y * (1 + 1e-9)]
     if not inside:
         raise ValueError(f"{row['name']}: no FE path inside the table's window {window.describe()}")
-    drops = {"v_in": np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside]),
-             "e": np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside]),
-             "P_max": np.array([p["P_max"] for p in inside])}
+    v_in = np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside])
+    drops = {"v_in": v_in, "e": np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside]),
+             "P_max": np.array([p["P_max"] for p in inside]),
+             "contact_time": np.array([contact_time(p, pair.mass_star, v) for p, v in zip(inside, v_in)])}
     top = max(inside, key=lambda p: p["P_max"])
     return {"specimen": Specimen(material.E, material.nu, R, material.rho), "sigma_y": material.sigma_y,
             "drops": drops, "force": (top["approach"], top["force"]),
             "window": (window.P_min_over_P_Y, window.P_max_over_P_Y)}
 
 
+def contact_time(path: dict, mass: float, v_in: float) -> float:
+    """The contact time [s] of one FE load-unload path (fe_paths) thrown as a quasi-static impact of
+    ``mass`` [kg] at ``v_in`` [m/s] (calib.studies.impact_quasistatic: m alpha'' = -P(alpha) along
+    the loop, Hertzian first load and last unloading segment)."""
+    from calib.studies.impact_quasistatic import thrown
+
+    n = path["loading_points"]
+    approach, force = np.asarray(path["approach"], float), np.maximum(np.asarray(path["force"], float), 0.0)
+    loop = {"loading_alpha": np.r_[0.0, approach[:n]], "loading_P": np.r_[0.0, force[:n]],
+            "unloading_alpha": approach[n - 1:], "unloading_P": force[n - 1:],
+            "fe_restitution": path["e"], "steps": None, "dofs": None}
+    return float(thrown(loop, mass, v_in)["contact_time"])
+
+
 def measurements(kind: str, values: dict, name: str) -> Measurements:
-    """Measurements of one DATA_KINDS from ``values`` (v_in, e, P_max, approach, force)."""
+    """Measurements of one DATA_KINDS from ``values`` (v_in, e, P_max, contact_time, approach, force)."""
     if kind == "force":
         return Measurements(forces=ForceApproachData(f"{name}_force.csv", (("fe", values["approach"], values["force"]),)))
     rows = np.arange(1, values["v_in"].size + 1)
-    P = values["P_max"] if kind == "drops e+P" else None
-    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, None, rows))
+    P = values["P_max"] if kind in ("drops e+P", "drops e+P+t") else None
+    t = values["contact_time"] if kind == "drops e+P+t" else None
+    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, t, rows))
 
 
 def fit_errors(row: dict, table: VZMasterTable) -> dict:
@@ -221,7 +239,8 @@ def _compare(coarse_law, fine_law, path: dict) -> tuple[float, np.ndarray]:
 
 def discretisation(rows: list[dict]) -> dict:
     """The table's discretisation error at each node with a reference ladder (module doc): the
-    refined rows of the node (graded meshes refined systematically by r, kind "refine") ordered by
+    refined rows of the node (graded meshes refined systematically by r, kind "refine", and the node
+    itself when it is one of them) ordered by
     refinement, every law driven along the finest FE's paths inside every window. Per node: the
     changes between consecutive levels (e, force), their observed order (three levels; two: the
     assumed calib.fit.extrapolation.ORDER), the finest level's own error d_last / (r^p - 1)
@@ -234,7 +253,7 @@ def discretisation(rows: list[dict]) -> dict:
     nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
     ladders = {}
     for r in rows:
-        if (r.get("kind") == "refine" and r.get("status") == "ok" and r.get("refinement")
+        if (r.get("kind") in ("refine", "node") and r.get("status") == "ok" and r.get("refinement")
                 and (r["nu"], r["E_over_sigma_y"]) in nodes):
             ladders.setdefault((r["nu"], r["E_over_sigma_y"]), []).append(r)
     out = []

@@ -10,7 +10,7 @@ calibration per grid node (nu, E / sigma_Y), at the FE's reach, gives them for e
                      common load x_k (monotone cubics: exact on the nodes, no overshoot),
 
 using at each x_k the E / sigma_Y columns that reach it (a softer material's window ends lower:
-P <= 1000 P_Y and a <= 0.3 R); the material's window runs from the largest lowest-unloading-path
+P <= 1000 P_Y and a <= 0.2 R); the material's window runs from the largest lowest-unloading-path
 load of the surrounding nodes to the largest x_k that the columns around it reach. Then
 
     a_p = a_Y f,   C_R = g   (nfdmodel.VZTableParams(pair, x_k, f, g, window))
@@ -27,7 +27,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, check_axes, read_meta, read_rows
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, limits
 
 DEFAULT_TABLE = DATA_DIR / "vz_master_table.csv"
 
@@ -141,6 +141,10 @@ class VZMasterTable:
         values = self.tables(float(material.nu), float(material.E / material.sigma_y))
         pair = ContactPair.sphere_flat(material, R)
         a_top = pair.a_Y * (np.cbrt(values["top"]) + values["f"][-1]) / pair.R_star   # the law's a = a_Y (x^(1/3) + f)
+        # every node ran to at most the FE's reach (vz_master_build.run_task); the law's radius can
+        # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100; the FE's
+        # own contact radius there is 0.185 R)
+        a_top = min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)
         name = self.path.name if self.path else "vz master table"
         window = CalibrationWindow(values["low"], values["top"], float(min(a_top, 1.0)),
                                    f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "

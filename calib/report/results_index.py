@@ -350,13 +350,16 @@ def fit_data_benchmark(root: Path) -> list[str]:
         return []
     stamp = data["stamp"]
     targets = stamp.get("targets", {})
-    materials = sorted({(f["nu"], f["E_over_sigma_y"]) for f in data["fits"]})
+    materials = sorted({(f["nu"], f["E_over_sigma_y"]) for f in data["fits"] if not f["kind"].startswith("dyn: ")})
+    dynamic = sorted({f["material"] for f in data["fits"] if f["kind"].startswith("dyn: ")})
     lines = study_header("fit-data on FE data the law did not make (`fit_data/`)", stamp,
                          "python tests/benchmarks/bench_fit_data_fe.py")
-    lines += [f"sigma_Y recovered by `nfdcal fit-data --law vz-table` from FE drop tests (e; e and P_max) and FE "
-              f"force-approach curves of {len(materials)} materials that are not table nodes ((nu, E/sigma_Y) = "
-              + ", ".join(f"({nu:g}, {ratio:g})" for nu, ratio in materials)
-              + f"), noise added to the FE data, {stamp.get('trials', '?')} trials per noise level and material "
+    lines += [f"sigma_Y recovered by `nfdcal fit-data --law vz-table` from FE drop tests (e; e and P_max; e, P_max and "
+              f"the contact time) and FE force-approach curves of {len(materials)} materials that are not table nodes "
+              "((nu, E/sigma_Y) = " + ", ".join(f"({nu:g}, {ratio:g})" for nu, ratio in materials) + ")"
+              + (f" and from the drop tests of the dynamic FE (`nfdcal impact`, \"dyn\": {', '.join(dynamic)})"
+                 if dynamic else "")
+              + f", noise added to the FE data, {stamp.get('trials', '?')} trials per noise level and material "
               "(\"x2\": each drop test twice, half the trials); coverage = the share of 95 % intervals that hold the "
               "true sigma_Y, with its binomial 95 % interval (Clopper-Pearson); noise-free max = the method's bias; "
               "sd_CR = the Cramer-Rao spread of sigma_Y the data allow (noise / sqrt(sum (d r_i / d ln sigma_Y)^2), "
@@ -385,7 +388,8 @@ def fit_data_findings(summary: list[dict], target: float) -> list[str]:
     """The benchmark's findings in words: the bias against the target, the noisy error against the
     spread the data allow, the error with twice the drop tests."""
     by = {(r["kind"], r["noise"]): r for r in summary}
-    kinds = [k for k in ("drops e", "drops e+P", "force") if (k, 0.0) in by]
+    kinds = [k for k in ("drops e", "drops e+P", "drops e+P+t", "force", "dyn: drops e", "dyn: drops e+P",
+                         "dyn: drops e+P+t") if (k, 0.0) in by]
     out = []
     if kinds:
         worst = max(by[k, 0.0]["max_abs_error"] for k in kinds)

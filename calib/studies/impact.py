@@ -23,7 +23,7 @@ Mesh: the hemisphere recipe's mesh for the impact's largest contact radius (cali
 the reference mesh family for the reference sphere while it covers the contact), estimated from
 the vz law's P_max at v_in with the master table's constants (calib.fit.impact_window), the same
 sizes on the whole sphere (meshes.sphere). The FE vouches for P <= 1000 P_Y and a contact radius
-<= 0.3 R (calib.fit.recipe): a faster impact is refused before meshing, naming the largest v_in.
+<= 0.2 R (calib.fit.recipe): a faster impact is refused before meshing, naming the largest v_in.
 
 Energy balance. Its residual (calib.fe.impact) is the time discretisation's: the trapezoidal
 internal work against the return mapping's energy in the steps that yield (internal_work_error),
@@ -124,7 +124,7 @@ def estimated_force(setup: ImpactSetup, v_in: float) -> float:
 
 def largest_load(setup: ImpactSetup) -> float:
     """The largest P_max [N] the FE vouches for: 1000 P_Y (unless elastic) and a contact radius of at
-    most 0.3 R (calib.fit.recipe); Hertz's load at that radius when it is reached below first yield."""
+    most 0.2 R (calib.fit.recipe); Hertz's load at that radius when it is reached below first yield."""
     pair = setup.pair
     limit = recipe.CONTACT_RADIUS_LIMIT * pair.R_star
     if setup.elastic or recipe.estimated_contact_radius(pair, pair.P_Y) >= limit:

@@ -3,7 +3,7 @@
 DEM impacts load contacts to 10^2-10^5 P_Y. For E/sigma_Y = 100 (a hard metal, e.g. a bearing
 steel: 210 GPa / 2 GPa), 700 (the paper's aluminium) and 5000 (a soft one, e.g. annealed pure
 aluminium or copper) with nu = 0.3, sigma_Y = 100 MPa, R = 0.1 m, the FE loads a sphere on a rigid flat to 10, 30, 100, 300 and
-1000 P_Y (as far as the small-strain FE reaches: contact radius <= 0.3 R, calib.fit.recipe) and
+1000 P_Y (as far as the small-strain FE reaches: contact radius <= 0.2 R, calib.fit.recipe) and
 unloads it from each; Ca and Kc are fitted over the whole window (the radius fit, the paper's
 definition, and the force fit), and the vz-table law's tables (calib.fit.table_fit: the FE's
 loading curve and the work each unloading returned). Per path and law:

@@ -9,12 +9,18 @@ From each material:
     drop tests      one per FE load-unload path whose peak lies inside the table's window at that
                     material: v_in = sqrt(2 W_l / m*) (the FE's loading work), e = sqrt(W_u / W_l)
                     (the work the FE returned), P_max the FE peak; fitted on e alone ("drops e")
-                    and on e and P_max ("drops e+P")
+                    and on e and P_max ("drops e+P"), and with the contact time of the FE loop
+                    thrown as a quasi-static impact (calib.studies.impact_quasistatic; "drops e+P+t")
     force-approach  the FE loading branch to the highest path's peak and its unloading ("force")
 
     repeated       the drop tests twice at each FE speed, the noise drawn anew ("drops e x2",
                     "drops e+P x2"; 3 % noise, half the trials): twice the tests, the
                     statistical error falls as 1/sqrt(2)
+
+    dynamic FE     the drop tests of ``nfdcal impact`` (results/impact/drop_tests.csv: the whole
+                   sphere of the reference aluminium, E/sigma_Y 700, nu 0.3, not a table node, thrown
+                   at the rigid flat; e, P_max, contact time of the dynamic FE) inside the table's
+                   window ("dyn: ..."; the table's own model-form error)
 
 with 0 % noise (one trial) and 1 %, 3 % multiplicative Gaussian noise (``--trials`` seeded trials
 each; e capped at 1) on every measured value. Fitted: sigma_Y alone (calib.fit.measured.table_law,
@@ -36,7 +42,7 @@ the noise-free data also go through the two-constant constrained model (``nfdcal
 --law vz``: Ca_hat, Kc_hat of the master table; "vz: ..." rows; its interval: +-1.96 SE).
 
 Usage: .venv/bin/python tests/benchmarks/bench_fit_data_fe.py [--trials 30] [--seed 1]
-       [--nodes results/tables/vz_master_grid/nodes] [--out results/fit_data]
+       [--nodes results/tables/vz_master_grid/nodes] [--impacts results/impact] [--out results/fit_data]
 """
 from __future__ import annotations
 
@@ -58,6 +64,7 @@ NOISES = (0.0, 0.01, 0.03)
 REPEATED = ("drops e x2", "drops e+P x2")      # each drop test twice (module doc)
 REPEATED_NOISE = 0.03                          # ... at this noise, in the first half of the trials
 KINDS = DATA_KINDS + REPEATED
+DYNAMIC_KINDS = ("dyn: drops e", "dyn: drops e+P", "dyn: drops e+P+t")   # the dynamic FE's impacts
 CR_STEP = 1e-3                                 # the central-difference step in ln sigma_Y of sd_CR
 TARGET_ERROR, TARGET_COVERAGE = 0.03, 0.90
 
@@ -70,9 +77,10 @@ def noisy(sets: dict, noise: float, rng, repeats: int = 1) -> dict:
     d = {k: np.tile(v, repeats) for k, v in sets["drops"].items()}
     e = np.minimum(d["e"] * (1 + draw(d["e"].size)), 1.0)
     P = d["P_max"] * (1 + draw(d["P_max"].size))
+    t = d["contact_time"] * (1 + draw(d["contact_time"].size))
     approach, force = sets["force"]
     force = force * (1 + draw(force.size))
-    return {"v_in": d["v_in"], "e": e, "P_max": P, "approach": approach, "force": force}
+    return {"v_in": d["v_in"], "e": e, "P_max": P, "contact_time": t, "approach": approach, "force": force}
 
 
 def base_kind(kind: str) -> str:
@@ -143,6 +151,44 @@ def run(nodes: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]
     return out
 
 
+def dynamic(impacts: Path, trials: int, seed: int, table: VZMasterTable) -> list[dict]:
+    """The dynamic FE's drop tests (``nfdcal impact``: the whole sphere thrown at the rigid flat,
+    impacts/drop_tests.csv, the material in impacts/impact.json) inside the table's window, fitted
+    as the checks' (kinds "dyn: drops e", "dyn: drops e+P", "dyn: drops e+P+t"), the table's own
+    model-form error (the material is not a check)."""
+    from calib.fit.measured.data import read_impacts
+    from calib.fit.measured.specimen import Specimen
+    from nfdmodel import Material
+
+    case = json.loads((impacts / "impact.json").read_text())["case"]
+    material = Material(case["E"], case["nu"], case["sigma_y"], case["rho"])
+    data = read_impacts(impacts / "drop_tests.csv")
+    pair_P_Y = table.law(material, case["R"]).pair.P_Y
+    top = table.law(material, case["R"]).window.P_max_over_P_Y
+    keep = data.P_max <= top * pair_P_Y
+    sets = {"specimen": Specimen(material.E, material.nu, case["R"], material.rho), "sigma_y": material.sigma_y,
+            "drops": {"v_in": data.v_in[keep], "e": data.e[keep], "P_max": data.P_max[keep],
+                      "contact_time": data.contact_time[keep]},
+            "force": (np.zeros(1), np.zeros(1)), "window": (float(data.P_max[keep].min() / pair_P_Y), top)}
+    name = f"dynamic FE E/sigma_Y {material.E / material.sigma_y:g}, nu {material.nu:g}"
+    rng = np.random.default_rng(seed + 1)
+    out = []
+    for noise in NOISES:
+        for trial in range(1 if noise == 0 else trials):
+            values = noisy(sets, noise, rng)
+            for kind in DYNAMIC_KINDS:
+                record = {"material": name, "nu": material.nu, "E_over_sigma_y": material.E / material.sigma_y,
+                          "kind": kind, "noise": noise, "trial": trial, "n_drops": int(keep.sum()),
+                          "window_low": sets["window"][0], "window_top": top}
+                result = fit(measurements(kind.removeprefix("dyn: "), values, name), sets["specimen"], table,
+                             noise=noise or None)
+                low, high = result.interval95
+                out.append({**record, "sigma_y_error": result.sigma_y / sets["sigma_y"] - 1.0,
+                            "se_rel": result.se / result.sigma_y, "covered": bool(low <= sets["sigma_y"] <= high),
+                            "rms_residual": result.rms_residual, "consistent": result.consistent})
+    return out
+
+
 def two_constant_fit(kind: str, values: dict, sets: dict, row: dict) -> dict:
     """The noise-free data through the two-constant constrained model (module doc)."""
     from calib.fit.master_table import MasterTable
@@ -163,7 +209,7 @@ def summarise(rows: list[dict]) -> list[dict]:
     """Per data kind and noise level (module doc); ``noise_free_max_abs_error``: the kind's
     noise-free largest error, the method's bias, stated on every row of the kind."""
     out = []
-    for kind in KINDS + ("vz: drops e", "vz: force"):
+    for kind in KINDS + DYNAMIC_KINDS + ("vz: drops e", "vz: force"):
         for noise in NOISES:
             sel = [r for r in rows if r["kind"] == kind and r["noise"] == noise]
             ok = [r for r in sel if "sigma_y_error" in r]
@@ -208,11 +254,12 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--nodes", default="results/tables/vz_master_grid/nodes")
     parser.add_argument("--table", default=None, help="vz master table CSV (default: the shipped one)")
+    parser.add_argument("--impacts", default="results/impact", help="the dynamic FE impacts (nfdcal impact)")
     parser.add_argument("--out", default="results/fit_data")
     ns = parser.parse_args(argv)
     started = time.perf_counter()
     table = VZMasterTable.load(ns.table)
-    rows = run(Path(ns.nodes), ns.trials, ns.seed, table)
+    rows = run(Path(ns.nodes), ns.trials, ns.seed, table) + dynamic(Path(ns.impacts), ns.trials, ns.seed, table)
     summary = summarise(rows)
     print(f"{'data':13s} {'noise':>5s} {'fits':>4s} {'fail':>4s} {'bias':>7s} {'rms':>7s} {'max|e|':>7s} "
           f"{'sd_CR':>6s} {'<=3%':>5s} {'CR<=3%':>6s} {'cover95 (CI)':>16s} {'se':>6s}  target")
