@@ -2,6 +2,7 @@
 separation, scale invariance, stiff and soft materials."""
 import dataclasses
 import json
+import re
 
 import numpy as np
 import pytest
@@ -237,6 +238,14 @@ def test_v_max_beyond_the_fe_is_refused_before_meshing(capsys, monkeypatch):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("nfdcal calibrate: error: v_max out of range")
     assert "1000 P_Y" in err[0] and "v_in <= 0.50" in err[0]
+    # an impact below the reach whose load paths (10 % beyond it) are not: the message says both loads
+    soft = ["--E", "10e9", "--nu", "0.3", "--sigma-y", "1e8", "--rho", "2700", "--R", "0.1"]
+    assert main(["calibrate", *soft, "--v-max", "4.9", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    numbers = re.search(r"reaches about ([\d.]+) P_Y, its load paths 10% beyond, ([\d.]+) P_Y .*up to ([\d.]+) P_Y",
+                        err[0])
+    needed, paths, reach = (float(x) for x in numbers.groups())
+    assert needed < reach < paths == pytest.approx(1.1 * needed, rel=1e-3)
     assert main(["calibrate", "--v-max", "0.05", "--peaks", "500", "--quiet"]) == 2
     assert "do not combine it with --peaks" in capsys.readouterr().err
 

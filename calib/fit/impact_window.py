@@ -208,7 +208,8 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
                          f"{v_least:.4g} m/s ({v_least / pair.v_Y:.4g} v_Y) for this material and R")
     if MARGIN * needed > reach:
         v_reach = reach_velocity(params, reach / MARGIN)
-        reached = (f"reaches about {needed / pair.P_Y:.4g} P_Y" if math.isfinite(needed) else
+        reached = (f"reaches about {needed / pair.P_Y:.4g} P_Y, its load paths {MARGIN - 1:.0%} beyond, "
+                   f"{MARGIN * needed / pair.P_Y:.4g} P_Y" if math.isfinite(needed) else
                    "drives the law beyond its domain (contact radius above R*)")
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s {reached} ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
                          f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= {recipe.CONTACT_RADIUS_LIMIT:g} R), "

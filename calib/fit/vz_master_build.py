@@ -103,7 +103,9 @@ def load_scene(name: str) -> dict:
              "top_over_P_Y": float(grid.get("top_over_P_Y", X_LIMIT)),
              "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
-             "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"])}
+             "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
+                         "top_over_P_Y": float(c.get("top_over_P_Y", grid.get("check_top_over_P_Y",
+                                                                             grid.get("top_over_P_Y", X_LIMIT))))}
                         for c in raw.get("check", [])],
              "refine": [{"nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
                          "elements_per_contact_radius": float(c.get("elements_per_contact_radius", 0.0)),
@@ -132,8 +134,10 @@ def load_scene(name: str) -> dict:
     return scene
 
 
-def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None) -> dict:
-    """One calibration at the FE's reach (kind "node", "check", or "refine": the node on the graded
+def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None,
+         top_over_P_Y: float | None = None) -> dict:
+    """One calibration at the FE's reach (kind "node", "check" to ``top_over_P_Y`` or the scene's
+    check top, or "refine": the node on the graded
     mesh of ``refine``, a [[refine]] entry: N elements across every contact radius, refined
     systematically by r, sizes / r and loading steps x r). Nodes and checks take the grid's graded
     mesh (its N, steps and r) unless the scene sets contact_size_over_a_max (a uniform mesh); a
@@ -148,7 +152,7 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
               "contact_size_over_a_max": None if refine else scene["contact_size_over_a_max"],
-              "top_over_P_Y": scene["top_over_P_Y"] if node_like else scene["check_top_over_P_Y"],
+              "top_over_P_Y": scene["top_over_P_Y"] if node_like else (top_over_P_Y or scene["check_top_over_P_Y"]),
               "meshes": scene["meshes"] if node_like else scene["check_meshes"]}
     if refine:
         fields.update({key: refine[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade",
@@ -163,7 +167,8 @@ def tasks_for(scene: dict) -> list[dict]:
     is the smallest: a partial run has whole E/sigma_Y columns). A refined node that is a node's
     own task (the same key) runs once, as the node."""
     nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
-    checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"]) for c in scene["checks"]]
+    checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"], top_over_P_Y=c["top_over_P_Y"])
+              for c in scene["checks"]]
     node_keys = {t["key"] for t in nodes}
     ladder = (task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"])
     refined = sorted((t for t in ladder if t["key"] not in node_keys),

@@ -386,7 +386,7 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
     output.write_json(folder / "vz_master_check.json", {"rows": compared, "accuracy": summary, "stamp": stamp})
     if summary.get("paths"):
         statement = (f"against direct FE at {summary['materials']} off-grid materials ({summary['paths']} load-unload "
-                     f"paths inside the window, peaks between the load nodes): e within {100 * summary['e_error_max']:.2g} % "
+                     f"paths inside the window, between the nodes in material, most also in load): e within {100 * summary['e_error_max']:.2g} % "
                      f"(rms {100 * summary['e_error_rms']:.2g} %), force within {100 * summary['force_error_max']:.2g} % "
                      f"of P_max, loading force rms {100 * summary['loading_force_error_rms']:.2g} %; sigma_Y fitted to "
                      f"their noise-free FE data rms " + ", ".join(f"{k} {100 * v:.2g} %" for k, v in sigma_form.items()))

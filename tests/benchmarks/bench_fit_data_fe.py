@@ -25,7 +25,7 @@ From each material:
 with 0 % noise (one trial) and 1 %, 3 % multiplicative Gaussian noise (``--trials`` seeded trials
 each; e capped at 1) on every measured value. Fitted: sigma_Y alone (calib.fit.measured.table_law,
 no start given), its 95 % interval including the law's model-form error, measured on the other
-five materials (leave one out: a material does not set its own interval). Printed and written
+check materials (leave one out: a material does not set its own interval). Printed and written
 (results/fit_data/fe_benchmark.csv, .json, stamped): per data kind and noise level, over the
 materials and trials, the bias (mean of sigma_fit / sigma_true - 1), the rms and largest error,
 the coverage of the 95 % intervals with its binomial 95 % interval (Clopper-Pearson,
