@@ -134,6 +134,12 @@ def load_scene(name: str) -> dict:
     return scene
 
 
+def grid_mesh(scene: dict) -> dict | None:
+    """The graded mesh of the grid's nodes and checks ([vz_master] N, steps, r), or None for the
+    uniform mesh of contact_size_over_a_max (or the recipe's level)."""
+    return None if scene["contact_size_over_a_max"] else scene.get("graded")
+
+
 def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None,
          top_over_P_Y: float | None = None) -> dict:
     """One calibration at the FE's reach (kind "node", "check" to ``top_over_P_Y`` or the scene's
@@ -147,8 +153,8 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     if kind == "refine":
         name = name or (f"nu{nu:g}_E{ratio:g}sy_graded{refine['elements_per_contact_radius']:g}"
                         f"_r{refine['refinement']:g}")
-    elif not scene["contact_size_over_a_max"]:
-        refine = scene.get("graded")
+    else:
+        refine = grid_mesh(scene)
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
               "R": scene["R"], "level": scene["level"], "version": TASK_VERSION,
               "contact_size_over_a_max": None if refine else scene["contact_size_over_a_max"],
@@ -328,11 +334,10 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                          f"nodes are calibrated; run the scene to the end first")
     table_rows = master_rows(rows)
     stamp = output.stamp(sum(r["wall_time_s"] for r in nodes) if wall_time_s is None else wall_time_s,
-                         mesh=({"graded": scene["graded"], "meshes": scene["meshes"]}
-                               if scene.get("graded") and not scene["contact_size_over_a_max"] else
-                               {"contact_size_over_a_max": scene["contact_size_over_a_max"], "meshes": scene["meshes"]}
-                               if scene["contact_size_over_a_max"] else
-                               {"level": scene["level"], "meshes": scene["meshes"]}), scene=scene["name"],
+                         mesh={**({"graded": grid_mesh(scene)} if grid_mesh(scene) else
+                                  {"contact_size_over_a_max": scene["contact_size_over_a_max"]}
+                                  if scene["contact_size_over_a_max"] else {"level": scene["level"]}),
+                               "meshes": scene["meshes"]}, scene=scene["name"],
                          node_commits=sorted({r["git_commit"] for r in nodes}),
                          fit_commits=sorted({r.get("fit_commit", r["git_commit"]) for r in nodes}))
     meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],

@@ -142,14 +142,13 @@ def contact_time(path: dict, mass: float, v_in: float) -> float:
     """The contact time [s] of one FE load-unload path (fe_paths) thrown as a quasi-static impact of
     ``mass`` [kg] at ``v_in`` [m/s] (calib.studies.impact_quasistatic: m alpha'' = -P(alpha) along
     the loop, Hertzian first load and last unloading segment)."""
-    from calib.studies.impact_quasistatic import thrown
+    from calib.studies.impact_quasistatic import loop_impact
 
     n = path["loading_points"]
     approach, force = np.asarray(path["approach"], float), np.maximum(np.asarray(path["force"], float), 0.0)
     loop = {"loading_alpha": np.r_[0.0, approach[:n]], "loading_P": np.r_[0.0, force[:n]],
-            "unloading_alpha": approach[n - 1:], "unloading_P": force[n - 1:],
-            "fe_restitution": path["e"], "steps": None, "dofs": None}
-    return float(thrown(loop, mass, v_in)["contact_time"])
+            "unloading_alpha": approach[n - 1:], "unloading_P": force[n - 1:]}
+    return float(loop_impact(loop, mass, v_in)["contact_time"])
 
 
 def measurements(kind: str, values: dict, name: str) -> Measurements:

@@ -144,9 +144,8 @@ class VZMasterTable:
         # every node ran to at most the FE's reach (vz_master_build.run_task); the law's radius can
         # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100; the FE's
         # own contact radius there is 0.185 R)
-        a_top = min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)
         name = self.path.name if self.path else "vz master table"
-        window = CalibrationWindow(values["low"], values["top"], float(min(a_top, 1.0)),
+        window = CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
                                    f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
                                    f"to {values['top']:.4g} P_Y")
         return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]), window)

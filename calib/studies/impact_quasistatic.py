@@ -149,13 +149,13 @@ def thrown(path: dict, mass: float, v_in: float) -> dict:
     sampling: e and the contact time again from every other point of each branch (its ends kept),
     e_rel_error_estimate = |e_coarse / e - 1| / 3 (the trapezoidal work's second order), likewise
     contact_time_rel_error_estimate."""
-    fine = _thrown(path, mass, v_in)
+    fine = loop_impact(path, mass, v_in)
 
     def every_other(values):
         values = np.asarray(values)
         return np.concatenate([values[:-1:2], values[-1:]])
 
-    coarse = _thrown({key: every_other(path[key]) for key in ("loading_alpha", "loading_P", "unloading_alpha",
+    coarse = loop_impact({key: every_other(path[key]) for key in ("loading_alpha", "loading_P", "unloading_alpha",
                                                              "unloading_P")}, mass, v_in)
     return {**fine, "e_rel_error_estimate": abs(coarse["e"] / fine["e"] - 1.0) / 3.0,
             "contact_time_rel_error_estimate": abs(coarse["contact_time"] / fine["contact_time"] - 1.0) / 3.0,
@@ -169,7 +169,10 @@ def hertzian(start, end, force_at_end, points: int = HERTZ_POINTS) -> tuple[np.n
     return start + s * (end - start), force_at_end * s ** 1.5
 
 
-def _thrown(path: dict, mass: float, v_in: float) -> dict:
+def loop_impact(path: dict, mass: float, v_in: float) -> dict:
+    """The quasi-static impact of a load-unload loop (module docstring) on a mass ``mass`` [kg] at
+    ``v_in`` [m/s]: e, contact time, works; ``path`` holds loading_alpha, loading_P (from 0) and
+    unloading_alpha, unloading_P (from the peak) [m], [N]."""
     a_load, p_load = np.asarray(path["loading_alpha"], float), np.asarray(path["loading_P"], float)
     a_unload, p_unload = np.asarray(path["unloading_alpha"], float), np.asarray(path["unloading_P"], float)
     # the first load (elastic) and the last unloading step (to separation) are Hertzian, P ~ x^(3/2):

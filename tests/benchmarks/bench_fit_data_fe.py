@@ -163,8 +163,8 @@ def dynamic(impacts: Path, trials: int, seed: int, table: VZMasterTable) -> list
     case = json.loads((impacts / "impact.json").read_text())["case"]
     material = Material(case["E"], case["nu"], case["sigma_y"], case["rho"])
     data = read_impacts(impacts / "drop_tests.csv")
-    pair_P_Y = table.law(material, case["R"]).pair.P_Y
-    top = table.law(material, case["R"]).window.P_max_over_P_Y
+    law = table.law(material, case["R"])
+    pair_P_Y, top = law.pair.P_Y, law.window.P_max_over_P_Y
     keep = data.P_max <= top * pair_P_Y
     sets = {"specimen": Specimen(material.E, material.nu, case["R"], material.rho), "sigma_y": material.sigma_y,
             "drops": {"v_in": data.v_in[keep], "e": data.e[keep], "P_max": data.P_max[keep],
