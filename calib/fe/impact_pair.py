@@ -49,31 +49,26 @@ Units: lengths [m], time [s], forces [N], energies [J].
 """
 from __future__ import annotations
 
-import time
-from collections import OrderedDict
-
 import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTriP2, ElementVector, asm
 
 from calib.fe.axisym import quadrature_radius
-from calib.fe.contact_pair import active_set_reduction, mortar_gap
-from calib.fe.active_set import next_active_set
+from calib.fe.constraint import MortarContact
+from calib.fe.contact_pair import mortar_gap
 from calib.fe.dofs import Numbering
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import mass as mass_form
-from calib.fe.linsolve import factorize
-from calib.fe.newmark import ImpactState, ImpactStep
-from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
+from calib.fe.linsolve import FactorCache
+from calib.fe.newmark import ImpactState, NewmarkSolver
 from calib.fe.sphere_dofs import pattern_data
 from calib.fe.two_body import PairMaterial
 
-ACTIVE_SET_TOLERANCE = 1e-4      # relative residual to which trial active sets are solved
 
-
-class PairImpactSolver:
-    """Time steps of the sphere on a deformable counter-body (module docstring); the interface
-    calib.fe.impact's time loop reads (initial_state, solve_step, approach, ...).
+class PairImpactSolver(NewmarkSolver):
+    """Time steps of the sphere on a deformable counter-body (module docstring): the Newmark stepper
+    (calib.fe.newmark.NewmarkSolver) with the mortar contact (calib.fe.constraint.MortarContact);
+    the interface calib.fe.impact's time loop reads (initial_state, solve_step, approach, ...).
 
     pair_mesh: calib.fe.impact_pair_mesh.ImpactPairMesh; material1, material2: calib.fe Materials
     of the sphere and the counter-body; rho1, rho2: their densities [kg/m^3]; contact_radius [m]:
@@ -124,6 +119,7 @@ class PairImpactSolver:
             raise ValueError("a contact node's u_z is held: the contact reach meets the block's far face")
         G = gap.G.tocoo()
         self.G_q = sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, self.n_q))
+        self.constraint = MortarContact(gap, self.candidate_q, self.G_q)
 
         # the bodies' translations and masses; the massless contact boundary (module docstring)
         node_body = np.zeros(nodes.node_r.size, dtype=int)
@@ -166,9 +162,12 @@ class PairImpactSolver:
         self.compliance = np.linalg.inv(self.elastic_D)
         self.stiffness_data = self.elements.stiffness_data(self.elastic_D, slice(None))
         self.gap_tolerance = 1e-12 * self.R1
-        self._step = None
-        self._factors: OrderedDict = OrderedDict()
-        self._last_factor = None
+        # calib.fe.newton reads these: no displacement-based force scale (the free flight's
+        # translation carries no force); the floor as calib.fe.solver's
+        self.stiffness_scale = 0.0
+        self.force_floor = 1e-14 * float(self.material.E) * self.R1 ** 2
+        self._step = None                      # (q_n + dt v_n, a_n, 4 / dt^2) of the step being solved
+        self.factorizations = FactorCache(linear_solver)
 
     # ------------------------------------------------------------------ states
     def initial_velocities(self, v_in: float) -> tuple[float, float]:
@@ -230,176 +229,8 @@ class PairImpactSolver:
 
     def gaps(self, q) -> np.ndarray:
         """g_i [m] of every candidate at the unknowns q."""
-        return q[self.candidate_q] - self.G_q @ q + self.candidate_g0
+        return self.constraint.gaps(q)
 
-    # ------------------------------------------------------------------ one step
-    def _assemble(self, q, committed):
-        """(r_q = T^T f_int + M a, f_int, K_q + (4/dt^2) M on demand, stress, trial) at ``q`` [m]."""
-        base, acceleration_n, c0 = self._step
-        stress, tangent, trial = self.material.update(self.elements.strain(self.T @ q), committed)
-        f_int = self.TT @ self.elements.internal_force(stress, slice(None))
-        residual = f_int + self.mass_matrix @ (c0 * (q - base) - acceleration_n)
-
-        def matrix():
-            data = self.stiffness_data + c0 * self.mass_data
-            if not self.is_linear:
-                correction = tangent - self.elastic_D
-                plastic = np.flatnonzero(np.abs(correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(self.elastic_D).max())
-                if plastic.size:
-                    data = data + self.elements.stiffness_data(correction[plastic], plastic)
-            return self.elements.matrix(data)
-
-        return residual, f_int, matrix, stress, trial
-
-    def reduction(self, active, q_from):
-        """(S, d, free_q) of calib.fe.contact_pair.active_set_reduction for the active set."""
-        return active_set_reduction(self.candidate_q, self.G_q, self.candidate_g0, active, q_from)
-
-    def _newton(self, q_from, committed, active, force_scale: float, key, tolerance: float):
-        """Newton on p for one active set from ``q_from``: (ok, q, r_q, f_int, stress, trial,
-        iterations). Converged when ||r_p|| <= tolerance x max(force_scale, ||lambda||) with theta = 1."""
-        S, d, free_q = self.reduction(active, q_from)
-        ST = S.T.tocsr()
-        p = np.append(q_from[free_q], 0.0)
-        free = np.ones(p.size, dtype=bool)
-        free[-1] = False
-        slaves = self.candidate_q[active]
-        best, stalled = np.inf, 0
-        for iteration in range(self.max_newton_iterations + 1):
-            q = S @ p + d
-            residual, f_int, matrix, stress, trial = self._assemble(q, committed)
-            r_p = ST @ residual
-            scale = max(force_scale, float(np.linalg.norm(residual[slaves])))
-            norm = float(np.linalg.norm(r_p[free]))
-            if not np.isfinite(norm):
-                break
-            if p[-1] == 1.0 and norm <= tolerance * scale:
-                return True, q, residual, f_int, stress, trial, iteration
-            if iteration == self.max_newton_iterations:
-                break
-            # with theta at 1, Newton with the consistent tangent at least halves the residual near
-            # the solution: four iterations in a row without halving the best mean divergence
-            if p[-1] == 1.0 and iteration > 1:
-                if norm < 0.5 * best:
-                    best, stalled = norm, 0
-                else:
-                    stalled += 1
-                    if stalled >= 4:
-                        break
-            K_p = (ST @ matrix() @ S).tocsr()
-            rhs = -r_p[free]
-            if p[-1] != 1.0:
-                rhs -= (1.0 - p[-1]) * K_p[:, -1].toarray().ravel()[free]
-            factor = self._factors.get(key) if key is not None else None
-            if factor is None:
-                matrix_free = K_p[free][:, free].tocsr()
-                # a plastic body: a numeric refactorisation while the pattern repeats (qdldl's update)
-                if key is None and self._last_factor is not None and self._last_factor.update(matrix_free):
-                    factor = self._last_factor
-                else:
-                    factor = factorize(matrix_free, self.linear_solver)
-                if key is not None:
-                    self._factors[key] = factor
-                    while len(self._factors) > 4:
-                        self._factors.popitem(last=False)
-                else:
-                    self._last_factor = factor
-            p[free] += factor.solve(rhs)
-            p[-1] = 1.0
-        return False, None, None, None, None, None, iteration
-
-    def predict_active_set(self, state: ImpactState, dt: float, extrapolated) -> np.ndarray:
-        """The warm start (as calib.fe.newmark.ImpactSolver.predict_active_set): the candidates out to
-        the outermost active node's r extrapolated along its rate; before two states in contact,
-        the candidates that ``extrapolated`` = q_n + dt v_n carries through the counter-body."""
-        if state.contact_edge_rate is not None:
-            active = self.candidate_r <= state.contact_edge + state.contact_edge_rate * dt + 1e-9 * self.R1
-            active[0] = True
-            return active
-        return state.active | (self.gaps(extrapolated) < -self.gap_tolerance)
-
-    def solve_step(self, state: ImpactState, dt: float, force_scale: float) -> ImpactStep:
-        """The state at ``state.time + dt`` [s]; ``force_scale`` [N] scales the residual test.
-        Never raises for a step that fails: ``converged`` is False."""
-        started = time.perf_counter()
-        c0 = 4.0 / dt ** 2
-        base = state.q + dt * state.velocity
-        self._step = (base, state.acceleration, c0)
-        q = state.q + (0.0 if state.displacement_rate is None else dt * state.displacement_rate)
-        q_start = q.copy()
-        active = self.predict_active_set(state, dt, base)
-        visited = {active.tobytes()}
-        newton_total = iterations = 0
-        message, converged = "", False
-        # trial sets are solved to ACTIVE_SET_TOLERANCE only (enough to tell tensile reactions and
-        # penetrations apart); the set that settles is solved again to the full tolerance and checked
-        tolerance = max(ACTIVE_SET_TOLERANCE, self.residual_tolerance)
-        while iterations < self.max_active_set_iterations:
-            iterations += 1
-            key = (dt, active.tobytes()) if self.is_linear else None
-            # from the previous set's solution; if Newton fails there, from the step's start (a
-            # node that held plastic flow and is released can make the former diverge)
-            for q_from in ((q,) if iterations == 1 else (q, q_start)):
-                ok, q_new, residual, f_int, stress, trial, n = self._newton(q_from, state.material_state, active,
-                                                                            force_scale, key, tolerance)
-                newton_total += n
-                if ok:
-                    break
-            if not ok:
-                message = f"Newton did not converge in {self.max_newton_iterations} iterations"
-                break
-            q = q_new
-            update = next_active_set(active, residual[self.candidate_q], self.gaps(q), visited,
-                                     force_tolerance=10.0 * tolerance * force_scale,
-                                     gap_tolerance=self.gap_tolerance, force_scale=force_scale,
-                                     length_scale=self.R1, force_control=False)
-            if update.settled and tolerance == self.residual_tolerance:
-                converged = True
-                break
-            if update.settled:
-                tolerance = self.residual_tolerance
-                continue
-            if update.active is None:
-                message = "active set cycles"
-                break
-            active = update.active
-        else:
-            message = f"active set did not settle in {self.max_active_set_iterations} iterations"
-        if converged and active[-1]:
-            converged, message = False, (f"the contact reached the last candidate node (r = {self.candidate_r[-1]:.4g}"
-                                         f" m): the mesh's refined zone is too small for this impact")
-        wall = time.perf_counter() - started
-        if not converged:
-            return ImpactStep(state=state, converged=False, message=message, newton_iterations=newton_total,
-                              active_set_iterations=iterations, wall_time_s=wall)
-        return self._advanced(state, dt, q, active, residual, f_int, stress, trial, newton_total, iterations, wall)
-
-    def _advanced(self, state, dt, q, active, residual, f_int, stress, trial, newton_total, iterations, wall):
-        """The new state from a converged step: Newmark's velocity and acceleration, forces, energies."""
-        massless = self.massless
-        acceleration = 4.0 / dt ** 2 * (q - state.q - dt * state.velocity) - state.acceleration
-        velocity = state.velocity + 0.5 * dt * (state.acceleration + acceleration)
-        velocity[massless] = (q[massless] - state.q[massless]) / dt
-        acceleration[massless] = 0.0
-        reaction = np.where(active, residual[self.candidate_q], 0.0)        # lambda_i [N]
-        contact = np.zeros(self.n_q)
-        contact[self.candidate_q] = reaction
-        contact -= self.G_q.T @ reaction                                      # the master's share
-        free_residual = residual - contact
-        dq = q - state.q
-        pressure = lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
-        radius = contact_radius_from_pressure(self.candidate_r, pressure, active)
-        edge = float(self.candidate_r[active].max(initial=0.0))
-        rate = (edge - state.contact_edge) / dt if state.in_contact and active.any() else None
-        new = ImpactState(
-            time=state.time + dt, q=q, velocity=velocity, acceleration=acceleration, material_state=trial,
-            active=active, internal_force=f_int, contact_force=contact, free_residual=free_residual,
-            force=float(reaction.sum()), contact_radius=radius, contact_edge=edge, contact_edge_rate=rate,
-            displacement_rate=dq / dt, kinetic_energy=self.kinetic_energy(velocity),
-            elastic_energy=self.elastic_energy(stress), plastic_work=self.plastic_work(trial),
-            work_internal=state.work_internal + 0.5 * float(dq @ (state.internal_force + f_int)),
-            work_contact=state.work_contact + 0.5 * float(dq @ (state.contact_force + contact)),
-            work_residual=state.work_residual + 0.5 * float(dq @ (state.free_residual + free_residual)))
-        return ImpactStep(state=new, converged=True, message="converged", contact_radius=radius,
-                          peak_pressure=float(pressure.max(initial=0.0)), newton_iterations=newton_total,
-                          active_set_iterations=iterations, wall_time_s=wall)
+    def factor(self, K_p, free, key, pattern=None):
+        """Factorisation of K_p[free, free] and the number of new ones (calib.fe.linsolve.FactorCache.block)."""
+        return self.factorizations.block(K_p, free, key, pattern)

@@ -16,6 +16,7 @@ Backends:
 from __future__ import annotations
 
 import logging
+from collections import OrderedDict
 
 import numpy as np
 import scipy.sparse as sp
@@ -147,3 +148,54 @@ def _finite_probe(factor: Factorization, n: int) -> bool:
     """A cheap guard: CHOLMOD may return a factor with NaN instead of raising."""
     x = factor.solve(np.ones(n))
     return bool(np.all(np.isfinite(x)))
+
+
+class FactorCache:
+    """The factorisations of one solver's tangents, so each is computed once.
+
+    A linear material's tangent depends only on the active set and the control: its factorisation
+    is kept under ``key`` (the ``size`` most recent). A nonlinear material's changes every Newton
+    iteration, but while its sparsity ``pattern`` (the constraints) repeats, the last factorisation
+    is refactorised numerically only (same ordering and symbolic analysis: bit-identical to a fresh
+    one, about 40 % of its cost; Factorization.update). ``count``: factorisations computed.
+    """
+
+    def __init__(self, method: str | None = None, size: int = 4):
+        self.method, self.size = method, size
+        self._by_key: OrderedDict = OrderedDict()
+        self._last_pattern, self._last = None, None
+        self.count = 0
+
+    def cached(self, key):
+        """The factorisation kept under ``key`` (None: none, or ``key`` is None)."""
+        if key is None or key not in self._by_key:
+            return None
+        self._by_key.move_to_end(key)
+        return self._by_key[key]
+
+    def factor(self, matrix, key, pattern: bytes | None = None, wrap=None):
+        """A new factorisation of ``matrix``: kept under ``key`` (a linear material), else numeric
+        only when ``pattern`` repeats the last one's; ``wrap`` (optional) turns the factorisation
+        into the solver returned and kept."""
+        wrap = wrap or (lambda factor: factor)
+        self.count += 1
+        if key is None and pattern is not None and self._last_pattern == pattern and self._last.update(matrix):
+            return wrap(self._last)
+        factor = factorize(matrix, self.method)
+        if key is None:
+            self._last_pattern, self._last = pattern, factor
+            return wrap(factor)
+        self._by_key[key] = solver = wrap(factor)
+        while len(self._by_key) > self.size:
+            self._by_key.popitem(last=False)
+        return solver
+
+    def block(self, K, free, key, pattern: bytes | None = None):
+        """(factorisation of K[free, free], new factorisations 0 or 1): kept under ``key`` (a linear
+        material), else numeric only while ``pattern`` (the constraints that shape K) and ``free``
+        repeat."""
+        cached = self.cached(key)
+        if cached is not None:
+            return cached, 0
+        pattern = None if pattern is None else pattern + free.tobytes()
+        return self.factor(K[free][:, free].tocsr(), key, pattern), 1

@@ -41,7 +41,6 @@ Units: lengths [m], time [s], forces [N], energies [J].
 from __future__ import annotations
 
 import time
-from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -49,8 +48,9 @@ import numpy as np
 from skfem import Basis, ElementTriP2, ElementVector
 
 from calib.fe.axisym import quadrature_radius
+from calib.fe.constraint import RigidFlat
 from calib.fe.contact_loop import solve_contact
-from calib.fe.linsolve import factorize
+from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
 from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
 from calib.fe.sphere_dofs import sphere_dofs
@@ -138,7 +138,112 @@ class _FreeBlock:
         return self.factor.solve(x)[self.free]
 
 
-class ImpactSolver:
+class NewmarkSolver:
+    """Time steps of a contact configuration under Newmark's average acceleration (module
+    docstring): the sphere on the rigid flat (ImpactSolver) or on a deformable counter-body
+    (calib.fe.impact_pair.PairImpactSolver). A configuration provides ``constraint``
+    (calib.fe.constraint), ``factor`` (calib.fe.newton's interface), T and TT (u = T q, each q one
+    dof), ``elements`` (calib.fe.element_arrays), ``material``, ``mass_matrix`` and ``mass_data``
+    (M on the element pattern), ``stiffness_data`` and ``elastic_D`` (the elastic tangent),
+    ``massless`` (the dofs without mass), ``n_q``, ``candidate_r``, ``candidate_weight``, the
+    options and scales (residual_tolerance, iteration limits, radius, gap_tolerance,
+    stiffness_scale, force_floor), ``kinetic_energy``, ``elastic_energy`` and ``plastic_work``."""
+
+    # ------------------------------------------------- calib.fe.newton's interface
+    def assemble(self, displacement, committed):
+        """(T (T^T f_int + M a), tangent(), stress, trial state) at ``displacement`` [m] for the
+        step being solved: the dynamic residual and K_t + (4/dt^2) M on the element pattern."""
+        base, acceleration_n, c0 = self._step
+        strain = self.elements.strain(displacement)
+        stress, tangent, trial = self.material.update(strain, committed)
+        f_int = self.TT @ self.elements.internal_force(stress, slice(None))
+        q = self.TT @ displacement
+        inertia = self.mass_matrix @ (c0 * (q - base) - acceleration_n)
+        data = self.stiffness_data + c0 * self.mass_data
+        if not self.is_linear:
+            correction = tangent - self.elastic_D
+            plastic = np.flatnonzero(np.abs(correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(self.elastic_D).max())
+            if plastic.size:
+                data = data + self.elements.stiffness_data(correction[plastic], plastic)
+        return self.T @ (f_int + inertia), lambda: self.elements.matrix(data), stress, trial
+
+    # ------------------------------------------------------------------ a step
+    def predict_active_set(self, state: ImpactState, dt: float, extrapolated) -> np.ndarray:
+        """The active set's warm start: the candidates out to the outermost active node's r
+        extrapolated along its last rate; before two states in contact, the candidates whose gap
+        the step's velocity closes (``extrapolated`` = q_n + dt v_n). A wrong guess costs
+        active-set iterations only; gaps overshoot by one to three nodes at the edge, where the
+        pressure bends the surface, and so does the recovered contact radius (it lies between the
+        outermost active and the first open node)."""
+        if state.contact_edge_rate is not None:
+            reach = state.contact_edge + state.contact_edge_rate * dt
+            active = self.candidate_r <= reach + 1e-9 * self.radius
+            active[0] = True
+            return active
+        return state.active | (self.constraint.gaps(extrapolated) < -self.gap_tolerance)
+
+    def solve_step(self, state: ImpactState, dt: float, force_scale: float) -> ImpactStep:
+        """The state at ``state.time + dt`` [s]; ``force_scale`` [N] (e.g. m v_in / contact time)
+        scales the residual test. Never raises for a step that fails: ``converged`` is False."""
+        started = time.perf_counter()
+        c0 = 4.0 / dt ** 2
+        base = state.q + dt * state.velocity
+        self._step = (base, state.acceleration, c0)
+        # Newton starts from the committed displacement moved along the last step's displacement rate,
+        # an increment the body has just been in equilibrium with. Starting from Newmark's predictor
+        # q_n + dt v_n + dt^2/2 a_n puts the nodes next to the contact where their last deceleration
+        # points, a strain a perfectly plastic material reads as flow, and Newton then stalls (seen
+        # at 24 v_Y).
+        q_predicted = state.q + (0.0 if state.displacement_rate is None else dt * state.displacement_rate)
+        active = self.predict_active_set(state, dt, base)
+        start = NewtonStart(self.T @ state.q, state.material_state, float(force_scale))
+        # Trial sets are solved to ACTIVE_SET_TOLERANCE only; the set that settles is solved again to the full
+        # tolerance and checked (calib.fe.contact_loop).
+        loop = solve_contact(self, self.constraint, q_predicted.copy(), q_predicted, start, "dynamic", 0.0, active,
+                             key_prefix=dt, residual_history=[], trial_tolerance=ACTIVE_SET_TOLERANCE)
+        active, converged, message = loop.active, loop.converged, loop.message
+        if converged and active.size and active[-1]:
+            converged, message = False, (f"the contact reached the last candidate node (r = {self.candidate_r[-1]:.4g} m):"
+                                         f" the mesh's refined zone is too small for this impact")
+        wall = time.perf_counter() - started
+        if not converged:
+            return ImpactStep(state=state, converged=False, message=message, newton_iterations=loop.newton_iterations,
+                              active_set_iterations=loop.active_set_iterations, wall_time_s=wall)
+        return self._advanced(state, dt, loop, wall)
+
+    def _advanced(self, state, dt, loop, wall) -> ImpactStep:
+        """The new state from a converged step: Newmark's velocity and acceleration, forces, energies."""
+        q, active, newton, massless = loop.q, loop.active, loop.newton, self.massless
+        acceleration = 4.0 / dt ** 2 * (q - state.q - dt * state.velocity) - state.acceleration
+        velocity = state.velocity + 0.5 * dt * (state.acceleration + acceleration)
+        velocity[massless] = (q[massless] - state.q[massless]) / dt
+        acceleration[massless] = 0.0
+        residual = self.TT @ newton.f_int                # T^T f_int + M a: the contact on the active, r_free elsewhere
+        internal = residual - self.mass_matrix @ acceleration
+        reaction = np.where(active, loop.reaction, 0.0)
+        contact = self.constraint.contact_force(reaction, self.n_q)
+        free_residual = residual - contact
+        dq = q - state.q
+        pressure = lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
+        radius = contact_radius_from_pressure(self.candidate_r, pressure, active)
+        edge = float(self.candidate_r[active].max(initial=0.0))
+        rate = (edge - state.contact_edge) / dt if state.in_contact and active.any() else None
+        new = ImpactState(
+            time=state.time + dt, q=q, velocity=velocity, acceleration=acceleration,
+            material_state=newton.trial, active=active, internal_force=internal, contact_force=contact,
+            free_residual=free_residual,
+            force=float(reaction.sum()), contact_radius=radius, contact_edge=edge, contact_edge_rate=rate,
+            displacement_rate=dq / dt, kinetic_energy=self.kinetic_energy(velocity),
+            elastic_energy=self.elastic_energy(newton.stress), plastic_work=self.plastic_work(newton.trial),
+            work_internal=state.work_internal + 0.5 * float(dq @ (state.internal_force + internal)),
+            work_contact=state.work_contact + 0.5 * float(dq @ (state.contact_force + contact)),
+            work_residual=state.work_residual + 0.5 * float(dq @ (state.free_residual + free_residual)))
+        return ImpactStep(state=new, converged=True, message="converged", contact_radius=radius,
+                          peak_pressure=float(pressure.max(initial=0.0)), newton_iterations=loop.newton_iterations,
+                          active_set_iterations=loop.active_set_iterations, wall_time_s=wall)
+
+
+class ImpactSolver(NewmarkSolver):
     """Time steps of a free sphere (meshes.sphere.SphereMesh) on a rigid frictionless flat.
 
     material: a calib.fe.material.Material; rho: density [kg/m^3]; contact_radius [m]: the
@@ -166,9 +271,13 @@ class ImpactSolver:
         self.n_elements, self.n_qp = quadrature_radius(self.basis).shape
         reach = contact_radius if contact_radius is not None else sphere.spec.refined_radius
         self.dofs, self.elements = sphere_dofs(sphere, self.basis, self.rho, quadrature_order, reach)
-        self.T, self.TT = self.dofs.T, self.dofs.TT
+        self.T, self.TT, self.n_q = self.dofs.T, self.dofs.TT, self.dofs.n_q
+        self.candidate_r, self.candidate_weight = self.dofs.candidate_r, self.dofs.candidate_weight
+        self.constraint = RigidFlat(self.dofs.candidate_q, self.dofs.candidate_z0, self.candidate_r,
+                                    self.candidate_weight)
         self.mass = self.dofs.mass
-        self.mass_matrix = self.elements.matrix(self.dofs.mass_data)
+        self.mass_data = self.dofs.mass_data
+        self.mass_matrix = self.elements.matrix(self.mass_data)
         self.massless = self.mass_matrix.diagonal() == 0.0
         _, tangent, _ = material.update(np.zeros((self.n_elements, self.n_qp, 4)),
                                         material.initial_state(self.n_elements, self.n_qp))
@@ -181,8 +290,7 @@ class ImpactSolver:
         self.stiffness_scale = 0.0
         self.force_floor = 1e-14 * float(material.E) * self.radius ** 2
         self._step = None                      # (q_n + dt v_n, a_n, 4 / dt^2) of the step being solved
-        self._factors: OrderedDict = OrderedDict()
-        self._last_factor = None
+        self.factorizations = FactorCache(linear_solver)
         pattern = self.elements.matrix(np.zeros(self.elements.nnz))
         self._pattern_rows = np.repeat(np.arange(pattern.shape[0]), np.diff(pattern.indptr))
         self._pattern_diagonal = self._pattern_rows == pattern.indices
@@ -227,126 +335,18 @@ class ImpactSolver:
         return float(self.material.sigma_y * np.sum(equivalent * self.elements.weight))
 
     # ------------------------------------------------- calib.fe.newton's interface
-    def assemble(self, displacement, committed):
-        """(T (T^T f_int + M a), tangent(), stress, trial state) at ``displacement`` [m] for the
-        step being solved: the dynamic residual and K_t + (4/dt^2) M on the element pattern."""
-        base, acceleration_n, c0 = self._step
-        strain = self.elements.strain(displacement)
-        stress, tangent, trial = self.material.update(strain, committed)
-        f_int = self.TT @ self.elements.internal_force(stress, slice(None))
-        q = self.TT @ displacement
-        inertia = self.mass_matrix @ (c0 * (q - base) - acceleration_n)
-        data = self.stiffness_data + c0 * self.dofs.mass_data
-        if not self.is_linear:
-            correction = tangent - self.elastic_D
-            plastic = np.flatnonzero(np.abs(correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(self.elastic_D).max())
-            if plastic.size:
-                data = data + self.elements.stiffness_data(correction[plastic], plastic)
-        return self.T @ (f_int + inertia), lambda: self.elements.matrix(data), stress, trial
-
     def factor(self, K_q, free, key):
         """A solver of K_q[free, free] x = b (calib.fe.newton's interface). K_q is factorised whole,
         with the rows and columns of the constrained unknowns cleared but their diagonal: every
         active set then has one sparsity pattern, and every factorisation after the run's first is
         numeric only (qdldl's update, about 60 % of a fresh one). Linear materials: cached by
         ``key`` (dt and the active set)."""
-        if key is not None and key in self._factors:
-            self._factors.move_to_end(key)
-            return self._factors[key], 0
+        cached = self.factorizations.cached(key)
+        if cached is not None:
+            return cached, 0
         data = K_q.data.copy()
         constrained = ~free
         data[(constrained[self._pattern_rows] | constrained[K_q.indices]) & ~self._pattern_diagonal] = 0.0
-        matrix = self.elements.matrix(data)
-        if key is None and self._last_factor is not None and self._last_factor.update(matrix):
-            factor = self._last_factor
-        else:
-            factor = factorize(matrix, self.linear_solver)
-        solver = _FreeBlock(factor, free)
-        if key is None:
-            self._last_factor = factor
-        else:
-            self._factors[key] = solver
-            while len(self._factors) > 4:
-                self._factors.popitem(last=False)
-        return solver, 1
-
-    # ------------------------------------------------------------------ a step
-    def predict_active_set(self, state: ImpactState, dt: float, extrapolated) -> np.ndarray:
-        """The active set's warm start: the candidates out to the outermost active node's r
-        extrapolated along its last rate; before two states in contact, the candidates whose u_z
-        the step's velocity carries through the flat (``extrapolated`` = q_n + dt v_n). A wrong
-        guess costs active-set iterations only; gaps overshoot by one to three nodes at the
-        edge, where the pressure bends the surface, and so does the recovered contact radius
-        (it lies between the outermost active and the first open node)."""
-        dofs = self.dofs
-        if state.contact_edge_rate is not None:
-            reach = state.contact_edge + state.contact_edge_rate * dt
-            active = dofs.candidate_r <= reach + 1e-9 * self.radius
-            active[0] = True
-            return active
-        return state.active | (dofs.candidate_z0 + extrapolated[dofs.candidate_q] < -self.gap_tolerance)
-
-    def solve_step(self, state: ImpactState, dt: float, force_scale: float) -> ImpactStep:
-        """The state at ``state.time + dt`` [s]; ``force_scale`` [N] (e.g. m v_in / contact time)
-        scales the residual test. Never raises for a step that fails: ``converged`` is False."""
-        started = time.perf_counter()
-        dofs = self.dofs
-        c0 = 4.0 / dt ** 2
-        base = state.q + dt * state.velocity
-        self._step = (base, state.acceleration, c0)
-        # Newton starts from the committed displacement moved along the last step's displacement rate,
-        # an increment the body has just been in equilibrium with. Starting from Newmark's predictor
-        # q_n + dt v_n + dt^2/2 a_n puts the nodes next to the contact where their last deceleration
-        # points, a strain a perfectly plastic material reads as flow, and Newton then stalls (seen
-        # at 24 v_Y).
-        q_predicted = state.q + (0.0 if state.displacement_rate is None else dt * state.displacement_rate)
-        active = self.predict_active_set(state, dt, base)
-        start = NewtonStart(self.T @ state.q, state.material_state, float(force_scale))
-        # Trial sets are solved to ACTIVE_SET_TOLERANCE only; the set that settles is solved again to the full
-        # tolerance and checked (calib.fe.contact_loop).
-        loop = solve_contact(self, q_predicted.copy(), q_predicted, start, "dynamic", 0.0, active, key_prefix=dt,
-                             residual_history=[], trial_tolerance=ACTIVE_SET_TOLERANCE)
-        newton, active, converged, message = loop.newton, loop.active, loop.converged, loop.message
-        newton_total, iterations, q = loop.newton_iterations, loop.active_set_iterations, newton.q
-        if converged and active.size and active[-1]:
-            converged, message = False, (f"the contact reached the last candidate node (r = {dofs.candidate_r[-1]:.4g} m):"
-                                         f" the mesh's refined zone is too small for this impact")
-        wall = time.perf_counter() - started
-        if not converged:
-            return ImpactStep(state=state, converged=False, message=message, newton_iterations=newton_total,
-                              active_set_iterations=iterations, wall_time_s=wall)
-        return self._advanced(state, dt, q, active, newton, newton_total, iterations, wall)
-
-    def _advanced(self, state, dt, q, active, newton, newton_total, iterations, wall) -> ImpactStep:
-        """The new state from a converged step: Newmark's velocity and acceleration, forces, energies."""
-        dofs, massless = self.dofs, self.massless
-        acceleration = 4.0 / dt ** 2 * (q - state.q - dt * state.velocity) - state.acceleration
-        velocity = state.velocity + 0.5 * dt * (state.acceleration + acceleration)
-        velocity[massless] = (q[massless] - state.q[massless]) / dt
-        acceleration[massless] = 0.0
-        residual = newton.residual                       # T^T f_int + M a: lambda on the active u_z, r_free elsewhere
-        internal = residual - self.mass_matrix @ acceleration
-        on = dofs.candidate_q[active]
-        contact = np.zeros(dofs.n_q)
-        contact[on] = residual[on]
-        free_residual = residual - contact
-        dq = q - state.q
-        reaction = np.where(active, residual[dofs.candidate_q], 0.0)
-        pressure = lumped_contact_pressure(reaction, active, dofs.candidate_weight, dofs.candidate_r)
-        radius = contact_radius_from_pressure(dofs.candidate_r, pressure, active)
-        edge = float(dofs.candidate_r[active].max(initial=0.0))
-        rate = (edge - state.contact_edge) / dt if state.in_contact and active.any() else None
-        new = ImpactState(
-            time=state.time + dt, q=q, velocity=velocity, acceleration=acceleration,
-            material_state=newton.trial, active=active, internal_force=internal, contact_force=contact,
-            free_residual=free_residual,
-            force=float(reaction.sum()), contact_radius=radius, contact_edge=edge, contact_edge_rate=rate,
-            displacement_rate=(q - state.q) / dt, kinetic_energy=self.kinetic_energy(velocity),
-            elastic_energy=self.elastic_energy(newton.stress), plastic_work=self.plastic_work(newton.trial),
-            work_internal=state.work_internal + 0.5 * float(dq @ (state.internal_force + internal)),
-            work_contact=state.work_contact + 0.5 * float(dq @ (state.contact_force + contact)),
-            work_residual=state.work_residual + 0.5 * float(dq @ (state.free_residual + free_residual)))
-        return ImpactStep(state=new, converged=True, message="converged",
-                          contact_radius=radius,
-                          peak_pressure=float(pressure.max(initial=0.0)), newton_iterations=newton_total,
-                          active_set_iterations=iterations, wall_time_s=wall)
+        # one pattern for every active set: after the run's first, numeric refactorisations only
+        return self.factorizations.factor(self.elements.matrix(data), key, b"",
+                                          lambda factor: _FreeBlock(factor, free)), 1

@@ -15,22 +15,10 @@ Problem (Vu-Quoc & Zhang 1999, section 2). The r-z section of the hemisphere
     Solved exactly by an active set on the nodal gaps (active nodes: u_z = -z0, i.e. g = 0),
     no penalty, so there is no penetration at the nodes.
 
-Algorithm per load step (displacement control: alpha given; force control: P given, the plate
-unknown carries the load):
-  outer loop over active sets, warm-started from the previous step's set:
-    Newton on r(u) = 0 with the active nodes (and, in displacement control, the plate) as
-    Dirichlet constraints; stress and tangent from ``material.update`` at the quadrature points.
-    Converged when ||r_free||_2 <= residual_tolerance * max(||reactions||_2, P, floor).
-    Then: release active nodes with a tensile reaction, add open nodes that penetrate; stop when
-    neither exists. A set seen before (cycling) is answered by changing only the single worst
-    node; if that repeats too the step is reported unconverged (calib.fe.active_set,
-    calib.fe.newton).
-A step never returns silently unconverged: ``StepResult.converged`` is False (and
-``ContactSolver.commit`` refuses it), and ``run_load_path`` raises ``StepNotConverged``.
-``ContactSolver.rescue_step`` is a slower, defensive solve of a step that failed (from the
-committed state without warm start, then, for a force, displacement control with a secant on
-the approach; calib.fe.rescue); calib.fe.loadpath.advance uses it only where halving the
-increment has failed.
+Each load step is the quasi-static stepper's (calib.fe.quasi_static: force or displacement
+control, the warm starts, the rescue solve, commit) with the one active-set loop
+(calib.fe.contact_loop) and the rigid flat as the contact constraint (calib.fe.constraint.RigidFlat).
+This module is the configuration: the mesh, the unknowns, the assembly and the factorisations.
 
 Materials follow ``calib.fe.material.Material``: ``update(strain, committed)`` is pure;
 the trial state is kept in ``StepResult.state`` and becomes the committed state only when the
@@ -38,38 +26,26 @@ caller commits it (``state = solver.commit(result)``), so a failed step can be r
 unchanged committed state. For ``material.is_linear`` the tangent is assembled once and each
 factorisation is reused for as long as the active set (and control mode) does not change.
 
-Post-processing per step: contact reactions lambda_i (consistent nodal forces), the contact
-pressure recovered from them, the contact radius with sub-element accuracy and the peak
-pressure (calib.fe.recovery).
 References: Johnson 1985, Contact Mechanics, ch. 4 (Hertz); Vu-Quoc & Zhang 1999;
 Wriggers 2006, Computational Contact Mechanics, ch. 6 (active set strategy).
 """
 from __future__ import annotations
 
-import time
-from collections import OrderedDict
-
 import numpy as np
 from skfem import Basis, ElementTriP2, ElementVector, asm
 
-from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, to_form_layout
-from calib.fe.contact_loop import solve_contact
+from calib.fe.constraint import RigidFlat
 from calib.fe.dofs import contact_dofs
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
 from calib.fe.linsolve import METHODS as LINEAR_SOLVERS
-from calib.fe.linsolve import factorize
+from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
-from calib.fe.recovery import (CONTACT_RADIUS_METHODS, contact_radius_from_gap, contact_radius_from_pressure,
-                               lumped_contact_pressure)
-from calib.fe.rescue import rescue_step
-from calib.fe.state import (ContactState, QuadratureStates, StepNotConverged, StepRecord, StepResult,
-                             displacement_rate, radius_exponents)
-from nfdmodel import check_real
+from calib.fe.quasi_static import QuasiStaticSolver
+from calib.fe.recovery import CONTACT_RADIUS_METHODS
 
-
-class ContactSolver(QuadratureStates):
+class ContactSolver(QuasiStaticSolver):
     """Sphere (hemisphere mesh) on a rigid frictionless flat, any ``calib.fe.material.Material``.
 
     Parameters
@@ -129,15 +105,15 @@ class ContactSolver(QuadratureStates):
         self.candidate_nodes, self.candidate_r = dofs.candidate_nodes, dofs.candidate_r
         self.candidate_z0, self.candidate_q = dofs.candidate_z0, dofs.candidate_q
         self.candidate_weight = dofs.candidate_weight
+        self.kept = dofs.kept
+        self.constraint = RigidFlat(dofs.candidate_q, dofs.candidate_z0, dofs.candidate_r, dofs.candidate_weight)
 
         self.gap_tolerance = 1e-12 * self.radius  # [m]: round-off, far below any gap of interest
         self.stiffness_scale = float(getattr(material, "E", 1.0)) * self.radius  # [N/m]
         # [N]: a force far below any of interest (E R^2 is the body's natural force unit)
         self.force_floor = 1e-14 * self.stiffness_scale * self.radius
         self._K_q = None  # the elastic tangent in q-space (on self.elements' pattern)
-        self._factor_cache: OrderedDict = OrderedDict()
-        self._last_free, self._last_factor = None, None  # nonlinear: reuse the symbolic analysis
-        self.factorization_count = 0
+        self.factorizations = FactorCache(linear_solver)
 
     # ----------------------------------------------------------------- assembly
     def assemble(self, displacement, committed):
@@ -191,137 +167,17 @@ class ContactSolver(QuadratureStates):
             self._K_q = self.elements.matrix(self.elements.stiffness_data(tangent, slice(None)))
         return self._K_q
 
+    @property
+    def factorization_count(self) -> int:
+        """Factorisations computed by this solver."""
+        return self.factorizations.count
+
     def factor(self, K_q, free, key):
-        """Factorisation of K_q[free, free]; reused for linear materials while ``key`` repeats."""
-        if key is not None and key in self._factor_cache:
-            self._factor_cache.move_to_end(key)
-            return self._factor_cache[key], 0
-        matrix = self.elements.restricted(K_q.data, free)   # K_q[free][:, free]
-        free_bytes = free.tobytes()
-        if key is None and self._last_free == free_bytes and self._last_factor.update(matrix):
-            # same constraints, same pattern (Newton iterations of one active set): numeric
-            # refactorization only (bit-identical to a fresh one, about 40 % of its cost)
-            self.factorization_count += 1
-            return self._last_factor, 1
-        factor = factorize(matrix, self.linear_solver)
-        if key is None:
-            self._last_free, self._last_factor = free_bytes, factor
-        self.factorization_count += 1
-        if key is not None:
-            self._factor_cache[key] = factor
-            while len(self._factor_cache) > 4:
-                self._factor_cache.popitem(last=False)
-        return factor, 1
-
-    # ----------------------------------------------------------------- steps
-    def solve_displacement(self, state: ContactState, alpha: float) -> StepResult:
-        """Equilibrium at approach ``alpha`` [m] (plate displacement -alpha), from ``state``."""
-        alpha = check_real("alpha", alpha, unit="m")
-        return self.solve_step(state, "displacement", alpha)
-
-    def solve_force(self, state: ContactState, force: float) -> StepResult:
-        """Equilibrium at plate force ``force`` = P [N] > 0 (the plate is an unknown)."""
-        force = check_real("force", force, unit="N")
-        if not force > 0:
-            raise ValueError(f"force must be > 0 [N] (P = 0 leaves the approach undetermined;"
-                             f" use solve_displacement), got {force}")
-        return self.solve_step(state, "force", force)
-
-    def predict_active_set(self, state: ContactState, control: str, target: float):
-        """Warm start of the step's active set (calib.fe.active_set.predict_active_set)."""
-        return predict_active_set(state, control, target, self.candidate_r, self.radius,
-                                  self.material)
-
-    def rescue_step(self, state: ContactState, control: str, target: float) -> StepResult:
-        """The step solved defensively after the ordinary solve failed (calib.fe.rescue)."""
-        return rescue_step(self, state, control, target)
-
-    def solve_step(self, state: ContactState, control: str, target: float,
-                   start: ContactState | None = None) -> StepResult:
-        """One load step from ``state`` to ``target`` (force [N] or approach [m] by ``control``),
-        unchecked (``solve_force`` / ``solve_displacement`` check the target): the outer loop over
-        active sets, Newton inside. ``start``: a state whose displacement and active set start the
-        iteration instead of the predictors (the rescue solve)."""
-        t_start = time.perf_counter()
-        q = np.empty(self.n_q)
-        q[:self.plate] = state.displacement[self.dofs.kept]
-        q[self.plate] = state.displacement[self.top_z_dof]
-        # In displacement control the plate is NOT moved here: its jump to -target enters the
-        # first Newton solve as a constraint increment (an elastic predictor spread over the
-        # body). Moving it alone would strain only the top layer, which a plastic material
-        # reads as flow, and Newton can then stall (seen at separation, E / sigma_Y = 100).
-        q_start = q.copy()
-        if start is not None:
-            q[:self.plate] = start.displacement[self.dofs.kept]
-            q[self.plate] = start.displacement[self.top_z_dof]
-        elif (control == "force" and state.displacement_rate is not None
-                and np.sign(target - state.force) == state.load_direction):
-            # secant predictor: continue along the last step's du/dP (same load direction only:
-            # at a turning point the unloading is stiffer than the plastic loading was)
-            u_predicted = state.displacement + state.displacement_rate * (target - state.force)
-            q[:self.plate] = u_predicted[self.dofs.kept]
-            q[self.plate] = u_predicted[self.top_z_dof]
-        active = self.predict_active_set(state, control, target) if start is None else start.active.copy()
-        residual_history: list[float] = []
-        loop = solve_contact(self, q, q_start, state, control, target, active, key_prefix=control,
-                             residual_history=residual_history,
-                             plate=self.plate if control == "displacement" else None,
-                             update_set=next_active_set)
-        newton, active, converged, message = loop.newton, loop.active, loop.converged, loop.message
-        newton_total, factorizations = loop.newton_iterations, loop.factorizations
-        active_set_iterations, t_assembly, t_solve = loop.active_set_iterations, loop.time_assembly, loop.time_solve
-        q, f_int, residual, stress = newton.q, newton.f_int, newton.residual, newton.stress
-        trial, residual_norm = newton.trial, newton.residual_norm
-
-        record_time = time.perf_counter() - t_start
-        if not converged:
-            record = self._record(control, target, state.alpha, state.force, 0.0,
-                                  (0.0, 0.0, 0.0, 0.0), 0.0, int(active.sum()), newton_total,
-                                  active_set_iterations, factorizations, residual_norm, False,
-                                  t_assembly, t_solve, record_time)
-            empty = np.zeros(0)
-            return StepResult(state=state, record=record, converged=False, message=message,
-                              pressure_r=empty, pressure=empty, contact_reaction=empty, gap=empty,
-                              residual_history=tuple(residual_history))
-
-        u = self.T @ q
-        reaction = np.where(active, residual[self.candidate_q], 0.0)
-        gap = self.candidate_z0 + q[self.candidate_q]
-        alpha = -q[self.plate]
-        P = -(self.TT @ f_int)[self.plate]
-        pressure = self.contact_pressure(reaction, active)
-        radii = {"gap": contact_radius_from_gap(self.candidate_r, gap, active),
-                 "pressure": contact_radius_from_pressure(self.candidate_r, pressure, active),
-                 "node": float(self.candidate_r[active].max()) if active.any() else 0.0}
-        chosen = radii[self.contact_radius_method]
-        new_state = ContactState(displacement=u, material_state=trial, active=active,
-                                 alpha=float(alpha), force=float(P), contact_radius=chosen,
-                                 radius_exponents=radius_exponents(state, alpha, P, chosen),
-                                 **displacement_rate(state, control, u, P))
-        record = self._record(control, target, alpha, P, float(reaction.sum()),
-                              (chosen, radii["gap"], radii["pressure"], radii["node"]),
-                              float(pressure.max()), int(active.sum()),
-                              newton_total, active_set_iterations, factorizations,
-                              residual_norm, True, t_assembly, t_solve,
-                              time.perf_counter() - t_start)
-        return StepResult(state=new_state, record=record, converged=True, message="converged",
-                          pressure_r=self.candidate_r.copy(), pressure=pressure,
-                          contact_reaction=reaction, gap=gap, stress=stress,
-                          residual_history=tuple(residual_history))
-
-    def contact_pressure(self, reaction, active):
-        """Nodal contact pressure [Pa] from the nodal reactions [N] (calib.fe.recovery)."""
-        return lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
-
-    def _record(self, control, target, alpha, P, contact_force, radii, peak_pressure,
-                n_contact, newton, active_iterations, factorizations, residual_norm, converged,
-                t_assembly, t_solve, wall):
-        return StepRecord(control=control, target=float(target), alpha=float(alpha), P=float(P),
-                          contact_force=contact_force, contact_radius=radii[0],
-                          contact_radius_gap=radii[1], contact_radius_pressure=radii[2],
-                          contact_radius_node=radii[3], peak_pressure=peak_pressure,
-                          n_contact_nodes=n_contact, newton_iterations=newton,
-                          active_set_iterations=active_iterations,
-                          factorizations=factorizations, residual_norm=float(residual_norm),
-                          residual_tolerance=self.residual_tolerance, converged=converged,
-                          time_assembly_s=t_assembly, time_solve_s=t_solve, wall_time_s=wall)
+        """Factorisation of K_q[free, free] (calib.fe.linsolve.FactorCache: kept under ``key`` for a
+        linear material, numeric refactorisation while the constraints ``free`` repeat), and the
+        number of new factorisations (0 or 1)."""
+        cached = self.factorizations.cached(key)
+        if cached is not None:
+            return cached, 0
+        # K_q[free][:, free] gathered on the fixed pattern
+        return self.factorizations.factor(self.elements.restricted(K_q.data, free), key, free.tobytes()), 1

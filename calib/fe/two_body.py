@@ -47,29 +47,23 @@ Mesarovic & Fleck 2000, Int. J. Solids Struct. 37, 7071 (dissimilar elastic-plas
 from __future__ import annotations
 
 import copy
-import time
-from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
 from skfem import Basis, ElementTriP2, ElementVector, asm
 
-from calib.fe.active_set import next_active_set, predict_active_set
 from calib.fe.axisym import quadrature_radius, to_form_layout
 from calib.fe.condensation import CondensedBody
-from calib.fe.contact_pair import active_set_reduction, mortar_gap
+from calib.fe.constraint import MortarContact
+from calib.fe.contact_pair import mortar_gap
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
-from calib.fe.linsolve import factorize
-from calib.fe.newton import solve_newton
-from calib.fe.recovery import contact_radius_from_gap, contact_radius_from_pressure, lumped_contact_pressure
-from calib.fe.rescue import rescue_step
-from calib.fe.state import (ContactState, QuadratureStates, StepRecord, StepResult, displacement_rate,
-                             radius_exponents)
+from calib.fe.linsolve import FactorCache
+from calib.fe.quasi_static import QuasiStaticSolver
 from calib.fe.von_mises import von_mises_stress
 from meshes.counter_body import six_node_cells
-from nfdmodel import check_real
+
 
 # candidates for contact: the sphere's surface nodes within this fraction of the smallest body
 # dimension (min(R1, R2, L)); the recipe's largest contact is FE_MAX_CONTACT_RADIUS_OVER_R R below it
@@ -145,45 +139,7 @@ class PairMaterial:
         return D
 
 
-class _Affine:
-    """u = T (S p + d): what ``solver.T @ p`` means to calib.fe.newton for one active set."""
-
-    def __init__(self, T, S, d):
-        self.T, self.S, self.d = T, S, d
-
-    def __matmul__(self, p):
-        return self.T @ (self.S @ p + self.d)
-
-
-class _Chain:
-    """S^T T^T f: the reduced residual of the full internal force."""
-
-    def __init__(self, ST, TT):
-        self.ST, self.TT = ST, TT
-
-    def __matmul__(self, f):
-        return self.ST @ (self.TT @ f)
-
-
-class _Reduced:
-    """The two-body problem of one active set, as calib.fe.newton.solve_newton sees a solver."""
-
-    def __init__(self, solver: "TwoBodySolver", S, d, pattern: bytes):
-        self.solver, self.S, self.ST, self.pattern = solver, S, S.T.tocsr(), pattern
-        self.T, self.TT = _Affine(solver.T, S, d), _Chain(self.ST, solver.TT)
-        self.plate = S.shape[1] - 2          # the last q entry; theta follows it
-        for name in ("stiffness_scale", "force_floor", "max_newton_iterations", "residual_tolerance"):
-            setattr(self, name, getattr(solver, name))
-
-    def assemble(self, displacement, committed):
-        f_int, tangent, stress, trial = self.solver.assemble(displacement, committed)
-        return f_int, lambda: (self.ST @ tangent() @ self.S).tocsr(), stress, trial
-
-    def factor(self, K_p, free, key):
-        return self.solver.factor(K_p, free, key, self.pattern)
-
-
-class TwoBodySolver(QuadratureStates):
+class TwoBodySolver(QuasiStaticSolver):
     """Sphere on a deformable counter-body (module docstring); the interface of ContactSolver.
 
     pair_mesh: meshes.counter_body.PairMesh; material1, material2: calib.fe Materials (sphere,
@@ -285,14 +241,13 @@ class TwoBodySolver(QuadratureStates):
         G = gap.G.tocoo()
         self.master_q = master_q
         self.G_q = sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, self.n_q))
+        self.constraint = MortarContact(gap, self.candidate_q, self.G_q)
 
         self.gap_tolerance = 1e-12 * self.radius
         self.stiffness_scale = float(self.material.E) * self.radius
         self.force_floor = 1e-14 * self.stiffness_scale * self.radius
         self._K_q = None
-        self._factor_cache: OrderedDict = OrderedDict()
-        self._last_pattern, self._last_factor = None, None
-        self.factorization_count = 0
+        self.factorizations = FactorCache(linear_solver)
 
     def elastic_twin(self, material1, material2) -> "TwoBodySolver":
         """This solver with the elastic materials ``material1``, ``material2`` of the same E and nu
@@ -304,9 +259,7 @@ class TwoBodySolver(QuadratureStates):
             raise ValueError("elastic_twin: the elastic materials must have the solver's E and nu")
         self._linear_tangent()                  # built once, shared by both
         twin.is_linear = twin.material.is_linear
-        twin._factor_cache = OrderedDict()
-        twin._last_pattern, twin._last_factor = None, None
-        twin.factorization_count = 0
+        twin.factorizations = FactorCache(self.linear_solver)
         return twin
 
     # ----------------------------------------------------------------- assembly
@@ -323,7 +276,7 @@ class TwoBodySolver(QuadratureStates):
         a = self.elements
         return np.matmul(a.B[elements], np.asarray(displacement)[a.element_dofs[elements]][:, None, :, None])[..., 0]
 
-    def _all_stress(self, u, stress):
+    def full_stress(self, u, stress):
         """Newton's stress (E, Q, 4) [Pa] with a condensed counter-body's, D strain(u), added."""
         if stress is None or self.counter is None:
             return stress
@@ -368,166 +321,21 @@ class TwoBodySolver(QuadratureStates):
 
         return f_int, tangent_matrix, stress, trial
 
-    def factor(self, K_p, free, key, pattern=None):
-        """Factorisation of K_p[free, free]; reused for linear materials while ``key`` repeats, and
-        refactorised numerically only (same ordering and symbolic analysis) while ``pattern`` (the
-        active set and the constraints) repeats."""
-        if key is not None and key in self._factor_cache:
-            self._factor_cache.move_to_end(key)
-            return self._factor_cache[key], 0
-        matrix = K_p[free][:, free].tocsr()
-        pattern = None if pattern is None else pattern + free.tobytes()
-        if key is None and pattern is not None and self._last_pattern == pattern and self._last_factor.update(matrix):
-            self.factorization_count += 1
-            return self._last_factor, 1
-        factor = factorize(matrix, self.linear_solver)
-        self.factorization_count += 1
-        if key is None:
-            self._last_pattern, self._last_factor = pattern, factor
-        if key is not None:
-            self._factor_cache[key] = factor
-            while len(self._factor_cache) > 4:
-                self._factor_cache.popitem(last=False)
-        return factor, 1
+    @property
+    def factorization_count(self) -> int:
+        """Factorisations computed by this solver."""
+        return self.factorizations.count
 
-    def reduction(self, active, q_from):
-        """(S, d, free_q) of calib.fe.contact_pair.active_set_reduction for the active set."""
-        return active_set_reduction(self.candidate_q, self.G_q, self.candidate_g0, active, q_from)
+    def factor(self, K_p, free, key, pattern=None):
+        """Factorisation of K_p[free, free] and the number of new ones (calib.fe.linsolve.FactorCache.block)."""
+        return self.factorizations.block(K_p, free, key, pattern)
 
     def gaps(self, q) -> np.ndarray:
         """g_i [m] of every candidate at the unknowns q."""
-        return q[self.candidate_q] - self.G_q @ q + self.candidate_g0
-
-    # ----------------------------------------------------------------- steps
-    def solve_displacement(self, state: ContactState, alpha: float) -> StepResult:
-        """Equilibrium at approach ``alpha`` [m] of the two far points."""
-        return self.solve_step(state, "displacement", check_real("alpha", alpha, unit="m"))
-
-    def solve_force(self, state: ContactState, force: float) -> StepResult:
-        """Equilibrium at the contact force ``force`` = P [N] > 0."""
-        force = check_real("force", force, unit="N")
-        if not force > 0:
-            raise ValueError(f"force must be > 0 [N], got {force}")
-        return self.solve_step(state, "force", force)
-
-    def predict_active_set(self, state: ContactState, control: str, target: float):
-        return predict_active_set(state, control, target, self.candidate_r, self.radius, self.material)
-
-    def rescue_step(self, state: ContactState, control: str, target: float) -> StepResult:
-        return rescue_step(self, state, control, target)
-
-    def _q_of(self, displacement):
-        q = np.empty(self.n_q)
-        q[:self.plate] = displacement[self.kept]
-        q[self.plate] = displacement[self.top_z_dof]
-        return q
-
-    def solve_step(self, state: ContactState, control: str, target: float,
-                   start: ContactState | None = None) -> StepResult:
-        """One load step (as ContactSolver.solve_step): active sets outside, Newton on p inside."""
-        t_start = time.perf_counter()
-        q = self._q_of(state.displacement)
-        q_start = q.copy()
-        if start is not None:
-            q = self._q_of(start.displacement)
-        elif (control == "force" and state.displacement_rate is not None
-                and np.sign(target - state.force) == state.load_direction):
-            q = self._q_of(state.displacement + state.displacement_rate * (target - state.force))
-        active = self.predict_active_set(state, control, target) if start is None else start.active.copy()
-        visited = {active.tobytes()}
-        history: list[float] = []
-        newton_total = factorizations = iterations = 0
-        t_assembly = t_solve = 0.0
-        converged, message, residual_norm, stress, trial = False, "", np.inf, None, None
-        while iterations < self.max_active_set_iterations:
-            iterations += 1
-            runs = []
-            for q_from in ((q,) if iterations == 1 else (q, q_start)):
-                # from the previous set's solution; if Newton fails there, from the committed state
-                # (a node that held plastic flow and is released can make the former diverge)
-                S, d, free_q = self.reduction(active, q_from)
-                reduced = _Reduced(self, S, d, control.encode() + active.tobytes())
-                n_p = S.shape[1]
-                constrained = np.array([n_p - 1] + ([reduced.plate] if control == "displacement" else []))
-                constrained_target = np.array([1.0] + ([-target] if control == "displacement" else []))
-                free = np.ones(n_p, dtype=bool)
-                free[constrained] = False
-                key = (control, active.tobytes()) if self.is_linear else None
-                runs.append(solve_newton(reduced, np.append(q_from[free_q], 0.0), state, control, target,
-                                         constrained, constrained_target, free, key, history))
-                if runs[-1].ok:
-                    break
-            for run in runs:
-                newton_total += run.iterations
-                factorizations += run.factorizations
-                t_assembly += run.time_assembly
-                t_solve += run.time_solve
-            newton = runs[-1]
-            q = S @ newton.q + d
-            f_int, stress, trial = newton.f_int, newton.stress, newton.trial
-            residual_norm, scale = newton.residual_norm, newton.scale
-            if not newton.ok:
-                message = newton.message or (f"Newton did not reach the residual tolerance in "
-                                             f"{self.max_newton_iterations} iterations (relative residual "
-                                             f"{residual_norm:.3g})")
-                break
-            r_q = self.TT @ f_int
-            reaction = r_q[self.candidate_q]
-            update = next_active_set(active, reaction, self.gaps(q), visited,
-                                     force_tolerance=10.0 * self.residual_tolerance * scale,
-                                     gap_tolerance=self.gap_tolerance, force_scale=scale,
-                                     length_scale=self.radius, force_control=control == "force")
-            if update.settled:
-                converged = True
-                break
-            if update.active is None:
-                message = "active set cycles"
-                break
-            active = update.active
-        else:
-            message = f"active set did not settle in {self.max_active_set_iterations} iterations"
-        if not converged:
-            record = self._record(control, target, state.alpha, state.force, 0.0, (0.0,) * 4, 0.0,
-                                  int(active.sum()), newton_total, iterations, factorizations, residual_norm,
-                                  False, t_assembly, t_solve, time.perf_counter() - t_start)
-            empty = np.zeros(0)
-            return StepResult(state=state, record=record, converged=False, message=message, pressure_r=empty,
-                              pressure=empty, contact_reaction=empty, gap=empty,
-                              residual_history=tuple(history))
-        u = self.displacement(q)
-        stress = self._all_stress(u, stress)
-        reaction = np.where(active, reaction, 0.0)
-        gap = self.gaps(q)
-        alpha, P = -q[self.plate], -r_q[self.plate]
-        pressure = lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
-        radii = {"gap": contact_radius_from_gap(self.candidate_r, gap, active),
-                 "pressure": contact_radius_from_pressure(self.candidate_r, pressure, active),
-                 "node": float(self.candidate_r[active].max()) if active.any() else 0.0}
-        chosen = radii[self.contact_radius_method]
-        new_state = ContactState(displacement=u, material_state=trial, active=active, alpha=float(alpha),
-                                 force=float(P), contact_radius=chosen,
-                                 radius_exponents=radius_exponents(state, alpha, P, chosen),
-                                 **displacement_rate(state, control, u, P))
-        record = self._record(control, target, alpha, P, float(reaction.sum()),
-                              (chosen, radii["gap"], radii["pressure"], radii["node"]), float(pressure.max()),
-                              int(active.sum()), newton_total, iterations, factorizations, residual_norm, True,
-                              t_assembly, t_solve, time.perf_counter() - t_start)
-        return StepResult(state=new_state, record=record, converged=True, message="converged",
-                          pressure_r=self.candidate_r.copy(), pressure=pressure, contact_reaction=reaction,
-                          gap=gap, stress=stress, residual_history=tuple(history))
-
-    def _record(self, control, target, alpha, P, contact_force, radii, peak_pressure, n_contact, newton,
-                active_iterations, factorizations, residual_norm, converged, t_assembly, t_solve, wall):
-        return StepRecord(control=control, target=float(target), alpha=float(alpha), P=float(P),
-                          contact_force=contact_force, contact_radius=radii[0], contact_radius_gap=radii[1],
-                          contact_radius_pressure=radii[2], contact_radius_node=radii[3],
-                          peak_pressure=peak_pressure, n_contact_nodes=n_contact, newton_iterations=newton,
-                          active_set_iterations=active_iterations, factorizations=factorizations,
-                          residual_norm=float(residual_norm), residual_tolerance=self.residual_tolerance,
-                          converged=converged, time_assembly_s=t_assembly, time_solve_s=t_solve, wall_time_s=wall)
+        return self.constraint.gaps(q)
 
     # ----------------------------------------------------------------- yield
-    def yield_ratios(self, state: ContactState) -> tuple:
+    def yield_ratios(self, state) -> tuple:
         """Per body, max von Mises stress / sigma_Y [-] (None for an elastic body)."""
         q = von_mises_stress(self.stress(state))
         return tuple(float(q[elements].max()) / material.sigma_y if hasattr(material, "sigma_y") else None
