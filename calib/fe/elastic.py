@@ -47,3 +47,7 @@ class ElasticMaterial(IsotropicElasticity):
         stress = strain_total @ D  # D is symmetric
         tangent = np.broadcast_to(D, strain_total.shape[:2] + (4, 4))
         return stress, tangent, state_committed
+
+    def dissipated_work(self, state, weight) -> float:
+        """Elasticity dissipates nothing [J]."""
+        return 0.0

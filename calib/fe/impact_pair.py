@@ -59,6 +59,7 @@ from calib.fe.contact_pair import mortar_gap
 from calib.fe.dofs import Numbering
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import mass as mass_form
+from calib.fe.kinematics import SmallStrain, elastic_tangent
 from calib.fe.linsolve import FactorCache
 from calib.fe.newmark import ImpactState, NewmarkSolver
 from calib.fe.sphere_dofs import pattern_data
@@ -158,9 +159,10 @@ class PairImpactSolver(NewmarkSolver):
         m1, m2 = self.masses
         self.mass = m1 * m2 / (m1 + m2) if self.free_counter else m1
 
-        self.elastic_D = self.material.elastic_tangent(self.n_qp)
+        self.elastic_D = elastic_tangent(self.material, self.n_elements, self.n_qp)
         self.compliance = np.linalg.inv(self.elastic_D)
-        self.stiffness_data = self.elements.stiffness_data(self.elastic_D, slice(None))
+        self.kinematics = SmallStrain(self.elements, self.elastic_D)
+        self.stiffness_data = self.kinematics.elastic_data
         self.gap_tolerance = 1e-12 * self.R1
         # calib.fe.newton reads these: no displacement-based force scale (the free flight's
         # translation carries no force); the floor as calib.fe.solver's
@@ -212,20 +214,6 @@ class PairImpactSolver(NewmarkSolver):
         sphere's own, v_z1, against a held block)."""
         v = self.body_velocity(velocity, 0)
         return v - self.body_velocity(velocity, 1) if self.free_counter else v
-
-    def elastic_energy(self, stress) -> float:
-        """1/2 int sigma . D^-1 sigma dV [J], each body with its own D."""
-        density = 0.5 * np.einsum("eqi,eqij,eqj->eq", stress, self.compliance, stress)
-        return float(np.sum(density * self.elements.weight))
-
-    def plastic_work(self, material_state) -> float:
-        """sum over the bodies of sigma_Yk int eps_p,eq dV [J] (perfect plasticity's dissipation)."""
-        work = 0.0
-        for material, state, elements in zip(self.materials, material_state.states, self.material.elements):
-            eps = getattr(state, "equivalent_plastic_strain", None)
-            if eps is not None:
-                work += float(material.sigma_y * np.sum(eps * self.elements.weight[elements]))
-        return work
 
     def gaps(self, q) -> np.ndarray:
         """g_i [m] of every candidate at the unknowns q."""

@@ -45,6 +45,11 @@ class Material(Protocol):
         """(stress (E, Q, 4) [Pa], tangent (E, Q, 4, 4) [Pa], trial state) at the total strain
         (E, Q, 4) [-], from the committed state."""
 
+    def dissipated_work(self, state, weight) -> float:
+        """The work dissipated since the virgin state [J]: the integral of the dissipation density
+        [J/m^3] at the quadrature points with the volume weights ``weight`` (E, Q) [m^3] (0 for an
+        elastic material; the energy balance of the impacts, calib.fe.newmark)."""
+
 
 def elastic_constants(E, nu) -> tuple[float, float]:
     """(E, nu) as floats: Young's modulus E > 0 [Pa] and Poisson's ratio 0 <= nu < 0.5, or a

@@ -50,6 +50,7 @@ from skfem import Basis, ElementTriP2, ElementVector
 from calib.fe.axisym import quadrature_radius
 from calib.fe.constraint import RigidFlat
 from calib.fe.contact_loop import solve_contact
+from calib.fe.kinematics import SmallStrain, elastic_tangent
 from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
 from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
@@ -143,7 +144,7 @@ class NewmarkSolver:
     docstring): the sphere on the rigid flat (ImpactSolver) or on a deformable counter-body
     (calib.fe.impact_pair.PairImpactSolver). A configuration provides ``constraint``
     (calib.fe.constraint), ``factor`` (calib.fe.newton's interface), T and TT (u = T q, each q one
-    dof), ``elements`` (calib.fe.element_arrays), ``material``, ``mass_matrix`` and ``mass_data``
+    dof), ``elements`` (calib.fe.element_arrays), ``material``, ``mass_matrix`` and ``mass_data``, ``compliance`` (D^-1)
     (M on the element pattern), ``stiffness_data`` and ``elastic_D`` (the elastic tangent),
     ``massless`` (the dofs without mass), ``n_q``, ``candidate_r``, ``candidate_weight``, the
     options and scales (residual_tolerance, iteration limits, radius, gap_tolerance,
@@ -152,20 +153,28 @@ class NewmarkSolver:
     # ------------------------------------------------- calib.fe.newton's interface
     def assemble(self, displacement, committed):
         """(T (T^T f_int + M a), tangent(), stress, trial state) at ``displacement`` [m] for the
-        step being solved: the dynamic residual and K_t + (4/dt^2) M on the element pattern."""
+        step being solved: the dynamic residual and K_t + (4/dt^2) M on the element pattern, the
+        tangent as the elastic part plus the flowed elements' correction (calib.fe.kinematics)."""
         base, acceleration_n, c0 = self._step
-        strain = self.elements.strain(displacement)
-        stress, tangent, trial = self.material.update(strain, committed)
-        f_int = self.TT @ self.elements.internal_force(stress, slice(None))
         q = self.TT @ displacement
+        response = self.kinematics.correction(self.material, displacement, committed)
+        f_int = self.TT @ self.kinematics.internal_force(response.stress)
+        data = self.kinematics.elastic_data + c0 * self.mass_data
+        if response.tangent_data is not None:
+            data = data + response.tangent_data()
         inertia = self.mass_matrix @ (c0 * (q - base) - acceleration_n)
-        data = self.stiffness_data + c0 * self.mass_data
-        if not self.is_linear:
-            correction = tangent - self.elastic_D
-            plastic = np.flatnonzero(np.abs(correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(self.elastic_D).max())
-            if plastic.size:
-                data = data + self.elements.stiffness_data(correction[plastic], plastic)
-        return self.T @ (f_int + inertia), lambda: self.elements.matrix(data), stress, trial
+        return self.T @ (f_int + inertia), lambda: self.elements.matrix(data), response.stress, response.trial
+
+    def elastic_energy(self, stress) -> float:
+        """1/2 int sigma . D^-1 sigma dV [J] of a stress field (E, Q, 4) [Pa] (``compliance`` D^-1:
+        (4, 4) for one material, (E, Q, 4, 4) per point)."""
+        path = "eqi,ij,eqj->eq" if self.compliance.ndim == 2 else "eqi,eqij,eqj->eq"
+        density = 0.5 * np.einsum(path, stress, self.compliance, stress)
+        return float(np.sum(density * self.elements.weight))
+
+    def plastic_work(self, material_state) -> float:
+        """The work the material has dissipated [J] (calib.fe.material.Material.dissipated_work)."""
+        return self.material.dissipated_work(material_state, self.elements.weight)
 
     # ------------------------------------------------------------------ a step
     def predict_active_set(self, state: ImpactState, dt: float, extrapolated) -> np.ndarray:
@@ -279,11 +288,10 @@ class ImpactSolver(NewmarkSolver):
         self.mass_data = self.dofs.mass_data
         self.mass_matrix = self.elements.matrix(self.mass_data)
         self.massless = self.mass_matrix.diagonal() == 0.0
-        _, tangent, _ = material.update(np.zeros((self.n_elements, self.n_qp, 4)),
-                                        material.initial_state(self.n_elements, self.n_qp))
-        self.elastic_D = np.array(tangent[0, 0])                       # homogeneous material
+        self.elastic_D = elastic_tangent(material, self.n_elements, self.n_qp)[0, 0]   # homogeneous material
         self.compliance = np.linalg.inv(self.elastic_D)
-        self.stiffness_data = self.elements.stiffness_data(tangent, slice(None))
+        self.kinematics = SmallStrain(self.elements, self.elastic_D)
+        self.stiffness_data = self.kinematics.elastic_data
         self.gap_tolerance = 1e-12 * self.radius
         # calib.fe.newton reads these: no displacement-based force scale (the free flight's
         # translation carries no force); the floor as calib.fe.solver's
@@ -321,18 +329,6 @@ class ImpactSolver(NewmarkSolver):
     def centre_of_mass_displacement(self, q) -> float:
         """u_z of the centre of mass, t . M q / m [m]."""
         return self.momentum(q) / self.mass
-
-    def elastic_energy(self, stress) -> float:
-        """1/2 int sigma . D^-1 sigma dV [J] of a stress field (E, Q, 4) [Pa]."""
-        density = 0.5 * np.einsum("eqi,ij,eqj->eq", stress, self.compliance, stress)
-        return float(np.sum(density * self.elements.weight))
-
-    def plastic_work(self, material_state) -> float:
-        """sigma_Y int eps_p,eq dV [J]: the dissipation of perfect plasticity (0 for elastic materials)."""
-        equivalent = getattr(material_state, "equivalent_plastic_strain", None)
-        if equivalent is None:
-            return 0.0
-        return float(self.material.sigma_y * np.sum(equivalent * self.elements.weight))
 
     # ------------------------------------------------- calib.fe.newton's interface
     def factor(self, K_q, free, key):

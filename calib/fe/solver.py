@@ -31,14 +31,13 @@ Wriggers 2006, Computational Contact Mechanics, ch. 6 (active set strategy).
 """
 from __future__ import annotations
 
-import numpy as np
-from skfem import Basis, ElementTriP2, ElementVector, asm
+from skfem import Basis, ElementTriP2, ElementVector
 
-from calib.fe.axisym import quadrature_radius, to_form_layout
+from calib.fe.axisym import quadrature_radius
 from calib.fe.constraint import RigidFlat
 from calib.fe.dofs import contact_dofs
 from calib.fe.element_arrays import ElementArrays
-from calib.fe.forms import tangent_stiffness
+from calib.fe.kinematics import SmallStrain, elastic_tangent
 from calib.fe.linsolve import METHODS as LINEAR_SOLVERS
 from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
@@ -118,36 +117,17 @@ class ContactSolver(QuasiStaticSolver):
     # ----------------------------------------------------------------- assembly
     def assemble(self, displacement, committed):
         """(f_int [N], tangent, stress, trial state) at ``displacement``; ``tangent()`` assembles
-        K_q on demand (the converged iterate of a step needs only the residual)."""
-        if self.is_linear:
-            K_q = self._linear_tangent()
-            return self._K_full @ displacement, lambda: K_q, None, committed
-        # f_int = K_el u + int B^T (sigma - D eps),  K = K_el + int B^T (C - D) B: both
-        # corrections vanish wherever the material is still elastic (no plastic strain), so
-        # only the elements that have flowed are assembled (the plastic zone is small).
-        strain = self.strain(displacement)
-        stress, tangent, trial = self.material.update(strain, committed)
+        K_q on demand (the converged iterate of a step needs only the residual). The elastic part
+        plus the flowed elements' correction (calib.fe.kinematics)."""
         K_q = self._linear_tangent()
-        elastic = self._elastic_D
-        stress_correction = stress - strain @ elastic
-        tangent_correction = tangent - elastic
         f_int = self._K_full @ displacement
-        inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > 1e-13 * self._stress_scale(stress)) | \
-                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(elastic).max())
-        if not inelastic.any():
-            return f_int, lambda: K_q, stress, trial
-        elements = np.flatnonzero(inelastic)
-        f_int = f_int + self.elements.internal_force(stress_correction[elements], elements)
-
-        def tangent():
-            data = K_q.data + self.elements.stiffness_data(tangent_correction[elements], elements)
-            return self.elements.matrix(data)
-
-        return f_int, tangent, stress, trial
-
-    @staticmethod
-    def _stress_scale(stress):
-        return max(float(np.abs(stress).max()), 1e-300)
+        if self.is_linear:
+            return f_int, lambda: K_q, None, committed
+        response = self.kinematics.correction(self.material, displacement, committed)
+        if response.force is None:
+            return f_int, lambda: K_q, response.stress, response.trial
+        return (f_int + response.force(), lambda: self.elements.matrix(K_q.data + response.tangent_data()),
+                response.stress, response.trial)
 
     def elastic_stiffness(self):
         """Full stiffness matrix [N/m] of a linear material (scikit-fem dof ordering)."""
@@ -157,14 +137,13 @@ class ContactSolver(QuasiStaticSolver):
         return self._K_full
 
     def _linear_tangent(self):
+        """K_el in q-space, with the kinematics built on first use (a solver that never solves,
+        e.g. for a dof count, assembles nothing)."""
         if self._K_q is None:
-            _, tangent, _ = self.material.update(np.zeros((self.n_elements, self.n_qp, 4)),
-                                                 self.material.initial_state(self.n_elements,
-                                                                             self.n_qp))
-            self._elastic_D = np.array(tangent[0, 0])  # (4, 4): homogeneous material
-            self._K_full = asm(tangent_stiffness, self.basis,
-                               tangent=to_form_layout(tangent)).tocsr()
-            self._K_q = self.elements.matrix(self.elements.stiffness_data(tangent, slice(None)))
+            D = elastic_tangent(self.material, self.n_elements, self.n_qp)[0, 0]   # homogeneous material
+            self.kinematics = SmallStrain(self.elements, D)
+            self._K_full = self.kinematics.elastic_stiffness(self.basis)
+            self._K_q = self.elements.matrix(self.kinematics.elastic_data)
         return self._K_q
 
     @property

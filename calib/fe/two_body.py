@@ -51,14 +51,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import scipy.sparse as sp
-from skfem import Basis, ElementTriP2, ElementVector, asm
+from skfem import Basis, ElementTriP2, ElementVector
 
-from calib.fe.axisym import quadrature_radius, to_form_layout
+from calib.fe.axisym import quadrature_radius
 from calib.fe.condensation import CondensedBody
 from calib.fe.constraint import MortarContact
 from calib.fe.contact_pair import mortar_gap
 from calib.fe.element_arrays import ElementArrays
-from calib.fe.forms import tangent_stiffness
+from calib.fe.kinematics import SmallStrain, elastic_tangent
 from calib.fe.linsolve import FactorCache
 from calib.fe.quasi_static import QuasiStaticSolver
 from calib.fe.von_mises import von_mises_stress
@@ -131,12 +131,10 @@ class PairMaterial:
             states.append(trial)
         return stress, tangent, PairState(tuple(states), self.elements, committed.shape)
 
-    def elastic_tangent(self, n_qp: int) -> np.ndarray:
-        """D of each element's body, (E, Q, 4, 4) [Pa]."""
-        D = np.empty((self.n_elements, n_qp, 4, 4))
-        for material, elements in zip(self.materials, self.elements):
-            D[elements] = material.elastic_tangent()
-        return D
+    def dissipated_work(self, state: PairState, weight) -> float:
+        """The two bodies' dissipated work [J] (calib.fe.material.Material.dissipated_work)."""
+        return sum(material.dissipated_work(body_state, weight[elements])
+                   for material, body_state, elements in zip(self.materials, state.states, self.elements))
 
 
 class TwoBodySolver(QuasiStaticSolver):
@@ -207,11 +205,12 @@ class TwoBodySolver(QuasiStaticSolver):
         cols = np.concatenate([q_of_dof[direct], np.full(top.size, self.plate)])
         T_elements = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n_dofs, self.n_q))
         self.elements = ElementArrays(self.basis, T_elements)
-        self.material_D = self.material.elastic_tangent(self.n_qp)
-        K_full = asm(tangent_stiffness, self.basis, tangent=to_form_layout(self.material_D)).tocsr()
-        self.counter, self._S_block = None, None
+        self.material_D = elastic_tangent(self.material, self.n_elements, self.n_qp)
         # the bodies whose material Newton evaluates: the sphere alone when the counter-body is condensed
-        self._newton_elements = self.material.elements[0] if self.condensed else np.arange(self.n_elements)
+        self.kinematics = SmallStrain(self.elements, self.material_D,
+                                      self.material.elements[0] if self.condensed else None)
+        K_full = self.kinematics.elastic_stiffness(self.basis)
+        self.counter, self._S_block = None, None
         if self.condensed:
             interior = np.setdiff1d(np.intersect1d(unknown, body2_dofs), master_dofs)
             self.counter = CondensedBody.of(K_full, interior, master_dofs, self.material.elements[1], linear_solver)
@@ -225,10 +224,6 @@ class TwoBodySolver(QuasiStaticSolver):
         else:
             self.T = T_elements
         self._K_full = K_full        # f_int = K_full u at Newton's iterates (elastic part)
-        self._D_newton = self.material_D[self._newton_elements]
-        # the B matrices and dofs of those elements, gathered once (not per iteration)
-        self._B_newton = np.ascontiguousarray(self.elements.B[self._newton_elements])
-        self._dofs_newton = np.ascontiguousarray(self.elements.element_dofs[self._newton_elements])
         self.TT = self.T.T.tocsr()
         self.top_z_dof = int(self.z_dof[top[0]])
 
@@ -255,7 +250,7 @@ class TwoBodySolver(QuasiStaticSolver):
         condensation are shared, not rebuilt; the factorisations are its own."""
         twin = copy.copy(self)
         twin.material = PairMaterial((material1, material2), self.pair_mesh.body)
-        if not np.array_equal(twin.material.elastic_tangent(self.n_qp), self.material_D):
+        if not np.array_equal(elastic_tangent(twin.material, self.n_elements, self.n_qp), self.material_D):
             raise ValueError("elastic_twin: the elastic materials must have the solver's E and nu")
         self._linear_tangent()                  # built once, shared by both
         twin.is_linear = twin.material.is_linear
@@ -271,55 +266,35 @@ class TwoBodySolver(QuasiStaticSolver):
         u = self.T @ q
         return u if self.counter is None else self.counter.fill(u)
 
-    def _strain(self, displacement, elements) -> np.ndarray:
-        """Strain (len(elements), Q, 4) [-] of ``elements`` only."""
-        a = self.elements
-        return np.matmul(a.B[elements], np.asarray(displacement)[a.element_dofs[elements]][:, None, :, None])[..., 0]
-
     def full_stress(self, u, stress):
         """Newton's stress (E, Q, 4) [Pa] with a condensed counter-body's, D strain(u), added."""
         if stress is None or self.counter is None:
             return stress
         full = np.empty((self.n_elements, self.n_qp, 4))
-        full[self._newton_elements] = stress
+        full[self.kinematics.evaluated] = stress
         elements = self.counter.elements
-        full[elements] = np.einsum("eqij,eqj->eqi", self.material_D[elements], self._strain(u, elements))
+        full[elements] = self.kinematics.elastic_stress(self.kinematics.strain(u, elements), elements)
         return full
 
     def _linear_tangent(self):
         if self._K_q is None:
-            self._D = self.material_D
-            self._K_q_elements = self.elements.matrix(self.elements.stiffness_data(self._D, slice(None)))
+            self._K_q_elements = self.elements.matrix(self.kinematics.elastic_data)
             self._K_q = self._with_counter(self._K_q_elements)
         return self._K_q
 
     def assemble(self, displacement, committed):
         """(f_int [N], tangent K_q on demand, stress, trial state), as ContactSolver.assemble: the
-        elastic part from the elastic stiffness, the plastic correction on the flowed elements."""
+        elastic part from the elastic stiffness, the flowed elements' correction (calib.fe.kinematics)."""
         K_q = self._linear_tangent()
         f_int = self._K_full @ displacement
         if self.is_linear:
             return f_int, lambda: K_q, None, committed
-        evaluated = self._newton_elements
-        strain = np.matmul(self._B_newton, np.asarray(displacement)[self._dofs_newton][:, None, :, None])[..., 0]
-        stress, tangent, trial = self.material.update(strain, committed, None if self.counter is None else evaluated)
-        D = self._D_newton
-        stress_correction = stress - np.einsum("eqij,eqj->eqi", D, strain)
-        tangent_correction = tangent - D
-        scale = max(float(np.abs(stress).max()), 1e-300)
-        inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > 1e-13 * scale) | \
-                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > 1e-13 * np.abs(D).max())
-        if not inelastic.any():
-            return f_int, lambda: K_q, stress, trial
-        elements = evaluated[inelastic]
-        stress_correction, tangent_correction = stress_correction[inelastic], tangent_correction[inelastic]
-        f_int = f_int + self.elements.internal_force(stress_correction, elements)
-
-        def tangent_matrix():
-            return self._with_counter(self.elements.matrix(
-                self._K_q_elements.data + self.elements.stiffness_data(tangent_correction, elements)))
-
-        return f_int, tangent_matrix, stress, trial
+        response = self.kinematics.correction(self.material, displacement, committed)
+        if response.force is None:
+            return f_int, lambda: K_q, response.stress, response.trial
+        return (f_int + response.force(),
+                lambda: self._with_counter(self.elements.matrix(self._K_q_elements.data + response.tangent_data())),
+                response.stress, response.trial)
 
     @property
     def factorization_count(self) -> int:

@@ -307,6 +307,11 @@ class VonMisesMaterial(IsotropicElasticity):
             + equivalent_plastic_strain_increment(plastic_increment))
         return stress, tangent, trial_state
 
+    def dissipated_work(self, state: PlasticState, weight) -> float:
+        """sigma_Y int eps_p,eq dV [J]: perfect plasticity dissipates sigma_Y per unit equivalent
+        plastic strain (the plastic work sigma . d eps_p = sigma_Y d eps_p,eq on the yield surface)."""
+        return float(self.sigma_y * np.sum(state.equivalent_plastic_strain * weight))
+
     @staticmethod
     def yielded(state_committed: PlasticState, trial_state: PlasticState) -> np.ndarray:
         """Boolean (E, Q): points whose plastic strain changed between the two states."""

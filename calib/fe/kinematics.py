@@ -1,0 +1,142 @@
+"""The kinematics of the FE, and the one place where the material is evaluated.
+
+Every configuration (the press, the pair press, the impact and the pair impact) takes its strains,
+internal forces and tangents from here, so a material model plugs in through the
+calib.fe.material.Material protocol alone (``update`` is called in this module only) and another
+kinematics (finite strain) replaces the class below alone.
+
+Small strain, axisymmetric (calib.fe.axisym: the r-z strain with the hoop strain u_r / r;
+calib.fe.element_arrays: B and the 2 pi r weight at the quadrature points):
+
+    eps = B u                                                             [-]
+    f_int = int B^T sigma dV                                              [N]
+    K_t = int B^T C B dV,  C = d sigma / d eps the material's consistent tangent   [N/m]
+
+and, for the presses, written as the elastic part plus the inelastic correction (D: the elastic
+tangent; the impacts assemble f_int = int B^T sigma dV itself, whose discrete energy identity then
+closes to round-off, and the tangent the same way):
+
+    f_int = K_el u + sum over flowed elements of int B^T (sigma - D eps) dV
+    K_t   = K_el   + sum over flowed elements of int B^T (C - D) B dV
+
+Both corrections vanish wherever the material is still elastic (sigma = D eps, C = D to 1e-13),
+so only the elements that have flowed are assembled: the plastic zone of a contact is small.
+K_el is assembled once (scikit-fem's form calib.fe.forms.tangent_stiffness for the full dofs, the
+element arrays for the unknowns q). Reference: Zienkiewicz & Taylor, The Finite Element Method,
+vol. 1, ch. 5 and 9 (small-strain axisymmetric solids); Simo & Hughes 1998, Computational
+Inelasticity, ch. 3 (the consistent tangent).
+"""
+from __future__ import annotations
+
+from typing import Callable, NamedTuple, Optional
+
+import numpy as np
+from skfem import asm
+
+from calib.fe.axisym import to_form_layout
+from calib.fe.element_arrays import ElementArrays
+from calib.fe.forms import tangent_stiffness
+
+# a stress or tangent correction below this fraction of the stress / the elastic modulus is
+# round-off of an elastic point, not flow
+INELASTIC_TOLERANCE = 1e-13
+
+
+def elastic_tangent(material, n_elements: int, n_qp: int) -> np.ndarray:
+    """D [Pa] at every quadrature point, (E, Q, 4, 4): the material's tangent at zero strain from
+    its virgin state."""
+    _, tangent, _ = material.update(np.zeros((n_elements, n_qp, 4)), material.initial_state(n_elements, n_qp))
+    return np.asarray(tangent)
+
+
+class Correction(NamedTuple):
+    """The material's response at one iterate: ``stress`` (evaluated elements, Q, 4) [Pa] and the
+    ``trial`` state; the ``flowed`` elements (indices), their internal-force correction ``force()``,
+    int B^T (sigma - D eps) dV on all dofs [N], and ``tangent_data()``, int B^T (C - D) B dV as
+    data on the element pattern [N/m] (both None when nothing has flowed; computed on demand)."""
+
+    stress: np.ndarray
+    trial: object
+    flowed: np.ndarray
+    force: Optional[Callable[[], np.ndarray]]
+    tangent_data: Optional[Callable[[], np.ndarray]]
+
+
+class SmallStrain:
+    """Small-strain axisymmetric kinematics of one mesh (module docstring).
+
+    ``elements``: the calib.fe.element_arrays.ElementArrays of the mesh's basis and its reduction
+    u = T q; ``D``: the elastic tangent [Pa], (4, 4) for one homogeneous material or (E, Q, 4, 4)
+    per point; ``evaluated``: the elements whose material Newton evaluates (None: all; a condensed
+    elastic counter-body's are left out, calib.fe.two_body)."""
+
+    def __init__(self, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
+        self.elements = elements
+        self.D = np.asarray(D)
+        self.homogeneous = self.D.ndim == 2
+        self.evaluated = evaluated
+        n_elements, n_qp = elements.weight.shape
+        D_all = np.broadcast_to(self.D, (n_elements, n_qp, 4, 4)) if self.homogeneous else self.D
+        self.elastic_data = elements.stiffness_data(D_all, slice(None))     # K_el on the q pattern
+        self._D_all = D_all
+        if evaluated is not None:
+            # the B matrices, dofs and D of the evaluated elements, gathered once (not per iteration)
+            self._B = np.ascontiguousarray(elements.B[evaluated])
+            self._dofs = np.ascontiguousarray(elements.element_dofs[evaluated])
+            self._D_evaluated = self.D if self.homogeneous else self.D[evaluated]
+        self._K_full = None
+
+    def elastic_stiffness(self, basis):
+        """K_el over every dof [N/m] (scikit-fem ordering of ``basis``), assembled once."""
+        if self._K_full is None:
+            self._K_full = asm(tangent_stiffness, basis, tangent=to_form_layout(self._D_all)).tocsr()
+        return self._K_full
+
+    def strain(self, displacement, elements=slice(None)) -> np.ndarray:
+        """eps = B u at the quadrature points of ``elements``, (n, Q, 4) [-]."""
+        a = self.elements
+        if isinstance(elements, slice) and elements == slice(None):
+            return a.strain(displacement)
+        return np.matmul(a.B[elements], np.asarray(displacement)[a.element_dofs[elements]][:, None, :, None])[..., 0]
+
+    def elastic_stress(self, strain, elements=slice(None)) -> np.ndarray:
+        """D eps [Pa] of ``elements``' strain (n, Q, 4)."""
+        if self.homogeneous:
+            return strain @ self.D                                      # D is symmetric
+        return np.einsum("eqij,eqj->eqi", self.D[elements], strain)
+
+    def stress(self, material, displacement, committed) -> np.ndarray:
+        """sigma (E, Q, 4) [Pa] of the material at ``displacement`` from ``committed`` (pure)."""
+        return material.update(self.strain(displacement), committed)[0]
+
+    def correction(self, material, displacement, committed) -> Correction:
+        """The material at the displacement [m] (every dof) from its ``committed`` state, and the
+        inelastic corrections of the internal force and the tangent (module docstring)."""
+        if self.evaluated is None:
+            strain = self.strain(displacement)
+            stress, tangent, trial = material.update(strain, committed)
+            D = self.D
+            elastic = self.elastic_stress(strain)
+            candidates = None
+        else:
+            strain = np.matmul(self._B, np.asarray(displacement)[self._dofs][:, None, :, None])[..., 0]
+            stress, tangent, trial = material.update(strain, committed, self.evaluated)
+            D = self._D_evaluated
+            elastic = strain @ D if self.homogeneous else np.einsum("eqij,eqj->eqi", D, strain)
+            candidates = self.evaluated
+        stress_correction = stress - elastic
+        tangent_correction = tangent - D
+        scale = max(float(np.abs(stress).max()), 1e-300)
+        inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > INELASTIC_TOLERANCE * scale) | \
+                    (np.abs(tangent_correction).max(axis=(1, 2, 3)) > INELASTIC_TOLERANCE * np.abs(D).max())
+        if not inelastic.any():
+            return Correction(stress, trial, np.zeros(0, dtype=int), None, None)
+        flowed = np.flatnonzero(inelastic) if candidates is None else candidates[inelastic]
+        stress_correction, tangent_correction = stress_correction[inelastic], tangent_correction[inelastic]
+        return Correction(stress, trial, flowed, lambda: self.elements.internal_force(stress_correction, flowed),
+                          lambda: self.elements.stiffness_data(tangent_correction, flowed))
+
+    def internal_force(self, stress) -> np.ndarray:
+        """f_int = int B^T sigma dV [N] on all dofs, from the stress (E, Q, 4) [Pa] of every element
+        (the impacts: their energy identity closes to round-off with the same B as the strain)."""
+        return self.elements.internal_force(stress, slice(None))
