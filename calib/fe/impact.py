@@ -5,8 +5,10 @@ bottom pole at t = 0: the flight before is a rigid translation, exact, so the ru
 (contact onset exactly at t = 0). Each time step is Newmark's average acceleration with the exact
 active set (calib.fe.newmark states the scheme and why).
 
+The time loop (``impact_run``) serves every Newmark configuration: this sphere on the rigid flat
+(``run_impact``, the record below) and the pair of calib.fe.impact_pair (calib.fe.impact_pair_run).
 Time step: dt = t_c / steps_per_contact, t_c the contact time of the quasi-static estimate
-(nfdmodel.collision_reference with Thornton's law, Hertz's 2.868 (m^2 / (R E*^2 v_in))^(1/5)
+(nfdmodel.collision_reference with Thornton's law on the configuration's contact_pair(), Hertz's 2.868 (m^2 / (R E*^2 v_in))^(1/5)
 below first yield; Thornton 1997). A step whose Newton or active set fails is cut in half and
 retried from the committed state (down to dt / 64); the step then doubles back to dt. The error of dt is measured, not assumed:
 calib.studies.impact runs the same impact at several dt.
@@ -46,8 +48,8 @@ from typing import Callable
 
 import numpy as np
 
-from calib.fe.newmark import ImpactSolver, ImpactState, ImpactStep
-from nfdmodel import ContactPair, collision_reference
+from calib.fe.newmark import ImpactSolver, ImpactState, ImpactStep, sphere_flat_pair
+from nfdmodel import collision_reference
 
 DEFAULT_STEPS_PER_CONTACT = 100
 SEPARATION_FORCE = 1e-4          # the separation search ends when P < this x P_max ...
@@ -102,12 +104,9 @@ class ImpactResult:
 
 
 def contact_time_estimate(material, rho: float, radius: float, v_in: float) -> float:
-    """The quasi-static contact time [s] of the impact at v_in [m/s]: Thornton's (Hertz's below
-    first yield; an elastic material, one without sigma_y, never yields)."""
-    E_star = material.E / (1.0 - material.nu ** 2)
-    sigma_y = getattr(material, "sigma_y", None)
-    sigma_y = material.E if sigma_y is None else sigma_y       # no elastic impact reaches p_Y = A_Y E
-    pair = ContactPair(radius, E_star, sigma_y, material.nu, 4.0 / 3.0 * math.pi * radius ** 3 * rho)
+    """The quasi-static contact time [s] of the sphere's impact on the rigid flat at v_in [m/s]:
+    Thornton's (Hertz's below first yield; an elastic material, one without sigma_y, never yields)."""
+    pair = sphere_flat_pair(material, rho, radius)
     return float(collision_reference("thornton", pair, [v_in]).contact_time_estimate[0])
 
 
@@ -190,21 +189,53 @@ class _Run:
         return outside, t_sep
 
 
-def run_impact(solver: ImpactSolver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT,
-               progress: Callable[[str], None] | None = None) -> ImpactResult:
-    """The impact at v_in [m/s] > 0 of ``solver``'s sphere (module docstring); raises
-    ImpactNotConverged if a step fails at dt / 64 or the sphere has not left the flat after five
-    estimated contact times, ValueError on bad input."""
+@dataclass(frozen=True)
+class ImpactRun:
+    """What one impact's time loop produced, for any Newmark configuration: v_in [m/s], dt [s], the
+    ``initial`` and final ``state``, the separation times ``contacts`` [s], the history rows, the
+    Newton iterations and step halvings, the wall and CPU times [s] of the loop."""
+
+    v_in: float
+    dt: float
+    initial: ImpactState
+    state: ImpactState
+    contacts: list
+    rows: list
+    newton_iterations: int
+    halvings: int
+    wall_time_s: float
+    cpu_time_s: float
+
+    def history(self) -> dict:
+        """The rows as per-step arrays (time, P, alpha, contact_radius, kinetic, elastic, plastic_work)."""
+        return {key: np.array([row[key] for row in self.rows]) for key in self.rows[0]}
+
+
+def impact_run(solver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT,
+               progress: Callable[[str], None] | None = None) -> ImpactRun:
+    """The time loop (module docstring) of ``solver``'s bodies (a calib.fe.newmark.NewmarkSolver
+    configuration) meeting at v_in [m/s] > 0: dt from the quasi-static contact time of
+    ``solver.contact_pair()`` (Thornton's law); raises ImpactNotConverged if a step fails at dt / 64
+    or the bodies have not separated after five estimated contact times, ValueError on bad input."""
     started, cpu = time.perf_counter(), time.process_time()
     if not (isinstance(v_in, (int, float)) and math.isfinite(v_in) and v_in > 0):
         raise ValueError(f"v_in must be > 0 m/s, got {v_in!r}")
     if not (isinstance(steps_per_contact, int) and steps_per_contact >= 10):
         raise ValueError(f"steps_per_contact must be an integer >= 10, got {steps_per_contact!r}")
-    t_c = contact_time_estimate(solver.material, solver.rho, solver.radius, v_in)
+    t_c = float(collision_reference("thornton", solver.contact_pair(), [v_in]).contact_time_estimate[0])
     dt = t_c / steps_per_contact
     run = _Run(solver, float(v_in), dt, solver.mass * v_in / t_c, progress)
-    state, contacts = time_loop(run, solver.initial_state(v_in), t_c)
-    return _result(solver, run, state, contacts, dt, time.perf_counter() - started, time.process_time() - cpu)
+    initial = solver.initial_state(v_in)
+    state, contacts = time_loop(run, initial, t_c)
+    return ImpactRun(float(v_in), dt, initial, state, contacts, run.rows, run.newton, run.halvings,
+                     time.perf_counter() - started, time.process_time() - cpu)
+
+
+def run_impact(solver: ImpactSolver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT,
+               progress: Callable[[str], None] | None = None) -> ImpactResult:
+    """The impact at v_in [m/s] > 0 of ``solver``'s sphere on the rigid flat (module docstring;
+    impact_run's errors)."""
+    return _result(solver, impact_run(solver, v_in, steps_per_contact=steps_per_contact, progress=progress))
 
 
 def time_loop(run: _Run, state: ImpactState, t_c: float) -> tuple[ImpactState, list[float]]:
@@ -235,9 +266,9 @@ def time_loop(run: _Run, state: ImpactState, t_c: float) -> tuple[ImpactState, l
     return state, contacts
 
 
-def _result(solver: ImpactSolver, run: _Run, state: ImpactState, contacts, dt: float, wall: float,
-            cpu: float) -> ImpactResult:
-    history = {key: np.array([row[key] for row in run.rows]) for key in run.rows[0]}
+def _result(solver: ImpactSolver, run: ImpactRun) -> ImpactResult:
+    history = run.history()
+    state = run.state
     time_P_max, P_max = _peak(history["time"], history["P"])
     _, alpha_max = _peak(history["time"], history["alpha"])
     v_in = run.v_in
@@ -248,14 +279,15 @@ def _result(solver: ImpactSolver, run: _Run, state: ImpactState, contacts, dt: f
     vibration = state.kinetic_energy - kinetic_out + state.elastic_energy - residual_energy
     balance = kinetic_in - kinetic_out - state.plastic_work - residual_energy - vibration
     return ImpactResult(
-        v_in=v_in, e=v_out / v_in, v_out=v_out, P_max=P_max, time_P_max=time_P_max, contact_time=contacts[0],
+        v_in=v_in, e=v_out / v_in, v_out=v_out, P_max=P_max, time_P_max=time_P_max, contact_time=run.contacts[0],
         alpha_max=alpha_max, dent=dent, contact_radius_max=float(history["contact_radius"].max()),
         kinetic_in=kinetic_in, kinetic_out=kinetic_out,
         plastic_work=state.plastic_work, residual_stress_energy=residual_energy, vibration_energy=vibration,
         balance_residual=balance, internal_work_error=state.work_internal - state.elastic_energy - state.plastic_work,
-        contact_work=state.work_contact, solver_residual_work=state.work_residual, recontacts=len(contacts) - 1,
-        dt=dt, steps=len(run.rows) - 1, newton_iterations=run.newton, halvings=run.halvings, mass=solver.mass,
-        dofs=solver.basis.N, wall_time_s=wall, cpu_time_s=cpu, history=history)
+        contact_work=state.work_contact, solver_residual_work=state.work_residual, recontacts=len(run.contacts) - 1,
+        dt=run.dt, steps=len(run.rows) - 1, newton_iterations=run.newton_iterations, halvings=run.halvings,
+        mass=solver.mass, dofs=solver.basis.N, wall_time_s=run.wall_time_s, cpu_time_s=run.cpu_time_s,
+        history=history)
 
 
 def residual_state(solver: ImpactSolver, state: ImpactState) -> tuple[float, float]:

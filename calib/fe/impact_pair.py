@@ -64,6 +64,8 @@ from calib.fe.linsolve import FactorCache
 from calib.fe.newmark import ImpactState, NewmarkSolver
 from calib.fe.sphere_dofs import pattern_data
 from calib.fe.two_body import PairMaterial
+from nfdmodel import ContactPair
+from nfdmodel.materials import yield_factor
 
 
 class PairImpactSolver(NewmarkSolver):
@@ -172,6 +174,16 @@ class PairImpactSolver(NewmarkSolver):
         self.factorizations = FactorCache(linear_solver)
 
     # ------------------------------------------------------------------ states
+    def contact_pair(self) -> ContactPair:
+        """The quasi-static contact of the impact (its contact-time estimate): R*, E* [Pa], m* [kg] and
+        the yield point of the body with the lower A_Y(nu) sigma_Y (none yields: sigma_Y = E*, beyond
+        any elastic impact's peak pressure, as calib.fe.newmark.sphere_flat_pair)."""
+        yielding = [(m.sigma_y, m.nu) for m in self.materials if getattr(m, "sigma_y", None) is not None]
+        E_star = float(self.material.E)
+        sigma_y, nu = (min(yielding, key=lambda s: yield_factor(s[1]) * s[0]) if yielding
+                       else (E_star, self.materials[0].nu))
+        return ContactPair(self.radius, E_star, sigma_y, nu, self.mass)
+
     def initial_velocities(self, v_in: float) -> tuple[float, float]:
         """(v1, v2) [m/s]: the sphere moves down at v1, the counter-body up at v2, v1 + v2 = v_in,
         zero total momentum for a free counter-sphere (the centre-of-mass frame); v2 = 0 for a block."""

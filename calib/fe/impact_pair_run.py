@@ -2,7 +2,7 @@
 
 The time loop is calib.fe.impact's (time step dt = t_c / steps_per_contact, halving on failure,
 separation located by the secant on P^(2/3), a tenth of t_c of free flight after it) on
-calib.fe.impact_pair.PairImpactSolver's steps; t_c is the quasi-static estimate of the pair
+calib.fe.impact_pair.PairImpactSolver's steps; t_c is the quasi-static estimate of the pair (PairImpactSolver.contact_pair)
 (Thornton's law with the pair's R*, E*, reduced mass m* and the yield point of the body with the
 lower A_Y(nu) sigma_Y; Hertz's 2.868 (m*^2 / (R* E*^2 v_in))^(1/5) below first yield; Johnson
 1985, eq. 11.24; Thornton 1997).
@@ -26,16 +26,11 @@ Units: SI.
 from __future__ import annotations
 
 import math
-import time
 from dataclasses import asdict, dataclass, field
 from typing import Callable
 
-import numpy as np
-
-from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, _peak, _Run, time_loop
+from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, _peak, impact_run
 from calib.fe.impact_pair import PairImpactSolver
-from nfdmodel import ContactPair, collision_reference
-from nfdmodel.materials import yield_factor
 
 
 @dataclass(frozen=True)
@@ -81,16 +76,6 @@ class PairImpactResult:
         return {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(self).items() if k != "history"}
 
 
-def estimate_pair(solver: PairImpactSolver) -> ContactPair:
-    """The pair's Hertz constants for the contact-time estimate: R*, E* [Pa], m* [kg] and the yield
-    point of the body with the lower A_Y(nu) sigma_Y (none yields: sigma_Y = E*, beyond any elastic
-    impact's peak pressure, as calib.fe.impact.contact_time_estimate)."""
-    yielding = [(m.sigma_y, m.nu) for m in solver.materials if getattr(m, "sigma_y", None) is not None]
-    E_star = float(solver.material.E)
-    sigma_y, nu = min(yielding, key=lambda s: yield_factor(s[1]) * s[0]) if yielding else (E_star, solver.materials[0].nu)
-    return ContactPair(solver.radius, E_star, sigma_y, nu, solver.mass)
-
-
 def hertz_pair_impact(E_star: float, R_star: float, mass: float, v_in: float) -> dict:
     """Hertz's elastic impact of a pair (Johnson 1985, section 11.4): with k = (4/3) E* sqrt(R*),
     alpha_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) [m], P_max = k alpha_max^(3/2) [N],
@@ -105,18 +90,8 @@ def run_pair_impact(solver: PairImpactSolver, v_in: float, *, steps_per_contact:
                     progress: Callable[[str], None] | None = None) -> PairImpactResult:
     """The impact at the relative velocity v_in [m/s] > 0 (module docstring); raises
     calib.fe.impact.ImpactNotConverged as run_impact does, ValueError on bad input."""
-    started, cpu = time.perf_counter(), time.process_time()
-    if not (isinstance(v_in, (int, float)) and math.isfinite(v_in) and v_in > 0):
-        raise ValueError(f"v_in must be > 0 m/s, got {v_in!r}")
-    if not (isinstance(steps_per_contact, int) and steps_per_contact >= 10):
-        raise ValueError(f"steps_per_contact must be an integer >= 10, got {steps_per_contact!r}")
-    pair = estimate_pair(solver)
-    t_c = float(collision_reference("thornton", pair, [v_in]).contact_time_estimate[0])
-    dt = t_c / steps_per_contact
-    run = _Run(solver, float(v_in), dt, solver.mass * v_in / t_c, progress)
-    initial = solver.initial_state(v_in)
-    state, contacts = time_loop(run, initial, t_c)
-    history = {key: np.array([row[key] for row in run.rows]) for key in run.rows[0]}
+    run = impact_run(solver, v_in, steps_per_contact=steps_per_contact, progress=progress)
+    history, initial, state = run.history(), run.initial, run.state
     time_P_max, P_max = _peak(history["time"], history["P"])
     _, alpha_max = _peak(history["time"], history["alpha"])
     v1, v2 = solver.initial_velocities(v_in)
@@ -127,13 +102,12 @@ def run_pair_impact(solver: PairImpactSolver, v_in: float, *, steps_per_contact:
     left = state.kinetic_energy - kinetic_out + state.elastic_energy
     return PairImpactResult(
         v_in=float(v_in), v1_in=v1, v2_in=v2, e=v_sep / v_in, v_sep=v_sep, P_max=P_max, time_P_max=time_P_max,
-        contact_time=contacts[0], alpha_max=alpha_max, contact_radius_max=float(history["contact_radius"].max()),
+        contact_time=run.contacts[0], alpha_max=alpha_max, contact_radius_max=float(history["contact_radius"].max()),
         momentum_change=(abs(momentum[1] - momentum[0]) / (solver.masses[0] * v1) if solver.free_counter else None),
         kinetic_in=initial.kinetic_energy, kinetic_out=kinetic_out, plastic_work=state.plastic_work,
         energy_left=left, balance_residual=initial.kinetic_energy - kinetic_out - state.plastic_work - left,
         internal_work_error=state.work_internal - state.elastic_energy - state.plastic_work,
-        contact_work=state.work_contact, solver_residual_work=state.work_residual, recontacts=len(contacts) - 1,
-        dt=dt, steps=len(run.rows) - 1, newton_iterations=run.newton, halvings=run.halvings,
+        contact_work=state.work_contact, solver_residual_work=state.work_residual, recontacts=len(run.contacts) - 1,
+        dt=run.dt, steps=len(run.rows) - 1, newton_iterations=run.newton_iterations, halvings=run.halvings,
         masses=tuple(solver.masses), reduced_mass=solver.mass, E_star=float(solver.material.E), R_star=solver.radius,
-        dofs=solver.n_q, wall_time_s=time.perf_counter() - started, cpu_time_s=time.process_time() - cpu,
-        history=history)
+        dofs=solver.n_q, wall_time_s=run.wall_time_s, cpu_time_s=run.cpu_time_s, history=history)

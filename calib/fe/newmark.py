@@ -40,6 +40,7 @@ Units: lengths [m], time [s], forces [N], energies [J].
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -55,6 +56,7 @@ from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
 from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
 from calib.fe.sphere_dofs import sphere_dofs
+from nfdmodel import ContactPair
 
 ACTIVE_SET_TOLERANCE = 1e-4      # relative residual to which trial active sets are solved
 
@@ -124,6 +126,17 @@ class NewtonStart(NamedTuple):
     displacement: np.ndarray
     material_state: object
     force: float
+
+
+def sphere_flat_pair(material, rho: float, radius: float):
+    """The Hertz constants of a sphere of ``material`` on the rigid flat, for the contact-time
+    estimate: R [m], E* = E / (1 - nu^2) [Pa], the yield point (an elastic material, one without
+    sigma_y, never yields: sigma_Y = E, beyond any elastic impact's peak pressure p_Y = A_Y E), and
+    the sphere's mass (4/3) pi R^3 rho [kg] (nfdmodel.ContactPair)."""
+    E_star = material.E / (1.0 - material.nu ** 2)
+    sigma_y = getattr(material, "sigma_y", None)
+    sigma_y = material.E if sigma_y is None else sigma_y
+    return ContactPair(radius, E_star, sigma_y, material.nu, 4.0 / 3.0 * math.pi * radius ** 3 * rho)
 
 
 class _FreeBlock:
@@ -304,6 +317,10 @@ class ImpactSolver(NewmarkSolver):
         self._pattern_diagonal = self._pattern_rows == pattern.indices
 
     # ------------------------------------------------------------------ states
+    def contact_pair(self):
+        """The quasi-static contact of the impact (its contact-time estimate): sphere_flat_pair."""
+        return sphere_flat_pair(self.material, self.rho, self.radius)
+
     def initial_state(self, v_in: float) -> ImpactState:
         """At first touch (t = 0): undeformed, every point moving at v_in [m/s] toward the flat."""
         zeros = np.zeros(self.dofs.n_q)
