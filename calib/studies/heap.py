@@ -41,6 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
+from calib.report.index_format import g, read_json, study_header, table
+
 R_0 = 2e-3                       # m: mean radius
 RHO = 2699.0                     # kg/m^3
 # E [Pa], nu, sigma_y [Pa], Ca_hat, Kc_hat: the paper's aluminium and constants
@@ -245,3 +247,19 @@ def plot(path: Path, runs: dict, n: int) -> None:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+def heap(root: Path) -> list[str]:
+    data = read_json(root / "lammps" / "heap.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    lines = study_header("A heap in LAMMPS (`lammps/heap.*`)", stamp, "python -m calib.studies.heap") + [
+             f"{data['spheres']} aluminium spheres (nfd/vz) collapse from a column onto a rough base; normal damping "
+             f"`{data['damping'] or 'none'}` in both runs ({data['damping_note']}).", ""]
+    rows = [[name, r["models"], f"{r['time_s']:.3g}", "yes" if r["settled"] else "no", g(r["ke_end_over_peak"], 2),
+             f"{r['angle_of_repose_deg']:.1f}", f"{1e3 * r['height_m']:.1f}", f"{1e3 * r['radius_m']:.1f}"]
+            for name, r in data["runs"].items()]
+    lines += table(["run", "models", "time [s]", f"settled (KE < {data['settled_below']:g} peak)", "KE / peak",
+                    "angle of repose [deg]", "height [mm]", "radius [mm]"], rows)
+    return lines
