@@ -444,9 +444,9 @@ def seed_plugin_cache(sandbox: Path) -> None:
     """The sandbox's cache holds a build of the LAMMPS plugin (hard links to one build made once
     in the user's cache), so `nfdcal lammps build | path` cases do not compile each time."""
     if "folder" not in PLUGIN_CACHE:
-        from calib.commands import lammps as lammps_command
+        from calib import lammps_plugin
 
-        PLUGIN_CACHE["folder"] = Path(lammps_command.build_plugin()["path"]).parent
+        PLUGIN_CACHE["folder"] = Path(lammps_plugin.build_plugin()["path"]).parent
     built = PLUGIN_CACHE["folder"]
     target = sandbox / "cache" / "nfdcal" / "lammps" / built.name
     target.mkdir(parents=True, exist_ok=True)

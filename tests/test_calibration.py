@@ -11,7 +11,7 @@ from calib.cli import main
 from calib.fe import ContactSolver
 from calib.fe.loadpath import separation_approach
 from calib.fe.von_mises import VonMisesMaterial
-from calib.fit import calibration, recipe
+from calib.fit import calibration, impact_window, recipe
 from calib.report import calibration as calibration_report
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 from nfdmodel import ContactPair, Material, load_parameters, reference_case
@@ -304,7 +304,7 @@ def test_the_added_unloading_paths_keep_the_loading_points_and_so_ca_and_kc(mate
     radius fit of Ca and Kc uses: the paper's reproduction) are the plan's own, its peaks kept."""
     spec = (recipe.reference_spec() if material == Material.reference()
             else recipe.calibration_spec(material, 0.005))
-    extended = calibration.with_unloading_across(spec)
+    extended = impact_window.with_unloading_across(spec)
     assert extended.plan.loading_targets() == pytest.approx(spec.plan.loading_targets(), rel=1e-12)
     assert set(spec.plan.peaks) < set(extended.plan.peaks) and extended.mesh == spec.mesh
     x = np.array(extended.plan.peaks) / spec.pair.P_Y

@@ -1,4 +1,4 @@
-"""The Chung & Ooi (2011) benchmark tests (calib/studies/chung_ooi.py) against their closed forms and
+"""The Chung & Ooi (2011) benchmark tests (calib/studies/chung_ooi_cases.py) against their closed forms and
 LAMMPS, a few impacts of each (the full sweeps: results/lammps/chung_ooi.*).
 
 - Tests 1, 2: nfdmodel's elastic impacts give Hertz's maximum overlap and force within 1e-5
@@ -28,7 +28,7 @@ import importlib.util
 import numpy as np
 import pytest
 
-from calib.studies import chung_ooi as co
+from calib.studies import chung_ooi_cases as co
 from calib.studies.chung_ooi_output import agreement
 
 

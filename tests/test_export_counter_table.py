@@ -30,7 +30,7 @@ from test_lammps_pair_constants import STEEL_FLAT, STEEL_SPHERE  # noqa: E402
 
 import nfdmodel
 from calib import cli
-from calib.commands import lammps as lammps_command
+from calib import lammps_plugin
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, parameter_record
 
@@ -43,7 +43,7 @@ PAIR_WINDOW = CalibrationWindow(3.0, 200.0, None, "test pair table")
 
 @pytest.fixture(scope="module")
 def plugin() -> str:
-    return lammps_command.build_plugin()["path"]
+    return lammps_plugin.build_plugin()["path"]
 
 
 def table_counter_file(folder, counter: dict, name: str, nodes=PAIR_NODES, window=PAIR_WINDOW):

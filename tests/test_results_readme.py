@@ -9,6 +9,7 @@ from pathlib import Path
 import pytest
 
 from calib.cli import main
+from calib.commands.results_readme import sections
 from calib.report.index_format import g
 from calib.report.results_index import render
 
@@ -19,7 +20,7 @@ WRITTEN_ELSEWHERE = ("nfdmodel/lammps/README.md", "calib/fit/README.md")
 
 
 def test_results_readme_is_what_the_summaries_give(capsys):
-    assert render(RESULTS) == (RESULTS / "README.md").read_text(encoding="utf-8"), \
+    assert render(RESULTS, sections()) == (RESULTS / "README.md").read_text(encoding="utf-8"), \
         "results/README.md is stale: run nfdcal results-readme"
     assert main(["results-readme", "--check", "--out", str(RESULTS)]) == 0
     assert "up to date" in capsys.readouterr().out

@@ -301,7 +301,7 @@ def test_the_table_meets_the_targets_against_the_reference_fe_and_ships_that_fig
     table's .json states the discretisation measured there: the table's difference from the finest
     level, that level's own (Richardson) error and their sum, the bound against the converged FE."""
     from calib.fit.calibration import E_TARGET, FORCE_TARGET
-    from calib.studies.wide_window import law_against_path
+    from calib.fit.path_check import law_against_path
 
     rows = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
     ladder = [r for r in rows if r.get("kind") == "refine" and r.get("status") == "ok" and r.get("refinement")]

@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from calib.fit import impact_window, recipe
+from calib.fit.calibration import E_TARGET, FORCE_TARGET
+from calib.fit.path_check import law_against_path
 from calib.fit.table_fit import fit_tables
 from calib.studies import between_nodes
-from calib.studies.wide_window import E_TARGET, FORCE_TARGET, law_against_path
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams
 
 PAIR = ContactPair.sphere_flat(Material.reference(), 0.1)

@@ -127,7 +127,7 @@ def counter_absent(ns) -> bool:
 def run(ns) -> int:
     from calib import output
     from calib.commands.progress import progress_reporter
-    from calib.fit import calibration, recipe
+    from calib.fit import calibration, impact_window, recipe
     from calib.report import calibration as calibration_report
     from calib.studies import mesh_ladder
 
@@ -161,14 +161,12 @@ def run(ns) -> int:
         if peaks is not None:
             raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
         check_solid("v_in", v_max)
-        from calib.fit import impact_window
-
         needed, _, _ = impact_window.check_reach(material, radius, v_max)   # before any mesh
         spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
     else:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter)
         if peaks is None:               # C_R is measured at unloading peaks: paths from near P_Y, Ca and Kc unchanged
-            spec = calibration.with_unloading_across(spec)
+            spec = impact_window.with_unloading_across(spec)
     try:                                # before any mesh: name the flag that sets the load plan
         recipe.check_fittable(spec)
     except ValueError as exc:

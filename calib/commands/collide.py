@@ -6,7 +6,7 @@ integrated with leap-frog until it leaves at v_out; the restitution is e = -v_ou
 
     nfdcal collide --law vz --v-in 0.02 0.04 0.1 [--dt 1e-6] [--json]
     nfdcal collide --v-in 0.1 --angle 10 30 60 --mu 0.3 [--omega W] [--plot e_t.png]   # oblique
-    nfdcal collide --report [--out results/collision]      # regenerate results/collision/
+    nfdcal collide --report [--params FILE] [--out results/collision]   # regenerate results/collision/
 
 Material flags default to the paper's reference case (aluminium sphere, R = 0.1 m). --Ca --Kc
 default to the constants of the sphere the flags give: the paper's calibration for the reference
@@ -25,6 +25,11 @@ sphere also slides and spins (--omega [rad/s] about the axis of rolling), with M
 mindlin_rescale/force; nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
 e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point), the rebound angle and spin; --plot FILE
 draws e_t and beta against the incidence angle.
+
+--report: the restitution sweep, time-step convergence and plots of the vz law with the paper's
+constants, or with the two constants of --params FILE (a calibration's parameters.json, whichever
+law it ships, e.g. results/calibration/parameters.json); no other file is read, and the output names
+the source.
 """
 from __future__ import annotations
 
@@ -68,7 +73,8 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--plot", default=None, metavar="FILE", help="oblique impacts: a PNG of e_t and beta "
                         "against the incidence angle")
     parser.add_argument("--report", action="store_true",
-                        help="regenerate the collision results (CSV, JSON, PNG) into --out")
+                        help="regenerate the collision results (CSV, JSON, PNG) into --out, vz with the paper's"
+                             " constants or those of --params FILE")
     parser.add_argument("--out", default=None, help="folder for --report (default results/collision)")
     parser.set_defaults(run=run)
 

@@ -9,6 +9,8 @@ residual), each with its estimated discretisation error (a run on the doubled co
 and one at twice the time step), against the quasi-static laws (vz, Thornton, Hertz).
 
     nfdcal impact                                  # the reference sphere at 0.5, 2, 10, 30 v_Y -> results/impact
+    nfdcal impact --params results/calibration/parameters.json --table-params results/impact/vz_table/parameters.json \
+        --lammps-restitution results/lammps/restitution.csv      # compared with those files
     nfdcal impact --v-in 0.04 --json               # one impact, the record as JSON
     nfdcal impact --sigma-y 1e11 --v-in 0.04       # never yields: Hertz's limit
     nfdcal impact --convergence --v-in 0.04        # error against run time: dt and mesh ladders
@@ -23,7 +25,13 @@ counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free c
 normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
 pair's E*, R* and reduced mass, with the same error estimate (both meshes' contact element doubled,
 dt doubled; --no-error-estimate: the fine impact only). Not with --drops, --convergence, --params,
---no-quasi-static or --no-plots (a pair impact has neither quasi-static comparison nor plots).
+--table-params, --lammps-restitution, --no-quasi-static or --no-plots (a pair impact has neither
+quasi-static comparison nor plots).
+
+The laws are compared with the files given alone: --params (vz: the two constants of a parameter
+file, a calibration's whichever law it ships; else the master table's), --table-params (a vz-table
+law) and --lammps-restitution (LAMMPS' mdr restitution, the reference sphere's); nothing under
+./results is read unless named. The output names each file compared with.
 
 Velocities run through the sweep runner (--workers processes; resumable: each finished impact is
 OUT/cases/<key>.json and a rerun reuses it). Writes impact.csv, impact.json, drop_tests.csv, impact.png,
@@ -52,8 +60,14 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the calibration's mesh for the impact)")
     parser.add_argument("--params", default=None, metavar="FILE",
-                        help="vz parameter file the FE is compared with (default: results/calibration/parameters.json"
-                             " for the reference sphere, else the master table's constants)")
+                        help="parameter file whose vz constants the FE is compared with (a calibration's"
+                             " parameters.json, whichever law it ships; default: the master table's constants)")
+    parser.add_argument("--table-params", default=None, metavar="FILE",
+                        help="vz-table parameter file the FE is also compared with (e.g. nfdcal calibrate --v-max's;"
+                             " default: none)")
+    parser.add_argument("--lammps-restitution", default=None, metavar="CSV",
+                        help="LAMMPS' granular mdr restitution of the reference sphere (restitution.csv of"
+                             " tests/benchmarks/bench_lammps.py) the FE is also compared with (default: none)")
     parser.add_argument("--no-error-estimate", action="store_true",
                         help="run the fine impact only (no discretisation error estimate: a third of the work)")
     parser.add_argument("--no-quasi-static", action="store_true",
@@ -100,7 +114,9 @@ def options(ns):
         from calib.studies import impact_pair
 
         for flag, given in (("--drops", ns.drops is not None), ("--convergence", ns.convergence),
-                            ("--params", ns.params is not None), ("--no-quasi-static", ns.no_quasi_static),
+                            ("--params", ns.params is not None), ("--table-params", ns.table_params is not None),
+                            ("--lammps-restitution", ns.lammps_restitution is not None),
+                            ("--no-quasi-static", ns.no_quasi_static),
                             ("--no-plots", ns.no_plots)):
             if given:
                 raise ValueError(f"{flag} is for the rigid flat: do not combine it with --counter-E")
@@ -118,8 +134,15 @@ def options(ns):
         velocities = (impact.CONVERGENCE_VELOCITY,) if ns.convergence else impact.study_velocities(setup)
     else:
         velocities = tuple(check_solid("v_in", number("--v-in", v, low=0.0, unit="m/s")) for v in ns.v_in)
-    if ns.params is not None and not os.path.isfile(ns.params):
-        raise ValueError(f"--params {ns.params}: no such file")
+    for flag, path in (("--params", ns.params), ("--table-params", ns.table_params),
+                       ("--lammps-restitution", ns.lammps_restitution)):
+        if path is not None and not os.path.isfile(path):
+            raise ValueError(f"{flag} {path}: no such file")
+    if ns.lammps_restitution is not None:     # refused before any work: another sphere, a file without its columns
+        try:
+            impact.mdr_table(setup, ns.lammps_restitution)
+        except ValueError as exc:
+            raise ValueError(f"--lammps-restitution {exc}") from None
     return setup, tuple(sorted(set(velocities))), workers
 
 
@@ -146,6 +169,14 @@ def default_out(ns, setup) -> str:
     return str(impact.DEFAULT_OUT / "_".join(parts)) if parts else str(impact.DEFAULT_OUT)
 
 
+def compared_with(ns) -> str:
+    """The files the laws are compared with, as the output names them."""
+    return ("laws compared with: vz " + (f"constants of {ns.params}" if ns.params else "master table's constants")
+            + (f"; vz-table of {ns.table_params}" if ns.table_params else "")
+            + (f"; LAMMPS mdr restitution of {ns.lammps_restitution}" if ns.lammps_restitution else "")
+            + "; Thornton; Hertz")
+
+
 def plan(ns, setup, velocities, variants, out) -> int:
     """--dry-run: the runs, their meshes and an estimate of the time; nothing is computed."""
     from pathlib import Path
@@ -157,7 +188,9 @@ def plan(ns, setup, velocities, variants, out) -> int:
         impact_convergence.tasks(setup, velocities[0])
     runs = impact.planned_runs(tasks, Path(out) / "cases")
     total = sum(r["estimate_s"] for r in runs if not r["finished"])
-    summary = {"out": out, "runs": runs, "estimated_total_s": total}
+    summary = {"out": out, "runs": runs, "estimated_total_s": total,
+               "compared_with": {"params": ns.params, "table_params": ns.table_params,
+                                 "lammps_restitution": ns.lammps_restitution}}
     lines = [f"{len(runs)} FE impact(s) of E = {setup.material.E:.4g} Pa, nu = {setup.material.nu:g}, sigma_Y = "
              f"{setup.material.sigma_y:.4g} Pa, rho = {setup.material.rho:g} kg/m^3, R = {setup.radius:g} m; outputs: {out}",
              f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
@@ -165,6 +198,7 @@ def plan(ns, setup, velocities, variants, out) -> int:
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
     lines.append(f"estimated total: {total:.0f} s on one process ({impact.SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
                  f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
+    lines.append(compared_with(ns))
     print_summary(ns, summary, lines)
     return 0
 
@@ -204,7 +238,8 @@ def run(ns) -> int:
             print_summary(ns, summary, impact_convergence.lines(summary))
             return 0
         records = impact.study(setup, velocities, Path(out), workers=workers, progress=progress, variants=variants,
-                               params_file=ns.params, plots=not ns.no_plots, quasi_static=not ns.no_quasi_static)
+                               params_file=ns.params, table_file=ns.table_params, mdr_file=ns.lammps_restitution,
+                               plots=not ns.no_plots, quasi_static=not ns.no_quasi_static)
     lines = [f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>7} {'vz e':>7} {'P_max [N]':>10} {'vz P_max':>9} "
              f"{'t_c [ms]':>8} {'vz t_c':>7} {'dent [m]':>9} {'vibr.':>8} {'balance':>9} {'err e':>7} {'qs e':>7}"]
     for r in records:
@@ -228,6 +263,7 @@ def run(ns) -> int:
     limit = impact.quasi_static_limit(records)
     if limit:
         lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
+    lines.append(compared_with(ns))
     lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0

@@ -3,8 +3,9 @@
     nfdcal results-readme                 # writes results/README.md
     nfdcal results-readme --check         # exit 1 when results/README.md is stale, writes nothing
 
-Every number in the index is read from the results' own summaries (``calib.report.results_index``),
-so regenerating a result and then this index keeps the two in step. Only ``OUT/README.md`` is
+Every number in the index is read from the results' own summaries, each section by the module next to
+what writes its results (``sections``), assembled by ``calib.report.results_index``, so regenerating a
+result and then this index keeps the two in step. Only ``OUT/README.md`` is
 written, and only a regular file there is replaced.
 """
 from __future__ import annotations
@@ -27,11 +28,33 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(run=run)
 
 
+def sections() -> tuple:
+    """The sections of results/README.md in their order, each ``section(root) -> lines``."""
+    from calib.report.calibration_index import calibration
+    from calib.report.collision_index import collision
+    from calib.report.fit_data_index import fit_data_benchmark
+    from calib.report.lammps_index import lammps
+    from calib.report.tables_index import master_table, vz_master_table
+    from calib.studies.between_nodes_index import between_nodes
+    from calib.studies.chung_ooi_output import chung_ooi
+    from calib.studies.heap import heap
+    from calib.studies.hertz_index import hertz
+    from calib.studies.identical_spheres_index import identical_spheres
+    from calib.studies.impact_output import impact
+    from calib.studies.mesh_ladder_index import mesh_ladder
+    from calib.studies.pairs_output import pairs
+    from calib.studies.stability_index import stability
+    from calib.studies.wide_window_index import wide_window
+
+    return (calibration, mesh_ladder, wide_window, between_nodes, identical_spheres, hertz, collision, impact,
+            master_table, vz_master_table, fit_data_benchmark, pairs, stability, lammps, chung_ooi, heap)
+
+
 def run(ns) -> int:
     from calib import output
     from calib.report.results_index import README, render
 
-    text = render(ns.out)
+    text = render(ns.out, sections())
     path = Path(ns.out) / README
     current = path.read_text(encoding="utf-8") if path.is_file() else None
     if ns.check:

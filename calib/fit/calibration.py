@@ -264,28 +264,6 @@ SHIPPABLE = ("radius", "force", "table")   # the paper's two constants, fitted t
 MESH_COUNTS = (1, 2)   # one mesh (studies of the FE itself), or two and Richardson extrapolation
 
 
-def with_unloading_across(spec: CalibrationSpec) -> CalibrationSpec:
-    """``spec`` with unloading paths added below its lowest peak, from the lowest load its mesh
-    resolves (calib.fit.impact_window.lowest_peak, log-spaced as window_peaks), each moved to the
-    nearest load its loading branch already steps to: the loading points, and with them the radius
-    fit's Ca and Kc, are those of ``spec``'s own paths; the vz-table law's window reaches down to
-    near P_Y (its C_R is measured only at unloading peaks, calib.fit.table_fit)."""
-    from calib.fit import impact_window
-
-    plan = spec.plan
-    targets = np.array(plan.loading_targets())
-    wanted = impact_window.window_peaks(impact_window.lowest_peak(spec.pair, spec.mesh.contact_size), plan.peaks[0])
-    candidates = targets[(targets > spec.pair.P_Y) & (targets < plan.peaks[0] * (1 - 1e-9))]
-    if not candidates.size:
-        return spec
-    added = {float(candidates[np.argmin(np.abs(np.log(candidates / p)))]) for p in wanted[:-1]}
-    extended = dataclasses.replace(plan, peaks=tuple(sorted(added | set(plan.peaks))))
-    if len(extended.loading_targets()) != targets.size or not np.allclose(extended.loading_targets(), targets,
-                                                                          rtol=1e-12, atol=0.0):
-        return spec                     # a plan whose steps the added peaks would move: its own paths only
-    return dataclasses.replace(spec, plan=extended)
-
-
 def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = None,
               ship: str = "radius", unload: bool = True, meshes: int = 2,
               parallel: bool = True) -> CalibrationResult:

@@ -105,6 +105,26 @@ def window_peaks(low: float, top: float) -> tuple[float, ...]:
     return tuple(float(p) for p in np.geomspace(low, top, n + 1))
 
 
+def with_unloading_across(spec: recipe.CalibrationSpec) -> recipe.CalibrationSpec:
+    """``spec`` with unloading paths added below its lowest peak, from the lowest load its mesh
+    resolves (:func:`lowest_peak`, log-spaced as :func:`window_peaks`), each moved to the
+    nearest load its loading branch already steps to: the loading points, and with them the radius
+    fit's Ca and Kc, are those of ``spec``'s own paths; the vz-table law's window reaches down to
+    near P_Y (its C_R is measured only at unloading peaks, calib.fit.table_fit)."""
+    plan = spec.plan
+    targets = np.array(plan.loading_targets())
+    wanted = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size), plan.peaks[0])
+    candidates = targets[(targets > spec.pair.P_Y) & (targets < plan.peaks[0] * (1 - 1e-9))]
+    if not candidates.size:
+        return spec
+    added = {float(candidates[np.argmin(np.abs(np.log(candidates / p)))]) for p in wanted[:-1]}
+    extended = dataclasses.replace(plan, peaks=tuple(sorted(added | set(plan.peaks))))
+    if len(extended.loading_targets()) != targets.size or not np.allclose(extended.loading_targets(), targets,
+                                                                          rtol=1e-12, atol=0.0):
+        return spec                     # a plan whose steps the added peaks would move: its own paths only
+    return dataclasses.replace(spec, plan=extended)
+
+
 def window_spec(material: Material, radius: float, top: float, *, loading_steps: int | None = None,
                 loading_steps_per_decade: float | None = None, elements_per_contact_radius: float | None = None,
                 **spec_options) -> recipe.CalibrationSpec:

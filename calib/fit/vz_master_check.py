@@ -3,7 +3,7 @@
 For each off-grid material of the scene (calib.fit.vz_master_build, kind "check": the same FE
 calibration at the FE's reach, unloading paths log-spaced over its window, so their peaks lie
 between the table's load nodes too), the law interpolated in the table (calib.fit.vz_master_table)
-is driven along every FE load-unload path (calib.studies.wide_window.law_against_path):
+is driven along every FE load-unload path (calib.fit.path_check.law_against_path):
 
     force error = max |P_law(alpha) - P_FE(alpha)| / P_max    along loading and unloading [-]
     e error     = e_law / e_FE - 1     (the quasi-static cycle to the FE's largest approach) [-]
@@ -37,7 +37,7 @@ What that error does to an inverse fit is measured directly: fit-data's vz-table
 (calib.fit.measured.table_law) fits sigma_Y to each check material's noise-free FE data (drop
 tests from the paths inside the window, v_in = sqrt(2 W_l / m*), e = sqrt(W_u / W_l), P_max the FE
 peak, the contact time of the FE loop thrown as a quasi-static impact of the mass m*
-(calib.studies.impact_quasistatic; within 0.7 % of the dynamic FE's); the force-approach curve of
+(calib.fit.loop_impact; within 0.7 % of the dynamic FE's); the force-approach curve of
 the highest such path), and the rms of ln(sigma_fit / sigma_true)
 over the materials, per kind of data, is the model-form standard uncertainty fit-data adds to
 its statistical one (the table's .json, ``model_form.sigma_y``).
@@ -99,7 +99,7 @@ def loading_force_error(law, path: dict) -> float | None:
 
 def check_material(row: dict, table: VZMasterTable) -> list[dict]:
     """Per FE path of one check row: the interpolated law's errors (module doc)."""
-    from calib.studies.wide_window import law_against_path
+    from calib.fit.path_check import law_against_path
 
     material, R = material_of(row)
     law = table.law(material, R)
@@ -140,9 +140,9 @@ def fe_datasets(row: dict, table: VZMasterTable) -> dict:
 
 def contact_time(path: dict, mass: float, v_in: float) -> float:
     """The contact time [s] of one FE load-unload path (fe_paths) thrown as a quasi-static impact of
-    ``mass`` [kg] at ``v_in`` [m/s] (calib.studies.impact_quasistatic: m alpha'' = -P(alpha) along
+    ``mass`` [kg] at ``v_in`` [m/s] (calib.fit.loop_impact: m alpha'' = -P(alpha) along
     the loop, Hertzian first load and last unloading segment)."""
-    from calib.studies.impact_quasistatic import loop_impact
+    from calib.fit.loop_impact import loop_impact
 
     n = path["loading_points"]
     approach, force = np.asarray(path["approach"], float), np.maximum(np.asarray(path["force"], float), 0.0)
@@ -247,7 +247,7 @@ def discretisation(rows: list[dict]) -> dict:
     against the converged FE bounded by the sum of the two; the FE's own e at each peak on every
     level; ``worst``: the largest over the nodes. {} without a ladder."""
     from calib.fit import extrapolation
-    from calib.studies.wide_window import law_against_path
+    from calib.fit.path_check import law_against_path
 
     nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
     ladders = {}

@@ -25,7 +25,7 @@ import numpy as np
 
 from calib.output import (RESULTS, all_or_nothing, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
                           write_json)
-from nfdmodel import RangeWarning, VZParams, collide, collision_reference, limits, load_parameters
+from nfdmodel import RangeWarning, VZParams, collide, collision_reference, limits
 
 DEFAULT_OUT = RESULTS / "collision"
 LAWS = ("vz", "thornton")
@@ -55,15 +55,12 @@ def thornton_closed_form(v_in, v_Y):
             * (r / (r + 2.0 * np.sqrt(6.0 / 5.0 - r**2 / 5.0))) ** 0.25)
 
 
-CALIBRATED_PARAMETERS = DEFAULT_OUT.parent / "calibration" / "parameters.json"
-
-
 def generate(out_dir=DEFAULT_OUT, params_file=None, velocities=None) -> tuple[Path, str]:
     """Regenerate the collision results; returns (folder, the source of the vz parameters).
 
-    The vz parameters come from ``params_file``, else from the reference calibration
-    (results/calibration/parameters.json) when it exists, else the paper's Ca, Kc; the source is
-    named in summary.json and returned. ``velocities`` [m/s] replace the sweep of the paper's
+    The vz parameters are the two constants of ``params_file`` (a calibration's parameter file,
+    whichever law it ships: calib.report.parameter_file.two_constant_law), else the paper's Ca, Kc;
+    no other file is read. The source is named in summary.json and returned. ``velocities`` [m/s] replace the sweep of the paper's
     figure 20 (0.02 .. 0.2 m/s). The files are written all or nothing (calib.output.all_or_nothing)."""
     with all_or_nothing(out_dir, name="collision") as staging, warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)   # the plots and CSVs show the window instead
@@ -74,14 +71,12 @@ def generate(out_dir=DEFAULT_OUT, params_file=None, velocities=None) -> tuple[Pa
 def _generate(out: Path, params_file, velocities) -> str:
     started = time.perf_counter()
     sweep = SWEEP_VELOCITIES if velocities is None else np.sort(np.asarray(velocities, dtype=float))
-    if params_file is None and CALIBRATED_PARAMETERS.is_file():
-        params_file = CALIBRATED_PARAMETERS
-    if params_file == CALIBRATED_PARAMETERS:    # the reference calibration's two constants, whichever law it ships
+    if params_file is not None:
         from calib.report.parameter_file import two_constant_law
 
         params = two_constant_law(params_file)
     else:
-        params = load_parameters(params_file) if params_file is not None else VZParams.reference()
+        params = VZParams.reference()
     if params_file is None:
         params_source = "paper (Vu-Quoc & Zhang 1999)"
     else:  # repo-relative when inside the repo: results must not name local absolute paths

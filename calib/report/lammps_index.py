@@ -1,11 +1,12 @@
-"""The LAMMPS folder's part of results/README.md (calib.report.results_index): the plugin's speed and
-restitution against LAMMPS' granular styles, the Chung & Ooi tests and the heap, each read from its own
-summary files."""
+"""The LAMMPS benchmark's section of results/README.md (calib.report.results_index): the plugin's speed and
+restitution against LAMMPS' granular styles, read from results/lammps/summary.json
+(tests/benchmarks/bench_lammps.py). The Chung & Ooi tests and the heap in the same folder are their
+studies' sections (calib.studies.chung_ooi_output, calib.studies.heap)."""
 from __future__ import annotations
 
 from pathlib import Path
 
-from calib.report.index_format import g, num, read_json, section, study_header, table
+from calib.report.index_format import g, num, read_json, section, table
 
 
 def lammps(root: Path) -> list[str]:
@@ -43,66 +44,4 @@ def lammps(root: Path) -> list[str]:
               "LAMMPS' `granular mdr`:", ""]
     lines += table(["v_in / v_Y", "P_max / P_Y", "e, nfdmodel", "e, nfd/vz", "e, mdr", "nfd/vz - nfdmodel",
                     "inside the window"], rows)
-    return lines
-
-
-def chung_ooi(root: Path) -> list[str]:
-    data = read_json(root / "lammps" / "chung_ooi.json")
-    if data is None:
-        return []
-    stamp, worst = data["stamp"], data["worst"]
-    lines = study_header("Chung & Ooi (2011) benchmark tests 1-8 (`lammps/chung_ooi.*`)", stamp,
-                         "python -m calib.studies.chung_ooi") + [
-             "Elastic limit (Hertz, Mindlin, no damping but test 3's) through nfdmodel, the plugin and LAMMPS "
-             f"{stamp.get('lammps') or '?'}'s granular, against the closed forms the paper's curves are built on "
-             "(and, for test 4, the paper's digitised curves, below). Errors: Hertz's overlap, force, contact "
-             "time (tests 1, 2), the restitution asked (3), the Coulomb rebound and spin where the contact slides "
-             "throughout (4-8; two spheres: the line of centres turns), the no-slip Mindlin spring (scipy) where "
-             "it hardly slips; agreement: final velocities and spins over the speed (and speed / R).", ""]
-    paper = data.get("paper_test4")
-    if paper:
-        worst_paper, tolerance = paper["worst"], paper["tolerance"]
-        lines += ["Test 4 against the paper's own curves, as the PySPH authors digitised them "
-                  f"(`{paper['source']}`: source and licence in its header; `lammps/chung_ooi_paper.csv`, "
-                  f"{paper['points']} points, both materials): largest |ours - paper| "
-                  f"e_t {worst_paper['e_t']:.3f} (tolerance {tolerance['e_t']:g}), contact-point rebound angle "
-                  f"{worst_paper['rebound_angle_deg']:.2f} deg ({tolerance['rebound_angle_deg']:g}), spin "
-                  f"{worst_paper['spin_rad_s']:.3f} of {paper['spin_scale_rad_s']:.0f} rad/s "
-                  f"({tolerance['spin_rad_s']:g}); the paper's runs have e_n = 0.98, these are elastic, and the "
-                  "digitised angles sit up to 0.3 deg off (calib/studies/chung_ooi_paper.py).", ""]
-    rows = []
-    for t in data["tests"]:
-        closed = [f"{k.replace('_error', '')} {g(t[k], 2)}" for k in ("delta_max_error", "F_max_error", "t_c_error",
-                                                                       "sliding_v_t_error", "sliding_omega_error",
-                                                                       "no_slip_beta_error") if t.get(k) is not None]
-        if "e_out_minus_e_in" in t:
-            closed.append(f"e - e asked {g(t['e_out_minus_e_in'], 2)}")
-        rows.append([t["test"], t["material"], t["impacts"], ", ".join(closed) or "-",
-                     g(t.get("plugin_vs_nfdmodel"), 2), g(t.get("plugin_vs_granular"), 2)])
-    lines += table(["test", "material", "impacts", "against the closed forms", "plugin vs nfdmodel",
-                    "plugin vs granular"], rows)
-    prow = [[f"{p['speed_m_s']:g}", f"{p['P_max_over_P_Y'][0]:.3g}..{p['P_max_over_P_Y'][1]:.3g}",
-             f"{p['e_n_head_on']:.4f}", g(p["e_n_minus_head_on"], 2), p["slid_throughout"],
-             g(p.get("sliding_e_t_error"), 2), g(p.get("plugin_vs_nfdmodel"), 2)] for p in data["plastic"]]
-    lines += ["Plastic (vz, the paper's aluminium, R = 2.5 mm on a flat, mu = 0.3, mindlin_rescale/force): e_n "
-              "does not depend on the angle, e_t = 1 - 1/Psi, Psi = tan / (mu (1 + e_n)), where it slides "
-              "(Wu, Thornton & Li 2009):", ""]
-    lines += table(["v [m/s]", "P_max / P_Y", "e_n head-on at v", "e_n - head-on at the same v_n", "sliding impacts",
-                    "e_t - (1 - 1/Psi)", "nfd/wall/vz vs nfdmodel"], prow)
-    return lines
-
-
-def heap(root: Path) -> list[str]:
-    data = read_json(root / "lammps" / "heap.json")
-    if data is None:
-        return []
-    stamp = data["stamp"]
-    lines = study_header("A heap in LAMMPS (`lammps/heap.*`)", stamp, "python -m calib.studies.heap") + [
-             f"{data['spheres']} aluminium spheres (nfd/vz) collapse from a column onto a rough base; normal damping "
-             f"`{data['damping'] or 'none'}` in both runs ({data['damping_note']}).", ""]
-    rows = [[name, r["models"], f"{r['time_s']:.3g}", "yes" if r["settled"] else "no", g(r["ke_end_over_peak"], 2),
-             f"{r['angle_of_repose_deg']:.1f}", f"{1e3 * r['height_m']:.1f}", f"{1e3 * r['radius_m']:.1f}"]
-            for name, r in data["runs"].items()]
-    lines += table(["run", "models", "time [s]", f"settled (KE < {data['settled_below']:g} peak)", "KE / peak",
-                    "angle of repose [deg]", "height [mm]", "radius [mm]"], rows)
     return lines

@@ -33,5 +33,9 @@ def two_constant_law(path):
     params = load_parameters(path)
     if isinstance(params, VZParams):
         return params
-    summary = json.loads((Path(path).parent / "calibration.json").read_text(encoding="utf-8"))
+    beside = Path(path).parent / "calibration.json"
+    if not beside.is_file():
+        raise ValueError(f"{path} holds {type(params).__name__}, not the vz law, and no calibration.json beside it "
+                         "gives the two constants Ca, Kc: give a vz parameter file or a calibration's parameters.json")
+    summary = json.loads(beside.read_text(encoding="utf-8"))
     return VZParams(params.pair, summary["Ca"], summary["Kc"], CalibrationWindow.from_record(summary["window"]))

@@ -170,10 +170,26 @@ def plan(scene: Scene) -> list[PlannedStage]:
     return out
 
 
+def impact_setup(scene, material):
+    """The ImpactSetup (calib.studies.impact) of ``material`` with the scene's mesh choice and steps."""
+    from calib.studies.impact import ImpactSetup
+
+    mesh = scene.mesh
+    return ImpactSetup(material=material.material(), radius=material.R, contact_size=mesh.contact_size,
+                       level=mesh.level if mesh.level not in (None, "default") else None,
+                       steps_per_contact=scene.impact.steps_per_contact)
+
+
+def pair_impact_setup(scene, material):
+    """The PairImpactSetup (calib.studies.impact_pair) of ``material`` on the [impact.counter] body."""
+    from calib.studies.impact_pair import PairImpactSetup
+
+    return PairImpactSetup(impact_setup(scene, material), scene.impact.counter.counter_body(material))
+
+
 def impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
     """The planned dynamic FE impacts of ``material`` (calib.studies.impact: the fine runs, and the
     coarse-mesh and coarse-dt ones with the error estimate); refused here when beyond the FE's reach."""
-    from calib.scenes.run import impact_setup
     from calib.studies import impact
 
     if scene.impact.counter is not None:
@@ -200,7 +216,6 @@ def pair_impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
     """The planned two-body impacts of ``material`` on the [impact.counter] body (calib.studies.impact_pair)."""
     from meshes.counter_body import BlockMeshSpec
 
-    from calib.scenes.run import pair_impact_setup
     from calib.studies import impact, impact_pair
 
     setup = pair_impact_setup(scene, material)

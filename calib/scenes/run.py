@@ -15,7 +15,8 @@ from calib.fe.von_mises import VonMisesMaterial
 from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.report import calibration as calibration_report
-from calib.scenes.plan import calibration_spec, hertz_mesh_spec, plastic_needed, spec_options
+from calib.scenes.plan import (calibration_spec, hertz_mesh_spec, impact_setup, pair_impact_setup, plastic_needed,
+                               spec_options)
 from calib.scenes.schema import Scene, stage_pair
 from calib.studies.hertz import plot_hertz, run_hertz
 from meshes.hemisphere import hemisphere_mesh
@@ -145,23 +146,6 @@ def _run_collision(scene, material, out, calibrated, progress) -> dict:
                          "e": [r["e_velocity"] for r in rows if r["law"] == law]}
                    for law in scene.collision.laws}
     return {"rows": len(rows), "vz_parameters": source, "restitution": restitution}
-
-
-def impact_setup(scene, material):
-    """The ImpactSetup (calib.studies.impact) of ``material`` with the scene's mesh choice and steps."""
-    from calib.studies.impact import ImpactSetup
-
-    mesh = scene.mesh
-    return ImpactSetup(material=material.material(), radius=material.R, contact_size=mesh.contact_size,
-                       level=mesh.level if mesh.level not in (None, "default") else None,
-                       steps_per_contact=scene.impact.steps_per_contact)
-
-
-def pair_impact_setup(scene, material):
-    """The PairImpactSetup (calib.studies.impact_pair) of ``material`` on the [impact.counter] body."""
-    from calib.studies.impact_pair import PairImpactSetup
-
-    return PairImpactSetup(impact_setup(scene, material), scene.impact.counter.counter_body(material))
 
 
 def _run_pair_impact(scene, material, out, progress) -> dict:

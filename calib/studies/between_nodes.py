@@ -56,8 +56,8 @@ from calib.fe import ContactSolver
 from calib.fe.loadpath import contact_work, run_load_paths
 from calib.fe.von_mises import VonMisesMaterial
 from calib.fit import impact_window, recipe
-from calib.fit.calibration import calibrate
-from calib.studies.wide_window import E_TARGET, FORCE_TARGET, law_against_path
+from calib.fit.calibration import E_TARGET, FORCE_TARGET, calibrate
+from calib.fit.path_check import law_against_path
 from calib.sweep.runner import run_sweep
 from meshes.hemisphere import hemisphere_mesh
 from meshes.keys import stable_key
@@ -220,7 +220,7 @@ def path_record(peak: float, e: float, rows: list[dict]) -> dict:
 
 
 def fe_path(record: dict) -> dict:
-    """A stored FE path as calib.studies.wide_window.law_against_path takes it, its e from
+    """A stored FE path as calib.fit.path_check.law_against_path takes it, its e from
     :func:`path_restitution`."""
     approach = np.array([r["alpha"] for r in record["rows"]])
     force = np.array([max(r["P"], 0.0) for r in record["rows"]])

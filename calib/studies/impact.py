@@ -41,15 +41,17 @@ v_in. ``quasi_static_limit`` states from which v_in the dynamic FE differs from 
 the discretisation errors, with the vibration energy left.
 
 The quasi-static laws at each v_in (exact by energy balance, nfdmodel.collision_reference): vz
-with the constants of a parameter file (the reference calibration, results/calibration/
-parameters.json, for the reference sphere when it exists), else the master table's (the paper's
-outside the table); the vz-table law of ``nfdcal calibrate --v-max`` for the reference sphere
-(TABLE_PARAMETERS, when it exists); Thornton's law and its closed-form restitution (paper eq. 1.11); Hertz's
-P_max and contact time 2.868 (m^2 / (R E*^2 v_in))^(1/5). And, where results/lammps/restitution.csv
-holds it, the restitution of LAMMPS' ``granular mdr`` normal model (two aluminium spheres head-on,
-tests/lammps_pour.py) at the same v_in / v_Y, interpolated linearly in log(v_in / v_Y) between its
-velocities: e depends on v_in / v_Y alone for a given nu and E*/sigma_Y (nfdmodel/README.md, The
-reference case and the dimensionless constants), so the pair's e is the sphere-on-flat one's.
+with the two constants of the parameter file given (``params_file``: a calibration's
+parameters.json, whichever law it ships, or a vz file), else the master table's (the paper's
+outside the table); the vz-table law of the parameter file given as ``table_file`` (e.g. ``nfdcal
+calibrate --v-max``'s); Thornton's law and its closed-form restitution (paper eq. 1.11); Hertz's
+P_max and contact time 2.868 (m^2 / (R E*^2 v_in))^(1/5). And, for the reference sphere with the
+CSV given as ``mdr_file`` (LAMMPS' restitution.csv, tests/benchmarks/bench_lammps.py), the
+restitution of LAMMPS' ``granular mdr`` normal model (two aluminium spheres head-on) at the same
+v_in / v_Y, interpolated linearly in log(v_in / v_Y) between its velocities: e depends on v_in / v_Y
+alone for a given nu and E*/sigma_Y (nfdmodel/README.md, The reference case and the dimensionless
+constants), so the pair's e is the sphere-on-flat one's. No file is read unless given: the summary
+names each one compared with (vz_source, vz_table_source, mdr_source).
 """
 from __future__ import annotations
 
@@ -76,10 +78,6 @@ from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_r
                       reference_case)
 
 DEFAULT_OUT = output.RESULTS / "impact"
-CALIBRATED_PARAMETERS = output.RESULTS / "calibration" / "parameters.json"
-# the vz-table law of the reference sphere: nfdcal calibrate --v-max 0.504 --out results/impact/vz_table
-TABLE_PARAMETERS = DEFAULT_OUT / "vz_table" / "parameters.json"
-LAMMPS_RESTITUTION = output.RESULTS / "lammps" / "restitution.csv"   # LAMMPS' granular mdr, e(v_in / v_Y)
 STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
 CONVERGENCE_VELOCITY = 0.04      # m/s: the reference sphere at 24 v_Y, the benchmark's impact
 VERSION = 2                       # bump when the FE or the recipe changes: invalidates finished cases
@@ -249,31 +247,49 @@ def run_impacts(setup: ImpactSetup, velocities, cases: Path, *, workers: int = 1
 
 # ---------------------------------------------------------------- the comparison
 def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
-    """(vz parameters, their source): the file given, the reference calibration for the reference
-    sphere when it exists, else the master table's (the paper's outside it)."""
-    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y)
-    if params_file is None and reference and CALIBRATED_PARAMETERS.is_file():
-        params_file = CALIBRATED_PARAMETERS
-    if params_file == CALIBRATED_PARAMETERS:    # the reference calibration's two constants, whichever law it ships
+    """(vz parameters, their source): the two constants of the file given (a calibration's
+    parameter file, whichever law it ships: calib.report.parameter_file.two_constant_law), else the
+    master table's (the paper's outside it)."""
+    if params_file is not None:
         from calib.report.parameter_file import two_constant_law
 
         return two_constant_law(params_file), output.display_path(params_file)
-    if params_file is not None:
-        return load_parameters(params_file), output.display_path(params_file)
     params, source = impact_window.estimating_constants(setup.material, setup.radius)
     return params, source
 
 
-def table_parameters(setup: ImpactSetup):
-    """The vz-table law's parameters for the reference sphere (TABLE_PARAMETERS), else None."""
-    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y)
-    return load_parameters(TABLE_PARAMETERS) if reference and TABLE_PARAMETERS.is_file() else None
+def table_parameters(table_file=None):
+    """The vz-table law's parameters from the file given, else None."""
+    return None if table_file is None else load_parameters(table_file)
 
 
-def law_predictions(setup: ImpactSetup, v_in: float, params, table=None) -> dict:
+def mdr_table(setup: ImpactSetup, mdr_file=None) -> tuple[np.ndarray, np.ndarray] | None:
+    """(log(v_in / v_Y), e) of LAMMPS' mdr restitution from the CSV given (module docstring), None
+    without one; a ValueError for another sphere than the reference one (the CSV is of its material)
+    or a file without the columns v_in_over_v_Y, e_mdr_lammps."""
+    if mdr_file is None:
+        return None
+    if not recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y):
+        raise ValueError(f"{mdr_file}: LAMMPS' mdr restitution is the reference sphere's; this sphere is another")
+    import csv
+
+    with open(mdr_file, encoding="utf-8") as handle:
+        rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
+    try:
+        x = np.log([float(row["v_in_over_v_Y"]) for row in rows])
+        e = np.array([float(row["e_mdr_lammps"]) for row in rows])
+        if not x.size or np.any(np.diff(x) <= 0.0):
+            raise ValueError("no rows, or velocities not increasing")
+    except (KeyError, ValueError, TypeError):
+        raise ValueError(f"{mdr_file}: not a restitution CSV (columns v_in_over_v_Y, e_mdr_lammps, "
+                         "velocities increasing)") from None
+    return x, e
+
+
+def law_predictions(setup: ImpactSetup, v_in: float, params, table=None, mdr=None) -> dict:
     """The quasi-static laws' impact at v_in [m/s] (module docstring): per law e, P_max [N],
     contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e; the vz-table law's
-    (``table``: its parameters) where given. Below first yield (v_in <= v_Y) every law is Hertz's,
+    (``table``: its parameters) and LAMMPS' mdr e (``mdr``: :func:`mdr_table`) where given. Below first yield (v_in <= v_Y) every law is Hertz's,
     and an elastic run is compared with Hertz alone."""
     from calib.report.collision import thornton_closed_form
 
@@ -298,36 +314,15 @@ def law_predictions(setup: ImpactSetup, v_in: float, params, table=None) -> dict
                          "delta_res": float(ref.delta_res[0])}
         out["thornton"]["e_closed_form"] = float(thornton_closed_form(v_in, pair.v_Y))
     out["hertz"] = hertz
-    mdr = mdr_restitution(v_in / pair.v_Y)
-    if mdr is not None and recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius,
-                                                      setup.material.sigma_y):
-        out["mdr"] = {"e": mdr}
+    if mdr is not None and mdr[0][0] <= math.log(v_in / pair.v_Y) <= mdr[0][-1]:
+        out["mdr"] = {"e": float(np.interp(math.log(v_in / pair.v_Y), *mdr))}
     return out
 
 
-def mdr_restitution(v_over_v_Y: float) -> float | None:
-    """LAMMPS' mdr restitution at v_in / v_Y from results/lammps/restitution.csv (module docstring),
-    None outside its velocities or without the file."""
-    if not LAMMPS_RESTITUTION.is_file():
-        return None
-    import csv
-
-    with LAMMPS_RESTITUTION.open(encoding="utf-8") as handle:
-        rows = list(csv.DictReader(line for line in handle if not line.startswith("#")))
-    try:
-        x = np.log([float(row["v_in_over_v_Y"]) for row in rows])
-        e = np.array([float(row["e_mdr_lammps"]) for row in rows])
-    except (KeyError, ValueError):
-        return None
-    if not x.size or not x[0] <= math.log(v_over_v_Y) <= x[-1]:
-        return None
-    return float(np.interp(math.log(v_over_v_Y), x, e))
-
-
-def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, quasi_static=()) -> list[dict]:
+def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, quasi_static=(), mdr=None) -> list[dict]:
     """One record per velocity: the fine run's values, the error estimates from the other
     variants (module docstring), the energy fractions, the laws' predictions (``table``: the
-    vz-table law's parameters) and the quasi-static FE at the same P_max (``quasi_static``: rows of
+    vz-table law's parameters; ``mdr``: LAMMPS' restitution, :func:`mdr_table`) and the quasi-static FE at the same P_max (``quasi_static``: rows of
     calib.studies.impact_quasistatic, with the dynamic FE's relative difference to each)."""
     from calib.studies import impact_quasistatic
 
@@ -358,7 +353,7 @@ def impact_records(setup: ImpactSetup, rows: list[dict], params, table=None, qua
         record["balance_residual_fraction_coarse_dt"] = (coarse_dt["balance_residual"] / coarse_dt["kinetic_in"]
                                                         if coarse_dt else None)
         record["wall_time_s_all_runs"] = sum(run["wall_time_s"] for run in runs.values())
-        record["models"] = law_predictions(setup, v_in, params, table)
+        record["models"] = law_predictions(setup, v_in, params, table, mdr)
         if v_in in static:
             record["quasi_static"] = {k: v for k, v in static[v_in].items() if k not in ("path", "key", "status", "error")}
             record["dynamic_over_quasi_static"] = impact_quasistatic.compared(record, static[v_in])
@@ -460,27 +455,31 @@ def study_velocities(setup: ImpactSetup) -> tuple[float, ...]:
 
 
 def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progress: Callable[[str], None] | None = None,
-          variants=VARIANTS, params_file=None, plots: bool = True, quasi_static: bool = True) -> list[dict]:
+          variants=VARIANTS, params_file=None, table_file=None, mdr_file=None, plots: bool = True,
+          quasi_static: bool = True) -> list[dict]:
     """Run the impacts (finished ones reused from OUT/cases/) and, with ``quasi_static``, the
     quasi-static FE paths at their peak forces (OUT/quasi_static_cases/), and write the study's
-    files into ``out`` as one set (calib.studies.impact_output); returns the per-velocity records."""
+    files into ``out`` as one set (calib.studies.impact_output); returns the per-velocity records.
+    The laws are compared with the files given alone (module docstring: ``params_file``,
+    ``table_file``, ``mdr_file``)."""
     from calib.studies import impact_output
 
     started = time.perf_counter()
     params, source = law_parameters(setup, params_file)      # a bad file is refused before any FE
-    table = table_parameters(setup)
+    table, mdr = table_parameters(table_file), mdr_table(setup, mdr_file)
     out = Path(out)
     rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
     static, static_counts = (run_quasi_static(setup, rows, out / "quasi_static_cases", workers=workers,
                                               progress=progress) if quasi_static else ([], None))
-    records = impact_records(setup, rows, params, table, static)
+    records = impact_records(setup, rows, params, table, static, mdr)
     pair = setup.pair
     fine = [row for row in rows if row["variant"] == "fine"]
     summary = {"case": {"E": setup.material.E, "nu": setup.material.nu,
                         "sigma_y": None if setup.elastic else setup.material.sigma_y, "rho": setup.material.rho,
                         "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
                         "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact},
-               "vz_source": source, "vz_table_source": output.display_path(TABLE_PARAMETERS) if table else None,
+               "vz_source": source, "vz_table_source": output.display_path(table_file) if table else None,
+               "mdr_source": output.display_path(mdr_file) if mdr is not None else None,
                "variants": list(variants),
                "vibration": largest_vibration(records), "quasi_static": quasi_static_limit(records),
                "stamp": output.stamp(time.perf_counter() - started, mesh=fine[-1]["mesh"], **counts,

@@ -25,6 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
+from calib.report.index_format import g, num, read_json, section, table
+
 from calib.studies import impact_drops
 
 LAW_COLUMNS = (("vz", "e"), ("vz", "P_max"), ("vz", "contact_time"), ("vz", "delta_max"), ("vz", "delta_res"),
@@ -130,3 +132,47 @@ def plot_histories(path: Path, rows: list[dict]) -> Path:
         ax.grid(alpha=0.3)
     axes[0].legend(fontsize=8)
     return output.save_figure(fig, path)
+
+
+def impact(root: Path) -> list[str]:
+    folder = root / "impact"
+    data = read_json(folder / "impact.json")
+    if data is None:
+        return []
+    case = data["case"]
+    lines = section("Dynamic FE impacts of the whole sphere (`impact/`)", folder, root,
+                    "nfdcal impact && nfdcal impact --convergence --v-in 0.04 (vz_table/: nfdcal calibrate --v-max 0.504 "
+                    "--out results/impact/vz_table)", data["stamp"])
+    lines += [f"The sphere (R = {case['R']:g} m, mass {g(case['mass'])} kg, v_Y = {g(case['v_Y'])} m/s, P_Y = "
+              f"{g(case['P_Y'])} N) thrown at the rigid flat; e = rebound speed of the centre of mass over v_in, with "
+              f"its estimated discretisation error (mesh and time step); qs FE = the quasi-static FE load-unload path to "
+              f"the same P_max thrown as a collision; vz constants from `{data['vz_source']}`"
+              + (f", vz-table from `{data['vz_table_source']}`" if data.get("vz_table_source") else "")
+              + "; vibr. = vibration energy left after separation over the kinetic energy in; balance residual: "
+              "over the kinetic energy in (at twice dt): the time discretisation's (calib.studies.impact).", ""]
+    rows = []
+    for r in data["impacts"]:
+        m, qs = r["models"], r.get("quasi_static", {})
+        law = lambda name: f"{m[name]['e']:.4f}" if name in m else "-"      # noqa: E731
+        error = r.get("e_rel_error_estimate")
+        rows.append([f"{r['v_in_over_v_Y']:.3g}", f"{r['P_max_over_P_Y']:.4g}",
+                     f"{r['e']:.4f}" + (f" ± {error * r['e']:.4f}" if error is not None else ""),
+                     f"{qs['e']:.4f}" if qs else "-", law("vz"), law("vz_table"), law("thornton"),
+                     f"{m['thornton']['e_closed_form']:.4f}" if "thornton" in m else "-", law("mdr"),
+                     f"{r['contact_time'] * 1e3:.4g}", f"{qs['contact_time'] * 1e3:.4g}" if qs else "-",
+                     g(r["vibration_fraction"], 2), g(r["balance_residual_fraction"], 2)
+                     + (f" ({g(r['balance_residual_fraction_coarse_dt'], 2)})"
+                        if r.get("balance_residual_fraction_coarse_dt") is not None else "")])
+    lines += table(["v_in / v_Y", "P_max / P_Y", "e, FE", "e, qs FE", "vz", "vz-table", "Thornton", "Thornton closed",
+                    "LAMMPS mdr", "t_c FE [ms]", "t_c qs FE [ms]", "vibr.", "balance residual"], rows)
+    limit = data.get("quasi_static") or {}
+    if limit:
+        lines += ["Dynamic over quasi-static FE at the same P_max: " + quasi_static_words(limit) + ".", ""]
+    convergence = read_json(folder / "convergence.json")
+    if convergence:
+        runs = [[r["ladder"], f"{r['contact_size'] * 1e6:g}", r["steps_per_contact"], r["dofs"], f"{r['e']:.5f}",
+                 g(r.get("e_error"), 2), num(r["wall_time_s"])] for r in convergence["runs"]]
+        lines += [f"Convergence at v_in = {convergence['v_in']:g} m/s ({convergence['v_in_over_v_Y']:.3g} v_Y; "
+                  f"`convergence.json`, e_error against the extrapolated value):", ""]
+        lines += table(["ladder", "h [um]", "steps per contact", "dofs", "e", "e error", "wall [s]"], runs)
+    return lines

@@ -56,7 +56,7 @@ from calib import output
 from calib.fe.loadpath import LoadPathPlan, run_load_paths
 from calib.fit import recipe
 from calib.fit.counter import CounterBody
-from calib.studies.wide_window import law_against_path
+from calib.fit.path_check import law_against_path
 from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
 from nfdmodel import ContactPair, Material, VZParams

@@ -11,6 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
+from calib.report.index_format import apct, read_json, section, span, table
+
 
 KEYS = ("force_error", "radius_error", "e_error")
 CSV_COLUMNS = ("shape", "yielding", "E1_over_E2", "E_star", "R_star", "P_Y",
@@ -138,4 +140,44 @@ def summary_lines(result: dict) -> list[str]:
         lines.append(f"mesh check: largest change of an error from the grid's mesh to the default: "
                      f"{100 * result['mesh_check']['largest_change']:.2f} points")
     lines.append(f"wall time {result['stamp']['wall_time_s']:.0f} s")
+    return lines
+
+
+def pairs(root: Path) -> list[str]:
+    data = read_json(root / "pairs" / "pairs.json")
+    if data is None:
+        return []
+    lines = section("Unlike bodies: the rigid-flat substitution against the two-body FE (`pairs/`)", root / "pairs",
+                    root, data["stamp"].get("command", "python -m calib.studies.pairs"), data["stamp"])
+    rigid = data["rigid_flat"]
+    lines += ["The rigid-flat law with the pair's E*, R* and the yielding body's constants (nfdmodel.ContactPair) "
+              "against the FE of both bodies: substitution / FE - 1 of the force at equal approach and the contact "
+              "radius at equal force (loading, 1..41.2 P_Y) and of e at equal P_max/P_Y (paths to 13.7, 27.4, 41.2 "
+              "P_Y); nu = 0.3, the first-yielding body E/sigma_Y = 700. The substitution column carries the "
+              "rigid-flat FE itself over (law-free); the vz column is the two constants of the rigid-flat radius "
+              f"fit (Ca_hat {rigid['Ca_hat']:.4f}, Kc_hat {rigid['Kc_hat']:.4f}) on the pair's scales, whose own "
+              "error against the rigid-flat FE a pair calibration keeps.", ""]
+    out = [[c["shape"], c["yielding"], ", ".join(f"{x:.3g}" for x in c["ratios"]), c["force_error"],
+            c["radius_error"], c["e_error"], c["law_e_error"]] for c in column_spans(data["rows"])]
+    lines += table(["counter-body", "yields", "E1/E2", "force error", "contact radius error", "e error",
+                    "vz law e error"], out)
+    steer = data.get("steer_e_error", 0.02)
+    over = [r for r in data["rows"] if max(abs(r["e_error_min"]), abs(r["e_error_max"])) > steer]
+    lines += ["Two spheres of equal radius: the columns where the sphere and where the counter-body yields are one "
+              "problem mirrored, and the FE gives them equal (a check of the two-body FE).",
+              "", f"In {len(over)} of {len(data['rows'])} cases the substitution misses e by more than {apct(steer, 0)}: "
+              "there the tools name a pair calibration (calib/data/substitution_error.csv, calib.fit.substitution).", ""]
+    check = data.get("mesh_check")
+    if check and "largest_change" in check:
+        case = check["case"]
+        lines += [f"Mesh: the grid's contact element is a_max/10 (the recipe's coarse level); at the default level "
+                  f"(a_max/37) the case E1/E2 = {case['E1_over_E2']:.3g}, {case['shape']} counter-body, {case['yielding']} "
+                  f"yielding, moves each error by at most {100 * check['largest_change']:.2f} points (e error "
+                  f"{span([check['default']['e_error_min'], check['default']['e_error_max']])} against "
+                  f"{span([check['grid']['e_error_min'], check['grid']['e_error_max']])}).", ""]
+    if "fe_wall_time_s" in data["stamp"]:
+        lines += [f"The FE of the {len(data['rows'])} cases, the rigid flat and the mesh check: "
+                  f"{data['stamp']['fe_wall_time_s'] / 60:.0f} min of worker time.", ""]
+    for failure in data.get("failures", []):
+        lines += [f"Not computed: {failure}", ""]
     return lines

@@ -25,7 +25,6 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -33,13 +32,13 @@ import numpy as np
 from calib import output
 from calib.fe.loadpath import contact_work
 from calib.fit import recipe
-from calib.fit.calibration import E_TARGET, FORCE_TARGET, calibrate, drive_law, summary
-from calib.fit.impact_window import reach_velocity
+from calib.fit.calibration import E_TARGET, FORCE_TARGET, calibrate, summary
 from calib.fit.least_squares import radius_law_data
+from calib.fit.path_check import law_against_path
 from calib.fit.table_fit import fit_tables
 from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
-from nfdmodel import ContactPair, Material, RangeWarning, VZParams, collide
+from nfdmodel import ContactPair, Material, VZParams
 
 LOADS_OVER_YIELD = (10.0, 30.0, 100.0, 300.0, 1000.0)
 STRENGTH_RATIOS = (100.0, 700.0, 5000.0)        # E / sigma_Y
@@ -127,25 +126,6 @@ def fitted_laws(row: dict) -> dict:
     except ValueError as exc:
         row["table_error"] = str(exc)
     return laws
-
-
-def law_against_path(law: str, params, path: dict) -> dict:
-    """One law along one FE path (``approach`` [m], ``force`` [N], ``P_max`` [N], ``e``): the
-    force error along the path, the quasi-static cycle's e and the law's collision e at the v_in
-    reaching the same P_max (module doc; no collision keys beyond the law's domain)."""
-    law_force, e_law = drive_law(law, params, path["approach"])
-    v_in = reach_velocity(params, path["P_max"])     # the law's impact reaching the same P_max
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RangeWarning)
-            e_collision = float(collide(law, params, [v_in]).e_velocity[0])
-    except ValueError:                  # beyond the law's domain: no impact to compare
-        e_collision = float("nan")
-    return {"force_error": float(np.abs(law_force - path["force"]).max() / path["P_max"]),
-            "e_fe": path["e"], "e_law": e_law, "e_error": e_law / path["e"] - 1.0,
-            "v_in": v_in, "v_in_over_v_Y": v_in / params.pair.v_Y,
-            **({"e_collision": e_collision, "e_collision_error": e_collision / path["e"] - 1.0}
-               if e_collision == e_collision else {})}
 
 
 def compare_laws(row: dict) -> list[dict]:

@@ -57,7 +57,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 import lammps_pour  # noqa: E402
 
 from calib import output  # noqa: E402
-from calib.commands import lammps as lammps_command  # noqa: E402
+from calib import lammps_plugin  # noqa: E402
 
 DT = 1e-7                       # s
 RADIUS = 0.01                   # m: the restitution sweep's spheres
@@ -262,7 +262,7 @@ def main(argv=None) -> int:
         parts[f"{name}_wall_s"] = round(time.perf_counter() - since, 1)
         return time.perf_counter()
 
-    plugin = lammps_command.build_plugin()["path"]
+    plugin = lammps_plugin.build_plugin()["path"]
     out = Path(ns.out)
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
@@ -313,7 +313,7 @@ def main(argv=None) -> int:
     wall = time.perf_counter() - started
     command = "python tests/benchmarks/bench_lammps.py " + " ".join(argv if argv is not None else sys.argv[1:])
     stamp = output.stamp(wall, command=command.strip(), spheres=ns.spheres, steps=ns.steps, repeat=ns.repeat,
-                         dt_s=DT, lammps=lammps_command.lammps_location()[1], pile_spheres=ns.pile_spheres,
+                         dt_s=DT, lammps=lammps_plugin.lammps_location()[1], pile_spheres=ns.pile_spheres,
                          pile_steps=ns.pile_steps, **settled, **shot, **parts)
     output.write_csv(out / "timing.csv", speed, comment=output.stamp_comment(stamp))
     output.write_csv(out / "restitution.csv", sweep, comment=output.stamp_comment(stamp))

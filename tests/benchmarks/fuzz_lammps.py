@@ -26,7 +26,7 @@ from hypothesis import HealthCheck, given, seed, settings  # noqa: E402
 from lammps_fuzzing import plugin_case, plugin_input, run_plugin_case  # noqa: E402
 
 from calib import output  # noqa: E402
-from calib.commands import lammps as lammps_command  # noqa: E402
+from calib import lammps_plugin  # noqa: E402
 
 
 def main(argv=None) -> int:
@@ -37,7 +37,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default="results/stability")
     args = parser.parse_args(argv)
 
-    plugin = lammps_command.build_plugin()["path"]
+    plugin = lammps_plugin.build_plugin()["path"]
     counts = collections.defaultdict(collections.Counter)
     failures = []
     started = time.perf_counter()

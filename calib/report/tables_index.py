@@ -1,0 +1,86 @@
+"""The master tables' sections of results/README.md (calib.report.results_index): the master table of Ca_hat,
+Kc_hat (results/tables/master_grid, master_validation; ``nfdcal table``) and the vz master table
+(results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from calib.report.index_format import apct, pct, read_json, section, span, study_header, table
+from nfdmodel import reference_case
+
+
+def _range(rows, key, fmt=apct) -> str:
+    return span([r[key] for r in rows], fmt)
+
+
+def master_table(root: Path) -> list[str]:
+    folder = root / "tables" / "master_grid"
+    data = read_json(folder / "table.json")
+    if data is None:
+        return []
+    rows = [r for r in data["rows"] if r["status"] == "ok"]
+    nus = sorted({r["nu"] for r in rows})
+    ratios = sorted({r["E_over_sigma_y"] for r in rows})
+    lines = section("The master table (`tables/master_grid/`, `tables/master_validation/`)",
+                    (folder, root / "tables" / "master_validation"), root,
+                    "nfdcal table master_grid --master-out calib/data/master_table.csv --accuracy ... "
+                    "&& nfdcal table master_validation --check-master", data["stamp"])
+    lines += [f"{len(rows)} nodes of {len(data['rows'])}: nu in {{{', '.join(f'{v:g}' for v in nus)}}} x "
+              f"E/sigma_Y in {{{', '.join(f'{v:g}' for v in ratios)}}}; {sum(r['fe_wall_time_s'] for r in rows) / 60:.0f}"
+              f" min of FE time; {min(r['dofs'] for r in rows)}-{max(r['dofs'] for r in rows)} dofs on the finer mesh.",
+              ""]
+    lines += table(["per node", "Ca_hat", "Kc_hat"], [
+        ["estimated discretisation error (two meshes)", _range(rows, "Ca_hat_rel_error_estimate"),
+         _range(rows, "Kc_hat_rel_error_estimate")],
+        ["fit standard error", span([r["Ca_se"] / r["Ca"] for r in rows], apct),
+         span([r["Kc_se"] / r["Kc"] for r in rows], apct)],
+        ["fit R^2", span([r["Ca_r2"] for r in rows], lambda x: f"{x:.3f}"),
+         span([r["Kc_r2"] for r in rows], lambda x: f"{x:.3f}")],
+    ])
+    check = read_json(root / "tables" / "master_validation" / "master_check.json")
+    if check:
+        lines += [f"Interpolation (PCHIP) against direct FE mid-cell (`master_validation/master_check.json`, "
+                  f"limits {apct(check['stamp']['limits']['Ca_hat'], 0)} and {apct(check['stamp']['limits']['Kc_hat'], 0)}):", ""]
+        lines += table(["nu", "E/sigma_Y", "Ca_hat error", "Kc_hat error", "within limits"],
+                       [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", pct(r["Ca_hat_error"]), pct(r["Kc_hat_error"]),
+                         "yes" if r["within_limits"] else "no"] for r in check["rows"]])
+    stiffest = max(ratios)
+    base = {r["nu"]: r for r in rows if r["E_over_sigma_y"] == stiffest}
+    out = []
+    for ratio in sorted(ratios, reverse=True)[1:]:
+        cell = [r for r in rows if r["E_over_sigma_y"] == ratio and r["nu"] in base]
+        out.append([f"{ratio:g}", span([r["window_a_max_over_R"] for r in cell], lambda x: f"{x:.3g}"),
+                    span([r["Ca_hat"] / base[r["nu"]]["Ca_hat"] - 1 for r in cell], lambda x: pct(x, 1)),
+                    span([r["Kc_hat"] / base[r["nu"]]["Kc_hat"] - 1 for r in cell], lambda x: pct(x, 1))])
+    lines += [f"Do the constants depend on nu alone when a << R? Each node against its E/sigma_Y = {stiffest:g} "
+              "value, over all nu:", ""]
+    lines += table(["E/sigma_Y", "a_max / R", "Ca_hat change", "Kc_hat change"], out)
+    reference = read_json(root / "calibration" / "calibration.json")
+    node = next((r for r in rows if r["nu"] == reference_case.NU
+                 and r["E_over_sigma_y"] == reference_case.E / reference_case.SIGMA_Y), None)
+    if node and reference:
+        lines += [f"The node (nu, E/sigma_Y) = ({node['nu']:g}, {node['E_over_sigma_y']:g}): Ca_hat = {node['Ca_hat']:.4g}, "
+                  f"Kc_hat = {node['Kc_hat']:.4g}, against the reference calibration's {reference['Ca_hat']:.4g}, "
+                  f"{reference['Kc_hat']:.4g} ({pct(node['Ca_hat'] / reference['Ca_hat'] - 1, 1)}, "
+                  f"{pct(node['Kc_hat'] / reference['Kc_hat'] - 1, 1)}; its paths also unload).", ""]
+    return lines
+
+
+def vz_master_table(root: Path) -> list[str]:
+    check = read_json(root / "tables" / "vz_master_grid" / "vz_master_check.json")
+    shipped = read_json(Path(__file__).resolve().parents[1] / "data" / "vz_master_table.json")
+    if check is None or shipped is None:
+        return []
+    law_table = shipped["vz_master_table"]
+    lines = study_header("The master table of the load-dependent law (`tables/vz_master_grid/`)", shipped["stamp"],
+                         "nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv")
+    lines += [f"a_p/a_Y and C_R of the vz-table law at P/P_Y {law_table['P_over_P_Y'][0]:g}..{law_table['P_over_P_Y'][-1]:.4g} "
+              f"({len(law_table['P_over_P_Y'])} loads) over nu {', '.join(f'{x:g}' for x in law_table['nu'])} x E/sigma_Y "
+              f"{', '.join(f'{x:g}' for x in law_table['E_over_sigma_y'])}, each node an FE calibration with unloading "
+              "paths log-spaced over its window (`nodes/`; `nfdcal material --v-max V` reads it). Accuracy, "
+              f"against FE paths of off-grid materials (`vz_master_check.*`): {law_table['accuracy']}.", ""]
+    rows = [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['P_max_over_P_Y']:.3g}",
+             f"{r['window_low']:.3g} - {r['window_top']:.0f}", "yes" if r["inside"] else "no",
+             pct(r["e_error"]), apct(r["force_error"])] for r in check["rows"]]
+    return lines + table(["nu", "E/sigma_Y", "P_max/P_Y", "window (P/P_Y)", "inside", "e error", "force error"], rows)
