@@ -45,6 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import native
+from .hertz_contact import hertz_approach_at_work
 from .history import HertzState
 from .parameters import as_pair
 from .registry import ContactLaw, get_law
@@ -187,7 +188,7 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
         raise ValueError(f"v_in out of range: the impact energy (1/2) m* v_in^2 = {energy[unusable][0]:g} J "
                          f"at v_in = {v[unusable][0]:g} m/s (v_in/v_Y = {v[unusable][0] / pair.v_Y:.3g}) "
                          f"is outside the floating-point range ({_SMALLEST_ENERGY:g} J .. 1.8e308 J)")
-    delta = (energy / (0.4 * pair.hertz_stiffness)) ** 0.4       # Hertz: W = (2/5) k delta^(5/2)
+    delta = hertz_approach_at_work(energy, pair.hertz_stiffness)     # Hertz: W = (2/5) k delta^(5/2)
     reach = _check_within_domain(law, law_params, pair, v, energy)
     delta = np.minimum(delta, reach)
     for _ in range(200):                                          # bracket from above

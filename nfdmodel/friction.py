@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import limits
+from .hertz_contact import hertz_radius
 from .materials import Material
 from .parameters import as_pair
 from .validation import check_real
@@ -243,12 +244,12 @@ def contact_radius(law_name: str, delta, P, state, params):
         return hertz
     yielded = state.P_max > pair.P_Y
     if law_name == "vz":
-        plastic = np.cbrt(3.0 * P * pair.R_star / (4.0 * pair.E_star)) + params.plastic_radius(state.P_max)
+        plastic = hertz_radius(P, pair.R_star, pair.E_star) + params.plastic_radius(state.P_max)
     elif law_name == "vz-table":
-        plastic = params.plastic_radius(state.P_max) + np.cbrt(3.0 * P * pair.R_star / (4.0 * pair.E_star))
+        plastic = params.plastic_radius(state.P_max) + hertz_radius(P, pair.R_star, pair.E_star)
     else:
-        R_p = 3.0 * state.unloading_stiffness / (4.0 * pair.E_star)
-        plastic = np.cbrt(3.0 * P * (R_p * R_p) / (4.0 * pair.E_star))
+        root_R_p = 3.0 * state.unloading_stiffness / (4.0 * pair.E_star)    # K_u = (4/3) E* sqrt(R_p*)
+        plastic = hertz_radius(P, root_R_p * root_R_p, pair.E_star)         # Hertz at the enlarged radius R_p*
     return np.where(yielded, plastic, hertz)
 
 

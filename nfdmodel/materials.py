@@ -8,7 +8,14 @@ Effective properties (Johnson 1985, Contact Mechanics, section 4.2):
 
 Incipient yield (Johnson 1985 eq. 3.45; Vu-Quoc & Zhang 1999 eq. 3.7): von Mises
 yield first occurs on the axis below the surface when the peak Hertz pressure reaches
-p_Y = A_Y(nu) sigma_Y, with 1/A_Y = max_zeta |sigma_z - sigma_r| / p0 along the axis.
+p_Y = A_Y(nu) sigma_Y, with 1/A_Y = max_zeta |sigma_z - sigma_r| / p0 along the axis; of two
+bodies in contact (both carry the same Hertz pressure) the one with the lower p_Y yields first.
+
+    P_Y = pi^3 R*^2 p_Y^3 / (6 E*^2)  [N],   a_Y = (3 P_Y R* / (4 E*))^(1/3)  [m]
+
+This module is the one home of E*, R*, p_Y, P_Y, a_Y and the body that yields first (the functions
+below and ContactPair; tests/test_formula_homes.py); Hertz's radius, pressure and impact are
+nfdmodel.hertz_contact's.
 """
 from __future__ import annotations
 
@@ -21,6 +28,7 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 from . import limits, reference_case
+from .hertz_contact import (hertz_impact_time, hertz_peak_pressure, hertz_radius, hertz_stiffness)
 from .validation import (LARGEST_POSSIBLE_RADIUS, LARGEST_USUAL_RADIUS, PlausibilityWarning, check_real, check_solid,
                          unit_slip)
 
@@ -60,6 +68,58 @@ def yield_factor(nu: float) -> float:
     return _yield_factor_cached(nu)
 
 
+def plane_strain_modulus(E, nu):
+    """E' = E / (1 - nu^2) [Pa] of a body of Young's modulus E [Pa] and Poisson's ratio nu: its share
+    of the contact modulus, E* itself against a rigid flat (Johnson 1985 eq. 4.22)."""
+    return E / (1.0 - nu ** 2)
+
+
+def youngs_modulus(plane_strain, nu):
+    """E = E' (1 - nu^2) [Pa]: Young's modulus of a body of plane-strain modulus E' [Pa] (a sphere's E
+    from its E* on a rigid flat)."""
+    return plane_strain * (1.0 - nu * nu)
+
+
+def plane_strain_compliance(E, nu):
+    """1/E' = (1 - nu^2) / E [1/Pa]: a body's term of 1/E* (Johnson 1985 eq. 4.22)."""
+    return (1.0 - nu ** 2) / E
+
+
+def contact_modulus(*compliances):
+    """E* = 1 / (c_1 + c_2 + ...) [Pa] of bodies in contact, c_k [1/Pa] each body's compliance
+    (1 - nu_k^2)/E_k or 1/E'_k (Johnson 1985 eq. 4.22: 1/E* = sum_k (1 - nu_k^2)/E_k), added in
+    the order given."""
+    total = compliances[0]
+    for compliance in compliances[1:]:
+        total = total + compliance
+    return 1.0 / total
+
+
+def effective_radius(R_i, R_j):
+    """R* = 1 / (1/R_i + 1/R_j) [m] of two spheres of radii R_i, R_j [m] (Johnson 1985 section 4.2;
+    a flat: R* = R)."""
+    return 1.0 / (1.0 / R_i + 1.0 / R_j)
+
+
+def yield_pressure(sigma_y, nu):
+    """p_Y = A_Y(nu) sigma_y [Pa]: the peak Hertz pressure at which a body of yield stress sigma_y [Pa]
+    and Poisson's ratio nu first yields (Johnson 1985 eq. 3.45)."""
+    return yield_factor(nu) * sigma_y
+
+
+def first_to_yield(*bodies) -> int:
+    """The index of the body that yields first among ``bodies`` ((sigma_y [Pa], nu) each): the lowest
+    p_Y = A_Y(nu) sigma_y (not simply the lowest sigma_y: A_Y grows from 1.30 at nu = 0 to 1.86 at
+    nu = 0.49); on a tie the first of them."""
+    return min(range(len(bodies)), key=lambda k: yield_pressure(*bodies[k]))
+
+
+def yield_force(R_star, E_star, p_Y):
+    """P_Y = pi^3 R*^2 p_Y^3 / (6 E*^2) [N]: the Hertz force whose peak pressure is p_Y [Pa]
+    (Vu-Quoc & Zhang 1999 eq. 3.7; R* [m], E* [Pa])."""
+    return math.pi**3 * R_star**2 * p_Y**3 / (6.0 * E_star**2)
+
+
 @dataclass(frozen=True)
 class Material:
     """Isotropic elastic-perfectly plastic material (validated, SI units).
@@ -90,7 +150,7 @@ class Material:
     @property
     def plane_strain_modulus(self) -> float:
         """E / (1 - nu^2) [Pa]: the body's share of the contact modulus (Johnson 1985 eq. 4.22)."""
-        return self.E / (1.0 - self.nu**2)
+        return plane_strain_modulus(self.E, self.nu)
 
     def sphere_mass(self, R: float) -> float:
         """Mass of a sphere of radius R [m]: (4/3) pi R^3 rho [kg]."""
@@ -116,11 +176,6 @@ def check_radius(name: str, R) -> float:
         warnings.warn(f"{name} = {R:g} m is larger than DEM particles usually are (<= "
                       f"{LARGEST_USUAL_RADIUS:g} m){unit_slip('R', R)}", PlausibilityWarning, stacklevel=3)
     return R
-
-
-def _in_series(modulus_i: float, modulus_j: float) -> float:
-    """E* = 1 / (1/E'_i + 1/E'_j) [Pa] of two bodies' plane-strain moduli E' = E/(1 - nu^2)."""
-    return 1.0 / (1.0 / modulus_i + 1.0 / modulus_j)
 
 
 @dataclass(frozen=True)
@@ -186,7 +241,7 @@ class ContactPair:
         R = check_radius("R", R)
         E_wall = check_solid("E", check_real("E_wall", E_wall, low=0.0, unit="Pa"))
         nu_wall = check_real("nu_wall", nu_wall, low=0.0, low_inclusive=True, high=limits.NU_MAX)
-        E_star = _in_series(material.plane_strain_modulus, E_wall / (1.0 - nu_wall**2))
+        E_star = contact_modulus(1.0 / material.plane_strain_modulus, 1.0 / plane_strain_modulus(E_wall, nu_wall))
         return cls(R, E_star, material.sigma_y, material.nu, material.sphere_mass(R))
 
     @classmethod
@@ -204,11 +259,12 @@ class ContactPair:
                 raise ValueError(f"{name} must be a Material, got {type(mat).__name__}")
         R_i = check_radius("R_i", R_i)
         R_j = check_radius("R_j", R_j)
-        R_star = 1.0 / (1.0 / R_i + 1.0 / R_j)
-        E_star = _in_series(material_i.plane_strain_modulus, material_j.plane_strain_modulus)
+        R_star = effective_radius(R_i, R_j)
+        E_star = contact_modulus(1.0 / material_i.plane_strain_modulus, 1.0 / material_j.plane_strain_modulus)
         m_i, m_j = material_i.sphere_mass(R_i), material_j.sphere_mass(R_j)
-        first_to_yield = min((material_i, material_j), key=lambda m: yield_factor(m.nu) * m.sigma_y)
-        return cls(R_star, E_star, first_to_yield.sigma_y, first_to_yield.nu, m_i * m_j / (m_i + m_j))
+        first = (material_i, material_j)[first_to_yield((material_i.sigma_y, material_i.nu),
+                                                        (material_j.sigma_y, material_j.nu))]
+        return cls(R_star, E_star, first.sigma_y, first.nu, m_i * m_j / (m_i + m_j))
 
     @classmethod
     def sphere_counter(cls, material: Material, R: float, E2: float, nu2: float, sigma_y2: float | None = None,
@@ -226,13 +282,13 @@ class ContactPair:
         R = check_radius("R", R)
         E2 = check_solid("E", check_real("counter E", E2, low=0.0, unit="Pa"), "counter E")
         nu2 = check_real("counter nu", nu2, low=0.0, low_inclusive=True, high=limits.NU_MAX)
-        E_star = 1.0 / (1.0 / material.plane_strain_modulus + (1.0 - nu2 ** 2) / E2)
+        E_star = contact_modulus(1.0 / material.plane_strain_modulus, plane_strain_compliance(E2, nu2))
         yielding = [(material.sigma_y, material.nu)]
         if sigma_y2 is not None:
             sigma_y2 = check_solid("sigma_y", check_real("counter sigma_y", sigma_y2, low=0.0, unit="Pa"),
                                    "counter sigma_y")
             yielding.append((sigma_y2, nu2))
-        sigma_y, nu = min(yielding, key=lambda s: yield_factor(s[1]) * s[0])
+        sigma_y, nu = yielding[first_to_yield(*yielding)]
         mass = material.sphere_mass(R)
         if R2 is None:
             return cls(R, E_star, sigma_y, nu, mass)
@@ -240,7 +296,7 @@ class ContactPair:
         rho2 = material.rho if rho2 is None else check_solid("rho", check_real("counter rho", rho2, low=0.0,
                                                                                  unit="kg/m^3"), "counter rho")
         mass2 = 4.0 / 3.0 * math.pi * R2 ** 3 * rho2
-        return cls(1.0 / (1.0 / R + 1.0 / R2), E_star, sigma_y, nu, mass * mass2 / (mass + mass2))
+        return cls(effective_radius(R, R2), E_star, sigma_y, nu, mass * mass2 / (mass + mass2))
 
     @classmethod
     def reference(cls) -> "ContactPair":
@@ -255,12 +311,12 @@ class ContactPair:
     @cached_property
     def p_Y(self) -> float:
         """Contact yield pressure p_Y = A_Y sigma_y [Pa] (peak Hertz pressure at first yield)."""
-        return self.A_Y * self.sigma_y
+        return yield_pressure(self.sigma_y, self.nu)
 
     @cached_property
     def P_Y(self) -> float:
         """Yield force P_Y = pi^3 R*^2 p_Y^3 / (6 E*^2) [N] (Vu-Quoc & Zhang 1999 eq. 3.7)."""
-        return math.pi**3 * self.R_star**2 * self.p_Y**3 / (6.0 * self.E_star**2)
+        return yield_force(self.R_star, self.E_star, self.p_Y)
 
     @cached_property
     def a_Y(self) -> float:
@@ -280,11 +336,11 @@ class ContactPair:
     @cached_property
     def hertz_stiffness(self) -> float:
         """k_H = (4/3) E* sqrt(R*) [N/m^1.5] in Hertz's P = k_H delta^(3/2)."""
-        return 4.0 / 3.0 * self.E_star * math.sqrt(self.R_star)
+        return hertz_stiffness(self.R_star, self.E_star)
 
     def hertz_radius(self, force):
         """Hertz contact radius a = (3 P R* / (4 E*))^(1/3) [m] at force P [N] (Johnson eq. 4.22)."""
-        return np.cbrt(3.0 * np.asarray(force, dtype=float) * self.R_star / (4.0 * self.E_star))[()]
+        return hertz_radius(np.asarray(force, dtype=float), self.R_star, self.E_star)[()]
 
     def hertz_approach(self, force):
         """Hertz approach delta = a^2 / R* [m] at force P [N] (Johnson 1985 eq. 4.23)."""
@@ -293,7 +349,7 @@ class ContactPair:
     def hertz_peak_pressure(self, force):
         """Hertz peak pressure p0 = 3 P / (2 pi a^2) [Pa] at force P [N] (Johnson 1985 eq. 4.23)."""
         force = np.asarray(force, dtype=float)
-        return (3.0 * force / (2.0 * math.pi * self.hertz_radius(force) ** 2))[()]
+        return hertz_peak_pressure(force, self.hertz_radius(force))[()]
 
     def hertz_pressure(self, r, force):
         """Hertz pressure p(r) = p0 sqrt(1 - r^2 / a^2) inside the contact, 0 outside [Pa], at
@@ -303,9 +359,9 @@ class ContactPair:
         return (self.hertz_peak_pressure(force) * np.sqrt(inside))[()]
 
     def hertz_contact_time(self, v_in) -> float:
-        """Duration of an elastic Hertz impact at v_in [m/s]: 2.868 (m*^2/(R* E*^2 v_in))^(1/5) [s].
+        """Duration of an elastic Hertz impact at v_in [m/s]: 2.8683 (m*^2/(R* E*^2 v_in))^(1/5) [s].
 
         (Johnson 1985 eq. 11.24.) It sizes time steps and step limits.
         """
         v_in = np.asarray(v_in, dtype=float)
-        return (2.8683 * (self.mass_star**2 / (self.R_star * self.E_star**2 * v_in)) ** 0.2)[()]
+        return hertz_impact_time(self.mass_star, self.R_star, self.E_star, v_in)[()]

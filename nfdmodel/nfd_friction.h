@@ -164,9 +164,9 @@ static inline double nfd_contact_radius(int law, double delta, const nfd_params 
         }
         if (law == NFD_LAW_VZ_TABLE)      /* a_Y f(x_max) + the Hertz radius at P */
             return nfd_vz_table_radius(p, t, h->P_max) - p->a_Y * cbrt(h->P_max / p->P_Y) +
-                   cbrt(3.0 * P * p->R_star / (4.0 * p->E_star));
+                   nfd_hertz_radius(P, p->R_star, p->E_star);
         double R_p = 3.0 * h->K_u / (4.0 * p->E_star);       /* thornton: K_u = (4/3) E* sqrt(R_p) */
-        return cbrt(3.0 * P * (R_p * R_p) / (4.0 * p->E_star));
+        return nfd_hertz_radius(P, R_p * R_p, p->E_star);      /* Hertz at the enlarged radius R_p^2 */
     }
     return sqrt(d * p->R_star);
 }

@@ -36,7 +36,7 @@ nfd_params nfd_pair(double R_star, double E_star, double p_Y)
     memset(&p, 0, sizeof p);          /* the law's constants zero until set */
     p.R_star = R_star; p.E_star = E_star; p.p_Y = p_Y;
     p.P_Y = NFD_PI * NFD_PI * NFD_PI * R_star * R_star * p_Y * p_Y * p_Y / (6.0 * E_star * E_star);
-    p.a_Y = cbrt(3.0 * p.P_Y * R_star / (4.0 * E_star));
+    p.a_Y = nfd_hertz_radius(p.P_Y, R_star, E_star);
     p.delta_Y = p.a_Y * p.a_Y / R_star;
     p.hertz_k = 4.0 / 3.0 * E_star * sqrt(R_star);
     p.u_Y = pow(p.P_Y, 1.0 / 3.0);
@@ -427,7 +427,7 @@ NFD_CLONES int nfd_vz_load(size_t n, const nfd_params *params, const double *NFD
 void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, double *a_e, double *a_p, double *a_ep)
 {
     double excess = h->P_max - p->P_Y;
-    *a_e = cbrt(3.0 * force * p->R_star / (4.0 * p->E_star));
+    *a_e = nfd_hertz_radius(force, p->R_star, p->E_star);
     *a_p = p->Ca * (excess > 0.0 ? excess : 0.0);
     *a_ep = *a_e + *a_p;
 }

@@ -165,6 +165,29 @@ int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, con
  * p_Y = A_Y sigma_Y. 0 <= nu < NFD_NU_MAX (A_Y(0.3) = 1.61). */
 double nfd_yield_factor(double nu);
 
+/* The contact formulas of every caller (the kernel, nfd_friction.h, the LAMMPS plugin), one home each
+ * (nfdmodel.materials and nfdmodel.hertz_contact in Python; Johnson 1985, Contact Mechanics, section
+ * 4.2 and eqs. 4.22-4.23), SI units:
+ *   nfd_plane_strain_modulus  E' = E / (1 - nu^2) [Pa]: E* of a body on a rigid flat;
+ *   nfd_contact_modulus       E* = 1 / (c_i + c_j) [Pa] of two bodies' compliances c = 1/E' [1/Pa];
+ *   nfd_effective_radius      R* = 1 / (1/R_i + 1/R_j) [m] of two spheres (a flat: R* = R);
+ *   nfd_yield_pressure        p_Y = A_Y(nu) sigma_Y [Pa]: the peak Hertz pressure at first yield;
+ *   nfd_yields_first          whether body i (yield pressure p_Y_i) yields first against body j: the
+ *                             lower p_Y, body i on a tie;
+ *   nfd_hertz_radius          a = (3 P R* / (4 E*))^(1/3) [m] at force P [N]. */
+static inline double nfd_plane_strain_modulus(double E, double nu) { return E / (1.0 - nu * nu); }
+static inline double nfd_contact_modulus(double compliance_i, double compliance_j)
+{
+    return 1.0 / (compliance_i + compliance_j);
+}
+static inline double nfd_effective_radius(double R_i, double R_j) { return 1.0 / (1.0 / R_i + 1.0 / R_j); }
+static inline double nfd_yield_pressure(double sigma_y, double nu) { return nfd_yield_factor(nu) * sigma_y; }
+static inline int nfd_yields_first(double p_Y_i, double p_Y_j) { return p_Y_i <= p_Y_j; }
+static inline double nfd_hertz_radius(double P, double R_star, double E_star)
+{
+    return cbrt(3.0 * P * R_star / (4.0 * E_star));
+}
+
 /* The admissibility of vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (dimensionless, so one answer for
  * every pair; nfdmodel.parameters.VZParams decides the same): NFD_VZ_ADMISSIBLE, or NFD_VZ_OUT_OF_RANGE
  * (outside NFD_CA_HAT_MIN <= Ca_hat <= NFD_CA_HAT_MAX, 0 <= Kc_hat <= NFD_KC_HAT_MAX), NFD_VZ_TURNS_BACK

@@ -6,7 +6,12 @@ Hertz up to first yield, then the mean contact pressure is capped at p_Y = A_Y s
     unloading  P = (4/3) E* sqrt(R_p*) <delta - delta_p>^(3/2), from the turning point (P*, delta*),
                a*^2 = (2 P* + P_Y) / (2 pi p_Y), R_p* = 4 E* a*^3 / (3 P*), delta_p = delta* - a*^2 / R_p*
 
-(Thornton 1997, J. Appl. Mech. 64, 383, eqs. 10-16); reloading retraces unloading.
+(Thornton 1997, J. Appl. Mech. 64, 383, eqs. 10-16); reloading retraces unloading. Its impact on a
+rigid flat has the closed-form restitution (Thornton 1997; paper eq. 1.11), r = v_Y / v_in <= 1:
+
+    e = sqrt(6 sqrt(3)/5) sqrt(1 - r^2/6) [r / (r + 2 sqrt(6/5 - r^2/5))]^(1/4)   [-]
+
+This module is the one home of Thornton's formulas (tests/test_formula_homes.py).
 """
 from __future__ import annotations
 
@@ -65,6 +70,14 @@ def thornton_force(delta, state: ThorntonState, params):
     P = (4/3) E* sqrt(R_p*) (delta - delta_p)^(3/2) (Thornton 1997). params: a ContactPair.
     Pure: :func:`thornton_step` + a copying commit."""
     return step_and_commit(thornton_step, delta, state, params)
+
+
+def thornton_closed_form(v_in, v_Y):
+    """Thornton (1997) restitution, paper eq. 1.11, r = v_Y/v_in (valid for v_in >= v_Y; both [m/s]):
+    e = sqrt(6 sqrt(3)/5) sqrt(1 - r^2/6) [r / (r + 2 sqrt(6/5 - r^2/5))]^(1/4) [-]."""
+    r = v_Y / np.asarray(v_in, dtype=float)
+    return (np.sqrt(6.0 * np.sqrt(3.0) / 5.0) * np.sqrt(1.0 - r**2 / 6.0)
+            * (r / (r + 2.0 * np.sqrt(6.0 / 5.0 - r**2 / 5.0))) ** 0.25)
 
 
 def thornton_loading_work(delta_max, pair: ContactPair):

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .materials import ContactPair, Material, yield_factor
+from .materials import ContactPair, Material, first_to_yield
 from .parameters import CA_HAT_RANGE, KC_HAT_MAX, VZParams
 from .validation import check_real
 from .window import CalibrationWindow
@@ -75,8 +75,8 @@ def sphere_sphere_params(material_i: Material, R_i: float, constants_i: VZConsta
     contact = ContactPair.sphere_sphere(material_i, R_i, material_j, R_j)
     if pair is not None:
         return _constants("pair", pair).params(contact)
-    first = yield_factor(material_i.nu) * material_i.sigma_y <= yield_factor(material_j.nu) * material_j.sigma_y
-    return (constants_i if first else constants_j).params(contact)
+    first = first_to_yield((material_i.sigma_y, material_i.nu), (material_j.sigma_y, material_j.nu))
+    return (constants_i, constants_j)[first].params(contact)
 
 
 def sphere_wall_params(material: Material, R: float, constants: VZConstants, E_wall: float, nu_wall: float,

@@ -386,7 +386,7 @@ def test_the_reference_ladder_refines_every_size_and_the_loading_steps_by_the_sa
         assert len(levels) == 3
         material = vz_master_build.task(scene, nu, ratio, "node")["material"]
         pair = ContactPair.sphere_flat(material, scene["R"])
-        top = min(impact_window.fe_reach(pair) * (1 - vz_master_build.REACH_MARGIN), scene["top_over_P_Y"] * pair.P_Y)
+        top = min(recipe.fe_reach(pair) * (1 - vz_master_build.REACH_MARGIN), scene["top_over_P_Y"] * pair.P_Y)
         specs = [impact_window.window_spec(material, scene["R"], top,
                                            elements_per_contact_radius=c["elements_per_contact_radius"],
                                            refinement=c["refinement"],

@@ -207,6 +207,7 @@ def run_oblique(ns, law: str, params, speeds, dt) -> int:
     from nfdmodel import collision_reference
     from nfdmodel.collision import STEPS_PER_CONTACT_AUTO
     from nfdmodel.friction import Friction, shear_coefficient
+    from nfdmodel.materials import youngs_modulus
     from nfdmodel.oblique import oblique_collide
 
     angles = np.array([number("--angle", a, low=0.0, low_inclusive=True, high=90.0, unit="deg")
@@ -215,7 +216,7 @@ def run_oblique(ns, law: str, params, speeds, dt) -> int:
     omega = number("--omega", ns.omega, 0.0, unit="rad/s")
     pair = params.pair
     # the sphere's E and nu (on a rigid flat E* = E/(1 - nu^2)): all shear_coefficient reads
-    sphere = SimpleNamespace(E=pair.E_star * (1.0 - pair.nu * pair.nu), nu=pair.nu)
+    sphere = SimpleNamespace(E=youngs_modulus(pair.E_star, pair.nu), nu=pair.nu)
     friction = Friction(tangential=ns.tangential, k_t=shear_coefficient(sphere), mu=mu) if mu > 0 else Friction()
     speed, angle = (values.ravel() for values in np.meshgrid(speeds, angles, indexing="ij"))
     if dt is None:                                         # collide's automatic dt at the slowest normal speed

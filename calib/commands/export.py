@@ -213,7 +213,8 @@ def run(ns) -> int:
 def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
     """The lines of a file calibrated on a counter-body (module doc): the like-type laws from the
     master tables, the pair's law on pair_coeff T T2 (a sphere) or the wall fixes (a flat)."""
-    from nfdmodel import Material, VZParams, yield_factor
+    from nfdmodel import Material, VZParams
+    from nfdmodel.materials import first_to_yield
 
     law = "vz" if isinstance(params, VZParams) else "vz-table"
     if ns.wall_E is not None or ns.wall_nu is not None:
@@ -258,8 +259,8 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
         if wall is None and ns.wall_region is None:
             raise ValueError(f"--wall out of range: {ns.params} calibrates the sphere on a flat counter-body: give "
                              f"--wall FACE COORD or --wall-region REGION-ID (the wall fix of that material)")
-        if counter["sigma_y"] is not None and (yield_factor(counter["nu"]) * counter["sigma_y"]
-                                               < yield_factor(sphere.nu) * sphere.sigma_y):
+        if counter["sigma_y"] is not None and first_to_yield((sphere.sigma_y, sphere.nu),
+                                                             (counter["sigma_y"], counter["nu"])) == 1:
             raise ValueError(f"--params out of range: {ns.params}'s flat counter-body yields before the sphere (lower "
                              f"A_Y(nu) sigma_y); the plugin's walls are elastic, their contacts yield in the sphere")
     if law == "vz":
@@ -293,6 +294,7 @@ def like_yield_stress(ns, counter: dict, sphere, law: str) -> float:
     counter-body (the pair calibrated with it elastic) --counter-sigma-y, which must not make it
     yield before the sphere in the pair (lower A_Y(nu) sigma_Y: the calibration assumed it elastic)."""
     from nfdmodel import yield_factor
+    from nfdmodel.materials import yield_pressure
 
     given = ns.counter_sigma_y
     if counter["sigma_y"] is not None:
@@ -305,7 +307,7 @@ def like_yield_stress(ns, counter: dict, sphere, law: str) -> float:
                          f"null), and pair_style nfd/{law} needs its yield stress for its own contacts: give "
                          f"--counter-sigma-y SIGMA_Y2 [Pa], or calibrate with --counter-sigma-y")
     sigma = number("--counter-sigma-y", given)
-    lowest = yield_factor(sphere.nu) * sphere.sigma_y / yield_factor(counter["nu"])
+    lowest = yield_pressure(sphere.sigma_y, sphere.nu) / yield_factor(counter["nu"])
     if not sigma >= lowest:
         raise ValueError(f"--counter-sigma-y out of range: need >= {lowest:.6g} Pa (A_Y(nu) sigma_Y at least the "
                          f"sphere's: the pair was calibrated with the counter-body elastic), got {given}")

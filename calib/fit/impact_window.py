@@ -154,7 +154,7 @@ def window_spec(material: Material, radius: float, top: float, *, loading_steps:
 def window_top(pair: ContactPair, needed: float) -> float:
     """The top [N] of the load paths for an impact reaching ``needed`` [N]: MARGIN beyond it,
     never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the FE's reach."""
-    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), fe_reach(pair))
+    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), recipe.fe_reach(pair))
 
 
 def impact_spec(material: Material, radius: float, needed: float, **spec_options) -> recipe.CalibrationSpec:
@@ -184,12 +184,6 @@ def estimating_constants(material: Material, radius: float) -> tuple[VZParams, s
         return VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat), "the paper's constants"
 
 
-def fe_reach(pair: ContactPair) -> float:
-    """The largest load [N] this FE vouches for: P <= MAX_LOAD_OVER_YIELD P_Y and the contact
-    radius <= CONTACT_RADIUS_LIMIT R (calib.fit.recipe)."""
-    return min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
-
-
 def _law_of(params) -> str:
     return "vz-table" if isinstance(params, VZTableParams) else "vz"
 
@@ -216,7 +210,7 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
     ValueError before any FE when the FE cannot reach it, naming the largest v_in it can vouch for."""
     params, source = estimating_constants(material, radius)
     pair = params.pair
-    reach = fe_reach(pair)
+    reach = recipe.fe_reach(pair)
     try:
         needed = impact_force(params, v_max)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
@@ -247,7 +241,7 @@ def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
     needed, _, source = check_reach(material, radius, v_max)
     rounds = []
     pair = ContactPair.sphere_flat(material, radius)
-    reach = fe_reach(pair)
+    reach = recipe.fe_reach(pair)
     for round_number in range(1, MAX_ROUNDS + 1):
         spec = impact_spec(material, radius, needed, **spec_options)
         top = spec.plan.peaks[-1]

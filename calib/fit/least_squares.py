@@ -21,6 +21,8 @@ from typing import Sequence
 import numpy as np
 from scipy import optimize
 
+from nfdmodel.hertz_contact import hertz_radius
+
 
 @dataclass(frozen=True)
 class LineFit:
@@ -87,7 +89,7 @@ def radius_law_data(force, approach, contact_radius, *, R_star: float, E_star: f
     force = np.asarray(force, dtype=float)
     approach = np.asarray(approach, dtype=float)
     contact_radius = np.asarray(contact_radius, dtype=float)
-    elastic_radius = np.cbrt(3.0 * np.clip(force, 0.0, None) * R_star / (4.0 * E_star))
+    elastic_radius = hertz_radius(np.clip(force, 0.0, None), R_star, E_star)
     with np.errstate(divide="ignore", invalid="ignore"):
         curvature = np.where(approach > 0, contact_radius**2 / (R_star * approach), np.nan)
     return RadiusLawData(force, approach, contact_radius, elastic_radius,

@@ -80,6 +80,12 @@ def largest_admissible_load(pair: ContactPair) -> float:
     return float(brentq(lambda P: estimated_contact_radius(pair, P) - limit, pair.P_Y, hi, rtol=1e-6))
 
 
+def fe_reach(pair: ContactPair) -> float:
+    """The largest load [N] this FE vouches for on ``pair``: P <= MAX_LOAD_OVER_YIELD P_Y and a contact
+    radius <= CONTACT_RADIUS_LIMIT R (the FE's reach, nfd_limits.h: 1000 P_Y, 0.2 R)."""
+    return min(MAX_LOAD_OVER_YIELD * pair.P_Y, largest_admissible_load(pair))
+
+
 def check_calibration_inputs(material: Material, radius: float, largest_peak: float,
                              pair: ContactPair | None = None) -> None:
     """ValueError naming the parameter and its allowed range when a calibration cannot be

@@ -30,7 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from nfdmodel import Material
-from nfdmodel.materials import yield_factor
+from nfdmodel.materials import plane_strain_modulus, yield_pressure
 
 DATA_FILE = Path(__file__).resolve().parents[1] / "data" / "substitution_error.csv"
 STEER_E_ERROR = 0.02        # |e error| beyond which a pair calibration is named
@@ -52,11 +52,11 @@ def measured_map(path: str | None = None) -> tuple:
 def placement(material: Material, counter) -> dict:
     """Where the pair of a sphere (``material``) and ``counter`` (calib.fit.counter.CounterBody) sits on the
     map: shape, yielding body, x = E1'/E2' (module docstring)."""
-    x = material.plane_strain_modulus / (counter.E / (1.0 - counter.nu ** 2))
+    x = material.plane_strain_modulus / plane_strain_modulus(counter.E, counter.nu)
     if counter.sigma_y is None:
         yielding = "sphere"
     else:
-        q = yield_factor(counter.nu) * counter.sigma_y / (yield_factor(material.nu) * material.sigma_y)
+        q = yield_pressure(counter.sigma_y, counter.nu) / yield_pressure(material.sigma_y, material.nu)
         yielding = "counter" if q < 1.0 / BOTH_BAND else "sphere" if q > BOTH_BAND else "both"
     return {"shape": "flat" if counter.R is None else "sphere", "yielding": yielding, "E1_over_E2": x}
 

@@ -42,7 +42,7 @@ from typing import Callable
 import numpy as np
 
 from calib import output
-from calib.fit import impact_window
+from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
 from meshes.keys import stable_key
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
@@ -50,7 +50,7 @@ from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
 BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweeps"   # not scenes of the schema
 SCENE = "vz_master_grid"
 NODES_PER_DECADE = 8            # common table loads per decade of P/P_Y
-X_LIMIT = 1000.0                # the common loads reach this (calib.fit.recipe.MAX_LOAD_OVER_YIELD)
+X_LIMIT = recipe.MAX_LOAD_OVER_YIELD     # the common loads reach the FE's reach in P/P_Y
 TOP_MERGE = 0.02                # column tops (and common loads) closer than this, relative: one load
 REACH_MARGIN = 1e-6             # the top load this far inside the FE's reach (its check is exact)
 TASK_VERSION = 1                # part of a task's key: bump when the FE changes
@@ -188,7 +188,7 @@ def run_task(item: dict) -> dict:
     pair = ContactPair.sphere_flat(material, R)
     t0 = time.perf_counter()
     try:
-        top = min(impact_window.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
+        top = min(recipe.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
                   item["top_over_P_Y"] * pair.P_Y)
         if item.get("refinement"):          # the graded, systematically refined ladder
             mesh = {"elements_per_contact_radius": item["elements_per_contact_radius"],

@@ -133,7 +133,7 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
         ax.plot(r * 1e3, p / 1e6, "o-", ms=2, color=f"C{k}", label=f"FE, P = {peak:g} N")
         a = float(pair.hertz_radius(peak))
         rr = np.linspace(0, a, 100)
-        ax.plot(rr * 1e3, 3 * peak / (2 * np.pi * a**2) * np.sqrt(1 - (rr / a) ** 2) / 1e6, "--", color=f"C{k}", lw=1,
+        ax.plot(rr * 1e3, pair.hertz_pressure(rr, peak) / 1e6, "--", color=f"C{k}", lw=1,
                 label=f"Hertz, P = {peak:g} N")
     ax.axhline(pair.p_Y / 1e6, color="k", lw=0.8, ls=":", label="A_Y sigma_Y")
     ax.set_xlim(0, 1.2 * max(result.radius_data.contact_radius) * 1e3)

@@ -26,6 +26,7 @@ import numpy as np
 from calib.output import (RESULTS, all_or_nothing, display_path, pyplot, save_figure, stamp, stamp_comment, write_csv,
                           write_json)
 from nfdmodel import RangeWarning, VZParams, collide, collision_reference, limits
+from nfdmodel.thornton import thornton_closed_form
 
 DEFAULT_OUT = RESULTS / "collision"
 LAWS = ("vz", "thornton")
@@ -47,12 +48,6 @@ def _window_edge(x, over_window) -> float:
     return float(np.exp(lx[0] + (0.0 - ly[0]) * (lx[1] - lx[0]) / (ly[1] - ly[0])))
 
 
-def thornton_closed_form(v_in, v_Y):
-    """Thornton (1997) restitution, paper eq. 1.11, r = v_Y/v_in (valid for v_in >= v_Y):
-    e = sqrt(6 sqrt(3)/5) sqrt(1 - r^2/6) [r / (r + 2 sqrt(6/5 - r^2/5))]^(1/4)."""
-    r = v_Y / np.asarray(v_in, dtype=float)
-    return (np.sqrt(6.0 * np.sqrt(3.0) / 5.0) * np.sqrt(1.0 - r**2 / 6.0)
-            * (r / (r + 2.0 * np.sqrt(6.0 / 5.0 - r**2 / 5.0))) ** 0.25)
 
 
 def generate(out_dir=DEFAULT_OUT, params_file=None, velocities=None) -> tuple[Path, str]:

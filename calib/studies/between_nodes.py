@@ -86,7 +86,7 @@ def study_v_max(ratio: float) -> float:
     material = study_material(ratio)
     params, _ = impact_window.estimating_constants(material, RADIUS)
     pair = params.pair
-    fastest = impact_window.reach_velocity(params, impact_window.fe_reach(pair) / impact_window.MARGIN)
+    fastest = impact_window.reach_velocity(params, recipe.fe_reach(pair) / impact_window.MARGIN)
     if fastest >= V_MAX:
         return V_MAX
     unit = 10.0 ** (math.floor(math.log10(fastest)) - 1)

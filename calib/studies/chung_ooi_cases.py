@@ -31,7 +31,8 @@ hertz/material`` (``fix wall/gran`` with E doubled), every impact of a test in o
 the same time step everywhere (the shortest Hertz contact time / STEPS). References:
 
     Hertz (tests 1, 2): delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5), F_max = (4/3) E*
-        sqrt(R*) delta_max^(3/2), t_c = 2.8683 (m*^2 / (R* E*^2 v))^(1/5) (Johnson 1985, 11.2)
+        sqrt(R*) delta_max^(3/2), t_c = 2.8683 (m*^2 / (R* E*^2 v))^(1/5) (Johnson 1985, 11.2;
+        nfdmodel.hertz_contact)
     test 3: the restitution that coeff_restitution is built to give, e
     gross sliding (tests 4-6, 8, large angles): v_t' = v_t - mu (v_n + v_n'), omega' = omega +
         5 mu (v_n + v_n') m* / (2 m R) (the Coulomb impulse, v_n' the measured rebound; Maw, Barber
@@ -70,6 +71,7 @@ import numpy as np
 
 from nfdmodel import ContactPair, Material, VZParams
 from nfdmodel.friction import Friction, shear_coefficient
+from nfdmodel.hertz_contact import hertz_impact_approach, hertz_impact_time
 from nfdmodel.oblique import oblique_collide
 
 STEPS = 1000                    # steps per shortest contact
@@ -169,10 +171,9 @@ def cases() -> list[Case]:
 
 def hertz_closed_form(pair: ContactPair, v: float) -> dict:
     """delta_max [m], F_max [N], t_c [s] of an elastic Hertz impact at relative speed v (module doc)."""
-    E, R, m = pair.E_star, pair.R_star, pair.mass_star
-    delta = (15.0 * m * v * v / (16.0 * E * math.sqrt(R))) ** 0.4
-    return {"delta_max": delta, "F_max": 4.0 / 3.0 * E * math.sqrt(R) * delta ** 1.5,
-            "t_c": 2.8683 * (m * m / (R * E * E * v)) ** 0.2}
+    delta = hertz_impact_approach(pair.mass_star, pair.hertz_stiffness, v)
+    return {"delta_max": delta, "F_max": pair.hertz_stiffness * delta ** 1.5,
+            "t_c": hertz_impact_time(pair.mass_star, pair.R_star, pair.E_star, v)}
 
 
 def time_step(case: Case) -> float:
@@ -221,7 +222,7 @@ def no_slip(case: Case) -> np.ndarray:
     k_t = shear_coefficient(case.solid, None if case.partner is None else case.solid)
     # dV/dt = F_t (1/m* + R_i^2/I_i + R_j^2/I_j), I = 2 m R^2 / 5
     factor = 1.0 / pair.mass_star + 2.5 / m_i + (0.0 if case.partner is None else 2.5 / m_j)
-    stiffness = 4.0 / 3.0 * pair.E_star * math.sqrt(pair.R_star)
+    stiffness = pair.hertz_stiffness
     out = []
     for speed, angle, w_i, w_j in zip(case.speed, case.angle, case.omega, case.omega_partner):
         v_n = speed * math.cos(math.radians(angle))

@@ -76,6 +76,8 @@ from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference, load_parameters,
                       reference_case)
+from nfdmodel.hertz_contact import hertz_force_at_radius, hertz_impact_approach, hertz_impact_force
+from nfdmodel.thornton import thornton_closed_form
 
 DEFAULT_OUT = output.RESULTS / "impact"
 STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
@@ -110,7 +112,7 @@ def estimated_force(setup: ImpactSetup, v_in: float) -> float:
     """P_max [N] the impact at v_in [m/s] is expected to reach: Hertz's for an elastic run, else the
     vz law's with the master table's constants (calib.fit.impact_window)."""
     pair = setup.pair
-    hertz = float(pair.hertz_stiffness * (5.0 * pair.mass_star * v_in ** 2 / (4.0 * pair.hertz_stiffness)) ** 0.6)
+    hertz = float(hertz_impact_force(pair.mass_star, pair.hertz_stiffness, v_in))
     if setup.elastic or v_in <= pair.v_Y:
         return hertz
     params, _ = impact_window.estimating_constants(setup.material, setup.radius)
@@ -126,9 +128,9 @@ def largest_load(setup: ImpactSetup) -> float:
     pair = setup.pair
     limit = recipe.CONTACT_RADIUS_LIMIT * pair.R_star
     if setup.elastic or recipe.estimated_contact_radius(pair, pair.P_Y) >= limit:
-        hertz = 4.0 * pair.E_star * limit ** 3 / (3.0 * pair.R_star)
+        hertz = hertz_force_at_radius(limit, pair.R_star, pair.E_star)
         return hertz if setup.elastic else min(hertz, pair.P_Y)
-    return min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+    return recipe.fe_reach(pair)
 
 
 def check_reach(setup: ImpactSetup, velocities) -> None:
@@ -291,10 +293,8 @@ def law_predictions(setup: ImpactSetup, v_in: float, params, table=None, mdr=Non
     contact_time [s], delta_max, delta_res [m]; Thornton's closed-form e; the vz-table law's
     (``table``: its parameters) and LAMMPS' mdr e (``mdr``: :func:`mdr_table`) where given. Below first yield (v_in <= v_Y) every law is Hertz's,
     and an elastic run is compared with Hertz alone."""
-    from calib.report.collision import thornton_closed_form
-
     pair = setup.pair
-    hertz_delta = (5.0 * pair.mass_star * v_in ** 2 / (4.0 * pair.hertz_stiffness)) ** 0.4
+    hertz_delta = hertz_impact_approach(pair.mass_star, pair.hertz_stiffness, v_in)
     hertz = {"e": 1.0, "P_max": float(pair.hertz_stiffness * hertz_delta ** 1.5),
              "contact_time": float(pair.hertz_contact_time(v_in)), "delta_max": float(hertz_delta), "delta_res": 0.0}
     if setup.elastic:

@@ -51,7 +51,7 @@ def material_task(ratio: float) -> dict:
     reach are listed in ``unreachable``)."""
     material = Material(ratio * SIGMA_Y, NU, SIGMA_Y, RHO)
     pair = material_pair(ratio)
-    reach = min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))
+    reach = recipe.fe_reach(pair)
     peaks = tuple(k * pair.P_Y for k in LOADS_OVER_YIELD if k * pair.P_Y <= reach * (1 + 1e-9))
     if len(peaks) < len(LOADS_OVER_YIELD):      # as far as the FE reaches
         peaks += (reach,)

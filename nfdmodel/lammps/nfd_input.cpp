@@ -157,8 +157,8 @@ NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::
     mat.sigma_y = file_number(lmp, in + " material.sigma_y [Pa]", material["sigma_y"], 0.0, true, INFINITY, true,
                               "a number > 0");
     check_solid(lmp, in, "sigma_y", "material.sigma_y", mat.sigma_y);
-    mat.p_Y = nfd_yield_factor(mat.nu) * mat.sigma_y;
-    mat.E_star = mat.E / (1.0 - mat.nu * mat.nu);
+    mat.p_Y = nfd_yield_pressure(mat.sigma_y, mat.nu);
+    mat.E_star = nfd_plane_strain_modulus(mat.E, mat.nu);
     if (!data.contains("table") || !data["table"].is_object())
         lmp->error->all(FLERR, fmt::format("{} missing 'table' object (P_over_P_Y, a_p_over_a_Y, C_R)", in));
     const json &table = data["table"];

@@ -49,8 +49,8 @@ NfdLaw::NfdLaw(int code, const char *name, const char *title, bool has_window, b
 
 NfdMaterial NfdLaw::mix(const NfdMaterial &a, const NfdMaterial &b) const
 {
-    NfdMaterial contact = a.p_Y <= b.p_Y ? a : b;
-    contact.E_star = 1.0 / (1.0 / a.E_star + 1.0 / b.E_star);
+    NfdMaterial contact = nfd_yields_first(a.p_Y, b.p_Y) ? a : b;
+    contact.E_star = nfd_contact_modulus(1.0 / a.E_star, 1.0 / b.E_star);
     return contact;
 }
 
@@ -110,8 +110,8 @@ class SolidLaw : public NfdLaw {
                          fmt::format("0 <= nu < {:g}", NFD_NU_MAX));
         if (with_yield)
             m.sigma_y = check_solid(lmp, who + ":", "sigma_y", "sigma_y", positive(lmp, who, arg[2], "sigma_y [Pa]"));
-        m.p_Y = with_yield ? nfd_yield_factor(m.nu) * m.sigma_y : 0.0;
-        m.E_star = m.E / (1.0 - m.nu * m.nu);
+        m.p_Y = with_yield ? nfd_yield_pressure(m.sigma_y, m.nu) : 0.0;
+        m.E_star = nfd_plane_strain_modulus(m.E, m.nu);
         return m;
     }
 

@@ -228,7 +228,7 @@ nfd_params PairNfd::contact_params(int itype, int jtype, double R_i, double R_j,
                                    double delta) const
 {
     nfd_params p;
-    nfd_pair_scaled(&type_pair(itype, jtype).unit, 1.0 / (1.0 / R_i + 1.0 / R_j), delta > h.delta_max, &p);
+    nfd_pair_scaled(&type_pair(itype, jtype).unit, nfd_effective_radius(R_i, R_j), delta > h.delta_max, &p);
     return p;
 }
 
@@ -328,7 +328,7 @@ void PairNfd::count_below_window(int i, int j, const double *stored)
     const int *type = atom->type;
     const TypePair &pair = type_pair(type[i], type[j]);
     if (!(pair.constants->window_min > 1.0) || !(j < atom->nlocal || atom->tag[i] < atom->tag[j])) return;
-    const double R_star = 1.0 / (1.0 / atom->radius[i] + 1.0 / atom->radius[j]);
+    const double R_star = nfd_effective_radius(atom->radius[i], atom->radius[j]);
     const double P_Y = pair.unit.P_Y * R_star * R_star, P_max = load_history(stored).P_max;
     if (P_max > P_Y * (1.0 + 1e-9) && P_max < pair.constants->window_min * P_Y * (1.0 - 1e-9)) {
         ++below_count;
