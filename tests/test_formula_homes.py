@@ -3,8 +3,7 @@ calib/, meshes/ and nfdmodel/ (Python, and the C kernel and the LAMMPS plugin in
 for the formulas written out again, as tests/test_limits.py scans them for the table's numbers.
 
 A formula's home is one Python module, and for C/C++ the kernel (nfd_kernel.h/.c), whose inline
-functions the plugin calls. PENDING_FE lists the FE's files that still derive a formula themselves
-(calib/fe is being restructured; each entry is deleted once its spot calls the home)."""
+functions the plugin calls."""
 import io
 import re
 import tokenize
@@ -59,15 +58,6 @@ FORMULAS = {
                                         {"calib/fit/recipe.py"}),
 }
 # The FE's files that still derive a formula (file: the formulas), until each spot calls the home.
-PENDING_FE = {
-    "calib/fe/impact.py": {"E* (1 - nu^2)"},
-    "calib/fe/active_set.py": {"E* (1 - nu^2)", "Hertz radius (3 P R* / (4 E*))^(1/3)"},
-    "calib/fe/impact_pair.py": {"E*, R* in series (1/(1/x + 1/y))"},
-    "calib/fe/rescue.py": {"E* (1 - nu^2)"},
-    "calib/fe/two_body.py": {"E* (1 - nu^2)", "E*, R* in series (1/(1/x + 1/y))"},
-    "calib/fe/impact_pair_run.py": {"p_Y = A_Y sigma_Y and the body that yields first",
-                                    "Hertz stiffness (4/3) E* sqrt(R*)", "Hertz impact (approach, force, duration 2.868)"},
-}
 
 
 def python_code(text: str) -> str:
@@ -169,20 +159,10 @@ def test_the_scan_leaves_other_code_alone(code, suffix):
 
 
 def test_each_formula_is_written_only_in_its_home():
-    """Outside its home (and the FE's pending spots) no file derives a formula again."""
+    """Outside its home no file derives a formula again."""
     assert sum(1 for _ in scanned_files()) > 50
-    found = derivations_outside_homes()
-    for relative, names in PENDING_FE.items():
-        found[relative] = {name: hits for name, hits in found.get(relative, {}).items() if name not in names}
-    found = {relative: names for relative, names in found.items() if names}
+    found = {relative: names for relative, names in derivations_outside_homes().items() if names}
     assert not found, f"formulas written out again (call their home, nfdmodel/README.md): {found}"
-
-
-def test_every_pending_fe_spot_is_still_there():
-    """A PENDING_FE entry whose spot calls its home is deleted from the list."""
-    found = derivations_outside_homes()
-    stale = {relative: names - set(found.get(relative, {})) for relative, names in PENDING_FE.items()}
-    assert not {relative: names for relative, names in stale.items() if names}, f"routed, delete from PENDING_FE: {stale}"
 
 
 def test_every_home_holds_its_formula():

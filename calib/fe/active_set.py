@@ -12,6 +12,8 @@ from typing import NamedTuple
 import numpy as np
 
 from calib.fe.state import ContactState
+from nfdmodel.hertz_contact import hertz_radius
+from nfdmodel.materials import plane_strain_modulus
 
 
 def predict_active_set(state: ContactState, control: str, target: float, candidate_r,
@@ -35,9 +37,9 @@ def predict_active_set(state: ContactState, control: str, target: float, candida
             exponent = 1.0 / 3.0 if control == "force" else 0.5
         predicted = state.contact_radius * (target / previous) ** exponent
     elif target > 0 and hasattr(material, "E") and hasattr(material, "nu"):
-        E_star = material.E / (1.0 - material.nu ** 2)
-        predicted = ((3.0 * target * sphere_radius / (4.0 * E_star)) ** (1.0 / 3.0)
-                     if control == "force" else np.sqrt(sphere_radius * target))
+        E_star = plane_strain_modulus(material.E, material.nu)
+        predicted = (hertz_radius(target, sphere_radius, E_star) if control == "force"
+                     else np.sqrt(sphere_radius * target))
     else:
         return state.active.copy() | (np.arange(state.active.size) == 0)
     active = candidate_r <= predicted

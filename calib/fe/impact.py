@@ -8,7 +8,7 @@ active set (calib.fe.newmark states the scheme and why).
 The time loop (``impact_run``) serves every Newmark configuration: this sphere on the rigid flat
 (``run_impact``, the record below) and the pair of calib.fe.impact_pair (calib.fe.impact_pair_run).
 Time step: dt = t_c / steps_per_contact, t_c the contact time of the quasi-static estimate
-(nfdmodel.collision_reference with Thornton's law on the configuration's contact_pair(), Hertz's 2.868 (m^2 / (R E*^2 v_in))^(1/5)
+(nfdmodel.collision_reference with Thornton's law on the configuration's contact_pair(), Hertz's 2.8683 (m^2 / (R E*^2 v_in))^(1/5)
 below first yield; Thornton 1997). A step whose Newton or active set fails is cut in half and
 retried from the committed state (down to dt / 64); the step then doubles back to dt. The error of dt is measured, not assumed:
 calib.studies.impact runs the same impact at several dt.

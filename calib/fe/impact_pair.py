@@ -65,7 +65,7 @@ from calib.fe.newmark import ImpactState, NewmarkSolver
 from calib.fe.sphere_dofs import pattern_data
 from calib.fe.two_body import PairMaterial
 from nfdmodel import ContactPair
-from nfdmodel.materials import yield_factor
+from nfdmodel.materials import effective_radius, first_to_yield
 
 
 class PairImpactSolver(NewmarkSolver):
@@ -93,7 +93,7 @@ class PairImpactSolver(NewmarkSolver):
         self.material = PairMaterial(self.materials, pair_mesh.body)
         self.rho = (float(rho1), float(rho2))
         self.R1, self.R2 = pair_mesh.R1, pair_mesh.R2
-        self.radius = 1.0 / (1.0 / self.R1 + 1.0 / self.R2)            # R* [m]
+        self.radius = effective_radius(self.R1, self.R2)            # R* [m]
         self.free_counter = not pair_mesh.is_block
         self.residual_tolerance = float(residual_tolerance)
         self.max_newton_iterations = max_newton_iterations
@@ -180,8 +180,7 @@ class PairImpactSolver(NewmarkSolver):
         any elastic impact's peak pressure, as calib.fe.newmark.sphere_flat_pair)."""
         yielding = [(m.sigma_y, m.nu) for m in self.materials if getattr(m, "sigma_y", None) is not None]
         E_star = float(self.material.E)
-        sigma_y, nu = (min(yielding, key=lambda s: yield_factor(s[1]) * s[0]) if yielding
-                       else (E_star, self.materials[0].nu))
+        sigma_y, nu = yielding[first_to_yield(*yielding)] if yielding else (E_star, self.materials[0].nu)
         return ContactPair(self.radius, E_star, sigma_y, nu, self.mass)
 
     def initial_velocities(self, v_in: float) -> tuple[float, float]:

@@ -4,7 +4,7 @@ The time loop is calib.fe.impact's (time step dt = t_c / steps_per_contact, halv
 separation located by the secant on P^(2/3), a tenth of t_c of free flight after it) on
 calib.fe.impact_pair.PairImpactSolver's steps; t_c is the quasi-static estimate of the pair (PairImpactSolver.contact_pair)
 (Thornton's law with the pair's R*, E*, reduced mass m* and the yield point of the body with the
-lower A_Y(nu) sigma_Y; Hertz's 2.868 (m*^2 / (R* E*^2 v_in))^(1/5) below first yield; Johnson
+lower A_Y(nu) sigma_Y; Hertz's 2.8683 (m*^2 / (R* E*^2 v_in))^(1/5) below first yield; Johnson
 1985, eq. 11.24; Thornton 1997).
 
 Outputs (PairImpactResult), v_in the relative normal velocity of approach [m/s]:
@@ -25,12 +25,12 @@ Units: SI.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass, field
 from typing import Callable
 
 from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, _peak, impact_run
 from calib.fe.impact_pair import PairImpactSolver
+from nfdmodel.hertz_contact import hertz_impact_approach, hertz_impact_time, hertz_stiffness
 
 
 @dataclass(frozen=True)
@@ -79,11 +79,11 @@ class PairImpactResult:
 def hertz_pair_impact(E_star: float, R_star: float, mass: float, v_in: float) -> dict:
     """Hertz's elastic impact of a pair (Johnson 1985, section 11.4): with k = (4/3) E* sqrt(R*),
     alpha_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) [m], P_max = k alpha_max^(3/2) [N],
-    t_c = 2.868 (m*^2 / (R* E*^2 v))^(1/5) [s] (E* [Pa], R* [m], m* [kg], v [m/s])."""
-    k = 4.0 / 3.0 * E_star * math.sqrt(R_star)
-    alpha = (5.0 * mass * v_in ** 2 / (4.0 * k)) ** 0.4
+    t_c = 2.8683 (m*^2 / (R* E*^2 v))^(1/5) [s] (E* [Pa], R* [m], m* [kg], v [m/s]; nfdmodel.hertz_contact)."""
+    k = hertz_stiffness(R_star, E_star)
+    alpha = hertz_impact_approach(mass, k, v_in)
     return {"alpha_max": alpha, "P_max": k * alpha ** 1.5,
-            "contact_time": 2.868 * (mass ** 2 / (R_star * E_star ** 2 * v_in)) ** 0.2}
+            "contact_time": hertz_impact_time(mass, R_star, E_star, v_in)}
 
 
 def run_pair_impact(solver: PairImpactSolver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT,

@@ -57,6 +57,7 @@ from calib.fe.material import Material
 from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
 from calib.fe.sphere_dofs import sphere_dofs
 from nfdmodel import ContactPair
+from nfdmodel.materials import plane_strain_modulus
 
 ACTIVE_SET_TOLERANCE = 1e-4      # relative residual to which trial active sets are solved
 
@@ -133,7 +134,7 @@ def sphere_flat_pair(material, rho: float, radius: float):
     estimate: R [m], E* = E / (1 - nu^2) [Pa], the yield point (an elastic material, one without
     sigma_y, never yields: sigma_Y = E, beyond any elastic impact's peak pressure p_Y = A_Y E), and
     the sphere's mass (4/3) pi R^3 rho [kg] (nfdmodel.ContactPair)."""
-    E_star = material.E / (1.0 - material.nu ** 2)
+    E_star = plane_strain_modulus(material.E, material.nu)
     sigma_y = getattr(material, "sigma_y", None)
     sigma_y = material.E if sigma_y is None else sigma_y
     return ContactPair(radius, E_star, sigma_y, material.nu, 4.0 / 3.0 * math.pi * radius ** 3 * rho)

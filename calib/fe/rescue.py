@@ -11,6 +11,7 @@ import numpy as np
 
 from calib.fe.state import ContactState, StepResult, merged_result
 from nfdmodel import check_real
+from nfdmodel.materials import plane_strain_modulus
 
 
 def rescue_step(solver, state: ContactState, control: str, target: float) -> StepResult:
@@ -63,8 +64,8 @@ def force_by_displacement(solver, state: ContactState, target: float, failed: St
     if state.displacement_rate is not None and direction == state.load_direction:
         slope = -float(state.displacement_rate[solver.top_z_dof])
     if not (slope is not None and np.isfinite(slope) and slope > 0):
-        E_star = (float(getattr(solver.material, "E", 1.0))
-                  / (1.0 - float(getattr(solver.material, "nu", 0.0)) ** 2))
+        E_star = plane_strain_modulus(float(getattr(solver.material, "E", 1.0)),
+                                      float(getattr(solver.material, "nu", 0.0)))
         slope = 1.0 / (2.0 * E_star * max(state.contact_radius, solver.candidate_r[1]))
     near = (a0, P0)  # (alpha, P) on the committed side of the target
     far = None       # (alpha, P) beyond the target, once one is found

@@ -63,6 +63,7 @@ from calib.fe.linsolve import FactorCache
 from calib.fe.quasi_static import QuasiStaticSolver
 from calib.fe.von_mises import von_mises_stress
 from meshes.counter_body import six_node_cells
+from nfdmodel.materials import contact_modulus, effective_radius, plane_strain_compliance
 
 
 # candidates for contact: the sphere's surface nodes within this fraction of the smallest body
@@ -100,7 +101,7 @@ class PairMaterial:
         self.materials = tuple(materials)
         self.elements = tuple(np.flatnonzero(body == k) for k in (0, 1))
         self.is_linear = all(getattr(m, "is_linear", False) for m in self.materials)
-        self.E = 1.0 / sum((1.0 - m.nu ** 2) / m.E for m in self.materials)
+        self.E = contact_modulus(*(plane_strain_compliance(m.E, m.nu) for m in self.materials))
         self.nu = 0.0
         self.n_elements = int(body.size)
 
@@ -166,7 +167,7 @@ class TwoBodySolver(QuasiStaticSolver):
         self.is_linear = self.material.is_linear
         R1, R2 = pair_mesh.R1, pair_mesh.R2
         # R* [m] (R2 = inf for a block); two blocks (the patch test): the smaller block's size
-        self.radius = 1.0 / (1.0 / R1 + 1.0 / R2) if min(R1, R2) < np.inf else pair_mesh.smallest_size
+        self.radius = effective_radius(R1, R2) if min(R1, R2) < np.inf else pair_mesh.smallest_size
 
         self.basis = Basis(mesh, ElementVector(ElementTriP2()), intorder=quadrature_order)
         self.r_qp = quadrature_radius(self.basis)
