@@ -22,7 +22,9 @@ from calib.commands.common import add_material_arguments, add_summary_arguments,
 
 
 def add_parser(subparsers) -> None:
-    parser = subparsers.add_parser("material", help="Ca, Kc of a material from the master table (no FE)",
+    parser = subparsers.add_parser("material",
+                                   help="Ca, Kc from the master table, or (--v-max) the vz-table law from the vz master "
+                                        "table; no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
