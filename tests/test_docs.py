@@ -1,13 +1,13 @@
 """The READMEs name what exists and each topic has one home: every test file and benchmark in
 tests/README.md, every study in calib/README.md, whose commands table is what the argument parsers
-give (calib.commands.readme_table); the model's equations, the test commands, the commands table and
+give (calib.cli_readme); the model's equations, the test commands, the commands table and
 "adding a law" each in exactly one README (the others link to it)."""
 import re
 from pathlib import Path
 
 import pytest
 
-from calib.commands import readme_table
+from calib import cli_readme
 
 REPO = Path(__file__).resolve().parent.parent
 READMES = ("README.md", "calib/README.md", "calib/fit/README.md", "nfdmodel/README.md", "nfdmodel/lammps/README.md",
@@ -43,12 +43,12 @@ def test_calib_readme_names_every_study():
 
 
 def test_the_commands_table_is_what_the_parsers_give():
-    table = readme_table.render()
-    assert readme_table.section(text("calib/README.md")) == table, \
-        "calib/README.md's commands table is stale: run python -m calib.commands.readme_table"
+    table = cli_readme.render()
+    assert cli_readme.section(text("calib/README.md")) == table, \
+        "calib/README.md's commands table is stale: run python -m calib.cli_readme"
     rows = [line for line in table.splitlines() if line.startswith("| `nfdcal ")]
     assert len(rows) >= 12 and "| `nfdcal calibrate` |" in table and "| `nfdcal lammps build` |" in table
-    assert readme_table.main(["--check"]) == 0
+    assert cli_readme.main(["--check"]) == 0
 
 
 def test_the_regenerator_rewrites_only_the_table(tmp_path, capsys):
@@ -56,13 +56,13 @@ def test_the_regenerator_rewrites_only_the_table(tmp_path, capsys):
     original = text("calib/README.md")
     stale = original.replace("| `nfdcal hertz` |", "| `nfdcal hertz` | stale |", 1)
     readme.write_text(stale, encoding="utf-8")
-    assert readme_table.main(["--readme", str(readme), "--check"]) == 1
+    assert cli_readme.main(["--readme", str(readme), "--check"]) == 1
     assert readme.read_text(encoding="utf-8") == stale
-    assert readme_table.main(["--readme", str(readme)]) == 0
+    assert cli_readme.main(["--readme", str(readme)]) == 0
     assert readme.read_text(encoding="utf-8") == original
     (tmp_path / "bare.md").write_text("# no table\n", encoding="utf-8")
     with pytest.raises(ValueError, match="no commands table"):
-        readme_table.main(["--readme", str(tmp_path / "bare.md")])
+        cli_readme.main(["--readme", str(tmp_path / "bare.md")])
     capsys.readouterr()
 
 
@@ -72,7 +72,7 @@ HOMES = {
     "first yield P_Y": (r"P_Y += pi\^3 R\*\^2 \(A_Y sigma_Y\)\^3", "nfdmodel/README.md"),
     "the test commands": (r"python -m pytest", "tests/README.md"),
     "adding a law": (r"^#+ Adding a law", "nfdmodel/README.md"),
-    "the commands table": (re.escape(readme_table.BEGIN), "calib/README.md"),
+    "the commands table": (re.escape(cli_readme.BEGIN), "calib/README.md"),
 }
 
 

@@ -1,8 +1,8 @@
 """The table of ``nfdcal`` commands in calib/README.md, rendered from the argument parsers that
 calib/cli.py builds, so the table and ``nfdcal --help`` say the same.
 
-    python -m calib.commands.readme_table            # rewrite the table in calib/README.md (a checkout)
-    python -m calib.commands.readme_table --check    # exit 1 when the README's table differs
+    python -m calib.cli_readme            # rewrite the table in calib/README.md (a checkout)
+    python -m calib.cli_readme --check    # exit 1 when the README's table differs
 
 One row per command (a command with actions, ``nfdcal lammps build | path``, one row per action):
 the command with its positional arguments, the parser's one-line help and the output flags it has
@@ -16,8 +16,10 @@ import re
 import sys
 from pathlib import Path
 
-README = Path(__file__).resolve().parents[1] / "README.md"
-BEGIN = "<!-- the commands table: written by python -m calib.commands.readme_table from calib/cli.py -->"
+from calib.cli import OUTPUT_FLAGS, build_parser
+
+README = Path(__file__).resolve().parent / "README.md"      # calib/README.md
+BEGIN = "<!-- the commands table: written by python -m calib.cli_readme from calib/cli.py -->"
 END = "<!-- end of the commands table -->"
 DEFAULT = re.compile(r"\(default:? (.+?)(?:;|\)|, or )")
 
@@ -36,8 +38,6 @@ def _positionals(parser: argparse.ArgumentParser) -> str:
 
 
 def _outputs(parser: argparse.ArgumentParser) -> str:
-    from calib.cli import OUTPUT_FLAGS
-
     cells = []
     for action in parser._actions:
         if action.dest in OUTPUT_FLAGS and action.option_strings:
@@ -52,8 +52,6 @@ def _cell(text: str) -> str:
 
 def rows(parser: argparse.ArgumentParser | None = None) -> list[tuple[str, str, str]]:
     """(command, what it does, where it writes) of every command, in ``nfdcal --help``'s order."""
-    from calib.cli import build_parser
-
     parser = parser or build_parser()
     found = []
     commands = _subparsers(parser)
@@ -96,7 +94,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{ns.readme}: up to date")
         return 0
     if ns.check:
-        print(f"{ns.readme}: stale (run python -m calib.commands.readme_table)")
+        print(f"{ns.readme}: stale (run python -m calib.cli_readme)")
         return 1
     ns.readme.write_text(text.replace(current, table), encoding="utf-8")
     print(f"{ns.readme}: written")
