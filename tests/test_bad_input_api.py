@@ -15,6 +15,8 @@ from calib.fe.von_mises import VonMisesMaterial
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh, load_msh
 from nfdmodel import ContactPair, Material, VZParams, collide, get_law, load_parameters
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 
 @pytest.fixture(scope="module")
 def api(tmp_path_factory):

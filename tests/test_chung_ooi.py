@@ -31,6 +31,9 @@ import pytest
 from calib.studies import chung_ooi_cases as co
 from calib.studies.chung_ooi_output import agreement
 
+# the tests of nfdmodel's impacts run again on the numpy kernels (.ci/run); the LAMMPS ones once
+laws = pytest.mark.laws
+
 
 def case(test: int, index: int = 0, keep=None):
     """The test's case on its first (index 0) or second material, its impacts ``keep``."""
@@ -50,6 +53,7 @@ def solve(c):
     return dt, model, co.references(c, model)
 
 
+@laws
 @pytest.mark.parametrize("test, index", [(1, 0), (1, 1), (2, 0), (2, 1)])
 def test_elastic_normal_impacts_give_hertz(test, index):
     _, model, ref = solve(case(test, index))
@@ -59,12 +63,14 @@ def test_elastic_normal_impacts_give_hertz(test, index):
     np.testing.assert_allclose(model["e_n"], 1.0, atol=1e-7)
 
 
+@laws
 def test_damped_impacts_give_the_restitution_asked():
     c = case(3, 1, [0, 2, 4])
     _, model, ref = solve(c)
     np.testing.assert_allclose(model["e_n"], c.restitution, atol=1e-3)
 
 
+@laws
 @pytest.mark.parametrize("test, keep", [(4, [0, 12, 14]), (5, [0, 13, 14]), (6, [0, 10, 11])])
 def test_oblique_impacts_meet_gross_sliding_and_no_slip(test, keep):
     c = case(test, 0, keep)
@@ -80,6 +86,7 @@ def test_oblique_impacts_meet_gross_sliding_and_no_slip(test, keep):
         assert abs(model["beta"][0] - ref["beta_no_slip"][0]) < 1e-3
 
 
+@laws
 def test_counter_spinning_spheres_do_not_slip():
     c = case(7, 1, [0, 6])
     _, model, _ = solve(c)
@@ -88,6 +95,7 @@ def test_counter_spinning_spheres_do_not_slip():
     np.testing.assert_allclose(model["omega_partner_out"], c.omega_partner, rtol=1e-12)
 
 
+@laws
 def test_the_elastic_limit_meets_the_papers_digitised_curves_of_test_4():
     from calib.studies import chung_ooi_paper as paper
     rows = paper.compare([c for c in co.cases() if c.test == 4])
@@ -102,6 +110,7 @@ def test_the_elastic_limit_meets_the_papers_digitised_curves_of_test_4():
     assert max(abs(r["difference"]) for r in sliding) < 0.007
 
 
+@laws
 def test_plastic_oblique_impacts_keep_the_head_on_restitution_and_slide_on_wu_thorntons_line():
     c = co.plastic_cases()[1]
     c = dataclasses.replace(c, **{name: getattr(c, name)[[0, 3, 10]] for name in ("speed", "angle", "omega",

@@ -28,6 +28,8 @@ from nfdmodel import ContactPair, Material, VZParams, VZTableParams, WaltonBraun
 from nfdmodel.friction import (Contact, Friction, FrictionState, compiled_contact_step, contact_radius, contact_step,
                                shear_coefficient)
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 ALUMINIUM = Material.reference()
 PAIR = ContactPair.sphere_sphere(ALUMINIUM, 0.01, ALUMINIUM, 0.008)
 NODES = np.array([1.0, 3.0, 10.0, 41.0, 200.0])

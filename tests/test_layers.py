@@ -38,7 +38,7 @@ LAYERS = (
     ("calib.studies",),
     ("calib.scenes",),
     ("calib.commands",),
-    ("calib.cli",),
+    ("calib.cli", "calib.cli_readme"),
 )
 
 

@@ -127,6 +127,7 @@ def test_the_radius_bounds_are_the_table_s():
         check_radius("R", limits.RADIUS_MAX * (1 + 1e-9))
 
 
+@pytest.mark.laws      # the numpy solve meets its tolerance too (.ci/run)
 def test_the_solvers_use_the_table_s_tolerances():
     import nfdmodel
     from calib.report import collision as report

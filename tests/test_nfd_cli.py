@@ -8,6 +8,8 @@ import pytest
 from calib.cli import build_parser, main
 from nfdmodel import Material, VZParams, load_parameters, parameter_record
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 
 def run_cli(capsys, *args):
     code = main(["collide", *args])

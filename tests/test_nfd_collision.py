@@ -6,6 +6,8 @@ from hypothesis import strategies as st
 
 from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, collide, collision_reference
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 REF = VZParams.reference()
 PAIR = REF.pair
 SWEEP = np.linspace(0.02, 0.2, 10)

@@ -14,6 +14,8 @@ import nfdmodel.turning_point as turning_point
 from nfdmodel import VZParams, get_law, vz_force_with_iterations
 from nfdmodel.history import HertzState, HistoryUpdate, ThorntonState, VZState, WaltonBraunState
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 REF = VZParams.reference()
 PAIR = REF.pair
 LAWS = ["vz", "thornton", "walton-braun", "hertz"]

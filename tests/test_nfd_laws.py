@@ -11,6 +11,8 @@ from scipy.integrate import quad
 from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, get_law, reference, vz_newton_iterations
 from nfdmodel.history import ThorntonState, VZState
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 REF = VZParams.reference()
 PAIR = REF.pair
 

@@ -7,6 +7,8 @@ import pytest
 from nfdmodel import ContactPair, Material, VZParams, limits, yield_factor
 from nfdmodel.materials import axis_stress_difference
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 
 def test_yield_factor_matches_paper_at_nu_0_3():
     # Vu-Quoc & Zhang (1999): A_Y(0.3) = 1.61, maximum of |sigma_z - sigma_r| near zeta = 0.48.

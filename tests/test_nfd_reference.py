@@ -9,6 +9,8 @@ from hypothesis import strategies as st
 
 from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, get_law, reference, reference_case
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 PAIR = ContactPair.reference()
 VZ = VZParams.reference()
 WB = WaltonBraunParams.from_vz(VZ)

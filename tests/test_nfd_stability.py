@@ -12,6 +12,8 @@ import nfdmodel
 from nfdmodel import ContactPair, Material, TimeStepWarning, VZParams, collide, collision_reference, get_law
 from nfdmodel.parameters import vz_largest_admissible_Kc
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 REF = VZParams.reference()
 PAIR = REF.pair
 

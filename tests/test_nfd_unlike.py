@@ -22,6 +22,8 @@ from nfdmodel import (CalibrationWindow, ContactPair, Material, VZConstants, par
                       sphere_wall_params)
 from nfdmodel.materials import yield_factor
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 WINDOW = CalibrationWindow.assumed_default()
 BODY_A, R_A, HATS_A = Material(70e9, 0.0, 100e6, 2700.0), 0.01, VZConstants(0.03, 0.012, WINDOW)
 BODY_B, R_B, HATS_B = Material(110e9, 0.45, 95e6, 7800.0), 0.006, VZConstants(0.015, 0.004, WINDOW)

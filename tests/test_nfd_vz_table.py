@@ -14,6 +14,8 @@ from nfdmodel import (Material, VZParams, VZTableParams, collide, collision_refe
                       parameter_record, reference)
 from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 REF = VZParams.reference()
 PAIR = REF.pair
 LAW = get_law("vz-table")

@@ -10,6 +10,8 @@ import pytest
 from nfdmodel import (CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, collide, get_law,
                       load_parameters, parameter_record, reference)
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 REF = VZParams.reference()
 PAIR = REF.pair
 LAW = get_law("vz")

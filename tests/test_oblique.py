@@ -26,6 +26,8 @@ from nfdmodel import ContactPair, Material, VZParams, get_law
 from nfdmodel.friction import Friction
 from nfdmodel.oblique import oblique_collide, slip_closed_form
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 ALUMINIUM = Material.reference()
 R = 0.01
 PAIR = ContactPair.sphere_flat(ALUMINIUM, R)

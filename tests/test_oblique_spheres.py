@@ -28,6 +28,8 @@ from nfdmodel import ContactPair, Material, VZParams
 from nfdmodel.friction import Friction
 from nfdmodel.oblique import oblique_collide, slip_closed_form
 
+pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
+
 ALUMINIUM = Material.reference()
 R_I, R_J = 0.01, 0.008
 PAIR = ContactPair.sphere_sphere(ALUMINIUM, R_I, ALUMINIUM, R_J)

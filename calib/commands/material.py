@@ -7,14 +7,14 @@
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
 (calib/data/master_table.csv; nfdmodel/README.md: the dimensionless constants), then
 Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y. Prints Ca [m/N], Kc [1/N], Ca_hat, Kc_hat, first yield
-P_Y [N], a_Y [m], delta_Y [m] and the table's one-line accuracy statement (the full account is in
-the table's .json, named by ``accuracy_details``). Outside the table: one line naming the parameter and the table's
+P_Y [N], a_Y [m], delta_Y [m] and the master table's one-line accuracy statement (the full account is
+in its .json, named by ``accuracy_details``). Outside the master table: one line naming the parameter and its
 range (exit 2).
 
 With ``--v-max V`` (spelled as ``nfdcal calibrate --v-max``): the vz-table law (a_p/a_Y and C_R
-against P/P_Y) from the master table of the load-dependent law (calib/data/vz_master_table.csv,
-calib.fit.vz_master_table), declared on the window its surrounding nodes measured; an impact at V
-beyond that window is refused (one line naming the largest v_in the table vouches for, exit 2).
+against P/P_Y) from the vz master table (calib/data/vz_master_table.csv, calib.fit.vz_master_table),
+declared on the window its surrounding nodes measured; an impact at V beyond that window is refused
+(one line naming the largest v_in the vz master table vouches for, exit 2).
 """
 from __future__ import annotations
 
@@ -22,7 +22,9 @@ from calib.commands.common import add_material_arguments, add_summary_arguments,
 
 
 def add_parser(subparsers) -> None:
-    parser = subparsers.add_parser("material", help="Ca, Kc of a material from the master table (no FE)",
+    parser = subparsers.add_parser("material",
+                                   help="Ca, Kc from the master table, or (--v-max) the vz-table law from the vz master "
+                                        "table; no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")

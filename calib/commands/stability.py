@@ -17,7 +17,8 @@ from calib.commands.common import add_summary_arguments, number, print_summary
 
 
 def add_parser(subparsers) -> None:
-    parser = subparsers.add_parser("stability", help="stability table of the runtime laws on extreme cases",
+    parser = subparsers.add_parser("stability",
+                                   help="the runtime laws (--runtime) and the FE calibration (--fe) on extreme inputs",
                                    description=__doc__.split("\n\n")[0])
     parser.add_argument("--out", default=None, help="output folder (default results/stability)")
     only = parser.add_mutually_exclusive_group()

@@ -5,8 +5,8 @@
     nfdcal table my_sweep.toml --scheduler tcp://10.0.0.5:8786    # a Dask distributed cluster
     nfdcal table master_grid --master-out calib/data/master_table.csv --accuracy "..."
     nfdcal table master_validation --check-master     # off-grid FE against the interpolation
-    nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv   # the vz-table law's
-                                                      # master table (calib.fit.vz_master_build)
+    nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv   # the vz master table
+                                                      # (calib.fit.vz_master_build)
 
 Writes OUT/table.csv and OUT/table.json (one row per material: inputs, P_Y, a_Y, Ca, Kc, Ca_hat,
 Kc_hat, R^2 and standard errors, mesh, FE wall time, git commit) and one JSON per finished
@@ -29,7 +29,8 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="Dask distributed scheduler address (tcp://host:port): run there instead")
     parser.add_argument("--master-out", default=None, metavar="CSV",
-                        help="also write the master table (nu, E/sigma_Y -> Ca_hat, Kc_hat) here (grid scenes)")
+                        help="also write the master table (nu, E/sigma_Y -> Ca_hat, Kc_hat; grid scenes), or "
+                             "vz_master_grid's vz master table, here")
     parser.add_argument("--accuracy", default="not validated against off-grid FE calibrations",
                         help="one-line accuracy statement of the master table (printed by nfdcal material)")
     parser.add_argument("--accuracy-details", default="", metavar="TEXT",
@@ -53,8 +54,8 @@ def run(ns) -> int:
 
 
 def run_vz_master(ns) -> int:
-    """The vz-table law's master table scene: every node and check to the FE's reach, resumably;
-    with --master-out the table (calib.fit.vz_master_build)."""
+    """The vz master table's scene: every node and check to the FE's reach, resumably; with
+    --master-out the vz master table (calib.fit.vz_master_build)."""
     from pathlib import Path
 
     from calib.commands.progress import progress_reporter
