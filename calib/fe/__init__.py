@@ -1,14 +1,17 @@
-"""Stage 2, the finite-element solve: a sphere pressed on a rigid frictionless flat, axisymmetric.
+"""Stage 2, the finite-element solve: axisymmetric contact of a sphere, one core for four configurations.
 
-Modules, in the order the solve uses them: ``axisym`` (strain with the hoop term, the 2 pi r
-weight), ``material`` (the Material protocol, isotropic elastic constants), ``elastic`` and
-``von_mises`` (the materials; radial return), ``forms`` (weak forms), ``dofs`` (rigid-plate
-tie, contact candidates), ``state`` (states and step records), ``active_set``, ``newton``,
-``rescue``, ``recovery`` (pressure, contact edge), ``linsolve`` (sparse direct solvers),
-``solver`` (ContactSolver: one load step), ``loadpath`` (load paths with unloading). The impact of
-the whole sphere: ``sphere_dofs`` (the free sphere's unknowns, its mass with a massless contact
-boundary), ``newmark`` (ImpactSolver: one time step), ``impact`` (run_impact: first touch to free
-flight).
+The core: ``constraint`` (the contact constraint: the rigid flat, a deformable counter-body's dual
+mortar gap of ``contact_pair``), ``contact_loop`` (the one active-set loop, ``active_set`` and
+``newton`` inside), the steppers ``quasi_static`` (force or displacement control, ``rescue``) and
+``newmark`` (Newmark's average acceleration), ``kinematics`` (small strain; the one place the
+material is evaluated: ``axisym``, ``element_arrays``, ``forms``), the materials (``material``: the
+protocol, ``elastic``, ``von_mises``), ``linsolve`` (sparse direct solves, the factorisation cache),
+``recovery`` (pressure, contact radius), ``state`` (states and step records). The configurations:
+``solver`` (ContactSolver, the press; ``dofs``), ``two_body`` (TwoBodySolver, the pair press;
+``condensation``), ``newmark`` (ImpactSolver, the impact; ``sphere_dofs``), ``impact_pair``
+(PairImpactSolver, the pair impact; ``impact_pair_mesh``). The runs: ``loadpath`` (load paths
+with unloading), ``impact`` (the impact time loop, the sphere's record), ``impact_pair_run`` (the
+pair's record).
 Import the public names from ``calib.fe``.
 """
 from calib.fe.elastic import ElasticMaterial

@@ -48,6 +48,7 @@ from typing import Callable
 
 import numpy as np
 
+from calib.fe.linsolve import factorize
 from calib.fe.newmark import ImpactSolver, ImpactState, ImpactStep, sphere_flat_pair
 from nfdmodel import collision_reference
 
@@ -298,14 +299,16 @@ def residual_state(solver: ImpactSolver, state: ImpactState) -> tuple[float, flo
     plastic = getattr(state.material_state, "plastic_strain", None)
     if plastic is None or not np.any(plastic):
         return 0.0, 0.0
-    from calib.fe.linsolve import factorize
-
-    elements = solver.elements
-    load = solver.TT @ elements.internal_force(plastic @ solver.elastic_D, slice(None))
     free = np.ones(solver.dofs.n_q, dtype=bool)
     free[solver.dofs.pole_q] = False
-    q = np.zeros(solver.dofs.n_q)
-    q[free] = factorize(elements.restricted(solver.stiffness_data, free), solver.linear_solver).solve(load[free])
-    stress = (elements.strain(solver.T @ q) - plastic) @ solver.elastic_D
+    K_free = factorize(solver.elements.restricted(solver.stiffness_data, free), solver.linear_solver)
+
+    def pole_held(load):
+        q = np.zeros(solver.dofs.n_q)
+        q[free] = K_free.solve((solver.TT @ load)[free])
+        return solver.T @ q
+
+    u, stress = solver.kinematics.residual_state(plastic, pole_held)
+    q = solver.TT @ u
     dent = q[solver.dofs.pole_q] - solver.centre_of_mass_displacement(q)
     return float(dent), solver.elastic_energy(stress)

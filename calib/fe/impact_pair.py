@@ -59,7 +59,7 @@ from calib.fe.contact_pair import mortar_gap
 from calib.fe.dofs import Numbering
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import mass as mass_form
-from calib.fe.kinematics import SmallStrain, elastic_tangent
+from calib.fe.kinematics import DEFAULT_KINEMATICS, build_kinematics, elastic_tangent
 from calib.fe.linsolve import FactorCache
 from calib.fe.newmark import ImpactState, NewmarkSolver
 from calib.fe.sphere_dofs import pattern_data
@@ -81,7 +81,7 @@ class PairImpactSolver(NewmarkSolver):
     def __init__(self, pair_mesh, material1, material2, rho1: float, rho2: float, *,
                  contact_radius: float | None = None, residual_tolerance: float = 1e-8,
                  max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
-                 linear_solver: str | None = None, quadrature_order: int = 4):
+                 linear_solver: str | None = None, quadrature_order: int = 4, kinematics: str = DEFAULT_KINEMATICS):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         for name, rho in (("rho1", rho1), ("rho2", rho2)):
@@ -163,7 +163,7 @@ class PairImpactSolver(NewmarkSolver):
 
         self.elastic_D = elastic_tangent(self.material, self.n_elements, self.n_qp)
         self.compliance = np.linalg.inv(self.elastic_D)
-        self.kinematics = SmallStrain(self.elements, self.elastic_D)
+        self.kinematics = build_kinematics(kinematics, self.elements, self.elastic_D)
         self.stiffness_data = self.kinematics.elastic_data
         self.gap_tolerance = 1e-12 * self.R1
         # calib.fe.newton reads these: no displacement-based force scale (the free flight's

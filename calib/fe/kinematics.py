@@ -37,6 +37,19 @@ from calib.fe.axisym import to_form_layout
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
 
+# the kinematics a configuration can take (its ``kinematics`` option), by name: adding one is adding
+# its class here, with SmallStrain's interface
+DEFAULT_KINEMATICS = "small-strain"
+
+
+def build_kinematics(name: str, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
+    """The kinematics ``name`` (one of KINEMATICS) of a mesh's ``elements``, elastic tangent ``D`` and
+    ``evaluated`` elements (SmallStrain's arguments); ValueError naming the choices otherwise."""
+    if name not in KINEMATICS:
+        raise ValueError(f"kinematics must be one of {sorted(KINEMATICS)}, got {name!r}")
+    return KINEMATICS[name](elements, D, evaluated)
+
+
 # a stress or tangent correction below this fraction of the stress / the elastic modulus is
 # round-off of an elastic point, not flow
 INELASTIC_TOLERANCE = 1e-13
@@ -140,3 +153,14 @@ class SmallStrain:
         """f_int = int B^T sigma dV [N] on all dofs, from the stress (E, Q, 4) [Pa] of every element
         (the impacts: their energy identity closes to round-off with the same B as the strain)."""
         return self.elements.internal_force(stress, slice(None))
+
+    def residual_state(self, plastic_strain, stiffness_solve):
+        """(u [m] on every dof, sigma (E, Q, 4) [Pa]) of the body's static equilibrium with the
+        plastic strain (E, Q, 4) frozen, free of load: K u = int B^T D eps_p dV, solved by
+        ``stiffness_solve`` (f on every dof -> u on every dof, the body's supports applied), then
+        sigma = D (eps(u) - eps_p)."""
+        u = stiffness_solve(self.internal_force(self.elastic_stress(plastic_strain)))
+        return u, self.elastic_stress(self.strain(u) - plastic_strain)
+
+
+KINEMATICS = {DEFAULT_KINEMATICS: SmallStrain}

@@ -51,7 +51,7 @@ from skfem import Basis, ElementTriP2, ElementVector
 from calib.fe.axisym import quadrature_radius
 from calib.fe.constraint import RigidFlat
 from calib.fe.contact_loop import solve_contact
-from calib.fe.kinematics import SmallStrain, elastic_tangent
+from calib.fe.kinematics import DEFAULT_KINEMATICS, build_kinematics, elastic_tangent
 from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
 from calib.fe.recovery import contact_radius_from_pressure, lumped_contact_pressure
@@ -276,7 +276,8 @@ class ImpactSolver(NewmarkSolver):
 
     def __init__(self, sphere, material: Material, rho: float, *, contact_radius: float | None = None,
                  residual_tolerance: float = 1e-8, max_newton_iterations: int = 30,
-                 max_active_set_iterations: int = 50, linear_solver: str | None = None, quadrature_order: int = 4):
+                 max_active_set_iterations: int = 50, linear_solver: str | None = None, quadrature_order: int = 4,
+                 kinematics: str = DEFAULT_KINEMATICS):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         if not (np.isfinite(rho) and rho > 0):
@@ -304,7 +305,7 @@ class ImpactSolver(NewmarkSolver):
         self.massless = self.mass_matrix.diagonal() == 0.0
         self.elastic_D = elastic_tangent(material, self.n_elements, self.n_qp)[0, 0]   # homogeneous material
         self.compliance = np.linalg.inv(self.elastic_D)
-        self.kinematics = SmallStrain(self.elements, self.elastic_D)
+        self.kinematics = build_kinematics(kinematics, self.elements, self.elastic_D)
         self.stiffness_data = self.kinematics.elastic_data
         self.gap_tolerance = 1e-12 * self.radius
         # calib.fe.newton reads these: no displacement-based force scale (the free flight's

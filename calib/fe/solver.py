@@ -37,7 +37,7 @@ from calib.fe.axisym import quadrature_radius
 from calib.fe.constraint import RigidFlat
 from calib.fe.dofs import contact_dofs
 from calib.fe.element_arrays import ElementArrays
-from calib.fe.kinematics import SmallStrain, elastic_tangent
+from calib.fe.kinematics import DEFAULT_KINEMATICS, build_kinematics, elastic_tangent
 from calib.fe.linsolve import METHODS as LINEAR_SOLVERS
 from calib.fe.linsolve import FactorCache
 from calib.fe.material import Material
@@ -57,12 +57,13 @@ class ContactSolver(QuasiStaticSolver):
     contact_radius_method : "pressure" (default), "gap" or "node" (see the recovery functions;
         measured against Hertz in results/hertz/mesh_ladder.csv)
     quadrature_order : scikit-fem intorder (4: 6-point rule, exact for the P2 stiffness terms)
+    kinematics : a name of calib.fe.kinematics.KINEMATICS (small strain)
     """
 
     def __init__(self, mesh, material: Material, *, residual_tolerance: float = 1e-8,
                  max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
                  linear_solver: str | None = None, contact_radius_method: str = "pressure",
-                 quadrature_order: int = 4):
+                 quadrature_order: int = 4, kinematics: str = DEFAULT_KINEMATICS):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         if contact_radius_method not in CONTACT_RADIUS_METHODS:
@@ -101,6 +102,8 @@ class ContactSolver(QuasiStaticSolver):
         self.T, self.TT, self.plate, self.n_q = dofs.T, dofs.TT, dofs.plate, dofs.n_q
         self.top_z_dof = dofs.top_z_dof
         self.elements = ElementArrays(self.basis, self.T)   # B, weights, the fixed K_q pattern
+        D = elastic_tangent(material, self.n_elements, self.n_qp)[0, 0]   # homogeneous material
+        self.kinematics = build_kinematics(kinematics, self.elements, D)
         self.candidate_nodes, self.candidate_r = dofs.candidate_nodes, dofs.candidate_r
         self.candidate_z0, self.candidate_q = dofs.candidate_z0, dofs.candidate_q
         self.candidate_weight = dofs.candidate_weight
@@ -137,11 +140,8 @@ class ContactSolver(QuasiStaticSolver):
         return self._K_full
 
     def _linear_tangent(self):
-        """K_el in q-space, with the kinematics built on first use (a solver that never solves,
-        e.g. for a dof count, assembles nothing)."""
+        """K_el in q-space and on every dof, assembled on first use."""
         if self._K_q is None:
-            D = elastic_tangent(self.material, self.n_elements, self.n_qp)[0, 0]   # homogeneous material
-            self.kinematics = SmallStrain(self.elements, D)
             self._K_full = self.kinematics.elastic_stiffness(self.basis)
             self._K_q = self.elements.matrix(self.kinematics.elastic_data)
         return self._K_q

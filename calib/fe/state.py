@@ -98,7 +98,7 @@ class StepNotConverged(RuntimeError):
 class QuadratureStates:
     """The state methods every contact solver shares (the press, the pair): it needs ``candidate_r``
     (contact candidates, the pole first), ``n_dofs``, ``material`` (initial_state, update),
-    ``n_elements``, ``n_qp`` and ``elements`` (strain)."""
+    ``n_elements``, ``n_qp`` and ``kinematics`` (strain, stress)."""
 
     def initial_state(self) -> ContactState:
         """Undeformed, unloaded, only the pole touching."""
@@ -115,12 +115,12 @@ class QuadratureStates:
         return result.state
 
     def strain(self, displacement) -> np.ndarray:
-        """Strain at the quadrature points, (E, Q, 4) [-]."""
-        return self.elements.strain(displacement)
+        """Strain at the quadrature points, (E, Q, 4) [-] (calib.fe.kinematics)."""
+        return self.kinematics.strain(displacement)
 
     def stress(self, state: ContactState) -> np.ndarray:
-        """Stress of a state at the quadrature points, (E, Q, 4) [Pa] (pure)."""
-        return self.material.update(self.strain(state.displacement), state.material_state)[0]
+        """Stress of a state at the quadrature points, (E, Q, 4) [Pa] (pure; calib.fe.kinematics)."""
+        return self.kinematics.stress(self.material, state.displacement, state.material_state)
 
 
 def displacement_rate(before: ContactState, control: str, displacement, force: float) -> dict:

@@ -58,7 +58,7 @@ from calib.fe.condensation import CondensedBody
 from calib.fe.constraint import MortarContact
 from calib.fe.contact_pair import mortar_gap
 from calib.fe.element_arrays import ElementArrays
-from calib.fe.kinematics import SmallStrain, elastic_tangent
+from calib.fe.kinematics import DEFAULT_KINEMATICS, build_kinematics, elastic_tangent
 from calib.fe.linsolve import FactorCache
 from calib.fe.quasi_static import QuasiStaticSolver
 from calib.fe.von_mises import von_mises_stress
@@ -151,7 +151,8 @@ class TwoBodySolver(QuasiStaticSolver):
     def __init__(self, pair_mesh, material1, material2, *, residual_tolerance: float = 1e-8,
                  max_newton_iterations: int = 30, max_active_set_iterations: int = 50,
                  linear_solver: str | None = None, contact_radius_method: str = "pressure",
-                 quadrature_order: int = 4, contact_zone: float = CONTACT_ZONE, condense: bool = True):
+                 quadrature_order: int = 4, contact_zone: float = CONTACT_ZONE, condense: bool = True,
+                 kinematics: str = DEFAULT_KINEMATICS):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
         if contact_radius_method not in ("pressure", "gap", "node"):
@@ -208,8 +209,8 @@ class TwoBodySolver(QuasiStaticSolver):
         self.elements = ElementArrays(self.basis, T_elements)
         self.material_D = elastic_tangent(self.material, self.n_elements, self.n_qp)
         # the bodies whose material Newton evaluates: the sphere alone when the counter-body is condensed
-        self.kinematics = SmallStrain(self.elements, self.material_D,
-                                      self.material.elements[0] if self.condensed else None)
+        self.kinematics = build_kinematics(kinematics, self.elements, self.material_D,
+                                           self.material.elements[0] if self.condensed else None)
         K_full = self.kinematics.elastic_stiffness(self.basis)
         self.counter, self._S_block = None, None
         if self.condensed:
