@@ -43,7 +43,8 @@ CONTROLS = ("force", "displacement")
 class QuasiStaticSolver(QuadratureStates):
     """Load steps of a contact configuration (the sphere on the rigid flat, calib.fe.solver; on a
     deformable counter-body, calib.fe.two_body). A configuration provides: ``constraint``
-    (calib.fe.constraint), ``assemble`` and ``factor`` (calib.fe.newton's interface), ``plate``,
+    (calib.fe.constraint), ``kinematics``, ``_linear_tangent()`` (K_el in q, assembled once) and
+    ``_K_full`` (K_el on every dof), ``factor`` (calib.fe.newton's interface), ``plate``,
     ``kept`` and ``top_z_dof`` (q from u), ``displacement(q)`` (u from q), ``full_stress(u, stress)``,
     the candidates' ``candidate_r``, the options (residual_tolerance, iteration limits,
     contact_radius_method) and the scales (radius, gap_tolerance, stiffness_scale, force_floor)."""
@@ -83,6 +84,26 @@ class QuasiStaticSolver(QuadratureStates):
         """The stress of every element (E, Q, 4) [Pa] from Newton's (a configuration that evaluates
         part of the body in Newton fills in the rest)."""
         return stress
+
+    def assemble(self, displacement, committed):
+        """(f_int [N] on every dof, tangent() -> K_q [N/m], stress, trial state) at ``displacement``
+        (calib.fe.newton's interface): the elastic part K_el u plus the flowed elements' correction
+        (calib.fe.kinematics); ``tangent()`` assembles K_q on demand (the converged iterate of a step
+        needs only the residual)."""
+        K_q = self._linear_tangent()
+        f_int = self._K_full @ displacement
+        if self.is_linear:
+            return f_int, lambda: K_q, None, committed
+        response = self.kinematics.correction(self.material, displacement, committed)
+        if response.force is None:
+            return f_int, lambda: K_q, response.stress, response.trial
+        return (f_int + response.force(),
+                lambda: self.tangent_matrix(self.kinematics.elastic_data + response.tangent_data()),
+                response.stress, response.trial)
+
+    def tangent_matrix(self, data):
+        """K_q [N/m] from its data on the element pattern."""
+        return self.elements.matrix(data)
 
     def contact_pressure(self, reaction, active):
         """Nodal contact pressure [Pa] from the nodal reactions [N] (calib.fe.recovery)."""

@@ -118,20 +118,6 @@ class ContactSolver(QuasiStaticSolver):
         self.factorizations = FactorCache(linear_solver)
 
     # ----------------------------------------------------------------- assembly
-    def assemble(self, displacement, committed):
-        """(f_int [N], tangent, stress, trial state) at ``displacement``; ``tangent()`` assembles
-        K_q on demand (the converged iterate of a step needs only the residual). The elastic part
-        plus the flowed elements' correction (calib.fe.kinematics)."""
-        K_q = self._linear_tangent()
-        f_int = self._K_full @ displacement
-        if self.is_linear:
-            return f_int, lambda: K_q, None, committed
-        response = self.kinematics.correction(self.material, displacement, committed)
-        if response.force is None:
-            return f_int, lambda: K_q, response.stress, response.trial
-        return (f_int + response.force(), lambda: self.elements.matrix(K_q.data + response.tangent_data()),
-                response.stress, response.trial)
-
     def elastic_stiffness(self):
         """Full stiffness matrix [N/m] of a linear material (scikit-fem dof ordering)."""
         if not self.is_linear:

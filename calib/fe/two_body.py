@@ -278,25 +278,15 @@ class TwoBodySolver(QuasiStaticSolver):
         full[elements] = self.kinematics.elastic_stress(self.kinematics.strain(u, elements), elements)
         return full
 
+    def tangent_matrix(self, data):
+        """K_q from its data on the element pattern, with a condensed counter-body's stiffness."""
+        return self._with_counter(self.elements.matrix(data))
+
     def _linear_tangent(self):
         if self._K_q is None:
             self._K_q_elements = self.elements.matrix(self.kinematics.elastic_data)
             self._K_q = self._with_counter(self._K_q_elements)
         return self._K_q
-
-    def assemble(self, displacement, committed):
-        """(f_int [N], tangent K_q on demand, stress, trial state), as ContactSolver.assemble: the
-        elastic part from the elastic stiffness, the flowed elements' correction (calib.fe.kinematics)."""
-        K_q = self._linear_tangent()
-        f_int = self._K_full @ displacement
-        if self.is_linear:
-            return f_int, lambda: K_q, None, committed
-        response = self.kinematics.correction(self.material, displacement, committed)
-        if response.force is None:
-            return f_int, lambda: K_q, response.stress, response.trial
-        return (f_int + response.force(),
-                lambda: self._with_counter(self.elements.matrix(self._K_q_elements.data + response.tangent_data())),
-                response.stress, response.trial)
 
     @property
     def factorization_count(self) -> int:
