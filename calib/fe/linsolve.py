@@ -105,6 +105,8 @@ class _QDLDL(Factorization):
         self._ldl = qdldl.Solver(upper, upper=True)
         self._pattern = (upper.indptr.copy(), upper.indices.copy())
         self._upper = None          # the gather of triu for A's pattern, built at the first update
+        self._unchecked = None      # a refactorised matrix whose factor no solve has checked yet
+        self._replacement = None    # its SuperLU factorisation, if qdldl's was not finite
 
     def update(self, A) -> bool:
         """Numeric refactorization (about 40 % of a full one on our tangents) when the
@@ -123,13 +125,27 @@ class _QDLDL(Factorization):
             self._ldl.update(upper, upper=True)
         except (RuntimeError, ValueError, ArithmeticError):
             return False
-        return _finite_probe(self, A.shape[0])
+        # the first solve checks the new factor (a finite solution, else SuperLU of A): the
+        # probe a fresh factorisation costs (one extra solve) is saved on every Newton iteration
+        self._unchecked, self._replacement = A, None
+        return True
 
     def solve(self, b):
+        if self._replacement is not None:
+            return self._replacement.solve(b)
         b = np.asarray(b, dtype=float)
-        if b.ndim == 1:
-            return self._ldl.solve(b)
-        return np.column_stack([self._ldl.solve(np.ascontiguousarray(c)) for c in b.T])
+        x = self._ldl.solve(b) if b.ndim == 1 else np.column_stack([self._ldl.solve(np.ascontiguousarray(c))
+                                                                     for c in b.T])
+        if self._unchecked is not None:
+            A, self._unchecked = self._unchecked, None
+            if not np.all(np.isfinite(x)):
+                logger.info("qdldl produced a non-finite refactorisation; falling back to SuperLU")
+                try:
+                    self._replacement = factorize(A, "splu")
+                except np.linalg.LinAlgError:
+                    return x              # singular: the caller sees the non-finite solution
+                return self._replacement.solve(b)
+        return x
 
 
 class _Pardiso(Factorization):
