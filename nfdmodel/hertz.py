@@ -9,7 +9,7 @@ import numpy as np
 from . import native
 from .contact_law import ContactLaw
 from .history import HertzState, check_delta, check_force, check_state, empty_update, restore_shape, step_and_commit
-from .parameters import as_pair
+from .materials import as_pair
 
 
 def hertz_step(delta, state: HertzState, params):

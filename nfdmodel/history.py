@@ -66,24 +66,6 @@ class TurningPointHistory:
 
 
 @dataclass(frozen=True)
-class VZState(TurningPointHistory):
-    """History of the vz law; adds a_e_max [m], the elastic contact radius at the turning point,
-    a_e,max = (3 P_max R*/(4 E*))^(1/3) (paper eq. 3.19), which also starts the next Newton solve.
-    C_Rmax = 1 + Kc<P_max - P_Y> and a_p,max = Ca<P_max - P_Y> are functions of P_max and are
-    derived on request (:meth:`ContactLaw.contact_state`)."""
-
-    a_e_max: np.ndarray
-
-
-class ThorntonState(TurningPointHistory):
-    """History of the Thornton law (delta_res is Thornton's delta_p)."""
-
-
-class WaltonBraunState(TurningPointHistory):
-    """History of the Walton-Braun law (delta_res = delta_max - P_max / K2)."""
-
-
-@dataclass(frozen=True)
 class HistoryUpdate:
     """The trial history of one step, sparse: only the contacts whose turning point moved.
 

@@ -22,12 +22,15 @@ import numpy as np
 from . import native
 from .contact_law import ContactLaw
 from .hertz import hertz_kernel
-from .history import ThorntonState, check_delta, check_state, restore_shape, step_and_commit
-from .materials import ContactPair
-from .parameters import as_pair
+from .history import TurningPointHistory, check_delta, check_state, restore_shape, step_and_commit
+from .materials import ContactPair, as_pair
 from .turning_point import turning_point_step
 
 TINY = 1e-300                   # [N] keeps a zero force out of a division
+
+
+class ThorntonState(TurningPointHistory):
+    """History of the Thornton law (delta_res is Thornton's delta_p)."""
 
 
 def _thornton_unloading(P_max, delta_max, pair: ContactPair):
