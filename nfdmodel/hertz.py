@@ -1,6 +1,9 @@
 """Hertz elastic contact (Johnson 1985, Contact Mechanics, eq. 4.23): no history.
 
     P = (4/3) E* sqrt(R*) <delta>^(3/2)    [N],  delta the approach [m]
+
+Its parameters are a bare ContactPair and its state the shared no-history ``HertzState``
+(:mod:`nfdmodel.history`); the scalar specification is ``nfdmodel.reference.hertz_step``.
 """
 from __future__ import annotations
 

@@ -11,7 +11,9 @@ rigid flat has the closed-form restitution (Thornton 1997; paper eq. 1.11), r = 
 
     e = sqrt(6 sqrt(3)/5) sqrt(1 - r^2/6) [r / (r + 2 sqrt(6/5 - r^2/5))]^(1/4)   [-]
 
-This module is the one home of Thornton's formulas (tests/test_formula_homes.py).
+This module is the one home of Thornton's formulas (tests/test_formula_homes.py) and the law as one unit:
+its history (:class:`ThorntonState`; its parameters are a bare ContactPair), numpy kernel and ``LAW``; the
+scalar specification is ``nfdmodel.reference.thornton_step``.
 """
 from __future__ import annotations
 
