@@ -18,20 +18,19 @@ from .collision import (CollisionHistory, CollisionReference, CollisionResult, T
                         collision_reference)
 from .friction import Contact, ContactForces, Friction, FrictionState, contact_step, shear_coefficient
 from .hertz import hertz_force, hertz_step
-from .history import HertzState, HistoryUpdate, ThorntonState, TurningPointHistory, VZState, WaltonBraunState
+from .history import HertzState, HistoryUpdate, TurningPointHistory
 from .materials import ContactPair, Material, yield_factor
 from .native import backend, backend_info
 from .oblique import ObliqueResult, oblique_collide
 from .parameter_file import load_parameters, parameter_record
-from .parameters import VZParams, WaltonBraunParams
 from .registry import LAWS, ContactDetails, ContactLaw, get_law
-from .thornton import thornton_force, thornton_step
+from .thornton import ThorntonState, thornton_force, thornton_step
 from .unlike import VZConstants, sphere_sphere_params, sphere_wall_params
 from .validation import PlausibilityWarning, check_real
-from .vz import vz_force, vz_force_with_iterations, vz_newton_iterations, vz_step
+from .vz import VZParams, VZState, vz_force, vz_force_with_iterations, vz_newton_iterations, vz_step
 from .vz_curve import NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, vz_plastic_force
 from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_step
-from .walton_braun import walton_braun_force, walton_braun_step
+from .walton_braun import WaltonBraunParams, WaltonBraunState, walton_braun_force, walton_braun_step
 from .window import CalibrationWindow, RangeWarning
 
 __all__ = [

@@ -47,7 +47,7 @@ import numpy as np
 from . import native
 from .hertz_contact import hertz_approach_at_work
 from .history import HertzState
-from .parameters import as_pair
+from .materials import as_pair
 from .registry import ContactLaw, get_law
 from .validation import check_real, check_solid
 from .window import RangeWarning

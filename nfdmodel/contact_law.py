@@ -22,7 +22,7 @@ from typing import Callable
 import numpy as np
 
 from .history import HertzState, HistoryUpdate, apply_update, check_state, check_update
-from .parameters import as_pair
+from .materials import as_pair
 from .window import warn_beyond_window
 
 

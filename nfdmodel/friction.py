@@ -45,8 +45,7 @@ import numpy as np
 
 from . import limits
 from .hertz_contact import hertz_radius
-from .materials import Material
-from .parameters import as_pair
+from .materials import Material, as_pair
 from .validation import check_real
 
 DAMPING = {"none": limits.DAMPING_NONE, "viscoelastic": limits.DAMPING_VISCOELASTIC, "tsuji": limits.DAMPING_TSUJI,

@@ -1,6 +1,9 @@
 """Hertz elastic contact (Johnson 1985, Contact Mechanics, eq. 4.23): no history.
 
     P = (4/3) E* sqrt(R*) <delta>^(3/2)    [N],  delta the approach [m]
+
+Its parameters are a bare ContactPair and its state the shared no-history ``HertzState``
+(:mod:`nfdmodel.history`); the scalar specification is ``nfdmodel.reference.hertz_step``.
 """
 from __future__ import annotations
 
@@ -9,7 +12,7 @@ import numpy as np
 from . import native
 from .contact_law import ContactLaw
 from .history import HertzState, check_delta, check_force, check_state, empty_update, restore_shape, step_and_commit
-from .parameters import as_pair
+from .materials import as_pair
 
 
 def hertz_step(delta, state: HertzState, params):

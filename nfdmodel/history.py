@@ -36,8 +36,9 @@ class TurningPointHistory:
     delta_max [m]: largest approach so far (turning point); P_max [N]: force there;
     delta_res [m]: approach at which the unloading curve through (delta_max, P_max) reaches 0
     (residual indentation; 0 while the contact never yielded); unloading_stiffness: the constant
-    K_u of that curve, P = K_u <delta - delta_res>^n (vz: K_u = (4/3) E* C_Rmax^(3/2) sqrt(R*),
-    paper eq. 3.22, [N/m^1.5]; thornton: (4/3) E* sqrt(R_p*); walton-braun: K2 [N/m]).
+    K_u of that curve, P = K_u <delta - delta_res>^n ([N/m^n]; each law's module states its K_u,
+    e.g. vz's (4/3) E* C_Rmax^(3/2) sqrt(R*), paper eq. 3.22). Each law with a memory subclasses it
+    in its own module (adding fields when it needs them).
     """
 
     delta_max: np.ndarray
@@ -66,31 +67,13 @@ class TurningPointHistory:
 
 
 @dataclass(frozen=True)
-class VZState(TurningPointHistory):
-    """History of the vz law; adds a_e_max [m], the elastic contact radius at the turning point,
-    a_e,max = (3 P_max R*/(4 E*))^(1/3) (paper eq. 3.19), which also starts the next Newton solve.
-    C_Rmax = 1 + Kc<P_max - P_Y> and a_p,max = Ca<P_max - P_Y> are functions of P_max and are
-    derived on request (:meth:`ContactLaw.contact_state`)."""
-
-    a_e_max: np.ndarray
-
-
-class ThorntonState(TurningPointHistory):
-    """History of the Thornton law (delta_res is Thornton's delta_p)."""
-
-
-class WaltonBraunState(TurningPointHistory):
-    """History of the Walton-Braun law (delta_res = delta_max - P_max / K2)."""
-
-
-@dataclass(frozen=True)
 class HistoryUpdate:
     """The trial history of one step, sparse: only the contacts whose turning point moved.
 
     index: the contacts (positions 0..n-1 in the state, increasing, int64) that loaded beyond
     their turning point delta_max in this step, shape (k,);
-    values: their new history, a state of the SAME class as the law's state (VZState,
-    ThorntonState, WaltonBraunState; named fields, [SI] as there) over those k contacts: contact
+    values: their new history, a state of the SAME class as the law's state (its
+    TurningPointHistory subclass; named fields, [SI] as there) over those k contacts: contact
     index[i] gets values.<field>[i]; a HertzState(0) for hertz (no history);
     n: the number of contacts of the state the step was computed from;
     newton_iterations: the largest number of Newton iterations of the step (vz plastic loading,

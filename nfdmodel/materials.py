@@ -365,3 +365,15 @@ class ContactPair:
         """
         v_in = np.asarray(v_in, dtype=float)
         return hertz_impact_time(self.mass_star, self.R_star, self.E_star, v_in)[()]
+
+
+def as_pair(params, law: str) -> ContactPair:
+    """The ContactPair of a law's ``params`` (a ContactPair, or anything carrying one as .pair),
+    else a ValueError naming the law."""
+    if isinstance(params, ContactPair):
+        return params
+    pair = getattr(params, "pair", None)
+    if isinstance(pair, ContactPair):
+        return pair
+    raise ValueError(f"params for law '{law}' must be a ContactPair or carry one as .pair, "
+                     f"got {type(params).__name__}")

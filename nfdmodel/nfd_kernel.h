@@ -189,7 +189,7 @@ static inline double nfd_hertz_radius(double P, double R_star, double E_star)
 }
 
 /* The admissibility of vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (dimensionless, so one answer for
- * every pair; nfdmodel.parameters.VZParams decides the same): NFD_VZ_ADMISSIBLE, or NFD_VZ_OUT_OF_RANGE
+ * every pair; nfdmodel.vz.VZParams decides the same): NFD_VZ_ADMISSIBLE, or NFD_VZ_OUT_OF_RANGE
  * (outside NFD_CA_HAT_MIN <= Ca_hat <= NFD_CA_HAT_MAX, 0 <= Kc_hat <= NFD_KC_HAT_MAX), NFD_VZ_TURNS_BACK
  * (the loading curve delta(P) stops increasing near P/P_Y = *load; checked up to NFD_MONOTONE_LOAD_MAX),
  * NFD_VZ_CREATES_ENERGY (a load-unload cycle to P/P_Y = *load returns more work than it took:

@@ -32,7 +32,7 @@
 #define NFD_CA_HAT_MAX 1e4
 #define NFD_KC_HAT_MAX 1e4
 
-/* The admissibility of vz constants (nfdmodel.parameters.VZParams, nfd_vz_admissible): the loading
+/* The admissibility of vz constants (nfdmodel.vz.VZParams, nfd_vz_admissible): the loading
  * curve delta(P) increases at MONOTONE_POINTS loads geomspace(1, MONOTONE_LOAD_MAX) P_Y, and no full
  * load-unload cycle to the DISSIPATION_POINTS turning points geomspace(DISSIPATION_LOAD_MIN,
  * DISSIPATION_LOAD_MAX) P_Y returns more than (1 + DISSIPATION_SLACK) times the work it took (e <= 1). */

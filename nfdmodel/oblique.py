@@ -51,7 +51,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .friction import Contact, Friction, FrictionState, contact_step
-from .parameters import as_pair
+from .materials import as_pair
 from .registry import get_law
 from .validation import check_real
 

@@ -22,7 +22,7 @@ import warnings
 from pathlib import Path
 
 from .materials import ContactPair, Material
-from .parameters import VZParams
+from .vz import VZParams
 from .validation import PlausibilityWarning
 from .vz_table import VZTableParams
 from .window import CalibrationWindow, RangeWarning

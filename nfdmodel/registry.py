@@ -15,7 +15,8 @@ subclass; its parameters; the virgin-curve loading branch of nfdmodel.turning_po
 ``nfdmodel/reference.py`` (the specification the kernels are tested against). A compiled kernel
 adds ``NFD_LAW_NEW`` to ``nfd_limits.h`` (limits.LAW_CODES follows) and the law to
 ``nfd_kernel.{h,c}``; the law module then calls ``native.law_loading("new", ...)`` and states
-``collision_params``.
+``collision_params``. tests/test_limits.py checks that ``LAWS``, the codes of nfd_limits.h, the cases of
+the kernel's ``nfd_step`` and the LAMMPS plugin's ``all_laws()`` name the same laws.
 """
 from __future__ import annotations
 

@@ -11,7 +11,9 @@ rigid flat has the closed-form restitution (Thornton 1997; paper eq. 1.11), r = 
 
     e = sqrt(6 sqrt(3)/5) sqrt(1 - r^2/6) [r / (r + 2 sqrt(6/5 - r^2/5))]^(1/4)   [-]
 
-This module is the one home of Thornton's formulas (tests/test_formula_homes.py).
+This module is the one home of Thornton's formulas (tests/test_formula_homes.py) and the law as one unit:
+its history (:class:`ThorntonState`; its parameters are a bare ContactPair), numpy kernel and ``LAW``; the
+scalar specification is ``nfdmodel.reference.thornton_step``.
 """
 from __future__ import annotations
 
@@ -22,12 +24,15 @@ import numpy as np
 from . import native
 from .contact_law import ContactLaw
 from .hertz import hertz_kernel
-from .history import ThorntonState, check_delta, check_state, restore_shape, step_and_commit
-from .materials import ContactPair
-from .parameters import as_pair
+from .history import TurningPointHistory, check_delta, check_state, restore_shape, step_and_commit
+from .materials import ContactPair, as_pair
 from .turning_point import turning_point_step
 
 TINY = 1e-300                   # [N] keeps a zero force out of a division
+
+
+class ThorntonState(TurningPointHistory):
+    """History of the Thornton law (delta_res is Thornton's delta_p)."""
 
 
 def _thornton_unloading(P_max, delta_max, pair: ContactPair):

@@ -25,7 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .materials import ContactPair, Material, first_to_yield
-from .parameters import CA_HAT_RANGE, KC_HAT_MAX, VZParams
+from .vz import CA_HAT_RANGE, KC_HAT_MAX, VZParams
 from .validation import check_real
 from .window import CalibrationWindow
 

@@ -13,7 +13,7 @@ with its dimensional misprint fixed; nfdmodel/README.md, The NFD law on loading)
 Unloading from a turning point (delta_max, P_max) freezes a_p and C_R (paper eqs. 3.19-3.22):
 P = (4/3) E* C_Rmax^(3/2) sqrt(R*) <delta - delta_res>^(3/2) with the residual approach
 delta_res = delta_max - a_e,max^2 / (C_Rmax R*). Every function takes the law's parameters
-(:class:`nfdmodel.parameters.VZParams`: pair, Ca [m/N], Kc [1/N], c1) and works on arrays.
+(:class:`nfdmodel.vz.VZParams`: pair, Ca [m/N], Kc [1/N], c1) and works on arrays.
 """
 from __future__ import annotations
 

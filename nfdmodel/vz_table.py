@@ -22,7 +22,8 @@ delta_res = delta_max - a_e,max^2 / (g(x_m) R*) (nfdmodel.turning_point). Admiss
 D strictly increasing up to where the contact radius reaches R*, and no load-unload cycle
 returning more work than it took (e <= 1). The window of the table is its node range; the
 runtime flags contacts beyond it like vz's (nfdmodel.window). With linear tables the law IS
-the paper's, to round-off (tested).
+the paper's, to round-off (tested). This module is the law as one unit (parameters, history, numpy
+kernel, ``LAW``); the scalar specification is ``nfdmodel.reference.vz_table_step``.
 """
 from __future__ import annotations
 

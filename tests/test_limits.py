@@ -1,7 +1,9 @@
 """nfdmodel/nfd_limits.h is the one table of the laws' codes, defaults, bounds and solver
 tolerances: (a) every #define of it reaches nfdmodel.limits; (b) every Python consumer holds the
 table's value (at the bound: accepted or refused as the table says); (c) no source file under
-nfdmodel/ or calib/ writes one of the table's distinctive numbers again as a literal."""
+nfdmodel/ or calib/ writes one of the table's distinctive numbers again as a literal; (d) the four
+lists of the laws (the table's NFD_LAW_* codes, nfdmodel.registry.LAWS, the kernel's nfd_step
+switch, the LAMMPS plugin's all_laws()) name exactly the same laws."""
 import io
 import math
 import re
@@ -282,3 +284,58 @@ def test_the_plugin_names_each_law_as_the_table_does():
     source = (ROOT / "nfdmodel" / "lammps" / "nfd_law.cpp").read_text(encoding="utf-8")
     declared = {code: name for code, name in re.findall(r"\(\s*NFD_(LAW_\w+)\s*,\s*\"([\w-]+)\"", source)}
     assert {limits.TABLE[code]: name for code, name in declared.items()} == limits.LAW_NAMES
+
+
+# ------------------------------------------------------------------------ (d) the four law lists
+def kernel_switch_laws(source: str) -> list[str]:
+    """The NFD_LAW_* case labels of ``nfd_step``'s switch in nfd_kernel.c (C text), in order."""
+    body = re.search(r"\bint\s+nfd_step\s*\([^)]*\)\s*\{(.*?)\n\}", source, re.S)
+    assert body, "nfd_kernel.c has no nfd_step"
+    return re.findall(r"\bcase\s+NFD_(LAW_\w+)\s*:", body.group(1))
+
+
+def plugin_all_laws(source: str) -> list[str]:
+    """The NFD_LAW_* codes of the laws ``all_laws()`` of nfd_law.cpp (C++ text) returns, in order:
+    each entry &variable of its array, the variable's class, that class's NFD_LAW_* constructor code."""
+    body = re.search(r"\ball_laws\s*\(\s*\)\s*\{(.*?)\n\}", source, re.S)
+    assert body, "nfd_law.cpp has no all_laws()"
+    classes = dict((variable, cls) for cls, variable in re.findall(r"static\s+const\s+(\w+)\s+(\w+)\s*;",
+                                                                    body.group(1)))
+    array = re.search(r"laws\[\]\s*=\s*\{([^}]*)\}", body.group(1))
+    assert array, "all_laws() has no laws[] array"
+    entries = [name for name in re.findall(r"&\s*(\w+)", array.group(1))]
+    codes = dict(re.findall(r"\b(\w+)\s*\(\s*\)\s*:\s*\w*\s*\w+\s*\(\s*NFD_(LAW_\w+)\s*,", source))
+    return [codes.get(classes.get(entry, "?"), f"?{entry}") for entry in entries]
+
+
+def law_lists() -> dict[str, list[str]]:
+    """{list: the law names it holds, as the table names them (limits.LAW_NAMES)}."""
+    from nfdmodel import LAWS
+    named = {f"LAW_{name.upper().replace('-', '_')}": name for name in limits.LAW_CODES}
+    kernel = (ROOT / "nfdmodel" / "nfd_kernel.c").read_text(encoding="utf-8")
+    plugin = (ROOT / "nfdmodel" / "lammps" / "nfd_law.cpp").read_text(encoding="utf-8")
+    return {"nfd_limits.h": [limits.LAW_NAMES[code] for code in sorted(limits.LAW_NAMES)],
+            "registry.LAWS": list(LAWS),
+            "nfd_kernel.c nfd_step": [named.get(code, code) for code in kernel_switch_laws(kernel)],
+            "nfd_law.cpp all_laws()": [named.get(code, code) for code in plugin_all_laws(plugin)]}
+
+
+def test_the_four_law_lists_name_the_same_laws():
+    lists = law_lists()
+    table = lists["nfd_limits.h"]
+    assert len(table) == limits.LAW_COUNT == 5
+    for where, names in lists.items():
+        assert len(names) == len(set(names)), f"{where} names a law twice: {names}"
+        assert set(names) == set(table), f"{where} names {sorted(names)}, nfd_limits.h {sorted(table)}"
+
+
+def test_the_law_list_parsers_see_a_missing_law():
+    kernel = ("int nfd_step(int law, double delta)\n{\n    switch (law) {\n"
+              "    case NFD_LAW_HERTZ: return 0;\n    case NFD_LAW_VZ: return 1;\n    default: return 2;\n    }\n}\n")
+    assert kernel_switch_laws(kernel) == ["LAW_HERTZ", "LAW_VZ"]
+    plugin = ("class HertzLaw : public SolidLaw {\n    HertzLaw() : SolidLaw(NFD_LAW_HERTZ, \"hertz\") {}\n};\n"
+              "class VzLaw : public SolidLaw {\n    VzLaw() :\n        SolidLaw(NFD_LAW_VZ, \"vz\") {}\n};\n"
+              "static const NfdLaw *const *all_laws()\n{\n    static const HertzLaw hertz;\n"
+              "    static const VzLaw vz;\n    static const NfdLaw *const laws[] = {&hertz, nullptr};\n"
+              "    return laws;\n}\n")
+    assert plugin_all_laws(plugin) == ["LAW_HERTZ"]

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 import nfdmodel.turning_point as turning_point
-from nfdmodel import VZParams, get_law, vz_force_with_iterations
-from nfdmodel.history import HertzState, HistoryUpdate, ThorntonState, VZState, WaltonBraunState
+from nfdmodel import (HertzState, HistoryUpdate, ThorntonState, VZParams, VZState, WaltonBraunState, get_law,
+                      vz_force_with_iterations)
 
 pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
 

@@ -8,8 +8,8 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 
-from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, get_law, reference, vz_newton_iterations
-from nfdmodel.history import ThorntonState, VZState
+from nfdmodel import (ContactPair, Material, ThorntonState, VZParams, VZState, WaltonBraunParams, get_law, reference,
+                      vz_newton_iterations)
 
 pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
 

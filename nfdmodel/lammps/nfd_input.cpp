@@ -59,7 +59,7 @@ double check_solid(LAMMPS *lmp, const std::string &where, const char *name, cons
 }
 
 /* The largest Kc_hat that nfd_vz_admissible accepts with this Ca_hat, to 1e-6 relative (bisection,
- * as nfdmodel.parameters.vz_largest_admissible_Kc; Kc_hat = 0 is admissible for any Ca_hat). */
+ * as nfdmodel.vz.vz_largest_admissible_Kc; Kc_hat = 0 is admissible for any Ca_hat). */
 static double largest_Kc_hat(double Ca_hat)
 {
     double low = 0.0, high = NFD_KC_HAT_MAX, load, restitution;
