@@ -59,8 +59,8 @@ def test_vz_constants_are_admitted_up_to_the_table_s_bounds_and_not_beyond():
                                  (high, kc * (1 + 1e-9), "Kc")):
         with pytest.raises(ValueError, match=rf"^{name} out of range: .*{high if name == 'Ca' else kc:g}"):
             VZParams.from_dimensionless(PAIR, Ca_hat, Kc_hat)
-    from nfdmodel import parameters
-    assert parameters.CA_HAT_RANGE == (low, high) and parameters.KC_HAT_MAX == kc
+    from nfdmodel import vz
+    assert vz.CA_HAT_RANGE == (low, high) and vz.KC_HAT_MAX == kc
 
 
 def test_the_default_window_is_the_recipe_s_largest_peak_and_the_assumed_window():

@@ -10,7 +10,7 @@ import pytest
 
 import nfdmodel
 from nfdmodel import ContactPair, Material, TimeStepWarning, VZParams, collide, collision_reference, get_law
-from nfdmodel.parameters import vz_largest_admissible_Kc
+from nfdmodel.vz import vz_largest_admissible_Kc
 
 pytestmark = pytest.mark.laws      # rerun on the numpy kernels by .ci/run (tests/test_markers.py)
 

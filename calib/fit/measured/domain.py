@@ -7,7 +7,7 @@ kinds of trial point:
     constants      (Ca_hat, Kc_hat) that nfdmodel.VZParams refuses: Kc_hat above the largest
                    admissible Kc_hat*(Ca_hat), where the loading curve delta(P) stops increasing
                    or a load-unload cycle creates energy (0.0005 at Ca_hat = 0.001, 0.066 at
-                   0.026, 2.7 at 1; nfdmodel.parameters.vz_largest_admissible_Kc)
+                   0.026, 2.7 at 1; nfdmodel.vz.vz_largest_admissible_Kc)
     full contact   a drop test faster than v* = sqrt(2 W_l(P) / m*) [m/s] at P = (1 - 1e-6) P_fc,
                    the speed at which the law's contact radius a_e + Ca (P - P_Y) reaches R* at
                    the load P_fc (nfdmodel.VZParams.full_contact_load; nfdmodel.collision_reference
@@ -47,7 +47,7 @@ from calib.fit.master_table import MasterTable
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.specimen import Specimen, dimensionless_constants, predict_impacts, relative_residuals
 from nfdmodel import ContactPair, VZParams, get_law
-from nfdmodel.parameters import vz_largest_admissible_Kc
+from nfdmodel.vz import vz_largest_admissible_Kc
 
 STEP = 1e-6                     # the one-sided step in ln Kc_hat and ln v_in of the continuation's slopes
 REACH_MARGIN = 1e-6             # v*: the impact that loads to (1 - this) x the full-contact load
@@ -72,7 +72,7 @@ def full_contact_speed(params: VZParams) -> float:
 
 def largest_admissible_Kc_hat(pair: ContactPair, Ca_hat: float) -> float:
     """Kc_hat* [-]: the largest Kc_hat the vz law admits with ``Ca_hat`` (to 1e-6 relative, on
-    the admissible side; nfdmodel.parameters.vz_largest_admissible_Kc)."""
+    the admissible side; nfdmodel.vz.vz_largest_admissible_Kc)."""
     return vz_largest_admissible_Kc(pair, Ca_hat * pair.a_Y / pair.P_Y) * pair.P_Y
 
 
