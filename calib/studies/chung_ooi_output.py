@@ -192,7 +192,7 @@ def chung_ooi(root: Path) -> list[str]:
     data = read_json(root / "lammps" / "chung_ooi.json")
     if data is None:
         return []
-    stamp, worst = data["stamp"], data["worst"]
+    stamp = data["stamp"]
     lines = study_header("Chung & Ooi (2011) benchmark tests 1-8 (`lammps/chung_ooi.*`)", stamp,
                          "python -m calib.studies.chung_ooi") + [
              "Elastic limit (Hertz, Mindlin, no damping but test 3's) through nfdmodel, the plugin and LAMMPS "

@@ -74,7 +74,7 @@ from calib.sweep.runner import run_sweep
 from meshes.hemisphere import hemisphere_mesh
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec, sphere_mesh
-from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference, load_parameters,
+from nfdmodel import (ContactPair, Material, RangeWarning, collision_reference, load_parameters,
                       reference_case)
 from nfdmodel.hertz_contact import hertz_force_at_radius, hertz_impact_approach, hertz_impact_force
 from nfdmodel.thornton import thornton_closed_form

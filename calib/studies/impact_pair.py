@@ -39,7 +39,6 @@ from calib.fe.impact_pair import PairImpactSolver
 from calib.fe.impact_pair_mesh import impact_pair_mesh
 from calib.fe.impact_pair_run import hertz_pair_impact, run_pair_impact
 from calib.fe.von_mises import VonMisesMaterial
-from calib.fit import recipe
 from calib.fit.counter import BLOCK_SIZE_OVER_R, CounterBody
 from calib.studies import impact
 from calib.sweep.runner import run_sweep

@@ -22,7 +22,7 @@ def mesh_ladder(root: Path) -> list[str]:
     stamp, rows = rungs
     rows = sorted(rows, key=lambda r: -r["contact_size"])
     by_h = {r["contact_size"]: r for r in pairs[1]}
-    lines = [f"## Mesh ladder of the reference calibration (`calibration/mesh_ladder*.csv`)", "",
+    lines = ["## Mesh ladder of the reference calibration (`calibration/mesh_ladder*.csv`)", "",
              "Regenerate: `nfdcal calibrate --ladder`.", "", provenance(stamp), ""]
     out = []
     for r in rows:

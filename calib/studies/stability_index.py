@@ -15,7 +15,7 @@ def stability(root: Path) -> list[str]:
                                                                  "fuzz.json", "fuzz_lammps.json"))
     if runtime is None and fe is None and fuzz is None and plugin is None:
         return []
-    lines = [f"## Stability (`stability/`)", "", files_line(root, folder), ""]
+    lines = ["## Stability (`stability/`)", "", files_line(root, folder), ""]
     if runtime:
         s = runtime["summary"]
         lines += [f"**Runtime** (`{runtime['stamp'].get('command', 'nfdcal stability')} --runtime`): {s['cases']} "
