@@ -99,6 +99,49 @@ def test_two_meshes_ship_the_extrapolation_of_both_fits(small_spec, two_meshes):
     assert calibration.summary(fine)["Ca_rel_error_estimate"] is None
 
 
+def test_the_finer_mesh_s_rows_are_its_own_whichever_process_unloaded_its_top_path(small_spec, two_meshes):
+    """With two meshes the second mesh's process may take the finer mesh's top unloading
+    (calib.sweep.runner.Background.offer): every row of every path is the one-mesh calibration's,
+    bit for bit (times aside), and so is the factorisation count."""
+    fine = calibration.calibrate(small_spec, meshes=1)
+    timed = ("wall_time_s", "time_assembly_s", "time_solve_s")
+    for ours, theirs in zip(two_meshes.load_paths.paths, fine.load_paths.paths, strict=True):
+        assert len(ours.rows) == len(theirs.rows)
+        for a, b in zip(ours.rows, theirs.rows):
+            assert {k: v for k, v in a.items() if k not in timed} == {k: v for k, v in b.items() if k not in timed}
+        assert ours.restitution == theirs.restitution
+    assert two_meshes.load_paths.factorizations == fine.load_paths.factorizations
+    # the offered task itself (a fresh solver on the same mesh, from the peak state) gives the same rows
+    top = fine.load_paths.paths[-1]
+    run = calibration.unloading_of({"spec": small_spec, "peak": top.peak, "peak_state": top.peak_state})
+    unloading = [r for r in top.rows if r["branch"] == "unloading"]
+    assert [{k: v for k, v in r.items() if k not in timed} for r in run.rows] == \
+        [{k: v for k, v in r.items() if k not in timed} for r in unloading]
+    assert run.alpha_residual == top.alpha_residual
+
+
+def test_an_offered_task_is_computed_once_by_whichever_process_takes_it():
+    """calib.sweep.runner.in_background: an offered task runs on the other process when it is idle
+    (take() returns its result); when that process is still busy, take() gives it back (None) and
+    the other process skips it."""
+    import math
+    import time
+
+    from calib.sweep.runner import in_background
+
+    with in_background(time.sleep, 0.0) as background:
+        assert background() is None
+        take = background.offer(math.sqrt, 16.0)
+        time.sleep(1.0)                                # the idle process takes it at once
+        assert take() == 4.0
+    with in_background(time.sleep, 3.0) as background:
+        take = background.offer(math.sqrt, 16.0)
+        assert take() is None                          # still sleeping: the task is the caller's
+        assert background() is None
+    with in_background(time.sleep, 0.0, parallel=False) as background:
+        assert background.offer(math.sqrt, 16.0)() is None and background() is None
+
+
 def test_parameter_file_carries_the_error_estimates(two_meshes, tmp_path):
     from calib.report.calibration import write_calibration_parameters
 

@@ -232,19 +232,65 @@ def separation_approach(alpha: Sequence[float], force: Sequence[float]) -> float
     return float(a2 - s2 * (a1 - a2) / (s1 - s2))
 
 
+@dataclass
+class UnloadingRun:
+    """One path's unloading from its peak: its history rows, the residual approach alpha_res [m]
+    (where the force returns to zero), the state at separation and the factorisations it took."""
+
+    rows: list[dict]
+    alpha_residual: float
+    final_state: ContactState = field(repr=False)
+    factorizations: int = 0
+
+
+def unloading_path(solver: ContactSolver, plan: LoadPathPlan, peak: float, peak_state: ContactState) -> UnloadingRun:
+    """The unloading of the path of peak ``peak`` [N] from its committed ``peak_state``: force
+    control down to P_max / n, then the separation step to the residual approach (module
+    docstring). A function of its arguments alone, so any process holding the same solver gives
+    the same rows bit for bit."""
+    factorizations_before = solver.factorization_count
+    quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)  # (E, Q) each [m]
+    name = f"P_max={peak:g}"
+    rows: list[dict] = []
+
+    def record_unloading(result, before):
+        rows.append({"path": name, "branch": "unloading", **result.record.as_dict(),
+                     **plastic_zone(result.state, quadrature_r, quadrature_z)})
+
+    state = peak_state
+    for target in plan.unloading_targets(peak):
+        state = advance(solver, state, "force", target, plan.min_step_fraction, record_unloading)
+    alpha_res = separation_approach([r["alpha"] for r in rows[-2:]], [r["P"] for r in rows[-2:]])
+    result = solver.solve_displacement(state, alpha_res)
+    if not result.converged:  # only then: a converging separation step stays bit-identical
+        result = solver.rescue_step(state, "displacement", alpha_res)
+    if result.converged:
+        record_unloading(result, state)
+        state = solver.commit(result)
+    else:
+        # One step from the last unloading load to separation can cycle in Newton (a reverse
+        # yield that comes and goes, seen at 250 P_Y, E/sigma_Y 5000): cut it, every piece a row.
+        try:
+            state = advance(solver, state, "displacement", alpha_res, plan.min_step_fraction, record_unloading)
+        except StepNotConverged as exc:
+            raise StepNotConverged(f"separation step of path {name} at alpha = {alpha_res:g}: "
+                                   f"{result.message}; cut: {exc}") from None
+    return UnloadingRun(rows, alpha_res, state, solver.factorization_count - factorizations_before)
+
+
 def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
-                   progress: Callable[[str], None] | None = None, unload: bool = True) -> LoadPathResults:
+                   progress: Callable[[str], None] | None = None, unload: bool = True,
+                   offload: Callable[[float, ContactState], Callable[[], UnloadingRun | None]] | None = None
+                   ) -> LoadPathResults:
     """Run the shared loading branch once, then (``unload``) each path's unloading from its peak;
-    without unloading the result has the loading rows and no paths."""
+    without unloading the result has the loading rows and no paths. ``offload(peak, peak_state)``
+    (optional) offers the top path's unloading to another process holding the same solver: it
+    returns ``take()``, which waits for that process's UnloadingRun, or gives None when the
+    process has not started it, and this one computes it (the rows are the same either way)."""
     t_start = time.perf_counter()
     factorizations_before = solver.factorization_count
     say = progress or (lambda message: None)
     quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)  # (E, Q) each [m]
-
-    def row(result: StepResult, path: str, branch: str) -> dict:
-        return {"path": path, "branch": branch, **result.record.as_dict(),
-                **plastic_zone(result.state, quadrature_r, quadrature_z)}
-
     loading_rows: list[dict] = []
     peak_states: dict[float, ContactState] = {}
     state = solver.initial_state()
@@ -253,7 +299,8 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
     last_result: list[StepResult] = []
 
     def record_loading(result, before):
-        loading_rows.append(row(result, "loading", "loading"))
+        loading_rows.append({"path": "loading", "branch": "loading", **result.record.as_dict(),
+                             **plastic_zone(result.state, quadrature_r, quadrature_z)})
         last_result[:] = [result]
 
     targets = plan.loading_targets()
@@ -265,49 +312,39 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
                 peak_states[peak] = state
                 pressure_profiles[peak] = (last_result[0].pressure_r, last_result[0].pressure)
 
-    paths = []
-    for peak in plan.peaks if unload else ():
-        peak_state = peak_states[peak]
-        name = f"P_max={peak:g}"
-        unloading_rows: list[dict] = []
-
-        def record_unloading(result, before):
-            unloading_rows.append(row(result, name, "unloading"))
-
-        state = peak_state
-        for target in plan.unloading_targets(peak):
-            state = advance(solver, state, "force", target, plan.min_step_fraction, record_unloading)
-        alpha_res = separation_approach([r["alpha"] for r in unloading_rows[-2:]],
-                                        [r["P"] for r in unloading_rows[-2:]])
-        result = solver.solve_displacement(state, alpha_res)
-        if not result.converged:  # only then: a converging separation step stays bit-identical
-            result = solver.rescue_step(state, "displacement", alpha_res)
-        if result.converged:
-            record_unloading(result, state)
-            state = solver.commit(result)
+    peaks = list(plan.peaks) if unload else []
+    offered = {}
+    if offload is not None and len(peaks) > 1:
+        offered[peaks[-1]] = offload(peaks[-1], peak_states[peaks[-1]])
+    unloadings = {}
+    offloaded_factorizations = 0
+    for peak in peaks:
+        run = offered[peak]() if peak in offered else None
+        if run is None:
+            run = unloading_path(solver, plan, peak, peak_states[peak])
         else:
-            # One step from the last unloading load to separation can cycle in Newton (a reverse
-            # yield that comes and goes, seen at 250 P_Y, E/sigma_Y 5000): cut it, every piece a row.
-            try:
-                state = advance(solver, state, "displacement", alpha_res, plan.min_step_fraction, record_unloading)
-            except StepNotConverged as exc:
-                raise StepNotConverged(f"separation step of path {name} at alpha = {alpha_res:g}: "
-                                       f"{result.message}; cut: {exc}") from None
-        say(f"unloading {name}: residual alpha = {alpha_res:.4g} m")
+            offloaded_factorizations += run.factorizations
+        unloadings[peak] = run
+        say(f"unloading P_max={peak:g}: residual alpha = {run.alpha_residual:.4g} m")
 
+    paths = []
+    for peak in peaks:
+        peak_state, run = peak_states[peak], unloadings[peak]
+        name = f"P_max={peak:g}"
         loading_part = loading_rows[:loading_count_to_peak([r["P"] for r in loading_rows], peak)]
         path_loading = [{**r, "path": name} for r in loading_part]
         a_load = np.array([0.0] + [r["alpha"] for r in loading_part])
         p_load = np.array([0.0] + [r["P"] for r in loading_part])
-        a_unload = np.array([peak_state.alpha] + [r["alpha"] for r in unloading_rows])
-        p_unload = np.array([peak_state.force] + [max(r["P"], 0.0) for r in unloading_rows])
+        a_unload = np.array([peak_state.alpha] + [r["alpha"] for r in run.rows])
+        p_unload = np.array([peak_state.force] + [max(r["P"], 0.0) for r in run.rows])
         w_load, w_unload = contact_work(a_load, p_load), contact_work(a_unload, p_unload)
-        paths.append(PathResult(peak=peak, rows=path_loading + unloading_rows,
-                                alpha_max=peak_state.alpha, alpha_residual=alpha_res,
+        paths.append(PathResult(peak=peak, rows=path_loading + run.rows,
+                                alpha_max=peak_state.alpha, alpha_residual=run.alpha_residual,
                                 restitution=float(np.sqrt(w_unload / w_load)),
                                 loading_work=w_load, unloading_work=w_unload,
                                 peak_state=peak_state))
+        state = run.final_state
     return LoadPathResults(loading_rows=loading_rows, paths=paths,
                            wall_time_s=time.perf_counter() - t_start,
-                           factorizations=solver.factorization_count - factorizations_before,
+                           factorizations=solver.factorization_count - factorizations_before + offloaded_factorizations,
                            final_state=state, pressure_profiles=pressure_profiles)

@@ -33,7 +33,7 @@ from threadpoolctl import threadpool_limits
 
 from calib.fe import ContactSolver
 from calib.fe.elastic import ElasticMaterial
-from calib.fe.loadpath import LoadPathResults, run_load_paths
+from calib.fe.loadpath import LoadPathResults, run_load_paths, unloading_path
 from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
 from calib.fit import extrapolation
 from calib.fit.extrapolation import Estimate
@@ -292,9 +292,14 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
         for one in (spec, coarse):      # gmsh is a process-wide singleton: every mesh is built
             _body_meshes(one)           # here, the other process only reads the cache
         say(f"second mesh: contact element {coarse.mesh.contact_size:.3g} m (Richardson extrapolation)")
-        with in_background(mesh_figures_of, {"spec": coarse, "unload": unload}, parallel) as coarse_figures:
-            result = calibrate_mesh(spec, say, unload)
-            result.mesh_pair = coarse_figures()
+        with in_background(mesh_figures_of, {"spec": coarse, "unload": unload}, parallel) as background:
+            # the second mesh's process, once done, takes the top path's unloading of this mesh
+            # if it gets to it first (the meshes' work is unequal: the finer one sets the wall time)
+            def offload(peak, peak_state):
+                return background.offer(unloading_of, {"spec": spec, "peak": peak, "peak_state": peak_state})
+
+            result = calibrate_mesh(spec, say, unload, offload)
+            result.mesh_pair = background()
         estimates = result.constants("radius")
         extrapolation.warn_if_not_asymptotic(estimates, (spec.mesh.contact_size, coarse.mesh.contact_size))
     result.shipped = ship
@@ -312,13 +317,24 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
     return result
 
 
-def calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool) -> CalibrationResult:
+def calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool,
+                   offload=None) -> CalibrationResult:
     """Steps 1-3 of the module docstring on the mesh of ``spec``: FE load paths, the radius fit and
-    (``unload``) the force fit; no model comparison, no second mesh."""
+    (``unload``) the force fit; no model comparison, no second mesh. ``offload``: as
+    calib.fe.loadpath.run_load_paths takes it (a path's unloading offered to another process)."""
     # one BLAS thread: the FE's matrices are small (4x4, 12x12 per point), threads only contend,
     # most of all with the second mesh's process (measured: 1.5x the wall time, 2.3x the CPU)
     with threadpool_limits(limits=1, user_api="blas"):
-        return _calibrate_mesh(spec, say, unload)
+        return _calibrate_mesh(spec, say, unload, offload)
+
+
+def unloading_of(task: dict):
+    """One path's unloading (calib.fe.loadpath.unloading_path) of the FE of ``task["spec"]`` from
+    ``task["peak_state"]``, on this process: a task offered to the second mesh's process (module
+    level: it runs there), with the same solver as the calibration's own, so the same rows."""
+    spec = task["spec"]
+    with threadpool_limits(limits=1, user_api="blas"):
+        return unloading_path(_solver(spec, _body_meshes(spec)), spec.plan, task["peak"], task["peak_state"])
 
 
 def _body_meshes(spec: CalibrationSpec):
@@ -331,24 +347,34 @@ def _body_meshes(spec: CalibrationSpec):
     return pair_mesh(spec.mesh, spec.counter.mesh_spec(spec.mesh))
 
 
-def _solver_and_first_yield(spec: CalibrationSpec, mesh):
-    """(the FE solver of ``spec`` on ``mesh``, the FE's first-yield load [N]): the rigid flat's, or
-    the two-body FE's (calib.fe.two_body) with first yield in whichever body yields first."""
+def _solver(spec: CalibrationSpec, mesh):
+    """The FE solver of ``spec`` on ``mesh``: the rigid flat's, or the two-body FE's (calib.fe.two_body)."""
     material = spec.material
     sphere = VonMisesMaterial(material.E, material.nu, material.sigma_y)
     options = {"residual_tolerance": spec.residual_tolerance, "contact_radius_method": spec.contact_radius_method}
     if spec.counter is None:
-        return ContactSolver(mesh, sphere, **options), first_yield_load(mesh, material)
-    from calib.fe.two_body import TwoBodySolver, first_yield_loads
+        return ContactSolver(mesh, sphere, **options)
+    from calib.fe.two_body import TwoBodySolver
+
+    return TwoBodySolver(mesh, sphere, spec.counter.fe_material(), **options)
+
+
+def _solver_and_first_yield(spec: CalibrationSpec, mesh):
+    """(the FE solver of ``spec`` on ``mesh``, the FE's first-yield load [N]): the rigid flat's, or
+    the two-body FE's with first yield in whichever body yields first."""
+    material = spec.material
+    solver = _solver(spec, mesh)
+    if spec.counter is None:
+        return solver, first_yield_load(mesh, material)
+    from calib.fe.two_body import first_yield_loads
 
     counter = spec.counter
-    solver = TwoBodySolver(mesh, sphere, counter.fe_material(), **options)
     loads = first_yield_loads(mesh, ElasticMaterial(material.E, material.nu), ElasticMaterial(counter.E, counter.nu),
                               (material.sigma_y, counter.sigma_y), spec.pair.P_Y, solver=solver)
     return solver, min(x for x in loads if x is not None)
 
 
-def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool) -> CalibrationResult:
+def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool, offload=None) -> CalibrationResult:
     t0 = time.perf_counter()
     hemisphere = _body_meshes(spec)
     t_mesh = time.perf_counter() - t0
@@ -358,7 +384,7 @@ def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: b
     solver, P_Y_fe = _solver_and_first_yield(spec, hemisphere)
     t_yield = time.perf_counter() - t1
     say(f"first yield: P_Y(FE) = {P_Y_fe:.4g} N, theory {pair.P_Y:.4g} N")
-    paths = run_load_paths(solver, spec.plan, progress=say, unload=unload)
+    paths = run_load_paths(solver, spec.plan, progress=say, unload=unload, offload=offload)
 
     loading = paths.loading_rows
     data = radius_law_data([r["P"] for r in loading], [r["alpha"] for r in loading],

@@ -94,21 +94,87 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
         pool.join()
 
 
+OFFER_SLOTS = 8                  # tasks one background process can be offered besides its first
+_CLAIMS = None                   # the worker's view of who took each offered task (see Background)
+
+
+class Background:
+    """The other process of ``in_background``: ``background()`` waits for its first task's result;
+    ``offer(function, task)`` queues more work behind it, to be taken by whichever process gets to
+    it first (work stealing), so neither core idles while the other has work."""
+
+    def __init__(self, pool, first, claims):
+        self._pool, self._first, self._claims, self._offered = pool, first, claims, 0
+
+    def __call__(self):
+        return self._first.get()
+
+    def offer(self, function: Callable[[dict], object], task: dict) -> Callable[[], object | None]:
+        """``function(task)`` on the other process once its earlier tasks are done. Returns
+        ``take()``: that result (waiting for it) when the other process has started the task,
+        else None, the task then being this process's to compute (the other process skips it)."""
+        if self._offered >= OFFER_SLOTS:
+            return lambda: None
+        slot, self._offered = self._offered, self._offered + 1
+        pending = self._pool.apply_async(_claimed, (slot, function, task))
+
+        def take():
+            with self._claims.get_lock():
+                if self._claims[slot] == 0:
+                    self._claims[slot] = 1          # this process's: the worker will skip it
+                    return None
+            return pending.get()
+
+        return take
+
+
+class _InProcess:
+    """``in_background`` without another process: the first task runs when its result is asked
+    for; offered tasks are left to the caller."""
+
+    def __init__(self, function, task):
+        self._function, self._task = function, task
+
+    def __call__(self):
+        return self._function(self._task)
+
+    @staticmethod
+    def offer(function, task):
+        return lambda: None
+
+
+def _claimed(slot: int, function, task):
+    """An offered task on the worker: computed only if the caller has not taken it back."""
+    with _CLAIMS.get_lock():
+        if _CLAIMS[slot] != 0:
+            return None
+        _CLAIMS[slot] = 2
+    return function(task)
+
+
+def _background_worker(parent_pid: int, claims) -> None:
+    global _CLAIMS
+    _CLAIMS = claims
+    die_with_parent(parent_pid)
+
+
 @contextlib.contextmanager
 def in_background(function: Callable[[dict], object], task: dict, parallel: bool = True):
-    """``function(task)`` on another local process while the caller works on: yields a callable
-    that returns its result (waiting for it). Runs in this process, when the result is asked
-    for, if ``parallel`` is False, the machine has one core, or this is already a worker process
-    (a sweep's workers are daemons, which may not start processes). The process is spawned and
-    ends with the caller (finished, interrupted or killed), like the sweep's workers."""
+    """``function(task)`` on another local process while the caller works on: yields a Background
+    (call it for the result, waiting for it; ``offer`` more tasks to the same process). Runs in this
+    process, when the result is asked for, if ``parallel`` is False, the machine has one core, or
+    this is already a worker process (a sweep's workers are daemons, which may not start
+    processes). The process is spawned and ends with the caller (finished, interrupted or killed),
+    like the sweep's workers."""
     if not parallel or (os.cpu_count() or 1) < 2 or multiprocessing.current_process().daemon:
-        yield lambda: function(task)
+        yield _InProcess(function, task)
         return
-    pool = multiprocessing.get_context("spawn").Pool(1, initializer=die_with_parent, initargs=(os.getpid(),))
+    context = multiprocessing.get_context("spawn")
+    claims = context.Array("b", OFFER_SLOTS)
+    pool = context.Pool(1, initializer=_background_worker, initargs=(os.getpid(), claims))
     try:
         with terminate_as_interrupt():
-            pending = pool.apply_async(function, (task,))
-            yield pending.get
+            yield Background(pool, pool.apply_async(function, (task,)), claims)
         pool.close()
     except BaseException:
         pool.terminate()
