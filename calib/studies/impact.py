@@ -205,7 +205,7 @@ def check_resolution(setup: ImpactSetup, velocities) -> None:
     v_min = velocity_for_radius(setup, need, slowest)
     where = (f"spans {a / setup.contact_size:.2g} elements of --contact-size {setup.contact_size:g} m; the FE needs "
              f">= {MIN_ELEMENTS_PER_CONTACT_RADIUS:g}: need v_in >= {v_min:.4g} m/s on this mesh, or --contact-size <= "
-             f"{a / MIN_ELEMENTS_PER_CONTACT_RADIUS:.3g} m" if setup.contact_size is not None else
+             f"{a / MIN_ELEMENTS_PER_CONTACT_RADIUS * (1.0 - 1e-3):.3g} m" if setup.contact_size is not None else
              f"needs a contact element below {MIN_CONTACT_SIZE_OVER_RADIUS:g} R, finer than a mesh of the sphere "
              f"can hold: need v_in >= {v_min:.4g} m/s ({v_min / setup.pair.v_Y:.4g} v_Y) for this material and R")
     raise ValueError(f"--v-in out of range: the contact of the impact at {slowest:g} m/s (radius about {a:.3g} m) "
