@@ -13,7 +13,7 @@ import pytest
 
 from calib.cli import main
 from calib.studies import impact
-from nfdmodel import Material, VZParams, load_parameters, parameter_record, reference_case
+from nfdmodel import ContactPair, Material, VZParams, load_parameters, parameter_record, reference_case
 from nfdmodel.hertz_contact import hertz_impact_force, hertz_impact_time
 
 RESULTS = Path(__file__).resolve().parent.parent / "results"
@@ -152,9 +152,8 @@ def test_a_law_file_of_another_material_is_refused(flag, write, differs, tmp_pat
 def test_a_counter_body_file_is_refused(tmp_path, monkeypatch, capsys):
     """A law calibrated against a counter-body is another contact's than the rigid flat's."""
     monkeypatch.chdir(tmp_path)
-    record = json.loads(vz_file(tmp_path / "own.json", REFERENCE, 0.1).read_text())
     counter = {"shape": "flat", "E": 2.1e11, "nu": 0.28, "sigma_y": None, "R": None}
-    pair = VZParams.reference().pair.__class__.sphere_counter(REFERENCE, 0.1, 2.1e11, 0.28, None, None)
+    pair = ContactPair.sphere_counter(REFERENCE, 0.1, 2.1e11, 0.28, None, None)
     ref = VZParams.reference()
     record = parameter_record(VZParams(pair, ref.Ca, ref.Kc, ref.window), 0.1, REFERENCE, counter)
     (tmp_path / "pair.json").write_text(json.dumps(record))
