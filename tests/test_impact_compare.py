@@ -118,7 +118,7 @@ def test_impact_reads_no_results_tree_unless_named(tmp_path, monkeypatch, capsys
     setup = impact.reference_setup()
     params, source = impact.law_parameters(setup)
     assert "results" not in source and "master table" in source
-    assert impact.table_parameters() is None and impact.mdr_table(setup) is None
+    assert impact.table_parameters(setup) is None and impact.mdr_table(setup) is None
     assert "mdr" not in impact.law_predictions(setup, 0.04, params)
     assert main(["impact", "--v-in", "0.04", "--dry-run", "--json"]) == 0
     planned = json.loads(capsys.readouterr().out)

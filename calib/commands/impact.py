@@ -138,6 +138,8 @@ def options(ns):
                        ("--lammps-restitution", ns.lammps_restitution)):
         if path is not None and not os.path.isfile(path):
             raise ValueError(f"{flag} {path}: no such file")
+    impact.law_parameters(setup, ns.params)      # refused before any work: another law's or material's file
+    impact.table_parameters(setup, ns.table_params)
     if ns.lammps_restitution is not None:     # refused before any work: another sphere, a file without its columns
         try:
             impact.mdr_table(setup, ns.lammps_restitution)

@@ -19,11 +19,21 @@ alpha_max and the dent at 24 v_Y), below the trapezoidal rule's second order on 
 the contact's onset and release at each node fall inside steps. The energy fractions ship as they
 are (their balance residual says how well they close).
 
-Mesh: the hemisphere recipe's mesh for the impact's largest contact radius (calib.fit.recipe:
-the reference mesh family for the reference sphere while it covers the contact), estimated from
-the vz law's P_max at v_in with the master table's constants (calib.fit.impact_window), the same
-sizes on the whole sphere (meshes.sphere). The FE vouches for P <= 1000 P_Y and a contact radius
-<= 0.2 R (calib.fit.recipe): a faster impact is refused before meshing, naming the largest v_in.
+Mesh: one per velocity, the hemisphere recipe's mesh for that impact's largest contact radius
+a_max (calib.fit.recipe.mesh_for, as the press sizes its mesh: the level's contact element
+a_max / 37 by default), estimated from Hertz's P_max below first yield and from the vz law's at v_in
+with the master table's constants above it (calib.fit.impact_window), the same sizes on the whole
+sphere (meshes.sphere). The reference E, nu, R keep the reference mesh family (4e-5 m at the
+contact) while a_max spans at least REFERENCE_ELEMENTS_PER_CONTACT_RADIUS = 6 of its elements (the
+reference study's slowest impact, 0.5 v_Y, spans 6.2: P_max and contact time within 0.1 % of
+Hertz's); a slower one gets the recipe's mesh. The FE vouches for P <= 1000 P_Y and a contact
+radius <= 0.2 R (calib.fit.recipe): a faster impact is refused before meshing, naming the largest
+v_in; so is a slower one whose contact the mesh cannot resolve, naming the smallest v_in: the
+recipe's contact element below 1e-6 R (meshes.hemisphere), or, with a given contact_size, fewer
+than MIN_ELEMENTS_PER_CONTACT_RADIUS = 1.5 elements across a_max. Measured on the reference
+family's zone, elastic, against Hertz's P_max: 2 elements and more within 1.2 % (except 1.9 % at
+1.7), 1.3 elements 4.2 % low, 0.67 elements 8.7 % high, 0.17 elements 19 % short, 0.03 elements
+(a 1 um contact on 40 um elements) 2.6x.
 
 Energy balance. Its residual (calib.fe.impact) is the time discretisation's: the trapezoidal
 internal work against the return mapping's energy in the steps that yield (internal_work_error),
@@ -71,7 +81,7 @@ from calib.fe.newmark import ImpactSolver
 from calib.fe.von_mises import VonMisesMaterial
 from calib.fit import impact_window, recipe
 from calib.sweep.runner import run_sweep
-from meshes.hemisphere import hemisphere_mesh
+from meshes.hemisphere import MIN_CONTACT_SIZE_OVER_RADIUS, hemisphere_mesh
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import (ContactPair, Material, RangeWarning, collision_reference, load_parameters,
@@ -87,6 +97,11 @@ VARIANTS = ("fine", "coarse mesh", "coarse dt")
 COMPARED = ("e", "P_max", "contact_time", "alpha_max", "dent")
 HISTORY_POINTS = 400              # at most this many history samples per case file
 SECONDS_PER_STEP_AT_13K_DOFS = 0.2     # an elastoplastic time step (tests/benchmarks/bench_impact.py: 18.5 s, 93 steps)
+# Contact elements across the impact's contact radius (module docstring, Mesh): the reference mesh
+# family's while it gives this many (the reference study's slowest impact spans 6.2), and the fewest
+# a given contact_size may give (below, P_max is off by 4 % and more, beyond its error estimate).
+REFERENCE_ELEMENTS_PER_CONTACT_RADIUS = 6.0
+MIN_ELEMENTS_PER_CONTACT_RADIUS = 1.5
 
 
 @dataclasses.dataclass(frozen=True)
@@ -135,7 +150,7 @@ def largest_load(setup: ImpactSetup) -> float:
 
 def check_reach(setup: ImpactSetup, velocities) -> None:
     """ValueError before any FE when an impact goes beyond what the FE vouches for (``largest_load``),
-    naming the largest v_in it can."""
+    naming the largest v_in it can, or makes a contact its mesh cannot resolve (``check_resolution``)."""
     pair = setup.pair
     reach = largest_load(setup)
     for v in velocities:
@@ -149,13 +164,60 @@ def check_reach(setup: ImpactSetup, velocities) -> None:
                              f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= "
                              f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {v_reach:.4g} m/s "
                              f"({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
+    check_resolution(setup, velocities)
+
+
+def contact_radius(setup: ImpactSetup, v_in: float) -> float:
+    """The largest contact radius [m] the impact at v_in [m/s] is expected to reach (sizes its mesh):
+    calib.fit.recipe.estimated_contact_radius at ``estimated_force``."""
+    return recipe.estimated_contact_radius(setup.pair, estimated_force(setup, v_in))
+
+
+def velocity_for_radius(setup: ImpactSetup, radius: float, start: float) -> float:
+    """The smallest v_in [m/s] whose ``contact_radius`` reaches ``radius`` [m] (it grows with v_in),
+    from ``start`` [m/s], a velocity below it; by bisection in log v_in."""
+    low, high = start, 2.0 * start
+    while contact_radius(setup, high) < radius:
+        low, high = high, 2.0 * high
+    for _ in range(60):
+        middle = math.sqrt(low * high)
+        low, high = (middle, high) if contact_radius(setup, middle) < radius else (low, middle)
+    return high * (1.0 + 1e-3)          # printed to 4 digits, still reaching the radius
+
+
+def smallest_resolved_radius(setup: ImpactSetup) -> float:
+    """The smallest contact radius [m] the impact's mesh resolves: MIN_ELEMENTS_PER_CONTACT_RADIUS
+    elements of the given contact_size, else the recipe's contact element no finer than 1e-6 R."""
+    if setup.contact_size is not None:
+        return MIN_ELEMENTS_PER_CONTACT_RADIUS * setup.contact_size
+    return MIN_CONTACT_SIZE_OVER_RADIUS * setup.radius / recipe.MESH_LEVELS[setup.level or "default"]
+
+
+def check_resolution(setup: ImpactSetup, velocities) -> None:
+    """ValueError before any FE when an impact's contact is too small for its mesh (module docstring,
+    Mesh), naming the smallest v_in the mesh resolves and, with a given contact_size, the one that
+    would do."""
+    need = smallest_resolved_radius(setup)
+    slowest = min(velocities, default=None)
+    if slowest is None or contact_radius(setup, slowest) >= need:
+        return
+    a = contact_radius(setup, slowest)
+    v_min = velocity_for_radius(setup, need, slowest)
+    where = (f"spans {a / setup.contact_size:.2g} elements of --contact-size {setup.contact_size:g} m; the FE needs "
+             f">= {MIN_ELEMENTS_PER_CONTACT_RADIUS:g}: need v_in >= {v_min:.4g} m/s on this mesh, or --contact-size <= "
+             f"{a / MIN_ELEMENTS_PER_CONTACT_RADIUS * (1.0 - 1e-3):.3g} m" if setup.contact_size is not None else
+             f"needs a contact element below {MIN_CONTACT_SIZE_OVER_RADIUS:g} R, finer than a mesh of the sphere "
+             f"can hold: need v_in >= {v_min:.4g} m/s ({v_min / setup.pair.v_Y:.4g} v_Y) for this material and R")
+    raise ValueError(f"--v-in out of range: the contact of the impact at {slowest:g} m/s (radius about {a:.3g} m) "
+                     + where)
 
 
 def impact_mesh(setup: ImpactSetup, v_in: float) -> SphereMeshSpec:
-    """The sphere mesh of the impact at v_in [m/s] (module docstring)."""
-    pair = setup.pair
-    a_max = recipe.estimated_contact_radius(pair, estimated_force(setup, v_in))
-    reference = recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius)
+    """The sphere mesh of the impact at v_in [m/s] (module docstring, Mesh)."""
+    a_max = contact_radius(setup, v_in)
+    resolved = (setup.contact_size is not None or a_max >= REFERENCE_ELEMENTS_PER_CONTACT_RADIUS
+                * recipe.REFERENCE_CONTACT_SIZES[setup.level or "default"])
+    reference = resolved and recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius)
     hemisphere = recipe.mesh_for(setup.radius, a_max, reference=reference, level=setup.level,
                                  contact_size=setup.contact_size)
     return SphereMeshSpec.from_hemisphere(hemisphere)
@@ -251,18 +313,63 @@ def run_impacts(setup: ImpactSetup, velocities, cases: Path, *, workers: int = 1
 def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
     """(vz parameters, their source): the two constants of the file given (a calibration's
     parameter file, whichever law it ships: calib.report.parameter_file.two_constant_law), else the
-    master table's (the paper's outside it)."""
+    master table's (the paper's outside it). A ValueError naming --params for a file that gives
+    no two constants or states another material than the impact's (``check_material``)."""
     if params_file is not None:
         from calib.report.parameter_file import two_constant_law
 
-        return two_constant_law(params_file), output.display_path(params_file)
+        try:
+            params = two_constant_law(params_file)
+        except (ValueError, KeyError, TypeError, OSError) as exc:   # calibration.json beside it: a bad one too
+            hint = ("; or give it as --table-params (its vz-table law)"
+                    if "not the vz law" in str(exc) else "")
+            raise ValueError(f"--params {_named(exc, params_file)}{hint}") from None
+        check_material(setup, params_file, "--params")
+        return params, output.display_path(params_file)
     params, source = impact_window.estimating_constants(setup.material, setup.radius)
     return params, source
 
 
-def table_parameters(table_file=None):
-    """The vz-table law's parameters from the file given, else None."""
-    return None if table_file is None else load_parameters(table_file)
+def table_parameters(setup: ImpactSetup, table_file=None):
+    """The vz-table law's parameters from the file given, else None; a ValueError naming
+    --table-params for a file of another law or material (``check_material``)."""
+    if table_file is None:
+        return None
+    from nfdmodel import VZTableParams
+
+    try:
+        table = load_parameters(table_file)
+    except (ValueError, OSError) as exc:
+        raise ValueError(f"--table-params {_named(exc, table_file)}") from None
+    if not isinstance(table, VZTableParams):
+        raise ValueError(f"--table-params {table_file}: holds the vz law, not the vz-table law: give it as --params")
+    check_material(setup, table_file, "--table-params")
+    return table
+
+
+def _named(exc: Exception, path) -> str:
+    """The error's message, starting with the file it is about."""
+    text = str(exc).strip("'\"")
+    return text if str(path) in text else f"{path}: {text}"
+
+
+def check_material(setup: ImpactSetup, path, flag: str) -> None:
+    """ValueError naming ``flag`` and both materials when the parameter file at ``path`` (already
+    read by nfdmodel.load_parameters) states another sphere than the impact's (E, nu, sigma_y, rho,
+    R of its "material", nfdmodel/parameter_file.py; relative 1e-6) or a counter-body: its law is
+    another contact's (rho too: the law's impact is of the file's mass)."""
+    import json
+
+    data = json.loads(Path(path).read_text(encoding="utf-8"))
+    stated = data["material"]
+    material = setup.material
+    ours = {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y, "rho": material.rho, "R": setup.radius}
+    differ = [key for key, value in ours.items() if not math.isclose(stated[key], value, rel_tol=1e-6)]
+    if differ or data.get("counter_body") is not None:
+        words = lambda m: ", ".join(f"{key} = {m[key]:g}" for key in ours)  # noqa: E731
+        against = " against a counter-body" if data.get("counter_body") is not None else ""
+        raise ValueError(f"{flag} {path}: the file's law is of {words(stated)}{against}; this impact's sphere has "
+                         f"{words(ours)} on a rigid flat (SI units): give the file of this material, or its flags")
 
 
 def mdr_table(setup: ImpactSetup, mdr_file=None) -> tuple[np.ndarray, np.ndarray] | None:
@@ -466,7 +573,7 @@ def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progre
 
     started = time.perf_counter()
     params, source = law_parameters(setup, params_file)      # a bad file is refused before any FE
-    table, mdr = table_parameters(table_file), mdr_table(setup, mdr_file)
+    table, mdr = table_parameters(setup, table_file), mdr_table(setup, mdr_file)
     out = Path(out)
     rows, counts = run_impacts(setup, velocities, out / "cases", workers=workers, progress=progress, variants=variants)
     static, static_counts = (run_quasi_static(setup, rows, out / "quasi_static_cases", workers=workers,
