@@ -78,8 +78,8 @@ def main(argv: list[str] | None = None) -> int:
 
     warnings.showwarning = one_line_warning   # a warning is one line too, never file:line noise
     try:
-        check_plot_name(ns)
         refuse_output_over_input(ns)
+        check_plot_name(ns)
         return int(ns.run(ns) or 0)
     except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file
         print(f"nfdcal {ns.command}: error: {name_the_output_flag(ns, str(exc))}", file=sys.stderr)

@@ -71,7 +71,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--pair", action="store_true",
                         help="the tests are head-on impacts (or presses) of two identical spheres, v_in their "
                              "relative speed (default: a sphere on a massive rigid flat)")
-    parser.add_argument("--table", default=None,
+    parser.add_argument("--table", default=None, metavar="CSV",
                         help="with --law vz: the two-constant master table CSV (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (nfdmodel.load_parameters, nfdcal collide --params)")

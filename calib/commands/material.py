@@ -30,7 +30,7 @@ def add_parser(subparsers) -> None:
                                         "table; no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
-    parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
+    parser.add_argument("--table", default=None, metavar="CSV", help="master table CSV (default: the shipped one)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="the vz-table law for impacts up to V [m/s] from the vz master table (no FE)")
     parser.add_argument("--vz-table", default=None, metavar="CSV",
