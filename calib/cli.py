@@ -13,12 +13,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import os
 import re
 import sys
-from pathlib import Path
 import warnings
 
+from calib.commands.targets import OUTPUT_FLAGS, check_plot_name, flag, refuse_output_over_input
 from calib.optional import MissingOptionalPart
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
@@ -59,42 +58,14 @@ def build_parser() -> _Parser:
     return parser
 
 
-OUTPUT_FLAGS = ("out", "params_out", "master_out", "plot")   # the flags that name where results go
-
-
 def name_the_output_flag(ns, message: str) -> str:
     """``message`` led by the output flag whose path it names ('--out results/x: cannot write
     results/x/...'), so an error about a written file says which flag to change."""
     for dest in OUTPUT_FLAGS:
         value = getattr(ns, dest, None)
-        if value and str(value) in message:
-            return f"--{dest.replace('_', '-')} {value}: {message}"
+        if value and str(value) in message and not message.startswith(flag(dest)):
+            return f"{flag(dest)} {value}: {message}"
     return message
-
-
-INPUT_FLAGS = ("params", "impacts", "force_approach", "table", "scene")   # the flags that name files read
-
-
-def _flag(dest: str) -> str:
-    return dest if dest == "scene" else f"--{dest.replace('_', '-')}"
-
-
-def _same_file(first: str, second: str) -> bool:
-    if os.path.exists(first) and os.path.exists(second):
-        return os.path.samefile(first, second)          # also through links
-    return Path(first).resolve() == Path(second).resolve()
-
-
-def refuse_output_over_input(ns) -> None:
-    """ValueError when an output path names one of the command's input files: an input is never
-    overwritten, not even with --overwrite."""
-    for out_dest in OUTPUT_FLAGS:
-        written = getattr(ns, out_dest, None)
-        for in_dest in INPUT_FLAGS:
-            read = getattr(ns, in_dest, None)
-            if isinstance(written, str) and isinstance(read, str) and written and read and _same_file(written, read):
-                raise ValueError(f"{_flag(out_dest)} {written} out of range: it is the input {_flag(in_dest)} {read}; "
-                                 f"give another path (an input file is never overwritten)")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -108,6 +79,7 @@ def main(argv: list[str] | None = None) -> int:
     warnings.showwarning = one_line_warning   # a warning is one line too, never file:line noise
     try:
         refuse_output_over_input(ns)
+        check_plot_name(ns)
         return int(ns.run(ns) or 0)
     except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file
         print(f"nfdcal {ns.command}: error: {name_the_output_flag(ns, str(exc))}", file=sys.stderr)

@@ -226,7 +226,8 @@ COUNTER_FLAGS = ("--counter-E", "--counter-nu", "--counter-sigma-y", "--counter-
 COMMANDS = {
     "collide": {"--law": 1, "--v-in": "+", "--dt": 1, "--Ca": 1, "--Kc": 1, "--K1": 1, "--K2": 1,
                 "--params": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
-    "material": {"--table": 1, "--params-out": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+    "material": {"--table": 1, "--vz-table": 1, "--v-max": 1, "--params-out": 1, "--overwrite": 0, "--json": 0,
+                 **{f: 1 for f in MATERIAL_FLAGS}},
     "calibrate": {"--peaks": "+", "--v-max": 1, "--contact-size": 1, "--ship": 1, "--out": 1, "--no-plots": 0, "--json": 0,
                   "--ladder": 0, "--quiet": 0, **{f: 1 for f in MATERIAL_FLAGS}},
     "hertz": {"--P-min": 1, "--P-max": 1, "--steps": 1, "--contact-size": 1, "--ladder": 0, "--out": 1,
@@ -238,9 +239,11 @@ COMMANDS = {
     "table": {"SCENE": 1, "--out": 1, "--v-max": 1, "--workers": 1, "--master-out": 1, "--accuracy": 1, "--check-master": 0,
               "--json": 0, "--quiet": 0},
     "fit-data": {"--impacts": 1, "--force-approach": 1, "--law": 1, "--noise": 1, "--free": 0, "--pair": 0, "--table": 1,
+                 "--vz-table": 1,
                  "--params-out": 1, "--plot": 1, "--overwrite": 0, "--force": 0, "--json": 0,
                  **{f: 1 for f in MATERIAL_FLAGS}},
-    "export": {"ENGINE": 1, "--params": 1, "--type": 1, "--wall": 2, "--wall-E": 1, "--wall-nu": 1, "--json": 0},
+    "export": {"ENGINE": 1, "--params": 1, "--type": 1, "--wall": 2, "--wall-E": 1, "--wall-nu": 1,
+               "--like-params-out": 1, "--overwrite": 0, "--json": 0},
     # build and path: the plugin comes from a cache seeded with one build (--force would compile each case)
     "lammps": {"ACTION": 1, "--out": 1, "--json": 0},
     "results-readme": {"--out": 1, "--check": 0, "--json": 0},
@@ -251,7 +254,8 @@ REQUIRED = {"collide": ("--v-in",), "run": ("SCENE",), "table": ("SCENE",),
 POSITIONAL = ("SCENE", "ENGINE", "ACTION")   # a command's positional argument, first after its name
 FE_COMMANDS = ("calibrate", "hertz", "impact", "run", "table")
 LAWS = ("vz", "vz-table", "thornton", "hertz", "walton-braun", "VZ", "bogus", "")
-OUTPUT_FLAGS = ("--out", "--params-out", "--master-out", "--plot")
+OUTPUT_FLAGS = ("--out", "--params-out", "--master-out", "--plot", "--like-params-out")
+INPUT_FLAGS = ("--params", "--table", "--vz-table", "--impacts", "--drops", "--force-approach")
 
 
 @dataclass
@@ -269,10 +273,10 @@ def path_value(flag: str):
     """A path for ``flag``: inside the sandbox, existing or not, a folder, or a fuzzed input."""
     if flag in OUTPUT_FLAGS:
         return st.sampled_from(("out", "out/deeper/p.json", "existing.json", "folder", "link.json",
-                                "/dev/null", "out/p.json"))
+                                "/dev/null", "out/p.json", "input.json", "impacts.csv", "scene.toml"))
     if flag == "--params":
         return st.sampled_from(("input.json",) * 6 + ("missing.json", "folder", "scene.toml"))
-    if flag == "--table":
+    if flag in ("--table", "--vz-table"):
         return st.sampled_from(("missing.csv", "folder", "input.json", "scene.toml"))
     if flag in ("--impacts", "--drops"):
         return st.sampled_from(("impacts.csv",) * 6 + ("missing.csv", "folder", "input.json", "approach.csv"))
@@ -296,7 +300,7 @@ def flag_values(flag: str, count, hostile: bool):
                          ).map(list)
     if flag in ("--accuracy",):
         return st.lists(st.text(max_size=20), min_size=1, max_size=1)
-    if flag in OUTPUT_FLAGS or flag in ("--params", "--table", "SCENE", "--impacts", "--drops", "--force-approach"):
+    if flag in OUTPUT_FLAGS or flag in INPUT_FLAGS + ("SCENE",):
         return st.lists(path_value(flag), min_size=1, max_size=1)
     if flag == "--dt":
         return st.lists(st.one_of(st.just("auto"), number_text(flag, hostile)), min_size=1, max_size=1)
@@ -389,6 +393,14 @@ def output_paths(argv: list[str], sandbox: Path) -> list[str]:
             if target.is_relative_to(sandbox.resolve()):
                 allowed.append(str(target.relative_to(sandbox.resolve())))
     return allowed
+
+
+def read_paths(argv: list[str]) -> set[str]:
+    """Sandbox-relative paths the command reads: its input flags' and a scene argument's."""
+    read = {os.path.normpath(argv[k + 1]) for k, token in enumerate(argv[:-1]) if token in INPUT_FLAGS}
+    if argv and argv[0] in ("run", "table") and len(argv) > 1 and not argv[1].startswith("-"):
+        read.add(os.path.normpath(argv[1]))
+    return read
 
 
 def judge(case: Case, sandbox: Path, code, stdout: str, stderr: str, before: dict, after: dict) -> str:
@@ -485,9 +497,9 @@ def run_case(case: Case, sandbox: Path, timeout_s: float = 60.0) -> Outcome:
         else:
             os.environ["XDG_CACHE_HOME"] = cache
     after = snapshot(sandbox)
-    written = output_paths(case.argv, sandbox)
-    for name in case.files:                    # an input file must never change (unless named as an output)
-        if before.get(name) != after.get(name) and name not in written:
+    written, read = output_paths(case.argv, sandbox), read_paths(case.argv)
+    for name in case.files:     # a file the command reads never changes; another only when named as an output
+        if before.get(name) != after.get(name) and (name not in written or name in read):
             return Outcome(f"FAIL: input {name} changed", code, stdout.getvalue(), stderr.getvalue())
     kind = judge(case, sandbox, code, stdout.getvalue(), stderr.getvalue(), before, after)
     return Outcome(kind, code, stdout.getvalue(), stderr.getvalue())

@@ -19,7 +19,8 @@ stderr when it is a terminal (silence it with --quiet).
 from __future__ import annotations
 
 from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
-                                   counter_from_args, is_reference, material_from_args, number, print_summary)
+                                   counter_folder_name, counter_from_args, is_reference, material_folder_name,
+                                   material_from_args, number, print_summary)
 from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
@@ -83,12 +84,11 @@ def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_m
     (which ``collide --report`` reads), else a name made of every option that differs from it
     (material and R, the counter-body, --peaks, --contact-size, --ship, --v-max), so that each
     folder holds one calibration."""
-    parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}"]
+    parts = [] if is_reference(ns) else [material_folder_name(material, radius)]
     if counter is not None:
-        parts.append(f"on_E{counter.E:g}_nu{counter.nu:g}_sy{'-elastic' if counter.sigma_y is None else f'{counter.sigma_y:g}'}"
-                     f"_{'flat' if counter.R is None else f'R{counter.R:g}'}")
-    if ns.peaks is not None:
-        parts.append("peaks" + "-".join(f"{p:g}" for p in peaks))
+        parts.append(counter_folder_name(counter))
+    if ns.peaks is not None:            # the set of peaks, in any order, is one calibration (recipe sorts them)
+        parts.append("peaks" + "-".join(f"{p:g}" for p in sorted(peaks)))
     if contact_size is not None:
         parts.append(f"h{contact_size:g}")
     if ship != "table":

@@ -39,6 +39,9 @@ from nfdmodel import LAWS, reference_case
 
 LAW_NAMES = tuple(LAWS)            # every registered law, in the registry's order
 DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": reference_case.CA, "Kc": reference_case.KC}   # the paper's calibration
+# the files --report writes into --out (calib.report.collision)
+REPORT_FILES = ("restitution.csv", "restitution.png", "impact_v0.04.csv", "impact_v0.04.png", "dt_convergence.csv",
+                "dt_convergence.png", "summary.json")
 
 
 def add_parser(subparsers) -> None:
@@ -70,13 +73,14 @@ def add_parser(subparsers) -> None:
                         "variant of --mu (default mindlin_rescale/force, the one for a plastic law)")
     parser.add_argument("--omega", default=None, help="oblique impacts: incoming spin [rad/s] about the axis "
                         "of rolling (default 0)")
-    parser.add_argument("--plot", default=None, metavar="FILE", help="oblique impacts: a PNG of e_t and beta "
-                        "against the incidence angle")
+    parser.add_argument("--plot", default=None, metavar="PNG", help="oblique impacts: a PNG of e_t and beta "
+                        "against the incidence angle (the name ends in .png)")
     parser.add_argument("--report", action="store_true",
                         help="regenerate the collision results (CSV, JSON, PNG) into --out, vz with the paper's"
                              " constants or those of --params FILE")
     parser.add_argument("--out", default=None, help="folder for --report (default results/collision)")
-    parser.set_defaults(run=run)
+    # calib.commands.targets: the master table read without --params, the files --report writes into --out
+    parser.set_defaults(run=run, shipped=("table",), writes_into=REPORT_FILES)
 
 
 def same_solid(material, radius: float) -> bool:
@@ -158,6 +162,9 @@ def run(ns) -> int:
         from calib.report.collision import DEFAULT_OUT, generate
 
         velocities = [number("--v-in", v, low=0.0, unit="m/s") for v in ns.v_in] if ns.v_in else None
+        from calib.commands.targets import refuse_output_over_input
+
+        refuse_output_over_input(ns, {"out": ns.out or DEFAULT_OUT})   # the default folder too
         out, source = generate(ns.out or DEFAULT_OUT, params_file=ns.params, velocities=velocities)
         print_summary(ns, {"out": str(out), "vz_parameters": source},
                       [f"collision results written to {out} (vz parameters: {source})"])

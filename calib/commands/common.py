@@ -112,6 +112,17 @@ def counter_from_args(ns, material: Material):
     return CounterBody(E, nu, sigma_y, R)
 
 
+def material_folder_name(material: Material, radius: float) -> str:
+    """The part of a default results folder's name that names a sphere other than the reference one."""
+    return f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{radius:g}"
+
+
+def counter_folder_name(counter) -> str:
+    """The part of a default results folder's name that names a counter-body (calibrate, hertz)."""
+    return (f"on_E{counter.E:g}_nu{counter.nu:g}_sy{'-elastic' if counter.sigma_y is None else f'{counter.sigma_y:g}'}"
+            f"_{'flat' if counter.R is None else f'R{counter.R:g}'}")
+
+
 def is_reference(ns) -> bool:
     """True when no material flag differs from the reference case and no counter-body is given."""
     if any(getattr(ns, key, None) is not None for key in COUNTER_HELP):

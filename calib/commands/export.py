@@ -133,7 +133,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--damping", nargs=2, default=None, metavar=("MODEL", "VALUE"),
                         help="damping viscoelastic C [1/(m s)], or tsuji|coeff_restitution E")
     add_summary_arguments(parser, progress=False)
-    parser.set_defaults(run=run)
+    parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
 
 
 def exact(value: float) -> str:

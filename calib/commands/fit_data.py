@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import math
 import time
-from pathlib import Path
 
 from calib.commands.common import MATERIAL_RANGES, add_summary_arguments, flag_name, number, print_summary
 
@@ -72,7 +71,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--pair", action="store_true",
                         help="the tests are head-on impacts (or presses) of two identical spheres, v_in their "
                              "relative speed (default: a sphere on a massive rigid flat)")
-    parser.add_argument("--table", default=None,
+    parser.add_argument("--table", default=None, metavar="CSV",
                         help="with --law vz: the two-constant master table CSV (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (nfdmodel.load_parameters, nfdcal collide --params)")
@@ -84,7 +83,7 @@ def add_parser(subparsers) -> None:
                         help="report and write a fit whose residual is far above any plausible scatter (refused "
                              "otherwise), flagged as such in the summary and the parameter file")
     add_summary_arguments(parser, progress=False)
-    parser.set_defaults(run=run)
+    parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
 
 
 def specimen_from_args(ns):
@@ -109,20 +108,11 @@ def specimen_from_args(ns):
 
 def check_outputs(ns) -> None:
     """Before any work: each output path names a regular file (or nothing yet), an existing file only
-    with --overwrite, --params-out and --plot differ, and the plot's name ends in .png (the plot is
-    a PNG, calib.output.save_figure; another extension would name a format it is not)."""
-    from calib import output
+    with --overwrite, --params-out and --plot differ (calib.commands.targets; the dispatcher has
+    refused an output over an input and a plot name not ending in .png)."""
+    from calib.commands.targets import refuse_existing
 
-    given = [p for p in (ns.params_out, ns.plot) if p]
-    if len(given) == 2 and Path(ns.params_out).resolve() == Path(ns.plot).resolve():
-        raise ValueError(f"--params-out and --plot name the same file {ns.params_out}: give two paths")
-    for path in given:
-        target = output.writable_target(path)
-        if target.exists() and not ns.overwrite:
-            raise ValueError(f"{path} exists: give --overwrite to replace it (an existing file is never "
-                             f"replaced unasked)")
-    if ns.plot and Path(ns.plot).suffix.lower() != ".png":
-        raise ValueError("--plot: the plot is a PNG image; give a file name ending in .png")
+    refuse_existing(ns, ("params_out", "plot"))
 
 
 def summary_of(choice, data, specimen, files) -> dict:

@@ -5,7 +5,8 @@ elastic counter-body: the two-body FE, Hertz with the pair's E* and R*) must rep
 a = (3 P R / (4 E*))^(1/3), approach alpha = a^2 / R and peak pressure p0 = 3 P / (2 pi a^2),
 with E* = E / (1 - nu^2) (nfdmodel/README.md, Hertz contact). Default: the reference sphere
 (R = 0.1 m, E = 70 GPa, nu = 0.3), force-controlled from 1 N to 1500 N on the default mesh;
-writes results/hertz/ (hertz.json, hertz_steps.csv, pressure_profile.csv, contact_radius.png,
+writes results/hertz/ (with a counter-body a folder of its own below it, named by the sphere and the
+counter-body as calibrate names its folder; hertz.json, hertz_steps.csv, pressure_profile.csv, contact_radius.png,
 approach.png, peak_pressure.png, pressure_profile.png). The material flags are those of every
 command (--R --E --nu; --sigma-y and --rho are accepted and unused: the run is elastic).
 ``--ladder`` runs the mesh ladder instead (mesh_ladder.csv, mesh_ladder.png). With a counter-body, one warning
@@ -18,7 +19,8 @@ peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 from __future__ import annotations
 
 from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
-                                   counter_from_args, material_from_args, number, print_summary)
+                                   counter_folder_name, counter_from_args, material_folder_name, material_from_args,
+                                   number, print_summary)
 from nfdmodel import reference_case
 
 DEFAULT_OUT = "results/hertz"
@@ -38,7 +40,8 @@ def add_parser(subparsers):
                    help="element size at the contact [m] (> 0; default mesh: 4e-5 for R = 0.1)")
     p.add_argument("--ladder", action="store_true",
                    help="run the mesh ladder (contact sizes 1.6e-4 ... 1e-5 m) instead")
-    p.add_argument("--out", default=None, help=f"output folder (default {DEFAULT_OUT})")
+    p.add_argument("--out", default=None, help=f"output folder (default {DEFAULT_OUT}; with a counter-body a folder of"
+                                               f" its own below it, named by the sphere and the counter-body)")
     p.add_argument("--dry-run", action="store_true",
                    help="print the plan (mesh, dofs, steps, estimated time, output folder) and exit")
     add_summary_arguments(p, progress=False)
@@ -68,7 +71,7 @@ def run(ns) -> int:
 
     from calib.studies.hertz import write_hertz_results, write_ladder_results
 
-    out = Path(ns.out) if ns.out else Path(DEFAULT_OUT)
+    out = Path(ns.out) if ns.out else default_out(material, radius, counter)
     if ns.dry_run:
         from calib.scenes.plan import format_stages, hertz_stage, stages_summary
         from calib.studies.hertz import LADDER_CONTACT_SIZES, hertz_spec
@@ -86,6 +89,16 @@ def run(ns) -> int:
                                       P_max=P_max, steps=ns.steps, contact_size=contact_size, counter=counter)
     print_summary(ns, summary, ladder_lines(summary, out) if ns.ladder else hertz_lines(summary, out))
     return 0
+
+
+def default_out(material, radius: float, counter) -> "Path":
+    """results/hertz, the rigid-flat validation; with a counter-body a folder of its own below it,
+    named as calibrate names it (sphere and counter-body: E<E>_nu<nu>_sy<sigma_y>_R<R>_on_E<E2>_...)."""
+    from pathlib import Path
+
+    if counter is None:
+        return Path(DEFAULT_OUT)
+    return Path(DEFAULT_OUT) / f"{material_folder_name(material, radius)}_{counter_folder_name(counter)}"
 
 
 def hertz_lines(summary: dict, out) -> list[str]:

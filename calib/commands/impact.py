@@ -43,6 +43,12 @@ import os
 
 from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
                                    counter_from_args, is_reference, material_from_args, number, print_summary)
+from calib.commands.targets import refuse_output_over_input
+
+# the files written into --out (calib.studies.impact_output, impact_drops, impact_convergence, impact_pair)
+OUT_FILES = ("impact.csv", "impact.json", "drop_tests.csv", "drops.csv", "impact.png", "histories.png",
+             "convergence.csv", "convergence.json", "convergence.png", "impact_pair.csv", "impact_pair.json")
+
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser(
@@ -84,7 +90,8 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--dry-run", action="store_true",
                         help="print the plan (velocities, meshes, runs, estimated time, output folder) and exit")
     add_summary_arguments(parser)
-    parser.set_defaults(run=run)
+    # calib.commands.targets: the master table read without --params, the files written into --out
+    parser.set_defaults(run=run, shipped=("table",), writes_into=OUT_FILES)
 
 
 def integer(flag: str, text, default: int, low: int, high: int) -> int:
@@ -231,6 +238,7 @@ def run(ns) -> int:
         return run_pair(ns, setup, velocities, workers)
     variants = ("fine",) if ns.no_error_estimate else impact.VARIANTS
     out = ns.out or default_out(ns, setup)
+    refuse_output_over_input(ns, {"out": out})        # the default folder too: no file it writes is an input
     if ns.dry_run:
         return plan(ns, setup, velocities, variants, out)
     with output.one_writer(out), progress_reporter(ns.quiet) as progress:
@@ -280,6 +288,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
     from calib.studies import impact, impact_pair
 
     out = ns.out or default_out(ns, setup)
+    refuse_output_over_input(ns, {"out": out})        # the default folder too: no file it writes is an input
     variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
     impact.check_reach(setup.sphere, velocities)
     if ns.dry_run:

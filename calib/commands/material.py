@@ -15,6 +15,9 @@ With ``--v-max V`` (spelled as ``nfdcal calibrate --v-max``): the vz-table law (
 against P/P_Y) from the vz master table (calib/data/vz_master_table.csv, calib.fit.vz_master_table),
 declared on the window its surrounding nodes measured; an impact at V beyond that window is refused
 (one line naming the largest v_in the vz master table vouches for, exit 2).
+
+``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
+exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.
 """
 from __future__ import annotations
 
@@ -27,21 +30,26 @@ def add_parser(subparsers) -> None:
                                         "table; no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
-    parser.add_argument("--table", default=None, help="master table CSV (default: the shipped one)")
+    parser.add_argument("--table", default=None, metavar="CSV", help="master table CSV (default: the shipped one)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="the vz-table law for impacts up to V [m/s] from the vz master table (no FE)")
     parser.add_argument("--vz-table", default=None, metavar="CSV",
                         help="vz master table CSV for --v-max (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
-                        help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params)")
+                        help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params); "
+                             "never one of the tables read, an existing file only with --overwrite")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing --params-out file (refused "
+                                                                 "otherwise)")
     add_summary_arguments(parser, progress=False)
-    parser.set_defaults(run=run)
+    parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
 
 
 def run(ns) -> int:
+    from calib.commands.targets import refuse_existing
     from calib.fit.master_table import MasterTable
 
     material, radius = material_from_args(ns)
+    refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:
         return run_vz_table(ns, material, radius)
     if ns.vz_table is not None:

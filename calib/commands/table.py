@@ -42,7 +42,12 @@ def add_parser(subparsers) -> None:
                         help="calibrate every material for impacts up to V [m/s] (replaces the scene's load-path"
                              " peaks: calib.fit.impact_window)")
     add_summary_arguments(parser)
-    parser.set_defaults(run=run)
+    parser.set_defaults(run=run, shipped=master_checked)    # calib.commands.targets: the tables read
+
+
+def master_checked(ns) -> tuple[str, ...]:
+    """The shipped table the command reads: the master table with --check-master (calib.commands.targets)."""
+    return ("table",) if ns.check_master else ()
 
 
 def run(ns) -> int:
