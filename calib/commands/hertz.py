@@ -18,6 +18,8 @@ peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
                                    counter_folder_name, counter_from_args, material_folder_name, material_from_args,
                                    number, print_summary)
@@ -91,11 +93,9 @@ def run(ns) -> int:
     return 0
 
 
-def default_out(material, radius: float, counter) -> "Path":
+def default_out(material, radius: float, counter) -> Path:
     """results/hertz, the rigid-flat validation; with a counter-body a folder of its own below it,
     named as calibrate names it (sphere and counter-body: E<E>_nu<nu>_sy<sigma_y>_R<R>_on_E<E2>_...)."""
-    from pathlib import Path
-
     if counter is None:
         return Path(DEFAULT_OUT)
     return Path(DEFAULT_OUT) / f"{material_folder_name(material, radius)}_{counter_folder_name(counter)}"
