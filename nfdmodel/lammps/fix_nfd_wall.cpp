@@ -46,6 +46,7 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
 FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant) :
     Fix(lmp, narg, arg), law(law), first(first_constant)
 {
+    require_si_units(lmp, who());
 }
 
 void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
@@ -149,6 +150,7 @@ int FixNfdWall::setmask() { return FixConst::POST_FORCE | FixConst::MIN_POST_FOR
 
 void FixNfdWall::init()
 {
+    require_si_units(lmp, who());
     if (!atom->radius_flag || !atom->rmass_flag)
         error->all(FLERR, fmt::format("{} needs per-atom radius and mass: use atom_style sphere", who()));
     if (std::strncmp(update->integrate_style, "respa", 5) == 0)

@@ -9,6 +9,7 @@
 #include "error.h"
 #include "json.h"
 #include "lammps.h"
+#include "update.h"
 #include "utils.h"
 
 #include <mpi.h>
@@ -22,6 +23,14 @@
 using namespace LAMMPS_NS;
 
 namespace nfdcal_lammps {
+
+void require_si_units(LAMMPS *lmp, const std::string &who)
+{
+    const char *units = lmp->update->unit_style;
+    if (units && std::strcmp(units, "si") == 0) return;
+    lmp->error->all(FLERR, fmt::format("{}: units {} is not supported: use units si (the laws' constants, their "
+                                       "ranges and formulas are SI: Pa, m, kg, s)", who, units ? units : "(none)"));
+}
 
 double positive(LAMMPS *lmp, const std::string &who, const char *text, const char *what)
 {

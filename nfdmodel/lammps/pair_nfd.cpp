@@ -24,6 +24,7 @@
 #include "pair_nfd.h"
 
 #include "fix_nfd_history.h"
+#include "nfd_input.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -80,6 +81,7 @@ PairNfd::~PairNfd()
 
 void PairNfd::settings(int narg, char ** /*arg*/)
 {
+    require_si_units(lmp, fmt::format("pair_style {}", name()));
     if (narg != 0)
         error->all(FLERR, fmt::format("pair_style {} takes no arguments (the constants go in pair_coeff)", name()));
 }
@@ -147,6 +149,7 @@ void PairNfd::calibrated_pair_coeff(const std::string &who, int narg, char **arg
 
 void PairNfd::init_style()
 {
+    require_si_units(lmp, fmt::format("pair_style {}", name()));
     if (!atom->radius_flag || !atom->rmass_flag)
         error->all(FLERR, fmt::format("pair_style {} needs per-atom radius and mass: use atom_style sphere", name()));
     if (force->newton_pair)
