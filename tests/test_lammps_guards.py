@@ -81,3 +81,40 @@ def test_a_unit_style_but_si_is_one_error_naming_it(plugin, tmp_path, law, kind,
     assert len(found) == 1, output[-1500:]
     assert f"{style}: units {units} is not supported: use units si" in found[0], found
     assert not re.search(r"^\s+0\s", output, re.M), "a step ran"
+
+
+def flat_table_file(folder: Path, sigma_y2) -> Path:
+    """A vz-table parameter file (calibrate's default law) of the reference sphere (aluminium, R = 0.1
+    m) calibrated on a flat of E 7e9 Pa, nu 0.3, yield stress sigma_y2 (None: elastic); the tables
+    of tests/test_lammps.py (the test is of the yield point, not of the FE)."""
+    from test_lammps import TABLE_NODES, TABLE_WINDOW
+
+    aluminium = nfdmodel.Material.reference()
+    counter = {"shape": "flat", "E": 7e9, "nu": 0.3, "sigma_y": sigma_y2, "R": None}
+    pair = nfdmodel.ContactPair.sphere_counter(aluminium, 0.1, 7e9, 0.3, sigma_y2)
+    path = folder / f"flat_{sigma_y2}.json"
+    path.write_text(json.dumps(nfdmodel.parameter_record(nfdmodel.VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW),
+                                                         0.1, aluminium, counter)))
+    return path
+
+
+@pytest.mark.parametrize("sigma_y2", [1e7, None])
+def test_pair_constants_of_a_flat_that_yields_first_are_refused(plugin, tmp_path, sigma_y2):
+    """fix nfd/wall/vz-table ... wall_material 7e9 0.3 pair_constants file pair.json: a file whose
+    flat yields first (P_Y 4.433 N, the flat's; the wall would take the sphere's 4433 N) is one
+    ERROR naming pair_constants and the file; an elastic flat's file runs."""
+    path = flat_table_file(tmp_path, sigma_y2)
+    from test_lammps import table_file
+
+    own = table_file(tmp_path)                            # the sphere's own tables, on a rigid flat
+    lines = box("si") + [f"plugin load {plugin}", "pair_style zero 0.001", "pair_coeff * *",
+                         f"fix w all nfd/wall/vz-table zlo 0.0 file {own} wall_material 7e9 0.3 "
+                         f"pair_constants file {path}", "fix 1 all nve/sphere", "run 0"]
+    output = run("\n".join(lines) + "\n", tmp_path)
+    if sigma_y2 is None:
+        assert not errors(output), output[-1500:]
+        return
+    found = errors(output)
+    assert len(found) == 1, output[-1500:]
+    assert (f"fix nfd/wall/vz-table pair_constants: parameter file {path}: its flat counter-body yields before "
+            f"the sphere") in found[0], found

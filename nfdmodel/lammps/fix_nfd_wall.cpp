@@ -110,6 +110,14 @@ const NfdMaterial *FixNfdWall::read_pair_constants(std::vector<char *> &rest)
         if (std::strcmp(rest[k], "pair_constants") == 0)
             error->all(FLERR, fmt::format("{}: pair_constants given twice", who()));
     pair = law->read_pair(lmp, keyword, static_cast<int>(end - at - 1), rest.data() + at + 1);
+    // constants calibrated on a flat that yields first are relative to the flat's P_Y; this wall is
+    // elastic and its contact yields in the sphere (nfdcal export lammps refuses such a file alike)
+    if (pair.counter_flat && !nfd_yields_first(pair.p_Y, pair.counter_p_Y))
+        error->all(FLERR, fmt::format("{}: parameter file {}: its flat counter-body yields before the sphere "
+                                      "(A_Y(nu) sigma_y = {:.4g} Pa below the sphere's {:.4g} Pa), so its constants "
+                                      "are relative to the flat's P_Y; the plugin's walls are elastic and their "
+                                      "contacts yield in the sphere: not supported", keyword, rest[at + 2],
+                                      pair.counter_p_Y, pair.p_Y));
     rest.erase(rest.begin() + static_cast<long>(at), rest.begin() + static_cast<long>(end));
     return &pair;
 }

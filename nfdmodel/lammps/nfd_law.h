@@ -70,6 +70,10 @@ struct NfdMaterial {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, E_star = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
     double window_min = 1.0;
     double K1 = 0, K2 = 0;
+    // a parameter file's counter_body: a flat one, the yield pressure A_Y(nu) sigma_y [Pa] of its
+    // counter-body (inf: elastic, or none stated)
+    bool counter_flat = false;
+    double counter_p_Y = INFINITY;
     nfd_table table{};
     NfdModels models;
     nfd_friction friction{};
