@@ -14,6 +14,7 @@
 """
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import json
 import re
@@ -118,3 +119,88 @@ def test_pair_constants_of_a_flat_that_yields_first_are_refused(plugin, tmp_path
     assert len(found) == 1, output[-1500:]
     assert (f"fix nfd/wall/vz-table pair_constants: parameter file {path}: its flat counter-body yields before "
             f"the sphere") in found[0], found
+
+
+STEPS_MIN = limits.STEPS_PER_CONTACT_MIN
+
+
+def hertz_time(pair, v_in: float) -> float:
+    """Hertz's contact time of ``pair`` at v_in (nfdmodel.hertz_contact: what the plugin estimates)."""
+    from nfdmodel.hertz_contact import hertz_impact_time
+    return hertz_impact_time(pair.mass_star, pair.R_star, pair.E_star, v_in)
+
+
+def step_warnings(output: str, who: str) -> list[str]:
+    return [line for line in output.splitlines() if line.startswith(f"WARNING: {who}: a contact at normal speed")]
+
+
+@pytest.mark.parametrize("steps_per_contact, warned", [(6, True), (STEPS_MIN + 10, False), (400, False)])
+def test_a_coarse_time_step_on_the_wall_is_warned_once(plugin, tmp_path, steps_per_contact, warned):
+    """Three aluminium spheres (R = 1 cm) onto nfd/wall/vz at 10 v_Y, in two runs: with dt = t_c/6
+    (Hertz's contact time) e is off the converged e by more than 1e-3 (the leap-frog's error), and
+    one WARNING names the steps per contact and a timestep that resolves it; with more than
+    NFD_STEPS_PER_CONTACT_MIN steps, none. e at each dt is nfdmodel's at that dt (1e-8)."""
+    import test_lammps as plane
+
+    pair = nfdmodel.ContactPair.sphere_flat(plane.ALUMINIUM, plane.RADIUS)
+    params = nfdmodel.VZParams.from_dimensionless(pair, plane.REFERENCE.Ca_hat, plane.REFERENCE.Kc_hat,
+                                                  nfdmodel.CalibrationWindow.assumed_default())
+    v_in = 10.0 * pair.v_Y
+    t_c = hertz_time(pair, v_in)
+    dt = t_c / steps_per_contact
+    spheres = [(plane.RADIUS, x, plane.RADIUS, -v_in, plane.ALUMINIUM.rho) for x in (-0.05, 0.0, 0.05)]
+    steps = int(3 * steps_per_contact)
+    text = plane.wall_input(plugin, plane.material_args(plane.ALUMINIUM, plane.REFERENCE.Ca_hat,
+                                                        plane.REFERENCE.Kc_hat), spheres, steps)
+    text = text.replace(f"timestep {plane.num(plane.DT)}", f"timestep {plane.num(dt)}")
+    text = text.replace(f"run {steps}", f"run {steps // 3}\nrun {steps - steps // 3}")
+    output = run(text, tmp_path)
+    e = plane.wall_rows(output)[-1, 3] / v_in
+    found = step_warnings(output, "fix wall (nfd/wall/vz)")
+    with pytest.warns(nfdmodel.TimeStepWarning) if warned else contextlib.nullcontext():
+        py = nfdmodel.collide("vz", params, [v_in], dt=dt).e_velocity[0]
+    assert e == pytest.approx(py, rel=1e-8)
+    if not warned:
+        assert found == [], found
+        return
+    converged = nfdmodel.collide("vz", params, [v_in], dt=t_c / 2000).e_velocity[0]
+    assert abs(e - converged) > 1e-3
+    assert len(found) == 1, output[-3000:]
+    assert f"lasts about 6 steps (its estimated contact time {t_c:.3g} s at timestep {dt:.4g} s), fewer than " \
+           f"{STEPS_MIN} per contact" in found[0], found
+    assert f"use timestep <= {t_c / STEPS_MIN:.3g} s" in found[0], found
+
+
+@pytest.mark.parametrize("law", ["vz", "walton-braun"])
+@pytest.mark.parametrize("nprocs, centre", [(1, 0.0), (2, 0.0), (2, 0.05)])
+def test_a_coarse_time_step_of_a_pair_style_is_warned_once(plugin, tmp_path, law, nprocs, centre):
+    """Two aluminium spheres head-on at 10 v_Y (nfd/vz; nfd/walton-braun of vz's secant springs),
+    dt = contact time / 6: one WARNING of the pair style, on 1 MPI rank, on 2 with the contact on
+    their boundary (rank 0 sees it) and on 2 with the contact inside rank 1's half (said at the end of
+    the run); e off the converged one by more than 1e-3. At dt = contact time / 400: no warning."""
+    import test_lammps as plane
+
+    params, coeff = plane.aluminium_pair()
+    pair = params.pair
+    v_in = 10.0 * pair.v_Y
+    if law == "walton-braun":
+        springs = plane.walton_braun_springs(pair)
+        coeff = f"{plane.num(springs.K1)} {plane.num(springs.K2)}"
+        m = pair.mass_star
+        t_c = 0.5 * 3.141592653589793 * ((m / springs.K1) ** 0.5 + (m / springs.K2) ** 0.5)
+    else:
+        t_c = hertz_time(pair, v_in)
+    results = {}
+    for per_contact in (6, 400):
+        dt = t_c / per_contact
+        text = plane.impact_input(plugin, plane.aluminium_spheres(v_in, centre), {1: coeff}, 3 * per_contact,
+                                  processors="2 1 1" if nprocs == 2 else "", pair_style=f"nfd/{law}")
+        text = text.replace(f"timestep {plane.num(plane.DT)}", f"timestep {plane.num(dt)}")
+        output = lammps_pour.run_input(text, tmp_path, nprocs, name=f"in.pair.{nprocs}", timeout=120)[1]
+        found = step_warnings(output, f"pair_style nfd/{law}")
+        rows = plane.impact_rows(output)
+        results[per_contact] = (-rows[-1, 3] / v_in, found)
+    (coarse, warnings_coarse), (fine, warnings_fine) = results[6], results[400]
+    assert abs(coarse - fine) > 1e-3
+    assert len(warnings_coarse) == 1 and "fewer than" in warnings_coarse[0], warnings_coarse
+    assert warnings_fine == []

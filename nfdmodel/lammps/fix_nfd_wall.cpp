@@ -171,6 +171,7 @@ void FixNfdWall::init()
     beyond_largest = 0.0;
     below_count = 0;
     below_lowest = INFINITY;
+    time_step.begin_run();
 }
 
 void FixNfdWall::post_force(int /*vflag*/)
@@ -208,6 +209,12 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
     touching_local += 1.0;
     const nfd_params p = law->params(R_star, material);
     const nfd_history h = load_history(stored);
+    if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
+        double v_n = 0.0;
+        for (int d = 0; d < 3; ++d) v_n += (atom->v[i][d] - v_wall[d]) * n[d];
+        time_step.see(lmp, fmt::format("fix {} ({})", id, style),
+                      law->contact_time(p, atom->rmass[i], std::fabs(v_n)), std::fabs(v_n));
+    }
     nfd_history next;
     double force = 0.0;
     nfd_contact_result out;
@@ -284,6 +291,7 @@ void FixNfdWall::count_below_window(const double *stored, double R_star)
 
 void FixNfdWall::post_run()
 {
+    time_step.end_run(lmp, fmt::format("fix {} ({})", id, style));
     if (!law->has_window) return;
     bigint mine = beyond_count, all = 0;
     MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);

@@ -139,6 +139,14 @@ class NfdLaw {
      * wall's sphere as read). */
     virtual nfd_params params(double R_star, const NfdMaterial &c) const = 0;
 
+    /* The estimated duration [s] of a contact of nfd_params p and reduced mass m_star [kg] starting at
+     * normal speed v [m/s] (NfdTimeStep): Hertz's elastic impact (nfd_hertz_impact_time); Walton-Braun
+     * the half periods of its springs. */
+    virtual double contact_time(const nfd_params &p, double m_star, double v) const
+    {
+        return nfd_hertz_impact_time(m_star, p.R_star, p.E_star, v);
+    }
+
     /* The exact bits of the constants the force and the history depend on (not the window, which
      * only flags loads; the contact models when any is on), seeded with the law: equal pair_coeff
      * lines, equal fingerprints. */
