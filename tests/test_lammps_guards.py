@@ -80,7 +80,7 @@ def test_a_unit_style_but_si_is_one_error_naming_it(plugin, tmp_path, law, kind,
     output = run("\n".join(lines) + "\n", tmp_path)
     found = errors(output)
     assert len(found) == 1, output[-1500:]
-    assert f"{style}: units {units} is not supported: use units si" in found[0], found
+    assert f"{style}: units {units} is not supported: need units si" in found[0], found
     assert not re.search(r"^\s+0\s", output, re.M), "a step ran"
 
 

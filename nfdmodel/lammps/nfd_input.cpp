@@ -28,7 +28,7 @@ void require_si_units(LAMMPS *lmp, const std::string &who)
 {
     const char *units = lmp->update->unit_style;
     if (units && std::strcmp(units, "si") == 0) return;
-    lmp->error->all(FLERR, fmt::format("{}: units {} is not supported: use units si (the laws' constants, their "
+    lmp->error->all(FLERR, fmt::format("{}: units {} is not supported: need units si (the laws' constants, their "
                                        "ranges and formulas are SI: Pa, m, kg, s)", who, units ? units : "(none)"));
 }
 
