@@ -17,9 +17,9 @@ Its plastic constants, Ca = Ca_hat a_Y / P_Y [m/N], Kc = Kc_hat / P_Y [1/N], and
   in place of the substitution's, with the same E*, R* and yield point.
 
 An elastic wall (``sphere_wall_params``) never yields, so its contact's yield point is the
-sphere's; constants calibrated on a flat that yielded first (their p_Y, which ``VZConstants.of``
-keeps, of lower A_Y(nu) sigma_y than the sphere's) are relative to the flat's P_Y and are refused, as
-``nfdcal export lammps`` and the plugin's ``pair_constants`` refuse them.
+sphere's; constants calibrated on a flat that yielded first (``VZConstants.of`` keeps the yielding
+body's sigma_y, nu: a lower A_Y(nu) sigma_y than the sphere's) are relative to the flat's P_Y and
+are refused, as ``nfdcal export lammps`` and the plugin's ``pair_constants`` refuse them.
 
 The LAMMPS plugin does the same: ``pair_coeff I J Ca_hat Kc_hat [window W]`` and a wall fix's
 ``pair_constants`` (nfdmodel/lammps/README.md, Mixing). The dimensionless constants of a pair hold
@@ -56,6 +56,8 @@ class VZConstants:
         if self.window is not None and not isinstance(self.window, CalibrationWindow):
             raise ValueError(f"window must be a CalibrationWindow or None, got {type(self.window).__name__}")
         if self.yielding is not None:
+            if not isinstance(self.yielding, tuple) or len(self.yielding) != 2:
+                raise ValueError(f"yielding must be (sigma_y [Pa], nu) or None, got {self.yielding!r}")
             sigma_y, nu = self.yielding
             object.__setattr__(self, "yielding", (check_real("yielding sigma_y", sigma_y, low=0.0, unit="Pa"),
                                                   check_real("yielding nu", nu, low=0.0, low_inclusive=True,

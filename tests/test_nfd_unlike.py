@@ -143,6 +143,7 @@ def test_constants_of_a_flat_that_yields_first_are_refused_on_a_wall(tmp_path, s
     (lambda: VZConstants(0.03, 0.01, window=41.2), "window must be a CalibrationWindow"),
     (lambda: VZConstants(0.03, 0.01, yielding=(-1.0, 0.3)), "yielding sigma_y out of range"),
     (lambda: VZConstants(0.03, 0.01, yielding=(1e8, 0.5)), "yielding nu out of range"),
+    (lambda: VZConstants(0.03, 0.01, yielding=1e8), "yielding must be (sigma_y [Pa], nu) or None"),
     (lambda: VZConstants.of(ContactPair.reference()), "params must be VZParams"),
     (lambda: sphere_sphere_params(BODY_A, R_A, HATS_A, BODY_B, R_B, HATS_B, pair=(0.02, 0.006)),
      "pair must be VZConstants"),
