@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import native
+from . import limits, native
 from .hertz_contact import hertz_approach_at_work
 from .history import HertzState
 from .materials import as_pair
@@ -53,8 +53,8 @@ from .validation import check_real, check_solid
 from .window import RangeWarning
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
-STEPS_PER_CONTACT_WARN = 50       # warn when a contact would last fewer steps than this
-STEPS_PER_UNLOADING_WARN = 10     # ... or its unloading phase fewer than this (e error > ~0.2 %)
+STEPS_PER_CONTACT_WARN = limits.STEPS_PER_CONTACT_MIN      # warn when a contact would last fewer steps
+STEPS_PER_UNLOADING_WARN = limits.STEPS_PER_UNLOADING_MIN  # ... or its unloading phase fewer (e error > ~0.2 %)
 STEPS_PER_UNLOADING_AUTO = 100    # dt = None: also at most the shortest unloading time / this
 # dt so small that a contact needs more steps: ValueError. 400 x the automatic resolution
 # (~2500 steps per contact); about 40 s of the numpy time loop (40 us per step).
@@ -237,6 +237,23 @@ def _loading_time(law: ContactLaw, law_params, pair, v, delta_max):
     return 0.5 * integrand @ _LOADING_WEIGHTS
 
 
+def coarse_time_step(reference: CollisionReference, dt: float) -> str | None:
+    """What is wrong with time step dt [s] for the impacts of ``reference`` (collision_reference):
+    None when every contact lasts at least STEPS_PER_CONTACT_WARN steps and its unloading at least
+    STEPS_PER_UNLOADING_WARN (nfd_limits.h), else one line naming the steps and the largest dt that
+    passes (collide's TimeStepWarning, nfdcal collide's oblique impacts)."""
+    shortest_contact = float(reference.contact_time_estimate.min())
+    shortest_unloading = float(reference.unloading_time_estimate.min())
+    largest_dt = min(shortest_contact / STEPS_PER_CONTACT_WARN, shortest_unloading / STEPS_PER_UNLOADING_WARN)
+    if dt <= largest_dt:
+        return None
+    return (f"dt = {dt:g} s is too large for this contact: the shortest contact lasts about "
+            f"{shortest_contact:.3g} s ({shortest_contact / dt:.3g} steps, need "
+            f">= {STEPS_PER_CONTACT_WARN}) and its unloading about {shortest_unloading:.3g} s "
+            f"({shortest_unloading / dt:.3g} steps, need >= {STEPS_PER_UNLOADING_WARN}); "
+            f"results are inaccurate: use dt <= {largest_dt:.3g} s")
+
+
 def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = False,
             max_steps: int | None = None) -> CollisionResult:
     """Simulate sphere-on-flat impacts at all velocities ``v_in`` [m/s] at once (module doc).
@@ -276,14 +293,9 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         raise ValueError(f"dt out of range: dt = {dt:g} s would need {longest_contact / dt:.3g} steps for a "
                          f"contact of {longest_contact:.3g} s; need dt >= {longest_contact / MAX_STEPS_LIMIT:.3g} s "
                          f"(at most {MAX_STEPS_LIMIT:.0e} steps)")
-    largest_dt = min(shortest_contact / STEPS_PER_CONTACT_WARN, shortest_unloading / STEPS_PER_UNLOADING_WARN)
-    if dt > largest_dt:
-        warnings.warn(f"dt = {dt:g} s is too large for this contact: the shortest contact lasts about "
-                      f"{shortest_contact:.3g} s ({shortest_contact / dt:.3g} steps, need "
-                      f">= {STEPS_PER_CONTACT_WARN}) and its unloading about {shortest_unloading:.3g} s "
-                      f"({shortest_unloading / dt:.3g} steps, need >= {STEPS_PER_UNLOADING_WARN}); "
-                      f"results are inaccurate: use dt <= {largest_dt:.3g} s",
-                      TimeStepWarning, stacklevel=2)
+    coarse = coarse_time_step(reference, dt)
+    if coarse is not None:
+        warnings.warn(coarse, TimeStepWarning, stacklevel=2)
     if max_steps is None:
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))

@@ -24,7 +24,9 @@ import math
 
 import numpy as np
 
-HERTZ_IMPACT_TIME = 2.8683       # [-] t_c (R* E*^2 v / m*^2)^(1/5) of an elastic Hertz impact (Johnson eq. 11.24)
+from . import limits
+
+HERTZ_IMPACT_TIME = limits.HERTZ_IMPACT_TIME    # [-] t_c (R* E*^2 v / m*^2)^(1/5) (Johnson eq. 11.24; nfd_limits.h)
 
 
 def hertz_radius(force, R_star, E_star):

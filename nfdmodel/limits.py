@@ -43,6 +43,10 @@ TABLE_MAX_NODES = TABLE["TABLE_MAX_NODES"]
 MONOTONE_LOAD_MAX, MONOTONE_POINTS = TABLE["MONOTONE_LOAD_MAX"], TABLE["MONOTONE_POINTS"]
 DISSIPATION_LOAD_MIN, DISSIPATION_LOAD_MAX = TABLE["DISSIPATION_LOAD_MIN"], TABLE["DISSIPATION_LOAD_MAX"]
 DISSIPATION_POINTS, DISSIPATION_SLACK = TABLE["DISSIPATION_POINTS"], TABLE["DISSIPATION_SLACK"]
+# the time step of a collision: the fewest steps per contact and per unloading that pass unwarned;
+# the constant of Hertz's elastic impact duration (Johnson 1985 eq. 11.24)
+STEPS_PER_CONTACT_MIN, STEPS_PER_UNLOADING_MIN = TABLE["STEPS_PER_CONTACT_MIN"], TABLE["STEPS_PER_UNLOADING_MIN"]
+HERTZ_IMPACT_TIME = TABLE["HERTZ_IMPACT_TIME"]
 # the FE's reach: the largest load over P_Y and contact radius over R a calibration runs to
 FE_MAX_LOAD_OVER_YIELD, FE_MAX_CONTACT_RADIUS_OVER_R = TABLE["FE_MAX_LOAD_OVER_YIELD"], TABLE["FE_MAX_CONTACT_RADIUS_OVER_R"]
 # the contact models around the normal law (nfd_friction.h, nfdmodel.friction): their codes, the

@@ -188,6 +188,24 @@ static inline double nfd_hertz_radius(double P, double R_star, double E_star)
     return cbrt(3.0 * P * R_star / (4.0 * E_star));
 }
 
+/* The estimated duration [s] of a collision at normal speed v [m/s] of reduced mass m_star [kg], which
+ * says whether a time step resolves it (NFD_STEPS_PER_CONTACT_MIN):
+ *   nfd_hertz_impact_time   Hertz's elastic impact, NFD_HERTZ_IMPACT_TIME (m*^2 / (R* E*^2 v))^(1/5)
+ *                           (Johnson 1985 eq. 11.24; nfdmodel.hertz_contact.hertz_impact_time); for the
+ *                           elastoplastic laws an estimate (the softer plastic loading and the stiffer
+ *                           unloading roughly balance: 2 % above nfdmodel.collision_reference's for
+ *                           the reference sphere at 30 v_Y);
+ *   nfd_linear_impact_time  springs K1 loading, K2 unloading [N/m] (walton_braun): the two half periods
+ *                           (pi/2) (sqrt(m* / K1) + sqrt(m* / K2)), whatever v. */
+static inline double nfd_hertz_impact_time(double m_star, double R_star, double E_star, double v)
+{
+    return NFD_HERTZ_IMPACT_TIME * pow(m_star * m_star / (R_star * E_star * E_star * v), 0.2);
+}
+static inline double nfd_linear_impact_time(double m_star, double k_load, double k_unload)
+{
+    return 0.5 * 3.14159265358979323846 * (sqrt(m_star / k_load) + sqrt(m_star / k_unload));
+}
+
 /* The admissibility of vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y (dimensionless, so one answer for
  * every pair; nfdmodel.vz.VZParams decides the same): NFD_VZ_ADMISSIBLE, or NFD_VZ_OUT_OF_RANGE
  * (outside NFD_CA_HAT_MIN <= Ca_hat <= NFD_CA_HAT_MAX, 0 <= Kc_hat <= NFD_KC_HAT_MAX), NFD_VZ_TURNS_BACK

@@ -16,6 +16,11 @@ Its plastic constants, Ca = Ca_hat a_Y / P_Y [m/N], Kc = Kc_hat / P_Y [1/N], and
   its counter-body, whose parameter file states Ca_hat, Kc_hat relative to the pair's P_Y, a_Y),
   in place of the substitution's, with the same E*, R* and yield point.
 
+An elastic wall (``sphere_wall_params``) never yields, so its contact's yield point is the
+sphere's; constants calibrated on a flat that yielded first (``VZConstants.of`` keeps the yielding
+body's sigma_y, nu: a lower A_Y(nu) sigma_y than the sphere's) are relative to the flat's P_Y and
+are refused, as ``nfdcal export lammps`` and the plugin's ``pair_constants`` refuse them.
+
 The LAMMPS plugin does the same: ``pair_coeff I J Ca_hat Kc_hat [window W]`` and a wall fix's
 ``pair_constants`` (nfdmodel/lammps/README.md, Mixing). The dimensionless constants of a pair hold
 for its two materials at any size; the ratio of the radii is the calibration's (a wall: a flat).
@@ -24,7 +29,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .materials import ContactPair, Material, first_to_yield
+from .limits import NU_MAX
+from .materials import ContactPair, Material, first_to_yield, yield_pressure
 from .vz import CA_HAT_RANGE, KC_HAT_MAX, VZParams
 from .validation import check_real
 from .window import CalibrationWindow
@@ -34,11 +40,13 @@ from .window import CalibrationWindow
 class VZConstants:
     """The dimensionless vz constants of a material (on a rigid flat) or of a calibrated pair:
     Ca_hat = Ca P_Y / a_Y [-] in [1e-8, 1e4], Kc_hat = Kc P_Y [-] in [0, 1e4] (nfd_limits.h), the
-    window (None: not stated, nothing is flagged)."""
+    window (None: not stated, nothing is flagged), yielding: (sigma_y [Pa], nu) of the body that
+    yielded first in the calibration (None: not stated)."""
 
     Ca_hat: float
     Kc_hat: float
     window: CalibrationWindow | None = None
+    yielding: tuple[float, float] | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "Ca_hat", check_real("Ca_hat", self.Ca_hat, low=CA_HAT_RANGE[0], low_inclusive=True,
@@ -47,14 +55,21 @@ class VZConstants:
                                                       high=KC_HAT_MAX, high_inclusive=True))
         if self.window is not None and not isinstance(self.window, CalibrationWindow):
             raise ValueError(f"window must be a CalibrationWindow or None, got {type(self.window).__name__}")
+        if self.yielding is not None:
+            if not isinstance(self.yielding, tuple) or len(self.yielding) != 2:
+                raise ValueError(f"yielding must be (sigma_y [Pa], nu) or None, got {self.yielding!r}")
+            sigma_y, nu = self.yielding
+            object.__setattr__(self, "yielding", (check_real("yielding sigma_y", sigma_y, low=0.0, unit="Pa"),
+                                                  check_real("yielding nu", nu, low=0.0, low_inclusive=True,
+                                                             high=NU_MAX)))
 
     @classmethod
     def of(cls, params: VZParams) -> "VZConstants":
-        """The dimensionless constants and window of ``params`` (a parameter file's: a material's on a
-        rigid flat, or a pair's, load_parameters of a counter-body file)."""
+        """The dimensionless constants, window and yielding body of ``params`` (a parameter file's: a
+        material's on a rigid flat, or a pair's, load_parameters of a counter-body file)."""
         if not isinstance(params, VZParams):
             raise ValueError(f"params must be VZParams, got {type(params).__name__}")
-        return cls(params.Ca_hat, params.Kc_hat, params.window)
+        return cls(params.Ca_hat, params.Kc_hat, params.window, (params.pair.sigma_y, params.pair.nu))
 
     def params(self, pair: ContactPair) -> VZParams:
         """The vz law of ``pair``: Ca = Ca_hat a_Y / P_Y, Kc = Kc_hat / P_Y with the pair's P_Y, a_Y."""
@@ -83,7 +98,16 @@ def sphere_wall_params(material: Material, R: float, constants: VZConstants, E_w
                        pair: VZConstants | None = None) -> VZParams:
     """The vz law of a sphere (radius R [m]) on an elastic flat wall of E_wall [Pa], nu_wall
     (ContactPair.sphere_wall: first yield in the sphere): the constants calibrated for the sphere on
-    that wall when given, else the sphere's."""
+    that wall when given, else the sphere's. Pair constants whose calibration yielded first in the
+    flat (their p_Y below the sphere's) are refused (module doc)."""
     constants = _constants("constants", constants)
     contact = ContactPair.sphere_wall(material, R, E_wall, nu_wall)
-    return (constants if pair is None else _constants("pair", pair)).params(contact)
+    if pair is None:
+        return constants.params(contact)
+    pair = _constants("pair", pair)
+    if pair.yielding is not None and first_to_yield((contact.sigma_y, contact.nu), pair.yielding) == 1:
+        raise ValueError(f"pair out of range: its constants were calibrated with first yield in the flat (p_Y = "
+                         f"{yield_pressure(*pair.yielding):.4g} Pa, below the sphere's A_Y(nu) sigma_y = {contact.p_Y:.4g} Pa), relative "
+                         f"to the flat's P_Y; an elastic wall yields in the sphere (P_Y = {contact.P_Y:.4g} N): "
+                         f"nfdmodel.load_parameters of its file gives the pair's law")
+    return pair.params(contact)

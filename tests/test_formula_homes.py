@@ -48,7 +48,8 @@ FORMULAS = {
                                           {"nfdmodel/hertz_contact.py", "nfdmodel/thornton.py"} | C_KERNEL),
     "Hertz impact (approach, force, duration 2.868)": ([r"\b2\.868", r"\*\*\s*0\.4\b(?!\s*\*)",
                                                         r"(?<![\w.])5(?:\.0*)?\s*\*\s*[\w.]*mass\w*\s*\*"],
-                                                       {"nfdmodel/hertz_contact.py"}),
+                                                       {"nfdmodel/hertz_contact.py", "nfdmodel/nfd_limits.h"}
+                                                       | C_KERNEL),
     "Thornton's closed-form restitution": ([r"\b6(?:\.0*)?\s*\*\s*(?:np\.|math\.)?sqrt\(\s*3"], {"nfdmodel/thornton.py"}),
     "Thornton's unloading radius a*^2 = (2 P* + P_Y) / (2 pi p_Y)": (
         [rf"\(\s*2(?:\.0*)?\s*\*\s*{NUM}\s*\+\s*{NUM}P_Y\s*\)\s*/\s*\(\s*2(?:\.0*)?\s*\*\s*(?:math\.|np\.|NFD_)?(?:pi|PI)"],

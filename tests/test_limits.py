@@ -174,6 +174,8 @@ DISTINCTIVE = {                      # table name: regex over the statement's id
     "TABLE_TOLERANCE": r"newton", "TABLE_MAX_ITERATIONS": r"newton", "TABLE_MAX_NODES": r"node",
     "MONOTONE_LOAD_MAX": r"monoton", "MONOTONE_POINTS": r"monoton", "DISSIPATION_LOAD_MIN": r"dissipat",
     "DISSIPATION_LOAD_MAX": r"dissipat", "DISSIPATION_POINTS": r"dissipat", "DISSIPATION_SLACK": r"dissipat|slack",
+    "STEPS_PER_CONTACT_MIN": r"steps_per_contact", "STEPS_PER_UNLOADING_MIN": r"steps_per_unloading",
+    "HERTZ_IMPACT_TIME": None,
 }
 SCANNED = ("nfdmodel", "calib")
 SUFFIXES = (".py", ".c", ".h", ".cpp")

@@ -35,6 +35,7 @@ NOT_RERUN = {
     "test_export_counter_table.py": PLUGIN,
     "test_lammps.py": PLUGIN,
     "test_lammps_friction.py": PLUGIN,
+    "test_lammps_guards.py": PLUGIN,
     "test_lammps_pair_constants.py": PLUGIN,
     "test_lammps_wall_material.py": PLUGIN,
 }

@@ -1,6 +1,7 @@
 """`nfdcal collide` and nfdmodel.load_parameters: output, material flags, parameter files, and
 bad input (exit code 2, one line naming the parameter and its range; each case its own test)."""
 import json
+import re
 
 import numpy as np
 import pytest
@@ -157,3 +158,28 @@ def test_what_is_not_a_flags_value_stays_a_usage_error(argv, capsys):
     with pytest.raises(SystemExit) as info:
         main(argv)
     assert info.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("angles", [[], ["--angle", "10", "30"]])
+def test_a_coarse_time_step_is_one_warning_line(capsys, angles):
+    """nfdcal collide --dt of 6 steps per contact (the head-on and the oblique impacts): e off the
+    converged e by more than 1e-3, one warning line naming the steps per contact and a dt that
+    resolves it (nfd_limits.h's NFD_STEPS_PER_CONTACT_MIN, nfdmodel.collide's TimeStepWarning);
+    at 100 steps per contact no warning."""
+    from nfdmodel import collision_reference, limits
+
+    contact = float(collision_reference("vz", VZParams.reference(), [0.05]).contact_time_estimate[0])
+    e = {}
+    for per_contact in (6, 100, 2000):
+        code, out, err = run_cli(capsys, "--law", "vz", "--v-in", "0.05", "--dt", repr(contact / per_contact),
+                                 "--json", *angles)
+        assert code == 0
+        e[per_contact] = json.loads(out)[0]["e_n" if angles else "e_velocity"]
+        coarse = [line for line in err.splitlines() if "is too large for this contact" in line]
+        if per_contact == 6:
+            steps = re.search(rf"\(([\d.]+) steps, need >= {limits.STEPS_PER_CONTACT_MIN}\)", coarse[0] if coarse else "")
+            assert len(coarse) == 1 and steps and 5.9 < float(steps.group(1)) < 6.2, err      # oblique: cos 10 deg
+            assert coarse[0].startswith("nfdcal collide: warning: dt = ") and "use dt <= " in coarse[0]
+        else:
+            assert coarse == [], err
+    assert abs(e[6] - e[2000]) > 1e-3 and abs(e[100] - e[2000]) < 5e-4

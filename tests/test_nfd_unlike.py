@@ -8,6 +8,9 @@ for the pair, against closed forms and the counter-body parameter file (not agai
   or sphere_wall_params (1e-12: E* summed in another order);
 - the substitution takes the body with the lower A_Y(nu) sigma_y (not the lower sigma_y), in
   either order; below first yield the collision is Hertz's closed form whatever the constants;
+- constants calibrated on a flat that yields first (``calibrate --counter-E 7e9 --counter-nu 0.3
+  --counter-sigma-y 1e7``: P_Y 4.433 N, the flat's) are refused by sphere_wall_params in one line
+  (the elastic wall would take the sphere's P_Y, 4433 N, and give e = 1.0000 at 0.02 m/s);
 - bad input is one ValueError naming the constant and its range.
 """
 from __future__ import annotations
@@ -92,10 +95,55 @@ def test_below_first_yield_the_collision_is_hertz_of_the_pair():
     assert result.contact_time[0] == pytest.approx(pair.hertz_contact_time(v_in), rel=1e-3)
 
 
+def flat_counter_file(folder, sigma_y2):
+    """The parameter file of the reference sphere (aluminium, R = 0.1 m) calibrated on a flat of
+    E 7e9 Pa, nu 0.3 and yield stress sigma_y2 (None: elastic), as calibrate --counter-E writes it
+    (the paper's constants: the test is of the yield point, not of the FE)."""
+    aluminium = Material.reference()
+    counter = {"shape": "flat", "E": 7e9, "nu": 0.3, "sigma_y": sigma_y2, "R": None}
+    pair = ContactPair.sphere_counter(aluminium, 0.1, 7e9, 0.3, sigma_y2)
+    path = folder / "pair.json"
+    path.write_text(json.dumps(parameter_record(VZConstants(0.026, 0.0098, WINDOW).params(pair), 0.1, aluminium,
+                                                counter)))
+    return path
+
+
+@pytest.mark.parametrize("sigma_y2, refused", [(1e7, True), (None, False), (1e9, False)])
+def test_constants_of_a_flat_that_yields_first_are_refused_on_a_wall(tmp_path, sigma_y2, refused):
+    """A soft flat (7 GPa, sigma_y 10 MPa) yields first: the file's P_Y is the flat's, 4.433 N, with
+    which its law gives e near 0.72 at 0.02 m/s; the same constants on an elastic wall would take
+    the sphere's P_Y, 4433 N (e = 1.0000): sphere_wall_params refuses them in one line. An elastic
+    or a harder flat (the sphere yields first) gives the file's own law."""
+    aluminium = Material.reference()
+    read = nfdmodel.load_parameters(flat_counter_file(tmp_path, sigma_y2))
+    own = VZConstants(0.026, 0.0098)
+    wall = ContactPair.sphere_wall(aluminium, 0.1, 7e9, 0.3)
+    assert wall.P_Y == pytest.approx(4433.1, rel=1e-4)
+    if not refused:
+        law = sphere_wall_params(aluminium, 0.1, own, 7e9, 0.3, pair=VZConstants.of(read))
+        assert law.pair.P_Y == pytest.approx(read.pair.P_Y, rel=1e-12) and law.Ca == pytest.approx(read.Ca, rel=1e-12)
+        return
+    assert read.pair.P_Y == pytest.approx(4.4331, rel=1e-4)
+    with pytest.raises(ValueError) as error:
+        sphere_wall_params(aluminium, 0.1, own, 7e9, 0.3, pair=VZConstants.of(read))
+    message = str(error.value)
+    assert message.startswith("pair out of range: its constants were calibrated with first yield in the flat")
+    assert "\n" not in message and "4433 N" in message
+    # what the silent path gave, and what the pair's P_Y gives (the issue's 1.0000 and 0.727)
+    silent = sphere_wall_params(aluminium, 0.1, own, 7e9, 0.3, pair=VZConstants(read.Ca_hat, read.Kc_hat))
+    with pytest.warns(nfdmodel.RangeWarning):
+        e_silent = nfdmodel.collide("vz", silent, [0.02], dt=None).e_velocity[0]
+        e_pair = nfdmodel.collide("vz", read, [0.02], dt=None).e_velocity[0]
+    assert e_silent == pytest.approx(1.0, abs=1e-4) and 0.70 < e_pair < 0.75
+
+
 @pytest.mark.parametrize("call, message", [
     (lambda: VZConstants(1e5, 0.01), "Ca_hat out of range"),
     (lambda: VZConstants(0.03, -1.0), "Kc_hat out of range"),
     (lambda: VZConstants(0.03, 0.01, window=41.2), "window must be a CalibrationWindow"),
+    (lambda: VZConstants(0.03, 0.01, yielding=(-1.0, 0.3)), "yielding sigma_y out of range"),
+    (lambda: VZConstants(0.03, 0.01, yielding=(1e8, 0.5)), "yielding nu out of range"),
+    (lambda: VZConstants(0.03, 0.01, yielding=1e8), "yielding must be (sigma_y [Pa], nu) or None"),
     (lambda: VZConstants.of(ContactPair.reference()), "params must be VZParams"),
     (lambda: sphere_sphere_params(BODY_A, R_A, HATS_A, BODY_B, R_B, HATS_B, pair=(0.02, 0.006)),
      "pair must be VZConstants"),

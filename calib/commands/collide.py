@@ -15,7 +15,8 @@ sphere, its dimensionless constants at another radius, the master table's for an
 file (--params FILE, which also sets the material). --dt defaults to "auto": the shortest estimated contact time /
 2000 or its unloading phase / 100, whichever is smaller (about 3e-7 s for the reference case at
 0.02..0.2 m/s; the paper used 1e-6 s). A dt too large for the contact prints one warning line on
-stderr (nfdmodel.TimeStepWarning); a dt beyond the leap-frog stability limit is an error.
+stderr (nfdmodel.TimeStepWarning; oblique impacts: the same check at the fastest normal speed); a dt beyond
+the leap-frog stability limit is an error.
 Bad input: a ValueError naming the parameter and its range (the dispatcher prints one line and
 exits with code 2).
 
@@ -207,12 +208,13 @@ def run(ns) -> int:
 
 def run_oblique(ns, law: str, params, speeds, dt) -> int:
     """The oblique impacts of --angle/--mu/--omega (module doc): a table or JSON records, --plot."""
+    import sys
     from types import SimpleNamespace
 
     import numpy as np
 
     from nfdmodel import collision_reference
-    from nfdmodel.collision import STEPS_PER_CONTACT_AUTO
+    from nfdmodel.collision import STEPS_PER_CONTACT_AUTO, coarse_time_step
     from nfdmodel.friction import Friction, shear_coefficient
     from nfdmodel.materials import youngs_modulus
     from nfdmodel.oblique import oblique_collide
@@ -226,9 +228,13 @@ def run_oblique(ns, law: str, params, speeds, dt) -> int:
     sphere = SimpleNamespace(E=youngs_modulus(pair.E_star, pair.nu), nu=pair.nu)
     friction = Friction(tangential=ns.tangential, k_t=shear_coefficient(sphere), mu=mu) if mu > 0 else Friction()
     speed, angle = (values.ravel() for values in np.meshgrid(speeds, angles, indexing="ij"))
+    normal = np.maximum(speed * np.cos(np.radians(angle)), 1e-300)
     if dt is None:                                         # collide's automatic dt at the slowest normal speed
-        normal = np.maximum(speed * np.cos(np.radians(angle)), 1e-300)
         dt = float(collision_reference(law, params, [normal.min()]).contact_time_estimate[0]) / STEPS_PER_CONTACT_AUTO
+    else:                                                  # a given dt: collide's check at the fastest normal speed
+        coarse = coarse_time_step(collision_reference(law, params, [normal.max()]), dt)
+        if coarse is not None:
+            print(f"nfdcal collide: warning: {coarse}", file=sys.stderr)
     result = oblique_collide(law, params, friction, speed, angle, omega, dt=dt)
     records = [{"v_in": float(s), "angle": float(a), "e_n": float(en), "e_t": float(et), "beta": float(b),
                 "angle_out": float(ao), "omega_out": float(w), "P_max": float(p), "contact_time": float(ct)}

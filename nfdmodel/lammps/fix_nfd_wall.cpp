@@ -46,6 +46,7 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law) : F
 FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int first_constant) :
     Fix(lmp, narg, arg), law(law), first(first_constant)
 {
+    require_si_units(lmp, who());
 }
 
 void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
@@ -109,6 +110,14 @@ const NfdMaterial *FixNfdWall::read_pair_constants(std::vector<char *> &rest)
         if (std::strcmp(rest[k], "pair_constants") == 0)
             error->all(FLERR, fmt::format("{}: pair_constants given twice", who()));
     pair = law->read_pair(lmp, keyword, static_cast<int>(end - at - 1), rest.data() + at + 1);
+    // constants calibrated on a flat that yields first are relative to the flat's P_Y; this wall is
+    // elastic and its contact yields in the sphere (nfdcal export lammps refuses such a file alike)
+    if (pair.counter_flat && !nfd_yields_first(pair.p_Y, pair.counter_p_Y))
+        error->all(FLERR, fmt::format("{}: parameter file {}: its flat counter-body yields before the sphere "
+                                      "(A_Y(nu) sigma_y = {:.4g} Pa below the sphere's {:.4g} Pa), so its constants "
+                                      "are relative to the flat's P_Y; the plugin's walls are elastic and their "
+                                      "contacts yield in the sphere: not supported", keyword, rest[at + 2],
+                                      pair.counter_p_Y, pair.p_Y));
     rest.erase(rest.begin() + static_cast<long>(at), rest.begin() + static_cast<long>(end));
     return &pair;
 }
@@ -149,6 +158,7 @@ int FixNfdWall::setmask() { return FixConst::POST_FORCE | FixConst::MIN_POST_FOR
 
 void FixNfdWall::init()
 {
+    require_si_units(lmp, who());
     if (!atom->radius_flag || !atom->rmass_flag)
         error->all(FLERR, fmt::format("{} needs per-atom radius and mass: use atom_style sphere", who()));
     if (std::strncmp(update->integrate_style, "respa", 5) == 0)
@@ -161,6 +171,7 @@ void FixNfdWall::init()
     beyond_largest = 0.0;
     below_count = 0;
     below_lowest = INFINITY;
+    time_step.begin_run();
 }
 
 void FixNfdWall::post_force(int /*vflag*/)
@@ -198,6 +209,12 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
     touching_local += 1.0;
     const nfd_params p = law->params(R_star, material);
     const nfd_history h = load_history(stored);
+    if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
+        double v_n = 0.0;
+        for (int d = 0; d < 3; ++d) v_n += (atom->v[i][d] - v_wall[d]) * n[d];
+        time_step.see(lmp, fmt::format("fix {} ({})", id, style),
+                      law->contact_time(p, atom->rmass[i], std::fabs(v_n)), std::fabs(v_n));
+    }
     nfd_history next;
     double force = 0.0;
     nfd_contact_result out;
@@ -274,6 +291,7 @@ void FixNfdWall::count_below_window(const double *stored, double R_star)
 
 void FixNfdWall::post_run()
 {
+    time_step.end_run(lmp, fmt::format("fix {} ({})", id, style));
     if (!law->has_window) return;
     bigint mine = beyond_count, all = 0;
     MPI_Allreduce(&mine, &all, 1, MPI_LMP_BIGINT, MPI_SUM, world);

@@ -50,6 +50,7 @@
 
 #include "fix.h"
 #include "nfd_law.h"
+#include "nfd_time_step.h"
 
 #include <string>
 #include <vector>
@@ -134,6 +135,7 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     LAMMPS_NS::bigint beyond_count = 0, below_count = 0;
     double beyond_largest = 0.0, below_lowest = INFINITY;
     bool counts_below = false;    // the plane wall counts contacts ended below the window
+    NfdTimeStep time_step;        // the contacts' durations against the timestep
 };
 
 }    // namespace nfdcal_lammps

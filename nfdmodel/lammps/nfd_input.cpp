@@ -9,6 +9,7 @@
 #include "error.h"
 #include "json.h"
 #include "lammps.h"
+#include "update.h"
 #include "utils.h"
 
 #include <mpi.h>
@@ -22,6 +23,14 @@
 using namespace LAMMPS_NS;
 
 namespace nfdcal_lammps {
+
+void require_si_units(LAMMPS *lmp, const std::string &who)
+{
+    const char *units = lmp->update->unit_style;
+    if (units && std::strcmp(units, "si") == 0) return;
+    lmp->error->all(FLERR, fmt::format("{}: units {} is not supported: need units si (the laws' constants, their "
+                                       "ranges and formulas are SI: Pa, m, kg, s)", who, units ? units : "(none)"));
+}
 
 double positive(LAMMPS *lmp, const std::string &who, const char *text, const char *what)
 {
@@ -181,6 +190,21 @@ NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::
         lmp->error->all(FLERR, fmt::format("{} table out of range: need P_over_P_Y[0] = 1 and increasing, "
                                            "a_p_over_a_Y[0] = 0 and non-decreasing, C_R[0] = 1 and > 0", in));
     mat.window = column[0][n - 1];
+    // the counter-body the file was calibrated on (nfdmodel/parameter_file.py): its shape and yield pressure
+    if (data.contains("counter_body") && data["counter_body"].is_object()) {
+        const json &counter = data["counter_body"];
+        mat.counter_flat = counter.contains("shape") && counter["shape"].is_string() &&
+            counter["shape"].get<std::string>() == "flat";
+        if (counter.contains("sigma_y") && !counter["sigma_y"].is_null()) {
+            const double sigma_y = file_number(lmp, in + " counter_body.sigma_y [Pa]", counter["sigma_y"], 0.0, true,
+                                               INFINITY, true, "a number > 0 or null");
+            const double nu = counter.contains("nu") ? file_number(lmp, in + " counter_body.nu", counter["nu"], 0.0,
+                                                                   false, NFD_NU_MAX, true,
+                                                                   fmt::format("0 <= nu < {:g}", NFD_NU_MAX))
+                                                     : 0.0;
+            mat.counter_p_Y = nfd_yield_pressure(sigma_y, nu);
+        }
+    }
     if (data.contains("window") && data["window"].is_object() && data["window"].contains("P_min_over_P_Y"))
         mat.window_min = file_number(lmp, in + " window.P_min_over_P_Y", data["window"]["P_min_over_P_Y"], 1.0,
                                      false, 1e8, false, "1 <= P_min/P_Y <= 1e8");

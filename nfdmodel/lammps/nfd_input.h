@@ -12,6 +12,11 @@
 
 namespace nfdcal_lammps {
 
+/* Stop with one error line unless the LAMMPS unit style is `si`: the laws' constants, their ranges and
+ * the kernel's formulas are SI (Pa, m, kg, s), so under another style the same numbers mean another
+ * contact. who: the style ("pair_style nfd/vz", "fix nfd/wall/vz"). */
+void require_si_units(LAMMPS_NS::LAMMPS *lmp, const std::string &who);
+
 /* A constant that must be a finite number > 0 (E, sigma_y, Ca_hat, K1, K2); what names it
  * ("E [Pa]"). Parsed here rather than by utils::numeric, so that inf, nan or 1e400 get the
  * message naming the constant and its range. */

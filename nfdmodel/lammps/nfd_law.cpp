@@ -271,6 +271,11 @@ class WaltonBraunLaw : public NfdLaw {
         return mixed;
     }
 
+    double contact_time(const nfd_params &p, double m_star, double /*v*/) const override
+    {
+        return nfd_linear_impact_time(m_star, p.K1, p.K2);
+    }
+
     nfd_params params(double R_star, const NfdMaterial &c) const override
     {
         nfd_params p = nfd_pair(R_star, 1.0, 1.0);     // no material: the pair quantities are unused

@@ -70,6 +70,10 @@ struct NfdMaterial {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, E_star = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
     double window_min = 1.0;
     double K1 = 0, K2 = 0;
+    // a parameter file's counter_body: a flat one, the yield pressure A_Y(nu) sigma_y [Pa] of its
+    // counter-body (inf: elastic, or none stated)
+    bool counter_flat = false;
+    double counter_p_Y = INFINITY;
     nfd_table table{};
     NfdModels models;
     nfd_friction friction{};
@@ -134,6 +138,14 @@ class NfdLaw {
     /* The nfd_params of a contact of effective radius R_star [m] with constants c (from mix, or a
      * wall's sphere as read). */
     virtual nfd_params params(double R_star, const NfdMaterial &c) const = 0;
+
+    /* The estimated duration [s] of a contact of nfd_params p and reduced mass m_star [kg] starting at
+     * normal speed v [m/s] (NfdTimeStep): Hertz's elastic impact (nfd_hertz_impact_time); Walton-Braun
+     * the half periods of its springs. */
+    virtual double contact_time(const nfd_params &p, double m_star, double v) const
+    {
+        return nfd_hertz_impact_time(m_star, p.R_star, p.E_star, v);
+    }
 
     /* The exact bits of the constants the force and the history depend on (not the window, which
      * only flags loads; the contact models when any is on), seeded with the law: equal pair_coeff

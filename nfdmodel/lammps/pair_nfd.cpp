@@ -24,6 +24,7 @@
 #include "pair_nfd.h"
 
 #include "fix_nfd_history.h"
+#include "nfd_input.h"
 
 #include "atom.h"
 #include "comm.h"
@@ -80,6 +81,7 @@ PairNfd::~PairNfd()
 
 void PairNfd::settings(int narg, char ** /*arg*/)
 {
+    require_si_units(lmp, fmt::format("pair_style {}", name()));
     if (narg != 0)
         error->all(FLERR, fmt::format("pair_style {} takes no arguments (the constants go in pair_coeff)", name()));
 }
@@ -147,6 +149,7 @@ void PairNfd::calibrated_pair_coeff(const std::string &who, int narg, char **arg
 
 void PairNfd::init_style()
 {
+    require_si_units(lmp, fmt::format("pair_style {}", name()));
     if (!atom->radius_flag || !atom->rmass_flag)
         error->all(FLERR, fmt::format("pair_style {} needs per-atom radius and mass: use atom_style sphere", name()));
     if (force->newton_pair)
@@ -194,6 +197,7 @@ void PairNfd::init_style()
     below_count = 0;
     below_lowest = INFINITY;
     window_min_of_lowest = 0.0;
+    time_step.begin_run();
 }
 
 /* The contact constants of a pair of types (NfdLaw::mix, the lower type first, unless set by
@@ -269,6 +273,7 @@ void PairNfd::compute(int eflag, int vflag)
             const TypePair &pair = type_pair(type[i], type[j]);
             const nfd_history h = load_history(stored);
             const nfd_params p = contact_params(type[i], type[j], radius[i], radius[j], h, delta);
+            if (!history->touching(i, jj)) see_contact_start(i, j, delx, dely, delz, r, p);
             if (pair.models) {
                 contact_with_models(i, j, delx, dely, delz, r, *pair.constants, p, stored);
                 history->set_touching(i, jj, true);
@@ -294,6 +299,18 @@ void PairNfd::compute(int eflag, int vflag)
             if (evflag) ev_tally_xyz(i, j, nlocal, 0, 0.0, 0.0, fx, fy, fz, delx, dely, delz);
         }
     }
+}
+
+/* A contact's first step: its duration at the normal speed of its start against the timestep. A
+ * ghost atom's velocity is known only with comm_modify vel yes (else the contact is not seen here). */
+void PairNfd::see_contact_start(int i, int j, double delx, double dely, double delz, double r, const nfd_params &p)
+{
+    if (j >= atom->nlocal && !comm->ghost_velocity) return;
+    double **v = atom->v;
+    const double v_n = std::fabs(((v[i][0] - v[j][0]) * delx + (v[i][1] - v[j][1]) * dely +
+                                  (v[i][2] - v[j][2]) * delz) / r);
+    const double m_i = atom->rmass[i], m_j = atom->rmass[j];
+    time_step.see(lmp, fmt::format("pair_style {}", name()), law->contact_time(p, m_i * m_j / (m_i + m_j), v_n), v_n);
 }
 
 /* A negative status of the kernel stops the run naming the two atoms; a turning point beyond the
@@ -430,6 +447,7 @@ void *PairNfd::extract(const char *str, int &dim)
 
 void PairNfd::finish()
 {
+    time_step.end_run(lmp, fmt::format("pair_style {}", name()));
     if (!law->has_window) return;
     bigint total = 0;
     bigint mine = beyond_count;

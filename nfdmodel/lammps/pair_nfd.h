@@ -19,6 +19,7 @@
 #define NFD_LAMMPS_PAIR_NFD_H
 
 #include "nfd_law.h"
+#include "nfd_time_step.h"
 #include "pair.h"
 
 #include <string>
@@ -59,6 +60,7 @@ class PairNfd : public LAMMPS_NS::Pair {
     void contact_with_models(int i, int j, double delx, double dely, double delz, double r, const NfdMaterial &c,
                              const nfd_params &p, double *stored);
     void count_below_window(int i, int j, const double *stored);
+    void see_contact_start(int i, int j, double delx, double dely, double delz, double r, const nfd_params &p);
     void report_below_window();
     void create_history_fix();
     void warn_other_histories();
@@ -90,6 +92,7 @@ class PairNfd : public LAMMPS_NS::Pair {
     double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
     LAMMPS_NS::bigint below_count = 0;                 // contacts ended below the window's lowest unloading
     double below_lowest = INFINITY, window_min_of_lowest = 0.0, below_as_double = 0.0;
+    NfdTimeStep time_step;                             // the contacts' durations against the timestep
 };
 
 }    // namespace nfdcal_lammps
