@@ -33,7 +33,7 @@ def add_parser(subparsers):
     p.add_argument("--P-max", dest="P_max", default=None, help=f"top load [N] (> P_min, default {P_MAX:g})")
     p.add_argument("--steps", type=int, default=25, help="number of loads, geometric (2 .. 1000, default 25)")
     add_material_arguments(p)
-    add_counter_arguments(p)
+    add_counter_arguments(p, density=False)
     p.add_argument("--contact-size", dest="contact_size", default=None,
                    help="element size at the contact [m] (> 0; default mesh: 4e-5 for R = 0.1)")
     p.add_argument("--ladder", action="store_true",

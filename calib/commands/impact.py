@@ -17,9 +17,10 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal impact --drops drops.csv                # drop tests (fit-data's file) against the FE: OUT/drops.csv
     nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
     nfdcal impact --counter-E 2.1e11 --counter-nu 0.28 --v-in 0.04   # on an elastic steel flat (a held block)
-    nfdcal impact --counter-E 7e10 --counter-R 0.1 --v-in 0.08       # two free spheres at 0.08 m/s relative
+    nfdcal impact --counter-E 7e10 --counter-R 0.1 --counter-rho 2699 --v-in 0.08   # two free spheres, 0.08 m/s relative
 
-With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R) the sphere hits a deformable
+With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R, --counter-rho: a counter-sphere's
+density, required; a flat's default the sphere's) the sphere hits a deformable
 counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free counter-sphere
 (--v-in: the relative velocity, the pair starting in its centre-of-mass frame; e: the relative
 normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
@@ -154,7 +155,7 @@ def default_out(ns, setup) -> str:
     if hasattr(setup, "counter"):
         c, m = setup.counter, setup.sphere.material
         parts = [f"pair_E{m.E:g}_nu{m.nu:g}_sy{m.sigma_y:g}_R{setup.sphere.radius:g}_counterE{c.E:g}_nu{c.nu:g}"
-                 f"_sy{c.sigma_y or 0:g}_R{c.R or 0:g}"]
+                 f"_sy{c.sigma_y or 0:g}_R{c.R or 0:g}" + ("" if c.rho is None else f"_rho{c.rho:g}")]
         if setup.sphere.contact_size is not None:
             parts.append(f"h{setup.sphere.contact_size:g}")
         if setup.sphere.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:

@@ -10,7 +10,8 @@ widened by Hertz's ratio of the pair's contact radius to the rigid flat's,
 (R*/R1)^(2/5) (E*_flat/E*)^(1/5) (m*/m1)^(1/5) when above 1 (a = (3 P R* / 4 E*)^(1/3) with
 Hertz's P_max); the counter-body's is calib.fit.counter.CounterBody.mesh_spec of it (a sphere of
 radius R2, or a block of radius and height L = BLOCK_SIZE_OVER_R R1 with its far face held). The
-counter-body's density is the sphere's (nfdmodel.ContactPair.sphere_counter's default).
+counter-body's density is its own (CounterBody.rho: a counter-sphere needs it, ``nfdcal impact``
+refuses one without --counter-rho), a flat's default the sphere's (the held block is not in m*).
 
 Discretisation error: per velocity the variants of calib.studies.impact (VARIANTS: fine; coarse
 mesh, the contact element doubled on both meshes by calib.studies.impact.coarse_mesh; coarse dt,
@@ -64,7 +65,7 @@ class PairImpactSetup:
 
     @property
     def pair(self) -> ContactPair:
-        """The Hertz pair (E*, R*, m* with the counter-body of the sphere's density)."""
+        """The Hertz pair (E*, R*, m* with the counter-body's density, CounterBody.pair)."""
         return self.counter.pair(self.sphere.material, self.sphere.radius)
 
 
@@ -91,7 +92,8 @@ def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_di
     first = (ElasticMaterial(material.E, material.nu) if setup.sphere.elastic
              else VonMisesMaterial(material.E, material.nu, material.sigma_y))
     second = setup.counter.fe_material()
-    return PairImpactSolver(impact_pair_mesh(sphere, counter, cache_dir), first, second, material.rho, material.rho)
+    return PairImpactSolver(impact_pair_mesh(sphere, counter, cache_dir), first, second, material.rho,
+                            setup.counter.density(material))
 
 
 def coarse_meshes(sphere: SphereMeshSpec, counter) -> tuple[SphereMeshSpec, object]:
@@ -133,7 +135,7 @@ def run_task(task: dict) -> dict:
     base = {"key": task["key"], "v_in": task["v_in"]}
     try:
         with threadpool_limits(1):
-            counter = CounterBody(**{k: task["counter"][k] for k in ("E", "nu", "sigma_y", "R")})
+            counter = CounterBody(**{k: task["counter"].get(k) for k in ("E", "nu", "sigma_y", "R", "rho")})
             setup = PairImpactSetup(impact.ImpactSetup(Material(**task["material"]), task["radius"],
                                                        elastic=task["elastic"],
                                                        steps_per_contact=task["steps_per_contact"]),
