@@ -280,6 +280,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
 
     out = ns.out or default_out(ns, setup)
     variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
+    impact_pair.check_pair(setup, velocities, over_v_Y=ns.v_in is None)   # what the two-body FE handles, before any mesh
     impact.check_reach(setup.sphere, velocities)
     if ns.dry_run:
         tasks = impact_pair.tasks_for(setup, velocities, variants)

@@ -40,7 +40,8 @@ from calib.fe.impact_pair import PairImpactSolver
 from calib.fe.impact_pair_mesh import impact_pair_mesh
 from calib.fe.impact_pair_run import hertz_pair_impact, run_pair_impact
 from calib.fe.von_mises import VonMisesMaterial
-from calib.fit.counter import BLOCK_SIZE_OVER_R, CounterBody
+from calib.fit.counter import BLOCK_SIZE_OVER_R, CounterBody, check_counter, check_counter_covers
+from calib.fit.recipe import estimated_contact_radius
 from calib.studies import impact
 from calib.sweep.runner import run_sweep
 from meshes.counter_body import BlockMeshSpec
@@ -48,6 +49,7 @@ from meshes.hemisphere import HemisphereMeshSpec
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec
 from nfdmodel import ContactPair
+from nfdmodel.hertz_contact import hertz_impact_force
 
 VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
 COMPARED = ("e", "P_max", "contact_time", "alpha_max")
@@ -83,6 +85,27 @@ def pair_meshes(setup: PairImpactSetup, v_in: float) -> tuple[SphereMeshSpec, ob
             counter = dataclasses.replace(counter, radius=setup.block_size, far_size=min(counter.far_size, setup.block_size))
         return sphere, counter
     return sphere, SphereMeshSpec(**dataclasses.asdict(counter))
+
+
+def check_pair(setup: PairImpactSetup, velocities, over_v_Y: bool = False) -> None:
+    """ValueError naming the counter flag before any mesh: calib.fit.counter.check_counter with the
+    impacts' contacts (Hertz's radius of the pair at the slowest impact's force, the estimated
+    largest radius, calib.fit.recipe.estimated_contact_radius, at the fastest's; Johnson 1985
+    eq. 11.24), and the counter-sphere wider than each sphere mesh's contact zone. ``over_v_Y``:
+    the velocities are study_velocities, multiples of the pair's v_Y (they move with the counter)."""
+    slowest, fastest = min(velocities), max(velocities)
+
+    def contact(pair: ContactPair) -> tuple[float, float]:
+        scale = pair.v_Y / setup.pair.v_Y if over_v_Y else 1.0
+
+        def force(v):
+            return hertz_impact_force(pair.mass_star, pair.hertz_stiffness, v * scale)
+        return float(pair.hertz_radius(force(slowest))), estimated_contact_radius(pair, force(fastest))
+
+    check_counter(setup.sphere.material, setup.sphere.radius, setup.counter, contact,
+                  f"v_in {slowest:.4g} .. {fastest:.4g} m/s" + (" (multiples of the pair's v_Y)" if over_v_Y else ""))
+    for v in velocities:
+        check_counter_covers(setup.counter, pair_meshes(setup, v)[0])
 
 
 def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_dir=None) -> PairImpactSolver:
@@ -155,6 +178,7 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
                 progress: Callable[[str], None] | None = None, variants=FINE) -> tuple[list[dict], dict]:
     """Every task of ``tasks_for`` through the sweep runner: (rows, each with its variant, counts
     {computed, reused}); ValueError naming the first that failed."""
+    check_pair(setup, velocities)
     impact.check_reach(setup.sphere, velocities)
     tasks = tasks_for(setup, velocities, variants)
     meshes = {stable_key([task["sphere_mesh"], task["counter_mesh"]]): task for task in tasks}
