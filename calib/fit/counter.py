@@ -100,6 +100,10 @@ class CounterBody:
         counter-sphere's density, the sphere's when none is stated)."""
         return ContactPair.sphere_counter(material, radius, self.E, self.nu, self.sigma_y, self.R, self.rho)
 
+    def check(self, material: Material, radius: float, contact, load: str) -> None:
+        """``check_counter`` of this counter-body under the sphere (``material``, R [m])."""
+        check_counter(material, radius, self, contact, load)
+
     def fe_material(self):
         """The FE material: von Mises elastic-perfectly plastic, or elastic without sigma_Y."""
         if self.sigma_y is None:

@@ -327,13 +327,11 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
             peaks = tuple(float(k * pair.P_Y) for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD))
     peaks = tuple(sorted(float(p) for p in peaks))
     if counter is not None:             # what the two-body FE handles, before sizing a mesh
-        from calib.fit.counter import check_counter
-
         def planned(p: ContactPair) -> tuple[float, float]:
             top = peaks if given is not None else [k * p.P_Y for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD)]
             return (float(p.hertz_radius(min(0.5 * p.P_Y, min(top)))), estimated_contact_radius(p, max(top)))
 
-        check_counter(material, radius, counter, planned,
+        counter.check(material, radius, planned,
                       f"the load plan {min(0.5 * pair.P_Y, peaks[0]):.4g} .. {peaks[-1]:.4g} N")
     check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair)   # before sizing a mesh
     a_max = estimated_contact_radius(pair, peaks[-1])
