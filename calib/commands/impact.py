@@ -284,12 +284,13 @@ def run_pair(ns, setup, velocities, workers) -> int:
     impact.check_reach(setup.sphere, velocities)
     if ns.dry_run:
         tasks = impact_pair.tasks_for(setup, velocities, variants)
-        summary = {"out": out, "counter": setup.counter.describe(), "runs": [
+        summary = {"out": out, "counter": setup.counter.describe(), "mass_star": setup.pair.mass_star, "runs": [
             {"v_in": t["v_in"], "variant": t["variant"], "contact_size": t["sphere_mesh"]["contact_size"],
              "steps_per_contact": t["steps_per_contact"],
              "finished": (Path(out) / "cases" / f"{t['key']}.json").is_file()} for t in tasks]}
         lines = [f"{len(tasks)} FE pair impact(s) of the sphere E = {setup.sphere.material.E:.4g} Pa, R = "
-                 f"{setup.sphere.radius:g} m on the {setup.counter.label()}; outputs: {out}"]
+                 f"{setup.sphere.radius:g} m on the {setup.counter.label()} (the pair's m* = "
+                 f"{setup.pair.mass_star:.4g} kg); outputs: {out}"]
         lines += [f"v_in = {r['v_in']:.4g} m/s ({r['variant']}), contact element {r['contact_size']:.3g} m, "
                   f"{r['steps_per_contact']} steps per contact, finished: {'yes' if r['finished'] else 'no'}"
                   for r in summary["runs"]]
@@ -298,7 +299,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
     with output.one_writer(out), progress_reporter(ns.quiet) as progress:
         records = impact_pair.study(setup, velocities, Path(out), workers=workers, progress=progress,
                                     variants=variants)
-    lines = [setup.counter.label(),
+    lines = [f"{setup.counter.label()}; the pair's m* = {setup.pair.mass_star:.4g} kg",
              f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>8} {'P_max [N]':>10} {'Hertz':>10} {'t_c [ms]':>8} {'Hertz':>8} "
              f"{'left':>8} {'balance':>9} {'err e':>8} {'err P':>7} {'err t_c':>7} {'wall s':>7}"]
     for r in records:
