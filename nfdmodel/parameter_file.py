@@ -5,13 +5,16 @@ Format (the record ``parameter_record`` builds):
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m},
      "window": {"P_min_over_P_Y": -, "P_max_over_P_Y": -, "a_max_over_R": -, "source": text}, ...}
 A calibration against a deformable counter-body (``nfdcal calibrate --counter-E ...``) also states it:
-    "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null}
-and the pair (E*, R*, the yield point) is ContactPair.sphere_counter's; absent or null: a rigid flat.
+    "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null,
+                     "rho": kg/m^3 | null}
+and the pair (E*, R*, the yield point, m*) is ContactPair.sphere_counter's; absent or null: a rigid flat.
+A counter-sphere needs its "rho" (the pair's reduced mass m* = m1 m2 / (m1 + m2)); a flat's is
+not part of m* (null: the sphere's). "mass_star" [kg] states m*, checked like P_Y.
 Written by a calibration, also the estimated relative discretisation errors (``ERROR_KEYS``:
 numbers >= 0, or null for one mesh) and how they were obtained ("discretisation").
 Only law, Ca, Kc and material are needed; a file without "window" (written before windows were
 recorded) is read with the default recipe's window, 1..41.2 P_Y, and a RangeWarning saying so; any other key must be one of ``KEYS`` (a typo is named,
-never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, Ca_hat, Kc_hat, when present, must
+never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, mass_star, Ca_hat, Kc_hat, when present, must
 agree with the values recomputed here (relative 1e-4), so a stale or hand-edited file is caught.
 """
 from __future__ import annotations
@@ -34,13 +37,15 @@ ERROR_KEYS = ("Ca_rel_error_estimate", "Kc_rel_error_estimate", "Ca_hat_rel_erro
               "Kc_hat_rel_error_estimate", "table_rel_error_estimate", "e_rel_error_estimate",
               "alpha_rel_error_estimate")
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
-KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "material", "counter_body", "window",
+KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "mass_star", "material", "counter_body", "window",
         "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation",)
 TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 # the deformable counter-body the constants were calibrated against (absent or null: a rigid flat):
-# shape "flat" or "sphere", E [Pa], nu, sigma_y [Pa] (null: elastic), R [m] (null: a flat)
+# shape "flat" or "sphere", E [Pa], nu, sigma_y [Pa] (null: elastic), R [m] (null: a flat); and
+# COUNTER_DENSITY, rho [kg/m^3], required for a sphere (null or absent for a flat: the sphere's)
 COUNTER_KEYS = ("shape", "E", "nu", "sigma_y", "R")
+COUNTER_DENSITY = "rho"
 
 
 def parameter_record(params: VZParams | VZTableParams, R: float, material: Material,
@@ -54,13 +59,13 @@ def parameter_record(params: VZParams | VZTableParams, R: float, material: Mater
                                             "C_R": list(params.g)}}
     else:
         law = {"law": "vz", "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
-    return {**law, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
+    return {**law, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "mass_star": pair.mass_star,
             "material": {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y,
                          "rho": material.rho, "R": R},
             **({"counter_body": dict(counter)} if counter is not None else {}),
             **({"window": params.window.record()} if params.window is not None else {}),
             "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "E": "Pa",
-                      "sigma_y": "Pa", "rho": "kg/m^3", "R": "m"}}
+                      "sigma_y": "Pa", "rho": "kg/m^3", "R": "m", "mass_star": "kg"}}
 
 
 def _check_keys(path, data: dict, allowed: tuple, where: str) -> None:
@@ -71,12 +76,13 @@ def _check_keys(path, data: dict, allowed: tuple, where: str) -> None:
                          f"{', '.join(map(repr, unknown))}; allowed: {', '.join(allowed)}")
 
 
-def _check_object(path, value, keys, name: str, alternative: str = "") -> None:
-    """ValueError naming the file and ``name`` unless ``value`` is an object with exactly ``keys``."""
+def _check_object(path, value, keys, name: str, alternative: str = "", optional: tuple = ()) -> None:
+    """ValueError naming the file and ``name`` unless ``value`` is an object with exactly ``keys``
+    (and any of ``optional``)."""
     if not isinstance(value, dict):
         raise ValueError(f"parameter file {path}: '{name}' must be an object with {', '.join(keys)}{alternative}, "
                          f"got {value!r}")
-    _check_keys(path, value, keys, f" in '{name}'")
+    _check_keys(path, value, keys + optional, f" in '{name}'")
     missing = [k for k in keys if k not in value]
     if missing:
         raise ValueError(f"parameter file {path}: {name}: missing key(s) {', '.join(missing)}")
@@ -86,11 +92,15 @@ def _pair(path, material: Material, R, counter) -> ContactPair:
     """The contact pair of the file: the sphere on a rigid flat, or on its counter-body."""
     if counter is None:
         return ContactPair.sphere_flat(material, R)
-    _check_object(path, counter, COUNTER_KEYS, "counter_body", " or null")
+    _check_object(path, counter, COUNTER_KEYS, "counter_body", " or null", (COUNTER_DENSITY,))
     if counter["shape"] != ("flat" if counter["R"] is None else "sphere"):
         raise ValueError(f"counter_body: shape must be 'flat' (R null) or 'sphere' (R a radius), got "
                          f"{counter['shape']!r} with R = {counter['R']!r}")
-    return ContactPair.sphere_counter(material, R, counter["E"], counter["nu"], counter["sigma_y"], counter["R"])
+    rho = counter.get(COUNTER_DENSITY)
+    if counter["shape"] == "sphere" and rho is None:
+        raise ValueError(f"parameter file {path}: counter_body.rho missing: a counter-sphere's density [kg/m^3] sets "
+                         f"the pair's m* = m1 m2 / (m1 + m2)")
+    return ContactPair.sphere_counter(material, R, counter["E"], counter["nu"], counter["sigma_y"], counter["R"], rho)
 
 
 def load_parameters(path) -> VZParams | VZTableParams:
@@ -153,7 +163,8 @@ def load_parameters(path) -> VZParams | VZTableParams:
             raise ValueError(f"parameter file {path}: {exc}" + (f" (note: {hints})" if hints else "")) from None
     for note in noted:
         warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
-    derived = {"P_Y": params.pair.P_Y, "a_Y": params.pair.a_Y, "delta_Y": params.pair.delta_Y}
+    derived = {"P_Y": params.pair.P_Y, "a_Y": params.pair.a_Y, "delta_Y": params.pair.delta_Y,
+               "mass_star": params.pair.mass_star}
     if law == "vz":
         derived.update(Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
     elif "Ca" in data or "Kc" in data:

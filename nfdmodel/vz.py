@@ -35,6 +35,13 @@ from .window import CalibrationWindow, check_contact_radius_below_R
 
 CA_HAT_RANGE = limits.CA_HAT_RANGE      # admissible Ca P_Y / a_Y (paper: 0.026), nfd_limits.h
 KC_HAT_MAX = limits.KC_HAT_MAX          # admissible Kc P_Y (paper: 0.0098), nfd_limits.h
+# The constants of real solids: the master table's FE calibrations span Ca_hat 0.024..0.035,
+# Kc_hat 0.010..0.017 (calib/data/master_table.csv). Beyond these bands (Ca_hat > 1 puts the
+# plastic radius a_p = Ca_hat a_Y (P/P_Y - 1) past the contact's; Kc_hat > 0.2 is twice the
+# largest admissible Kc_hat at Ca_hat = 0.035) an SI value is a unit slip (the dimensionless
+# number typed for it), not a material: check_si_constants refuses it.
+CA_HAT_USUAL = (1e-3, 1.0)
+KC_HAT_USUAL_MAX = 0.2
 
 
 @dataclass(frozen=True)
@@ -264,6 +271,30 @@ def _admissible_Kc_text(pair: ContactPair, Ca: float) -> str:
     return (f"for Ca = {Ca:.4g} m/N the admissible range is 0 <= Kc <= {largest:.4g} 1/N "
             f"(Kc_hat <= {largest * pair.P_Y:.4g}; loading curve monotone up to P/P_Y = 1e8, "
             f"no energy created up to 1e6); lower Kc or raise Ca")
+
+
+def check_si_constants(pair: ContactPair, Ca: float | None, Kc: float | None, names=("Ca", "Kc")) -> None:
+    """ValueError naming ``names[0]`` (``names[1]``) when Ca [m/N] (Kc [1/N]) of ``pair`` has a
+    dimensionless Ca_hat = Ca P_Y / a_Y outside CA_HAT_USUAL (Kc_hat = Kc P_Y above
+    KC_HAT_USUAL_MAX): a unit slip, with the SI value of the typed number read as Ca_hat (Kc_hat)
+    when that number is a usual one. None: not given."""
+    if Ca is not None:
+        Ca_hat, scale = Ca * pair.P_Y / pair.a_Y, pair.a_Y / pair.P_Y
+        low, high = CA_HAT_USUAL
+        if not low <= Ca_hat <= high:
+            hint = (f"; did you give Ca_hat? Ca_hat = {Ca:g} is {names[0]} {Ca * scale:.4g} m/N for this contact"
+                    if low <= Ca <= high else "")
+            raise ValueError(f"{names[0]} out of range for a solid: need {low:g} <= Ca_hat = Ca P_Y / a_Y <= {high:g}, "
+                             f"i.e. {low * scale:.4g} <= {names[0]} <= {high * scale:.4g} m/N (P_Y = {pair.P_Y:.4g} N, "
+                             f"a_Y = {pair.a_Y:.4g} m), got {Ca:g} m/N (Ca_hat {Ca_hat:.4g}){hint}")
+    if Kc is not None:
+        Kc_hat = Kc * pair.P_Y
+        if Kc_hat > KC_HAT_USUAL_MAX:
+            hint = (f"; did you give Kc_hat? Kc_hat = {Kc:g} is {names[1]} {Kc / pair.P_Y:.4g} 1/N for this contact"
+                    if Kc <= KC_HAT_USUAL_MAX else "")
+            raise ValueError(f"{names[1]} out of range for a solid: need Kc_hat = Kc P_Y <= {KC_HAT_USUAL_MAX:g}, i.e. "
+                             f"{names[1]} <= {KC_HAT_USUAL_MAX / pair.P_Y:.4g} 1/N (P_Y = {pair.P_Y:.4g} N), got {Kc:g} "
+                             f"1/N (Kc_hat {Kc_hat:.4g}){hint}")
 
 
 def vz_params(params) -> VZParams:

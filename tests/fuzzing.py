@@ -54,7 +54,7 @@ PLAUSIBLE = {"--E": (70e9, 205e9, 117e9, 1e6, 1e12), "--nu": (0.0, 0.3, 0.49, 0.
              "--peaks": (500.0, 1000.0, 1500.0, 10.0, 40.0), "--contact-size": (4e-5, 1e-4, 1e-3, 1e-9),
              "--P-min": (1.0, 10.0), "--P-max": (1500.0, 100.0), "--steps": (2, 25, 1000, 1001),
              "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3), "--type": (1, 2, 0, 1.5),
-             "--steps-per-contact": (100, 20, 10, 9, 10000, 10001)}
+             "--steps-per-contact": (100, 20, 10, 9, 10000, 10001), "--counter-rho": (7850.0, 2700.0, 1.0, 1e5)}
 
 
 def number_text(flag: str, hostile: bool):
@@ -90,11 +90,12 @@ SCENE_LINES = (  # (section, key, literal) of a valid scene that exercises every
     ("hertz.counter", "E", "210e9"), ("hertz.counter", "nu", "0.28"),
     ("impact", "v_in_over_v_Y", "[0.5, 20.0]"), ("impact", "error_estimate", "false"),
     ("impact.counter", "E", "70e9"), ("impact.counter", "R", "0.1"), ("impact.counter", "sigma_y", "100e6"),
+    ("impact.counter", "rho", "2700.0"),
     ("outputs", "plots", "false"), ("outputs", "histories", "false"))
 SCENE_SECTIONS = tuple(dict.fromkeys([s for s, _, _ in SCENE_LINES] + ["grid", "bogus"]))
 SCENE_KEYS_EXTRA = ("contact_size", "E_over_sigma_y", "velocities", "bogus", "P_max", "unloading_steps",
                     "loading_steps", "out", "level", "v_in", "v_max", "v_max_from", "error_estimate", "quasi_static",
-                    "steps_per_contact", "counter", "E", "nu", "sigma_y", "R")
+                    "steps_per_contact", "counter", "E", "nu", "sigma_y", "R", "rho")
 
 
 @st.composite
@@ -221,7 +222,7 @@ def parameter_text(draw) -> str:
 
 # ----------------------------------------------------------------------------- argument lists
 MATERIAL_FLAGS = ("--R", "--E", "--nu", "--sigma-y", "--rho")
-COUNTER_FLAGS = ("--counter-E", "--counter-nu", "--counter-sigma-y", "--counter-R")
+COUNTER_FLAGS = ("--counter-E", "--counter-nu", "--counter-sigma-y", "--counter-R", "--counter-rho")
 # a command's flags: value-taking flags map to how many values they take (1, or "+" for one or more)
 COMMANDS = {
     "collide": {"--law": 1, "--v-in": "+", "--dt": 1, "--Ca": 1, "--Kc": 1, "--K1": 1, "--K2": 1,

@@ -175,7 +175,8 @@ def test_counter_flags_refuse_bad_input_in_one_line(flags, named, tmp_path, monk
 
 def test_counter_dry_run_plans_the_pair(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
-    assert main(["impact", "--counter-E", "2.1e11", "--counter-R", "0.05", "--dry-run", "--json"]) == 0
+    assert main(["impact", "--counter-E", "2.1e11", "--counter-R", "0.05", "--counter-rho", "7850", "--dry-run",
+                 "--json"]) == 0
     plan = json.loads(capsys.readouterr().out)
     assert len(plan["runs"]) == 9 and plan["counter"]["shape"] == "sphere" and plan["counter"]["R"] == 0.05
     assert {r["variant"] for r in plan["runs"]} == set(impact.VARIANTS)

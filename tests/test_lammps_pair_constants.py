@@ -163,8 +163,9 @@ def test_vz_table_pair_file_equals_nfdmodel(plugin, tmp_path):
         table = VZTableParams(ContactPair.sphere_flat(material, R_A), *plane.TABLE_NODES, plane.TABLE_WINDOW)
         files[name] = tmp_path / f"{name}.json"
         files[name].write_text(json.dumps(parameter_record(table, R_A, material)))
-    counter = {"shape": "sphere", "E": BODY_B.E, "nu": BODY_B.nu, "sigma_y": BODY_B.sigma_y, "R": R_B}
-    calibrated = VZTableParams(ContactPair.sphere_counter(BODY_A, R_A, BODY_B.E, BODY_B.nu, BODY_B.sigma_y, R_B),
+    counter = {"shape": "sphere", "E": BODY_B.E, "nu": BODY_B.nu, "sigma_y": BODY_B.sigma_y, "R": R_B, "rho": BODY_B.rho}
+    calibrated = VZTableParams(ContactPair.sphere_counter(BODY_A, R_A, BODY_B.E, BODY_B.nu, BODY_B.sigma_y, R_B,
+                                                          BODY_B.rho),
                                *pair_nodes, plane.TABLE_WINDOW)
     files["pair"] = tmp_path / "pair.json"
     files["pair"].write_text(json.dumps(parameter_record(calibrated, R_A, BODY_A, counter)))
@@ -221,13 +222,14 @@ def counter_file(folder, counter: dict, constants: VZConstants, name: str):
     """A parameter file of aluminium (R = 1 cm) calibrated on ``counter`` (the form nfdcal calibrate
     --counter-E ... writes; constants chosen, not the FE's: the test is of the export)."""
     aluminium = Material(70e9, 0.3, 100e6, 2699.0)
-    pair = ContactPair.sphere_counter(aluminium, 0.01, counter["E"], counter["nu"], counter["sigma_y"], counter["R"])
+    pair = ContactPair.sphere_counter(aluminium, 0.01, counter["E"], counter["nu"], counter["sigma_y"], counter["R"],
+                                      counter.get("rho"))
     path = folder / name
     path.write_text(json.dumps(parameter_record(constants.params(pair), 0.01, aluminium, counter)))
     return path
 
 
-STEEL_SPHERE = {"shape": "sphere", "E": 205e9, "nu": 0.29, "sigma_y": 655e6, "R": 0.006}
+STEEL_SPHERE = {"shape": "sphere", "E": 205e9, "nu": 0.29, "sigma_y": 655e6, "R": 0.006, "rho": 2699.0}
 STEEL_FLAT = {"shape": "flat", "E": 205e9, "nu": 0.29, "sigma_y": None, "R": None}
 
 

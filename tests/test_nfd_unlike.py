@@ -63,11 +63,13 @@ def test_the_substitution_takes_the_body_that_yields_first():
         assert params.Kc_hat == pytest.approx(HATS_A.Kc_hat, rel=1e-12)
 
 
-@pytest.mark.parametrize("counter", [{"shape": "sphere", "E": 205e9, "nu": 0.29, "sigma_y": 655e6, "R": 0.006},
+@pytest.mark.parametrize("counter", [{"shape": "sphere", "E": 205e9, "nu": 0.29, "sigma_y": 655e6, "R": 0.006,
+                                      "rho": 7850.0},
                                      {"shape": "flat", "E": 205e9, "nu": 0.29, "sigma_y": None, "R": None}])
 def test_a_counter_body_file_gives_the_pairs_law(tmp_path, counter):
     aluminium = Material(70e9, 0.3, 100e6, 2699.0)
-    pair = ContactPair.sphere_counter(aluminium, 0.01, counter["E"], counter["nu"], counter["sigma_y"], counter["R"])
+    pair = ContactPair.sphere_counter(aluminium, 0.01, counter["E"], counter["nu"], counter["sigma_y"], counter["R"],
+                                      counter.get("rho"))
     path = tmp_path / "pair.json"
     path.write_text(json.dumps(parameter_record(PAIR.params(pair), 0.01, aluminium, counter)))
     read = nfdmodel.load_parameters(path)
@@ -76,7 +78,7 @@ def test_a_counter_body_file_gives_the_pairs_law(tmp_path, counter):
     if counter["R"] is None:
         law = sphere_wall_params(aluminium, 0.01, own, counter["E"], counter["nu"], pair=constants)
     else:
-        steel = Material(counter["E"], counter["nu"], counter["sigma_y"], aluminium.rho)
+        steel = Material(counter["E"], counter["nu"], counter["sigma_y"], counter["rho"])
         law = sphere_sphere_params(aluminium, 0.01, own, steel, counter["R"], own, pair=constants)
     assert law.Ca == pytest.approx(read.Ca, rel=1e-12) and law.Kc == pytest.approx(read.Kc, rel=1e-12)
     assert law.pair.P_Y == pytest.approx(read.pair.P_Y, rel=1e-12)

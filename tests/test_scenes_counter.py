@@ -18,11 +18,16 @@ STEEL = "E = 210e9\nnu = 0.28\n"
     (MATERIAL + "[hertz]\n[hertz.counter]\nE = 2e11\nnu = 0.6\n", ["hertz.counter.nu", "out of range", "< 0.5"]),
     (MATERIAL + "[hertz]\n[hertz.counter]\nE = 2e11\nR = -1.0\n", ["hertz.counter.R", "out of range", "> 0"]),
     (MATERIAL + "[hertz]\n[hertz.counter]\nnu = 0.3\n", ["hertz.counter.E", "missing"]),
-    (MATERIAL + "[impact]\nv_in = [0.01]\n[impact.counter]\nE = 2e11\nrho = 7800.0\n", ["impact.counter.rho", "unknown key"]),
+    (MATERIAL + "[impact]\nv_in = [0.01]\n[impact.counter]\nE = 2e11\ndensity = 7800.0\n",
+     ["impact.counter.density", "unknown key"]),
+    (MATERIAL + "[impact]\nv_in = [0.01]\n[impact.counter]\nE = 2e11\nR = 0.05\n", ["impact.counter", "rho", "density"]),
+    (MATERIAL + "[impact]\nv_in = [0.01]\n[impact.counter]\nE = 2e11\nR = 0.05\nrho = 7.8\n",
+     ["impact.counter", "rho", "did you give g/cm^3"]),
     (MATERIAL + "[calibration]\nv_max = 0.1\n[calibration.counter]\n" + STEEL, ["calibration", "rigid flat", "P_max"]),
     (MATERIAL + "[load_paths]\n[calibration]\n[calibration.counter]\n" + STEEL + "[collision]\nv_in = [0.01]\n",
      ["collision", "impact.counter"]),
-], ids=["E beyond solids", "nu", "R", "E missing", "unknown key", "with v_max", "with collision"])
+], ids=["E beyond solids", "nu", "R", "E missing", "unknown key", "sphere without rho", "rho in g/cm^3", "with v_max",
+        "with collision"])
 def test_invalid_counter_table_is_one_line_exit_2(tmp_path, monkeypatch, capsys, body, words):
     path = write(tmp_path, body)
     with pytest.raises(ValueError) as info:

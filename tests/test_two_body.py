@@ -174,8 +174,8 @@ def test_a_parameter_file_states_the_counter_body_and_is_read_back_as_the_pair(t
 
     from nfdmodel import VZParams, load_parameters, parameter_record
 
-    counter = {"shape": "sphere", "E": STEEL.E, "nu": STEEL.nu, "sigma_y": None, "R": R1 / 2}
-    pair = ContactPair.sphere_counter(ALUMINIUM, R1, STEEL.E, STEEL.nu, None, R1 / 2)
+    counter = {"shape": "sphere", "E": STEEL.E, "nu": STEEL.nu, "sigma_y": None, "R": R1 / 2, "rho": STEEL.rho}
+    pair = ContactPair.sphere_counter(ALUMINIUM, R1, STEEL.E, STEEL.nu, None, R1 / 2, STEEL.rho)
     record = parameter_record(VZParams(pair, 2e-7, 1e-4), R1, ALUMINIUM, counter)
     path = tmp_path / "pair.json"
     path.write_text(json.dumps(record))

@@ -121,7 +121,8 @@ def plan_ladder(ns, material, name: str, mesh_ladder) -> int:
 
 
 def counter_absent(ns) -> bool:
-    return all(getattr(ns, key, None) is None for key in ("counter_E", "counter_nu", "counter_sigma_y", "counter_R"))
+    return all(getattr(ns, key, None) is None for key in ("counter_E", "counter_nu", "counter_sigma_y", "counter_R",
+                                                         "counter_rho"))
 
 
 def run(ns) -> int:
@@ -205,7 +206,8 @@ def run(ns) -> int:
                **({"counter_body": counter.describe()} if counter is not None else {})}
     if rounds is not None:
         summary["v_max"] = {"v_max": v_max, "rounds": rounds}
-    lines = ([counter.label() + f"; the pair's E* = {spec.pair.E_star:.4g} Pa, R* = {spec.pair.R_star:.4g} m"]
+    lines = ([counter.label() + f"; the pair's E* = {spec.pair.E_star:.4g} Pa, R* = {spec.pair.R_star:.4g} m, "
+                                f"m* = {spec.pair.mass_star:.4g} kg"]
              if counter is not None else []) + [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
              f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "
              f"{summary['P_Y_fe']:.4g} N), {summary['wall_time_s']:.1f} s"]

@@ -117,6 +117,7 @@ def material_constants(pair, material, radius: float):
 def build_params(ns):
     """(law name, law parameters) from the command-line namespace."""
     from nfdmodel import ContactPair, Material, VZParams, VZTableParams, WaltonBraunParams, get_law, load_parameters
+    from nfdmodel.vz import check_si_constants
 
     flags = material_flags(ns)
     if ns.law is not None:
@@ -146,6 +147,9 @@ def build_params(ns):
                              "table's constants for its material); the defaults are the reference sphere's")
         else:                           # constants typed by hand: no window stated
             params = VZParams(pair, number("--Ca", ns.Ca, DEFAULTS["Ca"]), number("--Kc", ns.Kc, DEFAULTS["Kc"]), None)
+            # a dimensionless number typed in the SI flag (the README's Ca_hat 0.026) is refused
+            check_si_constants(pair, None if ns.Ca is None else params.Ca, None if ns.Kc is None else params.Kc,
+                               ("--Ca", "--Kc"))
     if law == "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         default = WaltonBraunParams.from_vz(params)
         K1 = number("--K1", ns.K1, default.K1)
@@ -192,7 +196,8 @@ def run(ns) -> int:
         print(f"nfdcal collide: warning: {warning.message}", file=sys.stderr)
     records = result.records()
     pair = params.pair
-    lines = [f"law {law}: R* = {pair.R_star:g} m, E* = {pair.E_star:.4g} Pa, P_Y = {pair.P_Y:.4g} N, "
+    lines = [f"law {law}: R* = {pair.R_star:g} m, E* = {pair.E_star:.4g} Pa, m* = {pair.mass_star:.4g} kg, "
+             f"P_Y = {pair.P_Y:.4g} N, "
              f"v_Y = {pair.v_Y:.4g} m/s, dt = {result.dt:.3g} s, {result.steps} steps, "
              f"{result.wall_time_s:.3f} s",
              f"{'v_in m/s':>10} {'v_out m/s':>11} {'e_velocity':>11} {'e_energy':>9} {'P_max N':>10} "

@@ -76,18 +76,24 @@ COUNTER_HELP = {"counter_E": "the counter-body's Young's modulus [Pa]: the spher
                               "this material instead of a rigid flat (absent: the rigid flat)",
                 "counter_nu": f"the counter-body's Poisson's ratio (0 <= nu < {limits.NU_MAX:g}; default the sphere's)",
                 "counter_sigma_y": "the counter-body's yield stress [Pa] (absent: elastic)",
-                "counter_R": "the counter-body's radius [m]: a sphere (absent: a flat)"}
+                "counter_R": "the counter-body's radius [m]: a sphere (absent: a flat)",
+                "counter_rho": "the counter-body's density [kg/m^3]: required for a counter-sphere (its mass enters "
+                               "the pair's m* = m1 m2 / (m1 + m2)); a flat (a held block, not in m*): default the "
+                               "sphere's"}
 
 
-def add_counter_arguments(parser) -> None:
-    """--counter-E --counter-nu --counter-sigma-y --counter-R: the deformable counter-body."""
+def add_counter_arguments(parser, density: bool = True) -> None:
+    """--counter-E --counter-nu --counter-sigma-y --counter-R [--counter-rho]: the deformable
+    counter-body (``density``: the command's result depends on the pair's mass)."""
     for key, help_text in COUNTER_HELP.items():
-        parser.add_argument(flag_name(key), dest=key, default=None, help=help_text)
+        if density or key != "counter_rho":
+            parser.add_argument(flag_name(key), dest=key, default=None, help=help_text)
 
 
 def counter_from_args(ns, material: Material):
     """calib.fit.counter.CounterBody from the counter flags, None when none is given (the rigid
-    flat); an error names the flag and its range (the ranges of nfdmodel.limits)."""
+    flat); an error names the flag and its range (the ranges of nfdmodel.limits). A command with
+    --counter-rho needs it for a counter-sphere (CounterBody.require_density)."""
     from nfdmodel.materials import check_radius
     from nfdmodel.validation import check_solid
 
@@ -107,9 +113,13 @@ def counter_from_args(ns, material: Material):
     R = given["counter_R"]
     if R is not None:
         R = check_radius("--counter-R", number("--counter-R", R, **MATERIAL_RANGES["R"]))
+    rho = given["counter_rho"]
+    if rho is not None:
+        rho = check_solid("rho", number("--counter-rho", rho, **MATERIAL_RANGES["rho"]), "--counter-rho")
     from calib.fit.counter import CounterBody
 
-    return CounterBody(E, nu, sigma_y, R)
+    counter = CounterBody(E, nu, sigma_y, R, rho)
+    return counter.require_density() if hasattr(ns, "counter_rho") else counter
 
 
 def material_folder_name(material: Material, radius: float) -> str:
@@ -120,7 +130,8 @@ def material_folder_name(material: Material, radius: float) -> str:
 def counter_folder_name(counter) -> str:
     """The part of a default results folder's name that names a counter-body (calibrate, hertz)."""
     return (f"on_E{counter.E:g}_nu{counter.nu:g}_sy{'-elastic' if counter.sigma_y is None else f'{counter.sigma_y:g}'}"
-            f"_{'flat' if counter.R is None else f'R{counter.R:g}'}")
+            f"_{'flat' if counter.R is None else f'R{counter.R:g}'}"
+            + ("" if getattr(counter, "rho", None) is None else f"_rho{counter.rho:g}"))
 
 
 def is_reference(ns) -> bool:

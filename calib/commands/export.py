@@ -247,9 +247,9 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
             raise ValueError(f"--counter-type out of range: need an integer >= 1 other than --type {kind}, got "
                              f"{ns.counter_type}")
         other = int(other)
-        # the file holds no density of the counter-body: its like-type law states the sphere's (the
-        # plugin takes each atom's mass from the input, not from the file)
-        bodies.append((other, Material(counter["E"], counter["nu"], counter_sigma_y, record["rho"]), counter["R"],
+        # the counter-sphere's density (load_parameters requires it; the plugin takes each atom's
+        # mass from the input, not from the file)
+        bodies.append((other, Material(counter["E"], counter["nu"], counter_sigma_y, counter["rho"]), counter["R"],
                        "the counter-body"))
         summary.update(counter_type=other, counter_sigma_y=counter_sigma_y)
     else:

@@ -37,7 +37,7 @@ def add_parser(subparsers):
     p.add_argument("--P-max", dest="P_max", default=None, help=f"top load [N] (> P_min, default {P_MAX:g})")
     p.add_argument("--steps", type=int, default=25, help="number of loads, geometric (2 .. 1000, default 25)")
     add_material_arguments(p)
-    add_counter_arguments(p)
+    add_counter_arguments(p, density=False)
     p.add_argument("--contact-size", dest="contact_size", default=None,
                    help="element size at the contact [m] (> 0; default mesh: 4e-5 for R = 0.1)")
     p.add_argument("--ladder", action="store_true",
@@ -64,6 +64,12 @@ def run(ns) -> int:
     contact_size = number("--contact-size", ns.contact_size, None, low=0.0, unit="m")
     if counter is not None and ns.ladder:
         raise ValueError("--ladder runs the rigid flat's mesh ladder: do not combine it with the --counter-* flags")
+    if counter is not None:             # what the two-body FE handles, before any mesh (dry run too)
+        from calib.fit.counter import check_counter, check_counter_covers, hertz_contact
+        from calib.studies.hertz import hertz_spec
+
+        check_counter(material, radius, counter, hertz_contact((P_min, P_max)), f"loads {P_min:g} .. {P_max:g} N")
+        check_counter_covers(counter, hertz_spec(material, radius, P_max, contact_size, counter=counter))
     if counter is not None:             # an unlike pair: where the rigid-flat law would miss it, say so
         from calib.fit.substitution import warn_substitution
 
@@ -87,8 +93,15 @@ def run(ns) -> int:
         summary = write_ladder_results(out, radius=radius, material=material,
                                        P_min=P_min, P_max=P_max, steps=ns.steps)
     else:
-        summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min,
-                                      P_max=P_max, steps=ns.steps, contact_size=contact_size, counter=counter)
+        from calib.fe import StepNotConverged
+
+        try:
+            summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min,
+                                          P_max=P_max, steps=ns.steps, contact_size=contact_size, counter=counter)
+        except StepNotConverged as exc:     # one line, exit 2: what failed and what to change
+            raise ValueError(f"--P-min, --P-max: the FE did not converge ({exc}); the run's checks passed, so this "
+                             f"load range or mesh is beyond what it was tested on: try other loads or "
+                             f"--contact-size") from None
     print_summary(ns, summary, ladder_lines(summary, out) if ns.ladder else hertz_lines(summary, out))
     return 0
 

@@ -17,9 +17,10 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal impact --drops drops.csv                # drop tests (fit-data's file) against the FE: OUT/drops.csv
     nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
     nfdcal impact --counter-E 2.1e11 --counter-nu 0.28 --v-in 0.04   # on an elastic steel flat (a held block)
-    nfdcal impact --counter-E 7e10 --counter-R 0.1 --v-in 0.08       # two free spheres at 0.08 m/s relative
+    nfdcal impact --counter-E 7e10 --counter-R 0.1 --counter-rho 2699 --v-in 0.08   # two free spheres, 0.08 m/s relative
 
-With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R) the sphere hits a deformable
+With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R, --counter-rho: a counter-sphere's
+density, required; a flat's default the sphere's) the sphere hits a deformable
 counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free counter-sphere
 (--v-in: the relative velocity, the pair starting in its centre-of-mass frame; e: the relative
 normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
@@ -163,7 +164,7 @@ def default_out(ns, setup) -> str:
     if hasattr(setup, "counter"):
         c, m = setup.counter, setup.sphere.material
         parts = [f"pair_E{m.E:g}_nu{m.nu:g}_sy{m.sigma_y:g}_R{setup.sphere.radius:g}_counterE{c.E:g}_nu{c.nu:g}"
-                 f"_sy{c.sigma_y or 0:g}_R{c.R or 0:g}"]
+                 f"_sy{c.sigma_y or 0:g}_R{c.R or 0:g}" + ("" if c.rho is None else f"_rho{c.rho:g}")]
         if setup.sphere.contact_size is not None:
             parts.append(f"h{setup.sphere.contact_size:g}")
         if setup.sphere.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:
@@ -290,15 +291,17 @@ def run_pair(ns, setup, velocities, workers) -> int:
     out = ns.out or default_out(ns, setup)
     refuse_output_over_input(ns, {"out": out})        # the default folder too: no file it writes is an input
     variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
+    impact_pair.check_pair(setup, velocities, over_v_Y=ns.v_in is None)   # what the two-body FE handles, before any mesh
     impact.check_reach(setup.sphere, velocities)
     if ns.dry_run:
         tasks = impact_pair.tasks_for(setup, velocities, variants)
-        summary = {"out": out, "counter": setup.counter.describe(), "runs": [
+        summary = {"out": out, "counter": setup.counter.describe(), "mass_star": setup.pair.mass_star, "runs": [
             {"v_in": t["v_in"], "variant": t["variant"], "contact_size": t["sphere_mesh"]["contact_size"],
              "steps_per_contact": t["steps_per_contact"],
              "finished": (Path(out) / "cases" / f"{t['key']}.json").is_file()} for t in tasks]}
         lines = [f"{len(tasks)} FE pair impact(s) of the sphere E = {setup.sphere.material.E:.4g} Pa, R = "
-                 f"{setup.sphere.radius:g} m on the {setup.counter.label()}; outputs: {out}"]
+                 f"{setup.sphere.radius:g} m on the {setup.counter.label()} (the pair's m* = "
+                 f"{setup.pair.mass_star:.4g} kg); outputs: {out}"]
         lines += [f"v_in = {r['v_in']:.4g} m/s ({r['variant']}), contact element {r['contact_size']:.3g} m, "
                   f"{r['steps_per_contact']} steps per contact, finished: {'yes' if r['finished'] else 'no'}"
                   for r in summary["runs"]]
@@ -307,7 +310,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
     with output.one_writer(out), progress_reporter(ns.quiet) as progress:
         records = impact_pair.study(setup, velocities, Path(out), workers=workers, progress=progress,
                                     variants=variants)
-    lines = [setup.counter.label(),
+    lines = [f"{setup.counter.label()}; the pair's m* = {setup.pair.mass_star:.4g} kg",
              f"{'v_in [m/s]':>10} {'v/v_Y':>7} {'e':>8} {'P_max [N]':>10} {'Hertz':>10} {'t_c [ms]':>8} {'Hertz':>8} "
              f"{'left':>8} {'balance':>9} {'err e':>8} {'err P':>7} {'err t_c':>7} {'wall s':>7}"]
     for r in records:

@@ -319,12 +319,20 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
         raise ValueError("give peaks [N] or peaks_over_yield [-], not both")
     pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
     reference = counter is None and is_reference_sphere(material.E, material.nu, radius, material.sigma_y)
+    given = peaks
     if peaks is None:
         if peaks_over_yield is None and reference:
             peaks = reference_case.PEAKS
         else:
             peaks = tuple(float(k * pair.P_Y) for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD))
     peaks = tuple(sorted(float(p) for p in peaks))
+    if counter is not None:             # what the two-body FE handles, before sizing a mesh
+        def planned(p: ContactPair) -> tuple[float, float]:
+            top = peaks if given is not None else [k * p.P_Y for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD)]
+            return (float(p.hertz_radius(min(0.5 * p.P_Y, min(top)))), estimated_contact_radius(p, max(top)))
+
+        counter.check(material, radius, planned,
+                      f"the load plan {min(0.5 * pair.P_Y, peaks[0]):.4g} .. {peaks[-1]:.4g} N")
     check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair)   # before sizing a mesh
     a_max = estimated_contact_radius(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,

@@ -99,7 +99,8 @@ def substitution_warning(material: Material, radius: float, counter, path: str |
                                                       if error["beyond"] else ""))
     flags = f"--counter-E {counter.E:g} --counter-nu {counter.nu:g}" + (
         "" if counter.sigma_y is None else f" --counter-sigma-y {counter.sigma_y:g}") + (
-        "" if counter.R is None else f" --counter-R {counter.R:g}")
+        "" if counter.R is None else f" --counter-R {counter.R:g} --counter-rho "
+                                     + ("RHO" if counter.rho is None else f"{counter.rho:g}"))
     shape = "flat" if counter.R is None else "sphere"
     return (f"unlike pair ({where}, {shape} counter-body, {error['yielding']} yielding): the rigid-flat law with the "
             f"pair's E*, R* misses the two-body FE by {100 * low:+.1f}..{100 * high:+.1f} % in e and "

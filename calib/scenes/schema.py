@@ -19,9 +19,10 @@
     [outputs]      out (folder, default results/scenes/<name>), plots, vtu, histories (booleans)
     [hertz.counter], [calibration.counter], [impact.counter]
                    E [Pa], nu (default: the sphere's), sigma_y [Pa] (absent: elastic), R [m] (absent:
-                   a flat): the stage presses the sphere on this deformable counter-body instead of the
-                   rigid flat (calib.fit.counter.CounterBody, whose checks apply), as the commands'
-                   --counter-E/-nu/-sigma-y/-R do; the impact stage then runs the two-body impact
+                   a flat), rho [kg/m^3] (a counter-sphere's, required by calibration and impact: the
+                   pair's m*; a flat's default the sphere's): the stage presses the sphere on this
+                   deformable counter-body instead of the rigid flat (calib.fit.counter.CounterBody,
+                   whose checks apply), as the commands' --counter-E/-nu/-sigma-y/-R/-rho do; the impact stage then runs the two-body impact
                    (calib.studies.impact_pair: the error estimate as error_estimate says, no quasi-static
                    comparison); a
                    calibration on a counter-body takes its load paths from [load_paths] (not v_max)
@@ -150,18 +151,21 @@ class MeshChoice(_Table):
 
 class SceneCounter(_Table):
     """A stage's counter-body: E [Pa], nu [-] (None: the sphere's), sigma_y [Pa] (None: elastic),
-    R [m] (None: a flat); calib.fit.counter.CounterBody validates it against nfdmodel.limits."""
+    R [m] (None: a flat), rho [kg/m^3] (a counter-sphere's is required by the calibration and
+    impact stages, whose m* it enters; a flat's default the sphere's); calib.fit.counter.CounterBody
+    validates it against nfdmodel.limits."""
 
     E: Positive
     nu: PoissonRatio | None = None
     sigma_y: Positive | None = None
     R: Positive | None = None
+    rho: Positive | None = None
 
     def counter_body(self, material: SceneMaterial):
         """The calib.fit.counter.CounterBody under ``material``'s sphere (ValueError out of range)."""
         from calib.fit.counter import CounterBody
 
-        return CounterBody(self.E, material.nu if self.nu is None else self.nu, self.sigma_y, self.R)
+        return CounterBody(self.E, material.nu if self.nu is None else self.nu, self.sigma_y, self.R, self.rho)
 
 
 def stage_pair(material: SceneMaterial, counter: SceneCounter | None) -> ContactPair:
@@ -494,7 +498,9 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
         counter = getattr(getattr(file, stage), "counter", None)
         for m in materials if counter is not None else ():
             try:
-                counter.counter_body(m)
+                body = counter.counter_body(m)
+                if stage != "hertz":        # the pair's m* enters the parameter file and the impact
+                    body.require_density("rho")
             except ValueError as exc:
                 raise SceneError(f"scene {source}: {stage}.counter: {exc}") from None
     # rules that need each material's contact physics (P_Y)

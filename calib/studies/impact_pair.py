@@ -10,7 +10,8 @@ widened by Hertz's ratio of the pair's contact radius to the rigid flat's,
 (R*/R1)^(2/5) (E*_flat/E*)^(1/5) (m*/m1)^(1/5) when above 1 (a = (3 P R* / 4 E*)^(1/3) with
 Hertz's P_max); the counter-body's is calib.fit.counter.CounterBody.mesh_spec of it (a sphere of
 radius R2, or a block of radius and height L = BLOCK_SIZE_OVER_R R1 with its far face held). The
-counter-body's density is the sphere's (nfdmodel.ContactPair.sphere_counter's default).
+counter-body's density is its own (CounterBody.rho: a counter-sphere needs it, ``nfdcal impact``
+refuses one without --counter-rho), a flat's default the sphere's (the held block is not in m*).
 
 Discretisation error: per velocity the variants of calib.studies.impact (VARIANTS: fine; coarse
 mesh, the contact element doubled on both meshes by calib.studies.impact.coarse_mesh; coarse dt,
@@ -39,7 +40,8 @@ from calib.fe.impact_pair import PairImpactSolver
 from calib.fe.impact_pair_mesh import impact_pair_mesh
 from calib.fe.impact_pair_run import hertz_pair_impact, run_pair_impact
 from calib.fe.von_mises import VonMisesMaterial
-from calib.fit.counter import BLOCK_SIZE_OVER_R, CounterBody
+from calib.fit.counter import BLOCK_SIZE_OVER_R, CounterBody, check_counter, check_counter_covers
+from calib.fit.recipe import estimated_contact_radius
 from calib.studies import impact
 from calib.sweep.runner import run_sweep
 from meshes.counter_body import BlockMeshSpec
@@ -47,6 +49,7 @@ from meshes.hemisphere import HemisphereMeshSpec
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec
 from nfdmodel import ContactPair
+from nfdmodel.hertz_contact import hertz_impact_force
 
 VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
 COMPARED = ("e", "P_max", "contact_time", "alpha_max")
@@ -64,7 +67,7 @@ class PairImpactSetup:
 
     @property
     def pair(self) -> ContactPair:
-        """The Hertz pair (E*, R*, m* with the counter-body of the sphere's density)."""
+        """The Hertz pair (E*, R*, m* with the counter-body's density, CounterBody.pair)."""
         return self.counter.pair(self.sphere.material, self.sphere.radius)
 
 
@@ -84,6 +87,28 @@ def pair_meshes(setup: PairImpactSetup, v_in: float) -> tuple[SphereMeshSpec, ob
     return sphere, SphereMeshSpec(**dataclasses.asdict(counter))
 
 
+def check_pair(setup: PairImpactSetup, velocities, over_v_Y: bool = False) -> None:
+    """ValueError naming the counter flag before any mesh: calib.fit.counter.check_counter with the
+    impacts' contacts (Hertz's radius of the pair at the slowest impact's force, the estimated
+    largest radius, calib.fit.recipe.estimated_contact_radius, at the fastest's; Johnson 1985
+    eq. 11.24), and the counter-sphere wider than each sphere mesh's contact zone. ``over_v_Y``:
+    the velocities are study_velocities, multiples of the pair's v_Y (they move with the counter)."""
+    slowest, fastest = min(velocities), max(velocities)
+
+    def contact(pair: ContactPair) -> tuple[float, float]:
+        scale = pair.v_Y / setup.pair.v_Y if over_v_Y else 1.0
+
+        def force(v):
+            return hertz_impact_force(pair.mass_star, pair.hertz_stiffness, v * scale)
+        return float(pair.hertz_radius(force(slowest))), estimated_contact_radius(pair, force(fastest))
+
+    check_counter(setup.sphere.material, setup.sphere.radius, setup.counter, contact,
+                  f"v_in {slowest:.4g} .. {fastest:.4g} m/s" + (" (multiples of the pair's v_Y)" if over_v_Y else ""))
+    impact.check_resolution(setup.sphere, velocities)   # the sphere's mesh resolves each contact (names --v-in)
+    for v in velocities:
+        check_counter_covers(setup.counter, pair_meshes(setup, v)[0])
+
+
 def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_dir=None) -> PairImpactSolver:
     """The two-body impact solver on the meshes ``sphere``, ``counter`` (an elastic sphere when
     setup.sphere.elastic)."""
@@ -91,7 +116,8 @@ def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_di
     first = (ElasticMaterial(material.E, material.nu) if setup.sphere.elastic
              else VonMisesMaterial(material.E, material.nu, material.sigma_y))
     second = setup.counter.fe_material()
-    return PairImpactSolver(impact_pair_mesh(sphere, counter, cache_dir), first, second, material.rho, material.rho)
+    return PairImpactSolver(impact_pair_mesh(sphere, counter, cache_dir), first, second, material.rho,
+                            setup.counter.density(material))
 
 
 def coarse_meshes(sphere: SphereMeshSpec, counter) -> tuple[SphereMeshSpec, object]:
@@ -133,7 +159,7 @@ def run_task(task: dict) -> dict:
     base = {"key": task["key"], "v_in": task["v_in"]}
     try:
         with threadpool_limits(1):
-            counter = CounterBody(**{k: task["counter"][k] for k in ("E", "nu", "sigma_y", "R")})
+            counter = CounterBody(**{k: task["counter"].get(k) for k in ("E", "nu", "sigma_y", "R", "rho")})
             setup = PairImpactSetup(impact.ImpactSetup(Material(**task["material"]), task["radius"],
                                                        elastic=task["elastic"],
                                                        steps_per_contact=task["steps_per_contact"]),
@@ -153,6 +179,7 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
                 progress: Callable[[str], None] | None = None, variants=FINE) -> tuple[list[dict], dict]:
     """Every task of ``tasks_for`` through the sweep runner: (rows, each with its variant, counts
     {computed, reused}); ValueError naming the first that failed."""
+    check_pair(setup, velocities)
     impact.check_reach(setup.sphere, velocities)
     tasks = tasks_for(setup, velocities, variants)
     meshes = {stable_key([task["sphere_mesh"], task["counter_mesh"]]): task for task in tasks}
