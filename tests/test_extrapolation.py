@@ -70,17 +70,23 @@ def small_spec():
 
 
 @pytest.fixture(scope="module")
+def one_mesh(small_spec):
+    """The finer mesh's own calibration (meshes=1), on this process."""
+    return calibration.calibrate(small_spec, meshes=1)
+
+
+@pytest.fixture(scope="module")
 def two_meshes(small_spec):
     with pytest.warns(MeshWarning, match="not in the asymptotic range for Ca"):
         return calibration.calibrate(small_spec, parallel=True)
 
 
-def test_two_meshes_ship_the_extrapolation_of_both_fits(small_spec, two_meshes):
+def test_two_meshes_ship_the_extrapolation_of_both_fits(small_spec, two_meshes, one_mesh):
     """The shipped Ca, Kc are richardson() of the two meshes' radius fits (each the one-mesh
     calibration of its mesh, bit for bit, whether the second ran on another process or not); on
     these coarse meshes (1.6e-4 / 3.2e-4 m) refinement moves them by more than 10 %: not
     asymptotic, so the fine values ship with the change as the estimate, and a MeshWarning says so."""
-    fine = calibration.calibrate(small_spec, meshes=1)
+    fine = one_mesh
     coarse = calibration.calibrate(recipe.coarse_spec(small_spec), meshes=1)
     assert two_meshes.mesh_pair["radius_fit"] == list(coarse.fitted_constants("radius"))
     s = calibration.summary(two_meshes)
@@ -99,11 +105,11 @@ def test_two_meshes_ship_the_extrapolation_of_both_fits(small_spec, two_meshes):
     assert calibration.summary(fine)["Ca_rel_error_estimate"] is None
 
 
-def test_the_finer_mesh_s_rows_are_its_own_whichever_process_unloaded_its_top_path(small_spec, two_meshes):
+def test_the_finer_mesh_s_rows_are_its_own_whichever_process_unloaded_its_top_path(small_spec, two_meshes, one_mesh):
     """With two meshes the second mesh's process may take the finer mesh's top unloading
     (calib.sweep.runner.Background.offer): every row of every path is the one-mesh calibration's,
     bit for bit (times aside), and so is the factorisation count."""
-    fine = calibration.calibrate(small_spec, meshes=1)
+    fine = one_mesh
     timed = ("wall_time_s", "time_assembly_s", "time_solve_s")
     for ours, theirs in zip(two_meshes.load_paths.paths, fine.load_paths.paths, strict=True):
         assert len(ours.rows) == len(theirs.rows)
