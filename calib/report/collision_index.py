@@ -16,8 +16,10 @@ def collision(root: Path) -> list[str]:
         return []
     case, vz, th = data["case"], data["restitution_vz"], data["restitution_thornton"]
     window = data["vz_window"]
-    lines = section("Collisions of the runtime laws (`collision/`)", folder, root,
-                    data["stamp"].get("command", "nfdcal collide --report"), data["stamp"])
+    command = data["stamp"].get("command", "nfdcal collide --report")
+    if data["params_source"].endswith(".json") and "--params" not in command:
+        command += f" --params {data['params_source']}"     # the file the report read: no implicit read
+    lines = section("Collisions of the runtime laws (`collision/`)", folder, root, command, data["stamp"])
     lines += [f"Sphere on a rigid flat: R = {case['R']:g} m, mass {g(case['mass'])} kg, P_Y = {g(case['P_Y'])} N, "
               f"a_Y = {g(case['a_Y'])} m, delta_Y = {g(case['delta_Y'])} m, v_Y = {g(case['v_Y'])} m/s, "
               f"A_Y = {case['A_Y']:.5g}; vz constants from `{data['params_source']}` (Ca = {g(case['Ca'])} m/N, "

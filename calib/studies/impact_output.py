@@ -141,7 +141,9 @@ def impact(root: Path) -> list[str]:
         return []
     case = data["case"]
     lines = section("Dynamic FE impacts of the whole sphere (`impact/`)", folder, root,
-                    "nfdcal impact && nfdcal impact --convergence --v-in 0.04 (vz_table/: nfdcal calibrate --v-max 0.504 "
+                    "nfdcal impact --params results/calibration/parameters.json --table-params "
+                    "results/impact/vz_table/parameters.json --lammps-restitution results/lammps/restitution.csv && "
+                    "nfdcal impact --convergence --v-in 0.04 (vz_table/: nfdcal calibrate --v-max 0.504 "
                     "--out results/impact/vz_table)", data["stamp"])
     lines += [f"The sphere (R = {case['R']:g} m, mass {g(case['mass'])} kg, v_Y = {g(case['v_Y'])} m/s, P_Y = "
               f"{g(case['P_Y'])} N) thrown at the rigid flat; e = rebound speed of the centre of mass over v_in, with "
