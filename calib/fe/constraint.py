@@ -23,6 +23,7 @@ from __future__ import annotations
 from typing import Callable, NamedTuple
 
 import numpy as np
+import scipy.sparse as sp
 
 from calib.fe.contact_pair import active_set_reduction
 
@@ -126,6 +127,17 @@ class MortarContact:
     def __init__(self, gap, candidate_q, G_q):
         self.gap, self.candidate_q, self.G_q = gap, candidate_q, G_q
         self.candidate_r, self.candidate_weight, self.candidate_g0 = gap.r, gap.weight, gap.g0
+
+    @classmethod
+    def in_unknowns(cls, gap, q_of_dof, z_dof, n_q: int, refusal: str) -> "MortarContact":
+        """The mortar gap ``gap`` in the ``n_q`` unknowns q (``q_of_dof``: the q index of each dof, -1
+        for an eliminated one; ``z_dof``: each node's u_z dof); ValueError(``refusal``) when a slave
+        or master u_z is not an unknown (the contact zone reaches a held or loaded face)."""
+        candidate_q, master_q = q_of_dof[z_dof[gap.nodes]], q_of_dof[z_dof[gap.master_nodes]]
+        if np.any(candidate_q < 0) or np.any(master_q < 0):
+            raise ValueError(refusal)
+        G = gap.G.tocoo()
+        return cls(gap, candidate_q, sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, n_q)))
 
     def gaps(self, q) -> np.ndarray:
         """g_i = q_z1,i - G_i q + g0_i [m]."""

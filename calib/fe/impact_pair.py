@@ -115,14 +115,10 @@ class PairImpactSolver(NewmarkSolver):
 
         reach = contact_radius if contact_radius is not None else pair_mesh.specs[0].refined_radius
         self.gap = gap = mortar_gap(mesh, b1["contact"], b2["contact"], reach)
-        self.candidate_r, self.candidate_weight, self.candidate_g0 = gap.r, gap.weight, gap.g0
-        self.candidate_q = q_of_dof[nodes.z_dof[gap.nodes]]
-        master_q = q_of_dof[nodes.z_dof[gap.master_nodes]]
-        if np.any(self.candidate_q < 0) or np.any(master_q < 0):
-            raise ValueError("a contact node's u_z is held: the contact reach meets the block's far face")
-        G = gap.G.tocoo()
-        self.G_q = sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, self.n_q))
-        self.constraint = MortarContact(gap, self.candidate_q, self.G_q)
+        self.candidate_r, self.candidate_weight = gap.r, gap.weight
+        self.constraint = MortarContact.in_unknowns(gap, q_of_dof, nodes.z_dof, self.n_q, "a contact node's u_z is "
+                                                    "held: the contact reach meets the block's far face")
+        self.candidate_q = self.constraint.candidate_q
 
         # the bodies' translations and masses; the massless contact boundary (module docstring)
         node_body = np.zeros(nodes.node_r.size, dtype=int)
@@ -226,9 +222,6 @@ class PairImpactSolver(NewmarkSolver):
         v = self.body_velocity(velocity, 0)
         return v - self.body_velocity(velocity, 1) if self.free_counter else v
 
-    def gaps(self, q) -> np.ndarray:
-        """g_i [m] of every candidate at the unknowns q."""
-        return self.constraint.gaps(q)
 
     def factor(self, K_p, free, key, pattern=None):
         """Factorisation of K_p[free, free] and the number of new ones (calib.fe.linsolve.FactorCache.block)."""

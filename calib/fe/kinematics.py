@@ -62,6 +62,11 @@ def elastic_tangent(material, n_elements: int, n_qp: int) -> np.ndarray:
     return np.asarray(tangent)
 
 
+def _hooke(D, strain) -> np.ndarray:
+    """D eps [Pa]: ``D`` (4, 4) for every point (symmetric) or (n, Q, 4, 4) per point, ``strain`` (n, Q, 4)."""
+    return strain @ D if D.ndim == 2 else np.einsum("eqij,eqj->eqi", D, strain)
+
+
 class Correction(NamedTuple):
     """The material's response at one iterate: ``stress`` (evaluated elements, Q, 4) [Pa] and the
     ``trial`` state; the ``flowed`` elements (indices), their internal-force correction ``force()``,
@@ -114,9 +119,7 @@ class SmallStrain:
 
     def elastic_stress(self, strain, elements=slice(None)) -> np.ndarray:
         """D eps [Pa] of ``elements``' strain (n, Q, 4)."""
-        if self.homogeneous:
-            return strain @ self.D                                      # D is symmetric
-        return np.einsum("eqij,eqj->eqi", self.D[elements], strain)
+        return _hooke(self.D if self.homogeneous else self.D[elements], strain)
 
     def stress(self, material, displacement, committed) -> np.ndarray:
         """sigma (E, Q, 4) [Pa] of the material at ``displacement`` from ``committed`` (pure)."""
@@ -129,22 +132,18 @@ class SmallStrain:
             strain = self.strain(displacement)
             stress, tangent, trial = material.update(strain, committed)
             D = self.D
-            elastic = self.elastic_stress(strain)
-            candidates = None
         else:
             strain = np.matmul(self._B, np.asarray(displacement)[self._dofs][:, None, :, None])[..., 0]
             stress, tangent, trial = material.update(strain, committed, self.evaluated)
             D = self._D_evaluated
-            elastic = strain @ D if self.homogeneous else np.einsum("eqij,eqj->eqi", D, strain)
-            candidates = self.evaluated
-        stress_correction = stress - elastic
+        stress_correction = stress - _hooke(D, strain)
         tangent_correction = tangent - D
         scale = max(float(np.abs(stress).max()), 1e-300)
         inelastic = (np.abs(stress_correction).max(axis=(1, 2)) > INELASTIC_TOLERANCE * scale) | \
                     (np.abs(tangent_correction).max(axis=(1, 2, 3)) > INELASTIC_TOLERANCE * np.abs(D).max())
         if not inelastic.any():
             return Correction(stress, trial, np.zeros(0, dtype=int), None, None)
-        flowed = np.flatnonzero(inelastic) if candidates is None else candidates[inelastic]
+        flowed = np.flatnonzero(inelastic) if self.evaluated is None else self.evaluated[inelastic]
         stress_correction, tangent_correction = stress_correction[inelastic], tangent_correction[inelastic]
         return Correction(stress, trial, flowed, lambda: self.elements.internal_force(stress_correction, flowed),
                           lambda: self.elements.stiffness_data(tangent_correction, flowed))

@@ -232,6 +232,12 @@ def separation_approach(alpha: Sequence[float], force: Sequence[float]) -> float
     return float(a2 - s2 * (a1 - a2) / (s1 - s2))
 
 
+def history_row(result: StepResult, path: str, branch: str, quadrature) -> dict:
+    """One history row of an accepted step (module docstring): the step record, the path and branch,
+    the plastic zone of its state; ``quadrature``: the (r, z) [m] of the solver's quadrature points."""
+    return {"path": path, "branch": branch, **result.record.as_dict(), **plastic_zone(result.state, *quadrature)}
+
+
 @dataclass
 class UnloadingRun:
     """One path's unloading from its peak: its history rows, the residual approach alpha_res [m]
@@ -249,13 +255,12 @@ def unloading_path(solver: ContactSolver, plan: LoadPathPlan, peak: float, peak_
     docstring). A function of its arguments alone, so any process holding the same solver gives
     the same rows bit for bit."""
     factorizations_before = solver.factorization_count
-    quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)  # (E, Q) each [m]
+    quadrature = solver.basis.mapping.F(solver.basis.X)  # (r, z) of the quadrature points, (E, Q) each [m]
     name = f"P_max={peak:g}"
     rows: list[dict] = []
 
     def record_unloading(result, before):
-        rows.append({"path": name, "branch": "unloading", **result.record.as_dict(),
-                     **plastic_zone(result.state, quadrature_r, quadrature_z)})
+        rows.append(history_row(result, name, "unloading", quadrature))
 
     state = peak_state
     for target in plan.unloading_targets(peak):
@@ -290,7 +295,7 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
     t_start = time.perf_counter()
     factorizations_before = solver.factorization_count
     say = progress or (lambda message: None)
-    quadrature_r, quadrature_z = solver.basis.mapping.F(solver.basis.X)  # (E, Q) each [m]
+    quadrature = solver.basis.mapping.F(solver.basis.X)  # (r, z) of the quadrature points, (E, Q) each [m]
     loading_rows: list[dict] = []
     peak_states: dict[float, ContactState] = {}
     state = solver.initial_state()
@@ -299,8 +304,7 @@ def run_load_paths(solver: ContactSolver, plan: LoadPathPlan,
     last_result: list[StepResult] = []
 
     def record_loading(result, before):
-        loading_rows.append({"path": "loading", "branch": "loading", **result.record.as_dict(),
-                             **plastic_zone(result.state, quadrature_r, quadrature_z)})
+        loading_rows.append(history_row(result, "loading", "loading", quadrature))
         last_result[:] = [result]
 
     targets = plan.loading_targets()

@@ -44,7 +44,7 @@ class QuasiStaticSolver(QuadratureStates):
     """Load steps of a contact configuration (the sphere on the rigid flat, calib.fe.solver; on a
     deformable counter-body, calib.fe.two_body). A configuration provides: ``constraint``
     (calib.fe.constraint), ``kinematics``, ``_linear_tangent()`` (K_el in q, assembled once) and
-    ``_K_full`` (K_el on every dof), ``factor`` (calib.fe.newton's interface), ``plate``,
+    ``_K_full`` (K_el on every dof), ``factorizations`` (calib.fe.linsolve.FactorCache), ``factor`` (calib.fe.newton's interface), ``plate``,
     ``kept`` and ``top_z_dof`` (q from u), ``displacement(q)`` (u from q), ``full_stress(u, stress)``,
     the candidates' ``candidate_r``, the options (residual_tolerance, iteration limits,
     contact_radius_method) and the scales (radius, gap_tolerance, stiffness_scale, force_floor)."""
@@ -100,6 +100,11 @@ class QuasiStaticSolver(QuadratureStates):
         return (f_int + response.force(),
                 lambda: self.tangent_matrix(self.kinematics.elastic_data + response.tangent_data()),
                 response.stress, response.trial)
+
+    @property
+    def factorization_count(self) -> int:
+        """Factorisations computed by this solver (its FactorCache)."""
+        return self.factorizations.count
 
     def tangent_matrix(self, data):
         """K_q [N/m] from its data on the element pattern."""

@@ -132,11 +132,6 @@ class ContactSolver(QuasiStaticSolver):
             self._K_q = self.elements.matrix(self.kinematics.elastic_data)
         return self._K_q
 
-    @property
-    def factorization_count(self) -> int:
-        """Factorisations computed by this solver."""
-        return self.factorizations.count
-
     def factor(self, K_q, free, key):
         """Factorisation of K_q[free, free] (calib.fe.linsolve.FactorCache: kept under ``key`` for a
         linear material, numeric refactorisation while the constraints ``free`` repeat), and the

@@ -230,15 +230,10 @@ class TwoBodySolver(QuasiStaticSolver):
         self.top_z_dof = int(self.z_dof[top[0]])
 
         self.candidate_nodes, self.candidate_r = gap.nodes, gap.r
-        self.candidate_weight, self.candidate_g0 = gap.weight, gap.g0
-        self.candidate_q = q_of_dof[self.z_dof[gap.nodes]]
-        master_q = q_of_dof[master_dofs]
-        if np.any(self.candidate_q < 0) or np.any(master_q < 0):
-            raise ValueError("a contact node's u_z is constrained: the contact zone reaches a loaded face")
-        G = gap.G.tocoo()
-        self.master_q = master_q
-        self.G_q = sp.csr_matrix((G.data, (G.row, master_q[G.col])), shape=(gap.nodes.size, self.n_q))
-        self.constraint = MortarContact(gap, self.candidate_q, self.G_q)
+        self.candidate_weight = gap.weight
+        self.constraint = MortarContact.in_unknowns(gap, q_of_dof, self.z_dof, self.n_q, "a contact node's u_z is "
+                                                    "constrained: the contact zone reaches a loaded face")
+        self.candidate_q = self.constraint.candidate_q
 
         self.gap_tolerance = 1e-12 * self.radius
         self.stiffness_scale = float(self.material.E) * self.radius
@@ -288,18 +283,9 @@ class TwoBodySolver(QuasiStaticSolver):
             self._K_q = self._with_counter(self._K_q_elements)
         return self._K_q
 
-    @property
-    def factorization_count(self) -> int:
-        """Factorisations computed by this solver."""
-        return self.factorizations.count
-
     def factor(self, K_p, free, key, pattern=None):
         """Factorisation of K_p[free, free] and the number of new ones (calib.fe.linsolve.FactorCache.block)."""
         return self.factorizations.block(K_p, free, key, pattern)
-
-    def gaps(self, q) -> np.ndarray:
-        """g_i [m] of every candidate at the unknowns q."""
-        return self.constraint.gaps(q)
 
     # ----------------------------------------------------------------- yield
     def yield_ratios(self, state) -> tuple:
