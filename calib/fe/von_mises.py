@@ -1,10 +1,12 @@
-"""Von Mises elastic-perfectly plastic material: radial return and its consistent tangent.
+"""Von Mises plasticity: the radial return with isotropic hardening and its consistent tangent.
 
-Small-strain, rate-independent J2 plasticity without hardening, integrated by backward Euler
-(the radial return) at the quadrature points of an axisymmetric finite-element mesh.
+Small-strain, rate-independent J2 plasticity, elastic-perfectly plastic (VonMisesMaterial) or with
+the isotropic hardening of a flow curve sigma_y(eps_bar) (HardeningMaterial; calib.fe.flow_curve:
+linear, Swift, Ludwik, tabulated), integrated by backward Euler (the radial return) at the
+quadrature points of an axisymmetric finite-element mesh.
 References: Simo & Hughes, *Computational Inelasticity* (1998), Box 3.1 (return mapping) and
 Box 3.2 (consistent elastoplastic moduli); de Souza Neto, Peric & Owen, *Computational Methods
-for Plasticity* (2008), ch. 7 (Box 7.3 and eq. 7.120 with hardening modulus H = 0).
+for Plasticity* (2008), ch. 7 (Box 7.3/7.4 and eq. 7.120).
 
 Component convention (calib.fe.material), arrays shaped (n_elements, n_qp, 4), components
 [rr, zz, tt, rz]:
@@ -48,6 +50,20 @@ anyway. n (x) n removes the stiffness along the flow direction: C n_eng = 0 for 
 engineering-shear form of n, so the tangent of a plastic point is singular in that direction
 (as it must be for a perfectly plastic material).
 
+Isotropic hardening (return_mapping; de Souza Neto et al. Box 7.4, eq. 7.120; Simo & Hughes
+Box 3.2), eps_bar_n the committed equivalent plastic strain, H = d sigma_y / d eps_bar [Pa]:
+
+    plastic where q_trial > sigma_y(eps_bar_n) (1 + tol)
+    delta gamma: q_trial - 3 mu delta gamma - sigma_y(eps_bar_n + delta gamma) = 0
+        (closed form (q_trial - sigma_y(eps_bar_n)) / (3 mu + H) for a linear curve; a scalar
+        Newton iteration otherwise, calib.fe.flow_curve.FlowCurve.return_stress)
+    theta = sigma_y(eps_bar_n+1) / q_trial  (= 1 - 3 mu delta gamma / q_trial)
+    sigma, delta eps_p as above with this theta
+    C = K 1 (x) 1 + 2 mu theta I_dev - 2 mu theta_bar n (x) n,
+        theta_bar = theta - H / (3 mu + H)  (= 1 / (1 + H / (3 mu)) - (1 - theta), H at eps_bar_n+1)
+
+With H = 0 (sigma_y = sigma_Y) this is the perfectly plastic return above, operation for operation.
+
 Equivalent plastic strain increment: sqrt(2/3 delta eps_p : delta eps_p)
 = sqrt(2/3 (d_rr^2 + d_zz^2 + d_tt^2 + d_gamma_rz^2 / 2)), equal to delta gamma.
 """
@@ -60,13 +76,16 @@ from typing import ClassVar
 
 import numpy as np
 
+from calib.fe.flow_curve import FlowCurve, LinearHardening
 from calib.fe.material import IsotropicElasticity, elastic_constants, elastic_matrix, lame_constants
 from nfdmodel import check_real
 
 __all__ = [
     "PlasticState",
     "VonMisesMaterial",
+    "HardeningMaterial",
     "radial_return",
+    "return_mapping",
     "von_mises_stress",
     "equivalent_plastic_strain_increment",
     "yielded_points",
@@ -162,7 +181,8 @@ def yielded_points(plastic_increment) -> np.ndarray:
 # the return mapping
 # --------------------------------------------------------------------------------------------
 def radial_return(strain_total, plastic_strain_old, E, nu, sigma_y):
-    """Radial return of von Mises elastic-perfectly plastic material, vectorised over points.
+    """Radial return of von Mises elastic-perfectly plastic material, vectorised over points:
+    return_mapping with the flow curve sigma_y = sigma_Y (H = 0).
 
     Parameters
     ----------
@@ -186,6 +206,21 @@ def radial_return(strain_total, plastic_strain_old, E, nu, sigma_y):
     Raises ValueError for bad parameters, shapes, or non-finite input.
     """
     E, nu, sigma_y = _validated_parameters(E, nu, sigma_y)
+    plastic_strain_old = _component_array(plastic_strain_old, "plastic_strain_old")
+    return return_mapping(strain_total, plastic_strain_old, np.zeros(plastic_strain_old.shape[:-1]), E, nu,
+                          LinearHardening(sigma_y))
+
+
+def return_mapping(strain_total, plastic_strain_old, equivalent_old, E, nu, flow_curve: FlowCurve):
+    """Radial return of von Mises plasticity with the isotropic hardening of ``flow_curve``
+    (calib.fe.flow_curve), vectorised over points (module docstring, "Isotropic hardening").
+
+    strain_total, plastic_strain_old : (n_elements, n_qp, 4) [-] as radial_return's;
+    equivalent_old : (n_elements, n_qp) committed equivalent plastic strain eps_bar [-];
+    E [Pa], nu [-]: the elastic constants. Returns (stress [Pa], consistent tangent [Pa], plastic
+    strain increment [-]) as radial_return. Pure. With sigma_y = sigma_Y (H = 0) every operation is
+    the perfectly plastic one, so the result is that of elastic-perfect plasticity bit for bit.
+    """
     strain_total = _component_array(strain_total, "strain_total")
     plastic_strain_old = _component_array(plastic_strain_old, "plastic_strain_old")
     if plastic_strain_old.shape != strain_total.shape:
@@ -203,10 +238,16 @@ def radial_return(strain_total, plastic_strain_old, E, nu, sigma_y):
                                       _TENSOR_NORM_WEIGHTS, trial_deviator))
     trial_von_mises = math.sqrt(1.5) * deviator_norm
 
-    plastic = trial_von_mises > sigma_y * (1.0 + YIELD_TOLERANCE)
-    # theta = sigma_y / q_trial on plastic points, exactly 1 elsewhere; the guarded denominators
-    # keep zero-stress points free of 0/0 (they are always elastic since sigma_y > 0).
-    theta = np.where(plastic, sigma_y / np.where(plastic, trial_von_mises, 1.0), 1.0)
+    plastic = trial_von_mises > flow_curve.yield_stress(equivalent_old) * (1.0 + YIELD_TOLERANCE)
+    plastic_index = np.nonzero(plastic)
+    # theta = sigma_y(eps_bar_n+1) / q_trial on plastic points, exactly 1 elsewhere (zero-stress
+    # points are always elastic since sigma_y > 0); H the plastic modulus there
+    theta = np.ones(trial_von_mises.shape)
+    if plastic_index[0].size:
+        yield_new, modulus = flow_curve.return_stress(trial_von_mises[plastic_index],
+                                                      np.asarray(equivalent_old)[plastic_index],
+                                                      3.0 * shear_modulus)
+        theta[plastic_index] = yield_new / trial_von_mises[plastic_index]
 
     # Return to the yield surface: sigma = sigma_trial - (1 - theta) s_trial. At elastic points
     # (1 - theta) is exactly 0, so the elastic stress comes back unchanged.
@@ -217,16 +258,17 @@ def radial_return(strain_total, plastic_strain_old, E, nu, sigma_y):
     plastic_increment = trial_deviator * (one_minus_theta * (_TENSOR_NORM_WEIGHTS
                                                             / (2.0 * shear_modulus)))
 
-    # C = D - 2 mu (1 - theta) I_dev - 2 mu theta n (x) n on plastic points only: the (E,Q,4,4)
-    # array is the costly part, and in a contact problem most points stay elastic (exactly D).
+    # C = D - 2 mu (1 - theta) I_dev - 2 mu theta_bar n (x) n on plastic points only, theta_bar =
+    # theta - H / (3 mu + H): the (E,Q,4,4) array is the costly part, and in a contact problem most
+    # points stay elastic (exactly D).
     tangent = np.empty(strain_total.shape + (4,), dtype=np.float64)
     tangent[...] = elastic_tangent
-    plastic_index = np.nonzero(plastic)
     if plastic_index[0].size:
         theta_p = theta[plastic_index][:, None, None]
+        theta_bar = theta_p - (np.asarray(modulus) / (3.0 * shear_modulus + np.asarray(modulus)))[..., None, None]
         n_p = trial_deviator[plastic_index] / deviator_norm[plastic_index][:, None]
         tangent[plastic_index] -= 2.0 * shear_modulus * (
-            (1.0 - theta_p) * _DEVIATORIC_PROJECTOR + theta_p * (n_p[:, :, None] * n_p[:, None, :]))
+            (1.0 - theta_p) * _DEVIATORIC_PROJECTOR + theta_bar * (n_p[:, :, None] * n_p[:, None, :]))
     return stress, tangent, plastic_increment
 
 
@@ -262,25 +304,9 @@ class PlasticState:
         return self.equivalent_plastic_strain.shape
 
 
-@dataclass(frozen=True)
-class VonMisesMaterial(IsotropicElasticity):
-    """Von Mises elastic-perfectly plastic material, a ``calib.fe.material.Material``.
-
-    E : Young's modulus [Pa] (> 0); nu : Poisson's ratio [-] (0 <= nu < 0.5);
-    sigma_y : uniaxial yield stress [Pa] (> 0). update() calls radial_return (see there and the
-    module docstring for equations and citations).
-    """
-
-    E: float
-    nu: float
-    sigma_y: float
-    is_linear: ClassVar[bool] = False
-
-    def __post_init__(self):
-        E, nu, sigma_y = _validated_parameters(self.E, self.nu, self.sigma_y)
-        object.__setattr__(self, "E", E)
-        object.__setattr__(self, "nu", nu)
-        object.__setattr__(self, "sigma_y", sigma_y)
+class _VonMisesPlasticity(IsotropicElasticity):
+    """What the von Mises materials share: the state, the update through return_mapping with the
+    material's ``flow_curve``, the plastic work."""
 
     def initial_state(self, n_elements: int, n_qp: int) -> PlasticState:
         """Virgin state: zero plastic strain everywhere."""
@@ -299,8 +325,8 @@ class VonMisesMaterial(IsotropicElasticity):
         if not isinstance(state, PlasticState):
             raise ValueError(f"state must be a PlasticState (from initial_state or a previous "
                              f"update), got {type(state).__name__}")
-        stress, tangent, plastic_increment = radial_return(
-            strain_total, state.plastic_strain, self.E, self.nu, self.sigma_y)
+        stress, tangent, plastic_increment = return_mapping(
+            strain_total, state.plastic_strain, state.equivalent_plastic_strain, self.E, self.nu, self.flow_curve)
         trial_state = PlasticState(
             plastic_strain=state.plastic_strain + plastic_increment,
             equivalent_plastic_strain=state.equivalent_plastic_strain
@@ -308,11 +334,70 @@ class VonMisesMaterial(IsotropicElasticity):
         return stress, tangent, trial_state
 
     def dissipated_work(self, state: PlasticState, weight) -> float:
-        """sigma_Y int eps_p,eq dV [J]: perfect plasticity dissipates sigma_Y per unit equivalent
-        plastic strain (the plastic work sigma . d eps_p = sigma_Y d eps_p,eq on the yield surface)."""
-        return float(self.sigma_y * np.sum(state.equivalent_plastic_strain * weight))
+        """The plastic work int W_p(eps_bar) dV [J], W_p = int_0^eps_bar sigma_y(e) de = int sigma : d eps_p
+        (on the yield surface sigma : d eps_p = sigma_y d eps_bar): sigma_Y int eps_bar dV for perfect
+        plasticity. With hardening it includes the cold work stored in the lattice (about 5-15 % of it
+        in metals), which the mechanical energy balance of an impact counts as lost all the same."""
+        return self.flow_curve.plastic_work(state.equivalent_plastic_strain, weight)
 
     @staticmethod
     def yielded(state_committed: PlasticState, trial_state: PlasticState) -> np.ndarray:
         """Boolean (E, Q): points whose plastic strain changed between the two states."""
         return yielded_points(trial_state.plastic_strain - state_committed.plastic_strain)
+
+
+@dataclass(frozen=True)
+class VonMisesMaterial(_VonMisesPlasticity):
+    """Von Mises elastic-perfectly plastic material, a ``calib.fe.material.Material``.
+
+    E : Young's modulus [Pa] (> 0); nu : Poisson's ratio [-] (0 <= nu < 0.5);
+    sigma_y : uniaxial yield stress [Pa] (> 0). update() is the radial return (the flow curve
+    sigma_y = sigma_Y, H = 0; see return_mapping and the module docstring for equations and
+    citations).
+    """
+
+    E: float
+    nu: float
+    sigma_y: float
+    is_linear: ClassVar[bool] = False
+
+    def __post_init__(self):
+        E, nu, sigma_y = _validated_parameters(self.E, self.nu, self.sigma_y)
+        object.__setattr__(self, "E", E)
+        object.__setattr__(self, "nu", nu)
+        object.__setattr__(self, "sigma_y", sigma_y)
+
+    @property
+    def flow_curve(self) -> LinearHardening:
+        """sigma_y(eps_bar) = sigma_Y."""
+        return LinearHardening(self.sigma_y)
+
+
+@dataclass(frozen=True)
+class HardeningMaterial(_VonMisesPlasticity):
+    """Von Mises plasticity with isotropic hardening, a ``calib.fe.material.Material``.
+
+    E : Young's modulus [Pa] (> 0); nu : Poisson's ratio [-] (0 <= nu < 0.5); flow_curve : a
+    calib.fe.flow_curve.FlowCurve (linear, Swift, Ludwik or tabulated), the uniaxial true yield
+    stress against the equivalent plastic strain; ``sigma_y`` its initial yield stress [Pa].
+    update() is return_mapping (module docstring, "Isotropic hardening"); with a linear curve of
+    H = 0 every figure is VonMisesMaterial's bit for bit.
+    """
+
+    E: float
+    nu: float
+    flow_curve: FlowCurve
+    is_linear: ClassVar[bool] = False
+
+    def __post_init__(self):
+        E, nu = elastic_constants(self.E, self.nu)
+        if not isinstance(self.flow_curve, FlowCurve):
+            raise ValueError(f"flow_curve must be a calib.fe.flow_curve.FlowCurve, got "
+                             f"{type(self.flow_curve).__name__}")
+        object.__setattr__(self, "E", E)
+        object.__setattr__(self, "nu", nu)
+
+    @property
+    def sigma_y(self) -> float:
+        """The initial yield stress sigma_Y = sigma_y(0) [Pa]."""
+        return self.flow_curve.sigma_y
