@@ -45,7 +45,7 @@ FLOW_CURVE_COLUMNS = ("plastic_strain", "stress")
 EXTRAPOLATIONS = ("flat", "slope")
 # the Newton iteration stops at |residual| <= this fraction of q_trial (round-off of the stress)
 _NEWTON_TOLERANCE = 1e-14
-_NEWTON_MAX_ITERATIONS = 100
+_NEWTON_MAX_ITERATIONS = 80
 
 
 class FlowCurve:
@@ -180,6 +180,8 @@ class LudwikHardening(FlowCurve):
 
     def modulus(self, eps_bar):
         eps_bar = np.asarray(eps_bar, dtype=float)
+        if not self.K:
+            return np.zeros(eps_bar.shape)
         with np.errstate(divide="ignore"):
             return self.n * self.K * np.where(eps_bar > 0.0, eps_bar, 0.0) ** (self.n - 1.0)
 
