@@ -37,8 +37,10 @@ ERROR_KEYS = ("Ca_rel_error_estimate", "Kc_rel_error_estimate", "Ca_hat_rel_erro
               "Kc_hat_rel_error_estimate", "table_rel_error_estimate", "e_rel_error_estimate",
               "alpha_rel_error_estimate")
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
+# ("hardening": the sphere's flow curve the FE calibrated, absent for perfect plasticity; the law's
+# constants carry it, the runtime reads nothing of it)
 KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "mass_star", "material", "counter_body", "window",
-        "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation",)
+        "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation", "hardening")
 TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 # the deformable counter-body the constants were calibrated against (absent or null: a rigid flat):

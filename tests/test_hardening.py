@@ -332,3 +332,83 @@ def test_hardening_sphere_is_stiffer_and_keeps_a_smaller_dent(presses, name):
     eps_h = hardening.paths[0].peak_state.material_state.equivalent_plastic_strain
     assert np.isfinite(eps_h).all() and 0 < eps_h.max() < eps_p.max() < 0.1
     assert hardening.paths[0].restitution > perfect.paths[0].restitution
+
+
+# ------------------------------------------------------------------------------------------------
+# the commands: --hardening-modulus, --flow-curve, --flow-curve-extrapolation
+# ------------------------------------------------------------------------------------------------
+@pytest.fixture
+def curve_files(tmp_path):
+    files = {"GOOD": "plastic_strain,stress\n0,1e8\n0.01,1.5e8\n0.1,2e8\n",
+             "FALLS": "plastic_strain,stress\n0,1e8\n0.01,1.5e8\n0.1,1.2e8\n",
+             "OTHER_SY": "plastic_strain,stress\n0,2e8\n0.01,2.5e8\n"}
+    for name, text in files.items():
+        (tmp_path / f"{name}.csv").write_text(text)
+    return tmp_path
+
+
+CLI_REFUSALS = [
+    (["--hardening-modulus", "-1e9"], "--hardening-modulus out of range"),
+    (["--hardening-modulus", "1e12"], "--hardening-modulus out of range"),     # above E: a unit slip
+    (["--hardening-modulus", "abc"], "--hardening-modulus"),
+    (["--hardening-modulus", "1e9", "--flow-curve", "GOOD"], "give one of them"),
+    (["--flow-curve-extrapolation", "slope"], "give the table too"),
+    (["--flow-curve", "GOOD", "--flow-curve-extrapolation", "linear"], "must be one of flat, slope"),
+    (["--flow-curve", "FALLS"], "FALLS.csv: column stress must be monotone"),
+    (["--flow-curve", "OTHER_SY"], "give --sigma-y as the table's first stress"),
+    (["--flow-curve", "MISSING"], "MISSING.csv: cannot read it"),
+]
+
+
+@pytest.mark.parametrize("command", ["calibrate", "impact"])
+@pytest.mark.parametrize("flags, needle", CLI_REFUSALS, ids=[needle for _, needle in CLI_REFUSALS])
+def test_hardening_flags_refused_in_one_line_exit_2(command, flags, needle, curve_files, capsys):
+    from calib.cli import main
+
+    flags = [str(curve_files / f"{f}.csv") if f in ("GOOD", "FALLS", "OTHER_SY", "MISSING") else f for f in flags]
+    assert main([command, "--quiet", "--dry-run", *flags]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and needle in err, err
+
+
+@pytest.mark.parametrize("command", ["calibrate", "impact"])
+def test_zero_hardening_modulus_is_the_perfectly_plastic_run(command, capsys):
+    """--hardening-modulus 0: the same plan (mesh keys, folder) as no flag, so every figure is the EPP one's."""
+    from calib.cli import main
+
+    assert main([command, "--quiet", "--dry-run", "--json"]) == 0
+    plain = capsys.readouterr().out
+    assert main([command, "--quiet", "--dry-run", "--json", "--hardening-modulus", "0"]) == 0
+    assert capsys.readouterr().out == plain
+    assert main([command, "--quiet", "--dry-run", "--hardening-modulus", "3.5e9"]) == 0
+    out = capsys.readouterr().out
+    assert "H3.5e+09" in out and "hardening" in out
+
+
+def test_calibration_of_a_hardening_sphere_records_its_flow_curve(tmp_path, curve_files):
+    """The library calibration on the coarse mesh with --flow-curve's table: the summary and the parameter
+    file state the curve, nfdmodel reads the file, and an impact of the perfectly plastic sphere refuses it
+    as --params (and the hardening one takes it)."""
+    import dataclasses
+
+    from calib import output
+    from calib.cli import main
+    from calib.fit import calibration, recipe
+    from calib.report.calibration import write_calibration_parameters
+    from conftest import COARSE
+    from nfdmodel import load_parameters
+
+    curve = read_flow_curve(curve_files / "GOOD.csv", extrapolation="slope", sigma_y=SIGMA_Y)
+    spec = recipe.reference_spec(contact_size=COARSE.contact_size)
+    spec = dataclasses.replace(spec, hardening=curve, plan=LoadPathPlan(peaks=(500.0, 1000.0), loading_step=250.0,
+                                                                        unloading_steps=4, first_load=20.0))
+    result = calibration.calibrate(spec, meshes=1)
+    summary = calibration.summary(result)
+    assert summary["hardening"] == curve.record()
+    path = write_calibration_parameters(tmp_path / "parameters.json", result, output.stamp(0.0))
+    load_parameters(path)
+    with pytest.raises(ValueError, match="hardening"):
+        dataclasses.replace(spec, hardening=LinearHardening(2 * SIGMA_Y, 1e9))
+    assert main(["impact", "--quiet", "--dry-run", "--v-in", "0.04", "--params", str(path)]) == 2
+    assert main(["impact", "--quiet", "--dry-run", "--v-in", "0.04", "--params", str(path), "--flow-curve",
+                 str(curve_files / "GOOD.csv"), "--flow-curve-extrapolation", "slope"]) == 0

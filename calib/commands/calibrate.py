@@ -18,9 +18,12 @@ stderr when it is a terminal (silence it with --quiet).
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
-                                   counter_folder_name, counter_from_args, is_reference, material_folder_name,
-                                   material_from_args, number, print_summary)
+import dataclasses
+
+from calib.commands.common import (HARDENING_HELP, add_counter_arguments, add_hardening_arguments,
+                                   add_material_arguments, add_summary_arguments, counter_folder_name,
+                                   counter_from_args, flow_curve_from_args, hardening_folder_name, hardening_line,
+                                   is_reference, material_folder_name, material_from_args, number, print_summary)
 from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
@@ -30,6 +33,7 @@ def add_parser(subparsers) -> None:
         "calibrate", help="FE calibration of the NFD law: Ca, Kc and the vz-table law (the reference case by default)",
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
+    add_hardening_arguments(parser)
     add_counter_arguments(parser)
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
                         help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
@@ -79,12 +83,15 @@ def accuracy_lines(accuracy: dict) -> list[str]:
     return lines
 
 
-def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max, counter=None) -> str:
+def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max, counter=None,
+                hardening=None) -> str:
     """The default folder of a calibration under results/calibration: "" for the reference one
     (which ``collide --report`` reads), else a name made of every option that differs from it
-    (material and R, the counter-body, --peaks, --contact-size, --ship, --v-max), so that each
-    folder holds one calibration."""
+    (material and R, the hardening, the counter-body, --peaks, --contact-size, --ship, --v-max), so
+    that each folder holds one calibration."""
     parts = [] if is_reference(ns) else [material_folder_name(material, radius)]
+    if hardening is not None:
+        parts.append(hardening_folder_name(hardening))
     if counter is not None:
         parts.append(counter_folder_name(counter))
     if ns.peaks is not None:            # the set of peaks, in any order, is one calibration (recipe sorts them)
@@ -133,9 +140,12 @@ def run(ns) -> int:
     from calib.studies import mesh_ladder
 
     if ns.ladder:
-        if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns):
+        hardening_given = any(getattr(ns, key) is not None for key in HARDENING_HELP)
+        if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns) \
+                or hardening_given:
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
-                             " do not combine it with --R, --peaks, --contact-size or the --counter-* flags")
+                             " do not combine it with --R, --peaks, --contact-size, the --counter-* flags,"
+                             " --hardening-modulus or --flow-curve")
         material = None if is_reference(ns) else material_from_args(ns)[0]
         name = "mesh_ladder" if material is None else f"mesh_ladder_nu{material.nu:g}_E{material.E:g}_sy{material.sigma_y:g}"
         if ns.dry_run:
@@ -146,6 +156,7 @@ def run(ns) -> int:
         print_summary(ns, {"out": str(path)}, [f"mesh ladder written to {path}"])
         return 0
     material, radius = material_from_args(ns)
+    hardening = flow_curve_from_args(ns, material)
     counter = counter_from_args(ns, material)
     contact_size = number("--contact-size", ns.contact_size)
     if contact_size is not None and not contact_size > 0:
@@ -158,6 +169,9 @@ def run(ns) -> int:
     if v_max is not None and counter is not None:
         raise ValueError("--v-max sizes the window from impacts of the sphere on a rigid flat: with a counter-body "
                          "give the load paths by --peaks (or none: 13.7 27.4 41.2 x the pair's P_Y)")
+    if v_max is not None and hardening is not None:
+        raise ValueError("--v-max sizes the window from impacts of a perfectly plastic sphere: with --hardening-modulus "
+                         "or --flow-curve give the load paths by --peaks (or none: 13.7 27.4 41.2 x P_Y)")
     if v_max is not None:
         if peaks is not None:
             raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
@@ -166,6 +180,8 @@ def run(ns) -> int:
         spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
     else:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter)
+        if hardening is not None:
+            spec = dataclasses.replace(spec, hardening=hardening)
         if peaks is None:               # C_R is measured at unloading peaks: paths from near P_Y, Ca and Kc unchanged
             spec = impact_window.with_unloading_across(spec)
     try:                                # before any mesh: name the flag that sets the load plan
@@ -173,7 +189,7 @@ def run(ns) -> int:
     except ValueError as exc:
         raise ValueError(f"--peaks: {exc}" if peaks is not None else str(exc)) from None
     default_out = calibration_report.DEFAULT_OUT / folder_name(ns, material, radius, peaks, contact_size, ship, v_max,
-                                                               counter)
+                                                               counter, hardening)
     if ns.dry_run:
         from calib.scenes.plan import calibration_stage, format_stages, stages_summary
 
@@ -182,6 +198,7 @@ def run(ns) -> int:
         print_summary(ns, stages_summary(stages, folder),
                       [f"calibration of E = {material.E:.4g} Pa, nu = {material.nu:g}, sigma_Y = "
                        f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N"]
+                      + ([hardening_line(hardening)] if hardening is not None else [])
                       + ([f"{counter.label()} (the dofs below count both bodies)"]
                          if counter is not None else [])
                       + [f"outputs: {folder}"] + format_stages(stages))
@@ -206,7 +223,8 @@ def run(ns) -> int:
                **({"counter_body": counter.describe()} if counter is not None else {})}
     if rounds is not None:
         summary["v_max"] = {"v_max": v_max, "rounds": rounds}
-    lines = ([counter.label() + f"; the pair's E* = {spec.pair.E_star:.4g} Pa, R* = {spec.pair.R_star:.4g} m, "
+    lines = ([hardening_line(hardening)] if hardening is not None else []) + (
+        [counter.label() + f"; the pair's E* = {spec.pair.E_star:.4g} Pa, R* = {spec.pair.R_star:.4g} m, "
                                 f"m* = {spec.pair.mass_star:.4g} kg"]
              if counter is not None else []) + [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "
              f"(Kc_hat {summary['Kc_hat']:.4g}), P_Y = {summary['P_Y']:.4g} N (FE first yield "

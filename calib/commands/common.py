@@ -155,3 +155,69 @@ def with_v_max(scene, text):
     if scene.calibration_ship is None:
         raise ValueError(f"--v-max sets the calibration window: scene {scene.source} has no [calibration]")
     return dataclasses.replace(scene, calibration_v_max=v_max, calibration_v_max_from_collision=False)
+
+
+HARDENING_HELP = {
+    "hardening_modulus": "isotropic hardening of the sphere: the plastic modulus H [Pa] of the linear flow curve "
+                         "sigma_y = sigma_Y + H eps_p (eps_p the equivalent plastic strain; the paper's hardening "
+                         "coefficient K; 0 <= H <= E; default and 0: perfectly plastic)",
+    "flow_curve": "isotropic hardening of the sphere by a tabulated flow curve: a CSV with the columns "
+                  "plastic_strain,stress (true values, from plastic strain 0 at --sigma-y, stress never falling); "
+                  "not with --hardening-modulus",
+    "flow_curve_extrapolation": "beyond the --flow-curve table's last point: flat (the default: the last stress) or "
+                                "slope (the last segment's slope)",
+}
+
+
+def add_hardening_arguments(parser) -> None:
+    """--hardening-modulus --flow-curve --flow-curve-extrapolation: the sphere's isotropic hardening."""
+    for key, help_text in HARDENING_HELP.items():
+        parser.add_argument(flag_name(key), dest=key, default=None,
+                            metavar={"hardening_modulus": "H", "flow_curve": "CSV"}.get(key, "flat|slope"),
+                            help=help_text)
+
+
+def flow_curve_from_args(ns, material: Material):
+    """The sphere's flow curve (calib.fe.flow_curve) from the hardening flags, None for perfect
+    plasticity (no flag, or --hardening-modulus 0: every figure then the perfectly plastic one's);
+    an error of one line names the flag, its range, or the table's file and column."""
+    modulus, path, extrapolation = (getattr(ns, key, None) for key in HARDENING_HELP)
+    if modulus is not None and path is not None:
+        raise ValueError("--hardening-modulus and --flow-curve both give the flow curve: give one of them")
+    if extrapolation is not None and path is None:
+        raise ValueError("--flow-curve-extrapolation extends a --flow-curve table: give the table too")
+    if extrapolation is not None and extrapolation not in ("flat", "slope"):
+        raise ValueError(f"--flow-curve-extrapolation must be one of flat, slope, got {extrapolation!r}")
+    # calib.fe only here: a command that takes these flags runs the FE anyway
+    from calib.fe.flow_curve import LinearHardening, read_flow_curve
+
+    if modulus is not None:
+        modulus = number("--hardening-modulus", modulus, low=0.0, low_inclusive=True, high=material.E,
+                         high_inclusive=True, unit="Pa (the plastic modulus, at most E)")
+        return LinearHardening(material.sigma_y, modulus) if modulus > 0 else None
+    if path is None:
+        return None
+    try:
+        return read_flow_curve(path, extrapolation or "flat", sigma_y=material.sigma_y)
+    except ValueError as exc:
+        hint = " (give --sigma-y as the table's first stress)" if "must start at sigma_y" in str(exc) else ""
+        raise ValueError(f"--flow-curve: {exc}{hint}") from None
+
+
+def hardening_folder_name(curve) -> str:
+    """The part of a default results folder's name that names a hardening sphere."""
+    record = curve.record()
+    if record["flow_curve"] == "linear":
+        return f"H{record['hardening_modulus']:g}"
+    from pathlib import Path
+
+    return f"flow-{Path(record['source']).stem}-{record['extrapolation']}"
+
+
+def hardening_line(curve) -> str:
+    """The sphere's flow curve in one line."""
+    record = curve.record()
+    if record["flow_curve"] == "linear":
+        return f"isotropic hardening: sigma_y = sigma_Y + H eps_p, H = {record['hardening_modulus']:.4g} Pa"
+    return (f"isotropic hardening: the flow curve of {record['source']} ({len(record['stress'])} points to eps_p = "
+            f"{record['plastic_strain'][-1]:.4g}, {record['stress'][-1]:.4g} Pa; beyond it {record['extrapolation']})")

@@ -42,8 +42,10 @@ from __future__ import annotations
 
 import os
 
-from calib.commands.common import (add_counter_arguments, add_material_arguments, add_summary_arguments,
-                                   counter_from_args, is_reference, material_from_args, number, print_summary)
+from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
+                                   add_summary_arguments, counter_from_args, flow_curve_from_args,
+                                   hardening_folder_name, hardening_line, is_reference, material_from_args, number,
+                                   print_summary)
 from calib.commands.targets import refuse_output_over_input
 
 # the files written into --out (calib.studies.impact_output, impact_drops, impact_convergence, impact_pair)
@@ -56,6 +58,7 @@ def add_parser(subparsers) -> None:
         "impact", help="dynamic FE impact of the whole sphere: e, P_max, contact time, energy balance",
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
+    add_hardening_arguments(parser)
     add_counter_arguments(parser)
     parser.add_argument("--v-in", nargs="+", metavar="V", default=None,
                         help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
@@ -116,8 +119,16 @@ def options(ns):
     contact_size = number("--contact-size", ns.contact_size, None, low=0.0, unit="m")
     steps = integer("--steps-per-contact", ns.steps_per_contact, impact.DEFAULT_STEPS_PER_CONTACT, 10, 10000)
     workers = integer("--workers", ns.workers, min(2, os.cpu_count() or 1), 1, 256)
-    setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps)
+    hardening = flow_curve_from_args(ns, material)
+    setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps,
+                               hardening=hardening)
     counter = counter_from_args(ns, material)
+    if hardening is not None:
+        for flag, given in (("--counter-E", counter is not None),
+                            ("--lammps-restitution", ns.lammps_restitution is not None)):
+            if given:
+                raise ValueError(f"{flag} is for a perfectly plastic sphere: do not combine it with "
+                                 f"--hardening-modulus or --flow-curve")
     if counter is not None:
         from calib.studies import impact_pair
 
@@ -172,6 +183,8 @@ def default_out(ns, setup) -> str:
         return str(impact.DEFAULT_OUT / "_".join(parts))
     material = setup.material
     parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{setup.radius:g}"]
+    if setup.hardening is not None:
+        parts.append(hardening_folder_name(setup.hardening))
     if setup.contact_size is not None:
         parts.append(f"h{setup.contact_size:g}")
     if setup.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:
@@ -179,9 +192,11 @@ def default_out(ns, setup) -> str:
     return str(impact.DEFAULT_OUT / "_".join(parts)) if parts else str(impact.DEFAULT_OUT)
 
 
-def compared_with(ns) -> str:
-    """The files the laws are compared with, as the output names them."""
-    return ("laws compared with: vz " + (f"constants of {ns.params}" if ns.params else "master table's constants")
+def compared_with(ns, hardening=None) -> str:
+    """The files the laws are compared with, as the output names them (the master table's constants
+    are a perfectly plastic sphere's, said so for a ``hardening`` one)."""
+    master = "master table's constants" + (" (of the perfectly plastic sphere)" if hardening is not None else "")
+    return ("laws compared with: vz " + (f"constants of {ns.params}" if ns.params else master)
             + (f"; vz-table of {ns.table_params}" if ns.table_params else "")
             + (f"; LAMMPS mdr restitution of {ns.lammps_restitution}" if ns.lammps_restitution else "")
             + "; Thornton; Hertz")
@@ -202,13 +217,15 @@ def plan(ns, setup, velocities, variants, out) -> int:
                "compared_with": {"params": ns.params, "table_params": ns.table_params,
                                  "lammps_restitution": ns.lammps_restitution}}
     lines = [f"{len(runs)} FE impact(s) of E = {setup.material.E:.4g} Pa, nu = {setup.material.nu:g}, sigma_Y = "
-             f"{setup.material.sigma_y:.4g} Pa, rho = {setup.material.rho:g} kg/m^3, R = {setup.radius:g} m; outputs: {out}",
+             f"{setup.material.sigma_y:.4g} Pa, rho = {setup.material.rho:g} kg/m^3, R = {setup.radius:g} m"
+             + ("" if setup.hardening is None else f", hardening {setup.hardening.record()['flow_curve']}")
+             + f"; outputs: {out}",
              f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
     lines += [f"{r['v_in']:>11.4g} {r['variant']:<16} {r['contact_size']:>11.3g} ~{r['dofs_estimate']:>7} "
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
     lines.append(f"estimated total: {total:.0f} s on one process ({impact.SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
                  f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
-    lines.append(compared_with(ns))
+    lines.append(compared_with(ns, setup.hardening))
     print_summary(ns, summary, lines)
     return 0
 
@@ -274,8 +291,10 @@ def run(ns) -> int:
     limit = impact.quasi_static_limit(records)
     if limit:
         lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
-    lines.append(compared_with(ns))
+    lines.append(compared_with(ns, setup.hardening))
     lines.append(f"results written to {out}")
+    if setup.hardening is not None:
+        lines.insert(0, hardening_line(setup.hardening))
     print_summary(ns, records, lines)
     return 0
 

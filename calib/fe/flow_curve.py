@@ -37,7 +37,7 @@ import numpy as np
 from nfdmodel import check_real
 
 __all__ = ["FlowCurve", "LinearHardening", "SwiftHardening", "LudwikHardening", "TabulatedFlowCurve",
-           "read_flow_curve", "EXTRAPOLATIONS", "FLOW_CURVE_COLUMNS"]
+           "read_flow_curve", "flow_curve_from_record", "EXTRAPOLATIONS", "FLOW_CURVE_COLUMNS"]
 
 #: the columns of a flow-curve CSV: equivalent (true) plastic strain [-], true stress [Pa]
 FLOW_CURVE_COLUMNS = ("plastic_strain", "stress")
@@ -217,12 +217,12 @@ class TabulatedFlowCurve(FlowCurve):
                              f"got {strain[0]:g}")
         if (np.diff(strain) <= 0.0).any():
             row = int(np.flatnonzero(np.diff(strain) <= 0.0)[0]) + 2
-            raise ValueError(f"{where}: column plastic_strain must increase strictly (row {row})")
+            raise ValueError(f"{where}: column plastic_strain must increase strictly (data row {row})")
         if stress[0] <= 0.0:
             raise ValueError(f"{where}: column stress must start at sigma_Y > 0 [Pa], got {stress[0]:g}")
         if (np.diff(stress) < 0.0).any():
             row = int(np.flatnonzero(np.diff(stress) < 0.0)[0]) + 2
-            raise ValueError(f"{where}: column stress must be monotone non-decreasing (falls at row {row}; "
+            raise ValueError(f"{where}: column stress must be monotone non-decreasing (falls at data row {row}; "
                              f"softening is not a flow curve of this model)")
         if extrapolation not in EXTRAPOLATIONS:
             raise ValueError(f"flow_curve_extrapolation must be one of {', '.join(EXTRAPOLATIONS)}, "
@@ -258,8 +258,20 @@ class TabulatedFlowCurve(FlowCurve):
 
     def record(self) -> dict:
         return {"flow_curve": "table", "source": self.source, "sigma_y": self.sigma_y,
-                "extrapolation": self.extrapolation, "points": int(self.strain.size),
-                "plastic_strain_max": float(self.strain[-1]), "stress_max": float(self.stress[-1])}
+                "extrapolation": self.extrapolation, "plastic_strain": self.strain.tolist(),
+                "stress": self.stress.tolist()}
+
+
+def flow_curve_from_record(record: dict) -> FlowCurve:
+    """The flow curve a ``record()`` states (a parameter file's "hardening", a sweep task's)."""
+    kind = record.get("flow_curve")
+    if kind == "linear":
+        return LinearHardening(record["sigma_y"], record["hardening_modulus"])
+    if kind in ("swift", "ludwik"):
+        return (SwiftHardening if kind == "swift" else LudwikHardening)(record["sigma_y"], record["K"], record["n"])
+    if kind == "table":
+        return TabulatedFlowCurve(record["plastic_strain"], record["stress"], record["extrapolation"], record["source"])
+    raise ValueError(f"flow_curve must be one of linear, swift, ludwik, table, got {kind!r}")
 
 
 def read_flow_curve(path, extrapolation: str = "flat", sigma_y: float | None = None) -> TabulatedFlowCurve:
@@ -279,12 +291,12 @@ def read_flow_curve(path, extrapolation: str = "flat", sigma_y: float | None = N
     columns = ([], [])
     for number, row in enumerate(rows[1:], start=2):
         if len(row) != 2:
-            raise ValueError(f"flow curve {path}: row {number} must have 2 columns, got {len(row)}")
+            raise ValueError(f"flow curve {path}: line {number} must have 2 columns, got {len(row)}")
         for column, cell, values in zip(FLOW_CURVE_COLUMNS, row, columns):
             try:
                 values.append(float(cell))
             except ValueError:
-                raise ValueError(f"flow curve {path}: column {column} row {number} is not a number: "
+                raise ValueError(f"flow curve {path}: column {column} line {number} is not a number: "
                                  f"{cell.strip()!r}") from None
     curve = TabulatedFlowCurve(*columns, extrapolation=extrapolation, source=str(path))
     if sigma_y is not None and not math.isclose(curve.sigma_y, sigma_y, rel_tol=1e-6):

@@ -76,7 +76,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from calib.fe.flow_curve import FlowCurve, LinearHardening
+from calib.fe.flow_curve import FlowCurve, LinearHardening, flow_curve_from_record
 from calib.fe.material import IsotropicElasticity, elastic_constants, elastic_matrix, lame_constants
 from nfdmodel import check_real
 
@@ -84,6 +84,7 @@ __all__ = [
     "PlasticState",
     "VonMisesMaterial",
     "HardeningMaterial",
+    "von_mises_material",
     "radial_return",
     "return_mapping",
     "von_mises_stress",
@@ -401,3 +402,14 @@ class HardeningMaterial(_VonMisesPlasticity):
     def sigma_y(self) -> float:
         """The initial yield stress sigma_Y = sigma_y(0) [Pa]."""
         return self.flow_curve.sigma_y
+
+
+def von_mises_material(E, nu, sigma_y, hardening=None):
+    """The von Mises material of a sphere: VonMisesMaterial (``hardening`` None) or HardeningMaterial
+    with the flow curve ``hardening`` (a FlowCurve or its ``record()``, which must start at sigma_y)."""
+    if hardening is None:
+        return VonMisesMaterial(E, nu, sigma_y)
+    curve = hardening if isinstance(hardening, FlowCurve) else flow_curve_from_record(hardening)
+    if not math.isclose(curve.sigma_y, sigma_y, rel_tol=1e-6):
+        raise ValueError(f"hardening: the flow curve starts at {curve.sigma_y:g} Pa, not at sigma_y = {sigma_y:g} Pa")
+    return HardeningMaterial(E, nu, curve)

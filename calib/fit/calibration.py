@@ -34,7 +34,7 @@ from threadpoolctl import threadpool_limits
 from calib.fe import ContactSolver
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.loadpath import LoadPathResults, run_load_paths, unloading_path
-from calib.fe.von_mises import VonMisesMaterial, von_mises_stress
+from calib.fe.von_mises import von_mises_material, von_mises_stress
 from calib.fit import extrapolation
 from calib.fit.extrapolation import Estimate
 from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
@@ -350,7 +350,7 @@ def _body_meshes(spec: CalibrationSpec):
 def _solver(spec: CalibrationSpec, mesh):
     """The FE solver of ``spec`` on ``mesh``: the rigid flat's, or the two-body FE's (calib.fe.two_body)."""
     material = spec.material
-    sphere = VonMisesMaterial(material.E, material.nu, material.sigma_y)
+    sphere = von_mises_material(material.E, material.nu, material.sigma_y, spec.hardening)
     options = {"residual_tolerance": spec.residual_tolerance, "contact_radius_method": spec.contact_radius_method}
     if spec.counter is None:
         return ContactSolver(mesh, sphere, **options)
@@ -501,6 +501,7 @@ def summary(result: CalibrationResult) -> dict:
         "wall_time_s": result.wall_time_s,
         "timings": result.timings,
         "mesh": result.mesh_info,
+        **({} if result.spec.hardening is None else {"hardening": result.spec.hardening.record()}),
         "paths": [{"P_max": p.peak, "alpha_max": p.alpha_max, "e": p.restitution,
                    "alpha_residual": p.alpha_residual,
                    "P_max_reached": max(r["P"] for r in p.rows),

@@ -124,8 +124,10 @@ def smallest_radius(radius: float, counter=None) -> float:
 
 @dataclass(frozen=True)
 class CalibrationSpec:
-    """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance, and
-    the counter-body (calib.fit.counter.CounterBody; None: the rigid flat)."""
+    """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance, the
+    counter-body (calib.fit.counter.CounterBody; None: the rigid flat) and the sphere's isotropic
+    hardening (a calib.fe.flow_curve.FlowCurve starting at the material's sigma_y; None: perfectly
+    plastic)."""
 
     material: Material
     radius: float
@@ -134,6 +136,7 @@ class CalibrationSpec:
     residual_tolerance: float = 1e-8
     contact_radius_method: str = "gap"
     counter: object = None
+    hardening: object = None
 
     def __post_init__(self):
         if not (np.isfinite(self.radius) and self.radius > 0):
@@ -142,6 +145,9 @@ class CalibrationSpec:
             raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
         check_calibration_inputs(self.material, smallest_radius(self.radius, self.counter), self.plan.peaks[-1],
                                  self.pair)
+        if self.hardening is not None and not math.isclose(self.hardening.sigma_y, self.material.sigma_y, rel_tol=1e-6):
+            raise ValueError(f"hardening: the flow curve starts at {self.hardening.sigma_y:g} Pa, not at the material's "
+                             f"sigma_y = {self.material.sigma_y:g} Pa")
         a_max = estimated_contact_radius(self.pair, self.plan.peaks[-1])
         if self.mesh.refined_radius < 0.99 * a_max:   # a contact wider than the fine zone
             raise ValueError(f"mesh refined_radius {self.mesh.refined_radius:.4g} m is smaller than the "

@@ -59,7 +59,7 @@ def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -
     counter = result.spec.counter.describe() if result.spec.counter is not None else None
     return write_parameter_file(path, result.shipped_params, result.spec.radius, result.spec.material, fit,
                                 stamp, counter, **errors, discretisation=s["discretisation"], fe_errors=fe_errors,
-                                mesh=result.mesh_info)
+                                mesh=result.mesh_info, **({"hardening": s["hardening"]} if "hardening" in s else {}))
 
 
 def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None:

@@ -78,7 +78,7 @@ from calib import output
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, ImpactNotConverged, run_impact
 from calib.fe.newmark import ImpactSolver
-from calib.fe.von_mises import VonMisesMaterial
+from calib.fe.von_mises import von_mises_material
 from calib.fit import impact_window, recipe
 from calib.sweep.runner import run_sweep
 from meshes.hemisphere import MIN_CONTACT_SIZE_OVER_RADIUS, hemisphere_mesh
@@ -108,7 +108,8 @@ MIN_ELEMENTS_PER_CONTACT_RADIUS = 1.5
 class ImpactSetup:
     """What an impact run needs besides v_in: the sphere's material (calib's nfdmodel.Material; an
     elastic run ignores sigma_y), R [m], elastic (no yield: Hertz's limit), the mesh level or
-    contact size [m], steps per contact."""
+    contact size [m], steps per contact, the sphere's isotropic hardening (a calib.fe.flow_curve
+    FlowCurve; None: perfectly plastic)."""
 
     material: Material
     radius: float
@@ -116,6 +117,7 @@ class ImpactSetup:
     level: str | None = None
     contact_size: float | None = None
     steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT
+    hardening: object = None
 
     @property
     def pair(self) -> ContactPair:
@@ -249,6 +251,8 @@ def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec,
     task = {"v_in": float(v_in), "E": material.E, "nu": material.nu,
             "sigma_y": None if setup.elastic else material.sigma_y, "rho": material.rho, "R": setup.radius,
             "mesh": dataclasses.asdict(mesh), "steps_per_contact": int(steps_per_contact)}
+    if setup.hardening is not None and not setup.elastic:      # absent for perfect plasticity: its keys stay
+        task["hardening"] = setup.hardening.record()
     return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
 
 
@@ -278,7 +282,7 @@ def run_task(task: dict) -> dict:
             spec = SphereMeshSpec(**task["mesh"])
             mesh = sphere_mesh(spec)
             material = (ElasticMaterial(task["E"], task["nu"]) if task["sigma_y"] is None
-                        else VonMisesMaterial(task["E"], task["nu"], task["sigma_y"]))
+                        else von_mises_material(task["E"], task["nu"], task["sigma_y"], task.get("hardening")))
             solver = ImpactSolver(mesh, material, task["rho"])
             result = run_impact(solver, task["v_in"], steps_per_contact=task["steps_per_contact"])
     except (ImpactNotConverged, ValueError, np.linalg.LinAlgError) as exc:
@@ -327,6 +331,8 @@ def law_parameters(setup: ImpactSetup, params_file=None) -> tuple[object, str]:
         check_material(setup, params_file, "--params")
         return params, output.display_path(params_file)
     params, source = impact_window.estimating_constants(setup.material, setup.radius)
+    if setup.hardening is not None:     # the master table is of perfectly plastic spheres
+        source += " (of the perfectly plastic sphere: give --params of this hardening sphere's calibration)"
     return params, source
 
 
@@ -365,6 +371,21 @@ def check_material(setup: ImpactSetup, path, flag: str) -> None:
     material = setup.material
     ours = {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y, "rho": material.rho, "R": setup.radius}
     differ = [key for key, value in ours.items() if not math.isclose(stated[key], value, rel_tol=1e-6)]
+    hardening = None if setup.hardening is None else setup.hardening.record()
+
+    def curve(record):      # the flow curve itself, not the name of the file it was read from
+        return None if record is None else {k: v for k, v in record.items() if k != "source"}
+
+    if curve(data.get("hardening")) != curve(hardening):
+        def named(record):
+            if record is None:
+                return "perfectly plastic"
+            if record["flow_curve"] == "linear":
+                return f"hardening linearly, H = {record['hardening_modulus']:g} Pa"
+            return f"hardening by the {record['flow_curve']} flow curve" + (
+                f" of {record['source']}" if "source" in record else "")
+        raise ValueError(f"{flag} {path}: the file's law is of a sphere {named(data.get('hardening'))}; this impact's "
+                         f"sphere is {named(hardening)}: give the file of this sphere, or its flags")
     if differ or data.get("counter_body") is not None:
         words = lambda m: ", ".join(f"{key} = {m[key]:g}" for key in ours)  # noqa: E731
         against = " against a counter-body" if data.get("counter_body") is not None else ""
@@ -537,7 +558,7 @@ def run_quasi_static(setup: ImpactSetup, rows: list[dict], cases: Path, *, worke
     fine = [row for row in rows if row["variant"] == "fine" and row["P_max"] > setup.pair.P_Y]
     if setup.elastic or not fine:
         return [], {"computed": 0, "reused": 0}
-    tasks = [impact_quasistatic.task_of(setup.material, setup.radius, row) for row in fine]
+    tasks = [impact_quasistatic.task_of(setup.material, setup.radius, row, setup.hardening) for row in fine]
     for task in tasks:
         hemisphere_mesh(SphereMeshSpec(**task["mesh"]).contact_zone)     # gmsh is one per process
     describe = (lambda row: f"v_in = {row['v_in']:g} m/s (quasi-static FE path): "
@@ -584,7 +605,8 @@ def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progre
     summary = {"case": {"E": setup.material.E, "nu": setup.material.nu,
                         "sigma_y": None if setup.elastic else setup.material.sigma_y, "rho": setup.material.rho,
                         "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
-                        "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact},
+                        "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact,
+                        **({} if setup.hardening is None else {"hardening": setup.hardening.record()})},
                "vz_source": source, "vz_table_source": output.display_path(table_file) if table else None,
                "mdr_source": output.display_path(mdr_file) if mdr is not None else None,
                "variants": list(variants),
