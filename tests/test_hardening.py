@@ -17,7 +17,7 @@ from calib.fe import ContactSolver, LoadPathPlan, VonMisesMaterial, run_load_pat
 from calib.fe.flow_curve import (LinearHardening, LudwikHardening, SwiftHardening, TabulatedFlowCurve,
                                  read_flow_curve)
 from calib.fe.material import elastic_matrix
-from calib.fe.von_mises import HardeningMaterial, PlasticState, return_mapping, yielded_points
+from calib.fe.von_mises import HardeningMaterial, return_mapping, yielded_points
 
 from conftest import PAIR
 
