@@ -88,6 +88,7 @@ from nfdmodel import (ContactPair, Material, RangeWarning, collision_reference, 
                       reference_case)
 from nfdmodel.hertz_contact import hertz_force_at_radius, hertz_impact_approach, hertz_impact_force
 from nfdmodel.thornton import thornton_closed_form
+from nfdmodel.validation import SOLID_RANGES, bound_text
 
 DEFAULT_OUT = output.RESULTS / "impact"
 STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
@@ -162,7 +163,7 @@ def check_reach(setup: ImpactSetup, velocities) -> None:
                                                                                           setup.radius)[0], reach)
             raise ValueError(f"--v-in out of range: the impact at {v:g} m/s goes beyond what this FE vouches for "
                              f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= "
-                             f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {v_reach:.4g} m/s "
+                             f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {bound_text(v_reach, '<=')} m/s "
                              f"({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
     check_resolution(setup, velocities)
 
@@ -204,10 +205,10 @@ def check_resolution(setup: ImpactSetup, velocities) -> None:
     a = contact_radius(setup, slowest)
     v_min = velocity_for_radius(setup, need, slowest)
     where = (f"spans {a / setup.contact_size:.2g} elements of --contact-size {setup.contact_size:g} m; the FE needs "
-             f">= {MIN_ELEMENTS_PER_CONTACT_RADIUS:g}: need v_in >= {v_min:.4g} m/s on this mesh, or --contact-size <= "
-             f"{a / MIN_ELEMENTS_PER_CONTACT_RADIUS * (1.0 - 1e-3):.3g} m" if setup.contact_size is not None else
+             f">= {MIN_ELEMENTS_PER_CONTACT_RADIUS:g}: need v_in >= {bound_text(v_min, '>=')} m/s on this mesh, or --contact-size <= "
+             f"{bound_text(a / MIN_ELEMENTS_PER_CONTACT_RADIUS, '<=', 3)} m" if setup.contact_size is not None else
              f"needs a contact element below {MIN_CONTACT_SIZE_OVER_RADIUS:g} R, finer than a mesh of the sphere "
-             f"can hold: need v_in >= {v_min:.4g} m/s ({v_min / setup.pair.v_Y:.4g} v_Y) for this material and R")
+             f"can hold: need v_in >= {bound_text(v_min, '>=')} m/s ({v_min / setup.pair.v_Y:.4g} v_Y) for this material and R")
     raise ValueError(f"--v-in out of range: the contact of the impact at {slowest:g} m/s (radius about {a:.3g} m) "
                      + where)
 
@@ -559,6 +560,45 @@ def reference_setup(**options) -> ImpactSetup:
 def study_velocities(setup: ImpactSetup) -> tuple[float, ...]:
     """The study's velocities [m/s]: STUDY_VELOCITIES_OVER_V_Y x v_Y."""
     return tuple(k * setup.pair.v_Y for k in STUDY_VELOCITIES_OVER_V_Y)
+
+
+def check_study_velocities(setup: ImpactSetup) -> None:
+    """ValueError before any FE when ``study_velocities`` (the default of ``nfdcal impact``, multiples
+    of the material's v_Y) are beyond the FE (``check_reach``): the input that decides it is the
+    yield stress (whether they fit depends on E / sigma_Y, nu alone), so the refusal names --sigma-y
+    and the range of it whose study fits, with E, nu, R as given, and the velocities the FE takes
+    for this material (--v-in)."""
+    try:
+        check_reach(setup, study_velocities(setup))
+        return
+    except ValueError as exc:
+        given = str(exc).split("need ", 1)[-1].rstrip(".")
+
+    def fits(sigma_y: float) -> bool:
+        trial = dataclasses.replace(setup, material=dataclasses.replace(setup.material, sigma_y=sigma_y))
+        try:
+            check_reach(trial, study_velocities(trial))
+        except ValueError:
+            return False
+        return True
+
+    sigma, E = setup.material.sigma_y, setup.material.E
+    # a grid over the calibrated E / sigma_Y (20 .. 1e4) inside the range of real solids
+    low, high = max(E / 1e4, SOLID_RANGES["sigma_y"][0]), min(E / 20.0, SOLID_RANGES["sigma_y"][1])
+    grid = [low * (high / low) ** (k / 24) for k in range(25)] if high > low else []
+    fitting = [s for s in grid if fits(s)]
+    words = (f"--sigma-y out of range for the default velocities ({STUDY_VELOCITIES_OVER_V_Y[0]:g} .. "
+             f"{STUDY_VELOCITIES_OVER_V_Y[-1]:g} v_Y, v_Y = {setup.pair.v_Y:.4g} m/s): at sigma_Y = {sigma:g} Pa")
+    if not fitting:
+        raise ValueError(f"{words} the FE takes none for E = {E:g} Pa, nu = {setup.material.nu:g}, R = "
+                         f"{setup.radius:g} m; give --v-in: need {given}")
+    side = ">=" if sigma < fitting[0] else "<="
+    inside, outside = (fitting[0], sigma) if side == ">=" else (fitting[-1], sigma)
+    for _ in range(20):                 # bisection in log sigma_Y to the edge of the fitting range
+        middle = math.sqrt(inside * outside)
+        inside, outside = (middle, outside) if fits(middle) else (inside, middle)
+    raise ValueError(f"{words} they go beyond the FE: need --sigma-y {side} {bound_text(inside, side)} Pa for E = "
+                     f"{E:g} Pa, nu = {setup.material.nu:g}, R = {setup.radius:g} m, or give --v-in: need {given}")
 
 
 def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progress: Callable[[str], None] | None = None,
