@@ -301,7 +301,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
     refuse_output_over_input(ns, {"out": out})        # the default folder too: no file it writes is an input
     variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
     impact_pair.check_pair(setup, velocities, over_v_Y=ns.v_in is None)   # what the two-body FE handles, before any mesh
-    impact.check_reach(setup.sphere, velocities)
+    impact.check_reach(setup.contact_setup, velocities)
     if ns.dry_run:
         tasks = impact_pair.tasks_for(setup, velocities, variants)
         summary = {"out": out, "counter": setup.counter.describe(), "mass_star": setup.pair.mass_star, "runs": [
