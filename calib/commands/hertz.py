@@ -12,7 +12,8 @@ command (--R --E --nu; --sigma-y and --rho are accepted and unused: the run is e
 ``--ladder`` runs the mesh ladder instead (mesh_ladder.csv, mesh_ladder.png). With a counter-body, one warning
 line on stderr where the rigid-flat law with the pair's E*, R* is measured to miss the pair by more than 2 % in e
 once it yields (calib.fit.substitution), naming the pair calibration.
-Prints the errors at the top load against Hertz; ``--json`` prints the summary object instead
+Prints the errors at the top load against Hertz (on a terminal a progress line on stderr meanwhile, none
+with ``--quiet``); ``--json`` prints the summary object instead
 (its ``top_load`` entry: P, alpha, contact_radius, contact_radius_hertz, contact_radius_rel_error,
 peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 """
