@@ -9,6 +9,9 @@ argparse reads a token that starts with '-' as an option unless it looks like a 
 and its own test for that (-1, -0.5) is widened to scientific notation (``NEGATIVE_NUMBER``), for
 flags of one value and of several alike. The range checks then name what is out of range.
 
+A warning is one line on stderr, "nfdcal COMMAND: warning: ...", each text once per command (the
+sweep's workers pass theirs to the command, calib.sweep.runner).
+
 Ctrl-C (SIGINT) and ``kill PID`` (SIGTERM) end a command alike: one line "nfdcal COMMAND:
 interrupted" on stderr, exit code 130, every result finished so far kept on disk (a sweep stores
 each as it finishes; calib.sweep.runner.terminate_as_interrupt is the same rule for a sweep run
@@ -81,8 +84,13 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     ns = parser.parse_args(argv)
 
+    shown = set()
+
     def one_line_warning(message, category, filename, lineno, file=None, line=None):
-        print(f"nfdcal {ns.command}: warning: {message}", file=sys.stderr)
+        text = f"nfdcal {ns.command}: warning: {message}"
+        if text not in shown:               # once per command: the same text from another place,
+            shown.add(text)                 # check or worker is the same news
+            print(text, file=sys.stderr)
 
     warnings.showwarning = one_line_warning   # a warning is one line too, never file:line noise
     try:

@@ -133,3 +133,60 @@ def test_every_command_with_progress_has_quiet(command):
 def test_hertz_quiet_dry_run(tmp_path, capsys):
     assert main(["hertz", "--quiet", "--dry-run", "--out", str(tmp_path / "h")]) == 0
     assert capsys.readouterr().err == ""
+
+
+def test_a_warning_is_one_line_once(tmp_path, capsys):
+    """The same warning issued again by later checks (the master table's window beyond the FE's
+    reach, met by each estimate of the impact: three lines before) is shown once, as one line."""
+    assert main(["impact", "--E", "1e6", "--sigma-y", "2e4", "--rho", "10", "--v-in", "0.1", "--dry-run",
+                 "--out", str(tmp_path / "i")]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("nfdcal impact: warning: window beyond the FE's reach"), err
+
+
+def _warning_task(task: dict) -> dict:
+    """A sweep task that warns on its worker (module-level: spawned workers import it)."""
+    import warnings
+
+    warnings.warn(f"worker note {task['n'] % 2}", UserWarning)
+    return {"key": task["key"], "n": task["n"]}
+
+
+def test_a_workers_warnings_reach_the_command(capfd):
+    """Warnings issued on the sweep's worker processes are shown by the command, one line each,
+    each text once (not the workers' file:line lines)."""
+    import warnings
+
+    from calib.sweep.runner import results
+
+    tasks = [{"key": f"k{n}", "n": n} for n in range(4)]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        rows = list(results(_warning_task, tasks, workers=2))
+    assert sorted(r["n"] for r in rows) == [0, 1, 2, 3]
+    assert sorted({str(w.message) for w in caught}) == ["worker note 0", "worker note 1"]
+    assert "worker note" not in capfd.readouterr().err           # nothing printed by the workers themselves
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="reads /proc")
+def test_ctrl_c_to_the_process_group_of_a_sweep_is_one_line(tmp_path, mesh_cache):
+    """A terminal's Ctrl-C reaches the sweep's workers too: they ignore it, the command ends them
+    and prints one line (no worker traceback, no 'Process SpawnPoolWorker' line)."""
+    from conftest import TINY_GRID_SCENE
+    from test_sweep_termination import children
+
+    scene = tmp_path / "ctrl_c.toml"
+    scene.write_text(TINY_GRID_SCENE.format(name="ctrl_c", nu="[0.2, 0.3]", ratio="[300.0, 500.0, 800.0]", steps=40))
+    env = {**os.environ, "XDG_CACHE_HOME": str(mesh_cache.parent / "xdg")}
+    process = subprocess.Popen([sys.executable, "-m", "calib.cli", "table", str(scene), "--workers", "2", "--out",
+                                str(tmp_path / "out"), "--quiet"], env=env, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, text=True, start_new_session=True)
+    deadline = time.time() + 60
+    while time.time() < deadline and len(children(process.pid)) < 2:
+        time.sleep(0.2)
+    time.sleep(1.0)
+    os.killpg(process.pid, signal.SIGINT)
+    process.wait(timeout=60)
+    assert process.returncode == 130
+    err = process.stderr.read()
+    assert err.strip().splitlines() == ["nfdcal table: interrupted"], err

@@ -589,15 +589,21 @@ def check_study_velocities(setup: ImpactSetup) -> None:
     and the range of it whose study fits, with E, nu, R as given, and the velocities the FE takes
     for this material (--v-in)."""
     try:
-        check_reach(setup, study_velocities(setup))
-        return
+        with warnings.catch_warnings(record=True) as noted:    # a refusal is one line: noted, shown if it passes
+            check_reach(setup, study_velocities(setup))
     except ValueError as exc:
         given = str(exc).split("need ", 1)[-1].rstrip(".")
+    else:
+        for note in noted:
+            warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
+        return
 
     def fits(sigma_y: float) -> bool:
         trial = dataclasses.replace(setup, material=dataclasses.replace(setup.material, sigma_y=sigma_y))
         try:
-            check_reach(trial, study_velocities(trial))
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")     # a trial material's estimate: not the user's news
+                check_reach(trial, study_velocities(trial))
         except ValueError:
             return False
         return True
@@ -610,8 +616,8 @@ def check_study_velocities(setup: ImpactSetup) -> None:
     words = (f"--sigma-y out of range for the default velocities ({STUDY_VELOCITIES_OVER_V_Y[0]:g} .. "
              f"{STUDY_VELOCITIES_OVER_V_Y[-1]:g} v_Y, v_Y = {setup.pair.v_Y:.4g} m/s): at sigma_Y = {sigma:g} Pa")
     if not fitting:
-        raise ValueError(f"{words} the FE takes none for E = {E:g} Pa, nu = {setup.material.nu:g}, R = "
-                         f"{setup.radius:g} m; give --v-in: need {given}")
+        raise ValueError(f"{words} they go beyond the FE, and so they do at every --sigma-y the FE is calibrated for (E/sigma_Y 20 .. 1e4) with E = {E:g} Pa, nu = "
+                         f"{setup.material.nu:g}, R = {setup.radius:g} m: give --v-in: need {given}")
     side = ">=" if sigma < fitting[0] else "<="
     inside, outside = (fitting[0], sigma) if side == ">=" else (fitting[-1], sigma)
     for _ in range(20):                 # bisection in log sigma_Y to the edge of the fitting range

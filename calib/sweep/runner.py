@@ -85,7 +85,8 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
             yield function(task)
         return
     context = multiprocessing.get_context("spawn")
-    pool = context.Pool(min(workers, len(tasks)), initializer=die_with_parent, initargs=(os.getpid(),))
+    with ignoring_ctrl_c():
+        pool = context.Pool(min(workers, len(tasks)), initializer=die_with_parent, initargs=(os.getpid(),))
     try:
         with terminate_as_interrupt():
             for answer in pool.imap_unordered(functools.partial(_relaying, function), tasks):
@@ -193,7 +194,8 @@ def in_background(function: Callable[[dict], object], task: dict, parallel: bool
         return
     context = multiprocessing.get_context("spawn")
     claims = context.Array("b", OFFER_SLOTS)
-    pool = context.Pool(1, initializer=_background_worker, initargs=(os.getpid(), claims))
+    with ignoring_ctrl_c():
+        pool = context.Pool(1, initializer=_background_worker, initargs=(os.getpid(), claims))
     try:
         with terminate_as_interrupt():
             yield Background(pool, pool.apply_async(_relaying, (function, task)), claims)
@@ -205,12 +207,25 @@ def in_background(function: Callable[[dict], object], task: dict, parallel: bool
         pool.join()
 
 
+@contextlib.contextmanager
+def ignoring_ctrl_c():
+    """Workers started inside ignore Ctrl-C from their first instruction (an ignored signal stays
+    ignored across the spawn's exec, before any import): a terminal sends it to its whole process
+    group, and the parent alone ends the sweep, terminating its workers and saying "interrupted"
+    once (no worker traceback on stderr). Main thread only (where handlers live)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def die_with_parent(parent_pid: int) -> None:
     """Worker initializer: a daemon thread ends the worker as soon as its parent is gone (killed
-    with SIGKILL, which no handler sees), so no worker computes on for nobody. Ctrl-C reaches the
-    terminal's whole process group: a worker ignores it, and the parent ends its workers and says
-    "interrupted" once (no worker traceback on stderr)."""
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    with SIGKILL, which no handler sees), so no worker computes on for nobody."""
     def watch():
         while os.getppid() == parent_pid:
             time.sleep(0.5)
