@@ -33,6 +33,7 @@ SUGGESTING = [
     ["impact", "--counter-E", "7e10", "--counter-R", "0.3", "--counter-rho", "2699", "--v-in", "3.5e-8",
      "--dry-run"],                                                           # a counter-sphere larger than R1
     ["impact", "--counter-E", "1e5", "--dry-run"],
+    ["impact", "--counter-E", "2e11", "--counter-R", "1e-3", "--counter-rho", "7850", "--dry-run"],   # defaults
     ["calibrate", "--quiet", "--counter-E", "1e5", "--dry-run"],
     ["calibrate", "--quiet", "--counter-E", "2e11", "--counter-R", "1e-4", "--counter-rho", "7850", "--dry-run"],
     ["hertz", "--counter-E", "7e6", "--P-max", "20", "--dry-run"],

@@ -609,14 +609,16 @@ def check_study_velocities(setup: ImpactSetup) -> None:
         return True
 
     sigma, E = setup.material.sigma_y, setup.material.E
-    # a grid over the calibrated E / sigma_Y (20 .. 1e4) inside the range of real solids
-    low, high = max(E / 1e4, SOLID_RANGES["sigma_y"][0]), min(E / 20.0, SOLID_RANGES["sigma_y"][1])
+    # a grid over the calibrated E / sigma_Y (calib.fit.recipe) inside the range of real solids
+    ratio_low, ratio_high = recipe.E_OVER_SIGMA_Y_RANGE
+    low, high = max(E / ratio_high, SOLID_RANGES["sigma_y"][0]), min(E / ratio_low, SOLID_RANGES["sigma_y"][1])
     grid = [low * (high / low) ** (k / 24) for k in range(25)] if high > low else []
     fitting = [s for s in grid if fits(s)]
     words = (f"--sigma-y out of range for the default velocities ({STUDY_VELOCITIES_OVER_V_Y[0]:g} .. "
              f"{STUDY_VELOCITIES_OVER_V_Y[-1]:g} v_Y, v_Y = {setup.pair.v_Y:.4g} m/s): at sigma_Y = {sigma:g} Pa")
     if not fitting:
-        raise ValueError(f"{words} they go beyond the FE, and so they do at every --sigma-y the FE is calibrated for (E/sigma_Y 20 .. 1e4) with E = {E:g} Pa, nu = "
+        raise ValueError(f"{words} they go beyond the FE, and so they do at every --sigma-y the FE is calibrated for (E/sigma_Y {ratio_low:g} .. "
+                         f"{ratio_high:g}) with E = {E:g} Pa, nu = "
                          f"{setup.material.nu:g}, R = {setup.radius:g} m: give --v-in: need {given}")
     side = ">=" if sigma < fitting[0] else "<="
     inside, outside = (fitting[0], sigma) if side == ">=" else (fitting[-1], sigma)

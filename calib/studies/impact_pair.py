@@ -30,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -52,10 +53,12 @@ from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec
 from nfdmodel import ContactPair
 from nfdmodel.hertz_contact import hertz_impact_force
+from nfdmodel.validation import bound_text
 
 VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
 COMPARED = ("e", "P_max", "contact_time", "alpha_max")
 FINE = ("fine",)
+STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0)    # the default velocities, multiples of the pair's v_Y
 
 
 @dataclasses.dataclass(frozen=True)
@@ -108,9 +111,44 @@ def check_pair(setup: PairImpactSetup, velocities, over_v_Y: bool = False) -> No
 
     check_counter(setup.sphere.material, setup.sphere.radius, setup.counter, contact,
                   f"v_in {slowest:.4g} .. {fastest:.4g} m/s" + (" (multiples of the pair's v_Y)" if over_v_Y else ""))
-    impact.check_resolution(setup.contact_setup, velocities)   # both meshes resolve each contact (names --v-in)
+    try:
+        impact.check_resolution(setup.contact_setup, velocities)   # both meshes resolve each contact
+    except ValueError as exc:
+        if over_v_Y:        # no --v-in given: the input that makes the contact too small is named
+            raise ValueError(default_velocities_refusal(setup, str(exc))) from None
+        raise
     for v in velocities:
         check_counter_covers(setup.counter, pair_meshes(setup, v)[0])
+
+
+def default_velocities_refusal(setup: PairImpactSetup, refusal: str) -> str:
+    """The message when ``study_velocities`` make a contact too small for the meshes
+    (calib.studies.impact.check_resolution's ``refusal``): on a counter-sphere the radius that
+    decides it, --counter-R, and the smallest one whose study is resolved (by bisection in log R2;
+    the contact at a multiple of the pair's v_Y grows with R*), and in every case --v-in instead."""
+    given = refusal.split("need ", 1)[-1]
+    head = (f"the default velocities ({', '.join(f'{f:g}' for f in STUDY_VELOCITIES_OVER_V_Y)} v_Y of the pair, "
+            f"v_Y = {setup.pair.v_Y:.4g} m/s) make contacts too small for the meshes")
+
+    def resolved(R2: float) -> bool:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")         # a trial radius: not the user's news
+                trial = dataclasses.replace(setup, counter=dataclasses.replace(setup.counter, R=R2))
+                impact.check_resolution(trial.contact_setup, study_velocities(trial))
+        except ValueError:
+            return False
+        return True
+
+    largest = setup.sphere.radius       # beyond R1 the counter-sphere's own mesh floor grows with R2
+    if setup.counter.is_flat or setup.counter.R >= largest or not resolved(largest):
+        return f"--v-in out of range: {head}: give --v-in: need {given}"
+    low, high = setup.counter.R, largest
+    for _ in range(30):
+        middle = math.sqrt(low * high)
+        low, high = (low, middle) if resolved(middle) else (middle, high)
+    return (f"--counter-R out of range for the default velocities: {head}: need --counter-R >= "
+            f"{bound_text(high, '>=')} m here, or give --v-in: need {given}")
 
 
 def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_dir=None) -> PairImpactSolver:
@@ -204,7 +242,7 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
 
 def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
     """0.5, 2 and 10 v_Y of the pair (nfdmodel.ContactPair.v_Y: the body that yields first) [m/s]."""
-    return tuple(f * setup.pair.v_Y for f in (0.5, 2.0, 10.0))
+    return tuple(f * setup.pair.v_Y for f in STUDY_VELOCITIES_OVER_V_Y)
 
 
 def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,
