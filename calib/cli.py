@@ -8,13 +8,24 @@ A negative value may follow its flag in any notation (``--dt -1e-6``, ``--wall z
 argparse reads a token that starts with '-' as an option unless it looks like a negative number,
 and its own test for that (-1, -0.5) is widened to scientific notation (``NEGATIVE_NUMBER``), for
 flags of one value and of several alike. The range checks then name what is out of range.
+
+A warning is one line on stderr, "nfdcal COMMAND: warning: ...", each text once per command (the
+sweep's workers pass theirs to the command, calib.sweep.runner).
+
+Ctrl-C (SIGINT) and ``kill PID`` (SIGTERM) end a command alike: one line "nfdcal COMMAND:
+interrupted" on stderr, exit code 130, every result finished so far kept on disk (a sweep stores
+each as it finishes; calib.sweep.runner.terminate_as_interrupt is the same rule for a sweep run
+from Python).
 """
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import re
+import signal
 import sys
+import threading
 import warnings
 
 from calib.commands.targets import OUTPUT_FLAGS, check_plot_name, flag, refuse_output_over_input
@@ -73,20 +84,44 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     ns = parser.parse_args(argv)
 
+    shown = set()
+
     def one_line_warning(message, category, filename, lineno, file=None, line=None):
-        print(f"nfdcal {ns.command}: warning: {message}", file=sys.stderr)
+        text = f"nfdcal {ns.command}: warning: {message}"
+        if text not in shown:               # once per command: the same text from another place,
+            shown.add(text)                 # check or worker is the same news
+            print(text, file=sys.stderr)
 
     warnings.showwarning = one_line_warning   # a warning is one line too, never file:line noise
     try:
-        refuse_output_over_input(ns)
-        check_plot_name(ns)
-        return int(ns.run(ns) or 0)
+        with terminate_as_interrupt():
+            refuse_output_over_input(ns)
+            check_plot_name(ns)
+            return int(ns.run(ns) or 0)
     except (ValueError, OSError, MissingOptionalPart) as exc:  # OSError: a missing file, an output folder under a file
         print(f"nfdcal {ns.command}: error: {name_the_output_flag(ns, str(exc))}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print(f"nfdcal {ns.command}: interrupted", file=sys.stderr)
         return 130
+
+
+@contextlib.contextmanager
+def terminate_as_interrupt():
+    """SIGTERM raises KeyboardInterrupt while a command runs (module docstring), in the main thread
+    (where signal handlers live; elsewhere, as under a test runner's thread, nothing changes)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGTERM, interrupt)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

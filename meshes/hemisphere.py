@@ -32,9 +32,11 @@ which is exact for this domain and independent of the file format.
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import os
+import signal
 import tempfile
 import threading
 import time
@@ -265,8 +267,9 @@ def mesh_section(spec, path: str | os.PathLike, name: str, geometry) -> Path:
     unit = dataclasses.replace(spec, radius=1.0, contact_size=spec.contact_size / R,
                                refined_radius=spec.refined_radius / R,
                                refined_depth=spec.refined_depth / R, far_size=spec.far_size / R)
-    with _GMSH_LOCK:
-        gmsh.initialize(readConfigFiles=False)
+    with _GMSH_LOCK, _signals_after_gmsh():
+        gmsh.initialize(readConfigFiles=False, interruptible=False)
+        _signals_after_gmsh.take_back()
         try:
             gmsh.option.setNumber("General.Terminal", 0)
             gmsh.model.add(name)
@@ -281,13 +284,16 @@ def mesh_section(spec, path: str | os.PathLike, name: str, geometry) -> Path:
                 gmsh.option.setNumber(option, 0)
             gmsh.option.setNumber("Mesh.MeshSizeMin", unit.contact_size)
             gmsh.option.setNumber("Mesh.MeshSizeMax", unit.far_size)
-            gmsh.model.mesh.setSizeCallback(
-                lambda dim, tag, x, y, z, lc: float(unit.size_at(x, y)))
+            gmsh.model.mesh.setSizeCallback(    # interrupted: the coarsest size, to finish at once
+                lambda dim, tag, x, y, z, lc: unit.far_size if _signals_after_gmsh._received else
+                float(unit.size_at(x, y)))
             gmsh.option.setNumber("Mesh.Algorithm", 6)  # Frontal-Delaunay: well-shaped triangles
             gmsh.option.setNumber("Mesh.ElementOrder", 2)
             gmsh.option.setNumber("Mesh.SecondOrderLinear", 0)  # mid-side nodes on the circle
             gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
             gmsh.model.mesh.generate(2)
+            if _signals_after_gmsh._received:
+                return path                     # not written: the signal is raised again on leaving
             gmsh.model.mesh.affineTransform([R, 0, 0, 0, 0, R, 0, 0, 0, 0, R, 0])
             fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.stem}.", suffix=".msh")
             os.close(fd)
@@ -301,6 +307,47 @@ def mesh_section(spec, path: str | os.PathLike, name: str, geometry) -> Path:
         finally:
             gmsh.finalize()
     return path
+
+
+class _signals_after_gmsh(contextlib.ContextDecorator):
+    """Ctrl-C and SIGTERM while gmsh meshes take effect once it is done: the library installs its
+    own C handlers at initialize (SIGTERM then ends the process silently, and gmsh's own
+    "interruptible" sets SIGINT to the default action), and a Python exception inside its size
+    callback would be swallowed. Here a signal is recorded while gmsh runs (the size callback then
+    answers the coarsest size, so gmsh finishes at once, and build_msh writes nothing), the
+    process's handlers are put back after it, and the signal is raised again (nfdcal:
+    "interrupted", exit 130; the default action where no handler was set). Main thread only
+    (where handlers live)."""
+
+    SIGNALS = (signal.SIGINT, signal.SIGTERM)
+    _received: list = []
+
+    def __enter__(self):
+        self.active = threading.current_thread() is threading.main_thread()
+        if self.active:
+            type(self)._received = []
+            self.previous = {sig: signal.signal(sig, self.record) for sig in self.SIGNALS}
+        return self
+
+    @staticmethod
+    def record(signum, frame):
+        _signals_after_gmsh._received.append(signum)
+
+    @classmethod
+    def take_back(cls):
+        """After gmsh.initialize: the recording handlers again (gmsh replaced them in C)."""
+        if threading.current_thread() is threading.main_thread():
+            for sig in cls.SIGNALS:
+                signal.signal(sig, cls.record)
+
+    def __exit__(self, *exc):
+        if self.active:
+            for sig, handler in self.previous.items():
+                if handler is not None:         # None: a handler not set from Python, left as it is
+                    signal.signal(sig, handler)
+            for sig in dict.fromkeys(type(self)._received):
+                signal.raise_signal(sig)
+        return False
 
 
 def load_msh(path: str | os.PathLike, spec: HemisphereMeshSpec | None = None,

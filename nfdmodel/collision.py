@@ -49,7 +49,7 @@ from .hertz_contact import hertz_approach_at_work
 from .history import HertzState
 from .materials import as_pair
 from .registry import ContactLaw, get_law
-from .validation import check_real, check_solid
+from .validation import bound_text, check_real, check_solid
 from .window import RangeWarning
 
 STEPS_PER_CONTACT_AUTO = 2000     # dt = None: dt = shortest estimated contact time / this
@@ -285,13 +285,13 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
     if dt >= stability_limit:
         raise ValueError(f"dt out of range: dt = {dt:g} s is beyond the leap-frog stability limit "
                          f"{stability_limit:.3g} s of this contact (its unloading lasts about "
-                         f"{shortest_unloading:.3g} s); need dt < {stability_limit:.3g} s, and dt <= "
-                         f"{min(shortest_contact / STEPS_PER_CONTACT_WARN, shortest_unloading / STEPS_PER_UNLOADING_WARN):.3g} s "
+                         f"{shortest_unloading:.3g} s); need dt < {bound_text(stability_limit, '<=', 3)} s, and dt <= "
+                         f"{bound_text(min(shortest_contact / STEPS_PER_CONTACT_WARN, shortest_unloading / STEPS_PER_UNLOADING_WARN), '<=', 3)} s "
                          f"for accurate results")
     longest_contact = float(contact_estimate.max())
     if longest_contact / dt > MAX_STEPS_LIMIT:
         raise ValueError(f"dt out of range: dt = {dt:g} s would need {longest_contact / dt:.3g} steps for a "
-                         f"contact of {longest_contact:.3g} s; need dt >= {longest_contact / MAX_STEPS_LIMIT:.3g} s "
+                         f"contact of {longest_contact:.3g} s; need dt >= {bound_text(longest_contact / MAX_STEPS_LIMIT, '>=', 3)} s "
                          f"(at most {MAX_STEPS_LIMIT:.0e} steps)")
     coarse = coarse_time_step(reference, dt)
     if coarse is not None:

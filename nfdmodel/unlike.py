@@ -66,7 +66,14 @@ class VZConstants:
     @classmethod
     def of(cls, params: VZParams) -> "VZConstants":
         """The dimensionless constants, window and yielding body of ``params`` (a parameter file's: a
-        material's on a rigid flat, or a pair's, load_parameters of a counter-body file)."""
+        material's on a rigid flat, or a pair's, load_parameters of a counter-body file). A file of
+        the vz-table law (nfdcal calibrate's default) has no two constants: refused, naming the law
+        that file is and the calibration that writes the two (``--ship radius``)."""
+        if type(params).__name__ == "VZTableParams":
+            raise ValueError("params out of range: VZConstants.of takes the vz law's two constants, and this is the "
+                             "vz-table law (nfdcal calibrate's default); load_parameters of a pair's file gives that "
+                             "pair's law itself, or calibrate with --ship radius (or force) for a file of the two "
+                             "constants")
         if not isinstance(params, VZParams):
             raise ValueError(f"params must be VZParams, got {type(params).__name__}")
         return cls(params.Ca_hat, params.Kc_hat, params.window, (params.pair.sigma_y, params.pair.nu))

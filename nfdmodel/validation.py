@@ -103,3 +103,23 @@ def check_solid(name: str, value: float, label: str | None = None) -> float:
         raise ValueError(f"{label} out of range for {kind}: need {low:g} <= {label} <= {high:g} {unit} "
                          f"({what}), got {value:g}{unit_slip(name, value)}")
     return value
+
+
+def bound_text(value: float, side: str, digits: int = 4) -> str:
+    """``value`` as a printed bound of ``digits`` significant digits, rounded into the admissible
+    side: ``side`` "<=" (an upper bound) rounds down, ">=" (a lower bound) rounds up, so that a
+    suggestion a refusal prints ("need v_max <= 0.2195 m/s") is accepted when followed."""
+    if side not in ("<=", ">="):
+        raise ValueError(f"side must be '<=' or '>=', got {side!r}")
+    value = float(value)
+    text = f"{value:.{digits}g}"
+    if not math.isfinite(value) or value == 0.0:
+        return text
+    scale = 10.0 ** (math.floor(math.log10(abs(value))) - digits + 1)
+    for _ in range(4):          # one ulp of the last digit at a time until it lies inside
+        printed = float(text)
+        if (printed <= value) if side == "<=" else (printed >= value):
+            return text
+        step = -scale if side == "<=" else scale
+        text = f"{printed + step:.{digits}g}"
+    return text

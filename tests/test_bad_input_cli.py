@@ -37,6 +37,13 @@ CLI_CASES = [
     (["calibrate", "--quiet", "--counter-E", "2e11", "--v-max", "1"], "--v-max"),
     (["hertz", "--counter-E", "abc"], "--counter-E"),
     (["hertz", "--counter-E", "2e11", "--ladder"], "--ladder"),
+    # the counter-body that makes the case impossible is named with its range (was: "contact_size ...
+    # 5.3e-09", "P_max <= 0 N", a StepNotConverged traceback)
+    (["calibrate", "--quiet", "--counter-E", "2e11", "--counter-sigma-y", "1e4"],
+     "--counter-sigma-y out of range for the FE: need 20 <= E2/sigma_Y2 <= 10000"),
+    (["calibrate", "--quiet", "--counter-E", "1e5"], "need --counter-E >= "),
+    (["hertz", "--counter-E", "1e5", "--P-max", "1"], "--P-max must be > --P-min = 1 N"),
+    (["hertz", "--counter-E", "1e5", "--P-min", "0.1", "--P-max", "1"], "need --counter-E >= "),
     (["run", "/nonexistent/scene.toml"], "scene.toml"),
     (["run", "SCENE_UNKNOWN_KEY"], "colour"),
     (["run", "SCENE_BAD_NU"], "nu"),

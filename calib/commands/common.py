@@ -36,11 +36,12 @@ def number(flag: str, text, default=None, **allowed) -> float:
 
 
 def add_summary_arguments(parser, progress: bool = True) -> None:
-    """--json (and --quiet for a command that reports progress), the same in every command."""
+    """--json and --quiet, the same in every command (``progress``: whether the command reports
+    progress; one that does not accepts --quiet too, so a script passes it to every command)."""
     parser.add_argument("--json", action="store_true",
                         help="print the summary as one JSON object (default: a readable summary)")
-    if progress:
-        parser.add_argument("--quiet", action="store_true", help="no progress messages on stderr")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress messages on stderr" + ("" if progress else " (this command prints none)"))
 
 
 def print_summary(ns, summary, lines) -> None:

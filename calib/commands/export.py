@@ -306,10 +306,12 @@ def like_yield_stress(ns, counter: dict, sphere, law: str) -> float:
         raise ValueError(f"--params out of range: {ns.params}'s counter-body is elastic (counter_body.sigma_y "
                          f"null), and pair_style nfd/{law} needs its yield stress for its own contacts: give "
                          f"--counter-sigma-y SIGMA_Y2 [Pa], or calibrate with --counter-sigma-y")
+    from nfdmodel.validation import bound_text
+
     sigma = number("--counter-sigma-y", given)
     lowest = yield_pressure(sphere.sigma_y, sphere.nu) / yield_factor(counter["nu"])
     if not sigma >= lowest:
-        raise ValueError(f"--counter-sigma-y out of range: need >= {lowest:.6g} Pa (A_Y(nu) sigma_Y at least the "
+        raise ValueError(f"--counter-sigma-y out of range: need >= {bound_text(lowest, '>=', 6)} Pa (A_Y(nu) sigma_Y at least the "
                          f"sphere's: the pair was calibrated with the counter-body elastic), got {given}")
     return sigma
 

@@ -12,7 +12,8 @@ command (--R --E --nu; --sigma-y and --rho are accepted and unused: the run is e
 ``--ladder`` runs the mesh ladder instead (mesh_ladder.csv, mesh_ladder.png). With a counter-body, one warning
 line on stderr where the rigid-flat law with the pair's E*, R* is measured to miss the pair by more than 2 % in e
 once it yields (calib.fit.substitution), naming the pair calibration.
-Prints the errors at the top load against Hertz; ``--json`` prints the summary object instead
+Prints the errors at the top load against Hertz (on a terminal a progress line on stderr meanwhile, none
+with ``--quiet``); ``--json`` prints the summary object instead
 (its ``top_load`` entry: P, alpha, contact_radius, contact_radius_hertz, contact_radius_rel_error,
 peak_pressure_rel_error, alpha_rel_error, wall_time_s).
 """
@@ -46,7 +47,7 @@ def add_parser(subparsers):
                                                f" its own below it, named by the sphere and the counter-body)")
     p.add_argument("--dry-run", action="store_true",
                    help="print the plan (mesh, dofs, steps, estimated time, output folder) and exit")
-    add_summary_arguments(p, progress=False)
+    add_summary_arguments(p)
     p.set_defaults(run=run)
     return p
 
@@ -89,19 +90,23 @@ def run(ns) -> int:
                               ns.steps) for h in sizes]
         print_summary(ns, stages_summary(stages, out), [f"outputs: {out}"] + format_stages(stages))
         return 0
-    if ns.ladder:
-        summary = write_ladder_results(out, radius=radius, material=material,
-                                       P_min=P_min, P_max=P_max, steps=ns.steps)
-    else:
-        from calib.fe import StepNotConverged
+    from calib.commands.progress import progress_reporter
 
-        try:
-            summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min,
-                                          P_max=P_max, steps=ns.steps, contact_size=contact_size, counter=counter)
-        except StepNotConverged as exc:     # one line, exit 2: what failed and what to change
-            raise ValueError(f"--P-min, --P-max: the FE did not converge ({exc}); the run's checks passed, so this "
-                             f"load range or mesh is beyond what it was tested on: try other loads or "
-                             f"--contact-size") from None
+    with progress_reporter(ns.quiet) as progress:
+        progress(f"hertz: {'mesh ladder' if ns.ladder else 'elastic FE'}, {ns.steps} loads {P_min:g} .. {P_max:g} N")
+        if ns.ladder:
+            summary = write_ladder_results(out, radius=radius, material=material,
+                                           P_min=P_min, P_max=P_max, steps=ns.steps)
+        else:
+            from calib.fe import StepNotConverged
+
+            try:
+                summary = write_hertz_results(out, radius=radius, material=material, P_min=P_min, P_max=P_max,
+                                              steps=ns.steps, contact_size=contact_size, counter=counter)
+            except StepNotConverged as exc:     # one line, exit 2: what failed and what to change
+                raise ValueError(f"--P-min, --P-max: the FE did not converge ({exc}); the run's checks passed, so "
+                                 f"this load range or mesh is beyond what it was tested on: try other loads or "
+                                 f"--contact-size") from None
     print_summary(ns, summary, ladder_lines(summary, out) if ns.ladder else hertz_lines(summary, out))
     return 0
 

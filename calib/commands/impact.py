@@ -54,6 +54,8 @@ OUT_FILES = ("impact.csv", "impact.json", "drop_tests.csv", "drops.csv", "impact
 
 
 def add_parser(subparsers) -> None:
+    from calib.studies.impact_drops import MOST_VELOCITIES as MOST_DROP_VELOCITIES
+
     parser = subparsers.add_parser(
         "impact", help="dynamic FE impact of the whole sphere: e, P_max, contact time, energy balance",
         description=__doc__.split("\n\n")[0])
@@ -64,7 +66,9 @@ def add_parser(subparsers) -> None:
                         help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
     parser.add_argument("--drops", default=None, metavar="CSV",
                         help="drop tests (fit-data's impacts file: v_in, e; optional P_max, contact_time): the FE at"
-                             " their velocities, each test against it in OUT/drops.csv (not with --v-in)")
+                             " their velocities, each test against it in OUT/drops.csv (not with --v-in); more than"
+                             f" {MOST_DROP_VELOCITIES} distinct velocities: the FE at {MOST_DROP_VELOCITIES} spread in log"
+                             " v_in, the tests against it interpolated (said in the output)")
     parser.add_argument("--steps-per-contact", default=None,
                         help="time steps per estimated contact time (integer 10 .. 10000, default 100)")
     parser.add_argument("--contact-size", default=None,
@@ -151,6 +155,8 @@ def options(ns):
         velocities = impact_drops.velocities(impact_drops.read(ns.drops))
     elif ns.v_in is None:
         velocities = (impact.CONVERGENCE_VELOCITY,) if ns.convergence else impact.study_velocities(setup)
+        if not ns.convergence:
+            impact.check_study_velocities(setup)     # names --sigma-y: no --v-in was given
     else:
         velocities = tuple(check_solid("v_in", number("--v-in", v, low=0.0, unit="m/s")) for v in ns.v_in)
     for flag, path in (("--params", ns.params), ("--table-params", ns.table_params),
@@ -240,8 +246,11 @@ def drop_lines(drops, records, out) -> list[str]:
     s = impact_drops.summary(rows)
     extra = "".join(f", {key.replace('_ratio_mean', '')} test/FE - 1 = {s[key]:+.2%} (mean)"
                     for key in ("P_max_ratio_mean", "contact_time_ratio_mean") if key in s)
-    return [f"drop tests {drops}: {s['tests']} tests, e_test - e_FE = {s['e_change_mean']:+.4f} (mean), "
-            f"{s['e_change_rms']:.4f} (rms){extra}; per test: {path}"]
+    lines = [f"drop tests {drops}: {s['tests']} tests, e_test - e_FE = {s['e_change_mean']:+.4f} (mean), "
+             f"{s['e_change_rms']:.4f} (rms){extra}; per test: {path}"]
+    if s["interpolated"]:
+        lines.append(f"{s['interpolated']} of the {s['tests']} tests against the FE interpolated: {s['interpolation']}")
+    return lines
 
 
 def run(ns) -> int:
@@ -311,7 +320,7 @@ def run_pair(ns, setup, velocities, workers) -> int:
     refuse_output_over_input(ns, {"out": out})        # the default folder too: no file it writes is an input
     variants = impact_pair.FINE if ns.no_error_estimate else impact.VARIANTS
     impact_pair.check_pair(setup, velocities, over_v_Y=ns.v_in is None)   # what the two-body FE handles, before any mesh
-    impact.check_reach(setup.sphere, velocities)
+    impact.check_reach(setup.contact_setup, velocities)
     if ns.dry_run:
         tasks = impact_pair.tasks_for(setup, velocities, variants)
         summary = {"out": out, "counter": setup.counter.describe(), "mass_star": setup.pair.mass_star, "runs": [

@@ -112,7 +112,7 @@ def run_vz_table(ns, material, radius) -> int:
     """``--v-max``: the vz-table law of the material from the vz master table (module doc)."""
     from calib.commands.common import number
     from calib.fit import impact_window
-    from nfdmodel.validation import check_solid
+    from nfdmodel.validation import bound_text, check_solid
 
     v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
     check_solid("v_in", v_max)
@@ -125,7 +125,7 @@ def run_vz_table(ns, material, radius) -> int:
     v_low, v_top = found["v_in_window"]
     if v_max > v_top * (1 + 1e-9):
         raise ValueError(f"v_max out of range: the vz master table's window for this material ends at "
-                         f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {v_top:.4g} m/s ({v_top / pair.v_Y:.4g} v_Y)")
+                         f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {bound_text(v_top, '<=')} m/s ({v_top / pair.v_Y:.4g} v_Y)")
     P_max = impact_window.impact_force(law, v_max)
     summary = {"law": "vz-table", "v_max": v_max, "P_max_of_v_max": P_max, "P_max_of_v_max_over_P_Y": P_max / pair.P_Y,
                "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},

@@ -221,7 +221,7 @@ def pair_impact_stage(scene: Scene, material: SceneMaterial) -> PlannedStage:
     setup = pair_impact_setup(scene, material)
     velocities = tuple(sorted(set(scene.impact.velocities(setup.pair))))
     try:
-        impact.check_reach(setup.sphere, velocities)
+        impact.check_reach(setup.contact_setup, velocities)
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: impact.v_in: material {material.name}: {exc}") from None
     tasks = impact_pair.tasks_for(setup, velocities, impact.VARIANTS if scene.impact.error_estimate else impact_pair.FINE)

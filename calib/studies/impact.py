@@ -84,10 +84,11 @@ from calib.sweep.runner import run_sweep
 from meshes.hemisphere import MIN_CONTACT_SIZE_OVER_RADIUS, hemisphere_mesh
 from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec, sphere_mesh
-from nfdmodel import (ContactPair, Material, RangeWarning, collision_reference, load_parameters,
+from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference, load_parameters,
                       reference_case)
 from nfdmodel.hertz_contact import hertz_force_at_radius, hertz_impact_approach, hertz_impact_force
 from nfdmodel.thornton import thornton_closed_form
+from nfdmodel.validation import SOLID_RANGES, bound_text
 
 DEFAULT_OUT = output.RESULTS / "impact"
 STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0, 20.0, 40.0, 100.0, 300.0)   # to the FE's reach, 328 v_Y
@@ -109,7 +110,11 @@ class ImpactSetup:
     """What an impact run needs besides v_in: the sphere's material (calib's nfdmodel.Material; an
     elastic run ignores sigma_y), R [m], elastic (no yield: Hertz's limit), the mesh level or
     contact size [m], steps per contact, the sphere's isotropic hardening (a calib.fe.flow_curve
-    FlowCurve; None: perfectly plastic)."""
+    FlowCurve; None: perfectly plastic). ``contact``: the contact the impact makes (None: the
+    sphere on the rigid flat; a pair impact's, calib.studies.impact_pair: E*, R*, m* and first yield
+    of the two bodies, nfdmodel.ContactPair), which sizes the mesh and the checks;
+    ``floor_radius``: the largest body meshed with the sphere's contact element [m] (None: the
+    sphere), whose MIN_CONTACT_SIZE_OVER_RADIUS bounds that element from below."""
 
     material: Material
     radius: float
@@ -118,25 +123,38 @@ class ImpactSetup:
     contact_size: float | None = None
     steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT
     hardening: object = None
+    contact: ContactPair | None = None
+    floor_radius: float | None = None
 
     @property
     def pair(self) -> ContactPair:
-        return ContactPair.sphere_flat(self.material, self.radius)
+        return self.contact if self.contact is not None else ContactPair.sphere_flat(self.material, self.radius)
 
 
 # ---------------------------------------------------------------- before any mesh
 def estimated_force(setup: ImpactSetup, v_in: float) -> float:
     """P_max [N] the impact at v_in [m/s] is expected to reach: Hertz's for an elastic run, else the
-    vz law's with the master table's constants (calib.fit.impact_window)."""
+    vz law's with the master table's constants (calib.fit.impact_window; on a pair's contact, its
+    dimensionless constants on the pair's yield point, nfdmodel.unlike's substitution)."""
     pair = setup.pair
     hertz = float(hertz_impact_force(pair.mass_star, pair.hertz_stiffness, v_in))
     if setup.elastic or v_in <= pair.v_Y:
         return hertz
-    params, _ = impact_window.estimating_constants(setup.material, setup.radius)
+    params = estimating_law(setup)
     try:
         return impact_window.impact_force(params, v_in)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
         return math.inf
+
+
+def estimating_law(setup: ImpactSetup) -> VZParams:
+    """The vz law that estimates the impact's P_max (``estimated_force``): the master table's
+    constants of the sphere's material (calib.fit.impact_window.estimating_constants), on the
+    setup's contact."""
+    params, _ = impact_window.estimating_constants(setup.material, setup.radius)
+    if setup.contact is None:
+        return params
+    return VZParams.from_dimensionless(setup.contact, params.Ca_hat, params.Kc_hat, params.window)
 
 
 def largest_load(setup: ImpactSetup) -> float:
@@ -160,11 +178,10 @@ def check_reach(setup: ImpactSetup, velocities) -> None:
             if setup.elastic or reach <= pair.P_Y:              # Hertz: (1/2) m v^2 = (2/5) P alpha
                 v_reach = math.sqrt(0.8 * reach * float(pair.hertz_approach(reach)) / pair.mass_star)
             else:
-                v_reach = impact_window.reach_velocity(impact_window.estimating_constants(setup.material,
-                                                                                          setup.radius)[0], reach)
+                v_reach = impact_window.reach_velocity(estimating_law(setup), reach)
             raise ValueError(f"--v-in out of range: the impact at {v:g} m/s goes beyond what this FE vouches for "
                              f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= "
-                             f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {v_reach:.4g} m/s "
+                             f"{recipe.CONTACT_RADIUS_LIMIT:g} R): need v_in <= {bound_text(v_reach, '<=')} m/s "
                              f"({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
     check_resolution(setup, velocities)
 
@@ -189,10 +206,12 @@ def velocity_for_radius(setup: ImpactSetup, radius: float, start: float) -> floa
 
 def smallest_resolved_radius(setup: ImpactSetup) -> float:
     """The smallest contact radius [m] the impact's mesh resolves: MIN_ELEMENTS_PER_CONTACT_RADIUS
-    elements of the given contact_size, else the recipe's contact element no finer than 1e-6 R."""
+    elements of the given contact_size, else the recipe's contact element no finer than 1e-6 R (R:
+    the largest body meshed with it, ``floor_radius``)."""
     if setup.contact_size is not None:
         return MIN_ELEMENTS_PER_CONTACT_RADIUS * setup.contact_size
-    return MIN_CONTACT_SIZE_OVER_RADIUS * setup.radius / recipe.MESH_LEVELS[setup.level or "default"]
+    return (MIN_CONTACT_SIZE_OVER_RADIUS * max(setup.radius, setup.floor_radius or 0.0)
+            / recipe.MESH_LEVELS[setup.level or "default"])
 
 
 def check_resolution(setup: ImpactSetup, velocities) -> None:
@@ -205,11 +224,13 @@ def check_resolution(setup: ImpactSetup, velocities) -> None:
         return
     a = contact_radius(setup, slowest)
     v_min = velocity_for_radius(setup, need, slowest)
+    body = ("a mesh of the sphere" if setup.floor_radius is None or setup.floor_radius <= setup.radius else
+            f"the counter-body's mesh (size {setup.floor_radius:g} m)")
     where = (f"spans {a / setup.contact_size:.2g} elements of --contact-size {setup.contact_size:g} m; the FE needs "
-             f">= {MIN_ELEMENTS_PER_CONTACT_RADIUS:g}: need v_in >= {v_min:.4g} m/s on this mesh, or --contact-size <= "
-             f"{a / MIN_ELEMENTS_PER_CONTACT_RADIUS * (1.0 - 1e-3):.3g} m" if setup.contact_size is not None else
-             f"needs a contact element below {MIN_CONTACT_SIZE_OVER_RADIUS:g} R, finer than a mesh of the sphere "
-             f"can hold: need v_in >= {v_min:.4g} m/s ({v_min / setup.pair.v_Y:.4g} v_Y) for this material and R")
+             f">= {MIN_ELEMENTS_PER_CONTACT_RADIUS:g}: need v_in >= {bound_text(v_min, '>=')} m/s on this mesh, or --contact-size <= "
+             f"{bound_text(a / MIN_ELEMENTS_PER_CONTACT_RADIUS, '<=', 3)} m" if setup.contact_size is not None else
+             f"needs a contact element below {MIN_CONTACT_SIZE_OVER_RADIUS:g} of the body's size, finer than {body} "
+             f"can hold: need v_in >= {bound_text(v_min, '>=')} m/s ({v_min / setup.pair.v_Y:.4g} v_Y) for this material and R")
     raise ValueError(f"--v-in out of range: the contact of the impact at {slowest:g} m/s (radius about {a:.3g} m) "
                      + where)
 
@@ -580,6 +601,53 @@ def reference_setup(**options) -> ImpactSetup:
 def study_velocities(setup: ImpactSetup) -> tuple[float, ...]:
     """The study's velocities [m/s]: STUDY_VELOCITIES_OVER_V_Y x v_Y."""
     return tuple(k * setup.pair.v_Y for k in STUDY_VELOCITIES_OVER_V_Y)
+
+
+def check_study_velocities(setup: ImpactSetup) -> None:
+    """ValueError before any FE when ``study_velocities`` (the default of ``nfdcal impact``, multiples
+    of the material's v_Y) are beyond the FE (``check_reach``): the input that decides it is the
+    yield stress (whether they fit depends on E / sigma_Y, nu alone), so the refusal names --sigma-y
+    and the range of it whose study fits, with E, nu, R as given, and the velocities the FE takes
+    for this material (--v-in)."""
+    try:
+        with warnings.catch_warnings(record=True) as noted:    # a refusal is one line: noted, shown if it passes
+            check_reach(setup, study_velocities(setup))
+    except ValueError as exc:
+        given = str(exc).split("need ", 1)[-1].rstrip(".")
+    else:
+        for note in noted:
+            warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
+        return
+
+    def fits(sigma_y: float) -> bool:
+        trial = dataclasses.replace(setup, material=dataclasses.replace(setup.material, sigma_y=sigma_y))
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")     # a trial material's estimate: not the user's news
+                check_reach(trial, study_velocities(trial))
+        except ValueError:
+            return False
+        return True
+
+    sigma, E = setup.material.sigma_y, setup.material.E
+    # a grid over the calibrated E / sigma_Y (calib.fit.recipe) inside the range of real solids
+    ratio_low, ratio_high = recipe.E_OVER_SIGMA_Y_RANGE
+    low, high = max(E / ratio_high, SOLID_RANGES["sigma_y"][0]), min(E / ratio_low, SOLID_RANGES["sigma_y"][1])
+    grid = [low * (high / low) ** (k / 24) for k in range(25)] if high > low else []
+    fitting = [s for s in grid if fits(s)]
+    words = (f"--sigma-y out of range for the default velocities ({STUDY_VELOCITIES_OVER_V_Y[0]:g} .. "
+             f"{STUDY_VELOCITIES_OVER_V_Y[-1]:g} v_Y, v_Y = {setup.pair.v_Y:.4g} m/s): at sigma_Y = {sigma:g} Pa")
+    if not fitting:
+        raise ValueError(f"{words} they go beyond the FE, and so they do at every --sigma-y the FE is calibrated for (E/sigma_Y {ratio_low:g} .. "
+                         f"{ratio_high:g}) with E = {E:g} Pa, nu = "
+                         f"{setup.material.nu:g}, R = {setup.radius:g} m: give --v-in: need {given}")
+    side = ">=" if sigma < fitting[0] else "<="
+    inside, outside = (fitting[0], sigma) if side == ">=" else (fitting[-1], sigma)
+    for _ in range(20):                 # bisection in log sigma_Y to the edge of the fitting range
+        middle = math.sqrt(inside * outside)
+        inside, outside = (middle, outside) if fits(middle) else (inside, middle)
+    raise ValueError(f"{words} they go beyond the FE: need --sigma-y {side} {bound_text(inside, side)} Pa for E = "
+                     f"{E:g} Pa, nu = {setup.material.nu:g}, R = {setup.radius:g} m, or give --v-in: need {given}")
 
 
 def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progress: Callable[[str], None] | None = None,

@@ -7,7 +7,9 @@
 read by calib.fit.measured.data.read_impacts, with its one-line errors). The FE runs at the tests'
 distinct velocities, or, when there are more than MOST_VELOCITIES, at that many spread evenly in
 log v_in over their range; each test is compared with the FE at its v_in, interpolated linearly in
-log v_in between the FE's velocities (e), log-log (P_max, contact time):
+log v_in between the FE's velocities (e), log-log (P_max, contact time); a test whose v_in is not
+one of the FE's is marked ``interpolated`` (OUT/drops.csv) and the summary counts them and names the
+rule (``summary``: interpolated, interpolation), as ``nfdcal impact --drops`` prints:
 
     e_change = e_test - e_FE,   P_max_ratio = P_max,test / P_max,FE - 1,   contact_time_ratio likewise
 
@@ -23,6 +25,8 @@ import numpy as np
 from calib import output
 
 MOST_VELOCITIES = 6
+INTERPOLATION = (f"more than {MOST_VELOCITIES} distinct velocities: the FE at {MOST_VELOCITIES} spread evenly in log "
+                 f"v_in, each test against it interpolated (e linearly in log v_in, P_max and contact time log-log)")
 FIT_DATA_COLUMNS = ("v_in", "e", "P_max", "contact_time")
 
 
@@ -56,7 +60,8 @@ def compare(tests, records: list[dict]) -> list[dict]:
 
     rows = []
     for k, v in enumerate(tests.v_in):
-        row = {"row": int(tests.rows[k]), "v_in": float(v), "e": float(tests.e[k]), "e_fe": at("e", v, False)}
+        row = {"row": int(tests.rows[k]), "v_in": float(v), "e": float(tests.e[k]), "e_fe": at("e", v, False),
+               "interpolated": bool(not np.any(np.isclose(np.log(v), log_v, rtol=0.0, atol=1e-12)))}
         row["e_change"] = row["e"] - row["e_fe"]
         for key, measured in (("P_max", tests.P_max), ("contact_time", tests.contact_time)):
             if measured is not None and np.isfinite(measured[k]):
@@ -68,9 +73,13 @@ def compare(tests, records: list[dict]) -> list[dict]:
 
 
 def summary(rows: list[dict]) -> dict:
-    """The root-mean-square e_change and the mean P_max / contact time ratios (where measured)."""
+    """The root-mean-square e_change and the mean P_max / contact time ratios (where measured); how
+    many tests were compared with the FE interpolated between its velocities, and the rule."""
     out = {"tests": len(rows), "e_change_rms": float(np.sqrt(np.mean([r["e_change"] ** 2 for r in rows]))),
-           "e_change_mean": float(np.mean([r["e_change"] for r in rows]))}
+           "e_change_mean": float(np.mean([r["e_change"] for r in rows])),
+           "interpolated": sum(bool(r.get("interpolated")) for r in rows)}
+    if out["interpolated"]:
+        out["interpolation"] = INTERPOLATION
     for key in ("P_max", "contact_time"):
         ratios = [r[f"{key}_ratio"] for r in rows if f"{key}_ratio" in r]
         if ratios:
@@ -80,7 +89,7 @@ def summary(rows: list[dict]) -> dict:
 
 def write_comparison(path: Path, rows: list[dict], stamp: dict) -> Path:
     columns = ["row", "v_in", "e", "e_fe", "e_change", "P_max", "P_max_fe", "P_max_ratio", "contact_time",
-               "contact_time_fe", "contact_time_ratio"]
+               "contact_time_fe", "contact_time_ratio", "interpolated"]
     columns = [c for c in columns if any(c in r for r in rows)]
     return Path(output.write_csv(path, rows, columns, comment=output.stamp_comment(stamp)))
 

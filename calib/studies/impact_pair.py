@@ -5,10 +5,12 @@ relative normal velocity of separation over that of approach), P_max, the contac
 and the energy balance; each beside Hertz's elastic impact of the pair (E*, R*, reduced mass m*;
 Johnson 1985, section 11.4), the limit the FE must reach below first yield.
 
-Meshes: the sphere's is calib.studies.impact.impact_mesh's for the same v_in, its refined zone
-widened by Hertz's ratio of the pair's contact radius to the rigid flat's,
-(R*/R1)^(2/5) (E*_flat/E*)^(1/5) (m*/m1)^(1/5) when above 1 (a = (3 P R* / 4 E*)^(1/3) with
-Hertz's P_max); the counter-body's is calib.fit.counter.CounterBody.mesh_spec of it (a sphere of
+Meshes: the sphere's is calib.studies.impact.impact_mesh's for the same v_in on the pair's contact
+(PairImpactSetup.contact_setup: the largest contact radius estimated with the pair's E*, R*, m* and
+first yield, nfdmodel.ContactPair; Hertz's P_max below first yield, the vz law of the master
+table's dimensionless constants on the pair above it), and its contact element no finer than
+1e-6 of the larger body meshed with it (the block or the counter-sphere; a slower impact is refused
+naming the smallest v_in, as on the rigid flat); the counter-body's is calib.fit.counter.CounterBody.mesh_spec of it (a sphere of
 radius R2, or a block of radius and height L = BLOCK_SIZE_OVER_R R1 with its far face held). The
 counter-body's density is its own (CounterBody.rho: a counter-sphere needs it, ``nfdcal impact``
 refuses one without --counter-rho), a flat's default the sphere's (the held block is not in m*).
@@ -28,6 +30,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
+import warnings
 from pathlib import Path
 from typing import Callable
 
@@ -50,10 +53,12 @@ from meshes.keys import stable_key
 from meshes.sphere import SphereMeshSpec
 from nfdmodel import ContactPair
 from nfdmodel.hertz_contact import hertz_impact_force
+from nfdmodel.validation import bound_text
 
 VERSION = 1                      # bump when the pair FE changes: invalidates finished cases
 COMPARED = ("e", "P_max", "contact_time", "alpha_max")
 FINE = ("fine",)
+STUDY_VELOCITIES_OVER_V_Y = (0.5, 2.0, 10.0)    # the default velocities, multiples of the pair's v_Y
 
 
 @dataclasses.dataclass(frozen=True)
@@ -70,15 +75,17 @@ class PairImpactSetup:
         """The Hertz pair (E*, R*, m* with the counter-body's density, CounterBody.pair)."""
         return self.counter.pair(self.sphere.material, self.sphere.radius)
 
+    @property
+    def contact_setup(self) -> impact.ImpactSetup:
+        """The sphere's setup on the pair's contact (calib.studies.impact.ImpactSetup ``contact``,
+        ``floor_radius``): what sizes the sphere's mesh and checks reach and resolution."""
+        size = (self.block_size or BLOCK_SIZE_OVER_R * self.sphere.radius) if self.counter.is_flat else self.counter.R
+        return dataclasses.replace(self.sphere, contact=self.pair, floor_radius=size)
+
 
 def pair_meshes(setup: PairImpactSetup, v_in: float) -> tuple[SphereMeshSpec, object]:
     """(sphere mesh, counter-body mesh) of the impact at v_in [m/s] (module docstring)."""
-    sphere = impact.impact_mesh(setup.sphere, v_in)
-    flat, pair = setup.sphere.pair, setup.pair
-    widen = ((pair.R_star / flat.R_star) ** 0.4 * (flat.E_star / pair.E_star) ** 0.2
-             * (pair.mass_star / flat.mass_star) ** 0.2)
-    if widen > 1.0:
-        sphere = dataclasses.replace(sphere, refined_radius=min(widen * sphere.refined_radius, 0.9 * sphere.radius))
+    sphere = impact.impact_mesh(setup.contact_setup, v_in)
     counter = setup.counter.mesh_spec(HemisphereMeshSpec(**dataclasses.asdict(sphere)))
     if isinstance(counter, BlockMeshSpec):
         if setup.block_size is not None:
@@ -104,9 +111,44 @@ def check_pair(setup: PairImpactSetup, velocities, over_v_Y: bool = False) -> No
 
     check_counter(setup.sphere.material, setup.sphere.radius, setup.counter, contact,
                   f"v_in {slowest:.4g} .. {fastest:.4g} m/s" + (" (multiples of the pair's v_Y)" if over_v_Y else ""))
-    impact.check_resolution(setup.sphere, velocities)   # the sphere's mesh resolves each contact (names --v-in)
+    try:
+        impact.check_resolution(setup.contact_setup, velocities)   # both meshes resolve each contact
+    except ValueError as exc:
+        if over_v_Y:        # no --v-in given: the input that makes the contact too small is named
+            raise ValueError(default_velocities_refusal(setup, str(exc))) from None
+        raise
     for v in velocities:
         check_counter_covers(setup.counter, pair_meshes(setup, v)[0])
+
+
+def default_velocities_refusal(setup: PairImpactSetup, refusal: str) -> str:
+    """The message when ``study_velocities`` make a contact too small for the meshes
+    (calib.studies.impact.check_resolution's ``refusal``): on a counter-sphere the radius that
+    decides it, --counter-R, and the smallest one whose study is resolved (by bisection in log R2;
+    the contact at a multiple of the pair's v_Y grows with R*), and in every case --v-in instead."""
+    given = refusal.split("need ", 1)[-1]
+    head = (f"the default velocities ({', '.join(f'{f:g}' for f in STUDY_VELOCITIES_OVER_V_Y)} v_Y of the pair, "
+            f"v_Y = {setup.pair.v_Y:.4g} m/s) make contacts too small for the meshes")
+
+    def resolved(R2: float) -> bool:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")         # a trial radius: not the user's news
+                trial = dataclasses.replace(setup, counter=dataclasses.replace(setup.counter, R=R2))
+                impact.check_resolution(trial.contact_setup, study_velocities(trial))
+        except ValueError:
+            return False
+        return True
+
+    largest = setup.sphere.radius       # beyond R1 the counter-sphere's own mesh floor grows with R2
+    if setup.counter.is_flat or setup.counter.R >= largest or not resolved(largest):
+        return f"--v-in out of range: {head}: give --v-in: need {given}"
+    low, high = setup.counter.R, largest
+    for _ in range(30):
+        middle = math.sqrt(low * high)
+        low, high = (low, middle) if resolved(middle) else (middle, high)
+    return (f"--counter-R out of range for the default velocities: {head}: need --counter-R >= "
+            f"{bound_text(high, '>=')} m here, or give --v-in: need {given}")
 
 
 def solver_for(setup: PairImpactSetup, sphere: SphereMeshSpec, counter, cache_dir=None) -> PairImpactSolver:
@@ -180,7 +222,7 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
     """Every task of ``tasks_for`` through the sweep runner: (rows, each with its variant, counts
     {computed, reused}); ValueError naming the first that failed."""
     check_pair(setup, velocities)
-    impact.check_reach(setup.sphere, velocities)
+    impact.check_reach(setup.contact_setup, velocities)
     tasks = tasks_for(setup, velocities, variants)
     meshes = {stable_key([task["sphere_mesh"], task["counter_mesh"]]): task for task in tasks}
     for task in meshes.values():        # meshed here, one at a time (gmsh is one per process)
@@ -200,7 +242,7 @@ def run_impacts(setup: PairImpactSetup, velocities, cases: Path, *, workers: int
 
 def study_velocities(setup: PairImpactSetup) -> tuple[float, ...]:
     """0.5, 2 and 10 v_Y of the pair (nfdmodel.ContactPair.v_Y: the body that yields first) [m/s]."""
-    return tuple(f * setup.pair.v_Y for f in (0.5, 2.0, 10.0))
+    return tuple(f * setup.pair.v_Y for f in STUDY_VELOCITIES_OVER_V_Y)
 
 
 def study(setup: PairImpactSetup, velocities, out: Path, *, workers: int = 1,

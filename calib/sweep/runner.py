@@ -9,17 +9,20 @@ loses nothing finished and a rerun computes only what is missing. A sweep whose 
 its FE does not passes ``refit``: every stored result is refitted from the FE data it keeps (no
 FE; the key names the FE, the row its fit) and written back when it changed. Missing meshes are built here,
 one at a time, before any worker starts (gmsh is a process-wide singleton), so workers only read
-the mesh cache.
+the mesh cache. A warning a worker issues is issued again in the parent (``_relaying``): the
+command shows it as its own one line, the same text from several workers once.
 """
 from __future__ import annotations
 
 import contextlib
+import functools
 import json
 import multiprocessing
 import os
 import signal
 import threading
 import time
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Iterable, Iterator
@@ -82,16 +85,36 @@ def results(function: Callable[[dict], dict], tasks: list, workers: int = 1,
             yield function(task)
         return
     context = multiprocessing.get_context("spawn")
-    pool = context.Pool(min(workers, len(tasks)), initializer=die_with_parent, initargs=(os.getpid(),))
+    with ignoring_ctrl_c():
+        pool = context.Pool(min(workers, len(tasks)), initializer=die_with_parent, initargs=(os.getpid(),))
     try:
         with terminate_as_interrupt():
-            yield from pool.imap_unordered(function, tasks)
+            for answer in pool.imap_unordered(functools.partial(_relaying, function), tasks):
+                yield _relayed(answer)
         pool.close()
     except BaseException:               # Ctrl-C, kill PID, or the caller gave up: no orphans
         pool.terminate()
         raise
     finally:
         pool.join()
+
+
+def _relaying(function: Callable[[dict], object], task: dict) -> tuple[object, list]:
+    """``function(task)`` on a worker, with the warnings it issued there under the worker's
+    filters: (result, [(category, text)]). A worker's stderr is not the command's: its warnings are
+    the parent's to show (``_relayed``)."""
+    with warnings.catch_warnings(record=True) as caught:
+        result = function(task)
+    return result, [(w.category, str(w.message)) for w in caught]
+
+
+def _relayed(answer: tuple[object, list]) -> object:
+    """The result of ``_relaying``, its warnings issued again in this process, where the command
+    shows each as one line (calib.cli) and the same text from several workers once."""
+    result, caught = answer
+    for category, text in caught:
+        warnings.warn(text, category, stacklevel=2)
+    return result
 
 
 OFFER_SLOTS = 8                  # tasks one background process can be offered besides its first
@@ -107,7 +130,7 @@ class Background:
         self._pool, self._first, self._claims, self._offered = pool, first, claims, 0
 
     def __call__(self):
-        return self._first.get()
+        return _relayed(self._first.get())
 
     def offer(self, function: Callable[[dict], object], task: dict) -> Callable[[], object | None]:
         """``function(task)`` on the other process once its earlier tasks are done. Returns
@@ -116,14 +139,14 @@ class Background:
         if self._offered >= OFFER_SLOTS:
             return lambda: None
         slot, self._offered = self._offered, self._offered + 1
-        pending = self._pool.apply_async(_claimed, (slot, function, task))
+        pending = self._pool.apply_async(_claimed, (slot, function, task))   # (result, warnings)
 
         def take():
             with self._claims.get_lock():
                 if self._claims[slot] == 0:
                     self._claims[slot] = 1          # this process's: the worker will skip it
                     return None
-            return pending.get()
+            return _relayed(pending.get())
 
         return take
 
@@ -147,9 +170,9 @@ def _claimed(slot: int, function, task):
     """An offered task on the worker: computed only if the caller has not taken it back."""
     with _CLAIMS.get_lock():
         if _CLAIMS[slot] != 0:
-            return None
+            return None, []
         _CLAIMS[slot] = 2
-    return function(task)
+    return _relaying(function, task)
 
 
 def _background_worker(parent_pid: int, claims) -> None:
@@ -171,16 +194,33 @@ def in_background(function: Callable[[dict], object], task: dict, parallel: bool
         return
     context = multiprocessing.get_context("spawn")
     claims = context.Array("b", OFFER_SLOTS)
-    pool = context.Pool(1, initializer=_background_worker, initargs=(os.getpid(), claims))
+    with ignoring_ctrl_c():
+        pool = context.Pool(1, initializer=_background_worker, initargs=(os.getpid(), claims))
     try:
         with terminate_as_interrupt():
-            yield Background(pool, pool.apply_async(function, (task,)), claims)
+            yield Background(pool, pool.apply_async(_relaying, (function, task)), claims)
         pool.close()
     except BaseException:
         pool.terminate()
         raise
     finally:
         pool.join()
+
+
+@contextlib.contextmanager
+def ignoring_ctrl_c():
+    """Workers started inside ignore Ctrl-C from their first instruction (an ignored signal stays
+    ignored across the spawn's exec, before any import): a terminal sends it to its whole process
+    group, and the parent alone ends the sweep, terminating its workers and saying "interrupted"
+    once (no worker traceback on stderr). Main thread only (where handlers live)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def die_with_parent(parent_pid: int) -> None:

@@ -25,7 +25,8 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
      and with history (compute nfd/contacts, nfd/vz) at the start and end of the timed run, the
      mean coordination (2 contacts / spheres) and the time per step per sphere and per contact.
 2. Restitution. Two aluminium spheres (R = 1 cm) meeting head-on at v_in = 1..100 v_Y: e of
-   pair_style nfd/vz (the constants of results/calibration/parameters.json), of nfdmodel.collide
+   pair_style nfd/vz (the two constants of the calibration of results/calibration/parameters.json,
+   whichever law that file ships: calib.report.parameter_file.two_constant_law), of nfdmodel.collide
    with the same calibrated law (the FE-calibrated reference; the plugin equals it to 1e-8, see
    tests/test_lammps.py) and of pair_style granular normal mdr (LAMMPS' other elastoplastic
    normal model: E, nu, Y = sigma_y, gamma = 0 (no adhesion), psi_b = 0.5, damp = 0 (no viscous
@@ -174,12 +175,16 @@ def impact_input(plugin: str, v_in: float, style: str, coeff: str, steps: int) -
     return "\n".join(lines) + "\n"
 
 
-def restitution(plugin: str, folder: Path) -> list[dict]:
+def restitution(plugin: str, folder: Path, parameters: Path = ROOT / "results" / "calibration" / "parameters.json",
+                speeds=SPEEDS_OVER_V_Y) -> list[dict]:
+    """Part 2 (module docstring) at ``speeds`` (multiples of v_Y) with the two constants of the
+    calibration whose parameter file is ``parameters``."""
     import nfdmodel
+    from calib.report.parameter_file import two_constant_law
     from nfdmodel import ContactPair, Material, VZParams
 
-    calibrated = nfdmodel.load_parameters(ROOT / "results" / "calibration" / "parameters.json")
-    record = json.loads((ROOT / "results" / "calibration" / "parameters.json").read_text())["material"]
+    calibrated = two_constant_law(parameters)
+    record = json.loads(Path(parameters).read_text())["material"]
     material = Material(record["E"], record["nu"], record["sigma_y"], 2699.0)
     pair = ContactPair.sphere_sphere(material, RADIUS, material, RADIUS)
     params = VZParams.from_dimensionless(pair, calibrated.Ca_hat, calibrated.Kc_hat, calibrated.window)
@@ -188,7 +193,7 @@ def restitution(plugin: str, folder: Path) -> list[dict]:
     mdr_coeff = (f"mdr {material.E!r} {material.nu!r} {material.sigma_y!r} 0.0 0.5 0.0 damping mdr 1 "
                  f"tangential linear_nohistory 0.0 0.0")
     rows = []
-    for ratio in SPEEDS_OVER_V_Y:
+    for ratio in speeds:
         v_in = ratio * pair.v_Y
         estimate = nfdmodel.collision_reference("vz", params, [v_in]).contact_time_estimate[0]
         steps = int(2.0 * estimate / DT) + 100
