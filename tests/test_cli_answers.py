@@ -37,6 +37,8 @@ SUGGESTING = [
     ["calibrate", "--quiet", "--counter-E", "1e5", "--dry-run"],
     ["calibrate", "--quiet", "--counter-E", "2e11", "--counter-R", "1e-4", "--counter-rho", "7850", "--dry-run"],
     ["hertz", "--counter-E", "7e6", "--P-max", "20", "--dry-run"],
+    ["hertz", "--counter-E", "2e11", "--counter-R", "1e-4", "--dry-run"],  # a counter-sphere too small
+    ["calibrate", "--quiet", "--v-max", "10", "--dry-run"],                 # beyond the FE's reach
     ["collide", "--v-in", "0.1", "--dt", "1e-3"],
 ]
 

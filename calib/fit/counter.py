@@ -41,7 +41,7 @@ from meshes.counter_body import BlockMeshSpec
 from meshes.hemisphere import HemisphereMeshSpec
 from nfdmodel import ContactPair, Material, check_real, limits
 from nfdmodel.materials import check_radius
-from nfdmodel.validation import check_solid
+from nfdmodel.validation import bound_text, check_solid
 
 from calib.fit.recipe import CONTACT_RADIUS_LIMIT, E_OVER_SIGMA_Y_RANGE, MESH_LEVELS
 from meshes.hemisphere import MIN_CONTACT_SIZE_OVER_RADIUS
@@ -168,9 +168,12 @@ def check_counter(material: Material, radius: float, counter: CounterBody,
     bound = CONTACT_RADIUS_LIMIT * min(radius, counter.R or radius)
     if a_max > bound:
         if counter.R is not None and counter.R < radius and a_max <= CONTACT_RADIUS_LIMIT * radius:
+            R2 = brentq(lambda R: contact_of(dataclasses.replace(counter, R=R))[1] - CONTACT_RADIUS_LIMIT * R,
+                        counter.R, radius, rtol=1e-3)
             raise ValueError(f"{flags['R']} out of range for the FE: at {load} the contact radius reaches "
                              f"{a_max:.3g} m = {a_max / counter.R:.3g} R2; the FE needs a <= {CONTACT_RADIUS_LIMIT:g} "
-                             f"min(R1, R2): a larger {flags['R']} (or a lower load), got {counter.R:g} m")
+                             f"min(R1, R2): need {flags['R']} >= {bound_text(R2 * 1.001, '>=')} m here (or a lower "
+                             f"load), got {counter.R:g} m")
         stiffest = limits.E_MAX
         if counter.E < material.E and contact_of(with_E(stiffest))[1] <= bound:
             E2 = brentq(lambda E: contact_of(with_E(E))[1] - bound, counter.E, stiffest, rtol=1e-3)

@@ -46,6 +46,7 @@ from calib.fit import recipe
 from calib.fit.calibration import CalibrationResult, calibrate
 from calib.fit.master_table import MasterTable
 from nfdmodel import ContactPair, Material, RangeWarning, VZParams, VZTableParams, collision_reference, get_law
+from nfdmodel.validation import bound_text
 
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
 MAX_ROUNDS = 3          # FE calibrations at most
@@ -219,7 +220,7 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
         v_least = reach_velocity(params, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y / MARGIN)
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s reaches only about {needed / pair.P_Y:.3g} P_Y "
                          f"({source}); a calibration needs loads beyond {recipe.MIN_WINDOW_OVER_P_Y:g} P_Y: need v_max >= "
-                         f"{v_least:.4g} m/s ({v_least / pair.v_Y:.4g} v_Y) for this material and R")
+                         f"{bound_text(v_least, '>=')} m/s ({v_least / pair.v_Y:.4g} v_Y) for this material and R")
     if MARGIN * needed > reach:
         v_reach = reach_velocity(params, reach / MARGIN)
         reached = (f"reaches about {needed / pair.P_Y:.4g} P_Y, its load paths {MARGIN - 1:.0%} beyond, "
@@ -227,7 +228,7 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
                    "drives the law beyond its domain (contact radius above R*)")
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s {reached} ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
                          f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= {recipe.CONTACT_RADIUS_LIMIT:g} R), "
-                         f"i.e. v_in <= {v_reach:.4g} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
+                         f"i.e. need v_max <= {bound_text(v_reach, '<=')} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
     return needed, params, source
 
 
