@@ -172,9 +172,12 @@ class NewmarkSolver:
         tangent as the elastic part plus the flowed elements' correction (calib.fe.kinematics)."""
         base, acceleration_n, c0 = self._step
         q = self.TT @ displacement
-        # a rate-dependent material (calib.fe.rate_law) reads eps_dot = delta gamma / dt
-        time_step = self._time_step if getattr(self.material, "rate_dependent", False) else None
-        response = self.kinematics.correction(self.material, displacement, committed, time_step)
+        # a rate-dependent material (calib.fe.rate_law) reads eps_dot = delta gamma / dt; the others keep the
+        # kinematics' three-argument call
+        if getattr(self.material, "rate_dependent", False):
+            response = self.kinematics.correction(self.material, displacement, committed, time_step=self._time_step)
+        else:
+            response = self.kinematics.correction(self.material, displacement, committed)
         f_int = self.TT @ self.kinematics.internal_force(response.stress)
         data = self.kinematics.elastic_data + c0 * self.mass_data
         if response.tangent_data is not None:
