@@ -203,11 +203,13 @@ def default_out(ns, setup) -> str:
     return str(impact.DEFAULT_OUT / "_".join(parts)) if parts else str(impact.DEFAULT_OUT)
 
 
-def compared_with(ns, hardening=None) -> str:
+def compared_with(ns, hardening=None, rate_law=None) -> str:
     """The files the laws are compared with, as the output names them (the master table's constants
-    are a perfectly plastic sphere's, said so for a ``hardening`` one)."""
+    are a perfectly plastic sphere's, said so for a ``hardening`` one; every law is rate-independent,
+    said so for a sphere with a ``rate_law``)."""
     master = "master table's constants" + (" (of the perfectly plastic sphere)" if hardening is not None else "")
-    return ("laws compared with: vz " + (f"constants of {ns.params}" if ns.params else master)
+    return ("laws compared with" + (" (rate-independent: calibrated by the quasi-static press)" if rate_law is not None
+                                    else "") + ": vz " + (f"constants of {ns.params}" if ns.params else master)
             + (f"; vz-table of {ns.table_params}" if ns.table_params else "")
             + (f"; LAMMPS mdr restitution of {ns.lammps_restitution}" if ns.lammps_restitution else "")
             + "; Thornton; Hertz")
@@ -237,7 +239,7 @@ def plan(ns, setup, velocities, variants, out) -> int:
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
     lines.append(f"estimated total: {total:.0f} s on one process ({impact.SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
                  f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
-    lines.append(compared_with(ns, setup.hardening))
+    lines.append(compared_with(ns, setup.hardening, setup.rate_law))
     print_summary(ns, summary, lines)
     return 0
 
@@ -303,7 +305,7 @@ def run(ns) -> int:
     limit = impact.quasi_static_limit(records)
     if limit:
         lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
-    lines.append(compared_with(ns, setup.hardening))
+    lines.append(compared_with(ns, setup.hardening, setup.rate_law))
     lines.append(f"results written to {out}")
     if setup.rate_law is not None:
         lines.insert(0, rate_law_line(setup.rate_law) + "; the quasi-static FE paths its rate-independent limit")

@@ -19,7 +19,8 @@ dgamma / dt, so the radial return's scalar equation (calib.fe.von_mises.return_m
     f(dgamma) = q_trial - 3 mu dgamma - sigma_y(eps_bar_n + dgamma) R(dgamma / dt) = 0
 
 solved by the bracketed Newton of calib.fe.flow_curve.solve_consistency (f falls with dgamma: the root
-lies in [0, (q_trial - sigma_y(eps_bar_n)) / (3 mu)]), and the consistent tangent takes the slope of the
+lies in [0, (q_trial - sigma_y(eps_bar_n)) / (3 mu)]; Cowper-Symonds with q > 1 in y = (dgamma / (dt D))^(1/q),
+where f is smooth), and the consistent tangent takes the slope of the
 flow stress in dgamma,
 
     H_eff = d (sigma_y R) / d dgamma = H(eps_bar_n+1) R + sigma_y(eps_bar_n+1) R'(eps_dot) / dt       [Pa]
@@ -159,7 +160,57 @@ class RateDependentFlow(FlowCurve):
         q_trial = np.asarray(q_trial, dtype=float)
         eps_bar = np.asarray(eps_bar, dtype=float)
         overstress = q_trial - self.curve.yield_stress(eps_bar)
-        dgamma = solve_consistency(q_trial, overstress, three_mu, self.curve.modulus(eps_bar),
-                                   lambda dgamma: self.flow_stress(eps_bar, dgamma),
-                                   lambda dgamma: self.flow_modulus(eps_bar, dgamma), self.record)
-        return self.flow_stress(eps_bar, dgamma), self.flow_modulus(eps_bar, dgamma)
+        if isinstance(self.law, CowperSymondsRate) and self.law.q > 1.0:
+            dgamma = self._cowper_symonds_increment(q_trial, eps_bar, overstress, three_mu)
+        else:
+            dgamma = solve_consistency(q_trial, overstress, three_mu, self.curve.modulus(eps_bar),
+                                       lambda dgamma: self.flow_stress(eps_bar, dgamma),
+                                       lambda dgamma: self.flow_modulus(eps_bar, dgamma), self.record)
+        # H_eff is infinite where dgamma underflows to 0 under Cowper-Symonds (R' ~ dgamma^(1/q - 1)): capped, the
+        # tangent's H_eff / (3 mu + H_eff) is then 1, its limit
+        return self.flow_stress(eps_bar, dgamma), np.minimum(self.flow_modulus(eps_bar, dgamma), _MODULUS_CAP)
+
+    def _cowper_symonds_increment(self, q_trial, eps_bar, overstress, three_mu):
+        """dgamma of the consistency condition under Cowper-Symonds with q > 1, solved in y = (dgamma / (dt D))^(1/q)
+        (dgamma = dt D y^q): f(y) = q_trial - (3 mu dgamma + sigma_y(eps_bar + dgamma) (1 + y)) is smooth in y where
+        it is not in dgamma (R' infinite at dgamma = 0), so the bracketed Newton on [0, y(overstress / 3 mu)]
+        converges for an overstress of round-off as for a large one."""
+        scale, q = self.time_step * self.law.D, self.law.q
+
+        def residual(y):
+            dgamma = scale * y ** q
+            return q_trial - three_mu * dgamma - self.curve.yield_stress(eps_bar + dgamma) * (1.0 + y)
+
+        def slope(y):                                   # -df/dy
+            dgamma = scale * y ** q
+            ddgamma = scale * q * y ** (q - 1.0)
+            return (three_mu * ddgamma + self.curve.modulus(eps_bar + dgamma) * ddgamma * (1.0 + y)
+                    + self.curve.yield_stress(eps_bar + dgamma))
+
+        high = (overstress / (three_mu * scale)) ** (1.0 / q)
+        y = _bracketed_newton(residual, slope, np.zeros_like(high), high,
+                              np.minimum(overstress / self.curve.sigma_y, high), q_trial, self.record)
+        return scale * y ** q
+
+
+# above it the effective plastic modulus is infinite for the tangent (H_eff / (3 mu + H_eff) = 1 in floats)
+_MODULUS_CAP = 1e300
+_NEWTON_TOLERANCE = 1e-14           # |f| <= this fraction of q_trial, as calib.fe.flow_curve's
+_NEWTON_MAX_ITERATIONS = 100
+
+
+def _bracketed_newton(residual, slope, low, high, start, q_trial, record):
+    """The root of a falling ``residual`` [Pa] in [low, high] by Newton (``slope`` = -d residual / dx), bisecting
+    where Newton leaves the bracket; |residual| <= 1e-14 q_trial, or the bracket closed to round-off."""
+    x = np.clip(start, low, high)
+    for iteration in range(_NEWTON_MAX_ITERATIONS):
+        value = residual(x)
+        if np.all((np.abs(value) <= _NEWTON_TOLERANCE * q_trial) | (high - low <= 4.0 * np.spacing(high))):
+            return x
+        low = np.where(value > 0.0, x, low)
+        high = np.where(value < 0.0, x, high)
+        newton = x + value / slope(x)
+        inside = (newton > low) & (newton < high) & np.isfinite(newton) & (iteration < 40)
+        x = np.where(inside, newton, 0.5 * (low + high))
+    raise ArithmeticError(f"rate-dependent flow {record()}: the return mapping did not converge in "
+                          f"{_NEWTON_MAX_ITERATIONS} iterations")
