@@ -21,7 +21,7 @@ from __future__ import annotations
 import dataclasses
 
 from calib.commands.common import (HARDENING_HELP, add_counter_arguments, add_hardening_arguments,
-                                   add_material_arguments, add_summary_arguments, counter_folder_name,
+                                   add_material_arguments, add_rate_law_arguments, rate_law_given, add_summary_arguments, counter_folder_name,
                                    counter_from_args, flow_curve_from_args, hardening_folder_name, hardening_line,
                                    is_reference, material_folder_name, material_from_args, number, print_summary)
 from nfdmodel import CalibrationWindow, reference_case
@@ -34,6 +34,7 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)
+    add_rate_law_arguments(parser)      # refused: the calibration's press is quasi-static
     add_counter_arguments(parser)
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
                         help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
@@ -139,6 +140,9 @@ def run(ns) -> int:
     from calib.report import calibration as calibration_report
     from calib.studies import mesh_ladder
 
+    if rate_law_given(ns) is not None:
+        raise ValueError(f"{rate_law_given(ns)}: the calibration's FE press is quasi-static, where a rate law is "
+                         f"its rate-independent limit; give the rate law to nfdcal impact")
     if ns.ladder:
         hardening_given = any(getattr(ns, key) is not None for key in HARDENING_HELP)
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns) \

@@ -222,3 +222,77 @@ def hardening_line(curve) -> str:
         return f"isotropic hardening: sigma_y = sigma_Y + H eps_p, H = {record['hardening_modulus']:.4g} Pa"
     return (f"isotropic hardening: the flow curve of {record['source']} ({len(record['stress'])} points to eps_p = "
             f"{record['plastic_strain'][-1]:.4g}, {record['stress'][-1]:.4g} Pa; beyond it {record['extrapolation']})")
+
+
+RATE_LAW_HELP = {
+    "rate_law": "strain-rate dependence of the sphere's flow stress in the dynamic FE, sigma_y R(eps_dot): "
+                "johnson-cook (R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds (R = 1 + (eps_dot / D)^(1/q)); "
+                "default: rate-independent",
+    "jc_C": "Johnson-Cook's rate constant C [-] (0 <= C <= 1; required with --rate-law johnson-cook)",
+    "jc_reference_rate": "Johnson-Cook's reference strain rate eps_dot_0 [1/s] (1e-6 to 1e6; default 1)",
+    "cs_D": "Cowper-Symonds' rate constant D [1/s] (1e-3 to 1e12; required with --rate-law cowper-symonds)",
+    "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law cowper-symonds)",
+}
+RATE_LAW_FLAGS = {"johnson-cook": ("jc_C", "jc_reference_rate"), "cowper-symonds": ("cs_D", "cs_q")}
+
+
+def add_rate_law_arguments(parser) -> None:
+    """--rate-law johnson-cook|cowper-symonds and its constants --jc-C --jc-reference-rate --cs-D --cs-q."""
+    for key, help_text in RATE_LAW_HELP.items():
+        parser.add_argument(flag_name(key), dest=key, default=None,
+                            metavar={"rate_law": "johnson-cook|cowper-symonds", "jc_C": "C",
+                                     "jc_reference_rate": "RATE", "cs_D": "D", "cs_q": "q"}[key], help=help_text)
+
+
+def rate_law_given(ns) -> str | None:
+    """The first rate-law flag given (its name), None when none is."""
+    return next((flag_name(key) for key in RATE_LAW_HELP if getattr(ns, key, None) is not None), None)
+
+
+def rate_law_from_args(ns):
+    """The sphere's rate law (calib.fe.rate_law) from --rate-law and its constants, None without them;
+    an error of one line names the flag and its range."""
+    name = getattr(ns, "rate_law", None)
+    if name is None:
+        given = rate_law_given(ns)
+        if given is not None:
+            raise ValueError(f"{given} is a constant of --rate-law: give --rate-law johnson-cook or cowper-symonds too")
+        return None
+    if name not in RATE_LAW_FLAGS:
+        raise ValueError(f"--rate-law must be one of johnson-cook, cowper-symonds, got {name!r}")
+    for other, keys in RATE_LAW_FLAGS.items():
+        for key in keys:
+            if other != name and getattr(ns, key) is not None:
+                raise ValueError(f"{flag_name(key)} is a constant of --rate-law {other}, not of {name}")
+    from calib.fe.rate_law import CowperSymondsRate, JohnsonCookRate
+
+    if name == "johnson-cook":
+        if ns.jc_C is None:
+            raise ValueError("--rate-law johnson-cook needs --jc-C (its rate constant C, 0 <= C <= 1)")
+        return JohnsonCookRate(number("--jc-C", ns.jc_C, low=0.0, low_inclusive=True, high=1.0, high_inclusive=True),
+                               number("--jc-reference-rate", ns.jc_reference_rate, 1.0, low=1e-6, low_inclusive=True,
+                                      high=1e6, high_inclusive=True, unit="1/s"))
+    for key in ("cs_D", "cs_q"):
+        if getattr(ns, key) is None:
+            raise ValueError(f"--rate-law cowper-symonds needs --cs-D and --cs-q (e.g. mild steel: 40.4 /s, 5)")
+    return CowperSymondsRate(number("--cs-D", ns.cs_D, low=1e-3, low_inclusive=True, high=1e12, high_inclusive=True,
+                                    unit="1/s"),
+                             number("--cs-q", ns.cs_q, low=0.5, low_inclusive=True, high=20.0, high_inclusive=True))
+
+
+def rate_law_folder_name(law) -> str:
+    """The part of a default results folder's name that names a rate-dependent sphere."""
+    record = law.record()
+    if record["rate_law"] == "johnson-cook":
+        return f"jc{record['C']:g}_{record['reference_rate']:g}"
+    return f"cs{record['D']:g}_{record['q']:g}"
+
+
+def rate_law_line(law) -> str:
+    """The sphere's rate law in one line."""
+    record = law.record()
+    if record["rate_law"] == "johnson-cook":
+        return (f"strain-rate dependence (dynamic FE): Johnson-Cook, sigma_y (1 + C ln(max(eps_dot / eps_dot_0, 1))), "
+                f"C = {record['C']:g}, eps_dot_0 = {record['reference_rate']:g} /s")
+    return (f"strain-rate dependence (dynamic FE): Cowper-Symonds, sigma_y (1 + (eps_dot / D)^(1/q)), "
+            f"D = {record['D']:g} /s, q = {record['q']:g}")

@@ -14,6 +14,7 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal impact --v-in 0.04 --json               # one impact, the record as JSON
     nfdcal impact --sigma-y 1e11 --v-in 0.04       # never yields: Hertz's limit
     nfdcal impact --convergence --v-in 0.04        # error against run time: dt and mesh ladders
+    nfdcal impact --rate-law cowper-symonds --cs-D 6500 --cs-q 4 --v-in 0.04   # a rate-dependent sphere
     nfdcal impact --drops drops.csv                # drop tests (fit-data's file) against the FE: OUT/drops.csv
     nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
     nfdcal impact --counter-E 2.1e11 --counter-nu 0.28 --v-in 0.04   # on an elastic steel flat (a held block)
@@ -43,9 +44,10 @@ from __future__ import annotations
 import os
 
 from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
-                                   add_summary_arguments, counter_from_args, flow_curve_from_args,
-                                   hardening_folder_name, hardening_line, is_reference, material_from_args, number,
-                                   print_summary)
+                                   add_rate_law_arguments, add_summary_arguments, counter_from_args,
+                                   flow_curve_from_args, hardening_folder_name, hardening_line, is_reference,
+                                   material_from_args, number, print_summary, rate_law_folder_name, rate_law_from_args,
+                                   rate_law_line)
 from calib.commands.targets import refuse_output_over_input
 
 # the files written into --out (calib.studies.impact_output, impact_drops, impact_convergence, impact_pair)
@@ -61,6 +63,7 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)
+    add_rate_law_arguments(parser)
     add_counter_arguments(parser)
     parser.add_argument("--v-in", nargs="+", metavar="V", default=None,
                         help="impact velocities [m/s] (> 0; default: 0.5 2 10 30 x v_Y of the material)")
@@ -124,9 +127,15 @@ def options(ns):
     steps = integer("--steps-per-contact", ns.steps_per_contact, impact.DEFAULT_STEPS_PER_CONTACT, 10, 10000)
     workers = integer("--workers", ns.workers, min(2, os.cpu_count() or 1), 1, 256)
     hardening = flow_curve_from_args(ns, material)
+    rate_law = rate_law_from_args(ns)
     setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps,
-                               hardening=hardening)
+                               hardening=hardening, rate_law=rate_law)
     counter = counter_from_args(ns, material)
+    if rate_law is not None:
+        for flag, given in (("--counter-E", counter is not None),
+                            ("--lammps-restitution", ns.lammps_restitution is not None)):
+            if given:
+                raise ValueError(f"{flag} is for a rate-independent sphere: do not combine it with --rate-law")
     if hardening is not None:
         for flag, given in (("--counter-E", counter is not None),
                             ("--lammps-restitution", ns.lammps_restitution is not None)):
@@ -191,6 +200,8 @@ def default_out(ns, setup) -> str:
     parts = [] if is_reference(ns) else [f"E{material.E:g}_nu{material.nu:g}_sy{material.sigma_y:g}_R{setup.radius:g}"]
     if setup.hardening is not None:
         parts.append(hardening_folder_name(setup.hardening))
+    if setup.rate_law is not None:
+        parts.append(rate_law_folder_name(setup.rate_law))
     if setup.contact_size is not None:
         parts.append(f"h{setup.contact_size:g}")
     if setup.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:
@@ -198,11 +209,13 @@ def default_out(ns, setup) -> str:
     return str(impact.DEFAULT_OUT / "_".join(parts)) if parts else str(impact.DEFAULT_OUT)
 
 
-def compared_with(ns, hardening=None) -> str:
+def compared_with(ns, hardening=None, rate_law=None) -> str:
     """The files the laws are compared with, as the output names them (the master table's constants
-    are a perfectly plastic sphere's, said so for a ``hardening`` one)."""
+    are a perfectly plastic sphere's, said so for a ``hardening`` one; every law is rate-independent,
+    said so for a sphere with a ``rate_law``)."""
     master = "master table's constants" + (" (of the perfectly plastic sphere)" if hardening is not None else "")
-    return ("laws compared with: vz " + (f"constants of {ns.params}" if ns.params else master)
+    return ("laws compared with" + (" (rate-independent: calibrated by the quasi-static press)" if rate_law is not None
+                                    else "") + ": vz " + (f"constants of {ns.params}" if ns.params else master)
             + (f"; vz-table of {ns.table_params}" if ns.table_params else "")
             + (f"; LAMMPS mdr restitution of {ns.lammps_restitution}" if ns.lammps_restitution else "")
             + "; Thornton; Hertz")
@@ -225,13 +238,14 @@ def plan(ns, setup, velocities, variants, out) -> int:
     lines = [f"{len(runs)} FE impact(s) of E = {setup.material.E:.4g} Pa, nu = {setup.material.nu:g}, sigma_Y = "
              f"{setup.material.sigma_y:.4g} Pa, rho = {setup.material.rho:g} kg/m^3, R = {setup.radius:g} m"
              + ("" if setup.hardening is None else f", hardening {setup.hardening.record()['flow_curve']}")
+             + ("" if setup.rate_law is None else f", rate law {setup.rate_law.record()['rate_law']}")
              + f"; outputs: {out}",
              f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
     lines += [f"{r['v_in']:>11.4g} {r['variant']:<16} {r['contact_size']:>11.3g} ~{r['dofs_estimate']:>7} "
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]
     lines.append(f"estimated total: {total:.0f} s on one process ({impact.SECONDS_PER_STEP_AT_13K_DOFS} s per elastoplastic "
                  f"time step at 13k dofs, linear in dofs; elastic runs are faster)")
-    lines.append(compared_with(ns, setup.hardening))
+    lines.append(compared_with(ns, setup.hardening, setup.rate_law))
     print_summary(ns, summary, lines)
     return 0
 
@@ -300,8 +314,10 @@ def run(ns) -> int:
     limit = impact.quasi_static_limit(records)
     if limit:
         lines.append("dynamic over quasi-static FE at the same P_max: " + impact_output.quasi_static_words(limit))
-    lines.append(compared_with(ns, setup.hardening))
+    lines.append(compared_with(ns, setup.hardening, setup.rate_law))
     lines.append(f"results written to {out}")
+    if setup.rate_law is not None:
+        lines.insert(0, rate_law_line(setup.rate_law) + "; the quasi-static FE paths its rate-independent limit")
     if setup.hardening is not None:
         lines.insert(0, hardening_line(setup.hardening))
     print_summary(ns, records, lines)

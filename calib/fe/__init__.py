@@ -5,7 +5,7 @@ mortar gap of ``contact_pair``), ``contact_loop`` (the one active-set loop, ``ac
 ``newton`` inside), the steppers ``quasi_static`` (force or displacement control, ``rescue``) and
 ``newmark`` (Newmark's average acceleration), ``kinematics`` (small strain; the one place the
 material is evaluated: ``axisym``, ``element_arrays``, ``forms``), the materials (``material``: the
-protocol, ``elastic``, ``von_mises``, ``flow_curve``), ``linsolve`` (sparse direct solves, the factorisation cache),
+protocol, ``elastic``, ``von_mises``, ``flow_curve``, ``rate_law``), ``linsolve`` (sparse direct solves, the factorisation cache),
 ``recovery`` (pressure, contact radius), ``state`` (states and step records). The configurations:
 ``solver`` (ContactSolver, the press; ``dofs``), ``two_body`` (TwoBodySolver, the pair press;
 ``condensation``), ``newmark`` (ImpactSolver, the impact; ``sphere_dofs``), ``impact_pair``
@@ -25,11 +25,13 @@ from calib.fe.solver import ContactSolver
 from calib.fe.state import ContactState, StepNotConverged, StepRecord, StepResult
 from calib.fe.flow_curve import (FlowCurve, LinearHardening, LudwikHardening, SwiftHardening, TabulatedFlowCurve,
                                   read_flow_curve)
-from calib.fe.von_mises import HardeningMaterial, VonMisesMaterial, von_mises_stress
+from calib.fe.rate_law import CowperSymondsRate, JohnsonCookRate
+from calib.fe.von_mises import HardeningMaterial, RateDependentMaterial, VonMisesMaterial, von_mises_stress
 
 __all__ = ["ContactSolver", "ContactState", "StepNotConverged", "StepRecord", "StepResult",
            "contact_radius_from_gap", "contact_radius_from_pressure", "run_load_path",
            "ElasticMaterial", "Material", "elastic_matrix", "lame_constants", "VonMisesMaterial",
            "von_mises_stress", "HardeningMaterial", "FlowCurve", "LinearHardening", "SwiftHardening", "LudwikHardening",
-           "TabulatedFlowCurve", "read_flow_curve", "LoadPathPlan", "LoadPathResults", "PathResult", "advance", "plastic_zone", "run_load_paths",
+           "TabulatedFlowCurve", "read_flow_curve", "JohnsonCookRate", "CowperSymondsRate",
+           "RateDependentMaterial", "LoadPathPlan", "LoadPathResults", "PathResult", "advance", "plastic_zone", "run_load_paths",
            "ImpactSolver", "ImpactResult", "ImpactNotConverged", "run_impact"]

@@ -37,7 +37,7 @@ import numpy as np
 from nfdmodel import check_real
 
 __all__ = ["FlowCurve", "LinearHardening", "SwiftHardening", "LudwikHardening", "TabulatedFlowCurve",
-           "read_flow_curve", "flow_curve_from_record", "EXTRAPOLATIONS", "FLOW_CURVE_COLUMNS"]
+           "read_flow_curve", "flow_curve_from_record", "solve_consistency", "EXTRAPOLATIONS", "FLOW_CURVE_COLUMNS"]
 
 #: the columns of a flow-curve CSV: equivalent (true) plastic strain [-], true stress [Pa]
 FLOW_CURVE_COLUMNS = ("plastic_strain", "stress")
@@ -78,28 +78,39 @@ class FlowCurve:
         q_trial = np.asarray(q_trial, dtype=float)
         eps_bar = np.asarray(eps_bar, dtype=float)
         overstress = q_trial - self.yield_stress(eps_bar)
-        low, high = np.zeros_like(q_trial), overstress / three_mu
-        modulus = self.modulus(eps_bar)
-        step = np.where(np.isfinite(modulus), overstress / (three_mu + np.where(np.isfinite(modulus), modulus, 0.0)),
-                        0.5 * high)
-        dgamma = np.clip(step, low, high)
-        for iteration in range(_NEWTON_MAX_ITERATIONS):
-            residual = q_trial - three_mu * dgamma - self.yield_stress(eps_bar + dgamma)
-            if np.all(np.abs(residual) <= _NEWTON_TOLERANCE * q_trial):
-                break
-            low = np.where(residual > 0.0, dgamma, low)
-            high = np.where(residual < 0.0, dgamma, high)
-            slope = three_mu + self.modulus(eps_bar + dgamma)
-            newton = dgamma + residual / slope
-            # bisect where Newton leaves the bracket (an infinite slope, a table's kink) and after
-            # a few iterations (a piecewise-linear curve can make Newton cycle between two segments)
-            inside = (newton > low) & (newton < high) & np.isfinite(newton) & (iteration < 20)
-            dgamma = np.where(inside, newton, 0.5 * (low + high))
-        else:
-            raise ArithmeticError(f"flow curve {self.record()}: the return mapping did not converge in "
-                                  f"{_NEWTON_MAX_ITERATIONS} iterations")
+        dgamma = solve_consistency(q_trial, overstress, three_mu, self.modulus(eps_bar),
+                                   lambda dgamma: self.yield_stress(eps_bar + dgamma),
+                                   lambda dgamma: self.modulus(eps_bar + dgamma), self.record)
         eps_new = eps_bar + dgamma
         return self.yield_stress(eps_new), self.modulus(eps_new)
+
+
+def solve_consistency(q_trial, overstress, three_mu: float, modulus, flow_stress, flow_modulus, record):
+    """dgamma > 0 [-], the root of q_trial - 3 mu dgamma - flow_stress(dgamma) = 0 (module docstring) for
+    the plastic points' ``q_trial`` [Pa] and ``overstress`` q_trial - flow_stress(0) [Pa]: Newton with the
+    slope 3 mu + flow_modulus(dgamma) [Pa] from the start overstress / (3 mu + ``modulus``), safeguarded by
+    bisection on [0, overstress / (3 mu)] (the root lies there as flow_stress never falls with dgamma).
+    ``record()`` names the flow in the error of a return that does not converge."""
+    low, high = np.zeros_like(q_trial), overstress / three_mu
+    step = np.where(np.isfinite(modulus), overstress / (three_mu + np.where(np.isfinite(modulus), modulus, 0.0)),
+                    0.5 * high)
+    dgamma = np.clip(step, low, high)
+    for iteration in range(_NEWTON_MAX_ITERATIONS):
+        residual = q_trial - three_mu * dgamma - flow_stress(dgamma)
+        if np.all(np.abs(residual) <= _NEWTON_TOLERANCE * q_trial):
+            break
+        low = np.where(residual > 0.0, dgamma, low)
+        high = np.where(residual < 0.0, dgamma, high)
+        slope = three_mu + flow_modulus(dgamma)
+        newton = dgamma + residual / slope
+        # bisect where Newton leaves the bracket (an infinite slope, a table's kink) and after
+        # a few iterations (a piecewise-linear curve can make Newton cycle between two segments)
+        inside = (newton > low) & (newton < high) & np.isfinite(newton) & (iteration < 20)
+        dgamma = np.where(inside, newton, 0.5 * (low + high))
+    else:
+        raise ArithmeticError(f"flow curve {record()}: the return mapping did not converge in "
+                              f"{_NEWTON_MAX_ITERATIONS} iterations")
+    return dgamma
 
 
 class LinearHardening(FlowCurve):

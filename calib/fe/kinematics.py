@@ -125,12 +125,14 @@ class SmallStrain:
         """sigma (E, Q, 4) [Pa] of the material at ``displacement`` from ``committed`` (pure)."""
         return material.update(self.strain(displacement), committed)[0]
 
-    def correction(self, material, displacement, committed) -> Correction:
+    def correction(self, material, displacement, committed, time_step: float | None = None) -> Correction:
         """The material at the displacement [m] (every dof) from its ``committed`` state, and the
-        inelastic corrections of the internal force and the tangent (module docstring)."""
+        inelastic corrections of the internal force and the tangent (module docstring); ``time_step``
+        [s], given by the dynamic stepper to a rate-dependent material, reaches its update."""
         if self.evaluated is None:
             strain = self.strain(displacement)
-            stress, tangent, trial = material.update(strain, committed)
+            stress, tangent, trial = (material.update(strain, committed) if time_step is None
+                                      else material.update(strain, committed, time_step=time_step))
             D = self.D
         else:
             strain = np.matmul(self._B, np.asarray(displacement)[self._dofs][:, None, :, None])[..., 0]

@@ -73,7 +73,8 @@ class ImpactState:
     outermost active node [m], and its rate over the last step [m/s] (None before two states in
     contact); displacement_rate: (q_n - q_n-1) / dt over the last step [m/s]; kinetic_energy, elastic_energy [J] (the
     strain energy of the elastic strain, 1/2 int sigma . D^-1 sigma dV); plastic_work [J]
-    (sigma_Y int eps_p,eq dV, the return mapping's dissipation); work_internal, work_contact,
+    (the material's dissipated_work: sigma_Y int eps_p,eq dV for perfect plasticity, the return mapping's
+    dissipation); work_internal, work_contact,
     work_residual [J]: the trapezoidal sums of dq . avg(f_int), dq . avg(f_c), dq . avg(r_free)
     since t = 0 (module docstring).
     """
@@ -171,7 +172,12 @@ class NewmarkSolver:
         tangent as the elastic part plus the flowed elements' correction (calib.fe.kinematics)."""
         base, acceleration_n, c0 = self._step
         q = self.TT @ displacement
-        response = self.kinematics.correction(self.material, displacement, committed)
+        # a rate-dependent material (calib.fe.rate_law) reads eps_dot = delta gamma / dt; the others keep the
+        # kinematics' three-argument call
+        if getattr(self.material, "rate_dependent", False):
+            response = self.kinematics.correction(self.material, displacement, committed, time_step=self._time_step)
+        else:
+            response = self.kinematics.correction(self.material, displacement, committed)
         f_int = self.TT @ self.kinematics.internal_force(response.stress)
         data = self.kinematics.elastic_data + c0 * self.mass_data
         if response.tangent_data is not None:
@@ -212,6 +218,7 @@ class NewmarkSolver:
         c0 = 4.0 / dt ** 2
         base = state.q + dt * state.velocity
         self._step = (base, state.acceleration, c0)
+        self._time_step = float(dt)
         # Newton starts from the committed displacement moved along the last step's displacement rate,
         # an increment the body has just been in equilibrium with. Starting from Newmark's predictor
         # q_n + dt v_n + dt^2/2 a_n puts the nodes next to the contact where their last deceleration

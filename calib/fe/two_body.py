@@ -99,6 +99,8 @@ class PairMaterial:
 
     def __init__(self, materials, body: np.ndarray):
         self.materials = tuple(materials)
+        if any(getattr(m, "rate_dependent", False) for m in self.materials):
+            raise ValueError("a rate-dependent material (calib.fe.rate_law) runs on the rigid flat only, not in a pair")
         self.elements = tuple(np.flatnonzero(body == k) for k in (0, 1))
         self.is_linear = all(getattr(m, "is_linear", False) for m in self.materials)
         self.E = contact_modulus(*(plane_strain_compliance(m.E, m.nu) for m in self.materials))

@@ -77,6 +77,7 @@ from typing import ClassVar
 import numpy as np
 
 from calib.fe.flow_curve import FlowCurve, LinearHardening, flow_curve_from_record
+from calib.fe.rate_law import RateDependentFlow, RateLaw, rate_law_from_record
 from calib.fe.material import IsotropicElasticity, elastic_constants, elastic_matrix, lame_constants
 from nfdmodel import check_real
 
@@ -84,6 +85,8 @@ __all__ = [
     "PlasticState",
     "VonMisesMaterial",
     "HardeningMaterial",
+    "RateDependentMaterial",
+    "ViscoplasticState",
     "von_mises_material",
     "radial_return",
     "return_mapping",
@@ -305,6 +308,22 @@ class PlasticState:
         return self.equivalent_plastic_strain.shape
 
 
+@dataclass(frozen=True, eq=False)
+class ViscoplasticState(PlasticState):
+    """PlasticState with the plastic work density accumulated over the steps, plastic_work (n_elements,
+    n_qp) = sum of sigma_n+1 . delta eps_p [J/m^3] (with a rate law the work is not a function of eps_bar)."""
+
+    plastic_work: np.ndarray
+
+    def __post_init__(self):
+        super().__post_init__()
+        work = np.ascontiguousarray(self.plastic_work, dtype=np.float64)
+        if work.shape != self.equivalent_plastic_strain.shape or not np.isfinite(work).all():
+            raise ValueError(f"plastic_work must be finite and shaped (n_elements, n_qp) = "
+                             f"{self.equivalent_plastic_strain.shape}, got {work.shape}")
+        object.__setattr__(self, "plastic_work", work)
+
+
 class _VonMisesPlasticity(IsotropicElasticity):
     """What the von Mises materials share: the state, the update through return_mapping with the
     material's ``flow_curve``, the plastic work."""
@@ -404,12 +423,80 @@ class HardeningMaterial(_VonMisesPlasticity):
         return self.flow_curve.sigma_y
 
 
-def von_mises_material(E, nu, sigma_y, hardening=None):
-    """The von Mises material of a sphere: VonMisesMaterial (``hardening`` None) or HardeningMaterial
-    with the flow curve ``hardening`` (a FlowCurve or its ``record()``, which must start at sigma_y)."""
-    if hardening is None:
+@dataclass(frozen=True)
+class RateDependentMaterial(_VonMisesPlasticity):
+    """Von Mises viscoplasticity: the flow curve ``flow_curve`` scaled by the rate law ``rate_law``
+    (calib.fe.rate_law: Johnson-Cook, Cowper-Symonds; the viscoplastic consistency model), a
+    ``calib.fe.material.Material``. E [Pa], nu [-] as HardeningMaterial's.
+
+    update(strain, state, time_step) returns with the time step dt [s] of the dynamic FE the return at
+    eps_dot = dgamma / dt (calib.fe.newmark passes it to a material that is ``rate_dependent``);
+    without one (the quasi-static press, elastic_tangent) the rate-independent limit R = 1. The state
+    (ViscoplasticState) accumulates the plastic work sum sigma_n+1 . delta eps_p, the backward-Euler
+    dissipation of the return, which ``dissipated_work`` integrates.
+    """
+
+    E: float
+    nu: float
+    flow_curve: FlowCurve
+    rate_law: RateLaw
+    is_linear: ClassVar[bool] = False
+    rate_dependent: ClassVar[bool] = True
+
+    def __post_init__(self):
+        E, nu = elastic_constants(self.E, self.nu)
+        if not isinstance(self.flow_curve, FlowCurve):
+            raise ValueError(f"flow_curve must be a calib.fe.flow_curve.FlowCurve, got "
+                             f"{type(self.flow_curve).__name__}")
+        if not isinstance(self.rate_law, RateLaw):
+            raise ValueError(f"rate_law must be a calib.fe.rate_law.RateLaw, got {type(self.rate_law).__name__}")
+        object.__setattr__(self, "E", E)
+        object.__setattr__(self, "nu", nu)
+
+    @property
+    def sigma_y(self) -> float:
+        """The initial, static yield stress sigma_Y = sigma_y(0) R(0) [Pa]."""
+        return self.flow_curve.sigma_y
+
+    def initial_state(self, n_elements: int, n_qp: int) -> ViscoplasticState:
+        state = super().initial_state(n_elements, n_qp)
+        return ViscoplasticState(state.plastic_strain, state.equivalent_plastic_strain,
+                                 np.zeros(state.equivalent_plastic_strain.shape))
+
+    def update(self, strain_total, state: ViscoplasticState, time_step: float | None = None):
+        """(stress [Pa], tangent [Pa], trial_state) at the total strain over the time step ``time_step`` [s]
+        (None: the rate-independent limit). Pure, as _VonMisesPlasticity.update."""
+        if not isinstance(state, ViscoplasticState):
+            raise ValueError(f"state must be a ViscoplasticState (from initial_state or a previous update), got "
+                             f"{type(state).__name__}")
+        flow = self.flow_curve if time_step is None else RateDependentFlow(self.flow_curve, self.rate_law, time_step)
+        stress, tangent, plastic_increment = return_mapping(
+            strain_total, state.plastic_strain, state.equivalent_plastic_strain, self.E, self.nu, flow)
+        trial_state = ViscoplasticState(
+            plastic_strain=state.plastic_strain + plastic_increment,
+            equivalent_plastic_strain=state.equivalent_plastic_strain
+            + equivalent_plastic_strain_increment(plastic_increment),
+            plastic_work=state.plastic_work + np.einsum("...i,...i->...", stress, plastic_increment))
+        return stress, tangent, trial_state
+
+    def dissipated_work(self, state: ViscoplasticState, weight) -> float:
+        """int sum sigma_n+1 . delta eps_p dV [J], the work accumulated in the state."""
+        return float(np.sum(state.plastic_work * weight))
+
+
+def von_mises_material(E, nu, sigma_y, hardening=None, rate_law=None):
+    """The von Mises material of a sphere: VonMisesMaterial (``hardening`` and ``rate_law`` None),
+    HardeningMaterial with the flow curve ``hardening`` (a FlowCurve or its ``record()``, which must start
+    at sigma_y), or RateDependentMaterial with ``rate_law`` (a RateLaw or its ``record()``)."""
+    if hardening is None and rate_law is None:
         return VonMisesMaterial(E, nu, sigma_y)
-    curve = hardening if isinstance(hardening, FlowCurve) else flow_curve_from_record(hardening)
+    if hardening is None:
+        curve = LinearHardening(sigma_y)
+    else:
+        curve = hardening if isinstance(hardening, FlowCurve) else flow_curve_from_record(hardening)
     if not math.isclose(curve.sigma_y, sigma_y, rel_tol=1e-6):
         raise ValueError(f"hardening: the flow curve starts at {curve.sigma_y:g} Pa, not at sigma_y = {sigma_y:g} Pa")
-    return HardeningMaterial(E, nu, curve)
+    if rate_law is None:
+        return HardeningMaterial(E, nu, curve)
+    law = rate_law if isinstance(rate_law, RateLaw) else rate_law_from_record(rate_law)
+    return RateDependentMaterial(E, nu, curve, law)

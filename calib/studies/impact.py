@@ -110,7 +110,8 @@ class ImpactSetup:
     """What an impact run needs besides v_in: the sphere's material (calib's nfdmodel.Material; an
     elastic run ignores sigma_y), R [m], elastic (no yield: Hertz's limit), the mesh level or
     contact size [m], steps per contact, the sphere's isotropic hardening (a calib.fe.flow_curve
-    FlowCurve; None: perfectly plastic). ``contact``: the contact the impact makes (None: the
+    FlowCurve; None: perfectly plastic), its strain-rate dependence (a calib.fe.rate_law RateLaw; None:
+    rate-independent; the quasi-static FE paths take its rate-independent limit). ``contact``: the contact the impact makes (None: the
     sphere on the rigid flat; a pair impact's, calib.studies.impact_pair: E*, R*, m* and first yield
     of the two bodies, nfdmodel.ContactPair), which sizes the mesh and the checks;
     ``floor_radius``: the largest body meshed with the sphere's contact element [m] (None: the
@@ -123,6 +124,7 @@ class ImpactSetup:
     contact_size: float | None = None
     steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT
     hardening: object = None
+    rate_law: object = None
     contact: ContactPair | None = None
     floor_radius: float | None = None
 
@@ -274,6 +276,8 @@ def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec,
             "mesh": dataclasses.asdict(mesh), "steps_per_contact": int(steps_per_contact)}
     if setup.hardening is not None and not setup.elastic:      # absent for perfect plasticity: its keys stay
         task["hardening"] = setup.hardening.record()
+    if setup.rate_law is not None and not setup.elastic:       # absent when rate-independent: its keys stay
+        task["rate_law"] = setup.rate_law.record()
     return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
 
 
@@ -303,7 +307,8 @@ def run_task(task: dict) -> dict:
             spec = SphereMeshSpec(**task["mesh"])
             mesh = sphere_mesh(spec)
             material = (ElasticMaterial(task["E"], task["nu"]) if task["sigma_y"] is None
-                        else von_mises_material(task["E"], task["nu"], task["sigma_y"], task.get("hardening")))
+                        else von_mises_material(task["E"], task["nu"], task["sigma_y"], task.get("hardening"),
+                                               task.get("rate_law")))
             solver = ImpactSolver(mesh, material, task["rho"])
             result = run_impact(solver, task["v_in"], steps_per_contact=task["steps_per_contact"])
     except (ImpactNotConverged, ValueError, np.linalg.LinAlgError) as exc:
@@ -674,7 +679,8 @@ def study(setup: ImpactSetup, velocities, out: Path, *, workers: int = 1, progre
                         "sigma_y": None if setup.elastic else setup.material.sigma_y, "rho": setup.material.rho,
                         "R": setup.radius, "mass": pair.mass_star, "P_Y": pair.P_Y, "v_Y": pair.v_Y,
                         "elastic": setup.elastic, "steps_per_contact": setup.steps_per_contact,
-                        **({} if setup.hardening is None else {"hardening": setup.hardening.record()})},
+                        **({} if setup.hardening is None else {"hardening": setup.hardening.record()}),
+                        **({} if setup.rate_law is None else {"rate_law": setup.rate_law.record()})},
                "vz_source": source, "vz_table_source": output.display_path(table_file) if table else None,
                "mdr_source": output.display_path(mdr_file) if mdr is not None else None,
                "variants": list(variants),
