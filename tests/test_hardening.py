@@ -436,3 +436,18 @@ def test_calibration_of_a_hardening_sphere_records_its_flow_curve(tmp_path, curv
     assert main(["impact", "--quiet", "--dry-run", "--v-in", "0.04", "--params", str(path)]) == 2
     assert main(["impact", "--quiet", "--dry-run", "--v-in", "0.04", "--params", str(path), "--flow-curve",
                  str(curve_files / "GOOD.csv"), "--flow-curve-extrapolation", "slope"]) == 0
+
+
+class _NoRoot(LinearHardening):
+    """A flow curve whose return mapping never finds its root (calib.fe.flow_curve raises ArithmeticError)."""
+
+    def return_stress(self, *args, **kwargs):
+        raise ArithmeticError("flow curve test: the return mapping did not converge")
+
+
+def test_a_return_mapping_without_root_fails_the_step_not_the_run(coarse_mesh):
+    """A return mapping that raises at an iterate fails that Newton solve like divergence (a step the
+    stepper retries smaller, or a StepNotConverged naming the material), never an ArithmeticError."""
+    solver = ContactSolver(coarse_mesh, HardeningMaterial(E, NU, _NoRoot(SIGMA_Y, E / 20)))
+    result = solver.solve_force(solver.initial_state(), 20 * PAIR.P_Y)
+    assert not result.converged and "material: flow curve test" in result.message

@@ -56,9 +56,16 @@ def solve_newton(solver, q, state, control, target, constrained, constrained_tar
                              abs(target) if control == "displacement" else 0.0)
     base_scale = max(target if control == "force" else 0.0, abs(state.force),
                      1e-3 * solver.stiffness_scale * displacement_scale, solver.force_floor)
+    ok, f_int, residual, stress, trial, residual_norm, scale = False, None, None, None, None, np.inf, base_scale
     for newton in range(solver.max_newton_iterations + 1):
         t0 = time.perf_counter()
-        f_int, tangent, stress, trial = solver.assemble(solver.T @ q, state.material_state)
+        try:
+            f_int, tangent, stress, trial = solver.assemble(solver.T @ q, state.material_state)
+        except ArithmeticError as exc:
+            # a return mapping that found no root at this iterate (calib.fe.flow_curve): the step
+            # failed like a diverging Newton, and the stepper retries it smaller
+            message, ok = f"material: {exc}", False
+            break
         residual = solver.TT @ f_int
         if control == "force":
             residual[solver.plate] += target  # f_ext on the plate unknown is -P
