@@ -287,11 +287,17 @@ def tangential_mindlin(xi, a_previous, a, n, v_t, dt, stiffness, gamma_t, F_cap,
         moving = slide & (_len(xi) != 0.0)
         scale = F_cap / np.where(slide, magnitude, 1.0)
         capped = F_t * scale[:, None]
+        # the spring keeps the elastic part of the capped force, at most the cap itself: damping
+        # beyond the cap stored in it would be returned as work later (README: how ours differs)
+        elastic = capped - damping
+        size = _len(elastic)
+        over = size > F_cap * (1.0 + limits.CAP_SLACK)      # not the round-off of an undamped cap
+        elastic *= np.where(over, F_cap / np.where(over, size, 1.0), 1.0)[:, None]
         if force_form:
-            xi[moving] = (capped - damping)[moving]
+            xi[moving] = elastic[moving]
         else:
             back = -1.0 / np.where(moving, stiffness, 1.0)
-            xi[moving] = ((capped - damping) * back[:, None])[moving]
+            xi[moving] = (elastic * back[:, None])[moving]
         F_t = np.where(moving[:, None], capped, np.where(slide[:, None], 0.0, F_t))
     return F_t
 

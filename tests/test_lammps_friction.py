@@ -200,7 +200,9 @@ def test_the_mindlin_variants_equal_lammps_granular_in_the_elastic_limit(plugin,
         nfd = f"pair_style nfd/vz\npair_coeff 1 1 {constants} {models}"
     theirs = trajectory(oblique_input(plugin, granular, wall, 700), tmp_path)
     mine = trajectory(oblique_input(plugin, nfd, wall, 700), tmp_path)
-    assert_same_motion(mine, theirs)
+    # where the damping exceeds the cap, ours keeps the spring at the cap and LAMMPS stores the excess
+    # in it (nfdmodel/README.md): the two part by 6.2e-11 here (measured)
+    assert_same_motion(mine, theirs, rtol=1e-9)
 
 
 @pytest.mark.parametrize("style, nprocs", [("hertz", 1), ("hertz", 2), ("vz", 1)])
