@@ -49,7 +49,6 @@
 extern "C" {
 #endif
 
-
 /* The contact models and constants of a pair (per pair of atom types, or a wall). */
 typedef struct {
     int damping;          /* NFD_DAMPING_*                                                         */
@@ -183,7 +182,7 @@ static inline void nfd_rotate_rescale(double *v, const double *n)
 }
 
 /* Mindlin (variant: an NFD_TANGENTIAL_MINDLIN* code): advance the spring (update), F_t = -k a xi
- * - gamma_t v_t,rel, capped at F_cap (the spring set back). rescale: where the contact radius a
+ * - gamma_t v_t,rel, capped at F_cap (the spring set back, its force at most F_cap). rescale: where the contact radius a
  * shrank below the last step's, the spring is first scaled by a / a_previous; /force: the spring
  * is the elastic force, advanced by -k a dt v_t,rel (F_t = spring - gamma_t v_t,rel). */
 static inline void nfd_tangential_mindlin(int variant, nfd_friction_history *s, double a, const double *n,
@@ -218,7 +217,7 @@ static inline void nfd_tangential_mindlin(int variant, nfd_friction_history *s, 
             size = nfd_len3(elastic);
             int limited = size > F_cap * (1.0 + NFD_CAP_SLACK);
             for (k = 0; k < 3; ++k) {
-                if (limited) {     /* F_t is the capped force; the spring holds the cap */
+                if (limited) {          /* F_t is the capped force; the spring holds the cap */
                     xi[k] = force_form ? elastic[k] * (F_cap / size) : elastic[k] * (F_cap / size) * back;
                     F_t[k] = capped[k];
                 } else {                /* F_t from the spring set back, as LAMMPS computes it */

@@ -461,3 +461,24 @@ def test_exported_friction_lines_run_the_same_models_in_lammps(plugin, tmp_path,
                       "nfdcal export: error: --twisting out of range: need 'marshall' or 'sds K GAMMA MU_T', got sds 1",
                       "nfdcal export: error: tangential out of range: need one of none, mindlin, mindlin_rescale, "
                       "mindlin/force, mindlin_rescale/force, got 'coulomb'"]
+
+
+@pytest.mark.parametrize("tangential", ["mindlin", "mindlin_rescale", "mindlin/force", "mindlin_rescale/force"])
+@pytest.mark.parametrize("damping", ["tsuji 0.2", "coeff_restitution 0.5"])
+def test_no_damped_tangential_model_creates_energy_on_the_wall(plugin, tmp_path, damping, tangential):
+    """An energy audit of nfd/wall/hertz with tangential damping x_gamma_t 30: the kinetic plus
+    rotational energy out is at most the energy in (1e-5: the integrator's O(dt^2)), at normal
+    incidence with spin 500 rad/s and at 45 deg with spin -50 rad/s. LAMMPS's own wall/gran (the
+    excess damping stored in the spring) returns 1.0039 of the energy and spins 500 -> 506.45 rad/s
+    with tsuji 0.2 and mindlin; nfd/wall/hertz 0.774 and 443.2 rad/s."""
+    mass = 4.0 / 3.0 * np.pi * R_1**3 * RHO
+    fix = f"fix w all nfd/wall/hertz zlo 0.0 {num(E)} {num(NU)} damping {damping} tangential {tangential} NULL 30 0.3"
+    for speed, angle, omega in ((0.5, 0.0, 500.0), (0.5, 45.0, -50.0)):
+        code, output = lammps_pour.run_input(wall_impact_input(plugin, fix, speed, angle, omega, 1000), tmp_path,
+                                             timeout=120)
+        assert code == 0 and "ERROR" not in output, output[-2000:]
+        vx, vz, wy = lammps_pour.thermo_rows(output, 4)[-1, 1:]
+        assert vz > 0.0                                   # it left the wall
+        energy_in = 0.5 * mass * speed**2 + 0.2 * mass * R_1**2 * omega**2
+        energy_out = 0.5 * mass * (vx * vx + vz * vz) + 0.2 * mass * R_1**2 * wy * wy
+        assert energy_out <= energy_in * (1.0 + 1e-5), (energy_out / energy_in, wy)
