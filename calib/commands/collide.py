@@ -21,11 +21,14 @@ Bad input: a ValueError naming the parameter and its range (the dispatcher print
 exits with code 2).
 
 Oblique impacts (--angle, incidence from the normal [deg], each with each --v-in speed): the
-sphere also slides and spins (--omega [rad/s] about the axis of rolling), with Mindlin friction
---mu (k_t = 8 G/(2 - nu) of the sphere on the rigid flat; --tangential the variant, default
-mindlin_rescale/force; nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
-e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point), the rebound angle and spin; --plot FILE
-draws e_t and beta against the incidence angle.
+sphere also slides and spins (--omega [rad/s] about the axis of rolling, |omega| R <= 1e4 m/s), with
+Mindlin friction --mu (k_t = 8 G*, 1/G* = (2 - nu)/G + (2 - nu_2)/G_2 of the sphere and the
+counter-body a --params file states, 8 G/(2 - nu) on a rigid flat; --tangential the variant, default
+mindlin_rescale/force), --damping MODEL VALUE and --x-gamma-t, --rolling sds K GAMMA MU, --twisting
+marshall | sds K GAMMA MU (nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
+e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point; '-' where undefined: e_t at normal incidence),
+the rebound angle and spin; --plot FILE draws e_t and beta against the incidence angle (an existing
+file only with --overwrite).
 
 --report: the restitution sweep, time-step convergence and plots of the vz law with the paper's
 constants, or with the two constants of --params FILE (a calibration's parameters.json, whichever
