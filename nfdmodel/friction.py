@@ -14,8 +14,9 @@ to body i, delta the overlap, v = v_i - v_j, R* and m* the effective radius and 
              coeff_restitution; c from the restitution e, :func:`damping_coefficient`)
     F_t      Mindlin-Deresiewicz (1953), LAMMPS's ``mindlin``: the spring xi_t, rotated into the
              tangent plane (length kept) and advanced by v_t dt, v_t = v - (v.n) n - (R_i w_i +
-             R_j w_j) x n; F_t = -k_t a xi_t - x_gamma_t eta v_t, |F_t| <= mu |F_n| (xi_t set back
-             to the cap: Coulomb sliding); k_t = 8 G*, 1/G* = (2 - nu_i)/G_i + (2 - nu_j)/G_j
+             R_j w_j) x n; F_t = -k_t a xi_t - x_gamma_t eta v_t, |F_t| <= mu |F_n| (Coulomb sliding:
+             xi_t set back to the capped force minus the damping, its force at most the cap; LAMMPS
+             stores the damping beyond the cap too); k_t = 8 G*, 1/G* = (2 - nu_i)/G_i + (2 - nu_j)/G_j
     rolling  SDS (Luding 2008): xi_roll advanced by v_roll dt, v_roll = R* (w_i - w_j) x n;
              F_r = -k_roll xi_roll - gamma_roll v_roll, |F_r| <= mu_roll |F_n|; torque R* n x F_r
     twisting theta advanced by w_twist dt, w_twist = (w_i - w_j).n; M = -k theta - gamma w_twist,
@@ -287,11 +288,17 @@ def tangential_mindlin(xi, a_previous, a, n, v_t, dt, stiffness, gamma_t, F_cap,
         moving = slide & (_len(xi) != 0.0)
         scale = F_cap / np.where(slide, magnitude, 1.0)
         capped = F_t * scale[:, None]
+        # the spring keeps the elastic part of the capped force, at most the cap itself: damping
+        # beyond the cap stored in it would be returned as work later (README: how ours differs)
+        elastic = capped - damping
+        size = _len(elastic)
+        over = size > F_cap * (1.0 + limits.CAP_SLACK)      # not the round-off of an undamped cap
+        elastic *= np.where(over, F_cap / np.where(over, size, 1.0), 1.0)[:, None]
         if force_form:
-            xi[moving] = (capped - damping)[moving]
+            xi[moving] = elastic[moving]
         else:
             back = -1.0 / np.where(moving, stiffness, 1.0)
-            xi[moving] = ((capped - damping) * back[:, None])[moving]
+            xi[moving] = (elastic * back[:, None])[moving]
         F_t = np.where(moving[:, None], capped, np.where(slide[:, None], 0.0, F_t))
     return F_t
 

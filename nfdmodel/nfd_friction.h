@@ -49,10 +49,6 @@
 extern "C" {
 #endif
 
-/* With update = 0, a stored spring's force beyond its cap by at most this fraction is the round-off of
- * a spring set back to the cap at the step that stored it: left as it is (not set back again). */
-#define NFD_CAP_SLACK 1e-12
-
 /* The contact models and constants of a pair (per pair of atom types, or a wall). */
 typedef struct {
     int damping;          /* NFD_DAMPING_*                                                         */
@@ -186,7 +182,7 @@ static inline void nfd_rotate_rescale(double *v, const double *n)
 }
 
 /* Mindlin (variant: an NFD_TANGENTIAL_MINDLIN* code): advance the spring (update), F_t = -k a xi
- * - gamma_t v_t,rel, capped at F_cap (the spring set back). rescale: where the contact radius a
+ * - gamma_t v_t,rel, capped at F_cap (the spring set back, its force at most F_cap). rescale: where the contact radius a
  * shrank below the last step's, the spring is first scaled by a / a_previous; /force: the spring
  * is the elastic force, advanced by -k a dt v_t,rel (F_t = spring - gamma_t v_t,rel). */
 static inline void nfd_tangential_mindlin(int variant, nfd_friction_history *s, double a, const double *n,
@@ -211,10 +207,23 @@ static inline void nfd_tangential_mindlin(int variant, nfd_friction_history *s, 
     double magnitude = nfd_len3(F_t);
     if (magnitude > (update ? F_cap : F_cap * (1.0 + NFD_CAP_SLACK))) {
         if (nfd_len3(xi) != 0.0) {
-            double scale = F_cap / magnitude, back = -1.0 / stiffness;
+            /* the spring keeps the elastic part of the capped force, at most the cap itself: damping
+             * beyond the cap stored in it would be returned as work later (nfdmodel/README.md) */
+            double scale = F_cap / magnitude, back = -1.0 / stiffness, capped[3], elastic[3], size;
             for (k = 0; k < 3; ++k) {
-                xi[k] = force_form ? F_t[k] * scale - damping[k] : (F_t[k] * scale - damping[k]) * back;
-                F_t[k] = (force_form ? xi[k] : -stiffness * xi[k]) + damping[k];
+                capped[k] = F_t[k] * scale;
+                elastic[k] = capped[k] - damping[k];
+            }
+            size = nfd_len3(elastic);
+            int limited = size > F_cap * (1.0 + NFD_CAP_SLACK);
+            for (k = 0; k < 3; ++k) {
+                if (limited) {          /* F_t is the capped force; the spring holds the cap */
+                    xi[k] = force_form ? elastic[k] * (F_cap / size) : elastic[k] * (F_cap / size) * back;
+                    F_t[k] = capped[k];
+                } else {                /* F_t from the spring set back, as LAMMPS computes it */
+                    xi[k] = force_form ? elastic[k] : elastic[k] * back;
+                    F_t[k] = (force_form ? xi[k] : -stiffness * xi[k]) + damping[k];
+                }
             }
         } else {
             F_t[0] = F_t[1] = F_t[2] = 0.0;

@@ -105,5 +105,9 @@
 #define NFD_FRICTION_HISTORY 8       /* doubles of nfd_friction_history: xi_t[3], xi_roll[3], theta_twist, a_previous */
 /* Admissible friction constants: 0 <= mu <= MU_MAX (LAMMPS's classic granular bound). */
 #define NFD_MU_MAX 1e4
+/* With update = 0, a stored spring's force beyond its cap by at most this fraction is the round-off of
+ * a spring set back to the cap at the step that stored it: left as it is (not set back again); and a
+ * spring set back is limited to the cap only beyond it by more than this fraction (nfd_friction.h). */
+#define NFD_CAP_SLACK 1e-12
 
 #endif

@@ -23,6 +23,7 @@ import json
 import math
 import warnings
 from pathlib import Path
+from types import SimpleNamespace
 
 from .materials import ContactPair, Material
 from .vz import VZParams
@@ -184,3 +185,16 @@ def load_parameters(path) -> VZParams | VZTableParams:
         warnings.warn(f"parameter file {path} states no calibrated window (written before windows were "
                       f"recorded): assuming {window.describe()}, the default recipe's", RangeWarning, stacklevel=2)
     return params
+
+
+def elastic_bodies(path) -> tuple[SimpleNamespace, SimpleNamespace | None]:
+    """(sphere, counter-body) of the parameter file at ``path`` (load_parameters checks it), each with
+    its Young's modulus E [Pa] and Poisson's ratio nu [-]; counter-body None: a rigid flat. What a
+    model of the two materials reads (the Mindlin coefficient k_t = 8 G*, nfdmodel.friction)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")            # said once, by the caller's own load_parameters
+        load_parameters(path)
+    data = json.loads(Path(path).read_text(encoding="utf-8"))
+    counter = data.get("counter_body")
+    sphere = SimpleNamespace(E=float(data["material"]["E"]), nu=float(data["material"]["nu"]))
+    return sphere, None if counter is None else SimpleNamespace(E=float(counter["E"]), nu=float(counter["nu"]))

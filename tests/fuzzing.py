@@ -54,7 +54,13 @@ PLAUSIBLE = {"--E": (70e9, 205e9, 117e9, 1e6, 1e12), "--nu": (0.0, 0.3, 0.49, 0.
              "--peaks": (500.0, 1000.0, 1500.0, 10.0, 40.0), "--contact-size": (4e-5, 1e-4, 1e-3, 1e-9),
              "--P-min": (1.0, 10.0), "--P-max": (1500.0, 100.0), "--steps": (2, 25, 1000, 1001),
              "--workers": (1, 2, 64, 65), "--v-max": (0.05, 0.2, 1.0, 1e-3), "--type": (1, 2, 0, 1.5),
-             "--steps-per-contact": (100, 20, 10, 9, 10000, 10001), "--counter-rho": (7850.0, 2700.0, 1.0, 1e5)}
+             "--steps-per-contact": (100, 20, 10, 9, 10000, 10001), "--counter-rho": (7850.0, 2700.0, 1.0, 1e5),
+             "--angle": (30.0, 0.0, 10.0, 60.0, 89.0), "--mu": (0.3, 0.1, 1.0, 0.0), "--omega": (0.0, 20.0, -50.0, 500.0),
+             "--x-gamma-t": (0.5, 0.0, 1.0, 30.0), "--damping": (0.5, 0.2, 0.9, 1.0), "--rolling": (1000.0, 0.01, 0.1),
+             "--twisting": (0.01, 1e-4, 1e-3)}
+# collide's contact models: LAMMPS's names, and a few it does not have
+TANGENTIAL = ("mindlin", "mindlin_rescale", "mindlin/force", "mindlin_rescale/force", "none", "coulomb", "")
+DAMPING = ("tsuji", "viscoelastic", "coeff_restitution", "none", "bogus")
 
 
 def number_text(flag: str, hostile: bool):
@@ -226,7 +232,9 @@ COUNTER_FLAGS = ("--counter-E", "--counter-nu", "--counter-sigma-y", "--counter-
 # a command's flags: value-taking flags map to how many values they take (1, or "+" for one or more)
 COMMANDS = {
     "collide": {"--law": 1, "--v-in": "+", "--dt": 1, "--Ca": 1, "--Kc": 1, "--K1": 1, "--K2": 1,
-                "--params": 1, "--json": 0, **{f: 1 for f in MATERIAL_FLAGS}},
+                "--params": 1, "--json": 0, "--angle": "+", "--mu": 1, "--omega": 1, "--tangential": 1,
+                "--damping": 2, "--x-gamma-t": 1, "--rolling": "+", "--twisting": "+", "--plot": 1, "--overwrite": 0,
+                **{f: 1 for f in MATERIAL_FLAGS}},
     "material": {"--table": 1, "--vz-table": 1, "--v-max": 1, "--params-out": 1, "--overwrite": 0, "--json": 0,
                  **{f: 1 for f in MATERIAL_FLAGS}},
     "calibrate": {"--peaks": "+", "--v-max": 1, "--contact-size": 1, "--ship": 1, "--out": 1, "--no-plots": 0, "--json": 0,
@@ -299,6 +307,15 @@ def flag_values(flag: str, count, hostile: bool):
     if flag == "--wall":                     # FACE COORD
         return st.tuples(st.sampled_from(("zlo", "xhi", "ylo", "top", "", "zlo ")), number_text("--wall", hostile)
                          ).map(list)
+    if flag == "--tangential":
+        return st.lists(st.sampled_from(TANGENTIAL), min_size=1, max_size=1)
+    if flag == "--damping":                  # MODEL VALUE (now and then the value left off)
+        return st.tuples(st.sampled_from(DAMPING), number_text(flag, hostile)).map(
+            lambda t: list(t) if not t[1].startswith("3") else [t[0]])
+    if flag in ("--rolling", "--twisting"):  # sds K GAMMA MU, marshall, none, or a count that is wrong
+        models = ("sds", "sds", "none", "marshall" if flag == "--twisting" else "bogus")
+        return st.tuples(st.sampled_from(models), st.lists(number_text(flag, hostile), min_size=0, max_size=4)).map(
+            lambda t: [t[0], *(t[1][:3] if t[0] == "sds" and len(t[1]) >= 3 else t[1][:1] if t[0] == "sds" else [])])
     if flag in ("--accuracy",):
         return st.lists(st.text(max_size=20), min_size=1, max_size=1)
     if flag in OUTPUT_FLAGS or flag in INPUT_FLAGS + ("SCENE",):
@@ -310,9 +327,10 @@ def flag_values(flag: str, count, hostile: bool):
 
 
 @st.composite
-def command_case(draw) -> Case:
-    """An argument list of one command (FE commands with --dry-run) and its input files."""
-    command = draw(st.sampled_from(sorted(COMMANDS)))
+def command_case(draw, commands: tuple[str, ...] | None = None) -> Case:
+    """An argument list of one command (of ``commands``, default any; FE commands with --dry-run) and
+    its input files."""
+    command = draw(st.sampled_from(sorted(commands or COMMANDS)))
     flags = COMMANDS[command]
     chosen = draw(st.lists(st.sampled_from(sorted(flags)), max_size=6, unique=True))
     if not rarely(draw, 10):                     # mostly all given, so the fuzzer gets past the first check

@@ -1,6 +1,7 @@
 """The command-line fuzzer (tests/fuzzing.py) in CI: a few hundred derandomized cases, every one a
 success or one line with exit code 2; never a traceback, NaN in an output, a file touched outside
-the output paths, or a hang. Thousands more: tests/benchmarks/fuzz_cli.py."""
+the output paths, or a hang; and 40 of collide alone (its oblique models). Thousands more:
+tests/benchmarks/fuzz_cli.py."""
 import tempfile
 from pathlib import Path
 
@@ -8,12 +9,24 @@ from fuzzing import command_case, run_case
 from hypothesis import HealthCheck, given, settings
 
 CASES = 250
+COLLIDE_CASES = 40
 
 
 @settings(max_examples=CASES, deadline=None, derandomize=True, database=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 @given(case=command_case())
 def test_every_command_line_ends_in_success_or_one_clean_line(case):
+    with tempfile.TemporaryDirectory() as sandbox:
+        outcome = run_case(case, Path(sandbox), timeout_s=60.0)
+    assert not outcome.failed, (f"{outcome.kind}\nargv: {case.argv}\nstdout: {outcome.stdout[-500:]}\n"
+                                f"stderr: {outcome.stderr[-1500:]}")
+
+
+@settings(max_examples=COLLIDE_CASES, deadline=None, derandomize=True, database=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
+@given(case=command_case(commands=("collide",)))
+def test_collide_oblique_lines_end_in_success_or_one_clean_line(case):
+    """collide alone: angles, spins, the damping x tangential x rolling x twisting models, --plot."""
     with tempfile.TemporaryDirectory() as sandbox:
         outcome = run_case(case, Path(sandbox), timeout_s=60.0)
     assert not outcome.failed, (f"{outcome.kind}\nargv: {case.argv}\nstdout: {outcome.stdout[-500:]}\n"

@@ -21,11 +21,14 @@ Bad input: a ValueError naming the parameter and its range (the dispatcher print
 exits with code 2).
 
 Oblique impacts (--angle, incidence from the normal [deg], each with each --v-in speed): the
-sphere also slides and spins (--omega [rad/s] about the axis of rolling), with Mindlin friction
---mu (k_t = 8 G/(2 - nu) of the sphere on the rigid flat; --tangential the variant, default
-mindlin_rescale/force; nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
-e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point), the rebound angle and spin; --plot FILE
-draws e_t and beta against the incidence angle.
+sphere also slides and spins (--omega [rad/s] about the axis of rolling, |omega| R <= 1e4 m/s), with
+Mindlin friction --mu (k_t = 8 G*, 1/G* = (2 - nu)/G + (2 - nu_2)/G_2 of the sphere and the
+counter-body a --params file states, 8 G/(2 - nu) on a rigid flat; --tangential the variant, default
+mindlin_rescale/force), --damping MODEL VALUE and --x-gamma-t, --rolling sds K GAMMA MU, --twisting
+marshall | sds K GAMMA MU (nfdmodel.oblique_collide, the models of LAMMPS's granular styles); prints
+e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point; '-' where undefined: e_t at normal incidence),
+the rebound angle and spin; --plot FILE draws e_t and beta against the incidence angle (an existing
+file only with --overwrite).
 
 --report: the restitution sweep, time-step convergence and plots of the vz law with the paper's
 constants, or with the two constants of --params FILE (a calibration's parameters.json, whichever
@@ -74,8 +77,20 @@ def add_parser(subparsers) -> None:
                         "variant of --mu (default mindlin_rescale/force, the one for a plastic law)")
     parser.add_argument("--omega", default=None, help="oblique impacts: incoming spin [rad/s] about the axis "
                         "of rolling (default 0)")
+    parser.add_argument("--damping", nargs="+", default=None, metavar="ARG", help="oblique impacts: normal "
+                        "damping MODEL VALUE, LAMMPS's: viscoelastic c [1/(m s)], tsuji e or coeff_restitution e "
+                        "(default none)")
+    parser.add_argument("--x-gamma-t", default=None, help="oblique impacts: tangential damping in units of the "
+                        "normal damping's prefactor (default 0)")
+    parser.add_argument("--rolling", nargs="+", default=None, metavar="ARG", help="oblique impacts: rolling "
+                        "resistance 'sds K_ROLL GAMMA_ROLL MU_ROLL' [N/m, N s/m, -] (default none)")
+    parser.add_argument("--twisting", nargs="+", default=None, metavar="ARG", help="oblique impacts: twisting "
+                        "resistance 'marshall' (from --mu's k_t) or 'sds K_TWIST GAMMA_TWIST MU_TWIST' "
+                        "[N m/rad, N m s/rad, m] (default none)")
     parser.add_argument("--plot", default=None, metavar="PNG", help="oblique impacts: a PNG of e_t and beta "
                         "against the incidence angle (the name ends in .png)")
+    parser.add_argument("--overwrite", action="store_true", help="replace an existing --plot file (refused "
+                        "without it)")
     parser.add_argument("--report", action="store_true",
                         help="regenerate the collision results (CSV, JSON, PNG) into --out, vz with the paper's"
                              " constants or those of --params FILE")
@@ -130,6 +145,10 @@ def build_params(ns):
     file_params = load_parameters(ns.params) if ns.params is not None else None
     law = get_law(ns.law if ns.law is not None else
                   ("vz-table" if isinstance(file_params, VZTableParams) else "vz")).name
+    if law == "vz-table" and ns.params is None:
+        raise ValueError("--law vz-table needs --params FILE (a vz-table parameter file: nfdcal calibrate, or "
+                         "nfdcal material --params-out); without --params give --law vz, thornton, hertz or "
+                         "walton-braun")
     if ns.params is not None:
         params = file_params
         held = "vz-table" if isinstance(file_params, VZTableParams) else "vz"
@@ -186,8 +205,16 @@ def run(ns) -> int:
     from nfdmodel import collide
 
     velocities = np.array([number("--v-in", v) for v in ns.v_in])
+    if ns.plot is not None:
+        from calib.commands.targets import check_plot_name, refuse_existing
+
+        check_plot_name(ns)
+        refuse_existing(ns, ("plot",))          # before any work: an existing PNG only with --overwrite
+    elif ns.overwrite:
+        raise ValueError("--overwrite applies to --plot only")
     law, params = build_params(ns)
-    if ns.angle is not None or ns.mu is not None or ns.omega is not None or ns.plot is not None:
+    if any(value is not None for value in (ns.angle, ns.mu, ns.omega, ns.plot, ns.damping, ns.x_gamma_t,
+                                           ns.rolling, ns.twisting)):
         return run_oblique(ns, law, params, velocities, dt)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
@@ -211,27 +238,82 @@ def run(ns) -> int:
     return 0
 
 
+def oblique_friction(ns, params, mu: float):
+    """The Friction of --mu/--tangential/--damping/--x-gamma-t/--rolling/--twisting: k_t = 8 G* of
+    the two bodies (nfdmodel.friction.shear_coefficient): with --params the sphere and the counter-body
+    the file states (none: a rigid flat), else the sphere of the material flags on a rigid flat."""
+    from types import SimpleNamespace
+
+    from nfdmodel.friction import Friction, shear_coefficient
+    from nfdmodel.materials import youngs_modulus
+    from nfdmodel.parameter_file import elastic_bodies
+
+    if ns.params is not None:
+        sphere, counter = elastic_bodies(ns.params)
+    else:                   # the sphere's E and nu (on a rigid flat E* = E/(1 - nu^2)): all k_t reads
+        sphere, counter = SimpleNamespace(E=youngs_modulus(params.pair.E_star, params.pair.nu), nu=params.pair.nu), None
+    models = {}
+    if ns.damping is not None:
+        if len(ns.damping) != 2:
+            raise ValueError(f"--damping out of range: need MODEL VALUE (viscoelastic c, tsuji e or "
+                             f"coeff_restitution e), got {' '.join(ns.damping)!r}")
+        models.update(damping=ns.damping[0], damping_value=number("--damping", ns.damping[1]))
+    if ns.x_gamma_t is not None:
+        models["x_gamma_t"] = number("--x-gamma-t", ns.x_gamma_t, low=0.0, low_inclusive=True)
+    for name, values, names in (("rolling", ns.rolling, ("k_roll", "gamma_roll", "mu_roll")),
+                                ("twisting", ns.twisting, ("k_twist", "gamma_twist", "mu_twist"))):
+        if values is None:
+            continue
+        model, rest = values[0], values[1:]
+        wanted = 3 if model == "sds" else 0
+        if len(rest) != wanted:
+            forms = "'sds K GAMMA MU'" + (" or 'marshall'" if name == "twisting" else "")
+            raise ValueError(f"--{name} out of range: need {forms} or 'none', got {' '.join(values)!r}")
+        models[name] = model
+        models.update({key: number(f"--{name}", value) for key, value in zip(names, rest)})
+    if mu > 0:
+        models.update(tangential=ns.tangential, k_t=shear_coefficient(sphere, counter), mu=mu)
+    elif models.get("twisting") == "marshall" or "x_gamma_t" in models:
+        raise ValueError("--mu out of range: --twisting marshall and --x-gamma-t need the tangential model, "
+                         "mu > 0")
+    try:
+        return Friction(**models)
+    except ValueError as exc:         # Friction names its own field: name the flag that gave it
+        field = str(exc).split()[0]
+        raise ValueError(f"{_FRICTION_FLAGS.get(field, '--' + field.replace('_', '-'))}: {exc}") from None
+
+
+# the flag of each Friction field oblique_friction sets
+_FRICTION_FLAGS = {"e": "--damping", "damping": "--damping", "damping_value": "--damping", "x_gamma_t": "--x-gamma-t",
+                   "tangential": "--tangential", "k_t": "--mu", "mu": "--mu", "rolling": "--rolling",
+                   "k_roll": "--rolling", "gamma_roll": "--rolling", "mu_roll": "--rolling", "twisting": "--twisting",
+                   "k_twist": "--twisting", "gamma_twist": "--twisting", "mu_twist": "--twisting"}
+
+
 def run_oblique(ns, law: str, params, speeds, dt) -> int:
     """The oblique impacts of --angle/--mu/--omega (module doc): a table or JSON records, --plot."""
     import sys
-    from types import SimpleNamespace
 
     import numpy as np
 
-    from nfdmodel import collision_reference
+    from nfdmodel import collision_reference, limits
     from nfdmodel.collision import STEPS_PER_CONTACT_AUTO, coarse_time_step
-    from nfdmodel.friction import Friction, shear_coefficient
-    from nfdmodel.materials import youngs_modulus
     from nfdmodel.oblique import oblique_collide
 
+    for speed in speeds:             # the speed as typed, before its split into normal and tangential parts
+        if not 0.0 < speed <= limits.V_IN_MAX:
+            raise ValueError(f"--v-in out of range: need 0 < v_in <= {limits.V_IN_MAX:g} m/s (the impact speed, "
+                             f"before its split into normal and tangential parts), got {speed:g}")
     angles = np.array([number("--angle", a, low=0.0, low_inclusive=True, high=90.0, unit="deg")
                        for a in (ns.angle or ["0"])])
     mu = number("--mu", ns.mu, 0.0, low=0.0, low_inclusive=True)
-    omega = number("--omega", ns.omega, 0.0, unit="rad/s")
     pair = params.pair
-    # the sphere's E and nu (on a rigid flat E* = E/(1 - nu^2)): all shear_coefficient reads
-    sphere = SimpleNamespace(E=youngs_modulus(pair.E_star, pair.nu), nu=pair.nu)
-    friction = Friction(tangential=ns.tangential, k_t=shear_coefficient(sphere), mu=mu) if mu > 0 else Friction()
+    spin_max = limits.V_IN_MAX / pair.R_star      # the sphere's surface speed within v_in's range
+    omega = number("--omega", ns.omega, 0.0, unit="rad/s")
+    if abs(omega) > spin_max:
+        raise ValueError(f"--omega out of range: need |omega| <= {spin_max:g} rad/s (the surface speed R omega within "
+                         f"v_in's {limits.V_IN_MAX:g} m/s at R = {pair.R_star:g} m), got {omega:g}")
+    friction = oblique_friction(ns, params, mu)
     speed, angle = (values.ravel() for values in np.meshgrid(speeds, angles, indexing="ij"))
     normal = np.maximum(speed * np.cos(np.radians(angle)), 1e-300)
     if dt is None:                                         # collide's automatic dt at the slowest normal speed
@@ -241,17 +323,27 @@ def run_oblique(ns, law: str, params, speeds, dt) -> int:
         if coarse is not None:
             print(f"nfdcal collide: warning: {coarse}", file=sys.stderr)
     result = oblique_collide(law, params, friction, speed, angle, omega, dt=dt)
-    records = [{"v_in": float(s), "angle": float(a), "e_n": float(en), "e_t": float(et), "beta": float(b),
+    def defined(value):               # e_t at normal incidence (v_t = 0), beta without slip: no number
+        return float(value) if np.isfinite(value) else None
+
+    records = [{"v_in": float(s), "angle": float(a), "e_n": float(en), "e_t": defined(et), "beta": defined(b),
                 "angle_out": float(ao), "omega_out": float(w), "P_max": float(p), "contact_time": float(ct)}
                for s, a, en, et, b, ao, w, p, ct in zip(speed, angle, result.e_n, result.e_t, result.beta,
                                                         result.angle_out, result.omega_out, result.P_max,
                                                         result.contact_time)]
+    def shown(value):
+        return f"{'-':>9}" if value is None else f"{value:9.5f}"
+
     lines = [f"law {law}, oblique: R = {pair.R_star:g} m, mu = {mu:g}, omega_in = {omega:g} rad/s, dt = {dt:.3g} s",
              f"{'v_in m/s':>10} {'angle deg':>10} {'e_n':>9} {'e_t':>9} {'beta':>9} {'angle_out':>10} "
              f"{'omega_out':>11} {'P_max N':>10} {'contact s':>11}"]
-    lines += [f"{r['v_in']:10.4g} {r['angle']:10.4g} {r['e_n']:9.5f} {r['e_t']:9.5f} {r['beta']:9.5f} "
+    lines += [f"{r['v_in']:10.4g} {r['angle']:10.4g} {r['e_n']:9.5f} {shown(r['e_t'])} {shown(r['beta'])} "
               f"{r['angle_out']:10.4f} {r['omega_out']:11.5g} {r['P_max']:10.5g} {r['contact_time']:11.4g}"
               for r in records]
+    if any(r["e_t"] is None for r in records):
+        lines.append("e_t = v_t'/v_t is not defined at normal incidence (v_t = 0): shown '-'")
+    if any(r["beta"] is None for r in records):
+        lines.append("beta = -V'/V is not defined without an incoming slip (V = v_t - R omega = 0): shown '-'")
     if ns.plot is not None:
         plot_oblique(ns.plot, records, law, mu)
         lines.append(f"plot written to {ns.plot}")
@@ -263,6 +355,8 @@ def plot_oblique(path: str, records: list[dict], law: str, mu: float) -> None:
     """e_t and beta against the incidence angle, one line per speed."""
     from pathlib import Path
 
+    import numpy as np
+
     from calib.output import pyplot, save_figure
 
     plt = pyplot()
@@ -270,7 +364,8 @@ def plot_oblique(path: str, records: list[dict], law: str, mu: float) -> None:
     for speed in sorted({r["v_in"] for r in records}):
         rows = [r for r in records if r["v_in"] == speed and r["angle"] > 0.0]
         for ax, key in zip(axes, ("e_t", "beta")):
-            ax.plot([r["angle"] for r in rows], [r[key] for r in rows], marker="o", ms=3, label=f"{speed:g} m/s")
+            ax.plot([r["angle"] for r in rows], [np.nan if r[key] is None else r[key] for r in rows], marker="o",
+                    ms=3, label=f"{speed:g} m/s")
     for ax, label in zip(axes, ("e_t = v_t' / v_t (centre)", "beta = -V' / V (contact point)")):
         ax.set_xlabel("incidence angle from the normal [deg]")
         ax.set_ylabel(label)
