@@ -37,7 +37,7 @@ import numpy as np
 from nfdmodel import check_real
 
 __all__ = ["FlowCurve", "LinearHardening", "SwiftHardening", "LudwikHardening", "TabulatedFlowCurve",
-           "read_flow_curve", "flow_curve_from_record", "solve_consistency", "EXTRAPOLATIONS", "FLOW_CURVE_COLUMNS"]
+           "read_flow_curve", "flow_curve_from_record", "solve_consistency", "bracketed_newton", "EXTRAPOLATIONS", "FLOW_CURVE_COLUMNS"]
 
 #: the columns of a flow-curve CSV: equivalent (true) plastic strain [-], true stress [Pa]
 FLOW_CURVE_COLUMNS = ("plastic_strain", "stress")
@@ -46,6 +46,8 @@ EXTRAPOLATIONS = ("flat", "slope")
 # the Newton iteration stops at |residual| <= this fraction of q_trial (round-off of the stress)
 _NEWTON_TOLERANCE = 1e-14
 _NEWTON_MAX_ITERATIONS = 80
+# Newton steps before the bracket is only bisected
+_NEWTON_BEFORE_BISECTION = 20
 
 
 class FlowCurve:
@@ -91,26 +93,32 @@ def solve_consistency(q_trial, overstress, three_mu: float, modulus, flow_stress
     slope 3 mu + flow_modulus(dgamma) [Pa] from the start overstress / (3 mu + ``modulus``), safeguarded by
     bisection on [0, overstress / (3 mu)] (the root lies there as flow_stress never falls with dgamma).
     ``record()`` names the flow in the error of a return that does not converge."""
-    low, high = np.zeros_like(q_trial), overstress / three_mu
+    high = overstress / three_mu
     step = np.where(np.isfinite(modulus), overstress / (three_mu + np.where(np.isfinite(modulus), modulus, 0.0)),
                     0.5 * high)
-    dgamma = np.clip(step, low, high)
+    return bracketed_newton(lambda dgamma: q_trial - three_mu * dgamma - flow_stress(dgamma),
+                            lambda dgamma: three_mu + flow_modulus(dgamma), np.zeros_like(q_trial), high, step,
+                            q_trial, lambda: f"flow curve {record()}")
+
+
+def bracketed_newton(residual, slope, low, high, start, q_trial, name):
+    """The root x of a falling ``residual`` [Pa] in [``low``, ``high``] (arrays, one root per point) by Newton
+    with ``slope`` = -d residual / dx, bisecting where Newton leaves the bracket (an infinite slope, a
+    table's kink) and after a few iterations (a piecewise-linear curve can make Newton cycle between two
+    segments); converged at |residual| <= 1e-14 ``q_trial`` [Pa] or a bracket closed to round-off. An
+    ArithmeticError naming ``name()`` (the flow) if not converged in _NEWTON_MAX_ITERATIONS: the FE's
+    Newton then fails that iterate (calib.fe.newton)."""
+    x = np.clip(start, low, high)
     for iteration in range(_NEWTON_MAX_ITERATIONS):
-        residual = q_trial - three_mu * dgamma - flow_stress(dgamma)
-        if np.all(np.abs(residual) <= _NEWTON_TOLERANCE * q_trial):
-            break
-        low = np.where(residual > 0.0, dgamma, low)
-        high = np.where(residual < 0.0, dgamma, high)
-        slope = three_mu + flow_modulus(dgamma)
-        newton = dgamma + residual / slope
-        # bisect where Newton leaves the bracket (an infinite slope, a table's kink) and after
-        # a few iterations (a piecewise-linear curve can make Newton cycle between two segments)
-        inside = (newton > low) & (newton < high) & np.isfinite(newton) & (iteration < 20)
-        dgamma = np.where(inside, newton, 0.5 * (low + high))
-    else:
-        raise ArithmeticError(f"flow curve {record()}: the return mapping did not converge in "
-                              f"{_NEWTON_MAX_ITERATIONS} iterations")
-    return dgamma
+        value = residual(x)
+        if np.all((np.abs(value) <= _NEWTON_TOLERANCE * q_trial) | (high - low <= 4.0 * np.spacing(high))):
+            return x
+        low = np.where(value > 0.0, x, low)
+        high = np.where(value < 0.0, x, high)
+        newton = x + value / slope(x)
+        inside = (newton > low) & (newton < high) & np.isfinite(newton) & (iteration < _NEWTON_BEFORE_BISECTION)
+        x = np.where(inside, newton, 0.5 * (low + high))
+    raise ArithmeticError(f"{name()}: the return mapping did not converge in {_NEWTON_MAX_ITERATIONS} iterations")
 
 
 class LinearHardening(FlowCurve):

@@ -36,7 +36,7 @@ import math
 
 import numpy as np
 
-from calib.fe.flow_curve import FlowCurve, solve_consistency
+from calib.fe.flow_curve import FlowCurve, bracketed_newton, solve_consistency
 from nfdmodel import check_real
 
 __all__ = ["RateLaw", "JohnsonCookRate", "CowperSymondsRate", "RateDependentFlow", "rate_law_from_record",
@@ -188,29 +188,11 @@ class RateDependentFlow(FlowCurve):
                     + self.curve.yield_stress(eps_bar + dgamma))
 
         high = (overstress / (three_mu * scale)) ** (1.0 / q)
-        y = _bracketed_newton(residual, slope, np.zeros_like(high), high,
-                              np.minimum(overstress / self.curve.sigma_y, high), q_trial, self.record)
+        y = bracketed_newton(residual, slope, np.zeros_like(high), high,
+                             np.minimum(overstress / self.curve.sigma_y, high), q_trial,
+                             lambda: f"rate-dependent flow {self.record()}")
         return scale * y ** q
 
 
 # above it the effective plastic modulus is infinite for the tangent (H_eff / (3 mu + H_eff) = 1 in floats)
 _MODULUS_CAP = 1e300
-_NEWTON_TOLERANCE = 1e-14           # |f| <= this fraction of q_trial, as calib.fe.flow_curve's
-_NEWTON_MAX_ITERATIONS = 100
-
-
-def _bracketed_newton(residual, slope, low, high, start, q_trial, record):
-    """The root of a falling ``residual`` [Pa] in [low, high] by Newton (``slope`` = -d residual / dx), bisecting
-    where Newton leaves the bracket; |residual| <= 1e-14 q_trial, or the bracket closed to round-off."""
-    x = np.clip(start, low, high)
-    for iteration in range(_NEWTON_MAX_ITERATIONS):
-        value = residual(x)
-        if np.all((np.abs(value) <= _NEWTON_TOLERANCE * q_trial) | (high - low <= 4.0 * np.spacing(high))):
-            return x
-        low = np.where(value > 0.0, x, low)
-        high = np.where(value < 0.0, x, high)
-        newton = x + value / slope(x)
-        inside = (newton > low) & (newton < high) & np.isfinite(newton) & (iteration < 40)
-        x = np.where(inside, newton, 0.5 * (low + high))
-    raise ArithmeticError(f"rate-dependent flow {record()}: the return mapping did not converge in "
-                          f"{_NEWTON_MAX_ITERATIONS} iterations")
