@@ -185,8 +185,8 @@ def fit_or_cause(data, specimen, table, model: str, sigma_y, force: bool):
     if "sigma_y" in choice.result.spec.free and se is not None and 2 * Z95 * se > value:
         # an interval wider than the value is no fit, --force or not
         raise ValueError(f"the data do not determine sigma_Y: {value:.4g} Pa +- {100 * se / value:.2g} % (standard "
-                         f"error), its 95 % interval wider than the value; "
-                         f"{diagnosis.likely_cause(data, specimen, table, model, sigma_y)}; nothing written")
+                         f"error), its 95 % interval wider than the value; more tests over a wider range of loads "
+                         f"(drop tests from 2 to 100 v_Y, or a force-approach curve) would; nothing written")
     if scatter.plausible:
         return choice, ""
     message = diagnosis.implausible_fit_message(scatter, choice.used,
@@ -312,6 +312,9 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
     if why:
         raise ValueError(f"{', '.join(data.files)}: {why}; {table_refusal.likely_cause(data, specimen, table, noise)}; "
                          f"nothing written")
+    why = table_refusal.undetermined(result)
+    if why:
+        raise ValueError(f"{', '.join(data.files)}: {why}")
     law = result.law
     window = law.window
     # the data's loads at the point estimate, within the law's model-form uncertainty of the edge

@@ -26,8 +26,8 @@ uncertainty in ln sigma_Y (0.45 %: 2.7 %). The default law leaves the drop tests
 the fit (named in the summary) and refits, until the set is stable; fewer than ``MIN_TESTS``
 inside: refused.
 
-**Likely cause.** Each column rescaled as calib.fit.measured.diagnosis tries it; a rescaled data
-set is plausible when some sigma_Y in the table passes the ceiling: sum_g chi2_g minimized over
+**Likely cause** (of residuals above the ceiling, or of data the fit refuses). Each column rescaled as calib.fit.measured.diagnosis tries it; a rescaled data
+set is plausible when some sigma_Y inside the table (not on its edge) passes the ceiling: sum_g chi2_g minimized over
 ln sigma_Y (a ``SCAN``-point scan over the table, each trial law built once for every rescaling,
 then one parabolic step about the best point: the verdict needs the minimum's level, not its place).
 """
@@ -75,7 +75,7 @@ def ceiling_excess(groups: dict, ceiling: dict) -> list[str]:
 
 
 def refusal(result: TableLawFit, table: VZMasterTable, noise: float | None) -> str:
-    """Why ``result`` is no fit (module doc: the ceiling, then the interval), "" when it is one."""
+    """Why ``result`` is no fit (module doc: the residual ceiling), "" when it is one."""
     kind = result.uncertainty["kind"]
     excess = ceiling_excess(result.residuals, ceilings(table, kind, result.residuals, noise))
     if excess:
@@ -83,10 +83,16 @@ def refusal(result: TableLawFit, table: VZMasterTable, noise: float | None) -> s
                 "the largest plausible scatter (--noise states the data's own)")
         return (f"the vz-table law does not fit these data: residuals far above the law's measured level and "
                 f"{said}: {'; '.join(excess)}")
+    return ""
+
+
+def undetermined(result: TableLawFit) -> str:
+    """Why the data do not determine sigma_Y (module doc: an interval wider than the value), "" when they do."""
     low, high = result.interval95
     if high - low > result.sigma_y:
         return (f"the data do not determine sigma_Y: its 95 % interval {low:.4g}..{high:.4g} Pa is wider than the "
-                f"value {result.sigma_y:.4g} Pa")
+                f"value {result.sigma_y:.4g} Pa; more tests over a wider range of loads (drop tests from 2 to 100 "
+                f"v_Y, or a force-approach curve) would; nothing written")
     return ""
 
 
@@ -175,8 +181,8 @@ def likely_cause(data: Measurements, specimen: Specimen, table: VZMasterTable, n
 
         costs = np.array([cost(t) for t in grid])
         i = int(np.argmin(costs))
-        if not costs[i] < PRESCREEN * sum(thresholds.values()):
-            return None
+        if not costs[i] < PRESCREEN * sum(thresholds.values()) or i in (0, SCAN - 1):
+            return None                     # far off, or best on the table's edge: no fit
         theta = float(grid[i])
         if 0 < i < SCAN - 1 and np.isfinite(costs[i - 1:i + 2]).all():     # one parabolic step about the scan's best
             left, mid, right = costs[i - 1:i + 2]
