@@ -34,8 +34,8 @@ the file, the row and the column (exit 2). Data the law cannot fit are refused (
 nothing written) with their likely cause (calib.fit.measured.diagnosis: a column in other
 units, swapped columns, a wrong material): a fit at the edge of the model's range, data all
 below first yield, and a residual far above any plausible scatter (calib.fit.measured.scatter);
---force reports and writes such a fit, flagged. A 95 % interval of sigma_Y wider than its value
-is refused, --force or not. Repeated v_in are evaluated once and many
+--force reports and writes such a fit, flagged; likewise a fit whose 95 % interval of sigma_Y
+is wider than its value. Repeated v_in are evaluated once and many
 distinct ones interpolated (calib.fit.measured.specimen), so 100k rows fit in seconds.
 """
 from __future__ import annotations
@@ -181,19 +181,22 @@ def fit_or_cause(data, specimen, table, model: str, sigma_y, force: bool):
     except DataMismatch as exc:
         raise ValueError(f"{exc}; {diagnosis.likely_cause(data, specimen, table, model, sigma_y)}") from None
     scatter = choice.result.scatter
+    warning = ""
+    if not scatter.plausible:
+        warning = diagnosis.implausible_fit_message(scatter, choice.used,
+                                                    diagnosis.likely_cause(data, specimen, table, model, sigma_y))
+        if not force:
+            raise ValueError(f"{warning}; nothing written (--force reports and writes this fit anyway)")
     value, se = choice.result.values["sigma_y"], choice.result.standard_errors.get("sigma_y")
     if "sigma_y" in choice.result.spec.free and se is not None and 2 * Z95 * se > value:
-        # an interval wider than the value is no fit, --force or not
-        raise ValueError(f"the data do not determine sigma_Y: {value:.4g} Pa +- {100 * se / value:.2g} % (standard "
-                         f"error), its 95 % interval wider than the value; more tests over a wider range of loads "
-                         f"(drop tests from 2 to 100 v_Y, or a force-approach curve) would; nothing written")
-    if scatter.plausible:
-        return choice, ""
-    message = diagnosis.implausible_fit_message(scatter, choice.used,
-                                                diagnosis.likely_cause(data, specimen, table, model, sigma_y))
-    if not force:
-        raise ValueError(f"{message}; nothing written (--force reports and writes this fit anyway)")
-    return choice, message
+        # an interval wider than the value is no fit
+        wide = (f"the data do not determine sigma_Y: {value:.4g} Pa +- {100 * se / value:.2g} % (standard error), its "
+                f"95 % interval wider than the value; more tests over a wider range of loads (drop tests from 2 to "
+                f"100 v_Y, or a force-approach curve) would")
+        if not force:
+            raise ValueError(f"{wide}; nothing written (--force reports and writes this fit anyway)")
+        warning = f"{warning}; {wide}" if warning else wide
+    return choice, warning
 
 
 def run(ns) -> int:
