@@ -87,7 +87,7 @@ def test_a_wrong_specimen_is_refused_by_the_residual_ceiling(tmp_path, capsys, c
     assert not params_out.exists()
 
 
-@pytest.mark.parametrize("e_first", [None, 1.00008, 1.001])
+@pytest.mark.parametrize("e_first", [None, 1.00008])
 def test_the_documented_round_trip_recovers_the_fe_s_sigma_y(tmp_path, capsys, e_first):
     """``nfdcal fit-data --impacts results/impact/drop_tests.csv`` (the FE's impacts, sigma_Y 1e8 Pa):
     before, refused (the 0.503 m/s test reaches 575 P_Y, beyond the table's 250; an FE's e 1.00008 at
@@ -100,8 +100,10 @@ def test_the_documented_round_trip_recovers_the_fe_s_sigma_y(tmp_path, capsys, e
     assert out["sigma_y_interval95"][0] <= TRUTH <= out["sigma_y_interval95"][1]
     assert [t["row"] for t in out["left_out"]] == [7] and out["left_out"][0]["P_over_P_Y"] > 250
     assert out["e_above_1"] == ([] if e_first is None else [e_first])
-    assert main(["fit-data", "--impacts", str(path), *ALUMINIUM]) == 0
-    assert "left out: row(s) 7" in capsys.readouterr().out
+    if e_first is not None:
+        assert main(["fit-data", "--impacts", str(path), *ALUMINIUM]) == 0
+        text = capsys.readouterr().out
+        assert "left out: row(s) 7" in text and "e above 1: 1 test(s), up to 1.00008" in text
 
 
 def test_an_e_beyond_round_off_is_refused_naming_the_cell(tmp_path, capsys):
