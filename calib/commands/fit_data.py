@@ -48,6 +48,10 @@ SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
 OUTSIDE_ADVICE = ("--law vz fits the two-constant law (sigma_Y biased against the FE: results/fit_data/fe_benchmark)")
 
+# e alone fixes v_in / v_Y (v_Y ~ sigma_Y^(5/2)): a v_in slip is a sigma_Y slip, invisible in the residual
+E_ONLY = ("e alone fixes only v_in / v_Y (v_Y ~ sigma_Y^(5/2)): v_in in other units moves sigma_Y by that factor^(2/5) "
+          "(cm/s: x6.3, mm/s: x15.8) with no sign in the residual; a P_max or contact_time column checks the units")
+
 
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves",
@@ -344,6 +348,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                "residuals": {k: v.tolist() for k, v in result.residuals.items()},
                "consistent": result.consistent, "verdict": result.verdict, "noise": noise,
                "left_out": left_out, "e_above_1": above_one,
+               **({"note": E_ONLY} if result.uncertainty["kind"] == "drops e" else {}),
                "data_window_P_over_P_Y": list(result.data_window), "law_window": law.window.record(),
                "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
                "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
@@ -376,6 +381,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
              + (" (the data reach outside it: there the law is not measured)" if outside else ""),
              *([f"left out: row(s) {', '.join(str(t['row']) for t in left_out)} (P/P_Y {loads_out}): outside the "
                 f"law's measured window; --law vz-table fits every test, beyond the window too"] if left_out else []),
+             *([f"note: {E_ONLY}"] if result.uncertainty["kind"] == "drops e" else []),
              *([f"e above 1: {len(above_one)} test(s), up to {max(above_one):.6g}: kept as measured (accepted up "
                 f"to 1 + {E_ROUND_OFF:g}: round-off about an elastic impact)"] if above_one else []),
              f"rms residual: " + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()),
