@@ -309,7 +309,10 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
-    table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table, before the data
+    try:
+        table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table, before the data
+    except ValueError as exc:
+        raise ValueError(f"{exc}; {OUTSIDE_ADVICE}" if default else str(exc)) from None
     try:
         result, used, left_out = table_refusal.fit_in_window(data, specimen, table, sigma_y, noise, default)
     except ValueError as exc:
