@@ -7,17 +7,13 @@ material (tests/data/vz_master_fe.json, sigma_Y 1e8 Pa). Each class over several
 a column in other units is refused in one line naming the column and the unit (exit 2, nothing
 written); a wrong specimen (density, two spheres) leaves residuals far above the ceiling and is
 refused naming the flags; the documented round trip (the FE's own drop tests) recovers the FE's
-sigma_Y, leaving out the test beyond the law's window and accepting e up to 1.001; the
-unit-factor fuzzer (tests/fuzzing.py) on a sample of its cases.
+sigma_Y, leaving out the test beyond the law's window and accepting e up to 1.001 (the
+unit-factor fuzzer of every column: tests/test_fuzz.py).
 """
 import json
-import random
-import re
-import tempfile
 from pathlib import Path
 
 import pytest
-from fuzzing import fit_data_argv, fit_data_cases, run_fit_data_case
 
 from calib.cli import main
 
@@ -116,20 +112,6 @@ def test_given_the_vz_table_law_every_test_is_fitted(tmp_path, capsys):
     assert main(["fit-data", "--impacts", str(DROPS), *ALUMINIUM, "--law", "vz-table", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["left_out"] == [] and len(out["residuals"]["e"]) == 7
-
-
-# the unit-factor fuzzer: a sample of its (data kind, column, factor) cases each run (all of them:
-# .venv/bin/python tests/benchmarks/fuzz_cli.py --fit-data)
-SAMPLE = random.Random(37).sample(fit_data_cases(), 2)
-
-
-@pytest.mark.parametrize("case", SAMPLE, ids=[c.name for c in SAMPLE])
-def test_fit_data_with_a_column_off_by_a_unit_factor_is_right_or_refused_naming_it(case):
-    with tempfile.TemporaryDirectory() as sandbox:
-        verdict, outcome = run_fit_data_case(case, Path(sandbox))
-    assert not verdict.startswith("FAIL"), (verdict, fit_data_argv(case).argv, outcome.stderr[-800:])
-    if verdict == "refused":
-        assert re.search(rf"column '?{case.column}\b", outcome.stderr)
 
 
 def test_drop_tests_of_e_alone_say_that_a_v_in_slip_cannot_be_seen(tmp_path, capsys):
