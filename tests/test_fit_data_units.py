@@ -122,3 +122,53 @@ def test_drop_tests_of_e_alone_say_that_a_v_in_slip_cannot_be_seen(tmp_path, cap
     path.write_text("v_in,e\n" + "".join(",".join(line.split(",")[:2]) + "\n" for line in lines[1:]))
     assert main(["fit-data", "--impacts", str(path), *ALUMINIUM]) == 0
     assert "note: e alone fixes only v_in / v_Y" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("law", ["vz-table", "vz"])
+def test_an_interval_wider_than_the_value_is_no_fit_for_every_law(tmp_path, capsys, law):
+    """Three drop tests at nearly one speed scattered by 10 % (plausible scatter): before, exit 0 with
+    sigma_Y 6.85e7 Pa +- 37 % (vz) and 7.12e7 Pa, interval 2.4e7..7.0e8 Pa (vz-table); now refused."""
+    path = tmp_path / "three.csv"
+    path.write_text("v_in,e\n0.0034,0.99\n0.0035,0.80\n0.0036,0.98\n")
+    params_out = tmp_path / "p.json"
+    code, out, err = run(["--law", law, "--impacts", str(path), *ALUMINIUM, "--params-out", str(params_out)], capsys)
+    assert_refused(code, out, err, "do not determine sigma_Y", "nothing written")
+    assert not params_out.exists()
+
+
+@pytest.fixture(scope="module")
+def fe_force():
+    """The FE force-approach curve of the off-grid material nu 0.42, E/sigma_Y 700 (sigma_Y 1e8 Pa)."""
+    from calib.fit.vz_master_check import fe_datasets
+    from calib.fit.vz_master_table import VZMasterTable
+
+    row = json.loads((ROOT / "tests" / "data" / "vz_master_fe.json").read_text(encoding="utf-8"))["rows"][0]
+    sets = fe_datasets(row, VZMasterTable.load())
+    s = sets["specimen"]
+    return sets["force"], ["--E", repr(s.E), "--nu", repr(s.nu), "--R", repr(s.R), "--rho", repr(s.rho)]
+
+
+FORCE_CURVES = [   # before: as made refused (its loading rows below 2 P_Y "outside the window"); in mN exit 0,
+    ("as made", {}, []),                                   # a parameter file, 5.343e8 Pa +- 8.9e5 %
+    ("force in mN", {"force": 1e3}, ["column force looks like mN"]),
+    ("approach in mm", {"approach": 1e3}, ["column approach looks like mm"]),
+]
+
+
+@pytest.mark.parametrize("case, scale, named", FORCE_CURVES, ids=[c[0] for c in FORCE_CURVES])
+def test_an_fe_force_curve_is_fitted_or_its_unit_slip_named(tmp_path, capsys, fe_force, case, scale, named):
+    (approach, force), flags = fe_force
+    path = tmp_path / "press.csv"
+    path.write_text("approach,force\n" + "".join(f"{float(a) * scale.get('approach', 1.0)!r},"
+                                                 f"{float(f) * scale.get('force', 1.0)!r}\n"
+                                                 for a, f in zip(approach, force)))
+    params_out = tmp_path / "p.json"
+    code, out, err = run(["--force-approach", str(path), *flags, "--params-out", str(params_out), "--json"], capsys)
+    if not named:
+        assert code == 0, err
+        result = json.loads(out)
+        assert abs(result["sigma_y"] / TRUTH - 1) < 0.02
+        assert result["sigma_y_interval95"][0] <= TRUTH <= result["sigma_y_interval95"][1]
+        return
+    assert_refused(code, out, err, "likely cause", *named)
+    assert not params_out.exists()
