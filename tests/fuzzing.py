@@ -523,3 +523,113 @@ def run_case(case: Case, sandbox: Path, timeout_s: float = 60.0) -> Outcome:
     kind = judge(case, sandbox, code, stdout.getvalue(), stderr.getvalue(), before, after)
     return Outcome(kind, code, stdout.getvalue(), stderr.getvalue())
 
+
+
+# ----------------------------------------------------------------------------- fit-data: unit factors
+# Every column of each data kind multiplied by a factor 1e-3..1e3 (1: the data as made). FE data the
+# law never made: the FE's drop tests of results/impact/drop_tests.csv (v_in, e, P_max, contact_time;
+# aluminium, sigma_Y 1e8 Pa), the FE drop tests and force-approach curve of an off-grid material
+# (tests/data/vz_master_fe.json); for the two-constant law (--law vz, biased against the FE) drop
+# tests of that law itself with 2 % noise. Expected: sigma_Y inside its reported 95 % interval,
+# which contains the truth, or one line (exit 2) naming the column.
+UNIT_FACTORS = (1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3)
+FIT_DATA_KINDS = {"drops e+P+t": ("v_in", "e", "P_max", "contact_time"), "drops e+P": ("v_in", "e", "P_max"),
+                  "force": ("approach", "force"), "vz drops e+P": ("v_in", "e", "P_max")}
+FIT_DATA_TRUTH = 1e8             # sigma_Y [Pa] of every data kind's material
+
+
+@dataclass
+class FitDataCase:
+    kind: str
+    column: str
+    factor: float
+
+    @property
+    def name(self) -> str:
+        return f"{self.kind}: {self.column} x {self.factor:g}"
+
+
+def fit_data_cases() -> list[FitDataCase]:
+    """Every (data kind, column, factor) once; factor 1 once per kind."""
+    return [FitDataCase(kind, column, factor) for kind, columns in FIT_DATA_KINDS.items()
+            for column in columns for factor in UNIT_FACTORS if factor != 1.0 or column == columns[0]]
+
+
+FIT_DATA_SOURCES = {}
+
+
+def fit_data_source(kind: str) -> tuple[dict, list[str]]:
+    """The unscaled columns of ``kind`` and its specimen's flags (made once)."""
+    if kind in FIT_DATA_SOURCES:
+        return FIT_DATA_SOURCES[kind]
+    import numpy as np
+
+    root = Path(__file__).resolve().parent
+    if kind == "drops e+P+t":
+        lines = [line for line in (root.parent / "results" / "impact" / "drop_tests.csv").read_text().splitlines()
+                 if line and not line.startswith("#")]
+        header = lines[0].split(",")
+        values = {name: np.array([float(line.split(",")[k]) for line in lines[1:]]) for k, name in enumerate(header)}
+        flags = ["--E", "7e10", "--nu", "0.3", "--R", "0.1", "--rho", "2699"]
+    elif kind == "vz drops e+P":
+        from calib.fit.master_table import MasterTable
+        from calib.fit.measured.specimen import Specimen, law_parameters, predict_impacts
+
+        truth = law_parameters(Specimen(70e9, 0.3, 0.1, 2699.0), {"sigma_y": FIT_DATA_TRUTH}, MasterTable.load())
+        v = truth.pair.v_Y * np.geomspace(2.0, 100.0, 12)
+        rng = np.random.default_rng(7)
+        exact = predict_impacts(truth, v)
+        values = {"v_in": v, "e": np.minimum(exact["e"] * (1 + 0.02 * rng.standard_normal(v.size)), 1.0),
+                  "P_max": exact["P_max"] * (1 + 0.02 * rng.standard_normal(v.size))}
+        flags = ["--law", "vz", "--E", "7e10", "--nu", "0.3", "--R", "0.1", "--rho", "2699"]
+    else:
+        from calib.fit.vz_master_check import fe_datasets
+        from calib.fit.vz_master_table import VZMasterTable
+
+        row = json.loads((root / "data" / "vz_master_fe.json").read_text(encoding="utf-8"))["rows"][0]
+        sets = fe_datasets(row, VZMasterTable.load())
+        assert sets["sigma_y"] == FIT_DATA_TRUTH
+        values = dict(sets["drops"]) if kind != "force" else dict(zip(("approach", "force"), sets["force"]))
+        s = sets["specimen"]
+        flags = ["--E", repr(s.E), "--nu", repr(s.nu), "--R", repr(s.R), "--rho", repr(s.rho)]
+    FIT_DATA_SOURCES[kind] = (values, flags)
+    return FIT_DATA_SOURCES[kind]
+
+
+def fit_data_argv(case: FitDataCase) -> Case:
+    """The command line and its data file, ``case.column`` multiplied by ``case.factor``."""
+    values, flags = fit_data_source(case.kind)
+    columns = FIT_DATA_KINDS[case.kind]
+    rows = [",".join(columns)] + [",".join(repr(float(values[c][i]) * (case.factor if c == case.column else 1.0))
+                                           for c in columns) for i in range(len(values[columns[0]]))]
+    name = "approach.csv" if case.kind == "force" else "impacts.csv"
+    flag = "--force-approach" if case.kind == "force" else "--impacts"
+    return Case([("fit-data"), flag, name, *flags, "--json", "--params-out", "out/p.json"],
+                {name: "\n".join(rows) + "\n"})
+
+
+def judge_fit_data(case: FitDataCase, outcome: Outcome) -> str:
+    """"success" (sigma_Y inside its 95 % interval, which holds the truth), "refused" (one line naming
+    the column) or "FAIL: <why>"."""
+    if outcome.failed:
+        return outcome.kind
+    if outcome.kind == "clean error":
+        line = [x for x in outcome.stderr.splitlines() if ": error: " in x][0]
+        if case.factor == 1.0:
+            return f"FAIL: data as made refused: {line[:300]}"
+        if not re.search(rf"column '?{case.column}\b", line):
+            return f"FAIL: refused without naming the column {case.column}: {line[:300]}"
+        return "refused"
+    out = json.loads(outcome.stdout)
+    if "sigma_y_interval95" in out:
+        low, high = out["sigma_y_interval95"]
+    else:
+        low, high = out["sigma_y"] - 1.96 * out["sigma_y_se"], out["sigma_y"] + 1.96 * out["sigma_y_se"]
+    if not (low <= out["sigma_y"] <= high and low <= FIT_DATA_TRUTH <= high):
+        return f"FAIL: exit 0, sigma_Y {out['sigma_y']:.4g} Pa, interval {low:.4g}..{high:.4g} (truth {FIT_DATA_TRUTH:g})"
+    return "success"
+
+
+def run_fit_data_case(case: FitDataCase, sandbox: Path, timeout_s: float = 120.0) -> tuple[str, Outcome]:
+    outcome = run_case(fit_data_argv(case), sandbox, timeout_s)
+    return judge_fit_data(case, outcome), outcome

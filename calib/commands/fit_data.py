@@ -11,10 +11,15 @@ The default law (``--law vz-table``): the constrained model on the load-dependen
 master table (calib.fit.measured.table_law: a_p/a_Y and C_R against P/P_Y from FE paths over the
 whole window), sigma_Y alone, its standard error and 95 % interval including the law's model-form
 error measured against off-grid FE; --noise states the data's relative noise, against which
-(with the model-form level) the residual is judged. When the law is not given and the data lie
-outside the vz master table (nu, the fitted E/sigma_Y, or the data's loads P/P_Y beyond the
-window the table measured there), fit-data refuses with one line (exit 2) naming which and
-``--law vz``: the two-constant law is biased against the FE by +13 % (drop tests) to +35 %
+(with the model-form level) the residual is judged. A fit whose residuals lie far above the
+law's measured level and the stated noise (none stated: the largest plausible scatter), or whose
+95 % interval is wider than sigma_Y, is no fit: refused in one line (exit 2, nothing written)
+with the likely cause (calib.fit.measured.table_refusal: a column in other units, a wrong
+specimen). Drop tests whose loads P/P_Y at the fitted sigma_Y lie outside the window the table
+measured are left out of the default fit and named; an e up to 1.001 (an FE's round-off about an
+elastic impact) is kept as measured. When the law is not given and the data lie outside the vz
+master table (nu, the fitted E/sigma_Y, fewer than two drop tests or a force curve's peak inside
+the window), fit-data refuses with one line (exit 2) naming which and ``--law vz``: the two-constant law is biased against the FE by +13 % (drop tests) to +35 %
 (force curves) on sigma_Y with intervals that miss the truth (results/fit_data/fe_benchmark),
 so it is used only when asked for, never as a silent substitute. Given ``--law vz-table``
 explicitly, data reaching beyond the table's window are fitted and the summary says so.
@@ -29,12 +34,12 @@ the file, the row and the column (exit 2). Data the law cannot fit are refused (
 nothing written) with their likely cause (calib.fit.measured.diagnosis: a column in other
 units, swapped columns, a wrong material): a fit at the edge of the model's range, data all
 below first yield, and a residual far above any plausible scatter (calib.fit.measured.scatter);
---force reports and writes such a fit, flagged. Repeated v_in are evaluated once and many
+--force reports and writes such a fit, flagged; likewise a fit whose 95 % interval of sigma_Y
+is wider than its value. Repeated v_in are evaluated once and many
 distinct ones interpolated (calib.fit.measured.specimen), so 100k rows fit in seconds.
 """
 from __future__ import annotations
 
-import math
 import time
 
 from calib.commands.common import MATERIAL_RANGES, add_summary_arguments, flag_name, number, print_summary
@@ -42,6 +47,10 @@ from calib.commands.common import MATERIAL_RANGES, add_summary_arguments, flag_n
 SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
 OUTSIDE_ADVICE = ("--law vz fits the two-constant law (sigma_Y biased against the FE: results/fit_data/fe_benchmark)")
+
+# e alone fixes v_in / v_Y (v_Y ~ sigma_Y^(5/2)): a v_in slip is a sigma_Y slip, invisible in the residual
+E_ONLY = ("e alone fixes only v_in / v_Y (v_Y ~ sigma_Y^(5/2)): v_in in other units moves sigma_Y by that factor^(2/5) "
+          "(cm/s: x6.3, mm/s: x15.8) with no sign in the residual; a P_max or contact_time column checks the units")
 
 
 def add_parser(subparsers) -> None:
@@ -167,6 +176,7 @@ def fit_or_cause(data, specimen, table, model: str, sigma_y, force: bool):
     with --force (else ""). Data the law cannot fit: a ValueError naming the likely cause
     (calib.fit.measured.diagnosis), unless ``force`` accepts a fit far above plausible scatter."""
     from calib.fit.measured import diagnosis
+    from calib.fit.measured.interval import Z95
     from calib.fit.measured.models import fit_measurements
     from calib.fit.measured.regression import DataMismatch
 
@@ -175,13 +185,22 @@ def fit_or_cause(data, specimen, table, model: str, sigma_y, force: bool):
     except DataMismatch as exc:
         raise ValueError(f"{exc}; {diagnosis.likely_cause(data, specimen, table, model, sigma_y)}") from None
     scatter = choice.result.scatter
-    if scatter.plausible:
-        return choice, ""
-    message = diagnosis.implausible_fit_message(scatter, choice.used,
-                                                diagnosis.likely_cause(data, specimen, table, model, sigma_y))
-    if not force:
-        raise ValueError(f"{message}; nothing written (--force reports and writes this fit anyway)")
-    return choice, message
+    warning = ""
+    if not scatter.plausible:
+        warning = diagnosis.implausible_fit_message(scatter, choice.used,
+                                                    diagnosis.likely_cause(data, specimen, table, model, sigma_y))
+        if not force:
+            raise ValueError(f"{warning}; nothing written (--force reports and writes this fit anyway)")
+    value, se = choice.result.values["sigma_y"], choice.result.standard_errors.get("sigma_y")
+    if "sigma_y" in choice.result.spec.free and se is not None and 2 * Z95 * se > value:
+        # an interval wider than the value is no fit
+        wide = (f"the data do not determine sigma_Y: {value:.4g} Pa +- {100 * se / value:.2g} % (standard error), its "
+                f"95 % interval wider than the value; more tests over a wider range of loads (drop tests from 2 to "
+                f"100 v_Y, or a force-approach curve) would")
+        if not force:
+            raise ValueError(f"{wide}; nothing written (--force reports and writes this fit anyway)")
+        warning = f"{warning}; {wide}" if warning else wide
+    return choice, warning
 
 
 def run(ns) -> int:
@@ -276,7 +295,8 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
     refused naming ``--law vz`` (module doc)."""
     from calib import output
     from calib.fit.measured import data as measured_data
-    from calib.fit.measured.table_law import fit
+    from calib.fit.measured import table_refusal
+    from calib.fit.measured.data import E_ROUND_OFF
     from calib.fit.vz_master_table import VZMasterTable
 
     default = ns.law is None
@@ -290,23 +310,36 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
     try:
-        result = fit(data, specimen, table, sigma_y, noise)
+        table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table, before the data
     except ValueError as exc:
-        if not default:
-            raise
-        raise ValueError(f"{exc}; {OUTSIDE_ADVICE}") from None
+        raise ValueError(f"{exc}; {OUTSIDE_ADVICE}" if default else str(exc)) from None
+    try:
+        result, used, left_out = table_refusal.fit_in_window(data, specimen, table, sigma_y, noise, default)
+    except ValueError as exc:
+        raise ValueError(f"{exc}; {table_refusal.likely_cause(data, specimen, table, noise)}"
+                         + (f"; {OUTSIDE_ADVICE}" if default else "")) from None
+    why = table_refusal.refusal(result, table, noise)
+    if why:
+        raise ValueError(f"{', '.join(data.files)}: {why}; {table_refusal.likely_cause(data, specimen, table, noise)}; "
+                         f"nothing written")
+    why = table_refusal.undetermined(result)
+    if why:
+        raise ValueError(f"{', '.join(data.files)}: {why}")
     law = result.law
     window = law.window
-    # The data's loads P/P_Y are known only as well as P_Y ~ sigma_Y^3: a test at the window's edge
-    # lies inside it somewhere in sigma_Y's 95 % interval.
-    edge = 3.0 * max(math.log(result.interval95[1] / result.sigma_y), math.log(result.sigma_y / result.interval95[0]))
-    outside = (result.data_window[1] > window.P_max_over_P_Y * math.exp(edge) * (1 + 1e-9)
-               or result.data_window[0] < window.P_min_over_P_Y * math.exp(-edge) * (1 - 1e-9))
+    # the data's loads at the point estimate, within the law's model-form uncertainty of the edge
+    # (calib.fit.measured.table_refusal), never widened by the fit's own interval
+    factor = table_refusal.tolerance(result)
+    outside = (result.data_window[1] > window.P_max_over_P_Y * factor
+               or result.data_window[0] < window.P_min_over_P_Y / factor)
     if default and outside:
         raise ValueError(f"{', '.join(data.files)}: the data's loads P/P_Y {result.data_window[0]:.3g}.."
                          f"{result.data_window[1]:.4g} reach outside the vz master table's window "
-                         f"{window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} at this material; --law vz-table "
-                         f"fits them on the table's law beyond its measured window, {OUTSIDE_ADVICE}")
+                         f"{window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} at this material"
+                         + (f" (fewer than {table_refusal.MIN_TESTS} drop tests inside)" if data.impacts is not None
+                            else "") + f"; --law vz-table fits them on the table's law beyond its measured window, "
+                         f"{OUTSIDE_ADVICE}")
+    above_one = [float(x) for x in data.impacts.e if x > 1.0] if data.impacts is not None else []
     pair = law.pair
     low, high = result.interval95
     summary = {"law": "vz-table", "law_from": "default" if default else "--law",
@@ -317,6 +350,8 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                "rms_residual_by_group": {k: float((v @ v / v.size) ** 0.5) for k, v in result.residuals.items()},
                "residuals": {k: v.tolist() for k, v in result.residuals.items()},
                "consistent": result.consistent, "verdict": result.verdict, "noise": noise,
+               "left_out": left_out, "e_above_1": above_one,
+               **({"note": E_ONLY} if result.uncertainty["kind"] == "drops e" else {}),
                "data_window_P_over_P_Y": list(result.data_window), "law_window": law.window.record(),
                "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
                "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
@@ -334,6 +369,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                               "sigma_y_se": result.se, "sigma_y_interval95": [low, high], "verdict": result.verdict},
                              output.stamp(time.perf_counter() - started))
         summary["params_out"] = ns.params_out
+    loads_out = ", ".join(f"{t['P_over_P_Y']:.4g}" for t in left_out)
     lines = [f"law: vz-table (the vz master table's load-dependent law; "
              + ("the default" if default else "--law vz-table") + ")",
              f"vz-table model (vz master table) fitted to {', '.join(f'{v.size} {k}' for k, v in result.residuals.items())} "
@@ -346,6 +382,11 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
              f"data window: P/P_Y {result.data_window[0]:.3g}..{result.data_window[1]:.4g}; the law's measured window "
              f"{window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g}"
              + (" (the data reach outside it: there the law is not measured)" if outside else ""),
+             *([f"left out: row(s) {', '.join(str(t['row']) for t in left_out)} (P/P_Y {loads_out}): outside the "
+                f"law's measured window; --law vz-table fits every test, beyond the window too"] if left_out else []),
+             *([f"note: {E_ONLY}"] if result.uncertainty["kind"] == "drops e" else []),
+             *([f"e above 1: {len(above_one)} test(s), up to {max(above_one):.6g}: kept as measured (accepted up "
+                f"to 1 + {E_ROUND_OFF:g}: round-off about an elastic impact)"] if above_one else []),
              f"rms residual: " + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()),
              f"model: {result.verdict}",
              f"table accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else [])

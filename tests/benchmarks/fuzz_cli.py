@@ -1,12 +1,15 @@
 """The command-line fuzzer at scale (a script that prints a table; not collected by pytest).
 
     .venv/bin/python tests/benchmarks/fuzz_cli.py [--cases 3000] [--seed 0] [--out results/stability]
+    .venv/bin/python tests/benchmarks/fuzz_cli.py --fit-data    # fit-data's unit factors, every case
 
 Draws ``--cases`` cases from tests/fuzzing.py (argument lists of every command, fuzzed scenes and
 parameter files; the FE commands with --dry-run), runs each in a fresh sandbox and counts the
 outcomes per command: successes, clean errors (one line, exit code 2) and failures (a traceback,
 another exit code, NaN or inf in a written file, a file touched outside the output paths, a
-hang). Writes OUT/fuzz.csv (one row per command) and OUT/fuzz.json (the counts, the failures
+hang). ``--fit-data`` runs instead every case of fit-data's unit-factor fuzzer (tests/fuzzing.py:
+each column of each data kind multiplied by 1e-3..1e3; a success must hold the truth in its
+interval, a refusal must name the column) and prints one line per case. Writes OUT/fuzz.csv (one row per command) and OUT/fuzz.json (the counts, the failures
 with their argument lists, the stamp). Exit code 1 if any case failed.
 """
 from __future__ import annotations
@@ -20,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))   # tests/: the fuzzer's grammar
 
-from fuzzing import command_case, run_case  # noqa: E402
+from fuzzing import command_case, fit_data_cases, run_case, run_fit_data_case  # noqa: E402
 from hypothesis import HealthCheck, given, seed, settings  # noqa: E402
 
 from calib import output  # noqa: E402
@@ -32,7 +35,10 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds before a case counts as a hang")
     parser.add_argument("--out", default="results/stability")
+    parser.add_argument("--fit-data", action="store_true", help="fit-data's unit-factor cases instead")
     args = parser.parse_args(argv)
+    if args.fit_data:
+        return fit_data(args.timeout)
 
     counts = collections.defaultdict(collections.Counter)
     failures, slowest = [], (0.0, None)
@@ -74,6 +80,19 @@ def main(argv=None) -> int:
     output.write_json(out / "fuzz.json", {"rows": rows, "failures": failures, "slowest_case_s": slowest[0],
                                           "stamp": stamp})
     return 1 if failures else 0
+
+
+def fit_data(timeout_s: float) -> int:
+    """Every case of fit-data's unit-factor fuzzer, one line each; 1 if any failed."""
+    failed = 0
+    for case in fit_data_cases():
+        t0 = time.perf_counter()
+        with tempfile.TemporaryDirectory() as sandbox:
+            verdict, outcome = run_fit_data_case(case, Path(sandbox), timeout_s)
+        failed += verdict.startswith("FAIL")
+        print(f"{case.name:<32} {verdict:<10} {time.perf_counter() - t0:5.1f} s", flush=True)
+    print(f"{len(fit_data_cases())} cases, {failed} failures")
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

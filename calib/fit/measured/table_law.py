@@ -91,7 +91,11 @@ def predict(law: VZTableParams, data: Measurements) -> dict:
 
 def residuals(law: VZTableParams, data: Measurements) -> dict[str, np.ndarray]:
     """Relative residuals per group (calib.fit.measured.specimen's definitions)."""
-    predicted = predict(law, data)
+    return residuals_of(predict(law, data), data)
+
+
+def residuals_of(predicted: dict, data: Measurements) -> dict[str, np.ndarray]:
+    """Relative residuals per group of the law's predictions ``predicted`` (:func:`predict`)."""
     out = {}
     if data.impacts is not None:
         out.update(impact_residuals(data, predicted["impacts"]))
@@ -241,13 +245,14 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
 
 
 def _data_window(law: VZTableParams, data: Measurements) -> tuple[float, float]:
-    """The loads the data reach, P/P_Y (law's P_max of each drop test, measured forces)."""
+    """The loads the data reach, P/P_Y (the law's P_max of each drop test, each force test's peak:
+    the window bounds the peaks whose unloading the table measured, a loading curve passes below)."""
     loads = []
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
         if data.impacts is not None:
             loads.append(np.asarray(collision_reference("vz-table", law, data.impacts.v_in).P_max))
     if data.forces is not None:
-        loads.extend(np.asarray(force) for _, _, force in data.forces.tests)
+        loads.append(np.array([float(np.max(force)) for _, _, force in data.forces.tests]))
     x = np.concatenate(loads) / law.pair.P_Y
     return float(x[x > 1].min()) if (x > 1).any() else 1.0, float(x.max())
