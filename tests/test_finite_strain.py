@@ -7,7 +7,7 @@ stress and creates none alone); a cylinder column in large uniaxial stretch and 
 the closed forms tau = E ln(lambda) (elastic, nu = 0) and tau = sigma_Y (perfectly plastic), by the
 FE with a Newton loop written here; the stress against the derivative of the stored energy and the
 tangent against finite differences of the internal force; a press to a/R 0.17 where the two
-kinematics part. Coarse meshes.
+kinematics part (marked slow). Coarse meshes.
 """
 import numpy as np
 import pytest
@@ -154,7 +154,6 @@ def test_uniaxial_elastic_hencky(final):
     for lam in np.linspace(1.0, final, 6)[1:]:
         force, iterations = column.stretch_to(lam)
         assert force == pytest.approx(1e9 * np.log(lam) * np.pi * column.a ** 2 / lam, rel=1e-9)
-        print(lam, ["%.1e" % h for h in column.history])
         assert iterations <= 8
 
 
@@ -170,7 +169,6 @@ def test_uniaxial_perfectly_plastic(final):
         tau = column.kinematics.stress(column.material, column.u, column.state) * Stretch(H).J[..., None]
         assert np.abs(np.abs(tau[..., 1]) - sigma_y).max() < 1e-8 * sigma_y
         assert abs(force) == pytest.approx(sigma_y * np.pi * column.a ** 2 / lam, rel=1e-8)
-        print(lam, ["%.1e" % h for h in column.history])
         assert iterations <= 8
 
 
@@ -216,21 +214,37 @@ def test_tangent_against_finite_differences():
 
 
 # ------------------------------------------------------------------ (e) a large press
+def _press(solver, approaches):
+    """Displacement steps, each rescued (calib.fe.rescue) if the ordinary solve fails; the records."""
+    state, records = solver.initial_state(), []
+    for alpha in approaches:
+        result = solver.solve_displacement(state, alpha)
+        if not result.converged:
+            result = solver.rescue_step(state, "displacement", alpha)
+        assert result.converged, (alpha / R, result.message)
+        state = solver.commit(result)
+        records.append(result.record)
+    return records
+
+
 @pytest.fixture(scope="module")
 def large_presses(mesh_cache):
     mesh = hemisphere_mesh(LARGE, cache_dir=mesh_cache)
     material = VonMisesMaterial(E, NU, SIGMA_Y)
-    approaches = np.geomspace(1e-4, 0.0125, 24) * R
-    return {name: run_load_path(ContactSolver(mesh, material, kinematics=name), approaches, "displacement")[0]
+    approaches = np.geomspace(1e-4, 0.0125, 34) * R
+    return {name: _press(ContactSolver(mesh, material, kinematics=name), approaches)
             for name in ("small-strain", "finite-strain")}
 
 
+@pytest.mark.slow
 def test_large_press_parts(large_presses):
-    """To approach 0.0125 R (contact radius 0.17 R): both converge; at the last approach the
-    finite-strain force exceeds the small-strain force by a few percent."""
+    """To approach 0.0125 R (contact radius 0.17 R; about 50 s, hence slow): both converge in 34
+    displacement steps; at the last approach the finite-strain force exceeds the small-strain force
+    (measured: +6.1 %; the step-to-step difference scatters by +-3 % on this mesh, as nodes close)."""
     small, finite = large_presses["small-strain"], large_presses["finite-strain"]
-    assert len(small) == len(finite) == 24
-    assert finite[-1].record.contact_radius > 0.15 * R
-    ratio = finite[-1].record.P / small[-1].record.P - 1.0
+    assert finite[-1].contact_radius > 0.15 * R
+    ratio = finite[-1].P / small[-1].P - 1.0
+    print("force ratio - 1 at the last approach", ratio, [(r.alpha / R, f.P / r.P - 1, r.newton_iterations,
+          f.newton_iterations) for r, f in zip(small, finite)])
     assert 0.01 < ratio < 0.2
-    assert max(r.record.newton_iterations for r in finite) <= 30
+    assert max(r.newton_iterations for r in finite) <= 30
