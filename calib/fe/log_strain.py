@@ -131,14 +131,11 @@ def kinematic_derivatives(H, T, step: float = GRADIENT_STEP) -> tuple[np.ndarray
     """(dE/dF (..., 4, 5), d P/d F at fixed T (..., 5, 5)) at the displacement gradient H = F - I
     (..., 5) by central differences over its five components, the material left out (its own consistent tangent dT/dE closes the chain:
     dP/dF = dP/dF|_T + (dE/dF)^T C_alg dE/dF, since P = (dE/dF)^T T)."""
-    F = np.asarray(H, dtype=float)
-    dE = np.empty(F.shape[:-1] + (4, N_GRADIENT))
-    dP = np.empty(F.shape[:-1] + (N_GRADIENT, N_GRADIENT))
-    for k in range(N_GRADIENT):
-        plus, minus = F.copy(), F.copy()
-        plus[..., k] += step
-        minus[..., k] -= step
-        up, down = Stretch(plus), Stretch(minus)
-        dE[..., k] = (up.hencky() - down.hencky()) / (2.0 * step)
-        dP[..., k] = (up.first_piola(T) - down.first_piola(T)) / (2.0 * step)
+    H = np.asarray(H, dtype=float)
+    # the ten perturbed gradients in one evaluation (+h e_k, then -h e_k, on a leading axis)
+    shifts = step * np.concatenate([np.eye(N_GRADIENT), -np.eye(N_GRADIENT)])
+    perturbed = Stretch(H + shifts.reshape((2 * N_GRADIENT,) + (1,) * (H.ndim - 1) + (N_GRADIENT,)))
+    E, P = perturbed.hencky(), perturbed.first_piola(T)
+    dE = np.moveaxis((E[:N_GRADIENT] - E[N_GRADIENT:]) / (2.0 * step), 0, -1)
+    dP = np.moveaxis((P[:N_GRADIENT] - P[N_GRADIENT:]) / (2.0 * step), 0, -1)
     return dE, dP
