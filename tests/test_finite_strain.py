@@ -6,8 +6,9 @@ formulations); objectivity (a rigid rotation of a plastically stressed point rot
 stress and creates none alone); a cylinder column in large uniaxial stretch and compression against
 the closed forms tau = E ln(lambda) (elastic, nu = 0) and tau = sigma_Y (perfectly plastic), by the
 FE with a Newton loop written here; the stress against the derivative of the stored energy and the
-tangent against finite differences of the internal force; a press to a/R 0.17 where the two
-kinematics part (marked slow). Coarse meshes.
+tangent against finite differences of the internal force, the closed-form kinematic derivatives
+against central differences; presses to a/R 0.3 (finite strain against small strain and against
+Jackson & Green 2005, marked slow). Coarse meshes.
 """
 import numpy as np
 import pytest
@@ -17,15 +18,17 @@ from skfem import Basis, ElementTriP2, ElementVector, MeshTri
 from calib.fe import ContactSolver, ElasticMaterial, VonMisesMaterial
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.kinematics import KINEMATICS, FiniteStrain, build_kinematics, elastic_tangent
-from calib.fe.loadpath import run_load_path
-from calib.fe.log_strain import IDENTITY, Stretch, kinematic_derivatives
+from calib.fe.loadpath import run_load_path, run_press
+from calib.fe.log_strain import IDENTITY, Stretch, kinematic_derivatives, kinematic_derivatives_by_differences
 from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 from nfdmodel import reference_case
+from nfdmodel.materials import plane_strain_modulus
 
 R, E, NU, SIGMA_Y = reference_case.R, reference_case.E, reference_case.NU, reference_case.SIGMA_Y
-# contact elements R/50 out to 0.4 R: the large press's contact spans 8-10 of them
-LARGE = HemisphereMeshSpec(radius=R, contact_size=R / 50, refined_radius=0.4 * R, refined_depth=0.25 * R,
-                           far_size=R / 8)
+# contact elements R/25 out to 0.6 R (beyond the contact radius 0.3-0.5 R reached): the large press's
+# contact spans 7-12 of them
+LARGE = HemisphereMeshSpec(radius=R, contact_size=R / 25, refined_radius=0.6 * R, refined_depth=0.3 * R,
+                           far_size=R / 6)
 
 
 def test_registered():
@@ -213,38 +216,68 @@ def test_tangent_against_finite_differences():
     assert np.abs(K @ du - difference).max() < 1e-6 * np.abs(difference).max()
 
 
+@pytest.mark.parametrize("scale", [0.3, 1e-3, 1e-8, 0.0])
+def test_closed_form_kinematic_derivatives(scale):
+    """dE/dF and dP/dF|_T in closed form (Daleckii-Krein) against central differences, at large,
+    small, round-off and zero deformation (equal eigenvalues: the divided differences' limits):
+    relative 1e-8 (the differences' own error is ~1e-10)."""
+    rng = np.random.default_rng(3)
+    H = scale * rng.standard_normal((20, 3, 5))
+    H[..., [0, 3, 4]] = np.abs(H[..., [0, 3, 4]])            # orientation preserving
+    T = 1e8 * rng.standard_normal((20, 3, 4))
+    closed, reference = kinematic_derivatives(H, T), kinematic_derivatives_by_differences(H, T)
+    for exact, difference in zip(closed, reference):
+        assert np.abs(exact - difference).max() < 1e-8 * np.abs(difference).max()
+
+
 # ------------------------------------------------------------------ (e) a large press
-def _press(solver, approaches):
-    """Displacement steps, each rescued (calib.fe.rescue) if the ordinary solve fails; the records."""
-    state, records = solver.initial_state(), []
-    for alpha in approaches:
-        result = solver.solve_displacement(state, alpha)
-        if not result.converged:
-            result = solver.rescue_step(state, "displacement", alpha)
-        assert result.converged, (alpha / R, result.message)
-        state = solver.commit(result)
-        records.append(result.record)
-    return records
+def jackson_green_force(w):
+    """The loading force P [N] of an elastic-perfectly plastic hemisphere on a rigid flat at the
+    interference w [m] (Jackson & Green 2005, J. Tribol. 127, 343, eqs. 6, 8, 13-19; their FE fit, a
+    reference here, not a law of the package):
+
+        C = 1.295 exp(0.736 nu),  w_c = (pi C S_y / (2 E'))^2 R,  P_c = 4/3 (R / E')^2 (C pi S_y / 2)^3
+        w / w_c <= 1.9:  P / P_c = (w / w_c)^(3/2)
+        w / w_c > 1.9:   P / P_c = exp(-1/4 (w/w_c)^(5/12)) (w/w_c)^(3/2)
+                                  + 4 H_G / (C S_y) [1 - exp(-1/25 (w/w_c)^(5/9))] (w/w_c)
+        H_G / S_y = 2.84 [1 - exp(-0.82 (a/R)^(-0.7))],  a = sqrt(R w (w / (1.9 w_c))^B),
+        B = 0.14 exp(23 S_y / E'),  E' = E / (1 - nu^2)
+
+    fitted by them to w / w_c <= 110 (the presses below reach 10^3-10^4: an extrapolation)."""
+    E_prime = plane_strain_modulus(E, NU)
+    C = 1.295 * np.exp(0.736 * NU)
+    w_c = (np.pi * C * SIGMA_Y / (2.0 * E_prime)) ** 2 * R
+    P_c = 4.0 / 3.0 * (R / E_prime) ** 2 * (C * np.pi * SIGMA_Y / 2.0) ** 3
+    x = np.asarray(w) / w_c
+    B = 0.14 * np.exp(23.0 * SIGMA_Y / E_prime)
+    a = np.sqrt(R * np.asarray(w) * (x / 1.9) ** B)
+    H_G = 2.84 * SIGMA_Y * (1.0 - np.exp(-0.82 * (a / R) ** -0.7))
+    plastic = (np.exp(-0.25 * x ** (5.0 / 12.0)) * x ** 1.5
+               + 4.0 * H_G / (C * SIGMA_Y) * (1.0 - np.exp(-x ** (5.0 / 9.0) / 25.0)) * x)
+    return P_c * np.where(x <= 1.9, x ** 1.5, plastic)
 
 
 @pytest.fixture(scope="module")
 def large_presses(mesh_cache):
     mesh = hemisphere_mesh(LARGE, cache_dir=mesh_cache)
     material = VonMisesMaterial(E, NU, SIGMA_Y)
-    approaches = np.geomspace(1e-4, 0.0125, 34) * R
-    return {name: _press(ContactSolver(mesh, material, kinematics=name), approaches)
+    approaches = np.geomspace(2e-4, 0.04, 10) * R
+    return {name: run_press(ContactSolver(mesh, material, kinematics=name), approaches)[0]
             for name in ("small-strain", "finite-strain")}
 
 
 @pytest.mark.slow
-def test_large_press_parts(large_presses):
-    """To approach 0.0125 R (contact radius 0.17 R; about 50 s, hence slow): both converge in 34
-    displacement steps; at the last approach the finite-strain force exceeds the small-strain force
-    (measured: +6.1 %; the step-to-step difference scatters by +-3 % on this mesh, as nodes close)."""
-    small, finite = large_presses["small-strain"], large_presses["finite-strain"]
-    assert finite[-1].contact_radius > 0.15 * R
+def test_large_press_reaches_a_third(large_presses):
+    """To approach 0.04 R (about 40 s, hence slow): both kinematics converge (the increments halved
+    where Newton fails, calib.fe.loadpath.run_press) to a contact radius above 0.3 R (the finite
+    strain's measured on the deformed surface); at the last approach the finite-strain force
+    exceeds the small-strain force (measured +12..+29 % from approach 0.01 R to 0.1 R on this mesh) and
+    lies within 25 % of Jackson & Green (2005) extrapolated (measured: FE/JG - 1 = PLACEHOLDER)."""
+    small, finite = ([r.record for r in large_presses[name]] for name in ("small-strain", "finite-strain"))
+    assert finite[-1].contact_radius > 0.3 * R and small[-1].contact_radius > 0.28 * R
     ratio = finite[-1].P / small[-1].P - 1.0
-    print("force ratio - 1 at the last approach", ratio, [(r.alpha / R, f.P / r.P - 1, r.newton_iterations,
-          f.newton_iterations) for r, f in zip(small, finite)])
-    assert 0.01 < ratio < 0.2
-    assert max(r.newton_iterations for r in finite) <= 30
+    jg = [f.P / jackson_green_force(f.alpha) - 1.0 for f in finite]
+    print("finite/small - 1", ratio, "finite/JG - 1", jg[-1], [(f.alpha / R, f.contact_radius / R, f.P / s.P - 1,
+          g) for s, f, g in zip(small, finite, jg)])
+    assert 0.05 < ratio < 0.4
+    assert abs(jg[-1]) < 0.25

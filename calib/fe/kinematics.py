@@ -87,7 +87,10 @@ class SmallStrain:
     ``elements``: the calib.fe.element_arrays.ElementArrays of the mesh's basis and its reduction
     u = T q; ``D``: the elastic tangent [Pa], (4, 4) for one homogeneous material or (E, Q, 4, 4)
     per point; ``evaluated``: the elements whose material Newton evaluates (None: all; a condensed
-    elastic counter-body's are left out, calib.fe.two_body)."""
+    elastic counter-body's are left out, calib.fe.two_body). ``deformed_surface``: the contact radius
+    is measured on the undeformed surface (calib.fe.quasi_static)."""
+
+    deformed_surface = False
 
     def __init__(self, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
         self.elements = elements
@@ -172,12 +175,15 @@ class FiniteStrain(SmallStrain):
     (G: calib.fe.element_arrays.ElementArrays.gradient; the integrals over the reference section).
     The material's update is SmallStrain's, with E for eps; its plastic strain is the Lagrangian
     plastic log strain. dP/dF = dP/dF|_T + (dE/dF)^T C_alg dE/dF, C_alg the material's consistent
-    tangent, the kinematic derivatives by central differences (calib.fe.log_strain.GRADIENT_STEP),
+    tangent, the kinematic derivatives in closed form (calib.fe.log_strain.kinematic_derivatives),
     symmetrised (the exact dP/dF of this hyperelastic-plastic model is symmetric). Every element is
     reported as flowed, its correction f_int - K_el u and K_t - K_el, so the steppers stay those of
     small strain; the rigid flat's gap z0 + u_z is already the deformed surface's. The press on the
     rigid flat only: a condensed counter-body (``evaluated``) and the impacts' ``internal_force(stress)``
-    are refused. ``stress`` and Correction.stress are the Cauchy stress in the spatial r-z-t frame."""
+    are refused. ``stress`` and Correction.stress are the Cauchy stress in the spatial r-z-t frame;
+    the contact radius is measured on the deformed surface (``deformed_surface``)."""
+
+    deformed_surface = True
 
     def __init__(self, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
         if evaluated is not None:
@@ -200,14 +206,15 @@ class FiniteStrain(SmallStrain):
         return stretch.cauchy(material.update(stretch.hencky(), committed)[0])
 
     @staticmethod
-    def response(material, H, committed):
+    def response(material, H, committed, stretch: Stretch | None = None):
         """(P (..., 5) [Pa], dP/dF () -> (..., 5, 5) [Pa], Cauchy stress (..., 4) [Pa], trial state) of
-        the material at the displacement gradients ``H`` = F - I (E, Q, 5) from ``committed``."""
-        stretch = Stretch(H)
+        the material at the displacement gradients ``H`` = F - I (E, Q, 5) from ``committed``
+        (``stretch``: Stretch(H), when the caller has it)."""
+        stretch = Stretch(H) if stretch is None else stretch
         T, C_alg, trial = material.update(stretch.hencky(), committed)
 
         def tangent():
-            dE, dP = kinematic_derivatives(H, T)
+            dE, dP = kinematic_derivatives(H, T, stretch)
             A = dP + np.swapaxes(dE, -1, -2) @ np.asarray(C_alg) @ dE
             return 0.5 * (A + np.swapaxes(A, -1, -2))
 
@@ -217,12 +224,13 @@ class FiniteStrain(SmallStrain):
         """Every element's f_int - K_el u [N] and K_t - K_el (class docstring)."""
         a = self.elements
         H = self.displacement_gradient(displacement)
-        if not np.isfinite(Stretch(H).J).all():
+        stretch = Stretch(H)
+        if not np.isfinite(stretch.J).all():
             # an iterate that inverts an element: a NaN residual, which Newton reports as a failed step
             nan = np.full(a.n_dofs, np.nan)
             return Correction(np.full(H.shape[:-1] + (4,), np.nan), committed, np.arange(a.weight.shape[0]),
                               lambda: nan, lambda: np.zeros(a.nnz))
-        P, tangent, cauchy, trial = self.response(material, H, committed)
+        P, tangent, cauchy, trial = self.response(material, H, committed, stretch)
         everything = slice(None)
         force = a.internal_force(P, everything, a.gradient) - \
             a.internal_force(_hooke(self.D, a.strain(displacement)), everything)
