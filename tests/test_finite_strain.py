@@ -230,6 +230,25 @@ def test_closed_form_kinematic_derivatives(scale):
         assert np.abs(exact - difference).max() < 1e-8 * np.abs(difference).max()
 
 
+def test_calibration_carries_the_kinematics(coarse_mesh):
+    """``nfdcal calibrate --kinematics finite``: the spec carries it to the calibration's solver; a
+    counter-body with finite strain is refused naming the kinematics."""
+    import dataclasses
+
+    from calib.fit import calibration, recipe
+    from calib.fit.counter import CounterBody
+    from nfdmodel import Material
+
+    material = Material(E, NU, SIGMA_Y, reference_case.RHO)
+    spec = dataclasses.replace(recipe.calibration_spec(material, R), kinematics="finite-strain")
+    assert isinstance(calibration._solver(spec, coarse_mesh).kinematics, FiniteStrain)
+    assert type(calibration._solver(recipe.calibration_spec(material, R), coarse_mesh).kinematics).__name__ == \
+        "SmallStrain"
+    with pytest.raises(ValueError, match="kinematics 'finite-strain' takes the sphere on the rigid flat"):
+        dataclasses.replace(recipe.calibration_spec(material, R, counter=CounterBody(2e11, 0.3)),
+                            kinematics="finite-strain")
+
+
 # ------------------------------------------------------------------ (e) a large press
 def jackson_green_force(w):
     """The loading force P [N] of an elastic-perfectly plastic hemisphere on a rigid flat at the
