@@ -38,7 +38,7 @@ class ElementArrays:
         self.weight = np.asarray(basis.dx) * radial_weight(r)                  # (E, Q) [m^3]
         self.element_dofs = np.ascontiguousarray(basis.element_dofs.T)         # (E, 12)
         self.n_dofs = int(basis.N)
-        self._basis, self._gradient = basis, None
+        self._basis, self._gradient, self._gradient_weighted = basis, None, None
 
         T = sp.csr_matrix(T)
         counts = np.diff(T.indptr)
@@ -95,8 +95,15 @@ class ElementArrays:
         B = (self.B if matrix is None else matrix)[elements]
         n, n_qp, n_strain, n_local = B.shape
         C_B = np.matmul(tangent, B).reshape(n, n_qp * n_strain, n_local)               # C B per point
-        B_w = (B * self.weight[elements][:, :, None, None]).reshape(n, n_qp * n_strain, n_local)
-        local = np.matmul(B_w.transpose(0, 2, 1), C_B)          # (n, 12, 12): sum over points
+        if matrix is not None and matrix is self._gradient and isinstance(elements, slice) and elements == slice(None):
+            # the finite strain's every-element tangent: G^T w, formed once
+            if self._gradient_weighted is None:
+                self._gradient_weighted = np.ascontiguousarray(
+                    (B * self.weight[:, :, None, None]).reshape(n, n_qp * n_strain, n_local).transpose(0, 2, 1))
+            B_wT = self._gradient_weighted
+        else:
+            B_wT = (B * self.weight[elements][:, :, None, None]).reshape(n, n_qp * n_strain, n_local).transpose(0, 2, 1)
+        local = np.matmul(B_wT, C_B)                            # (n, 12, 12): sum over points
         kept = self._kept[elements]
         return np.bincount(self._position[elements][kept], local[kept], minlength=self.nnz)
 

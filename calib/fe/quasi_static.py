@@ -20,8 +20,9 @@ separation, E / sigma_Y = 100).
 
 Post-processing per step: the contact reactions lambda_i (consistent nodal forces), the pressure
 recovered from them (per undeformed surface area), the contact radius with sub-element accuracy
-(on the deformed surface under finite strain, r = R_i + u_r,i; on the undeformed one under small
-strain) and the peak pressure (calib.fe.recovery). References: Wriggers 2006, Computational Contact Mechanics, ch. 6; Simo &
+(recorded on the deformed surface under finite strain, r = R_i + u_r,i; on the undeformed one under
+small strain; the state keeps the undeformed one, the warm start of the next active set) and the peak
+pressure (calib.fe.recovery). References: Wriggers 2006, Computational Contact Mechanics, ch. 6; Simo &
 Hughes 1998, Computational Inelasticity, ch. 3 (the step as a backward-Euler increment).
 """
 from __future__ import annotations
@@ -111,6 +112,13 @@ class QuasiStaticSolver(QuadratureStates):
         """K_q [N/m] from its data on the element pattern."""
         return self.elements.matrix(data)
 
+    @staticmethod
+    def _contact_radii(r, gap, pressure, active) -> dict:
+        """The contact radius [m] by each method of calib.fe.recovery on the candidates' radii ``r``."""
+        return {"gap": contact_radius_from_gap(r, gap, active),
+                "pressure": contact_radius_from_pressure(r, pressure, active),
+                "node": float(r[active].max()) if active.any() else 0.0}
+
     def contact_surface_r(self, displacement) -> np.ndarray:
         """r [m] of the contact candidates the contact radius is measured on: the deformed surface,
         R_i + u_r,i, under a kinematics that measures on it (``deformed_surface``: finite strain),
@@ -158,14 +166,15 @@ class QuasiStaticSolver(QuadratureStates):
         gap = self.constraint.gaps(q)
         alpha, P = -q[self.plate], -(self.TT @ newton.f_int)[self.plate]
         pressure = self.contact_pressure(reaction, active)
-        r = self.contact_surface_r(u)
-        radii = {"gap": contact_radius_from_gap(r, gap, active),
-                 "pressure": contact_radius_from_pressure(r, pressure, active),
-                 "node": float(r[active].max()) if active.any() else 0.0}
+        radii = self._contact_radii(self.candidate_r, gap, pressure, active)
+        # the warm start of the next step's active set is in the candidates' reference r
+        warm_start = radii[self.contact_radius_method]
+        if getattr(self.kinematics, "deformed_surface", False):
+            radii = self._contact_radii(self.contact_surface_r(u), gap, pressure, active)
         chosen = radii[self.contact_radius_method]
         new_state = ContactState(displacement=u, material_state=newton.trial, active=active, alpha=float(alpha),
-                                 force=float(P), contact_radius=chosen,
-                                 radius_exponents=radius_exponents(state, alpha, P, chosen),
+                                 force=float(P), contact_radius=warm_start,
+                                 radius_exponents=radius_exponents(state, alpha, P, warm_start),
                                  **displacement_rate(state, control, u, P))
         record = self._record(control, target, alpha, P, float(reaction.sum()),
                               (chosen, radii["gap"], radii["pressure"], radii["node"]), float(pressure.max()),
