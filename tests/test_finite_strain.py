@@ -276,6 +276,22 @@ def jackson_green_force(w):
     return P_c * np.where(x <= 1.9, x ** 1.5, plastic)
 
 
+def test_press_halves_the_increment_newton_leaves(mesh_cache):
+    """Approach 0.004 R then 0.02 R in one increment (a/R 0.1 -> 0.2): the ordinary step fails (Newton
+    leaves its basin), run_press halves it and converges; the recorded contact radius is measured on
+    the deformed surface, the outermost contact node at R_i + u_r,i."""
+    solver = ContactSolver(hemisphere_mesh(LARGE, cache_dir=mesh_cache), VonMisesMaterial(E, NU, SIGMA_Y),
+                           kinematics="finite-strain")
+    (first,), _, state = run_press(solver, [0.004 * R])
+    assert not solver.solve_displacement(state, 0.02 * R).converged
+    (last,), steps, state = run_press(solver, [0.02 * R], state=state)
+    assert len(steps) > 1 and last.record.alpha == pytest.approx(0.02 * R)
+    outer = solver.candidate_nodes[state.active][-1]
+    deformed = solver.node_r[outer] + state.displacement[solver.r_dof[outer]]
+    assert last.record.contact_radius_node == pytest.approx(deformed, rel=1e-12)
+    assert deformed > solver.node_r[outer] and 0.2 * R < last.record.contact_radius < 0.26 * R
+
+
 @pytest.fixture(scope="module")
 def large_presses(mesh_cache):
     mesh = hemisphere_mesh(LARGE, cache_dir=mesh_cache)
