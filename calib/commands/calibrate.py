@@ -21,11 +21,16 @@ from __future__ import annotations
 import dataclasses
 
 from calib.commands.common import (HARDENING_HELP, add_counter_arguments, add_hardening_arguments,
-                                   add_material_arguments, add_rate_law_arguments, rate_law_given, add_summary_arguments, counter_folder_name,
-                                   counter_from_args, flow_curve_from_args, hardening_folder_name, hardening_line,
-                                   is_reference, material_folder_name, material_from_args, number, print_summary)
+                                   add_material_arguments, add_rate_law_arguments, add_summary_arguments,
+                                   counter_folder_name, counter_from_args, flow_curve_from_args,
+                                   hardening_folder_name, hardening_line, is_reference, material_folder_name,
+                                   material_from_args, number, print_summary, rate_law_given)
 from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
+
+
+# --kinematics: the flag's values and calib.fe.kinematics' names
+KINEMATICS_FLAG = {"small": "small-strain", "finite": "finite-strain"}
 
 
 def add_parser(subparsers) -> None:
@@ -51,6 +56,9 @@ def add_parser(subparsers) -> None:
                              " the accuracy targets), or the paper's two constants fitted to the contact radius"
                              " (radius) or to the force (force), declared only over the FE paths where they meet"
                              " the targets")
+    parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
+                        help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
+                             " Hencky strain; the sphere on the rigid flat, without --v-max, --ladder or --counter-*)")
     parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
                         " reference case; for another material or other options a folder of its own below it,"
                         " e.g. results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R>_peaks<P1>-<P2>); one"
@@ -88,13 +96,15 @@ def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_m
                 hardening=None) -> str:
     """The default folder of a calibration under results/calibration: "" for the reference one
     (which ``collide --report`` reads), else a name made of every option that differs from it
-    (material and R, the hardening, the counter-body, --peaks, --contact-size, --ship, --v-max), so
-    that each folder holds one calibration."""
+    (material and R, the hardening, the counter-body, --kinematics, --peaks, --contact-size, --ship,
+    --v-max), so that each folder holds one calibration."""
     parts = [] if is_reference(ns) else [material_folder_name(material, radius)]
     if hardening is not None:
         parts.append(hardening_folder_name(hardening))
     if counter is not None:
         parts.append(counter_folder_name(counter))
+    if getattr(ns, "kinematics", "small") != "small":
+        parts.append(f"{ns.kinematics}-strain")
     if ns.peaks is not None:            # the set of peaks, in any order, is one calibration (recipe sorts them)
         parts.append("peaks" + "-".join(f"{p:g}" for p in sorted(peaks)))
     if contact_size is not None:
@@ -143,6 +153,11 @@ def run(ns) -> int:
     if rate_law_given(ns) is not None:
         raise ValueError(f"{rate_law_given(ns)}: the calibration's FE press is quasi-static, where a rate law is "
                          f"its rate-independent limit; give the rate law to nfdcal impact")
+    kinematics = KINEMATICS_FLAG[ns.kinematics]
+    if ns.kinematics != "small" and (ns.ladder or ns.v_max is not None or not counter_absent(ns)):
+        raise ValueError("--kinematics finite takes a calibration on the rigid flat from --peaks (the impact FE,"
+                         " the ladder and the counter-body FE are small-strain): drop --v-max, --ladder and the"
+                         " --counter-* flags, or use --kinematics small")
     if ns.ladder:
         hardening_given = any(getattr(ns, key) is not None for key in HARDENING_HELP)
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns) \
@@ -186,6 +201,7 @@ def run(ns) -> int:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter)
         if hardening is not None:
             spec = dataclasses.replace(spec, hardening=hardening)
+        spec = dataclasses.replace(spec, kinematics=kinematics)
         if peaks is None:               # C_R is measured at unloading peaks: paths from near P_Y, Ca and Kc unchanged
             spec = impact_window.with_unloading_across(spec)
     try:                                # before any mesh: name the flag that sets the load plan

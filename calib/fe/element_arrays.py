@@ -38,6 +38,7 @@ class ElementArrays:
         self.weight = np.asarray(basis.dx) * radial_weight(r)                  # (E, Q) [m^3]
         self.element_dofs = np.ascontiguousarray(basis.element_dofs.T)         # (E, 12)
         self.n_dofs = int(basis.N)
+        self._basis, self._gradient, self._gradient_weighted = basis, None, None
 
         T = sp.csr_matrix(T)
         counts = np.diff(T.indptr)
@@ -64,22 +65,45 @@ class ElementArrays:
         """Strain at the quadrature points, (E, Q, 4) [-], of the dof vector [m]."""
         return np.matmul(self.B, np.asarray(displacement)[self.element_dofs][:, None, :, None])[..., 0]
 
-    def internal_force(self, stress, elements) -> np.ndarray:
+    @property
+    def gradient(self) -> np.ndarray:
+        """G (E, Q, 5, 12) [1/m]: the displacement gradient [du_r/dR, du_r/dZ, du_z/dR, du_z/dZ, u_r/R]
+        of each basis function at the quadrature points (the finite-strain kinematics,
+        calib.fe.log_strain), built on first use."""
+        if self._gradient is None:
+            r = quadrature_radius(self._basis)
+            local = []
+            for i in range(self._basis.Nbfun):
+                phi = self._basis.basis[i][0]
+                local.append(np.array([phi.grad[0, 0], phi.grad[0, 1], phi.grad[1, 0], phi.grad[1, 1], phi[0] / r]))
+            self._gradient = np.ascontiguousarray(np.stack(local, axis=-1).transpose(1, 2, 0, 3))
+        return self._gradient
+
+    def internal_force(self, stress, elements, matrix=None) -> np.ndarray:
         """f_i = sum over ``elements`` of int eps(phi_i) . sigma 2 pi r dA [N] (all dofs); ``stress``
-        (len(elements), Q, 4) [Pa]."""
+        (len(elements), Q, 4) [Pa]. ``matrix``: another operator than B (all elements), e.g.
+        :attr:`gradient` with the first Piola stress (len(elements), Q, 5)."""
         stress_w = (np.asarray(stress) * self.weight[elements][:, :, None]).reshape(len(self.element_dofs[elements]), -1)
-        B = self.B[elements]
+        B = (self.B if matrix is None else matrix)[elements]
         local = np.matmul(stress_w[:, None, :], B.reshape(B.shape[0], -1, B.shape[-1]))[:, 0, :]
         return np.bincount(self.element_dofs[elements].ravel(), local.ravel(), minlength=self.n_dofs)
 
-    def stiffness_data(self, tangent, elements) -> np.ndarray:
+    def stiffness_data(self, tangent, elements, matrix=None) -> np.ndarray:
         """Data array (on :meth:`matrix`'s pattern) of K_q from ``elements`` only, with the material
-        tangent ``tangent`` (len(elements), Q, 4, 4) [Pa]: sum_g B^T C B w [N/m]."""
-        B = self.B[elements]
+        tangent ``tangent`` (len(elements), Q, 4, 4) [Pa]: sum_g B^T C B w [N/m]. ``matrix``: another
+        operator than B, e.g. :attr:`gradient` with dP/dF (len(elements), Q, 5, 5)."""
+        B = (self.B if matrix is None else matrix)[elements]
         n, n_qp, n_strain, n_local = B.shape
         C_B = np.matmul(tangent, B).reshape(n, n_qp * n_strain, n_local)               # C B per point
-        B_w = (B * self.weight[elements][:, :, None, None]).reshape(n, n_qp * n_strain, n_local)
-        local = np.matmul(B_w.transpose(0, 2, 1), C_B)          # (n, 12, 12): sum over points
+        if matrix is not None and matrix is self._gradient and isinstance(elements, slice) and elements == slice(None):
+            # the finite strain's every-element tangent: G^T w, formed once
+            if self._gradient_weighted is None:
+                self._gradient_weighted = np.ascontiguousarray(
+                    (B * self.weight[:, :, None, None]).reshape(n, n_qp * n_strain, n_local).transpose(0, 2, 1))
+            B_wT = self._gradient_weighted
+        else:
+            B_wT = (B * self.weight[elements][:, :, None, None]).reshape(n, n_qp * n_strain, n_local).transpose(0, 2, 1)
+        local = np.matmul(B_wT, C_B)                            # (n, 12, 12): sum over points
         kept = self._kept[elements]
         return np.bincount(self._position[elements][kept], local[kept], minlength=self.nnz)
 

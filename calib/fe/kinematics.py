@@ -36,6 +36,7 @@ from skfem import asm
 from calib.fe.axisym import to_form_layout
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.forms import tangent_stiffness
+from calib.fe.log_strain import Stretch, kinematic_derivatives
 
 # the kinematics a configuration can take (its ``kinematics`` option), by name: adding one is adding
 # its class here, with SmallStrain's interface
@@ -86,7 +87,10 @@ class SmallStrain:
     ``elements``: the calib.fe.element_arrays.ElementArrays of the mesh's basis and its reduction
     u = T q; ``D``: the elastic tangent [Pa], (4, 4) for one homogeneous material or (E, Q, 4, 4)
     per point; ``evaluated``: the elements whose material Newton evaluates (None: all; a condensed
-    elastic counter-body's are left out, calib.fe.two_body)."""
+    elastic counter-body's are left out, calib.fe.two_body). ``deformed_surface``: the contact radius
+    is measured on the undeformed surface (calib.fe.quasi_static)."""
+
+    deformed_surface = False
 
     def __init__(self, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
         self.elements = elements
@@ -164,4 +168,83 @@ class SmallStrain:
         return u, self.elastic_stress(self.strain(u) - plastic_strain)
 
 
-KINEMATICS = {DEFAULT_KINEMATICS: SmallStrain}
+class FiniteStrain(SmallStrain):
+    """Total Lagrangian finite-strain axisymmetric kinematics in the Lagrangian Hencky strain
+    (calib.fe.log_strain: F, E = 1/2 ln C, the material's T conjugate to E, P = F S):
+
+        F = I + G u,  f_int = int G^T P(F) 2 pi R dA0,  K_t = int G^T (dP/dF) G 2 pi R dA0
+
+    (G: calib.fe.element_arrays.ElementArrays.gradient; the integrals over the reference section).
+    The material's update is SmallStrain's, with E for eps; its plastic strain is the Lagrangian
+    plastic log strain. dP/dF = dP/dF|_T + (dE/dF)^T C_alg dE/dF, C_alg the material's consistent
+    tangent, the kinematic derivatives in closed form (calib.fe.log_strain.kinematic_derivatives),
+    symmetrised (the exact dP/dF of this hyperelastic-plastic model is symmetric). Every element is
+    reported as flowed, its correction f_int - K_el u and K_t - K_el, so the steppers stay those of
+    small strain; the rigid flat's gap z0 + u_z is already the deformed surface's. The press on the
+    rigid flat only: a condensed counter-body (``evaluated``) and the impacts' ``internal_force(stress)``
+    are refused. ``stress`` and Correction.stress are the Cauchy stress in the spatial r-z-t frame;
+    the contact radius is measured on the deformed surface (``deformed_surface``)."""
+
+    deformed_surface = True
+
+    def __init__(self, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
+        if evaluated is not None:
+            raise ValueError("kinematics 'finite-strain' takes the press on the rigid flat; a condensed"
+                             " counter-body needs 'small-strain'")
+        super().__init__(elements, D, evaluated)
+
+    def displacement_gradient(self, displacement) -> np.ndarray:
+        """H = F - I = G u (E, Q, 5) [-], components [H_rR, H_rZ, H_zR, H_zZ, H_tt]."""
+        a = self.elements
+        return np.matmul(a.gradient, np.asarray(displacement)[a.element_dofs][:, None, :, None])[..., 0]
+
+    def strain(self, displacement, elements=slice(None)) -> np.ndarray:
+        """The Hencky strain E = 1/2 ln C, (n, Q, 4) [-] (Voigt, engineering shear)."""
+        return Stretch(self.displacement_gradient(displacement)[elements]).hencky()
+
+    def stress(self, material, displacement, committed) -> np.ndarray:
+        """The Cauchy stress (E, Q, 4) [Pa] of the material at ``displacement`` from ``committed``."""
+        stretch = Stretch(self.displacement_gradient(displacement))
+        return stretch.cauchy(material.update(stretch.hencky(), committed)[0])
+
+    @staticmethod
+    def response(material, H, committed, stretch: Stretch | None = None):
+        """(P (..., 5) [Pa], dP/dF () -> (..., 5, 5) [Pa], Cauchy stress (..., 4) [Pa], trial state) of
+        the material at the displacement gradients ``H`` = F - I (E, Q, 5) from ``committed``
+        (``stretch``: Stretch(H), when the caller has it)."""
+        stretch = Stretch(H) if stretch is None else stretch
+        T, C_alg, trial = material.update(stretch.hencky(), committed)
+
+        def tangent():
+            dE, dP = kinematic_derivatives(H, T, stretch)
+            A = dP + np.swapaxes(dE, -1, -2) @ np.asarray(C_alg) @ dE
+            return 0.5 * (A + np.swapaxes(A, -1, -2))
+
+        return stretch.first_piola(T), tangent, stretch.cauchy(T), trial
+
+    def correction(self, material, displacement, committed) -> Correction:
+        """Every element's f_int - K_el u [N] and K_t - K_el (class docstring)."""
+        a = self.elements
+        H = self.displacement_gradient(displacement)
+        stretch = Stretch(H)
+        if not np.isfinite(stretch.J).all():
+            # an iterate that inverts an element: a NaN residual, which Newton reports as a failed step
+            nan = np.full(a.n_dofs, np.nan)
+            return Correction(np.full(H.shape[:-1] + (4,), np.nan), committed, np.arange(a.weight.shape[0]),
+                              lambda: nan, lambda: np.zeros(a.nnz))
+        P, tangent, cauchy, trial = self.response(material, H, committed, stretch)
+        everything = slice(None)
+        force = a.internal_force(P, everything, a.gradient) - \
+            a.internal_force(_hooke(self.D, a.strain(displacement)), everything)
+        return Correction(cauchy, trial, np.arange(a.weight.shape[0]), lambda: force,
+                          lambda: a.stiffness_data(tangent(), everything, a.gradient) - self.elastic_data)
+
+    def internal_force(self, stress) -> np.ndarray:
+        raise NotImplementedError("kinematics 'finite-strain': the impacts' internal force from the stress"
+                                  " alone is small-strain; use 'small-strain' for the impacts")
+
+    def residual_state(self, plastic_strain, stiffness_solve):
+        raise NotImplementedError("kinematics 'finite-strain': the residual state is small-strain")
+
+
+KINEMATICS = {DEFAULT_KINEMATICS: SmallStrain, "finite-strain": FiniteStrain}

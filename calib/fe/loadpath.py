@@ -136,6 +136,26 @@ def run_load_path(solver: ContactSolver, loads, control: str = "force",
     return results, state
 
 
+def run_press(solver: ContactSolver, approaches, min_step_fraction: float = 1.0 / 64.0,
+              state: ContactState | None = None):
+    """The press to each approach [m] of ``approaches`` in order, under displacement control, every
+    increment through ``advance`` (halved on failure, grown back after success; the rescue solve
+    last). Returns (the StepResult at each approach, the sub-steps' StepResults, final state).
+
+    Why halving: on a perfectly plastic sphere past a/R ~ 0.15 a displacement increment of
+    10-20 % of the approach leaves Newton's basin (its first iterate, elastic, puts 0.14-0.2 of
+    plastic strain at the contact edge in one increment; the next iterates oscillate, and with
+    finite strain an element at the edge inverts), whatever the active set; half the increment
+    converges (tests/test_finite_strain.py)."""
+    state = solver.initial_state() if state is None else state
+    at_targets, steps = [], []
+    for alpha in approaches:
+        state = advance(solver, state, "displacement", float(alpha), min_step_fraction,
+                        lambda result, previous: steps.append(result))
+        at_targets.append(steps[-1])
+    return at_targets, steps, state
+
+
 def plastic_zone(state: ContactState, quadrature_r: np.ndarray, quadrature_z: np.ndarray) -> dict:
     """Extent of the yielded region (equivalent plastic strain > 0): depth below the contact plane
     z = 0, |z| (the sphere lies above it, a counter-body below), and radius [m]."""

@@ -19,8 +19,10 @@ the top layer, which a plastic material reads as flow, and Newton can then stall
 separation, E / sigma_Y = 100).
 
 Post-processing per step: the contact reactions lambda_i (consistent nodal forces), the pressure
-recovered from them, the contact radius with sub-element accuracy and the peak pressure
-(calib.fe.recovery). References: Wriggers 2006, Computational Contact Mechanics, ch. 6; Simo &
+recovered from them (per undeformed surface area), the contact radius with sub-element accuracy
+(recorded on the deformed surface under finite strain, r = R_i + u_r,i; on the undeformed one under
+small strain; the state keeps the undeformed one, the warm start of the next active set) and the peak
+pressure (calib.fe.recovery). References: Wriggers 2006, Computational Contact Mechanics, ch. 6; Simo &
 Hughes 1998, Computational Inelasticity, ch. 3 (the step as a backward-Euler increment).
 """
 from __future__ import annotations
@@ -110,6 +112,21 @@ class QuasiStaticSolver(QuadratureStates):
         """K_q [N/m] from its data on the element pattern."""
         return self.elements.matrix(data)
 
+    @staticmethod
+    def _contact_radii(r, gap, pressure, active) -> dict:
+        """The contact radius [m] by each method of calib.fe.recovery on the candidates' radii ``r``."""
+        return {"gap": contact_radius_from_gap(r, gap, active),
+                "pressure": contact_radius_from_pressure(r, pressure, active),
+                "node": float(r[active].max()) if active.any() else 0.0}
+
+    def contact_surface_r(self, displacement) -> np.ndarray:
+        """r [m] of the contact candidates the contact radius is measured on: the deformed surface,
+        R_i + u_r,i, under a kinematics that measures on it (``deformed_surface``: finite strain),
+        the undeformed one (small strain, u_r << a)."""
+        if not getattr(self.kinematics, "deformed_surface", False):
+            return self.candidate_r
+        return self.candidate_r + displacement[self.r_dof[self.candidate_nodes]]
+
     def contact_pressure(self, reaction, active):
         """Nodal contact pressure [Pa] from the nodal reactions [N] (calib.fe.recovery)."""
         return lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
@@ -149,13 +166,15 @@ class QuasiStaticSolver(QuadratureStates):
         gap = self.constraint.gaps(q)
         alpha, P = -q[self.plate], -(self.TT @ newton.f_int)[self.plate]
         pressure = self.contact_pressure(reaction, active)
-        radii = {"gap": contact_radius_from_gap(self.candidate_r, gap, active),
-                 "pressure": contact_radius_from_pressure(self.candidate_r, pressure, active),
-                 "node": float(self.candidate_r[active].max()) if active.any() else 0.0}
+        radii = self._contact_radii(self.candidate_r, gap, pressure, active)
+        # the warm start of the next step's active set is in the candidates' reference r
+        warm_start = radii[self.contact_radius_method]
+        if getattr(self.kinematics, "deformed_surface", False):
+            radii = self._contact_radii(self.contact_surface_r(u), gap, pressure, active)
         chosen = radii[self.contact_radius_method]
         new_state = ContactState(displacement=u, material_state=newton.trial, active=active, alpha=float(alpha),
-                                 force=float(P), contact_radius=chosen,
-                                 radius_exponents=radius_exponents(state, alpha, P, chosen),
+                                 force=float(P), contact_radius=warm_start,
+                                 radius_exponents=radius_exponents(state, alpha, P, warm_start),
                                  **displacement_rate(state, control, u, P))
         record = self._record(control, target, alpha, P, float(reaction.sum()),
                               (chosen, radii["gap"], radii["pressure"], radii["node"]), float(pressure.max()),

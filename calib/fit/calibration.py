@@ -348,12 +348,13 @@ def _body_meshes(spec: CalibrationSpec):
 
 
 def _solver(spec: CalibrationSpec, mesh):
-    """The FE solver of ``spec`` on ``mesh``: the rigid flat's, or the two-body FE's (calib.fe.two_body)."""
+    """The FE solver of ``spec`` on ``mesh``: the rigid flat's (in ``spec.kinematics``), or the two-body
+    FE's (calib.fe.two_body)."""
     material = spec.material
     sphere = von_mises_material(material.E, material.nu, material.sigma_y, spec.hardening)
     options = {"residual_tolerance": spec.residual_tolerance, "contact_radius_method": spec.contact_radius_method}
     if spec.counter is None:
-        return ContactSolver(mesh, sphere, **options)
+        return ContactSolver(mesh, sphere, kinematics=spec.kinematics, **options)
     from calib.fe.two_body import TwoBodySolver
 
     return TwoBodySolver(mesh, sphere, spec.counter.fe_material(), **options)

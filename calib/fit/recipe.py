@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
+from calib.fe.kinematics import DEFAULT_KINEMATICS, KINEMATICS
 from calib.fe.loadpath import LoadPathPlan
 from calib.fit.extrapolation import REFINEMENT
 from meshes.hemisphere import HemisphereMeshSpec, estimate_dofs
@@ -125,9 +126,10 @@ def smallest_radius(radius: float, counter=None) -> float:
 @dataclass(frozen=True)
 class CalibrationSpec:
     """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance, the
-    counter-body (calib.fit.counter.CounterBody; None: the rigid flat) and the sphere's isotropic
+    counter-body (calib.fit.counter.CounterBody; None: the rigid flat), the sphere's isotropic
     hardening (a calib.fe.flow_curve.FlowCurve starting at the material's sigma_y; None: perfectly
-    plastic)."""
+    plastic) and the FE's kinematics (calib.fe.kinematics.KINEMATICS; finite strain on the rigid flat
+    only)."""
 
     material: Material
     radius: float
@@ -137,8 +139,14 @@ class CalibrationSpec:
     contact_radius_method: str = "gap"
     counter: object = None
     hardening: object = None
+    kinematics: str = DEFAULT_KINEMATICS
 
     def __post_init__(self):
+        if self.kinematics not in KINEMATICS:
+            raise ValueError(f"kinematics must be one of {sorted(KINEMATICS)}, got {self.kinematics!r}")
+        if self.kinematics != DEFAULT_KINEMATICS and self.counter is not None:
+            raise ValueError(f"kinematics {self.kinematics!r} takes the sphere on the rigid flat: a counter-body"
+                             f" needs {DEFAULT_KINEMATICS!r}")
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
         if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
