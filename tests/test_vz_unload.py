@@ -221,3 +221,16 @@ def test_each_law_takes_only_its_own_parameters():
         get_law("vz-table").force(np.array([1e-5]), get_law("vz-table").initial_state(1), PARAMS)
     with pytest.raises(ValueError, match="law 'vz-unload' must be VZUnloadParams, got VZTableParams"):
         LAW.force(np.array([1e-5]), LAW.initial_state(1), BENT)
+
+
+def test_collisions_return_the_work_of_the_power_curve():
+    """collide and the quasi-static energy balance (collision_reference, which uses each contact's
+    own exponent m) agree on e; e equals sqrt(W_u / W_l) of the turning point."""
+    from nfdmodel import collide, collision_reference
+    v_in = np.array([0.005, 0.02, 0.1])
+    reference_impact = collision_reference("vz-unload", PARAMS, v_in)
+    np.testing.assert_allclose(collide("vz-unload", PARAMS, v_in, dt=None).e_velocity, reference_impact.restitution,
+                               rtol=2e-3)
+    rho, m = PARAMS.unloading_tables(reference_impact.P_max / PAIR.P_Y)
+    returned = reference_impact.P_max * reference_impact.delta_max * (1 - rho) / (m + 1)
+    np.testing.assert_allclose(reference_impact.restitution ** 2, returned / reference_impact.loading_work, rtol=1e-9)
