@@ -234,3 +234,11 @@ def test_collisions_return_the_work_of_the_power_curve():
     rho, m = PARAMS.unloading_tables(reference_impact.P_max / PAIR.P_Y)
     returned = reference_impact.P_max * reference_impact.delta_max * (1 - rho) / (m + 1)
     np.testing.assert_allclose(reference_impact.restitution ** 2, returned / reference_impact.loading_work, rtol=1e-9)
+
+
+def test_the_friction_models_read_the_law_s_contact_radius():
+    from nfdmodel.friction import contact_radius
+    delta = PAIR.delta_Y * np.array([0.5, 3.0, 30.0])
+    P, state = LAW.force_function(delta, LAW.initial_state(3), PARAMS)
+    expected = LAW.contact_state(delta, LAW.initial_state(3), PARAMS).a_ep
+    np.testing.assert_allclose(contact_radius("vz-unload", delta, P, state, PARAMS), expected, rtol=1e-12)
