@@ -23,13 +23,14 @@ from .materials import ContactPair, Material, yield_factor
 from .native import backend, backend_info
 from .oblique import ObliqueResult, oblique_collide
 from .parameter_file import load_parameters, parameter_record
-from .registry import LAWS, ContactDetails, ContactLaw, get_law
+from .registry import LAWS, PYTHON_LAWS, ContactDetails, ContactLaw, get_law
 from .thornton import ThorntonState, thornton_force, thornton_step
 from .unlike import VZConstants, sphere_sphere_params, sphere_wall_params
 from .validation import PlausibilityWarning, check_real
 from .vz import VZParams, VZState, vz_force, vz_force_with_iterations, vz_newton_iterations, vz_step
 from .vz_curve import NEWTON_MAX_ITERATIONS, NEWTON_TOLERANCE, vz_plastic_force
 from .vz_table import VZTableParams, VZTableState, vz_table_force, vz_table_step
+from .vz_unload import VZUnloadParams, VZUnloadState, vz_unload_force, vz_unload_step
 from .walton_braun import WaltonBraunParams, WaltonBraunState, walton_braun_force, walton_braun_step
 from .window import CalibrationWindow, RangeWarning
 
@@ -43,6 +44,7 @@ __all__ = [
     "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
     "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step", "backend", "backend_info",
+    "PYTHON_LAWS", "VZUnloadParams", "VZUnloadState", "vz_unload_force", "vz_unload_step",
     "Friction", "FrictionState", "Contact", "ContactForces", "contact_step", "shear_coefficient", "oblique_collide",
     "ObliqueResult", "VZConstants", "sphere_sphere_params", "sphere_wall_params",
 ]

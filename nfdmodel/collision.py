@@ -210,10 +210,13 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
         raise ValueError(f"v_in out of range: the energy balance of the impact at v_in = {v[0]:g} .. "
                          f"{v[-1]:g} m/s cannot be solved in floating point")
     delta_res = np.zeros_like(delta) if isinstance(state, HertzState) else state.delta_res
-    returned = force * (delta - delta_res) / (law.unloading_exponent + 1.0)
+    exponent = law.exponent_of(state)           # per contact where the history keeps one (vz-unload)
+    returned = force * (delta - delta_res) / (exponent + 1.0)
     restitution = np.sqrt(returned / work)
     loading_time = _loading_time(law, law_params, pair, v, delta)
-    unloading_time = _unloading_time_factor(law.unloading_exponent) * (delta - delta_res) / (restitution * v)
+    factor = (_unloading_time_factor(exponent) if np.ndim(exponent) == 0
+              else np.array([_unloading_time_factor(float(n)) for n in exponent]))
+    unloading_time = factor * (delta - delta_res) / (restitution * v)
     return CollisionReference(v, delta, force, delta_res, work, restitution,
                               loading_time + unloading_time, unloading_time)
 

@@ -68,7 +68,7 @@ class ContactLaw:
     force_function: Callable           # the pure kernel (delta, state, params) -> (P, new_state); no warnings
     state_type: type                   # the history class; state_type.virgin(n): n contacts never loaded
     loading_work_function: Callable    # (delta_max, P_max, params) -> work on the virgin curve [J]
-    unloading_exponent: float          # n in P = P_max s^n on unloading
+    unloading_exponent: float          # n in P = P_max s^n on unloading (a history may carry its own: exponent_of)
     step_function: Callable            # (delta, state, params) -> (P, HistoryUpdate); the same kernel as force
     params_function: Callable          # params -> this law's validated parameters (ValueError naming params)
     radii_function: Callable | None = None   # (P, a_e, new_state, params) -> (a_p, a_ep) [m]; None: a_p = 0,
@@ -133,13 +133,18 @@ class ContactLaw:
         return self.loading_work_function(np.asarray(delta_max, float), np.asarray(P_max, float),
                                           self.params_from(params))
 
+    def exponent_of(self, state):
+        """n of each contact's unloading curve: the history's own ``unloading_exponent`` array
+        where the law keeps one per contact (vz-unload), else the law's constant n."""
+        return getattr(state, "unloading_exponent", self.unloading_exponent)
+
     def dissipated_energy(self, state, params):
         """Energy dissipated per contact so far [J]: loading work to the turning point minus the
         elastic energy the unloading curve returns, W(delta_max) - P_max (delta_max - delta_res)/(n+1)."""
         if isinstance(state, HertzState):
             return np.zeros(state.n)
         work = self.loading_work(state.delta_max, state.P_max, params)
-        returned = state.P_max * (state.delta_max - state.delta_res) / (self.unloading_exponent + 1.0)
+        returned = state.P_max * (state.delta_max - state.delta_res) / (self.exponent_of(state) + 1.0)
         return np.maximum(work - returned, 0.0)
 
     def contact_state(self, delta, state, params) -> ContactDetails:
@@ -155,7 +160,7 @@ class ContactLaw:
             elastic = 0.4 * force * np.maximum(delta_flat, 0.0)
             return ContactDetails(force, a_e, zeros, a_e.copy(), zeros, elastic, zeros, new_state,
                                   np.zeros(force.shape, dtype=bool))
-        elastic = force * np.maximum(delta_flat - new_state.delta_res, 0.0) / (self.unloading_exponent + 1.0)
+        elastic = force * np.maximum(delta_flat - new_state.delta_res, 0.0) / (self.exponent_of(new_state) + 1.0)
         beyond = new_state.P_max > p.window_force if self.fitted else np.zeros(force.shape, dtype=bool)
         if self.radii_function is None:     # no radius model: the Hertz radius at P
             a_p = np.zeros_like(force)

@@ -240,12 +240,12 @@ def contact_radius(law_name: str, delta, P, state, params):
     """The contact radius [m] of each contact after the step (new history ``state``, force P)."""
     pair = as_pair(params, law_name)
     hertz = np.sqrt(np.maximum(np.asarray(delta, dtype=float), 0.0) * pair.R_star)
-    if law_name not in ("vz", "vz-table", "thornton"):
+    if law_name not in ("vz", "vz-table", "vz-unload", "thornton"):
         return hertz
     yielded = state.P_max > pair.P_Y
     if law_name == "vz":
         plastic = hertz_radius(P, pair.R_star, pair.E_star) + params.plastic_radius(state.P_max)
-    elif law_name == "vz-table":
+    elif law_name in ("vz-table", "vz-unload"):
         plastic = params.plastic_radius(state.P_max) + hertz_radius(P, pair.R_star, pair.E_star)
     else:
         root_R_p = 3.0 * state.unloading_stiffness / (4.0 * pair.E_star)    # K_u = (4/3) E* sqrt(R_p*)

@@ -180,7 +180,18 @@ def vz_table_step(delta: float, history: History, R: float, E: float, P_Y: float
     if delta <= delta_Y:
         P = hertz_force(delta, R, E)
         return P, History(delta, P, 0.0, 4.0 / 3.0 * E * math.sqrt(R))
-    d = delta / delta_Y
+    x = vz_table_load(delta / delta_Y, table)
+    nodes, f_values, f_slopes, g_values, g_slopes = table
+    f = hermite(x, nodes, f_values, f_slopes)[0]
+    g = hermite(x, nodes, g_values, g_slopes)[0]
+    if not a_Y * (x ** (1.0 / 3.0) + f) < R:
+        raise ValueError(f"delta out of range: at delta = {delta:g} m the vz-table contact radius reaches R* = {R:g} m")
+    return x * P_Y, turning_point(delta, x * P_Y, delta - delta_Y * x ** (2.0 / 3.0) / g, 1.5)
+
+
+def vz_table_load(d: float, table) -> float:
+    """x = P/P_Y >= 1 on the vz-table loading curve at d = delta/delta_Y > 1: the root of
+    D(x) = d (bisection on a doubling bracket, then Newton kept inside it)."""
     low, high = 1.0, 2.0
     while vz_table_approach(high, table)[0] < d:
         low, high = high, 2.0 * high
@@ -198,12 +209,40 @@ def vz_table_step(delta: float, history: History, R: float, E: float, P_Y: float
             x = candidate
             break
         x = candidate
-    nodes, f_values, f_slopes, g_values, g_slopes = table
-    f = hermite(x, nodes, f_values, f_slopes)[0]
-    g = hermite(x, nodes, g_values, g_slopes)[0]
-    if not a_Y * (x ** (1.0 / 3.0) + f) < R:
-        raise ValueError(f"delta out of range: at delta = {delta:g} m the vz-table contact radius reaches R* = {R:g} m")
-    return x * P_Y, turning_point(delta, x * P_Y, delta - delta_Y * x ** (2.0 / 3.0) / g, 1.5)
+    return x
+
+
+@dataclass(frozen=True)
+class ExponentHistory(History):
+    """A :class:`History` whose unloading curve carries its own exponent m (vz-unload)."""
+
+    m: float = 1.5
+
+
+def vz_unload_step(delta: float, history: ExponentHistory, R: float, E: float, P_Y: float, delta_Y: float,
+                   a_Y: float, table, unloading) -> tuple[float, ExponentHistory]:
+    """One time step of the vz-unload law (nfdmodel.vz_unload): Hertz up to delta_Y (delta_res = 0,
+    m = 3/2); beyond it x = P/P_Y on the vz-table loading curve (``table`` as vz_table_step's),
+    rho = delta_res/delta_max and m from ``unloading`` = (nodes, rho, rho slopes, m, m slopes) at
+    x (held beyond the last node), delta_res = rho delta, K_u = P / (delta - delta_res)^m;
+    unloading P = K_u <delta - delta_res>^m. A ValueError where the contact radius
+    a_Y (x^(1/3) + f(x)) reaches R."""
+    if delta <= history.delta_max:
+        return unloading_force(delta, history, history.m), history
+    if delta <= delta_Y:
+        P = hertz_force(delta, R, E)
+        return P, ExponentHistory(delta, P, 0.0, 4.0 / 3.0 * E * math.sqrt(R), 0.0, 1.5)
+    x = vz_table_load(delta / delta_Y, table)
+    nodes, f_values, f_slopes = table[:3]
+    if not a_Y * (x ** (1.0 / 3.0) + hermite(x, nodes, f_values, f_slopes)[0]) < R:
+        raise ValueError(f"delta out of range: at delta = {delta:g} m the vz-unload contact radius reaches R* = {R:g} m")
+    u_nodes, rho_values, rho_slopes, m_values, m_slopes = unloading
+    at = min(max(x, 1.0), u_nodes[-1])
+    rho = hermite(at, u_nodes, rho_values, rho_slopes)[0]
+    m = hermite(at, u_nodes, m_values, m_slopes)[0]
+    delta_res = min(rho * delta, math.nextafter(delta, 0.0))
+    P = x * P_Y
+    return P, ExponentHistory(delta, P, delta_res, P / (delta - delta_res) ** m, 0.0, m)
 
 
 # ----------------------------------------------------------------------------- thornton

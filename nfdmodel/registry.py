@@ -1,4 +1,4 @@
-"""The laws by name: ``get_law("hertz" | "vz" | "vz-table" | "thornton" | "walton-braun") -> ContactLaw``.
+"""The laws by name: ``get_law("hertz" | "vz" | "vz-table" | "thornton" | "walton-braun" | "vz-unload") -> ContactLaw``.
 
 Each law module declares its :class:`ContactLaw` as ``LAW`` next to its kernel
 (:mod:`nfdmodel.contact_law` says what a ContactLaw does: ``step``, ``commit``, ``force``, the
@@ -17,20 +17,26 @@ adds ``NFD_LAW_NEW`` to ``nfd_limits.h`` (limits.LAW_CODES follows) and the law 
 ``nfd_kernel.{h,c}``; the law module then calls ``native.law_loading("new", ...)`` and states
 ``collision_params``. tests/test_limits.py checks that ``LAWS``, the codes of nfd_limits.h, the cases of
 the kernel's ``nfd_step`` and the LAMMPS plugin's ``all_laws()`` name the same laws.
+A law without a compiled kernel yet (numpy and the scalar reference only) is listed in
+``PYTHON_LAWS`` instead: get_law, fit and collide take it; the C kernel and the plugin do not.
 """
 from __future__ import annotations
 
-from . import hertz, thornton, vz, vz_table, walton_braun
+from . import hertz, thornton, vz, vz_table, vz_unload, walton_braun
 from .contact_law import ContactDetails, ContactLaw
 
 LAWS: dict[str, ContactLaw] = {law.name: law for law in (hertz.LAW, vz.LAW, vz_table.LAW, thornton.LAW,
                                                          walton_braun.LAW)}
 
-__all__ = ["LAWS", "ContactDetails", "ContactLaw", "get_law"]
+PYTHON_LAWS: dict[str, ContactLaw] = {law.name: law for law in (vz_unload.LAW,)}
+
+__all__ = ["LAWS", "PYTHON_LAWS", "ContactDetails", "ContactLaw", "get_law"]
 
 
 def get_law(name: str) -> ContactLaw:
-    """The force law called ``name``: one of 'hertz', 'vz', 'vz-table', 'thornton', 'walton-braun'."""
-    if not isinstance(name, str) or name.strip().lower() not in LAWS:
-        raise ValueError(f"law must be one of {', '.join(LAWS)}; got {name!r}")
-    return LAWS[name.strip().lower()]
+    """The force law called ``name``: one of 'hertz', 'vz', 'vz-table', 'thornton', 'walton-braun',
+    'vz-unload'."""
+    laws = {**LAWS, **PYTHON_LAWS}
+    if not isinstance(name, str) or name.strip().lower() not in laws:
+        raise ValueError(f"law must be one of {', '.join(laws)}; got {name!r}")
+    return laws[name.strip().lower()]

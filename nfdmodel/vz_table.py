@@ -192,13 +192,17 @@ class VZTableParams:
                              f"(the force of an approach would not be unique); raise g's growth or f there")
         turning = samples[samples > 1.0]
         if turning.size:
-            returned = turning * np.cbrt(turning) ** 2 / self.tables(turning)[1] / 2.5
+            returned = self._scaled_returned_work(turning)
             taken = self._scaled_work(turning)
             excess = returned / taken - 1.0
             if not np.all(excess <= 1e-9):
                 worst = int(np.argmax(excess))
                 raise ValueError(f"table out of range: a load-unload cycle to P/P_Y = {turning[worst]:.4g} would "
                                  f"create energy (restitution {math.sqrt(1.0 + excess[worst]):.4f} > 1)")
+
+    def _scaled_returned_work(self, x):
+        """W_u / (P_Y delta_Y), the work the Hertz unloading from x returns: (2/5) x^(5/3) / g(x)."""
+        return x * np.cbrt(x) ** 2 / self.tables(x)[1] / 2.5
 
     def _scaled_work(self, x):
         """W / (P_Y delta_Y) on the virgin curve up to x >= 1: x D(x) - 3/5 - integral_1^x D."""
@@ -323,7 +327,7 @@ def _loading_branch(params: VZTableParams):
 
 def vz_table_params(params) -> VZTableParams:
     """``params`` when it is a VZTableParams, else a ValueError naming params."""
-    if not isinstance(params, VZTableParams):
+    if type(params) is not VZTableParams:     # (a subclass's tables unload otherwise: vz-unload)
         raise ValueError(f"params for law 'vz-table' must be VZTableParams, got {type(params).__name__}")
     return params
 
