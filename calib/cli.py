@@ -14,21 +14,19 @@ sweep's workers pass theirs to the command, calib.sweep.runner).
 
 Ctrl-C (SIGINT) and ``kill PID`` (SIGTERM) end a command alike: one line "nfdcal COMMAND:
 interrupted" on stderr, exit code 130, every result finished so far kept on disk (a sweep stores
-each as it finishes; calib.sweep.runner.terminate_as_interrupt is the same rule for a sweep run
-from Python).
+each as it finishes; calib.interrupt.terminate_as_interrupt, the one rule for a command and a sweep
+run from Python).
 """
 from __future__ import annotations
 
 import argparse
-import contextlib
 import importlib
 import re
-import signal
 import sys
-import threading
 import warnings
 
 from calib.commands.targets import OUTPUT_FLAGS, check_plot_name, flag, refuse_output_over_input
+from calib.interrupt import terminate_as_interrupt
 from calib.optional import MissingOptionalPart
 
 # Order is the order shown in --help: model -> FE validation -> calibration -> users.
@@ -104,24 +102,6 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"nfdcal {ns.command}: interrupted", file=sys.stderr)
         return 130
-
-
-@contextlib.contextmanager
-def terminate_as_interrupt():
-    """SIGTERM raises KeyboardInterrupt while a command runs (module docstring), in the main thread
-    (where signal handlers live; elsewhere, as under a test runner's thread, nothing changes)."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-
-    def interrupt(signum, frame):
-        raise KeyboardInterrupt
-
-    previous = signal.signal(signal.SIGTERM, interrupt)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parent.parent
 PACKAGES = ("calib", "meshes")
 PACKAGE = "calib"      # calib/__init__.py itself: a docstring, on the lowest layer
 LAYERS = (
-    ("nfdmodel", "calib.output", "calib.optional", "calib.lammps_plugin", "meshes", PACKAGE),
+    ("nfdmodel", "calib.output", "calib.optional", "calib.interrupt", "calib.lammps_plugin", "meshes", PACKAGE),
     ("calib.fe", "calib.sweep"),
     ("calib.fit",),
     ("calib.report",),

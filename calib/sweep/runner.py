@@ -28,6 +28,7 @@ from pathlib import Path
 from typing import Callable, Iterable, Iterator
 
 from calib import output
+from calib.interrupt import terminate_as_interrupt
 from calib.optional import require
 from meshes.hemisphere import hemisphere_mesh, mesh_path
 
@@ -232,24 +233,6 @@ def die_with_parent(parent_pid: int) -> None:
         os._exit(1)
 
     threading.Thread(target=watch, name="die-with-parent", daemon=True).start()
-
-
-@contextlib.contextmanager
-def terminate_as_interrupt():
-    """``kill PID`` (SIGTERM) stops a sweep like Ctrl-C: a KeyboardInterrupt in the parent, whose
-    handler terminates the workers; every result finished so far is already on disk."""
-    if threading.current_thread() is not threading.main_thread():
-        yield                           # signal handlers belong to the main thread
-        return
-
-    def interrupt(signum, frame):
-        raise KeyboardInterrupt
-
-    previous = signal.signal(signal.SIGTERM, interrupt)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 def run_sweep(tasks: list, function: Callable[[dict], dict], folder: str | Path, *,
