@@ -348,17 +348,25 @@ def vz_table_step(delta, state: VZTableState, params: VZTableParams):
                 update = dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=largest_P / pair.P_Y)
         return restore_shape(force, shape), update
     force, update = turning_point_step(delta, state, _loading_branch(params), True, params.pair)
-    if update.size:
-        pair = params.pair
-        P_max = update.values.P_max
-        radius = params.contact_radius_at(P_max)
-        largest = int(np.argmax(radius))
-        check_contact_radius_below_R(float(radius[largest]), pair.R_star, float(update.values.delta_max[largest]),
-                                     params)
-        if float(P_max.max()) > params.window_force:
-            update = dataclasses.replace(update, beyond_window=int(np.count_nonzero(P_max > params.window_force)),
-                                         largest_load_over_P_Y=float(P_max.max()) / pair.P_Y)
-    return restore_shape(force, shape), update
+    return restore_shape(force, shape), checked_loading_update(update, params)
+
+
+def checked_loading_update(update, params):
+    """The history update of a step whose contacts loaded on the virgin curve, checked: a
+    ContactRadiusError when the widest new contact radius reaches R* (nfdmodel.window), and the
+    contacts beyond the calibrated window (P_max above ``params.window_force``) counted in it
+    (vz-table and every law on its loading curve)."""
+    if not update.size:
+        return update
+    pair = params.pair
+    P_max = update.values.P_max
+    radius = params.contact_radius_at(P_max)
+    largest = int(np.argmax(radius))
+    check_contact_radius_below_R(float(radius[largest]), pair.R_star, float(update.values.delta_max[largest]), params)
+    if float(P_max.max()) > params.window_force:
+        update = dataclasses.replace(update, beyond_window=int(np.count_nonzero(P_max > params.window_force)),
+                                     largest_load_over_P_Y=float(P_max.max()) / pair.P_Y)
+    return update
 
 
 def vz_table_force(delta, state: VZTableState, params: VZTableParams):

@@ -31,7 +31,6 @@ carry it (registry.PYTHON_LAWS).
 """
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -42,8 +41,7 @@ from .history import (HistoryUpdate, TurningPointHistory, check_delta, check_for
                       restore_shape, step_and_commit)
 from .pchip import pchip_evaluate, pchip_slopes
 from .validation import check_real
-from .vz_table import VZTableParams
-from .window import check_contact_radius_below_R
+from .vz_table import VZTableParams, checked_loading_update
 
 HERTZ_EXPONENT = 1.5            # m at first yield: the elastic unloading of a Hertz contact
 
@@ -163,16 +161,7 @@ def vz_unload_step(delta, state: VZUnloadState, params: VZUnloadParams):
         else:
             update = empty_update(state, state.n)
     check_force(force, delta, pair)
-    if update.size:
-        P_max = update.values.P_max
-        radius = params.contact_radius_at(P_max)
-        largest = int(np.argmax(radius))
-        check_contact_radius_below_R(float(radius[largest]), pair.R_star, float(update.values.delta_max[largest]),
-                                     params)
-        if float(P_max.max()) > params.window_force:
-            update = dataclasses.replace(update, beyond_window=int(np.count_nonzero(P_max > params.window_force)),
-                                         largest_load_over_P_Y=float(P_max.max()) / pair.P_Y)
-    return restore_shape(force, shape), update
+    return restore_shape(force, shape), checked_loading_update(update, params)
 
 
 def vz_unload_force(delta, state: VZUnloadState, params: VZUnloadParams):
