@@ -127,3 +127,17 @@ def test_calibrate_cycles_refusals_are_one_line(argv, says, capsys):
     assert main(argv + ["--quiet", "--dry-run"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and says in err
+
+
+def test_calibrate_cycles_writes_the_rows_and_the_laws_figures(tmp_path, capsys):
+    """`calibrate --cycles 0.5,0.2` on a coarse mesh: cycles.csv holds the rows (cycle, branch, alpha, P,
+    contact radius), the summary the closed cycles and both laws' figures, from the middle path's peak."""
+    out = tmp_path / "out"
+    assert main(["calibrate", "--contact-size", "0.00016", "--cycles", "0.5,0.2", "--no-plots", "--json", "--quiet",
+                 "--out", str(out)]) == 0
+    summary = json.loads(capsys.readouterr().out)["cycles"]
+    assert summary["fractions"] == [0.5, 0.2] and summary["P_max"] == P_MAX and summary["overload_peak"] == 650.0
+    assert set(summary["laws"]) == {"vz-table", "vz-unload"} and len(summary["closed_cycles"]) == 2
+    lines = [line for line in (out / "cycles.csv").read_text(encoding="utf-8").splitlines() if not line.startswith("#")]
+    assert lines[0].startswith("cycle,branch,alpha,P,contact_radius") and len(lines) - 1 == summary["rows"]
+    assert json.loads((out / "cycles.json").read_text(encoding="utf-8"))["rows"] == summary["rows"]

@@ -295,7 +295,10 @@ def run(ns) -> int:
                       + ([hardening_line(hardening)] if hardening is not None else [])
                       + ([f"{counter.label()} (the dofs below count both bodies)"]
                          if counter is not None else [])
-                      + [f"outputs: {folder}"] + format_stages(stages))
+                      + [f"outputs: {folder}"] + format_stages(stages)
+                      + ([f"then load cycles from the middle path's peak: unloads to {', '.join(f'{f:g}' for f in cycles)} "
+                          f"P_max, the last reload on to {CYCLE_OVERLOAD:g} P_max, a full unload (cycles.csv)"]
+                         if cycles is not None else []))
         return 0
     rounds = None
     with output.one_writer(ns.out or default_out), progress_reporter(ns.quiet) as progress:
