@@ -29,6 +29,9 @@ from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
 
+CYCLE_OVERLOAD = 1.3    # --cycles: the last reload's peak over P_max (past the turning point)
+
+
 # --kinematics: the flag's values and calib.fe.kinematics' names
 KINEMATICS_FLAG = {"small": "small-strain", "finite": "finite-strain"}
 
@@ -59,6 +62,11 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
                              " Hencky strain; the sphere on the rigid flat, without --v-max, --ladder or --counter-*)")
+    parser.add_argument("--cycles", default=None, metavar="FRACTIONS",
+                        help="also run FE load cycles (calib.fe.cycles) from the middle load path's peak P_max: partial"
+                             " unloads to these fractions of P_max (e.g. 0.5,0.2), each reloaded to P_max, the last on"
+                             f" to {CYCLE_OVERLOAD:g} P_max, then a full unload; the vz-table and vz-unload laws checked"
+                             " against them (cycles.csv, cycles.json)")
     parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
                         " reference case; for another material or other options a folder of its own below it,"
                         " e.g. results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R>_peaks<P1>-<P2>); one"
@@ -138,6 +146,68 @@ def plan_ladder(ns, material, name: str, mesh_ladder) -> int:
     return 0
 
 
+def parse_cycles(text) -> tuple[float, ...] | None:
+    """--cycles FRACTIONS: comma-separated P/P_max, each in (0, 1); None when not given."""
+    if text is None:
+        return None
+    return tuple(number("--cycles", part.strip(), low=0.0, high=1.0, unit="x P_max, comma-separated (e.g. 0.5,0.2)")
+                 for part in str(text).split(","))
+
+
+def write_cycles(result, fractions, out, progress) -> dict | None:
+    """--cycles: the FE cycles from the calibration's committed peak state (calib.fe.cycles), the
+    laws against them (calib.fit.cycle_check), cycles.csv (the rows) and cycles.json (the figures)
+    in ``out``; without --cycles the files of an earlier run's cycles are removed. None without."""
+    from pathlib import Path
+
+    from calib import output
+
+    out = Path(out)
+    if fractions is None:
+        if (out / ".cycles.files").is_file():
+            with output.all_or_nothing(out, name="cycles"):
+                pass
+        return None
+    from calib.fe.cycles import CyclePlan, closed_cycles, run_cycles
+    from calib.fit.cycle_check import cycles_against_law, laws_of_calibration
+
+    if not result.load_paths.paths:
+        raise ValueError("--cycles starts from a load path's peak: the calibration has no unloading paths")
+    plan = CyclePlan(fractions, CYCLE_OVERLOAD)
+    progress(f"cycles from P_max = {plan.peak_of(result.spec.plan):g} N: unloads to {', '.join(f'{f:g}' for f in fractions)}"
+             f" P_max, the last reload on to {CYCLE_OVERLOAD:g} P_max")
+    run = run_cycles(result.solver, result.spec.plan, plan, result.load_paths)
+    fitted = laws_of_calibration(result)
+    laws = {name: cycles_against_law(name, params, run.rows, run.P_max, run.alpha_residual)
+            for name, params in fitted["laws"].items()}
+    summary = {"fractions": list(fractions), "overload": CYCLE_OVERLOAD, "P_max": run.P_max,
+               "overload_peak": run.overload_peak, "alpha_max": run.alpha_max, "alpha_residual": run.alpha_residual,
+               "closed_cycles": closed_cycles(run), "laws": laws, "laws_not_fitted": fitted["not_fitted"],
+               "rows": len(run.rows), "file": "cycles.csv"}
+    columns = ["cycle", "branch", "alpha", "P", "contact_radius", "plastic_zone_depth", "plastic_zone_radius",
+               "yielded_points"]
+    with output.all_or_nothing(out, name="cycles") as staging:
+        output.write_csv(staging / "cycles.csv", run.rows, columns,
+                         comment="FE load cycles (calib.fe.cycles); SI units: alpha [m], P [N], radii [m]")
+        output.write_json(staging / "cycles.json", summary)
+    return summary
+
+
+def cycle_lines(cycles: dict | None) -> list[str]:
+    if cycles is None:
+        return []
+    lines = [f"cycles from P_max {cycles['P_max']:.4g} N (unloads to {', '.join(f'{f:g}' for f in cycles['fractions'])}"
+             f" P_max, overload to {cycles['overload_peak']:.4g} N): residual alpha {cycles['alpha_residual']:.4e} m"]
+    lines += [f"  cycle {c['cycle']} to {c['fraction']:.3g} P_max: work in {c['work_in']:.4e} J, out "
+              f"{c['work_out']:.4e} J; reload at P_max {c['reload_alpha_at_peak_error']:+.2e} alpha_max from the "
+              f"turning point" for c in cycles["closed_cycles"]]
+    lines += [f"  {law} against the cycles: partial unloads and reloads {r['partial_error']:.2%} of P_max, final "
+              f"unload {r['final_unloading_error']:.2%}, dent {r['dent_error']:+.2%}"
+              + ("" if r["within"] else " (beyond 2 %)") for law, r in cycles["laws"].items()]
+    lines += [f"  {law} not fitted: {why}" for law, why in cycles["laws_not_fitted"].items()]
+    return lines
+
+
 def counter_absent(ns) -> bool:
     return all(getattr(ns, key, None) is None for key in ("counter_E", "counter_nu", "counter_sigma_y", "counter_R",
                                                          "counter_rho"))
@@ -158,7 +228,11 @@ def run(ns) -> int:
         raise ValueError("--kinematics finite takes a calibration on the rigid flat from --peaks (the impact FE,"
                          " the ladder and the counter-body FE are small-strain): drop --v-max, --ladder and the"
                          " --counter-* flags, or use --kinematics small")
+    cycles = parse_cycles(ns.cycles)
     if ns.ladder:
+        if cycles is not None:
+            raise ValueError("--cycles runs load cycles of one calibration: the --ladder compares meshes on the "
+                             "reference paths; drop one of them")
         hardening_given = any(getattr(ns, key) is not None for key in HARDENING_HELP)
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns) \
                 or hardening_given:
@@ -221,7 +295,10 @@ def run(ns) -> int:
                       + ([hardening_line(hardening)] if hardening is not None else [])
                       + ([f"{counter.label()} (the dofs below count both bodies)"]
                          if counter is not None else [])
-                      + [f"outputs: {folder}"] + format_stages(stages))
+                      + [f"outputs: {folder}"] + format_stages(stages)
+                      + ([f"then load cycles from the middle path's peak: unloads to {', '.join(f'{f:g}' for f in cycles)} "
+                          f"P_max, the last reload on to {CYCLE_OVERLOAD:g} P_max, a full unload (cycles.csv)"]
+                         if cycles is not None else []))
         return 0
     rounds = None
     with output.one_writer(ns.out or default_out), progress_reporter(ns.quiet) as progress:
@@ -239,8 +316,11 @@ def run(ns) -> int:
                              f"default) ships the law that meets them")
         out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
                                        vtu=not ns.no_plots)
+        cycle_summary = write_cycles(result, cycles, out, progress)
     summary = {**calibration.summary(result), "out": str(out),
                **({"counter_body": counter.describe()} if counter is not None else {})}
+    if cycle_summary is not None:
+        summary["cycles"] = cycle_summary
     if rounds is not None:
         summary["v_max"] = {"v_max": v_max, "rounds": rounds}
     lines = ([hardening_line(hardening)] if hardening is not None else []) + (
@@ -266,6 +346,7 @@ def run(ns) -> int:
                      f"{table['a_p_over_a_Y'][-1]:.4g} and C_R {table['C_R'][-1]:.4g} at the last"
                      + ("; shipped" if ship == "table" else f"; shipped: the {ship} fit of the two constants"))
     lines += accuracy_lines(summary.get("accuracy") or {})
+    lines += cycle_lines(cycle_summary)
     window = CalibrationWindow.from_record(summary["shipped_window"])     # from the lowest path it meets
     if ship != "table" and summary.get("accuracy"):
         lines.append(f"two constants shipped on P/P_Y {window.P_min_over_P_Y:.4g}-{window.P_max_over_P_Y:.4g} only: "
