@@ -61,6 +61,13 @@ COUNTER_KEYS = ("shape", "E", "nu", "sigma_y", "R")
 COUNTER_DENSITY = "rho"
 
 
+def law_of(params) -> str:
+    """The name of the law a parameter file's parameters are for: "vz-unload", "vz-table" or "vz"."""
+    if isinstance(params, VZUnloadParams):
+        return "vz-unload"
+    return "vz-table" if isinstance(params, VZTableParams) else "vz"
+
+
 def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float, material: Material,
                      counter: dict | None = None) -> dict:
     """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat, or on
@@ -68,10 +75,10 @@ def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float
     nodes, or the vz-unload law's nodes and unloading nodes."""
     pair = params.pair
     if isinstance(params, VZTableParams):
-        law = {"law": "vz-table", "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
+        law = {"law": law_of(params), "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
                                             "C_R": list(params.g)}}
         if isinstance(params, VZUnloadParams):
-            law.update(law="vz-unload", unloading={"P_max_over_P_Y": list(params.x_unload), "dent": list(params.dent),
+            law.update(unloading={"P_max_over_P_Y": list(params.x_unload), "dent": list(params.dent),
                                                    "exponent": list(params.exponent)})
     else:
         law = {"law": "vz", "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
