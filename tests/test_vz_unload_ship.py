@@ -182,3 +182,14 @@ def test_the_dent_of_a_path_held_out_of_the_fit_is_the_fe_s(shipped):
     stated = summary["vz_unload"]["held_out"][0]
     assert stated["dent_error"] == pytest.approx(dent_error, rel=1e-6, abs=1e-9)
     assert abs(stated["radius_error"]) <= 0.02 and stated["unloading_error"] <= 0.02 and abs(stated["e_error"]) <= 0.01
+
+
+def test_without_an_interior_path_the_summary_says_none_was_held_out(shipped):
+    """Two unloading paths (the lowest and the highest are never held out): said, not left blank."""
+    from calib.fit import unload_ship
+
+    out, _ = shipped
+    record = json.loads((out / "calibration.json").read_text(encoding="utf-8"))["vz_unload"]
+    lines = unload_ship.lines({**record, "held_out": []})
+    assert lines[1] == ("vz-unload law against FE paths held out of its fit, one at a time: no interior path to "
+                        "hold out (needs 3 or more unloading paths)")
