@@ -4,6 +4,11 @@ Format (the record ``parameter_record`` builds):
     {"law": "vz", "Ca": m/N, "Kc": 1/N, "Ca_hat": -, "Kc_hat": -, "P_Y": N, "a_Y": m,
      "delta_Y": m, "material": {"E": Pa, "nu": -, "sigma_y": Pa, "rho": kg/m^3, "R": m},
      "window": {"P_min_over_P_Y": -, "P_max_over_P_Y": -, "a_max_over_R": -, "source": text}, ...}
+The vz-table law ("law": "vz-table") states its nodes instead of Ca, Kc:
+    "table": {"P_over_P_Y": [-], "a_p_over_a_Y": [-], "C_R": [-]}
+and the vz-unload law ("law": "vz-unload", nfdmodel.vz_unload) the same "table" and its unloading
+nodes over the turning point x_m = P_max/P_Y:
+    "unloading": {"P_max_over_P_Y": [-], "dent": [delta_res/delta_max], "exponent": [m]}
 A calibration against a deformable counter-body (``nfdcal calibrate --counter-E ...``) also states it:
     "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null,
                      "rho": kg/m^3 | null}
@@ -12,10 +17,12 @@ A counter-sphere needs its "rho" (the pair's reduced mass m* = m1 m2 / (m1 + m2)
 not part of m* (null: the sphere's). "mass_star" [kg] states m*, checked like P_Y.
 Written by a calibration, also the estimated relative discretisation errors (``ERROR_KEYS``:
 numbers >= 0, or null for one mesh) and how they were obtained ("discretisation").
-Only law, Ca, Kc and material are needed; a file without "window" (written before windows were
-recorded) is read with the default recipe's window, 1..41.2 P_Y, and a RangeWarning saying so; any other key must be one of ``KEYS`` (a typo is named,
-never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, mass_star, Ca_hat, Kc_hat, when present, must
-agree with the values recomputed here (relative 1e-4), so a stale or hand-edited file is caught.
+Only law, material and the law's own keys (Ca, Kc; table; table and unloading) are needed; a file
+without "window" (written before windows were recorded) is read with the default recipe's window,
+1..41.2 P_Y, and a RangeWarning saying so; any other key must be one of ``KEYS`` (a typo is named,
+never ignored), every number a JSON number (a string is refused); P_Y, a_Y, delta_Y, mass_star,
+Ca_hat, Kc_hat, when present, must agree with the values recomputed here (relative 1e-4),
+so a stale or hand-edited file is caught.
 """
 from __future__ import annotations
 
@@ -29,6 +36,7 @@ from .materials import ContactPair, Material
 from .vz import VZParams
 from .validation import PlausibilityWarning
 from .vz_table import VZTableParams
+from .vz_unload import VZUnloadParams
 from .window import CalibrationWindow, RangeWarning
 
 _CONSISTENCY = 1e-4
@@ -40,9 +48,11 @@ ERROR_KEYS = ("Ca_rel_error_estimate", "Kc_rel_error_estimate", "Ca_hat_rel_erro
 # the keys a parameter file may hold: what parameter_record writes, and what nfdcal adds around it
 # ("hardening": the sphere's flow curve the FE calibrated, absent for perfect plasticity; the law's
 # constants carry it, the runtime reads nothing of it)
-KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "P_Y", "a_Y", "delta_Y", "mass_star", "material", "counter_body", "window",
+KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "unloading", "P_Y", "a_Y", "delta_Y", "mass_star", "material", "counter_body", "window",
         "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation", "hardening")
 TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
+UNLOADING_KEYS = ("P_max_over_P_Y", "dent", "exponent")  # the vz-unload law: nodes x_unload, dent, exponent
+LAWS = ("vz", "vz-table", "vz-unload")                   # the laws a parameter file may ship
 MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 # the deformable counter-body the constants were calibrated against (absent or null: a rigid flat):
 # shape "flat" or "sphere", E [Pa], nu, sigma_y [Pa] (null: elastic), R [m] (null: a flat); and
@@ -51,15 +61,25 @@ COUNTER_KEYS = ("shape", "E", "nu", "sigma_y", "R")
 COUNTER_DENSITY = "rho"
 
 
-def parameter_record(params: VZParams | VZTableParams, R: float, material: Material,
+def law_of(params) -> str:
+    """The name of the law a parameter file's parameters are for: "vz-unload", "vz-table" or "vz"."""
+    if isinstance(params, VZUnloadParams):
+        return "vz-unload"
+    return "vz-table" if isinstance(params, VZTableParams) else "vz"
+
+
+def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float, material: Material,
                      counter: dict | None = None) -> dict:
     """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat, or on
-    the deformable ``counter`` body, a COUNTER_KEYS record): the vz constants, or the vz-table
-    law's nodes."""
+    the deformable ``counter`` body, a COUNTER_KEYS record): the vz constants, the vz-table law's
+    nodes, or the vz-unload law's nodes and unloading nodes."""
     pair = params.pair
     if isinstance(params, VZTableParams):
-        law = {"law": "vz-table", "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
+        law = {"law": law_of(params), "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
                                             "C_R": list(params.g)}}
+        if isinstance(params, VZUnloadParams):
+            law.update(unloading={"P_max_over_P_Y": list(params.x_unload), "dent": list(params.dent),
+                                                   "exponent": list(params.exponent)})
     else:
         law = {"law": "vz", "Ca": params.Ca, "Kc": params.Kc, "Ca_hat": params.Ca_hat, "Kc_hat": params.Kc_hat}
     return {**law, "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "mass_star": pair.mass_star,
@@ -106,9 +126,10 @@ def _pair(path, material: Material, R, counter) -> ContactPair:
     return ContactPair.sphere_counter(material, R, counter["E"], counter["nu"], counter["sigma_y"], counter["R"], rho)
 
 
-def load_parameters(path) -> VZParams | VZTableParams:
-    """VZParams (law "vz") or VZTableParams (law "vz-table") for the pair described by the JSON
-    parameter file at ``path``: the sphere on a rigid flat, or on its "counter_body".
+def load_parameters(path) -> VZParams | VZTableParams | VZUnloadParams:
+    """VZParams (law "vz"), VZTableParams (law "vz-table") or VZUnloadParams (law "vz-unload") for
+    the pair described by the JSON parameter file at ``path``: the sphere on a rigid flat, or on
+    its "counter_body".
 
     Raises FileNotFoundError if the file is missing, ValueError naming the key for a corrupted
     file, a missing or out-of-range value, or derived values inconsistent with the material.
@@ -129,18 +150,23 @@ def load_parameters(path) -> VZParams | VZTableParams:
                                   or not math.isfinite(value) or value < 0):
             raise ValueError(f"parameter file {path}: {key} must be a number >= 0 or null, got {value!r}")
     law = data.get("law", "vz")
-    if law not in ("vz", "vz-table"):
-        raise ValueError(f"parameter file {path}: law must be 'vz' or 'vz-table', got {law!r}")
+    if law not in LAWS:
+        raise ValueError(f"parameter file {path}: law must be one of {', '.join(map(repr, LAWS))}, got {law!r}")
     material_data = data.get("material")
     if not isinstance(material_data, dict):
         raise ValueError(f"parameter file {path}: missing 'material' object (E, nu, sigma_y, rho, R)")
     _check_keys(path, material_data, MATERIAL_KEYS, " in 'material'")
     missing = [k for k in MATERIAL_KEYS if k not in material_data]
-    missing += [k for k in (("Ca", "Kc") if law == "vz" else ("table",)) if k not in data]
+    missing += [k for k in {"vz": ("Ca", "Kc"), "vz-table": ("table",), "vz-unload": ("table", "unloading")}[law]
+                if k not in data]
     if missing:
         raise ValueError(f"parameter file {path}: missing key(s) {', '.join(missing)}")
-    if law == "vz-table":
+    if law != "vz":
         _check_object(path, data["table"], TABLE_KEYS, "table")
+    if law == "vz-unload":
+        _check_object(path, data["unloading"], UNLOADING_KEYS, "unloading")
+    elif "unloading" in data:
+        raise ValueError(f"parameter file {path}: 'unloading' belongs to law 'vz-unload', not {law!r}")
     if "window" in data:
         try:
             window = CalibrationWindow.from_record(data["window"])
@@ -156,10 +182,15 @@ def load_parameters(path) -> VZParams | VZTableParams:
             pair = _pair(path, material, material_data["R"], data.get("counter_body"))
             if law == "vz":
                 params = VZParams(pair, data["Ca"], data["Kc"], window)
-            else:
+            elif law == "vz-table":
                 table = data["table"]
                 params = VZTableParams(pair, table["P_over_P_Y"], table["a_p_over_a_Y"], table["C_R"],
                                        window if "window" in data else None)
+            else:
+                table, unloading = data["table"], data["unloading"]
+                params = VZUnloadParams(pair, table["P_over_P_Y"], table["a_p_over_a_Y"], table["C_R"],
+                                        window if "window" in data else None, unloading["P_max_over_P_Y"],
+                                        unloading["dent"], unloading["exponent"])
         except ValueError as exc:
             # an implausible value (R = 100: millimetres?) is the likely cause: name it in the error
             hints = "; ".join(str(w.message) for w in noted if issubclass(w.category, PlausibilityWarning))
@@ -171,7 +202,7 @@ def load_parameters(path) -> VZParams | VZTableParams:
     if law == "vz":
         derived.update(Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
     elif "Ca" in data or "Kc" in data:
-        raise ValueError(f"parameter file {path}: law 'vz-table' takes its 'table', not Ca/Kc")
+        raise ValueError(f"parameter file {path}: law {law!r} takes its 'table', not Ca/Kc")
     for key, value in derived.items():
         if key in data:
             stored = data[key]

@@ -101,7 +101,7 @@ def test_load_parameters_round_trip_and_cli(tmp_path, capsys):
     (json.dumps({"Ca": 1e-7, "Kc": 1e-4}), "missing 'material'"),
     (json.dumps({"Ca": 1e-7, "material": {"E": 70e9, "nu": 0.3, "sigma_y": 1e8, "rho": 2699, "R": 0.1}}),
      "missing key(s) Kc"),
-    (json.dumps({"law": "hertz", "Ca": 1e-7, "Kc": 0}), "law must be 'vz'"),
+    (json.dumps({"law": "hertz", "Ca": 1e-7, "Kc": 0}), "law must be one of 'vz', 'vz-table', 'vz-unload'"),
 ], ids=["not json", "not an object", "no material", "no Kc", "law hertz"])
 def test_load_parameters_bad_files(tmp_path, content, needle):
     path = tmp_path / "bad.json"

@@ -6,7 +6,11 @@ fitted by least squares to FE load paths that go beyond first yield P_Y [N], and
 and recorded. The parameter file ships, by default, the vz-table law fitted to the same paths
 (calib.fit.table_fit: load-dependent a_p and C_R), which meets the targets of
 calib.fit.calibration (E_TARGET in e, FORCE_TARGET in force) where the two constants miss them;
-``--ship radius`` or ``force`` ships the two constants on the FE paths where they meet them.
+``--ship radius`` or ``force`` ships the two constants on the FE paths where they meet them;
+``--ship unload`` the vz-unload law (calib.fit.unload_ship: the FE's contact radius, dent and
+unloading exponent as tables; Python only, no LAMMPS export), with its dent, contact radius at the
+peak, unloading force and e against the FE paths it was fitted on and against interior paths held
+out of its fit.
 
     nfdcal calibrate                      # the reference case, results into results/calibration
     nfdcal calibrate --json               # also print the summary object (Ca, Kc, Ca_hat, ...)
@@ -30,6 +34,7 @@ from nfdmodel.validation import check_solid
 
 
 CYCLE_OVERLOAD = 1.3    # --cycles: the last reload's peak over P_max (past the turning point)
+TWO_CONSTANTS = ("radius", "force")     # the --ship values that ship the paper's two constants
 
 
 # --kinematics: the flag's values and calib.fe.kinematics' names
@@ -54,11 +59,12 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--contact-size", default=None,
                         help="element size at the contact [m] (default: the reference mesh, scaled"
                              " with the contact radius for other materials)")
-    parser.add_argument("--ship", default="table", choices=("radius", "force", "table"),
+    parser.add_argument("--ship", default="table", choices=("radius", "force", "table", "unload"),
                         help="which law the parameter file ships: the vz-table law (table, the default: it meets"
-                             " the accuracy targets), or the paper's two constants fitted to the contact radius"
+                             " the accuracy targets), the paper's two constants fitted to the contact radius"
                              " (radius) or to the force (force), declared only over the FE paths where they meet"
-                             " the targets")
+                             " the targets, or the vz-unload law (unload: also the FE's dent, contact radius and"
+                             " unloading curve; Python only)")
     parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
                              " Hencky strain; the sphere on the rigid flat, without --v-max, --ladder or --counter-*)")
@@ -216,7 +222,7 @@ def counter_absent(ns) -> bool:
 def run(ns) -> int:
     from calib import output
     from calib.commands.progress import progress_reporter
-    from calib.fit import calibration, impact_window, recipe
+    from calib.fit import calibration, impact_window, recipe, unload_ship
     from calib.report import calibration as calibration_report
     from calib.studies import mesh_ladder
 
@@ -308,7 +314,7 @@ def run(ns) -> int:
             found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ship,
                                                         contact_size=contact_size)
             result, rounds = found.result, list(found.rounds)
-        if ship != "table" and result.load_paths.paths and result.two_constant_window() is None:
+        if ship in TWO_CONSTANTS and result.load_paths.paths and result.two_constant_window() is None:
             record = calibration.accuracy(result)["laws"]["vz"]
             raise ValueError(f"--ship {ship}: the two constants (Ca = {result.params.Ca:.4g} m/N, Kc = "
                              f"{result.params.Kc:.4g} 1/N) meet the targets at no FE path (e {record['worst_e_error']:+.2%}, "
@@ -344,11 +350,14 @@ def run(ns) -> int:
         table = summary["table"]
         lines.append(f"vz-table law: {len(table['P_over_P_Y'])} nodes to {table['P_over_P_Y'][-1]:.4g} P_Y, a_p/a_Y "
                      f"{table['a_p_over_a_Y'][-1]:.4g} and C_R {table['C_R'][-1]:.4g} at the last"
-                     + ("; shipped" if ship == "table" else f"; shipped: the {ship} fit of the two constants"))
+                     + {"table": "; shipped", "unload": "; shipped: the vz-unload law"}.get(
+                         ship, f"; shipped: the {ship} fit of the two constants"))
     lines += accuracy_lines(summary.get("accuracy") or {})
     lines += cycle_lines(cycle_summary)
+    if "vz_unload" in summary:
+        lines += unload_ship.lines(summary["vz_unload"])
     window = CalibrationWindow.from_record(summary["shipped_window"])     # from the lowest path it meets
-    if ship != "table" and summary.get("accuracy"):
+    if ship in TWO_CONSTANTS and summary.get("accuracy"):
         lines.append(f"two constants shipped on P/P_Y {window.P_min_over_P_Y:.4g}-{window.P_max_over_P_Y:.4g} only: "
                      f"the FE paths where they meet the targets")
     lines.append(f"calibrated window: {window.describe()}"

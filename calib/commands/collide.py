@@ -12,7 +12,8 @@ Material flags default to the paper's reference case (aluminium sphere, R = 0.1 
 default to the constants of the sphere the flags give: the paper's calibration for the reference
 sphere, its dimensionless constants at another radius, the master table's for another material
 (as ``nfdcal material``; outside the table an error); or they come from a calibrated parameter
-file (--params FILE, which also sets the material). --dt defaults to "auto": the shortest estimated contact time /
+file (--params FILE, which also sets the material; its law, vz, vz-table or vz-unload, is the default --law,
+and the two table laws need one). --dt defaults to "auto": the shortest estimated contact time /
 2000 or its unloading phase / 100, whichever is smaller (about 3e-7 s for the reference case at
 0.02..0.2 m/s; the paper used 1e-6 s). A dt too large for the contact prints one warning line on
 stderr (nfdmodel.TimeStepWarning; oblique impacts: the same check at the fastest normal speed); a dt beyond
@@ -39,9 +40,10 @@ from __future__ import annotations
 
 from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments, material_flags,
                                    number, print_summary)
-from nfdmodel import LAWS, reference_case
+from nfdmodel import LAWS, PYTHON_LAWS, reference_case
 
-LAW_NAMES = tuple(LAWS)            # every registered law, in the registry's order
+LAW_NAMES = tuple(LAWS) + tuple(PYTHON_LAWS)   # every registered law, in the registry's order
+FILE_LAWS = ("vz", "vz-table", "vz-unload")   # the laws a parameter file holds (nfdmodel.parameter_file)
 DEFAULTS = {**MATERIAL_DEFAULTS, "Ca": reference_case.CA, "Kc": reference_case.KC}   # the paper's calibration
 # the files --report writes into --out (calib.report.collision)
 REPORT_FILES = ("restitution.csv", "restitution.png", "impact_v0.04.csv", "impact_v0.04.png", "dt_convergence.csv",
@@ -131,7 +133,8 @@ def material_constants(pair, material, radius: float):
 
 def build_params(ns):
     """(law name, law parameters) from the command-line namespace."""
-    from nfdmodel import ContactPair, Material, VZParams, VZTableParams, WaltonBraunParams, get_law, load_parameters
+    from nfdmodel import ContactPair, Material, VZParams, WaltonBraunParams, get_law, load_parameters
+    from nfdmodel.parameter_file import law_of
     from nfdmodel.vz import check_si_constants
 
     flags = material_flags(ns)
@@ -143,16 +146,18 @@ def build_params(ns):
         if given:
             raise ValueError(f"--params sets the material, Ca and Kc: do not combine it with {', '.join(given)}")
     file_params = load_parameters(ns.params) if ns.params is not None else None
-    law = get_law(ns.law if ns.law is not None else
-                  ("vz-table" if isinstance(file_params, VZTableParams) else "vz")).name
+    law = get_law(ns.law if ns.law is not None else law_of(file_params)).name
     if law == "vz-table" and ns.params is None:
         raise ValueError("--law vz-table needs --params FILE (a vz-table parameter file: nfdcal calibrate, or "
                          "nfdcal material --params-out); without --params give --law vz, thornton, hertz or "
                          "walton-braun")
+    if law == "vz-unload" and ns.params is None:
+        raise ValueError("--law vz-unload needs --params FILE (a vz-unload parameter file: nfdcal calibrate --ship "
+                         "unload); without --params give --law vz, thornton, hertz or walton-braun")
     if ns.params is not None:
         params = file_params
-        held = "vz-table" if isinstance(file_params, VZTableParams) else "vz"
-        if law in ("vz", "vz-table") and law != held:
+        held = law_of(file_params)
+        if law in FILE_LAWS and law != held:
             raise ValueError(f"--law {law} out of range for --params {ns.params}: the file holds the {held} law; "
                              f"give --law {held} (or no --law), or one of thornton, hertz, walton-braun")
     else:
@@ -232,7 +237,7 @@ def run(ns) -> int:
     window = {True: "yes", False: "NO", None: "-"}
     lines += [f"{r['v_in']:10.4g} {r['v_out']:11.5g} {r['e_velocity']:11.6f} {r['e_energy']:9.6f} "
               f"{r['P_max']:10.5g} {r['contact_time']:15.6g} {window[r['in_calibrated_range']]:>9}" for r in records]
-    if getattr(params, "window", None) is not None and law == "vz":
+    if getattr(params, "window", None) is not None and law in ("vz", "vz-unload"):
         lines.append(f"calibrated window: {params.window.describe()} ({params.window.source})")
     print_summary(ns, records, lines)
     return 0

@@ -19,6 +19,8 @@ numbers in SI units to 17 significant digits (LAMMPS reads back the file's value
 window the constants were fitted on (its lower end, the lowest unloading fitted, when above first
 yield: the plugin counts contacts that turn below it). The constants are the material's (Ca_hat, Kc_hat of a sphere
 on a flat: the dimensionless constants transfer to any pair, nfdmodel/README.md: the dimensionless constants).
+A vz-unload file (``nfdcal calibrate --ship unload``) is refused, one line, exit 2: the plugin does
+not have that law (nfdmodel.registry.PYTHON_LAWS).
 A vz-table file (its tables, too long for a line) is named by its absolute path, which the
 plugin reads:
 
@@ -151,7 +153,8 @@ def quoted(path: str, flag: str = "--params") -> str:
 
 
 def run(ns) -> int:
-    from nfdmodel import VZParams, load_parameters
+    from nfdmodel import PYTHON_LAWS, VZParams, load_parameters
+    from nfdmodel.parameter_file import law_of
 
     atom_type = number("--type", ns.type)
     if atom_type != int(atom_type) or atom_type < 1:
@@ -166,6 +169,10 @@ def run(ns) -> int:
         raise ValueError("--wall-region REGION-ID out of range: need letters, digits and underscores (a LAMMPS "
                          f"region ID), got {ns.wall_region!r}")
     params = load_parameters(ns.params)
+    if law_of(params) in PYTHON_LAWS:   # a law without a compiled kernel: the plugin cannot run it
+        raise ValueError(f"--params {ns.params}: law {law_of(params)!r} out of range for export lammps: the LAMMPS "
+                         f"plugin does not have it (a Python-only law; nfdcal collide --params runs it); export a vz "
+                         f"or vz-table file (nfdcal calibrate --ship table)")
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
     if counter is not None:
         return run_counter(ns, params, counter, int(atom_type), wall)

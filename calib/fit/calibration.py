@@ -10,8 +10,10 @@ The FE problem):
   3. also fit (Ca, Kc) to the FE force-approach curves through the runtime law itself
      (nfdmodel vz), i.e. what a DEM code feels;
   4. fit the vz-table law's tables (calib.fit.table_fit) to the FE loading curve and the work
-     each unloading returned: the law for windows beyond two constants;
-  5. drive nfdmodel's vz, vz-table, thornton and hertz laws along the FE approach histories and
+     each unloading returned: the law for windows beyond two constants; with ``ship="unload"``
+     also the vz-unload law (calib.fit.unload_ship: the FE's contact radius, dent and unloading
+     exponent), checked against the paths it was fitted on and against interior paths held out;
+  5. drive nfdmodel's vz, vz-table (vz-unload when shipped), thornton and hertz laws along the FE approach histories and
      compare;
   6. repeat 1-4 on a second mesh (contact element 2h, on another process while the first runs)
      and ship the Richardson-extrapolated constants with their estimated discretisation error
@@ -40,11 +42,13 @@ from calib.fit.extrapolation import Estimate
 from calib.fit.least_squares import (ForceLawFit, RadiusLawData, RadiusLawFit, fit_force_law, fit_radius_law,
                                      radius_law_data, relative_force_residuals, window_study)
 from calib.fit.recipe import CalibrationSpec, check_fittable, coarse_spec
+from calib.fit import unload_ship
 from calib.fit.table_fit import fit_tables
 from calib.output import git_commit
 from calib.sweep.runner import in_background
 from meshes.hemisphere import hemisphere_mesh
-from nfdmodel import CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, VZTableParams, get_law
+from nfdmodel import (CalibrationWindow, ContactPair, Material, RangeWarning, VZParams, VZTableParams, VZUnloadParams,
+                      get_law)
 
 # What a shipped law must meet against the FE at every peak inside its window: |e_law / e_FE - 1| and
 # max |P_law - P_FE| / P_max along loading and unloading (calib/README.md, Accuracy of a shipped law).
@@ -191,12 +195,20 @@ class CalibrationResult:
                  "alpha_max": extrapolation.unextrapolated(path.alpha_max, coarse["alpha_max"])}
                 for path, coarse in zip(self.load_paths.paths, self.mesh_pair["paths"])]
 
+    @cached_property
+    def unload_params(self) -> VZUnloadParams:
+        """The vz-unload law fitted to this mesh's loading points and unloading paths
+        (calib.fit.unload_ship; ValueError when they determine none)."""
+        return unload_ship.fit_unload(self)
+
     @property
-    def shipped_params(self) -> VZParams | VZTableParams:
-        """What the parameter file ships: the vz-table law (``shipped == "table"``) or the
-        two-constant law of :attr:`params` on :meth:`two_constant_window`."""
+    def shipped_params(self) -> VZParams | VZTableParams | VZUnloadParams:
+        """What the parameter file ships: the vz-table law (``shipped == "table"``), the vz-unload
+        law (``"unload"``) or the two-constant law of :attr:`params` on :meth:`two_constant_window`."""
         if self.shipped == "table":
             return self.fit_table()
+        if self.shipped == "unload":
+            return self.unload_params
         params = self.params
         return VZParams(params.pair, params.Ca, params.Kc, self.two_constant_window() or self.fitted_window)
 
@@ -258,7 +270,9 @@ def _path_history(path) -> tuple[np.ndarray, np.ndarray]:
     return approach, force
 
 
-SHIPPABLE = ("radius", "force", "table")   # the paper's two constants, fitted to the radius or the force; the tables
+# the paper's two constants, fitted to the radius or the force; the vz-table law; the vz-unload law
+SHIPPABLE = ("radius", "force", "table", "unload")
+SHIPPED_LAW = {"radius": "vz", "force": "vz", "table": "vz-table", "unload": "vz-unload"}
 
 
 MESH_COUNTS = (1, 2)   # one mesh (studies of the FE itself), or two and Richardson extrapolation
@@ -278,7 +292,7 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
 
     if ship not in SHIPPABLE:
         raise ValueError(f"ship must be one of {', '.join(map(repr, SHIPPABLE))}, got {ship!r}")
-    if ship in ("force", "table") and not unload:
+    if ship in ("force", "table", "unload") and not unload:
         raise ValueError(f"ship = {ship!r} fits the load-unload paths: it needs unload=True")
     if meshes not in MESH_COUNTS:
         raise ValueError(f"meshes must be 1 or 2, got {meshes!r}")
@@ -303,6 +317,11 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
         estimates = result.constants("radius")
         extrapolation.warn_if_not_asymptotic(estimates, (spec.mesh.contact_size, coarse.mesh.contact_size))
     result.shipped = ship
+    if ship == "unload":                # before the comparison, which drives the shipped law
+        try:
+            result.unload_params
+        except ValueError as exc:
+            raise ValueError(f"ship = 'unload': {exc}") from None
     compare_models(result)
     if ship == "table":
         try:
@@ -466,6 +485,8 @@ def compare_models(result: CalibrationResult) -> None:
         models = [("vz", "vz", result.params), (f"vz ({other_fit} fit)", "vz", other_params)]
         if result.table_params is not None:
             models.append(("vz-table", "vz-table", result.table_params))
+        if result.shipped == "unload":
+            models.append(("vz-unload", "vz-unload", result.unload_params))
         comparisons = []
         for label, law_name, params in models + [("thornton", "thornton", pair), ("hertz", "hertz", pair)]:
             law_force, e = drive_law(law_name, params, approach)
@@ -493,6 +514,7 @@ def summary(result: CalibrationResult) -> dict:
                    "C_R": list(result.table_params.g), "window": result.table_params.window.record()}),
         "shipped_fit": result.shipped,
         "accuracy": accuracy(result),
+        **({"vz_unload": unload_ship.figures(result, result.unload_params)} if result.shipped == "unload" else {}),
         "radius_fit": {"Ca": result.radius_fit.Ca.slope, "Ca_se": result.radius_fit.Ca.standard_error,
                        "Ca_r2": result.radius_fit.Ca.r_squared, "Kc": result.radius_fit.Kc.slope,
                        "Kc_se": result.radius_fit.Kc.standard_error, "Kc_r2": result.radius_fit.Kc.r_squared,
@@ -518,7 +540,7 @@ def summary(result: CalibrationResult) -> dict:
 
 
 def peaks_within_target(result: CalibrationResult, law: str) -> list[tuple[float, bool]] | None:
-    """(P_max [N], whether ``law`` ("vz" or "vz-table") meets E_TARGET and FORCE_TARGET there)
+    """(P_max [N], whether ``law`` ("vz", "vz-table", "vz-unload") meets E_TARGET and FORCE_TARGET there)
     for each FE path in load order, or None without unloading paths."""
     out = []
     for path in sorted(result.load_paths.paths, key=lambda p: p.peak):
@@ -530,14 +552,14 @@ def peaks_within_target(result: CalibrationResult, law: str) -> list[tuple[float
 
 
 def accuracy(result: CalibrationResult) -> dict:
-    """Each runtime law of the calibration (the two constants "vz", the table "vz-table") against the
-    FE paths it was calibrated on: worst |e_law / e_FE - 1| and worst max |P_law - P_FE| / P_max
-    over the paths, and whether both meet E_TARGET, FORCE_TARGET. ``shipped`` names the law the
-    parameter file ships. {} without unloading paths (no e to compare)."""
+    """Each runtime law of the calibration (the two constants "vz", the table "vz-table", and the
+    shipped "vz-unload") against the FE paths it was calibrated on: worst |e_law / e_FE - 1| and
+    worst max |P_law - P_FE| / P_max over the paths, and whether both meet E_TARGET, FORCE_TARGET.
+    ``shipped`` names the law the parameter file ships. {} without unloading paths (no e to compare)."""
     records = {}
     for path in result.load_paths.paths:
         for c in result.comparisons.get(path.peak, []):
-            if c.law not in ("vz", "vz-table"):
+            if c.law not in ("vz", "vz-table", "vz-unload"):
                 continue
             record = records.setdefault(c.law, {"worst_e_error": 0.0, "worst_force_error": 0.0})
             e_error = c.restitution / path.restitution - 1.0
@@ -550,7 +572,7 @@ def accuracy(result: CalibrationResult) -> dict:
         record["P_max_within_target"] = [peak for peak, ok in peaks_within_target(result, law) if ok]
     if not records:
         return {}
-    return {"laws": records, "shipped": "vz-table" if result.shipped == "table" else "vz",
+    return {"laws": records, "shipped": SHIPPED_LAW[result.shipped],
             "targets": {"e_error": E_TARGET, "force_error": FORCE_TARGET}}
 
 

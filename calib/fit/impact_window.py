@@ -45,7 +45,8 @@ from calib.fe.loadpath import LoadPathPlan
 from calib.fit import recipe
 from calib.fit.calibration import CalibrationResult, calibrate
 from calib.fit.master_table import MasterTable
-from nfdmodel import ContactPair, Material, RangeWarning, VZParams, VZTableParams, collision_reference, get_law
+from nfdmodel import ContactPair, Material, RangeWarning, VZParams, collision_reference, get_law
+from nfdmodel.parameter_file import law_of
 from nfdmodel.validation import bound_text
 
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
@@ -186,7 +187,7 @@ def estimating_constants(material: Material, radius: float) -> tuple[VZParams, s
 
 
 def _law_of(params) -> str:
-    return "vz-table" if isinstance(params, VZTableParams) else "vz"
+    return law_of(params)
 
 
 def impact_force(params, v_in: float) -> float:

@@ -50,7 +50,10 @@ def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -
                    "force": "force: minimises the runtime law's force error along the FE P-alpha paths",
                    "table": "table: the vz-table law, load-dependent a_p and C_R from the FE loading curve "
                             "and the work each FE unloading returned (meets the FE's restitution at every "
-                            "path)"}[result.shipped],
+                            "path)",
+                   "unload": "unload: the vz-unload law, the vz-table loading curve with a_p from the FE's contact "
+                             "radius, and the dent delta_res/delta_max and unloading exponent m from the FE "
+                             "unloading paths (meets the FE's dent, contact radius, unloading curve and e)"}[result.shipped],
            "radius_fit": s["radius_fit"], "force_fit": s["force_fit"], "loading_only": s["loading_only"]}
     fe_errors = {"P_Y_fe_rel_error": s["P_Y_fe_rel_error"],
                  "paths": [{k: p[k] for k in ("P_max", "alpha_max", "e", "alpha_residual", "models")}

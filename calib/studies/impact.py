@@ -368,6 +368,7 @@ def table_parameters(setup: ImpactSetup, table_file=None):
     if table_file is None:
         return None
     from nfdmodel import VZTableParams
+    from nfdmodel.parameter_file import law_of
 
     try:
         table = load_parameters(table_file)
@@ -375,6 +376,9 @@ def table_parameters(setup: ImpactSetup, table_file=None):
         raise ValueError(f"--table-params {_named(exc, table_file)}") from None
     if not isinstance(table, VZTableParams):
         raise ValueError(f"--table-params {table_file}: holds the vz law, not the vz-table law: give it as --params")
+    if type(table) is not VZTableParams:      # a subclass unloads otherwise (vz-unload)
+        raise ValueError(f"--table-params {table_file}: holds the {law_of(table)} law, not the vz-table law: give a "
+                         f"vz-table file (nfdcal calibrate --ship table)")
     check_material(setup, table_file, "--table-params")
     return table
 
