@@ -78,7 +78,7 @@ def test_objectivity(angle):
     unchanged; a rigid rotation alone from the virgin state stresses nothing."""
     material = VonMisesMaterial(E, NU, SIGMA_Y)
     H0 = np.array([[[0.05, 0.08, -0.02, -0.06, 0.01], [0.1, -0.03, 0.04, -0.12, -0.02]]])
-    _, _, _, committed = FiniteStrain.response(material, H0, material.initial_state(1, 2))
+    committed = FiniteStrain.response(material, H0, material.initial_state(1, 2))[3]
     assert committed.equivalent_plastic_strain.min() > 0.01                 # a plastic history
     H1 = H0 + np.array([0.01, -0.02, 0.015, -0.01, 0.005])
     sigma = FiniteStrain.response(material, H1, committed)[2]
