@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from calib.commands.common import (HARDENING_HELP, add_counter_arguments, add_hardening_arguments,
+from calib.commands.common import (HARDENING_HELP, KINEMATICS_FLAG, add_counter_arguments, add_hardening_arguments,
                                    add_material_arguments, add_rate_law_arguments, add_summary_arguments,
                                    counter_folder_name, counter_from_args, flow_curve_from_args,
                                    hardening_folder_name, hardening_line, is_reference, material_folder_name,
@@ -28,9 +28,6 @@ from calib.commands.common import (HARDENING_HELP, add_counter_arguments, add_ha
 from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
-
-# --kinematics: the flag's values and calib.fe.kinematics' names
-KINEMATICS_FLAG = {"small": "small-strain", "finite": "finite-strain"}
 
 
 def add_parser(subparsers) -> None:
