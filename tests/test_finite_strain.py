@@ -234,9 +234,11 @@ def test_closed_form_kinematic_derivatives(scale):
         assert np.abs(exact - difference).max() < 1e-8 * np.abs(difference).max()
 
 
-def test_calibration_carries_the_kinematics(coarse_mesh):
-    """``nfdcal calibrate --kinematics finite``: the spec carries it to the calibration's solver; a
-    counter-body with finite strain is refused naming the kinematics."""
+def test_calibration_carries_the_kinematics(coarse_mesh, capsys):
+    """``nfdcal calibrate --kinematics finite``: the spec carries it to the calibration's solver (an
+    elastic counter-body's spec too); a plastic counter-body with finite strain is refused naming the
+    kinematics, by the spec and in one line by the command (exit 2)."""
+    from calib.cli import main
     from calib.fit import calibration, recipe
     from calib.fit.counter import CounterBody
     from nfdmodel import Material
@@ -246,9 +248,16 @@ def test_calibration_carries_the_kinematics(coarse_mesh):
     assert isinstance(calibration._solver(spec, coarse_mesh).kinematics, FiniteStrain)
     assert type(calibration._solver(recipe.calibration_spec(material, R), coarse_mesh).kinematics).__name__ == \
         "SmallStrain"
-    with pytest.raises(ValueError, match="kinematics 'finite-strain' takes the sphere on the rigid flat"):
-        dataclasses.replace(recipe.calibration_spec(material, R, counter=CounterBody(2e11, 0.3)),
+    elastic = dataclasses.replace(recipe.calibration_spec(material, R, counter=CounterBody(2e11, 0.3)),
+                                  kinematics="finite-strain")
+    assert elastic.kinematics == "finite-strain"
+    with pytest.raises(ValueError, match="a plastic counter-body needs 'small-strain'"):
+        dataclasses.replace(recipe.calibration_spec(material, R, counter=CounterBody(2e11, 0.3, 5e8)),
                             kinematics="finite-strain")
+    assert main(["calibrate", "--kinematics", "finite", "--counter-E", "2e11", "--counter-nu", "0.3",
+                 "--counter-sigma-y", "5e8", "--dry-run"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--kinematics finite" in err and "--counter-sigma-y" in err
 
 
 # ------------------------------------------------------------------ (e) a large press

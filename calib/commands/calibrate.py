@@ -55,7 +55,8 @@ def add_parser(subparsers) -> None:
                              " the targets")
     parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
-                             " Hencky strain; the sphere on the rigid flat, without --v-max, --ladder or --counter-*)")
+                             " Hencky strain; the sphere on the rigid flat or an elastic counter-body, without --v-max, --ladder or"
+                             " --counter-sigma-y)")
     parser.add_argument("--out", default=None, help="output folder (default results/calibration for the"
                         " reference case; for another material or other options a folder of its own below it,"
                         " e.g. results/calibration/E<E>_nu<nu>_sy<sigma_y>_R<R>_peaks<P1>-<P2>); one"
@@ -151,10 +152,10 @@ def run(ns) -> int:
         raise ValueError(f"{rate_law_given(ns)}: the calibration's FE press is quasi-static, where a rate law is "
                          f"its rate-independent limit; give the rate law to nfdcal impact")
     kinematics = KINEMATICS_FLAG[ns.kinematics]
-    if ns.kinematics != "small" and (ns.ladder or ns.v_max is not None or not counter_absent(ns)):
-        raise ValueError("--kinematics finite takes a calibration on the rigid flat from --peaks (the impact FE,"
-                         " the ladder and the counter-body FE are small-strain): drop --v-max, --ladder and the"
-                         " --counter-* flags, or use --kinematics small")
+    if ns.kinematics != "small" and (ns.ladder or ns.v_max is not None or getattr(ns, "counter_sigma_y", None) is not None):
+        raise ValueError("--kinematics finite takes a calibration from --peaks on the rigid flat or an elastic"
+                         " counter-body (the calibration's impact FE, the ladder and a plastic counter-body are"
+                         " small-strain): drop --v-max, --ladder and --counter-sigma-y, or use --kinematics small")
     if ns.ladder:
         hardening_given = any(getattr(ns, key) is not None for key in HARDENING_HELP)
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns) \
