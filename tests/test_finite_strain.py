@@ -463,3 +463,26 @@ def test_pair_press_on_a_condensed_counter_body(mesh_cache):
     with pytest.raises(ValueError, match="condensed counter-body"):
         TwoBodySolver(mesh, VonMisesMaterial(7e10, 0.3, 1e8), VonMisesMaterial(2e11, 0.28, 5e8),
                       kinematics="finite-strain")
+
+
+@pytest.mark.slow
+def test_large_pair_press_parts_from_small_strain(mesh_cache):
+    """The aluminium sphere pressed on the condensed elastic steel block to approach 0.04 R (contact
+    elements R/25 on both bodies; about 10 s, hence slow): both kinematics converge; the forces agree
+    within 1 % to approach 0.0012 R (a/R 0.04) and part beyond, finite over small strain +13 % at 0.022 R
+    (a/R 0.24) and +21 % at 0.04 R (a/R 0.31-0.32), as on the rigid flat (+13 % at a/R 0.29)."""
+    from calib.fe.two_body import TwoBodySolver
+    from meshes.counter_body import BlockMeshSpec, pair_mesh
+
+    def spec(radius, kind=HemisphereMeshSpec):
+        return kind(radius=radius, contact_size=R / 25, refined_radius=0.6 * R, refined_depth=0.3 * R,
+                    far_size=radius / 6)
+
+    mesh = pair_mesh(spec(R), spec(2 * R, BlockMeshSpec), cache_dir=mesh_cache)
+    approaches = np.geomspace(2e-4, 0.04, 10) * R
+    forces = {name: np.array([r.record.P for r in run_press(
+        TwoBodySolver(mesh, VonMisesMaterial(7e10, 0.3, 1e8), ElasticMaterial(2e11, 0.28), kinematics=name),
+        approaches)[0]]) for name in ("small-strain", "finite-strain")}
+    ratio = forces["finite-strain"] / forces["small-strain"] - 1.0
+    assert np.abs(ratio[:4]).max() < 0.01
+    assert 0.08 < ratio[-2] < 0.2 and 0.15 < ratio[-1] < 0.3
