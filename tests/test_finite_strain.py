@@ -8,7 +8,9 @@ the closed forms tau = E ln(lambda) (elastic, nu = 0) and tau = sigma_Y (perfect
 FE with a Newton loop written here; the stress against the derivative of the stored energy and the
 tangent against finite differences of the internal force, the closed-form kinematic derivatives
 against central differences; presses to a/R 0.3 (finite strain against small strain and against
-Jackson & Green 2005, marked slow). Coarse meshes.
+Jackson & Green 2005, marked slow); the impact (against the small-strain impact and Hertz at low
+speed, its energy balance, and where the two part at a/R 0.25); the pair press on a condensed elastic
+counter-body (against the small-strain pair). Coarse meshes.
 """
 import dataclasses
 
