@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import dataclasses
 
-from calib.commands.common import (HARDENING_HELP, add_counter_arguments, add_hardening_arguments,
+from calib.commands.common import (HARDENING_HELP, KINEMATICS_FLAG, add_counter_arguments, add_hardening_arguments,
                                    add_material_arguments, add_rate_law_arguments, add_summary_arguments,
                                    counter_folder_name, counter_from_args, flow_curve_from_args,
                                    hardening_folder_name, hardening_line, is_reference, material_folder_name,
@@ -35,10 +35,6 @@ from nfdmodel.validation import check_solid
 
 CYCLE_OVERLOAD = 1.3    # --cycles: the last reload's peak over P_max (past the turning point)
 TWO_CONSTANTS = ("radius", "force")     # the --ship values that ship the paper's two constants
-
-
-# --kinematics: the flag's values and calib.fe.kinematics' names
-KINEMATICS_FLAG = {"small": "small-strain", "finite": "finite-strain"}
 
 
 def add_parser(subparsers) -> None:
@@ -67,7 +63,8 @@ def add_parser(subparsers) -> None:
                              " unloading curve; Python only)")
     parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
-                             " Hencky strain; the sphere on the rigid flat, without --v-max, --ladder or --counter-*)")
+                             " Hencky strain; the sphere on the rigid flat or an elastic counter-body, without --v-max, --ladder or"
+                             " --counter-sigma-y)")
     parser.add_argument("--cycles", default=None, metavar="FRACTIONS",
                         help="also run FE load cycles (calib.fe.cycles) from the middle load path's peak P_max: partial"
                              " unloads to these fractions of P_max (e.g. 0.5,0.2), each reloaded to P_max, the last on"
@@ -230,10 +227,10 @@ def run(ns) -> int:
         raise ValueError(f"{rate_law_given(ns)}: the calibration's FE press is quasi-static, where a rate law is "
                          f"its rate-independent limit; give the rate law to nfdcal impact")
     kinematics = KINEMATICS_FLAG[ns.kinematics]
-    if ns.kinematics != "small" and (ns.ladder or ns.v_max is not None or not counter_absent(ns)):
-        raise ValueError("--kinematics finite takes a calibration on the rigid flat from --peaks (the impact FE,"
-                         " the ladder and the counter-body FE are small-strain): drop --v-max, --ladder and the"
-                         " --counter-* flags, or use --kinematics small")
+    if ns.kinematics != "small" and (ns.ladder or ns.v_max is not None or getattr(ns, "counter_sigma_y", None) is not None):
+        raise ValueError("--kinematics finite takes a calibration from --peaks on the rigid flat or an elastic"
+                         " counter-body (the calibration's impact FE, the ladder and a plastic counter-body are"
+                         " small-strain): drop --v-max, --ladder and --counter-sigma-y, or use --kinematics small")
     cycles = parse_cycles(ns.cycles)
     if ns.ladder:
         if cycles is not None:

@@ -83,6 +83,10 @@ COUNTER_HELP = {"counter_E": "the counter-body's Young's modulus [Pa]: the spher
                                "sphere's"}
 
 
+# --kinematics (calibrate, impact): the flag's values and calib.fe.kinematics' names
+KINEMATICS_FLAG = {"small": "small-strain", "finite": "finite-strain"}
+
+
 def add_counter_arguments(parser, density: bool = True) -> None:
     """--counter-E --counter-nu --counter-sigma-y --counter-R [--counter-rho]: the deformable
     counter-body (``density``: the command's result depends on the pair's mass)."""

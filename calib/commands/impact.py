@@ -19,6 +19,7 @@ and one at twice the time step), against the quasi-static laws (vz, Thornton, He
     nfdcal fit-data --impacts results/impact/drop_tests.csv --E 7e10 --nu 0.3 --R 0.1 --rho 2699   # the reverse
     nfdcal impact --counter-E 2.1e11 --counter-nu 0.28 --v-in 0.04   # on an elastic steel flat (a held block)
     nfdcal impact --counter-E 7e10 --counter-R 0.1 --counter-rho 2699 --v-in 0.08   # two free spheres, 0.08 m/s relative
+    nfdcal impact --kinematics finite --v-in 0.04  # finite strain (total Lagrangian, Hencky strain): OUT .../finite-strain
 
 With --counter-E (and --counter-nu, --counter-sigma-y, --counter-R, --counter-rho: a counter-sphere's
 density, required; a flat's default the sphere's) the sphere hits a deformable
@@ -27,8 +28,11 @@ counter-body instead (calib.fe.impact_pair, calib.studies.impact_pair): a free c
 normal velocity ratio) or a flat block with its far face held; each impact beside Hertz's for the
 pair's E*, R* and reduced mass, with the same error estimate (both meshes' contact element doubled,
 dt doubled; --no-error-estimate: the fine impact only). Not with --drops, --convergence, --params,
---table-params, --lammps-restitution, --no-quasi-static or --no-plots (a pair impact has neither
-quasi-static comparison nor plots).
+--table-params, --lammps-restitution, --no-quasi-static, --no-plots (a pair impact has neither
+quasi-static comparison nor plots) or --kinematics finite (the two-body FE is small-strain).
+
+--kinematics finite runs the impact and its quasi-static path with finite strain (calib.fe.kinematics
+FiniteStrain; the run keys and the default folder name say so); small strain is the default.
 
 The laws are compared with the files given alone: --params (vz: the two constants of a parameter
 file, a calibration's whichever law it ships; else the master table's), --table-params (a vz-table
@@ -43,7 +47,7 @@ from __future__ import annotations
 
 import os
 
-from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
+from calib.commands.common import (KINEMATICS_FLAG, add_counter_arguments, add_hardening_arguments, add_material_arguments,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
                                    flow_curve_from_args, hardening_folder_name, hardening_line, is_reference,
                                    material_from_args, number, print_summary, rate_law_folder_name, rate_law_from_args,
@@ -85,6 +89,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--lammps-restitution", default=None, metavar="CSV",
                         help="LAMMPS' granular mdr restitution of the reference sphere (restitution.csv of"
                              " tests/benchmarks/bench_lammps.py) the FE is also compared with (default: none)")
+    parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
+                        help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
+                             " Hencky strain; the sphere on the rigid flat, not with --counter-E)")
     parser.add_argument("--no-error-estimate", action="store_true",
                         help="run the fine impact only (no discretisation error estimate: a third of the work)")
     parser.add_argument("--no-quasi-static", action="store_true",
@@ -129,8 +136,11 @@ def options(ns):
     hardening = flow_curve_from_args(ns, material)
     rate_law = rate_law_from_args(ns)
     setup = impact.ImpactSetup(material=material, radius=radius, contact_size=contact_size, steps_per_contact=steps,
-                               hardening=hardening, rate_law=rate_law)
+                               hardening=hardening, rate_law=rate_law, kinematics=KINEMATICS_FLAG[ns.kinematics])
     counter = counter_from_args(ns, material)
+    if counter is not None and ns.kinematics != "small":
+        raise ValueError("--kinematics finite is for the rigid flat: the pair impact's two-body FE is small-strain"
+                         " (use --kinematics small with --counter-E)")
     if rate_law is not None:
         for flag, given in (("--counter-E", counter is not None),
                             ("--lammps-restitution", ns.lammps_restitution is not None)):
@@ -206,6 +216,8 @@ def default_out(ns, setup) -> str:
         parts.append(f"h{setup.contact_size:g}")
     if setup.steps_per_contact != impact.DEFAULT_STEPS_PER_CONTACT:
         parts.append(f"steps{setup.steps_per_contact}")
+    if getattr(ns, "kinematics", "small") != "small":
+        parts.append(f"{ns.kinematics}-strain")
     return str(impact.DEFAULT_OUT / "_".join(parts)) if parts else str(impact.DEFAULT_OUT)
 
 
@@ -239,7 +251,7 @@ def plan(ns, setup, velocities, variants, out) -> int:
              f"{setup.material.sigma_y:.4g} Pa, rho = {setup.material.rho:g} kg/m^3, R = {setup.radius:g} m"
              + ("" if setup.hardening is None else f", hardening {setup.hardening.record()['flow_curve']}")
              + ("" if setup.rate_law is None else f", rate law {setup.rate_law.record()['rate_law']}")
-             + f"; outputs: {out}",
+             + ("" if ns.kinematics == "small" else ", finite strain") + f"; outputs: {out}",
              f"{'v_in [m/s]':>11} {'variant':<16} {'contact el.':>11} {'dofs':>8} {'steps':>6} {'est. s':>7} finished"]
     lines += [f"{r['v_in']:>11.4g} {r['variant']:<16} {r['contact_size']:>11.3g} ~{r['dofs_estimate']:>7} "
               f"{r['steps_estimate']:>6} {r['estimate_s']:>7.0f} {'yes' if r['finished'] else 'no'}" for r in runs]

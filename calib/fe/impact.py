@@ -295,7 +295,9 @@ def residual_state(solver: ImpactSolver, state: ImpactState) -> tuple[float, flo
     """(dent [m], residual-stress energy [J]) of the static equilibrium of the free sphere with the
     plastic strains of ``state`` frozen: K u = int B^T D eps_p dV with the pole's u_z held (K is
     singular in the translation, which moves neither), then dent = u_z(pole) - u_cm and
-    U_res = 1/2 int sigma . D^-1 sigma dV, sigma = D (eps(u) - eps_p)."""
+    U_res = 1/2 int sigma . D^-1 sigma dV, sigma = D (eps(u) - eps_p); under finite strain the
+    hyperelastic equilibrium with the plastic log strain frozen and U_res its Hencky energy
+    (calib.fe.kinematics.FiniteStrain.residual_state)."""
     plastic = getattr(state.material_state, "plastic_strain", None)
     if plastic is None or not np.any(plastic):
         return 0.0, 0.0

@@ -84,6 +84,9 @@ class PairImpactSolver(NewmarkSolver):
                  linear_solver: str | None = None, quadrature_order: int = 4, kinematics: str = DEFAULT_KINEMATICS):
         if not (0 < residual_tolerance < 1):
             raise ValueError(f"residual_tolerance must be in (0, 1), got {residual_tolerance}")
+        if kinematics != DEFAULT_KINEMATICS:
+            raise ValueError(f"kinematics {kinematics!r} takes the sphere on the rigid flat: the pair impact's"
+                             f" two-body contact is small-strain")
         for name, rho in (("rho1", rho1), ("rho2", rho2)):
             if not (np.isfinite(rho) and rho > 0):
                 raise ValueError(f"{name} must be > 0 kg/m^3, got {rho}")

@@ -72,13 +72,22 @@ class Correction(NamedTuple):
     """The material's response at one iterate: ``stress`` (evaluated elements, Q, 4) [Pa] and the
     ``trial`` state; the ``flowed`` elements (indices), their internal-force correction ``force()``,
     int B^T (sigma - D eps) dV on all dofs [N], and ``tangent_data()``, int B^T (C - D) B dV as
-    data on the element pattern [N/m] (both None when nothing has flowed; computed on demand)."""
+    data on the element pattern [N/m] (both None when nothing has flowed; computed on demand);
+    ``material_stress``: the stress the material returned, conjugate to the kinematics' strain
+    (finite strain: T, conjugate to the Hencky strain; None: ``stress`` itself, small strain's)."""
 
     stress: np.ndarray
     trial: object
     flowed: np.ndarray
     force: Optional[Callable[[], np.ndarray]]
     tangent_data: Optional[Callable[[], np.ndarray]]
+    material_stress: Optional[np.ndarray] = None
+
+    @property
+    def conjugate_stress(self) -> np.ndarray:
+        """The stress conjugate to the kinematics' strain (E, Q, 4) [Pa]: what ``internal_force`` and
+        the elastic energy 1/2 int s . D^-1 s dV (reference volume) take."""
+        return self.stress if self.material_stress is None else self.material_stress
 
 
 class SmallStrain:
@@ -154,9 +163,10 @@ class SmallStrain:
         return Correction(stress, trial, flowed, lambda: self.elements.internal_force(stress_correction, flowed),
                           lambda: self.elements.stiffness_data(tangent_correction, flowed))
 
-    def internal_force(self, stress) -> np.ndarray:
+    def internal_force(self, stress, displacement=None) -> np.ndarray:
         """f_int = int B^T sigma dV [N] on all dofs, from the stress (E, Q, 4) [Pa] of every element
-        (the impacts: their energy identity closes to round-off with the same B as the strain)."""
+        (the impacts: their energy identity closes to round-off with the same B as the strain);
+        ``displacement`` [m]: unused here (finite strain's P = F S needs it)."""
         return self.elements.internal_force(stress, slice(None))
 
     def residual_state(self, plastic_strain, stiffness_solve):
@@ -180,71 +190,129 @@ class FiniteStrain(SmallStrain):
     tangent, the kinematic derivatives in closed form (calib.fe.log_strain.kinematic_derivatives),
     symmetrised (the exact dP/dF of this hyperelastic-plastic model is symmetric). Every element is
     reported as flowed, its correction f_int - K_el u and K_t - K_el, so the steppers stay those of
-    small strain; the rigid flat's gap z0 + u_z is already the deformed surface's. The press on the
-    rigid flat only: a condensed counter-body (``evaluated``) and the impacts' ``internal_force(stress)``
-    are refused. ``stress`` and Correction.stress are the Cauchy stress in the spatial r-z-t frame;
-    the contact radius is measured on the deformed surface (``deformed_surface``)."""
+    small strain; the rigid flat's gap z0 + u_z is already the deformed surface's. The press and the
+    impact on the rigid flat, and the pair press on a condensed elastic counter-body (``evaluated``:
+    the sphere's elements take finite strain, the counter-body's stay linear small-strain). ``stress`` and
+    Correction.stress are the Cauchy stress in the spatial r-z-t frame, Correction.material_stress
+    the material's T; the impact's f_int is ``internal_force(T, u)`` = int G^T P dV0 and its elastic
+    energy the Hencky one, 1/2 int E_e : D E_e dV0 = 1/2 int T : D^-1 T dV0 (E_e = E - E_p, per
+    reference volume). The contact radius is measured on the deformed surface (``deformed_surface``)."""
 
     deformed_surface = True
 
     def __init__(self, elements: ElementArrays, D: np.ndarray, evaluated: np.ndarray | None = None):
-        if evaluated is not None:
-            raise ValueError("kinematics 'finite-strain' takes the press on the rigid flat; a condensed"
-                             " counter-body needs 'small-strain'")
         super().__init__(elements, D, evaluated)
+        self._evaluated_elastic_data = None
 
-    def displacement_gradient(self, displacement) -> np.ndarray:
-        """H = F - I = G u (E, Q, 5) [-], components [H_rR, H_rZ, H_zR, H_zZ, H_tt]."""
+    def displacement_gradient(self, displacement, elements=slice(None)) -> np.ndarray:
+        """H = F - I = G u (n, Q, 5) [-] of ``elements``, components [H_rR, H_rZ, H_zR, H_zZ, H_tt]."""
         a = self.elements
-        return np.matmul(a.gradient, np.asarray(displacement)[a.element_dofs][:, None, :, None])[..., 0]
+        return np.matmul(a.gradient[elements], np.asarray(displacement)[a.element_dofs[elements]][:, None, :, None])[..., 0]
+
+    def _linear(self, elements) -> np.ndarray:
+        """Which of ``elements`` are outside ``evaluated`` (a condensed linear counter-body's), (n,) bool."""
+        chosen = np.arange(self.elements.weight.shape[0])[elements]
+        return np.zeros(chosen.size, dtype=bool) if self.evaluated is None else ~np.isin(chosen, self.evaluated)
 
     def strain(self, displacement, elements=slice(None)) -> np.ndarray:
-        """The Hencky strain E = 1/2 ln C, (n, Q, 4) [-] (Voigt, engineering shear)."""
-        return Stretch(self.displacement_gradient(displacement)[elements]).hencky()
+        """The Hencky strain E = 1/2 ln C, (n, Q, 4) [-] (Voigt, engineering shear); B u in the
+        elements outside ``evaluated`` (a condensed counter-body stays small-strain and linear)."""
+        strain = Stretch(self.displacement_gradient(displacement, elements)).hencky()
+        linear = self._linear(elements)
+        if linear.any():
+            strain[linear] = SmallStrain.strain(self, displacement, np.arange(self.elements.weight.shape[0])[elements][linear])
+        return strain
 
     def stress(self, material, displacement, committed) -> np.ndarray:
-        """The Cauchy stress (E, Q, 4) [Pa] of the material at ``displacement`` from ``committed``."""
+        """The Cauchy stress (E, Q, 4) [Pa] of the material at ``displacement`` from ``committed``
+        (outside ``evaluated``: the linear counter-body's D B u)."""
         stretch = Stretch(self.displacement_gradient(displacement))
-        return stretch.cauchy(material.update(stretch.hencky(), committed)[0])
+        T = material.update(self.strain(displacement), committed)[0]
+        cauchy = stretch.cauchy(T)
+        linear = self._linear(slice(None))
+        cauchy[linear] = T[linear]
+        return cauchy
 
     @staticmethod
-    def response(material, H, committed, stretch: Stretch | None = None):
-        """(P (..., 5) [Pa], dP/dF () -> (..., 5, 5) [Pa], Cauchy stress (..., 4) [Pa], trial state) of
-        the material at the displacement gradients ``H`` = F - I (E, Q, 5) from ``committed``
-        (``stretch``: Stretch(H), when the caller has it)."""
+    def response(material, H, committed, stretch: Stretch | None = None, time_step: float | None = None,
+                 elements: np.ndarray | None = None):
+        """(P (..., 5) [Pa], dP/dF () -> (..., 5, 5) [Pa], Cauchy stress (..., 4) [Pa], trial state, T
+        (..., 4) [Pa]) of the material at the displacement gradients ``H`` = F - I (E, Q, 5) from
+        ``committed`` (``stretch``: Stretch(H), when the caller has it; ``time_step`` [s]: to a
+        rate-dependent material's update, as SmallStrain.correction; ``elements``: the evaluated
+        elements H is of, to a two-body material's update)."""
         stretch = Stretch(H) if stretch is None else stretch
-        T, C_alg, trial = material.update(stretch.hencky(), committed)
+        args = () if elements is None else (elements,)
+        kwargs = {} if time_step is None else {"time_step": time_step}
+        T, C_alg, trial = material.update(stretch.hencky(), committed, *args, **kwargs)
 
         def tangent():
             dE, dP = kinematic_derivatives(H, T, stretch)
             A = dP + np.swapaxes(dE, -1, -2) @ np.asarray(C_alg) @ dE
             return 0.5 * (A + np.swapaxes(A, -1, -2))
 
-        return stretch.first_piola(T), tangent, stretch.cauchy(T), trial
+        return stretch.first_piola(T), tangent, stretch.cauchy(T), trial, T
 
-    def correction(self, material, displacement, committed) -> Correction:
-        """Every element's f_int - K_el u [N] and K_t - K_el (class docstring)."""
+    def correction(self, material, displacement, committed, time_step: float | None = None) -> Correction:
+        """Every evaluated element's f_int - K_el u [N] and K_t - K_el (class docstring); ``time_step``
+        as SmallStrain.correction's."""
         a = self.elements
-        H = self.displacement_gradient(displacement)
+        chosen = slice(None) if self.evaluated is None else self.evaluated
+        flowed = np.arange(a.weight.shape[0]) if self.evaluated is None else self.evaluated
+        H = self.displacement_gradient(displacement, chosen)
         stretch = Stretch(H)
         if not np.isfinite(stretch.J).all():
             # an iterate that inverts an element: a NaN residual, which Newton reports as a failed step
             nan = np.full(a.n_dofs, np.nan)
-            return Correction(np.full(H.shape[:-1] + (4,), np.nan), committed, np.arange(a.weight.shape[0]),
+            return Correction(np.full(H.shape[:-1] + (4,), np.nan), committed, flowed,
                               lambda: nan, lambda: np.zeros(a.nnz))
-        P, tangent, cauchy, trial = self.response(material, H, committed, stretch)
-        everything = slice(None)
-        force = a.internal_force(P, everything, a.gradient) - \
-            a.internal_force(_hooke(self.D, a.strain(displacement)), everything)
-        return Correction(cauchy, trial, np.arange(a.weight.shape[0]), lambda: force,
-                          lambda: a.stiffness_data(tangent(), everything, a.gradient) - self.elastic_data)
+        P, tangent, cauchy, trial, T = self.response(material, H, committed, stretch, time_step, self.evaluated)
+        if self.evaluated is None:
+            force = a.internal_force(P, chosen, a.gradient) - \
+                a.internal_force(_hooke(self.D, a.strain(displacement)), chosen)
+            elastic = self.elastic_data
+        else:
+            force = a.internal_force(P, chosen, a.gradient) - \
+                a.internal_force(_hooke(self._D_evaluated, SmallStrain.strain(self, displacement, chosen)), chosen)
+            if self._evaluated_elastic_data is None:
+                D = np.broadcast_to(self._D_evaluated, H.shape[:-1] + (4, 4))
+                self._evaluated_elastic_data = a.stiffness_data(D, chosen)
+            elastic = self._evaluated_elastic_data
+        return Correction(cauchy, trial, flowed, lambda: force,
+                          lambda: a.stiffness_data(tangent(), chosen, a.gradient) - elastic, T)
 
-    def internal_force(self, stress) -> np.ndarray:
-        raise NotImplementedError("kinematics 'finite-strain': the impacts' internal force from the stress"
-                                  " alone is small-strain; use 'small-strain' for the impacts")
+    def internal_force(self, stress, displacement=None) -> np.ndarray:
+        """f_int = int G^T P dV0 [N] on all dofs, P = F S(T) of the material's stress T (E, Q, 4) [Pa]
+        (Correction.material_stress, conjugate to the Hencky strain) at ``displacement`` [m]."""
+        if displacement is None:
+            raise ValueError("kinematics 'finite-strain': the internal force needs the displacement")
+        a = self.elements
+        P = Stretch(self.displacement_gradient(displacement)).first_piola(stress)
+        return a.internal_force(P, slice(None), a.gradient)
 
     def residual_state(self, plastic_strain, stiffness_solve):
-        raise NotImplementedError("kinematics 'finite-strain': the residual state is small-strain")
+        """(u [m] on every dof, T (E, Q, 4) [Pa]) of the body's static equilibrium with the Lagrangian
+        plastic log strain E_p (E, Q, 4) frozen, free of load: int G^T P(u) dV0 = 0 with
+        T = D (E(u) - E_p), hyperelastic. Modified Newton on the elastic stiffness (``stiffness_solve``
+        as SmallStrain's, the supports applied): u_k+1 = u_k - K_el^-1 f_int(u_k), from u_0 = 0, whose
+        first iterate is small strain's K_el^-1 int B^T D E_p dV; it contracts at about the strain's
+        size, stopped when the increment is RESIDUAL_STATE_TOLERANCE of u."""
+        a = self.elements
+        u = np.zeros(a.n_dofs)
+        for _ in range(RESIDUAL_STATE_ITERATIONS):
+            stretch = Stretch(self.displacement_gradient(u))
+            T = _hooke(self.D, stretch.hencky() - plastic_strain)
+            step = stiffness_solve(a.internal_force(stretch.first_piola(T), slice(None), a.gradient))
+            u = u - step
+            if np.abs(step).max() <= RESIDUAL_STATE_TOLERANCE * np.abs(u).max():
+                break
+        return u, _hooke(self.D, self.strain(u) - plastic_strain)
+
+
+# the finite-strain residual state's modified Newton: the increment's size relative to u at which it
+# stops, and at most this many iterations (it contracts at about the largest residual strain, < 0.3)
+RESIDUAL_STATE_TOLERANCE = 1e-12
+RESIDUAL_STATE_ITERATIONS = 100
 
 
 KINEMATICS = {DEFAULT_KINEMATICS: SmallStrain, "finite-strain": FiniteStrain}

@@ -178,16 +178,19 @@ class NewmarkSolver:
             response = self.kinematics.correction(self.material, displacement, committed, time_step=self._time_step)
         else:
             response = self.kinematics.correction(self.material, displacement, committed)
-        f_int = self.TT @ self.kinematics.internal_force(response.stress)
+        stress = response.conjugate_stress             # small strain: sigma; finite strain: T (calib.fe.kinematics)
+        f_int = self.TT @ self.kinematics.internal_force(stress, displacement)
         data = self.kinematics.elastic_data + c0 * self.mass_data
         if response.tangent_data is not None:
             data = data + response.tangent_data()
         inertia = self.mass_matrix @ (c0 * (q - base) - acceleration_n)
-        return self.T @ (f_int + inertia), lambda: self.elements.matrix(data), response.stress, response.trial
+        return self.T @ (f_int + inertia), lambda: self.elements.matrix(data), stress, response.trial
 
     def elastic_energy(self, stress) -> float:
         """1/2 int sigma . D^-1 sigma dV [J] of a stress field (E, Q, 4) [Pa] (``compliance`` D^-1:
-        (4, 4) for one material, (E, Q, 4, 4) per point)."""
+        (4, 4) for one material, (E, Q, 4, 4) per point). Under finite strain ``stress`` is the
+        material's T (calib.fe.kinematics.Correction.conjugate_stress) and the integral is over the
+        reference volume: the Hencky energy 1/2 int E_e : D E_e dV0, T = D E_e."""
         path = "eqi,ij,eqj->eq" if self.compliance.ndim == 2 else "eqi,eqij,eqj->eq"
         density = 0.5 * np.einsum(path, stress, self.compliance, stress)
         return float(np.sum(density * self.elements.weight))
@@ -195,6 +198,13 @@ class NewmarkSolver:
     def plastic_work(self, material_state) -> float:
         """The work the material has dissipated [J] (calib.fe.material.Material.dissipated_work)."""
         return self.material.dissipated_work(material_state, self.elements.weight)
+
+    def contact_surface_r(self, q) -> np.ndarray:
+        """r [m] of the contact candidates the contact radius is measured on: the deformed surface,
+        R_i + u_r,i, under a kinematics that measures on it (finite strain), else the undeformed one."""
+        if not getattr(self.kinematics, "deformed_surface", False):
+            return self.candidate_r
+        return self.candidate_r + (self.T @ q)[self.dofs.r_dof[self.dofs.candidate_nodes]]
 
     # ------------------------------------------------------------------ a step
     def predict_active_set(self, state: ImpactState, dt: float, extrapolated) -> np.ndarray:
@@ -255,7 +265,7 @@ class NewmarkSolver:
         free_residual = residual - contact
         dq = q - state.q
         pressure = lumped_contact_pressure(reaction, active, self.candidate_weight, self.candidate_r)
-        radius = contact_radius_from_pressure(self.candidate_r, pressure, active)
+        radius = contact_radius_from_pressure(self.contact_surface_r(q), pressure, active)
         edge = float(self.candidate_r[active].max(initial=0.0))
         rate = (edge - state.contact_edge) / dt if state.in_contact and active.any() else None
         new = ImpactState(
@@ -277,8 +287,9 @@ class ImpactSolver(NewmarkSolver):
     """Time steps of a free sphere (meshes.sphere.SphereMesh) on a rigid frictionless flat.
 
     material: a calib.fe.material.Material; rho: density [kg/m^3]; contact_radius [m]: the
-    candidates reach this far from the axis (default: the mesh's refined_radius); the other
-    options as calib.fe.solver.ContactSolver's.
+    candidates reach this far from the axis (default: the mesh's refined_radius); kinematics: a name
+    of calib.fe.kinematics.KINEMATICS (finite strain: total Lagrangian, the contact radius on the
+    deformed surface); the other options as calib.fe.solver.ContactSolver's.
     """
 
     def __init__(self, sphere, material: Material, rho: float, *, contact_radius: float | None = None,

@@ -210,6 +210,9 @@ class TwoBodySolver(QuasiStaticSolver):
         T_elements = sp.csr_matrix((np.ones(rows.size), (rows, cols)), shape=(self.n_dofs, self.n_q))
         self.elements = ElementArrays(self.basis, T_elements)
         self.material_D = elastic_tangent(self.material, self.n_elements, self.n_qp)
+        if kinematics != DEFAULT_KINEMATICS and not self.condensed:
+            raise ValueError(f"kinematics {kinematics!r} takes the pair press on an elastic, condensed counter-body"
+                             f" (which stays small-strain); a plastic or uncondensed counter-body needs 'small-strain'")
         # the bodies whose material Newton evaluates: the sphere alone when the counter-body is condensed
         self.kinematics = build_kinematics(kinematics, self.elements, self.material_D,
                                            self.material.elements[0] if self.condensed else None)

@@ -367,7 +367,7 @@ def _body_meshes(spec: CalibrationSpec):
 
 
 def _solver(spec: CalibrationSpec, mesh):
-    """The FE solver of ``spec`` on ``mesh``: the rigid flat's (in ``spec.kinematics``), or the two-body
+    """The FE solver of ``spec`` on ``mesh`` in ``spec.kinematics``: the rigid flat's, or the two-body
     FE's (calib.fe.two_body)."""
     material = spec.material
     sphere = von_mises_material(material.E, material.nu, material.sigma_y, spec.hardening)
@@ -376,7 +376,7 @@ def _solver(spec: CalibrationSpec, mesh):
         return ContactSolver(mesh, sphere, kinematics=spec.kinematics, **options)
     from calib.fe.two_body import TwoBodySolver
 
-    return TwoBodySolver(mesh, sphere, spec.counter.fe_material(), **options)
+    return TwoBodySolver(mesh, sphere, spec.counter.fe_material(), kinematics=spec.kinematics, **options)
 
 
 def _solver_and_first_yield(spec: CalibrationSpec, mesh):

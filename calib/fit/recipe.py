@@ -128,8 +128,8 @@ class CalibrationSpec:
     """What to calibrate: material, sphere radius R [m], mesh, load paths, Newton tolerance, the
     counter-body (calib.fit.counter.CounterBody; None: the rigid flat), the sphere's isotropic
     hardening (a calib.fe.flow_curve.FlowCurve starting at the material's sigma_y; None: perfectly
-    plastic) and the FE's kinematics (calib.fe.kinematics.KINEMATICS; finite strain on the rigid flat
-    only)."""
+    plastic) and the FE's kinematics (calib.fe.kinematics.KINEMATICS; finite strain of the sphere on the
+    rigid flat or on an elastic, condensed counter-body, which stays small-strain)."""
 
     material: Material
     radius: float
@@ -144,9 +144,9 @@ class CalibrationSpec:
     def __post_init__(self):
         if self.kinematics not in KINEMATICS:
             raise ValueError(f"kinematics must be one of {sorted(KINEMATICS)}, got {self.kinematics!r}")
-        if self.kinematics != DEFAULT_KINEMATICS and self.counter is not None:
-            raise ValueError(f"kinematics {self.kinematics!r} takes the sphere on the rigid flat: a counter-body"
-                             f" needs {DEFAULT_KINEMATICS!r}")
+        if self.kinematics != DEFAULT_KINEMATICS and self.counter is not None and self.counter.sigma_y is not None:
+            raise ValueError(f"kinematics {self.kinematics!r} takes the sphere on the rigid flat or on an elastic"
+                             f" counter-body: a plastic counter-body needs {DEFAULT_KINEMATICS!r}")
         if not (np.isfinite(self.radius) and self.radius > 0):
             raise ValueError(f"radius R must be a finite length > 0 [m], got {self.radius}")
         if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):

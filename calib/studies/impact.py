@@ -77,6 +77,7 @@ import numpy as np
 from calib import output
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, ImpactNotConverged, run_impact
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fe.newmark import ImpactSolver
 from calib.fe.von_mises import von_mises_material
 from calib.fit import impact_window, recipe
@@ -115,7 +116,8 @@ class ImpactSetup:
     sphere on the rigid flat; a pair impact's, calib.studies.impact_pair: E*, R*, m* and first yield
     of the two bodies, nfdmodel.ContactPair), which sizes the mesh and the checks;
     ``floor_radius``: the largest body meshed with the sphere's contact element [m] (None: the
-    sphere), whose MIN_CONTACT_SIZE_OVER_RADIUS bounds that element from below."""
+    sphere), whose MIN_CONTACT_SIZE_OVER_RADIUS bounds that element from below; ``kinematics``: the
+    FE's (calib.fe.kinematics.KINEMATICS), the impact's and its quasi-static path's."""
 
     material: Material
     radius: float
@@ -127,6 +129,7 @@ class ImpactSetup:
     rate_law: object = None
     contact: ContactPair | None = None
     floor_radius: float | None = None
+    kinematics: str = DEFAULT_KINEMATICS
 
     @property
     def pair(self) -> ContactPair:
@@ -278,6 +281,8 @@ def task_of(setup: ImpactSetup, v_in: float, variant: str, mesh: SphereMeshSpec,
         task["hardening"] = setup.hardening.record()
     if setup.rate_law is not None and not setup.elastic:       # absent when rate-independent: its keys stay
         task["rate_law"] = setup.rate_law.record()
+    if setup.kinematics != DEFAULT_KINEMATICS:                   # absent for small strain: its keys stay
+        task["kinematics"] = setup.kinematics
     return {**task, "variant": variant, "key": stable_key({**task, "version": VERSION})}
 
 
@@ -309,7 +314,7 @@ def run_task(task: dict) -> dict:
             material = (ElasticMaterial(task["E"], task["nu"]) if task["sigma_y"] is None
                         else von_mises_material(task["E"], task["nu"], task["sigma_y"], task.get("hardening"),
                                                task.get("rate_law")))
-            solver = ImpactSolver(mesh, material, task["rho"])
+            solver = ImpactSolver(mesh, material, task["rho"], kinematics=task.get("kinematics", DEFAULT_KINEMATICS))
             result = run_impact(solver, task["v_in"], steps_per_contact=task["steps_per_contact"])
     except (ImpactNotConverged, ValueError, np.linalg.LinAlgError) as exc:
         return {**base, "status": "failed", "error": str(exc), "wall_time_s": time.perf_counter() - started}
@@ -588,7 +593,8 @@ def run_quasi_static(setup: ImpactSetup, rows: list[dict], cases: Path, *, worke
     fine = [row for row in rows if row["variant"] == "fine" and row["P_max"] > setup.pair.P_Y]
     if setup.elastic or not fine:
         return [], {"computed": 0, "reused": 0}
-    tasks = [impact_quasistatic.task_of(setup.material, setup.radius, row, setup.hardening) for row in fine]
+    tasks = [impact_quasistatic.task_of(setup.material, setup.radius, row, setup.hardening, setup.kinematics)
+             for row in fine]
     for task in tasks:
         hemisphere_mesh(SphereMeshSpec(**task["mesh"]).contact_zone)     # gmsh is one per process
     describe = (lambda row: f"v_in = {row['v_in']:g} m/s (quasi-static FE path): "

@@ -22,6 +22,7 @@ import time
 import numpy as np
 
 from calib import output
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fe.loadpath import run_load_paths
 from calib.fe.solver import ContactSolver
 from calib.fe.von_mises import von_mises_material
@@ -35,16 +36,18 @@ from nfdmodel import Material
 VERSION = 1                      # bump when the recipe changes: invalidates finished cases
 
 
-def task_of(material: Material, radius: float, fine_row: dict, hardening=None) -> dict:
+def task_of(material: Material, radius: float, fine_row: dict, hardening=None,
+            kinematics: str = DEFAULT_KINEMATICS) -> dict:
     """The quasi-static task of a finished dynamic impact of ``material`` on a sphere of ``radius``
     [m] (``fine_row``: the impact's ``fine`` row of calib.studies.impact; ``hardening``: the sphere's
-    flow curve, calib.fe.flow_curve, None for perfect plasticity): its mesh and P_max; keyed by what
-    decides the run."""
+    flow curve, calib.fe.flow_curve, None for perfect plasticity; ``kinematics``: the FE's,
+    calib.fe.kinematics): its mesh and P_max; keyed by what decides the run."""
     task = {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y, "rho": material.rho, "R": float(radius),
             "v_in": float(fine_row["v_in"]), "P_max": float(fine_row["P_max"]),
             "mesh": {k: fine_row["mesh"][k] for k in ("radius", "contact_size", "refined_radius", "refined_depth",
                                                        "far_size", "growth")},
-            **({} if hardening is None else {"hardening": hardening.record()})}
+            **({} if hardening is None else {"hardening": hardening.record()}),
+            **({} if kinematics == DEFAULT_KINEMATICS else {"kinematics": kinematics})}
     return {**task, "variant": "quasi-static", "key": stable_key({**task, "version": VERSION})}
 
 
@@ -58,7 +61,8 @@ def run_task(task: dict) -> dict:
     try:
         with threadpool_limits(1):
             material = Material(E=task["E"], nu=task["nu"], sigma_y=task["sigma_y"], rho=task["rho"])
-            path = load_path(material, task["R"], SphereMeshSpec(**task["mesh"]), task["P_max"], task.get("hardening"))
+            path = load_path(material, task["R"], SphereMeshSpec(**task["mesh"]), task["P_max"], task.get("hardening"),
+                             task.get("kinematics", DEFAULT_KINEMATICS))
     except (ValueError, np.linalg.LinAlgError, RuntimeError) as exc:
         return {**base, "status": "failed", "error": str(exc), "wall_time_s": time.perf_counter() - started}
     return {**base, **thrown(path, sphere_mass(task), task["v_in"]), "status": "ok", "error": "",
@@ -70,9 +74,10 @@ def sphere_mass(task: dict) -> float:
     return 4.0 / 3.0 * math.pi * task["R"] ** 3 * task["rho"]
 
 
-def load_path(material: Material, radius: float, mesh: SphereMeshSpec, peak: float, hardening=None) -> dict:
+def load_path(material: Material, radius: float, mesh: SphereMeshSpec, peak: float, hardening=None,
+              kinematics: str = DEFAULT_KINEMATICS) -> dict:
     """The FE load-unload path to ``peak`` [N] on the hemisphere of ``mesh``'s sizes (``hardening``: the
-    flow curve's record, None for perfect plasticity): loading and unloading (alpha [m], P [N]) arrays
+    flow curve's record, None for perfect plasticity; ``kinematics``: calib.fe.kinematics'): loading and unloading (alpha [m], P [N]) arrays
     from (0, 0) to the peak and back to the residual approach."""
     spec = recipe.calibration_spec(material, radius, peaks=(peak,))
     plan = impact_window.GeometricLoadPathPlan(peaks=spec.plan.peaks, loading_step=peak,
@@ -81,7 +86,7 @@ def load_path(material: Material, radius: float, mesh: SphereMeshSpec, peak: flo
     hemisphere = hemisphere_mesh(mesh.contact_zone)
     solver = ContactSolver(hemisphere, von_mises_material(material.E, material.nu, material.sigma_y, hardening),
                            residual_tolerance=spec.residual_tolerance,
-                           contact_radius_method=spec.contact_radius_method)
+                           contact_radius_method=spec.contact_radius_method, kinematics=kinematics)
     paths = run_load_paths(solver, plan)
     path = paths.paths[0]
     loading = [r for r in path.rows if r["branch"] == "loading"]
