@@ -127,7 +127,7 @@ def options(ns):
     counter-body, setup is a calib.studies.impact_pair.PairImpactSetup."""
     from nfdmodel.validation import check_solid
 
-    from calib.studies import impact
+    from calib.studies import impact, impact_files
 
     material, radius = material_from_args(ns)
     contact_size = number("--contact-size", ns.contact_size, None, low=0.0, unit="m")
@@ -182,8 +182,8 @@ def options(ns):
                        ("--lammps-restitution", ns.lammps_restitution)):
         if path is not None and not os.path.isfile(path):
             raise ValueError(f"{flag} {path}: no such file")
-    impact.law_parameters(setup, ns.params)      # refused before any work: another law's or material's file
-    impact.table_parameters(setup, ns.table_params)
+    impact_files.law_parameters(setup, ns.params)      # refused before any work: another law's or material's file
+    impact_files.table_parameters(setup, ns.table_params)
     if ns.lammps_restitution is not None:     # refused before any work: another sphere, a file without its columns
         try:
             impact.mdr_table(setup, ns.lammps_restitution)
