@@ -45,7 +45,7 @@ import os
 
 from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
-                                   flow_curve_from_args, hardening_folder_name, hardening_line, is_reference,
+                                   flow_curve_from_args, hardening_folder_name, hardening_line, integer, is_reference,
                                    material_from_args, number, print_summary, rate_law_folder_name, rate_law_from_args,
                                    rate_law_line)
 from calib.commands.targets import refuse_output_over_input
@@ -103,16 +103,6 @@ def add_parser(subparsers) -> None:
     add_summary_arguments(parser)
     # calib.commands.targets: the master table read without --params, the files written into --out
     parser.set_defaults(run=run, shipped=("table",), writes_into=OUT_FILES)
-
-
-def integer(flag: str, text, default: int, low: int, high: int) -> int:
-    """``text`` as an integer in [low, high] (a ValueError naming the flag and the range)."""
-    if text is None:
-        return default
-    value = number(flag, text, low=low, low_inclusive=True, high=high, high_inclusive=True)
-    if value != int(value):
-        raise ValueError(f"{flag} out of range: need an integer in [{low}, {high}], got {text}")
-    return int(value)
 
 
 def options(ns):
