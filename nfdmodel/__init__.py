@@ -15,7 +15,7 @@ SI units throughout.
 """
 from . import reference_case
 from .collision import (CollisionHistory, CollisionReference, CollisionResult, TimeStepWarning, collide,
-                        collision_reference)
+                        collide_repeated, collision_reference)
 from .friction import Contact, ContactForces, Friction, FrictionState, contact_step, shear_coefficient
 from .hertz import hertz_force, hertz_step
 from .history import HertzState, HistoryUpdate, TurningPointHistory
@@ -41,7 +41,7 @@ __all__ = [
     "vz_newton_iterations", "vz_plastic_force", "thornton_force", "walton_braun_force", "hertz_step",
     "vz_step", "thornton_step", "walton_braun_step", "NEWTON_TOLERANCE", "NEWTON_MAX_ITERATIONS",
     "check_real", "PlausibilityWarning", "reference_case",
-    "load_parameters", "parameter_record", "collide", "collision_reference", "CollisionResult",
+    "load_parameters", "parameter_record", "collide", "collide_repeated", "collision_reference", "CollisionResult",
     "CollisionReference", "CollisionHistory", "TimeStepWarning", "CalibrationWindow", "RangeWarning",
     "VZTableParams", "VZTableState", "vz_table_force", "vz_table_step", "backend", "backend_info",
     "PYTHON_LAWS", "VZUnloadParams", "VZUnloadState", "vz_unload_force", "vz_unload_step",

@@ -37,6 +37,7 @@ so the warning also checks the number of steps in it.
 """
 from __future__ import annotations
 
+import copy
 import math
 import time
 import warnings
@@ -46,7 +47,7 @@ import numpy as np
 
 from . import limits, native
 from .hertz_contact import hertz_approach_at_work
-from .history import HertzState
+from .history import HertzState, check_state
 from .materials import as_pair
 from .registry import ContactLaw, get_law
 from .validation import bound_text, check_real, check_solid
@@ -65,7 +66,8 @@ _LOADING_NODES, _LOADING_WEIGHTS = np.polynomial.legendre.leggauss(24)
 
 class TimeStepWarning(RuntimeWarning):
     """dt is too large for the contact: the collision result is inaccurate (see :func:`collide`)."""
-CONTACT_TIME_SAFETY = 20.0        # max_steps = this * longest estimated contact time / dt
+CONTACT_TIME_SAFETY = 20.0
+MAX_REPEAT = 1000                 # collide_repeated: at most this many impacts per contact        # max_steps = this * longest estimated contact time / dt
 
 
 @dataclass(frozen=True)
@@ -258,7 +260,7 @@ def coarse_time_step(reference: CollisionReference, dt: float) -> str | None:
 
 
 def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = False,
-            max_steps: int | None = None) -> CollisionResult:
+            max_steps: int | None = None, start=None):
     """Simulate sphere-on-flat impacts at all velocities ``v_in`` [m/s] at once (module doc).
 
     law_name: 'vz' | 'hertz' | 'thornton' | 'walton-braun' (or a ContactLaw); params: VZParams
@@ -269,7 +271,9 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
     50 steps or its unloading phase fewer than 10 (the result is then inaccurate; the message
     gives the largest dt that passes); a ValueError when dt reaches the leap-frog stability
     limit 2 t_unload / pi, or needs more than 1e6 steps per contact. max_steps: default 20 x the longest estimated contact
-    time / dt; a ValueError if some velocity has not separated by then.
+    time / dt; a ValueError if some velocity has not separated by then. start: the contacts' history
+    (the law's state, one contact per velocity) to begin from, each at first touch delta = its
+    delta_res; then the result is (CollisionResult, the history at the end) (collide_repeated).
     """
     started = time.perf_counter()
     law, law_params, pair = _resolve(law_name, params)
@@ -303,17 +307,39 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
         max_steps = int(math.ceil(CONTACT_TIME_SAFETY * contact_estimate.max() / dt)) + 10
     max_steps = int(check_real("max_steps", max_steps, low=1, low_inclusive=True))
 
-    if native.active() and not history and law.collision_params is not None:
+    if native.active() and not history and start is None and law.collision_params is not None:
         path = native.collide(law.name, law.collision_params(law_params), v_in, dt, pair.mass_star, max_steps,
                               lambda delta: law.step_function(np.array([delta]), law.initial_state(1), law_params))
     else:
-        path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history)
+        path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history, start)
     in_range, over_window = _window_check(law, law_params, path["P_max"], v_in)
-    return CollisionResult(law.name, v_in, path["v_out"], -path["v_out"] / v_in,
+    result = CollisionResult(law.name, v_in, path["v_out"], -path["v_out"] / v_in,
                            np.sqrt(path["unloading_area"] / np.maximum(path["loading_area"], 1e-300)),
                            path["P_max"], path["delta_max"], path["delta_res"], path["contact_time"], dt,
                            path["steps"], time.perf_counter() - started, path["max_iterations"],
                            path["history"], in_range, over_window)
+    return (result, path["state"]) if start is not None else result
+
+
+def collide_repeated(law_name, params, v_in, repeat: int, dt: float | None = None) -> list[CollisionResult]:
+    """``repeat`` impacts of each sphere on the same spot, one contact per velocity ``v_in`` [m/s]:
+    after each separation the sphere is re-launched at the same v_in from first touch, the contact's
+    history (turning point delta_max, P_max, dent delta_res, unloading curve) carried over, so each
+    impact starts at delta = delta_res (force 0) and reloads along the unloading curve up to the
+    turning point, then on the virgin curve (nfdmodel.turning_point). One CollisionResult per
+    impact (the first is :func:`collide`'s); dt as collide's (None: from the first impact's
+    estimates, which bound the later, stiffer ones' unloading too: it follows the same curves).
+    e of impact k: -v_out / v_in of that impact."""
+    if isinstance(repeat, bool) or not isinstance(repeat, (int, np.integer)) or not 1 <= repeat <= MAX_REPEAT:
+        raise ValueError(f"repeat out of range: need an integer in [1, {MAX_REPEAT}], got {repeat!r}")
+    law, law_params, _ = _resolve(law_name, params)
+    state = law.initial_state(_check_velocities(v_in).size)
+    results = []
+    for _ in range(int(repeat)):
+        result, state = collide(law, law_params, v_in, dt=dt, start=state)
+        dt = result.dt                                   # one time step for the whole series
+        results.append(result)
+    return results
 
 
 def _window_check(law, params, P_max, v_in):
@@ -345,13 +371,22 @@ def _window_check(law, params, P_max, v_in):
     return ~(above | below), over
 
 
-def _time_loop(law, law_params, v_in, dt: float, mass: float, max_steps: int, history: bool) -> dict:
+def _time_loop(law, law_params, v_in, dt: float, mass: float, max_steps: int, history: bool, start=None) -> dict:
     """The leap-frog loop of :func:`collide` (module doc) for all velocities at once: per
     velocity v_out, contact_time, loading and unloading areas, P_max, delta_max, delta_res; the
-    number of steps, the largest Newton iteration count and the history on request."""
+    number of steps, the largest Newton iteration count, the history on request and the contacts'
+    final ``state``. ``start``: the contacts' history to begin from (None: virgin), at first touch
+    delta = delta_res (a copy: ``start`` is not modified)."""
     n = v_in.size
-    state = law.initial_state(n)
-    delta = np.zeros(n)
+    if start is None:
+        state = law.initial_state(n)
+        delta = np.zeros(n)
+    else:
+        check_state(start, type(law.initial_state(1)), law.name)
+        if start.n != n:
+            raise ValueError(f"start out of range: need the history of {n} contact(s), got {start.n}")
+        state = copy.deepcopy(start)
+        delta = np.zeros(n) if isinstance(state, HertzState) else state.delta_res.copy()
     force = np.zeros(n)
     velocity = v_in.copy()                      # v_(-1/2)
     loading_area = np.zeros(n)
@@ -400,5 +435,5 @@ def _time_loop(law, law_params, v_in, dt: float, mass: float, max_steps: int, hi
     return {"v_out": v_out, "contact_time": contact_time, "loading_area": loading_area,
             "unloading_area": unloading_area, "P_max": P_max, "delta_max": delta_max,
             "delta_res": np.zeros(n) if isinstance(state, HertzState) else state.delta_res,
-            "steps": step, "max_iterations": max_iterations,
+            "steps": step, "max_iterations": max_iterations, "state": state,
             "history": CollisionHistory(np.asarray(times), np.asarray(deltas), np.asarray(forces)) if history else None}

@@ -6,6 +6,7 @@ integrated with leap-frog until it leaves at v_out; the restitution is e = -v_ou
 
     nfdcal collide --law vz --v-in 0.02 0.04 0.1 [--dt 1e-6] [--json]
     nfdcal collide --v-in 0.1 --angle 10 30 60 --mu 0.3 [--omega W] [--plot e_t.png]   # oblique
+    nfdcal collide --params results/calibration/parameters.json --v-in 0.0167 --repeat 3   # 3 impacts, one spot
     nfdcal collide --report [--params FILE] [--out results/collision]   # regenerate results/collision/
 
 Material flags default to the paper's reference case (aluminium sphere, R = 0.1 m). --Ca --Kc
@@ -31,6 +32,12 @@ e_n, e_t = v_t'/v_t, beta = -V'/V (the contact point; '-' where undefined: e_t a
 the rebound angle and spin; --plot FILE draws e_t and beta against the incidence angle (an existing
 file only with --overwrite).
 
+--repeat N: N impacts of each sphere on the same spot (nfdmodel.collide_repeated): after each separation
+the sphere is re-launched at v_in from first touch (delta = the dent delta_res), the contact's history
+(turning point, dent, unloading curve) carried over, so it reloads along the unloading curve to the turning
+point and loads on the virgin curve beyond; one record per impact with its index repeat (1..N), its e
+(= e_velocity), the dent and delta_max [m] from the first impact's first touch.
+
 --report: the restitution sweep, time-step convergence and plots of the vz law with the paper's
 constants, or with the two constants of --params FILE (a calibration's parameters.json, whichever
 law it ships, e.g. results/calibration/parameters.json); no other file is read, and the output names
@@ -38,9 +45,10 @@ the source.
 """
 from __future__ import annotations
 
-from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments, material_flags,
-                                   number, print_summary)
+from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments, integer,
+                                   material_flags, number, print_summary)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
+from nfdmodel.collision import MAX_REPEAT
 
 LAW_NAMES = tuple(LAWS) + tuple(PYTHON_LAWS)   # every registered law, in the registry's order
 FILE_LAWS = ("vz", "vz-table", "vz-unload")   # the laws a parameter file holds (nfdmodel.parameter_file)
@@ -59,6 +67,10 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--law", default=None, help=f"force law: {', '.join(LAW_NAMES)} (default vz, or the"
                         " law of the --params file)")
     parser.add_argument("--v-in", nargs="+", metavar="V", help="incoming velocities [m/s] (> 0)")
+    parser.add_argument("--repeat", default=None, metavar="N",
+                        help=f"N impacts of each sphere on the same spot (integer 1 .. {MAX_REPEAT}, default 1): the"
+                             " contact's history (dent, turning point) carried over, the sphere re-launched at v_in;"
+                             " one record per impact with its index repeat (1..N) and its e")
     parser.add_argument("--dt", default="auto", help="time step [s] (> 0) or 'auto' (default)")
     add_summary_arguments(parser, progress=False)
     add_material_arguments(parser)
@@ -188,6 +200,8 @@ def run(ns) -> int:
     import warnings
 
     if ns.report:
+        if ns.repeat is not None:
+            raise ValueError("--repeat is for the impacts of --v-in: do not combine it with --report")
         from calib.report.collision import DEFAULT_OUT, generate
 
         velocities = [number("--v-in", v, low=0.0, unit="m/s") for v in ns.v_in] if ns.v_in else None
@@ -217,10 +231,15 @@ def run(ns) -> int:
         refuse_existing(ns, ("plot",))          # before any work: an existing PNG only with --overwrite
     elif ns.overwrite:
         raise ValueError("--overwrite applies to --plot only")
+    repeat = integer("--repeat", ns.repeat, 1, 1, MAX_REPEAT)
     law, params = build_params(ns)
     if any(value is not None for value in (ns.angle, ns.mu, ns.omega, ns.plot, ns.damping, ns.x_gamma_t,
                                            ns.rolling, ns.twisting)):
+        if ns.repeat is not None:
+            raise ValueError("--repeat is for normal impacts: do not combine it with the oblique flags")
         return run_oblique(ns, law, params, velocities, dt)
+    if ns.repeat is not None:
+        return run_repeated(ns, law, params, velocities, dt, repeat)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         result = collide(law, params, velocities, dt=dt)
@@ -239,6 +258,38 @@ def run(ns) -> int:
               f"{r['P_max']:10.5g} {r['contact_time']:15.6g} {window[r['in_calibrated_range']]:>9}" for r in records]
     if getattr(params, "window", None) is not None and law in ("vz", "vz-unload"):
         lines.append(f"calibrated window: {params.window.describe()} ({params.window.source})")
+    print_summary(ns, records, lines)
+    return 0
+
+
+def run_repeated(ns, law: str, params, velocities, dt, repeat: int) -> int:
+    """--repeat N: N impacts per velocity on one contact (nfdmodel.collide_repeated); one record per
+    impact: v_in, repeat (1..N), e (= e_velocity), the collide keys, dent (delta_res) and delta_max [m]
+    (both from the first touch of the first impact)."""
+    import sys
+    import warnings
+
+    from nfdmodel import collide_repeated
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        results = collide_repeated(law, params, velocities, repeat, dt=dt)
+    for message in dict.fromkeys(str(warning.message) for warning in caught):     # each once, not once per impact
+        print(f"nfdcal collide: warning: {message}", file=sys.stderr)
+    records = []
+    for i in range(velocities.size):
+        for k, result in enumerate(results, start=1):
+            record = result.records()[i]
+            records.append({"v_in": record["v_in"], "repeat": k, "e": record["e_velocity"], **record,
+                            "dent": float(result.delta_res[i]), "delta_max": float(result.delta_max[i])})
+    pair = params.pair
+    lines = [f"law {law}: {repeat} impacts per velocity on one contact, its history carried over; R* = "
+             f"{pair.R_star:g} m, m* = {pair.mass_star:.4g} kg, P_Y = {pair.P_Y:.4g} N, v_Y = {pair.v_Y:.4g} m/s, "
+             f"dt = {results[0].dt:.3g} s",
+             f"{'v_in m/s':>10} {'repeat':>6} {'e':>9} {'P_max N':>10} {'dent m':>10} {'delta_max m':>11} "
+             f"{'contact_time s':>15}"]
+    lines += [f"{r['v_in']:10.4g} {r['repeat']:>6} {r['e']:9.6f} {r['P_max']:10.5g} {r['dent']:10.4g} "
+              f"{r['delta_max']:11.4g} {r['contact_time']:15.6g}" for r in records]
     print_summary(ns, records, lines)
     return 0
 

@@ -35,6 +35,16 @@ def number(flag: str, text, default=None, **allowed) -> float:
     return default if text is None else check_real(flag, text, text=True, **allowed)
 
 
+def integer(flag: str, text, default: int, low: int, high: int) -> int:
+    """``text`` as an integer in [low, high] (a ValueError naming the flag and the range)."""
+    if text is None:
+        return default
+    value = number(flag, text, low=low, low_inclusive=True, high=high, high_inclusive=True)
+    if value != int(value):
+        raise ValueError(f"{flag} out of range: need an integer in [{low}, {high}], got {text}")
+    return int(value)
+
+
 def add_summary_arguments(parser, progress: bool = True) -> None:
     """--json and --quiet, the same in every command (``progress``: whether the command reports
     progress; one that does not accepts --quiet too, so a script passes it to every command)."""

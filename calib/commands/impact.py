@@ -49,14 +49,15 @@ import os
 
 from calib.commands.common import (KINEMATICS_FLAG, add_counter_arguments, add_hardening_arguments, add_material_arguments,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
-                                   flow_curve_from_args, hardening_folder_name, hardening_line, is_reference,
+                                   flow_curve_from_args, hardening_folder_name, hardening_line, integer, is_reference,
                                    material_from_args, number, print_summary, rate_law_folder_name, rate_law_from_args,
                                    rate_law_line)
 from calib.commands.targets import refuse_output_over_input
 
 # the files written into --out (calib.studies.impact_output, impact_drops, impact_convergence, impact_pair)
 OUT_FILES = ("impact.csv", "impact.json", "drop_tests.csv", "drops.csv", "impact.png", "histories.png",
-             "convergence.csv", "convergence.json", "convergence.png", "impact_pair.csv", "impact_pair.json")
+             "convergence.csv", "convergence.json", "convergence.png", "impact_pair.csv", "impact_pair.json",
+             "repeat.csv", "repeat.json")
 
 
 def add_parser(subparsers) -> None:
@@ -76,6 +77,14 @@ def add_parser(subparsers) -> None:
                              " their velocities, each test against it in OUT/drops.csv (not with --v-in); more than"
                              f" {MOST_DROP_VELOCITIES} distinct velocities: the FE at {MOST_DROP_VELOCITIES} spread in log"
                              " v_in, the tests against it interpolated (said in the output)")
+    parser.add_argument("--repeat", default=None, metavar="N",
+                        help="N impacts at each --v-in on the same spot (integer 1 .. 10): the dent and residual"
+                             " stresses carried over, the vibrations let die out between impacts; e, P_max, dent of"
+                             " each, beside the laws' repeated impacts (OUT/repeat.json, repeat.csv; no error"
+                             " estimate, quasi-static path or plots)")
+    parser.add_argument("--unload-params", default=None, metavar="FILE",
+                        help="with --repeat: a vz-unload parameter file (nfdcal calibrate --ship unload) whose law"
+                             " the FE is also compared with")
     parser.add_argument("--steps-per-contact", default=None,
                         help="time steps per estimated contact time (integer 10 .. 10000, default 100)")
     parser.add_argument("--contact-size", default=None,
@@ -110,16 +119,6 @@ def add_parser(subparsers) -> None:
     add_summary_arguments(parser)
     # calib.commands.targets: the master table read without --params, the files written into --out
     parser.set_defaults(run=run, shipped=("table",), writes_into=OUT_FILES)
-
-
-def integer(flag: str, text, default: int, low: int, high: int) -> int:
-    """``text`` as an integer in [low, high] (a ValueError naming the flag and the range)."""
-    if text is None:
-        return default
-    value = number(flag, text, low=low, low_inclusive=True, high=high, high_inclusive=True)
-    if value != int(value):
-        raise ValueError(f"{flag} out of range: need an integer in [{low}, {high}], got {text}")
-    return int(value)
 
 
 def options(ns):
@@ -286,6 +285,8 @@ def run(ns) -> int:
     from calib.commands.progress import progress_reporter
     from calib.studies import impact, impact_convergence
 
+    if ns.repeat is not None or ns.unload_params is not None:
+        return run_repeat(ns)
     setup, velocities, workers = options(ns)
     if hasattr(setup, "counter"):
         return run_pair(ns, setup, velocities, workers)
@@ -332,6 +333,52 @@ def run(ns) -> int:
         lines.insert(0, rate_law_line(setup.rate_law) + "; the quasi-static FE paths its rate-independent limit")
     if setup.hardening is not None:
         lines.insert(0, hardening_line(setup.hardening))
+    print_summary(ns, records, lines)
+    return 0
+
+
+def run_repeat(ns) -> int:
+    """--repeat N: the FE's repeated impacts beside the laws' (calib.studies.impact_repeat)."""
+    from pathlib import Path
+
+    from calib import output
+    from calib.commands.progress import progress_reporter
+    from calib.studies import impact, impact_repeat
+
+    if ns.repeat is None:
+        raise ValueError("--unload-params applies to --repeat only")
+    repeat = integer("--repeat", ns.repeat, 1, 1, impact_repeat.MAX_REPEAT)
+    for flag, given in (("--counter-E", counter_from_args(ns, material_from_args(ns)[0]) is not None),
+                        ("--drops", ns.drops is not None), ("--convergence", ns.convergence),
+                        ("--lammps-restitution", ns.lammps_restitution is not None), ("--dry-run", ns.dry_run)):
+        if given:
+            raise ValueError(f"{flag} is not for repeated impacts: do not combine it with --repeat")
+    if ns.v_in is None:
+        raise ValueError("--repeat needs --v-in: the impact velocities [m/s] (> 0)")
+    setup, velocities, _ = options(ns)
+    laws = {"vz": impact.law_parameters(setup, ns.params)[0]}
+    sources = {"vz": impact.law_parameters(setup, ns.params)[1]}
+    table = impact.table_parameters(setup, ns.table_params)
+    if table is not None:
+        laws["vz-table"], sources["vz-table"] = table, output.display_path(ns.table_params)
+    if ns.unload_params is not None:
+        laws["vz-unload"] = impact_repeat.unload_parameters(setup, ns.unload_params)
+        sources["vz-unload"] = output.display_path(ns.unload_params)
+    impact.check_reach(setup, velocities)
+    out = ns.out or default_out(ns, setup)
+    refuse_output_over_input(ns, {"out": out})
+    with output.one_writer(out), progress_reporter(ns.quiet) as progress:
+        records = impact_repeat.study(setup, velocities, repeat, Path(out), laws, sources, progress=progress)
+    names = list(laws)
+    lines = [f"{'v_in [m/s]':>10} {'v/v_Y':>6} {'repeat':>6} {'e FE':>8} " + " ".join(f"{'e ' + n:>12}" for n in names)
+             + f" {'P_max [N]':>10} {'dent [m]':>10} {'W_p [J]':>9}"]
+    lines += [f"{r['v_in']:>10.4g} {r['v_in_over_v_Y']:>6.3g} {r['repeat']:>6} {r['e']:>8.5f} "
+              + " ".join(f"{r['e_' + n]:>12.5f}" for n in names)
+              + f" {r['P_max']:>10.4g} {r['dent']:>10.4g} {r['plastic_work']:>9.3g}" for r in records]
+    lines.append("e FE: the dynamic FE's, each impact from the last one's residual state (dent and residual stresses"
+                 " carried over); e <law>: the law's impact of the same index, the contact's history carried over")
+    lines.append("laws compared with: " + "; ".join(f"{n} of {s}" for n, s in sources.items()))
+    lines.append(f"results written to {out}")
     print_summary(ns, records, lines)
     return 0
 

@@ -213,11 +213,13 @@ class ImpactRun:
 
 
 def impact_run(solver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT,
-               progress: Callable[[str], None] | None = None) -> ImpactRun:
+               progress: Callable[[str], None] | None = None, start: ImpactState | None = None) -> ImpactRun:
     """The time loop (module docstring) of ``solver``'s bodies (a calib.fe.newmark.NewmarkSolver
     configuration) meeting at v_in [m/s] > 0: dt from the quasi-static contact time of
     ``solver.contact_pair()`` (Thornton's law); raises ImpactNotConverged if a step fails at dt / 64
-    or the bodies have not separated after five estimated contact times, ValueError on bad input."""
+    or the bodies have not separated after five estimated contact times, ValueError on bad input.
+    ``start``: the state at first touch (None: solver.initial_state(v_in); a later impact of a
+    series, calib.fe.impact_repeat.rest_state)."""
     started, cpu = time.perf_counter(), time.process_time()
     if not (isinstance(v_in, (int, float)) and math.isfinite(v_in) and v_in > 0):
         raise ValueError(f"v_in must be > 0 m/s, got {v_in!r}")
@@ -226,17 +228,18 @@ def impact_run(solver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PE
     t_c = float(collision_reference("thornton", solver.contact_pair(), [v_in]).contact_time_estimate[0])
     dt = t_c / steps_per_contact
     run = _Run(solver, float(v_in), dt, solver.mass * v_in / t_c, progress)
-    initial = solver.initial_state(v_in)
+    initial = solver.initial_state(v_in) if start is None else start
     state, contacts = time_loop(run, initial, t_c)
     return ImpactRun(float(v_in), dt, initial, state, contacts, run.rows, run.newton, run.halvings,
                      time.perf_counter() - started, time.process_time() - cpu)
 
 
 def run_impact(solver: ImpactSolver, v_in: float, *, steps_per_contact: int = DEFAULT_STEPS_PER_CONTACT,
-               progress: Callable[[str], None] | None = None) -> ImpactResult:
+               progress: Callable[[str], None] | None = None, start: ImpactState | None = None) -> ImpactResult:
     """The impact at v_in [m/s] > 0 of ``solver``'s sphere on the rigid flat (module docstring;
-    impact_run's errors)."""
-    return _result(solver, impact_run(solver, v_in, steps_per_contact=steps_per_contact, progress=progress))
+    impact_run's errors; ``start`` as impact_run's)."""
+    return _result(solver, impact_run(solver, v_in, steps_per_contact=steps_per_contact, progress=progress,
+                                      start=start))
 
 
 def time_loop(run: _Run, state: ImpactState, t_c: float) -> tuple[ImpactState, list[float]]:
