@@ -205,6 +205,25 @@ def flow_curve_from_args(ns, material: Material):
         raise ValueError(f"--flow-curve: {exc}{hint}") from None
 
 
+def hardening_given(ns) -> str | None:
+    """The first hardening flag given (its name), None when none is."""
+    return next((flag_name(key) for key in HARDENING_HELP if getattr(ns, key, None) is not None), None)
+
+
+def refuse_hardening(ns, command: str, why: str) -> None:
+    """A command answering from a master table (of perfectly plastic spheres, no hardening
+    dimension) refuses the hardening flags in one line: why, and the calibration to run instead
+    (--hardening-modulus 0, the perfectly plastic sphere, is answered)."""
+    given = hardening_given(ns)
+    if given == "--hardening-modulus" and getattr(ns, "flow_curve", None) is None:
+        if number(given, ns.hardening_modulus, low=0.0, low_inclusive=True, unit="Pa") == 0:
+            return                      # H = 0: the perfectly plastic sphere the tables hold
+    if given is not None:
+        raise ValueError(f"{given}: nfdcal {command} {why}; the master tables are of perfectly plastic spheres (no "
+                         f"hardening dimension): run the FE of this sphere instead, nfdcal calibrate "
+                         f"--hardening-modulus H (or --flow-curve CSV) with its --E --nu --sigma-y --R")
+
+
 def hardening_folder_name(curve) -> str:
     """The part of a default results folder's name that names a hardening sphere."""
     record = curve.record()
