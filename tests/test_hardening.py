@@ -451,3 +451,235 @@ def test_a_return_mapping_without_root_fails_the_step_not_the_run(coarse_mesh):
     solver = ContactSolver(coarse_mesh, HardeningMaterial(E, NU, _NoRoot(SIGMA_Y, E / 20)))
     result = solver.solve_force(solver.initial_state(), 20 * PAIR.P_Y)
     assert not result.converged and "material: flow curve test" in result.message
+
+
+# ------------------------------------------------------------------------------------------------
+# table, scenes, material, fit-data; parameter files in collide and export
+# ------------------------------------------------------------------------------------------------
+SCENE = """[scene]
+name = "hard"
+[mesh]
+level = "coarse"
+[[material]]
+name = "al"
+E = 70e9
+nu = 0.3
+sigma_y = 1e8
+rho = 2700.0
+R = 0.01
+{material}
+[load_paths]
+P_max_over_P_Y = [5.0, 10.0]
+[calibration]
+ship = "radius"
+{calibration}
+"""
+
+
+def write_scene(folder, material: str = "", calibration: str = "", extra: str = ""):
+    path = folder / "hard.toml"
+    path.write_text(SCENE.format(material=material, calibration=calibration) + extra)
+    return path
+
+
+def one_line_refusal(capsys, argv, needle):
+    from calib.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and needle in err, err
+    return err
+
+
+@pytest.mark.parametrize("command", ["material", "fit-data"])
+@pytest.mark.parametrize("flags", [["--hardening-modulus", "1e9"], ["--flow-curve", "GOOD"],
+                                   ["--flow-curve", "GOOD", "--flow-curve-extrapolation", "slope"]])
+def test_master_table_commands_refuse_hardening_naming_calibrate(command, flags, curve_files, capsys):
+    """material and fit-data answer from the master tables (perfectly plastic): one line saying so and
+    naming the calibration to run instead, exit 2, before any input is read."""
+    flags = [str(curve_files / "GOOD.csv") if f == "GOOD" else f for f in flags]
+    extra = ["--impacts", str(curve_files / "none.csv")] if command == "fit-data" else []
+    err = one_line_refusal(capsys, [command, *extra, *flags], "no hardening dimension")
+    assert err.split(": ")[2].startswith(flags[0]) and "nfdcal calibrate --hardening-modulus H" in err
+
+
+def test_material_answers_zero_hardening_as_the_perfectly_plastic_sphere(capsys):
+    from calib.cli import main
+
+    assert main(["material", "--json"]) == 0
+    plain = capsys.readouterr().out
+    assert main(["material", "--json", "--hardening-modulus", "0"]) == 0
+    assert capsys.readouterr().out == plain
+
+
+def test_table_flags_give_every_sphere_the_flow_curve_in_the_plan(curve_files, capsys):
+    """table --hardening-modulus / --flow-curve (--flow-curve-extrapolation): accepted, recorded in the
+    plan (each stage's detail and the JSON's records); H = 0 the perfectly plastic plan."""
+    import json
+
+    from calib.cli import main
+
+    assert main(["table", "copper", "--dry-run", "--json"]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert "hardening" not in plain
+    assert main(["table", "copper", "--dry-run", "--json", "--hardening-modulus", "0"]) == 0
+    assert json.loads(capsys.readouterr().out) == plain
+    assert main(["table", "copper", "--dry-run", "--json", "--hardening-modulus", "2e9"]) == 0
+    planned = json.loads(capsys.readouterr().out)
+    assert planned["hardening"] == {"copper_c11000": {"flow_curve": "linear", "sigma_y": 69e6, "hardening_modulus": 2e9}}
+    assert planned["stages"][0]["detail"].endswith("hardening H = 2e+09 Pa")
+    scene = write_scene(curve_files)
+    assert main(["table", str(scene), "--dry-run", "--flow-curve", str(curve_files / "GOOD.csv"),
+                 "--flow-curve-extrapolation", "slope"]) == 0
+    assert "flow curve GOOD.csv (slope)" in capsys.readouterr().out
+
+
+TABLE_REFUSALS = [
+    (["copper", "--hardening-modulus", "1e12"], "--hardening-modulus out of range"),
+    (["copper", "--flow-curve", "GOOD"], "give --sigma-y as the table's first stress"),
+    (["copper", "--hardening-modulus", "1e9", "--flow-curve", "GOOD"], "give one of them"),
+    (["copper", "--hardening-modulus", "1e9", "--master-out", "m.csv"], "--master-out: the master table is of perfectly"),
+    (["copper", "--hardening-modulus", "1e9", "--check-master"], "--check-master: the master table is of perfectly"),
+    (["copper", "--hardening-modulus", "1e9", "--v-max", "1"], "--hardening-modulus: the impact window"),
+    (["vz_master_grid", "--hardening-modulus", "1e9"], "the vz master table is of perfectly plastic spheres"),
+    (["SCENE_H", "--hardening-modulus", "1e9"], "gives its spheres' hardening: give it there or here, not both"),
+]
+
+
+@pytest.mark.parametrize("argv, needle", TABLE_REFUSALS, ids=[n for _, n in TABLE_REFUSALS])
+def test_table_refuses_hardening_it_cannot_run_in_one_line(argv, needle, curve_files, capsys):
+    scene = write_scene(curve_files, material="hardening_modulus = 1e9")
+    argv = [{"GOOD": str(curve_files / "GOOD.csv"), "SCENE_H": str(scene)}.get(a, a) for a in argv]
+    one_line_refusal(capsys, ["table", *argv, "--dry-run", "--out", str(curve_files / "out")], needle)
+
+
+def test_scene_hardening_entries_are_planned_and_applied(curve_files, capsys):
+    """A [[material]] or [calibration] hardening entry: the scene's plan names it, each stage's spec
+    carries the flow curve, and the flow curve's file is read relative to the scene."""
+    from calib.cli import main
+    from calib.scenes import load_scene
+    from calib.scenes.plan import calibration_spec
+
+    for material, calibration, named in (("hardening_modulus = 2e9", "", "hardening H = 2e+09 Pa"),
+                                         ("", 'flow_curve = "GOOD.csv"\nflow_curve_extrapolation = "slope"',
+                                          "flow curve GOOD.csv (slope)")):
+        path = write_scene(curve_files, material, calibration)
+        assert main(["run", str(path), "--dry-run"]) == 0
+        assert named in capsys.readouterr().out
+        scene = load_scene(path)
+        spec = calibration_spec(scene, scene.materials[0])
+        assert spec.hardening is scene.flow_curve(scene.materials[0]) and spec.hardening is not None
+    assert load_scene(write_scene(curve_files, "hardening_modulus = 0.0")).hardening == ()
+
+
+SCENE_REFUSALS = [
+    ({"material": "hardening_modulus = -1.0"}, "material[0].hardening_modulus: out of range: need >= 0, got -1"),
+    ({"material": "hardening_modulus = 1e12"}, "material[0].hardening_modulus: out of range: need >= 0 and <= E = 7e+10 Pa"),
+    ({"material": 'hardening_modulus = "1e9"'}, "material[0].hardening_modulus: must be a number"),
+    ({"material": 'hardening_modulus = 1e9\nflow_curve = "GOOD.csv"'}, "give one of them"),
+    ({"material": 'flow_curve_extrapolation = "slope"'}, "give the table too"),
+    ({"calibration": 'flow_curve = "GOOD.csv"\nflow_curve_extrapolation = "linear"'},
+     "calibration.flow_curve_extrapolation: must be one of flat, slope"),
+    ({"calibration": 'flow_curve = "FALLS.csv"'}, "calibration.flow_curve: flow curve"),
+    ({"material": 'flow_curve = "OTHER_SY.csv"'}, "material[0].flow_curve: flow curve"),
+    ({"material": 'flow_curve = "MISSING.csv"'}, "cannot read it"),
+    ({"material": "hardening_modulus = 1e9", "calibration": "hardening_modulus = 1e9"}, "give it in one place"),
+    ({"material": "hardening_modulus = 1e9", "calibration": "v_max = 1.0", "bare": True}, "calibration.v_max: the impact"),
+    ({"material": "hardening_modulus = 1e9", "extra": "[impact]\nv_in = [1.0]\n[impact.counter]\nE = 2e11\nrho = 7800.0\n"},
+     "impact.counter: the two-body impact FE is of perfectly plastic spheres"),
+]
+
+
+@pytest.mark.parametrize("case, needle", SCENE_REFUSALS, ids=[n for _, n in SCENE_REFUSALS])
+def test_scene_hardening_refused_in_one_line_naming_the_key(case, needle, curve_files, capsys):
+    path = write_scene(curve_files, case.get("material", ""), case.get("calibration", ""), case.get("extra", ""))
+    if case.get("bare"):                # v_max sets the load paths: no P_max beside it
+        path.write_text(path.read_text().replace("[load_paths]\nP_max_over_P_Y = [5.0, 10.0]\n", ""))
+    one_line_refusal(capsys, ["run", str(path), "--dry-run"], needle)
+
+
+# the table keys of perfectly plastic rows, computed by main's calib.scenes.table before the hardening
+# dimension of rows existed (tasks_for of each built-in scene, and of SCENE without hardening)
+KEYS_BEFORE_HARDENING = {"aluminium_on_steel": ["7d7559bd6940a51b"], "copper": ["a6eef8b623a5abd2"],
+                         "hertz": ["458b653cc7c44f68"], "reference": ["7164526f8d6c5049"],
+                         "steel": ["3148cd7fe90294fd"], "SCENE": ["5ca6f43886cd8983"],
+                         "master_validation": ["7a6c5270112a3514", "d9628923ef8810cb", "f35369db0824585b",
+                                               "2402a4b8ec46b212"]}
+
+
+@pytest.mark.parametrize("name", sorted(KEYS_BEFORE_HARDENING))
+def test_rows_without_hardening_keep_their_cache_keys(name, tmp_path):
+    from calib.scenes import load_scene
+    from calib.scenes.table import tasks_for
+
+    scene = load_scene(write_scene(tmp_path) if name == "SCENE" else name)
+    keys = [task["key"] for task in tasks_for(scene)][:4]
+    assert keys == KEYS_BEFORE_HARDENING[name]
+
+
+def test_hardening_rows_are_keyed_by_the_curve_not_its_file(curve_files, tmp_path):
+    from calib.scenes import load_scene
+    from calib.scenes.table import tasks_for
+
+    (tmp_path / "copy.csv").write_text((curve_files / "GOOD.csv").read_text())
+    keys = [tasks_for(load_scene(write_scene(curve_files, text)))[0]["key"]
+            for text in ("", "hardening_modulus = 1e9", "hardening_modulus = 2e9", 'flow_curve = "GOOD.csv"',
+                         f'flow_curve = "{tmp_path / "copy.csv"}"')]
+    assert keys[0] == KEYS_BEFORE_HARDENING["SCENE"][0]
+    assert len(set(keys[:4])) == 4 and keys[3] == keys[4]
+
+
+def test_a_coarse_table_row_of_a_hardening_sphere(curve_files):
+    """One coarse table row with H = 2 GPa: calibrated, the hardening column and the stamp's flow curve
+    recorded; a rerun reuses it; the master table refuses it."""
+    import json
+
+    from calib.cli import main
+    from calib.scenes.table import write_master_table
+
+    out = curve_files / "table"
+    argv = ["table", str(write_scene(curve_files, "hardening_modulus = 2e9")), "--workers", "1", "--quiet",
+            "--out", str(out)]
+    assert main(argv) == 0
+    table = json.loads((out / "table.json").read_text())
+    row = table["rows"][0]
+    assert row["status"] == "ok" and row["hardening"] == "hardening H = 2e+09 Pa" and row["Ca"] > 0
+    assert table["stamp"]["flow_curves"]["al"]["hardening_modulus"] == 2e9
+    assert "hardening" in (out / "table.csv").read_text().splitlines()[-2]
+    assert main(argv + ["--json"]) == 0
+    with pytest.raises(ValueError, match="no hardening dimension"):
+        write_master_table(table["rows"], curve_files / "m.csv", "", "hard")
+
+
+@pytest.fixture
+def hardening_params(tmp_path):
+    """A parameter file as a hardening calibration writes it: its law and the "hardening" record."""
+    import json
+
+    from calib.cli import main
+    from nfdmodel import reference_case
+
+    path = tmp_path / "vz.json"
+    assert main(["material", "--params-out", str(path), "--quiet"]) == 0
+    data = json.loads(path.read_text())
+    data["hardening"] = LinearHardening(reference_case.SIGMA_Y, 3.5e9).record()   # the file's sphere
+    path.write_text(json.dumps(data))
+    return path
+
+
+def test_collide_and_export_name_the_files_flow_curve(hardening_params, capsys):
+    from calib.cli import main
+
+    assert main(["material", "--params-out", str(hardening_params.parent / "plain.json"), "--quiet"]) == 0
+    capsys.readouterr()
+    for name, shown in (("plain.json", False), ("vz.json", True)):
+        assert main(["collide", "--params", str(hardening_params.parent / name), "--v-in", "1"]) == 0
+        out = capsys.readouterr().out
+        assert ("law calibrated with the sphere's isotropic hardening: sigma_y = sigma_Y + H eps_p, H = 3.5e+09 Pa"
+                in out) is shown
+        assert main(["export", "lammps", "--params", str(hardening_params.parent / name)]) == 0
+        lines = capsys.readouterr().out.splitlines()
+        assert lines[0].startswith("# nfdcal export lammps")
+        assert (lines[1] == "# calibrated with the sphere's isotropic hardening: sigma_y = sigma_Y + H eps_p, "
+                            "H = 3.5e+09 Pa") is shown
+        assert lines[1 + shown].startswith("pair_style nfd/vz")

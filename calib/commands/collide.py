@@ -45,8 +45,8 @@ the source.
 """
 from __future__ import annotations
 
-from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments, integer,
-                                   material_flags, number, print_summary)
+from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments,
+                                   file_hardening_line, integer, material_flags, number, print_summary)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
 from nfdmodel.collision import MAX_REPEAT
 
@@ -258,6 +258,9 @@ def run(ns) -> int:
               f"{r['P_max']:10.5g} {r['contact_time']:15.6g} {window[r['in_calibrated_range']]:>9}" for r in records]
     if getattr(params, "window", None) is not None and law in ("vz", "vz-unload"):
         lines.append(f"calibrated window: {params.window.describe()} ({params.window.source})")
+    hardening = None if ns.params is None else file_hardening_line(ns.params)
+    if hardening is not None:
+        lines.append(f"law calibrated with {hardening}")
     print_summary(ns, records, lines)
     return 0
 

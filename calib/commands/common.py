@@ -219,6 +219,25 @@ def flow_curve_from_args(ns, material: Material):
         raise ValueError(f"--flow-curve: {exc}{hint}") from None
 
 
+def hardening_given(ns) -> str | None:
+    """The first hardening flag given (its name), None when none is."""
+    return next((flag_name(key) for key in HARDENING_HELP if getattr(ns, key, None) is not None), None)
+
+
+def refuse_hardening(ns, command: str, why: str) -> None:
+    """A command answering from a master table (of perfectly plastic spheres, no hardening
+    dimension) refuses the hardening flags in one line: why, and the calibration to run instead
+    (--hardening-modulus 0, the perfectly plastic sphere, is answered)."""
+    given = hardening_given(ns)
+    if given == "--hardening-modulus" and getattr(ns, "flow_curve", None) is None:
+        if number(given, ns.hardening_modulus, low=0.0, low_inclusive=True, unit="Pa") == 0:
+            return                      # H = 0: the perfectly plastic sphere the tables hold
+    if given is not None:
+        raise ValueError(f"{given}: nfdcal {command} {why}; the master tables are of perfectly plastic spheres (no "
+                         f"hardening dimension): run the FE of this sphere instead, nfdcal calibrate "
+                         f"--hardening-modulus H (or --flow-curve CSV) with its --E --nu --sigma-y --R")
+
+
 def hardening_folder_name(curve) -> str:
     """The part of a default results folder's name that names a hardening sphere."""
     record = curve.record()
@@ -230,12 +249,28 @@ def hardening_folder_name(curve) -> str:
 
 
 def hardening_line(curve) -> str:
-    """The sphere's flow curve in one line."""
-    record = curve.record()
+    """The sphere's flow curve (a FlowCurve, or its ``record()`` as a parameter file states it) in one line."""
+    record = curve if isinstance(curve, dict) else curve.record()
+    if record["flow_curve"] in ("swift", "ludwik"):
+        return (f"isotropic hardening: the {record['flow_curve']} flow curve from sigma_Y = {record['sigma_y']:.4g} Pa, "
+                f"K = {record['K']:.4g} Pa, n = {record['n']:g}")
     if record["flow_curve"] == "linear":
         return f"isotropic hardening: sigma_y = sigma_Y + H eps_p, H = {record['hardening_modulus']:.4g} Pa"
     return (f"isotropic hardening: the flow curve of {record['source']} ({len(record['stress'])} points to eps_p = "
             f"{record['plastic_strain'][-1]:.4g}, {record['stress'][-1]:.4g} Pa; beyond it {record['extrapolation']})")
+
+
+def file_hardening_line(path) -> str | None:
+    """The flow curve a parameter file states (a hardening calibration's), in one line; None when it
+    states none (a perfectly plastic sphere's)."""
+    import json
+    from pathlib import Path
+
+    try:
+        record = json.loads(Path(path).read_text(encoding="utf-8")).get("hardening")
+    except (OSError, ValueError, AttributeError):
+        return None                     # the file's own reader reports what is wrong with it
+    return None if not isinstance(record, dict) else f"the sphere's {hardening_line(record)}"
 
 
 RATE_LAW_HELP = {

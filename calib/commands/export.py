@@ -93,7 +93,7 @@ import re
 import warnings
 from pathlib import Path
 
-from calib.commands.common import add_summary_arguments, number, print_summary
+from calib.commands.common import add_summary_arguments, file_hardening_line, number, print_summary
 
 FACES = ("xlo", "xhi", "ylo", "yhi", "zlo", "zhi")
 LAMMPS_ID = re.compile(r"[A-Za-z0-9_]+")      # the characters of a LAMMPS ID (region, fix, ...)
@@ -175,6 +175,10 @@ def run(ns) -> int:
                          f"or vz-table file (nfdcal calibrate --ship table)")
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
     if counter is not None:
+        if file_hardening_line(ns.params) is not None:
+            raise ValueError(f"--params {ns.params}: a hardening sphere's file on a counter-body out of range for export "
+                             f"lammps: its like-type laws come from the master tables, of perfectly plastic spheres; "
+                             f"export the file of each like pair's calibration (nfdcal calibrate --hardening-modulus H)")
         return run_counter(ns, params, counter, int(atom_type), wall)
     for flag, given in (("--counter-type", ns.counter_type), ("--like-params-out", ns.like_params_out),
                         ("--counter-sigma-y", ns.counter_sigma_y),
@@ -203,6 +207,10 @@ def run(ns) -> int:
     kind = int(atom_type)
     lines = ["# nfdcal export lammps: " + f"{ns.params} (load the plugin first: plugin load $(nfdcal lammps path))",
              f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {law_args}"]
+    hardening = file_hardening_line(ns.params)
+    if hardening is not None:           # the header keeps the flow curve the law was calibrated with
+        lines[0] += f"\n# calibrated with {hardening}"
+        summary.update(hardening=hardening)
     wall_law_args = law_args
     if wall_args:
         wall_law_args = f"{constants} {wall_args}" + (f" {models}" if models else "")

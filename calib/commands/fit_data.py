@@ -42,7 +42,8 @@ from __future__ import annotations
 
 import time
 
-from calib.commands.common import MATERIAL_RANGES, add_summary_arguments, flag_name, number, print_summary
+from calib.commands.common import (MATERIAL_RANGES, add_hardening_arguments, add_summary_arguments, flag_name, number,
+                                   print_summary, refuse_hardening)
 
 SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
@@ -91,6 +92,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--force", action="store_true",
                         help="report and write a fit whose residual is far above any plausible scatter (refused "
                              "otherwise), flagged as such in the summary and the parameter file")
+    add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
     add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
 
@@ -211,6 +213,8 @@ def run(ns) -> int:
     from calib.fit.measured import data as measured_data
 
     started = time.perf_counter()
+    refuse_hardening(ns, "fit-data", "fits sigma_Y (and Ca, Kc) of the master tables' laws, with no hardening constant "
+                                     "to identify")
     if ns.impacts is None and ns.force_approach is None:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)

@@ -21,7 +21,8 @@ exit 2, calib.commands.targets) and replaces an existing file only with ``--over
 """
 from __future__ import annotations
 
-from calib.commands.common import add_material_arguments, add_summary_arguments, material_from_args, print_summary
+from calib.commands.common import (add_hardening_arguments, add_material_arguments, add_summary_arguments,
+                                   material_from_args, print_summary, refuse_hardening)
 
 
 def add_parser(subparsers) -> None:
@@ -30,6 +31,7 @@ def add_parser(subparsers) -> None:
                                         "table; no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
+    add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
     parser.add_argument("--table", default=None, metavar="CSV", help="master table CSV (default: the shipped one)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="the vz-table law for impacts up to V [m/s] from the vz master table (no FE)")
@@ -48,6 +50,7 @@ def run(ns) -> int:
     from calib.commands.targets import refuse_existing
     from calib.fit.master_table import MasterTable
 
+    refuse_hardening(ns, "material", "interpolates the master tables, without an FE run")
     material, radius = material_from_args(ns)
     refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:

@@ -13,11 +13,16 @@ Kc_hat, R^2 and standard errors, mesh, FE wall time, git commit) and one JSON pe
 material in OUT/materials/: a rerun resumes and recomputes nothing already done. With
 --check-master also OUT/master_check.csv and .json: each material's Ca_hat, Kc_hat interpolated
 in the shipped master table against its own FE calibration (limits 3 % and 5 %; exit code 1 if
-a material is outside them).
+a material is outside them). --hardening-modulus H or --flow-curve CSV (--flow-curve-extrapolation)
+give every material's sphere that isotropic hardening (as a scene's [calibration] hardening entry
+does): each row is then the FE calibration of the hardening sphere, keyed by its flow curve
+(the rows of perfectly plastic spheres keep their keys); --master-out and --check-master, of the
+perfectly plastic master table, are refused with it.
 """
 from __future__ import annotations
 
-from calib.commands.common import add_summary_arguments, print_summary, with_v_max
+from calib.commands.common import (add_hardening_arguments, add_summary_arguments, flow_curve_from_args, hardening_given,
+                                   print_summary, with_v_max)
 
 
 def add_parser(subparsers) -> None:
@@ -41,6 +46,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="calibrate every material for impacts up to V [m/s] (replaces the scene's load-path"
                              " peaks: calib.fit.impact_window)")
+    add_hardening_arguments(parser)
     add_summary_arguments(parser)
     parser.set_defaults(run=run, shipped=master_checked)    # calib.commands.targets: the tables read
 
@@ -74,6 +80,9 @@ def run_vz_master(ns) -> int:
         raise ValueError(f"--workers must be an integer in [1, 64], got {ns.workers!r}")
     if ns.v_max is not None or ns.check_master:
         raise ValueError("--v-max and --check-master do not apply to a vz master scene (its nodes run to the FE's reach)")
+    if hardening_given(ns) is not None:
+        raise ValueError(f"{hardening_given(ns)}: the vz master table is of perfectly plastic spheres (no hardening "
+                         f"dimension): give the hardening to a scene of [[material]] tables or a [grid]")
     scene = vz_master_build.load_scene(ns.scene)
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
     tasks = vz_master_build.tasks_for(scene)
@@ -99,6 +108,23 @@ def run_vz_master(ns) -> int:
     return 1 if failed else 0
 
 
+def with_hardening(scene, ns):
+    """``scene`` with every sphere's hardening from the flags (unchanged without them); refused
+    when the scene gives its own, or sizes its window from impacts (of perfectly plastic spheres)."""
+    given = hardening_given(ns)
+    if given is None:
+        return scene
+    if scene.hardening:
+        raise ValueError(f"{given}: scene {scene.source} gives its spheres' hardening: give it there or here, not both")
+    if scene.calibration_v_max is not None or scene.calibration_v_max_from_collision:
+        raise ValueError(f"{given}: the impact window (--v-max, the scene's v_max) is sized for a perfectly plastic "
+                         f"sphere: for a hardening one give the load paths' P_max in the scene's [load_paths]")
+    import dataclasses
+
+    curves = tuple((m.name, flow_curve_from_args(ns, m.material())) for m in scene.materials)
+    return dataclasses.replace(scene, hardening=tuple((name, c) for name, c in curves if c is not None))
+
+
 def run_parameter_table(ns) -> int:
     from calib import output, scenes
     from calib.commands.progress import progress_reporter
@@ -107,9 +133,12 @@ def run_parameter_table(ns) -> int:
         workers = int(ns.workers)
     except ValueError:
         raise ValueError(f"--workers must be an integer in [1, 64], got {ns.workers!r}") from None
-    scene = with_v_max(scenes.load_scene(ns.scene), ns.v_max)
+    scene = with_hardening(with_v_max(scenes.load_scene(ns.scene), ns.v_max), ns)
     if scene.calibration_ship is None:
         raise ValueError(f"scene {scene.source}: a table needs a [calibration] section")
+    if scene.hardening and (ns.master_out or ns.check_master):
+        raise ValueError(f"{'--master-out' if ns.master_out else '--check-master'}: the master table is of perfectly "
+                         f"plastic spheres (no hardening dimension); this table's spheres harden: drop the flag")
     if ns.master_out and not scene.is_grid:
         raise ValueError("--master-out needs a scene with a [grid] (nu x E_over_sigma_y)")
     stages = [s for s in scenes.plan(scene) if s.stage == "calibration"]

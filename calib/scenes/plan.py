@@ -1,6 +1,7 @@
 """The plan of a scene: FE specs per material and stage, mesh size and run-time estimates (--dry-run)."""
 from __future__ import annotations
 
+import dataclasses
 import os
 from dataclasses import asdict, dataclass
 
@@ -8,7 +9,7 @@ import meshio
 
 from calib.fit import impact_window, recipe
 from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial,
-                                 stage_pair)
+                                 hardening_label, stage_pair)
 from meshes.hemisphere import estimate_dofs, mesh_path
 from meshes.sphere import SphereMeshSpec
 from meshes.sphere import mesh_path as sphere_mesh_path
@@ -36,8 +37,10 @@ def calibration_spec(scene: Scene, material: SceneMaterial):
         else:
             needed, _, _ = impact_window.check_reach(material.material(), material.R, v_max)
             return impact_window.impact_spec(material.material(), material.R, needed, **spec_options(scene))
-        return recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene),
+        spec = recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene),
                                        counter=None if counter is None else counter.counter_body(material))
+        curve = scene.flow_curve(material)      # absent for perfect plasticity: the spec (and its key) unchanged
+        return spec if curve is None else dataclasses.replace(spec, hardening=curve)
     except ValueError as exc:
         raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
 
@@ -154,10 +157,11 @@ def plan(scene: Scene) -> list[PlannedStage]:
                                    scene.hertz.loads(stage_pair(material, scene.hertz.counter)), scene.hertz.steps))
         if scene.load_paths is not None:
             try:
-                out.append(calibration_stage(calibration_spec(scene, material), material.name,
-                                             calibrate=scene.calibration_ship is not None,
-                                             unload=scene.load_paths.unload,
-                                             elastic=not plastic_needed(scene, material)))
+                stage = calibration_stage(calibration_spec(scene, material), material.name,
+                                          calibrate=scene.calibration_ship is not None,
+                                          unload=scene.load_paths.unload,
+                                          elastic=not plastic_needed(scene, material))
+                out.append(with_hardening(stage, scene, material))
             except ValueError as exc:
                 if isinstance(exc, SceneError):
                     raise
@@ -166,8 +170,16 @@ def plan(scene: Scene) -> list[PlannedStage]:
             out.append(PlannedStage("collision", material.name, "-", True, 0, True, 0, False, 1.0,
                                     f"laws {', '.join(scene.collision.laws)}"))
         if scene.impact is not None:
-            out.append(impact_stage(scene, material))
+            out.append(with_hardening(impact_stage(scene, material), scene, material))
     return out
+
+
+def with_hardening(stage: PlannedStage, scene: Scene, material: SceneMaterial) -> PlannedStage:
+    """``stage`` whose detail names the sphere's hardening, when it has one (and the FE is plastic)."""
+    curve = scene.flow_curve(material)
+    if curve is None or stage.elastic:
+        return stage
+    return dataclasses.replace(stage, detail=f"{stage.detail}; {hardening_label(curve)}")
 
 
 def impact_setup(scene, material):
@@ -177,7 +189,7 @@ def impact_setup(scene, material):
     mesh = scene.mesh
     return ImpactSetup(material=material.material(), radius=material.R, contact_size=mesh.contact_size,
                        level=mesh.level if mesh.level not in (None, "default") else None,
-                       steps_per_contact=scene.impact.steps_per_contact)
+                       steps_per_contact=scene.impact.steps_per_contact, hardening=scene.flow_curve(material))
 
 
 def pair_impact_setup(scene, material):
@@ -264,6 +276,8 @@ def plan_summary(scene: Scene, stages: list[PlannedStage], folder, finished: int
                **stages_summary(stages, folder)}
     if finished is not None:
         summary["finished_materials"] = finished
+    if scene.hardening:                 # absent for perfectly plastic spheres: their plans unchanged
+        summary["hardening"] = {name: curve.record() for name, curve in scene.hardening}
     return summary
 
 

@@ -11,7 +11,7 @@ from calib import output
 from calib.fe import ContactSolver
 from calib.fe.elastic import ElasticMaterial
 from calib.fe.loadpath import run_load_paths
-from calib.fe.von_mises import VonMisesMaterial
+from calib.fe.von_mises import von_mises_material
 from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.report import calibration as calibration_report
@@ -51,9 +51,8 @@ def _run_load_paths(scene, material, out, progress) -> dict:
     elastic = not plastic_needed(scene, material)
     if elastic:
         fe_material = ElasticMaterial(material.E, material.nu)
-    else:
-
-        fe_material = VonMisesMaterial(material.E, material.nu, material.sigma_y)
+    else:                               # the sphere's hardening, when the scene gives one
+        fe_material = von_mises_material(material.E, material.nu, material.sigma_y, scene.flow_curve(material))
     hemisphere = hemisphere_mesh(spec.mesh)
     solver = ContactSolver(hemisphere, fe_material)
     progress(f"load paths: {material.name}, {'elastic' if elastic else 'elastoplastic'}, "

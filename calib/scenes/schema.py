@@ -3,12 +3,18 @@
     [scene]        name = "steel", description = "..."
     [mesh]         level = "coarse" | "default" | "fine"   or   contact_size = 4e-5  [m]
                    or contact_size_over_a_max = 0.05 (element size / largest contact radius)
-    [[material]]   name, E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]   (one table per material)
+    [[material]]   name, E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]   (one table per material);
+                   hardening_modulus H [Pa] (0 <= H <= E: sigma = sigma_Y + H eps_p) or flow_curve (a CSV
+                   plastic_strain,stress from sigma_y, relative to the scene's folder) with
+                   flow_curve_extrapolation ("flat", the default, or "slope"): the sphere's isotropic
+                   hardening (calib.fe.flow_curve) in the calibration, load-path and impact FE
     [grid]         nu = [...], E_over_sigma_y = [...], sigma_y, rho, R   (a sweep: every pair)
     [hertz]        P_max [N] or P_max_over_P_Y, P_min [N] (default P_max / 1000), steps (25)
     [load_paths]   P_max = [N, ...] or P_max_over_P_Y = [...], unload (true), loading_steps (48,
                    increments up to the largest P_max), unloading_steps (16)
     [calibration]  ship = "radius" | "force" | "table"  (fit Ca, Kc and the vz-table law; needs [load_paths] above P_Y)
+                   hardening_modulus or flow_curve (+ flow_curve_extrapolation): every material's hardening,
+                   as in [[material]] (not both places; load paths from [load_paths], not v_max)
                    v_max [m/s] or v_max_from = "collision": load paths to the force of the fastest
                    impact (calib.fit.impact_window) instead of [load_paths] P_max
     [collision]    v_in = [m/s, ...] or v_in_over_v_Y = [...], laws = ["vz", "thornton", "hertz"]
@@ -93,8 +99,59 @@ class _Table(BaseModel):
 
 
 # ----------------------------------------------------------------------------- scene objects
-class SceneMaterial(_Table):
-    """One sphere: E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]."""
+HARDENING_KEYS = ("hardening_modulus", "flow_curve", "flow_curve_extrapolation")
+
+
+class _Hardening(_Table):
+    """A sphere's isotropic hardening (calib.fe.flow_curve): the plastic modulus H [Pa] of the linear
+    flow curve sigma = sigma_Y + H eps_p, or a tabulated flow curve (CSV) and its extrapolation."""
+
+    hardening_modulus: Annotated[Number, Field(ge=0)] | None = None
+    flow_curve: Annotated[str, Field(min_length=1)] | None = None
+    flow_curve_extrapolation: Literal["flat", "slope"] | None = None
+
+    @model_validator(mode="after")
+    def _one_curve(self):
+        if self.hardening_modulus is not None and self.flow_curve is not None:
+            raise ValueError("hardening_modulus and flow_curve both give the flow curve: give one of them")
+        if self.flow_curve_extrapolation is not None and self.flow_curve is None:
+            raise ValueError("flow_curve_extrapolation extends a flow_curve table: give the table too")
+        return self
+
+    def hardening_given(self) -> bool:
+        return any(getattr(self, key) is not None for key in HARDENING_KEYS)
+
+
+def flow_curve_of(entry: _Hardening, sigma_y: float, E: float, folder: Path):
+    """The FlowCurve of a scene's hardening entry for a sphere of ``sigma_y``, ``E`` [Pa] (None: perfectly
+    plastic, also for H = 0); a ValueError of one line "key: ..." otherwise."""
+    from calib.fe.flow_curve import LinearHardening, read_flow_curve
+
+    if entry.hardening_modulus is not None:
+        if entry.hardening_modulus > E:
+            raise ValueError(f"hardening_modulus: out of range: need >= 0 and <= E = {E:g} Pa, got "
+                             f"{entry.hardening_modulus:g}")
+        return LinearHardening(sigma_y, entry.hardening_modulus) if entry.hardening_modulus > 0 else None
+    if entry.flow_curve is None:
+        return None
+    path = Path(entry.flow_curve)
+    try:
+        return read_flow_curve(path if path.is_absolute() else folder / path, entry.flow_curve_extrapolation or "flat",
+                               sigma_y=sigma_y)
+    except ValueError as exc:
+        raise ValueError(f"flow_curve: {exc}") from None
+
+
+def hardening_label(curve) -> str:
+    """A sphere's flow curve in a few words (a plan's and a table row's)."""
+    record = curve.record()
+    if record["flow_curve"] == "linear":
+        return f"hardening H = {record['hardening_modulus']:.4g} Pa"
+    return f"flow curve {Path(record['source']).name} ({record['extrapolation']})"
+
+
+class SceneMaterial(_Hardening):
+    """One sphere: E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]; its hardening (_Hardening)."""
 
     name: str
     E: Positive
@@ -267,7 +324,7 @@ class _Grid(_Table):
     R: Positive
 
 
-class _Calibration(_Table):
+class _Calibration(_Hardening):
     ship: Literal["radius", "force", "table"] = "radius"
     v_max: Positive | None = None                     # [m/s]: the window covers impacts up to it
     v_max_from: Literal["collision"] | None = None    # ... or up to the [collision] stage's fastest
@@ -358,6 +415,11 @@ class Scene:
     description: str = ""
     source: str = ""
     is_grid: bool = False
+    hardening: tuple = ()       # (material name, calib.fe.flow_curve FlowCurve) of each hardening sphere
+
+    def flow_curve(self, material):
+        """The FlowCurve of ``material``'s sphere, None when perfectly plastic."""
+        return dict(self.hardening).get(material.name)
 
     def out_dir(self, override: str | Path | None = None) -> Path:
         if override is not None:
@@ -521,13 +583,39 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
             if not max(peaks) > 2 * P_Y:
                 raise SceneError(f"scene {source}: load_paths.P_max: calibration needs loads above P_Y: the largest "
                                  f"P_max must be > 2 P_Y = {2 * P_Y:.4g} N for material {m.name!r}, got {max(peaks):.4g} N")
+    hardening = _hardening(file, materials, source)
     return Scene(name=name, materials=materials, mesh=file.mesh, hertz=file.hertz, load_paths=load_paths,
                  calibration_ship=None if file.calibration is None else file.calibration.ship,
                  calibration_v_max=None if file.calibration is None else file.calibration.v_max,
                  calibration_v_max_from_collision=file.calibration is not None and file.calibration.v_max_from == "collision",
                  calibration_counter=None if file.calibration is None else file.calibration.counter,
                  collision=file.collision, impact=file.impact, outputs=file.outputs, description=file.scene.description,
-                 source=source, is_grid=file.grid is not None)
+                 source=source, is_grid=file.grid is not None, hardening=hardening)
+
+
+def _hardening(file: SceneFile, materials, source: str) -> tuple:
+    """(name, FlowCurve) of each hardening sphere of the scene, each entry checked before any work."""
+    scene_wide = file.calibration is not None and file.calibration.hardening_given()
+    folder = Path(source).parent
+    out = []
+    for k, m in enumerate(materials):
+        if scene_wide and m.hardening_given():
+            raise SceneError(f"scene {source}: material[{k}].{next(key for key in HARDENING_KEYS if getattr(m, key) is not None)}"
+                             f": the hardening is given in [calibration] too: give it in one place")
+        entry, where = (file.calibration, "calibration") if scene_wide else (m, f"material[{k}]")
+        try:
+            curve = flow_curve_of(entry, m.sigma_y, m.E, folder)
+        except ValueError as exc:
+            raise SceneError(f"scene {source}: {where}.{exc}") from None
+        if curve is not None:
+            out.append((m.name, curve))
+    if out and file.calibration is not None and (file.calibration.v_max is not None or file.calibration.v_max_from):
+        raise SceneError(f"scene {source}: calibration.v_max: the impact window is sized for a perfectly plastic "
+                         f"sphere: for a hardening one give the load paths' P_max in [load_paths]")
+    if out and file.impact is not None and file.impact.counter is not None:
+        raise SceneError(f"scene {source}: impact.counter: the two-body impact FE is of perfectly plastic spheres: "
+                         f"drop the hardening or the [impact.counter] table")
+    return tuple(out)
 
 
 def builtin_scenes() -> dict[str, Path]:

@@ -26,7 +26,7 @@ from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.fit.recipe import check_fittable, coarse_spec
 from calib.scenes.plan import calibration_spec, spec_options
-from calib.scenes.schema import SceneError
+from calib.scenes.schema import SceneError, hardening_label
 from calib.sweep.runner import cached_result, run_sweep
 from meshes.keys import stable_key
 from nfdmodel import VZParams
@@ -42,8 +42,9 @@ COLUMNS = ("name", "E", "nu", "sigma_y", "rho", "R", "E_over_sigma_y", "P_Y", "a
 
 
 def task_key(spec, loading_only: bool, v_max: float | None = None) -> str:
-    """Hash of what determines a row: E, nu, sigma_Y, R, load plan, mesh, recipe version, and the
-    impact velocity the window must cover (when the load plan comes from it); floats to 12
+    """Hash of what determines a row: E, nu, sigma_Y, R, load plan, mesh, recipe version, the
+    impact velocity the window must cover (when the load plan comes from it) and the sphere's flow
+    curve (when it hardens); floats to 12
     digits (meshes.keys), so a library upgrade keeps finished rows finished."""
     m = spec.material
     fields = {"E": m.E, "nu": m.nu, "sigma_y": m.sigma_y, "R": spec.radius,
@@ -52,7 +53,14 @@ def task_key(spec, loading_only: bool, v_max: float | None = None) -> str:
               "tolerance": spec.residual_tolerance}
     if v_max is not None:               # absent otherwise: the keys of existing rows stay valid
         fields["v_max"] = v_max
+    if spec.hardening is not None:      # absent for perfect plasticity: the keys of existing rows stay valid
+        fields["hardening"] = hardening_key(spec.hardening)
     return stable_key(fields)
+
+
+def hardening_key(curve) -> dict:
+    """What of a flow curve determines a row: its numbers, not the file they were read from."""
+    return {k: v for k, v in curve.record().items() if k != "source"}
 
 
 def tasks_for(scene) -> list[dict]:
@@ -95,7 +103,9 @@ def calibrate_task(task: dict) -> dict:
     row = {**task["inputs"], "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y,
            "loading_only": task["loading_only"], "key": task["key"],
            "contact_size": spec.mesh.contact_size, "mesh_key": spec.mesh.cache_key(),
-           "git_commit": output.git_commit()}
+           "git_commit": output.git_commit(),
+           **({} if spec.hardening is None else {"hardening": hardening_label(spec.hardening),
+                                                 "flow_curve": spec.hardening.record()})}
     t0 = time.perf_counter()
     try:
         if task.get("v_max") is None:
@@ -156,9 +166,13 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
     wall = time.perf_counter() - t0
     stamp = output.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
                          materials=len(rows), computed=sweep.computed, reused=sweep.reused,
-                         workers=workers, scheduler=scheduler or "local processes")
-    clean = [{c: row.get(c) for c in COLUMNS} for row in rows]
-    output.write_csv(out / "table.csv", clean, columns=COLUMNS, comment=output.stamp_comment(stamp))
+                         workers=workers, scheduler=scheduler or "local processes",
+                         **({"flow_curves": {name: curve.record() for name, curve in scene.hardening}}
+                            if scene.hardening else {}))
+    # a hardening column only in a table with hardening spheres: every other table as before
+    columns = COLUMNS + (("hardening",) if any(row.get("hardening") for row in rows) else ())
+    clean = [{c: row.get(c) for c in columns} for row in rows]
+    output.write_csv(out / "table.csv", clean, columns=columns, comment=output.stamp_comment(stamp))
     output.write_json(out / "table.json", {"scene": scene.name, "rows": clean,
                                            "units": {"E": "Pa", "sigma_y": "Pa", "rho": "kg/m^3", "R": "m",
                                                      "P_Y": "N", "a_Y": "m", "delta_Y": "m", "Ca": "m/N",
@@ -177,6 +191,10 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     full account (grid, recipe, validation, discretisation), kept in the .json only;
     ``window_P_max_over_P_Y``: the top of the grid's load plan, the window of every node."""
     path = Path(path)
+    hardening = [r["name"] for r in rows if r.get("hardening")]
+    if hardening:
+        raise ValueError(f"--master-out: the master table is of perfectly plastic spheres (no hardening dimension): "
+                         f"material(s) {', '.join(hardening)} harden")
     failed = [r["name"] for r in rows if r.get("status") != "ok"]
     if failed:
         raise ValueError(f"cannot write the master table: material(s) {', '.join(failed)} failed")
