@@ -12,7 +12,7 @@ from calib.cli import main
 from calib.fit.loop_impact import segment_time
 from calib.scenes.plan import plan
 from calib.scenes.schema import SceneError, parse_scene
-from calib.studies import impact_drops
+from calib.studies import impact_drops, impact_files
 from calib.studies.impact_quasistatic import thrown
 from nfdmodel import ContactPair, Material
 
@@ -116,9 +116,9 @@ def test_impact_reads_no_results_tree_unless_named(tmp_path, monkeypatch, capsys
     monkeypatch.chdir(tmp_path)
     a_results_tree(tmp_path)
     setup = impact.reference_setup()
-    params, source = impact.law_parameters(setup)
+    params, source = impact_files.law_parameters(setup)
     assert "results" not in source and "master table" in source
-    assert impact.table_parameters(setup) is None and impact.mdr_table(setup) is None
+    assert impact_files.table_parameters(setup) is None and impact_files.mdr_table(setup) is None
     assert "mdr" not in impact.law_predictions(setup, 0.04, params)
     assert main(["impact", "--v-in", "0.04", "--dry-run", "--json"]) == 0
     planned = json.loads(capsys.readouterr().out)
@@ -131,9 +131,9 @@ def test_impact_reads_no_results_tree_unless_named(tmp_path, monkeypatch, capsys
     vz.write_text(json.dumps(parameter_record(VZParams.reference(), reference_case.R, Material.reference())))
     csv_file = tmp_path / "mdr.csv"
     csv_file.write_text("v_in_over_v_Y,e_mdr_lammps\n1.0,0.9\n100.0,0.5\n", encoding="utf-8")
-    params, source = impact.law_parameters(setup, vz)
+    params, source = impact_files.law_parameters(setup, vz)
     assert source == "vz.json" and params.Ca == VZParams.reference().Ca
-    mdr = impact.mdr_table(setup, csv_file)
+    mdr = impact_files.mdr_table(setup, csv_file)
     assert impact.law_predictions(setup, 10.0 * setup.pair.v_Y, params, mdr=mdr)["mdr"]["e"] == pytest.approx(0.7)
     assert main(["impact", "--v-in", "0.04", "--dry-run", "--params", "vz.json", "--lammps-restitution",
                  "mdr.csv"]) == 0

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 from calib.cli import main
-from calib.studies import impact
+from calib.studies import impact, impact_files
 from nfdmodel import ContactPair, Material, VZParams, load_parameters, parameter_record, reference_case
 from nfdmodel.hertz_contact import hertz_impact_force, hertz_impact_time
 
@@ -184,5 +184,5 @@ def test_calibrates_default_output_is_taken_as_params(tmp_path, monkeypatch, cap
     assert main(["impact", "--v-in", "0.04", "--params", str(RESULTS / "calibration" / "parameters.json"),
                  "--dry-run"]) == 0
     assert "vz constants of" in capsys.readouterr().out
-    assert math.isfinite(impact.law_parameters(impact.reference_setup(),
+    assert math.isfinite(impact_files.law_parameters(impact.reference_setup(),
                                                RESULTS / "calibration" / "parameters.json")[0].Ca)

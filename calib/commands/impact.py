@@ -185,7 +185,7 @@ def options(ns):
     impact_files.table_parameters(setup, ns.table_params)
     if ns.lammps_restitution is not None:     # refused before any work: another sphere, a file without its columns
         try:
-            impact.mdr_table(setup, ns.lammps_restitution)
+            impact_files.mdr_table(setup, ns.lammps_restitution)
         except ValueError as exc:
             raise ValueError(f"--lammps-restitution {exc}") from None
     return setup, tuple(sorted(set(velocities))), workers
@@ -343,7 +343,7 @@ def run_repeat(ns) -> int:
 
     from calib import output
     from calib.commands.progress import progress_reporter
-    from calib.studies import impact, impact_repeat
+    from calib.studies import impact, impact_files, impact_repeat
 
     if ns.repeat is None:
         raise ValueError("--unload-params applies to --repeat only")
@@ -356,9 +356,9 @@ def run_repeat(ns) -> int:
     if ns.v_in is None:
         raise ValueError("--repeat needs --v-in: the impact velocities [m/s] (> 0)")
     setup, velocities, _ = options(ns)
-    laws = {"vz": impact.law_parameters(setup, ns.params)[0]}
-    sources = {"vz": impact.law_parameters(setup, ns.params)[1]}
-    table = impact.table_parameters(setup, ns.table_params)
+    vz, source = impact_files.law_parameters(setup, ns.params)
+    laws, sources = {"vz": vz}, {"vz": source}
+    table = impact_files.table_parameters(setup, ns.table_params)
     if table is not None:
         laws["vz-table"], sources["vz-table"] = table, output.display_path(ns.table_params)
     if ns.unload_params is not None:

@@ -294,16 +294,15 @@ def _result(solver: ImpactSolver, run: ImpactRun) -> ImpactResult:
         history=history)
 
 
-def residual_state(solver: ImpactSolver, state: ImpactState) -> tuple[float, float]:
-    """(dent [m], residual-stress energy [J]) of the static equilibrium of the free sphere with the
-    plastic strains of ``state`` frozen: K u = int B^T D eps_p dV with the pole's u_z held (K is
-    singular in the translation, which moves neither), then dent = u_z(pole) - u_cm and
-    U_res = 1/2 int sigma . D^-1 sigma dV, sigma = D (eps(u) - eps_p); under finite strain the
-    hyperelastic equilibrium with the plastic log strain frozen and U_res its Hencky energy
-    (calib.fe.kinematics.FiniteStrain.residual_state)."""
+def residual_field(solver: ImpactSolver, state: ImpactState):
+    """(q [m], sigma (E, Q, 4) [Pa]) of the static equilibrium of the free sphere with the plastic
+    strains of ``state`` frozen: K u = int B^T D eps_p dV with the pole's u_z held (K is singular in
+    the translation, which moves no stress), sigma = D (eps(u) - eps_p); under finite strain the
+    hyperelastic equilibrium with the plastic log strain frozen
+    (calib.fe.kinematics.FiniteStrain.residual_state). None for a sphere that never yielded."""
     plastic = getattr(state.material_state, "plastic_strain", None)
     if plastic is None or not np.any(plastic):
-        return 0.0, 0.0
+        return None
     free = np.ones(solver.dofs.n_q, dtype=bool)
     free[solver.dofs.pole_q] = False
     K_free = factorize(solver.elements.restricted(solver.stiffness_data, free), solver.linear_solver)
@@ -314,6 +313,16 @@ def residual_state(solver: ImpactSolver, state: ImpactState) -> tuple[float, flo
         return solver.T @ q
 
     u, stress = solver.kinematics.residual_state(plastic, pole_held)
-    q = solver.TT @ u
+    return solver.TT @ u, stress
+
+
+def residual_state(solver: ImpactSolver, state: ImpactState) -> tuple[float, float]:
+    """(dent [m], residual-stress energy [J]) of ``residual_field``: dent = u_z(pole) - u_cm and
+    U_res = 1/2 int sigma . D^-1 sigma dV (its Hencky energy under finite strain); (0, 0) for a
+    sphere that never yielded."""
+    field = residual_field(solver, state)
+    if field is None:
+        return 0.0, 0.0
+    q, stress = field
     dent = q[solver.dofs.pole_q] - solver.centre_of_mass_displacement(q)
     return float(dent), solver.elastic_energy(stress)

@@ -28,8 +28,7 @@ from typing import Callable
 
 import numpy as np
 
-from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, _result, impact_run
-from calib.fe.linsolve import factorize
+from calib.fe.impact import DEFAULT_STEPS_PER_CONTACT, _result, impact_run, residual_field
 from calib.fe.newmark import ImpactSolver, ImpactState
 
 MAX_REPEAT = 100          # impacts per series
@@ -38,20 +37,10 @@ MAX_REPEAT = 100          # impacts per series
 def _residual_field(solver: ImpactSolver, state: ImpactState):
     """(q [m], stress (E, Q, 4) [Pa]) of the free sphere's static equilibrium with ``state``'s plastic
     strain frozen, the pole's u_z held (module docstring); (zeros, zeros) for a sphere that never yielded."""
-    plastic = getattr(state.material_state, "plastic_strain", None)
-    if plastic is None or not np.any(plastic):
+    field = residual_field(solver, state)
+    if field is None:
         return np.zeros(solver.dofs.n_q), np.zeros((solver.n_elements, solver.n_qp, 4))
-    free = np.ones(solver.dofs.n_q, dtype=bool)
-    free[solver.dofs.pole_q] = False       # K is singular in the translation, which moves no stress
-    K_free = factorize(solver.elements.restricted(solver.stiffness_data, free), solver.linear_solver)
-
-    def pole_held(load):
-        q = np.zeros(solver.dofs.n_q)
-        q[free] = K_free.solve((solver.TT @ load)[free])
-        return solver.T @ q
-
-    u, stress = solver.kinematics.residual_state(plastic, pole_held)
-    return solver.TT @ u, stress
+    return field
 
 
 def rest_state(solver: ImpactSolver, end: ImpactState, v_in: float) -> ImpactState:

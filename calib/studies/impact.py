@@ -81,7 +81,7 @@ from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fe.newmark import ImpactSolver
 from calib.fe.von_mises import von_mises_material
 from calib.fit import impact_window, recipe
-from calib.studies.impact_files import law_parameters, mdr_table, table_parameters
+from calib.studies.impact_files import law_parameters, mdr_table, table_parameters  # the study reads them
 from calib.sweep.runner import run_sweep
 from meshes.hemisphere import MIN_CONTACT_SIZE_OVER_RADIUS, hemisphere_mesh
 from meshes.keys import stable_key

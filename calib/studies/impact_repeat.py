@@ -24,7 +24,8 @@ from calib.fe.elastic import ElasticMaterial
 from calib.fe.impact_repeat import repeated_impacts
 from calib.fe.newmark import ImpactSolver
 from calib.fe.von_mises import von_mises_material
-from calib.studies.impact import ImpactSetup, check_material, impact_mesh
+from calib.studies.impact import ImpactSetup, impact_mesh
+from calib.studies.impact_files import check_material
 from meshes.sphere import sphere_mesh
 from nfdmodel import collide_repeated
 
@@ -34,7 +35,7 @@ MAX_REPEAT = 10                  # impacts per velocity through nfdcal impact --
 
 def unload_parameters(setup: ImpactSetup, path):
     """The vz-unload law's parameters of ``path``; a ValueError naming --unload-params for a file of
-    another law or material (calib.studies.impact.check_material)."""
+    another law or material (calib.studies.impact_files.check_material)."""
     from nfdmodel import VZUnloadParams, load_parameters
     from nfdmodel.parameter_file import law_of
 
