@@ -6,6 +6,7 @@ input is left byte for byte. The shipped tables are copies here (calib/data is n
 Beside them: material --params-out replaces a file only with --overwrite, a --plot name ends in
 .png, the set of --peaks names the calibration's folder whatever their order, and hertz on a
 counter-body writes a folder of its own."""
+import argparse
 import json
 import shutil
 from pathlib import Path
@@ -89,6 +90,9 @@ CASES = {
     "impact --drops X --out X": (["impact", "--drops", "DROPS", "--out", "DROPS", "--dry-run"], "DROPS", "--out"),
     "impact --drops OUT/drops.csv --out OUT": (
         ["impact", "--drops", "IMPACT_DROPS", "--out", "IMPACT", "--dry-run"], "IMPACT_DROPS", "--out"),
+    "impact --repeat --unload-params X --out X": (
+        ["impact", "--v-in", "0.0168", "--repeat", "2", "--unload-params", "PARAMS", "--out", "PARAMS"], "PARAMS",
+        "--out"),
     "collide --report --params X --out X": (
         ["collide", "--report", "--params", "PARAMS", "--out", "PARAMS"], "PARAMS", "--out"),
     "collide --report --params OUT/summary.json --out OUT": (
@@ -127,7 +131,7 @@ def test_every_file_flag_is_declared():
     undeclared = []
     for name, sub in commands.items():
         subs = [a for a in sub._actions if a.choices and isinstance(a.choices, dict)]
-        for command in [sub] + [p for a in subs for p in a.choices.values()]:
+        for command in [sub] + [p for a in subs for p in a.choices.values() if isinstance(p, argparse.ArgumentParser)]:
             for action in command._actions:
                 if (action.metavar in files or action.dest == "scene") and \
                         action.dest not in targets.INPUT_FLAGS + targets.OUTPUT_FLAGS:

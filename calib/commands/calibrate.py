@@ -61,7 +61,7 @@ def add_parser(subparsers) -> None:
                              " (radius) or to the force (force), declared only over the FE paths where they meet"
                              " the targets, or the vz-unload law (unload: also the FE's dent, contact radius and"
                              " unloading curve; Python only)")
-    parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
+    parser.add_argument("--kinematics", default="small", choices=tuple(KINEMATICS_FLAG),
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
                              " Hencky strain; the sphere on the rigid flat or an elastic counter-body, without --v-max, --ladder or"
                              " --counter-sigma-y)")

@@ -98,7 +98,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--lammps-restitution", default=None, metavar="CSV",
                         help="LAMMPS' granular mdr restitution of the reference sphere (restitution.csv of"
                              " tests/benchmarks/bench_lammps.py) the FE is also compared with (default: none)")
-    parser.add_argument("--kinematics", default="small", choices=KINEMATICS_FLAG,
+    parser.add_argument("--kinematics", default="small", choices=tuple(KINEMATICS_FLAG),
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
                              " Hencky strain; the sphere on the rigid flat, not with --counter-E)")
     parser.add_argument("--no-error-estimate", action="store_true",

@@ -23,7 +23,7 @@ from pathlib import Path
 OUTPUT_FLAGS = ("out", "params_out", "master_out", "plot", "like_params_out")   # the flags that name where results go
 FOLDER_FLAGS = ("out", "like_params_out")                                      # those that name a folder
 INPUT_FLAGS = ("params", "table_params", "lammps_restitution", "impacts", "force_approach", "drops", "table",
-               "vz_table", "scene", "flow_curve")                              # the flags that name files read
+               "vz_table", "scene", "flow_curve", "unload_params")               # the flags that name files read
 TABLE_FLAGS = ("table", "vz_table", "master_out")     # a table CSV whose metadata is the .json beside it
 SHIPPED_NAMES = {"table": "master table", "vz_table": "vz master table"}
 
