@@ -88,3 +88,20 @@ def test_force_control_keeps_a_support():
                              set(), force_tolerance=1e-9, gap_tolerance=1e-12, force_scale=1.0,
                              length_scale=R, force_control=True)
     assert update.active.tolist() == [False, False, True]  # the smallest gap carries the plate
+
+
+def test_a_node_open_inside_the_contact_stays_open_in_displacement_control(elastic_solver):
+    """The warm start of a displacement step keeps a node that separated inside the last contact open
+    (the pole lifts off the flat at a/R 0.28 on contact elements R/100; closing it again stalled
+    Newton at a residual of 0.04): the rest of the prediction unchanged, the contiguous set's
+    prediction unchanged, and force control still adds the pole as its support."""
+    import dataclasses
+
+    state = elastic_solver.solve_displacement(elastic_solver.initial_state(), 1e-4 * R).state
+    assert state.active[:3].all()
+    target = 1.5 * state.alpha
+    contiguous = elastic_solver.predict_active_set(state, "displacement", target)
+    lifted = dataclasses.replace(state, active=state.active & (np.arange(state.active.size) != 0))
+    predicted = elastic_solver.predict_active_set(lifted, "displacement", target)
+    assert not predicted[0] and np.array_equal(predicted[1:], contiguous[1:]) and contiguous[0]
+    assert elastic_solver.predict_active_set(lifted, "force", 1.5 * state.force)[0]
