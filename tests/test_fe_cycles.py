@@ -85,7 +85,7 @@ def test_the_laws_against_the_fe_cycles_they_were_not_fitted_on(cycles):
     """Measured (laws fitted on the coarse mesh's monotone paths to 80..1500 N): along the partial
     unloads and reloads vz-unload is off by 0.68 % of P_max, vz-table by 1.42 %; the final unload
     from 1.3 P_max 1.14 % and 1.67 % of 650 N; the dent after it -2.0 % (vz-unload) and -9.5 %
-    (vz-table, its Hertz unloading). Issue 39's 2 % on unloading and reloading: both laws."""
+    (vz-table, its Hertz unloading). The 2 % target on unloading and reloading: both laws."""
     run, pair = cycles
     loading = FIT["loading"]
     force, approach, radius = (np.array(loading[k]) for k in ("P", "alpha", "contact_radius"))

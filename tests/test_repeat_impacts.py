@@ -1,4 +1,4 @@
-"""Repeated impacts on one spot (issue 39, item 3): the laws' (nfdmodel.collide_repeated, ``nfdcal
+"""Repeated impacts on one spot: the laws' (nfdmodel.collide_repeated, ``nfdcal
 collide --repeat``: the contact's history carried over) and the dynamic FE's (calib.fe.impact_repeat,
 ``nfdcal impact --repeat``: the dent and residual stresses carried over), against each other.
 
@@ -152,7 +152,7 @@ def test_fe_repeated_impacts_rise_towards_one_and_close_their_energy(fe_series):
 
 
 def test_the_shipped_law_repeats_the_fe_impacts_within_2_percent(fe_series):
-    """Done-when of issue 39: the 2nd and 3rd of repeated impacts within 2 % in e of the dynamic
+    """The target: the 2nd and 3rd of repeated impacts within 2 % in e of the dynamic
     FE's (measured: 0.0 % and +0.7 % on this mesh); the 1st within 1 %."""
     records, _ = fe_series
     for r in records:

@@ -153,7 +153,7 @@ def test_calibrate_ship_unload_writes_the_law_and_states_its_figures(shipped):
 def test_the_dent_of_a_path_held_out_of_the_fit_is_the_fe_s(shipped):
     """Refitted here from the run's own FE files without the 500 N path (calib.fit.unload_fit on
     loading.csv, the other paths' unloading rows and calibration.json), the law driven along the
-    FE's approach to 500 N leaves the FE's residual approach within issue 39's 3 % (or 0.5 % of
+    FE's approach to 500 N leaves the FE's residual approach within the law's 3 % (or 0.5 % of
     alpha_max); the figure calibrate states for that path is this one."""
     out, _ = shipped
     summary = json.loads((out / "calibration.json").read_text(encoding="utf-8"))

@@ -12,7 +12,7 @@ FE's P_k (negative FE forces at separation as 0):
     dent error      = delta_res,law / alpha_res,FE - 1 after the final unload, and
                       (delta_res,law - alpha_res,FE) / alpha_over (alpha_over the FE's approach at P_over)
 
-Issue 39's target: the force along unloading and reloading within 2 % of P_max (CYCLE_TARGET).
+The target: the force along unloading and reloading within 2 % of P_max (CYCLE_TARGET).
 """
 from __future__ import annotations
 

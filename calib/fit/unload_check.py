@@ -12,7 +12,7 @@ nfdmodel's ContactLaw.contact_state):
     loading error   = max |P_law - P_FE| / P_max over the FE's loading points
     e error         = e_law / e_FE - 1,   e^2 = elastic / (elastic + dissipated) energy at the peak
 
-Issue 39's targets: dent within 3 % (or 0.5 % of alpha_max), radius within 2 %, unloading within
+The law's targets: dent within 3 % (or 0.5 % of alpha_max), radius within 2 %, unloading within
 2 % of P_max, e within 1 % (DENT_TARGET, DENT_TARGET_OF_ALPHA_MAX, RADIUS_TARGET, UNLOADING_TARGET,
 E_TARGET).
 """

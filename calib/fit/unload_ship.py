@@ -7,7 +7,7 @@ on the calibration's fitted window from the lowest peak up (the dent and exponen
 there; below it they are interpolated towards Hertz's). One mesh: the dent and the exponent are not
 extrapolated over two meshes.
 
-figures, per FE path (calib.fit.unload_check; issue 39's targets):
+figures, per FE path (calib.fit.unload_check and its targets):
     dent error      = delta_res,law / alpha_res,FE - 1   (or of alpha_max: (delta_res,law - alpha_res,FE) / alpha_max)
     radius error    = a_law / a_FE - 1 at the peak
     unloading error = max |P_law - P_FE| / P_max over the FE's unloading points
