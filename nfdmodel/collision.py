@@ -183,6 +183,8 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
     """
     law, law_params, pair = _resolve(law_name, params)
     v = _check_velocities(v_in)
+    if law.reference_function is not None:          # the law's own energy balance (nfdmodel.rate_aware)
+        return law.reference_function(law_params, v)
     with np.errstate(over="ignore", under="ignore"):
         energy = 0.5 * pair.mass_star * v**2
     unusable = ~(np.isfinite(energy) & (energy > _SMALLEST_ENERGY))
@@ -408,7 +410,7 @@ def _time_loop(law, law_params, v_in, dt: float, mass: float, max_steps: int, hi
         # The loop owns ``state`` (made above, never handed out before the end): the trial
         # history is committed in place, O(contacts whose turning point moved), no copy.
         # the kernel: no RangeWarning per step; one per collide, from _window_check
-        force_new, update = law.step_function(delta_new, state, law_params)
+        force_new, update = law.step_function(delta_new, state, law_params, *law._velocity(velocity))
         law.commit(state, update)
         max_iterations = max(max_iterations, update.newton_iterations)
         increment = delta_new - delta

@@ -76,26 +76,34 @@ class ContactLaw:
     fitted: bool = False               # constants fitted on a load window: window flags, domain a < R*
     collision_params: Callable | None = None  # params -> nfd_params tuple of the compiled collision loop;
     #                                           None: nfdmodel.collision runs its numpy loop
+    takes_velocity: bool = False       # the kernels take velocity= (the normal approach speed [m/s]) and the
+    #                                    loading work the history's rate_factor (nfdmodel.rate_aware)
+    reference_function: Callable | None = None   # (params, v_in) -> CollisionReference; None: collision's own
 
-    def step(self, delta, state, params):
+    def step(self, delta, state, params, velocity=None):
         """Force P [N] (shape of ``delta``) and the trial history as a :class:`HistoryUpdate`
         (the contacts whose turning point moved and their new history), without committing it:
         ``state`` is not modified. ``P, update = law.step(delta, state, params)`` then
         ``law.commit(state, update)`` gives the same force and history as
         ``P, state = law.force(delta, state, params)``, bit for bit. One RangeWarning when
         contacts load beyond the calibrated window of the constants (``update.beyond_window``
-        counts them; the kernel ``step_function`` counts without warning).
+        counts them; the kernel ``step_function`` counts without warning). ``velocity``: the normal
+        approach speed [m/s] per contact, for a law that ``takes_velocity`` (ignored by the others).
         """
-        force, update = self.step_function(delta, state, params)
+        force, update = self.step_function(delta, state, params, *self._velocity(velocity))
         if update.beyond_window:
             warn_beyond_window(self.name, update.beyond_window, update.largest_load_over_P_Y, params.window)
         return force, update
 
-    def force(self, delta, state, params):
+    def _velocity(self, velocity) -> tuple:
+        """The extra argument of a kernel that takes the approach speed, () for the others."""
+        return (velocity,) if self.takes_velocity else ()
+
+    def force(self, delta, state, params, velocity=None):
         """The pure law: (P [N], new_state); ``state`` is never modified (``new_state`` is
         ``state`` itself when no turning point moved). :meth:`step` plus a copying commit, with
         its RangeWarning; ``force_function`` is the same kernel without the warning."""
-        force, update = self.step(delta, state, params)
+        force, update = self.step(delta, state, params, velocity)
         return force, apply_update(state, update, copy=True)
 
     def commit(self, state, update: HistoryUpdate):
@@ -143,7 +151,9 @@ class ContactLaw:
         elastic energy the unloading curve returns, W(delta_max) - P_max (delta_max - delta_res)/(n+1)."""
         if isinstance(state, HertzState):
             return np.zeros(state.n)
-        work = self.loading_work(state.delta_max, state.P_max, params)
+        work = self.loading_work_function(np.asarray(state.delta_max, float), np.asarray(state.P_max, float),
+                                          self.params_from(params),
+                                          *((state.rate_factor,) if self.takes_velocity else ()))
         returned = state.P_max * (state.delta_max - state.delta_res) / (self.exponent_of(state) + 1.0)
         return np.maximum(work - returned, 0.0)
 

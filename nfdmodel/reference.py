@@ -272,3 +272,44 @@ def walton_braun_step(delta: float, history: History, K1: float, K2: float) -> t
         return unloading_force(delta, history, 1.0), history
     P = K1 * delta
     return P, History(delta, P, delta - P / K2, K2)
+
+
+# ---------------------------------------------------------------------------- rate-aware
+def johnson_cook_factor(rate: float, C: float, reference_rate: float) -> float:
+    """Johnson & Cook (1983): R = 1 + C ln(max(eps_dot / eps_dot_0, 1))."""
+    return 1.0 + C * math.log(max(rate / reference_rate, 1.0))
+
+
+def cowper_symonds_factor(rate: float, D: float, q: float) -> float:
+    """Cowper & Symonds (1957): R = 1 + (eps_dot / D)^(1/q)."""
+    return 1.0 + (rate / D) ** (1.0 / q)
+
+
+@dataclass(frozen=True)
+class RateHistory(History):
+    """A :class:`History` with the rate factor R fixed at first contact (0: never touched)."""
+
+    rate_factor: float = 0.0
+
+
+def rate_aware_first_factor(speed: float, a_ref: float, c: float, factor) -> float:
+    """R of a contact first touching at the normal speed ``speed`` [m/s]: ``factor``(eps_dot), eps_dot =
+    speed / (c a_ref) [1/s], a_ref [m] the base law's contact radius at the peak of its impact at that
+    speed (nfdmodel.collision_reference); eps_dot = 0 for speed <= 0."""
+    return factor(speed / (c * a_ref) if speed > 0.0 else 0.0)
+
+
+def rate_aware_step(delta: float, history: RateHistory, first_factor: float, base_step) -> tuple[float, RateHistory]:
+    """One time step of the rate-aware law (nfdmodel.rate_aware): the base law (``base_step(delta,
+    History) -> (P, History)``, e.g. vz_table_step with its constants) with p_Y scaled by R, i.e.
+    P = R^3 P_0(delta / R^2), the history held in the base law's units at R = 1 (delta ~ R^2, P ~ R^3,
+    a_e_max ~ R, K_u ~ 1). R is the history's, or ``first_factor`` where the contact first touches."""
+    R = history.rate_factor
+    if R == 0.0 and delta > 0.0:
+        R = first_factor
+    scale = R if R > 0.0 else 1.0
+    base = History(history.delta_max / scale**2, history.P_max / scale**3, history.delta_res / scale**2,
+                   history.K_u, history.a_e_max / scale)
+    P, new = base_step(delta / scale**2, base)
+    return P * scale**3, RateHistory(new.delta_max * scale**2, new.P_max * scale**3, new.delta_res * scale**2,
+                                     new.K_u, new.a_e_max * scale, R)

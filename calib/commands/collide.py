@@ -45,8 +45,9 @@ the source.
 """
 from __future__ import annotations
 
-from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_summary_arguments,
-                                   file_hardening_line, integer, material_flags, number, print_summary)
+from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_rate_law_arguments,
+                                   add_summary_arguments, file_hardening_line, integer, material_flags, number,
+                                   print_summary, rate_law_from_args)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
 from nfdmodel.collision import MAX_REPEAT
 
@@ -80,6 +81,10 @@ def add_parser(subparsers) -> None:
                         f"master table; {DEFAULTS['Kc']:g} for the reference sphere)")
     parser.add_argument("--params", default=None, metavar="FILE",
                         help="calibrated parameter file (JSON from `nfdcal calibrate`): material, Ca, Kc")
+    add_rate_law_arguments(parser, "the rate-aware law (nfdmodel.rate_aware): the --law vz or vz-table law with "
+                           "sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref) at first contact: johnson-cook "
+                           "(R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds (R = 1 + (eps_dot / D)^(1/q)); "
+                           "default: rate-independent")
     parser.add_argument("--K1", default=None, help="walton-braun loading stiffness [N/m] "
                         "(default: vz secant to 40 P_Y)")
     parser.add_argument("--K2", default=None, help="walton-braun unloading stiffness [N/m] (>= K1)")
@@ -186,6 +191,9 @@ def build_params(ns):
             # a dimensionless number typed in the SI flag (the README's Ca_hat 0.026) is refused
             check_si_constants(pair, None if ns.Ca is None else params.Ca, None if ns.Kc is None else params.Kc,
                                ("--Ca", "--Kc"))
+    rate = rate_law_from_args(ns)
+    if rate is not None:
+        return rate_aware(law, params, rate)
     if law == "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         default = WaltonBraunParams.from_vz(params)
         K1 = number("--K1", ns.K1, default.K1)
@@ -193,6 +201,18 @@ def build_params(ns):
     if law != "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         raise ValueError("--K1/--K2 apply to --law walton-braun only")
     return law, params
+
+
+def rate_aware(law: str, params, rate):
+    """(the rate-aware ContactLaw, its RateAwareParams) of the base ``law`` and the FE's rate law ``rate``
+    (calib.fe.rate_law); the base must scale with sigma_Y (vz, vz-table), else one line naming --law."""
+    from nfdmodel.rate_aware import BASE_LAWS, LAW, RateAwareParams
+    from nfdmodel.strain_rate import rate_law_of
+
+    if law not in BASE_LAWS:
+        raise ValueError(f"--rate-law needs a law whose constants scale with sigma_Y: --law {' or '.join(BASE_LAWS)} "
+                         f"(or a vz or vz-table --params file), got --law {law}")
+    return LAW, RateAwareParams(law, params, rate_law_of(rate.record()))
 
 
 def run(ns) -> int:
@@ -237,6 +257,8 @@ def run(ns) -> int:
                                            ns.rolling, ns.twisting)):
         if ns.repeat is not None:
             raise ValueError("--repeat is for normal impacts: do not combine it with the oblique flags")
+        if ns.rate_law is not None:
+            raise ValueError("--rate-law is for normal impacts: do not combine it with the oblique flags")
         return run_oblique(ns, law, params, velocities, dt)
     if ns.repeat is not None:
         return run_repeated(ns, law, params, velocities, dt, repeat)
@@ -246,6 +268,15 @@ def run(ns) -> int:
     for warning in caught:
         print(f"nfdcal collide: warning: {warning.message}", file=sys.stderr)
     records = result.records()
+    law = getattr(law, "name", law)
+    rate_lines = []
+    if law == "rate-aware":                 # the rate factor fixed at first contact, per impact
+        for record, rate, factor in zip(records, params.strain_rate(velocities), params.rate_factor(velocities)):
+            record.update(strain_rate=float(rate), rate_factor=float(factor))
+        rate_lines = [f"rate-aware {params.base_law} law: sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref), c = "
+                      f"{params.c:g}; {params.rate_law.record()}"]
+        rate_lines += [f"  v_in {r['v_in']:g} m/s: eps_dot = {r['strain_rate']:.4g} /s, R = {r['rate_factor']:.5f}"
+                       for r in records]
     pair = params.pair
     lines = [f"law {law}: R* = {pair.R_star:g} m, E* = {pair.E_star:.4g} Pa, m* = {pair.mass_star:.4g} kg, "
              f"P_Y = {pair.P_Y:.4g} N, "
@@ -256,6 +287,7 @@ def run(ns) -> int:
     window = {True: "yes", False: "NO", None: "-"}
     lines += [f"{r['v_in']:10.4g} {r['v_out']:11.5g} {r['e_velocity']:11.6f} {r['e_energy']:9.6f} "
               f"{r['P_max']:10.5g} {r['contact_time']:15.6g} {window[r['in_calibrated_range']]:>9}" for r in records]
+    lines += rate_lines
     if getattr(params, "window", None) is not None and law in ("vz", "vz-unload"):
         lines.append(f"calibrated window: {params.window.describe()} ({params.window.source})")
     hardening = None if ns.params is None else file_hardening_line(ns.params)

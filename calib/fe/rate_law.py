@@ -1,7 +1,7 @@
 """Strain-rate dependence of the flow stress: Johnson-Cook and Cowper-Symonds, and the viscoplastic return.
 
 A rate law scales the flow curve (calib.fe.flow_curve) by a factor R >= 1 of the equivalent plastic
-strain rate eps_dot [1/s], R(0) = 1:
+strain rate eps_dot [1/s], R(0) = 1 (the factor's home: nfdmodel.strain_rate):
 
     sigma_y(eps_bar, eps_dot) = sigma_y(eps_bar) R(eps_dot)                                  [Pa]
     Johnson-Cook (ln form)  R = 1 + C ln(max(eps_dot / eps_dot_0, 1))     C >= 0 [-], eps_dot_0 > 0 [1/s]
@@ -38,6 +38,7 @@ import numpy as np
 
 from calib.fe.flow_curve import FlowCurve, bracketed_newton, solve_consistency
 from nfdmodel import check_real
+from nfdmodel.strain_rate import cowper_symonds_factor, johnson_cook_factor
 
 __all__ = ["RateLaw", "JohnsonCookRate", "CowperSymondsRate", "RateDependentFlow", "rate_law_from_record",
            "RATE_LAWS"]
@@ -71,8 +72,7 @@ class JohnsonCookRate(RateLaw):
         self.is_unity = self.C == 0.0
 
     def factor(self, rate):
-        ratio = np.maximum(np.asarray(rate, dtype=float) / self.reference_rate, 1.0)
-        return 1.0 + self.C * np.log(ratio)
+        return johnson_cook_factor(rate, self.C, self.reference_rate)
 
     def slope(self, rate):
         rate = np.asarray(rate, dtype=float)
@@ -94,7 +94,7 @@ class CowperSymondsRate(RateLaw):
         self.is_unity = math.isinf(self.D)
 
     def factor(self, rate):
-        return 1.0 + (np.asarray(rate, dtype=float) / self.D) ** (1.0 / self.q)
+        return cowper_symonds_factor(rate, self.D, self.q)
 
     def slope(self, rate):
         rate = np.asarray(rate, dtype=float)
