@@ -57,6 +57,10 @@ FORMULAS = {
     "the FE's reach (1000 P_Y, 0.2 R)": ([r"MAX_LOAD_OVER_YIELD\s*\*\s*[\w.]*P_Y\s*,\s*[\w.]*largest_admissible_load",
                                          r"(?i)\b\w*(?:limit|reach|over_yield|over_r)\w*\s*=\s*(?:1000|1e3|0\.2)\b"],
                                         {"calib/fit/recipe.py"}),
+    "Johnson-Cook's factor 1 + C ln(rate / rate_0)": ([r"\b1(?:\.0*)?\s*\+\s*[\w.]*C\s*\*\s*(?:np\.|math\.)log\("],
+                                                  {"nfdmodel/strain_rate.py"}),
+    "Cowper-Symonds' factor 1 + (rate / D)^(1/q)": ([r"\b1(?:\.0*)?\s*\+\s*\([^\n;]{0,60}?/\s*[\w.]*\bD\s*\)\s*\*\*"],
+                                                    {"nfdmodel/strain_rate.py"}),
 }
 # The FE's files that still derive a formula (file: the formulas), until each spot calls the home.
 
@@ -141,6 +145,9 @@ def derivations_outside_homes() -> dict[str, dict[str, list[str]]]:
     ("reach = min(recipe.MAX_LOAD_OVER_YIELD * pair.P_Y, recipe.largest_admissible_load(pair))\n", ".py",
      "the FE's reach (1000 P_Y, 0.2 R)"),
     ("X_LIMIT = 1000.0\n", ".py", "the FE's reach (1000 P_Y, 0.2 R)"),
+    ("R = 1.0 + self.C * np.log(ratio)\n", ".py", "Johnson-Cook's factor 1 + C ln(rate / rate_0)"),
+    ("R = 1.0 + (np.asarray(rate, dtype=float) / self.D) ** (1.0 / self.q)\n", ".py",
+     "Cowper-Symonds' factor 1 + (rate / D)^(1/q)"),
 ])
 def test_the_scan_finds_a_formula_written_out(code, suffix, formula):
     assert formula in derivations(code, suffix)

@@ -318,6 +318,7 @@ def run_repeated(ns, law: str, params, velocities, dt, repeat: int) -> int:
             records.append({"v_in": record["v_in"], "repeat": k, "e": record["e_velocity"], **record,
                             "dent": float(result.delta_res[i]), "delta_max": float(result.delta_max[i])})
     pair = params.pair
+    law = getattr(law, "name", law)                # the rate-aware law is passed as its ContactLaw
     lines = [f"law {law}: {repeat} impacts per velocity on one contact, its history carried over; R* = "
              f"{pair.R_star:g} m, m* = {pair.mass_star:.4g} kg, P_Y = {pair.P_Y:.4g} N, v_Y = {pair.v_Y:.4g} m/s, "
              f"dt = {results[0].dt:.3g} s",
