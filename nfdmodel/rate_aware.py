@@ -40,7 +40,7 @@ from .vz import VZParams, VZState
 from .vz_table import VZTableParams, VZTableState
 
 # c of eps_dot = v_n0 / (c a_ref): fitted once to the dynamic FE (Cowper-Symonds D 40 /s, q 5, 0.02 m/s, coarse
-# mesh: 26.2; nfdmodel/README.md, The rate-aware law)
+# mesh: 26.2 on that mesh's vz-table, 29 on the shipped one; nfdmodel/README.md, The rate-aware law)
 RATE_LENGTH_FACTOR = 26.0
 # the base laws and their history classes (the laws whose constants scale with p_Y)
 BASE_LAWS = {"vz": (VZParams, VZState), "vz-table": (VZTableParams, VZTableState)}

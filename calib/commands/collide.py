@@ -38,6 +38,11 @@ the sphere is re-launched at v_in from first touch (delta = the dent delta_res),
 point and loads on the virgin curve beyond; one record per impact with its index repeat (1..N), its e
 (= e_velocity), the dent and delta_max [m] from the first impact's first touch.
 
+--rate-law johnson-cook|cowper-symonds with --jc-C [--jc-reference-rate] or --cs-D --cs-q (impact's flags): the
+rate-aware law (nfdmodel.rate_aware) on the --law vz or vz-table law (the master table's vz constants, or a
+--params file's law): sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref) fixed at first contact; each
+record adds strain_rate [1/s] and rate_factor R. Normal impacts only (--repeat too; not the oblique flags).
+
 --report: the restitution sweep, time-step convergence and plots of the vz law with the paper's
 constants, or with the two constants of --params FILE (a calibration's parameters.json, whichever
 law it ships, e.g. results/calibration/parameters.json); no other file is read, and the output names
