@@ -212,15 +212,11 @@ class VzLaw : public SolidLaw {
     }
 };
 
-/* The laws of an nfdcal parameter file's tables: vz-table, and vz-unload (the same loading tables,
- * with the dent and unloading exponent tables over the turning point; nfd_unload.h). */
+/* The law of an nfdcal parameter file's tables (vz-table; VzUnloadLaw reads its own files the same way). */
 class VzTableLaw : public NfdLaw {
  public:
-    VzTableLaw(int code = NFD_LAW_VZ_TABLE, const char *name = "vz-table",
-               const char *title = "NFD law with FE tables of a_p and C_R") :
-        NfdLaw(code, name, title, true, false), name(name)
-    {
-    }
+    VzTableLaw() : VzTableLaw(NFD_LAW_VZ_TABLE, "vz-table", "NFD law with FE tables of a_p and C_R") {}
+    VzTableLaw(int code, const char *name, const char *title) : NfdLaw(code, name, title, true, false), name(name) {}
 
     NfdMaterial read(LAMMPS *lmp, const std::string &who, bool wall, int narg, char **arg) const override
     {
@@ -248,6 +244,15 @@ class VzTableLaw : public NfdLaw {
 
  private:
     const char *name;
+};
+
+/* vz-table's loading tables with the dent and unloading exponent over the turning point (nfd_unload.h). */
+class VzUnloadLaw : public VzTableLaw {
+ public:
+    VzUnloadLaw() :
+        VzTableLaw(NFD_LAW_VZ_UNLOAD, "vz-unload", "NFD law with FE tables of a_p, C_R, the dent and the unloading exponent")
+    {
+    }
 };
 
 /* Walton & Braun (1986): a law of stiffnesses, not of materials: loading P = K1 delta, unloading
@@ -306,8 +311,7 @@ static const NfdLaw *const *all_laws()
     static const ThorntonLaw thornton;
     static const VzTableLaw vz_table;
     static const WaltonBraunLaw walton_braun;
-    static const VzTableLaw vz_unload(NFD_LAW_VZ_UNLOAD, "vz-unload", "NFD law with FE tables of a_p, C_R, the dent "
-                                      "and the unloading exponent");
+    static const VzUnloadLaw vz_unload;
     static const NfdLaw *const laws[] = {&hertz, &vz, &thornton, &vz_table, &walton_braun, &vz_unload, nullptr};
     return laws;
 }
