@@ -424,7 +424,7 @@ static PyMethodDef methods[] = {
     {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
-    {"load_table", native_load_table, METH_VARARGS, "the vz_table or vz_unload loading branch of the selected contacts"},
+    {"load_table", native_load_table, METH_VARARGS, "the vz_table or vz_unload loading of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},
     {"contact_step", native_contact_step, METH_VARARGS, "nfd_contact_step of n contacts (nfd_friction.h)"},

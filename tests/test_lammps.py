@@ -782,7 +782,10 @@ def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path
     assert abs(other.e_velocity[0] / py.e_velocity[0] - 1.0) > 1e-3
 
 
-@pytest.mark.parametrize("content, message", [
+GOOD_TABLE = {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}
+GOOD_UNLOADING = {"P_max_over_P_Y": [1, 2], "dent": [0, 0.1], "exponent": [1.5, 1.4]}
+MATERIAL = {"E": 7e10, "nu": 0.3, "sigma_y": 1e8}
+BAD_TABLE_FILES = [
     (None, "cannot be read (missing or unreadable)"),
     ("{not json", "not valid JSON"),
     ({"law": "vz", "Ca": 2e-7, "Kc": 3e-4, "material": {"E": 7e10, "nu": 0.3, "sigma_y": 1e8}},
@@ -804,23 +807,39 @@ def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path
       "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}},
      "material.sigma_y out of range for a solid: need 10000 <= sigma_y <= 1e+11 Pa (yield stress of solids), got "
      "100; did you give MPa? 100 MPa = 1e+08 Pa"),
-])
-def test_bad_vz_table_files_are_named(plugin, tmp_path, content, message):
+]
+# the vz-unload law's files: its unloading tables, and each law's style refusing the other's file
+BAD_UNLOAD_FILES = [
+    ({"law": "vz-table", "material": MATERIAL, "table": GOOD_TABLE},
+     "law out of range: need 'vz-unload', got 'vz-table'"),
+    ({"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE}, "missing 'unloading' object"),
+    ({"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE, "unloading": {**GOOD_UNLOADING, "dent": [0, 1.0]}},
+     "unloading out of range: need P_max_over_P_Y[0] = 1 and increasing, dent[0] = 0 and 0 <= dent < 1"),
+    ({"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE,
+      "unloading": {**GOOD_UNLOADING, "exponent": [1.5]}}, "unloading out of range: need 2..64 nodes"),
+]
+
+
+@pytest.mark.parametrize("law, content, message", [("vz-table", c, m) for c, m in BAD_TABLE_FILES] + [
+    ("vz-table", {"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE, "unloading": GOOD_UNLOADING},
+     "law out of range: need 'vz-table', got 'vz-unload'")] + [("vz-unload", c, m) for c, m in BAD_UNLOAD_FILES])
+def test_bad_vz_table_files_are_named(plugin, tmp_path, law, content, message):
     """A bad parameter file is one line naming the file, the key and the range, in pair_coeff and in
-    the wall fix (also the material's unit slips: E in GPa, sigma_y in MPa)."""
+    the wall fix (also the material's unit slips: E in GPa, sigma_y in MPa), for nfd/vz-table and
+    nfd/vz-unload."""
     import json
 
     path = tmp_path / "bad.json"
     if content is not None:
         path.write_text(content if isinstance(content, str) else json.dumps(content))
-    text = impact_input(plugin, aluminium_spheres(1.0), {1: f"file {path}"}, 1, pair_style="nfd/vz-table")
+    text = impact_input(plugin, aluminium_spheres(1.0), {1: f"file {path}"}, 1, pair_style=f"nfd/{law}")
     output = run_lammps(text, tmp_path)
     error = next(line for line in output.splitlines() if line.startswith("ERROR"))
-    assert f"pair_coeff for nfd/vz-table: parameter file {path}" in error and message in error, error
+    assert f"pair_coeff for nfd/{law}: parameter file {path}" in error and message in error, error
     wall = wall_input(plugin, f"file {path}", [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1,
-                      style="nfd/wall/vz-table")
+                      style=f"nfd/wall/{law}")
     error = next(line for line in run_lammps(wall, tmp_path).splitlines() if line.startswith("ERROR"))
-    assert f"fix nfd/wall/vz-table: parameter file {path}" in error and message in error, error
+    assert f"fix nfd/wall/{law}: parameter file {path}" in error and message in error, error
 
 
 def test_pour_on_two_mpi_ranks_equals_one(plugin, tmp_path):

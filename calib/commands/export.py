@@ -178,9 +178,9 @@ def run(ns) -> int:
                          f"or vz-table file (nfdcal calibrate --ship table)")
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
     if counter is not None and law_of(params) == "vz-unload":
-        raise ValueError(f"--params {ns.params}: a vz-unload file on a counter-body out of range for export lammps: its "
-                         f"like-type laws come from the master tables, which carry no dent or unloading exponent "
-                         f"tables; export a vz-table file of the pair (nfdcal calibrate --ship table)")
+        raise ValueError(f"--params {ns.params}: a vz-unload file on a counter-body out of range for export "
+                         f"lammps: its like-type laws come from the master tables, which carry no dent or unloading "
+                         f"exponent tables; export a vz-table file of the pair (nfdcal calibrate --ship table)")
     if counter is not None:
         if file_hardening_line(ns.params) is not None:
             raise ValueError(f"--params {ns.params}: a hardening sphere's file on a counter-body out of range for export "

@@ -165,7 +165,8 @@ static std::vector<std::vector<double>> file_columns(LAMMPS *lmp, const std::str
     return column;
 }
 
-NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::string &path, const std::string &law_name)
+NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::string &path,
+                                const std::string &law_name)
 {
     const std::string text = read_on_rank_zero(lmp, who, path);
     const std::string in = fmt::format("{}: parameter file {}:", who, path);

@@ -250,7 +250,7 @@ class VzTableLaw : public NfdLaw {
 class VzUnloadLaw : public VzTableLaw {
  public:
     VzUnloadLaw() :
-        VzTableLaw(NFD_LAW_VZ_UNLOAD, "vz-unload", "NFD law with FE tables of a_p, C_R, the dent and the unloading exponent")
+        VzTableLaw(NFD_LAW_VZ_UNLOAD, "vz-unload", "NFD law with FE tables of a_p, C_R, dent and unloading exponent")
     {
     }
 };
