@@ -81,7 +81,7 @@ uint64_t NfdLaw::fingerprint(const NfdMaterial &m) const
     z = mix64(z ^ static_cast<uint64_t>(m.table.n));
     for (int n = 0; n < m.table.n; ++n)
         for (double v : {m.table.x[n], m.table.f[n], m.table.g[n]}) z = mix_double(z, v);
-    z = mix64(z ^ static_cast<uint64_t>(m.table.n_unload));
+    if (m.table.n_unload > 0) z = mix64(z ^ static_cast<uint64_t>(m.table.n_unload));   // vz-unload's tables
     for (int n = 0; n < m.table.n_unload; ++n)
         for (double v : {m.table.x_unload[n], m.table.dent[n], m.table.exponent[n]}) z = mix_double(z, v);
     if (!m.models.any()) return z;       // the fingerprint of a frictionless material is the law's alone
