@@ -3,9 +3,10 @@
  *
  * A step is two calls, so that Python allocates the trial history of exactly the contacts that
  * load (nfdmodel.native):
- *   unload(three_halves, delta, delta_res, K_u, delta_max, force, index) -> (k, finite)
- *       the unloading/reloading force of every contact, P = K_u <delta - delta_res>^n, and the
- *       positions of the k contacts with delta > delta_max (written to index[0:k]);
+ *   unload(three_halves, delta, delta_res, K_u, delta_max, force, index[, exponent]) -> (k, finite)
+ *       the unloading/reloading force of every contact, P = K_u <delta - delta_res>^n (n = 3/2 or 1,
+ *       or each contact's exponent[i]: vz_unload), and the positions of the k contacts with
+ *       delta > delta_max (written to index[0:k]);
  *   load(law, params, index, delta, a_e_max, force, delta_max', P_max', delta_res', K_u', a_e_max')
  *       -> (largest Newton count, beyond-window count, largest P_max, position of the largest
  *           contact radius, that radius, finite)
@@ -17,7 +18,8 @@
  *       nfd_contact_step (nfd_friction.h) of n contacts: geometry 16 doubles each (n[3], delta,
  *       R_i, R_j, v[3], omega_i[3], omega_j[3], m*), history 13 (nfd_history, then
  *       nfd_friction_history), out 28 (the new history 13, force 3, torque_i 3, torque_j 3, P,
- *       F_n, a, F_t 3); table: None or (x, f, g); friction: the nfd_friction fields in order;
+ *       F_n, a, F_t 3); table: None, (x, f, g) (vz_table) or (x, f, g, x_unload, dent, exponent)
+ *       (vz_unload); friction: the nfd_friction fields in order;
  *       status: the first negative law status (at: that contact) or 0.
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
  * needs: a value that is finite exactly when the forces are).
@@ -30,6 +32,7 @@
 #include <stdint.h>
 
 #include "nfd_friction.h"
+#include "nfd_unload.h"
 
 static int check_length(Py_buffer *buffer, Py_ssize_t count, Py_ssize_t itemsize, const char *name)
 {
@@ -44,16 +47,18 @@ static int check_length(Py_buffer *buffer, Py_ssize_t count, Py_ssize_t itemsize
 static PyObject *native_unload(PyObject *self, PyObject *args)
 {
     int three_halves;
-    Py_buffer delta, delta_res, K_u, delta_max, force, index;
+    Py_buffer delta, delta_res, K_u, delta_max, force, index, exponent = {0};
     (void)self;
-    if (!PyArg_ParseTuple(args, "py*y*y*y*w*w*", &three_halves, &delta, &delta_res, &K_u, &delta_max, &force, &index))
+    if (!PyArg_ParseTuple(args, "py*y*y*y*w*w*|y*", &three_halves, &delta, &delta_res, &K_u, &delta_max, &force,
+                          &index, &exponent))
         return NULL;
+    const double *m = exponent.buf;
     Py_ssize_t n = delta.len / (Py_ssize_t)sizeof(double);
     Py_ssize_t k = 0;
     double sum = 0.0;
     if (check_length(&delta_res, n, 8, "delta_res") && check_length(&K_u, n, 8, "K_u") &&
         check_length(&delta_max, n, 8, "delta_max") && check_length(&force, n, 8, "force") &&
-        check_length(&index, n, 8, "index")) {
+        check_length(&index, n, 8, "index") && (m == NULL || check_length(&exponent, n, 8, "exponent"))) {
         const double *d = delta.buf, *res = delta_res.buf, *K = K_u.buf, *dmax = delta_max.buf;
         double *f = force.buf;
         int64_t *idx = index.buf;
@@ -63,7 +68,9 @@ static PyObject *native_unload(PyObject *self, PyObject *args)
             double gap = d[i] - res[i];
             if (gap < 0.0) gap = 0.0;
             double p;
-            if (three_halves) {
+            if (m) {
+                p = K[i] * pow(gap, m[i]);
+            } else if (three_halves) {
                 p = sqrt(gap);
                 p *= gap;
                 p *= K[i];
@@ -81,6 +88,7 @@ static PyObject *native_unload(PyObject *self, PyObject *args)
     int failed = PyErr_Occurred() != NULL;
     PyBuffer_Release(&delta); PyBuffer_Release(&delta_res); PyBuffer_Release(&K_u);
     PyBuffer_Release(&delta_max); PyBuffer_Release(&force); PyBuffer_Release(&index);
+    if (m) PyBuffer_Release(&exponent);
     if (failed) return NULL;
     return Py_BuildValue("nd", k, sum);
 }
@@ -163,59 +171,83 @@ static PyObject *native_load(PyObject *self, PyObject *args)
     return Py_BuildValue("indndd", max_iterations, beyond, largest_P, widest, widest_radius, sum);
 }
 
-/* load_table(params, x, f, g, index, delta, P_max_history, force, delta_max', P_max', delta_res', K_u', a_e_max')
- * -> as load: the vz_table law's loading branch of the selected contacts (start: the history's
- * P_max). A ValueError when the table breaks nfd_table_init's rules. */
+/* *t from a tuple (x, f, g) (vz_table) or (x, f, g, x_unload, dent, exponent) (vz_unload); 0 with a
+ * ValueError set when the nodes break nfd_table_init's or nfd_unload_table_init's rules. */
+static int read_table(PyObject *tuple, nfd_table *t)
+{
+    Py_buffer b[6] = {{0}};
+    if (!PyArg_ParseTuple(tuple, "y*y*y*|y*y*y*", &b[0], &b[1], &b[2], &b[3], &b[4], &b[5])) return 0;
+    Py_ssize_t nodes = b[0].len / 8, unload_nodes = b[3].len / 8;
+    int ok = nodes <= NFD_TABLE_MAX_NODES && b[1].len == b[0].len && b[2].len == b[0].len &&
+             nfd_table_init(t, (int)nodes, b[0].buf, b[1].buf, b[2].buf) == 0;
+    if (!ok)
+        PyErr_Format(PyExc_ValueError, "table out of range: 2..%d nodes with x[0] = 1, f[0] = 0, g[0] = 1, x "
+                     "increasing, f non-decreasing, g > 0", NFD_TABLE_MAX_NODES);
+    if (ok && b[3].buf) {
+        ok = unload_nodes <= NFD_TABLE_MAX_NODES && b[4].len == b[3].len && b[5].len == b[3].len &&
+             nfd_unload_table_init(t, (int)unload_nodes, b[3].buf, b[4].buf, b[5].buf) == 0;
+        if (!ok)
+            PyErr_Format(PyExc_ValueError, "unloading table out of range: 2..%d nodes with x_unload[0] = 1, dent[0] "
+                         "= 0, exponent[0] = 1.5, x_unload increasing, 0 <= dent < 1, exponent > 0",
+                         NFD_TABLE_MAX_NODES);
+    }
+    for (int k = 0; k < 6; ++k)
+        if (b[k].buf) PyBuffer_Release(&b[k]);
+    return ok;
+}
+
+/* load_table(params, table, index, delta, P_max_history, force, delta_max', P_max', delta_res', K_u', a_e_max')
+ * -> as load: the loading branch of the selected contacts (start: the history's P_max) of the
+ * vz_table law, table (x, f, g), or of the vz_unload law, table (x, f, g, x_unload, dent,
+ * exponent), whose a_e_max' is the unloading exponent m. A ValueError when the table breaks the
+ * rules of nfd_table_init or nfd_unload_table_init. */
 static PyObject *native_load_table(PyObject *self, PyObject *args)
 {
-    PyObject *params_tuple;
-    Py_buffer x, fv, gv, index, delta, P_hist, force, o_dmax, o_P, o_res, o_K, o_ae;
+    PyObject *params_tuple, *table_tuple;
+    Py_buffer index, delta, P_hist, force, o_dmax, o_P, o_res, o_K, o_ae;
     nfd_params p;
     nfd_table table;
     (void)self;
-    if (!PyArg_ParseTuple(args, "Oy*y*y*y*y*y*w*w*w*w*w*w*", &params_tuple, &x, &fv, &gv, &index, &delta, &P_hist,
+    if (!PyArg_ParseTuple(args, "OOy*y*y*w*w*w*w*w*w*", &params_tuple, &table_tuple, &index, &delta, &P_hist,
                           &force, &o_dmax, &o_P, &o_res, &o_K, &o_ae))
         return NULL;
-    Py_ssize_t k = index.len / 8, n = delta.len / 8, nodes = x.len / 8;
+    Py_ssize_t k = index.len / 8, n = delta.len / 8;
     int max_iterations = 0, finite = 1;
     Py_ssize_t beyond = 0, widest = -1, bad = -1;
     double largest_P = 0.0, widest_radius = -1.0;
-    if (read_params(params_tuple, &p) && check_length(&fv, nodes, 8, "f") && check_length(&gv, nodes, 8, "g") &&
+    if (read_params(params_tuple, &p) && read_table(table_tuple, &table) &&
         check_length(&P_hist, n, 8, "P_max") && check_length(&force, n, 8, "force") &&
         check_length(&o_dmax, k, 8, "delta_max") && check_length(&o_P, k, 8, "P_max'") &&
         check_length(&o_res, k, 8, "delta_res") && check_length(&o_K, k, 8, "K_u") && check_length(&o_ae, k, 8, "a_e_max")) {
-        if (nodes > NFD_TABLE_MAX_NODES || nfd_table_init(&table, (int)nodes, x.buf, fv.buf, gv.buf) != 0) {
-            PyErr_Format(PyExc_ValueError, "table out of range: 2..%d nodes with x[0] = 1, f[0] = 0, g[0] = 1, x "
-                         "increasing, f non-decreasing, g > 0", NFD_TABLE_MAX_NODES);
-        } else {
-            const int64_t *idx = index.buf;
-            const double *d = delta.buf, *Ph = P_hist.buf;
-            double *f = force.buf, *dm = o_dmax.buf, *P = o_P.buf, *res = o_res.buf, *K = o_K.buf, *aeo = o_ae.buf;
-            Py_BEGIN_ALLOW_THREADS
-            for (Py_ssize_t i = 0; i < k; ++i) {
-                int64_t j = idx[i];
-                if (j < 0 || j >= n) { bad = i; break; }
-                nfd_history h = {-INFINITY, Ph[j], 0.0, 0.0, 0.0}, out;   /* the caller selected loading contacts */
-                double force_j = 0.0;
-                int iterations = 0;
-                nfd_vz_table_step(d[j], &p, &table, &h, &force_j, &out, &iterations);
-                if (iterations > max_iterations) max_iterations = iterations;
-                f[j] = force_j;
-                finite &= force_j - force_j == 0.0;
-                dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
-                beyond += out.P_max > p.window_P_max;
-                largest_P = out.P_max > largest_P ? out.P_max : largest_P;
-                double radius = out.P_max > p.P_Y ? nfd_vz_table_radius(&p, &table, out.P_max) : out.a_e_max;
-                if (radius > widest_radius || widest < 0) { widest_radius = radius; widest = i; }
-            }
-            Py_END_ALLOW_THREADS
-            if (bad >= 0) PyErr_Format(PyExc_ValueError, "index[%zd] out of range 0..%zd", bad, n - 1);
+        const int64_t *idx = index.buf;
+        const double *d = delta.buf, *Ph = P_hist.buf;
+        double *f = force.buf, *dm = o_dmax.buf, *P = o_P.buf, *res = o_res.buf, *K = o_K.buf, *aeo = o_ae.buf;
+        const int law = table.n_unload > 0 ? NFD_LAW_VZ_UNLOAD : NFD_LAW_VZ_TABLE;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < k; ++i) {
+            int64_t j = idx[i];
+            if (j < 0 || j >= n) { bad = i; break; }
+            nfd_history h = {-INFINITY, Ph[j], 0.0, 0.0, 0.0}, out;   /* the caller selected loading contacts */
+            double force_j = 0.0;
+            int iterations = 0;
+            nfd_step(law, d[j], &p, &table, &h, &force_j, &out, &iterations);
+            if (iterations > max_iterations) max_iterations = iterations;
+            f[j] = force_j;
+            finite &= force_j - force_j == 0.0;
+            dm[i] = out.delta_max; P[i] = out.P_max; res[i] = out.delta_res; K[i] = out.K_u; aeo[i] = out.a_e_max;
+            beyond += out.P_max > p.window_P_max;
+            largest_P = out.P_max > largest_P ? out.P_max : largest_P;
+            double radius = out.P_max > p.P_Y ? nfd_vz_table_radius(&p, &table, out.P_max)
+                                              : sqrt(p.R_star * (out.delta_max > 0.0 ? out.delta_max : 0.0));
+            if (radius > widest_radius || widest < 0) { widest_radius = radius; widest = i; }
         }
+        Py_END_ALLOW_THREADS
+        if (bad >= 0) PyErr_Format(PyExc_ValueError, "index[%zd] out of range 0..%zd", bad, n - 1);
     }
     int failed = PyErr_Occurred() != NULL;
-    PyBuffer_Release(&x); PyBuffer_Release(&fv); PyBuffer_Release(&gv); PyBuffer_Release(&index);
-    PyBuffer_Release(&delta); PyBuffer_Release(&P_hist); PyBuffer_Release(&force); PyBuffer_Release(&o_dmax);
-    PyBuffer_Release(&o_P); PyBuffer_Release(&o_res); PyBuffer_Release(&o_K); PyBuffer_Release(&o_ae);
+    PyBuffer_Release(&index); PyBuffer_Release(&delta); PyBuffer_Release(&P_hist); PyBuffer_Release(&force);
+    PyBuffer_Release(&o_dmax); PyBuffer_Release(&o_P); PyBuffer_Release(&o_res); PyBuffer_Release(&o_K);
+    PyBuffer_Release(&o_ae);
     if (failed) return NULL;
     return Py_BuildValue("indndd", max_iterations, beyond, largest_P, widest, widest_radius, finite ? 0.0 : INFINITY);
 }
@@ -358,19 +390,7 @@ static PyObject *native_contact_step(PyObject *self, PyObject *args)
     ok = ok && PyArg_ParseTuple(friction_tuple, "ididddidddiddd", &f.damping, &f.damping_coeff, &f.tangential,
                                 &f.k_t, &f.x_gamma_t, &f.mu, &f.rolling, &f.k_roll, &f.gamma_roll, &f.mu_roll,
                                 &f.twisting, &f.k_twist, &f.gamma_twist, &f.mu_twist);
-    if (ok && table_object != Py_None) {
-        Py_buffer x, fv, gv;
-        ok = PyArg_ParseTuple(table_object, "y*y*y*", &x, &fv, &gv);
-        if (ok) {
-            Py_ssize_t nodes = x.len / 8;
-            if (nodes > NFD_TABLE_MAX_NODES || fv.len != x.len || gv.len != x.len ||
-                nfd_table_init(&table, (int)nodes, x.buf, fv.buf, gv.buf) != 0) {
-                PyErr_SetString(PyExc_ValueError, "table out of range: the rules of nfd_table_init");
-                ok = 0;
-            }
-            PyBuffer_Release(&x); PyBuffer_Release(&fv); PyBuffer_Release(&gv);
-        }
-    }
+    if (ok && table_object != Py_None) ok = read_table(table_object, &table);
     if (ok && check_length(&history, 13 * n, 8, "history") && check_length(&out, 28 * n, 8, "out")) {
         const double *g = geometry.buf, *hv = history.buf;
         double *o = out.buf;
@@ -404,7 +424,7 @@ static PyMethodDef methods[] = {
     {"collide", native_collide, METH_VARARGS, "sphere-on-flat impacts, one loop per velocity"},
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
-    {"load_table", native_load_table, METH_VARARGS, "the vz_table loading branch of the selected contacts"},
+    {"load_table", native_load_table, METH_VARARGS, "the vz_table or vz_unload loading of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},
     {"contact_step", native_contact_step, METH_VARARGS, "nfd_contact_step of n contacts (nfd_friction.h)"},

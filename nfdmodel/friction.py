@@ -417,9 +417,9 @@ def compiled_contact_step(law, params, friction: Friction, contact: Contact, sta
     p = law.params_from(params)
     pair = as_pair(p, law.name)
     table = None
-    if law.name == "vz-table":
+    if law.name in ("vz-table", "vz-unload"):
         kernel = native.kernel_params(pair, window_P_max=p.window_force)
-        table = tuple(np.ascontiguousarray(values, dtype=float) for values in (p.x, p.f, p.g))
+        table = native.kernel_table(p)
     else:
         kernel = law.collision_params(p)
     n_vec = np.asarray(contact.n, dtype=float)
@@ -433,8 +433,9 @@ def compiled_contact_step(law, params, friction: Friction, contact: Contact, sta
                                                                      (count, np.shape(c)[-1] if np.ndim(c) > 1 else 1))
                                                      for c in columns]))
     zeros = np.zeros(count)
+    fifth = "unloading_exponent" if hasattr(state, "unloading_exponent") else "a_e_max"   # (nfd_history's 5th)
     normal = [zeros] * 5 if isinstance(state, HertzState) else [
-        state.delta_max, state.P_max, state.delta_res, state.unloading_stiffness, getattr(state, "a_e_max", zeros)]
+        state.delta_max, state.P_max, state.delta_res, state.unloading_stiffness, getattr(state, fifth, zeros)]
     history = np.ascontiguousarray(np.column_stack(normal + [fstate.xi_t, fstate.xi_roll, fstate.theta_twist,
                                                              fstate.a_previous]))
     out = np.empty((count, 28))
@@ -447,7 +448,7 @@ def compiled_contact_step(law, params, friction: Friction, contact: Contact, sta
     if isinstance(state, HertzState):
         new_state = state
     else:
-        values = dict(zip(("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max"), out[:, :5].T))
+        values = dict(zip(("delta_max", "P_max", "delta_res", "unloading_stiffness", fifth), out[:, :5].T))
         new_state = type(state)(**{name: values[name].copy() for name in field_names(type(state))})
     forces = ContactForces(out[:, 13:16], out[:, 16:19], out[:, 19:22], out[:, 22], out[:, 23], out[:, 24],
                            out[:, 25:28])

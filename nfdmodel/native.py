@@ -98,13 +98,21 @@ def law_loading(name: str, params: tuple):
     return load
 
 
-def table_loading(params: tuple, x, f, g):
-    """The compiled loading of the vz-table law: nfd_params ``params`` and the table's nodes
-    x = P/P_Y, f = a_p/a_Y, g = C_R (nfdmodel.vz_table), for :func:`turning_point_step`."""
-    x, f, g = _contiguous(x), _contiguous(f), _contiguous(g)
+def kernel_table(params) -> tuple:
+    """The tables as the binding takes them: (x, f, g) of a VZTableParams (law vz-table), and
+    (x, f, g, x_unload, dent, exponent) of a VZUnloadParams (law vz-unload)."""
+    columns = [params.x, params.f, params.g]
+    if hasattr(params, "x_unload"):
+        columns += [params.x_unload, params.dent, params.exponent]
+    return tuple(_contiguous(column) for column in columns)
+
+
+def table_loading(params: tuple, table: tuple):
+    """The compiled loading of the vz-table or vz-unload law: nfd_params ``params`` and the
+    tables ``table`` (:func:`kernel_table`), for :func:`turning_point_step`."""
 
     def load(index, delta, state, force, outputs):
-        return _native.load_table(params, x, f, g, index, delta, _contiguous(state.P_max), force, *outputs)
+        return _native.load_table(params, table, index, delta, _contiguous(state.P_max), force, *outputs)
 
     return load
 
@@ -113,20 +121,24 @@ def turning_point_step(load, delta, state, pair, three_halves: bool):
     """The compiled twin of nfdmodel.turning_point.turning_point_step, ``load`` the law's loading
     (:func:`law_loading`, :func:`table_loading`): (P [N], HistoryUpdate, loading statistics
     (largest Newton count, beyond-window count, largest P_max [N], position of the widest
-    contact, its radius [m]))."""
+    contact, its radius [m])). A history with an ``unloading_exponent`` (vz-unload) unloads with
+    each contact's exponent, which the kernel returns in the a_e_max slot."""
     n = delta.shape[0]
     force = np.empty(n)
     index = np.empty(n, dtype=np.int64)
+    exponent = getattr(state, "unloading_exponent", None)
+    own = () if exponent is None else (_contiguous(exponent),)
     k, finite = _native.unload(three_halves, delta, _contiguous(state.delta_res), _contiguous(state.unloading_stiffness),
-                              _contiguous(state.delta_max), force, index)
+                              _contiguous(state.delta_max), force, index, *own)
     statistics = (0, 0, 0.0, -1, -1.0, 0.0)
     if k == 0:
         update = empty_update(state, n)
     else:
         index = index[:k].copy()
-        values = {name: np.empty(k) for name in ("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max")}
+        fifth = "a_e_max" if exponent is None else "unloading_exponent"
+        values = {name: np.empty(k) for name in ("delta_max", "P_max", "delta_res", "unloading_stiffness", fifth)}
         outputs = (values["delta_max"], values["P_max"], values["delta_res"], values["unloading_stiffness"],
-                   values["a_e_max"])
+                   values[fifth])
         statistics = load(index, delta, state, force, outputs)
         finite += statistics[5]          # 0.0 when every force is finite, else inf or NaN
         names = field_names(type(state))

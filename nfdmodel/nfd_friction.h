@@ -11,7 +11,7 @@
  *
  *   P        the normal law's force (nfd_step; friction never changes it)
  *   a        its contact radius (nfd_contact_radius): Hertz's sqrt(R* delta) until first yield,
- *            then the law's own (vz: a_e + a_p; vz_table: a_Y (x^(1/3) + f(x_max)); thornton:
+ *            then the law's own (vz: a_e + a_p; vz_table, vz_unload: a_Y (x^(1/3) + f(x_max)); thornton:
  *            the Hertz radius of its enlarged curvature R_p; walton_braun: sqrt(R* delta))
  *   F_n      = P - eta v.n, eta the damping prefactor (none 0; viscoelastic c m* a;
  *            tsuji / coeff_restitution c sqrt(m* P / delta), c from nfd_damping_coefficient)
@@ -152,13 +152,14 @@ static inline double nfd_contact_radius(int law, double delta, const nfd_params 
                                         const nfd_history *h, double P)
 {
     double d = delta > 0.0 ? delta : 0.0;
-    if (h->P_max > p->P_Y && (law == NFD_LAW_VZ || law == NFD_LAW_VZ_TABLE || law == NFD_LAW_THORNTON)) {
+    int table = law == NFD_LAW_VZ_TABLE || law == NFD_LAW_VZ_UNLOAD;
+    if (h->P_max > p->P_Y && (law == NFD_LAW_VZ || table || law == NFD_LAW_THORNTON)) {
         if (law == NFD_LAW_VZ) {
             double a_e, a_p, a_ep;
             nfd_vz_radii(p, h, P, &a_e, &a_p, &a_ep);
             return a_ep;
         }
-        if (law == NFD_LAW_VZ_TABLE)      /* a_Y f(x_max) + the Hertz radius at P */
+        if (table)                        /* a_Y f(x_max) + the Hertz radius at P */
             return nfd_vz_table_radius(p, t, h->P_max) - p->a_Y * cbrt(h->P_max / p->P_Y) +
                    nfd_hertz_radius(P, p->R_star, p->E_star);
         double R_p = 3.0 * h->K_u / (4.0 * p->E_star);       /* thornton: K_u = (4/3) E* sqrt(R_p) */

@@ -3,6 +3,7 @@
  * (same formulas, same order), so both give the same numbers to round-off. C99, math.h only.
  */
 #include "nfd_friction.h"  /* nfd_kernel.h, and the contact models around the laws (static inline) */
+#include "nfd_unload.h"    /* the vz_unload law (static inline, on the vz_table solve below) */
 
 #include <math.h>
 #include <stdint.h>
@@ -444,7 +445,7 @@ static double end_slope(double h0, double h1, double s0, double s1)
 }
 
 /* PCHIP node slopes (nfdmodel.pchip.pchip_slopes, Fritsch-Butland as scipy). */
-static void pchip_slopes(int n, const double *x, const double *y, double *d)
+void nfd_pchip_slopes(int n, const double *x, const double *y, double *d)
 {
     if (n == 2) {
         d[0] = d[1] = (y[1] - y[0]) / (x[1] - x[0]);
@@ -464,21 +465,21 @@ static void pchip_slopes(int n, const double *x, const double *y, double *d)
 
 /* (value, slope) of a table at z (nfdmodel.pchip.pchip_evaluate: the cubic Hermite form, straight
  * continuations beyond the end nodes). */
-static void pchip_evaluate(const nfd_table *t, const double *y, const double *d, double z, double *value,
-                           double *slope)
+void nfd_pchip_evaluate(int n, const double *x, const double *y, const double *d, double z, double *value,
+                        double *slope)
 {
-    int n = t->n, lo = 0, hi = n - 1;
-    if (z > t->x[n - 1] || z < t->x[0]) {
-        int end = z > t->x[n - 1] ? n - 1 : 0;
-        *value = y[end] + d[end] * (z - t->x[end]);
+    int lo = 0, hi = n - 1;
+    if (z > x[n - 1] || z < x[0]) {
+        int end = z > x[n - 1] ? n - 1 : 0;
+        *value = y[end] + d[end] * (z - x[end]);
         *slope = d[end];
         return;
     }
     while (hi - lo > 1) {                 /* the segment: x[lo] <= z < x[lo+1], lo <= n - 2 */
         int mid = (lo + hi) / 2;
-        if (t->x[mid] <= z) lo = mid; else hi = mid;
+        if (x[mid] <= z) lo = mid; else hi = mid;
     }
-    double x0 = t->x[lo], h = t->x[lo + 1] - x0;
+    double x0 = x[lo], h = x[lo + 1] - x0;
     double s = (z - x0) / h;
     double y0 = y[lo], y1 = y[lo + 1], d0 = d[lo], d1 = d[lo + 1];
     double s2 = s * s;
@@ -492,8 +493,8 @@ static void pchip_evaluate(const nfd_table *t, const double *y, const double *d,
 static void table_approach(const nfd_table *t, double z, double *D, double *dD)
 {
     double f, df, g, dg;
-    pchip_evaluate(t, t->f, t->df, z, &f, &df);
-    pchip_evaluate(t, t->g, t->dg, z, &g, &dg);
+    nfd_pchip_evaluate(t->n, t->x, t->f, t->df, z, &f, &df);
+    nfd_pchip_evaluate(t->n, t->x, t->g, t->dg, z, &g, &dg);
     double c = cbrt(z);
     double radius = c + f;
     double value = radius * radius / g;
@@ -509,9 +510,9 @@ int nfd_table_init(nfd_table *t, int n, const double *x, const double *f, const 
         if (k > 0 && !(x[k] > x[k - 1] && f[k] >= f[k - 1])) return -1;
         t->x[k] = x[k]; t->f[k] = f[k]; t->g[k] = g[k];
     }
-    t->n = n;
-    pchip_slopes(n, t->x, t->f, t->df);
-    pchip_slopes(n, t->x, t->g, t->dg);
+    t->n = n; t->n_unload = 0;            /* vz_table: no unloading tables (nfd_unload_table_init) */
+    nfd_pchip_slopes(n, t->x, t->f, t->df);
+    nfd_pchip_slopes(n, t->x, t->g, t->dg);
     double slope;
     for (int k = 0; k < n; ++k) table_approach(t, t->x[k], &t->D[k], &slope);
     return 0;
@@ -553,7 +554,7 @@ static double table_solve(const nfd_table *t, double d, double start, int *itera
 double nfd_vz_table_radius(const nfd_params *p, const nfd_table *t, double P)
 {
     double z = P / p->P_Y, f, df;
-    pchip_evaluate(t, t->f, t->df, z, &f, &df);
+    nfd_pchip_evaluate(t->n, t->x, t->f, t->df, z, &f, &df);
     return p->a_Y * (cbrt(z) + f);
 }
 
@@ -567,8 +568,8 @@ int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, con
     double z = table_solve(t, delta / p->delta_Y, start > 1.0 ? start : 1.0, &count);
     if (iterations) *iterations = count;
     double P = z * p->P_Y;
-    pchip_evaluate(t, t->f, t->df, z, &f, &df);
-    pchip_evaluate(t, t->g, t->dg, z, &g, &dg);
+    nfd_pchip_evaluate(t->n, t->x, t->f, t->df, z, &f, &df);
+    nfd_pchip_evaluate(t->n, t->x, t->g, t->dg, z, &g, &dg);
     double c = cbrt(z);
     double delta_res = delta - p->delta_Y * (c * c) / g;     /* a_e,max^2 / (C_Rmax R*) */
     delta_res = delta_res < 0.0 ? 0.0 : delta_res;
@@ -629,6 +630,7 @@ int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, con
     case NFD_LAW_THORNTON: return nfd_thornton_step(delta, p, h, force, out);
     case NFD_LAW_VZ_TABLE: return nfd_vz_table_step(delta, p, t, h, force, out, iterations);
     case NFD_LAW_WALTON_BRAUN: return nfd_walton_braun_step(delta, p, h, force, out);
+    case NFD_LAW_VZ_UNLOAD: return nfd_vz_unload_step(delta, p, t, h, force, out, iterations);
     default: return NFD_UNKNOWN_LAW;
     }
 }

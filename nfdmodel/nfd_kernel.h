@@ -19,9 +19,11 @@
  *   vz_table       the NFD structure with load-dependent a_p = a_Y f(x) and C_R = g(x),
  *                  x = P / P_Y, monotone cubic (PCHIP) tables (nfd_table): the force solves
  *                  delta / delta_Y = D(x) = (x^(1/3) + f(x))^2 / g(x) (bracketed Newton);
+ *   vz_unload      vz_table's loading curve with the dent delta_res = rho(x_m) delta_max and the
+ *                  unloading exponent n = m(x_m) tabulated over the turning point (nfd_unload.h);
  *
  * and every law with memory unloads and reloads on P = K_u <delta - delta_res>^n (n = 3/2;
- * walton_braun: n = 1) through its turning point (delta_max, P_max). Fill nfd_params with
+ * walton_braun: n = 1; vz_unload: its m) through its turning point (delta_max, P_max). Fill nfd_params with
  * nfd_pair(); then set the law's constants (Ca, Kc for vz; K1, K2 for walton_braun).
  *
  * Status: NFD_OK; NFD_BEYOND_WINDOW (the force is returned, but the turning point lies beyond
@@ -72,17 +74,22 @@ typedef struct {
     double P_max;         /* force there [N]                                                   */
     double delta_res;     /* approach where the unloading curve reaches 0 [m]                 */
     double K_u;           /* constant of the unloading curve P = K_u <delta - delta_res>^n    */
-    double a_e_max;       /* vz: Hertz radius at P_max [m] (starts the next Newton solve)     */
+    double a_e_max;       /* vz: Hertz radius at P_max [m] (starts the next Newton solve);
+                             vz_unload: the unloading exponent m [-] of this curve (0: virgin) */
 } nfd_history;
 
 /* The vz_table law's tables (nfdmodel.vz_table.VZTableParams): node loads x = P/P_Y (x[0] = 1,
  * increasing), a_p/a_Y = f (f[0] = 0, non-decreasing) and C_R = g (g[0] = 1, > 0) at them; the
- * PCHIP node slopes and D at the nodes are filled in by nfd_table_init. A plain struct (no
- * pointers): copy it, broadcast it, write it to a restart file. */
+ * PCHIP node slopes and D at the nodes are filled in by nfd_table_init. vz_unload's tables over
+ * the turning point follow (n_unload nodes, 0 for vz_table; nfd_unload_table_init, nfd_unload.h).
+ * A plain struct (no pointers): copy it, broadcast it, write it to a restart file. */
 typedef struct {
     int n;
     double x[NFD_TABLE_MAX_NODES], f[NFD_TABLE_MAX_NODES], g[NFD_TABLE_MAX_NODES];
     double df[NFD_TABLE_MAX_NODES], dg[NFD_TABLE_MAX_NODES], D[NFD_TABLE_MAX_NODES];
+    int n_unload;
+    double x_unload[NFD_TABLE_MAX_NODES], dent[NFD_TABLE_MAX_NODES], exponent[NFD_TABLE_MAX_NODES];
+    double d_dent[NFD_TABLE_MAX_NODES], d_exponent[NFD_TABLE_MAX_NODES];
 } nfd_table;
 
 /* nfd_params of a contact pair from R* [m], E* [Pa] and p_Y = A_Y(nu) sigma_Y [Pa]; the vz and
@@ -136,6 +143,13 @@ int nfd_walton_braun_step(double delta, const nfd_params *p, const nfd_history *
  * table is fitted or read: use tables from nfdcal). */
 int nfd_table_init(nfd_table *t, int n, const double *x, const double *f, const double *g);
 
+/* The monotone cubic (PCHIP) interpolant of n nodes x (increasing), values y: its node slopes d
+ * (nfdmodel.pchip.pchip_slopes), and its (value, slope) at z (nfdmodel.pchip.pchip_evaluate; the
+ * straight lines of the end slopes beyond the end nodes). */
+void nfd_pchip_slopes(int n, const double *x, const double *y, double *d);
+void nfd_pchip_evaluate(int n, const double *x, const double *y, const double *d, double z, double *value,
+                        double *slope);
+
 /* vz_table: history as for vz (a_e_max unused); p as for any law (window_P_max optional). */
 int nfd_vz_table_step(double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
                       nfd_history *out, int *iterations);
@@ -154,8 +168,8 @@ double nfd_vz_table_radius(const nfd_params *p, const nfd_table *t, double P);
 int nfd_vz_load(size_t n, const nfd_params *p, const double *delta, double *a_e_max, double *P_max,
                 double *delta_res, double *K_u);     /* the arrays must not overlap */
 
-/* The step of law `law` (NFD_LAW_HERTZ ... NFD_LAW_WALTON_BRAUN, nfd_limits.h): the one dispatch of
- * every caller. t: the vz_table law's tables (NULL for the other laws); iterations may be NULL.
+/* The step of law `law` (NFD_LAW_HERTZ ... NFD_LAW_VZ_UNLOAD, nfd_limits.h): the one dispatch of
+ * every caller. t: the vz_table and vz_unload laws' tables (NULL for the others); iterations may be NULL.
  * Returns the law's status, or NFD_UNKNOWN_LAW for a code outside the table. */
 int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, const nfd_history *h, double *force,
              nfd_history *out, int *iterations);

@@ -20,7 +20,8 @@
 #define NFD_LAW_THORNTON 2
 #define NFD_LAW_VZ_TABLE 3
 #define NFD_LAW_WALTON_BRAUN 4
-#define NFD_LAW_COUNT 5
+#define NFD_LAW_VZ_UNLOAD 5
+#define NFD_LAW_COUNT 6
 
 /* The calibrated window P_max/P_Y assumed for constants that do not state theirs: the largest
  * peak of the default calibration recipe (load paths to 13.7, 27.4 and 41.2 P_Y). */

@@ -26,9 +26,9 @@ from . import hertz, thornton, vz, vz_table, vz_unload, walton_braun
 from .contact_law import ContactDetails, ContactLaw
 
 LAWS: dict[str, ContactLaw] = {law.name: law for law in (hertz.LAW, vz.LAW, vz_table.LAW, thornton.LAW,
-                                                         walton_braun.LAW)}
+                                                         walton_braun.LAW, vz_unload.LAW)}
 
-PYTHON_LAWS: dict[str, ContactLaw] = {law.name: law for law in (vz_unload.LAW,)}
+PYTHON_LAWS: dict[str, ContactLaw] = {}     # every law has its compiled kernel
 
 __all__ = ["LAWS", "PYTHON_LAWS", "ContactDetails", "ContactLaw", "get_law"]
 

@@ -338,17 +338,25 @@ def vz_table_step(delta, state: VZTableState, params: VZTableParams):
     check_state(state, VZTableState, "vz-table")
     delta, shape = check_delta(delta, state.n)
     if native.active():
-        pair = params.pair
-        kernel = native.kernel_params(pair, window_P_max=params.window_force)
-        force, update, (_, beyond, largest_P, widest, widest_radius, _) = native.turning_point_step(
-            native.table_loading(kernel, params.x, params.f, params.g), delta, state, pair, True)
-        if update.size:
-            check_contact_radius_below_R(widest_radius, pair.R_star, float(update.values.delta_max[widest]), params)
-            if beyond:
-                update = dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=largest_P / pair.P_Y)
+        force, update = compiled_table_step(delta, state, params)
         return restore_shape(force, shape), update
     force, update = turning_point_step(delta, state, _loading_branch(params), True, params.pair)
     return restore_shape(force, shape), checked_loading_update(update, params)
+
+
+def compiled_table_step(delta, state, params: VZTableParams):
+    """The step of the vz-table law, or of vz-unload for VZUnloadParams, in the compiled kernel
+    (nfd_vz_table_step, nfd_unload.h): (P [N], HistoryUpdate), the update checked as
+    :func:`checked_loading_update` does from the kernel's widest contact radius."""
+    pair = params.pair
+    kernel = native.kernel_params(pair, window_P_max=params.window_force)
+    force, update, (_, beyond, largest_P, widest, widest_radius, _) = native.turning_point_step(
+        native.table_loading(kernel, native.kernel_table(params)), delta, state, pair, True)
+    if update.size:
+        check_contact_radius_below_R(widest_radius, pair.R_star, float(update.values.delta_max[widest]), params)
+        if beyond:
+            update = dataclasses.replace(update, beyond_window=beyond, largest_load_over_P_Y=largest_P / pair.P_Y)
+    return force, update
 
 
 def checked_loading_update(update, params):

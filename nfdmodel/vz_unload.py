@@ -26,8 +26,9 @@ reaches R* (vz-table's check) and no load-unload cycle returning more work than 
 (W_u <= W_l: e <= 1), checked when the parameters are built. The history stores
 K_u = P_max / (delta_max - delta_res)^m and m per contact (VZUnloadState). This module is the
 law as one unit (parameters, history, numpy kernel, ``LAW``); the scalar specification is
-``nfdmodel.reference.vz_unload_step``. Python only: the C kernel and the LAMMPS plugin do not
-carry it (registry.PYTHON_LAWS).
+``nfdmodel.reference.vz_unload_step``; the compiled twin is nfd_unload.h (the native backend runs
+it, the LAMMPS plugin's pair_style nfd/vz-unload and wall fixes too; the kernel keeps m in
+nfd_history's a_e_max slot).
 """
 from __future__ import annotations
 
@@ -35,13 +36,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import native
 from .contact_law import ContactLaw, plastic_radii
 from .hertz import hertz_kernel
 from .history import (HistoryUpdate, TurningPointHistory, check_delta, check_force, check_state, empty_update,
                       restore_shape, step_and_commit)
 from .pchip import pchip_evaluate, pchip_slopes
 from .validation import check_real
-from .vz_table import VZTableParams, checked_loading_update
+from .vz_table import VZTableParams, checked_loading_update, compiled_table_step
 
 HERTZ_EXPONENT = 1.5            # m at first yield: the elastic unloading of a Hertz contact
 
@@ -149,6 +151,9 @@ def vz_unload_step(delta, state: VZUnloadState, params: VZUnloadParams):
     vz_unload_params(params)
     check_state(state, VZUnloadState, "vz-unload")
     delta, shape = check_delta(delta, state.n)
+    if native.active():
+        force, update = compiled_table_step(delta, state, params)
+        return restore_shape(force, shape), update
     pair = params.pair
     with np.errstate(over="ignore", invalid="ignore"):
         gap = np.maximum(delta - state.delta_res, 0.0)

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 import nfdmodel
-from nfdmodel import ContactPair, Material, VZParams, VZTableParams, WaltonBraunParams, get_law, native
+from nfdmodel import ContactPair, Material, VZParams, VZTableParams, VZUnloadParams, WaltonBraunParams, get_law, native
 from nfdmodel.friction import (Contact, Friction, FrictionState, compiled_contact_step, contact_radius, contact_step,
                                shear_coefficient)
 
@@ -35,7 +35,9 @@ PAIR = ContactPair.sphere_sphere(ALUMINIUM, 0.01, ALUMINIUM, 0.008)
 NODES = np.array([1.0, 3.0, 10.0, 41.0, 200.0])
 TABLE = VZTableParams(PAIR, tuple(NODES), tuple(0.025 * (NODES - 1.0) ** 0.9), tuple(1.0 + 0.01 * (NODES - 1.0)))
 PARAMS = {"hertz": PAIR, "vz": VZParams.from_dimensionless(PAIR, 0.026, 0.0098), "vz-table": TABLE,
-          "thornton": PAIR, "walton-braun": WaltonBraunParams.from_pair(PAIR)}
+          "thornton": PAIR, "walton-braun": WaltonBraunParams.from_pair(PAIR),
+          "vz-unload": VZUnloadParams.from_table(TABLE, (1.0, 2.2, 7.1, 41.0), (0.0, 0.05, 0.2, 0.45),
+                                                 (1.5, 1.46, 1.41, 1.36))}
 K_T = shear_coefficient(ALUMINIUM, ALUMINIUM)
 FULL = dict(tangential="mindlin", k_t=K_T, x_gamma_t=0.5, mu=0.3, rolling="sds", k_roll=1000.0, gamma_roll=0.01,
             mu_roll=0.1)

@@ -46,7 +46,8 @@ import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
 import nfdmodel
 from calib import cli
 from calib import lammps_plugin
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, VZTableParams, VZUnloadParams
+from nfdmodel.parameter_file import law_of
 from nfdmodel.materials import yield_factor
 
 REFERENCE = VZParams.reference()
@@ -54,6 +55,7 @@ ALUMINIUM = Material.reference()
 RADIUS = 0.01                      # m
 DT = 1e-7                          # s: 1200 .. 2200 steps per contact here
 RTOL = 1e-8
+TABLE_LAWS = ("vz-table", "vz-unload")        # the laws of a parameter file's tables
 
 
 @pytest.fixture(scope="module")
@@ -135,7 +137,7 @@ def measured(output: str | np.ndarray, v_in: float) -> dict:
 
 
 def steps_for(params: VZParams | VZTableParams, v_in: float) -> int:
-    law = "vz-table" if isinstance(params, VZTableParams) else "vz"
+    law = law_of(params)
     estimate = nfdmodel.collision_reference(law, params, [v_in]).contact_time_estimate[0]
     return int(1.2 * estimate / DT) + 50
 
@@ -644,20 +646,21 @@ def test_exported_lines_run_the_same_law_in_lammps(plugin, tmp_path, capsys):
                       f"nfdcal export: error: parameter file not found: {tmp_path / 'missing.json'}"]
 
 
-def test_exported_vz_table_lines_run_in_lammps(plugin, tmp_path, capsys):
-    """nfdcal export lammps of a vz-table file: pair_style nfd/vz-table, pair_coeff T T file
+@pytest.mark.parametrize("law", TABLE_LAWS)
+def test_exported_vz_table_lines_run_in_lammps(plugin, tmp_path, capsys, law):
+    """nfdcal export lammps of a vz-table (vz-unload) file: pair_style nfd/<law>, pair_coeff T T file
     <absolute path> and the wall fix; fed to LAMMPS (run from another folder) they give
-    nfdmodel's vz-table collision on the wall within 1e-8. A path with a space is quoted."""
+    nfdmodel's collision of that law on the wall within 1e-8. A path with a space is quoted."""
     import json
 
-    path = table_file(tmp_path)
+    path = table_file(tmp_path, law)
     assert cli.main(["export", "lammps", "--params", str(path), "--type", "2", "--wall", "zlo", "0.0", "--json"]) == 0
     summary = json.loads(capsys.readouterr().out)
-    assert summary["law"] == "vz-table" and summary["table_nodes"] == len(TABLE_NODES[0])
+    assert summary["law"] == law and summary["table_nodes"] == len(TABLE_NODES[0])
     pair_style, pair_coeff, wall_fix = summary["lines"]
-    assert pair_style == "pair_style nfd/vz-table"
+    assert pair_style == f"pair_style nfd/{law}"
     assert pair_coeff == f"pair_coeff 2 2 file {path.resolve()}"
-    assert wall_fix == f"fix nfd_wall all nfd/wall/vz-table zlo 0.0 file {path.resolve()}"
+    assert wall_fix == f"fix nfd_wall all nfd/wall/{law} zlo 0.0 file {path.resolve()}"
     params = nfdmodel.load_parameters(path)
     v_in = 5.0 * params.pair.v_Y
     elsewhere = tmp_path / "run"
@@ -665,7 +668,7 @@ def test_exported_vz_table_lines_run_in_lammps(plugin, tmp_path, capsys):
     text = wall_input(plugin, "", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps_for(params, v_in))
     text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", wall_fix.replace("fix nfd_wall", "fix wall"))
     rows = wall_rows(run_lammps(text, elsewhere))
-    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    py = nfdmodel.collide(law, params, [v_in], dt=DT)
     assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
     assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
 
@@ -682,52 +685,73 @@ def test_exported_vz_table_lines_run_in_lammps(plugin, tmp_path, capsys):
 TABLE_NODES = ((1.0, 3.0, 10.0, 41.0, 200.0, 1000.0), (0.0, 0.06, 0.25, 0.9, 3.0, 10.0),
                (1.0, 1.02, 1.1, 1.4, 2.5, 6.0))
 TABLE_WINDOW = CalibrationWindow(1.0, 200.0, None, "test table")
+# the vz-unload law on the same loading tables: the dent and unloading exponent over the turning
+# point (tests/test_vz_unload.py's UNLOADING), held beyond 41 P_Y
+UNLOADING_NODES = ((1.0, 2.2, 7.1, 41.0), (0.0, 0.05, 0.2, 0.45), (1.5, 1.46, 1.41, 1.36))
 
 
-def table_file(folder: Path) -> Path:
-    """A vz-table parameter file (nfdmodel.parameter_record) of aluminium, R = 1 cm on a flat."""
+def table_params(pair: ContactPair, law: str = "vz-table", nodes=TABLE_NODES) -> VZTableParams:
+    """The vz-table law of ``nodes``, or the vz-unload law on them (UNLOADING_NODES), for ``pair``."""
+    table = VZTableParams(pair, *nodes, TABLE_WINDOW)
+    return VZUnloadParams.from_table(table, *UNLOADING_NODES) if law == "vz-unload" else table
+
+
+def table_file(folder: Path, law: str = "vz-table") -> Path:
+    """A parameter file (nfdmodel.parameter_record) of law vz-table or vz-unload of aluminium, R = 1 cm
+    on a flat."""
     import json
 
-    params = VZTableParams(ContactPair.sphere_flat(ALUMINIUM, RADIUS), *TABLE_NODES, TABLE_WINDOW)
+    params = table_params(ContactPair.sphere_flat(ALUMINIUM, RADIUS), law)
     path = folder / "table.json"
     path.write_text(json.dumps(nfdmodel.parameter_record(params, RADIUS, ALUMINIUM)))
-    assert isinstance(nfdmodel.load_parameters(path), VZTableParams)
+    assert type(nfdmodel.load_parameters(path)) is type(params)
     return path
 
 
+@pytest.mark.parametrize("law", TABLE_LAWS)
 @pytest.mark.parametrize("v_over_v_Y", [2.0, 30.0])
-def test_vz_table_head_on_matches_nfdmodel(plugin, tmp_path, v_over_v_Y):
-    """pair_style nfd/vz-table with pair_coeff 1 1 file params.json (the tables are dimensionless:
-    the file's sphere-on-flat table holds for two spheres) gives nfdmodel's vz-table collision of
-    the two spheres (the same leap-frog at the same dt) within 1e-8; 30 v_Y loads past the 41 P_Y
-    node, where the curvature table bends."""
-    path = table_file(tmp_path)
+def test_vz_table_head_on_matches_nfdmodel(plugin, tmp_path, v_over_v_Y, law):
+    """pair_style nfd/vz-table (nfd/vz-unload) with pair_coeff 1 1 file params.json (the tables are
+    dimensionless: the file's sphere-on-flat table holds for two spheres) gives nfdmodel's collision
+    of the two spheres with that law (the same leap-frog at the same dt) within 1e-8 in e, P_max and
+    contact time, and the dent (the pair's delta_res, compute pair/local p5) at separation within
+    1e-8 of nfdmodel's; 30 v_Y loads past the 41 P_Y node, where the curvature table bends (and the
+    unloading tables are held)."""
+    path = table_file(tmp_path, law)
     pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
-    params = VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW)
+    params = table_params(pair, law)
     v_in = v_over_v_Y * pair.v_Y
     steps = steps_for(params, v_in)
-    text = impact_input(plugin, aluminium_spheres(v_in), {1: f"file {path}"}, steps, pair_style="nfd/vz-table")
+    text = impact_input(plugin, aluminium_spheres(v_in), {1: f"file {path}"}, steps, pair_style=f"nfd/{law}")
     lmp = measured(run_lammps(text, tmp_path), v_in)
-    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    py = nfdmodel.collide(law, params, [v_in], dt=DT)
     assert_same(lmp, py)
+    delta, force, _, _, delta_res = lmp["rows"][:, 1:].T
+    n, _ = separation(delta, force, delta_res)
+    assert delta_res[n - 1] == pytest.approx(py.delta_res[0], rel=RTOL) and py.delta_res[0] > 0.0
     assert py.P_max[0] / pair.P_Y > (41.0 if v_over_v_Y > 10 else 1.0)
-    assert lmp["report"] == ["pair nfd/vz-table: 0 contacts loaded beyond the calibrated window"]
+    assert lmp["report"] == [f"pair nfd/{law}: 0 contacts loaded beyond the calibrated window"]
 
 
-def test_vz_table_wall_matches_nfdmodel(plugin, tmp_path):
-    """fix nfd/wall/vz-table zlo 0.0 file params.json: the file's own setting (its sphere on a
-    rigid flat) gives nfdmodel's vz-table collision within 1e-8."""
-    path = table_file(tmp_path)
+@pytest.mark.parametrize("law", TABLE_LAWS)
+def test_vz_table_wall_matches_nfdmodel(plugin, tmp_path, law):
+    """fix nfd/wall/vz-table (nfd/wall/vz-unload) zlo 0.0 file params.json: the file's own setting
+    (its sphere on a rigid flat) gives nfdmodel's collision with that law within 1e-8 in e and P_max,
+    and the dent (the fix's per-atom delta_res) at separation within 1e-8 of nfdmodel's."""
+    path = table_file(tmp_path, law)
     params = nfdmodel.load_parameters(path)
     v_in = 20.0 * params.pair.v_Y
     steps = steps_for(params, v_in)
     output = run_lammps(wall_input(plugin, f"file {path}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)], steps,
-                                   style="nfd/wall/vz-table"), tmp_path)
+                                   style=f"nfd/wall/{law}"), tmp_path)
     rows = wall_rows(output)
-    py = nfdmodel.collide("vz-table", params, [v_in], dt=DT)
+    py = nfdmodel.collide(law, params, [v_in], dt=DT)
     assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
     assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
-    assert "fix wall (nfd/wall/vz-table): 0 contacts loaded beyond the calibrated window" in output
+    delta, force, _, _, delta_res = rows[:, 1:6].T
+    n, _ = separation(delta, force, delta_res)
+    assert delta_res[n - 1] == pytest.approx(py.delta_res[0], rel=RTOL) and py.delta_res[0] > 0.0
+    assert f"fix wall (nfd/wall/{law}): 0 contacts loaded beyond the calibrated window" in output
 
 
 def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path):
@@ -758,7 +782,10 @@ def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path
     assert abs(other.e_velocity[0] / py.e_velocity[0] - 1.0) > 1e-3
 
 
-@pytest.mark.parametrize("content, message", [
+GOOD_TABLE = {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}
+GOOD_UNLOADING = {"P_max_over_P_Y": [1, 2], "dent": [0, 0.1], "exponent": [1.5, 1.4]}
+MATERIAL = {"E": 7e10, "nu": 0.3, "sigma_y": 1e8}
+BAD_TABLE_FILES = [
     (None, "cannot be read (missing or unreadable)"),
     ("{not json", "not valid JSON"),
     ({"law": "vz", "Ca": 2e-7, "Kc": 3e-4, "material": {"E": 7e10, "nu": 0.3, "sigma_y": 1e8}},
@@ -780,23 +807,39 @@ def test_vz_table_dissimilar_types_take_the_yielding_body_table(plugin, tmp_path
       "table": {"P_over_P_Y": [1, 2], "a_p_over_a_Y": [0, 0.1], "C_R": [1, 1.1]}},
      "material.sigma_y out of range for a solid: need 10000 <= sigma_y <= 1e+11 Pa (yield stress of solids), got "
      "100; did you give MPa? 100 MPa = 1e+08 Pa"),
-])
-def test_bad_vz_table_files_are_named(plugin, tmp_path, content, message):
+]
+# the vz-unload law's files: its unloading tables, and each law's style refusing the other's file
+BAD_UNLOAD_FILES = [
+    ({"law": "vz-table", "material": MATERIAL, "table": GOOD_TABLE},
+     "law out of range: need 'vz-unload', got 'vz-table'"),
+    ({"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE}, "missing 'unloading' object"),
+    ({"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE, "unloading": {**GOOD_UNLOADING, "dent": [0, 1.0]}},
+     "unloading out of range: need P_max_over_P_Y[0] = 1 and increasing, dent[0] = 0 and 0 <= dent < 1"),
+    ({"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE,
+      "unloading": {**GOOD_UNLOADING, "exponent": [1.5]}}, "unloading out of range: need 2..64 nodes"),
+]
+
+
+@pytest.mark.parametrize("law, content, message", [("vz-table", c, m) for c, m in BAD_TABLE_FILES] + [
+    ("vz-table", {"law": "vz-unload", "material": MATERIAL, "table": GOOD_TABLE, "unloading": GOOD_UNLOADING},
+     "law out of range: need 'vz-table', got 'vz-unload'")] + [("vz-unload", c, m) for c, m in BAD_UNLOAD_FILES])
+def test_bad_vz_table_files_are_named(plugin, tmp_path, law, content, message):
     """A bad parameter file is one line naming the file, the key and the range, in pair_coeff and in
-    the wall fix (also the material's unit slips: E in GPa, sigma_y in MPa)."""
+    the wall fix (also the material's unit slips: E in GPa, sigma_y in MPa), for nfd/vz-table and
+    nfd/vz-unload."""
     import json
 
     path = tmp_path / "bad.json"
     if content is not None:
         path.write_text(content if isinstance(content, str) else json.dumps(content))
-    text = impact_input(plugin, aluminium_spheres(1.0), {1: f"file {path}"}, 1, pair_style="nfd/vz-table")
+    text = impact_input(plugin, aluminium_spheres(1.0), {1: f"file {path}"}, 1, pair_style=f"nfd/{law}")
     output = run_lammps(text, tmp_path)
     error = next(line for line in output.splitlines() if line.startswith("ERROR"))
-    assert f"pair_coeff for nfd/vz-table: parameter file {path}" in error and message in error, error
+    assert f"pair_coeff for nfd/{law}: parameter file {path}" in error and message in error, error
     wall = wall_input(plugin, f"file {path}", [(RADIUS, 0.0, RADIUS, -1.0, ALUMINIUM.rho)], 1,
-                      style="nfd/wall/vz-table")
+                      style=f"nfd/wall/{law}")
     error = next(line for line in run_lammps(wall, tmp_path).splitlines() if line.startswith("ERROR"))
-    assert f"fix nfd/wall/vz-table: parameter file {path}" in error and message in error, error
+    assert f"fix nfd/wall/{law}: parameter file {path}" in error and message in error, error
 
 
 def test_pour_on_two_mpi_ranks_equals_one(plugin, tmp_path):

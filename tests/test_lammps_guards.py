@@ -33,7 +33,7 @@ from calib import lammps_plugin
 from nfdmodel import limits
 
 LAWS = {"vz": "70e9 0.3 100e6 0.026 0.0098", "vz-table": None, "thornton": "70e9 0.3 100e6",
-        "hertz": "70e9 0.3", "walton-braun": "1e6 2e6"}
+        "hertz": "70e9 0.3", "walton-braun": "1e6 2e6", "vz-unload": None}
 
 
 @pytest.fixture(scope="module")

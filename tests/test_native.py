@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 import nfdmodel
-from nfdmodel import VZParams, VZTableParams, WaltonBraunParams, collide, get_law, native
+from nfdmodel import VZParams, VZTableParams, VZUnloadParams, WaltonBraunParams, collide, get_law, native
 
 pytestmark = pytest.mark.skipif(native._native is None, reason="the compiled kernel is not built here")
 
@@ -26,11 +26,15 @@ RTOL = 1e-12
 NODES = np.geomspace(1.0, 1000.0, 17)
 F_NODES = 0.03 * (NODES - 1.0) ** 0.8
 TABLE = VZTableParams(PAIR, tuple(NODES), tuple(F_NODES), tuple(1.0 + 0.25 * F_NODES ** 0.9))   # bends over 1..1000 P_Y
+# the dent and unloading exponent over the turning point, held beyond 41 P_Y
+UNLOAD = VZUnloadParams.from_table(TABLE, (1.0, 2.2, 7.1, 41.0), (0.0, 0.05, 0.2, 0.45), (1.5, 1.46, 1.41, 1.36))
 
 
 def params_for(name, Ca_factor=1.0, Kc_factor=1.0, pair=PAIR):
     if name == "vz-table":
         return TABLE
+    if name == "vz-unload":
+        return UNLOAD
     if name == "vz":
         return VZParams(pair, REF.Ca * Ca_factor, REF.Kc * Kc_factor)
     if name == "walton-braun":
@@ -48,9 +52,9 @@ def run(name, params, deltas, backend, dtype=np.float64):
             P, update = law.step(row.astype(dtype), state, params)
             law.commit(state, update)
             forces.append(P)
-            histories.append({f: getattr(state, f).copy() for f in ("delta_max", "P_max", "delta_res",
-                                                                     "unloading_stiffness")}
-                             if name != "hertz" else {})
+            fields = ("delta_max", "P_max", "delta_res", "unloading_stiffness") + (
+                ("unloading_exponent",) if name == "vz-unload" else ())
+            histories.append({f: getattr(state, f).copy() for f in fields} if name != "hertz" else {})
     return np.array(forces), histories
 
 
@@ -62,13 +66,13 @@ def assert_same(a, b, scale=0.0):
 
 # each history field's natural scale (m, N, N/m) for the absolute floor of assert_same
 FIELD_SCALE = {"delta_max": PAIR.delta_Y, "P_max": PAIR.P_Y, "delta_res": PAIR.delta_Y,
-               "unloading_stiffness": PAIR.P_Y / PAIR.delta_Y}
+               "unloading_stiffness": PAIR.P_Y / PAIR.delta_Y, "unloading_exponent": 1.0}
 
 
 paths = st.lists(st.lists(st.floats(-3.0, 500.0, allow_nan=False), min_size=1, max_size=25), min_size=1, max_size=6)
 
 
-@pytest.mark.parametrize("name", ["vz", "vz-table", "thornton", "walton-braun", "hertz"])
+@pytest.mark.parametrize("name", ["vz", "vz-table", "thornton", "walton-braun", "hertz", "vz-unload"])
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow,
                                                                  HealthCheck.function_scoped_fixture])
 @given(contact_paths=paths, float32=st.booleans())

@@ -1,8 +1,8 @@
 """The vz-unload law as a user reaches it: its parameter file (record -> file -> load gives the same
 forces; a bad table refused naming it), ``nfdcal calibrate --ship unload`` on the coarse mesh (its
 dent against an FE path held out of the fit, refitted here from the run's CSV files), ``nfdcal
-collide --params`` against nfdmodel called directly, and the refusals (export lammps, a law the
-file does not hold), one line, exit 2."""
+collide --params`` against nfdmodel called directly, and the refusals (export lammps of a file on a
+counter-body, a law the file does not hold), one line, exit 2."""
 import contextlib
 import csv
 import io
@@ -104,9 +104,23 @@ def test_collide_with_the_file_is_nfdmodel_called_directly(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)[0]["e_velocity"] == pytest.approx(direct.e_velocity[1], rel=1e-12)
 
 
+def test_export_of_a_vz_unload_file_on_a_counter_body_says_so_in_one_line(tmp_path, capsys):
+    """A vz-unload file calibrated on a counter-body: its like-type laws would come from the master
+    tables, which carry no unloading tables (the plugin runs a file of the sphere on a flat:
+    tests/test_lammps.py)."""
+    flat = {"shape": "flat", "E": 2.1e11, "nu": 0.3, "sigma_y": None, "R": None}
+
+    def on_the_flat(record):        # the pair's quantities follow from the materials
+        for key in ("P_Y", "a_Y", "delta_Y", "mass_star"):
+            record.pop(key)
+        record.update(counter_body=flat)
+
+    path = write_file(tmp_path / "p.json", edit=on_the_flat)
+    one_line_refusal(["export", "lammps", "--params", str(path), "--wall", "zlo", "0"], capsys,
+                     "a vz-unload file on a counter-body out of range for export lammps")
+
+
 @pytest.mark.parametrize("argv, match", [
-    (["export", "lammps", "--params", "{file}"], "the LAMMPS plugin does not have it"),
-    (["export", "lammps", "--params", "{file}", "--wall", "zlo", "0"], "the LAMMPS plugin does not have it"),
     (["collide", "--law", "vz-table", "--params", "{file}", "--v-in", "0.05"], "the file holds the vz-unload law"),
     (["collide", "--law", "vz", "--params", "{file}", "--v-in", "0.05"], "the file holds the vz-unload law"),
     (["collide", "--law", "vz-unload", "--v-in", "0.05"], "--law vz-unload needs --params FILE"),

@@ -8,7 +8,7 @@ and recorded. The parameter file ships, by default, the vz-table law fitted to t
 calib.fit.calibration (E_TARGET in e, FORCE_TARGET in force) where the two constants miss them;
 ``--ship radius`` or ``force`` ships the two constants on the FE paths where they meet them;
 ``--ship unload`` the vz-unload law (calib.fit.unload_ship: the FE's contact radius, dent and
-unloading exponent as tables; Python only, no LAMMPS export), with its dent, contact radius at the
+unloading exponent as tables; nfdmodel, the C kernel and the LAMMPS plugin run it), with its dent, contact radius at the
 peak, unloading force and e against the FE paths it was fitted on and against interior paths held
 out of its fit.
 
@@ -60,7 +60,7 @@ def add_parser(subparsers) -> None:
                              " the accuracy targets), the paper's two constants fitted to the contact radius"
                              " (radius) or to the force (force), declared only over the FE paths where they meet"
                              " the targets, or the vz-unload law (unload: also the FE's dent, contact radius and"
-                             " unloading curve; Python only)")
+                             " unloading curve)")
     parser.add_argument("--kinematics", default="small", choices=tuple(KINEMATICS_FLAG),
                         help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
                              " Hencky strain; the sphere on the rigid flat or an elastic counter-body, without --v-max, --ladder or"

@@ -19,8 +19,6 @@ numbers in SI units to 17 significant digits (LAMMPS reads back the file's value
 window the constants were fitted on (its lower end, the lowest unloading fitted, when above first
 yield: the plugin counts contacts that turn below it). The constants are the material's (Ca_hat, Kc_hat of a sphere
 on a flat: the dimensionless constants transfer to any pair, nfdmodel/README.md: the dimensionless constants).
-A vz-unload file (``nfdcal calibrate --ship unload``) is refused, one line, exit 2: the plugin does
-not have that law (nfdmodel.registry.PYTHON_LAWS).
 A vz-table file (its tables, too long for a line) is named by its absolute path, which the
 plugin reads:
 
@@ -28,6 +26,11 @@ plugin reads:
     pair_coeff T T file /abs/path/params.json
     fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/path/params.json              (--wall)
     fix nfd_wall_region all nfd/wall/region/vz-table REGION-ID file /abs/path/params.json (--wall-region)
+
+and a vz-unload file (``nfdcal calibrate --ship unload``: the tables with the dent and unloading
+exponent) the same way, on pair_style nfd/vz-unload and the fixes nfd/wall/vz-unload and
+nfd/wall/region/vz-unload. A vz-unload file calibrated on a counter-body is refused, one line,
+exit 2: its like-type laws would come from the master tables, which carry no unloading tables.
 
 With --wall-E E_W --wall-nu NU_W the wall lines carry ``wall_material E_W NU_W`` after the
 constants: a wall of that elastic material (E* of the sphere and the wall in series, first yield
@@ -174,6 +177,10 @@ def run(ns) -> int:
                          f"plugin does not have it (a Python-only law; nfdcal collide --params runs it); export a vz "
                          f"or vz-table file (nfdcal calibrate --ship table)")
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
+    if counter is not None and law_of(params) == "vz-unload":
+        raise ValueError(f"--params {ns.params}: a vz-unload file on a counter-body out of range for export "
+                         f"lammps: its like-type laws come from the master tables, which carry no dent or unloading "
+                         f"exponent tables; export a vz-table file of the pair (nfdcal calibrate --ship table)")
     if counter is not None:
         if file_hardening_line(ns.params) is not None:
             raise ValueError(f"--params {ns.params}: a hardening sphere's file on a counter-body out of range for export "
@@ -196,9 +203,9 @@ def run(ns) -> int:
         law_args = " ".join(exact(v) for v in numbers) + f" window {window_args(params.window)}"
         summary.update(law="vz", Ca_hat=params.Ca_hat, Kc_hat=params.Kc_hat)
     else:
-        law = "vz-table"
+        law = law_of(params)            # vz-table or vz-unload: the plugin reads the file's tables
         law_args = f"file {quoted(str(Path(ns.params).resolve()))}"
-        summary.update(law="vz-table", table_nodes=len(params.x))
+        summary.update(law=law, table_nodes=len(params.x))
     constants = law_args
     models = model_keywords(ns)
     if models:

@@ -75,7 +75,8 @@ Positive = Annotated[Number, Field(gt=0)]
 Ratio = Annotated[Number, Field(gt=0, le=1e4)]          # a multiple of P_Y or v_Y
 PoissonRatio = Annotated[Number, Field(ge=0, lt=limits.NU_MAX)]
 Flag = Annotated[bool, Strict()]
-Law = Literal[tuple(LAWS)]          # every law of the registry (nfdmodel.registry)
+# every law of the registry (nfdmodel.registry) but vz-unload, whose unloading tables no scene stage fits
+Law = Literal[tuple(name for name in LAWS if name != "vz-unload")]
 
 
 def _list_of(item):

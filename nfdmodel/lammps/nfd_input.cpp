@@ -5,6 +5,8 @@
  */
 #include "nfd_input.h"
 
+#include "../nfd_unload.h"
+
 #include "comm.h"
 #include "error.h"
 #include "json.h"
@@ -138,7 +140,33 @@ static double file_number(LAMMPS *lmp, const std::string &where, const json &val
     return v;
 }
 
-NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::string &path)
+/* The columns `keys` of the file's object `name` (2..NFD_TABLE_MAX_NODES numbers each, as many in each). */
+static std::vector<std::vector<double>> file_columns(LAMMPS *lmp, const std::string &in, const json &data,
+                                                     const char *name, const std::vector<const char *> &keys)
+{
+    if (!data.contains(name) || !data[name].is_object())
+        lmp->error->all(FLERR, fmt::format("{} missing '{}' object ({}, {}, {})", in, name, keys[0], keys[1], keys[2]));
+    const json &table = data[name];
+    std::vector<std::vector<double>> column(keys.size());
+    for (size_t k = 0; k < keys.size(); ++k) {
+        if (!table.contains(keys[k]) || !table[keys[k]].is_array())
+            lmp->error->all(FLERR, fmt::format("{} missing {}.{} (a list of numbers)", in, name, keys[k]));
+        const json &nodes = table[keys[k]];
+        for (size_t n = 0; n < nodes.size(); ++n)
+            column[k].push_back(file_number(lmp, fmt::format("{} {}.{}[{}]", in, name, keys[k], n), nodes[n],
+                                            -INFINITY, true, INFINITY, true, "a finite number"));
+    }
+    const size_t n = column[0].size();
+    bool same = true;
+    for (const auto &c : column) same = same && c.size() == n;
+    if (n < 2 || n > NFD_TABLE_MAX_NODES || !same)
+        lmp->error->all(FLERR, fmt::format("{} {} out of range: need 2..{} nodes, the same number in each list, "
+                                           "got {} in {}", in, name, NFD_TABLE_MAX_NODES, n, keys[0]));
+    return column;
+}
+
+NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::string &path,
+                                const std::string &law_name)
 {
     const std::string text = read_on_rank_zero(lmp, who, path);
     const std::string in = fmt::format("{}: parameter file {}:", who, path);
@@ -150,9 +178,10 @@ NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::
     }
     if (!data.is_object()) lmp->error->all(FLERR, fmt::format("{} expected a JSON object at the top level", in));
     const std::string law = data.contains("law") && data["law"].is_string() ? data["law"].get<std::string>() : "vz";
-    if (law != "vz-table")
-        lmp->error->all(FLERR, fmt::format("{} law out of range: need 'vz-table', got '{}' (a two-constant file: "
-                                           "pair_style nfd/vz with the numbers of nfdcal export lammps)", in, law));
+    if (law != law_name)
+        lmp->error->all(FLERR, fmt::format("{} law out of range: need '{}', got '{}' (pair_style nfd/{} takes it; a "
+                                           "two-constant file: pair_style nfd/vz with the numbers of nfdcal export "
+                                           "lammps)", in, law_name, law, law));
     if (!data.contains("material") || !data["material"].is_object())
         lmp->error->all(FLERR, fmt::format("{} missing 'material' object (E, nu, sigma_y)", in));
     const json &material = data["material"];
@@ -168,27 +197,19 @@ NfdMaterial read_parameter_file(LAMMPS *lmp, const std::string &who, const std::
     check_solid(lmp, in, "sigma_y", "material.sigma_y", mat.sigma_y);
     mat.p_Y = nfd_yield_pressure(mat.sigma_y, mat.nu);
     mat.E_star = nfd_plane_strain_modulus(mat.E, mat.nu);
-    if (!data.contains("table") || !data["table"].is_object())
-        lmp->error->all(FLERR, fmt::format("{} missing 'table' object (P_over_P_Y, a_p_over_a_Y, C_R)", in));
-    const json &table = data["table"];
-    std::vector<double> column[3];
-    const char *keys[3] = {"P_over_P_Y", "a_p_over_a_Y", "C_R"};
-    for (int k = 0; k < 3; ++k) {
-        if (!table.contains(keys[k]) || !table[keys[k]].is_array())
-            lmp->error->all(FLERR, fmt::format("{} missing table.{} (a list of numbers)", in, keys[k]));
-        const json &nodes = table[keys[k]];
-        for (size_t n = 0; n < nodes.size(); ++n)
-            column[k].push_back(file_number(lmp, fmt::format("{} table.{}[{}]", in, keys[k], n), nodes[n],
-                                            -INFINITY, true, INFINITY, true, "a finite number"));
-    }
+    const auto column = file_columns(lmp, in, data, "table", {"P_over_P_Y", "a_p_over_a_Y", "C_R"});
     const size_t n = column[0].size();
-    if (n < 2 || n > NFD_TABLE_MAX_NODES || column[1].size() != n || column[2].size() != n)
-        lmp->error->all(FLERR, fmt::format("{} table out of range: need 2..{} nodes, the same number in each list, "
-                                           "got {}, {}, {}", in, NFD_TABLE_MAX_NODES, n, column[1].size(),
-                                           column[2].size()));
     if (nfd_table_init(&mat.table, static_cast<int>(n), column[0].data(), column[1].data(), column[2].data()) != 0)
         lmp->error->all(FLERR, fmt::format("{} table out of range: need P_over_P_Y[0] = 1 and increasing, "
                                            "a_p_over_a_Y[0] = 0 and non-decreasing, C_R[0] = 1 and > 0", in));
+    if (law_name == "vz-unload") {      // the dent and unloading exponent over the turning point
+        const auto u = file_columns(lmp, in, data, "unloading", {"P_max_over_P_Y", "dent", "exponent"});
+        if (nfd_unload_table_init(&mat.table, static_cast<int>(u[0].size()), u[0].data(), u[1].data(),
+                                  u[2].data()) != 0)
+            lmp->error->all(FLERR, fmt::format("{} unloading out of range: need P_max_over_P_Y[0] = 1 and "
+                                               "increasing, dent[0] = 0 and 0 <= dent < 1, exponent[0] = 1.5 and "
+                                               "exponent > 0", in));
+    }
     mat.window = column[0][n - 1];
     // the counter-body the file was calibrated on (nfdmodel/parameter_file.py): its shape and yield pressure
     if (data.contains("counter_body") && data["counter_body"].is_object()) {

@@ -39,11 +39,13 @@ double check_solid(LAMMPS_NS::LAMMPS *lmp, const std::string &where, const char 
  * where the law fails and the admissible range of Kc_hat for this Ca_hat (nfdmodel.VZParams' check). */
 void check_vz_admissible(LAMMPS_NS::LAMMPS *lmp, const std::string &who, double Ca_hat, double Kc_hat);
 
-/* The vz-table law of an nfdcal parameter file (nfdmodel/parameter_file.py, law "vz-table"):
+/* The law `law` ("vz-table" or "vz-unload") of an nfdcal parameter file (nfdmodel/parameter_file.py):
  * material E [Pa], nu, sigma_y [Pa]; table P_over_P_Y, a_p_over_a_Y, C_R (2..NFD_TABLE_MAX_NODES
- * nodes, the rules of nfd_table_init); window P_max_over_P_Y (absent: the table's last node, as
- * nfdmodel.VZTableParams). Read on rank 0 and broadcast. */
-NfdMaterial read_parameter_file(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &path);
+ * nodes, the rules of nfd_table_init); vz-unload also unloading P_max_over_P_Y, dent, exponent (the
+ * rules of nfd_unload_table_init); window P_max_over_P_Y (absent: the table's last node, as
+ * nfdmodel.VZTableParams). A file of another law is refused. Read on rank 0 and broadcast. */
+NfdMaterial read_parameter_file(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &path,
+                                const std::string &law);
 
 }    // namespace nfdcal_lammps
 

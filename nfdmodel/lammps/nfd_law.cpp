@@ -1,15 +1,17 @@
-/* nfd_law.cpp: the five laws of the plugin (nfd_law.h), one class each, and their registry.
+/* nfd_law.cpp: the six laws of the plugin (nfd_law.h), one class each, and their registry.
  *
  *   hertz         pair_coeff I I E nu
  *   thornton      pair_coeff I I E nu sigma_y
  *   vz            pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y]
  *   vz-table      pair_coeff I I file params.json          (an nfdcal parameter file)
+ *   vz-unload     pair_coeff I I file params.json          (an nfdcal parameter file of that law)
  *   walton-braun  pair_coeff I J K1 K2                      (stiffnesses [N/m], mixed in series)
  *
  * and, for a pair of unlike types calibrated as a pair (read_pair):
  *
  *   vz            pair_coeff I J Ca_hat Kc_hat [window [P_min/P_Y] P_max/P_Y]
  *   vz-table      pair_coeff I J file pair.json             (a counter-body parameter file)
+ *   vz-unload     pair_coeff I J file pair.json             (the same, of law vz-unload)
  *
  * SI units; the dimensionless vz constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y hold for any
  * pair of the material (README of this folder, Mixing).
@@ -79,6 +81,9 @@ uint64_t NfdLaw::fingerprint(const NfdMaterial &m) const
     z = mix64(z ^ static_cast<uint64_t>(m.table.n));
     for (int n = 0; n < m.table.n; ++n)
         for (double v : {m.table.x[n], m.table.f[n], m.table.g[n]}) z = mix_double(z, v);
+    if (m.table.n_unload > 0) z = mix64(z ^ static_cast<uint64_t>(m.table.n_unload));   // vz-unload's tables
+    for (int n = 0; n < m.table.n_unload; ++n)
+        for (double v : {m.table.x_unload[n], m.table.dent[n], m.table.exponent[n]}) z = mix_double(z, v);
     if (!m.models.any()) return z;       // the fingerprint of a frictionless material is the law's alone
     const NfdModels &c = m.models;
     z = mix64(z ^ static_cast<uint64_t>(c.damping + 8 * (c.tangential + 8 * (c.rolling + 8 * c.twisting))));
@@ -207,25 +212,27 @@ class VzLaw : public SolidLaw {
     }
 };
 
+/* The law of an nfdcal parameter file's tables (vz-table; VzUnloadLaw reads its own files the same way). */
 class VzTableLaw : public NfdLaw {
  public:
-    VzTableLaw() : NfdLaw(NFD_LAW_VZ_TABLE, "vz-table", "NFD law with FE tables of a_p and C_R", true, false) {}
+    VzTableLaw() : VzTableLaw(NFD_LAW_VZ_TABLE, "vz-table", "NFD law with FE tables of a_p and C_R") {}
+    VzTableLaw(int code, const char *name, const char *title) : NfdLaw(code, name, title, true, false), name(name) {}
 
     NfdMaterial read(LAMMPS *lmp, const std::string &who, bool wall, int narg, char **arg) const override
     {
         if (narg != 2 || std::strcmp(arg[0], "file") != 0)
-            lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law vz-table) "
-                                               "after the {}, got {} arguments", who, after(wall), narg));
-        return read_parameter_file(lmp, who, arg[1]);
+            lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law {}) "
+                                               "after the {}, got {} arguments", who, name, after(wall), narg));
+        return read_parameter_file(lmp, who, arg[1], name);
     }
 
     /* a counter-body parameter file's tables and window (its material is the types') */
     NfdMaterial read_pair(LAMMPS *lmp, const std::string &who, int narg, char **arg) const override
     {
         if (narg != 2 || std::strcmp(arg[0], "file") != 0)
-            lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law vz-table, "
-                                               "calibrated for this pair), got {} arguments", who, narg));
-        return read_parameter_file(lmp, who, arg[1]);
+            lmp->error->all(FLERR, fmt::format("{}: need 'file PATH' (an nfdcal parameter file of law {}, "
+                                               "calibrated for this pair), got {} arguments", who, name, narg));
+        return read_parameter_file(lmp, who, arg[1], name);
     }
 
     nfd_params params(double R_star, const NfdMaterial &c) const override
@@ -233,6 +240,18 @@ class VzTableLaw : public NfdLaw {
         nfd_params p = nfd_pair(R_star, c.E_star, c.p_Y);
         p.window_P_max = c.window * p.P_Y;
         return p;
+    }
+
+ private:
+    const char *name;
+};
+
+/* vz-table's loading tables with the dent and unloading exponent over the turning point (nfd_unload.h). */
+class VzUnloadLaw : public VzTableLaw {
+ public:
+    VzUnloadLaw() :
+        VzTableLaw(NFD_LAW_VZ_UNLOAD, "vz-unload", "NFD law with FE tables of a_p, C_R, dent and unloading exponent")
+    {
     }
 };
 
@@ -292,7 +311,8 @@ static const NfdLaw *const *all_laws()
     static const ThorntonLaw thornton;
     static const VzTableLaw vz_table;
     static const WaltonBraunLaw walton_braun;
-    static const NfdLaw *const laws[] = {&hertz, &vz, &thornton, &vz_table, &walton_braun, nullptr};
+    static const VzUnloadLaw vz_unload;
+    static const NfdLaw *const laws[] = {&hertz, &vz, &thornton, &vz_table, &walton_braun, &vz_unload, nullptr};
     return laws;
 }
 
