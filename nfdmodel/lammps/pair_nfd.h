@@ -18,7 +18,7 @@
 #ifndef NFD_LAMMPS_PAIR_NFD_H
 #define NFD_LAMMPS_PAIR_NFD_H
 
-#include "nfd_law.h"
+#include "nfd_energy.h"
 #include "nfd_time_step.h"
 #include "pair.h"
 
@@ -60,6 +60,8 @@ class PairNfd : public LAMMPS_NS::Pair {
     void contact_with_models(int i, int j, double delx, double dely, double delz, double r, const NfdMaterial &c,
                              const nfd_params &p, double *stored);
     void count_below_window(int i, int j, const double *stored);
+    void law_energy(int i, int j, double delx, double dely, double delz, double r, double delta,
+                    const nfd_history &next, double force, double *stored);
     void see_contact_start(int i, int j, double delx, double dely, double delz, double r, const nfd_params &p);
     void report_below_window();
     void create_history_fix();
