@@ -633,17 +633,6 @@ int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, con
     }
 }
 
-double nfd_elastic_energy(int law, double delta, const nfd_history *h, double P)
-{
-    double gap = delta - h->delta_res, exponent;
-    switch (law) {
-    case NFD_LAW_HERTZ: case NFD_LAW_VZ: case NFD_LAW_THORNTON: case NFD_LAW_VZ_TABLE: exponent = 1.5; break;
-    case NFD_LAW_WALTON_BRAUN: exponent = 1.0; break;
-    default: return NAN;
-    }
-    return P * (gap > 0.0 ? gap : 0.0) / (exponent + 1.0);
-}
-
 /* ------------------------------------------------------------------------- vz admissibility */
 /* The 12-point Gauss-Legendre rule on [-1, 1] (numpy.polynomial.legendre.leggauss(12)): nodes +-x. */
 static const double gauss_x[6] = {0.1252334085114689, 0.3678314989981802, 0.5873179542866175,
