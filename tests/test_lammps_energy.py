@@ -7,6 +7,8 @@ pair_style nfd/<law> and the wall fixes' per-atom columns, against what the law 
   oblique two-sphere collision of unequal radii with spins and in a sphere-on-wall impact, with normal
   damping, tangential friction and damping (and rolling and twisting resistance); each part positive.
 - The normal and tangential forces reported make up the force on the atom, |f| = sqrt(F_n^2 + |F_t|^2).
+- On 2 MPI ranks with the contact on their boundary, and through a restart file written mid-contact, the
+  same numbers bit for bit.
 - Without damping and friction the plastic part equals 1/2 m* (v_in^2 - v_out^2) of the run and the
   law's (1 - e^2) 1/2 m* v_in^2 of nfdmodel.collision_reference (energy balance, no time stepping) to
   the integrator's level, 1e-5 (measured 1.2e-6 for the spheres, 1.8e-6 on the wall, ~500 steps per
@@ -63,11 +65,13 @@ def steps_for(pair: ContactPair, v_in: float) -> int:
     return int(4.0 * nfdmodel.collision_reference("vz", params, [v_in]).contact_time_estimate[0] / DT) + 200
 
 
-def two_spheres(plugin: str, models: str, v: tuple, spins: tuple, steps: int) -> str:
-    """Spheres R_1 (atom 1) and R_2 (atom 2) touching on the x axis; atom 2 at velocity v = (vx, vy, vz)
-    towards atom 1 at rest; spins (omega_1, omega_2) 3-vectors."""
+def two_spheres(plugin: str, models: str, v: tuple, spins: tuple, steps: int, processors: str = "") -> str:
+    """Spheres R_1 (atom 1) and R_2 (atom 2) touching on the x axis at x = 0 (the boundary of two ranks
+    with processors 2 1 1); atom 2 at velocity v = (vx, vy, vz) towards atom 1 at rest; spins (omega_1,
+    omega_2) 3-vectors."""
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
-             "boundary f f f", "region box block -0.1 0.1 -0.05 0.05 -0.05 0.05", "create_box 1 box",
+             "boundary f f f"] + ([f"processors {processors}"] if processors else []) + [
+             "region box block -0.1 0.1 -0.05 0.05 -0.05 0.05", "create_box 1 box",
              f"create_atoms 1 single {num(-R_1)} 0 0", f"create_atoms 1 single {num(R_2)} 0 0",
              f"set atom 1 diameter {num(2 * R_1)} density {num(MATERIAL.rho)}",
              f"set atom 2 diameter {num(2 * R_2)} density {num(MATERIAL.rho)}",
@@ -108,10 +112,10 @@ def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int) 
     return "\n".join(lines) + "\n"
 
 
-def run(text: str, folder: Path) -> dict:
+def run(text: str, folder: Path, nprocs: int = 1) -> dict:
     """The rows of the run: kinetic energy (translational + rotational) per step, and the contact's
     columns (delta, dent, F_n, |F_t|, D_p, D_v, D_f) and |f| at the steps it was in contact."""
-    code, output = lammps_pour.run_input(text, folder, timeout=180)
+    code, output = lammps_pour.run_input(text, folder, nprocs, timeout=180)
     assert code == 0 and "ERROR" not in output, output[-2000:]
     rows = lammps_pour.thermo_rows(output, COLUMNS)
     _, first = np.unique(rows[:, 0], return_index=True)
@@ -133,17 +137,40 @@ def check_balance(out: dict) -> float:
     return abs(plastic + viscous + friction - lost) / lost
 
 
+SPINS = ((0.0, 0.0, 30.0), (10.0, -20.0, 0.0))      # rad/s
+
+
 @pytest.mark.parametrize("models", sorted(MODELS))
 def test_two_spheres_dissipate_the_kinetic_energy_lost(plugin, tmp_path, models):
     """An oblique collision of unequal spheres with spins: plastic + viscous + frictional = the kinetic
-    energy lost (1e-9; Verlet's identity), each part positive, the forces making up |f|."""
+    energy lost (1e-9; Verlet's identity), each part positive, the forces making up |f|; on 2 MPI ranks
+    with the contact on their boundary (both ranks hold it), the same numbers bit for bit."""
     pair = ContactPair.sphere_sphere(MATERIAL, R_1, MATERIAL, R_2)
     v = (-0.4, 0.25, -0.1)
-    out = run(two_spheres(plugin, MODELS[models], v, ((0.0, 0.0, 30.0), (10.0, -20.0, 0.0)),
-                          steps_for(pair, 0.4)), tmp_path)
+    steps = steps_for(pair, 0.4)
+    out = run(two_spheres(plugin, MODELS[models], v, SPINS, steps), tmp_path)
     assert check_balance(out) < 1e-9
     assert (out["contact"][-1, 4:7] > 0.0).all()
     assert out["contact"][:, 3].max() > 0.0
+    two = run(two_spheres(plugin, MODELS[models], v, SPINS, steps, processors="2 1 1"), tmp_path, nprocs=2)
+    assert np.array_equal(two["contact"], out["contact"])
+
+
+def test_the_energies_go_through_a_restart_file(plugin, tmp_path):
+    """A restart written mid-contact (friction, rolling and twisting springs loaded), read by a new LAMMPS:
+    the energies at the contact's end equal the uninterrupted run's bit for bit (no damping: a damping
+    force of the set-up step takes the full-step velocities, as LAMMPS's granular styles)."""
+    models = "tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1 twisting marshall"
+    pair = ContactPair.sphere_sphere(MATERIAL, R_1, MATERIAL, R_2)
+    v, steps = (-0.4, 0.25, -0.1), steps_for(pair, 0.4)
+    whole = run(two_spheres(plugin, models, v, SPINS, steps), tmp_path)
+    split = int(0.4 * len(whole["contact"]))
+    first = two_spheres(plugin, models, v, SPINS, steps).replace(f"run {steps}", f"run {split}\nwrite_restart e.restart")
+    code, output = lammps_pour.run_input(first, tmp_path, name="in.first", timeout=180)
+    assert code == 0 and "ERROR" not in output, output[-2000:]
+    _, tail = two_spheres(plugin, models, v, SPINS, steps - split).split("plugin load", 1)
+    again = run("atom_modify map array\nnewton off\nread_restart e.restart\nplugin load" + tail, tmp_path)
+    assert again["contact"][-1].tolist() == whole["contact"][-1].tolist()
 
 
 @pytest.mark.parametrize("models", sorted(MODELS))

@@ -367,8 +367,8 @@ void FixNfdHistory::set_width(int doubles)
 
 /* Before a restart file is written (every rank, before the per-atom records are packed): the
  * per-atom records hold the history the last re-neighboring stored -- during a run, the history
- * before this step's forces, which the continued run recomputes (setup) -- and the springs are
- * set to their values after this step's forces, which the set-up step evaluates without advancing
+ * before this step's forces, which the continued run recomputes (setup) -- and the springs and
+ * the energy block are set to their values after this step's forces, which the set-up step evaluates without advancing
  * them (as LAMMPS's granular styles do). A contact that began on this step gets a record of a
  * virgin normal history with its springs. Between runs (post_run stored everything) nothing
  * changes. */
