@@ -4,7 +4,8 @@ pair_style nfd/<law> and the wall fixes' per-atom columns, against what the law 
 - The energy the contact dissipated (plastic + viscous + frictional) equals the kinetic energy,
   translational and rotational, the bodies lost, from LAMMPS's own velocities and spins before and
   after, to 1e-9 (velocity Verlet's identity makes them equal to round-off; measured at most 7e-15), in an
-  oblique two-sphere collision of unequal radii with spins and in a sphere-on-wall impact, with normal
+  oblique two-sphere collision of unequal radii with spins and in a sphere's impact on the plane wall and
+  on a region's face (fix nfd/wall/region), with normal
   damping, tangential friction and damping (and rolling and twisting resistance); each part positive.
 - The normal and tangential forces reported make up the force on the atom, |f| = sqrt(F_n^2 + |F_t|^2).
 - On 2 MPI ranks with the contact on their boundary, and through a restart file written mid-contact, the
@@ -89,10 +90,14 @@ def two_spheres(plugin: str, models: str, v: tuple, spins: tuple, steps: int, pr
     return "\n".join(lines) + "\n"
 
 
-def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int) -> str:
-    """A sphere R_1 touching the wall z = 0 (fix nfd/wall/vz) at velocity v, spin omega; the per-atom
-    columns of the fix: delta_res (3) and the energy block after the history (and the springs)."""
-    block = 6 + (8 if models else 0)        # the first energy column (1-based): after NHIST (and NFRICTION)
+def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int, region: bool = False) -> str:
+    """A sphere R_1 touching the wall z = 0 (fix nfd/wall/vz, or region: the zlo face of a block, fix
+    nfd/wall/region/vz) at velocity v, spin omega; the per-atom columns of the fix: delta_res (3) and the
+    energy block after the history (and the springs); a region's slot leads with its facet."""
+    lead = 1 if region else 0
+    block = 6 + (8 if models else 0) + lead     # the first energy column (1-based): after NHIST (and NFRICTION)
+    fix = ("region wall block -0.1 0.1 -0.05 0.05 0.0 0.1 side in\nfix w all nfd/wall/region/vz wall" if region
+           else "fix w all nfd/wall/vz zlo 0.0")
     lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
              "boundary f f f", "region box block -0.1 0.1 -0.05 0.05 -0.01 0.1", "create_box 1 box",
              f"create_atoms 1 single 0 0 {num(R_1)}",
@@ -101,11 +106,11 @@ def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int) 
              f"set atom 1 omega {' '.join(num(w) for w in spin)}",
              f"plugin load {plugin}", "pair_style zero 0.001", "pair_coeff * *", "neighbor 0.001 bin",
              "neigh_modify every 1 delay 0 check no",
-             f"fix w all nfd/wall/vz zlo 0.0 {constants()} {models}".strip(),
+             f"{fix} {constants()} {models}".strip(),
              "fix 1 all nve/sphere", f"timestep {num(DT)}", "compute k all ke", "compute rot all erotate/sphere",
              "variable d equal radius[1]-z[1]",
              "variable f equal sqrt(fx[1]^2+fy[1]^2+fz[1]^2)"]
-    columns = [3] + [block + k for k in range(5)]
+    columns = [3 + lead] + [block + k for k in range(5)]
     lines += ["compute wr all reduce sum " + " ".join(f"f_w[{c}]" for c in columns)]     # the one atom's
     lines += ["thermo_style custom step c_k c_rot v_d " + " ".join(f"c_wr[{k}]" for k in range(1, 7)) + " v_f",
               "thermo_modify format float %.17g", "thermo 1", f"run {steps}"]
@@ -173,11 +178,13 @@ def test_the_energies_go_through_a_restart_file(plugin, tmp_path):
     assert again["contact"][-1].tolist() == whole["contact"][-1].tolist()
 
 
+@pytest.mark.parametrize("region", [False, True])
 @pytest.mark.parametrize("models", sorted(MODELS))
-def test_sphere_on_the_wall_dissipates_the_kinetic_energy_lost(plugin, tmp_path, models):
+def test_sphere_on_the_wall_dissipates_the_kinetic_energy_lost(plugin, tmp_path, models, region):
+    """The same on the plane wall and on a region's face (the columns of its first slot)."""
     pair = ContactPair.sphere_flat(MATERIAL, R_1)
-    out = run(sphere_on_wall(plugin, MODELS[models], (0.2, -0.1, -0.4), (5.0, -30.0, 10.0), steps_for(pair, 0.4)),
-              tmp_path)
+    out = run(sphere_on_wall(plugin, MODELS[models], (0.2, -0.1, -0.4), (5.0, -30.0, 10.0), steps_for(pair, 0.4),
+                             region), tmp_path)
     assert check_balance(out) < 1e-9
     assert (out["contact"][-1, 4:7] > 0.0).all()
 
