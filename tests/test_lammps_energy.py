@@ -3,10 +3,10 @@ pair_style nfd/<law> and the wall fixes' per-atom columns, against what the law 
 
 - The energy the contact dissipated (plastic + viscous + frictional) equals the kinetic energy,
   translational and rotational, the bodies lost, from LAMMPS's own velocities and spins before and
-  after, to 1e-9 (velocity Verlet's identity makes them equal to round-off; measured at most 7e-15), in an
+  after, to 1e-9 (velocity Verlet's identity makes them equal to round-off; measured at most 1.6e-15), in an
   oblique two-sphere collision of unequal radii with spins and in a sphere's impact on the plane wall and
-  on a region's face (fix nfd/wall/region), with normal
-  damping, tangential friction and damping (and rolling and twisting resistance); each part positive.
+  on a region's face (fix nfd/wall/region), with normal damping, tangential friction and damping (and
+  rolling and twisting resistance); each part positive.
 - The normal and tangential forces reported make up the force on the atom, |f| = sqrt(F_n^2 + |F_t|^2).
 - On 2 MPI ranks with the contact on their boundary, and through a restart file written mid-contact, the
   same numbers bit for bit.
