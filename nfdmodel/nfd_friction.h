@@ -281,23 +281,26 @@ static inline double nfd_twisting(double *theta, double w, double dt, double k, 
  * (nfdmodel/lammps/nfd_energy.h). */
 static inline double nfd_spring_energy(const nfd_friction *f, const nfd_friction_history *s, double a, double F_n)
 {
-    double energy = 0.0, F_crit = fabs(F_n), k, load;
+    /* squared forces throughout: no square root per contact */
+    double energy = 0.0, F_crit = fabs(F_n), k, cap, squared;
     if (f->tangential != NFD_TANGENTIAL_NONE && f->k_t * a > 0.0) {
         int force_form = f->tangential == NFD_TANGENTIAL_MINDLIN_FORCE ||
                          f->tangential == NFD_TANGENTIAL_MINDLIN_RESCALE_FORCE;
         k = f->k_t * a;
-        load = fmin(force_form ? nfd_len3(s->xi_t) : k * nfd_len3(s->xi_t), f->mu * F_crit);
-        energy += 0.5 * load * load / k;
+        cap = f->mu * F_crit;
+        squared = nfd_dot3(s->xi_t, s->xi_t);
+        energy += 0.5 * fmin(force_form ? squared : k * k * squared, cap * cap) / k;
     }
     if (f->rolling == NFD_ROLLING_SDS && f->k_roll > 0.0) {
-        load = fmin(f->k_roll * nfd_len3(s->xi_roll), f->mu_roll * F_crit);
-        energy += 0.5 * load * load / f->k_roll;
+        cap = f->mu_roll * F_crit;
+        energy += 0.5 * fmin(f->k_roll * f->k_roll * nfd_dot3(s->xi_roll, s->xi_roll), cap * cap) / f->k_roll;
     }
     if (f->twisting != NFD_TWISTING_NONE) {
         int marshall = f->twisting == NFD_TWISTING_MARSHALL;
         k = marshall ? 0.5 * f->k_t * a * a : f->k_twist;
-        load = fmin(k * fabs(s->theta_twist), (marshall ? 2.0 / 3.0 * f->mu * a : f->mu_twist) * F_crit);
-        if (k > 0.0) energy += 0.5 * load * load / k;
+        cap = (marshall ? 2.0 / 3.0 * f->mu * a : f->mu_twist) * F_crit;
+        squared = k * s->theta_twist;
+        if (k > 0.0) energy += 0.5 * fmin(squared * squared, cap * cap) / k;
     }
     return energy;
 }

@@ -3,7 +3,7 @@ pair_style nfd/<law> and the wall fixes' per-atom columns, against what the law 
 
 - The energy the contact dissipated (plastic + viscous + frictional) equals the kinetic energy,
   translational and rotational, the bodies lost, from LAMMPS's own velocities and spins before and
-  after, to 1e-9 (velocity Verlet's identity makes them equal to round-off; measured at most 1.6e-15), in an
+  after, to 1e-9 (velocity Verlet's identity makes them equal to round-off; measured at most 1.8e-15), in an
   oblique two-sphere collision of unequal radii with spins and in a sphere's impact on the plane wall and
   on a region's face (fix nfd/wall/region), with normal damping, tangential friction and damping (and
   rolling and twisting resistance); each part positive.
