@@ -12,6 +12,8 @@
  *           contact radius, that radius, finite)
  *       the loading branch of those k contacts: force[index[i]] and the new history at i.
  *   hertz(delta, k, force) -> finite
+ *   elastic_energy(law, delta, delta_res, exponent, force, energy) -> None: nfd_elastic_energy of n contacts
+ *       (exponent: the history's a_e_max slot, the unloading exponent m of vz_unload, unused by the others)
  *   yield_factor(nu) -> A_Y(nu) of nfd_yield_factor (the caller checks 0 <= nu < NFD_NU_MAX)
  *   vz_admissible(Ca_hat, Kc_hat) -> (NFD_VZ_* code, P/P_Y, restitution) of nfd_vz_admissible
  *   contact_step(law, params, table, friction, update, dt, geometry, history, out) -> (status, at)
@@ -281,6 +283,29 @@ static PyObject *native_hertz(PyObject *self, PyObject *args)
     return PyFloat_FromDouble(sum);
 }
 
+static PyObject *native_elastic_energy(PyObject *self, PyObject *args)
+{
+    Py_buffer delta, delta_res, exponent, force, energy;
+    int law;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "iy*y*y*y*w*", &law, &delta, &delta_res, &exponent, &force, &energy)) return NULL;
+    Py_ssize_t n = delta.len / 8;
+    if (check_length(&delta_res, n, 8, "delta_res") && check_length(&exponent, n, 8, "exponent") &&
+        check_length(&force, n, 8, "force") && check_length(&energy, n, 8, "energy")) {
+        const double *d = delta.buf, *r = delta_res.buf, *m = exponent.buf, *f = force.buf;
+        double *out = energy.buf;
+        for (Py_ssize_t i = 0; i < n; ++i) {
+            nfd_history h = {0.0, 0.0, r[i], 0.0, m[i]};
+            out[i] = nfd_elastic_energy(law, d[i], &h, f[i]);
+        }
+    }
+    int failed = PyErr_Occurred() != NULL;
+    PyBuffer_Release(&delta); PyBuffer_Release(&delta_res); PyBuffer_Release(&exponent); PyBuffer_Release(&force);
+    PyBuffer_Release(&energy);
+    if (failed) return NULL;
+    Py_RETURN_NONE;
+}
+
 /* One sphere-on-flat impact per velocity, leap-frog (nfdmodel.collision._time_loop, the same
  * operations per step): the velocities are independent, so each runs its own loop until it
  * separates; the sweep's step count is the largest. */
@@ -426,6 +451,7 @@ static PyMethodDef methods[] = {
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
     {"load_table", native_load_table, METH_VARARGS, "the vz_table or vz_unload loading of the selected contacts"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
+    {"elastic_energy", native_elastic_energy, METH_VARARGS, "nfd_elastic_energy of n contacts"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},
     {"contact_step", native_contact_step, METH_VARARGS, "nfd_contact_step of n contacts (nfd_friction.h)"},
     {"vz_admissible", native_vz_admissible, METH_VARARGS, "(code, P/P_Y, e) of nfd_vz_admissible(Ca_hat, Kc_hat)"},

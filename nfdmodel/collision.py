@@ -50,6 +50,7 @@ from .hertz_contact import hertz_approach_at_work
 from .history import HertzState, check_state
 from .materials import as_pair
 from .registry import ContactLaw, get_law
+from .turning_point import elastic_energy
 from .validation import bound_text, check_real, check_solid
 from .window import RangeWarning
 
@@ -103,7 +104,10 @@ class CollisionResult:
     wall_time_s, max_newton_iterations (vz; 0 otherwise); history on request;
     in_calibrated_range: per velocity, whether the impact stayed inside the calibrated window of
     the law's constants, and P_max_over_window: P_max / the window's largest force (both None
-    when the law has no fitted constants or they state no window).
+    when the law has no fitted constants or they state no window); dissipated_plastic [J]: the
+    energy the contact dissipated, the loading work to the turning point minus the elastic energy
+    its unloading returns, W(delta_max) - E_el (turning_point.elastic_energy; the law's own
+    (1 - e^2) (1/2) m* v_in^2, the leap-frog's 1/2 m* (v_in^2 - v_out^2) to O(dt^2)).
     """
 
     law: str
@@ -122,15 +126,21 @@ class CollisionResult:
     history: CollisionHistory | None = field(default=None, repr=False)
     in_calibrated_range: np.ndarray | None = None
     P_max_over_window: np.ndarray | None = None
+    dissipated_plastic: np.ndarray | None = None
 
     def records(self) -> list[dict]:
-        """One dict per velocity with the CLI's JSON keys (SI units; null where not applicable)."""
+        """One dict per velocity with the CLI's JSON keys (SI units; null where not applicable):
+        also the contact's state at the end, its dent (delta_res) and turning point (delta_max [m],
+        P_max [N]), and dissipated_plastic [J], as the LAMMPS plugin reports a contact."""
         known = self.in_calibrated_range is not None
+        lost = self.dissipated_plastic
         return [{"v_in": float(self.v_in[i]), "v_out": float(self.v_out[i]),
                  "e_velocity": float(self.e_velocity[i]), "e_energy": float(self.e_energy[i]),
                  "P_max": float(self.P_max[i]), "contact_time": float(self.contact_time[i]),
                  "in_calibrated_range": bool(self.in_calibrated_range[i]) if known else None,
-                 "P_max_over_window": float(self.P_max_over_window[i]) if known else None}
+                 "P_max_over_window": float(self.P_max_over_window[i]) if known else None,
+                 "dent": float(self.delta_res[i]), "delta_max": float(self.delta_max[i]),
+                 "dissipated_plastic": float(lost[i]) if lost is not None else None}
                 for i in range(self.v_in.size)]
 
 
@@ -215,7 +225,7 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
                          f"{v[-1]:g} m/s cannot be solved in floating point")
     delta_res = np.zeros_like(delta) if isinstance(state, HertzState) else state.delta_res
     exponent = law.exponent_of(state)           # per contact where the history keeps one (vz-unload)
-    returned = force * (delta - delta_res) / (exponent + 1.0)
+    returned = elastic_energy(force, delta, delta_res, exponent)
     restitution = np.sqrt(returned / work)
     loading_time = _loading_time(law, law_params, pair, v, delta)
     factor = (_unloading_time_factor(exponent) if np.ndim(exponent) == 0
@@ -319,8 +329,22 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
                            np.sqrt(path["unloading_area"] / np.maximum(path["loading_area"], 1e-300)),
                            path["P_max"], path["delta_max"], path["delta_res"], path["contact_time"], dt,
                            path["steps"], time.perf_counter() - started, path["max_iterations"],
-                           path["history"], in_range, over_window)
+                           path["history"], in_range, over_window, _dissipated(law, law_params, path, start))
     return (result, path["state"]) if start is not None else result
+
+
+def _dissipated(law: ContactLaw, law_params, path: dict, start) -> np.ndarray:
+    """The plastic energy [J] of each impact's contact (CollisionResult.dissipated_plastic): the
+    loading work to its turning point minus the elastic energy the unloading returns
+    (ContactLaw.dissipated_energy) of the history at the end, less that of the history it started
+    from (``start``: a repeated impact reloads along the unloading curve before it loads further)."""
+    state = path.get("state")
+    if state is None:       # the compiled loop (a virgin contact): its turning point is the path's
+        lost = (law.loading_work(path["delta_max"], path["P_max"], law_params)
+                - elastic_energy(path["P_max"], path["delta_max"], path["delta_res"], law.unloading_exponent))
+        return np.maximum(lost, 0.0)
+    lost = law.dissipated_energy(state, law_params)
+    return lost if start is None else np.maximum(lost - law.dissipated_energy(start, law_params), 0.0)
 
 
 def collide_repeated(law_name, params, v_in, repeat: int, dt: float | None = None) -> list[CollisionResult]:

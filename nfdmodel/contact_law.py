@@ -23,6 +23,7 @@ import numpy as np
 
 from .history import HertzState, HistoryUpdate, apply_update, check_state, check_update
 from .materials import as_pair
+from .turning_point import elastic_energy
 from .window import warn_beyond_window
 
 
@@ -154,7 +155,7 @@ class ContactLaw:
         work = self.loading_work_function(np.asarray(state.delta_max, float), np.asarray(state.P_max, float),
                                           self.params_from(params),
                                           *((state.rate_factor,) if self.takes_velocity else ()))
-        returned = state.P_max * (state.delta_max - state.delta_res) / (self.exponent_of(state) + 1.0)
+        returned = elastic_energy(state.P_max, state.delta_max, state.delta_res, self.exponent_of(state))
         return np.maximum(work - returned, 0.0)
 
     def contact_state(self, delta, state, params) -> ContactDetails:
@@ -167,10 +168,10 @@ class ContactLaw:
         delta_flat = np.asarray(delta, dtype=float).reshape(-1)
         if isinstance(new_state, HertzState):
             zeros = np.zeros_like(force)
-            elastic = 0.4 * force * np.maximum(delta_flat, 0.0)
+            elastic = elastic_energy(force, delta_flat, 0.0, self.unloading_exponent)
             return ContactDetails(force, a_e, zeros, a_e.copy(), zeros, elastic, zeros, new_state,
                                   np.zeros(force.shape, dtype=bool))
-        elastic = force * np.maximum(delta_flat - new_state.delta_res, 0.0) / (self.exponent_of(new_state) + 1.0)
+        elastic = elastic_energy(force, delta_flat, new_state.delta_res, self.exponent_of(new_state))
         beyond = new_state.P_max > p.window_force if self.fitted else np.zeros(force.shape, dtype=bool)
         if self.radii_function is None:     # no radius model: the Hertz radius at P
             a_p = np.zeros_like(force)

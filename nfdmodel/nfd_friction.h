@@ -273,6 +273,39 @@ static inline double nfd_twisting(double *theta, double w, double dt, double k, 
     return M;
 }
 
+/* The elastic energy [J] the springs of f can return at contact radius a [m] and normal force F_n [N]:
+ * each spring's force F_s (tangential k_t a |xi_t|, the /force variants |xi_t|; rolling k_roll |xi_roll|;
+ * twisting k |theta|, marshall k = k_t a^2 / 2), limited by its Coulomb cap mu |F_n| (marshall's
+ * 2 mu a / 3 |F_n|), as F_s^2 / (2 k): the energy of the spring unloading at this radius through the force
+ * it can transmit (at a zero cap, the end of a contact, nothing). The frictional energy dissipated so far
+ * is the work of the tangential force and of the rolling and twisting torques minus it
+ * (nfdmodel/lammps/nfd_energy.h). */
+static inline double nfd_spring_energy(const nfd_friction *f, const nfd_friction_history *s, double a, double F_n)
+{
+    /* squared forces throughout: no square root per contact */
+    double energy = 0.0, F_crit = fabs(F_n), k, cap, squared;
+    if (f->tangential != NFD_TANGENTIAL_NONE && f->k_t * a > 0.0) {
+        int force_form = f->tangential == NFD_TANGENTIAL_MINDLIN_FORCE ||
+                         f->tangential == NFD_TANGENTIAL_MINDLIN_RESCALE_FORCE;
+        k = f->k_t * a;
+        cap = f->mu * F_crit;
+        squared = nfd_dot3(s->xi_t, s->xi_t);
+        energy += 0.5 * fmin(force_form ? squared : k * k * squared, cap * cap) / k;
+    }
+    if (f->rolling == NFD_ROLLING_SDS && f->k_roll > 0.0) {
+        cap = f->mu_roll * F_crit;
+        energy += 0.5 * fmin(f->k_roll * f->k_roll * nfd_dot3(s->xi_roll, s->xi_roll), cap * cap) / f->k_roll;
+    }
+    if (f->twisting != NFD_TWISTING_NONE) {
+        int marshall = f->twisting == NFD_TWISTING_MARSHALL;
+        k = marshall ? 0.5 * f->k_t * a * a : f->k_twist;
+        cap = (marshall ? 2.0 / 3.0 * f->mu * a : f->mu_twist) * F_crit;
+        squared = k * s->theta_twist;
+        if (k > 0.0) energy += 0.5 * fmin(squared * squared, cap * cap) / k;
+    }
+    return energy;
+}
+
 /* One contact: the normal law's step (nfd_step) and the models of f; h_out, fh_out the trial
  * histories (commit them once the step is accepted). Returns the law's status (nothing else is
  * computed for a negative one). */

@@ -233,6 +233,23 @@ static inline double nfd_linear_impact_time(double m_star, double k_load, double
 #define NFD_VZ_CREATES_ENERGY 3
 int nfd_vz_admissible(double Ca_hat, double Kc_hat, double *load, double *restitution);
 
+/* The elastic energy [J] a contact of law `law` returns if it unloads from overlap delta [m] at force P [N]
+ * with the step's new history h: the integral of its unloading curve P = K_u <d - delta_res>^n from
+ * delta_res to delta, E_el = P <delta - delta_res> / (n + 1), n = 3/2 (hertz, vz, thornton, vz_table;
+ * hertz: delta_res = 0), 1 (walton_braun) or the history's m (vz_unload); NAN for a law without a case here (nfdmodel.turning_point.
+ * elastic_energy). The plastic energy dissipated so far is the normal work minus it. */
+static inline double nfd_elastic_energy(int law, double delta, const nfd_history *h, double P)
+{
+    double gap = delta - h->delta_res, exponent;
+    switch (law) {
+    case NFD_LAW_HERTZ: case NFD_LAW_VZ: case NFD_LAW_THORNTON: case NFD_LAW_VZ_TABLE: exponent = 1.5; break;
+    case NFD_LAW_WALTON_BRAUN: exponent = 1.0; break;
+    case NFD_LAW_VZ_UNLOAD: exponent = h->a_e_max; break;    /* its exponent m (nfd_unload.h) */
+    default: return NAN;
+    }
+    return P * (gap > 0.0 ? gap : 0.0) / (exponent + 1.0);
+}
+
 /* On request, after a step: the contact radii [m] of a history at force P [N] (vz): the Hertz
  * radius a_e, the plastic radius a_p = Ca <P_max - P_Y> and a_ep = a_e + a_p. */
 void nfd_vz_radii(const nfd_params *p, const nfd_history *h, double force, double *a_e, double *a_p, double *a_ep);

@@ -23,6 +23,16 @@ from .materials import ContactPair
 BLOCK = 16384                   # contacts per block of the step kernel (temporaries stay in cache)
 
 
+def elastic_energy(force, delta, delta_res, exponent):
+    """The elastic energy [J] a contact returns if it unloads from approach ``delta`` [m] at force
+    ``force`` [N] on its unloading curve P = K_u <delta - delta_res>^n (module doc): the curve's
+    integral from delta_res to delta, E_el = P <delta - delta_res> / (n + 1) (n = ``exponent``; a
+    Hertz contact: delta_res = 0, n = 3/2). On the virgin curve at the turning point it is the energy
+    the unloading returns (e^2 = E_el / W); the plastic energy dissipated so far is the work minus it.
+    The C kernel's nfd_elastic_energy is the same formula."""
+    return force * np.maximum(delta - delta_res, 0.0) / (exponent + 1.0)
+
+
 def blocks(n: int):
     """Slices of at most BLOCK contacts covering 0..n-1 (one slice(None) when n <= BLOCK)."""
     if n <= BLOCK:

@@ -23,7 +23,8 @@ def test_json_output_keys_and_values(capsys):
     assert code == 0 and err == ""
     records = json.loads(out)
     assert [set(r) for r in records] == [{"v_in", "v_out", "e_velocity", "e_energy", "P_max",
-                                          "contact_time", "in_calibrated_range", "P_max_over_window"}] * 2
+                                          "contact_time", "in_calibrated_range", "P_max_over_window", "dent",
+                                          "delta_max", "dissipated_plastic"}] * 2
     assert records[1]["v_in"] == 0.04
     assert records[1]["e_velocity"] == pytest.approx(0.7589, abs=2e-4)
     assert records[1]["e_velocity"] == pytest.approx(-records[1]["v_out"] / 0.04)

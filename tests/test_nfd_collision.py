@@ -76,7 +76,8 @@ def test_history_on_request_and_auto_dt():
     assert collide("vz", REF, [0.04]).history is None
     records = result.records()
     assert set(records[0]) == {"v_in", "v_out", "e_velocity", "e_energy", "P_max", "contact_time",
-                               "in_calibrated_range", "P_max_over_window"}
+                               "in_calibrated_range", "P_max_over_window", "dent", "delta_max",
+                               "dissipated_plastic"}
     assert [r["in_calibrated_range"] for r in records] == [True, False]   # 0.1 m/s reaches 120 P_Y
 
 

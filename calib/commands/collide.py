@@ -18,7 +18,9 @@ and the two table laws need one). --dt defaults to "auto": the shortest estimate
 2000 or its unloading phase / 100, whichever is smaller (about 3e-7 s for the reference case at
 0.02..0.2 m/s; the paper used 1e-6 s). A dt too large for the contact prints one warning line on
 stderr (nfdmodel.TimeStepWarning; oblique impacts: the same check at the fastest normal speed); a dt beyond
-the leap-frog stability limit is an error.
+the leap-frog stability limit is an error. Each record (and --json) also gives the contact's state at
+the end, as the LAMMPS plugin reports a contact: dent (delta_res) and delta_max [m], and
+dissipated_plastic [J], the energy the contact dissipated (nfdmodel.CollisionResult).
 Bad input: a ValueError naming the parameter and its range (the dispatcher prints one line and
 exits with code 2).
 
@@ -320,8 +322,7 @@ def run_repeated(ns, law: str, params, velocities, dt, repeat: int) -> int:
     for i in range(velocities.size):
         for k, result in enumerate(results, start=1):
             record = result.records()[i]
-            records.append({"v_in": record["v_in"], "repeat": k, "e": record["e_velocity"], **record,
-                            "dent": float(result.delta_res[i]), "delta_max": float(result.delta_max[i])})
+            records.append({"v_in": record["v_in"], "repeat": k, "e": record["e_velocity"], **record})
     pair = params.pair
     law = getattr(law, "name", law)                # the rate-aware law is passed as its ContactLaw
     lines = [f"law {law}: {repeat} impacts per velocity on one contact, its history carried over; R* = "

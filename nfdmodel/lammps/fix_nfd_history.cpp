@@ -256,15 +256,15 @@ void FixNfdHistory::unpack_restart(int nlocal, int nth)
     const int length = static_cast<int>(extra[m++]);
     clear_partners(nlocal);
     const int count = static_cast<int>(extra[m++]);
-    // the file's record width (NHIST, or NHIST + NFRICTION): a file with springs widens a fix
-    // that holds none yet, before any record is stored; otherwise each record is fitted
+    // the file's record width (record_width, or a file without the energy block): a file with springs
+    // widens a fix that holds none yet, before any record is stored; otherwise each record is fitted
     const int written = count > 0 ? (length - 2) / count - 1 : width;
-    if (count > 0 && written > width && !have_list) set_width(written);
+    if (count > 0 && record_has_springs(written) && !record_has_springs(width) && !have_list)
+        set_width(record_width(true));
     std::vector<double> record(width, 0.0);
     for (int k = 0; k < count; ++k) {
         const tagint who = static_cast<tagint>(extra[m++]);
-        std::fill(record.begin(), record.end(), 0.0);
-        std::copy(&extra[m], &extra[m] + std::min(written, width), record.begin());
+        ContactEnergy::restride(&extra[m], written, record.data(), width);
         add_partner(nlocal, who, record.data(), width);
         m += written;
     }
@@ -354,12 +354,10 @@ void FixNfdHistory::add_partner(int i, tagint who, const double *h, int doubles)
 void FixNfdHistory::set_width(int doubles)
 {
     if (doubles == width) return;
-    const int keep = std::min(doubles, width);
     auto restride = [&](std::vector<double> &v) {
         const size_t records = v.size() / width;
         std::vector<double> out(records * doubles, 0.0);
-        for (size_t r = 0; r < records; ++r)
-            std::copy(&v[r * width], &v[r * width] + keep, &out[r * doubles]);
+        for (size_t r = 0; r < records; ++r) ContactEnergy::restride(&v[r * width], width, &out[r * doubles], doubles);
         v.swap(out);
     };
     for (auto &v : partner_values) restride(v);
@@ -369,14 +367,14 @@ void FixNfdHistory::set_width(int doubles)
 
 /* Before a restart file is written (every rank, before the per-atom records are packed): the
  * per-atom records hold the history the last re-neighboring stored -- during a run, the history
- * before this step's forces, which the continued run recomputes (setup) -- and the springs are
- * set to their values after this step's forces, which the set-up step evaluates without advancing
+ * before this step's forces, which the continued run recomputes (setup) -- and the springs and
+ * the energy block are set to their values after this step's forces, which the set-up step evaluates without advancing
  * them (as LAMMPS's granular styles do). A contact that began on this step gets a record of a
  * virgin normal history with its springs. Between runs (post_run stored everything) nothing
  * changes. */
 void FixNfdHistory::refresh_springs()
 {
-    if (width == NHIST || !have_list || !pair || !pair->list) return;
+    if (!have_list || !pair || !pair->list) return;
     NeighList *list = pair->list;
     tagint *tag = atom->tag;
     std::vector<double> fresh(width, 0.0);

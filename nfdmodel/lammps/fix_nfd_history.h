@@ -12,9 +12,11 @@
  * under other constants is warned about (check_restored).
  *
  * Each record holds width() doubles: the nfd_history (NHIST), then, when the pair style has
- * contact models (nfd_models.h), the nfd_friction_history (NFRICTION). A restart file of either
- * width is read into the width of the pair style (the springs of a frictionless file start at
- * zero; a frictionless continuation drops them).
+ * contact models (nfd_models.h), the nfd_friction_history (NFRICTION), then the energy block
+ * (nfd_energy.h: NENERGY, with models NENERGY_MODELS). A restart file of any of these widths, or of
+ * one without the energy block, is read into the width of the pair style part by part
+ * (ContactEnergy::restride: the springs of a frictionless file start at zero; a frictionless
+ * continuation drops them; a file without energies starts them at zero).
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
@@ -22,7 +24,7 @@
 #define NFD_LAMMPS_FIX_NFD_HISTORY_H
 
 #include "fix.h"
-#include "nfd_law.h"
+#include "nfd_energy.h"
 
 #include <cstdint>
 #include <vector>
@@ -68,8 +70,8 @@ class FixNfdHistory : public LAMMPS_NS::Fix {
     // for the pair style: the history of list entry jj of owned atom i (width() doubles)
     double *value(int i, int jj) { return &values[width * (first[i] + jj)]; }
     int stride() const { return width; }
-    /* NHIST, or NHIST + NFRICTION with contact models: the stored records are re-strided (the
-     * springs of records that had none start at zero) */
+    /* record_width(models) (nfd_energy.h): the stored records are re-strided (the springs of records
+     * that had none start at zero) */
     void set_width(int doubles);
     bool touching(int i, int jj) const { return touch[first[i] + jj] != 0; }
     void set_touching(int i, int jj, bool on) { touch[first[i] + jj] = on ? 1 : 0; }
@@ -91,7 +93,7 @@ class FixNfdHistory : public LAMMPS_NS::Fix {
     LAMMPS_NS::bigint restored = 0;          // partner records read from a restart file
     std::vector<uint64_t> written_coeffs;    // the restart file's [ntypes, fingerprint per type]
     std::vector<size_t> first;               // per owned atom: its first list entry
-    int width = NHIST;                       // doubles per record (set_width)
+    int width = record_width(false);         // doubles per record (set_width)
     std::vector<double> values;              // width per list entry
     std::vector<unsigned char> touch;        // 1: the entry holds a contact's history
     int nlocal_neigh = 0;

@@ -4,6 +4,7 @@
  */
 #include "fix_nfd_wall.h"
 
+#include "nfd_energy.h"
 #include "nfd_input.h"
 
 #include "atom.h"
@@ -68,7 +69,7 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
     if (pair) material = NfdLaw::with_pair(material, *pair);
     material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
                                          wall ? wall->nu : 0.0);
-    width = material.models.any() ? NHIST + NFRICTION : NHIST;
+    width = record_width(material.models.any());
 }
 
 const NfdMaterial *FixNfdWall::read_wall_material(std::vector<char *> &rest)
@@ -237,10 +238,25 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
         nfd_friction_history springs_next;
         status = nfd_contact_step(law->code, &c, &p, &material.table, &material.friction, &h, &springs,
                                   update->setupflag ? 0 : 1, &next, &springs_next, &out);
-        if (status >= 0) store_friction(springs_next, 1.0, stored + NHIST);
+        if (status >= 0) {
+            store_friction(springs_next, 1.0, stored + NHIST);
+            double dr[3], turn[3];
+            const double still[3] = {0.0, 0.0, 0.0};
+            for (int d = 0; d < 3; ++d) {
+                dr[d] = c.dt * c.v[d];
+                turn[d] = c.dt * c.omega_i[d];
+            }
+            ContactEnergy::models_step(stored + NHIST + NFRICTION, law->code, delta, next, out, material.friction,
+                                       springs_next, n, dr, turn, still, 1.0, !update->setupflag);
+        }
         force = out.F_n;
     } else {
         status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
+        if (status >= 0) {
+            double dr[3];
+            for (int d = 0; d < 3; ++d) dr[d] = update->dt * (atom->v[i][d] - v_wall[d]);
+            ContactEnergy::law_step(stored + NHIST, law->code, delta, next, force, n, dr, 1.0, !update->setupflag);
+        }
     }
     if (status == NFD_FULL_CONTACT)
         error->one(FLERR, fmt::format("{}: atom {} reached full contact with the wall at overlap {:.6g} m "
@@ -367,9 +383,17 @@ void FixNfdWall::unpack_restart(int nlocal, int nth)
     for (int k = 0; k < nth; ++k) m += static_cast<int>(extra[m]);
     const int written = static_cast<int>(extra[m]) - 1;
     const int written_stride = written % slots == 0 ? written / slots : 0;    // another layout: dropped
-    for (int s = 0; s < slots; ++s)
-        for (int n = 0; n < stride; ++n)
-            history[nlocal][s * stride + n] = n < written_stride ? extra[m + 1 + s * written_stride + n] : 0.0;
+    const int lead = tagged ? 1 : 0;
+    for (int s = 0; s < slots; ++s) {
+        double *slot = history[nlocal] + s * stride;
+        if (written_stride <= lead) {
+            for (int n = 0; n < stride; ++n) slot[n] = 0.0;
+            continue;
+        }
+        const double *from = &extra[m + 1 + s * written_stride];
+        if (tagged) slot[0] = from[0];
+        ContactEnergy::restride(from + lead, written_stride - lead, slot + lead, width);
+    }
 }
 
 double FixNfdWall::memory_usage() { return (double) atom->nmax * row * sizeof(double); }

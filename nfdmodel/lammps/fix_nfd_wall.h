@@ -32,7 +32,9 @@
  * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
  * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
  * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
- * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]). Loads
+ * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]), then the
+ * energy block (nfd_energy.h; columns 6-10, with models 14-18): F_n [N], |F_t| [N], the plastic,
+ * viscous and frictional energy dissipated so far [J], and the block's working values. Loads
  * beyond the window are counted and reported at the end of each run like the pair style's, in a
  * line naming the fix's ID and style; the plane wall also counts contacts that end after turning
  * below the window's lowest unloading (window P_min/P_Y P_max/P_Y).
@@ -119,7 +121,7 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     NfdMaterial material;         // the contact's constants: the sphere's, E* with the wall's
     NfdMaterial wall;             // wall_material: E_w, nu_w, E_w / (1 - nu_w^2)
     NfdMaterial pair;             // pair_constants: the constants calibrated for the sphere on this wall
-    int width = NHIST;            // doubles per history: NHIST, or NHIST + NFRICTION with contact models
+    int width = NHIST;            // doubles per history: record_width(contact models on) (nfd_energy.h)
     int slots = 1;                // contacts kept per atom
     int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged
     int row = NHIST;              // doubles per atom: slots * stride

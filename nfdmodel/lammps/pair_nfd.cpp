@@ -61,7 +61,7 @@ struct RestartFixLists : Modify {
 PairNfd::PairNfd(LAMMPS *lmp, const NfdLaw *law) : Pair(lmp), law(law)
 {
     single_enable = 1;
-    single_extra = 5;              // delta, force, delta_max, P_max, delta_res
+    single_extra = 10;             // delta, force, delta_max, P_max, delta_res, F_n, |F_t|, D_p, D_v, D_f
     svector = new double[single_extra];
     no_virial_fdotr_compute = 1;   // ev_tally_xyz per contact (correct across periodic images)
     restartinfo = 0;               // the constants are issued again after read_restart
@@ -167,7 +167,7 @@ void PairNfd::init_style()
         for (int j = i; j <= atom->ntypes; ++j)
             models_on = models_on || (i == j && material[i].models.any()) ||
                 (explicit_pair[i][j] && contact[i][j].models.any());
-    history->set_width(models_on ? NHIST + NFRICTION : NHIST);
+    history->set_width(record_width(models_on));
     if (models_on && (!atom->omega_flag || !atom->torque_flag))
         error->all(FLERR, fmt::format("pair_style {} with contact models needs per-atom spins and torques: use "
                                       "atom_style sphere", name()));
@@ -285,6 +285,7 @@ void PairNfd::compute(int eflag, int vflag)
             check_status(status, i, j, delta, p, h, next);
             store_history(next, stored);
             history->set_touching(i, jj, true);
+            law_energy(i, j, delx, dely, delz, r, delta, next, force, stored);
 
             const double fpair = force / r;
             const double fx = delx * fpair, fy = dely * fpair, fz = delz * fpair;
@@ -354,6 +355,21 @@ void PairNfd::count_below_window(int i, int j, const double *stored)
     }
 }
 
+/* The energy block (nfd_energy.h) of a contact of the law alone: the velocity of a ghost atom j is
+ * known with comm_modify vel yes only (else the energies are NaN). */
+void PairNfd::law_energy(int i, int j, double delx, double dely, double delz, double r, double delta,
+                         const nfd_history &next, double force, double *stored)
+{
+    double **v = atom->v;
+    const double rinv = 1.0 / r, dt = update->dt;
+    const double n[3] = {delx * rinv, dely * rinv, delz * rinv};
+    double dr[3];
+    const bool known = j < atom->nlocal || comm->ghost_velocity;
+    for (int d = 0; d < 3; ++d) dr[d] = known ? dt * (v[i][d] - v[j][d]) : NAN;
+    ContactEnergy::law_step(stored + energy_offset(history->stride()), law->code, delta, next, force, n, dr,
+                            atom->tag[i] < atom->tag[j] ? 1.0 : -1.0, !update->setupflag);
+}
+
 /* A contact with models (nfd_contact_step): the normal law, damping, friction, rolling and
  * twisting; the force on both atoms (j only if owned: newton off), the torques, the history and
  * springs stored in the list entry (the tangential spring as seen from the lower atom ID). */
@@ -388,6 +404,14 @@ void PairNfd::contact_with_models(int i, int j, double delx, double dely, double
     check_status(status, i, j, k.delta, p, h, next);
     store_history(next, stored);
     store_friction(springs_next, sign, stored + NHIST);
+    double dr[3], turn_i[3], turn_j[3];
+    for (int d = 0; d < 3; ++d) {
+        dr[d] = k.dt * k.v[d];
+        turn_i[d] = k.dt * k.omega_i[d];
+        turn_j[d] = k.dt * k.omega_j[d];
+    }
+    ContactEnergy::models_step(stored + NHIST + NFRICTION, law->code, k.delta, next, out, c.friction, springs_next,
+                               k.n, dr, turn_i, turn_j, sign, !update->setupflag);
     for (int d = 0; d < 3; ++d) {
         f[i][d] += out.force[d];
         torque[i][d] += out.torque_i[d];
@@ -401,7 +425,10 @@ void PairNfd::contact_with_models(int i, int j, double delx, double dely, double
 }
 
 /* One contact's force from its stored history, not committed (compute pair/local); extra values:
- * p1 overlap delta [m], p2 force [N], p3 delta_max [m], p4 P_max [N], p5 delta_res [m]. */
+ * p1 overlap delta [m], p2 the law's force P [N], p3 delta_max [m], p4 P_max [N], p5 delta_res [m] (the
+ * dent), and this step's entries of the energy block (nfd_energy.h): p6 the normal force F_n (P plus
+ * damping) [N], p7 the tangential force |F_t| [N], the energy dissipated so far [J]: p8 plastic, p9
+ * viscous (normal damping), p10 frictional (tangential, rolling, twisting). */
 double PairNfd::single(int i, int j, int itype, int jtype, double rsq, double /*factor_coul*/,
                        double /*factor_lj*/, double &fforce)
 {
@@ -415,7 +442,11 @@ double PairNfd::single(int i, int j, int itype, int jtype, double rsq, double /*
     nfd_history h = {0.0, 0.0, 0.0, 0.0, 0.0};
     const double *stored = find_stored(i, j);
     if (!stored) stored = find_stored(j, i);
-    if (stored) h = load_history(stored);
+    if (stored) {
+        h = load_history(stored);
+        const double *b = stored + energy_offset(history->stride());
+        for (int n = 0; n < 5; ++n) svector[5 + n] = b[ENERGY_F_N + n];
+    }
     const nfd_params p = contact_params(itype, jtype, radius[i], radius[j], h, delta);
     nfd_history next;
     double force = 0.0;

@@ -9,7 +9,8 @@
  * The normal force of each touching pair of spheres is the law's step of the C kernel
  * (nfd_step); with the contact models of nfd_models.h (LAMMPS's granular keywords) the contact
  * is nfd_contact_step, with damping, friction, rolling and twisting resistance and torques.
- * Without them: frictionless, undamped, no torque. The history lives in fix nfd/history.
+ * Without them: frictionless, undamped, no torque. The history lives in fix nfd/history, with each
+ * contact's forces and dissipated energies (nfd_energy.h; compute pair/local p6-p10, single()).
  * Granular spheres (atom_style sphere), SI units, newton off (each rank computes every contact
  * of one of its atoms, so both copies of a contact across a subdomain boundary evolve alike).
  *
@@ -18,7 +19,7 @@
 #ifndef NFD_LAMMPS_PAIR_NFD_H
 #define NFD_LAMMPS_PAIR_NFD_H
 
-#include "nfd_law.h"
+#include "nfd_energy.h"
 #include "nfd_time_step.h"
 #include "pair.h"
 
@@ -60,6 +61,8 @@ class PairNfd : public LAMMPS_NS::Pair {
     void contact_with_models(int i, int j, double delx, double dely, double delz, double r, const NfdMaterial &c,
                              const nfd_params &p, double *stored);
     void count_below_window(int i, int j, const double *stored);
+    void law_energy(int i, int j, double delx, double dely, double delz, double r, double delta,
+                    const nfd_history &next, double force, double *stored);
     void see_contact_start(int i, int j, double delx, double dely, double delz, double r, const nfd_params &p);
     void report_below_window();
     void create_history_fix();
