@@ -62,7 +62,7 @@ from calib.fit.measured.specimen import Specimen
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, Material
 
-DATA_KINDS = ("drops e", "drops e+P", "drops e+P+t", "force")   # t: the contact time
+DATA_KINDS = ("drops e", "drops e+P", "drops e+P+t", "drops e+dent", "force")   # t: the contact time; dent: delta_res
 ORDER_RANGE = (0.5, 4.0)          # the orders an observed one is bounded to (first order: contact edge;
                                   # fourth: beyond the quadratic elements' smooth-solution rate)
 
@@ -195,7 +195,7 @@ def unloading_statement(summary: dict) -> str:
         s = summary[law]
         parts.append(f"{law} dent within {100 * s['dent_error_max']:.2g} % ({s['dent_within_target']} of "
                      f"{summary['paths']} paths within 3 % or 0.5 % of alpha_max), unloading force within "
-                     f"{100 * s['unloading_error_max']:.2g} % of P_max, e within {100 * s['e_error_max']:.2g} %")
+                     f"{100 * s['unloading_error_max']:.2g} % of P_max, e within {100 * s['e_error_max']:.3g} %")
     return (f"; along the same FE unloading curves ({summary['paths']} paths): " + "; ".join(parts))
 
 
@@ -205,14 +205,16 @@ def fe_datasets(row: dict, table: VZMasterTable) -> dict:
     material, R = material_of(row)
     pair = ContactPair.sphere_flat(material, R)
     window = table.law(material, R).window
-    inside = [p for p in fe_paths(row) if window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / pair.P_Y
+    inside = [{**p, "alpha_residual": stored["alpha_residual"]} for stored, p in zip(row["paths"], fe_paths(row))
+              if window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / pair.P_Y
               <= window.P_max_over_P_Y * (1 + 1e-9)]
     if not inside:
         raise ValueError(f"{row['name']}: no FE path inside the table's window {window.describe()}")
     v_in = np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside])
     drops = {"v_in": v_in, "e": np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside]),
              "P_max": np.array([p["P_max"] for p in inside]),
-             "contact_time": np.array([contact_time(p, pair.mass_star, v) for p, v in zip(inside, v_in)])}
+             "contact_time": np.array([contact_time(p, pair.mass_star, v) for p, v in zip(inside, v_in)]),
+             "dent": np.array([p["alpha_residual"] for p in inside])}
     top = max(inside, key=lambda p: p["P_max"])
     return {"specimen": Specimen(material.E, material.nu, R, material.rho), "sigma_y": material.sigma_y,
             "drops": drops, "force": (top["approach"], top["force"]),
@@ -239,7 +241,8 @@ def measurements(kind: str, values: dict, name: str) -> Measurements:
     rows = np.arange(1, values["v_in"].size + 1)
     P = values["P_max"] if kind in ("drops e+P", "drops e+P+t") else None
     t = values["contact_time"] if kind == "drops e+P+t" else None
-    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, t, rows))
+    dent = values["dent"] if kind == "drops e+dent" else None
+    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, t, rows, dent))
 
 
 def fit_errors(row: dict, table: VZMasterTable) -> dict:

@@ -167,15 +167,19 @@ class VZMasterTable:
         the table's window at that material."""
         values = self.tables(float(material.nu), float(material.E / material.sigma_y))
         pair = ContactPair.sphere_flat(material, R)
+        return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]),
+                             self._window(values, pair))
+
+    def _window(self, values: dict, pair: ContactPair) -> CalibrationWindow:
+        """The window of :meth:`tables` ``values`` for ``pair``."""
         a_top = pair.a_Y * (np.cbrt(values["top"]) + values["f"][-1]) / pair.R_star   # the law's a = a_Y (x^(1/3) + f)
         # every node ran to at most the FE's reach (vz_master_build.run_task); the law's radius can
         # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100; the FE's
         # own contact radius there is 0.185 R)
         name = self.path.name if self.path else "vz master table"
-        window = CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
-                                   f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
-                                   f"to {values['top']:.4g} P_Y")
-        return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]), window)
+        return CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
+                                 f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
+                                 f"to {values['top']:.4g} P_Y")
 
     def unload_law(self, material: Material, R: float) -> VZUnloadParams:
         """The vz-unload law of that sphere: :meth:`law`'s loading tables and window with the table's
@@ -186,7 +190,10 @@ class VZMasterTable:
             raise ValueError(f"{name} has no columns {', '.join(UNLOADING_COLUMNS)}: the vz-unload law needs them "
                              f"(nfdcal table vz_master_grid --master-out CSV writes them)")
         values = self.tables(float(material.nu), float(material.E / material.sigma_y))
-        return VZUnloadParams.from_table(self.law(material, R), values["x"], values["rho"], values["m"])
+        pair = ContactPair.sphere_flat(material, R)
+        x = tuple(values["x"])
+        return VZUnloadParams(pair, x, tuple(values["f"]), tuple(values["g"]), self._window(values, pair), x,
+                              tuple(values["rho"]), tuple(values["m"]))
 
     @property
     def accuracy(self) -> str:
