@@ -117,6 +117,7 @@ def test_fit_data_recovers_sigma_y_from_fe_dents_of_an_off_grid_material(table, 
     data = measurements("drops e+dent", {**sets["drops"]}, fe_rows[1]["name"])
     result = fit(data, sets["specimen"], table, sigma_y_start=1.3 * sets["sigma_y"])
     assert result.uncertainty["kind"] == "drops e+dent" and set(result.residuals) == {"e", "dent"}
+    assert "vz-unload law" in result.verdict
     assert abs(result.sigma_y / sets["sigma_y"] - 1.0) <= SIGMA_Y_BOUND
     assert result.interval95[0] <= sets["sigma_y"] <= result.interval95[1]
 
@@ -140,3 +141,12 @@ def test_a_pair_of_spheres_fits_dents_on_the_vz_unload_law_of_the_pair(table):
 
     law = table_law(Specimen(70e9, 0.3, 0.01, 2700.0, two_spheres=True), 100e6, table, unload=True)
     assert type(law).__name__ == "VZUnloadParams" and law.pair.R_star == pytest.approx(0.005)
+
+
+def test_dents_on_the_two_constant_law_are_one_line_exit_2(tmp_path, capsys):
+    drops = tmp_path / "drops.csv"
+    drops.write_text("v_in,e,dent\n0.05,0.6,1e-6\n0.1,0.55,2e-6\n", encoding="utf-8")
+    assert main(["fit-data", "--impacts", str(drops), "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
+                 "--law", "vz"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "column 'dent'" in err and "vz-unload" in err

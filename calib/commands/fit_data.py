@@ -228,6 +228,9 @@ def run(ns) -> int:
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
+    if data.impacts is not None and data.impacts.dent is not None:
+        raise ValueError(f"{ns.impacts}: column 'dent' is fitted on the vz master table's vz-unload law (the default "
+                         f"law, --law vz-table), not on --law vz (the two-constant law's dent is not measured)")
     choice, warning = fit_or_cause(data, specimen, table, "free" if ns.free else "constrained", sigma_y, ns.force)
     if warning:
         print(f"nfdcal fit-data: warning: {warning}; reported and written as --force asks", file=sys.stderr)

@@ -251,9 +251,10 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
                                                           " (no noise stated)")
     said = ", ".join(f"{name} {100 * rms[name]:.2g} % against {100 * expected[name]:.2g} %" if name in judged else
                      f"{name} {100 * rms[name]:.2g} % (the law's level not measured: not judged)" for name in sizes)
-    verdict = (f"rms residuals within {CONSISTENT:g}x {level} ({said}): consistent with the vz-table law of the vz "
+    name = "vz-unload" if unload else "vz-table"
+    verdict = (f"rms residuals within {CONSISTENT:g}x {level} ({said}): consistent with the {name} law of the vz "
                f"master table" if consistent else
-               f"rms residuals {max(excess.values()):.3g}x {level} ({said}): the vz-table law does not describe "
+               f"rms residuals {max(excess.values()):.3g}x {level} ({said}): the {name} law does not describe "
                f"these data to within its measured accuracy" + ("" if noise else " unless they scatter that much")
                + "; the interval assumes it does")
     window = _data_window(law, data)
