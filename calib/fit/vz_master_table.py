@@ -15,6 +15,12 @@ load of the surrounding nodes to the largest x_k that the columns around it reac
 
     a_p = a_Y f,   C_R = g   (nfdmodel.VZTableParams(pair, x_k, f, g, window))
 
+The table also carries the vz-unload law's (nfdmodel.vz_unload) dent ratio rho = delta_res/delta_max
+and unloading exponent m at each node and load (calib.fit.vz_master_build, from the node's FE
+unloading paths), interpolated the same way on the same loads and E / sigma_Y columns:
+
+    VZUnloadParams(pair, x_k, f, g, window, x_unload = x_k, rho, m),  rho(1) = 0, m(1) = 3/2
+
 numpy/scipy only (``nfdcal material --v-max`` answers in a fraction of a second). Its accuracy,
 against direct FE at off-grid materials (calib.fit.vz_master_check), is in the table's .json.
 """
