@@ -3,7 +3,7 @@
     nfdcal fit-data --impacts drops.csv --E 70e9 --nu 0.3 --R 0.1 --rho 2700 [--noise 0.01] [--json]
     nfdcal fit-data --force-approach press.csv --E ... --law vz --sigma-y 100e6 --free --plot fit.png
 
-Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s]) and/or quasi-static
+Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s], dent [m]) and/or quasi-static
 force-approach curves (approach [m], force [N], optional test) of a sphere on a rigid flat are
 fitted through the runtime law (calib.fit.measured states the equations).
 
@@ -58,7 +58,8 @@ def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves",
                                    description=__doc__.split("\n\n")[0])
     parser.add_argument("--impacts", default=None, metavar="CSV",
-                        help="drop tests: columns v_in [m/s], e [-]; optional P_max [N], contact_time [s]")
+                        help="drop tests: columns v_in [m/s], e [-]; optional P_max [N], contact_time [s], dent [m] "
+                             "(the residual indentation depth; fitted on the vz master table's vz-unload law)")
     parser.add_argument("--force-approach", dest="force_approach", default=None, metavar="CSV",
                         help="quasi-static curves: columns approach [m], force [N]; optional test (a label "
                              "per virgin specimen)")
@@ -227,6 +228,9 @@ def run(ns) -> int:
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
+    if data.impacts is not None and data.impacts.dent is not None:
+        raise ValueError(f"{ns.impacts}: column 'dent' is fitted on the vz master table's vz-unload law (the default "
+                         f"law, --law vz-table), not on --law vz (the two-constant law's dent is not measured)")
     choice, warning = fit_or_cause(data, specimen, table, "free" if ns.free else "constrained", sigma_y, ns.force)
     if warning:
         print(f"nfdcal fit-data: warning: {warning}; reported and written as --force asks", file=sys.stderr)

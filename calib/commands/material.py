@@ -3,6 +3,7 @@
     nfdcal material --E 205e9 --nu 0.29 --sigma-y 655e6 --R 0.005 --json
     nfdcal material ... --params-out steel.json     # a parameter file for nfdmodel.load_parameters
     nfdcal material ... --v-max 0.5                 # the vz-table law for impacts up to 0.5 m/s
+    nfdcal material ... --v-max 0.5 --law vz-unload --params-out law.json   # the vz-unload law
 
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
 (calib/data/master_table.csv; nfdmodel/README.md: the dimensionless constants), then
@@ -14,7 +15,10 @@ range (exit 2).
 With ``--v-max V`` (spelled as ``nfdcal calibrate --v-max``): the vz-table law (a_p/a_Y and C_R
 against P/P_Y) from the vz master table (calib/data/vz_master_table.csv, calib.fit.vz_master_table),
 declared on the window its surrounding nodes measured; an impact at V beyond that window is refused
-(one line naming the largest v_in the vz master table vouches for, exit 2).
+(one line naming the largest v_in the vz master table vouches for, exit 2). ``--law vz-unload``
+gives the vz-unload law instead (nfdmodel.vz_unload: the same loading, the FE's dent ratio
+delta_res/delta_max and unloading exponent m from the same table, VZMasterTable.unload_law), on the
+same window; ``nfdcal collide --law vz-unload --params`` runs its parameter file.
 
 ``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
 exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.
@@ -23,6 +27,8 @@ from __future__ import annotations
 
 from calib.commands.common import (add_hardening_arguments, add_material_arguments, add_summary_arguments,
                                    material_from_args, print_summary, refuse_hardening)
+
+LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
 
 def add_parser(subparsers) -> None:
@@ -35,6 +41,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--table", default=None, metavar="CSV", help="master table CSV (default: the shipped one)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="the vz-table law for impacts up to V [m/s] from the vz master table (no FE)")
+    parser.add_argument("--law", default=None, choices=LAWS,
+                        help="with --v-max: the law from the vz master table, vz-table (default) or vz-unload (the "
+                             "FE's dent and unloading exponent)")
     parser.add_argument("--vz-table", default=None, metavar="CSV",
                         help="vz master table CSV for --v-max (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
@@ -55,8 +64,9 @@ def run(ns) -> int:
     refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:
         return run_vz_table(ns, material, radius)
-    if ns.vz_table is not None:
-        raise ValueError("--vz-table needs --v-max (the vz-table law); without it the two-constant table answers")
+    if ns.vz_table is not None or ns.law is not None:
+        flag = "--vz-table" if ns.vz_table is not None else "--law"
+        raise ValueError(f"{flag} needs --v-max (the vz master table's laws); without it the two-constant table answers")
     table = MasterTable.load(ns.table)
     values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
     if ns.params_out:
@@ -83,17 +93,17 @@ def run(ns) -> int:
     return 0
 
 
-def vz_table_law(material, radius: float, table_csv=None) -> dict:
+def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-table") -> dict:
     """The vz-table law of ``material`` (sphere of ``radius`` [m]) from the vz master table (module
     doc), what ``--v-max`` answers and writes: {"law": VZTableParams, "table": VZMasterTable,
     "values": its tables' record, "v_in_window": (v_low, v_top) [m/s], the impacts of a sphere on a
     rigid flat that reach the window's ends}. The law does not depend on v_max (v_max is checked
-    against v_top only)."""
+    against v_top only). ``law_name`` "vz-unload": the table's vz-unload law (VZUnloadParams)."""
     from calib.fit import impact_window
     from calib.fit.vz_master_table import VZMasterTable
 
     table = VZMasterTable.load(table_csv)
-    law = table.law(material, radius)
+    law = table.unload_law(material, radius) if law_name == "vz-unload" else table.law(material, radius)
     window, P_Y = law.window, law.pair.P_Y
     return {"law": law, "table": table, "values": table.tables(material.nu, material.E / material.sigma_y),
             "v_in_window": (impact_window.reach_velocity(law, window.P_min_over_P_Y * P_Y),
@@ -121,7 +131,8 @@ def run_vz_table(ns, material, radius) -> int:
     check_solid("v_in", v_max)
     if ns.table is not None:
         raise ValueError("--table is the two-constant master table; with --v-max give --vz-table")
-    found = vz_table_law(material, radius, ns.vz_table)
+    law_name = ns.law or "vz-table"
+    found = vz_table_law(material, radius, ns.vz_table, law_name)
     law, table, values = found["law"], found["table"], found["values"]
     pair = law.pair
     window = law.window
@@ -130,7 +141,7 @@ def run_vz_table(ns, material, radius) -> int:
         raise ValueError(f"v_max out of range: the vz master table's window for this material ends at "
                          f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {bound_text(v_top, '<=')} m/s ({v_top / pair.v_Y:.4g} v_Y)")
     P_max = impact_window.impact_force(law, v_max)
-    summary = {"law": "vz-table", "v_max": v_max, "P_max_of_v_max": P_max, "P_max_of_v_max_over_P_Y": P_max / pair.P_Y,
+    summary = {"law": law_name, "v_max": v_max, "P_max_of_v_max": P_max, "P_max_of_v_max_over_P_Y": P_max / pair.P_Y,
                "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
                "window": window.record(), "v_in_window": [v_low, v_top],
                "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
@@ -138,15 +149,23 @@ def run_vz_table(ns, material, radius) -> int:
                "rel_error_estimate": values["rel_error_estimate"],
                "units": {"P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_max": "m/s", "v_Y": "m/s"},
                "source": "vz master table interpolation", "table_file": str(table.path), "accuracy": table.accuracy}
+    unloading = []
+    if law_name == "vz-unload":
+        rho, m = law.unloading_tables(P_max / pair.P_Y)
+        summary["table"].update({"x_unload": list(law.x_unload), "delta_res_over_delta_max": list(law.dent),
+                                 "unloading_exponent": list(law.exponent)})
+        summary.update({"delta_res_over_delta_max_of_v_max": float(rho), "unloading_exponent_of_v_max": float(m)})
+        unloading = [f"vz-unload law at v_max: dent delta_res/delta_max = {float(rho):.4g}, unloading exponent "
+                     f"m = {float(m):.4g} (tables over P_max/P_Y 1..{law.x_unload[-1]:.4g})"]
     if ns.params_out:
         write_vz_table_law(ns.params_out, found, material, radius)
         summary["params_out"] = ns.params_out
     below = (f"; impacts below {v_low:.3g} m/s load under the lowest measured path (C_R there follows a_p)"
              if v_max > v_low else "")
     print_summary(ns, summary, [
-        f"vz-table law: {len(law.x)} nodes, P/P_Y 1..{law.x[-1]:.4g}; C_R = {law.g[-1]:.4g}, a_p/a_Y = {law.f[-1]:.4g} at the top",
+        f"{law_name} law: {len(law.x)} nodes, P/P_Y 1..{law.x[-1]:.4g}; C_R = {law.g[-1]:.4g}, a_p/a_Y = {law.f[-1]:.4g} at the top",
         f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, delta_Y = {pair.delta_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
         f"window: P/P_Y {window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} (impacts {v_low:.3g}..{v_top:.3g} m/s); "
         f"v_max = {v_max:g} m/s reaches {P_max / pair.P_Y:.4g} P_Y{below}",
-        f"accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
+        *unloading, f"accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0

@@ -30,7 +30,8 @@ DENT_TARGET, DENT_TARGET_OF_ALPHA_MAX, RADIUS_TARGET, UNLOADING_TARGET, E_TARGET
 def unload_against_path(law_name: str, params, path: dict) -> dict:
     """``path``: ``loading_approach``, ``loading_force`` (to the peak, the last point the peak),
     ``unloading_approach``, ``unloading_force``, ``P_max``, ``alpha_max``, ``alpha_residual``,
-    ``radius_at_peak``, ``e`` [SI]; the figures of the module doc, and ``within`` (all targets met)."""
+    ``radius_at_peak`` (None: not known; radius_error None, not judged), ``e`` [SI]; the figures of
+    the module doc, and ``within`` (all targets met)."""
     law = get_law(law_name)
     state = law.initial_state(1)
     approach = np.concatenate([path["loading_approach"], path["unloading_approach"]])
@@ -50,9 +51,11 @@ def unload_against_path(law_name: str, params, path: dict) -> dict:
     loading_error = float(np.abs(forces[:peak + 1] - path["loading_force"]).max() / P_max)
     unloading_error = float(np.abs(forces[peak + 1:] - path["unloading_force"]).max() / P_max)
     dent_error, dent_of_alpha_max = dent / alpha_res - 1.0, (dent - alpha_res) / alpha_max
-    radius_error, e_error = radius / path["radius_at_peak"] - 1.0, e_law / path["e"] - 1.0
+    radius_fe = path.get("radius_at_peak")          # None: the FE record keeps no contact radius
+    radius_error = None if radius_fe is None else radius / radius_fe - 1.0
+    e_error = e_law / path["e"] - 1.0
     within = ((abs(dent_error) <= DENT_TARGET or abs(dent_of_alpha_max) <= DENT_TARGET_OF_ALPHA_MAX)
-              and abs(radius_error) <= RADIUS_TARGET and unloading_error <= UNLOADING_TARGET
+              and (radius_error is None or abs(radius_error) <= RADIUS_TARGET) and unloading_error <= UNLOADING_TARGET
               and abs(e_error) <= E_TARGET)
     return {"P_max": P_max, "dent_error": dent_error, "dent_error_of_alpha_max": dent_of_alpha_max,
             "radius_error": radius_error, "unloading_error": unloading_error, "loading_error": loading_error,

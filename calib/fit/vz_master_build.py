@@ -11,7 +11,10 @@ resolves to min(top, 1000 P_Y, a <= 0.2 R), loading stepped geometrically), on t
 [[refine]] entry below; or, with ``contact_size_over_a_max``, a uniform contact element that
 fraction of the largest contact radius) and, with ``meshes = 2``, on the mesh of contact element 2h
 (calib.fit.extrapolation: node values Richardson-extrapolated, their
-estimated relative error kept). The table stores f and g resampled on common loads x_k
+estimated relative error kept). The table stores f and g, and the vz-unload law's dent ratio
+rho = delta_res/delta_max and unloading exponent m from each node's stored FE unloading paths
+(calib.fit.unload_fit.unloading_nodes: rho = alpha_res/alpha_max, m = P_max (alpha_max - alpha_res)
+/ W_u - 1; no FE run), resampled on common loads x_k
 (NODES_PER_DECADE per decade from 1, and the top of each E/sigma_Y column; loads beyond a node's
 window are empty) and each node's window [x_low, x_top].
 
@@ -46,6 +49,7 @@ from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
 from meshes.keys import stable_key
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
+from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
 BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweeps"   # not scenes of the schema
 SCENE = "vz_master_grid"
@@ -291,6 +295,34 @@ def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return f, g
 
 
+def unloading_nodes_of(row: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x_unload, rho, m) of a stored node row: the vz-unload law's dent and unloading exponent at
+    its FE paths' peaks (calib.fit.unload_fit.unloading_nodes, the fit ``--ship unload`` uses), the
+    returned work from the histories as the FE takes them (calib.fit.vz_master_check.fe_paths)."""
+    from calib.fit.unload_fit import unloading_nodes
+    from calib.fit.vz_master_check import fe_paths
+
+    pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
+                                            row["rho"]), row["R"])
+    paths = fe_paths(row)
+    return unloading_nodes(pair, [p["P_max"] for p in paths], [p["alpha_max"] for p in paths],
+                           [p["alpha_residual"] for p in row["paths"]], [p["unloading_work"] for p in paths])
+
+
+def resample_unloading(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """rho = delta_res/delta_max and m of a node's vz-unload tables (:func:`unloading_nodes_of`;
+    nfdmodel's monotone interpolation of them, VZUnloadParams.unloading_tables) at the common loads
+    ``x`` inside its window [1, top]; NaN above it."""
+    x_unload, rho_nodes, m_nodes = unloading_nodes_of(row)
+    top = row["window"]["P_max_over_P_Y"]
+    inside = x <= top * (1 + 1e-9)
+    at = np.clip(x[inside], 1.0, x_unload[-1])
+    rho, m = np.full(x.size, np.nan), np.full(x.size, np.nan)
+    rho[inside] = pchip_evaluate(x_unload, rho_nodes, pchip_slopes(x_unload, rho_nodes), at)[0]
+    m[inside] = pchip_evaluate(x_unload, m_nodes, pchip_slopes(x_unload, m_nodes), at)[0]
+    return rho, m
+
+
 def table_loads(nodes: list[dict]) -> np.ndarray:
     """The table's loads: :func:`common_loads` and the top of each E/sigma_Y column (the lowest
     window top over its nu), so a material's window ends at its columns' top, not a step below."""
@@ -309,18 +341,21 @@ def table_loads(nodes: list[dict]) -> np.ndarray:
 
 
 def master_rows(rows: list[dict]) -> list[dict]:
-    """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window and its
-    estimated discretisation error (the CSV of calib.fit.vz_master_table)."""
+    """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window, its
+    estimated discretisation error and the vz-unload law's rho and m (the CSV of
+    calib.fit.vz_master_table)."""
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     x = table_loads(nodes)
     out = []
     for row in nodes:
         f, g = resample(row, x)
+        rho, m = resample_unloading(row, x)
         for k in range(x.size):
             out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_over_P_Y": float(x[k]),
                         "a_p_over_a_Y": float(f[k]), "C_R": float(g[k]),
                         "window_low": row["window"]["P_min_over_P_Y"], "window_top": row["window"]["P_max_over_P_Y"],
-                        "rel_error_estimate": row["table_rel_error_estimate"]})
+                        "rel_error_estimate": row["table_rel_error_estimate"],
+                        "delta_res_over_delta_max": float(rho[k]), "unloading_exponent": float(m[k])})
     return out
 
 
@@ -348,7 +383,10 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                                               "table_fit) of the FE calibration at the node's reach (nfdcal calibrate "
                                               "--v-max), node values Richardson-extrapolated from two meshes when the "
                                               "scene has meshes = 2; empty above the node's window; window_low: its "
-                                              "lowest unloading path"},
+                                              "lowest unloading path; delta_res_over_delta_max = rho, "
+                                              "unloading_exponent = m of the vz-unload law at P_max/P_Y (calib.fit."
+                                              "unload_fit.unloading_nodes on the node's FE unloading paths, PCHIP "
+                                              "between their peaks from rho = 0, m = 3/2 at P_Y; one mesh)"},
             "stamp": stamp}
     output.write_csv(path, table_rows, comment=output.stamp_comment(stamp))
     output.write_json(path.with_suffix(".json"), meta)

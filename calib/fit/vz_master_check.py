@@ -10,6 +10,15 @@ is driven along every FE load-unload path (calib.fit.path_check.law_against_path
 
 A path counts as inside when its peak lies in the table's window at that material.
 
+The table's vz-unload law (VZMasterTable.unload_law: the same loading, the dent ratio rho and the
+unloading exponent m interpolated as f and g) and, for contrast, its vz-table law are driven along
+the same FE paths in what a DEM code reads after a contact (calib.fit.unload_check; the records
+keep no contact radius, so the radius is not checked here):
+
+    dent error      = delta_res,law / alpha_res,FE - 1   (and of alpha_max where the dent is small)
+    unloading error = max |P_law - P_FE| / P_max over the FE's unloading points
+    e error         = e_law / e_FE - 1   (the energies at the peak)
+
 The table's discretisation error is measured against a reference FE at the scene's refined nodes
 (kind "refine"): the node run again on graded meshes (meshes.hemisphere, grading: N elements across
 every contact radius from the lowest path up, where the nodes' uniform mesh sized on the largest
@@ -53,7 +62,7 @@ from calib.fit.measured.specimen import Specimen
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, Material
 
-DATA_KINDS = ("drops e", "drops e+P", "drops e+P+t", "force")   # t: the contact time
+DATA_KINDS = ("drops e", "drops e+P", "drops e+P+t", "drops e+dent", "force")   # t: the contact time; dent: delta_res
 ORDER_RANGE = (0.5, 4.0)          # the orders an observed one is bounded to (first order: contact edge;
                                   # fourth: beyond the quadratic elements' smooth-solution rate)
 
@@ -118,20 +127,94 @@ def check_material(row: dict, table: VZMasterTable) -> list[dict]:
     return out
 
 
+def unload_path(row: dict, stored: dict, path: dict) -> dict:
+    """One FE path of a stored row (``stored``: its record, ``path``: its fe_paths entry) as
+    calib.fit.unload_check.unload_against_path reads it; the record keeps no contact radius."""
+    n = path["loading_points"]
+    return {"loading_approach": path["approach"][:n], "loading_force": np.maximum(path["force"][:n], 0.0),
+            "unloading_approach": np.asarray(stored["unloading"]["alpha"], dtype=float),
+            "unloading_force": np.maximum(np.asarray(stored["unloading"]["P"], dtype=float), 0.0),
+            "P_max": path["P_max"], "alpha_max": path["alpha_max"], "alpha_residual": stored["alpha_residual"],
+            "radius_at_peak": None, "e": path["e"]}
+
+
+def check_unloading(row: dict, table: VZMasterTable) -> list[dict]:
+    """Per FE path of one check row: the table's vz-unload law and, for contrast, its vz-table law in
+    dent, unloading force and e (calib.fit.unload_check.unload_against_path; module doc)."""
+    from calib.fit.unload_check import unload_against_path
+
+    material, R = material_of(row)
+    laws = {"vz-unload": table.unload_law(material, R), "vz-table": table.law(material, R)}
+    window = laws["vz-table"].window
+    out = []
+    for stored, path in zip(row["paths"], fe_paths(row)):
+        x = path["P_max"] / laws["vz-table"].pair.P_Y
+        record = {"name": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_max_over_P_Y": x,
+                  "inside": bool(window.P_min_over_P_Y * (1 - 1e-9) <= x <= window.P_max_over_P_Y * (1 + 1e-9)),
+                  "dent_fe_over_alpha_max": stored["alpha_residual"] / path["alpha_max"]}
+        fe = unload_path(row, stored, path)
+        for name, law in laws.items():
+            compared = unload_against_path(name, law, fe)
+            record.update({f"{name} {key}": compared[key] for key in UNLOAD_FIGURES})
+        out.append(record)
+    return out
+
+
+UNLOAD_FIGURES = ("dent_error", "dent_error_of_alpha_max", "unloading_error", "e_error")
+
+
+def unloading_accuracy(rows: list[dict]) -> dict:
+    """Summary of :func:`check_unloading` rows inside the window, per law: the largest |dent error|,
+    where it exceeds the 3 % target the largest |dent error| of alpha_max there, the largest unloading
+    force error [of P_max] and |e error|, and how many paths meet the dent target (3 % or 0.5 % of
+    alpha_max, calib.fit.unload_check)."""
+    from calib.fit.unload_check import DENT_TARGET, DENT_TARGET_OF_ALPHA_MAX
+
+    inside = [r for r in rows if r["inside"]]
+    if not inside:
+        return {"paths": 0}
+    out = {"paths": len(inside), "materials": len({r["name"] for r in inside})}
+    for law in ("vz-unload", "vz-table"):
+        dent = np.array([r[f"{law} dent_error"] for r in inside])
+        of_max = np.array([r[f"{law} dent_error_of_alpha_max"] for r in inside])
+        beyond = np.abs(dent) > DENT_TARGET
+        out[law] = {"dent_error_max": float(np.abs(dent).max()),
+                    "dent_error_of_alpha_max_beyond_3pct": float(np.abs(of_max[beyond]).max()) if beyond.any() else 0.0,
+                    "dent_within_target": int(np.sum(~beyond | (np.abs(of_max) <= DENT_TARGET_OF_ALPHA_MAX))),
+                    "unloading_error_max": float(max(r[f"{law} unloading_error"] for r in inside)),
+                    "e_error_max": float(max(abs(r[f"{law} e_error"]) for r in inside))}
+    return out
+
+
+def unloading_statement(summary: dict) -> str:
+    """The clause of the accuracy statement on the dent and the unloading curve."""
+    if not summary.get("paths"):
+        return ""
+    parts = []
+    for law in ("vz-unload", "vz-table"):
+        s = summary[law]
+        parts.append(f"{law} dent within {100 * s['dent_error_max']:.2g} % ({s['dent_within_target']} of "
+                     f"{summary['paths']} paths within 3 % or 0.5 % of alpha_max), unloading force within "
+                     f"{100 * s['unloading_error_max']:.2g} % of P_max, e within {100 * s['e_error_max']:.3g} %")
+    return (f"; along the same FE unloading curves ({summary['paths']} paths): " + "; ".join(parts))
+
+
 def fe_datasets(row: dict, table: VZMasterTable) -> dict:
     """The noise-free drop tests and force-approach curve of one FE row (module doc): the specimen,
     the true sigma_Y [Pa], drops (v_in [m/s], e, P_max [N]), force (approach [m], force [N])."""
     material, R = material_of(row)
     pair = ContactPair.sphere_flat(material, R)
     window = table.law(material, R).window
-    inside = [p for p in fe_paths(row) if window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / pair.P_Y
+    inside = [{**p, "alpha_residual": stored["alpha_residual"]} for stored, p in zip(row["paths"], fe_paths(row))
+              if window.P_min_over_P_Y * (1 - 1e-9) <= p["P_max"] / pair.P_Y
               <= window.P_max_over_P_Y * (1 + 1e-9)]
     if not inside:
         raise ValueError(f"{row['name']}: no FE path inside the table's window {window.describe()}")
     v_in = np.array([math.sqrt(2 * p["loading_work"] / pair.mass_star) for p in inside])
     drops = {"v_in": v_in, "e": np.array([math.sqrt(p["unloading_work"] / p["loading_work"]) for p in inside]),
              "P_max": np.array([p["P_max"] for p in inside]),
-             "contact_time": np.array([contact_time(p, pair.mass_star, v) for p, v in zip(inside, v_in)])}
+             "contact_time": np.array([contact_time(p, pair.mass_star, v) for p, v in zip(inside, v_in)]),
+             "dent": np.array([p["alpha_residual"] for p in inside])}
     top = max(inside, key=lambda p: p["P_max"])
     return {"specimen": Specimen(material.E, material.nu, R, material.rho), "sigma_y": material.sigma_y,
             "drops": drops, "force": (top["approach"], top["force"]),
@@ -158,7 +241,8 @@ def measurements(kind: str, values: dict, name: str) -> Measurements:
     rows = np.arange(1, values["v_in"].size + 1)
     P = values["P_max"] if kind in ("drops e+P", "drops e+P+t") else None
     t = values["contact_time"] if kind == "drops e+P+t" else None
-    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, t, rows))
+    dent = values["dent"] if kind == "drops e+dent" else None
+    return Measurements(impacts=ImpactData(f"{name}_drops.csv", values["v_in"], values["e"], P, t, rows, dent))
 
 
 def fit_errors(row: dict, table: VZMasterTable) -> dict:
@@ -379,17 +463,20 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
     residual_form = {g: float(np.sqrt(np.mean([e["residual_rms"][g] ** 2 for e in errors.values()]))) for g in groups}
     summary["sigma_y_fit_errors"] = errors
     summary["discretisation"] = discretisation(rows)
+    unloading = [c for row in checks for c in check_unloading(row, table)] if table.has_unloading else []
+    summary["unloading"] = unloading_accuracy(unloading) if unloading else {"paths": 0}
     stamp = output.stamp(0.0, table=str(table_path))
     folder = Path(folder)
     output.write_csv(folder / "vz_master_check.csv", compared, comment=output.stamp_comment(stamp))
-    output.write_json(folder / "vz_master_check.json", {"rows": compared, "accuracy": summary, "stamp": stamp})
+    output.write_json(folder / "vz_master_check.json", {"rows": compared, "unloading_rows": unloading,
+                                                          "accuracy": summary, "stamp": stamp})
     if summary.get("paths"):
         statement = (f"against direct FE at {summary['materials']} off-grid materials ({summary['paths']} load-unload "
                      f"paths inside the window, between the nodes in material, most also in load): e within {100 * summary['e_error_max']:.2g} % "
                      f"(rms {100 * summary['e_error_rms']:.2g} %), force within {100 * summary['force_error_max']:.2g} % "
                      f"of P_max, loading force rms {100 * summary['loading_force_error_rms']:.2g} %; sigma_Y fitted to "
                      f"their noise-free FE data rms " + ", ".join(f"{k} {100 * v:.2g} %" for k, v in sigma_form.items()))
-        statement += discretisation_statement(summary["discretisation"])
+        statement += discretisation_statement(summary["discretisation"]) + unloading_statement(summary["unloading"])
     else:
         statement = "not checked against off-grid FE"
     meta_path = Path(table_path).with_suffix(".json")

@@ -15,6 +15,12 @@ load of the surrounding nodes to the largest x_k that the columns around it reac
 
     a_p = a_Y f,   C_R = g   (nfdmodel.VZTableParams(pair, x_k, f, g, window))
 
+The table also carries the vz-unload law's (nfdmodel.vz_unload) dent ratio rho = delta_res/delta_max
+and unloading exponent m at each node and load (calib.fit.vz_master_build, from the node's FE
+unloading paths), interpolated the same way on the same loads and E / sigma_Y columns:
+
+    VZUnloadParams(pair, x_k, f, g, window, x_unload = x_k, rho, m),  rho(1) = 0, m(1) = 3/2
+
 numpy/scipy only (``nfdcal material --v-max`` answers in a fraction of a second). Its accuracy,
 against direct FE at off-grid materials (calib.fit.vz_master_check), is in the table's .json.
 """
@@ -27,9 +33,11 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, check_axes, read_meta, read_rows
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, limits
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, VZUnloadParams, limits
+from nfdmodel.vz_unload import HERTZ_EXPONENT
 
 DEFAULT_TABLE = DATA_DIR / "vz_master_table.csv"
+UNLOADING_COLUMNS = ("delta_res_over_delta_max", "unloading_exponent")   # rho, m of the vz-unload law
 
 
 def pchip_along(axis: np.ndarray, values: np.ndarray, at: float) -> np.ndarray:
@@ -53,6 +61,8 @@ class VZMasterTable:
     window_low: np.ndarray        # (len(nu), len(E_over_sigma_y)): the lowest unloading path [P_Y]
     window_top: np.ndarray
     rel_error: np.ndarray         # the nodes' estimated discretisation error (NaN: not estimated)
+    rho: np.ndarray | None = None   # the vz-unload law's delta_res/delta_max and unloading exponent m at x
+    m: np.ndarray | None = None     # (as f, g; None: a table without them)
     meta: dict = field(default_factory=dict)
     path: Path | None = None
 
@@ -68,10 +78,15 @@ class VZMasterTable:
         shape = (nu.size, ratio.size)
         f, g = np.full(shape + (x.size,), np.nan), np.full(shape + (x.size,), np.nan)
         low, top, err = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+        unloading = all(k in rows[0] for k in UNLOADING_COLUMNS)
+        rho, m = np.full(shape + (x.size,), np.nan), np.full(shape + (x.size,), np.nan)
         for r in rows:
             i, j, k = (int(np.searchsorted(a, float(r[c]))) for a, c in
                        ((nu, "nu"), (ratio, "E_over_sigma_y"), (x, "P_over_P_Y")))
             f[i, j, k], g[i, j, k] = (float(r[c]) if isinstance(r[c], float) else np.nan for c in ("a_p_over_a_Y", "C_R"))
+            if unloading:
+                rho[i, j, k], m[i, j, k] = (float(r[c]) if isinstance(r[c], float) else np.nan
+                                            for c in UNLOADING_COLUMNS)
             low[i, j], top[i, j] = float(r["window_low"]), float(r["window_top"])
             e = r.get("rel_error_estimate")
             err[i, j] = float(e) if isinstance(e, float) else np.nan
@@ -80,7 +95,8 @@ class VZMasterTable:
             raise ValueError(f"vz master table{where}: grid nodes (nu, E/sigma_Y) without a value: {missing}")
         if nu.size < 2 or ratio.size < 2 or x[0] != 1.0:
             raise ValueError(f"vz master table{where}: need >= 2 values of nu and of E/sigma_Y and loads from P/P_Y = 1")
-        return cls(nu, ratio, x, f, g, low, top, err, meta or {}, path)
+        return cls(nu, ratio, x, f, g, low, top, err, rho if unloading else None, m if unloading else None,
+                   meta or {}, path)
 
     @classmethod
     def load(cls, path: str | Path | None = None) -> "VZMasterTable":
@@ -112,18 +128,9 @@ class VZMasterTable:
         log_ratio = np.log10(self.E_over_sigma_y)
         both = np.stack([self.f, self.g], axis=-1)                 # (nu, ratio, x, 2)
         finite = np.all(np.isfinite(both), axis=(0, 3))                # (ratio, x): every nu reaches x_k
-        at_nu = pchip_along(self.nu, np.where(np.isfinite(both), both, 0.0), nu)   # (ratio, x, 2); unreached: unused
         reach = np.array([self._reaches(finite[:, k], log_ratio, lr) for k in range(self.x.size)])
         stop = int(np.argmin(reach)) if not reach.all() else self.x.size   # the loads up to the first unreached one
-        value = np.empty((stop, 2))
-        k = 0
-        while k < stop:                  # runs of loads reached by the same E/sigma_Y columns: one interpolation
-            end = k + 1
-            while end < stop and np.array_equal(finite[:, end], finite[:, k]):
-                end += 1
-            valid = np.nonzero(finite[:, k])[0]
-            value[k:end] = pchip_along(log_ratio[valid], at_nu[valid, k:end], lr)
-            k = end
+        value = self._interpolate(both, finite, stop, nu, lr)
         xs, fs, gs = self.x[:stop], value[:, 0], value[:, 1].copy()
         if stop < 2:
             raise ValueError(f"E/sigma_Y = {E_over_sigma_y:g}: the vz master table's nodes around it reach no load above P_Y")
@@ -132,23 +139,67 @@ class VZMasterTable:
         around = (self._bracket(self.nu, nu), self._bracket(self.E_over_sigma_y, 10.0 ** lr))
         errors = self.rel_error[around]
         low = float(self.window_low[around].max())
-        return {"x": np.array(xs), "f": f, "g": gs, "low": min(low, xs[-1]), "top": xs[-1],
-                "rel_error_estimate": None if np.isnan(errors).any() else float(errors.max())}
+        out = {"x": np.array(xs), "f": f, "g": gs, "low": min(low, xs[-1]), "top": xs[-1],
+               "rel_error_estimate": None if np.isnan(errors).any() else float(errors.max())}
+        if self.has_unloading:        # rho, m on the same loads from the same columns as f, g
+            unloading = self._interpolate(np.stack([self.rho, self.m], axis=-1), finite, stop, nu, lr)
+            out["rho"], out["m"] = unloading[:, 0].copy(), unloading[:, 1].copy()
+            out["rho"][0], out["m"][0] = 0.0, HERTZ_EXPONENT      # first yield: Hertz's, exactly
+        return out
+
+    def _interpolate(self, stack: np.ndarray, finite: np.ndarray, stop: int, nu: float, lr: float) -> np.ndarray:
+        """The columns ``stack`` (nu, ratio, x, n) at (nu, log10 E/sigma_Y = lr) on the loads x_k, k < stop:
+        PCHIP in nu, then in log10(E/sigma_Y) over the columns ``finite`` (ratio, x) that reach each x_k."""
+        log_ratio = np.log10(self.E_over_sigma_y)
+        at_nu = pchip_along(self.nu, np.where(np.isfinite(stack), stack, 0.0), nu)   # (ratio, x, n); unreached: unused
+        value = np.empty((stop, stack.shape[-1]))
+        k = 0
+        while k < stop:                  # runs of loads reached by the same E/sigma_Y columns: one interpolation
+            end = k + 1
+            while end < stop and np.array_equal(finite[:, end], finite[:, k]):
+                end += 1
+            valid = np.nonzero(finite[:, k])[0]
+            value[k:end] = pchip_along(log_ratio[valid], at_nu[valid, k:end], lr)
+            k = end
+        return value
+
+    @property
+    def has_unloading(self) -> bool:
+        """Whether the table carries the vz-unload law's rho and m (:func:`unload_law`)."""
+        return self.rho is not None and self.m is not None
 
     def law(self, material: Material, R: float) -> VZTableParams:
         """The vz-table law of a sphere of ``material`` and radius R [m] on a rigid flat, declared on
         the table's window at that material."""
         values = self.tables(float(material.nu), float(material.E / material.sigma_y))
         pair = ContactPair.sphere_flat(material, R)
+        return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]),
+                             self._window(values, pair))
+
+    def _window(self, values: dict, pair: ContactPair) -> CalibrationWindow:
+        """The window of :meth:`tables` ``values`` for ``pair``."""
         a_top = pair.a_Y * (np.cbrt(values["top"]) + values["f"][-1]) / pair.R_star   # the law's a = a_Y (x^(1/3) + f)
         # every node ran to at most the FE's reach (vz_master_build.run_task); the law's radius can
         # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100; the FE's
         # own contact radius there is 0.185 R)
         name = self.path.name if self.path else "vz master table"
-        window = CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
-                                   f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
-                                   f"to {values['top']:.4g} P_Y")
-        return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]), window)
+        return CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
+                                 f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
+                                 f"to {values['top']:.4g} P_Y")
+
+    def unload_law(self, material: Material, R: float) -> VZUnloadParams:
+        """The vz-unload law of that sphere: :meth:`law`'s loading tables and window with the table's
+        rho, m interpolated at the same loads (x_unload = x; rho = 0, m = 3/2 at P_Y). A ValueError
+        when the table carries no unloading columns."""
+        if not self.has_unloading:
+            name = self.path.name if self.path else "vz master table"
+            raise ValueError(f"{name} has no columns {', '.join(UNLOADING_COLUMNS)}: the vz-unload law needs them "
+                             f"(nfdcal table vz_master_grid --master-out CSV writes them)")
+        values = self.tables(float(material.nu), float(material.E / material.sigma_y))
+        pair = ContactPair.sphere_flat(material, R)
+        x = tuple(values["x"])
+        return VZUnloadParams(pair, x, tuple(values["f"]), tuple(values["g"]), self._window(values, pair), x,
+                              tuple(values["rho"]), tuple(values["m"]))
 
     @property
     def accuracy(self) -> str:

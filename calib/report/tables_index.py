@@ -75,12 +75,27 @@ def vz_master_table(root: Path) -> list[str]:
     law_table = shipped["vz_master_table"]
     lines = study_header("The master table of the load-dependent law (`tables/vz_master_grid/`)", shipped["stamp"],
                          "nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv")
+    unloading = check.get("unloading_rows") or []
     lines += [f"a_p/a_Y and C_R of the vz-table law at P/P_Y {law_table['P_over_P_Y'][0]:g}..{law_table['P_over_P_Y'][-1]:.4g} "
               f"({len(law_table['P_over_P_Y'])} loads) over nu {', '.join(f'{x:g}' for x in law_table['nu'])} x E/sigma_Y "
               f"{', '.join(f'{x:g}' for x in law_table['E_over_sigma_y'])}, each node an FE calibration with unloading "
-              "paths log-spaced over its window (`nodes/`; `nfdcal material --v-max V` reads it). Accuracy, "
-              f"against FE paths of off-grid materials (`vz_master_check.*`): {law_table['accuracy']}.", ""]
+              "paths log-spaced over its window (`nodes/`; `nfdcal material --v-max V` reads it)"
+              + (", and the vz-unload law's dent ratio delta_res/delta_max and unloading exponent m from the same "
+                 "nodes' unloading paths (`nfdcal material --v-max V --law vz-unload`)" if unloading else "")
+              + f". Accuracy, against FE paths of off-grid materials (`vz_master_check.*`): {law_table['accuracy']}.",
+              ""]
     rows = [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['P_max_over_P_Y']:.3g}",
              f"{r['window_low']:.3g} - {r['window_top']:.0f}", "yes" if r["inside"] else "no",
              pct(r["e_error"]), apct(r["force_error"])] for r in check["rows"]]
-    return lines + table(["nu", "E/sigma_Y", "P_max/P_Y", "window (P/P_Y)", "inside", "e error", "force error"], rows)
+    lines += table(["nu", "E/sigma_Y", "P_max/P_Y", "window (P/P_Y)", "inside", "e error", "force error"], rows)
+    if not unloading:
+        return lines
+    lines += ["", "Along the same FE unloading curves, the table's vz-unload law against its vz-table law (dent: "
+              "delta_res / alpha_res,FE - 1; unloading: max |P_law - P_FE| / P_max over the FE's unloading points):", ""]
+    rows = [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['P_max_over_P_Y']:.3g}", "yes" if r["inside"] else "no",
+             f"{r['dent_fe_over_alpha_max']:.3g}"]
+            + [value for law in ("vz-unload", "vz-table") for value in
+               (pct(r[f"{law} dent_error"]), apct(r[f"{law} unloading_error"]), pct(r[f"{law} e_error"]))]
+            for r in unloading]
+    return lines + table(["nu", "E/sigma_Y", "P_max/P_Y", "inside", "FE dent/alpha_max", "vz-unload dent",
+                          "vz-unload unloading", "vz-unload e", "vz-table dent", "vz-table unloading", "vz-table e"], rows)

@@ -6,7 +6,8 @@ table at (nu, E / sigma_Y) (calib.fit.vz_master_table: a_p/a_Y and C_R against P
 load-unload paths over the whole window), so one parameter, theta = ln sigma_Y, is fitted over the
 data's whole window. Predictions, as calib.fit.measured.specimen states them for the vz law:
 drop tests by the law's quasi-static impact (nfdmodel.collision_reference, law "vz-table":
-e, P_max, contact time), force-approach curves by the law driven along each measured approach
+e, P_max, contact time; with a dent column the table's vz-unload law, the same loading with the
+FE's dent ratio and unloading exponent, its delta_res the dent), force-approach curves by the law driven along each measured approach
 (a virgin contact per test), their force fitted on the virgin loading rows (approach at its
 running maximum): the law takes the FE's loading curve and the work each unloading returns, its
 unloading is a Hertz curve of that work, not the FE's unloading shape (fitted on whole cycles,
@@ -49,24 +50,37 @@ from calib.fit.measured.data import Measurements
 from calib.fit.measured.interval import Z95, coverage_factor, interval95  # noqa: F401 (re-exported)
 from calib.fit.measured.specimen import Specimen, impact_residuals
 from calib.fit.vz_master_table import VZMasterTable
-from nfdmodel import ContactPair, PlausibilityWarning, RangeWarning, VZTableParams, collision_reference, get_law
+from nfdmodel import (ContactPair, PlausibilityWarning, RangeWarning, VZTableParams, VZUnloadParams, collision_reference,
+                      get_law)
 
 STEP = 1e-5                        # the central-difference step in ln sigma_Y
 SCAN_POINTS = 13                   # the coarse scan of ln sigma_Y over the table that starts the fit
 CONSISTENT = 2.0                   # residual / expected level above this: the law does not describe the data
 
 
-def table_law(specimen: Specimen, sigma_y: float, table: VZMasterTable) -> VZTableParams:
+def table_law(specimen: Specimen, sigma_y: float, table: VZMasterTable, unload: bool = False) -> VZTableParams:
     """The vz-table law of the tested pair at sigma_Y [Pa] (a_p/a_Y, C_R of the material at
-    (nu, E / sigma_Y); the window the table measured there)."""
+    (nu, E / sigma_Y); the window the table measured there); ``unload``: the table's vz-unload law
+    (the same loading, the FE's dent ratio and unloading exponent: the law dents are fitted on)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlausibilityWarning)
         material = specimen.material(sigma_y)
-        flat = table.law(material, specimen.R)
+        flat = table.unload_law(material, specimen.R) if unload else table.law(material, specimen.R)
         if not specimen.two_spheres:
             return flat
         pair = ContactPair.sphere_sphere(material, specimen.R, material, specimen.R)
-    return VZTableParams(pair, flat.x, flat.f, flat.g, flat.window)
+    params = VZTableParams(pair, flat.x, flat.f, flat.g, flat.window)
+    return VZUnloadParams.from_table(params, flat.x_unload, flat.dent, flat.exponent) if unload else params
+
+
+def law_name(law: VZTableParams) -> str:
+    """The nfdmodel law of ``law``: vz-unload for the table's vz-unload law, else vz-table."""
+    return "vz-unload" if isinstance(law, VZUnloadParams) else "vz-table"
+
+
+def has_dents(data: Measurements) -> bool:
+    """Whether the drop tests measured dents (fitted through the vz-unload law, :func:`table_law`)."""
+    return "dent" in data.group_sizes()
 
 
 def predict(law: VZTableParams, data: Measurements) -> dict:
@@ -75,8 +89,9 @@ def predict(law: VZTableParams, data: Measurements) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
         if data.impacts is not None:
-            ref = collision_reference("vz-table", law, data.impacts.v_in)
-            out["impacts"] = {"e": ref.restitution, "P_max": ref.P_max, "contact_time": ref.contact_time_estimate}
+            ref = collision_reference(law_name(law), law, data.impacts.v_in)
+            out["impacts"] = {"e": ref.restitution, "P_max": ref.P_max, "contact_time": ref.contact_time_estimate,
+                              "dent": ref.delta_res}
         if data.forces is not None:
             driver = get_law("vz-table")
             forces = []
@@ -117,12 +132,15 @@ def virgin_loading(approach: np.ndarray) -> np.ndarray:
 
 def data_kind(data: Measurements) -> str:
     """Which measured model-form error applies: "force" when a force-approach curve is fitted,
-    else "drops e+P+t" with contact times (with or without P_max: the contact time's error is the
+    else "drops e+dent" with dents (the vz-unload law; with P_max or contact times too, their
+    groups' levels under it are not measured and not judged), else "drops e+P+t" with contact times (with or without P_max: the contact time's error is the
     law's largest, its unloading a Hertz curve of the FE's work), "drops e+P" with P_max, else
     "drops e"."""
     if data.forces is not None:
         return "force"
     groups = data.group_sizes()
+    if "dent" in groups:
+        return "drops e+dent"
     return "drops e+P+t" if "contact_time" in groups else "drops e+P" if "P_max" in groups else "drops e"
 
 
@@ -175,8 +193,10 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     sizes = data.group_sizes()
     scale = {name: 1.0 for name in sizes}
 
+    unload = has_dents(data)
+
     def groups(theta):
-        return residuals(table_law(specimen, math.exp(theta), table), data)
+        return residuals(table_law(specimen, math.exp(theta), table, unload), data)
 
     def weighted(theta):
         g = groups(float(np.atleast_1d(theta)[0]))
@@ -218,7 +238,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     se_stat, se_model = sigma_y * math.sqrt(v_stat), sigma_y * math.sqrt(v_model)
     v = v_stat + v_model
     interval = (math.exp(bounded.low), math.exp(bounded.high))
-    law = table_law(specimen, sigma_y, table)
+    law = table_law(specimen, sigma_y, table, unload)
     rms = {name: float(np.sqrt(np.mean(g[name] ** 2))) for name in sizes}
     level_of = table.meta.get("model_form", {}).get("residual_rms", {})
     law_error = {name: float(level_of.get(f"{kind}: {name}", 0.0)) for name in sizes}
@@ -231,9 +251,10 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
                                                           " (no noise stated)")
     said = ", ".join(f"{name} {100 * rms[name]:.2g} % against {100 * expected[name]:.2g} %" if name in judged else
                      f"{name} {100 * rms[name]:.2g} % (the law's level not measured: not judged)" for name in sizes)
-    verdict = (f"rms residuals within {CONSISTENT:g}x {level} ({said}): consistent with the vz-table law of the vz "
+    name = "vz-unload" if unload else "vz-table"
+    verdict = (f"rms residuals within {CONSISTENT:g}x {level} ({said}): consistent with the {name} law of the vz "
                f"master table" if consistent else
-               f"rms residuals {max(excess.values()):.3g}x {level} ({said}): the vz-table law does not describe "
+               f"rms residuals {max(excess.values()):.3g}x {level} ({said}): the {name} law does not describe "
                f"these data to within its measured accuracy" + ("" if noise else " unless they scatter that much")
                + "; the interval assumes it does")
     window = _data_window(law, data)
@@ -251,7 +272,7 @@ def _data_window(law: VZTableParams, data: Measurements) -> tuple[float, float]:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
         if data.impacts is not None:
-            loads.append(np.asarray(collision_reference("vz-table", law, data.impacts.v_in).P_max))
+            loads.append(np.asarray(collision_reference(law_name(law), law, data.impacts.v_in).P_max))
     if data.forces is not None:
         loads.append(np.array([float(np.max(force)) for _, _, force in data.forces.tests]))
     x = np.concatenate(loads) / law.pair.P_Y

@@ -45,8 +45,8 @@ from calib.fit.measured.data import Measurements
 from calib.fit.measured.interval import Z95
 from calib.fit.measured.scatter import PLAUSIBLE_SCATTER, SIGNIFICANCE
 from calib.fit.measured.specimen import Specimen
-from calib.fit.measured.table_law import (TableLawFit, data_kind, fit, predict, residuals_of, sigma_y_range,
-                                          table_law)
+from calib.fit.measured.table_law import (TableLawFit, data_kind, fit, law_name, predict, residuals_of,
+                                          sigma_y_range, table_law)
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import RangeWarning, collision_reference
 
@@ -105,7 +105,7 @@ def drop_loads(law, v_in: np.ndarray) -> np.ndarray:
     """P/P_Y [-] of each drop test by the law."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
-        return np.asarray(collision_reference("vz-table", law, v_in).P_max) / law.pair.P_Y
+        return np.asarray(collision_reference(law_name(law), law, v_in).P_max) / law.pair.P_Y
 
 
 def outside(x: np.ndarray, window, factor: float) -> np.ndarray:
