@@ -105,8 +105,8 @@ def test_collide_with_the_file_is_nfdmodel_called_directly(tmp_path, capsys):
 
 
 def test_export_of_a_vz_unload_file_on_a_counter_body_says_so_in_one_line(tmp_path, capsys):
-    """A vz-unload file calibrated on a counter-body: its like-type laws would come from the master
-    tables, which carry no unloading tables (the plugin runs a file of the sphere on a flat:
+    """A vz-unload file calibrated on a counter-body: export builds a pair's like-type laws from the
+    master table's vz-table columns only (the plugin runs a file of the sphere on a flat:
     tests/test_lammps.py)."""
     flat = {"shape": "flat", "E": 2.1e11, "nu": 0.3, "sigma_y": None, "R": None}
 

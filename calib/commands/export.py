@@ -30,7 +30,7 @@ plugin reads:
 and a vz-unload file (``nfdcal calibrate --ship unload``: the tables with the dent and unloading
 exponent) the same way, on pair_style nfd/vz-unload and the fixes nfd/wall/vz-unload and
 nfd/wall/region/vz-unload. A vz-unload file calibrated on a counter-body is refused, one line,
-exit 2: its like-type laws would come from the master tables, which carry no unloading tables.
+exit 2: export assembles the like-type laws of a pair from the master table's vz-table columns only.
 
 With --wall-E E_W --wall-nu NU_W the wall lines carry ``wall_material E_W NU_W`` after the
 constants: a wall of that elastic material (E* of the sphere and the wall in series, first yield
@@ -179,8 +179,8 @@ def run(ns) -> int:
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
     if counter is not None and law_of(params) == "vz-unload":
         raise ValueError(f"--params {ns.params}: a vz-unload file on a counter-body out of range for export "
-                         f"lammps: its like-type laws come from the master tables, which carry no dent or unloading "
-                         f"exponent tables; export a vz-table file of the pair (nfdcal calibrate --ship table)")
+                         f"lammps: export builds a pair's like-type laws from the master table's vz-table columns "
+                         f"only; export a vz-table file of the pair (nfdcal calibrate --ship table)")
     if counter is not None:
         if file_hardening_line(ns.params) is not None:
             raise ValueError(f"--params {ns.params}: a hardening sphere's file on a counter-body out of range for export "
