@@ -60,13 +60,15 @@ class CalibrationWindow:
                           PlausibilityWarning, stacklevel=3)
 
     def beyond_fe_reach(self) -> list[str]:
-        """How far the window reaches beyond what an FE calibration runs to (nfd_limits.h:
-        FE_MAX_LOAD_OVER_YIELD, FE_MAX_CONTACT_RADIUS_OVER_R), as text; [] inside it."""
+        """How far the window reaches beyond what any FE calibration runs to (the finite-strain FE's
+        reach, nfd_limits.h: FE_FINITE_MAX_LOAD_OVER_YIELD, FE_FINITE_MAX_CONTACT_RADIUS_OVER_R; the
+        small-strain FE's is narrower, calib.fit.recipe.fe_reach), as text; [] inside it."""
         beyond = []
-        if self.P_max_over_P_Y > limits.FE_MAX_LOAD_OVER_YIELD * (1.0 + 1e-9):
-            beyond.append(f"P/P_Y up to {self.P_max_over_P_Y:.3g} (the FE reaches {limits.FE_MAX_LOAD_OVER_YIELD:g})")
-        if self.a_max_over_R is not None and self.a_max_over_R > limits.FE_MAX_CONTACT_RADIUS_OVER_R * (1.0 + 1e-9):
-            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {limits.FE_MAX_CONTACT_RADIUS_OVER_R:g})")
+        top_load, top_radius = limits.FE_FINITE_MAX_LOAD_OVER_YIELD, limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R
+        if self.P_max_over_P_Y > top_load * (1.0 + 1e-9):
+            beyond.append(f"P/P_Y up to {self.P_max_over_P_Y:.3g} (the FE reaches {top_load:g})")
+        if self.a_max_over_R is not None and self.a_max_over_R > top_radius * (1.0 + 1e-9):
+            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {top_radius:g})")
         return beyond
 
     @classmethod

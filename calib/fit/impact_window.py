@@ -26,9 +26,10 @@ load below which its C_R was not measured. The between-node error of the shipped
 paths that did not build it is measured by calib.studies.between_nodes
 (results/calibration/between_nodes.*).
 
-The FE bounds the window: P <= 1000 P_Y and contact radius <= 0.2 R (calib.fit.recipe). An
-impact beyond that is refused before any meshing, naming the largest v_in this FE can vouch for
-(the velocity whose impact reaches that load with the estimating constants).
+The FE bounds the window (calib.fit.recipe.fe_reach): small strain P <= 1000 P_Y and contact radius
+<= 0.2 R, finite strain P <= 1e4 P_Y and contact radius <= 0.45 R (its mesh ladder's error estimate:
+recipe.REACH_ERROR). An impact beyond that is refused before any meshing, naming the largest v_in this
+FE can vouch for (the velocity whose impact reaches that load with the estimating constants).
 """
 from __future__ import annotations
 
@@ -41,6 +42,7 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import brentq
 
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fe.loadpath import LoadPathPlan
 from calib.fit import recipe
 from calib.fit.calibration import CalibrationResult, calibrate
@@ -153,17 +155,19 @@ def window_spec(material: Material, radius: float, top: float, *, loading_steps:
         first_load=min(plan.first_load, peaks[0]), loading_ratio=ratio))
 
 
-def window_top(pair: ContactPair, needed: float) -> float:
+def window_top(pair: ContactPair, needed: float, kinematics: str = DEFAULT_KINEMATICS) -> float:
     """The top [N] of the load paths for an impact reaching ``needed`` [N]: MARGIN beyond it,
-    never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the FE's reach."""
-    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), recipe.fe_reach(pair))
+    never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the reach of the FE
+    in ``kinematics``."""
+    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), recipe.fe_reach(pair, kinematics))
 
 
-def impact_spec(material: Material, radius: float, needed: float, **spec_options) -> recipe.CalibrationSpec:
+def impact_spec(material: Material, radius: float, needed: float, kinematics: str = DEFAULT_KINEMATICS,
+                **spec_options) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a calibration round for an impact reaching ``needed`` [N]:
-    :func:`window_spec` to :func:`window_top` (``spec_options`` as there)."""
-    return window_spec(material, radius, window_top(ContactPair.sphere_flat(material, radius), needed),
-                       **spec_options)
+    :func:`window_spec` to :func:`window_top`, in ``kinematics`` (``spec_options`` as there)."""
+    return window_spec(material, radius, window_top(ContactPair.sphere_flat(material, radius), needed, kinematics),
+                       kinematics=kinematics, **spec_options)
 
 
 @dataclass(frozen=True)
@@ -207,12 +211,14 @@ def reach_velocity(params, load: float) -> float:
     return math.sqrt(2.0 * work / params.pair.mass_star)
 
 
-def check_reach(material: Material, radius: float, v_max: float) -> tuple[float, VZParams, str]:
+def check_reach(material: Material, radius: float, v_max: float,
+                kinematics: str = DEFAULT_KINEMATICS) -> tuple[float, VZParams, str]:
     """(estimated P_max [N] of the impact at v_max, estimating constants, their source); a
-    ValueError before any FE when the FE cannot reach it, naming the largest v_in it can vouch for."""
+    ValueError before any FE when the FE in ``kinematics`` cannot reach it, naming the largest v_in
+    it can vouch for (and, in small strain, the finite strain's)."""
     params, source = estimating_constants(material, radius)
     pair = params.pair
-    reach = recipe.fe_reach(pair)
+    reach = recipe.fe_reach(pair, kinematics)
     try:
         needed = impact_force(params, v_max)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
@@ -227,25 +233,32 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
         reached = (f"reaches about {needed / pair.P_Y:.4g} P_Y, its load paths {MARGIN - 1:.0%} beyond, "
                    f"{MARGIN * needed / pair.P_Y:.4g} P_Y" if math.isfinite(needed) else
                    "drives the law beyond its domain (contact radius above R*)")
+        wider = ""
+        if kinematics == DEFAULT_KINEMATICS:
+            v_finite = reach_velocity(params, recipe.fe_reach(pair, "finite-strain") / MARGIN)
+            wider = f"; --kinematics finite vouches for v_max <= {bound_text(v_finite, '<=')} m/s"
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s {reached} ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
-                         f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= {recipe.CONTACT_RADIUS_LIMIT:g} R), "
-                         f"i.e. need v_max <= {bound_text(v_reach, '<=')} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
+                         f"({recipe.reach_text(kinematics)}), "
+                         f"i.e. need v_max <= {bound_text(v_reach, '<=')} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R"
+                         f"{wider}")
     return needed, params, source
 
 
 def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
                           progress: Callable[[str], None] | None = None, ship: str = "radius",
-                          unload: bool = True, meshes: int = 2, **spec_options) -> ImpactWindow:
-    """Calibrate until the window covers the impact at v_max [m/s] (module doc). ``spec_options``
-    go to :func:`window_spec` (mesh level or contact size, steps); ``unload`` False: loading
-    branches only (the radius fit); ``meshes``: as calib.fit.calibration.calibrate."""
+                          unload: bool = True, meshes: int = 2, kinematics: str = DEFAULT_KINEMATICS,
+                          **spec_options) -> ImpactWindow:
+    """Calibrate until the window covers the impact at v_max [m/s] (module doc) with the FE in
+    ``kinematics``. ``spec_options`` go to :func:`window_spec` (mesh level or contact size, steps);
+    ``unload`` False: loading branches only (the radius fit); ``meshes``: as
+    calib.fit.calibration.calibrate."""
     say = progress or (lambda message: None)
-    needed, _, source = check_reach(material, radius, v_max)
+    needed, _, source = check_reach(material, radius, v_max, kinematics)
     rounds = []
     pair = ContactPair.sphere_flat(material, radius)
-    reach = recipe.fe_reach(pair)
+    reach = recipe.fe_reach(pair, kinematics)
     for round_number in range(1, MAX_ROUNDS + 1):
-        spec = impact_spec(material, radius, needed, **spec_options)
+        spec = impact_spec(material, radius, needed, kinematics, **spec_options)
         top = spec.plan.peaks[-1]
         say(f"window round {round_number}: v_max = {v_max:g} m/s needs about {needed / pair.P_Y:.4g} P_Y "
             f"({source}); {len(spec.plan.peaks)} load paths from {spec.plan.peaks[0] / pair.P_Y:.4g} to "
