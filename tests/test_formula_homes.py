@@ -54,7 +54,7 @@ FORMULAS = {
     "Thornton's unloading radius a*^2 = (2 P* + P_Y) / (2 pi p_Y)": (
         [rf"\(\s*2(?:\.0*)?\s*\*\s*{NUM}\s*\+\s*{NUM}P_Y\s*\)\s*/\s*\(\s*2(?:\.0*)?\s*\*\s*(?:math\.|np\.|NFD_)?(?:pi|PI)"],
         {"nfdmodel/thornton.py"} | C_KERNEL),
-    "the FE's reach (1000 P_Y, 0.2 R)": ([r"MAX_LOAD_OVER_YIELD\s*\*\s*[\w.]*P_Y\s*,\s*[\w.]*largest_admissible_load",
+    "the FE's reach (1000 P_Y, 0.2 R)": ([r"(?i)MAX_LOAD_OVER_YIELD\s*\*\s*[\w.]*P_Y\s*,\s*[\w.]*largest_admissible_load",
                                          r"(?i)\b\w*(?:limit|reach|over_yield|over_r)\w*\s*=\s*(?:1000|1e3|0\.2)\b"],
                                         {"calib/fit/recipe.py"}),
 }

@@ -125,7 +125,7 @@ def test_an_impact_beyond_the_law_s_domain_names_the_largest_velocity():
 
 @pytest.mark.parametrize("window, flagged", [
     ((1.0, 41.2, 0.0148), None), ((1.0, 1000.0, 0.2), None), ((1.0, 1e4, 0.45), None),
-    ((1.0, 4.6e4, 0.05), "P/P_Y up to 4.6e+04 (the FE reaches 1e+04)"),
+    ((1.0, 4.6e4, 0.05), "P/P_Y up to 4.6e+04 (the FE reaches 10000)"),
     ((1.0, 100.0, 0.9), "a/R* up to 0.9 (the FE reaches 0.45)"),
 ], ids=["the reference", "at the small-strain reach", "at the finite-strain reach", "load beyond", "radius beyond"])
 def test_a_window_beyond_the_fes_reach_is_flagged(window, flagged):

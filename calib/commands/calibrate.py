@@ -214,6 +214,17 @@ def cycle_lines(cycles: dict | None) -> list[str]:
     return lines
 
 
+def v_max_mesh(contact_size) -> dict:
+    """The mesh options of a --v-max calibration: the contact element --contact-size, else the graded
+    mesh on which every contact radius from the lowest path (impact_window.LOWEST_PEAK_OVER_P_Y P_Y) up
+    spans impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS elements, so the window starts there."""
+    from calib.fit import impact_window
+
+    if contact_size is not None:
+        return {"contact_size": contact_size}
+    return {"elements_per_contact_radius": impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS}
+
+
 def kinematics_line(ns, spec) -> str:
     """'kinematics: finite-strain (auto: ...); the FE vouches for P <= ...': the plan's kinematics, why
     (--kinematics auto), the FE's reach in it and that reach's error estimate (calib.fit.recipe)."""
@@ -297,7 +308,7 @@ def run(ns) -> int:
         if kinematics is None:
             kinematics = recipe.chosen_kinematics(params.pair, impact_window.window_top(params.pair, needed,
                                                                                         "finite-strain"))
-        spec = impact_window.impact_spec(material, radius, needed, kinematics, contact_size=contact_size)
+        spec = impact_window.impact_spec(material, radius, needed, kinematics, **v_max_mesh(contact_size))
     else:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter,
                                        kinematics=kinematics or recipe.reach_kinematics("finite-strain", counter))
@@ -337,7 +348,7 @@ def run(ns) -> int:
             result = calibration.calibrate(spec, progress=progress, ship=ship)
         else:                           # round 1 is the plan above; more rounds if it falls short
             found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ship,
-                                                        kinematics=kinematics, contact_size=contact_size)
+                                                        kinematics=kinematics, **v_max_mesh(contact_size))
             result, rounds = found.result, list(found.rounds)
         if ship in TWO_CONSTANTS and result.load_paths.paths and result.two_constant_window() is None:
             record = calibration.accuracy(result)["laws"]["vz"]

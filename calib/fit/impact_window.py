@@ -53,14 +53,28 @@ from nfdmodel.validation import bound_text
 
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
 MAX_ROUNDS = 3          # FE calibrations at most
-LOWEST_PEAK_OVER_P_Y = 2.0      # the lowest unloading path [P_Y], on a mesh that resolves it
+# the lowest unloading path [P_Y], on a mesh that resolves it: just past first yield, so a calibrated
+# window starts there (the shipped master table's nodes start at calib.fit.vz_master_build's own)
+LOWEST_PEAK_OVER_P_Y = 1.1
 # ... and no lower than where the contact spans this many contact elements (estimated radius):
 # on the mesh of a 1000 P_Y window (the reference sphere, 3.1e-4 m) the FE's approach at 1.5-8
 # P_Y (1.6-2.8 elements) scatters by 3-5 % about the converged one, its e by ~1 % and its
 # plastic radius vanishes at 1.5 P_Y; from 3 elements (10 P_Y) the approach is within 1 %
 CONTACT_ELEMENTS_AT_LOWEST = 3.0
+# Below COARSE_LOWEST_OVER_P_Y P_Y the dissipation of a path is a few % of its work (e > 0.97), and the FE's
+# unloading resolves it only on a finer mesh: a path from 1.41 P_Y whose contact spans 3.3 elements (the
+# reference sphere on contact elements 1.6e-4 m) returns more work than Hertz's (C_R 0.986 < 1). So a lowest
+# path below it needs CONTACT_ELEMENTS_NEAR_YIELD elements across its contact (the --v-max graded mesh's
+# GRADED_ELEMENTS_PER_CONTACT_RADIUS), else the window starts at COARSE_LOWEST_OVER_P_Y P_Y as on a coarse mesh.
+COARSE_LOWEST_OVER_P_Y = 2.0
+CONTACT_ELEMENTS_NEAR_YIELD = 12.0
 PATHS_PER_DECADE = 2.5          # unloading paths per decade of load, at least
 LOADING_STEPS_PER_DECADE = 16   # loading increments per decade of load
+# The graded mesh of ``nfdcal calibrate --v-max`` (window_spec's elements_per_contact_radius): every contact
+# radius from LOWEST_PEAK_OVER_P_Y P_Y to the top spans this many elements, the master table's node mesh
+# (calib/scenes/builtin/sweeps/vz_master_grid.toml: 25 x 0.714, its force 0.25 % from the refined levels'),
+# so the window's lowest path is resolved as well as its top.
+GRADED_ELEMENTS_PER_CONTACT_RADIUS = 17.9
 
 
 @dataclass(frozen=True)
@@ -86,11 +100,16 @@ class GeometricLoadPathPlan(LoadPathPlan):
         return targets
 
 
-def lowest_peak(pair: ContactPair, contact_size: float) -> float:
+def lowest_peak(pair: ContactPair, contact_size: float, lowest_over_P_Y: float = LOWEST_PEAK_OVER_P_Y) -> float:
     """The lowest unloading peak [N] on a mesh of contact element ``contact_size`` [m]:
-    LOWEST_PEAK_OVER_P_Y x P_Y, or higher, where the contact first spans CONTACT_ELEMENTS_AT_LOWEST
-    elements (recipe.estimated_contact_radius, the estimate the mesh is sized by)."""
-    low = LOWEST_PEAK_OVER_P_Y * pair.P_Y
+    ``lowest_over_P_Y`` (LOWEST_PEAK_OVER_P_Y) x P_Y where the contact spans CONTACT_ELEMENTS_NEAR_YIELD
+    elements there (or ``lowest_over_P_Y`` >= COARSE_LOWEST_OVER_P_Y), else COARSE_LOWEST_OVER_P_Y x P_Y;
+    higher where the contact first spans CONTACT_ELEMENTS_AT_LOWEST elements
+    (recipe.estimated_contact_radius, the estimate the mesh is sized by)."""
+    low = lowest_over_P_Y * pair.P_Y
+    if lowest_over_P_Y < COARSE_LOWEST_OVER_P_Y and \
+            recipe.estimated_contact_radius(pair, low) < CONTACT_ELEMENTS_NEAR_YIELD * contact_size * (1 - 1e-9):
+        low = COARSE_LOWEST_OVER_P_Y * pair.P_Y       # near yield the mesh does not resolve the dissipation
     need = CONTACT_ELEMENTS_AT_LOWEST * contact_size
     if recipe.estimated_contact_radius(pair, low) >= need:
         return low
@@ -131,25 +150,25 @@ def with_unloading_across(spec: recipe.CalibrationSpec) -> recipe.CalibrationSpe
 
 def window_spec(material: Material, radius: float, top: float, *, loading_steps: int | None = None,
                 loading_steps_per_decade: float | None = None, elements_per_contact_radius: float | None = None,
-                **spec_options) -> recipe.CalibrationSpec:
+                lowest_over_P_Y: float = LOWEST_PEAK_OVER_P_Y, **spec_options) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a window to ``top`` [N]: the recipe's mesh for it, unloading paths at
     :func:`window_peaks` from :func:`lowest_peak` up, the loading branch stepped geometrically
     (LOADING_STEPS_PER_DECADE per decade, or ``loading_steps_per_decade``, or ``loading_steps``
     increments from the first load to the top); ``spec_options``: the mesh and unloading options of
     calib.fit.recipe.calibration_spec. ``elements_per_contact_radius`` N: the graded mesh on which
-    the contact at every load from LOWEST_PEAK_OVER_P_Y x P_Y up spans N elements
+    the contact at every load from ``lowest_over_P_Y`` (LOWEST_PEAK_OVER_P_Y) x P_Y up spans N elements
     (recipe.mesh_for), so the window starts there."""
     if elements_per_contact_radius is not None:
         pair = ContactPair.sphere_flat(material, radius)
         spec_options.update(elements_per_contact_radius=elements_per_contact_radius,
-                            graded_from=recipe.estimated_contact_radius(pair, min(LOWEST_PEAK_OVER_P_Y * pair.P_Y, top)))
+                            graded_from=recipe.estimated_contact_radius(pair, min(lowest_over_P_Y * pair.P_Y, top)))
     spec = recipe.calibration_spec(material, radius, peaks=(top,), loading_steps=1, **spec_options)
     plan = spec.plan
     if loading_steps is not None:
         ratio = (top / plan.first_load) ** (1.0 / loading_steps)
     else:
         ratio = 10.0 ** (1.0 / (loading_steps_per_decade or LOADING_STEPS_PER_DECADE))
-    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size), top)
+    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size, lowest_over_P_Y), top)
     return dataclasses.replace(spec, plan=GeometricLoadPathPlan(
         peaks=peaks, loading_step=top, unloading_steps=plan.unloading_steps,
         first_load=min(plan.first_load, peaks[0]), loading_ratio=ratio))

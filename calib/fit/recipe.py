@@ -102,8 +102,8 @@ def fe_reach(pair: ContactPair, kinematics: str = DEFAULT_KINEMATICS) -> float:
     """The largest load [N] this FE vouches for on ``pair`` in ``kinematics``: P <= REACH's P/P_Y and a
     contact radius <= REACH's a/R (nfd_limits.h: small strain 1000 P_Y, 0.2 R; finite strain 1e4 P_Y,
     0.45 R), whichever comes first."""
-    load_over_yield, radius_over_R = REACH[kinematics]
-    return min(load_over_yield * pair.P_Y, largest_admissible_load(pair, radius_over_R))
+    max_load_over_yield, radius_over_R = REACH[kinematics]
+    return min(max_load_over_yield * pair.P_Y, largest_admissible_load(pair, radius_over_R))
 
 
 def reach_text(kinematics: str = DEFAULT_KINEMATICS) -> str:
@@ -419,11 +419,13 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
 def coarse_spec(spec: CalibrationSpec, ratio: float | None = None) -> CalibrationSpec:
     """The second mesh of a calibration (calib.fit.extrapolation): the same material, load plan and
     refined zone (at least two elements wide and deep) with the contact element ``ratio`` x h
-    (default REFINEMENT = 2)."""
+    (default REFINEMENT = 2); a graded mesh's grading ``ratio`` x too, so every contact radius spans
+    1 / ratio the elements (otherwise the two meshes differ at the tip of the graded zone alone)."""
     h = spec.mesh.contact_size * (ratio or REFINEMENT)
     mesh = dataclasses.replace(spec.mesh, contact_size=h, refined_radius=max(spec.mesh.refined_radius, 2 * h),
                                refined_depth=max(spec.mesh.refined_depth, 2 * h),
-                               far_size=max(spec.mesh.far_size, h))   # at least two elements, as mesh_for
+                               far_size=max(spec.mesh.far_size, h),   # at least two elements, as mesh_for
+                               grading=spec.mesh.grading * (ratio or REFINEMENT))
     return dataclasses.replace(spec, mesh=mesh)
 
 
