@@ -26,6 +26,11 @@ from .validation import PlausibilityWarning, check_real
 DEFAULT_RECIPE_P_MAX_OVER_P_Y = limits.DEFAULT_WINDOW
 
 
+# what the source of a finite-strain calibration's window names (calib.fit.calibration.fitted_window):
+# its window is checked against the finite-strain FE's reach
+FINITE_STRAIN = "finite-strain"
+
+
 class RangeWarning(UserWarning):
     """A law used beyond the load window its constants were fitted on (an extrapolation)."""
 
@@ -60,11 +65,15 @@ class CalibrationWindow:
                           PlausibilityWarning, stacklevel=3)
 
     def beyond_fe_reach(self) -> list[str]:
-        """How far the window reaches beyond what any FE calibration runs to (the finite-strain FE's
-        reach, nfd_limits.h: FE_FINITE_MAX_LOAD_OVER_YIELD, FE_FINITE_MAX_CONTACT_RADIUS_OVER_R; the
-        small-strain FE's is narrower, calib.fit.recipe.fe_reach), as text; [] inside it."""
+        """How far the window reaches beyond what the FE that made it runs to (nfd_limits.h: a
+        finite-strain calibration's, its source naming "finite-strain", FE_FINITE_MAX_LOAD_OVER_YIELD and
+        FE_FINITE_MAX_CONTACT_RADIUS_OVER_R; any other's the small-strain FE_MAX_LOAD_OVER_YIELD and
+        FE_MAX_CONTACT_RADIUS_OVER_R), as text; [] inside it."""
         beyond = []
-        top_load, top_radius = limits.FE_FINITE_MAX_LOAD_OVER_YIELD, limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R
+        if FINITE_STRAIN in self.source:
+            top_load, top_radius = limits.FE_FINITE_MAX_LOAD_OVER_YIELD, limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R
+        else:
+            top_load, top_radius = limits.FE_MAX_LOAD_OVER_YIELD, limits.FE_MAX_CONTACT_RADIUS_OVER_R
         if self.P_max_over_P_Y > top_load * (1.0 + 1e-9):
             beyond.append(f"P/P_Y up to {self.P_max_over_P_Y:.3g} (the FE reaches {top_load:g})")
         if self.a_max_over_R is not None and self.a_max_over_R > top_radius * (1.0 + 1e-9):

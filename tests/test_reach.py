@@ -112,6 +112,10 @@ def test_a_finite_strain_window_is_inside_the_fe_s_reach():
 
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        CalibrationWindow(1.1, 2300.0, 0.41, "FE finite-strain")       # brass at 3 m/s: not flagged
+        CalibrationWindow(1.1, 2300.0, 0.41, "FE (finite-strain): mesh")       # brass at 3 m/s: not flagged
     with pytest.warns(PlausibilityWarning, match=r"a/R\* up to 0.5 \(the FE reaches 0.45\)"):
-        CalibrationWindow(1.0, 100.0, 0.5, "beyond")
+        CalibrationWindow(1.0, 100.0, 0.5, "FE (finite-strain): mesh")
+    with pytest.warns(PlausibilityWarning, match=r"a/R\* up to 0.41 \(the FE reaches 0.2\)"):
+        CalibrationWindow(1.1, 900.0, 0.41, "FE: mesh")                         # a small-strain FE's
+    from calib.fit.calibration import kinematics_note
+    assert kinematics_note("finite-strain") == " (finite-strain)" and kinematics_note("small-strain") == ""
