@@ -119,3 +119,34 @@ def test_a_finite_strain_window_is_inside_the_fe_s_reach():
         CalibrationWindow(1.1, 900.0, 0.41, "FE: mesh")                         # a small-strain FE's
     from calib.fit.calibration import kinematics_note
     assert kinematics_note("finite-strain") == " (finite-strain)" and kinematics_note("small-strain") == ""
+
+
+def test_the_master_table_law_is_inside_its_window_from_first_yield():
+    """The vz master table's nodes start at 2 P_Y (shipped data); its law is declared from P_Y, where it meets
+    the targets against an FE path it was not built on (1.5 P_Y, the graded mesh, 12 elements across the
+    contact), and an impact loading the contact to 1.5 P_Y is inside its window."""
+    import warnings
+
+    from calib.fe.loadpath import run_load_paths
+    from calib.fit.calibration import E_TARGET, FORCE_TARGET, _solver
+    from calib.fit.path_check import law_against_path
+    from calib.fit.vz_master_table import VZMasterTable
+    from calib.studies.between_nodes import fe_path, path_record
+    from meshes.hemisphere import hemisphere_mesh
+    from nfdmodel import RangeWarning, collide
+
+    material = Material.reference()
+    law = VZMasterTable.load().law(material, 0.1)
+    assert law.window.P_min_over_P_Y == 1.0
+    peak = 1.5 * law.pair.P_Y
+    spec = impact_window.window_spec(material, 0.1, peak, elements_per_contact_radius=12.0)
+    spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, peaks=(peak,), loading_step=peak))
+    path = run_load_paths(_solver(spec, hemisphere_mesh(spec.mesh)), spec.plan).paths[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RangeWarning)
+        errors = law_against_path("vz-table", law, fe_path(path_record(path.peak, path.restitution, path.rows)))
+    assert abs(errors["e_error"]) <= E_TARGET and errors["force_error"] <= FORCE_TARGET
+    v_in = impact_window.reach_velocity(law, peak)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RangeWarning)
+        assert collide("vz-table", law, [v_in]).in_calibrated_range.tolist() == [True]
