@@ -50,6 +50,9 @@ STEPS_PER_CONTACT_MIN, STEPS_PER_UNLOADING_MIN = TABLE["STEPS_PER_CONTACT_MIN"],
 HERTZ_IMPACT_TIME = TABLE["HERTZ_IMPACT_TIME"]
 # the FE's reach: the largest load over P_Y and contact radius over R a calibration runs to
 FE_MAX_LOAD_OVER_YIELD, FE_MAX_CONTACT_RADIUS_OVER_R = TABLE["FE_MAX_LOAD_OVER_YIELD"], TABLE["FE_MAX_CONTACT_RADIUS_OVER_R"]
+# ... and the finite-strain FE's (the farthest any calibration runs to)
+FE_FINITE_MAX_LOAD_OVER_YIELD = TABLE["FE_FINITE_MAX_LOAD_OVER_YIELD"]
+FE_FINITE_MAX_CONTACT_RADIUS_OVER_R = TABLE["FE_FINITE_MAX_CONTACT_RADIUS_OVER_R"]
 # the contact models around the normal law (nfd_friction.h, nfdmodel.friction): their codes, the
 # frame tolerance of a spring, the friction history's size, the largest friction coefficient
 DAMPING_NONE, DAMPING_VISCOELASTIC = TABLE["DAMPING_NONE"], TABLE["DAMPING_VISCOELASTIC"]

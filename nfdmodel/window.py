@@ -26,6 +26,11 @@ from .validation import PlausibilityWarning, check_real
 DEFAULT_RECIPE_P_MAX_OVER_P_Y = limits.DEFAULT_WINDOW
 
 
+# what the source of a finite-strain calibration's window names (calib.fit.calibration.fitted_window):
+# its window is checked against the finite-strain FE's reach
+FINITE_STRAIN = "finite-strain"
+
+
 class RangeWarning(UserWarning):
     """A law used beyond the load window its constants were fitted on (an extrapolation)."""
 
@@ -60,13 +65,19 @@ class CalibrationWindow:
                           PlausibilityWarning, stacklevel=3)
 
     def beyond_fe_reach(self) -> list[str]:
-        """How far the window reaches beyond what an FE calibration runs to (nfd_limits.h:
-        FE_MAX_LOAD_OVER_YIELD, FE_MAX_CONTACT_RADIUS_OVER_R), as text; [] inside it."""
+        """How far the window reaches beyond what the FE that made it runs to (nfd_limits.h: a
+        finite-strain calibration's, its source naming "finite-strain", FE_FINITE_MAX_LOAD_OVER_YIELD and
+        FE_FINITE_MAX_CONTACT_RADIUS_OVER_R; any other's the small-strain FE_MAX_LOAD_OVER_YIELD and
+        FE_MAX_CONTACT_RADIUS_OVER_R), as text; [] inside it."""
         beyond = []
-        if self.P_max_over_P_Y > limits.FE_MAX_LOAD_OVER_YIELD * (1.0 + 1e-9):
-            beyond.append(f"P/P_Y up to {self.P_max_over_P_Y:.3g} (the FE reaches {limits.FE_MAX_LOAD_OVER_YIELD:g})")
-        if self.a_max_over_R is not None and self.a_max_over_R > limits.FE_MAX_CONTACT_RADIUS_OVER_R * (1.0 + 1e-9):
-            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {limits.FE_MAX_CONTACT_RADIUS_OVER_R:g})")
+        if FINITE_STRAIN in self.source:
+            top_load, top_radius = limits.FE_FINITE_MAX_LOAD_OVER_YIELD, limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R
+        else:
+            top_load, top_radius = limits.FE_MAX_LOAD_OVER_YIELD, limits.FE_MAX_CONTACT_RADIUS_OVER_R
+        if self.P_max_over_P_Y > top_load * (1.0 + 1e-9):
+            beyond.append(f"P/P_Y up to {self.P_max_over_P_Y:.3g} (the FE reaches {top_load:g})")
+        if self.a_max_over_R is not None and self.a_max_over_R > top_radius * (1.0 + 1e-9):
+            beyond.append(f"a/R* up to {self.a_max_over_R:.3g} (the FE reaches {top_radius:g})")
         return beyond
 
     @classmethod

@@ -57,7 +57,7 @@ FORMULAS = {
     "the elastic energy of an unloading curve P <delta - delta_res> / (n + 1)": (
         [r"/\s*\(\s*(?:self\.)?(?:exponent|unloading_exponent|exponent_of)\w*(?:\([^()]*\))?\s*\+\s*1(?:\.0*)?\s*\)"],
         {"nfdmodel/turning_point.py"} | C_KERNEL),
-    "the FE's reach (1000 P_Y, 0.2 R)": ([r"MAX_LOAD_OVER_YIELD\s*\*\s*[\w.]*P_Y\s*,\s*[\w.]*largest_admissible_load",
+    "the FE's reach (1000 P_Y, 0.2 R)": ([r"(?i)MAX_LOAD_OVER_YIELD\s*\*\s*[\w.]*P_Y\s*,\s*[\w.]*largest_admissible_load",
                                          r"(?i)\b\w*(?:limit|reach|over_yield|over_r)\w*\s*=\s*(?:1000|1e3|0\.2)\b"],
                                         {"calib/fit/recipe.py"}),
     "Johnson-Cook's factor 1 + C ln(rate / rate_0)": ([r"\b1(?:\.0*)?\s*\+\s*[\w.]*C\s*\*\s*(?:np\.|math\.)log\("],

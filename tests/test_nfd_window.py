@@ -126,15 +126,21 @@ def test_an_impact_beyond_the_law_s_domain_names_the_largest_velocity():
 @pytest.mark.parametrize("window, flagged", [
     ((1.0, 41.2, 0.0148), None), ((1.0, 1000.0, 0.2), None),
     ((1.0, 4.6e4, 0.05), "P/P_Y up to 4.6e+04 (the FE reaches 1000)"),
-    ((1.0, 100.0, 0.9), "a/R* up to 0.9 (the FE reaches 0.2)"),
-], ids=["the reference", "at the reach", "load beyond", "radius beyond"])
+    ((1.0, 100.0, 0.3), "a/R* up to 0.3 (the FE reaches 0.2)"),
+    ((1.0, 1e4, 0.45, "FE (finite-strain): mesh"), None),
+    ((1.0, 4.6e4, 0.05, "FE (finite-strain): mesh"), "P/P_Y up to 4.6e+04 (the FE reaches 10000)"),
+    ((1.0, 100.0, 0.9, "FE (finite-strain): mesh"), "a/R* up to 0.9 (the FE reaches 0.45)"),
+], ids=["the reference", "at the reach", "load beyond", "radius beyond", "at the finite-strain reach",
+        "load beyond finite strain", "radius beyond finite strain"])
 def test_a_window_beyond_the_fes_reach_is_flagged(window, flagged):
+    """Against the reach of the FE that made the window: the small strain's unless its source names
+    finite strain (a finite-strain calibration's, calib.fit.calibration.fitted_window)."""
     import warnings
 
     from nfdmodel import CalibrationWindow, PlausibilityWarning
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        CalibrationWindow(*window, source="test")
+        CalibrationWindow(*window[:3], source=window[3] if len(window) > 3 else "test")
     messages = [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)]
     assert (messages == []) if flagged is None else (len(messages) == 1 and flagged in messages[0]), messages

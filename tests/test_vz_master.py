@@ -388,12 +388,13 @@ def test_the_reference_ladder_refines_every_size_and_the_loading_steps_by_the_sa
         pair = ContactPair.sphere_flat(material, scene["R"])
         top = min(recipe.fe_reach(pair) * (1 - vz_master_build.REACH_MARGIN), scene["top_over_P_Y"] * pair.P_Y)
         specs = [impact_window.window_spec(material, scene["R"], top,
+                                           lowest_over_P_Y=vz_master_build.TABLE_LOWEST_PEAK_OVER_P_Y,
                                            elements_per_contact_radius=c["elements_per_contact_radius"],
                                            refinement=c["refinement"],
                                            loading_steps_per_decade=c["loading_steps_per_decade"] * c["refinement"])
                  for c in levels]
         base, r_base = specs[0], levels[0]["refinement"]
-        low = impact_window.LOWEST_PEAK_OVER_P_Y * pair.P_Y
+        low = vz_master_build.TABLE_LOWEST_PEAK_OVER_P_Y * pair.P_Y
         for c, spec in zip(levels, specs):
             r = c["refinement"] / r_base
             assert spec.plan.peaks == base.plan.peaks and spec.plan.peaks[0] == pytest.approx(low)

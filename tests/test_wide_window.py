@@ -26,8 +26,10 @@ def test_window_peaks_are_log_spaced_from_the_lowest_to_the_top(low, top):
 
 
 def test_the_lowest_path_is_where_the_mesh_resolves_the_contact():
-    """2 P_Y on a mesh fine enough there; higher on the mesh of a 1000 P_Y window, where the
-    contact at 2 P_Y spans fewer than CONTACT_ELEMENTS_AT_LOWEST elements."""
+    """1.1 P_Y on a mesh fine enough there (CONTACT_ELEMENTS_NEAR_YIELD elements), 2 P_Y on a coarser one;
+    higher on the (uniform) mesh of a 1000 P_Y window, where the contact at 2 P_Y spans fewer than
+    CONTACT_ELEMENTS_AT_LOWEST elements."""
+    assert impact_window.lowest_peak(PAIR, 3e-5) == pytest.approx(1.1 * PAIR.P_Y)
     assert impact_window.lowest_peak(PAIR, 4e-5) == pytest.approx(2.0 * PAIR.P_Y)
     top = recipe.calibration_spec(Material.reference(), 0.1, peaks=(989.0 * PAIR.P_Y,))
     low = impact_window.lowest_peak(PAIR, top.mesh.contact_size)

@@ -61,10 +61,13 @@ def add_parser(subparsers) -> None:
                              " (radius) or to the force (force), declared only over the FE paths where they meet"
                              " the targets, or the vz-unload law (unload: also the FE's dent, contact radius and"
                              " unloading curve)")
-    parser.add_argument("--kinematics", default="small", choices=tuple(KINEMATICS_FLAG),
-                        help="the FE's kinematics: small strain (the default) or finite strain (total Lagrangian,"
-                             " Hencky strain; the sphere on the rigid flat or an elastic counter-body, without --v-max, --ladder or"
-                             " --counter-sigma-y)")
+    parser.add_argument("--kinematics", default="auto", choices=("auto",) + tuple(KINEMATICS_FLAG),
+                        help="the FE's kinematics: small strain, finite strain (total Lagrangian, Hencky strain; the"
+                             " sphere on the rigid flat or an elastic counter-body, not with --ladder or"
+                             " --counter-sigma-y; on the rigid flat it reaches 1e4 P_Y and a/R 0.45, small strain 1000"
+                             " P_Y and a/R 0.2) or auto (the default: finite strain where the plan's contact radius"
+                             " passes 0.1 R, where the two part by more than 2 %, or its load the small-strain"
+                             " reach; small strain below)")
     parser.add_argument("--cycles", default=None, metavar="FRACTIONS",
                         help="also run FE load cycles (calib.fe.cycles) from the middle load path's peak P_max: partial"
                              " unloads to these fractions of P_max (e.g. 0.5,0.2), each reloaded to P_max, the last on"
@@ -114,7 +117,7 @@ def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_m
         parts.append(hardening_folder_name(hardening))
     if counter is not None:
         parts.append(counter_folder_name(counter))
-    if getattr(ns, "kinematics", "small") != "small":
+    if getattr(ns, "kinematics", "small") not in ("small", "auto"):
         parts.append(f"{ns.kinematics}-strain")
     if ns.peaks is not None:            # the set of peaks, in any order, is one calibration (recipe sorts them)
         parts.append("peaks" + "-".join(f"{p:g}" for p in sorted(peaks)))
@@ -211,6 +214,33 @@ def cycle_lines(cycles: dict | None) -> list[str]:
     return lines
 
 
+def v_max_mesh(contact_size) -> dict:
+    """The mesh options of a --v-max calibration: the contact element --contact-size, else the graded
+    mesh on which every contact radius from the lowest path (impact_window.LOWEST_PEAK_OVER_P_Y P_Y) up
+    spans impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS elements, so the window starts there."""
+    from calib.fit import impact_window
+
+    if contact_size is not None:
+        return {"contact_size": contact_size}
+    return {"elements_per_contact_radius": impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS}
+
+
+def kinematics_line(ns, spec) -> str:
+    """'kinematics: finite-strain (auto: ...); the FE vouches for P <= ...': the plan's kinematics, why
+    (--kinematics auto), the FE's reach in it and that reach's error estimate (calib.fit.recipe)."""
+    from calib.fit import recipe
+
+    pair = spec.pair
+    chosen = recipe.reach_kinematics(spec.kinematics, spec.counter)
+    why = ""
+    if ns.kinematics == "auto":
+        a_top = recipe.estimated_contact_radius(pair, spec.plan.peaks[-1]) / pair.R_star
+        why = (f" (auto: the plan reaches about a/R* {a_top:.3g}, {spec.plan.peaks[-1] / pair.P_Y:.4g} P_Y; finite "
+               f"strain above a/R* {recipe.KINEMATICS_PART_OVER_R:g}, where the two part by more than 2 %)")
+    return (f"kinematics: {spec.kinematics}{why}; the FE vouches for up to {recipe.fe_reach(pair, chosen) / pair.P_Y:.4g}"
+            f" P_Y here ({recipe.reach_text(chosen)})")
+
+
 def counter_absent(ns) -> bool:
     return all(getattr(ns, key, None) is None for key in ("counter_E", "counter_nu", "counter_sigma_y", "counter_R",
                                                          "counter_rho"))
@@ -226,11 +256,11 @@ def run(ns) -> int:
     if rate_law_given(ns) is not None:
         raise ValueError(f"{rate_law_given(ns)}: the calibration's FE press is quasi-static, where a rate law is "
                          f"its rate-independent limit; give the rate law to nfdcal impact")
-    kinematics = KINEMATICS_FLAG[ns.kinematics]
-    if ns.kinematics != "small" and (ns.ladder or ns.v_max is not None or getattr(ns, "counter_sigma_y", None) is not None):
-        raise ValueError("--kinematics finite takes a calibration from --peaks on the rigid flat or an elastic"
-                         " counter-body (the calibration's impact FE, the ladder and a plastic counter-body are"
-                         " small-strain): drop --v-max, --ladder and --counter-sigma-y, or use --kinematics small")
+    kinematics = KINEMATICS_FLAG.get(ns.kinematics)         # None: auto, chosen from the plan below
+    if ns.kinematics == "finite" and (ns.ladder or getattr(ns, "counter_sigma_y", None) is not None):
+        raise ValueError("--kinematics finite takes a calibration on the rigid flat or an elastic counter-body (the"
+                         " ladder and a plastic counter-body are small-strain): drop --ladder and --counter-sigma-y,"
+                         " or use --kinematics small")
     cycles = parse_cycles(ns.cycles)
     if ns.ladder:
         if cycles is not None:
@@ -264,7 +294,8 @@ def run(ns) -> int:
     ship = ns.ship
     if v_max is not None and counter is not None:
         raise ValueError("--v-max sizes the window from impacts of the sphere on a rigid flat: with a counter-body "
-                         "give the load paths by --peaks (or none: 13.7 27.4 41.2 x the pair's P_Y)")
+                         "give the load paths by --peaks (or none: 13.7 27.4 41.2 x the pair's P_Y), up to the pair's "
+                         "reach, 1000 P_Y and a/R* 0.2 (its contact is small-strain)")
     if v_max is not None and hardening is not None:
         raise ValueError("--v-max sizes the window from impacts of a perfectly plastic sphere: with --hardening-modulus "
                          "or --flow-curve give the load paths by --peaks (or none: 13.7 27.4 41.2 x P_Y)")
@@ -272,12 +303,19 @@ def run(ns) -> int:
         if peaks is not None:
             raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
         check_solid("v_in", v_max)
-        needed, _, _ = impact_window.check_reach(material, radius, v_max)   # before any mesh
-        spec = impact_window.impact_spec(material, radius, needed, contact_size=contact_size)
+        needed, params, _ = impact_window.check_reach(material, radius, v_max,   # before any mesh
+                                                      kinematics or "finite-strain")
+        if kinematics is None:
+            kinematics = recipe.chosen_kinematics(params.pair, impact_window.window_top(params.pair, needed,
+                                                                                        "finite-strain"))
+        spec = impact_window.impact_spec(material, radius, needed, kinematics, **v_max_mesh(contact_size))
     else:
-        spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter)
+        spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter,
+                                       kinematics=kinematics or recipe.reach_kinematics("finite-strain", counter))
         if hardening is not None:
             spec = dataclasses.replace(spec, hardening=hardening)
+        if kinematics is None:
+            kinematics = recipe.chosen_kinematics(spec.pair, spec.plan.peaks[-1], counter)
         spec = dataclasses.replace(spec, kinematics=kinematics)
         if peaks is None:               # C_R is measured at unloading peaks: paths from near P_Y, Ca and Kc unchanged
             spec = impact_window.with_unloading_across(spec)
@@ -298,6 +336,7 @@ def run(ns) -> int:
                       + ([hardening_line(hardening)] if hardening is not None else [])
                       + ([f"{counter.label()} (the dofs below count both bodies)"]
                          if counter is not None else [])
+                      + [kinematics_line(ns, spec)]
                       + [f"outputs: {folder}"] + format_stages(stages)
                       + ([f"then load cycles from the middle path's peak: unloads to {', '.join(f'{f:g}' for f in cycles)} "
                           f"P_max, the last reload on to {CYCLE_OVERLOAD:g} P_max, a full unload (cycles.csv)"]
@@ -309,7 +348,7 @@ def run(ns) -> int:
             result = calibration.calibrate(spec, progress=progress, ship=ship)
         else:                           # round 1 is the plan above; more rounds if it falls short
             found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ship,
-                                                        contact_size=contact_size)
+                                                        kinematics=kinematics, **v_max_mesh(contact_size))
             result, rounds = found.result, list(found.rounds)
         if ship in TWO_CONSTANTS and result.load_paths.paths and result.two_constant_window() is None:
             record = calibration.accuracy(result)["laws"]["vz"]

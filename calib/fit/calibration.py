@@ -35,6 +35,7 @@ from threadpoolctl import threadpool_limits
 
 from calib.fe import ContactSolver
 from calib.fe.elastic import ElasticMaterial
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fe.loadpath import LoadPathResults, run_load_paths, unloading_path
 from calib.fe.von_mises import von_mises_material, von_mises_stress
 from calib.fit import extrapolation
@@ -240,8 +241,14 @@ class CalibrationResult:
         mesh = self.mesh_info
         return CalibrationWindow(float(data.force[above].min()) / P_Y, float(data.force[above].max()) / P_Y,
                                  float(data.contact_radius[above].max()) / self.spec.pair.R_star,
-                                 f"FE: mesh {mesh.get('key', '?')} ({mesh.get('dofs', '?')} dofs), "
-                                 f"code {git_commit()}")
+                                 f"FE{kinematics_note(self.spec.kinematics)}: mesh {mesh.get('key', '?')} "
+                                 f"({mesh.get('dofs', '?')} dofs), code {git_commit()}")
+
+
+def kinematics_note(kinematics: str) -> str:
+    """' (finite-strain)' for a window's source, naming a kinematics other than the default, so the
+    window is checked against that FE's reach (nfdmodel.window); '' for small strain (its sources unchanged)."""
+    return "" if kinematics == DEFAULT_KINEMATICS else f" ({kinematics})"
 
 
 def drive_law(law_name: str, params, approach: np.ndarray) -> tuple[np.ndarray, float]:

@@ -26,9 +26,10 @@ load below which its C_R was not measured. The between-node error of the shipped
 paths that did not build it is measured by calib.studies.between_nodes
 (results/calibration/between_nodes.*).
 
-The FE bounds the window: P <= 1000 P_Y and contact radius <= 0.2 R (calib.fit.recipe). An
-impact beyond that is refused before any meshing, naming the largest v_in this FE can vouch for
-(the velocity whose impact reaches that load with the estimating constants).
+The FE bounds the window (calib.fit.recipe.fe_reach): small strain P <= 1000 P_Y and contact radius
+<= 0.2 R, finite strain P <= 1e4 P_Y and contact radius <= 0.45 R (its mesh ladder's error estimate:
+recipe.REACH_ERROR). An impact beyond that is refused before any meshing, naming the largest v_in this
+FE can vouch for (the velocity whose impact reaches that load with the estimating constants).
 """
 from __future__ import annotations
 
@@ -41,6 +42,7 @@ from typing import Callable
 import numpy as np
 from scipy.optimize import brentq
 
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fe.loadpath import LoadPathPlan
 from calib.fit import recipe
 from calib.fit.calibration import CalibrationResult, calibrate
@@ -51,14 +53,28 @@ from nfdmodel.validation import bound_text
 
 MARGIN = 1.1            # load paths reach 10 % beyond the estimated P_max of the fastest impact
 MAX_ROUNDS = 3          # FE calibrations at most
-LOWEST_PEAK_OVER_P_Y = 2.0      # the lowest unloading path [P_Y], on a mesh that resolves it
+# the lowest unloading path [P_Y], on a mesh that resolves it: just past first yield, so a calibrated
+# window starts there (the shipped master table's nodes start at calib.fit.vz_master_build's own)
+LOWEST_PEAK_OVER_P_Y = 1.1
 # ... and no lower than where the contact spans this many contact elements (estimated radius):
 # on the mesh of a 1000 P_Y window (the reference sphere, 3.1e-4 m) the FE's approach at 1.5-8
 # P_Y (1.6-2.8 elements) scatters by 3-5 % about the converged one, its e by ~1 % and its
 # plastic radius vanishes at 1.5 P_Y; from 3 elements (10 P_Y) the approach is within 1 %
 CONTACT_ELEMENTS_AT_LOWEST = 3.0
+# Below COARSE_LOWEST_OVER_P_Y P_Y the dissipation of a path is a few % of its work (e > 0.97), and the FE's
+# unloading resolves it only on a finer mesh: a path from 1.41 P_Y whose contact spans 3.3 elements (the
+# reference sphere on contact elements 1.6e-4 m) returns more work than Hertz's (C_R 0.986 < 1). So a lowest
+# path below it needs CONTACT_ELEMENTS_NEAR_YIELD elements across its contact (the --v-max graded mesh's
+# GRADED_ELEMENTS_PER_CONTACT_RADIUS), else the window starts at COARSE_LOWEST_OVER_P_Y P_Y as on a coarse mesh.
+COARSE_LOWEST_OVER_P_Y = 2.0
+CONTACT_ELEMENTS_NEAR_YIELD = 12.0
 PATHS_PER_DECADE = 2.5          # unloading paths per decade of load, at least
 LOADING_STEPS_PER_DECADE = 16   # loading increments per decade of load
+# The graded mesh of ``nfdcal calibrate --v-max`` (window_spec's elements_per_contact_radius): every contact
+# radius from LOWEST_PEAK_OVER_P_Y P_Y to the top spans this many elements, the master table's node mesh
+# (calib/scenes/builtin/sweeps/vz_master_grid.toml: 25 x 0.714, its force 0.25 % from the refined levels'),
+# so the window's lowest path is resolved as well as its top.
+GRADED_ELEMENTS_PER_CONTACT_RADIUS = 17.9
 
 
 @dataclass(frozen=True)
@@ -84,11 +100,16 @@ class GeometricLoadPathPlan(LoadPathPlan):
         return targets
 
 
-def lowest_peak(pair: ContactPair, contact_size: float) -> float:
+def lowest_peak(pair: ContactPair, contact_size: float, lowest_over_P_Y: float = LOWEST_PEAK_OVER_P_Y) -> float:
     """The lowest unloading peak [N] on a mesh of contact element ``contact_size`` [m]:
-    LOWEST_PEAK_OVER_P_Y x P_Y, or higher, where the contact first spans CONTACT_ELEMENTS_AT_LOWEST
-    elements (recipe.estimated_contact_radius, the estimate the mesh is sized by)."""
-    low = LOWEST_PEAK_OVER_P_Y * pair.P_Y
+    ``lowest_over_P_Y`` (LOWEST_PEAK_OVER_P_Y) x P_Y where the contact spans CONTACT_ELEMENTS_NEAR_YIELD
+    elements there (or ``lowest_over_P_Y`` >= COARSE_LOWEST_OVER_P_Y), else COARSE_LOWEST_OVER_P_Y x P_Y;
+    higher where the contact first spans CONTACT_ELEMENTS_AT_LOWEST elements
+    (recipe.estimated_contact_radius, the estimate the mesh is sized by)."""
+    low = lowest_over_P_Y * pair.P_Y
+    if lowest_over_P_Y < COARSE_LOWEST_OVER_P_Y and \
+            recipe.estimated_contact_radius(pair, low) < CONTACT_ELEMENTS_NEAR_YIELD * contact_size * (1 - 1e-9):
+        low = COARSE_LOWEST_OVER_P_Y * pair.P_Y       # near yield the mesh does not resolve the dissipation
     need = CONTACT_ELEMENTS_AT_LOWEST * contact_size
     if recipe.estimated_contact_radius(pair, low) >= need:
         return low
@@ -129,41 +150,43 @@ def with_unloading_across(spec: recipe.CalibrationSpec) -> recipe.CalibrationSpe
 
 def window_spec(material: Material, radius: float, top: float, *, loading_steps: int | None = None,
                 loading_steps_per_decade: float | None = None, elements_per_contact_radius: float | None = None,
-                **spec_options) -> recipe.CalibrationSpec:
+                lowest_over_P_Y: float = LOWEST_PEAK_OVER_P_Y, **spec_options) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a window to ``top`` [N]: the recipe's mesh for it, unloading paths at
     :func:`window_peaks` from :func:`lowest_peak` up, the loading branch stepped geometrically
     (LOADING_STEPS_PER_DECADE per decade, or ``loading_steps_per_decade``, or ``loading_steps``
     increments from the first load to the top); ``spec_options``: the mesh and unloading options of
     calib.fit.recipe.calibration_spec. ``elements_per_contact_radius`` N: the graded mesh on which
-    the contact at every load from LOWEST_PEAK_OVER_P_Y x P_Y up spans N elements
+    the contact at every load from ``lowest_over_P_Y`` (LOWEST_PEAK_OVER_P_Y) x P_Y up spans N elements
     (recipe.mesh_for), so the window starts there."""
     if elements_per_contact_radius is not None:
         pair = ContactPair.sphere_flat(material, radius)
         spec_options.update(elements_per_contact_radius=elements_per_contact_radius,
-                            graded_from=recipe.estimated_contact_radius(pair, min(LOWEST_PEAK_OVER_P_Y * pair.P_Y, top)))
+                            graded_from=recipe.estimated_contact_radius(pair, min(lowest_over_P_Y * pair.P_Y, top)))
     spec = recipe.calibration_spec(material, radius, peaks=(top,), loading_steps=1, **spec_options)
     plan = spec.plan
     if loading_steps is not None:
         ratio = (top / plan.first_load) ** (1.0 / loading_steps)
     else:
         ratio = 10.0 ** (1.0 / (loading_steps_per_decade or LOADING_STEPS_PER_DECADE))
-    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size), top)
+    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size, lowest_over_P_Y), top)
     return dataclasses.replace(spec, plan=GeometricLoadPathPlan(
         peaks=peaks, loading_step=top, unloading_steps=plan.unloading_steps,
         first_load=min(plan.first_load, peaks[0]), loading_ratio=ratio))
 
 
-def window_top(pair: ContactPair, needed: float) -> float:
+def window_top(pair: ContactPair, needed: float, kinematics: str = DEFAULT_KINEMATICS) -> float:
     """The top [N] of the load paths for an impact reaching ``needed`` [N]: MARGIN beyond it,
-    never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the FE's reach."""
-    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), recipe.fe_reach(pair))
+    never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the reach of the FE
+    in ``kinematics``."""
+    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), recipe.fe_reach(pair, kinematics))
 
 
-def impact_spec(material: Material, radius: float, needed: float, **spec_options) -> recipe.CalibrationSpec:
+def impact_spec(material: Material, radius: float, needed: float, kinematics: str = DEFAULT_KINEMATICS,
+                **spec_options) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a calibration round for an impact reaching ``needed`` [N]:
-    :func:`window_spec` to :func:`window_top` (``spec_options`` as there)."""
-    return window_spec(material, radius, window_top(ContactPair.sphere_flat(material, radius), needed),
-                       **spec_options)
+    :func:`window_spec` to :func:`window_top`, in ``kinematics`` (``spec_options`` as there)."""
+    return window_spec(material, radius, window_top(ContactPair.sphere_flat(material, radius), needed, kinematics),
+                       kinematics=kinematics, **spec_options)
 
 
 @dataclass(frozen=True)
@@ -207,12 +230,14 @@ def reach_velocity(params, load: float) -> float:
     return math.sqrt(2.0 * work / params.pair.mass_star)
 
 
-def check_reach(material: Material, radius: float, v_max: float) -> tuple[float, VZParams, str]:
+def check_reach(material: Material, radius: float, v_max: float,
+                kinematics: str = DEFAULT_KINEMATICS) -> tuple[float, VZParams, str]:
     """(estimated P_max [N] of the impact at v_max, estimating constants, their source); a
-    ValueError before any FE when the FE cannot reach it, naming the largest v_in it can vouch for."""
+    ValueError before any FE when the FE in ``kinematics`` cannot reach it, naming the largest v_in
+    it can vouch for (and, in small strain, the finite strain's)."""
     params, source = estimating_constants(material, radius)
     pair = params.pair
-    reach = recipe.fe_reach(pair)
+    reach = recipe.fe_reach(pair, kinematics)
     try:
         needed = impact_force(params, v_max)
     except ValueError:                  # beyond the law's own domain: certainly beyond the FE's
@@ -227,25 +252,32 @@ def check_reach(material: Material, radius: float, v_max: float) -> tuple[float,
         reached = (f"reaches about {needed / pair.P_Y:.4g} P_Y, its load paths {MARGIN - 1:.0%} beyond, "
                    f"{MARGIN * needed / pair.P_Y:.4g} P_Y" if math.isfinite(needed) else
                    "drives the law beyond its domain (contact radius above R*)")
+        wider = ""
+        if kinematics == DEFAULT_KINEMATICS:
+            v_finite = reach_velocity(params, recipe.fe_reach(pair, "finite-strain") / MARGIN)
+            wider = f"; --kinematics finite vouches for v_max <= {bound_text(v_finite, '<=')} m/s"
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s {reached} ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
-                         f"(P <= {recipe.MAX_LOAD_OVER_YIELD:g} P_Y and contact radius <= {recipe.CONTACT_RADIUS_LIMIT:g} R), "
-                         f"i.e. need v_max <= {bound_text(v_reach, '<=')} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R")
+                         f"({recipe.reach_text(kinematics)}), "
+                         f"i.e. need v_max <= {bound_text(v_reach, '<=')} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R"
+                         f"{wider}")
     return needed, params, source
 
 
 def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
                           progress: Callable[[str], None] | None = None, ship: str = "radius",
-                          unload: bool = True, meshes: int = 2, **spec_options) -> ImpactWindow:
-    """Calibrate until the window covers the impact at v_max [m/s] (module doc). ``spec_options``
-    go to :func:`window_spec` (mesh level or contact size, steps); ``unload`` False: loading
-    branches only (the radius fit); ``meshes``: as calib.fit.calibration.calibrate."""
+                          unload: bool = True, meshes: int = 2, kinematics: str = DEFAULT_KINEMATICS,
+                          **spec_options) -> ImpactWindow:
+    """Calibrate until the window covers the impact at v_max [m/s] (module doc) with the FE in
+    ``kinematics``. ``spec_options`` go to :func:`window_spec` (mesh level or contact size, steps);
+    ``unload`` False: loading branches only (the radius fit); ``meshes``: as
+    calib.fit.calibration.calibrate."""
     say = progress or (lambda message: None)
-    needed, _, source = check_reach(material, radius, v_max)
+    needed, _, source = check_reach(material, radius, v_max, kinematics)
     rounds = []
     pair = ContactPair.sphere_flat(material, radius)
-    reach = recipe.fe_reach(pair)
+    reach = recipe.fe_reach(pair, kinematics)
     for round_number in range(1, MAX_ROUNDS + 1):
-        spec = impact_spec(material, radius, needed, **spec_options)
+        spec = impact_spec(material, radius, needed, kinematics, **spec_options)
         top = spec.plan.peaks[-1]
         say(f"window round {round_number}: v_max = {v_max:g} m/s needs about {needed / pair.P_Y:.4g} P_Y "
             f"({source}); {len(spec.plan.peaks)} load paths from {spec.plan.peaks[0] / pair.P_Y:.4g} to "

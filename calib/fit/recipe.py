@@ -53,6 +53,16 @@ CONTACT_RADIUS_LIMIT = limits.FE_MAX_CONTACT_RADIUS_OVER_R     # nfd_limits.h
 # (paper eq. 2.5) is an extrapolation: fit such runs knowingly. The runtime law itself takes any
 # P / P_Y (nfdmodel).
 MAX_LOAD_OVER_YIELD = limits.FE_MAX_LOAD_OVER_YIELD            # nfd_limits.h
+# The FE's reach by kinematics (calib.fe.kinematics.KINEMATICS): (the largest P/P_Y, the largest contact
+# radius / R) a calibration runs to, whichever comes first (nfd_limits.h), and the error estimate that
+# vouches for it. Finite strain: its mesh and step ladder (tests/benchmarks/ladder_finite_strain.py);
+# on a counter-body the mortar gap stays small-strain, so a pair keeps the small-strain reach.
+REACH = {DEFAULT_KINEMATICS: (MAX_LOAD_OVER_YIELD, CONTACT_RADIUS_LIMIT),
+         "finite-strain": (limits.FE_FINITE_MAX_LOAD_OVER_YIELD, limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R)}
+REACH_ERROR = {DEFAULT_KINEMATICS: "beyond it the small-strain contact stops converging (the bulged surface rolls "
+                                   "onto the flat)",
+               "finite-strain": "its mesh ladder spreads 1.0 % in force and 3.4 % in contact radius at a/R 0.3, "
+                                "0.25 % and 2.4 % at a/R 0.45, its step error below 0.1 %"}
 # Ca_hat that estimates the plastic radius for sizing a calibration's mesh (the reference's is 0.0258,
 # the master table's span 0.024-0.028).
 CA_HAT_ESTIMATE = 0.025
@@ -70,9 +80,10 @@ def estimated_contact_radius(pair: ContactPair, force) -> float:
     return max(1.3 * a_hertz, a_hertz + CA_HAT_ESTIMATE * (force / pair.P_Y - 1.0) * pair.a_Y)
 
 
-def largest_admissible_load(pair: ContactPair) -> float:
-    """The largest P_max [N] whose estimated contact radius stays within CONTACT_RADIUS_LIMIT R."""
-    limit = CONTACT_RADIUS_LIMIT * pair.R_star
+def largest_admissible_load(pair: ContactPair, radius_over_R: float = CONTACT_RADIUS_LIMIT) -> float:
+    """The largest P_max [N] whose estimated contact radius stays within ``radius_over_R`` R*
+    (default CONTACT_RADIUS_LIMIT, the small-strain reach)."""
+    limit = radius_over_R * pair.R_star
     if estimated_contact_radius(pair, pair.P_Y) >= limit:
         return 0.0
     hi = 2.0 * pair.P_Y
@@ -81,17 +92,53 @@ def largest_admissible_load(pair: ContactPair) -> float:
     return float(brentq(lambda P: estimated_contact_radius(pair, P) - limit, pair.P_Y, hi, rtol=1e-6))
 
 
-def fe_reach(pair: ContactPair) -> float:
-    """The largest load [N] this FE vouches for on ``pair``: P <= MAX_LOAD_OVER_YIELD P_Y and a contact
-    radius <= CONTACT_RADIUS_LIMIT R (the FE's reach, nfd_limits.h: 1000 P_Y, 0.2 R)."""
-    return min(MAX_LOAD_OVER_YIELD * pair.P_Y, largest_admissible_load(pair))
+def reach_kinematics(kinematics: str, counter=None) -> str:
+    """The kinematics whose reach (REACH) bounds a calibration in ``kinematics``: the small strain's on a
+    counter-body (its contact is small-strain whatever the sphere's kinematics)."""
+    return DEFAULT_KINEMATICS if counter is not None else kinematics
+
+
+def fe_reach(pair: ContactPair, kinematics: str = DEFAULT_KINEMATICS) -> float:
+    """The largest load [N] this FE vouches for on ``pair`` in ``kinematics``: P <= REACH's P/P_Y and a
+    contact radius <= REACH's a/R (nfd_limits.h: small strain 1000 P_Y, 0.2 R; finite strain 1e4 P_Y,
+    0.45 R), whichever comes first."""
+    max_load_over_yield, radius_over_R = REACH[kinematics]
+    return min(max_load_over_yield * pair.P_Y, largest_admissible_load(pair, radius_over_R))
+
+
+def reach_text(kinematics: str = DEFAULT_KINEMATICS) -> str:
+    """'P <= 1000 P_Y and contact radius <= 0.2 R, small strain: beyond it ...': the reach and its
+    error estimate, for refusals and plans."""
+    load_over_yield, radius_over_R = REACH[kinematics]
+    return (f"P <= {load_over_yield:g} P_Y and contact radius <= {radius_over_R:g} R with {kinematics} kinematics: "
+            f"{REACH_ERROR[kinematics]}")
+
+
+# Where the kinematics part (the reference sphere, E/sigma_Y 700, on contact elements R/20 and R/40:
+# finite over small strain in force +0.3..1.5 % up to a/R 0.075, +2.7..4.1 % at a/R 0.1, +5..9 % at
+# 0.11-0.14, +11..17 % at 0.22-0.25, +14..22 % at 0.3): above this contact radius / R the two differ by
+# more than a calibration's E_TARGET (2 %), and finite strain is the one that meets Jackson & Green
+# (calib/README.md, Large presses), so a calibration whose plan reaches it takes finite strain.
+KINEMATICS_PART_OVER_R = 0.1
+
+
+def chosen_kinematics(pair: ContactPair, top: float, counter=None) -> str:
+    """The kinematics of a calibration to ``top`` [N] on ``pair`` when none is asked for ("auto"):
+    finite strain where its estimated contact radius passes KINEMATICS_PART_OVER_R R* (on the rigid
+    flat or an elastic counter-body) or its load the small-strain MAX_LOAD_OVER_YIELD P_Y; small
+    strain below, whose figures it keeps."""
+    plastic_counter = counter is not None and counter.sigma_y is not None
+    if plastic_counter or (estimated_contact_radius(pair, top) <= KINEMATICS_PART_OVER_R * pair.R_star
+                           and top <= MAX_LOAD_OVER_YIELD * pair.P_Y):
+        return DEFAULT_KINEMATICS
+    return "finite-strain"
 
 
 def check_calibration_inputs(material: Material, radius: float, largest_peak: float,
-                             pair: ContactPair | None = None) -> None:
+                             pair: ContactPair | None = None, kinematics: str = DEFAULT_KINEMATICS) -> None:
     """ValueError naming the parameter and its allowed range when a calibration cannot be
-    meaningful: E / sigma_Y outside E_OVER_SIGMA_Y_RANGE, or a largest load P_max whose contact
-    radius would exceed CONTACT_RADIUS_LIMIT R (small strain, a << R). ``pair``: the contact
+    meaningful: E / sigma_Y outside E_OVER_SIGMA_Y_RANGE, or a largest load P_max beyond the reach of
+    ``kinematics`` (REACH: its P/P_Y, or a contact radius beyond its a/R). ``pair``: the contact
     pair (default: the sphere on a rigid flat; a counter-body's, calib.fit.counter)."""
     ratio = material.E / material.sigma_y
     low, high = E_OVER_SIGMA_Y_RANGE
@@ -101,20 +148,25 @@ def check_calibration_inputs(material: Material, radius: float, largest_peak: fl
                          f"{high:g}, got {ratio:.3g} (E = {material.E:g} Pa, sigma_Y = "
                          f"{material.sigma_y:g} Pa){hint}")
     pair = pair or ContactPair.sphere_flat(material, radius)
-    if largest_peak > MAX_LOAD_OVER_YIELD * pair.P_Y:
+    load_over_yield, radius_over_R = REACH[kinematics]
+    wider = ("" if kinematics != DEFAULT_KINEMATICS or pair.R_star != radius else
+             f"; --kinematics finite reaches {fe_reach(pair, 'finite-strain') / pair.P_Y:.4g} P_Y on the rigid flat")
+    if largest_peak > load_over_yield * pair.P_Y:
         raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N is "
-                         f"{largest_peak / pair.P_Y:.4g} P_Y; the FE calibration runs to P_max <= "
-                         f"{MAX_LOAD_OVER_YIELD:g} P_Y = {MAX_LOAD_OVER_YIELD * pair.P_Y:.4g} N for this "
+                         f"{largest_peak / pair.P_Y:.4g} P_Y; the FE calibration ({kinematics}) runs to P_max <= "
+                         f"{load_over_yield:g} P_Y = {load_over_yield * pair.P_Y:.4g} N for this "
                          f"material and R (tested to there; the NFD model's linear plastic radius is "
-                         f"meant for the contained elastoplastic regime, below ~400 P_Y)")
+                         f"meant for the contained elastoplastic regime, below ~400 P_Y){wider}")
     a_max = estimated_contact_radius(pair, largest_peak)
-    if a_max > CONTACT_RADIUS_LIMIT * radius:
-        P_limit = largest_admissible_load(pair)
+    if a_max > radius_over_R * radius:
+        P_limit = largest_admissible_load(pair, radius_over_R)
+        model = ("the small-strain model needs" if kinematics == DEFAULT_KINEMATICS else
+                 f"the {kinematics} FE vouches for")
         raise ValueError(f"P_max out of range: the largest load {largest_peak:.4g} N "
                          f"({largest_peak / pair.P_Y:.4g} P_Y) needs a contact radius of about "
-                         f"{a_max / radius:.3g} R; the small-strain model needs a_max <= "
-                         f"{CONTACT_RADIUS_LIMIT:g} R, i.e. P_max <= {P_limit:.4g} N "
-                         f"({P_limit / pair.P_Y:.4g} P_Y) for this material and R")
+                         f"{a_max / radius:.3g} R; {model} a_max <= "
+                         f"{radius_over_R:g} R, i.e. P_max <= {P_limit:.4g} N "
+                         f"({P_limit / pair.P_Y:.4g} P_Y) for this material and R{wider}")
 
 
 def smallest_radius(radius: float, counter=None) -> float:
@@ -152,7 +204,7 @@ class CalibrationSpec:
         if not np.isclose(self.mesh.radius, self.radius, rtol=1e-12):
             raise ValueError(f"mesh radius {self.mesh.radius} differs from the sphere radius R = {self.radius}")
         check_calibration_inputs(self.material, smallest_radius(self.radius, self.counter), self.plan.peaks[-1],
-                                 self.pair)
+                                 self.pair, reach_kinematics(self.kinematics, self.counter))
         if self.hardening is not None and not math.isclose(self.hardening.sigma_y, self.material.sigma_y, rel_tol=1e-6):
             raise ValueError(f"hardening: the flow curve starts at {self.hardening.sigma_y:g} Pa, not at the material's "
                              f"sigma_y = {self.material.sigma_y:g} Pa")
@@ -319,7 +371,8 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
                      level: str | None = None, contact_size: float | None = None,
                      contact_size_over_a_max: float | None = None, loading_steps: int | None = None,
                      unloading_steps: int = UNLOADING_STEPS, counter=None, graded_from: float | None = None,
-                     elements_per_contact_radius: float | None = None, refinement: float = 1.0) -> CalibrationSpec:
+                     elements_per_contact_radius: float | None = None, refinement: float = 1.0,
+                     kinematics: str = DEFAULT_KINEMATICS) -> CalibrationSpec:
     """The CalibrationSpec of ``material`` on a sphere of radius R [m] (see the module docstring).
 
     peaks [N] or peaks_over_yield [-] (not both); loading_steps: force increments up to the
@@ -327,7 +380,8 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
     contact_size_over_a_max, graded_from, elements_per_contact_radius, refinement) as in ``mesh_for``. Raises
     ValueError naming the parameter when the material or the load cannot be calibrated.
     ``counter``: calib.fit.counter.CounterBody (None: the rigid flat); the load plan is then in units
-    of the pair's P_Y and the mesh sized by the pair's contact radius.
+    of the pair's P_Y and the mesh sized by the pair's contact radius. ``kinematics``: the FE's
+    (calib.fe.kinematics.KINEMATICS), whose reach bounds the load plan (REACH).
     """
     if peaks is not None and peaks_over_yield is not None:
         raise ValueError("give peaks [N] or peaks_over_yield [-], not both")
@@ -347,7 +401,8 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
 
         counter.check(material, radius, planned,
                       f"the load plan {min(0.5 * pair.P_Y, peaks[0]):.4g} .. {peaks[-1]:.4g} N")
-    check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair)   # before sizing a mesh
+    check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair,   # before sizing a mesh
+                             reach_kinematics(kinematics, counter))
     a_max = estimated_contact_radius(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
                     contact_size_over_a_max=contact_size_over_a_max, graded_from=graded_from,
@@ -358,17 +413,19 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
     return CalibrationSpec(material=material, radius=radius, mesh=mesh,
                            plan=LoadPathPlan(peaks=peaks, loading_step=loading_step,
                                              unloading_steps=unloading_steps, first_load=first_load),
-                           counter=counter)
+                           counter=counter, kinematics=kinematics)
 
 
 def coarse_spec(spec: CalibrationSpec, ratio: float | None = None) -> CalibrationSpec:
     """The second mesh of a calibration (calib.fit.extrapolation): the same material, load plan and
     refined zone (at least two elements wide and deep) with the contact element ``ratio`` x h
-    (default REFINEMENT = 2)."""
+    (default REFINEMENT = 2); a graded mesh's grading ``ratio`` x too, so every contact radius spans
+    1 / ratio the elements (otherwise the two meshes differ at the tip of the graded zone alone)."""
     h = spec.mesh.contact_size * (ratio or REFINEMENT)
     mesh = dataclasses.replace(spec.mesh, contact_size=h, refined_radius=max(spec.mesh.refined_radius, 2 * h),
                                refined_depth=max(spec.mesh.refined_depth, 2 * h),
-                               far_size=max(spec.mesh.far_size, h))   # at least two elements, as mesh_for
+                               far_size=max(spec.mesh.far_size, h),   # at least two elements, as mesh_for
+                               grading=spec.mesh.grading * (ratio or REFINEMENT))
     return dataclasses.replace(spec, mesh=mesh)
 
 

@@ -21,7 +21,8 @@ then the trapezoid rule on the FE's loading points):
    line (p = 1) and the FE's C_R (p ~ 0.5 from 10 to 265 P_Y, results/calibration/wide_window)
    alike. Below x_1, g - 1 = k f with k = (g - 1) / f at x_1, the paper's proportion (where
    g - 1 = (Kc_hat / Ca_hat) f): a load-unload cycle near first yield then returns less work
-   than it took as long as k < 10/3 (e^2 = 1 + (x - 1) (0.6 g' - 2 f') / 0.4 + ... at x = 1).
+   than it took as long as k < 10/3 (e^2 = 1 + (x - 1) (0.6 g' - 2 f') / 0.4 + ... at x = 1), so k is
+   at most K_BELOW_LOWEST_MAX = 3.
 2. f at every FE loading point above P_Y from the loading curve: f = sqrt(D_FE g) - x^(1/3) from
    x_1 up, below it the non-negative root of (x^(1/3) + f)^2 = D_FE (1 + k f); least squares on
    the node values with the piecewise-linear interpolant of the nodes as the model, through
@@ -58,6 +59,12 @@ from nfdmodel import CalibrationWindow, ContactPair, VZTableParams
 from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
 NODES_PER_DECADE = 8            # geometric nodes per decade of load, first yield to the largest load
+# The largest proportion k = (g - 1) / f below the lowest unloading peak x_1 (module doc: a cycle near first
+# yield returns less work than it took only for k < 10/3). Near yield the FE's f(x_1) and g(x_1) are
+# differences of nearly equal numbers: a path from 1.1 P_Y (brass, E/sigma_Y 400, the graded mesh of 17.9
+# elements per contact radius; e_FE 0.9999) gives k above 10/3 and a table that creates energy at 1.03 P_Y;
+# capped, the table below x_1 dissipates, its loading curve still the FE's.
+K_BELOW_LOWEST_MAX = 3.0
 MIN_NODE_COUNT = 3              # ... at least (fewer loading points above P_Y: refused)
 NODE_CLEARANCE = 0.1            # geometric nodes closer than this (in ln x) to a peak are dropped
 E2_CEILING = 1.0 - 1e-6         # e^2 at a peak at most this (e < 1: the law creates no energy)
@@ -155,7 +162,7 @@ def fit_tables(data: RadiusLawData, pair: ContactPair, peaks: Sequence[float], u
     if not f_1 > 0:
         raise ValueError(f"the FE loading curve gives no plastic radius at the lowest unloading peak, P/P_Y = "
                          f"{x_1:.4g}: the tables are not determined below it")
-    k = (g_1 - 1.0) / f_1
+    k = min((g_1 - 1.0) / f_1, K_BELOW_LOWEST_MAX)
     c = np.cbrt(x)
     b = 2.0 * c - D * k                 # (c + f)^2 = D (1 + k f): f^2 + b f + c^2 - D = 0
     root = 0.5 * (-b + np.sqrt(np.maximum(b * b - 4.0 * (c * c - D), 0.0)))

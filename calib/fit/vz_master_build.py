@@ -20,7 +20,7 @@ window are empty) and each node's window [x_low, x_top].
 
 Nodes of the scene's ``[[refine]]`` run again as a reference ladder (kind "refine"): graded
 meshes (calib.fit.recipe.mesh_for: N elements across every contact radius from
-impact_window.LOWEST_PEAK_OVER_P_Y x P_Y up) with ``loading_steps_per_decade``, refined
+TABLE_LOWEST_PEAK_OVER_P_Y x P_Y up) with ``loading_steps_per_decade``, refined
 systematically by each ``refinement`` r (sizes / r, loading steps x r): against them
 calib.fit.vz_master_check measures the table's discretisation error. The off-grid materials of the scene (``[[check]]``) run the same FE: their paths test the table
 between its nodes in material and in load (calib.fit.vz_master_check) and are the data of the
@@ -57,6 +57,9 @@ NODES_PER_DECADE = 8            # common table loads per decade of P/P_Y
 X_LIMIT = recipe.MAX_LOAD_OVER_YIELD     # the common loads reach the FE's reach in P/P_Y
 TOP_MERGE = 0.02                # column tops (and common loads) closer than this, relative: one load
 REACH_MARGIN = 1e-6             # the top load this far inside the FE's reach (its check is exact)
+# The lowest unloading path of a node [P_Y] (impact_window.window_spec's lowest_over_P_Y): the shipped
+# table's nodes start there (calibrations start at impact_window.LOWEST_PEAK_OVER_P_Y)
+TABLE_LOWEST_PEAK_OVER_P_Y = 2.0
 TASK_VERSION = 1                # part of a task's key: bump when the FE changes
 FIT_VERSION = 2                 # the fit a row holds (1: trapezoid works; 2: Hertz's end segments), refit_row
 
@@ -202,7 +205,7 @@ def run_task(item: dict) -> dict:
             mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
         else:
             mesh = {"level": item["level"]}
-        spec = impact_window.window_spec(material, R, top, **mesh)
+        spec = impact_window.window_spec(material, R, top, lowest_over_P_Y=TABLE_LOWEST_PEAK_OVER_P_Y, **mesh)
         result = calibrate(spec, ship="table", meshes=item["meshes"], parallel=False)
         table = result.fit_table()
         fine = result.fine_table()

@@ -10,8 +10,9 @@ calibration per grid node (nu, E / sigma_Y), at the FE's reach, gives them for e
                      common load x_k (monotone cubics: exact on the nodes, no overshoot),
 
 using at each x_k the E / sigma_Y columns that reach it (a softer material's window ends lower:
-P <= 1000 P_Y and a <= 0.2 R); the material's window runs from the largest lowest-unloading-path
-load of the surrounding nodes to the largest x_k that the columns around it reach. Then
+P <= 1000 P_Y and a <= 0.2 R); the material's window runs from P_Y (below the nodes' lowest unloading
+path, 2 P_Y, the law interpolates from Hertz's f = 0, g = 1 at x = 1, checked against the FE there:
+BELOW_NODES) to the largest x_k that the columns around it reach. Then
 
     a_p = a_Y f,   C_R = g   (nfdmodel.VZTableParams(pair, x_k, f, g, window))
 
@@ -37,7 +38,30 @@ from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, VZ
 from nfdmodel.vz_unload import HERTZ_EXPONENT
 
 DEFAULT_TABLE = DATA_DIR / "vz_master_table.csv"
-UNLOADING_COLUMNS = ("delta_res_over_delta_max", "unloading_exponent")   # rho, m of the vz-unload law
+        nodes = (f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
+                 f"to {values['top']:.4g} P_Y")
+        if not from_yield:
+            return CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
+                                     nodes)
+        return CalibrationWindow(1.0, values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
+                                 f"{nodes}; from P_Y to {values['low']:.3g} P_Y interpolated from Hertz's, checked "
+                                 f"against the FE (e {BELOW_NODES['worst_e_error']:.2%}, force "
+                                 f"{BELOW_NODES['worst_force_error']:.1%} at worst)")
+
+    def unload_law(self, material: Material, R: float) -> VZUnloadParams:
+        """The vz-unload law of that sphere: :meth:`law`'s loading tables with the table's rho, m
+        interpolated at the same loads (x_unload = x; rho = 0, m = 3/2 at P_Y), declared from the nodes'
+        lowest unloading path (its dent and exponent below it are not checked against the FE). A
+        ValueError when the table carries no unloading columns."""
+        if not self.has_unloading:
+            name = self.path.name if self.path else "vz master table"
+            raise ValueError(f"{name} has no columns {', '.join(UNLOADING_COLUMNS)}: the vz-unload law needs them "
+                             f"(nfdcal table vz_master_grid --master-out CSV writes them)")
+        values = self.tables(float(material.nu), float(material.E / material.sigma_y))
+        pair = ContactPair.sphere_flat(material, R)
+        x = tuple(values["x"])
+        return VZUnloadParams(pair, x, tuple(values["f"]), tuple(values["g"]),
+                              self._window(values, pair, from_yield=False), x, tuple(values["rho"]), tuple(values["m"]))
 
 
 def pchip_along(axis: np.ndarray, values: np.ndarray, at: float) -> np.ndarray:
@@ -176,8 +200,9 @@ class VZMasterTable:
         return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]),
                              self._window(values, pair))
 
-    def _window(self, values: dict, pair: ContactPair) -> CalibrationWindow:
-        """The window of :meth:`tables` ``values`` for ``pair``."""
+    def _window(self, values: dict, pair: ContactPair, from_yield: bool = True) -> CalibrationWindow:
+        """The window of :meth:`tables` ``values`` for ``pair``: from P_Y (``from_yield``, the loading
+        and unloading checked there against the FE: BELOW_NODES) or from the nodes' lowest path."""
         a_top = pair.a_Y * (np.cbrt(values["top"]) + values["f"][-1]) / pair.R_star   # the law's a = a_Y (x^(1/3) + f)
         # every node ran to at most the FE's reach (vz_master_build.run_task); the law's radius can
         # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100; the FE's
@@ -200,6 +225,12 @@ class VZMasterTable:
         x = tuple(values["x"])
         return VZUnloadParams(pair, x, tuple(values["f"]), tuple(values["g"]), self._window(values, pair), x,
                               tuple(values["rho"]), tuple(values["m"]))
+        window = CalibrationWindow(1.0, values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
+                                   f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
+                                   f"to {values['top']:.4g} P_Y; from P_Y to {values['low']:.3g} P_Y interpolated "
+                                   f"from Hertz's, checked against the FE (e {BELOW_NODES['worst_e_error']:.2%}, force "
+                                   f"{BELOW_NODES['worst_force_error']:.1%} at worst)")
+        return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]), window)
 
     @property
     def accuracy(self) -> str:

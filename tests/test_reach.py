@@ -1,0 +1,152 @@
+"""The FE's reach by kinematics and the window from first yield (calib.fit.recipe, calib.fit.impact_window,
+``nfdcal calibrate --v-max --kinematics``): plans only, no FE run.
+
+- finite strain vouches for 1e4 P_Y and a/R 0.45 (nfd_limits.h), small strain for 1000 P_Y and 0.2 R;
+  a brass sphere (E 100 GPa, nu 0.34, sigma_Y 250 MPa, R 5 mm, rho 8500) at 3 m/s needs about 2100 P_Y
+  (a/R about 0.41 with the load paths' margin): planned with finite strain, refused with small strain in
+  one line naming the finite strain's reach;
+- ``--kinematics auto`` (the default) takes finite strain where the plan's contact radius passes
+  recipe.KINEMATICS_PART_OVER_R R or its load the small-strain reach, small strain below (the reference
+  calibration's spec unchanged);
+- every --v-max window starts at or below 1.1 P_Y on a mesh that resolves the contact there.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from calib.cli import main
+from calib.fit import impact_window, recipe
+from nfdmodel import CalibrationWindow, ContactPair, Material, limits
+from nfdmodel.validation import PlausibilityWarning
+
+BRASS = Material(100e9, 0.34, 250e6, 8500.0)
+BRASS_R = 0.005
+BRASS_FLAGS = ["--E", "100e9", "--nu", "0.34", "--sigma-y", "250e6", "--rho", "8500", "--R", "0.005"]
+
+
+def test_the_reach_of_each_kinematics_is_the_table_s():
+    pair = ContactPair.sphere_flat(BRASS, BRASS_R)
+    assert recipe.REACH["small-strain"] == (limits.FE_MAX_LOAD_OVER_YIELD, limits.FE_MAX_CONTACT_RADIUS_OVER_R)
+    assert recipe.REACH["finite-strain"] == (limits.FE_FINITE_MAX_LOAD_OVER_YIELD,
+                                             limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R) == (1e4, 0.45)
+    for kinematics, (load, radius) in recipe.REACH.items():     # whichever comes first
+        reach = recipe.fe_reach(pair, kinematics)
+        a = recipe.estimated_contact_radius(pair, reach) / BRASS_R
+        assert reach <= load * pair.P_Y * (1 + 1e-12) and a <= radius * (1 + 1e-5)
+        assert reach == pytest.approx(load * pair.P_Y) or a == pytest.approx(radius, rel=1e-5)
+    assert recipe.fe_reach(pair) == recipe.fe_reach(pair, "small-strain")
+    # a counter-body's contact is small-strain whatever the sphere's kinematics
+    assert recipe.reach_kinematics("finite-strain", object()) == "small-strain"
+
+
+def test_brass_at_3_m_s_is_planned_with_finite_strain_and_covers_its_impact():
+    needed, params, _ = impact_window.check_reach(BRASS, BRASS_R, 3.0, "finite-strain")
+    pair = params.pair
+    assert 1900 < needed / pair.P_Y < 2300                        # "about 2100 P_Y"
+    spec = impact_window.impact_spec(BRASS, BRASS_R, needed, "finite-strain",
+                                     elements_per_contact_radius=impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS)
+    assert spec.kinematics == "finite-strain" and spec.plan.peaks[-1] >= needed
+    assert 0.2 < recipe.estimated_contact_radius(pair, spec.plan.peaks[-1]) / BRASS_R <= 0.45
+    assert spec.plan.peaks[0] <= 1.1 * pair.P_Y * (1 + 1e-12)
+    with pytest.raises(ValueError, match=r"^v_max out of range: .*1000 P_Y.*--kinematics finite vouches for v_max <= 3\.\d"):
+        impact_window.check_reach(BRASS, BRASS_R, 3.0, "small-strain")
+    with pytest.raises(ValueError, match=r"^P_max out of range: .*small-strain.*--kinematics finite reaches"):
+        dataclasses.replace(spec, kinematics="small-strain")
+
+
+def test_the_command_plans_brass_at_3_m_s_and_states_the_reach_and_its_error(capsys):
+    assert main(["calibrate", *BRASS_FLAGS, "--v-max", "3", "--dry-run", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.startswith("kinematics:"))
+    assert line.startswith("kinematics: finite-strain (auto:") and "0.45 R" in line and "1.0 % in force" in line
+    assert main(["calibrate", *BRASS_FLAGS, "--v-max", "3", "--kinematics", "finite", "--dry-run", "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["calibrate", *BRASS_FLAGS, "--v-max", "3", "--kinematics", "small", "--dry-run", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "v_max out of range" in err[0] and "--kinematics finite vouches for" in err[0]
+
+
+def test_auto_keeps_small_strain_below_where_the_kinematics_part():
+    reference = recipe.reference_spec()
+    assert recipe.chosen_kinematics(reference.pair, reference.plan.peaks[-1]) == "small-strain"
+    pair = ContactPair.sphere_flat(BRASS, BRASS_R)
+    below = recipe.largest_admissible_load(pair, recipe.KINEMATICS_PART_OVER_R)
+    assert recipe.chosen_kinematics(pair, 0.99 * below) == "small-strain"
+    assert recipe.chosen_kinematics(pair, 1.01 * below) == "finite-strain"
+    hard = ContactPair.sphere_flat(Material(200e9, 0.3, 40e6, 7800.0), 0.005)       # E/sigma_Y 5000
+    assert recipe.estimated_contact_radius(hard, 1500 * hard.P_Y) < recipe.KINEMATICS_PART_OVER_R * 0.005
+    assert recipe.chosen_kinematics(hard, 1500 * hard.P_Y) == "finite-strain"      # beyond 1000 P_Y
+
+
+def test_auto_leaves_the_reference_calibration_as_it_was(capsys):
+    """The default command plans the small-strain recipe's reference calibration (its figures kept bit for bit)."""
+    assert main(["calibrate", "--dry-run", "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "kinematics: small-strain (auto: the plan reaches about a/R* 0.01" in out
+
+
+@pytest.mark.parametrize("material, radius, v_max", [(BRASS, BRASS_R, 0.3), (BRASS, BRASS_R, 3.0),
+                                                     (Material(70e9, 0.3, 100e6, 2700.0), 0.1, 0.05),
+                                                     (Material(210e9, 0.29, 1.2e9, 7800.0), 0.002, 2.0)],
+                         ids=["brass 0.3 m/s", "brass 3 m/s", "reference 0.05 m/s", "steel 2 m/s"])
+def test_every_v_max_window_starts_at_first_yield_on_a_mesh_that_resolves_it(material, radius, v_max):
+    needed, params, _ = impact_window.check_reach(material, radius, v_max, "finite-strain")
+    kinematics = recipe.chosen_kinematics(params.pair, impact_window.window_top(params.pair, needed, "finite-strain"))
+    spec = impact_window.impact_spec(material, radius, needed, kinematics,
+                                     elements_per_contact_radius=impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS)
+    pair = spec.pair
+    low = spec.plan.peaks[0]
+    assert low == pytest.approx(1.1 * pair.P_Y, rel=1e-9)
+    assert recipe.estimated_contact_radius(pair, low) / spec.mesh.contact_size >= \
+        impact_window.CONTACT_ELEMENTS_AT_LOWEST
+    coarse = recipe.coarse_spec(spec)               # the second mesh: every size x 2, the grading too
+    assert coarse.mesh.grading == pytest.approx(2 * spec.mesh.grading)
+    assert recipe.estimated_contact_radius(pair, low) / coarse.mesh.contact_size >= \
+        impact_window.CONTACT_ELEMENTS_AT_LOWEST
+
+
+def test_a_finite_strain_window_is_inside_the_fe_s_reach():
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        CalibrationWindow(1.1, 2300.0, 0.41, "FE (finite-strain): mesh")       # brass at 3 m/s: not flagged
+    with pytest.warns(PlausibilityWarning, match=r"a/R\* up to 0.5 \(the FE reaches 0.45\)"):
+        CalibrationWindow(1.0, 100.0, 0.5, "FE (finite-strain): mesh")
+    with pytest.warns(PlausibilityWarning, match=r"a/R\* up to 0.41 \(the FE reaches 0.2\)"):
+        CalibrationWindow(1.1, 900.0, 0.41, "FE: mesh")                         # a small-strain FE's
+    from calib.fit.calibration import kinematics_note
+    assert kinematics_note("finite-strain") == " (finite-strain)" and kinematics_note("small-strain") == ""
+
+
+def test_the_master_table_law_is_inside_its_window_from_first_yield():
+    """The vz master table's nodes start at 2 P_Y (shipped data); its law is declared from P_Y, where it meets
+    the targets against an FE path it was not built on (1.5 P_Y, the graded mesh, 12 elements across the
+    contact), and an impact loading the contact to 1.5 P_Y is inside its window."""
+    import warnings
+
+    from calib.fe.loadpath import run_load_paths
+    from calib.fit.calibration import E_TARGET, FORCE_TARGET, _solver
+    from calib.fit.path_check import law_against_path
+    from calib.fit.vz_master_table import VZMasterTable
+    from calib.studies.between_nodes import fe_path, path_record
+    from meshes.hemisphere import hemisphere_mesh
+    from nfdmodel import RangeWarning, collide
+
+    material = Material.reference()
+    law = VZMasterTable.load().law(material, 0.1)
+    assert law.window.P_min_over_P_Y == 1.0
+    peak = 1.5 * law.pair.P_Y
+    spec = impact_window.window_spec(material, 0.1, peak, elements_per_contact_radius=12.0)
+    spec = dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, peaks=(peak,), loading_step=peak))
+    path = run_load_paths(_solver(spec, hemisphere_mesh(spec.mesh)), spec.plan).paths[0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RangeWarning)
+        errors = law_against_path("vz-table", law, fe_path(path_record(path.peak, path.restitution, path.rows)))
+    assert abs(errors["e_error"]) <= E_TARGET and errors["force_error"] <= FORCE_TARGET
+    v_in = impact_window.reach_velocity(law, peak)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RangeWarning)
+        assert collide("vz-table", law, [v_in]).in_calibrated_range.tolist() == [True]
