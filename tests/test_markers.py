@@ -30,6 +30,7 @@ NOT_RERUN = {
     "test_calibration.py": FE,
     "test_fe_impact.py": FE,
     "test_fit.py": FE,
+    "test_reach.py": FE,
     "test_fit_data.py": FE,
     "test_scenes.py": FE,
     "test_export_counter_table.py": PLUGIN,
@@ -103,6 +104,6 @@ def test_every_test_file_using_the_laws_carries_the_marker():
 
 def test_ci_reruns_the_marked_tests_on_numpy():
     ci = (TESTS.parent / ".ci" / "run").read_text(encoding="utf-8")
-    assert "NFDCAL_BACKEND=numpy .venv/bin/python -m pytest -q -m laws" in ci
+    assert "NFDCAL_BACKEND=numpy .venv/bin/python -m pytest -q -n auto -m laws" in ci
     pyproject = (TESTS.parent / "pyproject.toml").read_text(encoding="utf-8")
     assert '"laws: ' in pyproject
