@@ -66,7 +66,7 @@ def add_parser(subparsers) -> None:
                              " sphere on the rigid flat or an elastic counter-body, not with --ladder or"
                              " --counter-sigma-y; on the rigid flat it reaches 1e4 P_Y and a/R 0.45, small strain 1000"
                              " P_Y and a/R 0.2) or auto (the default: finite strain where the plan's contact radius"
-                             " passes 0.1 R, where the two part by more than 2 %, or its load the small-strain"
+                             " passes 0.1 R, where the two part by more than 2 %%, or its load the small-strain"
                              " reach; small strain below)")
     parser.add_argument("--cycles", default=None, metavar="FRACTIONS",
                         help="also run FE load cycles (calib.fe.cycles) from the middle load path's peak P_max: partial"
