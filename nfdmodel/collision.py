@@ -321,7 +321,8 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
 
     if native.active() and not history and start is None and law.collision_params is not None:
         path = native.collide(law.name, law.collision_params(law_params), v_in, dt, pair.mass_star, max_steps,
-                              lambda delta: law.step_function(np.array([delta]), law.initial_state(1), law_params))
+                              lambda delta, v: law.step_function(np.array([delta]), law.initial_state(1), law_params,
+                                                                 *law._velocity(np.array([v]))))
     else:
         path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history, start)
     in_range, over_window = _window_check(law, law_params, path["P_max"], v_in)

@@ -189,10 +189,10 @@ def rate_step(kernel: RateKernel, m_star: float, delta, velocity, state):
 def collide(name: str, kernel, v_in, dt: float, mass: float, max_steps: int, explain) -> dict:
     """The leap-frog impacts of nfdmodel.collision in C, every velocity in one call: the same
     per-velocity results as collision._time_loop (history not recorded). ``kernel``: the law's
-    nfd_params tuple (:func:`kernel_params`); ``explain(delta)``: the law's numpy step at one
-    approach [m], called where the compiled loop stopped so that its ValueError names the cause
-    in the numpy path's words. A :class:`RateKernel`: the rate-aware law (nfd_rate_step, m* = ``mass``), whose
-    R per velocity the result holds as "rate_factor"."""
+    nfd_params tuple (:func:`kernel_params`); ``explain(delta, v_in)``: the law's numpy step at one
+    approach [m] of the impact at v_in [m/s], called where the compiled loop stopped so that its
+    ValueError names the cause in the numpy path's words. A :class:`RateKernel`: the rate-aware law
+    (nfd_rate_step, m* = ``mass``), whose R per velocity the result holds as "rate_factor"."""
     v_in = np.ascontiguousarray(v_in, dtype=np.float64)
     out = {key: np.zeros(v_in.size) for key in ("v_out", "contact_time", "loading_area", "unloading_area", "P_max",
                                                 "delta_max", "delta_res")}
@@ -208,6 +208,6 @@ def collide(name: str, kernel, v_in, dt: float, mass: float, max_steps: int, exp
         raise ValueError(f"max_steps = {max_steps} reached before separation at v_in = {v_in[failed_at]:g} m/s: "
                          f"increase max_steps or dt (dt = {dt:g} s)")
     if status < 0:          # a contact radius at R*, or an overflow: the numpy step says which, in its words
-        explain(failed_delta)
+        explain(failed_delta, v_in[failed_at])
         raise ValueError(f"delta out of range at delta = {failed_delta:g} m (v_in = {v_in[failed_at]:g} m/s)")
     return {**out, "steps": int(steps), "max_iterations": int(iterations), "history": None}

@@ -21,7 +21,8 @@ with the history held in the base law's units at R = 1 (delta_max, delta_res ~ R
 R, K_u ~ R^0): each step maps the contacts into the base law's units, steps the base law (its numpy or
 compiled kernel) and maps the trial history back. The base constants' dimensionless values are held
 while sigma_Y changes (their weak dependence on E*/sigma_Y is neglected, as the master table's radius
-transfer does). Units SI. The scalar specification: nfdmodel.reference.rate_aware_step.
+transfer does). Units SI. The scalar specification: nfdmodel.reference.rate_aware_step. The compiled
+kernel: nfd_rate.h (nfd_rate_step, R found there as here), which the native backend and collide run.
 """
 from __future__ import annotations
 
