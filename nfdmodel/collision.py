@@ -61,7 +61,7 @@ STEPS_PER_UNLOADING_AUTO = 100    # dt = None: also at most the shortest unloadi
 # dt so small that a contact needs more steps: ValueError. 400 x the automatic resolution
 # (~2500 steps per contact); about 40 s of the numpy time loop (40 us per step).
 MAX_STEPS_LIMIT = 10**6
-_SMALLEST_ENERGY = 1e-250         # J; below, (1/2) m v^2 and the overlaps underflow
+_SMALLEST_ENERGY = limits.SMALLEST_ENERGY      # J; below, (1/2) m v^2 and the overlaps underflow
 _LOADING_NODES, _LOADING_WEIGHTS = np.polynomial.legendre.leggauss(24)
 
 

@@ -35,6 +35,7 @@
 #define NFD_REFERENCE_BRACKET_STEPS 200
 #define NFD_REFERENCE_NEWTON_STEPS 100
 #define NFD_REFERENCE_TOLERANCE 1e-13     /* relative, on delta_max */
+#define NFD_SMALLEST_ENERGY 1e-250        /* [J] m* v^2 / 2 below: the overlaps underflow, refused */
 
 /* The calibrated window P_max/P_Y assumed for constants that do not state theirs: the largest
  * peak of the default calibration recipe (load paths to 13.7, 27.4 and 41.2 P_Y). */

@@ -179,11 +179,13 @@ static inline double nfd_rate_loading_work(const nfd_rate *r, const nfd_params *
 }
 
 /* a_ref [m]: the base law's contact radius a_e + a_p at the peak of its impact at `speed` [m/s] > 0
- * of reduced mass m_star [kg] (module doc; nfdmodel.rate_aware.RateAwareParams.reference_radius). */
+ * of reduced mass m_star [kg] (module doc; nfdmodel.rate_aware.RateAwareParams.reference_radius);
+ * NAN when m* v^2 / 2 is not a finite number above NFD_SMALLEST_ENERGY. */
 static inline double nfd_rate_reference_radius(const nfd_rate *r, const nfd_params *p, const nfd_table *t,
                                                double m_star, double speed)
 {
     double energy = 0.5 * m_star * (speed * speed);
+    if (!(energy > NFD_SMALLEST_ENERGY && isfinite(energy))) return NAN;     /* the overlaps underflow */
     double delta = pow(energy / (0.4 * p->hertz_k), 0.4), P;   /* Hertz: W = (2/5) k_H delta^(5/2) */
     for (int k = 0; k < NFD_REFERENCE_BRACKET_STEPS; ++k) {    /* bracket from above */
         P = nfd_rate_virgin_force(r, delta, p, t);

@@ -326,3 +326,16 @@ def test_bad_constants_are_refused(c_caller, rate, what):
     with pytest.raises(ValueError, match="^rate out of range: "):
         native.rate_step(kernel._replace(base_law=limits.LAW_CODES["thornton"], rate=compiled_kernel(params).rate),
                          params.pair.mass_star, np.zeros(1), np.zeros(1), LAW.initial_state(1))
+
+
+@pytest.mark.parametrize("speed", [1e-130, 500.0])
+def test_a_first_contact_the_kernel_refuses_gets_the_numpy_path_s_error(speed):
+    """A speed whose impact energy underflows, or whose impact would reach R* (the kernel's NFD_NOT_FINITE,
+    NFD_FULL_CONTACT): the native backend says what the numpy path says, in one line."""
+    params = RateAwareParams("vz-table", BASES["vz-table"], RATE_LAWS["cowper-symonds"])
+    messages = []
+    for backend in ("native", "numpy"):
+        with native.use_backend(backend), pytest.raises(ValueError, match="^v_in out of range") as caught:
+            LAW.step(np.array([1e-9]), LAW.initial_state(1), params, velocity=np.array([speed]))
+        messages.append(str(caught.value))
+    assert messages[0] == messages[1] and "\n" not in messages[0]
