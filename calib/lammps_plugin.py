@@ -35,7 +35,7 @@ from calib.optional import MissingOptionalPart
 PLUGIN_NAME = "nfdplugin.so"
 FLAGS = ("-shared", "-fPIC", "-O2", "-std=c++17", "-ffp-contract=off")
 # nfdmodel/: the C kernel, its headers and its table
-KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_friction.h", "nfd_unload.h", "nfd_limits.h")
+KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_friction.h", "nfd_unload.h", "nfd_rate.h", "nfd_limits.h")
 PLUGIN_UNITS = ("nfd_plugin.cpp", "pair_nfd.cpp")                    # two of nfdmodel/lammps/*.cpp, as a check
 
 

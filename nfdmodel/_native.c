@@ -23,6 +23,15 @@
  *       F_n, a, F_t 3); table: None, (x, f, g) (vz_table) or (x, f, g, x_unload, dent, exponent)
  *       (vz_unload); friction: the nfd_friction fields in order;
  *       status: the first negative law status (at: that contact) or 0.
+ *   rate_step(base_law, params, table, rate, m_star, delta, velocity, delta_max, P_max, delta_res, K_u, a_e_max,
+ *             rate_factor, force, index, delta_max', P_max', delta_res', K_u', a_e_max', rate_factor')
+ *       -> (k, status, at, largest Newton count, beyond-window count, largest base P_max)
+ *       nfd_rate_step (nfd_rate.h) of n contacts: the force of each, and the new history of the k contacts
+ *       whose turning point moved or that first touched (positions in index[0:k], values at 0..k-1);
+ *       rate: (NFD_RATE_* code, first, second, c) of nfd_rate_init; status: the first negative one (at:
+ *       that contact, nothing else written after it) or 0; a ValueError when nfd_rate_init refuses rate.
+ *   collide(..., [table, rate, rate_factor']): with rate, the rate-aware law on the base law `law` (table:
+ *       None or its tables), R of each impact in rate_factor'.
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
  * needs: a value that is finite exactly when the forces are).
  * law: an NFD_LAW_* code of nfd_limits.h; params: (R*, E*, P_Y, delta_Y, a_Y, p_Y, k_H, Ca, Kc,
@@ -34,6 +43,7 @@
 #include <stdint.h>
 
 #include "nfd_friction.h"
+#include "nfd_rate.h"
 #include "nfd_unload.h"
 
 static int check_length(Py_buffer *buffer, Py_ssize_t count, Py_ssize_t itemsize, const char *name)
@@ -254,6 +264,81 @@ static PyObject *native_load_table(PyObject *self, PyObject *args)
     return Py_BuildValue("indndd", max_iterations, beyond, largest_P, widest, widest_radius, finite ? 0.0 : INFINITY);
 }
 
+/* *r from (rate law code, first, second, c) and the base law code; 0 with a ValueError set when refused. */
+static int read_rate(PyObject *tuple, int base_law, nfd_rate *r)
+{
+    int rate_law;
+    double first, second, c;
+    if (!PyArg_ParseTuple(tuple, "iddd", &rate_law, &first, &second, &c)) return 0;
+    if (nfd_rate_init(r, base_law, rate_law, first, second, c) != 0) {
+        PyErr_Format(PyExc_ValueError, "rate out of range: base law vz or vz_table, Johnson-Cook C >= 0 and "
+                     "eps_dot_0 > 0, or Cowper-Symonds D > 0 and q > 0, and c > 0 (finite), got law %d, "
+                     "rate law %d, %g, %g, c %g", base_law, rate_law, first, second, c);
+        return 0;
+    }
+    return 1;
+}
+
+static PyObject *native_rate_step(PyObject *self, PyObject *args)
+{
+    int base_law;
+    double m_star;
+    PyObject *params_tuple, *table_object, *rate_tuple;
+    Py_buffer in[8], out[8];
+    nfd_params p;
+    nfd_table table;
+    nfd_rate rate;
+    (void)self;
+    if (!PyArg_ParseTuple(args, "iOOOdy*y*y*y*y*y*y*y*w*w*w*w*w*w*w*w*", &base_law, &params_tuple, &table_object,
+                          &rate_tuple, &m_star, &in[0], &in[1], &in[2], &in[3], &in[4], &in[5], &in[6], &in[7],
+                          &out[0], &out[1], &out[2], &out[3], &out[4], &out[5], &out[6], &out[7]))
+        return NULL;
+    static const char *names[8] = {"delta", "velocity", "delta_max", "P_max", "delta_res", "K_u", "a_e_max",
+                                   "rate_factor"};
+    static const char *outputs[8] = {"force", "index", "delta_max'", "P_max'", "delta_res'", "K_u'", "a_e_max'",
+                                     "rate_factor'"};
+    Py_ssize_t n = in[0].len / 8, k = 0, at = -1, beyond = 0;
+    int status = NFD_OK, most = 0, ok = read_params(params_tuple, &p);
+    double largest_P = 0.0;
+    if (ok && table_object != Py_None) ok = read_table(table_object, &table);
+    ok = ok && read_rate(rate_tuple, base_law, &rate);
+    for (int j = 0; ok && j < 8; ++j) ok = check_length(&in[j], n, 8, names[j]) && check_length(&out[j], n, 8, outputs[j]);
+    if (ok) {
+        const double *d = in[0].buf, *v = in[1].buf, *dm = in[2].buf, *Pm = in[3].buf, *dr = in[4].buf,
+                     *Ku = in[5].buf, *ae = in[6].buf, *Rf = in[7].buf;
+        double *f = out[0].buf, *o_dm = out[2].buf, *o_P = out[3].buf, *o_dr = out[4].buf, *o_K = out[5].buf,
+               *o_ae = out[6].buf, *o_R = out[7].buf;
+        int64_t *idx = out[1].buf;
+        const nfd_table *t = table_object != Py_None ? &table : NULL;
+        Py_BEGIN_ALLOW_THREADS
+        for (Py_ssize_t i = 0; i < n; ++i) {
+            nfd_history h = {dm[i], Pm[i], dr[i], Ku[i], ae[i]}, next;
+            double R = Rf[i], force = 0.0;
+            int iterations = 0;
+            int code = nfd_rate_step(&rate, d[i], v[i], m_star, &p, t, &h, &R, &force, &next, &iterations);
+            if (code < 0) { status = code; at = i; break; }
+            f[i] = force;
+            most = iterations > most ? iterations : most;
+            double square = pow(R > 0.0 ? R : 1.0, 2.0);
+            if (!(d[i] / square > h.delta_max / square) && R == Rf[i]) continue;   /* unchanged */
+            double base_P = next.P_max / pow(R > 0.0 ? R : 1.0, 3.0);
+            if (d[i] / square > h.delta_max / square) {
+                beyond += base_P > p.window_P_max;
+                largest_P = base_P > largest_P ? base_P : largest_P;
+            }
+            idx[k] = i;
+            o_dm[k] = next.delta_max; o_P[k] = next.P_max; o_dr[k] = next.delta_res; o_K[k] = next.K_u;
+            o_ae[k] = next.a_e_max; o_R[k] = R;
+            ++k;
+        }
+        Py_END_ALLOW_THREADS
+    }
+    int failed = PyErr_Occurred() != NULL;
+    for (int j = 0; j < 8; ++j) { PyBuffer_Release(&in[j]); PyBuffer_Release(&out[j]); }
+    if (failed) return NULL;
+    return Py_BuildValue("ninind", k, status, at, most, beyond, largest_P);
+}
+
 static PyObject *native_hertz(PyObject *self, PyObject *args)
 {
     Py_buffer delta, force;
@@ -318,22 +403,32 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
     long long max_steps;
     nfd_params p;
     (void)self;
-    if (!PyArg_ParseTuple(args, "iOy*ddLw*w*w*w*w*w*w*", &law, &params_tuple, &v_in, &dt, &mass, &max_steps, &v_out,
-                          &contact_time, &loading_area, &unloading_area, &P_max_out, &delta_max_out, &delta_res_out))
+    PyObject *table_object = Py_None, *rate_tuple = Py_None;
+    Py_buffer rate_out = {0};
+    nfd_table table;
+    nfd_rate rate;
+    if (!PyArg_ParseTuple(args, "iOy*ddLw*w*w*w*w*w*w*|OOw*", &law, &params_tuple, &v_in, &dt, &mass, &max_steps, &v_out,
+                          &contact_time, &loading_area, &unloading_area, &P_max_out, &delta_max_out, &delta_res_out,
+                          &table_object, &rate_tuple, &rate_out))
         return NULL;
     Py_ssize_t n = v_in.len / 8;
     long long steps = 0;
     int max_iterations = 0, status = NFD_OK;
     Py_ssize_t failed_at = -1;
     double failed_delta = 0.0;
-    if (read_params(params_tuple, &p)) {
+    int ok = read_params(params_tuple, &p);
+    if (ok && table_object != Py_None) ok = read_table(table_object, &table);
+    if (ok && rate_tuple != Py_None) ok = read_rate(rate_tuple, law, &rate) && check_length(&rate_out, n, 8, "rate_factor");
+    if (ok) {
         const double *v0 = v_in.buf;
+        const nfd_table *t = table_object != Py_None ? &table : NULL;
+        double *R_out = rate_tuple != Py_None ? rate_out.buf : NULL;
         double *vo = v_out.buf, *ct = contact_time.buf, *la = loading_area.buf, *ua = unloading_area.buf;
         double *pm = P_max_out.buf, *dm = delta_max_out.buf, *dr = delta_res_out.buf;
         Py_BEGIN_ALLOW_THREADS
         for (Py_ssize_t i = 0; i < n && status >= 0; ++i) {
             nfd_history h = {0.0, 0.0, 0.0, 0.0, 0.0}, next;
-            double delta = 0.0, force = 0.0, velocity = v0[i], loading = 0.0, unloading = 0.0;
+            double delta = 0.0, force = 0.0, velocity = v0[i], loading = 0.0, unloading = 0.0, R = 0.0;
             double peak = 0.0, deepest = 0.0, time_out = 0.0, v_sep = 0.0;
             long long step = 0;
             for (;;) {
@@ -342,7 +437,9 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
                 double delta_new = delta + velocity * dt;
                 double force_new = 0.0;
                 int iterations = 0;
-                int code = nfd_step(law, delta_new, &p, NULL, &h, &force_new, &next, &iterations);
+                int code = R_out ? nfd_rate_step(&rate, delta_new, velocity, mass, &p, t, &h, &R, &force_new, &next,
+                                                 &iterations)
+                                 : nfd_step(law, delta_new, &p, t, &h, &force_new, &next, &iterations);
                 if (code < 0) { status = code; failed_at = i; failed_delta = delta_new; break; }
                 h = next;
                 if (iterations > max_iterations) max_iterations = iterations;
@@ -369,6 +466,7 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
             if (step > steps) steps = step;
             vo[i] = v_sep; ct[i] = time_out; la[i] = loading; ua[i] = unloading;
             pm[i] = peak; dm[i] = deepest; dr[i] = law == NFD_LAW_HERTZ ? 0.0 : h.delta_res;
+            if (R_out) R_out[i] = R;
         }
         Py_END_ALLOW_THREADS
     }
@@ -376,6 +474,7 @@ static PyObject *native_collide(PyObject *self, PyObject *args)
     PyBuffer_Release(&v_in); PyBuffer_Release(&v_out); PyBuffer_Release(&contact_time);
     PyBuffer_Release(&loading_area); PyBuffer_Release(&unloading_area); PyBuffer_Release(&P_max_out);
     PyBuffer_Release(&delta_max_out); PyBuffer_Release(&delta_res_out);
+    if (rate_out.buf) PyBuffer_Release(&rate_out);
     if (failed) return NULL;
     return Py_BuildValue("Liind", steps, max_iterations, status, failed_at, failed_delta);
 }
@@ -450,6 +549,7 @@ static PyMethodDef methods[] = {
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
     {"load_table", native_load_table, METH_VARARGS, "the vz_table or vz_unload loading of the selected contacts"},
+    {"rate_step", native_rate_step, METH_VARARGS, "nfd_rate_step of n contacts (nfd_rate.h)"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {"elastic_energy", native_elastic_energy, METH_VARARGS, "nfd_elastic_energy of n contacts"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},

@@ -61,7 +61,7 @@ STEPS_PER_UNLOADING_AUTO = 100    # dt = None: also at most the shortest unloadi
 # dt so small that a contact needs more steps: ValueError. 400 x the automatic resolution
 # (~2500 steps per contact); about 40 s of the numpy time loop (40 us per step).
 MAX_STEPS_LIMIT = 10**6
-_SMALLEST_ENERGY = 1e-250         # J; below, (1/2) m v^2 and the overlaps underflow
+_SMALLEST_ENERGY = limits.SMALLEST_ENERGY      # J; below, (1/2) m v^2 and the overlaps underflow
 _LOADING_NODES, _LOADING_WEIGHTS = np.polynomial.legendre.leggauss(24)
 
 
@@ -205,18 +205,18 @@ def collision_reference(law_name, params, v_in) -> CollisionReference:
     delta = hertz_approach_at_work(energy, pair.hertz_stiffness)     # Hertz: W = (2/5) k delta^(5/2)
     reach = _check_within_domain(law, law_params, pair, v, energy)
     delta = np.minimum(delta, reach)
-    for _ in range(200):                                          # bracket from above
+    for _ in range(limits.REFERENCE_BRACKET_STEPS):               # bracket from above
         force, _ = _virgin_force(law, delta, law_params)
         short = law.loading_work(delta, force, law_params) < energy
         if not short.any():
             break
         delta = np.where(short, np.minimum(2.0 * delta, reach), delta)
-    for _ in range(100):
+    for _ in range(limits.REFERENCE_NEWTON_STEPS):
         force, _ = _virgin_force(law, delta, law_params)
         excess = law.loading_work(delta, force, law_params) - energy
         step = excess / np.maximum(force, 1e-300)
         delta = delta - np.clip(step, 0.0, 0.5 * delta)            # monotone from above
-        if np.all(np.abs(step) <= 1e-13 * delta):
+        if np.all(np.abs(step) <= limits.REFERENCE_TOLERANCE * delta):
             break
     force, state = _virgin_force(law, delta, law_params)
     work = law.loading_work(delta, force, law_params)
@@ -321,7 +321,8 @@ def collide(law_name, params, v_in, dt: float | None = 1e-6, history: bool = Fal
 
     if native.active() and not history and start is None and law.collision_params is not None:
         path = native.collide(law.name, law.collision_params(law_params), v_in, dt, pair.mass_star, max_steps,
-                              lambda delta: law.step_function(np.array([delta]), law.initial_state(1), law_params))
+                              lambda delta, v: law.step_function(np.array([delta]), law.initial_state(1), law_params,
+                                                                 *law._velocity(np.array([v]))))
     else:
         path = _time_loop(law, law_params, v_in, dt, pair.mass_star, max_steps, history, start)
     in_range, over_window = _window_check(law, law_params, path["P_max"], v_in)
@@ -339,8 +340,9 @@ def _dissipated(law: ContactLaw, law_params, path: dict, start) -> np.ndarray:
     (ContactLaw.dissipated_energy) of the history at the end, less that of the history it started
     from (``start``: a repeated impact reloads along the unloading curve before it loads further)."""
     state = path.get("state")
-    if state is None:       # the compiled loop (a virgin contact): its turning point is the path's
-        lost = (law.loading_work(path["delta_max"], path["P_max"], law_params)
+    if state is None:       # the compiled loop (a virgin contact): its turning point is the path's (and R)
+        rate = (path["rate_factor"],) if "rate_factor" in path else ()
+        lost = (law.loading_work_function(path["delta_max"], path["P_max"], law.params_from(law_params), *rate)
                 - elastic_energy(path["P_max"], path["delta_max"], path["delta_res"], law.unloading_exponent))
         return np.maximum(lost, 0.0)
     lost = law.dissipated_energy(state, law_params)

@@ -53,6 +53,12 @@ FE_MAX_LOAD_OVER_YIELD, FE_MAX_CONTACT_RADIUS_OVER_R = TABLE["FE_MAX_LOAD_OVER_Y
 # ... and the finite-strain FE's (the farthest any calibration runs to)
 FE_FINITE_MAX_LOAD_OVER_YIELD = TABLE["FE_FINITE_MAX_LOAD_OVER_YIELD"]
 FE_FINITE_MAX_CONTACT_RADIUS_OVER_R = TABLE["FE_FINITE_MAX_CONTACT_RADIUS_OVER_R"]
+# the rate-aware law (nfd_rate.h): its rate laws' codes and the default c of eps_dot = v_n0 / (c a_ref); the
+# energy balance of an impact (collision_reference): bracket doublings, Newton steps and tolerance
+RATE_JOHNSON_COOK, RATE_COWPER_SYMONDS = TABLE["RATE_JOHNSON_COOK"], TABLE["RATE_COWPER_SYMONDS"]
+RATE_LENGTH_FACTOR = TABLE["RATE_LENGTH_FACTOR"]
+REFERENCE_BRACKET_STEPS, REFERENCE_NEWTON_STEPS = TABLE["REFERENCE_BRACKET_STEPS"], TABLE["REFERENCE_NEWTON_STEPS"]
+REFERENCE_TOLERANCE, SMALLEST_ENERGY = TABLE["REFERENCE_TOLERANCE"], TABLE["SMALLEST_ENERGY"]
 # the contact models around the normal law (nfd_friction.h, nfdmodel.friction): their codes, the
 # frame tolerance of a spring, the friction history's size, the largest friction coefficient
 DAMPING_NONE, DAMPING_VISCOELASTIC = TABLE["DAMPING_NONE"], TABLE["DAMPING_VISCOELASTIC"]

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+from typing import NamedTuple
 
 import numpy as np
 
@@ -154,23 +155,59 @@ def hertz_forces(delta, pair) -> np.ndarray:
     return check_force(force, delta, pair, float(total))
 
 
-def collide(name: str, kernel: tuple, v_in, dt: float, mass: float, max_steps: int, explain) -> dict:
+class RateKernel(NamedTuple):
+    """The rate-aware law as the binding takes it (nfd_rate.h): the base law's NFD_LAW_* code, its nfd_params
+    tuple (:func:`kernel_params`, R = 1), its tables (:func:`kernel_table`; None for vz) and ``rate`` =
+    (NFD_RATE_* code, first constant, second constant, c) of nfd_rate_init."""
+
+    base_law: int
+    params: tuple
+    table: tuple | None
+    rate: tuple
+
+
+RATE_FIELDS = ("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max", "rate_factor")
+
+
+def rate_step(kernel: RateKernel, m_star: float, delta, velocity, state):
+    """nfd_rate_step of every contact (the rate-aware law's history ``state``, the normal approach speeds
+    ``velocity`` [m/s] per contact, read where a contact first touches; the pair's reduced mass m_star
+    [kg]): (P [N], index of the contacts whose history changed, {field: their new values}, status,
+    largest Newton count, beyond-window count, largest P_max [N] at R = 1). A negative status (the
+    first failing contact's nfd_rate_step code) leaves the outputs incomplete."""
+    n = delta.shape[0]
+    force = np.empty(n)
+    index = np.empty(n, dtype=np.int64)
+    values = {name: np.empty(n) for name in RATE_FIELDS}
+    k, status, _, iterations, beyond, largest = _native.rate_step(
+        kernel.base_law, kernel.params, kernel.table, kernel.rate, float(m_star), _contiguous(delta),
+        _contiguous(velocity), *(_contiguous(getattr(state, name)) for name in RATE_FIELDS), force, index,
+        *(values[name] for name in RATE_FIELDS))
+    return force, index[:k].copy(), {name: v[:k].copy() for name, v in values.items()}, status, iterations, beyond, largest
+
+
+def collide(name: str, kernel, v_in, dt: float, mass: float, max_steps: int, explain) -> dict:
     """The leap-frog impacts of nfdmodel.collision in C, every velocity in one call: the same
     per-velocity results as collision._time_loop (history not recorded). ``kernel``: the law's
-    nfd_params tuple (:func:`kernel_params`); ``explain(delta)``: the law's numpy step at one
-    approach [m], called where the compiled loop stopped so that its ValueError names the cause
-    in the numpy path's words."""
+    nfd_params tuple (:func:`kernel_params`); ``explain(delta, v_in)``: the law's numpy step at one
+    approach [m] of the impact at v_in [m/s], called where the compiled loop stopped so that its
+    ValueError names the cause in the numpy path's words. A :class:`RateKernel`: the rate-aware law
+    (nfd_rate_step, m* = ``mass``), whose R per velocity the result holds as "rate_factor"."""
     v_in = np.ascontiguousarray(v_in, dtype=np.float64)
     out = {key: np.zeros(v_in.size) for key in ("v_out", "contact_time", "loading_area", "unloading_area", "P_max",
                                                 "delta_max", "delta_res")}
+    code, rate = LAW_CODES.get(name), ()
+    if isinstance(kernel, RateKernel):
+        out["rate_factor"] = np.zeros(v_in.size)
+        code, kernel, rate = kernel.base_law, kernel.params, (kernel.table, kernel.rate, out["rate_factor"])
     steps, iterations, status, failed_at, failed_delta = _native.collide(
-        LAW_CODES[name], kernel, v_in, float(dt), float(mass), int(max_steps),
+        code, kernel, v_in, float(dt), float(mass), int(max_steps),
         out["v_out"], out["contact_time"], out["loading_area"], out["unloading_area"], out["P_max"],
-        out["delta_max"], out["delta_res"])
+        out["delta_max"], out["delta_res"], *rate)
     if status == _STEPS_EXCEEDED:
         raise ValueError(f"max_steps = {max_steps} reached before separation at v_in = {v_in[failed_at]:g} m/s: "
                          f"increase max_steps or dt (dt = {dt:g} s)")
     if status < 0:          # a contact radius at R*, or an overflow: the numpy step says which, in its words
-        explain(failed_delta)
+        explain(failed_delta, v_in[failed_at])
         raise ValueError(f"delta out of range at delta = {failed_delta:g} m (v_in = {v_in[failed_at]:g} m/s)")
     return {**out, "steps": int(steps), "max_iterations": int(iterations), "history": None}

@@ -4,6 +4,7 @@
  */
 #include "nfd_friction.h"  /* nfd_kernel.h, and the contact models around the laws (static inline) */
 #include "nfd_unload.h"    /* the vz_unload law (static inline, on the vz_table solve below) */
+#include "nfd_rate.h"      /* the rate-aware law, and the Gauss-Legendre rules (static inline) */
 
 #include <math.h>
 #include <stdint.h>
@@ -636,11 +637,6 @@ int nfd_step(int law, double delta, const nfd_params *p, const nfd_table *t, con
 }
 
 /* ------------------------------------------------------------------------- vz admissibility */
-/* The 12-point Gauss-Legendre rule on [-1, 1] (numpy.polynomial.legendre.leggauss(12)): nodes +-x. */
-static const double gauss_x[6] = {0.1252334085114689, 0.3678314989981802, 0.5873179542866175,
-                                  0.7699026741943047, 0.9041172563704748, 0.9815606342467192};
-static const double gauss_w[6] = {0.2491470458134027, 0.2334925365383546, 0.20316742672306573,
-                                  0.16007832854334642, 0.10693932599531907, 0.04717533638651141};
 
 /* The k-th of n loads geomspace(first, last, n), as numpy's (its ends exact). */
 static double geomspace(double first, double last, int k, int n)
@@ -669,7 +665,8 @@ static double energy_excess(double Ca_hat, double Kc_hat, double *load)
         double width = log1p((p - 1.0) / s) / panels, integral = 0.0;
         for (int panel = 0; panel < panels; ++panel)
             for (int i = 0; i < 12; ++i) {
-                double x = i < 6 ? -gauss_x[5 - i] : gauss_x[i - 6], w = gauss_w[i < 6 ? 5 - i : i - 6];
+                double x, w;
+                nfd_gauss_node(nfd_gauss12_x, nfd_gauss12_w, 6, i, &x, &w);      /* nfd_rate.h */
                 double q = s * expm1((panel + 0.5 * (x + 1.0)) * width);      /* q - 1 */
                 integral += 0.5 * width * w * scaled_approach(1.0 + q, Ca_hat, Kc_hat) * (s + q);
             }

@@ -23,6 +23,20 @@
 #define NFD_LAW_VZ_UNLOAD 5
 #define NFD_LAW_COUNT 6
 
+/* The rate-aware law (nfd_rate.h, nfdmodel.rate_aware): the codes of its rate laws and c, the
+ * constant of eps_dot = v_n0 / (c a_ref) (fitted once to the dynamic FE: Cowper-Symonds D 40 /s, q 5,
+ * 0.02 m/s, coarse mesh; nfdmodel/README.md, The rate-aware law). */
+#define NFD_RATE_JOHNSON_COOK 0
+#define NFD_RATE_COWPER_SYMONDS 1
+#define NFD_RATE_LENGTH_FACTOR 26.0
+/* The energy balance of an impact (nfdmodel.collision_reference, nfd_rate.h's a_ref): the Hertz
+ * approach doubled at most REFERENCE_BRACKET_STEPS times until W >= m* v^2 / 2, then at most
+ * REFERENCE_NEWTON_STEPS Newton steps from above, until a step is below REFERENCE_TOLERANCE delta. */
+#define NFD_REFERENCE_BRACKET_STEPS 200
+#define NFD_REFERENCE_NEWTON_STEPS 100
+#define NFD_REFERENCE_TOLERANCE 1e-13     /* relative, on delta_max */
+#define NFD_SMALLEST_ENERGY 1e-250        /* [J] m* v^2 / 2 below: the overlaps underflow, refused */
+
 /* The calibrated window P_max/P_Y assumed for constants that do not state theirs: the largest
  * peak of the default calibration recipe (load paths to 13.7, 27.4 and 41.2 P_Y). */
 #define NFD_DEFAULT_WINDOW 41.2

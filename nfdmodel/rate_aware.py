@@ -21,7 +21,8 @@ with the history held in the base law's units at R = 1 (delta_max, delta_res ~ R
 R, K_u ~ R^0): each step maps the contacts into the base law's units, steps the base law (its numpy or
 compiled kernel) and maps the trial history back. The base constants' dimensionless values are held
 while sigma_Y changes (their weak dependence on E*/sigma_Y is neglected, as the master table's radius
-transfer does). Units SI. The scalar specification: nfdmodel.reference.rate_aware_step.
+transfer does). Units SI. The scalar specification: nfdmodel.reference.rate_aware_step. The compiled
+kernel: nfd_rate.h (nfd_rate_step, R found there as here), which the native backend and collide run.
 """
 from __future__ import annotations
 
@@ -30,6 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import limits, native
 from .collision import CollisionReference, collision_reference
 from .contact_law import ContactLaw
 from .history import HistoryUpdate, TurningPointHistory, apply_update, check_delta, check_state, restore_shape
@@ -40,8 +42,8 @@ from .vz import VZParams, VZState
 from .vz_table import VZTableParams, VZTableState
 
 # c of eps_dot = v_n0 / (c a_ref): fitted once to the dynamic FE (Cowper-Symonds D 40 /s, q 5, 0.02 m/s, coarse
-# mesh: 26.2 on that mesh's vz-table, 29 on the shipped one; nfdmodel/README.md, The rate-aware law)
-RATE_LENGTH_FACTOR = 26.0
+# mesh: 26.2 on that mesh's vz-table, 29 on the shipped one; nfdmodel/README.md, The rate-aware law); nfd_limits.h
+RATE_LENGTH_FACTOR = limits.RATE_LENGTH_FACTOR
 # the base laws and their history classes (the laws whose constants scale with p_Y)
 BASE_LAWS = {"vz": (VZParams, VZState), "vz-table": (VZTableParams, VZTableState)}
 # the power of R each history field scales with (module doc)
@@ -133,14 +135,20 @@ def rate_aware_step(delta, state: RateAwareState, params: RateAwareParams, veloc
     delta, shape = check_delta(delta, state.n)
     factor = state.rate_factor.copy()
     touching = np.flatnonzero((factor == 0.0) & (delta > 0.0))
+    speeds = np.zeros(state.n)
     if touching.size:
         if velocity is None:
             raise ValueError("velocity out of range: the rate-aware law needs the normal approach speed [m/s] of "
                              "the contacts that first touch in this step")
-        speed = np.broadcast_to(np.asarray(velocity, dtype=float).reshape(-1), (state.n,))[touching]
-        if not np.isfinite(speed).all():
+        speeds = np.broadcast_to(np.asarray(velocity, dtype=float).reshape(-1), (state.n,))
+        if not np.isfinite(speeds[touching]).all():
             raise ValueError("velocity out of range: need finite normal approach speeds [m/s]")
-        factor[touching] = params.rate_factor(speed)
+    if native.active():
+        compiled = _compiled_step(delta, speeds, state, params)
+        if compiled is not None:
+            return restore_shape(compiled[0], shape), compiled[1]
+    if touching.size:
+        factor[touching] = params.rate_factor(speeds[touching])
     scale = np.where(factor > 0.0, factor, 1.0)
     base_law = BASE_LAWS_LAW[params.base_law]
     base_type = BASE_LAWS[params.base_law][1]
@@ -155,6 +163,34 @@ def rate_aware_step(delta, state: RateAwareState, params: RateAwareParams, veloc
     largest = update.largest_load_over_P_Y
     return restore_shape(force, shape), HistoryUpdate(index, RateAwareState(**values), state.n,
                                                       update.newton_iterations, update.beyond_window, largest)
+
+
+def compiled_kernel(params: RateAwareParams) -> native.RateKernel:
+    """The law as the compiled kernel takes it (nfd_rate.h, native.RateKernel): the base law's code, its
+    constants at R = 1 and tables, the rate law's code and constants, c."""
+    params = rate_aware_params(params)
+    base = params.base
+    if params.base_law == "vz":
+        kernel, table = BASE_LAWS_LAW["vz"].collision_params(base), None
+    else:
+        kernel, table = native.kernel_params(base.pair, window_P_max=base.window_force), native.kernel_table(base)
+    rate = params.rate_law
+    constants = ((limits.RATE_JOHNSON_COOK, rate.C, rate.reference_rate) if isinstance(rate, JohnsonCook)
+                 else (limits.RATE_COWPER_SYMONDS, rate.D, rate.q))
+    return native.RateKernel(limits.LAW_CODES[params.base_law], kernel, table, (*constants, params.c))
+
+
+def _compiled_step(delta, speeds, state: RateAwareState, params: RateAwareParams):
+    """(P [N], HistoryUpdate) of the step in the compiled kernel (nfd_rate_step), or None where a contact
+    failed there (its radius at R*, an overflow): the numpy path then names the cause in its words."""
+    pair = params.pair
+    force, index, values, status, iterations, beyond, largest = native.rate_step(
+        compiled_kernel(params), pair.mass_star, delta, speeds, state)
+    if status < 0:
+        return None
+    update = HistoryUpdate(index, RateAwareState(**values), state.n, int(iterations), int(beyond),
+                           largest / pair.P_Y if beyond else 0.0)
+    return force, update
 
 
 def rate_aware_force(delta, state: RateAwareState, params: RateAwareParams, velocity=None):
@@ -192,4 +228,4 @@ def _radii(force, a_e, state, params):
 LAW = ContactLaw("rate-aware", "a base law (vz, vz-table) with sigma_Y scaled by the strain rate at first contact",
                  rate_aware_force, RateAwareState, rate_aware_loading_work, 1.5, rate_aware_step,
                  params_function=rate_aware_params, radii_function=_radii, takes_velocity=True,
-                 reference_function=rate_aware_reference)
+                 reference_function=rate_aware_reference, collision_params=compiled_kernel)

@@ -2,7 +2,7 @@
 calib/, meshes/ and nfdmodel/ (Python, and the C kernel and the LAMMPS plugin in C/C++) are scanned
 for the formulas written out again, as tests/test_limits.py scans them for the table's numbers.
 
-A formula's home is one Python module, and for C/C++ the kernel (nfd_kernel.h/.c), whose inline
+A formula's home is one Python module, and for C/C++ the kernel (nfd_kernel.h/.c, nfd_rate.h), whose inline
 functions the plugin calls."""
 import io
 import re
@@ -60,10 +60,12 @@ FORMULAS = {
     "the FE's reach (1000 P_Y, 0.2 R)": ([r"(?i)MAX_LOAD_OVER_YIELD\s*\*\s*[\w.]*P_Y\s*,\s*[\w.]*largest_admissible_load",
                                          r"(?i)\b\w*(?:limit|reach|over_yield|over_r)\w*\s*=\s*(?:1000|1e3|0\.2)\b"],
                                         {"calib/fit/recipe.py"}),
-    "Johnson-Cook's factor 1 + C ln(rate / rate_0)": ([r"\b1(?:\.0*)?\s*\+\s*[\w.]*C\s*\*\s*(?:np\.|math\.)log\("],
-                                                  {"nfdmodel/strain_rate.py"}),
-    "Cowper-Symonds' factor 1 + (rate / D)^(1/q)": ([r"\b1(?:\.0*)?\s*\+\s*\([^\n;]{0,60}?/\s*[\w.]*\bD\s*\)\s*\*\*"],
-                                                    {"nfdmodel/strain_rate.py"}),
+    "Johnson-Cook's factor 1 + C ln(rate / rate_0)": ([r"\b1(?:\.0*)?\s*\+\s*[\w.]*C\s*\*\s*(?:np\.|math\.)log\(",
+                                                   rf"\b1(?:\.0*)?\s*\+\s*{NUM}\s*\*\s*log\("],
+                                                  {"nfdmodel/strain_rate.py", "nfdmodel/nfd_rate.h"}),
+    "Cowper-Symonds' factor 1 + (rate / D)^(1/q)": ([r"\b1(?:\.0*)?\s*\+\s*\([^\n;]{0,60}?/\s*[\w.]*\bD\s*\)\s*\*\*",
+                                                     rf"\b1(?:\.0*)?\s*\+\s*pow\(\s*{NUM}\s*/"],
+                                                    {"nfdmodel/strain_rate.py", "nfdmodel/nfd_rate.h"}),
 }
 # The FE's files that still derive a formula (file: the formulas), until each spot calls the home.
 
@@ -151,6 +153,9 @@ def derivations_outside_homes() -> dict[str, dict[str, list[str]]]:
     ("R = 1.0 + self.C * np.log(ratio)\n", ".py", "Johnson-Cook's factor 1 + C ln(rate / rate_0)"),
     ("R = 1.0 + (np.asarray(rate, dtype=float) / self.D) ** (1.0 / self.q)\n", ".py",
      "Cowper-Symonds' factor 1 + (rate / D)^(1/q)"),
+    ("double R = 1.0 + C * log(rate / rate_0);\n", ".c", "Johnson-Cook's factor 1 + C ln(rate / rate_0)"),
+    ("R = 1.0 + m.C * log(ratio > 1.0 ? ratio : 1.0);\n", ".cpp", "Johnson-Cook's factor 1 + C ln(rate / rate_0)"),
+    ("double R = 1.0 + pow(rate / r->first, 1.0 / r->second);\n", ".c", "Cowper-Symonds' factor 1 + (rate / D)^(1/q)"),
 ])
 def test_the_scan_finds_a_formula_written_out(code, suffix, formula):
     assert formula in derivations(code, suffix)

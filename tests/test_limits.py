@@ -176,6 +176,7 @@ DISTINCTIVE = {                      # table name: regex over the statement's id
     "DISSIPATION_LOAD_MAX": r"dissipat", "DISSIPATION_POINTS": r"dissipat", "DISSIPATION_SLACK": r"dissipat|slack",
     "STEPS_PER_CONTACT_MIN": r"steps_per_contact", "STEPS_PER_UNLOADING_MIN": r"steps_per_unloading",
     "HERTZ_IMPACT_TIME": None,
+    "RATE_LENGTH_FACTOR": r"rate|length",
 }
 SCANNED = ("nfdmodel", "calib")
 SUFFIXES = (".py", ".c", ".h", ".cpp")
