@@ -20,7 +20,10 @@ over the partial unloads and reloads, over the reload past the peak, and over th
 (of the overload's peak); and the radius along the partial unloads and reloads (the radius a
 tangential spring k_t = 8 G* a reads after a partial unload; both laws: a = a_e(P) + a_p(P_max)):
 
-    cycle radius error = max |a_law - a_FE| / a_FE(P_max)   over the rows with P >= 0.2 P_max The FE's own discretisation on these figures: the same run on a
+    cycle radius error = max |a_law - a_FE| / a_FE(P_max)   over the rows with P >= 0.2 P_max
+
+(on unloading the FE's edge, where the flattened profile meets the flat almost tangentially,
+moves by jumps of about half an element, a_FE / (2 N): a resolution, not a target). The FE's own discretisation on these figures: the same run on a
 coarser mesh (``mesh_spread``: the FE radius, dent, e and unloading force of the two meshes).
 """
 from __future__ import annotations

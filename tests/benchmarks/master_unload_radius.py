@@ -12,7 +12,16 @@ reloading force within 2 % of P_max, dent within 3 % (or 0.5 % of alpha_max), e 
 
     .venv/bin/python tests/benchmarks/master_unload_radius.py [--control] [--fine] [--only K]
 
---fine adds a finer mesh (25 elements) for the radius. About 2 minutes per material on one core.
+--fine adds a finer mesh (25 elements) for the radius. About 1-2 minutes per material on one core.
+
+Measured (17.9 elements; the three materials and the node): the laws' radius at the peak over the
+FE's +1.2..+1.3 % at 4.7 P_Y, +1.5..+1.8 % at 27, +2.8..+4.2 % at 110 P_Y, the same at the node
+(+1.2, +1.6, +3.1 %), so not the interpolation: f is fitted to the force and the returned work
+(calib.fit.table_fit), not to the FE's radius; the FE's radius moves by at most 1.1 % between the
+meshes of 12.8 and 17.9 elements and 0.6 % between 17.9 and 25 (nu 0.25, E/sigma_Y 150). vz-unload:
+unloading force within 1.2 % of P_max, partial unloads and reloads within 0.62 %, past the peak
+0.75 %, dent within 1.2 %, e within 0.85 %; vz-table: unloading 2.24 %, partial cycles 1.37 %, dent
+-3.3..-20 %, e 0.43 %.
 """
 import argparse
 import sys
@@ -70,10 +79,9 @@ def report(nu, ratio, table, fine):
         print(f"  FE mesh {n:.3g} against {N:.3g} el/a (other / this - 1): " + "; ".join(
             f"{p['x']:.3g} P_Y radius {pct(p['radius'])} dent {pct(p['dent'])} e {pct(p['e'])} unload "
             f"{pct(p['unloading'])}" for p in spread["paths"]))
-        if n == COARSER:
-            other_cmp = compare(laws, other)
-            print(f"  radius error on the {n:.3g} el/a mesh: " + ", ".join(
-                f"{p['x']:.3g} P_Y {pct(p['vz-unload']['radius_error'])}" for p in other_cmp["paths"]))
+        other_cmp = compare(laws, other)
+        print(f"  radius error on the {n:.3g} el/a mesh: " + ", ".join(
+            f"{p['x']:.3g} P_Y {pct(p['vz-unload']['radius_error'])}" for p in other_cmp["paths"]))
 
 
 def main(argv=None):
