@@ -13,7 +13,8 @@ A path counts as inside when its peak lies in the table's window at that materia
 The table's vz-unload law (VZMasterTable.unload_law: the same loading, the dent ratio rho and the
 unloading exponent m interpolated as f and g) and, for contrast, its vz-table law are driven along
 the same FE paths in what a DEM code reads after a contact (calib.fit.unload_check; the records
-keep no contact radius, so the radius is not checked here):
+keep no contact radius, so the radius is not checked here: calib.fit.master_radius_check checks it
+against direct FE runs that record it):
 
     dent error      = delta_res,law / alpha_res,FE - 1   (and of alpha_max where the dent is small)
     unloading error = max |P_law - P_FE| / P_max over the FE's unloading points
