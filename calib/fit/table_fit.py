@@ -68,6 +68,7 @@ K_BELOW_LOWEST_MAX = 3.0
 MIN_NODE_COUNT = 3              # ... at least (fewer loading points above P_Y: refused)
 NODE_CLEARANCE = 0.1            # geometric nodes closer than this (in ln x) to a peak are dropped
 E2_CEILING = 1.0 - 1e-6         # e^2 at a peak at most this (e < 1: the law creates no energy)
+NEAR_YIELD = 1.5                # a lowest peak below this x is dropped when the table with it creates energy
 
 
 def node_count(x_max: float) -> int:
@@ -122,7 +123,28 @@ def fit_tables(data: RadiusLawData, pair: ContactPair, peaks: Sequence[float], u
     """VZTableParams from the FE loading points above P_Y and the elastic work [J] the FE returned
     unloading from each peak [N] (module doc), declared on ``window`` from the lowest peak up
     (its source kept; None: the peaks to the largest load); a ValueError when they do not
-    determine the nodes or the table is not admissible."""
+    determine the nodes or the table is not admissible.
+
+    A table that creates energy with a lowest peak below NEAR_YIELD P_Y is fitted again without that
+    peak (its window then starts at the next one): there e_FE ~ 0.9999 and the table's f, g are
+    differences of nearly equal numbers (brass, E/sigma_Y 400, from 1.1 P_Y: a cycle to 1.091 P_Y
+    returned 1.0001 of its work).
+    """
+    try:
+        return _fit_tables(data, pair, peaks, unloading_work, window, count)
+    except ValueError as exc:
+        order = np.argsort(np.asarray(peaks, dtype=float))
+        near_yield = np.asarray(peaks, dtype=float)[order] < NEAR_YIELD * pair.P_Y
+        if "create energy" not in str(exc) or not near_yield[0] or near_yield.size < 3:
+            raise
+        keep = order[1:]
+        return _fit_tables(data, pair, np.asarray(peaks, dtype=float)[keep],
+                           np.asarray(unloading_work, dtype=float)[keep], window, count)
+
+
+def _fit_tables(data: RadiusLawData, pair: ContactPair, peaks: Sequence[float], unloading_work: Sequence[float],
+                window: CalibrationWindow | None, count: int | None) -> VZTableParams:
+    """:func:`fit_tables` on every peak given."""
     above = data.excess_force > 0
     order = np.argsort(data.force[above])
     x = data.force[above][order] / pair.P_Y
