@@ -103,6 +103,8 @@ void FixNfdWallRegion::post_force(int /*vflag*/)
             error->one(FLERR, fmt::format("{}: atom {} touches {} facets of region {} at once, more than the {} "
                                           "this region style allows (its tmax): the atom is too large for the "
                                           "region", who(), atom->tag[i], nc, region_id, slots));
+        // an atom off the region with an empty row (slots fill from the first: its tag 0 means none) keeps it
+        if (nc == 0 && history[i][0] == 0.0) continue;
         match_slots(i, nc);
         for (int k = 0; k < nc; ++k) {
             const Region::Contact &touch = region->contact[k];

@@ -91,6 +91,7 @@ class PairNfd : public LAMMPS_NS::Pair {
     int ntypes_set = 0;
     FixNfdHistory *history = nullptr;
     bool models_on = false;                            // contact models on some pair of types
+    bool energy_on = true;                             // the energy block kept this run (init_style)
     LAMMPS_NS::bigint beyond_count = 0;
     double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
     LAMMPS_NS::bigint below_count = 0;                 // contacts ended below the window's lowest unloading
