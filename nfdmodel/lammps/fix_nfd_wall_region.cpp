@@ -67,6 +67,10 @@ void FixNfdWallRegion::init()
 void FixNfdWallRegion::match_slots(int i, int nc)
 {
     double *own = history[i];
+    // each contact already in its slot and the next slot empty (slots fill from the first): nothing moves
+    int placed = 0;
+    while (placed < nc && own[placed * stride] == region->contact[placed].iwall + 1.0) ++placed;
+    if (placed == nc && (nc == slots || own[nc * stride] == 0.0)) return;
     for (int k = 0; k < nc; ++k) {
         double *slot = scratch.data() + k * stride;
         const double tag = region->contact[k].iwall + 1.0;
@@ -103,8 +107,6 @@ void FixNfdWallRegion::post_force(int /*vflag*/)
             error->one(FLERR, fmt::format("{}: atom {} touches {} facets of region {} at once, more than the {} "
                                           "this region style allows (its tmax): the atom is too large for the "
                                           "region", who(), atom->tag[i], nc, region_id, slots));
-        // an atom off the region with an empty row (slots fill from the first: its tag 0 means none) keeps it
-        if (nc == 0 && history[i][0] == 0.0) continue;
         match_slots(i, nc);
         for (int k = 0; k < nc; ++k) {
             const Region::Contact &touch = region->contact[k];
