@@ -217,7 +217,8 @@ def test_vz_unload_plastic_part_is_the_kinetic_energy_lost(plugin, tmp_path, wal
     """The vz-unload law head-on, without damping and friction (pair_style nfd/vz-unload, fix
     nfd/wall/vz-unload; a parameter file of test_lammps.py's tables): the plastic part (its elastic energy
     on its own unloading exponent m) is the kinetic energy LAMMPS's velocities lost (1e-9) and the law's
-    (1 - e^2) 1/2 m* v_in^2 with nfdmodel.collide's e (1e-6); viscous and frictional 0."""
+    (1 - e^2) 1/2 m* v_in^2 with nfdmodel.collide's e (1e-6); viscous and frictional 0; the dent is
+    collide's (1e-9)."""
     import json
 
     from test_lammps import TABLE_NODES, TABLE_WINDOW, UNLOADING_NODES
@@ -232,7 +233,7 @@ def test_vz_unload_plastic_part_is_the_kinetic_energy_lost(plugin, tmp_path, wal
                                                          MATERIAL)))
     pair = ContactPair.sphere_flat(MATERIAL, R_1) if wall else ContactPair.sphere_sphere(MATERIAL, R_1, MATERIAL, R_2)
     params = unload_law(pair)
-    v_in = 20.0 * pair.v_Y              # P_max about 50 P_Y: past the unloading tables' last node
+    v_in = 30.0 * pair.v_Y              # P_max about 57 P_Y: past the unloading tables' last node (41)
     text = (sphere_on_wall(plugin, "", (0.0, 0.0, -v_in), (0.0, 0.0, 0.0), steps_for(pair, v_in)) if wall else
             two_spheres(plugin, "", (-v_in, 0.0, 0.0), ((0.0,) * 3, (0.0,) * 3), steps_for(pair, v_in)))
     text = (text.replace("pair_style nfd/vz\n", "pair_style nfd/vz-unload\n")
@@ -247,3 +248,4 @@ def test_vz_unload_plastic_part_is_the_kinetic_energy_lost(plugin, tmp_path, wal
     assert collided.P_max[0] / pair.P_Y > 41.0
     law = (1.0 - collided.e_velocity[0] ** 2) * 0.5 * pair.mass_star * v_in**2
     assert plastic == pytest.approx(law, rel=1e-6)
+    assert out["contact"][-1, 1] == pytest.approx(collided.delta_res[0], rel=1e-9)    # the dent, p5
