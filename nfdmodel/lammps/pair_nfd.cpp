@@ -322,8 +322,8 @@ void PairNfd::see_contact_start(int i, int j, double delx, double dely, double d
     time_step.see(lmp, fmt::format("pair_style {}", name()), law->contact_time(p, m_i * m_j / (m_i + m_j), v_n), v_n);
 }
 
-/* A negative status of the kernel stops the run naming the two atoms; a turning point beyond the
- * window is counted (once per contact, when it first leaves; by one rank per contact). */
+/* A status other than NFD_OK (the callers test it first): a negative one stops the run naming the two
+ * atoms; a turning point beyond the window is counted (once per contact, when it first leaves; by one rank per contact). */
 void PairNfd::check_status(int status, int i, int j, double delta, const nfd_params &p, const nfd_history &h,
                            const nfd_history &next)
 {

@@ -10,7 +10,8 @@
  * (nfd_step); with the contact models of nfd_models.h (LAMMPS's granular keywords) the contact
  * is nfd_contact_step, with damping, friction, rolling and twisting resistance and torques.
  * Without them: frictionless, undamped, no torque. The history lives in fix nfd/history, with each
- * contact's forces and dissipated energies (nfd_energy.h; compute pair/local p6-p10, single()).
+ * contact's forces and dissipated energies (nfd_energy.h; compute pair/local p6-p10, single()) in the
+ * runs that define a compute pair/local (energy_on).
  * Granular spheres (atom_style sphere), SI units, newton off (each rank computes every contact
  * of one of its atoms, so both copies of a contact across a subdomain boundary evolve alike).
  *
