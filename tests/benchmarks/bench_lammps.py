@@ -92,6 +92,8 @@ def section_time(log: str, name: str) -> float:
 
 
 CONTACT_NAMES = {"nfd": "nfd/vz + nfd/wall/vz", "granular": "granular hertz/material coeff_restitution + wall/gran"}
+REGION_NAMES = {"nfd": "nfd/vz + nfd/wall/region/vz",
+                "granular": "granular hertz/material coeff_restitution + wall/gran/region"}
 
 
 def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make_input) -> list[dict]:
@@ -129,7 +131,8 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
             contacts = (0.5 * (run["contacts_at_start"] + run["contacts_at_end"]) if scene.startswith("pile")
                         else None)
             rows.append({
-                "scene": scene, "ranks": nprocs, "contact": CONTACT_NAMES[contact], "spheres": spheres, "steps": steps,
+                "scene": scene, "ranks": nprocs, "spheres": spheres, "steps": steps,
+                "contact": (REGION_NAMES if scene == "pile+region" else CONTACT_NAMES)[contact],
                 "us_per_step": 1e6 * run["per_step"], "ns_per_sphere_step": 1e9 * run["per_step"] / spheres,
                 "ns_per_contact_step": None if contacts is None else 1e9 * run["per_step"] / contacts,
                 "pair_ns_per_contact_step": None if contacts is None else 1e9 * run["pair"] / contacts,
