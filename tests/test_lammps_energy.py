@@ -210,3 +210,42 @@ def test_without_damping_and_friction_the_plastic_part_is_the_law_s(plugin, tmp_
     assert out["contact"][-1, 1] == pytest.approx(collided.delta_res[0], rel=1e-9)
     # collide's record: the law at its own path's turning point (the leap-frog's O(dt^2))
     assert collided.records()[0]["dissipated_plastic"] == pytest.approx(law, rel=1e-5)
+
+
+@pytest.mark.parametrize("wall", [False, True])
+def test_vz_unload_plastic_part_is_the_kinetic_energy_lost(plugin, tmp_path, wall):
+    """The vz-unload law head-on, without damping and friction (pair_style nfd/vz-unload, fix
+    nfd/wall/vz-unload; a parameter file of test_lammps.py's tables): the plastic part (its elastic energy
+    on its own unloading exponent m) is the kinetic energy LAMMPS's velocities lost (1e-9) and the law's
+    (1 - e^2) 1/2 m* v_in^2 with nfdmodel.collide's e (1e-6); viscous and frictional 0; the dent is
+    collide's (1e-9)."""
+    import json
+
+    from test_lammps import TABLE_NODES, TABLE_WINDOW, UNLOADING_NODES
+
+    from nfdmodel import VZTableParams, VZUnloadParams
+
+    def unload_law(pair: ContactPair) -> VZUnloadParams:
+        return VZUnloadParams.from_table(VZTableParams(pair, *TABLE_NODES, TABLE_WINDOW), *UNLOADING_NODES)
+
+    path = tmp_path / "unload.json"
+    path.write_text(json.dumps(nfdmodel.parameter_record(unload_law(ContactPair.sphere_flat(MATERIAL, R_1)), R_1,
+                                                         MATERIAL)))
+    pair = ContactPair.sphere_flat(MATERIAL, R_1) if wall else ContactPair.sphere_sphere(MATERIAL, R_1, MATERIAL, R_2)
+    params = unload_law(pair)
+    v_in = 30.0 * pair.v_Y              # P_max about 57 P_Y: past the unloading tables' last node (41)
+    text = (sphere_on_wall(plugin, "", (0.0, 0.0, -v_in), (0.0, 0.0, 0.0), steps_for(pair, v_in)) if wall else
+            two_spheres(plugin, "", (-v_in, 0.0, 0.0), ((0.0,) * 3, (0.0,) * 3), steps_for(pair, v_in)))
+    text = (text.replace("pair_style nfd/vz\n", "pair_style nfd/vz-unload\n")
+            .replace(f"nfd/wall/vz zlo 0.0 {constants()}", f"nfd/wall/vz-unload zlo 0.0 file {path}")
+            .replace(f"pair_coeff 1 1 {constants()}", f"pair_coeff 1 1 file {path}"))
+    assert "vz-unload" in text and f"file {path}" in text
+    out = run(text, tmp_path)
+    assert check_balance(out) < 1e-9
+    plastic, viscous, friction = out["contact"][-1, 4:7]
+    assert viscous == 0.0 and friction == 0.0 and plastic > 0.0
+    collided = nfdmodel.collide("vz-unload", params, [v_in], dt=DT)
+    assert collided.P_max[0] / pair.P_Y > 41.0
+    law = (1.0 - collided.e_velocity[0] ** 2) * 0.5 * pair.mass_star * v_in**2
+    assert plastic == pytest.approx(law, rel=1e-6)
+    assert out["contact"][-1, 1] == pytest.approx(collided.delta_res[0], rel=1e-9)    # the dent, p5

@@ -173,6 +173,7 @@ void FixNfdWall::init()
     below_count = 0;
     below_lowest = INFINITY;
     time_step.begin_run();
+    remembered.clear();           // the constants are read again when a run starts
 }
 
 void FixNfdWall::post_force(int /*vflag*/)
@@ -198,6 +199,20 @@ void FixNfdWall::post_force(int /*vflag*/)
     end_forces();
 }
 
+const nfd_params &FixNfdWall::contact_params(double R_star)
+{
+    constexpr size_t SLOTS = 1024;                // a power of two
+    if (remembered.empty()) remembered.assign(SLOTS, RememberedParams{NAN, nfd_params{}});
+    uint64_t bits;
+    std::memcpy(&bits, &R_star, sizeof bits);
+    RememberedParams &slot = remembered[mix64(bits) & (SLOTS - 1)];
+    if (!(slot.R_star == R_star)) {
+        slot.params = law->params(R_star, material);
+        slot.R_star = R_star;
+    }
+    return slot.params;
+}
+
 void FixNfdWall::begin_forces()
 {
     total_local = 0.0;
@@ -208,7 +223,7 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
 {
     double **f = atom->f;
     touching_local += 1.0;
-    const nfd_params p = law->params(R_star, material);
+    const nfd_params p = contact_params(R_star);
     const nfd_history h = load_history(stored);
     if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
         double v_n = 0.0;
@@ -298,7 +313,7 @@ double FixNfdWall::compute_vector(int /*n*/)
 void FixNfdWall::count_below_window(const double *stored, double R_star)
 {
     if (!law->has_window || !(material.window_min > 1.0)) return;
-    const double P_Y = law->params(R_star, material).P_Y, P_max = load_history(stored).P_max;
+    const double P_Y = contact_params(R_star).P_Y, P_max = load_history(stored).P_max;
     if (P_max > P_Y * (1.0 + 1e-9) && P_max < material.window_min * P_Y * (1.0 - 1e-9)) {
         ++below_count;
         below_lowest = std::min(below_lowest, P_max / P_Y);

@@ -115,6 +115,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
      * window's lowest unloading (the plane wall; a region's ended contact leaves no curvature). */
     void count_below_window(const double *stored, double R_star);
     void end_forces() { total_reduced = false; }
+    /* law->params(R_star, material), remembered per R_star (a sphere keeps its radius, so its contacts
+     * repeat it): the same numbers, computed once per radius rather than once per contact step. */
+    const nfd_params &contact_params(double R_star);
 
     const NfdLaw *law;
     const int first;              // the index of the first constant in the fix's arguments
@@ -138,6 +141,11 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     double beyond_largest = 0.0, below_lowest = INFINITY;
     bool counts_below = false;    // the plane wall counts contacts ended below the window
     NfdTimeStep time_step;        // the contacts' durations against the timestep
+    struct RememberedParams {
+        double R_star;
+        nfd_params params;
+    };
+    std::vector<RememberedParams> remembered;     // contact_params: a slot per hash of R_star
 };
 
 }    // namespace nfdcal_lammps

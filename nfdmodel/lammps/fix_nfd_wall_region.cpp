@@ -67,6 +67,10 @@ void FixNfdWallRegion::init()
 void FixNfdWallRegion::match_slots(int i, int nc)
 {
     double *own = history[i];
+    // each contact already in its slot and the next slot empty (slots fill from the first): nothing moves
+    int placed = 0;
+    while (placed < nc && own[placed * stride] == region->contact[placed].iwall + 1.0) ++placed;
+    if (placed == nc && (nc == slots || own[nc * stride] == 0.0)) return;
     for (int k = 0; k < nc; ++k) {
         double *slot = scratch.data() + k * stride;
         const double tag = region->contact[k].iwall + 1.0;

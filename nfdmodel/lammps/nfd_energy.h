@@ -1,7 +1,7 @@
 /* nfd_energy.h: what the plugin reports of a contact besides its law's history: the normal force, the
  * tangential force and the energy the contact dissipated so far, in three parts (ContactEnergy,
  * nfd_energy.cpp), kept per contact after the nfd_history and the springs by pair_style nfd/<law>
- * (compute pair/local p6-p10) and the wall fixes (their per-atom arrays).
+ * (compute pair/local p6-p10: in the runs that define one) and the wall fixes (their per-atom arrays).
  *
  * Each part is the work its forces and torques took from the two bodies over the contact's steps,
  * by velocity Verlet's trapezoidal rule (the rule under which LAMMPS's nve integrators change the

@@ -28,6 +28,7 @@
 
 #include "atom.h"
 #include "comm.h"
+#include "compute.h"
 #include "error.h"
 #include "force.h"
 #include "memory.h"
@@ -167,7 +168,11 @@ void PairNfd::init_style()
         for (int j = i; j <= atom->ntypes; ++j)
             models_on = models_on || (i == j && material[i].models.any()) ||
                 (explicit_pair[i][j] && contact[i][j].models.any());
-    history->set_width(record_width(models_on));
+    // the energy block's one reader is compute pair/local (single()): without one the bookkeeping is skipped
+    energy_on = false;
+    for (Compute *compute : modify->get_compute_list())
+        energy_on = energy_on || std::strcmp(compute->style, "pair/local") == 0;
+    history->set_width(energy_on ? record_width(models_on) : models_on ? NHIST + NFRICTION : NHIST);
     if (models_on && (!atom->omega_flag || !atom->torque_flag))
         error->all(FLERR, fmt::format("pair_style {} with contact models needs per-atom spins and torques: use "
                                       "atom_style sphere", name()));
@@ -227,12 +232,15 @@ double PairNfd::init_one(int i, int j)
 }
 
 /* A contact's nfd_params from its types' (nfd_pair_scaled) at R* (1/R* = 1/R_i + 1/R_j); the cube
- * root of vz's plastic solve only when the contact loads beyond its turning point. */
+ * root of vz's plastic solve only when the contact loads beyond its turning point and beyond first
+ * yield (delta > delta_Y: the kernel's test, on the same product), the only step that reads it. */
 nfd_params PairNfd::contact_params(int itype, int jtype, double R_i, double R_j, const nfd_history &h,
                                    double delta) const
 {
+    const nfd_params &unit = type_pair(itype, jtype).unit;
+    const double R_star = nfd_effective_radius(R_i, R_j);
     nfd_params p;
-    nfd_pair_scaled(&type_pair(itype, jtype).unit, nfd_effective_radius(R_i, R_j), delta > h.delta_max, &p);
+    nfd_pair_scaled(&unit, R_star, delta > h.delta_max && delta > unit.delta_Y * R_star, &p);
     return p;
 }
 
@@ -282,10 +290,10 @@ void PairNfd::compute(int eflag, int vflag)
             nfd_history next;
             double force = 0.0;
             const int status = nfd_step(law->code, delta, &p, &pair.constants->table, &h, &force, &next, nullptr);
-            check_status(status, i, j, delta, p, h, next);
+            if (status != NFD_OK) check_status(status, i, j, delta, p, h, next);
             store_history(next, stored);
             history->set_touching(i, jj, true);
-            law_energy(i, j, delx, dely, delz, r, delta, next, force, stored);
+            if (energy_on) law_energy(i, j, delx, dely, delz, r, delta, next, force, stored);
 
             const double fpair = force / r;
             const double fx = delx * fpair, fy = dely * fpair, fz = delz * fpair;
@@ -314,8 +322,8 @@ void PairNfd::see_contact_start(int i, int j, double delx, double dely, double d
     time_step.see(lmp, fmt::format("pair_style {}", name()), law->contact_time(p, m_i * m_j / (m_i + m_j), v_n), v_n);
 }
 
-/* A negative status of the kernel stops the run naming the two atoms; a turning point beyond the
- * window is counted (once per contact, when it first leaves; by one rank per contact). */
+/* A status other than NFD_OK (the callers test it first): a negative one stops the run naming the two
+ * atoms; a turning point beyond the window is counted (once per contact, when it first leaves; by one rank per contact). */
 void PairNfd::check_status(int status, int i, int j, double delta, const nfd_params &p, const nfd_history &h,
                            const nfd_history &next)
 {
@@ -401,17 +409,19 @@ void PairNfd::contact_with_models(int i, int j, double delx, double dely, double
     nfd_contact_result out;
     const int status = nfd_contact_step(law->code, &k, &p, &c.table, &c.friction, &h, &springs,
                                         update->setupflag ? 0 : 1, &next, &springs_next, &out);
-    check_status(status, i, j, k.delta, p, h, next);
+    if (status != NFD_OK) check_status(status, i, j, k.delta, p, h, next);
     store_history(next, stored);
     store_friction(springs_next, sign, stored + NHIST);
-    double dr[3], turn_i[3], turn_j[3];
-    for (int d = 0; d < 3; ++d) {
-        dr[d] = k.dt * k.v[d];
-        turn_i[d] = k.dt * k.omega_i[d];
-        turn_j[d] = k.dt * k.omega_j[d];
+    if (energy_on) {
+        double dr[3], turn_i[3], turn_j[3];
+        for (int d = 0; d < 3; ++d) {
+            dr[d] = k.dt * k.v[d];
+            turn_i[d] = k.dt * k.omega_i[d];
+            turn_j[d] = k.dt * k.omega_j[d];
+        }
+        ContactEnergy::models_step(stored + NHIST + NFRICTION, law->code, k.delta, next, out, c.friction,
+                                   springs_next, k.n, dr, turn_i, turn_j, sign, !update->setupflag);
     }
-    ContactEnergy::models_step(stored + NHIST + NFRICTION, law->code, k.delta, next, out, c.friction, springs_next,
-                               k.n, dr, turn_i, turn_j, sign, !update->setupflag);
     for (int d = 0; d < 3; ++d) {
         f[i][d] += out.force[d];
         torque[i][d] += out.torque_i[d];

@@ -10,7 +10,8 @@
  * (nfd_step); with the contact models of nfd_models.h (LAMMPS's granular keywords) the contact
  * is nfd_contact_step, with damping, friction, rolling and twisting resistance and torques.
  * Without them: frictionless, undamped, no torque. The history lives in fix nfd/history, with each
- * contact's forces and dissipated energies (nfd_energy.h; compute pair/local p6-p10, single()).
+ * contact's forces and dissipated energies (nfd_energy.h; compute pair/local p6-p10, single()) in the
+ * runs that define a compute pair/local (energy_on).
  * Granular spheres (atom_style sphere), SI units, newton off (each rank computes every contact
  * of one of its atoms, so both copies of a contact across a subdomain boundary evolve alike).
  *
@@ -91,6 +92,7 @@ class PairNfd : public LAMMPS_NS::Pair {
     int ntypes_set = 0;
     FixNfdHistory *history = nullptr;
     bool models_on = false;                            // contact models on some pair of types
+    bool energy_on = true;                             // the energy block kept this run (init_style)
     LAMMPS_NS::bigint beyond_count = 0;
     double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
     LAMMPS_NS::bigint below_count = 0;                 // contacts ended below the window's lowest unloading

@@ -18,6 +18,9 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
    - With --friction, the pile again with friction and rolling resistance on both sides
      (FRICTION: tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1 after each law's constants;
      granular keeps its e = 0.8 damping): the target there is nfd/vz <= 1.3x granular.
+   - With --region, that pile with friction again, its floor a region's face (region_floor: a block
+     reaching beyond the box, side in) under fix nfd/wall/region/vz against fix wall/gran/region of
+     the same models: the region wall's cost is in the Modify column.
    - The dense pile (--pile-spheres, default 3000): lammps_pour.settle_input settles it once
      (granular, e = 0.1: a fall, then a drag quench; 95000 steps, about 70 s on 1 core) and
      writes it with write_data; from that same pile each law runs --pile-steps steps of 1e-7 s,
@@ -36,7 +39,7 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
 
 Usage (about 3 minutes on 2 cores: the pour 30 s, the pile's settle 70 s and its timing 60 s):
     .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 3]
-        [--pile-spheres 3000] [--pile-steps 5000]
+        [--pile-spheres 3000] [--pile-steps 5000] [--friction] [--region] [--plugin PATH]
 Writes results/lammps/timing.csv, restitution.csv, pour.png and summary.json.
 """
 from __future__ import annotations
@@ -89,6 +92,8 @@ def section_time(log: str, name: str) -> float:
 
 
 CONTACT_NAMES = {"nfd": "nfd/vz + nfd/wall/vz", "granular": "granular hertz/material coeff_restitution + wall/gran"}
+REGION_NAMES = {"nfd": "nfd/vz + nfd/wall/region/vz",
+                "granular": "granular hertz/material coeff_restitution + wall/gran/region"}
 
 
 def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make_input) -> list[dict]:
@@ -126,7 +131,8 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
             contacts = (0.5 * (run["contacts_at_start"] + run["contacts_at_end"]) if scene.startswith("pile")
                         else None)
             rows.append({
-                "scene": scene, "ranks": nprocs, "contact": CONTACT_NAMES[contact], "spheres": spheres, "steps": steps,
+                "scene": scene, "ranks": nprocs, "spheres": spheres, "steps": steps,
+                "contact": (REGION_NAMES if scene == "pile+region" else CONTACT_NAMES)[contact],
                 "us_per_step": 1e6 * run["per_step"], "ns_per_sphere_step": 1e9 * run["per_step"] / spheres,
                 "ns_per_contact_step": None if contacts is None else 1e9 * run["per_step"] / contacts,
                 "pair_ns_per_contact_step": None if contacts is None else 1e9 * run["pair"] / contacts,
@@ -140,6 +146,24 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
                 "median_paired_ratio": paired["per_step"] if contact == "nfd" else 1.0,
                 "median_paired_pair_ratio": paired["pair"] if contact == "nfd" else 1.0})
     return rows
+
+
+def region_floor(text: str) -> str:
+    """A pile input (lammps_pour.pile_input) with its floor z = 0 as the zlo face of a block region that
+    reaches beyond the periodic box: fix nfd/wall/region/vz, or fix wall/gran/region, of the same constants
+    and models."""
+    lines = []
+    for line in text.splitlines():
+        if line.startswith("read_data"):
+            line += "\nregion floor block -1 1 -1 1 0.0 1 side in"
+        elif line.startswith("fix floor"):
+            line = re.sub(r" nfd/wall/vz zlo 0\.0 ", " nfd/wall/region/vz floor ", line)
+            line = re.sub(r" wall/gran granular (.*) zplane 0\.0 NULL$", r" wall/gran/region granular \1 region floor",
+                          line)
+            if "region" not in line:
+                raise ValueError(f"region_floor: no floor wall to replace in {line!r}")
+        lines.append(line)
+    return "\n".join(lines) + "\n"
 
 
 def settle_pile(folder: Path, spheres: int) -> tuple[Path, dict]:
@@ -258,6 +282,9 @@ def main(argv=None) -> int:
     parser.add_argument("--pile-steps", type=int, default=5000, help="timed steps on the pile (1e-7 s)")
     parser.add_argument("--friction", action="store_true", help="also the pile with friction and rolling "
                         "resistance (scene 'pile+friction')")
+    parser.add_argument("--region", action="store_true", help="also the pile with friction on a region wall "
+                        "(scene 'pile+region': fix nfd/wall/region/vz against fix wall/gran/region)")
+    parser.add_argument("--plugin", default=None, help="time this plugin build (a path) in place of the sources'")
     parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
     ns = parser.parse_args(argv)
     started = time.perf_counter()
@@ -267,7 +294,7 @@ def main(argv=None) -> int:
         parts[f"{name}_wall_s"] = round(time.perf_counter() - since, 1)
         return time.perf_counter()
 
-    plugin = lammps_plugin.build_plugin()["path"]
+    plugin = ns.plugin or lammps_plugin.build_plugin()["path"]
     out = Path(ns.out)
     with tempfile.TemporaryDirectory() as scratch:
         folder = Path(scratch)
@@ -292,6 +319,12 @@ def main(argv=None) -> int:
                                 plugin, str(pile), ns.pile_steps, contact=contact, processors=processors,
                                 models=FRICTION))
             now = clock("pile_friction", now)
+        if ns.region:
+            speed += timing(folder, "pile+region", ns.pile_spheres, ns.pile_steps, ns.repeat,
+                            lambda contact, processors: region_floor(lammps_pour.pile_input(
+                                plugin, str(pile), ns.pile_steps, contact=contact, processors=processors,
+                                models=FRICTION)))
+            now = clock("region", now)
         print(f"{'scene':>5} {'ranks':>5} {'contact':<55} {'us/step':>8} {'ns/sph.':>7} {'ns/con.':>7} {'pair':>7} "
               f"{'modify':>7} {'contacts':>11} {'history':>11} {'coord.':>11} {'ratio':>6} {'median':>6} "
               f"{'pair':>6}")
