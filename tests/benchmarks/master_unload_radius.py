@@ -7,7 +7,7 @@ sigma_Y 100 MPa, R = 0.1 m) to 4.7, 27 and 110 P_Y (between the table's loads), 
 separation, and one cycle from 27 P_Y (unloads to 0.5 and 0.2 P_max, reloads, the last on to
 1.3 P_max, full unload), on the graded mesh of the table's nodes (17.9 elements across every contact
 radius from the lowest peak up, 16 loading steps per decade, 16 unloading steps) and on one coarser
-by 1.4 (12.8 elements): the FE's mesh spread. Targets (issue 39): radius within 2 %, unloading and
+by 1.4 (12.8 elements): the FE's mesh spread. Targets: radius within 2 %, unloading and
 reloading force within 2 % of P_max, dent within 3 % (or 0.5 % of alpha_max), e within 1 %.
 
     .venv/bin/python tests/benchmarks/master_unload_radius.py [--control] [--fine] [--only K]
