@@ -28,18 +28,25 @@ CHECKED_LAWS = ("vz-table", "vz-unload")
 
 def law_along_rows(law_name: str, params, rows: list[dict]) -> tuple[np.ndarray, float]:
     """The law's forces [N] at the rows' approaches, in order, and its dent delta_res [m] after the last."""
+    forces, _, dent = drive_law(law_name, params, rows)
+    return forces, dent
+
+
+def drive_law(law_name: str, params, rows: list[dict]) -> tuple[np.ndarray, np.ndarray, float]:
+    """One contact of the law driven along the rows' approaches, in order: its forces [N], contact
+    radii a_ep [m] and its dent delta_res [m] after the last row."""
     law = get_law(law_name)
     state = law.initial_state(1)
-    forces = np.empty(len(rows))
+    forces, radii = np.empty(len(rows)), np.empty(len(rows))
     dent = 0.0
     with warnings.catch_warnings():      # the overload may pass the window's top by the fit error
         warnings.simplefilter("ignore", RangeWarning)
         for k, row in enumerate(rows):
             details = law.contact_state(np.array([row["alpha"]]), state, params)
             state = details.state
-            forces[k] = details.force[0]
+            forces[k], radii[k] = details.force[0], details.a_ep[0]
             dent = float(details.delta_res[0])
-    return forces, dent
+    return forces, radii, dent
 
 
 def cycles_against_law(law_name: str, params, rows: list[dict], P_max: float, alpha_residual: float) -> dict:

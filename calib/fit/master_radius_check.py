@@ -125,19 +125,9 @@ def cycle_radius_error(law_name: str, params, rows: list[dict], P_max: float) ->
     """The cycle radius error of the module doc: the law driven along the rows' approaches (one
     contact), max |a_law - a_FE| / a_FE(P_max) over the partial unloads and reloads (cycles 1..n)
     down to P = 0.2 P_max (below it the FE's edge spans the fewest elements)."""
-    import warnings
+    from calib.fit.cycle_check import drive_law
 
-    from nfdmodel import RangeWarning, get_law
-
-    law = get_law(law_name)
-    state = law.initial_state(1)
-    radius = np.empty(len(rows))
-    with warnings.catch_warnings():      # the overload may pass the window's top by the fit error
-        warnings.simplefilter("ignore", RangeWarning)
-        for k, row in enumerate(rows):
-            details = law.contact_state(np.array([row["alpha"]]), state, params)
-            state = details.state
-            radius[k] = details.a_ep[0]
+    _, radius, _ = drive_law(law_name, params, rows)
     cycle = np.array([r["cycle"] for r in rows])
     last = int(cycle.max())
     fe = np.array([r["contact_radius"] for r in rows])
