@@ -118,6 +118,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* law->params(R_star, material), remembered per R_star (a sphere keeps its radius, so its contacts
      * repeat it): the same numbers, computed once per radius rather than once per contact step. */
     const nfd_params &contact_params(double R_star);
+    /* The rate-aware law (nfd_rate_contact.cpp): p, the contact's base nfd_params, scaled to sigma_Y R,
+     * R the history's last double, fixed at the first touch from the normal approach speed. */
+    void rate_params(int i, double delta, const double *n, const double *v_wall, double *stored, nfd_params &p);
 
     const NfdLaw *law;
     const int first;              // the index of the first constant in the fix's arguments
