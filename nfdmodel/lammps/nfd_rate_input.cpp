@@ -37,17 +37,17 @@ bool take_rate(LAMMPS *lmp, const std::string &who, const NfdLaw *law, std::vect
     double first, second;
     if (std::strcmp(model, "johnson-cook") == 0) {
         code = NFD_RATE_JOHNSON_COOK;
-        first = number_in(lmp, keyword + " johnson-cook:", rest[at + 2], "C", 0.0, false, INFINITY, true,
+        first = number_in(lmp, keyword + " johnson-cook", rest[at + 2], "C", 0.0, false, INFINITY, true,
                           "a finite number C >= 0 (the rate constant)");
-        second = number_in(lmp, keyword + " johnson-cook:", rest[at + 3], "eps_dot_0", 0.0, true, INFINITY, true,
+        second = number_in(lmp, keyword + " johnson-cook", rest[at + 3], "eps_dot_0", 0.0, true, INFINITY, true,
                            "a finite number eps_dot_0 > 0 [1/s] (the reference strain rate)");
     } else if (std::strcmp(model, "cowper-symonds") == 0) {
         code = NFD_RATE_COWPER_SYMONDS;
         first = std::strcmp(rest[at + 2], "inf") == 0
             ? INFINITY
-            : number_in(lmp, keyword + " cowper-symonds:", rest[at + 2], "D", 0.0, true, INFINITY, true,
+            : number_in(lmp, keyword + " cowper-symonds", rest[at + 2], "D", 0.0, true, INFINITY, true,
                         "a finite number D > 0 [1/s] (or inf: rate-independent)");
-        second = number_in(lmp, keyword + " cowper-symonds:", rest[at + 3], "q", 0.0, true, INFINITY, true,
+        second = number_in(lmp, keyword + " cowper-symonds", rest[at + 3], "q", 0.0, true, INFINITY, true,
                            "a finite number q > 0 (the exponent)");
     } else {
         lmp->error->all(FLERR, fmt::format("{}: rate law out of range: need johnson-cook or cowper-symonds, got '{}'",
@@ -60,7 +60,7 @@ bool take_rate(LAMMPS *lmp, const std::string &who, const NfdLaw *law, std::vect
         if (end + 1 >= rest.size())
             lmp->error->all(FLERR, fmt::format("{}: c needs a value (eps_dot = v_n0 / (c a_ref), default {:g})",
                                                keyword, NFD_RATE_LENGTH_FACTOR));
-        c = number_in(lmp, keyword + ":", rest[end + 1], "c", 0.0, true, INFINITY, true,
+        c = number_in(lmp, keyword, rest[end + 1], "c", 0.0, true, INFINITY, true,
                       fmt::format("a finite number c > 0 (eps_dot = v_n0 / (c a_ref), default {:g})",
                                   NFD_RATE_LENGTH_FACTOR));
         end += 2;

