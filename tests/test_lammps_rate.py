@@ -241,3 +241,32 @@ def test_rate_on_a_calibrated_pair_is_refused(plugin, tmp_path):
              "pair_coeff 2 2 70e9 0.3 100e6 0.026 0.0098", "pair_coeff 1 2 0.026 0.0098 rate cowper-symonds 40 5"]
     output = run_lammps("\n".join(lines + ["run 0"]) + "\n", tmp_path)
     assert "pair_coeff for nfd/vz rate: types I J take the constants calibrated for the pair only" in output
+
+
+@pytest.mark.parametrize("law", ["vz", "vz-table"])
+def test_a_parameter_file_s_rate_law_runs_the_same_in_collide_and_lammps(plugin, tmp_path, capsys, law):
+    """A parameter file stating a rate law ("rate_law": vz with Johnson-Cook and c 20, vz-table with
+    Cowper-Symonds): the wall line of ``nfdcal export lammps`` (with its ``rate`` keyword) gives the e and
+    P_max of ``nfdcal collide --params`` on the file (1e-9)."""
+    import json
+
+    from calib import cli
+
+    pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
+    params, _ = base_law(law, pair, tmp_path)
+    stated = ({"rate_law": "johnson-cook", "C": 0.05, "reference_rate": 1.0, "c": 20.0} if law == "vz" else
+              {"rate_law": "cowper-symonds", "D": 40.4, "q": 5.0})
+    path = tmp_path / "rate.json"
+    path.write_text(json.dumps(nfdmodel.parameter_record(params, RADIUS, ALUMINIUM, rate_law=stated)))
+    v_in = 10.0 * pair.v_Y
+    assert cli.main(["export", "lammps", "--params", str(path), "--wall", "zlo", "0.0", "--json"]) == 0
+    wall_line = json.loads(capsys.readouterr().out)["lines"][-1]
+    assert wall_line.startswith(f"fix nfd_wall all nfd/wall/{law} zlo 0.0 ") and " rate " in wall_line
+    args = wall_line.split(" zlo 0.0 ", 1)[1]
+    assert cli.main(["collide", "--params", str(path), "--v-in", repr(v_in), "--dt", repr(DT), "--json"]) == 0
+    record = json.loads(capsys.readouterr().out)[0]
+    assert record["rate_factor"] > 1.05
+    rows = wall_rows(run_lammps(wall_input(plugin, args, [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)],
+                                           steps_for(params, v_in), style=f"nfd/wall/{law}"), tmp_path))
+    assert rows[-1, 3] / v_in == pytest.approx(record["e_velocity"], rel=RTOL)
+    assert rows[:, 2].max() == pytest.approx(record["P_max"], rel=RTOL)
