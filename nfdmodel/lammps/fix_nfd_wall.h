@@ -5,6 +5,8 @@
  *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
  *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2       (the contact's stiffnesses [N/m])
  *     fix ID group nfd/wall/vz-table FACE COORD file params.json
+ *     ... [rate johnson-cook C eps_dot_0 | rate cowper-symonds D q]   (vz, vz-table: the rate-aware law,
+ *         nfd_rate_contact.cpp; R the last double of each history)
  *     ... [wall_material E_w nu_w]   (the wall's elastic material; absent: a rigid flat)
  *     ... [pair_constants Ca_hat Kc_hat [window W] | pair_constants file pair.json]   (with wall_material:
  *         the constants calibrated for this sphere on this wall, in place of the sphere's)

@@ -2,8 +2,8 @@
  * nfd/walton-braun): one class for every law, the law an NfdLaw (nfd_law.h).
  *
  *     pair_style nfd/vz
- *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] [damping ...] [tangential ...]
- *                [rolling ...] [twisting ...]
+ *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] [rate ...] [damping ...] [tangential ...]
+ *                [rolling ...] [twisting ...]         (rate: the rate-aware law, nfd_rate_contact.cpp)
  *     pair_coeff I J Ca_hat Kc_hat [window P_max/P_Y]    (I != J: constants calibrated for that pair)
  *
  * The normal force of each touching pair of spheres is the law's step of the C kernel
