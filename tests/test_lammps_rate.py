@@ -270,3 +270,65 @@ def test_a_parameter_file_s_rate_law_runs_the_same_in_collide_and_lammps(plugin,
                                            steps_for(params, v_in), style=f"nfd/wall/{law}"), tmp_path))
     assert rows[-1, 3] / v_in == pytest.approx(record["e_velocity"], rel=RTOL)
     assert rows[:, 2].max() == pytest.approx(record["P_max"], rel=RTOL)
+
+
+@pytest.mark.parametrize("angle", [20.0, 60.0])
+def test_friction_rolling_and_twisting_use_the_rate_scaled_contact_radius(plugin, tmp_path, angle):
+    """An oblique impact with spin on fix nfd/wall/vz with the rate keyword and friction, rolling and
+    twisting (Marshall: k_t a^2, whose radius a the rate law scales): the rebound velocity and spin of
+    nfdmodel.oblique_collide (numpy, the same models and integrator) of the vz law of the sphere whose
+    sigma_Y is R sigma_Y, R the rate factor of the normal speed at first contact (nfdmodel.rate_aware: the
+    base law at p_Y R, its contact radius R a_0) to 1e-8; the base law's own rebound differs by > 1e-3."""
+    from nfdmodel import Material
+    from nfdmodel.friction import Friction
+    from nfdmodel.oblique import oblique_collide
+    from test_lammps_friction import MODELS as FRICTION, R_1, num, wall_impact_input
+
+    material = Material.reference()
+    speed, omega = 0.5, -20.0
+    base = VZParams.from_dimensionless(ContactPair.sphere_flat(material, R_1), 0.026, 0.0098)
+    rate_law, keyword = RATES["cowper-symonds"]
+    R = RateAwareParams("vz", base, rate_law).rate_factor([speed * np.cos(np.radians(angle))])[0]
+    scaled = Material(material.E, material.nu, material.sigma_y * R, material.rho)
+    params = VZParams.from_dimensionless(ContactPair.sphere_flat(scaled, R_1), 0.026, 0.0098)
+    friction = Friction.mindlin(0.3, material, rolling="sds", k_roll=1000.0, mu_roll=0.1, twisting="marshall")
+    reference = oblique_collide("vz", params, friction, speed, angle, omega, dt=DT)
+    assert R > 1.5 and reference.P_max > 10.0 * params.pair.P_Y
+    constants = f"{num(material.E)} {num(material.nu)} {num(material.sigma_y)} 0.026 0.0098"
+    fix = f"fix w all nfd/wall/vz zlo 0.0 {constants} {keyword} {FRICTION}"
+    code, output = lammps_pour.run_input(wall_impact_input(plugin, fix, speed, angle, omega, reference.steps + 20),
+                                         tmp_path, timeout=120)
+    assert code == 0 and "ERROR" not in output, output[-2000:]
+    vx, vz, wy = lammps_pour.thermo_rows(output, 4)[-1, 1:]
+    assert vz == pytest.approx(float(reference.v_n_out), rel=1e-8)
+    assert vx == pytest.approx(float(reference.v_t_out), rel=1e-8)
+    assert wy == pytest.approx(float(reference.omega_out), rel=1e-8)
+    unscaled = oblique_collide("vz", base, friction, speed, angle, omega, dt=DT)
+    assert abs(float(unscaled.v_t_out) / vx - 1.0) > 1e-3 or abs(float(unscaled.v_n_out) / vz - 1.0) > 1e-3
+
+
+@pytest.mark.parametrize("wall_material", ["", " wall_material 210000000000.0 0.3"])
+def test_wall_restart_keeps_the_rate_factor(plugin, tmp_path, wall_material):
+    """fix nfd/wall/vz with the rate keyword (on a rigid flat, on a steel wall): a restart written
+    mid-unloading, continued in a new LAMMPS on 1 and on 2 ranks, gives the uninterrupted rows (1e-12): R
+    comes back with the history (a contact that lost it would fix R anew from its receding speed, R = 1)."""
+    pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
+    params, coeff = base_law("vz", pair, tmp_path)
+    args = f"{coeff} {RATES['cowper-symonds'][1]}{wall_material}"
+    v_in = 10.0 * pair.v_Y
+    steps = steps_for(params, v_in)
+    sphere = [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)]
+    whole = wall_rows(run_lammps(wall_input(plugin, args, sphere, steps), tmp_path))
+    force = whole[:, 2]
+    peak = int(np.argmax(force))
+    split = (peak + peak + int(np.argmax(force[peak:] == 0.0))) // 2
+    assert 0.0 < force[split] < force[peak]
+    run_lammps(wall_input(plugin, args, sphere, steps).replace(f"run {steps}",
+                                                               f"run {split}\nwrite_restart wall.restart"), tmp_path)
+    _, tail = wall_input(plugin, args, sphere, steps - split).split("plugin load", 1)
+    for nprocs in (1, 2):
+        processors = "processors 2 1 1\n" if nprocs == 2 else ""
+        again = wall_rows(run_lammps(f"atom_modify map array\n{processors}read_restart wall.restart\nplugin load"
+                                     + tail, tmp_path, nprocs))
+        assert again[0, 0] == split
+        np.testing.assert_allclose(again, whole[split:], rtol=1e-12, atol=1e-300)
