@@ -16,8 +16,12 @@ integrators agree), R fixed at first contact from the half-step normal speed, wh
   frictional = the kinetic energy lost to 1e-9, with damping, friction, rolling and twisting on the
   R-scaled contact radius; the law alone: the dent is collide's (1e-9), the plastic part the law's
   (1 - e^2) 1/2 m* v_in^2 by energy balance (nfdmodel.rate_aware.rate_aware_reference, 1e-5).
-- 2 MPI ranks with the contact on their boundary, and a restart file written mid-unloading: the same
-  rows as 1 uninterrupted rank (1e-12; R travels with the history).
+- Friction, rolling and twisting (Marshall) on the plane wall use the R-scaled contact radius: an oblique
+  impact with spin equals nfdmodel.oblique_collide of the vz law with sigma_Y R (1e-8); a region wall's
+  face equals the plane wall (1e-12).
+- 2 MPI ranks with the contact on their boundary, and a restart file written mid-unloading (pair style and
+  wall fix): the same rows as 1 uninterrupted rank (1e-12; R travels with the history).
+- A parameter file's rate law: the exported wall line gives ``nfdcal collide --params``'s e and P_max.
 - Bad input: one ERROR line naming the keyword, the constant and its range.
 """
 from __future__ import annotations
@@ -332,3 +336,21 @@ def test_wall_restart_keeps_the_rate_factor(plugin, tmp_path, wall_material):
                                      + tail, tmp_path, nprocs))
         assert again[0, 0] == split
         np.testing.assert_allclose(again, whole[split:], rtol=1e-12, atol=1e-300)
+
+
+def test_a_region_wall_face_equals_the_plane_wall(plugin, tmp_path):
+    """fix nfd/wall/region/vz with the rate keyword and the contact models on a block's face: the plane
+    wall's impact (sliding and spinning) to 1e-12, the rate factor fixed alike."""
+    from test_lammps_region_wall import ALUMINIUM as CONSTANTS, MODELS as REGION_MODELS, assert_same_motion
+    from test_lammps_region_wall import trajectory, wall_input as region_input
+
+    keyword = RATES["cowper-symonds"][1]
+    plane = trajectory(region_input(plugin, "block face",
+                                    f"fix w all nfd/wall/vz zlo 0.0 {CONSTANTS} {keyword} {REGION_MODELS}"), tmp_path)
+    region = trajectory(region_input(plugin, "block face",
+                                     f"fix w all nfd/wall/region/vz wall {CONSTANTS} {keyword} {REGION_MODELS}"),
+                        tmp_path)
+    base = trajectory(region_input(plugin, "block face", f"fix w all nfd/wall/vz zlo 0.0 {CONSTANTS} {REGION_MODELS}"),
+                      tmp_path)
+    assert_same_motion(region, plane)
+    assert abs(plane[-1, 5] / base[-1, 5] - 1.0) > 1e-3          # the rate law changed the rebound
