@@ -20,7 +20,9 @@
  *
  * A DEM code: nfd_rate_init once per pair of materials, then per contact and step
  *     status = nfd_rate_step(&rate, delta, v_n, m_star, &params, table, &history, &R, &force, &next, NULL);
- * with R the contact's extra history value (in: stored, out: commit it with `next`).
+ * with R the contact's extra history value (in: stored, out: commit it with `next`); or, with the
+ * contact models of nfd_friction.h (the LAMMPS plugin), nfd_rate_contact_params, then nfd_contact_step
+ * of the base law with the R-scaled nfd_params (the same law, module doc).
  *
  * Static inline C99 on nfd_kernel.h (math.h only), compiled with nfd_kernel.c. SI units.
  * License: the same as nfdcal (nfd_kernel.h).
@@ -255,6 +257,46 @@ static inline int nfd_rate_step(const nfd_rate *r, double delta, double speed, d
     }
     *factor = R;
     return status;
+}
+
+/* The base law's nfd_params at the yield stress sigma_Y R (R >= 1): P_Y R^3, delta_Y R^2, a_Y R,
+ * p_Y R, vz's Ca / R^2, Kc / R^3 (Ca_hat, Kc_hat held), c1 R^2, u_Y R, the window's force R^3; R*,
+ * E*, hertz_k as they are. The base law's step with them is P(delta; R) = R^3 P_0(delta / R^2) with
+ * the history in SI (module doc): the same law as nfd_rate_step, and its contact radius (nfd_friction.h's
+ * nfd_contact_radius) R a_0(delta / R^2), nfdmodel.rate_aware's. R = 1 gives p bit for bit. What a
+ * DEM code with contact models steps (nfd_contact_step with the base law's code). */
+static inline void nfd_rate_params(const nfd_params *p, double R, nfd_params *out)
+{
+    double square = R * R, cube = square * R;
+    *out = *p;
+    out->P_Y = p->P_Y * cube;
+    out->delta_Y = p->delta_Y * square;
+    out->a_Y = p->a_Y * R;
+    out->p_Y = p->p_Y * R;
+    out->Ca = p->Ca / square;
+    out->Kc = p->Kc / cube;
+    out->c1 = p->c1 * square;
+    out->u_Y = p->u_Y * R;
+    out->window_P_max = p->window_P_max * cube;
+}
+
+/* A contact's nfd_params under the rate-aware law (a DEM code's step: then nfd_step or nfd_contact_step
+ * of r->base_law with *out): R fixed where the contact first touches (delta > 0 with *factor == 0,
+ * nfd_rate_first_factor of the normal approach speed `speed` [m/s] and m_star [kg]; else they are not
+ * read), p, t the base law's at R = 1 and the contact's R*, *out = nfd_rate_params(p, R). *factor:
+ * the contact's R, in and out (0 until it touches: *out = *p). Returns NFD_OK or
+ * nfd_rate_first_factor's status (*factor and *out unchanged). */
+static inline int nfd_rate_contact_params(const nfd_rate *r, const nfd_params *p, const nfd_table *t, double m_star,
+                                          double speed, double delta, double *factor, nfd_params *out)
+{
+    double R = *factor;
+    if (R == 0.0 && delta > 0.0) {
+        int status = nfd_rate_first_factor(r, p, t, m_star, speed, &R);
+        if (status != NFD_OK) return status;
+    }
+    nfd_rate_params(p, R > 0.0 ? R : 1.0, out);
+    *factor = R;
+    return NFD_OK;
 }
 
 #ifdef __cplusplus

@@ -9,6 +9,12 @@ The vz-table law ("law": "vz-table") states its nodes instead of Ca, Kc:
 and the vz-unload law ("law": "vz-unload", nfdmodel.vz_unload) the same "table" and its unloading
 nodes over the turning point x_m = P_max/P_Y:
     "unloading": {"P_max_over_P_Y": [-], "dent": [delta_res/delta_max], "exponent": [m]}
+A vz or vz-table file may state the strain-rate dependence of the sphere's flow stress, the rate-aware
+law on its law (nfdmodel.rate_aware, nfdmodel.strain_rate; ``nfdcal collide --params`` runs it, ``nfdcal
+export lammps`` writes the plugin's ``rate`` keyword):
+    "rate_law": {"rate_law": "johnson-cook", "C": -, "reference_rate": 1/s, "c": -}
+              | {"rate_law": "cowper-symonds", "D": 1/s, "q": -, "c": -}
+("c" of eps_dot = v_n0 / (c a_ref) optional, default RATE_LENGTH_FACTOR; "reference_rate" optional, 1 /s).
 A calibration against a deformable counter-body (``nfdcal calibrate --counter-E ...``) also states it:
     "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null,
                      "rho": kg/m^3 | null}
@@ -49,7 +55,7 @@ ERROR_KEYS = ("Ca_rel_error_estimate", "Kc_rel_error_estimate", "Ca_hat_rel_erro
 # ("hardening": the sphere's flow curve the FE calibrated, absent for perfect plasticity; the law's
 # constants carry it, the runtime reads nothing of it)
 KEYS = ("law", "Ca", "Kc", "Ca_hat", "Kc_hat", "table", "unloading", "P_Y", "a_Y", "delta_Y", "mass_star", "material", "counter_body", "window",
-        "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation", "hardening")
+        "units", "fit", "fe_errors", "mesh", "stamp") + ERROR_KEYS + ("discretisation", "hardening", "rate_law")
 TABLE_KEYS = ("P_over_P_Y", "a_p_over_a_Y", "C_R")     # the vz-table law: nodes x, f, g
 UNLOADING_KEYS = ("P_max_over_P_Y", "dent", "exponent")  # the vz-unload law: nodes x_unload, dent, exponent
 LAWS = ("vz", "vz-table", "vz-unload")                   # the laws a parameter file may ship
@@ -59,6 +65,10 @@ MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 # COUNTER_DENSITY, rho [kg/m^3], required for a sphere (null or absent for a flat: the sphere's)
 COUNTER_KEYS = ("shape", "E", "nu", "sigma_y", "R")
 COUNTER_DENSITY = "rho"
+# the "rate_law" entry: its keys per rate law (nfdmodel.strain_rate's record) and c of the rate-aware law
+RATE_LAW_KEYS = {"johnson-cook": ("rate_law", "C", "reference_rate", "c"),
+                 "cowper-symonds": ("rate_law", "D", "q", "c")}
+RATE_BASE_LAWS = ("vz", "vz-table")                      # the laws whose constants scale with sigma_Y
 
 
 def law_of(params) -> str:
@@ -69,10 +79,11 @@ def law_of(params) -> str:
 
 
 def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float, material: Material,
-                     counter: dict | None = None) -> dict:
+                     counter: dict | None = None, rate_law: dict | None = None) -> dict:
     """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat, or on
     the deformable ``counter`` body, a COUNTER_KEYS record): the vz constants, the vz-table law's
-    nodes, or the vz-unload law's nodes and unloading nodes."""
+    nodes, or the vz-unload law's nodes and unloading nodes; ``rate_law``: the "rate_law" entry
+    (a JohnsonCook or CowperSymonds record, with "c" when not the default)."""
     pair = params.pair
     if isinstance(params, VZTableParams):
         law = {"law": law_of(params), "table": {"P_over_P_Y": list(params.x), "a_p_over_a_Y": list(params.f),
@@ -86,6 +97,7 @@ def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float
             "material": {"E": material.E, "nu": material.nu, "sigma_y": material.sigma_y,
                          "rho": material.rho, "R": R},
             **({"counter_body": dict(counter)} if counter is not None else {}),
+            **({"rate_law": dict(rate_law)} if rate_law is not None else {}),
             **({"window": params.window.record()} if params.window is not None else {}),
             "units": {"Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "E": "Pa",
                       "sigma_y": "Pa", "rho": "kg/m^3", "R": "m", "mass_star": "kg"}}
@@ -212,10 +224,46 @@ def load_parameters(path) -> VZParams | VZTableParams | VZUnloadParams:
                 raise ValueError(f"parameter file {path}: {key} = {stored:g} disagrees with "
                                  f"{value:g} recomputed from the material (relative tolerance "
                                  f"{_CONSISTENCY:g})")
+    if "rate_law" in data:
+        _rate_law(path, data["rate_law"], law)
     if "window" not in data and law == "vz":   # said once the file is known to be good (one line for a bad one)
         warnings.warn(f"parameter file {path} states no calibrated window (written before windows were "
                       f"recorded): assuming {window.describe()}, the default recipe's", RangeWarning, stacklevel=2)
     return params
+
+
+def _rate_law(path, entry, law: str):
+    """(JohnsonCook | CowperSymonds, c) of a file's "rate_law" entry, or a ValueError naming the file and key."""
+    from . import limits
+    from .strain_rate import rate_law_of
+    from .validation import check_real
+
+    if law not in RATE_BASE_LAWS:
+        raise ValueError(f"parameter file {path}: rate_law needs a law whose constants scale with sigma_Y "
+                         f"({', '.join(RATE_BASE_LAWS)}), not {law!r}")
+    kind = entry.get("rate_law") if isinstance(entry, dict) else None
+    if kind not in RATE_LAW_KEYS:
+        raise ValueError(f"parameter file {path}: rate_law must be an object with rate_law one of "
+                         f"{', '.join(RATE_LAW_KEYS)}, got {entry!r}")
+    _check_keys(path, entry, RATE_LAW_KEYS[kind], " in 'rate_law'")
+    for key, value in entry.items():
+        if key != "rate_law" and (not isinstance(value, (int, float)) or isinstance(value, bool)):
+            raise ValueError(f"parameter file {path}: rate_law.{key} must be a number, got {value!r}")
+    try:
+        return (rate_law_of(entry), check_real("c", entry.get("c", limits.RATE_LENGTH_FACTOR), low=0.0,
+                                               unit="(eps_dot = v_n0 / (c a_ref))"))
+    except ValueError as exc:
+        raise ValueError(f"parameter file {path}: rate_law: {exc}") from None
+
+
+def rate_law_of_file(path):
+    """(rate law, c) of the rate-aware law the parameter file at ``path`` states ("rate_law": a
+    nfdmodel.strain_rate JohnsonCook or CowperSymonds, c of eps_dot = v_n0 / (c a_ref)), None when it
+    states none; load_parameters checks the entry."""
+    data = json.loads(Path(path).read_text(encoding="utf-8"))
+    if not isinstance(data, dict) or "rate_law" not in data:
+        return None
+    return _rate_law(path, data["rate_law"], data.get("law", "vz"))
 
 
 def elastic_bodies(path) -> tuple[SimpleNamespace, SimpleNamespace | None]:

@@ -8,8 +8,8 @@ parameter file; Walton-Braun stiffnesses) and then have values replaced by edge 
 negatives, NaN, inf, 1e400, subnormals, text), by the unit slips users make (E in GPa, sigma_Y in
 MPa, nu in percent, the SI Ca and Kc typed where Ca_hat and Kc_hat go), an argument dropped or
 added, a ``window`` keyword with any value, the contact-model keywords of LAMMPS's granular
-(damping, tangential, rolling, twisting) with valid or hostile values, a LAMMPS unit style other than si
-(cgs, micro, metal, real) and a time step too coarse for the contact (``COARSE_DT``). The input is a head-on
+(damping, tangential, rolling, twisting) and the rate-aware law's ``rate`` with valid or hostile values, a
+LAMMPS unit style other than si (cgs, micro, metal, real) and a time step too coarse for the contact (``COARSE_DT``). The input is a head-on
 impact of two 1 cm aluminium spheres (pair) or of one sphere on the wall z = 0 (wall fix) for ``STEPS`` steps.
 
 The outcome is judged like the command line's (tests/fuzzing.py):
@@ -70,7 +70,11 @@ MODELS = ("tangential mindlin_rescale/force NULL 0 0.3", "tangential mindlin NUL
           "rolling sds 1000 0 0.1 twisting sds 1 0 0.1", "twisting marshall",
           "tangential mindlin NULL 0 -0.3", "tangential mindlin NULL 0 nan", "tangential bogus NULL 0 0.3",
           "damping tsuji 2", "rolling sds 1000 0", "tangential mindlin abc 0 0.3", "damping viscoelastic 1e400",
-          "tangential mindlin NULL 0 1e5", "rolling", "twisting sds 1 0 inf")
+          "tangential mindlin NULL 0 1e5", "rolling", "twisting sds 1 0 inf",
+          # the rate-aware law's keyword (vz, vz-table; refused naming it on the other laws)
+          "rate cowper-symonds 40.4 5", "rate johnson-cook 0.05 1 tangential mindlin NULL 0 0.3 twisting marshall",
+          "rate cowper-symonds -1 5", "rate johnson-cook nan 1", "rate cowper-symonds 40 5 c 0", "rate",
+          "rate bogus 1 2", "rate cowper-symonds inf 5 damping tsuji 0.5")
 
 
 @dataclass

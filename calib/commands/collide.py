@@ -44,6 +44,8 @@ point and loads on the virgin curve beyond; one record per impact with its index
 rate-aware law (nfdmodel.rate_aware) on the --law vz or vz-table law (the master table's vz constants, or a
 --params file's law): sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref) fixed at first contact; each
 record adds strain_rate [1/s] and rate_factor R. Normal impacts only (--repeat too; not the oblique flags).
+A --params file that states a rate law ("rate_law", nfdmodel/parameter_file.py) runs the same rate-aware
+law without the flags; --rate-law and its constants replace the file's.
 
 --report: the restitution sweep, time-step convergence and plots of the vz law with the paper's
 constants, or with the two constants of --params FILE (a calibration's parameters.json, whichever
@@ -201,6 +203,15 @@ def build_params(ns):
     rate = rate_law_from_args(ns)
     if rate is not None:
         return rate_aware(law, params, rate)
+    stated = file_rate_law(ns.params) if ns.params is not None else None
+    if stated is not None:                      # the file's rate law (nfdmodel/parameter_file.py, "rate_law")
+        from nfdmodel.rate_aware import BASE_LAWS, LAW, RateAwareParams
+
+        if law not in BASE_LAWS:
+            raise ValueError(f"--law {law} out of range for --params {ns.params}: the file states a rate law, which "
+                             f"scales sigma_Y of its {law_of(file_params)} law; give --law {law_of(file_params)} "
+                             f"(or no --law)")
+        return LAW, RateAwareParams(law, params, *stated)
     if law == "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         default = WaltonBraunParams.from_vz(params)
         K1 = number("--K1", ns.K1, default.K1)
@@ -208,6 +219,13 @@ def build_params(ns):
     if law != "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         raise ValueError("--K1/--K2 apply to --law walton-braun only")
     return law, params
+
+
+def file_rate_law(path):
+    """(rate law, c) of the parameter file's "rate_law" entry (nfdmodel.parameter_file), None without one."""
+    from nfdmodel.parameter_file import rate_law_of_file
+
+    return rate_law_of_file(path)
 
 
 def rate_aware(law: str, params, rate):
@@ -266,6 +284,9 @@ def run(ns) -> int:
             raise ValueError("--repeat is for normal impacts: do not combine it with the oblique flags")
         if ns.rate_law is not None:
             raise ValueError("--rate-law is for normal impacts: do not combine it with the oblique flags")
+        if getattr(law, "name", law) == "rate-aware":
+            raise ValueError(f"--params {ns.params} states a rate law (the rate-aware law), which is for normal "
+                             f"impacts: do not combine it with the oblique flags")
         return run_oblique(ns, law, params, velocities, dt)
     if ns.repeat is not None:
         return run_repeated(ns, law, params, velocities, dt, repeat)

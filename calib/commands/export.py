@@ -87,6 +87,11 @@ Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/forc
 (--tangential another of LAMMPS's Mindlin variants, --x-gamma-t its damping), --rolling K GAMMA
 MU_R ``rolling sds K GAMMA MU_R``, --twisting marshall (or sds K GAMMA MU_T), --damping MODEL VALUE
 ``damping viscoelastic|tsuji|coeff_restitution VALUE``.
+
+A file that states a rate law ("rate_law": the rate-aware law on its vz or vz-table law) gives the plugin's
+keyword after the constants, on the pair_coeff and the wall lines: ``rate cowper-symonds D q`` or ``rate
+johnson-cook C eps_dot_0`` (``c C`` after it when the file's c is not the default); a counter-body file with
+one is refused.
 """
 from __future__ import annotations
 
@@ -181,6 +186,10 @@ def run(ns) -> int:
         raise ValueError(f"--params {ns.params}: a vz-unload file on a counter-body out of range for export "
                          f"lammps: export builds a pair's like-type laws from the master table's vz-table columns "
                          f"only; export a vz-table file of the pair (nfdcal calibrate --ship table)")
+    rate = rate_keyword(ns.params)
+    if counter is not None and rate is not None:
+        raise ValueError(f"--params {ns.params}: a rate law on a counter-body file out of range for export lammps: "
+                         f"its like-type laws come from the master tables; export a file on a rigid flat")
     if counter is not None:
         if file_hardening_line(ns.params) is not None:
             raise ValueError(f"--params {ns.params}: a hardening sphere's file on a counter-body out of range for export "
@@ -206,6 +215,9 @@ def run(ns) -> int:
         law = law_of(params)            # vz-table or vz-unload: the plugin reads the file's tables
         law_args = f"file {quoted(str(Path(ns.params).resolve()))}"
         summary.update(law=law, table_nodes=len(params.x))
+    if rate is not None:                # the rate-aware law on it: the keyword after the constants
+        law_args += " " + rate
+        summary.update(rate=rate)
     constants = law_args
     models = model_keywords(ns)
     if models:
@@ -439,6 +451,23 @@ def wall_material(ns) -> str:
                          f"(Young's modulus of solids), got {E:g}{unit_slip('E', E)}")
     nu = number("--wall-nu", ns.wall_nu, low=0.0, low_inclusive=True, high=limits.NU_MAX)
     return f"wall_material {exact(E)} {exact(nu)}"
+
+
+def rate_keyword(path) -> str | None:
+    """The plugin's ``rate`` keyword of the file's "rate_law" entry (nfdmodel/parameter_file.py), None without
+    one: rate johnson-cook C eps_dot_0 | rate cowper-symonds D q, then ``c C`` when not the default."""
+    from nfdmodel import limits
+    from nfdmodel.parameter_file import rate_law_of_file
+    from nfdmodel.strain_rate import JohnsonCook
+
+    stated = rate_law_of_file(path)
+    if stated is None:
+        return None
+    law, c = stated
+    words = (["johnson-cook", law.C, law.reference_rate] if isinstance(law, JohnsonCook) else
+             ["cowper-symonds", law.D, law.q])
+    text = "rate " + words[0] + " " + " ".join("inf" if math.isinf(v) else exact(v) for v in words[1:])
+    return text + ("" if c == limits.RATE_LENGTH_FACTOR else f" c {exact(c)}")
 
 
 def _material_of(path) -> dict:

@@ -260,7 +260,9 @@ void FixNfdHistory::unpack_restart(int nlocal, int nth)
     // widens a fix that holds none yet, before any record is stored; otherwise each record is fitted
     const int written = count > 0 ? (length - 2) / count - 1 : width;
     if (count > 0 && record_has_springs(written) && !record_has_springs(width) && !have_list)
-        set_width(record_width(true));
+        set_width(record_width(true) + (record_has_rate(width) ? NRATE : 0));
+    if (count > 0 && record_has_rate(written) && !record_has_rate(width) && !have_list)
+        set_width(width + NRATE);      // the contacts' R, fixed at their first touch
     std::vector<double> record(width, 0.0);
     for (int k = 0; k < count; ++k) {
         const tagint who = static_cast<tagint>(extra[m++]);

@@ -54,6 +54,8 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
 {
     if (narg <= first) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
     std::vector<char *> rest(arg + first, arg + narg);    // the constants and models, without the keywords
+    nfd_rate rate{};
+    const bool rate_given = take_rate(lmp, who(), law, rest, &rate);     // first: no other keyword's value
     const NfdMaterial *pair = read_pair_constants(rest);
     const NfdMaterial *wall = read_wall_material(rest);
     if (pair && !wall)
@@ -67,9 +69,11 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
     // an elastic wall: the pair style's mixing of two bodies, the wall never the one that yields
     if (wall) material = law->mix(material, *wall);
     if (pair) material = NfdLaw::with_pair(material, *pair);
+    material.rate_on = rate_given;
+    material.rate = rate;
     material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
                                          wall ? wall->nu : 0.0);
-    width = record_width(material.models.any());
+    width = record_width(material.models.any()) + (material.rate_on ? NRATE : 0);    // R last (nfd_energy.h)
 }
 
 const NfdMaterial *FixNfdWall::read_wall_material(std::vector<char *> &rest)
@@ -223,8 +227,9 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
 {
     double **f = atom->f;
     touching_local += 1.0;
-    const nfd_params p = contact_params(R_star);
+    nfd_params p = contact_params(R_star);
     const nfd_history h = load_history(stored);
+    if (material.rate_on) rate_params(i, delta, n, v_wall, stored, p);
     if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
         double v_n = 0.0;
         for (int d = 0; d < 3; ++d) v_n += (atom->v[i][d] - v_wall[d]) * n[d];
@@ -313,7 +318,9 @@ double FixNfdWall::compute_vector(int /*n*/)
 void FixNfdWall::count_below_window(const double *stored, double R_star)
 {
     if (!law->has_window || !(material.window_min > 1.0)) return;
-    const double P_Y = contact_params(R_star).P_Y, P_max = load_history(stored).P_max;
+    double P_Y = contact_params(R_star).P_Y;
+    const double P_max = load_history(stored).P_max, R = material.rate_on ? stored[width - NRATE] : 0.0;
+    if (R > 0.0) P_Y *= R * R * R;                   // the rate-aware law: P_Y R^3
     if (P_max > P_Y * (1.0 + 1e-9) && P_max < material.window_min * P_Y * (1.0 - 1e-9)) {
         ++below_count;
         below_lowest = std::min(below_lowest, P_max / P_Y);

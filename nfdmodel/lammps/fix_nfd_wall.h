@@ -5,6 +5,8 @@
  *     fix ID group nfd/wall/vz FACE COORD E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y]
  *     fix ID group nfd/wall/walton-braun FACE COORD K1 K2       (the contact's stiffnesses [N/m])
  *     fix ID group nfd/wall/vz-table FACE COORD file params.json
+ *     ... [rate johnson-cook C eps_dot_0 | rate cowper-symonds D q]   (vz, vz-table: the rate-aware law,
+ *         nfd_rate_contact.cpp; R the last double of each history)
  *     ... [wall_material E_w nu_w]   (the wall's elastic material; absent: a rigid flat)
  *     ... [pair_constants Ca_hat Kc_hat [window W] | pair_constants file pair.json]   (with wall_material:
  *         the constants calibrated for this sphere on this wall, in place of the sphere's)
@@ -118,6 +120,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* law->params(R_star, material), remembered per R_star (a sphere keeps its radius, so its contacts
      * repeat it): the same numbers, computed once per radius rather than once per contact step. */
     const nfd_params &contact_params(double R_star);
+    /* The rate-aware law (nfd_rate_contact.cpp): p, the contact's base nfd_params, scaled to sigma_Y R,
+     * R the history's last double, fixed at the first touch from the normal approach speed. */
+    void rate_params(int i, double delta, const double *n, const double *v_wall, double *stored, nfd_params &p);
 
     const NfdLaw *law;
     const int first;              // the index of the first constant in the fix's arguments

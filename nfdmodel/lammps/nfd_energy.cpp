@@ -14,8 +14,9 @@ void ContactEnergy::restride(const double *in, int w_in, double *out, int w_out)
     std::copy(in, in + std::min(NHIST, std::min(w_in, w_out)), out);
     if (record_has_springs(w_in) && record_has_springs(w_out)) std::copy(in + NHIST, in + NHIST + NFRICTION, out + NHIST);
     const int from = energy_offset(w_in), to = energy_offset(w_out);
-    const int count = std::min(w_in - from, w_out - to);
+    const int count = std::min(record_base(w_in) - from, record_base(w_out) - to);
     if (count > 0) std::copy(in + from, in + from + count, out + to);
+    if (record_has_rate(w_in) && record_has_rate(w_out)) out[w_out - NRATE] = in[w_in - NRATE];
 }
 
 void ContactEnergy::law_step(double *b, int law, double delta, const nfd_history &next, double P, const double *n,

@@ -55,10 +55,22 @@ enum EnergyField : int {
 };
 
 /* A contact record: the nfd_history (NHIST), with models the springs (NFRICTION), then the energy
- * block. Records of other widths (restart files of the plugin without the energy block: NHIST, or
- * NHIST + NFRICTION) are mapped part by part. */
+ * block, then with the rate-aware law its R (NRATE). Records of other widths (restart files of the plugin
+ * without the energy block: NHIST, or NHIST + NFRICTION) are mapped part by part. */
 inline int record_width(bool models) { return models ? NHIST + NFRICTION + NENERGY_MODELS : NHIST + NENERGY; }
-inline bool record_has_springs(int width) { return width == NHIST + NFRICTION || width == record_width(true); }
+/* A record of the rate-aware law (nfd_rate.h) holds one double more at its end, the contact's R (0 until
+ * it first touches): NRATE after any of the widths above (none of which is another's plus one). */
+constexpr int NRATE = 1;
+inline bool record_has_rate(int width)
+{
+    return width == NHIST + NRATE || width == NHIST + NFRICTION + NRATE || width == record_width(false) + NRATE ||
+        width == record_width(true) + NRATE;
+}
+inline int record_base(int width) { return record_has_rate(width) ? width - NRATE : width; }
+inline bool record_has_springs(int width)
+{
+    return record_base(width) == NHIST + NFRICTION || record_base(width) == record_width(true);
+}
 inline int energy_offset(int width) { return record_has_springs(width) ? NHIST + NFRICTION : NHIST; }
 
 class ContactEnergy {

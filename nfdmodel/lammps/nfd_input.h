@@ -9,6 +9,7 @@
 #include "nfd_law.h"
 
 #include <string>
+#include <vector>
 
 namespace nfdcal_lammps {
 
@@ -46,6 +47,19 @@ void check_vz_admissible(LAMMPS_NS::LAMMPS *lmp, const std::string &who, double 
  * nfdmodel.VZTableParams). A file of another law is refused. Read on rank 0 and broadcast. */
 NfdMaterial read_parameter_file(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const std::string &path,
                                 const std::string &law);
+
+/* The keyword `rate` taken out of rest (a style's arguments after the types or the wall's plane; the
+ * keyword at position 1 or later, not the PATH of `file PATH`):
+ *
+ *     rate johnson-cook C eps_dot_0 [c C_LENGTH]     R = 1 + C ln(max(eps_dot / eps_dot_0, 1))
+ *     rate cowper-symonds D q [c C_LENGTH]           R = 1 + (eps_dot / D)^(1/q)
+ *
+ * the rate-aware law on the style's law (nfd_rate.h; vz and vz-table, another law refuses it), each
+ * constant in nfdmodel.strain_rate's range (C >= 0, eps_dot_0 > 0 [1/s], D > 0 [1/s] or inf (R = 1),
+ * q > 0; c > 0 of eps_dot = v_n0 / (c a_ref), default NFD_RATE_LENGTH_FACTOR), or an error naming the
+ * keyword, the constant and its range. Returns whether the keyword was given (then *rate is set). */
+bool take_rate(LAMMPS_NS::LAMMPS *lmp, const std::string &who, const NfdLaw *law, std::vector<char *> &rest,
+               nfd_rate *rate);
 
 }    // namespace nfdcal_lammps
 

@@ -84,6 +84,10 @@ uint64_t NfdLaw::fingerprint(const NfdMaterial &m) const
     if (m.table.n_unload > 0) z = mix64(z ^ static_cast<uint64_t>(m.table.n_unload));   // vz-unload's tables
     for (int n = 0; n < m.table.n_unload; ++n)
         for (double v : {m.table.x_unload[n], m.table.dent[n], m.table.exponent[n]}) z = mix_double(z, v);
+    if (m.rate_on) {                     // the rate law: absent, the fingerprint of the base law alone
+        z = mix64(z ^ static_cast<uint64_t>(0x72617465ULL + m.rate.rate_law));
+        for (double v : {m.rate.first, m.rate.second, m.rate.c}) z = mix_double(z, v);
+    }
     if (!m.models.any()) return z;       // the fingerprint of a frictionless material is the law's alone
     const NfdModels &c = m.models;
     z = mix64(z ^ static_cast<uint64_t>(c.damping + 8 * (c.tangential + 8 * (c.rolling + 8 * c.twisting))));

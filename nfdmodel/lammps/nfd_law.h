@@ -15,6 +15,8 @@
 
 #include "nfd_models.h"
 
+#include "../nfd_rate.h"
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -65,7 +67,7 @@ inline void store_friction(const nfd_friction_history &h, double sign, double *v
  * Ca_hat, Kc_hat; the vz-table tables (x = P/P_Y, a_p/a_Y, C_R: dimensionless, so they hold for
  * any pair); the window P_max/P_Y and its lower end P_min/P_Y; the Walton-Braun stiffnesses
  * K1 <= K2 [N/m]; the contact models after the constants (nfd_models.h) and, for a contact (or a
- * wall), their kernel form. */
+ * wall), their kernel form; the rate law (nfd_rate.h), when given. */
 struct NfdMaterial {
     double E = 0, nu = 0, sigma_y = 0, p_Y = 0, E_star = 0, Ca_hat = 0, Kc_hat = 0, window = INFINITY;
     double window_min = 1.0;
@@ -77,6 +79,10 @@ struct NfdMaterial {
     nfd_table table{};
     NfdModels models;
     nfd_friction friction{};
+    // `rate ...` (nfd_rate_input.cpp): the rate-aware law on this (vz or vz-table) law, sigma_Y R(eps_dot)
+    // with R fixed at first contact (nfd_rate.h); a contact takes the yielding body's with its constants
+    bool rate_on = false;
+    nfd_rate rate{};
 };
 
 /* A 64-bit mixing step (splitmix64), for hashes that only tell equal inputs from different ones. */

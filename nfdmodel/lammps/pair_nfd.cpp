@@ -100,9 +100,15 @@ void PairNfd::coeff(int narg, char **arg)
         create_history_fix();
         return;
     }
-    const int models_at = first_model_keyword(narg - 2, arg + 2);
-    NfdMaterial constants = law->read(lmp, who, false, models_at, arg + 2);
-    constants.models = read_models(lmp, who, narg - 2 - models_at, arg + 2 + models_at, !law->per_type_pair);
+    std::vector<char *> rest(arg + 2, arg + narg);     // the constants and models, without `rate ...`
+    nfd_rate rate{};
+    const bool rate_given = take_rate(lmp, who, law, rest, &rate);
+    const int models_at = first_model_keyword(static_cast<int>(rest.size()), rest.data());
+    NfdMaterial constants = law->read(lmp, who, false, models_at, rest.data());
+    constants.models = read_models(lmp, who, static_cast<int>(rest.size()) - models_at, rest.data() + models_at,
+                                   !law->per_type_pair);
+    constants.rate_on = rate_given;
+    constants.rate = rate;
     constants.friction = contact_friction(constants.models, constants.E, constants.nu, constants.E, constants.nu);
     int count = 0;
     for (int i = ilo; i <= ihi; ++i)
@@ -131,6 +137,10 @@ void PairNfd::calibrated_pair_coeff(const std::string &who, int narg, char **arg
     if (first_model_keyword(narg - 2, arg + 2) < narg - 2)
         error->all(FLERR, fmt::format("{}: types I J take the constants calibrated for the pair only; its contact "
                                       "models are its types' (pair_coeff I I ..., mixed)", who));
+    for (int k = 3; k < narg; ++k)
+        if (std::strcmp(arg[k], "rate") == 0 && std::strcmp(arg[k - 1], "file") != 0)
+            error->all(FLERR, fmt::format("{} rate: types I J take the constants calibrated for the pair only; the "
+                                          "rate law is the yielding type's (pair_coeff I I ... rate ...)", who));
     const NfdMaterial constants = law->read_pair(lmp, who, narg - 2, arg + 2);
     int count = 0;
     for (int i = ilo; i <= ihi; ++i)
@@ -172,7 +182,14 @@ void PairNfd::init_style()
     energy_on = false;
     for (Compute *compute : modify->get_compute_list())
         energy_on = energy_on || std::strcmp(compute->style, "pair/local") == 0;
-    history->set_width(energy_on ? record_width(models_on) : models_on ? NHIST + NFRICTION : NHIST);
+    // the rate-aware law on some type: each record holds the contact's R at its end (NRATE)
+    rate_on = false;
+    for (int i = 1; i <= atom->ntypes; ++i) rate_on = rate_on || material[i].rate_on;
+    history->set_width((energy_on ? record_width(models_on) : models_on ? NHIST + NFRICTION : NHIST) +
+                       (rate_on ? NRATE : 0));
+    if (rate_on && !comm->ghost_velocity)
+        error->all(FLERR, fmt::format("pair_style {} with the rate keyword needs the velocities of ghost atoms (the "
+                                      "normal speed at first contact): add 'comm_modify vel yes'", name()));
     if (models_on && (!atom->omega_flag || !atom->torque_flag))
         error->all(FLERR, fmt::format("pair_style {} with contact models needs per-atom spins and torques: use "
                                       "atom_style sphere", name()));
@@ -280,8 +297,9 @@ void PairNfd::compute(int eflag, int vflag)
             const double delta = radsum - r;
             const TypePair &pair = type_pair(type[i], type[j]);
             const nfd_history h = load_history(stored);
-            const nfd_params p = contact_params(type[i], type[j], radius[i], radius[j], h, delta);
+            nfd_params p = contact_params(type[i], type[j], radius[i], radius[j], h, delta);
             if (!history->touching(i, jj)) see_contact_start(i, j, delx, dely, delz, r, p);
+            if (pair.constants->rate_on) rate_params(i, j, delx, dely, delz, r, delta, *pair.constants, stored, p);
             if (pair.models) {
                 contact_with_models(i, j, delx, dely, delz, r, *pair.constants, p, stored);
                 history->set_touching(i, jj, true);
@@ -355,7 +373,10 @@ void PairNfd::count_below_window(int i, int j, const double *stored)
     const TypePair &pair = type_pair(type[i], type[j]);
     if (!(pair.constants->window_min > 1.0) || !(j < atom->nlocal || atom->tag[i] < atom->tag[j])) return;
     const double R_star = nfd_effective_radius(atom->radius[i], atom->radius[j]);
-    const double P_Y = pair.unit.P_Y * R_star * R_star, P_max = load_history(stored).P_max;
+    double P_Y = pair.unit.P_Y * R_star * R_star;
+    const double P_max = load_history(stored).P_max;
+    const double R = pair.constants->rate_on ? stored[history->stride() - NRATE] : 0.0;
+    if (R > 0.0) P_Y *= R * R * R;                   // the rate-aware law: P_Y R^3
     if (P_max > P_Y * (1.0 + 1e-9) && P_max < pair.constants->window_min * P_Y * (1.0 - 1e-9)) {
         ++below_count;
         below_lowest = std::min(below_lowest, P_max / P_Y);
@@ -457,7 +478,12 @@ double PairNfd::single(int i, int j, int itype, int jtype, double rsq, double /*
         const double *b = stored + energy_offset(history->stride());
         for (int n = 0; n < 5; ++n) svector[5 + n] = b[ENERGY_F_N + n];
     }
-    const nfd_params p = contact_params(itype, jtype, radius[i], radius[j], h, delta);
+    nfd_params p = contact_params(itype, jtype, radius[i], radius[j], h, delta);
+    if (contact[itype][jtype].rate_on && stored) {          // the contact's R (0: not touched yet, R = 1)
+        const double R = stored[history->stride() - NRATE];
+        const nfd_params base = p;
+        nfd_rate_params(&base, R > 0.0 ? R : 1.0, &p);
+    }
     nfd_history next;
     double force = 0.0;
     if (nfd_step(law->code, delta, &p, &contact[itype][jtype].table, &h, &force, &next, nullptr) < 0) force = 0.0;

@@ -2,8 +2,8 @@
  * nfd/walton-braun): one class for every law, the law an NfdLaw (nfd_law.h).
  *
  *     pair_style nfd/vz
- *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] [damping ...] [tangential ...]
- *                [rolling ...] [twisting ...]
+ *     pair_coeff I I E nu sigma_y Ca_hat Kc_hat [window P_max/P_Y] [rate ...] [damping ...] [tangential ...]
+ *                [rolling ...] [twisting ...]         (rate: the rate-aware law, nfd_rate_contact.cpp)
  *     pair_coeff I J Ca_hat Kc_hat [window P_max/P_Y]    (I != J: constants calibrated for that pair)
  *
  * The normal force of each touching pair of spheres is the law's step of the C kernel
@@ -70,6 +70,10 @@ class PairNfd : public LAMMPS_NS::Pair {
     void warn_other_histories();
     const double *find_stored(int i, int j);
     nfd_params contact_params(int itype, int jtype, double R_i, double R_j, const nfd_history &h, double delta) const;
+    /* The rate-aware law (nfd_rate_contact.cpp): p, the contact's base nfd_params, scaled to sigma_Y R,
+     * R the record's last double, fixed at the first touch from the normal approach speed. */
+    void rate_params(int i, int j, double delx, double dely, double delz, double r, double delta,
+                     const NfdMaterial &c, double *stored, nfd_params &p);
 
     /* What a contact of two atom types takes from its types, set in init_one: the nfd_params at
      * R* = 1 m (NfdLaw::params(1.0, ...); nfd_pair_scaled gives a contact's from them) and the
@@ -92,6 +96,7 @@ class PairNfd : public LAMMPS_NS::Pair {
     int ntypes_set = 0;
     FixNfdHistory *history = nullptr;
     bool models_on = false;                            // contact models on some pair of types
+    bool rate_on = false;                              // the rate keyword on some type: records end with R
     bool energy_on = true;                             // the energy block kept this run (init_style)
     LAMMPS_NS::bigint beyond_count = 0;
     double beyond_largest = 0.0, window_of_largest = 0.0, beyond_as_double = 0.0;
