@@ -31,6 +31,12 @@ one-mesh task's tables are refitted from those data on every run (:func:`refit_r
 works from the histories as the FE takes them (calib.fe.loadpath.contact_work), its tables by
 calib.fit.table_fit; ``fit_version`` in the row says which fit it holds.
 
+The node records keep no contact radius; each grid node's loading branch runs again alone (kind
+"loading", :func:`run_loading`: the node's spec, no unloading, ``OUT/loading/<key>.json``, the same
+sweep runner), its rows' force and approach the node's bit for bit and with them the FE's contact
+radius. From it the vz-unload law's own radius f_a (:func:`resample_radius`): f is fitted to the
+force and the returned work and overstates the FE's radius by 1-6 %.
+
     nfdcal table vz_master_grid [--workers 2] [--out results/tables/vz_master_grid]
         [--master-out calib/data/vz_master_table.csv]
 """

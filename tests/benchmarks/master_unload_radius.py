@@ -55,12 +55,13 @@ def report(nu, ratio, table, fine):
     print(f"\nnu {nu:g} E/sigma_Y {ratio:g}: P_Y {run['pair'].P_Y:.4g} N; vz-unload window "
           f"{laws['vz-unload'].window.P_min_over_P_Y:.3g}-{laws['vz-unload'].window.P_max_over_P_Y:.4g} P_Y; FE "
           + ", ".join(f"{n:.3g} el/a: {r['wall_time_s']:.0f} s" for n, r in zip(meshes, runs)))
-    print("  P_max/P_Y  a_FE/R    a err %  f_law-f_FE | dent/amax  " + "  ".join(
+    print("  P_max/P_Y  a_FE/R    a err %  f_law-f_FE  vz-table a err % | dent/amax  " + "  ".join(
         f"{law}: dent %  dent/amax %  unload %  e %" for law in LAWS))
     for row in cmp["paths"]:
         a_Y = run["pair"].a_Y          # f = a / a_Y - x^(1/3): the law's plastic radius and the FE's
         f_gap = row["radius_fe"] * row["vz-unload"]["radius_error"] / a_Y
-        line = (f"  {row['x']:8.3g}  {row['radius_fe'] / R:.5f}  {pct(row['vz-unload']['radius_error'])}  {f_gap:+.4f}    | "
+        line = (f"  {row['x']:8.3g}  {row['radius_fe'] / R:.5f}  {pct(row['vz-unload']['radius_error'])}  {f_gap:+.4f}  "
+                f"    {pct(row['vz-table']['radius_error'])}       | "
                 f"{row['dent_fe_over_alpha_max']:.3f}     ")
         for law in LAWS:
             r = row[law]
@@ -92,7 +93,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     table = VZMasterTable.load()
     print(f"master table {table.path.name}: laws vz-unload and vz-table against the FE (errors law / FE - 1, "
-          f"forces as % of P_max; the radius is the same in both laws at the peak, a_Y (x^(1/3) + f(x)))")
+          f"forces as % of P_max; the radius at the peak a_Y (x^(1/3) + f(x)), vz-unload's f the table's f_a, fitted to "
+          f"the nodes' FE contact radius; a err: vz-unload's)")
     materials = MATERIALS if args.only is None else [MATERIALS[args.only]]
     for nu, ratio in materials + ([CONTROL] if args.control else []):
         report(nu, ratio, table, args.fine)
