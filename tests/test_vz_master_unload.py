@@ -90,6 +90,9 @@ def test_on_every_node_the_vz_unload_radius_is_the_fe_s_where_vz_table_overstate
     nodes = {r["key"]: r for r in rows if r.get("kind") == "node"}
     loading = [r for r in rows if r.get("kind") == "loading"]
     assert len(loading) == len(nodes) == 16
+    tasks = vz_master_build.loading_tasks(vz_master_build.load_scene("vz_master_grid"))    # the records are current
+    assert {t["key"] for t in tasks} == {r["key"] for r in loading} and not {t["key"] for t in tasks} & set(nodes)
+    assert {t["node_key"] for t in tasks} == set(nodes)
     for rerun in loading:
         node = nodes[rerun["node_key"]]
         unload, law = table.unload_law(*material_of(node)), table.law(*material_of(node))
