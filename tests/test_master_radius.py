@@ -3,7 +3,7 @@ table was not built on (calib.fit.master_radius_check; nu 0.25, E/sigma_Y 150, o
 checks): the load path to 27 P_Y with the FE's contact radius at the peak, and one cycle from it
 (unloads to 0.5 and 0.2 P_max, reloads, the last on to 1.3 P_max, full unload). Graded mesh of 8
 elements across the contact radius at the peak, 16 loading steps per decade, 16 unloading steps
-(about 4 s). The node mesh's figures at three peaks and three materials, and the FE's mesh spread:
+(about 6 s). The node mesh's figures at three peaks and three materials, and the FE's mesh spread:
 tests/benchmarks/master_unload_radius.py."""
 from __future__ import annotations
 
@@ -11,17 +11,18 @@ import pytest
 
 from calib.fit.cycle_check import CYCLE_TARGET
 from calib.fit.master_radius_check import compare, fe_run, laws_of
-from calib.fit.unload_check import DENT_TARGET, E_TARGET, UNLOADING_TARGET
+from calib.fit.unload_check import DENT_TARGET, E_TARGET, RADIUS_TARGET, UNLOADING_TARGET
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import Material
 
 R = 0.1
 MATERIAL = Material(150 * 100e6, 0.25, 100e6, 2700.0)
 PEAK_OVER_P_Y = 27.0
-# The law's contact radius at the peak, a_Y (x^(1/3) + f), over the FE's (calib.fe.recovery, gap):
-# measured +3.5 % on this mesh, +2.6 % on the table nodes' mesh (17.9 elements), so beyond the 2 %
-# target: f is fitted to the force and the returned work (calib.fit.table_fit), not to the FE's radius.
-RADIUS_OVERSTATED = (0.0, 0.05)
+# The laws' contact radius at the peak, a_Y (x^(1/3) + f), over the FE's (calib.fe.recovery, gap) on this
+# mesh: vz-unload (f_a, fitted to the table nodes' FE radius) +1.3 %, within the 2 % target although this
+# mesh's FE radius lies about 1 % below the nodes' mesh's (17.9 elements: -0.3..+0.1 %, the benchmark);
+# vz-table (f, fitted to the force and the returned work) +3.5 %.
+VZ_TABLE_OVERSTATES = 0.025
 
 
 @pytest.fixture(scope="module")
@@ -30,15 +31,15 @@ def compared():
     return run, compare(laws_of(VZMasterTable.load(), MATERIAL, R), run)
 
 
-def test_the_fe_radius_is_recorded_and_the_laws_radius_judged_against_it(compared):
+def test_the_fe_radius_is_recorded_and_vz_unload_gives_it_within_the_target(compared):
     """The FE's contact radius at the peak lies between Hertz's at P_max (the plastic contact is wider)
-    and R; both laws give the same radius at the peak and overstate it by the measured 0-5 %."""
+    and R; the vz-unload law's radius at the peak is within the 2 % target of it, the vz-table law's
+    (fitted to the force, not the radius) above it by more than 2.5 %."""
     run, result = compared
     path, row = run["paths"][0], result["paths"][0]
     assert run["pair"].hertz_radius(path["P_max"]) < path["radius_at_peak"] < R
-    errors = [row[law]["radius_error"] for law in ("vz-unload", "vz-table")]
-    assert errors[0] == pytest.approx(errors[1], rel=1e-12)
-    assert RADIUS_OVERSTATED[0] < errors[0] < RADIUS_OVERSTATED[1]
+    assert abs(row["vz-unload"]["radius_error"]) <= RADIUS_TARGET
+    assert row["vz-table"]["radius_error"] > VZ_TABLE_OVERSTATES
 
 
 def test_vz_unload_follows_the_fe_along_unloading_and_reloading(compared):

@@ -87,9 +87,11 @@ def run_vz_master(ns) -> int:
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
     tasks = vz_master_build.tasks_for(scene)
     if ns.dry_run:
-        lines = [f"{t['kind']} {t['name']}: nu {t['nu']:g}, E/sigma_Y {t['E_over_sigma_y']:g}" for t in tasks]
-        print_summary(ns, {"scene": scene["name"], "tasks": len(tasks), "folder": str(folder)},
-                      lines + [f"{len(tasks)} calibration(s) to the FE's reach in {folder}/nodes"])
+        loading = vz_master_build.loading_tasks(scene)
+        lines = [f"{t['kind']} {t['name']}: nu {t['nu']:g}, E/sigma_Y {t['E_over_sigma_y']:g}" for t in tasks + loading]
+        print_summary(ns, {"scene": scene["name"], "tasks": len(tasks) + len(loading), "folder": str(folder)},
+                      lines + [f"{len(tasks)} calibration(s) to the FE's reach in {folder}/nodes, {len(loading)} "
+                               f"nodes' loading branches with the FE's contact radius in {folder}/loading"])
         return 0
     with progress_reporter(ns.quiet, None) as progress:
         rows = vz_master_build.run(scene, folder, workers=workers, scheduler=ns.scheduler, progress=progress)
@@ -103,7 +105,8 @@ def run_vz_master(ns) -> int:
         checked = vz_master_check.measure_and_state(rows, path, folder)
         result["master_table"], result["accuracy"] = str(path), checked
         lines.append(f"vz master table written to {path}; accuracy {checked['statement']}")
-    lines.append(f"scene {scene['name']}: {len(rows)} task(s), {len(failed)} failed; FE data in {folder}/nodes")
+    lines.append(f"scene {scene['name']}: {len(rows)} task(s), {len(failed)} failed; FE data in {folder}/nodes and "
+                 f"{folder}/loading")
     print_summary(ns, result, lines)
     return 1 if failed else 0
 

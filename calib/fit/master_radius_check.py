@@ -1,6 +1,6 @@
 """The master table's laws against FE paths with the contact radius and load cycles.
 
-The master table's node records keep no contact radius (calib.fit.vz_master_check), so the radius
+The master table's check records keep no contact radius (calib.fit.vz_master_check), so the radius
 of its vz-unload and vz-table laws (VZMasterTable.unload_law, .law) at a material it was not built
 on is checked here against a direct FE run of that material (small strain, sphere of radius R on a
 rigid flat, a graded mesh of N elements across every contact radius from the lowest peak up,
@@ -11,7 +11,9 @@ P_max, the last on to ``overload`` P_max, then a full unload). Per path and law
 extrapolation of calib.fe.recovery):
 
     radius error    = a_law / a_FE - 1 at the peak,  a_law = a_e(P_max) + a_p(P_max)
-                      = a_Y (x^(1/3) + f(x)),  x = P_max / P_Y           (both laws)
+                      = a_Y (x^(1/3) + f(x)),  x = P_max / P_Y
+                      (vz-table: f fitted to the force and the returned work; vz-unload: the
+                      table's f_a, fitted to the nodes' FE contact radius)
     unloading error = max |P_law - P_FE| / P_max over the FE's unloading points
     dent error      = delta_res,law / alpha_res,FE - 1,   e error = e_law / e_FE - 1
 

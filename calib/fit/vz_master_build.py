@@ -31,6 +31,12 @@ one-mesh task's tables are refitted from those data on every run (:func:`refit_r
 works from the histories as the FE takes them (calib.fe.loadpath.contact_work), its tables by
 calib.fit.table_fit; ``fit_version`` in the row says which fit it holds.
 
+The node records keep no contact radius; each grid node's loading branch runs again alone (kind
+"loading", :func:`run_loading`: the node's spec, no unloading, ``OUT/loading/<key>.json``, the same
+sweep runner), its rows' force and approach the node's bit for bit and with them the FE's contact
+radius. From it the vz-unload law's own radius f_a (:func:`resample_radius`): f is fitted to the
+force and the returned work and overstates the FE's radius by 1-6 %.
+
     nfdcal table vz_master_grid [--workers 2] [--out results/tables/vz_master_grid]
         [--master-out calib/data/vz_master_table.csv]
 """
@@ -189,23 +195,29 @@ def tasks_for(scene: dict) -> list[dict]:
     return refined + sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
 
 
+def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
+    """The CalibrationSpec of a task: its window to the FE's reach or its top, on its mesh."""
+    top = min(recipe.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
+              item["top_over_P_Y"] * pair.P_Y)
+    if item.get("refinement"):          # the graded, systematically refined ladder
+        mesh = {"elements_per_contact_radius": item["elements_per_contact_radius"],
+                "refinement": item["refinement"],
+                "loading_steps_per_decade": item["loading_steps_per_decade"] * item["refinement"]}
+    elif item["contact_size_over_a_max"]:
+        mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
+    else:
+        mesh = {"level": item["level"]}
+    return impact_window.window_spec(item["material"], item["R"], top, lowest_over_P_Y=TABLE_LOWEST_PEAK_OVER_P_Y,
+                                     **mesh)
+
+
 def run_task(item: dict) -> dict:
     """The calibration of one task (runs in a worker; never raises: a failure is a row)."""
     material, R = item["material"], item["R"]
     pair = ContactPair.sphere_flat(material, R)
     t0 = time.perf_counter()
     try:
-        top = min(recipe.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
-                  item["top_over_P_Y"] * pair.P_Y)
-        if item.get("refinement"):          # the graded, systematically refined ladder
-            mesh = {"elements_per_contact_radius": item["elements_per_contact_radius"],
-                    "refinement": item["refinement"],
-                    "loading_steps_per_decade": item["loading_steps_per_decade"] * item["refinement"]}
-        elif item["contact_size_over_a_max"]:
-            mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
-        else:
-            mesh = {"level": item["level"]}
-        spec = impact_window.window_spec(material, R, top, lowest_over_P_Y=TABLE_LOWEST_PEAK_OVER_P_Y, **mesh)
+        spec = task_spec(item, pair)
         result = calibrate(spec, ship="table", meshes=item["meshes"], parallel=False)
         table = result.fit_table()
         fine = result.fine_table()
@@ -231,6 +243,71 @@ def run_task(item: dict) -> dict:
             **({key: item[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade", "refinement")}
                if item.get("refinement") else {}),
             "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit(), "fit_version": FIT_VERSION}
+
+
+LOADING_FOLDER = "loading"          # OUT/loading/<key>.json: the nodes' loading branches with the FE's contact radius
+
+
+def loading_task(node: dict) -> dict:
+    """The loading-only rerun of a grid node's task (kind "loading"): its FE, mesh and loading steps,
+    no unloading, keyed apart from the node (``node_key`` names it)."""
+    fields = {k: v for k, v in node.items() if k not in ("key", "kind", "name", "material")}
+    return {**node, "key": stable_key({**fields, "loading_only": True}), "kind": "loading", "node_key": node["key"]}
+
+
+def loading_tasks(scene: dict) -> list[dict]:
+    """The loading-only reruns of the grid's nodes (not the checks or the refined ladder), the softer first."""
+    return [loading_task(t) for t in tasks_for(scene) if t["kind"] == "node"]
+
+
+def run_loading(item: dict) -> dict:
+    """The FE loading branch of a node's task (:func:`loading_task`; runs in a worker, never raises):
+    the node's spec (its mesh, loading steps and peaks, so its loading loads), no unloading, each
+    loading row's force P [N], approach alpha [m] and the FE's contact radius [m] (calib.fe.recovery,
+    as the calibration's radius fit reads it)."""
+    from threadpoolctl import threadpool_limits
+
+    from calib.fe.loadpath import run_load_paths
+    from calib.fit.calibration import _body_meshes, _solver
+
+    material, R = item["material"], item["R"]
+    pair = ContactPair.sphere_flat(material, R)
+    t0 = time.perf_counter()
+    try:
+        spec = task_spec(item, pair)
+        with threadpool_limits(limits=1, user_api="blas"):     # as calibrate: small matrices, no threads
+            solver = _solver(spec, _body_meshes(spec))
+            paths = run_load_paths(solver, spec.plan, unload=False)
+    except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
+        return {"key": item["key"], "status": "failed", "name": item["name"],
+                "error": f"{type(exc).__name__}: {exc}"[:300]}
+    rows = paths.loading_rows
+    return {"key": item["key"], "status": "ok", "kind": "loading", "name": item["name"], "node_key": item["node_key"],
+            "nu": item["nu"], "E_over_sigma_y": item["E_over_sigma_y"], "sigma_y": item["sigma_y"],
+            "rho": item["rho"], "R": R, "level": item["level"], "P_Y": pair.P_Y, "a_Y": pair.a_Y,
+            "delta_Y": pair.delta_Y,
+            "loading": {key: [r[key] for r in rows] for key in ("P", "alpha", "contact_radius")},
+            "mesh": dataclasses.asdict(spec.mesh), "dofs": int(solver.basis.N),
+            **({key: item[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade", "refinement")}
+               if item.get("refinement") else {}),
+            "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit()}
+
+
+def describe_loading(row: dict) -> str:
+    if row.get("status") != "ok":
+        return f"{row.get('name')} failed: {row.get('error')}"
+    return f"{row['name']}: loading branch, {len(row['loading']['P'])} rows, {row['wall_time_s']:.0f} s"
+
+
+def run_loading_radius(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None = None,
+                       progress: Callable[[str], None] | None = None) -> list[dict]:
+    """The grid nodes' loading branches with the FE's contact radius (:func:`run_loading`,
+    resumable, calib.sweep.runner) in ``folder``/loading; the rows."""
+    from calib.sweep.runner import run_sweep
+
+    result = run_sweep(loading_tasks(scene), run_loading, Path(folder) / LOADING_FOLDER, keep=is_finished,
+                       workers=workers, scheduler=scheduler, progress=progress, describe=describe_loading)
+    return result.rows
 
 
 def refit_row(row: dict) -> dict | None:
@@ -270,19 +347,25 @@ def is_finished(row: dict) -> bool:
 def describe(row: dict) -> str:
     if row.get("status") != "ok":
         return f"{row.get('name')} failed: {row.get('error')}"
+    if row.get("kind") == "loading":
+        return describe_loading(row)
     return (f"{row['name']}: window {row['window']['P_min_over_P_Y']:.3g}-{row['window']['P_max_over_P_Y']:.4g} P_Y,"
             f" {len(row['paths'])} paths, {row['wall_time_s']:.0f} s")
 
 
 def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None = None,
-        progress: Callable[[str], None] | None = None, kinds: tuple = ("node", "check", "refine")) -> list[dict]:
-    """Every task of ``scene`` (resumable, calib.sweep.runner) in ``folder``/nodes; the rows."""
+        progress: Callable[[str], None] | None = None,
+        kinds: tuple = ("node", "check", "refine", "loading")) -> list[dict]:
+    """Every task of ``scene`` (resumable, calib.sweep.runner) in ``folder``/nodes, and (kind
+    "loading") the grid nodes' loading reruns in ``folder``/loading (:func:`run_loading_radius`); the rows."""
     from calib.sweep.runner import run_sweep
 
     tasks = [t for t in tasks_for(scene) if t["kind"] in kinds]
     result = run_sweep(tasks, run_task, Path(folder) / "nodes", keep=is_finished, workers=workers,
                        scheduler=scheduler, progress=progress, describe=describe, refit=refit_row)
-    return result.rows
+    if "loading" not in kinds:
+        return result.rows
+    return result.rows + run_loading_radius(scene, folder, workers, scheduler, progress)
 
 
 def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -343,22 +426,67 @@ def table_loads(nodes: list[dict]) -> np.ndarray:
     return np.unique(np.concatenate([x, kept]))
 
 
+RADIUS_RATIO_DEGREE = 3         # q(x) = a_FE / a_law: a polynomial of this degree in ln x, q(1) = 1
+
+
+def resample_radius(row: dict, loading: dict, x: np.ndarray) -> np.ndarray:
+    """f_a = a_p/a_Y of the vz-unload law's contact radius a = a_Y (x^(1/3) + f_a) at the common loads
+    ``x`` inside a node's window [1, top] (NaN above it), from the FE's contact radius a_FE along the
+    node's loading branch (``loading``, its loading-only rerun, :func:`run_loading`):
+
+        q(x) = a_FE / (a_Y (x^(1/3) + f(x))) = 1 + sum_{j=1..3} b_j (ln x)^j    (least squares over
+               the loading points 1 < x <= top; f the node's vz-table f, :func:`resample`)
+        f_a(x_k) = q(x_k) (x_k^(1/3) + f(x_k)) - x_k^(1/3)     (then >= 0 and non-decreasing)
+
+    A smooth q and not f_a node by node: between the table's loads the FE has two or three loading
+    points, and the table's last loads lie closer (the column tops), where a free fit of each
+    node's f_a swings and so would the law's continuation beyond the top. A ValueError when the
+    rerun's loading branch is not the node's."""
+    P, alpha = (np.asarray(loading["loading"][k], dtype=float) for k in ("P", "alpha"))
+    if P.size != len(row["loading"]["P"]) or not (np.allclose(P, row["loading"]["P"], rtol=1e-9, atol=0.0)
+                                                  and np.allclose(alpha, row["loading"]["alpha"], rtol=1e-9, atol=0.0)):
+        raise ValueError(f"vz master table: the loading rerun {loading['key']} of node {row['name']} does not follow "
+                         f"its loading branch (a different FE): run the scene again")
+    pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
+                                            row["rho"]), row["R"])
+    params = VZTableParams(pair, tuple(row["table"]["x"]), tuple(row["table"]["f"]), tuple(row["table"]["g"]))
+    load = P / pair.P_Y
+    points = (load > 1.0) & (load <= row["window"]["P_max_over_P_Y"] * (1 + 1e-9))
+    radius = np.asarray(loading["loading"]["contact_radius"], dtype=float)[points] / pair.a_Y
+    q = radius / (np.cbrt(load[points]) + params.tables(load[points])[0])
+    powers = np.arange(1, RADIUS_RATIO_DEGREE + 1)
+    b = np.linalg.lstsq(np.log(load[points])[:, None] ** powers, q - 1.0, rcond=None)[0]
+    f, _ = resample(row, x)
+    f_a = (1.0 + (np.log(x)[:, None] ** powers) @ b) * (np.cbrt(x) + f) - np.cbrt(x)     # NaN where f is
+    inside = np.isfinite(f_a)
+    f_a[inside] = np.maximum.accumulate(np.maximum(f_a[inside], 0.0))    # a plastic radius: >= 0, growing
+    return f_a
+
+
 def master_rows(rows: list[dict]) -> list[dict]:
     """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window, its
-    estimated discretisation error and the vz-unload law's rho and m (the CSV of
-    calib.fit.vz_master_table)."""
+    estimated discretisation error, the vz-unload law's rho and m and, when ``rows`` hold the nodes'
+    loading reruns (kind "loading"), the vz-unload law's contact radius f_a (:func:`resample_radius`)
+    (the CSV of calib.fit.vz_master_table)."""
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
+    loading = {r["node_key"]: r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"}
+    if loading and any(r["key"] not in loading for r in nodes):
+        missing = [r["name"] for r in nodes if r["key"] not in loading]
+        raise ValueError(f"vz master table: nodes without a loading rerun (contact radius): {', '.join(missing)}; "
+                         f"run the scene to the end first")
     x = table_loads(nodes)
     out = []
     for row in nodes:
         f, g = resample(row, x)
         rho, m = resample_unloading(row, x)
+        f_a = resample_radius(row, loading[row["key"]], x) if loading else None
         for k in range(x.size):
             out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_over_P_Y": float(x[k]),
                         "a_p_over_a_Y": float(f[k]), "C_R": float(g[k]),
                         "window_low": row["window"]["P_min_over_P_Y"], "window_top": row["window"]["P_max_over_P_Y"],
                         "rel_error_estimate": row["table_rel_error_estimate"],
-                        "delta_res_over_delta_max": float(rho[k]), "unloading_exponent": float(m[k])})
+                        "delta_res_over_delta_max": float(rho[k]), "unloading_exponent": float(m[k]),
+                        **({"radius_a_p_over_a_Y": float(f_a[k])} if loading else {})})
     return out
 
 
@@ -371,13 +499,15 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
         raise ValueError(f"vz master table: {len(nodes)} of {len(scene['nu']) * len(scene['E_over_sigma_y'])} grid "
                          f"nodes are calibrated; run the scene to the end first")
     table_rows = master_rows(rows)
-    stamp = output.stamp(sum(r["wall_time_s"] for r in nodes) if wall_time_s is None else wall_time_s,
+    loading = [r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"]
+    stamp = output.stamp(sum(r["wall_time_s"] for r in nodes + loading) if wall_time_s is None else wall_time_s,
                          mesh={**({"graded": grid_mesh(scene)} if grid_mesh(scene) else
                                   {"contact_size_over_a_max": scene["contact_size_over_a_max"]}
                                   if scene["contact_size_over_a_max"] else {"level": scene["level"]}),
                                "meshes": scene["meshes"]}, scene=scene["name"],
                          node_commits=sorted({r["git_commit"] for r in nodes}),
-                         fit_commits=sorted({r.get("fit_commit", r["git_commit"]) for r in nodes}))
+                         fit_commits=sorted({r.get("fit_commit", r["git_commit"]) for r in nodes}),
+                         **({"loading_commits": sorted({r["git_commit"] for r in loading})} if loading else {}))
     meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],
                                 "nu": scene["nu"], "E_over_sigma_y": scene["E_over_sigma_y"],
                                 "P_over_P_Y": list(table_loads(nodes)), "accuracy": accuracy,
@@ -389,7 +519,13 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                                               "lowest unloading path; delta_res_over_delta_max = rho, "
                                               "unloading_exponent = m of the vz-unload law at P_max/P_Y (calib.fit."
                                               "unload_fit.unloading_nodes on the node's FE unloading paths, PCHIP "
-                                              "between their peaks from rho = 0, m = 3/2 at P_Y; one mesh)"},
+                                              "between their peaks from rho = 0, m = 3/2 at P_Y; one mesh)"
+                                              + ("; radius_a_p_over_a_Y = f_a, the vz-unload law's a_p/a_Y at P/P_Y "
+                                                 "(its contact radius a = a_Y (x^(1/3) + f_a)): (x^(1/3) + f_a) = "
+                                                 "q (x^(1/3) + f), q a cubic in ln x fitted to the FE's contact radius "
+                                                 "along the node's loading branch (its loading-only rerun in loading/; "
+                                                 "calib.fit.vz_master_build.resample_radius)"
+                                                 if loading else "")},
             "stamp": stamp}
     output.write_csv(path, table_rows, comment=output.stamp_comment(stamp))
     output.write_json(path.with_suffix(".json"), meta)

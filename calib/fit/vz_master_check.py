@@ -10,11 +10,11 @@ is driven along every FE load-unload path (calib.fit.path_check.law_against_path
 
 A path counts as inside when its peak lies in the table's window at that material.
 
-The table's vz-unload law (VZMasterTable.unload_law: the same loading, the dent ratio rho and the
-unloading exponent m interpolated as f and g) and, for contrast, its vz-table law are driven along
-the same FE paths in what a DEM code reads after a contact (calib.fit.unload_check; the records
-keep no contact radius, so the radius is not checked here: calib.fit.master_radius_check checks it
-against direct FE runs that record it):
+The table's vz-unload law (VZMasterTable.unload_law: the same loading at the table's loads, its own
+contact radius f_a, the dent ratio rho and the unloading exponent m interpolated as f and g) and, for contrast, its vz-table law are driven along
+the same FE paths in what a DEM code reads after a contact (calib.fit.unload_check; the check
+records keep no contact radius, so the radius is not checked here: calib.fit.master_radius_check
+checks it against direct FE runs that record it):
 
     dent error      = delta_res,law / alpha_res,FE - 1   (and of alpha_max where the dent is small)
     unloading error = max |P_law - P_FE| / P_max over the FE's unloading points

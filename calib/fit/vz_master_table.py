@@ -20,7 +20,13 @@ The table also carries the vz-unload law's (nfdmodel.vz_unload) dent ratio rho =
 and unloading exponent m at each node and load (calib.fit.vz_master_build, from the node's FE
 unloading paths), interpolated the same way on the same loads and E / sigma_Y columns:
 
-    VZUnloadParams(pair, x_k, f, g, window, x_unload = x_k, rho, m),  rho(1) = 0, m(1) = 3/2
+    VZUnloadParams(pair, x_k, f_a, g_a, window, x_unload = x_k, rho, m),  rho(1) = 0, m(1) = 3/2
+
+with its own contact radius a = a_Y (x^(1/3) + f_a(x)): f_a at each node from the FE's contact radius
+along the node's loading branch (calib.fit.vz_master_build.resample_radius: x^(1/3) + f_a = q (x^(1/3)
++ f), q a cubic in ln x fitted to a_FE / a_Y (x^(1/3) + f); f itself is fitted to the force and the
+returned work and overstates the FE's radius by 1-6 %), interpolated like f; g_a = g ((x^(1/3) +
+f_a)/(x^(1/3) + f))^2 keeps the vz-table law's loading curve D(x_k) at every table load.
 
 numpy/scipy only (``nfdcal material --v-max`` answers in a fraction of a second). Its accuracy,
 against direct FE at off-grid materials (calib.fit.vz_master_check), is in the table's .json.
@@ -39,6 +45,7 @@ from nfdmodel.vz_unload import HERTZ_EXPONENT
 
 DEFAULT_TABLE = DATA_DIR / "vz_master_table.csv"
 UNLOADING_COLUMNS = ("delta_res_over_delta_max", "unloading_exponent")   # rho, m of the vz-unload law
+RADIUS_COLUMN = "radius_a_p_over_a_Y"     # f_a of the vz-unload law: its contact radius a = a_Y (x^(1/3) + f_a)
 # The law between P_Y and the nodes' lowest unloading path (2 P_Y) against FE load-unload paths to 1.2,
 # 1.5 and 1.8 P_Y (small strain, the graded mesh of 25 elements across every contact radius from 1.1 P_Y,
 # E/sigma_Y 175, 400 and 700, nu 0.29-0.34): e within 0.74 %, force within 1.0 % (targets 2 %, 5 %). So the
@@ -69,6 +76,7 @@ class VZMasterTable:
     rel_error: np.ndarray         # the nodes' estimated discretisation error (NaN: not estimated)
     rho: np.ndarray | None = None   # the vz-unload law's delta_res/delta_max and unloading exponent m at x
     m: np.ndarray | None = None     # (as f, g; None: a table without them)
+    f_a: np.ndarray | None = None   # the vz-unload law's contact radius a_p/a_Y at x (None: f's)
     meta: dict = field(default_factory=dict)
     path: Path | None = None
 
@@ -86,6 +94,8 @@ class VZMasterTable:
         low, top, err = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
         unloading = all(k in rows[0] for k in UNLOADING_COLUMNS)
         rho, m = np.full(shape + (x.size,), np.nan), np.full(shape + (x.size,), np.nan)
+        radius = RADIUS_COLUMN in rows[0]
+        f_a = np.full(shape + (x.size,), np.nan)
         for r in rows:
             i, j, k = (int(np.searchsorted(a, float(r[c]))) for a, c in
                        ((nu, "nu"), (ratio, "E_over_sigma_y"), (x, "P_over_P_Y")))
@@ -93,6 +103,8 @@ class VZMasterTable:
             if unloading:
                 rho[i, j, k], m[i, j, k] = (float(r[c]) if isinstance(r[c], float) else np.nan
                                             for c in UNLOADING_COLUMNS)
+            if radius:
+                f_a[i, j, k] = float(r[RADIUS_COLUMN]) if isinstance(r[RADIUS_COLUMN], float) else np.nan
             low[i, j], top[i, j] = float(r["window_low"]), float(r["window_top"])
             e = r.get("rel_error_estimate")
             err[i, j] = float(e) if isinstance(e, float) else np.nan
@@ -102,7 +114,7 @@ class VZMasterTable:
         if nu.size < 2 or ratio.size < 2 or x[0] != 1.0:
             raise ValueError(f"vz master table{where}: need >= 2 values of nu and of E/sigma_Y and loads from P/P_Y = 1")
         return cls(nu, ratio, x, f, g, low, top, err, rho if unloading else None, m if unloading else None,
-                   meta or {}, path)
+                   f_a if radius else None, meta or {}, path)
 
     @classmethod
     def load(cls, path: str | Path | None = None) -> "VZMasterTable":
@@ -151,6 +163,10 @@ class VZMasterTable:
             unloading = self._interpolate(np.stack([self.rho, self.m], axis=-1), finite, stop, nu, lr)
             out["rho"], out["m"] = unloading[:, 0].copy(), unloading[:, 1].copy()
             out["rho"][0], out["m"][0] = 0.0, HERTZ_EXPONENT      # first yield: Hertz's, exactly
+        if self.f_a is not None:       # the vz-unload law's radius, the same way
+            f_a = self._interpolate(self.f_a[..., None], finite, stop, nu, lr)[:, 0]
+            out["f_a"] = np.maximum.accumulate(np.maximum(f_a, 0.0))
+            out["f_a"][0] = 0.0
         return out
 
     def _interpolate(self, stack: np.ndarray, finite: np.ndarray, stop: int, nu: float, lr: float) -> np.ndarray:
@@ -201,19 +217,28 @@ class VZMasterTable:
                                  f"{BELOW_NODES['worst_force_error']:.1%} at worst)")
 
     def unload_law(self, material: Material, R: float) -> VZUnloadParams:
-        """The vz-unload law of that sphere: :meth:`law`'s loading tables with the table's rho, m
-        interpolated at the same loads (x_unload = x; rho = 0, m = 3/2 at P_Y), declared from the nodes'
-        lowest unloading path (its dent and exponent below it are not checked against the FE). A
-        ValueError when the table carries no unloading columns."""
+        """The vz-unload law of that sphere: the table's rho, m interpolated at :meth:`law`'s loads
+        (x_unload = x; rho = 0, m = 3/2 at P_Y), declared from the nodes' lowest unloading path (its
+        dent and exponent below it are not checked against the FE). Its contact radius is the
+        table's own f_a (fitted to the FE's, RADIUS_COLUMN) and its loading the vz-table law's at
+        every table load: D = (x^(1/3) + f)^2 / g = (x^(1/3) + f_a)^2 / g_a, so
+
+            g_a(x_k) = g(x_k) ((x_k^(1/3) + f_a(x_k)) / (x_k^(1/3) + f(x_k)))^2
+
+        (a table without f_a: f_a = f, g_a = g). A ValueError when the table carries no unloading columns."""
         if not self.has_unloading:
             name = self.path.name if self.path else "vz master table"
             raise ValueError(f"{name} has no columns {', '.join(UNLOADING_COLUMNS)}: the vz-unload law needs them "
                              f"(nfdcal table vz_master_grid --master-out CSV writes them)")
         values = self.tables(float(material.nu), float(material.E / material.sigma_y))
         pair = ContactPair.sphere_flat(material, R)
+        f, g = values["f"], values["g"]
+        if "f_a" in values:
+            c = np.cbrt(values["x"])
+            f, g = values["f_a"], g * ((c + values["f_a"]) / (c + f)) ** 2
         x = tuple(values["x"])
-        return VZUnloadParams(pair, x, tuple(values["f"]), tuple(values["g"]),
-                              self._window(values, pair, from_yield=False), x, tuple(values["rho"]), tuple(values["m"]))
+        return VZUnloadParams(pair, x, tuple(f), tuple(g), self._window({**values, "f": f}, pair, from_yield=False),
+                              x, tuple(values["rho"]), tuple(values["m"]))
 
     @property
     def accuracy(self) -> str:

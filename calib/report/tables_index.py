@@ -82,6 +82,9 @@ def vz_master_table(root: Path) -> list[str]:
               "paths log-spaced over its window (`nodes/`; `nfdcal material --v-max V` reads it)"
               + (", and the vz-unload law's dent ratio delta_res/delta_max and unloading exponent m from the same "
                  "nodes' unloading paths (`nfdcal material --v-max V --law vz-unload`)" if unloading else "")
+              + (", its contact radius a_p/a_Y from the FE's contact radius along the nodes' loading branches "
+                 "(`loading/`: each node's loading rerun alone, the same loads)" if "radius_a_p_over_a_Y"
+                 in law_table.get("definition", "") else "")
               + f". Accuracy, against FE paths of off-grid materials (`vz_master_check.*`): {law_table['accuracy']}.",
               ""]
     rows = [[f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['P_max_over_P_Y']:.3g}",
