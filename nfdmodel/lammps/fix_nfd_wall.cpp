@@ -54,6 +54,7 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
 {
     if (narg <= first) error->all(FLERR, fmt::format("{}: need {} and the material", who(), geometry));
     std::vector<char *> rest(arg + first, arg + narg);    // the constants and models, without the keywords
+    energy = read_energy_keyword(rest);
     const NfdMaterial *pair = read_pair_constants(rest);
     const NfdMaterial *wall = read_wall_material(rest);
     if (pair && !wall)
@@ -69,7 +70,25 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
     if (pair) material = NfdLaw::with_pair(material, *pair);
     material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
                                          wall ? wall->nu : 0.0);
-    width = record_width(material.models.any());
+    const bool models = material.models.any();
+    width = energy ? record_width(models) : models ? NHIST + NFRICTION : NHIST;
+}
+
+bool FixNfdWall::read_energy_keyword(std::vector<char *> &rest)
+{
+    bool found = false;
+    for (size_t k = 0; k < rest.size();) {
+        // a parameter file may be named energy: `file energy` is its path
+        if (std::strcmp(rest[k], "energy") != 0 || (k > 0 && std::strcmp(rest[k - 1], "file") == 0)) {
+            ++k;
+            continue;
+        }
+        if (found) error->all(FLERR, fmt::format("{}: energy given twice", who()));
+        if (k == 0) error->all(FLERR, fmt::format("{} energy: need the keyword after the law's constants", who()));
+        found = true;
+        rest.erase(rest.begin() + static_cast<long>(k));
+    }
+    return found;
 }
 
 const NfdMaterial *FixNfdWall::read_wall_material(std::vector<char *> &rest)
@@ -190,6 +209,8 @@ void FixNfdWall::post_force(int /*vflag*/)
         double *stored = history[i];
         const double delta = radius[i] - side * (x[i][dim] - coord);
         if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
+            // a record stays all zeros until a contact step, which sets delta_max >= delta > 0
+            if (stored[0] == 0.0) continue;
             if (stored[1] > 0.0) count_below_window(stored, radius[i]);
             for (int k = 0; k < width; ++k) stored[k] = 0.0;
             continue;
@@ -253,8 +274,8 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
         nfd_friction_history springs_next;
         status = nfd_contact_step(law->code, &c, &p, &material.table, &material.friction, &h, &springs,
                                   update->setupflag ? 0 : 1, &next, &springs_next, &out);
-        if (status >= 0) {
-            store_friction(springs_next, 1.0, stored + NHIST);
+        if (status >= 0) store_friction(springs_next, 1.0, stored + NHIST);
+        if (status >= 0 && energy) {
             double dr[3], turn[3];
             const double still[3] = {0.0, 0.0, 0.0};
             for (int d = 0; d < 3; ++d) {
@@ -267,7 +288,7 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
         force = out.F_n;
     } else {
         status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
-        if (status >= 0) {
+        if (status >= 0 && energy) {
             double dr[3];
             for (int d = 0; d < 3; ++d) dr[d] = update->dt * (atom->v[i][d] - v_wall[d]);
             ContactEnergy::law_step(stored + NHIST, law->code, delta, next, force, n, dr, 1.0, !update->setupflag);

@@ -102,6 +102,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* `pair_constants ...` taken out of rest: the law's constants calibrated for this sphere on this
      * wall (NfdLaw::read_pair), used in place of the sphere's; nullptr without the keyword. */
     const NfdMaterial *read_pair_constants(std::vector<char *> &rest);
+    /* `energy` taken out of rest: the energy block is kept (per-atom columns after the history and
+     * springs); without it the fix stores the history and springs alone. */
+    bool read_energy_keyword(std::vector<char *> &rest);
     /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
      * width doubles of the history]; registers the per-atom callbacks and the outputs. */
     void allocate(int slots, bool tagged);
@@ -124,7 +127,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     NfdMaterial material;         // the contact's constants: the sphere's, E* with the wall's
     NfdMaterial wall;             // wall_material: E_w, nu_w, E_w / (1 - nu_w^2)
     NfdMaterial pair;             // pair_constants: the constants calibrated for the sphere on this wall
-    int width = NHIST;            // doubles per history: record_width(contact models on) (nfd_energy.h)
+    bool energy = false;          // the energy block kept (keyword energy)
+    int width = NHIST;            // doubles per history: with energy record_width(contact models on)
+                                  // (nfd_energy.h), else NHIST (+ NFRICTION with models)
     int slots = 1;                // contacts kept per atom
     int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged
     int row = NHIST;              // doubles per atom: slots * stride
