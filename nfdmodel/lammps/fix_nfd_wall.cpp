@@ -244,7 +244,7 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
 {
     double **f = atom->f;
     touching_local += 1.0;
-    const nfd_params p = contact_params(R_star);
+    const nfd_params &p = contact_params(R_star);
     const nfd_history h = load_history(stored);
     if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
         double v_n = 0.0;
