@@ -9,6 +9,7 @@
  *     ... [pair_constants Ca_hat Kc_hat [window W] | pair_constants file pair.json]   (with wall_material:
  *         the constants calibrated for this sphere on this wall, in place of the sphere's)
  *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
+ *     ... [energy]   (keep each contact's forces and dissipated energies: the energy block columns)
  *
  * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
  * (lo) or above (hi). Each atom of the group is a sphere of its own radius R on a rigid flat, the
@@ -32,9 +33,10 @@
  * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
  * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
  * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
- * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]), then the
- * energy block (nfd_energy.h; columns 6-10, with models 14-18): F_n [N], |F_t| [N], the plastic,
- * viscous and frictional energy dissipated so far [J], and the block's working values. Loads
+ * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]), then, with
+ * the keyword energy, the energy block (nfd_energy.h; columns 6-10, with models 14-18): F_n [N], |F_t|
+ * [N], the plastic, viscous and frictional energy dissipated so far [J], and the block's working
+ * values; without it the fix skips that bookkeeping (as the pair style without a compute pair/local). Loads
  * beyond the window are counted and reported at the end of each run like the pair style's, in a
  * line naming the fix's ID and style; the plane wall also counts contacts that end after turning
  * below the window's lowest unloading (window P_min/P_Y P_max/P_Y).
