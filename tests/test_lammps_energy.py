@@ -15,6 +15,8 @@ pair_style nfd/<law> and the wall fixes' per-atom columns, against what the law 
   the integrator's level, 1e-5 (measured 1.2e-6 for the spheres, 1.8e-6 on the wall, ~500 steps per
   contact, P_max 280 and 650 P_Y); the dent equals nfdmodel.collide's final delta_res to 1e-9 (measured
   1e-12); collide's record of the plastic energy equals the law's to 1e-5.
+- A wall fix keeps the energy block with the keyword energy only: without it the sphere moves and the
+  history and springs evolve the same bit for bit, and the plane wall's array ends with them.
 """
 from __future__ import annotations
 
@@ -93,7 +95,7 @@ def two_spheres(plugin: str, models: str, v: tuple, spins: tuple, steps: int, pr
 def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int, region: bool = False) -> str:
     """A sphere R_1 touching the wall z = 0 (fix nfd/wall/vz, or region: the zlo face of a block, fix
     nfd/wall/region/vz) at velocity v, spin omega; the per-atom columns of the fix: delta_res (3) and the
-    energy block after the history (and the springs); a region's slot leads with its facet."""
+    energy block (keyword energy) after the history (and the springs); a region's slot leads with its facet."""
     lead = 1 if region else 0
     block = 6 + (8 if models else 0) + lead     # the first energy column (1-based): after NHIST (and NFRICTION)
     fix = ("region wall block -0.1 0.1 -0.05 0.05 0.0 0.1 side in\nfix w all nfd/wall/region/vz wall" if region
@@ -106,7 +108,7 @@ def sphere_on_wall(plugin: str, models: str, v: tuple, spin: tuple, steps: int, 
              f"set atom 1 omega {' '.join(num(w) for w in spin)}",
              f"plugin load {plugin}", "pair_style zero 0.001", "pair_coeff * *", "neighbor 0.001 bin",
              "neigh_modify every 1 delay 0 check no",
-             f"{fix} {constants()} {models}".strip(),
+             f"{fix} {constants()} {models} energy",            # the energy block kept: columns after the history
              "fix 1 all nve/sphere", f"timestep {num(DT)}", "compute k all ke", "compute rot all erotate/sphere",
              "variable d equal radius[1]-z[1]",
              "variable f equal sqrt(fx[1]^2+fy[1]^2+fz[1]^2)"]
@@ -249,3 +251,36 @@ def test_vz_unload_plastic_part_is_the_kinetic_energy_lost(plugin, tmp_path, wal
     law = (1.0 - collided.e_velocity[0] ** 2) * 0.5 * pair.mass_star * v_in**2
     assert plastic == pytest.approx(law, rel=1e-6)
     assert out["contact"][-1, 1] == pytest.approx(collided.delta_res[0], rel=1e-9)    # the dent, p5
+
+
+@pytest.mark.parametrize("region", [False, True])
+def test_a_wall_without_energy_moves_the_sphere_alike_and_has_no_energy_columns(plugin, tmp_path, region):
+    """Without the keyword energy the wall fix skips the energy block: the sphere's motion and the
+    contact's history and springs (per-atom columns 1-13, a region's after its facet) are the same
+    bit for bit as with it; the plane wall's column 14 (the block's first with it) is LAMMPS's
+    out-of-range error; energy twice is one error naming the keyword."""
+    pair = ContactPair.sphere_flat(MATERIAL, R_1)
+    text = sphere_on_wall(plugin, MODELS["rolling"], (0.2, -0.1, -0.4), (5.0, -30.0, 10.0), steps_for(pair, 0.4),
+                          region)
+    lead = 1 if region else 0
+    history = " ".join(f"f_w[{c + lead}]" for c in range(1, 14))
+    lines = [line for line in text.splitlines() if not line.startswith(("compute wr", "thermo_style"))]
+    lines.insert(-3, f"compute wh all reduce sum {history}")
+    lines.insert(-3, "thermo_style custom step c_k c_rot v_d " + " ".join(f"c_wh[{k}]" for k in range(1, 14)))
+    with_energy = "\n".join(lines) + "\n"
+    without = with_energy.replace(" energy\n", "\n")
+    assert without.count(" energy") == 0 and with_energy.count(" energy\n") == 1
+    outputs = []
+    for case in (with_energy, without):
+        code, output = lammps_pour.run_input(case, tmp_path, 1, timeout=180)
+        assert code == 0 and "ERROR" not in output, output[-2000:]
+        outputs.append(lammps_pour.thermo_rows(output, 17))
+    assert outputs[0].shape[0] > 100 and (outputs[0][:, 4] > 0.0).any()          # the contact happened
+    assert outputs[0].tolist() == outputs[1].tolist()
+    if not region:          # the plane wall's array ends at 13 (a region's next slot follows)
+        beyond = without.replace(f"compute wh all reduce sum {history}", f"compute wh all reduce sum {history} f_w[14]")
+        assert "ERROR" in lammps_pour.run_input(beyond, tmp_path, 1, timeout=180)[1]
+    twice = with_energy.replace(" energy\n", " energy energy\n")
+    refused = [line for line in lammps_pour.run_input(twice, tmp_path, 1, timeout=180)[1].splitlines()
+               if line.startswith("ERROR")]
+    assert len(refused) == 1 and "energy given twice" in refused[0], refused

@@ -56,6 +56,7 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
     std::vector<char *> rest(arg + first, arg + narg);    // the constants and models, without the keywords
     nfd_rate rate{};
     const bool rate_given = take_rate(lmp, who(), law, rest, &rate);     // first: no other keyword's value
+    energy = read_energy_keyword(rest);
     const NfdMaterial *pair = read_pair_constants(rest);
     const NfdMaterial *wall = read_wall_material(rest);
     if (pair && !wall)
@@ -73,7 +74,26 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
     material.rate = rate;
     material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
                                          wall ? wall->nu : 0.0);
-    width = record_width(material.models.any()) + (material.rate_on ? NRATE : 0);    // R last (nfd_energy.h)
+    const bool models = material.models.any();
+    width = (energy ? record_width(models) : models ? NHIST + NFRICTION : NHIST) +
+            (material.rate_on ? NRATE : 0);    // R last (nfd_energy.h)
+}
+
+bool FixNfdWall::read_energy_keyword(std::vector<char *> &rest)
+{
+    bool found = false;
+    for (size_t k = 0; k < rest.size();) {
+        // a parameter file may be named energy: `file energy` is its path
+        if (std::strcmp(rest[k], "energy") != 0 || (k > 0 && std::strcmp(rest[k - 1], "file") == 0)) {
+            ++k;
+            continue;
+        }
+        if (found) error->all(FLERR, fmt::format("{}: energy given twice", who()));
+        if (k == 0) error->all(FLERR, fmt::format("{} energy: need the keyword after the law's constants", who()));
+        found = true;
+        rest.erase(rest.begin() + static_cast<long>(k));
+    }
+    return found;
 }
 
 const NfdMaterial *FixNfdWall::read_wall_material(std::vector<char *> &rest)
@@ -194,6 +214,8 @@ void FixNfdWall::post_force(int /*vflag*/)
         double *stored = history[i];
         const double delta = radius[i] - side * (x[i][dim] - coord);
         if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
+            // a record stays all zeros until a contact step, which sets delta_max >= delta > 0
+            if (stored[0] == 0.0) continue;
             if (stored[1] > 0.0) count_below_window(stored, radius[i]);
             for (int k = 0; k < width; ++k) stored[k] = 0.0;
             continue;
@@ -227,7 +249,7 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
 {
     double **f = atom->f;
     touching_local += 1.0;
-    nfd_params p = contact_params(R_star);
+    nfd_params p = contact_params(R_star);     // a copy: the rate-aware law scales it per contact
     const nfd_history h = load_history(stored);
     if (material.rate_on) rate_params(i, delta, n, v_wall, stored, p);
     if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
@@ -258,8 +280,8 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
         nfd_friction_history springs_next;
         status = nfd_contact_step(law->code, &c, &p, &material.table, &material.friction, &h, &springs,
                                   update->setupflag ? 0 : 1, &next, &springs_next, &out);
-        if (status >= 0) {
-            store_friction(springs_next, 1.0, stored + NHIST);
+        if (status >= 0) store_friction(springs_next, 1.0, stored + NHIST);
+        if (status >= 0 && energy) {
             double dr[3], turn[3];
             const double still[3] = {0.0, 0.0, 0.0};
             for (int d = 0; d < 3; ++d) {
@@ -272,7 +294,7 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
         force = out.F_n;
     } else {
         status = nfd_step(law->code, delta, &p, &material.table, &h, &force, &next, nullptr);
-        if (status >= 0) {
+        if (status >= 0 && energy) {
             double dr[3];
             for (int d = 0; d < 3; ++d) dr[d] = update->dt * (atom->v[i][d] - v_wall[d]);
             ContactEnergy::law_step(stored + NHIST, law->code, delta, next, force, n, dr, 1.0, !update->setupflag);

@@ -11,6 +11,7 @@
  *     ... [pair_constants Ca_hat Kc_hat [window W] | pair_constants file pair.json]   (with wall_material:
  *         the constants calibrated for this sphere on this wall, in place of the sphere's)
  *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
+ *     ... [energy]   (keep each contact's forces and dissipated energies: the energy block columns)
  *
  * FACE is xlo, xhi, ylo, yhi, zlo or zhi: the plane x = COORD (...) bounding the atoms from below
  * (lo) or above (hi). Each atom of the group is a sphere of its own radius R on a rigid flat, the
@@ -34,9 +35,10 @@
  * Outputs: the global scalar, the group's total normal force on the wall [N] (extensive); the
  * global vector [1], the atoms touching the wall; the per-atom array of the history: 1 delta_max
  * [m], 2 P_max [N], 3 delta_res [m], 4 K_u, 5 a_e_max [m] (with models also 6-8 the tangential
- * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]), then the
- * energy block (nfd_energy.h; columns 6-10, with models 14-18): F_n [N], |F_t| [N], the plastic,
- * viscous and frictional energy dissipated so far [J], and the block's working values. Loads
+ * spring, 9-11 the rolling spring [m], 12 the twist angle, 13 the last contact radius [m]), then, with
+ * the keyword energy, the energy block (nfd_energy.h; columns 6-10, with models 14-18): F_n [N], |F_t|
+ * [N], the plastic, viscous and frictional energy dissipated so far [J], and the block's working
+ * values; without it the fix skips that bookkeeping (as the pair style without a compute pair/local). Loads
  * beyond the window are counted and reported at the end of each run like the pair style's, in a
  * line naming the fix's ID and style; the plane wall also counts contacts that end after turning
  * below the window's lowest unloading (window P_min/P_Y P_max/P_Y).
@@ -104,6 +106,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     /* `pair_constants ...` taken out of rest: the law's constants calibrated for this sphere on this
      * wall (NfdLaw::read_pair), used in place of the sphere's; nullptr without the keyword. */
     const NfdMaterial *read_pair_constants(std::vector<char *> &rest);
+    /* `energy` taken out of rest: the energy block is kept (per-atom columns after the history and
+     * springs); without it the fix stores the history and springs alone. */
+    bool read_energy_keyword(std::vector<char *> &rest);
     /* The per-atom store: `slots` contacts per atom, each [its facet's tag (tagged only), the
      * width doubles of the history]; registers the per-atom callbacks and the outputs. */
     void allocate(int slots, bool tagged);
@@ -129,7 +134,9 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     NfdMaterial material;         // the contact's constants: the sphere's, E* with the wall's
     NfdMaterial wall;             // wall_material: E_w, nu_w, E_w / (1 - nu_w^2)
     NfdMaterial pair;             // pair_constants: the constants calibrated for the sphere on this wall
-    int width = NHIST;            // doubles per history: record_width(contact models on) (nfd_energy.h)
+    bool energy = false;          // the energy block kept (keyword energy)
+    int width = NHIST;            // doubles per history: with energy record_width(contact models on)
+                                  // (nfd_energy.h), else NHIST (+ NFRICTION with models)
     int slots = 1;                // contacts kept per atom
     int stride = NHIST;           // doubles per slot: width, plus a leading tag when tagged
     int row = NHIST;              // doubles per atom: slots * stride

@@ -6,6 +6,7 @@
  *     ... [wall_material E_w nu_w] [pair_constants ...]   (the wall's elastic material and the constants
  *         calibrated for the sphere on it, as fix nfd/wall/<law>)
  *     ... [damping ...] [tangential ...] [rolling ...] [twisting ...]   (nfd_models.h, optional)
+ *     ... [energy]   (the energy block kept, as fix nfd/wall/<law>)
  *
  * The contacts are LAMMPS's own (Region::surface, as fix wall/gran/region finds them): each atom
  * of the group whose centre the region holds (Region::match) touches each facet of the region's
@@ -34,7 +35,7 @@
  * Outputs: the global scalar, the sum of the contacts' normal forces [N]; the vector [1], the
  * contacts; the per-atom array, slot after slot (Region::tmax slots): 1 the facet (iwall + 1; 0 an
  * empty slot), then the history of fix nfd/wall (2-6 delta_max ... a_e_max, with models 7-14 the
- * springs and the last contact radius).
+ * springs and the last contact radius; with energy, then the energy block).
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */

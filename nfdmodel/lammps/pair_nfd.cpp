@@ -14,13 +14,6 @@
  *
  * License: GPL-2.0-or-later (see nfd_law.h).
  */
-// GCC's straight-line vectorisation at -O2 packs the contact's 3-vectors (nfd_friction.h) into
-// SSE registers through the stack, where the packed loads wait on the scalar stores: the contact
-// step runs 10 % faster without it (tests/benchmarks/bench_lammps.py). The arithmetic is the same.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC optimize("no-tree-slp-vectorize")
-#endif
-
 #include "pair_nfd.h"
 
 #include "fix_nfd_history.h"

@@ -17,10 +17,10 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
      contacts), so it times the per-pair and per-atom overhead.
    - With --friction, the pile again with friction and rolling resistance on both sides
      (FRICTION: tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1 after each law's constants;
-     granular keeps its e = 0.8 damping): the target there is nfd/vz <= 1.3x granular.
+     granular keeps its e = 0.8 damping): the target there is nfd/vz <= 1.1x granular.
    - With --region, that pile with friction again, its floor a region's face (region_floor: a block
      reaching beyond the box, side in) under fix nfd/wall/region/vz against fix wall/gran/region of
-     the same models: the region wall's cost is in the Modify column.
+     the same models: the region wall's cost is in the Modify column (target: 1.1x wall/gran/region's).
    - The dense pile (--pile-spheres, default 3000): lammps_pour.settle_input settles it once
      (granular, e = 0.1: a fall, then a drag quench; 95000 steps, about 70 s on 1 core) and
      writes it with write_data; from that same pile each law runs --pile-steps steps of 1e-7 s,
@@ -67,7 +67,7 @@ DT = 1e-7                       # s
 RADIUS = 0.01                   # m: the restitution sweep's spheres
 SPEEDS_OVER_V_Y = (1.0, 2.0, 5.0, 10.0, 20.0, 40.0, 100.0)
 TARGET_RATIO = 1.5
-TARGET_FRICTION_RATIO = 1.3     # the pile with friction and rolling resistance
+TARGET_FRICTION_RATIO = 1.1     # the pile with friction and rolling resistance, and its region wall
 FRICTION = "tangential mindlin NULL 0 0.3 rolling sds 1000 0 0.1"   # --friction: both laws, both sides
 
 
