@@ -66,7 +66,8 @@ E_ONLY = ("e alone fixes only v_in / v_Y (v_Y ~ sigma_Y^(5/2)): v_in in other un
 
 
 def add_parser(subparsers) -> None:
-    parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves",
+    parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves; --rate-law: sigma_Y and "
+                                        "a rate constant from drop tests at several speeds",
                                    description=__doc__.split("\n\n")[0])
     parser.add_argument("--impacts", default=None, metavar="CSV",
                         help="drop tests: columns v_in [m/s], e [-]; optional P_max [N], contact_time [s], dent [m] "

@@ -44,7 +44,7 @@ LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz maste
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("material",
                                    help="Ca, Kc from the master table, or (--v-max) the vz-table law from the vz master "
-                                        "table; no FE",
+                                        "table (--rate-law: with its strain-rate dependence); no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
