@@ -45,7 +45,8 @@ fitted together to drop tests at several speeds on the rate-aware vz-table law
 each with its 95 % interval (statistical, the table's model-form error, the rate-aware law's c). When
 the speeds span too little (R nearly constant across the tests) the data determine only sigma_Y R at
 the tests' mean strain rate: fit-data refuses in one line (exit 2) naming that combination, its value
-and standard error. Drop tests only (a force curve carries no strain rate; no dent column); --params-out
+and standard error (and, when the residuals exceed the law's measured level, that the rate-aware law
+does not describe the data to it). Drop tests only (a force curve carries no strain rate; no dent column); --params-out
 writes the vz-table law with the fitted rate law ("rate_law", nfdmodel/parameter_file.py).
 """
 from __future__ import annotations

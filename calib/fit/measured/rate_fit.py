@@ -29,7 +29,10 @@ DETERMINED_RELATIVE_SE, 10 %). When the speeds span too little, R varies little 
 the data determine only the flow stress at the tests' strain rates: the report names that combination,
 sigma_Y R at the tests' mean strain rate (sigma_Y exp(mean ln R_i), the geometric mean of the tests'
 R), its value and relative standard error, and the spread of R across the tests; fit-data then refuses
-(one line, exit 2): the two are not fitted apart.
+(one line, exit 2): the two are not fitted apart. Johnson-Cook with every test below eps_dot_0 (R = 1
+throughout) determines sigma_Y alone, said so. The refusal adds, when the rms residuals exceed twice the
+vz-table law's residual on noise-free FE data (and the stated noise), that the rate-aware law does not
+describe the data to that level: then the combination's figure carries the law's error too.
 """
 from __future__ import annotations
 
@@ -120,6 +123,7 @@ class RateFit:
     identifiability: dict
     uncertainty: dict
     verdict: str
+    consistent: bool
     data_window: tuple
 
     @property
@@ -233,7 +237,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
                    rates, factors, report,
                    {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C, "dof_statistical": n - 2,
                     "c_response": dict(zip(names, map(float, response)))},
-                   verdict, window)
+                   verdict, consistent, window)
 
 
 def identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, degenerate, specimen, table,
@@ -291,11 +295,19 @@ def undetermined(result: RateFit) -> str:
         return ""
     flow = report["determined_combination"]
     factors = result.rate_factors
-    said = ", ".join(f"{key} to {100 * rel:.2g} %" for key, rel in report["relative_se"].items())
-    return (f"the speeds span too little to fit sigma_Y and {result.name} apart: R varies by "
+    said = ", ".join(f"{key} to {100 * rel:.2g} %" if math.isfinite(rel) else f"{key} not at all"
+                     for key, rel in report["relative_se"].items())
+    if factors.max() <= 1.0 + 1e-12:                 # Johnson-Cook: every test below eps_dot_0, where R = 1
+        return (f"every test's strain rate ({result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s) lies "
+                f"below the reference rate eps_dot_0 = {result.fixed:g} /s, where R = 1: the data do not determine "
+                f"{result.name}; they determine sigma_Y = {flow['value']:.4g} Pa +- {100 * flow['relative_se']:.2g} % "
+                f"(fit it without --rate-law), or give a lower --jc-reference-rate")
+    misfit = "" if result.consistent else (f"; {result.verdict}: the rate-aware law does not describe these data "
+                                           f"to that level")
+    return (f"the data do not determine sigma_Y and {result.name} apart: R varies by "
             f"{100 * report['rate_factor_spread']:.2g} % across the tests (R {factors.min():.4g}..{factors.max():.4g}, "
             f"eps_dot {result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s), so they would be known "
             f"only to {said} (> {100 * DETERMINED_RELATIVE_SE:g} %); the data determine sigma_Y R at the tests' mean "
             f"strain rate {flow['strain_rate']:.3g} /s = {flow['value']:.4g} Pa +- {100 * flow['relative_se']:.2g} %; "
             f"drop tests over a wider range of speeds would separate them, or give sigma_Y with the rate law's "
-            f"constants to nfdcal material --v-max --rate-law")
+            f"constants to nfdcal material --v-max --rate-law{misfit}")
