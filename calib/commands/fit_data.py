@@ -108,7 +108,13 @@ def add_parser(subparsers) -> None:
                              "otherwise), flagged as such in the summary and the parameter file")
     add_rate_law_arguments(parser, "fit sigma_Y with one rate constant free on the rate-aware vz-table law "
                                    "(drop tests at several speeds): cowper-symonds (D fitted, --cs-q given) or "
-                                   "johnson-cook (C fitted, --jc-reference-rate given, default 1 /s)")
+                                   "johnson-cook (C fitted, --jc-reference-rate given, default 1 /s)",
+                           {"jc_C": "with --rate-law johnson-cook: the fitted C's start [-] (1e-4 to 1; default: a "
+                                    "coarse scan)",
+                            "cs_D": "with --rate-law cowper-symonds: the fitted D's start [1/s] (1e-3 to 1e12; "
+                                    "default: a coarse scan)",
+                            "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law "
+                                    "cowper-symonds: held while D is fitted)"})
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
     add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
