@@ -285,12 +285,13 @@ RATE_LAW_HELP = {
 RATE_LAW_FLAGS = {"johnson-cook": ("jc_C", "jc_reference_rate"), "cowper-symonds": ("cs_D", "cs_q")}
 
 
-def add_rate_law_arguments(parser, rate_law_help: str | None = None) -> None:
+def add_rate_law_arguments(parser, rate_law_help: str | None = None, helps: dict | None = None) -> None:
     """--rate-law johnson-cook|cowper-symonds and its constants --jc-C --jc-reference-rate --cs-D --cs-q
-    (``rate_law_help``: --rate-law's own help, default the dynamic FE's)."""
+    (``rate_law_help``: --rate-law's own help, default the dynamic FE's; ``helps``: other flags' help by key)."""
     for key, help_text in RATE_LAW_HELP.items():
         if key == "rate_law" and rate_law_help is not None:
             help_text = rate_law_help
+        help_text = (helps or {}).get(key, help_text)
         parser.add_argument(flag_name(key), dest=key, default=None,
                             metavar={"rate_law": "johnson-cook|cowper-symonds", "jc_C": "C",
                                      "jc_reference_rate": "RATE", "cs_D": "D", "cs_q": "q"}[key], help=help_text)

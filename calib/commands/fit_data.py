@@ -37,13 +37,25 @@ below first yield, and a residual far above any plausible scatter (calib.fit.mea
 --force reports and writes such a fit, flagged; likewise a fit whose 95 % interval of sigma_Y
 is wider than its value. Repeated v_in are evaluated once and many
 distinct ones interpolated (calib.fit.measured.specimen), so 100k rows fit in seconds.
+
+``--rate-law cowper-symonds --cs-q q`` or ``--rate-law johnson-cook [--jc-reference-rate RATE]``: sigma_Y and
+the rate law's free constant (Cowper-Symonds' D, Johnson-Cook's C; --cs-D or --jc-C is the fit's start)
+fitted together to drop tests at several speeds on the rate-aware vz-table law
+(calib.fit.measured.rate_fit: each test's strain rate eps_dot = v_in / (c a_ref), sigma_Y R(eps_dot)),
+each with its 95 % interval (statistical, the table's model-form error, the rate-aware law's c). When
+the speeds span too little (R nearly constant across the tests) the data determine only sigma_Y R at
+the tests' mean strain rate: fit-data refuses in one line (exit 2) naming that combination, its value
+and standard error (and, when the residuals exceed the law's measured level, that the rate-aware law
+does not describe the data to it). Drop tests only (a force curve carries no strain rate; no dent column); --params-out
+writes the vz-table law with the fitted rate law ("rate_law", nfdmodel/parameter_file.py).
 """
 from __future__ import annotations
 
 import time
 
-from calib.commands.common import (MATERIAL_RANGES, add_hardening_arguments, add_summary_arguments, flag_name, number,
-                                   print_summary, refuse_hardening)
+from calib.commands.common import (MATERIAL_RANGES, add_hardening_arguments, add_rate_law_arguments,
+                                   add_summary_arguments, flag_name, number, print_summary, rate_law_given,
+                                   refuse_hardening)
 
 SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
@@ -55,7 +67,8 @@ E_ONLY = ("e alone fixes only v_in / v_Y (v_Y ~ sigma_Y^(5/2)): v_in in other un
 
 
 def add_parser(subparsers) -> None:
-    parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves",
+    parser = subparsers.add_parser("fit-data", help="Ca, Kc (and sigma_Y) from drop tests or force-approach curves; --rate-law: sigma_Y and "
+                                        "a rate constant from drop tests at several speeds",
                                    description=__doc__.split("\n\n")[0])
     parser.add_argument("--impacts", default=None, metavar="CSV",
                         help="drop tests: columns v_in [m/s], e [-]; optional P_max [N], contact_time [s], dent [m] "
@@ -93,6 +106,15 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--force", action="store_true",
                         help="report and write a fit whose residual is far above any plausible scatter (refused "
                              "otherwise), flagged as such in the summary and the parameter file")
+    add_rate_law_arguments(parser, "fit sigma_Y with one rate constant free on the rate-aware vz-table law "
+                                   "(drop tests at several speeds): cowper-symonds (D fitted, --cs-q given) or "
+                                   "johnson-cook (C fitted, --jc-reference-rate given, default 1 /s)",
+                           {"jc_C": "with --rate-law johnson-cook: the fitted C's start [-] (1e-4 to 1; default: a "
+                                    "coarse scan)",
+                            "cs_D": "with --rate-law cowper-symonds: the fitted D's start [1/s] (1e-3 to 1e12; "
+                                    "default: a coarse scan)",
+                            "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law "
+                                    "cowper-symonds: held while D is fitted)"})
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
     add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
@@ -220,6 +242,10 @@ def run(ns) -> int:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)
     check_outputs(ns)
+    if rate_law_given(ns) is not None:
+        from calib.commands.fit_data_rate import run_rate_law
+
+        return run_rate_law(ns, specimen, sigma_y, started)
     if ns.law != "vz":
         return run_table_law(ns, specimen, sigma_y, started)
     if ns.noise is not None or ns.vz_table is not None:

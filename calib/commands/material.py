@@ -20,13 +20,23 @@ gives the vz-unload law instead (nfdmodel.vz_unload: the same loading, the FE's 
 delta_res/delta_max and unloading exponent m from the same table, VZMasterTable.unload_law), on the
 same window; ``nfdcal collide --law vz-unload --params`` runs its parameter file.
 
+``--rate-law johnson-cook|cowper-symonds`` with its constants (``nfdcal collide``'s flags), with ``--v-max``:
+the vz-table law as above with the strain-rate dependence of sigma_Y stated (nfdmodel.rate_aware: sigma_Y
+R(eps_dot), eps_dot = v_n0 / (c a_ref) at first contact); its parameter file carries the "rate_law" entry
+(nfdmodel/parameter_file.py), so ``nfdcal collide --params`` runs the rate-aware law and ``nfdcal export
+lammps`` writes the plugin's ``rate`` keyword. The summary gives eps_dot and R at v_max. Refused in one line
+(exit 2) without ``--v-max`` (the two-constant answer has no law to scale) and with ``--law vz-unload`` (the
+rate-aware law scales vz and vz-table only). The master table's law is measured on rate-independent FE: the
+rate factor is the rate law's, applied as the rate-aware law states.
+
 ``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
 exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_hardening_arguments, add_material_arguments, add_summary_arguments,
-                                   material_from_args, print_summary, refuse_hardening)
+from calib.commands.common import (add_hardening_arguments, add_material_arguments, add_rate_law_arguments,
+                                   add_summary_arguments, material_from_args, print_summary, rate_law_from_args,
+                                   rate_law_given, refuse_hardening)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -34,7 +44,7 @@ LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz maste
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("material",
                                    help="Ca, Kc from the master table, or (--v-max) the vz-table law from the vz master "
-                                        "table; no FE",
+                                        "table (--rate-law: with its strain-rate dependence); no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
@@ -46,6 +56,10 @@ def add_parser(subparsers) -> None:
                              "FE's dent and unloading exponent)")
     parser.add_argument("--vz-table", default=None, metavar="CSV",
                         help="vz master table CSV for --v-max (default: the shipped one)")
+    add_rate_law_arguments(parser, "with --v-max: the vz-table law with the strain-rate dependence of sigma_Y "
+                                   "stated (the rate-aware law, nfdmodel.rate_aware; written to --params-out): "
+                                   "johnson-cook (R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds "
+                                   "(R = 1 + (eps_dot / D)^(1/q)); not with --law vz-unload")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params); "
                              "never one of the tables read, an existing file only with --overwrite")
@@ -64,8 +78,9 @@ def run(ns) -> int:
     refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:
         return run_vz_table(ns, material, radius)
-    if ns.vz_table is not None or ns.law is not None:
-        flag = "--vz-table" if ns.vz_table is not None else "--law"
+    if ns.vz_table is not None or ns.law is not None or rate_law_given(ns) is not None:
+        flag = ("--vz-table" if ns.vz_table is not None else "--law" if ns.law is not None
+                else rate_law_given(ns))
         raise ValueError(f"{flag} needs --v-max (the vz master table's laws); without it the two-constant table answers")
     table = MasterTable.load(ns.table)
     values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
@@ -110,15 +125,17 @@ def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-ta
                             impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y))}
 
 
-def write_vz_table_law(path, found: dict, material, radius: float) -> None:
-    """The parameter file of a vz_table_law answer (nfdmodel.load_parameters reads it back)."""
+def write_vz_table_law(path, found: dict, material, radius: float, rate_law: dict | None = None) -> None:
+    """The parameter file of a vz_table_law answer (nfdmodel.load_parameters reads it back); ``rate_law``:
+    its "rate_law" entry (a nfdmodel.strain_rate record), None for a rate-independent sphere."""
     from calib import output
     from calib.report.parameter_file import write_parameter_file
 
     table = found["table"]
     write_parameter_file(path, found["law"], radius, material,
                          {"shipped": "vz master table", "accuracy": table.accuracy, "table": str(table.path)},
-                         output.stamp(0.0), table_rel_error_estimate=found["values"]["rel_error_estimate"])
+                         output.stamp(0.0), table_rel_error_estimate=found["values"]["rel_error_estimate"],
+                         **({"rate_law": dict(rate_law)} if rate_law is not None else {}))
 
 
 def run_vz_table(ns, material, radius) -> int:
@@ -132,6 +149,10 @@ def run_vz_table(ns, material, radius) -> int:
     if ns.table is not None:
         raise ValueError("--table is the two-constant master table; with --v-max give --vz-table")
     law_name = ns.law or "vz-table"
+    rate = rate_law_from_args(ns)
+    if rate is not None and law_name == "vz-unload":
+        raise ValueError("--rate-law out of range for --law vz-unload: the rate-aware law scales sigma_Y of the "
+                         "vz-table (or vz) law only; give --law vz-table (or no --law)")
     found = vz_table_law(material, radius, ns.vz_table, law_name)
     law, table, values = found["law"], found["table"], found["values"]
     pair = law.pair
@@ -157,8 +178,12 @@ def run_vz_table(ns, material, radius) -> int:
         summary.update({"delta_res_over_delta_max_of_v_max": float(rho), "unloading_exponent_of_v_max": float(m)})
         unloading = [f"vz-unload law at v_max: dent delta_res/delta_max = {float(rho):.4g}, unloading exponent "
                      f"m = {float(m):.4g} (tables over P_max/P_Y 1..{law.x_unload[-1]:.4g})"]
+    rating = []
+    if rate is not None:
+        rating = rate_summary(summary, law, rate, v_max)
     if ns.params_out:
-        write_vz_table_law(ns.params_out, found, material, radius)
+        write_vz_table_law(ns.params_out, found, material, radius,
+                           None if rate is None else summary["rate_law"])
         summary["params_out"] = ns.params_out
     below = (f"; impacts below {v_low:.3g} m/s load under the lowest measured path (C_R there follows a_p)"
              if v_max > v_low else "")
@@ -167,5 +192,22 @@ def run_vz_table(ns, material, radius) -> int:
         f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, delta_Y = {pair.delta_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
         f"window: P/P_Y {window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} (impacts {v_low:.3g}..{v_top:.3g} m/s); "
         f"v_max = {v_max:g} m/s reaches {P_max / pair.P_Y:.4g} P_Y{below}",
-        *unloading, f"accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
+        *unloading, *rating, f"accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0
+
+
+def rate_summary(summary: dict, law, rate, v_max: float) -> list[str]:
+    """Add the rate law (its record with c, the parameter file's "rate_law" entry), eps_dot [1/s] and R at
+    v_max (nfdmodel.rate_aware) to ``summary``; the lines that say them."""
+    from nfdmodel.rate_aware import RATE_LENGTH_FACTOR, RateAwareParams
+    from nfdmodel.strain_rate import rate_law_of
+
+    params = RateAwareParams("vz-table", law, rate_law_of(rate.record()))
+    strain_rate, factor = float(params.strain_rate(v_max)[0]), float(params.rate_factor(v_max)[0])
+    summary.update(rate_law={**params.rate_law.record(), "c": RATE_LENGTH_FACTOR},
+                   strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor)
+    summary["units"]["strain_rate_of_v_max"] = "1/s"
+    record = params.rate_law.record()
+    constants = ", ".join(f"{k} = {v:g}" for k, v in record.items() if k != "rate_law")
+    return [f"rate-aware law: sigma_Y R(eps_dot), {record['rate_law']} ({constants}), eps_dot = v_n0 / (c a_ref), "
+            f"c = {params.c:g}; at v_max: eps_dot = {strain_rate:.4g} /s, R = {factor:.5f}"]

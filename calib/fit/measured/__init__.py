@@ -16,4 +16,5 @@ idea per module, each importing only those above it:
     table_law        the constrained model on the vz master table's load-dependent law
     table_refusal    when that fit is no fit (residual ceiling, interval, window) and why
     bands            the fitted e(v_in) with its confidence band (delta method)
+    rate_fit         sigma_Y and one rate constant on the rate-aware vz-table law (drop tests at several speeds)
 """

@@ -1,0 +1,313 @@
+"""sigma_Y and one rate constant fitted together to drop tests at several speeds, on the rate-aware
+vz-table law (``nfdcal fit-data --rate-law``).
+
+**The model.** theta = (ln sigma_Y, ln k), k the rate law's free constant: Cowper-Symonds' D [1/s] with
+q given, or Johnson-Cook's C [-] with eps_dot_0 given (nfdmodel.strain_rate). For a trial theta the law
+is the rate-aware law (nfdmodel.rate_aware) on the vz-table law of the vz master table at (nu,
+E / sigma_Y) (calib.fit.measured.table_law): each test's strain rate eps_dot = v_in / (c a_ref) and its
+factor R fixed at first contact, the impact that of the base law with sigma_Y R (its exact energy
+balance, nfdmodel.rate_aware.rate_aware_reference: e, P_max, contact time). Residuals per group (e,
+P_max, contact_time) are relative and each group is weighted by 1 / s_g, s_g its rms residual
+(re-estimated), as calib.fit.measured.table_law. Least squares in theta (scipy.optimize.least_squares,
+bounds D 1e-3..1e12 /s, C 1e-4..1), started at the best of a coarse grid.
+
+**Uncertainty.** Cov(theta) = V_stat + V_model. V_stat = s^2 (J^T J)^-1, J = d r_w / d theta at the fit
+(central differences), s^2 = r_w.r_w / (n - 2). V_model, systematic (the same for every test, so it does
+not shrink with more tests): (i) the vz master table's model-form error u in ln sigma_Y for this kind of
+data (calib.fit.measured.table_law.model_form_uncertainty), a bias common to every test that moves
+sigma_Y R as a whole, hence ln sigma_Y alone; (ii) the rate-aware law's constant c of eps_dot = v_n0 /
+(c a_ref), known to u_c = ln(29 / 26.2) in ln c (the spread of the c matched to the dynamic FE on two
+vz-table laws of the same sphere, nfdmodel/README.md, The rate-aware law), propagated by the linear
+response g = -(J^T J)^-1 J^T d r_w / d ln c (for Cowper-Symonds it is exactly u_c in ln D: c and D enter
+as c D). The 95 % interval per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the
+Welch-Satterthwaite degrees of freedom of V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval;
+JCGM 100:2008, G.4).
+
+**Identifiability** (as calib.fit.measured.identifiability: relative sensitivities, singular values,
+a parameter determined when its statistical relative standard error is at most
+DETERMINED_RELATIVE_SE, 10 %). When the speeds span too little, R varies little across the tests and
+the data determine only the flow stress at the tests' strain rates: the report names that combination,
+sigma_Y R at the tests' mean strain rate (sigma_Y exp(mean ln R_i), the geometric mean of the tests'
+R), its value and relative standard error, and the spread of R across the tests; fit-data then refuses
+(one line, exit 2): the two are not fitted apart. Johnson-Cook with every test below eps_dot_0 (R = 1
+throughout) determines sigma_Y alone, said so. The refusal adds, when the rms residuals exceed twice the
+vz-table law's residual on noise-free FE data (and the stated noise), that the rate-aware law does not
+describe the data to that level: then the combination's figure carries the law's error too.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+from calib.fit.measured.data import Measurements
+from calib.fit.measured.identifiability import DETERMINED_RELATIVE_SE
+from calib.fit.measured.interval import coverage_factor
+from calib.fit.measured.specimen import Specimen, impact_residuals
+from calib.fit.measured.table_law import data_kind, model_form_uncertainty, sigma_y_range, table_law
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import RangeWarning
+from nfdmodel.rate_aware import RATE_LENGTH_FACTOR, RateAwareParams, rate_aware_reference
+from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
+
+# the free constant of each rate law, its bounds and the fixed constant's name (module doc)
+FREE = {"cowper-symonds": "D", "johnson-cook": "C"}
+FIXED = {"cowper-symonds": "q", "johnson-cook": "reference_rate"}
+BOUNDS = {"D": (1e-3, 1e12), "C": (1e-4, 1.0)}
+UNITS = {"D": "1/s", "C": "-", "q": "-", "reference_rate": "1/s"}
+# u of ln c: c matched to the same FE on two vz-table laws of the sphere, 26.2 and 29 (nfdmodel/README.md)
+U_LN_C = math.log(29.0 / 26.2)
+STEP = 1e-5                   # central differences in theta
+GRID = (9, 9)                 # the starting grid over (ln sigma_Y, ln k)
+
+
+def rate_law(kind: str, constant: float, fixed: float):
+    """The nfdmodel.strain_rate law of ``kind`` with its free ``constant`` and ``fixed`` one."""
+    return CowperSymonds(constant, fixed) if kind == "cowper-symonds" else JohnsonCook(constant, fixed)
+
+
+def rate_params(specimen: Specimen, table: VZMasterTable, kind: str, sigma_y: float, constant: float,
+                fixed: float, c: float = RATE_LENGTH_FACTOR) -> RateAwareParams:
+    """The rate-aware law of the tested pair on the vz master table's vz-table law at sigma_Y [Pa]."""
+    return RateAwareParams("vz-table", table_law(specimen, sigma_y, table), rate_law(kind, constant, fixed), c)
+
+
+def predict(params: RateAwareParams, v_in) -> dict:
+    """e, P_max [N], contact time [s] of the rate-aware law's impacts at ``v_in`` [m/s]."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RangeWarning)
+        ref = rate_aware_reference(params, v_in)
+    return {"e": ref.restitution, "P_max": ref.P_max, "contact_time": ref.contact_time_estimate,
+            "dent": ref.delta_res}
+
+
+def check_data(data: Measurements) -> None:
+    """A ValueError (one line) for data the rate fit does not take: force curves (quasi-static: no strain
+    rate), dents (the rate-aware law's base is vz-table, whose dent is not the FE's), one speed."""
+    if data.forces is not None:
+        raise ValueError(f"--rate-law fits drop tests at several speeds: {data.forces.path} is a quasi-static "
+                         f"force-approach curve, which carries no strain rate; fit it without --rate-law")
+    if data.impacts is None:
+        raise ValueError("--rate-law needs --impacts CSV (drop tests at several speeds)")
+    if data.impacts.dent is not None:
+        raise ValueError(f"{data.impacts.path}: column 'dent' is fitted on the vz-unload law, which the rate-aware "
+                         f"law does not take (its base is vz or vz-table); drop the column or fit without --rate-law")
+    speeds = np.unique(data.impacts.v_in)
+    if speeds.size < 3:
+        raise ValueError(f"{data.impacts.path}: v_in takes {speeds.size} distinct value(s): --rate-law fits sigma_Y "
+                         f"and a rate constant from drop tests at three speeds or more (a decade apart or more)")
+
+
+@dataclass(frozen=True)
+class RateFit:
+    """sigma_Y [Pa] and the rate constant with standard errors (statistical, model-form, combined, SI),
+    95 % intervals, the correlation, the residuals per group, the law at the fit, each test's strain
+    rate [1/s] and R, the identifiability report and the verdict in words."""
+    kind: str
+    name: str                   # the free constant: D or C
+    fixed: float                # q or eps_dot_0
+    values: dict                # sigma_y, and D or C
+    se: dict
+    se_stat: dict
+    se_model: dict
+    interval95: dict
+    correlation: float
+    residuals: dict
+    group_scale: dict
+    params: RateAwareParams
+    strain_rates: np.ndarray
+    rate_factors: np.ndarray
+    identifiability: dict
+    uncertainty: dict
+    verdict: str
+    consistent: bool
+    data_window: tuple
+
+    @property
+    def rms_residual(self) -> float:
+        r = np.concatenate(list(self.residuals.values()))
+        return float(np.sqrt(np.mean(r**2)))
+
+
+def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str, fixed: float,
+        sigma_y_start: float | None = None, constant_start: float | None = None,
+        noise: float | None = None) -> RateFit:
+    """sigma_Y and the rate law's free constant fitted together (module doc). A ValueError in one line when
+    the data cannot be fitted (the checks of :func:`check_data`, the best fit on a bound)."""
+    check_data(data)
+    table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table
+    name = FREE[kind]
+    sizes = data.group_sizes()
+    v = data.impacts.v_in
+    lower = np.log([sigma_y_range(specimen, table)[0], BOUNDS[name][0]])
+    upper = np.log([sigma_y_range(specimen, table)[1], BOUNDS[name][1]])
+    scale = {group: 1.0 for group in sizes}
+
+    def groups(theta, c=RATE_LENGTH_FACTOR):
+        sigma_y, constant = np.exp(theta)
+        return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c), v))
+
+    def weighted(theta, c=RATE_LENGTH_FACTOR):
+        g = groups(theta, c)
+        return np.concatenate([g[group] / scale[group] for group in sizes])
+
+    def cost(theta):
+        try:
+            r = weighted(theta)
+        except ValueError:
+            return math.inf
+        return float(r @ r) if np.isfinite(r).all() else math.inf
+
+    grid = [np.linspace(lower[0], upper[0], GRID[0]), np.linspace(lower[1], upper[1], GRID[1])]
+    if sigma_y_start is not None:
+        grid[0] = [float(np.clip(math.log(sigma_y_start), lower[0], upper[0]))]
+    if constant_start is not None:
+        grid[1] = [float(np.clip(math.log(constant_start), lower[1], upper[1]))]
+    theta = np.array(min(((a, b) for a in grid[0] for b in grid[1]), key=cost), dtype=float)
+    theta = np.clip(theta, lower + 1e-9, upper - 1e-9)
+    for _ in range(3 if len(sizes) > 1 else 1):       # re-weight the groups by their scatter
+        solution = optimize.least_squares(weighted, theta, bounds=(lower, upper), method="trf", x_scale=1.0,
+                                          diff_step=1e-6, xtol=1e-12, ftol=1e-12, gtol=1e-12)
+        theta = solution.x
+        g = groups(theta)
+        scale = {group: max(float(np.sqrt(np.mean(g[group] ** 2))), 1e-9) for group in sizes}
+    sigma_y, constant = (float(x) for x in np.exp(theta))
+    if theta[0] <= lower[0] + 1e-6 or theta[0] >= upper[0] - 1e-6:
+        side = "softer" if theta[0] <= lower[0] + 1e-6 else "harder"
+        raise ValueError(f"{', '.join(data.files)}: the rate-aware vz-table model fits these data best at E/sigma_Y "
+                         f"= {specimen.E / sigma_y:.4g}, the edge of the vz master table (E/sigma_Y "
+                         f"{table.E_over_sigma_y[0]:g}..{table.E_over_sigma_y[-1]:g}): the data ask for a {side} "
+                         f"material; check the data's units and the material flags")
+    r = weighted(theta)
+    jac = np.column_stack([(weighted(theta + STEP * unit) - weighted(theta - STEP * unit)) / (2 * STEP)
+                           for unit in np.eye(2)])
+    n = r.size
+    s2 = float(r @ r) / max(n - 2, 1)
+    information = jac.T @ jac
+    singular = np.linalg.svd(jac, compute_uv=False)
+    degenerate = not (singular[-1] > 1e-10 * max(singular[0], 1e-300))
+    inverse = np.linalg.pinv(information) if degenerate else np.linalg.inv(information)
+    v_stat = s2 * inverse
+    params = rate_params(specimen, table, kind, sigma_y, constant, fixed)
+    u = model_form_uncertainty(table, specimen.nu, specimen.E / sigma_y, data_kind(data))
+    dr_dc = (weighted(theta, RATE_LENGTH_FACTOR * math.exp(STEP))
+             - weighted(theta, RATE_LENGTH_FACTOR * math.exp(-STEP))) / (2 * STEP)
+    response = -inverse @ jac.T @ dr_dc
+    v_model = np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C**2
+    total = v_stat + v_model
+    names = ("sigma_y", name)
+    values = {"sigma_y": sigma_y, name: constant}
+    se, se_stat, se_model, interval = {}, {}, {}, {}
+    for j, key in enumerate(names):
+        k = coverage_factor(float(v_stat[j, j]), float(v_model[j, j]), n - 2)
+        se[key] = values[key] * math.sqrt(total[j, j])
+        se_stat[key] = values[key] * math.sqrt(v_stat[j, j])
+        se_model[key] = values[key] * math.sqrt(v_model[j, j])
+        half = k * math.sqrt(total[j, j])
+        interval[key] = (values[key] * math.exp(-half), values[key] * math.exp(half))
+    sd = np.sqrt(np.maximum(np.diag(total), 1e-300))
+    correlation = float(total[0, 1] / (sd[0] * sd[1]))
+    rates, factors = params.strain_rate(v), params.rate_factor(v)
+    report = identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, degenerate,
+                             specimen, table, kind, fixed, data)
+    on_bound = theta[1] <= lower[1] + 1e-6 or theta[1] >= upper[1] - 1e-6
+    if on_bound and report["rate_determined"]:
+        side = "lower" if theta[1] <= lower[1] + 1e-6 else "upper"
+        raise ValueError(f"{', '.join(data.files)}: the rate-aware model fits these data best at {name} = "
+                         f"{constant:.4g} {UNITS[name]}, the {side} end of its range {BOUNDS[name][0]:g}.."
+                         f"{BOUNDS[name][1]:g}: the data ask for a rate dependence this rate law does not give")
+    rms = {group: float(np.sqrt(np.mean(g[group] ** 2))) for group in sizes}
+    kind_of_data = data_kind(data)
+    level_of = table.meta.get("model_form", {}).get("residual_rms", {})
+    expected = {group: math.hypot(float(level_of.get(f"{kind_of_data}: {group}", 0.0)), noise or 0.0)
+                for group in sizes}
+    said = ", ".join(f"{group} {100 * rms[group]:.2g} % against {100 * expected[group]:.2g} %" for group in sizes)
+    consistent = all(rms[group] <= 2.0 * expected[group] for group in sizes if expected[group] > 0)
+    verdict = (f"rms residuals {'within' if consistent else 'beyond'} 2x the vz-table law's residual on noise-free "
+               f"FE data" + (f" and the stated noise {100 * noise:.2g} %" if noise else "") + f" ({said})")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RangeWarning)
+        peaks = predict(params, v)["P_max"] / (params.pair.P_Y * factors**3)   # the base law's P/P_Y
+    above = peaks[peaks > 1.0]
+    window = (float(above.min()) if above.size else 1.0, float(peaks.max()))
+    return RateFit(kind, name, fixed, values, se, se_stat, se_model, interval, correlation, g, scale, params,
+                   rates, factors, report,
+                   {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C, "dof_statistical": n - 2,
+                    "c_response": dict(zip(names, map(float, response)))},
+                   verdict, consistent, window)
+
+
+def identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, degenerate, specimen, table,
+                    kind, fixed, data) -> dict:
+    """Which of sigma_Y and the rate constant the data determine (module doc) and, when the rate constant is
+    not, the combination they do: sigma_Y R at the tests' mean strain rate."""
+    _, singular, vt = np.linalg.svd(jac, full_matrices=False)
+    relative = {key: float(math.sqrt(max(v_stat[j, j], 0.0))) for j, key in enumerate(names)}
+    if degenerate:
+        relative = {key: (math.inf if abs(vt[-1][j]) > 1e-3 else rel) for j, (key, rel) in
+                    enumerate(relative.items())}
+    determined = {key: rel <= DETERMINED_RELATIVE_SE for key, rel in relative.items()}
+    weakest = dict(zip(names, map(float, vt[-1] * np.sign(vt[-1][np.argmax(np.abs(vt[-1]))]))))
+    mean_ln_r = float(np.mean(np.log(factors)))
+    mean_rate = float(np.exp(np.mean(np.log(np.maximum(rates, 1e-300)))))
+    flow = values["sigma_y"] * math.exp(mean_ln_r)
+
+    def log_flow(t):                                     # ln(sigma_Y exp(mean ln R_i)) at theta t
+        sigma_y, constant = np.exp(t)
+        law = rate_params(specimen, table, kind, sigma_y, constant, fixed)
+        return math.log(sigma_y) + float(np.mean(np.log(law.rate_factor(data.impacts.v_in))))
+
+    gradient = np.array([(log_flow(theta + STEP * unit) - log_flow(theta - STEP * unit)) / (2 * STEP)
+                         for unit in np.eye(2)])
+    flow_stat = float(math.sqrt(max(gradient @ v_stat @ gradient, 0.0)))
+    flow_total = float(math.sqrt(max(gradient @ (v_stat + v_model) @ gradient, 0.0)))
+    spread = float(factors.max() / factors.min() - 1.0)
+    name = names[1]
+    said = ", ".join(f"{key} to {100 * rel:.2g} %" for key, rel in relative.items())
+    text = f"the data determine {said} (statistical relative standard errors)"
+    combination = (f"sigma_Y R at the tests' mean strain rate {mean_rate:.3g} /s = {flow:.4g} Pa +- "
+                   f"{100 * flow_total:.2g} % (statistical {100 * flow_stat:.2g} %)")
+    loose = [key for key, ok in determined.items() if not ok]
+    if loose:
+        along = " ".join(f"{v:+.2f} ln {key}" for key, v in weakest.items())
+        text += (f"; not determined (> {100 * DETERMINED_RELATIVE_SE:g} %): {', '.join(loose)}: R varies by "
+                 f"{100 * spread:.2g} % across the tests (R {factors.min():.4g}..{factors.max():.4g}), the data barely "
+                 f"change along {along}; they determine {combination}")
+    return {"parameters": list(names), "singular_values": [float(s) for s in singular],
+            "condition_number": float(singular[0] / singular[-1]) if singular[-1] > 0 else math.inf,
+            "relative_se": relative, "determined": determined, "weakest_combination": weakest,
+            "rate_determined": bool(determined[name] and determined["sigma_y"]),
+            "rate_factor_spread": spread, "mean_strain_rate": mean_rate,
+            "determined_combination": {"name": "sigma_Y R at the tests' mean strain rate", "value": flow,
+                                       "strain_rate": mean_rate, "relative_se": flow_total,
+                                       "relative_se_statistical": flow_stat, "unit": "Pa"},
+            "summary": text}
+
+
+def undetermined(result: RateFit) -> str:
+    """The one-line refusal when the data do not determine sigma_Y and the rate constant apart (module doc),
+    else ""."""
+    report = result.identifiability
+    if report["rate_determined"]:
+        return ""
+    flow = report["determined_combination"]
+    factors = result.rate_factors
+    said = ", ".join(f"{key} to {100 * rel:.2g} %" if math.isfinite(rel) else f"{key} not at all"
+                     for key, rel in report["relative_se"].items())
+    if factors.max() <= 1.0 + 1e-12:                 # Johnson-Cook: every test below eps_dot_0, where R = 1
+        return (f"every test's strain rate ({result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s) lies "
+                f"below the reference rate eps_dot_0 = {result.fixed:g} /s, where R = 1: the data do not determine "
+                f"{result.name}; they determine sigma_Y = {flow['value']:.4g} Pa +- {100 * flow['relative_se']:.2g} % "
+                f"(fit it without --rate-law), or give a lower --jc-reference-rate")
+    misfit = "" if result.consistent else (f"; {result.verdict}: the rate-aware law does not describe these data "
+                                           f"to that level")
+    return (f"the data do not determine sigma_Y and {result.name} apart: R varies by "
+            f"{100 * report['rate_factor_spread']:.2g} % across the tests (R {factors.min():.4g}..{factors.max():.4g}, "
+            f"eps_dot {result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s), so they would be known "
+            f"only to {said} (> {100 * DETERMINED_RELATIVE_SE:g} %); the data determine sigma_Y R at the tests' mean "
+            f"strain rate {flow['strain_rate']:.3g} /s = {flow['value']:.4g} Pa +- {100 * flow['relative_se']:.2g} %; "
+            f"drop tests over a wider range of speeds would separate them, or give sigma_Y with the rate law's "
+            f"constants to nfdcal material --v-max --rate-law{misfit}")
