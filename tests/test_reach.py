@@ -70,6 +70,40 @@ def test_the_command_plans_brass_at_3_m_s_and_states_the_reach_and_its_error(cap
     assert len(err) == 1 and "v_max out of range" in err[0] and "--kinematics finite vouches for" in err[0]
 
 
+def test_the_plan_s_contact_radius_follows_the_fe():
+    """recipe.fe_contact_radius (the finite strain's reach, --kinematics auto, the plan's a/R*) against the FE's
+    contact radius: along --v-max plans' loading branches from 8 P_Y (tests/data/plan_radius_fe.csv, measured by
+    tests/benchmarks/plan_radius.py: E/sigma_Y 100-5000, nu 0.22-0.45, small and finite strain, to 2000 P_Y) and the
+    published reference calibration's (results/calibration/loading.csv, 8-41 P_Y); the mesh-sizing estimate
+    overstates the FE's radius more than 2x at 2000 P_Y."""
+    import csv
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    rows = list(csv.DictReader(line for line in (root / "tests" / "data" / "plan_radius_fe.csv").open()
+                               if not line.startswith("#")))
+    errors, mesh_sizing = {}, []
+    for row in rows:
+        pair = ContactPair.sphere_flat(Material(float(row["E_over_sigma_y"]) * 250e6, float(row["nu"]), 250e6, 8500.0),
+                                       0.005)
+        load, fe = float(row["P_over_P_Y"]) * pair.P_Y, float(row["a_over_R"]) * 0.005
+        errors.setdefault(row["mesh"], []).append(recipe.fe_contact_radius(pair, load) / fe - 1.0)
+        if float(row["P_over_P_Y"]) > 1900:
+            mesh_sizing.append(recipe.estimated_contact_radius(pair, load) / fe - 1.0)
+    assert set(errors) == {"graded-6", "graded-17.9", "uniform-4e-5"} and len(rows) > 300
+    assert -0.03 < min(errors["graded-17.9"] + errors["uniform-4e-5"]) and max(errors["graded-17.9"]
+                                                                             + errors["uniform-4e-5"]) < 0.05
+    assert -0.06 < min(errors["graded-6"]) and max(errors["graded-6"]) < 0.08      # 6 elements across the contact
+    assert min(mesh_sizing) > 1.0
+    reference = ContactPair.sphere_flat(Material.reference(), 0.1)
+    loading = [row for row in csv.DictReader(line for line in (root / "results" / "calibration" / "loading.csv").open()
+                                             if not line.startswith("#")) if float(row["P"]) >= 8 * reference.P_Y]
+    assert len(loading) > 30
+    for row in loading:
+        assert recipe.fe_contact_radius(reference, float(row["P"])) == pytest.approx(float(row["contact_radius"]),
+                                                                                     rel=0.03)
+
+
 def test_auto_keeps_small_strain_below_where_the_kinematics_part():
     reference = recipe.reference_spec()
     assert recipe.chosen_kinematics(reference.pair, reference.plan.peaks[-1]) == "small-strain"

@@ -89,7 +89,7 @@ def estimated_contact_radius(pair: ContactPair, force) -> float:
 # geometric limit of the flattened sphere's hardness, 1 - exp(-0.82 (a/R)^-0.7), which lowers the mean pressure as
 # the contact widens. FE_PLATEAU and FE_BLEND are fitted to the FE's own contact radii (calib/fit/README.md, The
 # plan's contact radius; tests/benchmarks/plan_radius.py).
-FE_PLATEAU, FE_BLEND = 3.21, 1.86
+FE_PLATEAU, FE_BLEND = 3.1, 1.9
 JACKSON_GREEN_GEOMETRY = (0.82, 0.7)
 
 

@@ -96,9 +96,9 @@ def step_seconds(dofs: int) -> float:
 # 10-15 at 10-100 P_Y, 40-150 beyond (the plastic zone spreading, increments halved near the top), each 1.8x
 # a small-strain iteration.
 FINITE_COST_LOG_LOADS = (0.0, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5)
-FINITE_COST_LOADING = (0.6, 0.8, 2.5, 5.0, 8.0, 11.0, 13.0)
-FINITE_COST_UNLOADING = (0.6, 0.8, 1.0, 1.5, 2.0, 2.5, 3.0)
-FINITE_COST_DOFS_EXPONENT = 0.43
+FINITE_COST_LOADING = (0.5, 0.9, 2.0, 8.0, 30.0, 40.0, 45.0)
+FINITE_COST_UNLOADING = (0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6)
+FINITE_COST_DOFS_EXPONENT = 0.47
 
 
 def finite_strain_step_cost(load_over_P_Y: float, branch: str = "loading", dofs: int = 12112) -> float:
