@@ -52,7 +52,7 @@ def test_brass_at_3_m_s_is_planned_with_finite_strain_and_covers_its_impact():
     assert 0.15 < recipe.fe_contact_radius(pair, spec.plan.peaks[-1]) / BRASS_R < 0.2
     assert spec.plan.peaks[0] <= 1.1 * pair.P_Y * (1 + 1e-12)
     with pytest.raises(ValueError, match=r"^v_max out of range: .*1000 P_Y.*--kinematics finite vouches for v_max "
-                                         r"<= 12\.\d"):                 # 1e4 P_Y, a/R about 0.38
+                                         r"<= 7\.\d"):      # the estimating law's radius reaches R* at 5800 P_Y
         impact_window.check_reach(BRASS, BRASS_R, 3.0, "small-strain")
     with pytest.raises(ValueError, match=r"^P_max out of range: .*small-strain.*--kinematics finite reaches"):
         dataclasses.replace(spec, kinematics="small-strain")
@@ -91,9 +91,9 @@ def test_the_plan_s_contact_radius_follows_the_fe():
         if float(row["P_over_P_Y"]) > 1900:
             mesh_sizing.append(recipe.estimated_contact_radius(pair, load) / fe - 1.0)
     assert set(errors) == {"graded-6", "graded-17.9", "uniform-4e-5"} and len(rows) > 300
-    assert -0.03 < min(errors["graded-17.9"] + errors["uniform-4e-5"]) and max(errors["graded-17.9"]
-                                                                             + errors["uniform-4e-5"]) < 0.05
-    assert -0.06 < min(errors["graded-6"]) and max(errors["graded-6"]) < 0.08      # 6 elements across the contact
+    finer = errors["graded-17.9"] + errors["uniform-4e-5"]
+    assert -0.035 < min(finer) and max(finer) < 0.05               # measured -2.8 .. +4.6 %
+    assert -0.05 < min(errors["graded-6"]) and max(errors["graded-6"]) < 0.085      # -4.4 .. +7.8 %
     assert min(mesh_sizing) > 1.0
     reference = ContactPair.sphere_flat(Material.reference(), 0.1)
     loading = [row for row in csv.DictReader(line for line in (root / "results" / "calibration" / "loading.csv").open()
