@@ -89,12 +89,15 @@ def step_seconds(dofs: int) -> float:
 
 
 # A finite-strain FE step's cost over step_seconds (the small-strain reference's), measured on the --v-max plans'
-# graded meshes (CPU time; calib/fit/README.md, The plan's time; tests/benchmarks/plan_radius.py): a loading step to
-# P/P_Y = 10^FINITE_COST_LOG_LOADS costs FINITE_COST_LOADING reference steps, an unloading step of a path from there
+# meshes (CPU time; calib/fit/README.md, The plan: contact radius and time; tests/benchmarks/plan_radius.py): a
+# loading step to P/P_Y = 10^FINITE_COST_LOG_LOADS costs FINITE_COST_LOADING reference steps, an unloading step
 # FINITE_COST_UNLOADING (each on 12,112 dofs), and per step the cost grows as dofs^FINITE_COST_DOFS_EXPONENT beyond
-# step_seconds' linear growth (the factorisation's fill-in). Newton takes 3-5 iterations per step up to ~10 P_Y,
-# 10-15 at 10-100 P_Y, 40-150 beyond (the plastic zone spreading, increments halved near the top), each 1.8x
-# a small-strain iteration.
+# step_seconds' linear growth (the factorisation's fill-in: per Newton iteration 20,038 dofs cost 13-18x 3,174).
+# Newton takes 3-5 iterations per loading step to 10 P_Y, 7-15 to 100 P_Y, 40-150 beyond (the plastic zone
+# spreading; near the top the increment is halved 2-7 times), an unloading step 3-6; a finite-strain iteration
+# costs 1.8-2x a small-strain one. Against the FE: the brass calibration at 3 m/s 1153 s planned, 1472 s taken;
+# loading branches on the command's graded meshes (12,844-20,038 dofs) -12..+11 %; on coarser meshes the plan
+# errs high (fewer iterations at high load).
 FINITE_COST_LOG_LOADS = (0.0, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5)
 FINITE_COST_LOADING = (0.5, 0.9, 2.0, 8.0, 30.0, 40.0, 45.0)
 FINITE_COST_UNLOADING = (0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6)

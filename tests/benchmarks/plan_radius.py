@@ -19,8 +19,6 @@ from __future__ import annotations
 import argparse
 import time
 
-import numpy as np
-
 from calib.fe import ContactSolver
 from calib.fe.loadpath import advance
 from calib.fe.state import StepNotConverged
@@ -76,7 +74,7 @@ def main(argv=None) -> int:
             reach = recipe.REACH[kinematics][1]
             cpu = plan = 0.0
             for k, (x, a, seconds) in enumerate(rows):
-                cost = finite_strain_step_cost(x) if kinematics == "finite-strain" else 1.0
+                cost = finite_strain_step_cost(x, "loading", dofs) if kinematics == "finite-strain" else 1.0
                 cpu, plan = cpu + seconds, plan + step_seconds(dofs) * cost
                 if x < FROM_OVER_P_Y or a > reach:
                     continue
