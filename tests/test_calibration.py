@@ -237,12 +237,13 @@ def test_v_max_beyond_the_fe_is_refused_before_meshing(capsys, monkeypatch):
     assert main(["calibrate", "--v-max", "5", "--kinematics", "small", "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("nfdcal calibrate: error: v_max out of range")
-    assert "1000 P_Y" in err[0] and "v_max <= 0.50" in err[0] and "--kinematics finite vouches for v_max <= 2.15" in err[0]
+    assert "1000 P_Y" in err[0] and "v_max <= 0.50" in err[0]
+    assert "--kinematics finite vouches for v_max <= 4.39" in err[0]      # 1e4 P_Y, a/R about 0.2
     # the default (auto) is bounded by the finite-strain reach, whose error estimate it states
     assert main(["calibrate", "--v-max", "5", "--quiet"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith("nfdcal calibrate: error: v_max out of range")
-    assert "10000 P_Y" in err[0] and "0.45 R" in err[0] and "1.0 % in force" in err[0] and "v_max <= 2.15" in err[0]
+    assert "10000 P_Y" in err[0] and "0.45 R" in err[0] and "1.0 % in force" in err[0] and "v_max <= 4.39" in err[0]
     # an impact below the reach whose load paths (10 % beyond it) are not: the message says both loads
     soft = ["--E", "10e9", "--nu", "0.3", "--sigma-y", "1e8", "--rho", "2700", "--R", "0.1"]
     assert main(["calibrate", *soft, "--v-max", "4.9", "--kinematics", "small", "--quiet"]) == 2

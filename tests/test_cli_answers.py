@@ -39,6 +39,8 @@ SUGGESTING = [
     ["hertz", "--counter-E", "7e6", "--P-max", "20", "--dry-run"],
     ["hertz", "--counter-E", "2e11", "--counter-R", "1e-4", "--dry-run"],  # a counter-sphere too small
     ["calibrate", "--quiet", "--v-max", "10", "--dry-run"],                 # beyond the FE's reach
+    ["calibrate", "--quiet", "--E", "100e9", "--nu", "0.34", "--sigma-y", "250e6", "--rho", "8500", "--R", "0.005",
+     "--v-max", "10", "--dry-run"],               # beyond the estimating law's domain, inside the finite FE's reach
     ["collide", "--v-in", "0.1", "--dt", "1e-3"],
 ]
 

@@ -3,8 +3,8 @@
 
 - finite strain vouches for 1e4 P_Y and a/R 0.45 (nfd_limits.h), small strain for 1000 P_Y and 0.2 R;
   a brass sphere (E 100 GPa, nu 0.34, sigma_Y 250 MPa, R 5 mm, rho 8500) at 3 m/s needs about 2100 P_Y
-  (a/R about 0.41 with the load paths' margin): planned with finite strain, refused with small strain in
-  one line naming the finite strain's reach;
+  (a/R about 0.17 with the load paths' margin: the FE's contact radius, recipe.fe_contact_radius): planned
+  with finite strain, refused with small strain in one line naming the finite strain's reach;
 - ``--kinematics auto`` (the default) takes finite strain where the plan's contact radius passes
   recipe.KINEMATICS_PART_OVER_R R or its load the small-strain reach, small strain below (the reference
   calibration's spec unchanged);
@@ -33,7 +33,7 @@ def test_the_reach_of_each_kinematics_is_the_table_s():
                                              limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R) == (1e4, 0.45)
     for kinematics, (load, radius) in recipe.REACH.items():     # whichever comes first
         reach = recipe.fe_reach(pair, kinematics)
-        a = recipe.estimated_contact_radius(pair, reach) / BRASS_R
+        a = recipe.REACH_RADIUS[kinematics](pair, reach) / BRASS_R
         assert reach <= load * pair.P_Y * (1 + 1e-12) and a <= radius * (1 + 1e-5)
         assert reach == pytest.approx(load * pair.P_Y) or a == pytest.approx(radius, rel=1e-5)
     assert recipe.fe_reach(pair) == recipe.fe_reach(pair, "small-strain")
@@ -48,9 +48,11 @@ def test_brass_at_3_m_s_is_planned_with_finite_strain_and_covers_its_impact():
     spec = impact_window.impact_spec(BRASS, BRASS_R, needed, "finite-strain",
                                      elements_per_contact_radius=impact_window.GRADED_ELEMENTS_PER_CONTACT_RADIUS)
     assert spec.kinematics == "finite-strain" and spec.plan.peaks[-1] >= needed
-    assert 0.2 < recipe.estimated_contact_radius(pair, spec.plan.peaks[-1]) / BRASS_R <= 0.45
+    # the FE's contact radius at the top: 0.157 R at 2000 P_Y (coarse graded mesh), 0.17 R estimated at 2300 P_Y
+    assert 0.15 < recipe.fe_contact_radius(pair, spec.plan.peaks[-1]) / BRASS_R < 0.2
     assert spec.plan.peaks[0] <= 1.1 * pair.P_Y * (1 + 1e-12)
-    with pytest.raises(ValueError, match=r"^v_max out of range: .*1000 P_Y.*--kinematics finite vouches for v_max <= 3\.\d"):
+    with pytest.raises(ValueError, match=r"^v_max out of range: .*1000 P_Y.*--kinematics finite vouches for v_max "
+                                         r"<= 7\.\d"):      # the estimating law's radius reaches R* at 5800 P_Y
         impact_window.check_reach(BRASS, BRASS_R, 3.0, "small-strain")
     with pytest.raises(ValueError, match=r"^P_max out of range: .*small-strain.*--kinematics finite reaches"):
         dataclasses.replace(spec, kinematics="small-strain")
@@ -68,6 +70,40 @@ def test_the_command_plans_brass_at_3_m_s_and_states_the_reach_and_its_error(cap
     assert len(err) == 1 and "v_max out of range" in err[0] and "--kinematics finite vouches for" in err[0]
 
 
+def test_the_plan_s_contact_radius_follows_the_fe():
+    """recipe.fe_contact_radius (the finite strain's reach, --kinematics auto, the plan's a/R*) against the FE's
+    contact radius: along --v-max plans' loading branches from 8 P_Y (tests/data/plan_radius_fe.csv, measured by
+    tests/benchmarks/plan_radius.py: E/sigma_Y 100-5000, nu 0.22-0.45, small and finite strain, to 2000 P_Y) and the
+    published reference calibration's (results/calibration/loading.csv, 8-41 P_Y); the mesh-sizing estimate
+    overstates the FE's radius more than 2x at 2000 P_Y."""
+    import csv
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    rows = list(csv.DictReader(line for line in (root / "tests" / "data" / "plan_radius_fe.csv").open()
+                               if not line.startswith("#")))
+    errors, mesh_sizing = {}, []
+    for row in rows:
+        pair = ContactPair.sphere_flat(Material(float(row["E_over_sigma_y"]) * 250e6, float(row["nu"]), 250e6, 8500.0),
+                                       0.005)
+        load, fe = float(row["P_over_P_Y"]) * pair.P_Y, float(row["a_over_R"]) * 0.005
+        errors.setdefault(row["mesh"], []).append(recipe.fe_contact_radius(pair, load) / fe - 1.0)
+        if float(row["P_over_P_Y"]) > 1900:
+            mesh_sizing.append(recipe.estimated_contact_radius(pair, load) / fe - 1.0)
+    assert set(errors) == {"graded-6", "graded-17.9", "uniform-4e-5"} and len(rows) > 300
+    finer = errors["graded-17.9"] + errors["uniform-4e-5"]
+    assert -0.035 < min(finer) and max(finer) < 0.05               # measured -2.8 .. +4.6 %
+    assert -0.05 < min(errors["graded-6"]) and max(errors["graded-6"]) < 0.085      # -4.4 .. +7.8 %
+    assert min(mesh_sizing) > 1.0
+    reference = ContactPair.sphere_flat(Material.reference(), 0.1)
+    loading = [row for row in csv.DictReader(line for line in (root / "results" / "calibration" / "loading.csv").open()
+                                             if not line.startswith("#")) if float(row["P"]) >= 8 * reference.P_Y]
+    assert len(loading) > 30
+    for row in loading:
+        assert recipe.fe_contact_radius(reference, float(row["P"])) == pytest.approx(float(row["contact_radius"]),
+                                                                                     rel=0.03)
+
+
 def test_auto_keeps_small_strain_below_where_the_kinematics_part():
     reference = recipe.reference_spec()
     assert recipe.chosen_kinematics(reference.pair, reference.plan.peaks[-1]) == "small-strain"
@@ -76,7 +112,7 @@ def test_auto_keeps_small_strain_below_where_the_kinematics_part():
     assert recipe.chosen_kinematics(pair, 0.99 * below) == "small-strain"
     assert recipe.chosen_kinematics(pair, 1.01 * below) == "finite-strain"
     hard = ContactPair.sphere_flat(Material(200e9, 0.3, 40e6, 7800.0), 0.005)       # E/sigma_Y 5000
-    assert recipe.estimated_contact_radius(hard, 1500 * hard.P_Y) < recipe.KINEMATICS_PART_OVER_R * 0.005
+    assert recipe.fe_contact_radius(hard, 1500 * hard.P_Y) < recipe.KINEMATICS_PART_OVER_R * 0.005
     assert recipe.chosen_kinematics(hard, 1500 * hard.P_Y) == "finite-strain"      # beyond 1000 P_Y
 
 

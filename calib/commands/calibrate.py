@@ -234,7 +234,7 @@ def kinematics_line(ns, spec) -> str:
     chosen = recipe.reach_kinematics(spec.kinematics, spec.counter)
     why = ""
     if ns.kinematics == "auto":
-        a_top = recipe.estimated_contact_radius(pair, spec.plan.peaks[-1]) / pair.R_star
+        a_top = recipe.fe_contact_radius(pair, spec.plan.peaks[-1]) / pair.R_star
         why = (f" (auto: the plan reaches about a/R* {a_top:.3g}, {spec.plan.peaks[-1] / pair.P_Y:.4g} P_Y; finite "
                f"strain above a/R* {recipe.KINEMATICS_PART_OVER_R:g}, where the two part by more than 2 %)")
     return (f"kinematics: {spec.kinematics}{why}; the FE vouches for up to {recipe.fe_reach(pair, chosen) / pair.P_Y:.4g}"

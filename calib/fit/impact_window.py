@@ -230,6 +230,17 @@ def reach_velocity(params, load: float) -> float:
     return math.sqrt(2.0 * work / params.pair.mass_star)
 
 
+# the share of the estimating law's full-contact load a suggested v_max may reach (the impact's P_max is estimated
+# by that law, whose contact radius must stay below R*)
+FULL_CONTACT_SHARE = 0.99
+
+
+def estimable(params: VZParams, load: float) -> float:
+    """``load`` [N], or less where the estimating law's contact radius passes R* (VZParams.full_contact_load, its
+    linear plastic radius; FULL_CONTACT_SHARE of it): the largest load whose impact that law can estimate."""
+    return min(load, FULL_CONTACT_SHARE * params.full_contact_load)
+
+
 def check_reach(material: Material, radius: float, v_max: float,
                 kinematics: str = DEFAULT_KINEMATICS) -> tuple[float, VZParams, str]:
     """(estimated P_max [N] of the impact at v_max, estimating constants, their source); a
@@ -248,13 +259,13 @@ def check_reach(material: Material, radius: float, v_max: float,
                          f"({source}); a calibration needs loads beyond {recipe.MIN_WINDOW_OVER_P_Y:g} P_Y: need v_max >= "
                          f"{bound_text(v_least, '>=')} m/s ({v_least / pair.v_Y:.4g} v_Y) for this material and R")
     if MARGIN * needed > reach:
-        v_reach = reach_velocity(params, reach / MARGIN)
+        v_reach = reach_velocity(params, estimable(params, reach / MARGIN))
         reached = (f"reaches about {needed / pair.P_Y:.4g} P_Y, its load paths {MARGIN - 1:.0%} beyond, "
                    f"{MARGIN * needed / pair.P_Y:.4g} P_Y" if math.isfinite(needed) else
                    "drives the law beyond its domain (contact radius above R*)")
         wider = ""
         if kinematics == DEFAULT_KINEMATICS:
-            v_finite = reach_velocity(params, recipe.fe_reach(pair, "finite-strain") / MARGIN)
+            v_finite = reach_velocity(params, estimable(params, recipe.fe_reach(pair, "finite-strain") / MARGIN))
             wider = f"; --kinematics finite vouches for v_max <= {bound_text(v_finite, '<=')} m/s"
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s {reached} ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
                          f"({recipe.reach_text(kinematics)}), "

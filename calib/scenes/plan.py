@@ -6,6 +6,7 @@ import os
 from dataclasses import asdict, dataclass
 
 import meshio
+import numpy as np
 
 from calib.fit import impact_window, recipe
 from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial,
@@ -87,6 +88,45 @@ def step_seconds(dofs: int) -> float:
     return SECONDS_PER_STEP_AT_12K_DOFS * max(dofs, 500) / 12112.0
 
 
+# A finite-strain FE step's cost over step_seconds (the small-strain reference's), measured on the --v-max plans'
+# meshes (CPU time; calib/fit/README.md, The plan: contact radius and time; tests/benchmarks/plan_radius.py): a
+# loading step to P/P_Y = 10^FINITE_COST_LOG_LOADS costs FINITE_COST_LOADING reference steps, an unloading step
+# FINITE_COST_UNLOADING (each on 12,112 dofs), and per step the cost grows as dofs^FINITE_COST_DOFS_EXPONENT beyond
+# step_seconds' linear growth (the factorisation's fill-in: per Newton iteration 20,038 dofs cost 13-18x 3,174).
+# Newton takes 3-5 iterations per loading step to 10 P_Y, 7-15 to 100 P_Y, 40-150 beyond (the plastic zone
+# spreading; near the top the increment is halved 2-7 times), an unloading step 3-6; a finite-strain iteration
+# costs 1.8-2x a small-strain one. Against the FE: the brass calibration at 3 m/s 1153 s planned, 1472 s taken;
+# loading branches on the command's graded meshes (12,844-20,038 dofs) -12..+11 %; on coarser meshes the plan
+# errs high (fewer iterations at high load).
+FINITE_COST_LOG_LOADS = (0.0, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5)
+FINITE_COST_LOADING = (0.5, 0.9, 2.0, 8.0, 30.0, 40.0, 45.0)
+FINITE_COST_UNLOADING = (0.6, 0.6, 0.6, 0.6, 0.6, 0.6, 0.6)
+FINITE_COST_DOFS_EXPONENT = 0.47
+
+
+def finite_strain_step_cost(load_over_P_Y: float, branch: str = "loading", dofs: int = 12112) -> float:
+    """A finite-strain FE step's cost [reference steps, step_seconds(dofs)] at P/P_Y on the ``branch`` ("loading",
+    or "unloading": a step of the unloading from that peak) on a mesh of ``dofs`` (the tables above)."""
+    table = FINITE_COST_LOADING if branch == "loading" else FINITE_COST_UNLOADING
+    log_load = float(np.log10(max(load_over_P_Y, 1.0)))
+    size = (max(dofs, 500) / 12112.0) ** FINITE_COST_DOFS_EXPONENT
+    return float(np.interp(log_load, FINITE_COST_LOG_LOADS, table)) * size
+
+
+def fe_seconds(spec, dofs: int, *, unload: bool, calibrate: bool) -> float:
+    """Estimated wall time [s] of ``spec``'s load paths on a mesh of ``dofs``: step_seconds per step (and the
+    calibration's 3 first-yield solves); with finite strain each step x finite_strain_step_cost at its load."""
+    plan, P_Y = spec.plan, spec.pair.P_Y
+    n_unload = plan.unloading_steps * len(plan.peaks) if unload else 0
+    if spec.kinematics != "finite-strain":
+        return (len(plan.loading_targets()) + n_unload + (3 if calibrate else 0)) * step_seconds(dofs)
+    steps = sum(finite_strain_step_cost(load / P_Y, "loading", dofs) for load in plan.loading_targets())
+    if unload:
+        steps += plan.unloading_steps * sum(finite_strain_step_cost(peak / P_Y, "unloading", dofs)
+                                            for peak in plan.peaks)
+    return (steps + (3 if calibrate else 0)) * step_seconds(dofs)
+
+
 # ----------------------------------------------------------------------------- plan
 @dataclass
 class PlannedStage:
@@ -132,15 +172,19 @@ def calibration_stage(spec, material_name: str, *, calibrate: bool, unload: bool
     n_load = len(spec.plan.loading_targets())
     n_unload = spec.plan.unloading_steps * len(spec.plan.peaks) if unload else 0
     steps = n_load + n_unload + (3 if calibrate else 0)
-    seconds = steps * step_seconds(dofs) / (3 if elastic else 1)
+    seconds = fe_seconds(spec, dofs, unload=unload, calibrate=calibrate) / (3 if elastic else 1)
     second = ""
     if calibrate and meshes == 2:       # the second mesh of the extrapolation (calib.fit.extrapolation)
         coarse = recipe.coarse_spec(spec)
         coarse_dofs, _ = fe_dofs(coarse)
-        coarse_seconds = steps * step_seconds(coarse_dofs)
+        coarse_seconds = fe_seconds(coarse, coarse_dofs, unload=unload, calibrate=calibrate)
         parallel = (os.cpu_count() or 1) >= 2
         seconds = max(seconds, coarse_seconds) if parallel else seconds + coarse_seconds
         second = f"; second mesh h = {coarse.mesh.contact_size:.3g} m (~{coarse_dofs} dofs)"
+    if spec.kinematics == "finite-strain":
+        factor = fe_seconds(spec, dofs, unload=unload, calibrate=calibrate) / (steps * step_seconds(dofs))
+        second += (f"; finite strain: {factor:.2g}x the small-strain reference's time per step (measured by load and "
+                   f"dofs, calib.scenes.plan.finite_strain_step_cost)")
     return PlannedStage("calibration" if calibrate else "load_paths", material_name, spec.mesh.cache_key(),
                         mesh_path(spec.mesh).is_file(), dofs, exact, steps, elastic, seconds,
                         f"{'elastic' if elastic else 'elastoplastic'}, P_max = "

@@ -47,7 +47,7 @@ def main(argv=None) -> int:
     ns = parser.parse_args(argv)
     material = Material(ns.E, 0.34, 250e6, 8500.0)
     pair = ContactPair.sphere_flat(material, R)
-    top = recipe.largest_admissible_load(pair, ns.a_over_R)
+    top = recipe.largest_admissible_load(pair, ns.a_over_R, recipe.estimated_contact_radius)
     spec = impact_window.window_spec(material, R, top, kinematics=ns.kinematics,
                                      contact_size_over_a_max=ns.contact_size_over_a_max)
     t0 = time.perf_counter()
