@@ -46,7 +46,8 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
            loading_steps_per_decade: float = 16.0, unloading_steps: int = 16,
            fractions: tuple[float, ...] = (0.5, 0.2), overload: float = 1.3) -> dict:
     """The FE paths and cycle of the module doc: ``paths`` (per peak: the loading approach and
-    force to the peak, the contact radius there [m], the unloading, alpha_max, alpha_res, e),
+    force to the peak, the contact radius there [m] (the gap extrapolation; ``radius_at_peak_pressure``:
+    the pressure's, calib.fe.recovery, as the dynamic FE takes it), the unloading, alpha_max, alpha_res, e),
     ``cycle`` (calib.fe.cycles.CycleRun), the mesh and the wall time [s]."""
     from calib.fe.cycles import CyclePlan, run_cycles
     from calib.fe.loadpath import run_load_paths
@@ -74,7 +75,8 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
                       "unloading_approach": np.array([r["alpha"] for r in unloading]),
                       "unloading_force": np.maximum([r["P"] for r in unloading], 0.0),
                       "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
-                      "radius_at_peak": float(loading[-1]["contact_radius"]), "e": p.restitution})
+                      "radius_at_peak": float(loading[-1]["contact_radius"]),
+                      "radius_at_peak_pressure": float(loading[-1]["contact_radius_pressure"]), "e": p.restitution})
     return {"pair": pair, "paths": paths, "cycle": cycle, "mesh": dataclasses.asdict(spec.mesh),
             "elements_per_contact_radius": elements_per_contact_radius,
             "dofs": int(solver.basis.N) if hasattr(solver, "basis") else None,
