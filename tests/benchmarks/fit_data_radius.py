@@ -14,10 +14,12 @@ its rms is the kind's model-form level (imprint.MODEL_FORM), the rms residual pe
 Then the dynamic FE's own drop tests (results/impact/impact.json: aluminium, nu 0.3, E/sigma_Y 700, off the
 table's E/sigma_Y nodes; contact_radius_max, the pressure extrapolation) through ``nfdcal fit-data``.
 
-    .venv/bin/python tests/benchmarks/fit_data_radius.py [--load JSON] [--save JSON]
+    .venv/bin/python tests/benchmarks/fit_data_radius.py [--load JSON] [--save JSON] [--rims]
 
 --save writes the FE drop tests (tests/data/vz_master_radius_fe.json is this file); --load reads them
-instead of running the FE (about 1-2 minutes per material on one core).
+instead of running the FE (about 1-2 minutes per material on one core). --rims also measures the FE's
+residual imprint after separation (calib.fit.master_radius_check.residual_rim: where the flattening
+reaches the dent, and the crest of the low lip beyond) against its contact radius at the peak.
 
 Measured: see calib/fit/measured/imprint.py (MODEL_FORM) and tests/README.md.
 """
@@ -48,20 +50,21 @@ KINDS = {"drops e": (), "drops e+dent": ("dent",), "drops e+radius": ("radius",)
 DYNAMIC = ROOT / "results" / "impact" / "impact.json"
 
 
-def fe_drop_tests(nu: float, ratio: float) -> dict:
+def fe_drop_tests(nu: float, ratio: float, rims: bool = False) -> dict:
     """The FE drop tests of one material (module doc)."""
     from calib.fe.loadpath import contact_work
     from calib.fit.master_radius_check import fe_run
     from nfdmodel import Material
 
-    run = fe_run(Material(ratio * SIGMA_Y, nu, SIGMA_Y, RHO), R, PEAKS, N, fractions=())
+    run = fe_run(Material(ratio * SIGMA_Y, nu, SIGMA_Y, RHO), R, PEAKS, N, fractions=(), rims=rims)
     pair = run["pair"]
     tests = []
     for p in run["paths"]:
         work = contact_work(np.r_[0.0, p["loading_approach"]], np.r_[0.0, p["loading_force"]])
         tests.append({"P_max_over_P_Y": p["x"], "P_max": p["P_max"], "v_in": math.sqrt(2 * work / pair.mass_star),
                       "e": p["e"], "radius": p["radius_at_peak"], "radius_pressure": p["radius_at_peak_pressure"],
-                      "dent": p["alpha_residual"], "alpha_max": p["alpha_max"]})
+                      "dent": p["alpha_residual"], "alpha_max": p["alpha_max"],
+                      **{k: p[k] for k in ("residual_rim", "residual_lip", "lip_height") if k in p}})
     return {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": SIGMA_Y, "rho": RHO, "R": R,
             "elements_per_contact_radius": N, "dofs": run["dofs"], "wall_time_s": run["wall_time_s"], "tests": tests}
 
@@ -118,13 +121,15 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--load", type=Path, help="the FE drop tests written by --save (no FE run)")
     parser.add_argument("--save", type=Path, help="write the FE drop tests here (JSON)")
+    parser.add_argument("--rims", action="store_true", help="also the FE's residual imprint rim after separation "
+                                                             "(each path unloaded a second time)")
     args = parser.parse_args(argv)
     table = VZMasterTable.load()
     started = time.perf_counter()
     if args.load:
         rows = json.loads(args.load.read_text(encoding="utf-8"))["rows"]
     else:
-        rows = [fe_drop_tests(nu, ratio) for nu, ratio in MATERIALS]
+        rows = [fe_drop_tests(nu, ratio, args.rims) for nu, ratio in MATERIALS]
     if args.save:
         from calib import output
 
@@ -139,6 +144,20 @@ def main(argv=None):
         print(f"nu {row['nu']:g} E/sigma_Y {row['E_over_sigma_y']:g} ({row['wall_time_s']:.0f} s FE): " + ", ".join(
             f"{t['P_max_over_P_Y']:.3g} P_Y {100 * (float(law.contact_radius_at(t['P_max'])) / t['radius'] - 1):+.2f} % "
             f"({100 * (t['radius_pressure'] / t['radius'] - 1):+.2f} %)" for t in row["tests"]))
+    for row in rows:
+        if all("residual_rim" in t for t in row["tests"]):
+            print(f"nu {row['nu']:g} E/sigma_Y {row['E_over_sigma_y']:g}: the residual imprint's rim (lip crest, its "
+                  f"height / dent) against the FE's contact radius at the peak: " + ", ".join(
+                      f"{t['P_max_over_P_Y']:.3g} P_Y {100 * (t['residual_rim'] / t['radius'] - 1):+.2f} % "
+                      f"({100 * (t['residual_lip'] / t['radius'] - 1):+.1f} %, {t['lip_height']:.3f})"
+                      for t in row["tests"]))
+    with_rims = [row for row in rows if all("residual_rim" in t for t in row["tests"])]
+    if with_rims:        # the residual rim read as the imprint's radius: what the modelling choice costs
+        errors = [math.log(fit(measurements({**row, "tests": [{**t, "radius": t["residual_rim"]} for t in row["tests"]]},
+                                            "drops e+radius"), specimen(row), table, model_form={}).sigma_y
+                           / row["sigma_y"]) for row in with_rims]
+        print("sigma_Y from e and the residual rim taken as the radius: "
+              + ", ".join(f"{100 * e:+.2f} %" for e in errors))
     measured = levels(rows, table)
     print("\nkind                  ln(sigma_fit/sigma_true) per material        rms      residual rms per group")
     for kind, m in measured.items():

@@ -2,13 +2,17 @@
 (``nfdcal fit-data``, the vz-table law).
 
 **The modelling choice.** The radius of the imprint a plastic impact leaves is taken as the contact
-radius at the impact's peak. After a plastic impact the elastic recovery on unloading lifts the
-contact's centre off the flat first; the rim of the flattened cap, where the plastic strain that
-formed it ends, stays near where the contact edge stood at the peak, so the residual imprint's rim
-radius is close to the contact radius at the peak (Johnson 1985, Contact Mechanics, section 6.3:
-the unloading of a fully plastic indentation is elastic, with a contact radius fixed by the
-plastic one); an imprint seen on a surface is the footprint the contact left at its widest. The FE's
-residual rim (from its state after separation) against its peak radius is not measured here.
+radius at the impact's peak: the unloading of a plastic contact is elastic (Johnson 1985, Contact
+Mechanics, ch. 6), it lifts the flattened cap off the flat from its edge inwards without moving where
+the plastic flattening stood at the peak, so the residual imprint's rim lies close to the peak contact
+radius, and an imprint seen on a surface is the footprint the contact left at its widest. Measured on
+the FE's state after separation (calib.fit.master_radius_check.residual_rim; the three off-grid materials
+below, the nodes' graded mesh, surface nodes 2.6-3.6 % of a apart): the residual surface returns to the
+sphere (shifted by the dent) at -12.4..-12.7 % of the peak contact radius at 3 P_Y, -5.8..-6.5 % at 7,
+-3.5..-4.7 % at 16, -2.5..-4.1 % at 40-100 P_Y; beyond it a low lip (6-10 % of the dent high) crests at
++9..+21 %. Taking that rim as the radius moves sigma_Y fitted with e by -0.14..+0.69 % (radius residuals
++2.3..+14 %): an imprint measured to its rim is fitted to within the target, though its
+residual exceeds the law's level.
 
 **Which FE radius.** f_a is fitted to the FE's contact edge by the gap extrapolation
 (calib.fe.recovery.contact_radius_from_gap). The pressure extrapolation (contact_radius_from_pressure,
