@@ -136,7 +136,7 @@ def virgin_loading(approach: np.ndarray) -> np.ndarray:
 def data_kind(data: Measurements) -> str:
     """Which measured model-form error applies: "force" when a force-approach curve is fitted,
     else "drops e+radius" or "drops e+dent+radius" with imprint radii (the vz-unload law,
-    calib.fit.measured.imprint), else "drops e+dent" with dents (the vz-unload law; with P_max or
+    calib.fit.measured.imprint; P_max or contact times beside them are fitted, not judged), else "drops e+dent" with dents (the vz-unload law; with P_max or
     contact times too, their groups' levels under it are not measured and not judged), else "drops e+P+t" with contact times (with or without P_max: the contact time's error is the
     law's largest, its unloading a Hertz curve of the FE's work), "drops e+P" with P_max, else
     "drops e"."""
