@@ -3,7 +3,8 @@
     nfdcal fit-data --impacts drops.csv --E 70e9 --nu 0.3 --R 0.1 --rho 2700 [--noise 0.01] [--json]
     nfdcal fit-data --force-approach press.csv --E ... --law vz --sigma-y 100e6 --free --plot fit.png
 
-Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s], dent [m]) and/or quasi-static
+Drop tests (v_in [m/s], e [-], optional P_max [N], contact_time [s], dent [m], radius [m]: the imprint's, taken
+as the contact radius at the peak, calib.fit.measured.imprint) and/or quasi-static
 force-approach curves (approach [m], force [N], optional test) of a sphere on a rigid flat are
 fitted through the runtime law (calib.fit.measured states the equations).
 
@@ -72,7 +73,8 @@ def add_parser(subparsers) -> None:
                                    description=__doc__.split("\n\n")[0])
     parser.add_argument("--impacts", default=None, metavar="CSV",
                         help="drop tests: columns v_in [m/s], e [-]; optional P_max [N], contact_time [s], dent [m] "
-                             "(the residual indentation depth; fitted on the vz master table's vz-unload law)")
+                             "(the residual indentation depth), radius [m] (the imprint's radius, taken as the contact "
+                             "radius at the peak); dent and radius are fitted on the vz master table's vz-unload law")
     parser.add_argument("--force-approach", dest="force_approach", default=None, metavar="CSV",
                         help="quasi-static curves: columns approach [m], force [N]; optional test (a label "
                              "per virgin specimen)")
@@ -234,6 +236,7 @@ def run(ns) -> int:
     from calib import output
     from calib.fit.master_table import MasterTable
     from calib.fit.measured import data as measured_data
+    from calib.fit.measured import imprint
 
     started = time.perf_counter()
     refuse_hardening(ns, "fit-data", "fits sigma_Y (and Ca, Kc) of the master tables' laws, with no hardening constant "
@@ -257,6 +260,7 @@ def run(ns) -> int:
     if data.impacts is not None and data.impacts.dent is not None:
         raise ValueError(f"{ns.impacts}: column 'dent' is fitted on the vz master table's vz-unload law (the default "
                          f"law, --law vz-table), not on --law vz (the two-constant law's dent is not measured)")
+    imprint.refuse_on_vz(data.impacts, ns.impacts)
     choice, warning = fit_or_cause(data, specimen, table, "free" if ns.free else "constrained", sigma_y, ns.force)
     if warning:
         print(f"nfdcal fit-data: warning: {warning}; reported and written as --force asks", file=sys.stderr)
@@ -329,7 +333,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
     refused naming ``--law vz`` (module doc)."""
     from calib import output
     from calib.fit.measured import data as measured_data
-    from calib.fit.measured import table_refusal
+    from calib.fit.measured import imprint, table_refusal
     from calib.fit.measured.data import E_ROUND_OFF
     from calib.fit.vz_master_table import VZMasterTable
 
@@ -343,6 +347,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
+    imprint.check_radius(data.impacts, specimen.R)
     try:
         table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table, before the data
     except ValueError as exc:

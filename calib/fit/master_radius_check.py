@@ -27,6 +27,13 @@ tangential spring k_t = 8 G* a reads after a partial unload; both laws: a = a_e(
 (on unloading the FE's edge, where the flattened profile meets the flat almost tangentially,
 moves by jumps of about half an element, a_FE / (2 N): a resolution, not a target). The FE's own discretisation on these figures: the same run on a
 coarser mesh (``mesh_spread``: the FE radius, dent, e and unloading force of the two meshes).
+
+The residual imprint (``rims``): after each path's separation the sphere's surface, relative to its
+pole, against the undeformed one: the flattening w(r) = h_0(r) - h_res(r) (h the surface's height
+above the pole) rises from 0 at the pole to the dent alpha_res, overshoots it in a low lip and returns
+to it far out. The imprint's rim is where w first reaches alpha_res (the residual surface back on the
+sphere, shifted by the dent; linear between the surface nodes), the lip's crest where w is largest
+within 3 rims (:func:`residual_rim`); each against the FE's contact radius at the peak.
 """
 from __future__ import annotations
 
@@ -44,12 +51,14 @@ LAWS = ("vz-unload", "vz-table")
 
 def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elements_per_contact_radius: float,
            loading_steps_per_decade: float = 16.0, unloading_steps: int = 16,
-           fractions: tuple[float, ...] = (0.5, 0.2), overload: float = 1.3) -> dict:
+           fractions: tuple[float, ...] = (0.5, 0.2), overload: float = 1.3, rims: bool = False) -> dict:
     """The FE paths and cycle of the module doc: ``paths`` (per peak: the loading approach and
-    force to the peak, the contact radius there [m], the unloading, alpha_max, alpha_res, e),
+    force to the peak, the contact radius there [m] (the gap extrapolation; ``radius_at_peak_pressure``:
+    the pressure's, calib.fe.recovery, as the dynamic FE takes it), the unloading, alpha_max, alpha_res, e;
+    with ``rims`` the residual imprint's rim and lip crest [m] and the lip's height [alpha_res], module doc),
     ``cycle`` (calib.fe.cycles.CycleRun), the mesh and the wall time [s]."""
     from calib.fe.cycles import CyclePlan, run_cycles
-    from calib.fe.loadpath import run_load_paths
+    from calib.fe.loadpath import run_load_paths, unloading_path
     from calib.fit.calibration import _body_meshes, _solver
 
     pair = ContactPair.sphere_flat(material, R)
@@ -74,11 +83,30 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
                       "unloading_approach": np.array([r["alpha"] for r in unloading]),
                       "unloading_force": np.maximum([r["P"] for r in unloading], 0.0),
                       "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
-                      "radius_at_peak": float(loading[-1]["contact_radius"]), "e": p.restitution})
+                      "radius_at_peak": float(loading[-1]["contact_radius"]),
+                      "radius_at_peak_pressure": float(loading[-1]["contact_radius_pressure"]), "e": p.restitution})
+        if rims:      # the path's unloading again (the same rows bit for bit) for its state at separation
+            separated = unloading_path(solver, plan, p.peak, p.peak_state).final_state
+            paths[-1].update(residual_rim(solver, separated.displacement, p.alpha_residual))
     return {"pair": pair, "paths": paths, "cycle": cycle, "mesh": dataclasses.asdict(spec.mesh),
             "elements_per_contact_radius": elements_per_contact_radius,
             "dofs": int(solver.basis.N) if hasattr(solver, "basis") else None,
             "wall_time_s": time.perf_counter() - t0}
+
+
+def residual_rim(solver, displacement, dent: float) -> dict:
+    """The residual imprint of the module doc from the surface candidates' displacement [m] at
+    separation: ``rim`` and ``lip`` (its crest) [m], ``lip_height`` = max w / alpha_res [-]."""
+    nodes = solver.candidate_nodes
+    z0 = solver.node_z[nodes]
+    z = z0 + displacement[solver.z_dof[nodes]]
+    r = solver.candidate_r
+    w = ((z0 - z0[0]) - (z - z[0])) / dent
+    i = int(np.argmax(w >= 1.0))
+    rim = r[i - 1] + (1.0 - w[i - 1]) * (r[i] - r[i - 1]) / (w[i] - w[i - 1]) if i > 0 else float("nan")
+    near = np.nonzero((np.arange(r.size) >= i) & (r <= 3.0 * rim))[0]      # the lip, not the far surface
+    crest = int(near[np.argmax(w[near])]) if near.size else i
+    return {"residual_rim": float(rim), "residual_lip": float(r[crest]), "lip_height": float(w[crest])}
 
 
 def laws_of(table: VZMasterTable, material: Material, R: float) -> dict:

@@ -13,6 +13,7 @@ idea per module, each importing only those above it:
     identifiability  which parameters the data determine; which drop tests would add most
     models           the constrained and the free model, and the choice between them (AICc)
     diagnosis        the likely cause of data the law does not fit (units, columns, material)
+    imprint          the measured imprint radius: its prediction, refusals and model-form level
     table_law        the constrained model on the vz master table's load-dependent law
     table_refusal    when that fit is no fit (residual ceiling, interval, window) and why
     bands            the fitted e(v_in) with its confidence band (delta method)

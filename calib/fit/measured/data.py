@@ -6,8 +6,10 @@ quasi-static force-approach curves of a sphere on a rigid flat, the data ``nfdca
     impacts         v_in [m/s] > 0, e [-] in (0, 1 + E_ROUND_OFF]; optional P_max [N] > 0, contact_time [s] > 0,
                     dent [m] > 0 (the residual indentation depth, delta_res, of the test's
                     impact on a fresh spot; fitted through the vz-unload law of the vz master
-                    table) (an empty cell: not measured in that test). One row per drop test, repeats
-                    at the same v_in allowed.
+                    table), radius [m] > 0 (the imprint's radius, taken as the contact radius at the
+                    impact's peak: calib.fit.measured.imprint; < the sphere's R, checked by
+                    fit-data) (an empty cell: not measured in that test). One row per drop test,
+                    repeats at the same v_in allowed.
     force-approach  approach [m], force [N] along one or more load-unload cycles of one
                     contact, in the order measured; optional test (a label): rows with the same
                     label are one history on a fresh (virgin) specimen, in file order.
@@ -17,7 +19,7 @@ an elastic impact (an FE's energy balance holds to about 1e-4: e 1.00008 at 0.5 
 as measured (no clamping: the fit compares it with the law's e <= 1, a residual of that size).
 Any other column is refused; every bad cell is one ValueError naming the file, the row, its line
 and the column. The residual groups of the fit (calib.fit.measured.specimen) are e, P_max,
-contact_time, dent and force; ``Measurements.group_sizes`` counts the values of each. The force
+contact_time, dent, radius and force; ``Measurements.group_sizes`` counts the values of each. The force
 residuals are scaled by max(|P|, P_floor) with P_floor = 0.05 x the smallest test's peak force,
 the weighting of the FE force fit (calib.fit.least_squares.fit_force_law).
 """
@@ -33,7 +35,7 @@ import numpy as np
 from nfdmodel.validation import check_solid, number_from_text
 
 IMPACT_COLUMNS = {"v_in": "m/s", "e": "-"}
-IMPACT_OPTIONAL = {"P_max": "N", "contact_time": "s", "dent": "m"}
+IMPACT_OPTIONAL = {"P_max": "N", "contact_time": "s", "dent": "m", "radius": "m"}
 FORCE_COLUMNS = {"approach": "m", "force": "N"}
 FORCE_OPTIONAL = {"test": "label"}
 FORCE_FLOOR_FRACTION = 0.05     # P_floor = this x the smallest test's peak force (the FE force fit's)
@@ -42,8 +44,8 @@ E_ROUND_OFF = 1e-3              # e up to 1 + this is accepted (module doc: roun
 
 @dataclass(frozen=True)
 class ImpactData:
-    """Drop tests: v_in [m/s], e [-]; P_max [N], contact_time [s] and dent [m] with NaN where a test
-    did not measure them (None when the file has no such column); ``rows``: each test's data row number."""
+    """Drop tests: v_in [m/s], e [-]; P_max [N], contact_time [s], dent [m] and radius [m] with NaN where
+    a test did not measure them (None when the file has no such column); ``rows``: each test's data row number."""
 
     path: str
     v_in: np.ndarray
@@ -52,17 +54,19 @@ class ImpactData:
     contact_time: np.ndarray | None
     rows: np.ndarray
     dent: np.ndarray | None = None
+    radius: np.ndarray | None = None
 
     def subset(self, keep: np.ndarray) -> "ImpactData":
         """The tests where ``keep`` (a boolean mask) is True, their row numbers kept."""
         return ImpactData(self.path, self.v_in[keep], self.e[keep], None if self.P_max is None else self.P_max[keep],
                           None if self.contact_time is None else self.contact_time[keep], self.rows[keep],
-                          None if self.dent is None else self.dent[keep])
+                          None if self.dent is None else self.dent[keep],
+                          None if self.radius is None else self.radius[keep])
 
     @property
     def n_points(self) -> int:
-        return int(self.e.size + sum(int(np.isfinite(x).sum()) for x in (self.P_max, self.contact_time, self.dent)
-                                     if x is not None))
+        return int(self.e.size + sum(int(np.isfinite(x).sum()) for x in (self.P_max, self.contact_time, self.dent,
+                                                                         self.radius) if x is not None))
 
 
 @dataclass(frozen=True)
@@ -148,11 +152,11 @@ def _cell(path, what, row, line, column, text, unit, low, high=None, low_inclusi
 
 
 def read_impacts(path) -> ImpactData:
-    """The drop tests of ``path`` (module doc: columns v_in, e; optional P_max, contact_time)."""
+    """The drop tests of ``path`` (module doc: columns v_in, e; optional P_max, contact_time, dent, radius)."""
     what = "impacts"
     header, index, rows = _read_rows(path, what, IMPACT_COLUMNS, IMPACT_OPTIONAL)
     ranges = {"v_in": ("m/s", 0.0, None), "e": ("-", 0.0, 1.0 + E_ROUND_OFF), "P_max": ("N", 0.0, None),
-              "contact_time": ("s", 0.0, None), "dent": ("m", 0.0, None)}
+              "contact_time": ("s", 0.0, None), "dent": ("m", 0.0, None), "radius": ("m", 0.0, None)}
     values = {name: [] for name in header}
     for row, line, fields in rows:
         for name in header:
@@ -167,7 +171,7 @@ def read_impacts(path) -> ImpactData:
             values[name].append(value)
     arrays = {name: np.asarray(v, dtype=float) for name, v in values.items()}
     return ImpactData(str(path), arrays["v_in"], arrays["e"], arrays.get("P_max"), arrays.get("contact_time"),
-                      np.array([row for row, _, _ in rows]), arrays.get("dent"))
+                      np.array([row for row, _, _ in rows]), arrays.get("dent"), arrays.get("radius"))
 
 
 def read_force_approach(path) -> ForceApproachData:
@@ -214,11 +218,11 @@ class Measurements:
         return [d.path for d in (self.impacts, self.forces) if d is not None]
 
     def group_sizes(self) -> dict[str, int]:
-        """The number of measured values per residual group (e, P_max, contact_time, dent, force)."""
+        """The number of measured values per residual group (e, P_max, contact_time, dent, radius, force)."""
         sizes = {}
         if self.impacts is not None:
             sizes["e"] = int(self.impacts.e.size)
-            for name in ("P_max", "contact_time", "dent"):
+            for name in ("P_max", "contact_time", "dent", "radius"):
                 measured = getattr(self.impacts, name)
                 if measured is not None and np.isfinite(measured).any():
                     sizes[name] = int(np.isfinite(measured).sum())

@@ -7,7 +7,7 @@ for the usual causes, in this order:
 
     units    each numeric column rescaled by the factors of its common other units
              (``UNIT_SLIPS``: v_in in mm/s or cm/s; P_max and force in kN or mN; contact_time in
-             ms or us; approach in mm or um), then by every other power of ten 1e-3..1e3
+             ms or us; dent, radius and approach in mm or um), then by every other power of ten 1e-3..1e3
              (``POWERS_OF_TEN``, e included), and the law refitted (the vz law: sigma_Y with the
              master table's constants, --free: Ca_hat, Kc_hat at the given sigma_Y; the vz-table
              law: calib.fit.measured.table_refusal); a slip is named when that refit is
@@ -40,9 +40,10 @@ UNIT_SLIPS = {"v_in": ((1e-3, "mm/s"), (1e-2, "cm/s")),
               "P_max": ((1e3, "kN"), (1e-3, "mN")),
               "contact_time": ((1e-3, "ms"), (1e-6, "us")),
               "dent": ((1e-3, "mm"), (1e-6, "um")),
+              "radius": ((1e-3, "mm"), (1e-6, "um")),
               "approach": ((1e-3, "mm"), (1e-6, "um")),
               "force": ((1e3, "kN"), (1e-3, "mN"))}
-SI_UNITS = {"v_in": "m/s", "e": "-", "P_max": "N", "contact_time": "s", "dent": "m", "approach": "m", "force": "N"}
+SI_UNITS = {"v_in": "m/s", "e": "-", "P_max": "N", "contact_time": "s", "dent": "m", "radius": "m", "approach": "m", "force": "N"}
 POWERS_OF_TEN = (1e3, 1e-3, 1e2, 1e-2, 1e1, 1e-1)     # any column off by one of these (module doc)
 TREND_TESTS = 5
 TREND_SIGNIFICANCE = 0.05
@@ -65,7 +66,7 @@ def refit(data: Measurements, specimen: Specimen, table: MasterTable, model: str
 
 def rescaled(data: Measurements, column: str, factor: float) -> Measurements:
     """``data`` with one column multiplied by ``factor``."""
-    if column in ("v_in", "e", "P_max", "contact_time", "dent"):
+    if column in ("v_in", "e", "P_max", "contact_time", "dent", "radius"):
         impacts = data.impacts
         scaled = dataclasses.replace(impacts, **{column: getattr(impacts, column) * factor})
         return dataclasses.replace(data, impacts=scaled)
@@ -78,7 +79,7 @@ def _columns(data: Measurements) -> list[str]:
     columns = []
     if data.impacts is not None:
         columns += ["v_in", "e"]
-        columns += [name for name in ("P_max", "contact_time", "dent")
+        columns += [name for name in ("P_max", "contact_time", "dent", "radius")
                     if getattr(data.impacts, name) is not None and np.isfinite(getattr(data.impacts, name)).any()]
     if data.forces is not None:
         columns += ["force", "approach"]

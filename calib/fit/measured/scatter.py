@@ -40,7 +40,7 @@ from scipy import stats
 
 from calib.fit.measured.data import Measurements
 
-PLAUSIBLE_SCATTER = {"e": 0.10, "P_max": 0.20, "contact_time": 0.20, "dent": 0.20, "force": 0.20}
+PLAUSIBLE_SCATTER = {"e": 0.10, "P_max": 0.20, "contact_time": 0.20, "dent": 0.20, "radius": 0.20, "force": 0.20}
 SIGNIFICANCE = 1e-3
 NOISE_FREE = 1e-9               # rms relative residual below which the data are on the law exactly
 REFERENCE_SCATTER = 0.01        # noise-free data: the standard errors at this relative scatter

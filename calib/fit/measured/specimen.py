@@ -165,10 +165,10 @@ def predict_forces(params: VZParams, forces: ForceApproachData) -> list[np.ndarr
 
 
 def impact_residuals(data: Measurements, predicted: dict) -> dict[str, np.ndarray]:
-    """The drop tests' relative residuals, e and (where measured) P_max, contact_time and dent, of a
-    law's predictions at the measured v_in (arrays by name)."""
+    """The drop tests' relative residuals, e and (where measured) P_max, contact_time, dent and radius,
+    of a law's predictions at the measured v_in (arrays by name)."""
     out = {"e": predicted["e"] / data.impacts.e - 1.0}
-    for name in ("P_max", "contact_time", "dent"):
+    for name in ("P_max", "contact_time", "dent", "radius"):
         measured = getattr(data.impacts, name)
         if measured is not None and np.isfinite(measured).any():
             seen = np.isfinite(measured)

@@ -7,7 +7,8 @@ load-unload paths over the whole window), so one parameter, theta = ln sigma_Y, 
 data's whole window. Predictions, as calib.fit.measured.specimen states them for the vz law:
 drop tests by the law's quasi-static impact (nfdmodel.collision_reference, law "vz-table":
 e, P_max, contact time; with a dent column the table's vz-unload law, the same loading with the
-FE's dent ratio and unloading exponent, its delta_res the dent), force-approach curves by the law driven along each measured approach
+FE's dent ratio and unloading exponent, its delta_res the dent; with a radius column the same law,
+its contact radius at the peak the imprint's: calib.fit.measured.imprint), force-approach curves by the law driven along each measured approach
 (a virgin contact per test), their force fitted on the virgin loading rows (approach at its
 running maximum): the law takes the FE's loading curve and the work each unloading returns, its
 unloading is a Hertz curve of that work, not the FE's unloading shape (fitted on whole cycles,
@@ -46,6 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
+from calib.fit.measured import imprint
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.interval import Z95, coverage_factor, interval95  # noqa: F401 (re-exported)
 from calib.fit.measured.specimen import Specimen, impact_residuals
@@ -79,8 +81,9 @@ def law_name(law: VZTableParams) -> str:
 
 
 def has_dents(data: Measurements) -> bool:
-    """Whether the drop tests measured dents (fitted through the vz-unload law, :func:`table_law`)."""
-    return "dent" in data.group_sizes()
+    """Whether the drop tests measured dents or imprint radii (fitted through the vz-unload law,
+    :func:`table_law`; the radius: calib.fit.measured.imprint)."""
+    return bool({"dent", "radius"} & set(data.group_sizes()))
 
 
 def predict(law: VZTableParams, data: Measurements) -> dict:
@@ -91,7 +94,7 @@ def predict(law: VZTableParams, data: Measurements) -> dict:
         if data.impacts is not None:
             ref = collision_reference(law_name(law), law, data.impacts.v_in)
             out["impacts"] = {"e": ref.restitution, "P_max": ref.P_max, "contact_time": ref.contact_time_estimate,
-                              "dent": ref.delta_res}
+                              "dent": ref.delta_res, "radius": imprint.predicted_radius(law, ref.P_max)}
         if data.forces is not None:
             driver = get_law("vz-table")
             forces = []
@@ -132,13 +135,16 @@ def virgin_loading(approach: np.ndarray) -> np.ndarray:
 
 def data_kind(data: Measurements) -> str:
     """Which measured model-form error applies: "force" when a force-approach curve is fitted,
-    else "drops e+dent" with dents (the vz-unload law; with P_max or contact times too, their
-    groups' levels under it are not measured and not judged), else "drops e+P+t" with contact times (with or without P_max: the contact time's error is the
+    else "drops e+radius" or "drops e+dent+radius" with imprint radii (the vz-unload law,
+    calib.fit.measured.imprint; P_max or contact times beside them are fitted, not judged), else "drops e+dent" with dents (the vz-unload law; with P_max or
+    contact times too, their groups' levels under it are not measured and not judged), else "drops e+P+t" with contact times (with or without P_max: the contact time's error is the
     law's largest, its unloading a Hertz curve of the FE's work), "drops e+P" with P_max, else
     "drops e"."""
     if data.forces is not None:
         return "force"
     groups = data.group_sizes()
+    if "radius" in groups:            # the imprint radius (calib.fit.measured.imprint), with or without dents
+        return "drops e+dent+radius" if "dent" in groups else "drops e+radius"
     if "dent" in groups:
         return "drops e+dent"
     return "drops e+P+t" if "contact_time" in groups else "drops e+P" if "P_max" in groups else "drops e"
@@ -148,7 +154,7 @@ def model_form_uncertainty(table: VZMasterTable, nu: float, E_over_sigma_y: floa
                            model_form: dict | None = None) -> float:
     """u [-] in ln sigma_Y (module doc): ``model_form`` (kind -> u), else the table's measured one,
     combined in quadrature with the surrounding nodes' discretisation error estimate."""
-    form = table.meta.get("model_form", {}).get("sigma_y", {}) if model_form is None else model_form
+    form = imprint.model_form(table).get("sigma_y", {}) if model_form is None else model_form
     node = table.tables(nu, E_over_sigma_y)["rel_error_estimate"] or 0.0
     return math.hypot(float(form.get(kind, 0.0)), node)
 
@@ -240,7 +246,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     interval = (math.exp(bounded.low), math.exp(bounded.high))
     law = table_law(specimen, sigma_y, table, unload)
     rms = {name: float(np.sqrt(np.mean(g[name] ** 2))) for name in sizes}
-    level_of = table.meta.get("model_form", {}).get("residual_rms", {})
+    level_of = imprint.model_form(table).get("residual_rms", {})
     law_error = {name: float(level_of.get(f"{kind}: {name}", 0.0)) for name in sizes}
     expected = {name: math.hypot(law_error[name], noise or 0.0) for name in sizes}
     # a group with no measured level (a table without it, no noise stated) cannot be judged

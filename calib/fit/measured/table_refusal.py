@@ -40,7 +40,7 @@ import warnings
 import numpy as np
 from scipy import stats
 
-from calib.fit.measured import diagnosis
+from calib.fit.measured import diagnosis, imprint
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.interval import Z95
 from calib.fit.measured.scatter import PLAUSIBLE_SCATTER, SIGNIFICANCE
@@ -57,7 +57,7 @@ PRESCREEN = 20.0         # a scan minimum above this x the summed thresholds is 
 
 def ceilings(table: VZMasterTable, kind: str, names, noise: float | None) -> dict[str, float]:
     """c_g [-] per group (module doc)."""
-    level = table.meta.get("model_form", {}).get("residual_rms", {})
+    level = imprint.model_form(table).get("residual_rms", {})
     return {name: math.hypot(float(level.get(f"{kind}: {name}", 0.0)),
                              PLAUSIBLE_SCATTER[name] if noise is None else noise) for name in names}
 
