@@ -115,10 +115,14 @@ def _write(path, v):
 def test_an_interrupted_command_says_so(how, tmp_path):
     """Ctrl-C and kill PID during an FE run outside a sweep (nfdcal hertz): one line, exit 130."""
     env = {**os.environ, "XDG_CACHE_HOME": str(tmp_path / "cache")}
-    process = subprocess.Popen([sys.executable, "-m", "calib.cli", "hertz", "--P-max", "20", "--steps", "400",
+    process = subprocess.Popen([sys.executable, "-m", "calib.cli", "hertz", "--steps", "1000",
                                 "--out", str(tmp_path / "h"), "--quiet"], env=env, stdout=subprocess.DEVNULL,
                                stderr=subprocess.PIPE, text=True)
-    time.sleep(4.0)
+    # the signal lands in the FE loop: after the mesh is written (1000 loads take seconds more on an idle machine)
+    deadline = time.monotonic() + 120.0
+    while not list((tmp_path / "cache").rglob("*.msh")) and process.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(0.5)
     assert process.poll() is None, process.stderr.read()
     process.send_signal(how)
     process.wait(timeout=60)
