@@ -161,7 +161,8 @@ def window_spec(material: Material, radius: float, top: float, *, loading_steps:
     if elements_per_contact_radius is not None:
         pair = ContactPair.sphere_flat(material, radius)
         spec_options.update(elements_per_contact_radius=elements_per_contact_radius,
-                            graded_from=recipe.estimated_contact_radius(pair, min(lowest_over_P_Y * pair.P_Y, top)))
+                            graded_from=recipe.sizing_radius(spec_options.get("kinematics", DEFAULT_KINEMATICS))(
+                                pair, min(lowest_over_P_Y * pair.P_Y, top)))
     spec = recipe.calibration_spec(material, radius, peaks=(top,), loading_steps=1, **spec_options)
     plan = spec.plan
     if loading_steps is not None:
