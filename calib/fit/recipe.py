@@ -11,12 +11,12 @@ plan whichever way it is asked for:
   to the largest), 16 unloading increments per path, the first load at 0.5 P_Y (20 N for the
   reference sphere, as the reference calibration has always been run);
 * mesh: the element size at the contact is a fixed fraction of the largest contact radius a_max
-  [m] estimated before any FE run (``sizing_radius``: the FE's radius in finite strain; 1/37 at level "default": the reference mesh's 4e-5 m at
-  a_max = 1.48 mm; 1/10 "coarse", 1/74 "fine"), the refined zone 1.1 a_max wide and 0.35 a_max
-  deep, so that the discretisation error is the reference one for any material and size; the
-  reference sphere (the reference material, R = 0.1 m, a_max inside the reference fine zone)
-  keeps the reference mesh family (``REFERENCE_CONTACT_SIZES``), whose meshes and results are
-  cached and published.
+  [m] estimated before any FE run (``sizing_radius``: the FE's radius in finite strain; 1/37 at level
+  "default": the reference mesh's 4e-5 m at a_max = 1.48 mm; 1/10 "coarse", 1/74 "fine"), the refined
+  zone 1.1 a_max wide and 0.35 a_max deep, so that the discretisation error is the reference one for
+  any material and size; the reference sphere (the reference material, R = 0.1 m, a_max inside the
+  reference fine zone) keeps the reference mesh family (``REFERENCE_CONTACT_SIZES``), whose meshes and
+  results are cached and published.
 """
 from __future__ import annotations
 
