@@ -186,3 +186,34 @@ def test_the_master_table_law_is_inside_its_window_from_first_yield():
     with warnings.catch_warnings():
         warnings.simplefilter("error", RangeWarning)
         assert collide("vz-table", law, [v_in]).in_calibrated_range.tolist() == [True]
+
+
+def test_finite_strain_meshes_are_sized_by_the_fe_s_contact_radius():
+    """A finite-strain plan's mesh (recipe.sizing_radius: fe_contact_radius) against the FE's contact radius at the
+    top of each --v-max plan of tests/data/plan_radius_fe.csv (to 2000-9990 P_Y): the "coarse" level's 10 elements
+    across it (9.3-9.9; estimated_contact_radius's mesh gives 2.5-9.1 there, 4.2-4.5 at 2000 P_Y)
+    and a refined zone 1.0-1.2x as wide. A small-strain plan keeps estimated_contact_radius's mesh."""
+    import csv
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parent.parent
+    tops = {}
+    for row in csv.DictReader(line for line in (root / "tests" / "data" / "plan_radius_fe.csv").open()
+                              if not line.startswith("#")):
+        key = (float(row["E_over_sigma_y"]), float(row["nu"]), row["kinematics"])
+        if row["mesh"] == "graded-6" and float(row["P_over_P_Y"]) > tops.get(key, (0.0,))[0]:
+            tops[key] = (float(row["P_over_P_Y"]), float(row["a_over_R"]) * BRASS_R)
+    assert len(tops) == 15
+    for (ratio, nu, kinematics), (top, fe) in tops.items():
+        material = Material(ratio * 250e6, nu, 250e6, 8500.0)
+        pair = ContactPair.sphere_flat(material, BRASS_R)
+        if kinematics == "finite-strain":
+            spec = recipe.calibration_spec(material, BRASS_R, peaks=(top * pair.P_Y,), level="coarse",
+                                           kinematics=kinematics)
+            assert 9.2 < fe / spec.mesh.contact_size < 10.6, (ratio, nu, fe / spec.mesh.contact_size)
+            assert 1.0 < spec.mesh.refined_radius / fe < 1.2, (ratio, nu, spec.mesh.refined_radius / fe)
+        else:                           # within the small strain's reach
+            spec = recipe.calibration_spec(material, BRASS_R, peaks=(min(top, 100.0) * pair.P_Y,), level="coarse",
+                                           kinematics=kinematics)
+            a_max = recipe.estimated_contact_radius(pair, min(top, 100.0) * pair.P_Y)
+            assert spec.mesh == recipe.mesh_for(BRASS_R, a_max, level="coarse")

@@ -312,11 +312,13 @@ def run(ns) -> int:
     else:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter,
                                        kinematics=kinematics or recipe.reach_kinematics("finite-strain", counter))
-        if hardening is not None:
-            spec = dataclasses.replace(spec, hardening=hardening)
         if kinematics is None:
             kinematics = recipe.chosen_kinematics(spec.pair, spec.plan.peaks[-1], counter)
-        spec = dataclasses.replace(spec, kinematics=kinematics)
+        if kinematics != spec.kinematics:   # its mesh sized by the chosen kinematics' radius (recipe.sizing_radius)
+            spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter,
+                                           kinematics=kinematics)
+        if hardening is not None:
+            spec = dataclasses.replace(spec, hardening=hardening)
         if peaks is None:               # C_R is measured at unloading peaks: paths from near P_Y, Ca and Kc unchanged
             spec = impact_window.with_unloading_across(spec)
     try:                                # before any mesh: name the flag that sets the load plan

@@ -11,12 +11,12 @@ plan whichever way it is asked for:
   to the largest), 16 unloading increments per path, the first load at 0.5 P_Y (20 N for the
   reference sphere, as the reference calibration has always been run);
 * mesh: the element size at the contact is a fixed fraction of the largest contact radius a_max
-  [m] estimated before any FE run (1/37 at level "default": the reference mesh's 4e-5 m at
-  a_max = 1.48 mm; 1/10 "coarse", 1/74 "fine"), the refined zone 1.1 a_max wide and 0.35 a_max
-  deep, so that the discretisation error is the reference one for any material and size; the
-  reference sphere (the reference material, R = 0.1 m, a_max inside the reference fine zone)
-  keeps the reference mesh family (``REFERENCE_CONTACT_SIZES``), whose meshes and results are
-  cached and published.
+  [m] estimated before any FE run (``sizing_radius``: the FE's radius in finite strain; 1/37 at level
+  "default": the reference mesh's 4e-5 m at a_max = 1.48 mm; 1/10 "coarse", 1/74 "fine"), the refined
+  zone 1.1 a_max wide and 0.35 a_max deep, so that the discretisation error is the reference one for
+  any material and size; the reference sphere (the reference material, R = 0.1 m, a_max inside the
+  reference fine zone) keeps the reference mesh family (``REFERENCE_CONTACT_SIZES``), whose meshes and
+  results are cached and published.
 """
 from __future__ import annotations
 
@@ -75,8 +75,8 @@ def estimated_contact_radius(pair: ContactPair, force) -> float:
     measured up to 41 P_Y (the reference FE: 1.47 / 1.135 mm at 1500 N), the second the
     plastic radius a_p = Ca <P - P_Y> (paper eq. 2.5) that dominates from ~43 P_Y on. Linear in P, it
     overstates the FE's radius beyond ~100 P_Y (2.4x at 2000 P_Y, where the FE's grows as sqrt(P)), so the
-    refined zone it sizes covers the contact; the reach check and ``--kinematics auto`` take the FE's radius,
-    ``fe_contact_radius``."""
+    small-strain refined zone it sizes covers the contact; the finite strain's reach check and meshes
+    (``sizing_radius``) and ``--kinematics auto`` take the FE's radius, ``fe_contact_radius``."""
     a_hertz = float(pair.hertz_radius(force))
     if force <= pair.P_Y:
         return a_hertz
@@ -101,7 +101,8 @@ def fe_contact_radius(pair: ContactPair, force: float) -> float:
 
     n = FE_BLEND, G = 1 - exp(-0.82 (a / R*)^-0.7) (JACKSON_GREEN_GEOMETRY), sigma_Y the yielding body's. Its error
     against the FE: calib/fit/README.md, The plan's contact radius. ``estimated_contact_radius``, which sizes the
-    meshes, overstates it up to 2.4x at 2000 P_Y."""
+    small-strain meshes, overstates it up to 2.4x at 2000 P_Y; finite-strain meshes are sized by this one
+    (``sizing_radius``)."""
     a_hertz = float(pair.hertz_radius(force))
     if force <= pair.P_Y:
         return a_hertz
@@ -138,6 +139,16 @@ def largest_admissible_load(pair: ContactPair, radius_over_R: float = CONTACT_RA
 # where the FE has 0.185-0.189 R; fe_contact_radius understates the small-strain FE's by up to 6 % near 0.2 R),
 # so the small-strain plans (and the vz master table's node windows) stay as measured.
 REACH_RADIUS = {DEFAULT_KINEMATICS: estimated_contact_radius, "finite-strain": fe_contact_radius}
+
+
+def sizing_radius(kinematics: str = DEFAULT_KINEMATICS, counter=None):
+    """The contact radius estimate (pair, P) -> a [m] that sizes the meshes of a calibration in ``kinematics``
+    (the refined zone, 1.1 a_max; a level's contact element, its ratio x a_max; a graded mesh's smallest
+    contact radius): REACH_RADIUS of its reach's kinematics. Finite strain on the rigid flat takes the FE's
+    (fe_contact_radius), so its refined zone and elements follow the contact the FE reaches (the
+    estimate overstates it 2.3x at 2300 P_Y, calib/fit/README.md, The plan's contact radius); small strain and a
+    counter-body keep estimated_contact_radius, whose meshes every small-strain figure was measured on."""
+    return REACH_RADIUS[reach_kinematics(kinematics, counter)]
 
 
 def reach_kinematics(kinematics: str, counter=None) -> str:
@@ -256,9 +267,9 @@ class CalibrationSpec:
         if self.hardening is not None and not math.isclose(self.hardening.sigma_y, self.material.sigma_y, rel_tol=1e-6):
             raise ValueError(f"hardening: the flow curve starts at {self.hardening.sigma_y:g} Pa, not at the material's "
                              f"sigma_y = {self.material.sigma_y:g} Pa")
-        # the contact as the reach is checked (REACH_RADIUS): a finite-strain plan to 1e4 P_Y reaches a/R 0.39 (brass)
-        # where the mesh-sizing estimate, which the refined zone (at most 0.9 R) is sized by, passes R
-        a_max = REACH_RADIUS[reach_kinematics(self.kinematics, self.counter)](self.pair, self.plan.peaks[-1])
+        # the contact the mesh is sized by (sizing_radius, the reach's radius): a finite-strain plan to 1e4 P_Y reaches
+        # a/R 0.39 (brass), inside the refined zone's 0.9 R, where estimated_contact_radius passes R
+        a_max = sizing_radius(self.kinematics, self.counter)(self.pair, self.plan.peaks[-1])
         if self.mesh.refined_radius < 0.99 * a_max:   # a contact wider than the fine zone
             raise ValueError(f"mesh refined_radius {self.mesh.refined_radius:.4g} m is smaller than the "
                              f"estimated contact radius {a_max:.4g} m at P_max = {self.plan.peaks[-1]:.4g} N:"
@@ -453,7 +464,7 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
                       f"the load plan {min(0.5 * pair.P_Y, peaks[0]):.4g} .. {peaks[-1]:.4g} N")
     check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair,   # before sizing a mesh
                              reach_kinematics(kinematics, counter))
-    a_max = estimated_contact_radius(pair, peaks[-1])
+    a_max = sizing_radius(kinematics, counter)(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
                     contact_size_over_a_max=contact_size_over_a_max, graded_from=graded_from,
                     elements_per_contact_radius=elements_per_contact_radius, refinement=refinement)

@@ -7,7 +7,8 @@ estimate's, at 400 (brass) about half of it, the linear plastic radius of the es
 fully plastic contact's). The calibration is ``nfdcal calibrate --v-max``'s (calib.fit.impact_window.window_spec:
 unloading paths log-spaced from the lowest load the mesh resolves, loading stepped geometrically) to the
 load whose estimated contact radius is ``--a-over-R`` R (default 0.3), in finite strain, on one mesh of
-contact element ``--contact-size-over-a-max`` x a_max (default 0.1: the recipe's "coarse" level). Then the
+contact element ``--contact-size-over-a-max`` x a_max (default 0.1: the recipe's "coarse" level; a_max the FE's
+contact radius in finite strain, recipe.sizing_radius). Then the
 FE runs a load-unload path on the same mesh to the geometric midpoint between each pair of consecutive
 unloading peaks (paths the law never saw), and the shipped vz-table law is driven along each
 (calib.fit.path_check.law_against_path):
