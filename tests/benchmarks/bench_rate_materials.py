@@ -1,0 +1,175 @@
+"""Benchmark: the rate-aware law's c checked off the reference sphere, against the dynamic FE with the rate law.
+
+Not a timed test. For six spheres on the rigid flat (the reference aluminium E 70 GPa, nu 0.3, sigma_Y 100 MPa,
+R 0.1 m; E/sigma_Y 300 and 1500; nu 0.25 and 0.4; R 0.05 m; rho 2699 kg/m^3) at v_in = 6, 12, 24 v_Y (each
+sphere's own yield velocity: the reference's 0.01, 0.02, 0.04 m/s), ``nfdcal impact`` on the coarse mesh (contact
+element 1.6e-4 m a_Y / a_Y,ref: the same mesh relative to the contact; 100 steps per contact, no error estimate)
+rate-independent, with Cowper-Symonds D 40 /s q 5 (mild) and D 2 /s q 1 (strong), against the rate-aware law on
+the vz master table's vz-table law of that sphere (calib.fit.measured.rate_fit.rate_params, c = 26). Prints per
+case: the law's R, the FE's e, the law's e error, the rate-independent law's error against the rate-independent
+FE (the base law's own error), and two c: c_e, the c whose rate-aware e equals the FE's, and c_rate, the c
+whose ratio e_rate / e_rate-independent equals the FE's (the base law's own error removed); each by a 1-D root
+find on the law's exact energy balance. The same for the self-consistent variant (``SELF``): a_ref the rate-aware
+law's own contact radius at its peak (R a_0 at v_n0 / R^(5/2)), eps_dot = v_n0 / (c a_ref(R)) solved for R,
+its c fitted on the reference's mild law at 0.02 m/s alone (as c = 26 was) and checked on every other case.
+``--fine``: one finer-mesh point (the reference, strong law, 24 v_Y, contact element 1.1e-4 m). The FE records are
+kept in ``--out`` (rerunning reuses them). About 3 minutes on one core.
+Usage: .venv/bin/python tests/benchmarks/bench_rate_materials.py [--out DIR] [--fine]
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import brentq
+
+from calib.cli import main
+from calib.fit.measured.rate_fit import rate_params
+from calib.fit.measured.specimen import Specimen
+from calib.fit.measured.table_law import table_law
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import RangeWarning, collision_reference
+from nfdmodel.materials import ContactPair
+from nfdmodel.rate_aware import BASE_LAWS_LAW, RATE_LENGTH_FACTOR
+from nfdmodel.strain_rate import CowperSymonds
+
+RHO = 2699.0
+MATERIALS = {"reference": (70e9, 0.3, 100e6, 0.1), "E/sigma_Y 300": (70e9, 0.3, 70e9 / 300, 0.1),
+             "E/sigma_Y 1500": (70e9, 0.3, 70e9 / 1500, 0.1), "nu 0.25": (70e9, 0.25, 100e6, 0.1),
+             "nu 0.4": (70e9, 0.4, 100e6, 0.1), "R 0.05 m": (70e9, 0.3, 100e6, 0.05)}
+MULTIPLES = (6.0, 12.0, 24.0)              # v_in / v_Y (the reference's 0.01, 0.02, 0.04 m/s)
+RATE_LAWS = {"independent": None, "CS D40 q5": (40.0, 5.0), "CS D2 q1": (2.0, 1.0)}
+CONTACT_SIZE = 1.6e-4                      # the coarse mesh's contact element at the reference's a_Y [m]
+FINE_SIZE = 1.1e-4
+C_BRACKET = (0.05, 1e5)
+
+
+def pair_of(material) -> ContactPair:
+    E, nu, sigma_y, R = material
+    return ContactPair.sphere_flat(Specimen(E, nu, R, RHO).material(sigma_y), R)
+
+
+def fe_restitution(material, rate, speeds, size, folder: Path) -> list:
+    E, nu, sigma_y, R = material
+    flags = [] if rate is None else ["--rate-law", "cowper-symonds", "--cs-D", repr(rate[0]), "--cs-q", repr(rate[1])]
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        code = main(["impact", "--E", repr(E), "--nu", repr(nu), "--sigma-y", repr(sigma_y), "--R", repr(R),
+                     "--rho", repr(RHO), "--v-in", *map(repr, speeds), "--contact-size", f"{size:.4g}", *flags,
+                     "--no-error-estimate", "--no-quasi-static", "--no-plots", "--workers", "1", "--out", str(folder),
+                     "--json", "--quiet"])
+    assert code == 0
+    return [record["e"] for record in json.loads(printed.getvalue())]
+
+
+def fe_records(out: Path, fine: bool) -> dict:
+    """{material: {rate law: [e per speed]}} of the FE, read from out/fe.json where present."""
+    store = out / "fe.json"
+    records = json.loads(store.read_text()) if store.exists() else {}
+    jobs = [(name, law, MATERIALS[name], CONTACT_SIZE) for name in MATERIALS for law in RATE_LAWS]
+    if fine:
+        jobs.append(("reference fine", "CS D2 q1", MATERIALS["reference"], FINE_SIZE))
+    for name, law, material, size in jobs:
+        if law in records.get(name, {}):
+            continue
+        pair = pair_of(material)
+        speeds = [m * pair.v_Y for m in MULTIPLES]
+        scale = pair.a_Y / pair_of(MATERIALS["reference"]).a_Y
+        records.setdefault(name, {})[law] = fe_restitution(material, RATE_LAWS[law], speeds, size * scale,
+                                                           out / f"{name}-{law}".replace(" ", "_").replace("/", ""))
+        store.write_text(json.dumps(records, indent=1))
+    return records
+
+
+def law_e(material, table, rate, v, c):
+    """The rate-aware law's e at v [m/s] with c (c_e's root find)."""
+    E, nu, sigma_y, R = material
+    params = rate_params(Specimen(E, nu, R, RHO), table, "cowper-symonds", sigma_y, rate[0], rate[1], c)
+    base = collision_reference(BASE_LAWS_LAW["vz-table"], params.base, [v / params.rate_factor([v])[0] ** 2.5])
+    return float(base.restitution[0])
+
+
+def self_factor(base, rate_law, v, c):
+    """R solving R = R(v / (c a(R))), a(R) = R a_0(peak of the base law at v / R^(5/2)) (the SELF variant)."""
+    def a_of(factor):
+        peak = collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5]).P_max
+        return factor * float(base.contact_radius_at(peak)[0])
+
+    def gap(factor):
+        return factor - float(rate_law.factor(np.array([v / (c * a_of(factor))]))[0])
+    high = 2.0
+    while gap(high) < 0.0:
+        high *= 2.0
+    return brentq(gap, 1.0, high, xtol=1e-12) if gap(1.0) < 0.0 else 1.0
+
+
+def self_e(material, table, rate, v, c):
+    E, nu, sigma_y, R = material
+    base = table_law(Specimen(E, nu, R, RHO), sigma_y, table)
+    factor = self_factor(base, CowperSymonds(*rate), v, c)
+    return float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5]).restitution[0])
+
+
+def root_c(function, target):
+    """The c in C_BRACKET with function(c) = target, or nan where none is."""
+    low, high = (function(c) - target for c in C_BRACKET)
+    return brentq(lambda c: function(c) - target, *C_BRACKET, xtol=1e-6) if low * high < 0.0 else float("nan")
+
+
+def main_(out: Path, fine: bool) -> None:
+    records = fe_records(out, fine)
+    table = VZMasterTable.load(None)
+    ref = MATERIALS["reference"]
+    v_ref = 12.0 * pair_of(ref).v_Y
+    c_self = root_c(lambda c: self_e(ref, table, RATE_LAWS["CS D40 q5"], v_ref, c),
+                    records["reference"]["CS D40 q5"][1])
+    print(f"c = {RATE_LENGTH_FACTOR:g} (the law); the SELF variant's c fitted on the reference, CS D40 q5, 12 v_Y: "
+          f"{c_self:.4g}")
+    print("| sphere | rate law | v_in m/s | R (c 26) | FE e | law e err % | base law err % | c_e | c_rate "
+          "| SELF R | SELF e err % |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for name, laws in records.items():
+        material = MATERIALS["reference" if name == "reference fine" else name]
+        E, nu, sigma_y, R = material
+        pair = pair_of(material)
+        specimen = Specimen(E, nu, R, RHO)
+        base = table_law(specimen, sigma_y, table)
+        for law, fe in laws.items():
+            rate = RATE_LAWS[law]
+            if rate is None:
+                continue
+            indep_fe = records.get(name, {}).get("independent") or records["reference"]["independent"]
+            for k, m in enumerate(MULTIPLES):
+                v = m * pair.v_Y
+                params = rate_params(specimen, table, "cowper-symonds", sigma_y, rate[0], rate[1])
+                factor = float(params.rate_factor([v])[0])
+                e = law_e(material, table, rate, v, RATE_LENGTH_FACTOR)
+                e0 = float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v]).restitution[0])
+                c_e = root_c(lambda c: law_e(material, table, rate, v, c), fe[k])
+                c_rate = root_c(lambda c: law_e(material, table, rate, v, c) / e0, fe[k] / indep_fe[k])
+                self_r = self_factor(base, CowperSymonds(*rate), v, c_self)
+                es = self_e(material, table, rate, v, c_self)
+                print(f"| {name} | {law} | {v:.4g} | {factor:.3f} | {fe[k]:.4f} | {100 * (e / fe[k] - 1):+.2f} | "
+                      f"{100 * (e0 / indep_fe[k] - 1):+.2f} | {c_e:.3g} | {c_rate:.3g} | {self_r:.3f} | "
+                      f"{100 * (es / fe[k] - 1):+.2f} |")
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--out", default=None, help="folder for the FE runs and their records (default: a temporary "
+                                                    "one)")
+    parser.add_argument("--fine", action="store_true", help="add one finer-mesh FE point")
+    args = parser.parse_args()
+    warnings.simplefilter("ignore", RangeWarning)
+    if args.out is None:
+        with tempfile.TemporaryDirectory() as folder:
+            main_(Path(folder), args.fine)
+    else:
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        main_(Path(args.out), args.fine)
