@@ -11,9 +11,14 @@ FE (the base law's own error), and two c: c_e, the c whose rate-aware e equals t
 whose ratio e_rate / e_rate-independent equals the FE's (the base law's own error removed); each by a 1-D root
 find on the law's exact energy balance. The same for the self-consistent variant (``SELF``): a_ref the rate-aware
 law's own contact radius at its peak (R a_0 at v_n0 / R^(5/2)), eps_dot = v_n0 / (c a_ref(R)) solved for R,
-its c fitted on the reference's mild law at 0.02 m/s alone (as c = 26 was) and checked on every other case.
-``--fine``: one finer-mesh point (the reference, strong law, 24 v_Y, contact element 1.1e-4 m). The FE records are
-kept in ``--out`` (rerunning reuses them). About 3 minutes on one core.
+its c fitted on the reference's mild law at 0.02 m/s alone (as c = 26 was) and checked on every other case; the
+PLASTIC variant (the FE's R is a function of the equivalent plastic strain rate: eps_dot = v_n0 (1 - e_0^2)^(1/2) /
+(c a_ref), e_0 the base law's e at v_n0 / R^(5/2), solved for R), its c fitted on the reference's strong law at
+0.02 m/s; and PLASTIC-Q (PLASTIC with c_q = c0 exp(-s^2 / (2 q)), a log-normal spread of strain rates averaged
+through R), c0 and s^2 fitted on the reference at 0.02 m/s with both laws, checked on the other cases and on the
+stored drop tests of tests/data/rate_fe_drops.json.
+``--fine``: one finer mesh (the reference, strong law, the three speeds, contact element 1.1e-4 m). The FE records are
+kept in ``--out`` (rerunning reuses them). About 4 minutes on one core (1 minute with the records).
 Usage: .venv/bin/python tests/benchmarks/bench_rate_materials.py [--out DIR] [--fine]
 """
 from __future__ import annotations
@@ -37,8 +42,9 @@ from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import RangeWarning, collision_reference
 from nfdmodel.materials import ContactPair
 from nfdmodel.rate_aware import BASE_LAWS_LAW, RATE_LENGTH_FACTOR
-from nfdmodel.strain_rate import CowperSymonds
+from nfdmodel.strain_rate import CowperSymonds, rate_law_of
 
+DATA = Path(__file__).resolve().parents[1] / "data" / "rate_fe_drops.json"
 RHO = 2699.0
 MATERIALS = {"reference": (70e9, 0.3, 100e6, 0.1), "E/sigma_Y 300": (70e9, 0.3, 70e9 / 300, 0.1),
              "E/sigma_Y 1500": (70e9, 0.3, 70e9 / 1500, 0.1), "nu 0.25": (70e9, 0.25, 100e6, 0.1),
@@ -48,6 +54,7 @@ RATE_LAWS = {"independent": None, "CS D40 q5": (40.0, 5.0), "CS D2 q1": (2.0, 1.
 CONTACT_SIZE = 1.6e-4                      # the coarse mesh's contact element at the reference's a_Y [m]
 FINE_SIZE = 1.1e-4
 C_BRACKET = (0.05, 1e5)
+FITTED_ON = {"SELF": "CS D40 q5", "PLASTIC": "CS D2 q1"}   # each variant's c: fitted on the reference at 12 v_Y
 
 
 def pair_of(material) -> ContactPair:
@@ -95,25 +102,68 @@ def law_e(material, table, rate, v, c):
     return float(base.restitution[0])
 
 
-def self_factor(base, rate_law, v, c):
-    """R solving R = R(v / (c a(R))), a(R) = R a_0(peak of the base law at v / R^(5/2)) (the SELF variant)."""
-    def a_of(factor):
-        peak = collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5]).P_max
-        return factor * float(base.contact_radius_at(peak)[0])
+def variant_factor(base, rate_law, v, c, variant):
+    """R solving R = R(v w(R) / (c a(R))) of a variant of the law: SELF, a(R) = R a_0(peak of the base law at
+    v / R^(5/2)), w = 1; PLASTIC, a = a_ref (the law's), w(R) = (1 - e_0^2)^(1/2), e_0 the base law's e at
+    v / R^(5/2) (the share of the impact's energy the contact dissipates: the FE's rate is a plastic strain rate)."""
+    a_ref = float(base.contact_radius_at(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v]).P_max)[0])
+
+    def rate(factor):
+        ref = collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5])
+        if variant == "SELF":
+            return v / (c * factor * float(base.contact_radius_at(ref.P_max)[0]))
+        return v * np.sqrt(max(1.0 - float(ref.restitution[0]) ** 2, 0.0)) / (c * a_ref)
 
     def gap(factor):
-        return factor - float(rate_law.factor(np.array([v / (c * a_of(factor))]))[0])
+        return factor - float(rate_law.factor(np.array([rate(factor)]))[0])
     high = 2.0
     while gap(high) < 0.0:
         high *= 2.0
     return brentq(gap, 1.0, high, xtol=1e-12) if gap(1.0) < 0.0 else 1.0
 
 
-def self_e(material, table, rate, v, c):
+def variant_e(material, table, rate, v, c, variant):
     E, nu, sigma_y, R = material
     base = table_law(Specimen(E, nu, R, RHO), sigma_y, table)
-    factor = self_factor(base, CowperSymonds(*rate), v, c)
+    factor = variant_factor(base, CowperSymonds(*rate), v, c, variant)
     return float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5]).restitution[0])
+
+
+def plastic_q_e(material, table, rate_law, v, c0, s2):
+    """PLASTIC with c_q = c0 exp(-s^2 / (2 q)): R averaged over log-normally spread plastic strain rates of
+    log-variance s^2 (E[(eps_dot / D)^(1/q)] = (median / D)^(1/q) exp(s^2 / (2 q^2))); Johnson-Cook's ln form
+    averages to its median's (c0; its clip at eps_dot_0 neglected)."""
+    q = getattr(rate_law, "q", np.inf)
+    E, nu, sigma_y, R = material
+    base = table_law(Specimen(E, nu, R, RHO), sigma_y, table)
+    factor = variant_factor(base, rate_law, v, c0 * np.exp(-s2 / (2.0 * q)), "PLASTIC")
+    return float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5]).restitution[0])
+
+
+def plastic_q(records, table) -> None:
+    """PLASTIC-Q: c0, s^2 from PLASTIC's c fitted on the reference at 12 v_Y with q 1 and q 5; checked on every
+    other case and on the stored drop tests of tests/data/rate_fe_drops.json (Johnson-Cook among them)."""
+    ref = MATERIALS["reference"]
+    v_ref = 12.0 * pair_of(ref).v_Y
+    c = {q: root_c(lambda c: variant_e(ref, table, RATE_LAWS[law], v_ref, c, "PLASTIC"), records["reference"][law][1])
+         for q, law in ((1.0, "CS D2 q1"), (5.0, "CS D40 q5"))}
+    s2 = np.log(c[5.0] / c[1.0]) / (0.5 - 0.1)
+    c0 = c[1.0] * np.exp(s2 / 2.0)
+    print(f"\nPLASTIC-Q: c0 {c0:.4g}, s^2 {s2:.3g} (c_q1 {c[1.0]:.4g}, c_q5 {c[5.0]:.4g}); e error % at 6/12/24 v_Y:")
+    for name, laws in records.items():
+        material = MATERIALS["reference" if name == "reference fine" else name]
+        v_y = pair_of(material).v_Y
+        for law, fe in laws.items():
+            if RATE_LAWS[law] is not None:
+                errors = [100 * (plastic_q_e(material, table, CowperSymonds(*RATE_LAWS[law]), m * v_y, c0, s2) / f - 1)
+                          for m, f in zip(MULTIPLES, fe)]
+                print(f"  {name}, {law}: " + " / ".join(f"{x:+.2f}" for x in errors))
+    data = json.loads(DATA.read_text(encoding="utf-8"))
+    for series, entry in data["series"].items():
+        rate_law = rate_law_of(entry["rate_law"])
+        errors = [100 * (plastic_q_e(ref, table, rate_law, t["v_in"], c0, s2) / t["e"] - 1) for t in entry["tests"]]
+        print(f"  {series} ({DATA.name}, {entry['tests'][0]['v_in']:g}..{entry['tests'][-1]['v_in']:g} m/s): "
+              + " / ".join(f"{x:+.2f}" for x in errors))
 
 
 def root_c(function, target):
@@ -127,13 +177,13 @@ def main_(out: Path, fine: bool) -> None:
     table = VZMasterTable.load(None)
     ref = MATERIALS["reference"]
     v_ref = 12.0 * pair_of(ref).v_Y
-    c_self = root_c(lambda c: self_e(ref, table, RATE_LAWS["CS D40 q5"], v_ref, c),
-                    records["reference"]["CS D40 q5"][1])
-    print(f"c = {RATE_LENGTH_FACTOR:g} (the law); the SELF variant's c fitted on the reference, CS D40 q5, 12 v_Y: "
-          f"{c_self:.4g}")
+    fitted = {variant: root_c(lambda c: variant_e(ref, table, RATE_LAWS[law], v_ref, c, variant),
+                              records["reference"][law][1]) for variant, law in FITTED_ON.items()}
+    print(f"c = {RATE_LENGTH_FACTOR:g} (the law); the variants' c fitted on the reference at 12 v_Y: "
+          + ", ".join(f"{variant} {fitted[variant]:.4g} ({law})" for variant, law in FITTED_ON.items()))
     print("| sphere | rate law | v_in m/s | R (c 26) | FE e | law e err % | base law err % | c_e | c_rate "
-          "| SELF R | SELF e err % |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+          "| SELF e err % | PLASTIC R | PLASTIC e err % |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for name, laws in records.items():
         material = MATERIALS["reference" if name == "reference fine" else name]
         E, nu, sigma_y, R = material
@@ -153,11 +203,13 @@ def main_(out: Path, fine: bool) -> None:
                 e0 = float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v]).restitution[0])
                 c_e = root_c(lambda c: law_e(material, table, rate, v, c), fe[k])
                 c_rate = root_c(lambda c: law_e(material, table, rate, v, c) / e0, fe[k] / indep_fe[k])
-                self_r = self_factor(base, CowperSymonds(*rate), v, c_self)
-                es = self_e(material, table, rate, v, c_self)
+                es = variant_e(material, table, rate, v, fitted["SELF"], "SELF")
+                plastic_r = variant_factor(base, CowperSymonds(*rate), v, fitted["PLASTIC"], "PLASTIC")
+                ep = variant_e(material, table, rate, v, fitted["PLASTIC"], "PLASTIC")
                 print(f"| {name} | {law} | {v:.4g} | {factor:.3f} | {fe[k]:.4f} | {100 * (e / fe[k] - 1):+.2f} | "
-                      f"{100 * (e0 / indep_fe[k] - 1):+.2f} | {c_e:.3g} | {c_rate:.3g} | {self_r:.3f} | "
-                      f"{100 * (es / fe[k] - 1):+.2f} |")
+                      f"{100 * (e0 / indep_fe[k] - 1):+.2f} | {c_e:.3g} | {c_rate:.3g} | "
+                      f"{100 * (es / fe[k] - 1):+.2f} | {plastic_r:.3f} | {100 * (ep / fe[k] - 1):+.2f} |")
+    plastic_q(records, table)
 
 
 if __name__ == "__main__":
