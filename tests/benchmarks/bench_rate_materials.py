@@ -15,8 +15,9 @@ its c fitted on the reference's mild law at 0.02 m/s alone (as c = 26 was) and c
 PLASTIC variant (the FE's R is a function of the equivalent plastic strain rate: eps_dot = v_n0 (1 - e_0^2)^(1/2) /
 (c a_ref), e_0 the base law's e at v_n0 / R^(5/2), solved for R), its c fitted on the reference's strong law at
 0.02 m/s; and PLASTIC-Q (PLASTIC with R averaged over a log-normal spread of strain rates, log-variance s^2:
-Cowper-Symonds' c_q = c0 exp(-s^2 / (2 q)), Johnson-Cook's clipped ln averaged in closed form), c0 and s^2 fitted on the reference at 0.02 m/s with both laws, checked on the other cases and on the
-stored drop tests of tests/data/rate_fe_drops.json.
+Cowper-Symonds' c_q = c0 exp(-s^2 / (2 q)), Johnson-Cook's clipped ln averaged in closed form), c0 and s^2
+fitted on the reference at 0.02 m/s with both laws, checked on the other cases and on the stored drop tests of
+tests/data/rate_fe_drops.json.
 ``--fine``: one finer mesh (the reference, strong law, the three speeds, contact element 1.1e-4 m). The FE records are
 kept in ``--out`` (rerunning reuses them). About 4 minutes on one core (1 minute with the records).
 Usage: .venv/bin/python tests/benchmarks/bench_rate_materials.py [--out DIR] [--fine]
