@@ -1,5 +1,6 @@
 """``nfdcal export lammps`` of a vz-table law calibrated on a deformable counter-body (the default
-law of ``nfdcal calibrate --counter-E ...``): the like-type laws written as files to
+law of ``nfdcal calibrate --counter-E ...``), and of a vz-unload one (``--ship unload``): the like-type
+laws written as files to
 ``--like-params-out DIR``, the pair file on ``pair_coeff T T2`` or a wall fix's ``pair_constants``,
 checked against what the exporter did not produce:
 
@@ -9,7 +10,8 @@ checked against what the exporter did not produce:
   nfdmodel's vz-table collision of: the pair (load_parameters of the pair file: its tables, the
   pair's E*, R*, yield point), each like type (two spheres of the material with the vz master
   table's law, calib.fit.vz_master_table, built here), and the sphere on the flat counter-body's
-  elastic wall (the pair file's law on the wall);
+  elastic wall (the pair file's law on the wall); a vz-unload file likewise with the vz master
+  table's vz-unload law for each like type, to 1e-9 in e, P_max, the contact time and the dent;
 - refusals are one line, exit 2, before any file is written; an existing file is never replaced
   without --overwrite, the input never.
 """

@@ -29,8 +29,7 @@ plugin reads:
 
 and a vz-unload file (``nfdcal calibrate --ship unload``: the tables with the dent and unloading
 exponent) the same way, on pair_style nfd/vz-unload and the fixes nfd/wall/vz-unload and
-nfd/wall/region/vz-unload. A vz-unload file calibrated on a counter-body is refused, one line,
-exit 2: export assembles the like-type laws of a pair from the master table's vz-table columns only.
+nfd/wall/region/vz-unload.
 
 With --wall-E E_W --wall-nu NU_W the wall lines carry ``wall_material E_W NU_W`` after the
 constants: a wall of that elastic material (E* of the sphere and the wall in series, first yield
@@ -60,10 +59,16 @@ the plugin reads: the pair file itself, and a file per like type that this comma
     fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/DIR/like_type_T.json &
         wall_material E2 nu2 pair_constants file /abs/pair.json                    (a flat counter-body)
 
+A vz-unload file (``nfdcal calibrate --counter-E ... --ship unload``) is exported the same way on
+pair_style nfd/vz-unload and the fixes nfd/wall/vz-unload, nfd/wall/region/vz-unload: its like-type
+files hold the vz master table's vz-unload law (the file ``nfdcal material --v-max V --law vz-unload
+--params-out`` writes), the pair file its own tables with its dent and unloading exponent.
+
 Each like-type file is the one ``nfdcal material --v-max V --params-out`` writes for that material
 and radius (calib.commands.material.vz_table_law, the same code): the vz master table's law,
-a_p/a_Y and C_R against P/P_Y, declared on the whole window the table vouches for at that
-material, the material's own range. That law does not depend on V (V is only checked against
+a_p/a_Y and C_R against P/P_Y (and for a vz-unload pair file the dent ratio and unloading exponent
+against P_max/P_Y, VZMasterTable.unload_law), declared on the whole window the table vouches for at
+that material, the material's own range. That law does not depend on V (V is only checked against
 the window), so no V is chosen here: the like-type law covers every impact the table covers. The
 windows are compared in P/P_Y, what the plugin counts per contact: a like-type law ending below
 the pair file's declared P_max/P_Y is named in one warning line (its contacts beyond are counted
@@ -79,8 +84,8 @@ the pair (A_Y(nu) sigma_Y), since the pair was calibrated with it elastic.
 
 What the plugin cannot hold is refused in one line: an elastic sphere counter-body without
 --counter-sigma-y, a flat counter-body that yields before the sphere (the plugin's
-walls are elastic), a vz-table counter-body file without --like-params-out, a like-type material
-outside the master table.
+walls are elastic), a vz-table or vz-unload counter-body file without --like-params-out, a like-type
+material outside the master table.
 
 The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
 Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
