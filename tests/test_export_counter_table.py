@@ -1,5 +1,6 @@
 """``nfdcal export lammps`` of a vz-table law calibrated on a deformable counter-body (the default
-law of ``nfdcal calibrate --counter-E ...``): the like-type laws written as files to
+law of ``nfdcal calibrate --counter-E ...``), and of a vz-unload one (``--ship unload``): the like-type
+laws written as files to
 ``--like-params-out DIR``, the pair file on ``pair_coeff T T2`` or a wall fix's ``pair_constants``,
 checked against what the exporter did not produce:
 
@@ -9,7 +10,8 @@ checked against what the exporter did not produce:
   nfdmodel's vz-table collision of: the pair (load_parameters of the pair file: its tables, the
   pair's E*, R*, yield point), each like type (two spheres of the material with the vz master
   table's law, calib.fit.vz_master_table, built here), and the sphere on the flat counter-body's
-  elastic wall (the pair file's law on the wall);
+  elastic wall (the pair file's law on the wall); a vz-unload file likewise with the vz master
+  table's vz-unload law for each like type, to 1e-9 in e, P_max, the contact time and the dent;
 - refusals are one line, exit 2, before any file is written; an existing file is never replaced
   without --overwrite, the input never.
 """
@@ -32,7 +34,7 @@ import nfdmodel
 from calib import cli
 from calib import lammps_plugin
 from calib.fit.vz_master_table import VZMasterTable
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, parameter_record
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, VZUnloadParams, parameter_record
 
 DT, RTOL = plane.DT, plane.RTOL
 ALUMINIUM, R_SPHERE = Material(70e9, 0.3, 100e6, 2699.0), 0.01       # the calibrated sphere (the fixtures')
@@ -194,7 +196,7 @@ def test_what_export_cannot_write_of_a_table_file_is_one_line(tmp_path, capsys):
     like = tmp_path / "like"
     cases = [([sphere], "--like-params-out out of range: "),
              ([sphere, "--like-params-out", a_file], "it is not a folder"),
-             ([vz, "--like-params-out", like], "--like-params-out, --overwrite apply to a vz-table file calibrated"),
+             ([vz, "--like-params-out", like], "--like-params-out, --overwrite apply to a vz-table or vz-unload file calibrated"),
              ([rigid, "--like-params-out", like], "--like-params-out applies to a file calibrated on a counter-body"),
              ([elastic, "--like-params-out", like], "counter-body is elastic (counter_body.sigma_y null), and "
                                                     "pair_style nfd/vz-table needs its yield stress"),
@@ -259,3 +261,109 @@ def test_an_elastic_sphere_counter_body_takes_its_own_contacts_yield_stress_from
         errors = capsys.readouterr().err.splitlines()
         assert len(errors) == 1 and message in errors[0], errors
         assert not target.exists()
+
+
+# ------------------------------------------------------------------------------ a vz-unload pair file
+# the pair's dent and unloading exponent over the turning point (chosen, as PAIR_NODES), unlike
+# either material's vz master table's
+PAIR_UNLOADING = ((1.0, 2.2, 7.1, 41.0), (0.0, 0.05, 0.2, 0.45), (1.5, 1.46, 1.41, 1.36))
+UNLOAD_RTOL = 1e-9      # the same leap-frog at the same dt: measured within 2e-11
+
+
+def unload_counter_file(folder, counter: dict, name: str):
+    """A vz-unload parameter file of aluminium (R = 1 cm) calibrated on ``counter`` (the form nfdcal
+    calibrate --counter-E ... --ship unload ships): PAIR_NODES' loading with PAIR_UNLOADING."""
+    pair = ContactPair.sphere_counter(ALUMINIUM, R_SPHERE, counter["E"], counter["nu"], counter["sigma_y"],
+                                      counter["R"])
+    law = VZUnloadParams.from_table(VZTableParams(pair, *PAIR_NODES, PAIR_WINDOW), *PAIR_UNLOADING)
+    path = folder / name
+    path.write_text(json.dumps(parameter_record(law, R_SPHERE, ALUMINIUM, counter)))
+    assert nfdmodel.load_parameters(path) == law
+    return path
+
+
+def separation_dent(rows) -> float:
+    """The dent delta_res [m] of a LAMMPS run's rows (time, delta, force, ..., delta_res) at separation."""
+    delta, force, _, _, delta_res = rows[:, 1:6].T
+    n, _ = plane.separation(delta, force, delta_res)
+    return delta_res[n - 1]
+
+
+def test_a_vz_unload_sphere_counter_body_file_runs_the_pair_and_like_type_laws(plugin, tmp_path, capsys):
+    """A vz-unload file of aluminium calibrated on a steel sphere: pair_style nfd/vz-unload, pair_coeff
+    1 1 and 2 2 file like_type_T.json (each the file nfdcal material --v-max --law vz-unload writes),
+    1 2 file pair.json; in LAMMPS the pair impact is the pair file's vz-unload law and each like-type
+    impact the vz master table's vz-unload law of that material (nfdmodel: e, P_max, contact time and
+    the dent at separation, 1e-9)."""
+    path = unload_counter_file(tmp_path, STEEL_SPHERE, "pair.json")
+    like = tmp_path / "like"
+    summary = export(capsys, "--params", path, "--like-params-out", like)
+    assert summary["law"] == "vz-unload" and summary["counter_type"] == 2
+    like_1, like_2 = (like / "like_type_1.json").resolve(), (like / "like_type_2.json").resolve()
+    lines = summary["lines"]
+    assert lines == ["pair_style nfd/vz-unload", f"pair_coeff 1 1 file {like_1}", f"pair_coeff 2 2 file {like_2}",
+                     f"pair_coeff 1 2 file {path.resolve()}"]
+    for target, (E, nu, sigma_y, R) in ((like_1, (70e9, 0.3, 100e6, R_SPHERE)),
+                                        (like_2, (205e9, 0.29, 655e6, STEEL_SPHERE["R"]))):
+        reference = tmp_path / f"material_{target.name}"
+        assert cli.main(["material", "--E", str(E), "--nu", str(nu), "--sigma-y", str(sigma_y), "--R", str(R),
+                         "--rho", "2699", "--v-max", "0.01", "--law", "vz-unload", "--params-out",
+                         str(reference)]) == 0
+        capsys.readouterr()
+        written, expected = (json.loads(p.read_text()) for p in (target, reference))
+        written.pop("stamp"), expected.pop("stamp")
+        assert written == expected and written["law"] == "vz-unload"
+
+    pair = nfdmodel.load_parameters(path)
+    v_in = 8.0 * pair.pair.v_Y
+    balls = [(1, R_SPHERE, -R_SPHERE, 0.5 * v_in, 2699.0), (2, 0.006, 0.006, -0.5 * v_in, 2699.0)]
+    py = nfdmodel.collide("vz-unload", pair, [v_in], dt=DT)
+    lmp = head_on(plugin, tmp_path, lines, balls, pair, v_in)
+    plane.assert_same(lmp, py, rtol=UNLOAD_RTOL)
+    assert separation_dent(lmp["rows"]) == pytest.approx(py.delta_res[0], rel=UNLOAD_RTOL)
+    assert py.P_max[0] / pair.pair.P_Y > 10.0
+    loading_only = nfdmodel.collide("vz-table", VZTableParams(pair.pair, *PAIR_NODES, PAIR_WINDOW), [v_in], dt=DT)
+    assert abs(loading_only.delta_res[0] / py.delta_res[0] - 1) > 1e-2        # the unloading tables count
+
+    for kind, material, R in ((1, ALUMINIUM, R_SPHERE), (2, steel(7800.0), STEEL_SPHERE["R"])):
+        law = VZMasterTable.load().unload_law(material, R)
+        params = VZUnloadParams(ContactPair.sphere_sphere(material, R, material, R), law.x, law.f, law.g, law.window,
+                                law.x_unload, law.dent, law.exponent)
+        v_in = 10.0 * params.pair.v_Y
+        balls = [(kind, R, -R, 0.5 * v_in, material.rho), (kind, R, R, -0.5 * v_in, material.rho)]
+        py = nfdmodel.collide("vz-unload", params, [v_in], dt=DT)
+        lmp = head_on(plugin, tmp_path, lines, balls, params, v_in)
+        plane.assert_same(lmp, py, rtol=UNLOAD_RTOL)
+        assert separation_dent(lmp["rows"]) == pytest.approx(py.delta_res[0], rel=UNLOAD_RTOL) and py.delta_res[0] > 0
+        mixed = VZUnloadParams.from_table(VZTableParams(params.pair, law.x, law.f, law.g, law.window), *PAIR_UNLOADING)
+        assert abs(nfdmodel.collide("vz-unload", mixed, [v_in], dt=DT).delta_res[0] / py.delta_res[0] - 1) > 1e-3
+
+
+def test_a_vz_unload_flat_counter_body_file_runs_on_the_wall_fix(plugin, tmp_path, capsys):
+    """A vz-unload file calibrated on a steel flat: pair_coeff 1 1 file like_type_1.json and fix
+    nfd/wall/vz-unload with wall_material of the steel and pair_constants file flat.json; the sphere
+    on that wall is the pair file's vz-unload law (nfdmodel: e, P_max and the dent, 1e-9). Without
+    --like-params-out: one line naming it, exit 2."""
+    path = unload_counter_file(tmp_path, STEEL_FLAT, "flat.json")
+    like = tmp_path / "like"
+    assert cli.main(["export", "lammps", "--params", str(path), "--wall", "zlo", "0"]) == 2
+    errors = capsys.readouterr().err.splitlines()
+    assert len(errors) == 1 and "is a vz-unload law calibrated on a counter-body, and pair_style nfd/vz-unload " \
+                                "takes each like type's law as a file: give --like-params-out DIR" in errors[0], errors
+    summary = export(capsys, "--params", path, "--like-params-out", like, "--wall", "zlo", "0.0",
+                     "--wall-region", "floor")
+    like_1 = (like / "like_type_1.json").resolve()
+    constants = f"file {like_1} wall_material 205000000000.0 0.29 pair_constants file {path.resolve()}"
+    assert summary["lines"] == ["pair_style nfd/vz-unload", f"pair_coeff 1 1 file {like_1}",
+                                f"fix nfd_wall all nfd/wall/vz-unload zlo 0.0 {constants}",
+                                f"fix nfd_wall_region all nfd/wall/region/vz-unload floor {constants}"]
+    params = nfdmodel.load_parameters(path)
+    v_in = 8.0 * params.pair.v_Y
+    text = plane.wall_input(plugin, "", [(R_SPHERE, 0.0, R_SPHERE, -v_in, 2699.0)], plane.steps_for(params, v_in))
+    text = text.replace("fix wall all nfd/wall/vz zlo 0.0 ", summary["lines"][2].replace("fix nfd_wall", "fix wall"))
+    rows = plane.wall_rows(plane.run_lammps(text, tmp_path))
+    py = nfdmodel.collide("vz-unload", params, [v_in], dt=DT)
+    assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=UNLOAD_RTOL)
+    assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=UNLOAD_RTOL)
+    assert separation_dent(rows) == pytest.approx(py.delta_res[0], rel=UNLOAD_RTOL)
+    assert py.P_max[0] / params.pair.P_Y > 10.0

@@ -2,7 +2,7 @@
 forces; a bad table refused naming it), ``nfdcal calibrate --ship unload`` on the coarse mesh (its
 dent against an FE path held out of the fit, refitted here from the run's CSV files), ``nfdcal
 collide --params`` against nfdmodel called directly, and the refusals (export lammps of a file on a
-counter-body, a law the file does not hold), one line, exit 2."""
+counter-body without --like-params-out, a law the file does not hold), one line, exit 2."""
 import contextlib
 import csv
 import io
@@ -104,10 +104,10 @@ def test_collide_with_the_file_is_nfdmodel_called_directly(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)[0]["e_velocity"] == pytest.approx(direct.e_velocity[1], rel=1e-12)
 
 
-def test_export_of_a_vz_unload_file_on_a_counter_body_says_so_in_one_line(tmp_path, capsys):
-    """A vz-unload file calibrated on a counter-body: export builds a pair's like-type laws from the
-    master table's vz-table columns only (the plugin runs a file of the sphere on a flat:
-    tests/test_lammps.py)."""
+def test_export_of_a_vz_unload_file_on_a_counter_body_needs_the_like_type_folder(tmp_path, capsys):
+    """A vz-unload file calibrated on a counter-body: export writes the like-type laws as files, so
+    without --like-params-out it is one line naming the flag (its lines in LAMMPS:
+    tests/test_export_counter_table.py)."""
     flat = {"shape": "flat", "E": 2.1e11, "nu": 0.3, "sigma_y": None, "R": None}
 
     def on_the_flat(record):        # the pair's quantities follow from the materials
@@ -117,7 +117,7 @@ def test_export_of_a_vz_unload_file_on_a_counter_body_says_so_in_one_line(tmp_pa
 
     path = write_file(tmp_path / "p.json", edit=on_the_flat)
     one_line_refusal(["export", "lammps", "--params", str(path), "--wall", "zlo", "0"], capsys,
-                     "a vz-unload file on a counter-body out of range for export lammps")
+                     "--like-params-out out of range: ")
 
 
 @pytest.mark.parametrize("argv, match", [

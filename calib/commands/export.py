@@ -29,8 +29,7 @@ plugin reads:
 
 and a vz-unload file (``nfdcal calibrate --ship unload``: the tables with the dent and unloading
 exponent) the same way, on pair_style nfd/vz-unload and the fixes nfd/wall/vz-unload and
-nfd/wall/region/vz-unload. A vz-unload file calibrated on a counter-body is refused, one line,
-exit 2: export assembles the like-type laws of a pair from the master table's vz-table columns only.
+nfd/wall/region/vz-unload.
 
 With --wall-E E_W --wall-nu NU_W the wall lines carry ``wall_material E_W NU_W`` after the
 constants: a wall of that elastic material (E* of the sphere and the wall in series, first yield
@@ -60,10 +59,16 @@ the plugin reads: the pair file itself, and a file per like type that this comma
     fix nfd_wall all nfd/wall/vz-table FACE COORD file /abs/DIR/like_type_T.json &
         wall_material E2 nu2 pair_constants file /abs/pair.json                    (a flat counter-body)
 
+A vz-unload file (``nfdcal calibrate --counter-E ... --ship unload``) is exported the same way on
+pair_style nfd/vz-unload and the fixes nfd/wall/vz-unload, nfd/wall/region/vz-unload: its like-type
+files hold the vz master table's vz-unload law (the file ``nfdcal material --v-max V --law vz-unload
+--params-out`` writes), the pair file its own tables with its dent and unloading exponent.
+
 Each like-type file is the one ``nfdcal material --v-max V --params-out`` writes for that material
 and radius (calib.commands.material.vz_table_law, the same code): the vz master table's law,
-a_p/a_Y and C_R against P/P_Y, declared on the whole window the table vouches for at that
-material, the material's own range. That law does not depend on V (V is only checked against
+a_p/a_Y and C_R against P/P_Y (and for a vz-unload pair file the dent ratio and unloading exponent
+against P_max/P_Y, VZMasterTable.unload_law), declared on the whole window the table vouches for at
+that material, the material's own range. That law does not depend on V (V is only checked against
 the window), so no V is chosen here: the like-type law covers every impact the table covers. The
 windows are compared in P/P_Y, what the plugin counts per contact: a like-type law ending below
 the pair file's declared P_max/P_Y is named in one warning line (its contacts beyond are counted
@@ -79,8 +84,8 @@ the pair (A_Y(nu) sigma_Y), since the pair was calibrated with it elastic.
 
 What the plugin cannot hold is refused in one line: an elastic sphere counter-body without
 --counter-sigma-y, a flat counter-body that yields before the sphere (the plugin's
-walls are elastic), a vz-table counter-body file without --like-params-out, a like-type material
-outside the master table.
+walls are elastic), a vz-table or vz-unload counter-body file without --like-params-out, a like-type
+material outside the master table.
 
 The contact models follow the constants on both lines when asked for (nfdmodel/lammps/README.md,
 Friction, rolling and twisting): --mu MU gives ``tangential mindlin_rescale/force NULL 0 MU``
@@ -182,10 +187,6 @@ def run(ns) -> int:
                          f"plugin does not have it (a Python-only law; nfdcal collide --params runs it); export a vz "
                          f"or vz-table file (nfdcal calibrate --ship table)")
     counter = json.loads(Path(ns.params).read_text(encoding="utf-8")).get("counter_body")
-    if counter is not None and law_of(params) == "vz-unload":
-        raise ValueError(f"--params {ns.params}: a vz-unload file on a counter-body out of range for export "
-                         f"lammps: export builds a pair's like-type laws from the master table's vz-table columns "
-                         f"only; export a vz-table file of the pair (nfdcal calibrate --ship table)")
     rate = rate_keyword(ns.params)
     if counter is not None and rate is not None:
         raise ValueError(f"--params {ns.params}: a rate law on a counter-body file out of range for export lammps: "
@@ -249,13 +250,15 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
     master tables, the pair's law on pair_coeff T T2 (a sphere) or the wall fixes (a flat)."""
     from nfdmodel import Material, VZParams
     from nfdmodel.materials import first_to_yield
+    from nfdmodel.parameter_file import law_of
 
-    law = "vz" if isinstance(params, VZParams) else "vz-table"
+    law = "vz" if isinstance(params, VZParams) else law_of(params)      # vz, vz-table or vz-unload
     if ns.wall_E is not None or ns.wall_nu is not None:
         raise ValueError(f"--wall-E, --wall-nu out of range: {ns.params} states the counter-body's material (the "
                          f"wall's); leave them out")
     if law == "vz" and (ns.like_params_out is not None or ns.overwrite):
-        raise ValueError(f"--like-params-out, --overwrite apply to a vz-table file calibrated on a counter-body; "
+        raise ValueError(f"--like-params-out, --overwrite apply to a vz-table or vz-unload file calibrated on a "
+                         f"counter-body; "
                          f"{ns.params} is a vz law, whose like-type constants go on the pair_coeff lines")
     record = _material_of(ns.params)
     sphere = Material(record["E"], record["nu"], record["sigma_y"], record["rho"])
@@ -303,7 +306,8 @@ def run_counter(ns, params, counter: dict, kind: int, wall) -> int:
     else:
         pair_args = f"file {quoted(str(Path(ns.params).resolve()))}"
         like = like_type_files(ns, params, bodies, summary)
-    source = "the master table (nfdcal material)" if law == "vz" else "the vz master table (nfdcal material --v-max)"
+    source = {"vz": "the master table (nfdcal material)", "vz-table": "the vz master table (nfdcal material --v-max)",
+              "vz-unload": "the vz master table (nfdcal material --v-max --law vz-unload)"}[law]
     lines = [f"# nfdcal export lammps: {ns.params} (load the plugin first: plugin load $(nfdcal lammps path)); "
              f"like-type laws: {source}, the pair's: the file",
              f"pair_style nfd/{law}", f"pair_coeff {kind} {kind} {like[kind]}{tail}"]
@@ -351,17 +355,19 @@ def like_yield_stress(ns, counter: dict, sphere, law: str) -> float:
 
 
 def like_type_files(ns, params, bodies, summary: dict) -> dict:
-    """``file PATH`` of each like type's vz-table law (module doc), written to --like-params-out DIR
-    as like_type_T.json: every target checked before any is written, an existing file replaced only
+    """``file PATH`` of each like type's law (module doc), of the pair file's law (vz-table or
+    vz-unload, from the vz master table), written to --like-params-out DIR as like_type_T.json: every target checked before any is written, an existing file replaced only
     with --overwrite, the input never. A like law whose window ends below the pair's declared top
     (in P/P_Y, what the plugin counts) is named in one warning line."""
     from calib.commands.material import vz_table_law, write_vz_table_law
     from calib.output import writable_target
     from nfdmodel import RangeWarning
+    from nfdmodel.parameter_file import law_of
 
+    law = law_of(params)                # vz-table or vz-unload: the like types' files hold the same law
     if ns.like_params_out is None:
-        raise ValueError(f"--like-params-out out of range: {ns.params} is a vz-table law calibrated on a "
-                         f"counter-body, and pair_style nfd/vz-table takes each like type's law as a file: give "
+        raise ValueError(f"--like-params-out out of range: {ns.params} is a {law} law calibrated on a "
+                         f"counter-body, and pair_style nfd/{law} takes each like type's law as a file: give "
                          f"--like-params-out DIR, where to write them (like_type_T.json)")
     folder = Path(ns.like_params_out)
     if folder.exists() and not folder.is_dir():
@@ -370,7 +376,7 @@ def like_type_files(ns, params, bodies, summary: dict) -> dict:
     found, written = {}, []
     for T, body, R, which in bodies:
         try:
-            found[T] = vz_table_law(body, R)
+            found[T] = vz_table_law(body, R, law_name=law)
         except ValueError as exc:
             raise ValueError(f"the like-type law of {which} (vz master table): {exc}") from None
         target = folder / f"like_type_{T}.json"
