@@ -15,8 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_fit_data_refusals import assert_refused, fit_data as run  # noqa: E402  (tests/ on the path)
 
-from calib.cli import main
 from calib.fit.measured import data as measured_data
 from calib.fit.measured import imprint
 from calib.fit.measured.data import ImpactData, Measurements
@@ -39,18 +39,6 @@ def table():
 @pytest.fixture(scope="module")
 def fe_rows():
     return json.loads(FE_DATA.read_text(encoding="utf-8"))["rows"]
-
-
-def run(argv, capsys):
-    code = main(["fit-data", *argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err.strip()
-
-
-def assert_refused(code, out, err, *named):
-    assert code == 2 and out == "" and len(err.splitlines()) == 1 and "Traceback" not in err, err
-    for word in named:
-        assert word in err, (word, err)
 
 
 def measurements(row: dict, dent: bool = False) -> Measurements:

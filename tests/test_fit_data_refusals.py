@@ -32,11 +32,16 @@ def table():
     return MasterTable.load()
 
 
-def run(argv, capsys):
-    """fit-data on the two-constant law (--law vz), whose refusals this module tests."""
-    code = main(["fit-data", "--law", "vz", *argv])
+def fit_data(argv, capsys):
+    """``nfdcal fit-data ARGV``: (exit code, stdout, stderr stripped)."""
+    code = main(["fit-data", *argv])
     captured = capsys.readouterr()
     return code, captured.out, captured.err.strip()
+
+
+def run(argv, capsys):
+    """fit-data on the two-constant law (--law vz), whose refusals this module tests."""
+    return fit_data(["--law", "vz", *argv], capsys)
 
 
 def assert_refused(code, out, err, *named):

@@ -14,6 +14,7 @@ import json
 from pathlib import Path
 
 import pytest
+from test_fit_data_refusals import assert_refused, fit_data as run  # noqa: E402  (tests/ on the path)
 
 from calib.cli import main
 
@@ -36,18 +37,6 @@ def scaled_drops(tmp_path, scale=None, replace=None) -> Path:
     path = tmp_path / "drops.csv"
     path.write_text("\n".join(out) + "\n")
     return path
-
-
-def run(argv, capsys):
-    code = main(["fit-data", *argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err.strip()
-
-
-def assert_refused(code, out, err, *named):
-    assert code == 2 and out == "" and len(err.splitlines()) == 1 and "Traceback" not in err, err
-    for word in named:
-        assert word in err, (word, err)
 
 
 UNIT_SLIPS = [   # (case, the column's factor, what the refusal names); before: exit 0 and a confident sigma_Y
