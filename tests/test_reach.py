@@ -217,3 +217,31 @@ def test_finite_strain_meshes_are_sized_by_the_fe_s_contact_radius():
                                            kinematics=kinematics)
             a_max = recipe.estimated_contact_radius(pair, min(top, 100.0) * pair.P_Y)
             assert spec.mesh == recipe.mesh_for(BRASS_R, a_max, level="coarse")
+
+
+@pytest.mark.parametrize("material, contact_size", [(BRASS, 1e-4), (BRASS, 5e-5), (BRASS, None),
+                                                    (Material(25e9, 0.34, 250e6, 8500.0), 1e-4)],
+                         ids=["brass 1e-4 m", "brass 5e-5 m", "brass graded", "E 25 GPa 1e-4 m"])
+def test_a_finite_strain_window_s_lowest_path_spans_the_threshold_s_elements(material, contact_size):
+    """On a finite-strain --v-max plan at 3 m/s (mesh sized by recipe.fe_contact_radius) the FE's contact at the
+    lowest path spans at least CONTACT_ELEMENTS_AT_LOWEST elements by fe_contact_radius (and
+    CONTACT_ELEMENTS_NEAR_YIELD below COARSE_LOWEST_OVER_P_Y P_Y): brass on 1e-4 m elements starts at 270 P_Y
+    (3.0 elements), where estimated_contact_radius would start it at 188 P_Y (2.5). A small-strain mesh of the
+    same element keeps estimated_contact_radius's lowest path."""
+    from calib.commands.calibrate import v_max_mesh
+
+    needed, _, _ = impact_window.check_reach(material, BRASS_R, 3.0, "finite-strain")
+    spec = impact_window.impact_spec(material, BRASS_R, needed, "finite-strain", **v_max_mesh(contact_size))
+    pair, low, size = spec.pair, spec.plan.peaks[0], spec.mesh.contact_size
+    assert recipe.fe_contact_radius(pair, low) / size >= impact_window.CONTACT_ELEMENTS_AT_LOWEST * (1 - 1e-6)
+    if low < impact_window.COARSE_LOWEST_OVER_P_Y * pair.P_Y:
+        assert recipe.fe_contact_radius(pair, low) / size >= impact_window.CONTACT_ELEMENTS_NEAR_YIELD * (1 - 1e-6)
+    if contact_size == 1e-4 and material is BRASS:
+        assert low / pair.P_Y == pytest.approx(270.1, abs=0.1)
+        by_estimate = impact_window.lowest_peak(pair, size)
+        assert by_estimate / pair.P_Y == pytest.approx(187.8, abs=0.1)
+        assert recipe.fe_contact_radius(pair, by_estimate) / size < 2.6
+    if contact_size is not None:            # small strain: the estimate's lowest path, as before
+        top = min(spec.plan.peaks[-1], 0.9 * recipe.fe_reach(pair, "small-strain"))
+        small = impact_window.window_spec(material, BRASS_R, top, contact_size=contact_size)
+        assert small.plan.peaks[0] == impact_window.lowest_peak(pair, contact_size)

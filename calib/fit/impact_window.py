@@ -100,25 +100,27 @@ class GeometricLoadPathPlan(LoadPathPlan):
         return targets
 
 
-def lowest_peak(pair: ContactPair, contact_size: float, lowest_over_P_Y: float = LOWEST_PEAK_OVER_P_Y) -> float:
+def lowest_peak(pair: ContactPair, contact_size: float, lowest_over_P_Y: float = LOWEST_PEAK_OVER_P_Y,
+                contact_radius: Callable[[ContactPair, float], float] = recipe.estimated_contact_radius) -> float:
     """The lowest unloading peak [N] on a mesh of contact element ``contact_size`` [m]:
     ``lowest_over_P_Y`` (LOWEST_PEAK_OVER_P_Y) x P_Y where the contact spans CONTACT_ELEMENTS_NEAR_YIELD
     elements there (or ``lowest_over_P_Y`` >= COARSE_LOWEST_OVER_P_Y), else COARSE_LOWEST_OVER_P_Y x P_Y;
-    higher where the contact first spans CONTACT_ELEMENTS_AT_LOWEST elements
-    (recipe.estimated_contact_radius, the estimate a small-strain mesh is sized by; on a finite-strain
-    mesh, sized by recipe.sizing_radius, the FE's contact at that load spans fewer: fe_contact_radius is
-    0.80-0.86 of the estimate at 1.1-8 P_Y)."""
+    higher where the contact first spans CONTACT_ELEMENTS_AT_LOWEST elements. The contact radius
+    ``contact_radius`` (pair, P) -> a [m] is the one the mesh is sized by (recipe.sizing_radius of the
+    plan's kinematics): recipe.estimated_contact_radius (the default) for small strain and a counter-body,
+    recipe.fe_contact_radius for finite strain on the rigid flat, 0.80-0.86 of the estimate at 1.1-8 P_Y,
+    so the FE's contact at the lowest path spans the elements these thresholds ask for."""
     low = lowest_over_P_Y * pair.P_Y
     if lowest_over_P_Y < COARSE_LOWEST_OVER_P_Y and \
-            recipe.estimated_contact_radius(pair, low) < CONTACT_ELEMENTS_NEAR_YIELD * contact_size * (1 - 1e-9):
+            contact_radius(pair, low) < CONTACT_ELEMENTS_NEAR_YIELD * contact_size * (1 - 1e-9):
         low = COARSE_LOWEST_OVER_P_Y * pair.P_Y       # near yield the mesh does not resolve the dissipation
     need = CONTACT_ELEMENTS_AT_LOWEST * contact_size
-    if recipe.estimated_contact_radius(pair, low) >= need:
+    if contact_radius(pair, low) >= need:
         return low
     high = 2.0 * low
-    while recipe.estimated_contact_radius(pair, high) < need:
+    while contact_radius(pair, high) < need:
         high *= 2.0
-    return float(brentq(lambda P: recipe.estimated_contact_radius(pair, P) - need, low, high, rtol=1e-9))
+    return float(brentq(lambda P: contact_radius(pair, P) - need, low, high, rtol=1e-9))
 
 
 def window_peaks(low: float, top: float) -> tuple[float, ...]:
@@ -138,7 +140,9 @@ def with_unloading_across(spec: recipe.CalibrationSpec) -> recipe.CalibrationSpe
     near P_Y (its C_R is measured only at unloading peaks, calib.fit.table_fit)."""
     plan = spec.plan
     targets = np.array(plan.loading_targets())
-    wanted = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size), plan.peaks[0])
+    wanted = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size,
+                                      contact_radius=recipe.sizing_radius(spec.kinematics, spec.counter)),
+                          plan.peaks[0])
     candidates = targets[(targets > spec.pair.P_Y) & (targets < plan.peaks[0] * (1 - 1e-9))]
     if not candidates.size:
         return spec
@@ -171,7 +175,8 @@ def window_spec(material: Material, radius: float, top: float, *, loading_steps:
         ratio = (top / plan.first_load) ** (1.0 / loading_steps)
     else:
         ratio = 10.0 ** (1.0 / (loading_steps_per_decade or LOADING_STEPS_PER_DECADE))
-    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size, lowest_over_P_Y), top)
+    peaks = window_peaks(lowest_peak(spec.pair, spec.mesh.contact_size, lowest_over_P_Y,
+                                     recipe.sizing_radius(spec.kinematics, spec.counter)), top)
     return dataclasses.replace(spec, plan=GeometricLoadPathPlan(
         peaks=peaks, loading_step=top, unloading_steps=plan.unloading_steps,
         first_load=min(plan.first_load, peaks[0]), loading_ratio=ratio))
