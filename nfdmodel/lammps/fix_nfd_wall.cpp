@@ -249,9 +249,14 @@ void FixNfdWall::contact(int i, double delta, const double *n, double R_star, co
 {
     double **f = atom->f;
     touching_local += 1.0;
-    nfd_params p = contact_params(R_star);     // a copy: the rate-aware law scales it per contact
+    const nfd_params &remembered = contact_params(R_star);
+    nfd_params scaled;                         // the rate-aware law's: the remembered ones at sigma_Y R
+    if (material.rate_on) {
+        scaled = remembered;
+        rate_params(i, delta, n, v_wall, stored, scaled);
+    }
+    const nfd_params &p = material.rate_on ? scaled : remembered;
     const nfd_history h = load_history(stored);
-    if (material.rate_on) rate_params(i, delta, n, v_wall, stored, p);
     if (h.delta_max == 0.0) {        // the contact's first step: its duration against the timestep
         double v_n = 0.0;
         for (int d = 0; d < 3; ++d) v_n += (atom->v[i][d] - v_wall[d]) * n[d];
