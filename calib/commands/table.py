@@ -91,7 +91,8 @@ def run_vz_master(ns) -> int:
         lines = [f"{t['kind']} {t['name']}: nu {t['nu']:g}, E/sigma_Y {t['E_over_sigma_y']:g}" for t in tasks + loading]
         print_summary(ns, {"scene": scene["name"], "tasks": len(tasks) + len(loading), "folder": str(folder)},
                       lines + [f"{len(tasks)} calibration(s) to the FE's reach in {folder}/nodes, {len(loading)} "
-                               f"nodes' loading branches with the FE's contact radius in {folder}/loading"])
+                               f"nodes' loading branches with the FE's contact radius in {folder}/loading (for node records "
+                               f"without it)"])
         return 0
     with progress_reporter(ns.quiet, None) as progress:
         rows = vz_master_build.run(scene, folder, workers=workers, scheduler=ns.scheduler, progress=progress)

@@ -31,11 +31,12 @@ one-mesh task's tables are refitted from those data on every run (:func:`refit_r
 works from the histories as the FE takes them (calib.fe.loadpath.contact_work), its tables by
 calib.fit.table_fit; ``fit_version`` in the row says which fit it holds.
 
-The node records keep no contact radius; each grid node's loading branch runs again alone (kind
-"loading", :func:`run_loading`: the node's spec, no unloading, ``OUT/loading/<key>.json``, the same
-sweep runner), its rows' force and approach the node's bit for bit and with them the FE's contact
-radius. From it the vz-unload law's own radius f_a (:func:`resample_radius`): f is fitted to the
-force and the returned work and overstates the FE's radius by 1-6 %.
+A node record keeps its loading rows' FE contact radius; for a record without it the node's loading
+branch runs again alone (kind "loading", :func:`run_loading`: the node's spec, no unloading,
+``OUT/loading/<key>.json``, the same sweep runner), its rows' force and approach the node's bit for bit
+and with them the FE's contact radius. From it the vz-unload law's own radius f_a
+(:func:`resample_radius`): f is fitted to the force and the returned work and overstates the FE's
+radius by 1-6 %.
 
     nfdcal table vz_master_grid [--workers 2] [--out results/tables/vz_master_grid]
         [--master-out calib/data/vz_master_table.csv]
@@ -233,7 +234,7 @@ def run_task(item: dict) -> dict:
             "fine_table": {"x": list(fine.x), "f": list(fine.f), "g": list(fine.g)},
             "window": table.window.record(),
             "table_rel_error_estimate": result.table_rel_error_estimate(),
-            "loading": {"P": [r["P"] for r in paths.loading_rows], "alpha": [r["alpha"] for r in paths.loading_rows]},
+            "loading": {key: [r[key] for r in paths.loading_rows] for key in ("P", "alpha", "contact_radius")},
             "paths": [{"P_max": p.peak, "alpha_max": p.alpha_max, "alpha_residual": p.alpha_residual,
                        "e": p.restitution, "loading_work": p.loading_work, "unloading_work": p.unloading_work,
                        "unloading": {"P": [r["P"] for r in p.rows if r["branch"] == "unloading"],
@@ -300,14 +301,23 @@ def describe_loading(row: dict) -> str:
 
 
 def run_loading_radius(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None = None,
-                       progress: Callable[[str], None] | None = None) -> list[dict]:
+                       progress: Callable[[str], None] | None = None, node_keys=None) -> list[dict]:
     """The grid nodes' loading branches with the FE's contact radius (:func:`run_loading`,
-    resumable, calib.sweep.runner) in ``folder``/loading; the rows."""
+    resumable, calib.sweep.runner) in ``folder``/loading, of the nodes ``node_keys`` (default every
+    node); the rows."""
     from calib.sweep.runner import run_sweep
 
-    result = run_sweep(loading_tasks(scene), run_loading, Path(folder) / LOADING_FOLDER, keep=is_finished,
+    tasks = [t for t in loading_tasks(scene) if node_keys is None or t["node_key"] in node_keys]
+    if not tasks:
+        return []
+    result = run_sweep(tasks, run_loading, Path(folder) / LOADING_FOLDER, keep=is_finished,
                        workers=workers, scheduler=scheduler, progress=progress, describe=describe_loading)
     return result.rows
+
+
+def keeps_radius(row: dict) -> bool:
+    """A node record whose loading rows carry the FE's contact radius (no loading rerun needed)."""
+    return "contact_radius" in row.get("loading", {})
 
 
 def refit_row(row: dict) -> dict | None:
@@ -357,7 +367,8 @@ def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None
         progress: Callable[[str], None] | None = None,
         kinds: tuple = ("node", "check", "refine", "loading")) -> list[dict]:
     """Every task of ``scene`` (resumable, calib.sweep.runner) in ``folder``/nodes, and (kind
-    "loading") the grid nodes' loading reruns in ``folder``/loading (:func:`run_loading_radius`); the rows."""
+    "loading") the loading reruns in ``folder``/loading (:func:`run_loading_radius`) of the grid nodes whose
+    records keep no contact radius; the rows."""
     from calib.sweep.runner import run_sweep
 
     tasks = [t for t in tasks_for(scene) if t["kind"] in kinds]
@@ -365,7 +376,9 @@ def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None
                        scheduler=scheduler, progress=progress, describe=describe, refit=refit_row)
     if "loading" not in kinds:
         return result.rows
-    return result.rows + run_loading_radius(scene, folder, workers, scheduler, progress)
+    without = {r["key"] for r in result.rows
+               if r.get("kind") == "node" and r.get("status") == "ok" and not keeps_radius(r)}
+    return result.rows + run_loading_radius(scene, folder, workers, scheduler, progress, node_keys=without)
 
 
 def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -466,10 +479,12 @@ def resample_radius(row: dict, loading: dict, x: np.ndarray) -> np.ndarray:
 def master_rows(rows: list[dict]) -> list[dict]:
     """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window, its
     estimated discretisation error, the vz-unload law's rho and m and, when ``rows`` hold the nodes'
-    loading reruns (kind "loading"), the vz-unload law's contact radius f_a (:func:`resample_radius`)
+    FE contact radius (their records or their loading reruns, kind "loading"), the vz-unload law's
+    contact radius f_a (:func:`resample_radius`)
     (the CSV of calib.fit.vz_master_table)."""
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     loading = {r["node_key"]: r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"}
+    loading.update({r["key"]: r for r in nodes if keeps_radius(r)})       # the node's own loading rows
     if loading and any(r["key"] not in loading for r in nodes):
         missing = [r["name"] for r in nodes if r["key"] not in loading]
         raise ValueError(f"vz master table: nodes without a loading rerun (contact radius): {', '.join(missing)}; "
