@@ -52,8 +52,10 @@ from typing import Callable
 import numpy as np
 
 from calib import output
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
+from calib.fit.vz_master_table import RADIUS_COLUMN
 from meshes.keys import stable_key
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
 from nfdmodel.pchip import pchip_evaluate, pchip_slopes
@@ -71,10 +73,10 @@ TASK_VERSION = 1                # part of a task's key: bump when the FE changes
 FIT_VERSION = 2                 # the fit a row holds (1: trapezoid works; 2: Hertz's end segments), refit_row
 
 
-def common_loads() -> np.ndarray:
-    """x_k = P/P_Y of the table: 1, then NODES_PER_DECADE per decade up to X_LIMIT."""
-    n = int(round(NODES_PER_DECADE * np.log10(X_LIMIT)))
-    return np.geomspace(1.0, X_LIMIT, n + 1)
+def common_loads(limit: float = X_LIMIT) -> np.ndarray:
+    """x_k = P/P_Y of the table: 1, then NODES_PER_DECADE per decade up to ``limit`` (X_LIMIT)."""
+    n = int(round(NODES_PER_DECADE * np.log10(limit)))
+    return np.geomspace(1.0, limit, n + 1)
 
 
 def is_vz_master_scene(name: str) -> bool:
@@ -117,6 +119,9 @@ def load_scene(name: str) -> dict:
              "top_over_P_Y": float(grid.get("top_over_P_Y", X_LIMIT)),
              "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
+             "kinematics": str(grid.get("kinematics", DEFAULT_KINEMATICS)),
+             "lowest_a_over_R": (float(grid["lowest_a_over_R"]) if "lowest_a_over_R" in grid else None),
+             "lowest_max_over_P_Y": float(grid.get("lowest_max_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y)),
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
                          "top_over_P_Y": float(c.get("top_over_P_Y", grid.get("check_top_over_P_Y",
                                                                              grid.get("top_over_P_Y", X_LIMIT))))}
@@ -142,6 +147,9 @@ def load_scene(name: str) -> dict:
                              f"{refine['loading_steps_per_decade']:g}")
         if not 0.5 <= refine["refinement"] <= 4.0:
             raise ValueError(f"scene {path}: [[refine]] refinement must be in [0.5, 4], got {refine['refinement']:g}")
+    if scene["kinematics"] not in recipe.REACH:
+        raise ValueError(f"scene {path}: [vz_master] kinematics must be one of {', '.join(recipe.REACH)}, "
+                         f"got {scene['kinematics']!r}")
     for key in ("meshes", "check_meshes"):
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
@@ -177,8 +185,23 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     if refine:
         fields.update({key: refine[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade",
                                                     "refinement")})
+    if scene["kinematics"] != DEFAULT_KINEMATICS:       # keys of small-strain tasks stay as they are
+        fields.update(kinematics=scene["kinematics"], lowest_over_P_Y=lowest_over_P_Y(scene, material))
     name = name or f"nu{nu:g}_E{ratio:g}sy"
     return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
+
+
+def lowest_over_P_Y(scene: dict, material: Material) -> float:
+    """The lowest unloading path of a task [P_Y]: TABLE_LOWEST_PEAK_OVER_P_Y, or (a scene with
+    ``lowest_a_over_R``) the load whose FE contact radius (recipe.fe_contact_radius) is that fraction of R,
+    between TABLE_LOWEST_PEAK_OVER_P_Y and ``lowest_max_over_P_Y``: a finite-strain reach scene starts where
+    its contact is still small enough that small strain holds (recipe.KINEMATICS_PART_OVER_R) and joins the
+    small-strain table there."""
+    if scene["lowest_a_over_R"] is None:
+        return TABLE_LOWEST_PEAK_OVER_P_Y
+    pair = ContactPair.sphere_flat(material, scene["R"])
+    load = recipe.largest_admissible_load(pair, scene["lowest_a_over_R"], recipe.fe_contact_radius) / pair.P_Y
+    return float(min(max(load, TABLE_LOWEST_PEAK_OVER_P_Y), scene["lowest_max_over_P_Y"]))
 
 
 def tasks_for(scene: dict) -> list[dict]:
@@ -198,7 +221,8 @@ def tasks_for(scene: dict) -> list[dict]:
 
 def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a task: its window to the FE's reach or its top, on its mesh."""
-    top = min(recipe.fe_reach(pair) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
+    kinematics = item.get("kinematics", DEFAULT_KINEMATICS)
+    top = min(recipe.fe_reach(pair, kinematics) * (1.0 - REACH_MARGIN),      # inside the reach despite rounding
               item["top_over_P_Y"] * pair.P_Y)
     if item.get("refinement"):          # the graded, systematically refined ladder
         mesh = {"elements_per_contact_radius": item["elements_per_contact_radius"],
@@ -208,8 +232,9 @@ def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
         mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
     else:
         mesh = {"level": item["level"]}
-    return impact_window.window_spec(item["material"], item["R"], top, lowest_over_P_Y=TABLE_LOWEST_PEAK_OVER_P_Y,
-                                     **mesh)
+    return impact_window.window_spec(item["material"], item["R"], top,
+                                     lowest_over_P_Y=item.get("lowest_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y),
+                                     kinematics=kinematics, **mesh)
 
 
 def run_task(item: dict) -> dict:
@@ -422,9 +447,9 @@ def resample_unloading(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return rho, m
 
 
-def table_loads(nodes: list[dict]) -> np.ndarray:
-    """The table's loads: :func:`common_loads` and the top of each E/sigma_Y column (the lowest
-    window top over its nu), so a material's window ends at its columns' top, not a step below."""
+def table_loads(nodes: list[dict], limit: float = X_LIMIT) -> np.ndarray:
+    """The table's loads: :func:`common_loads` (to ``limit``) and the top of each E/sigma_Y column (the
+    lowest window top over its nu), so a material's window ends at its columns' top, not a step below."""
     tops = {}
     for row in nodes:
         top = row["window"]["P_max_over_P_Y"]
@@ -433,7 +458,7 @@ def table_loads(nodes: list[dict]) -> np.ndarray:
     for top in sorted(tops.values()):            # tops within TOP_MERGE of each other: the lowest
         if not kept or top > kept[-1] * (1 + TOP_MERGE):
             kept.append(top)
-    x = common_loads()
+    x = common_loads(limit)
     x = x[x <= kept[-1] * (1 + 1e-9)]
     x = x[np.min(np.abs(np.log(x[:, None] / np.array(kept)[None, :])), axis=1) > np.log1p(TOP_MERGE)]
     return np.unique(np.concatenate([x, kept]))
@@ -476,12 +501,34 @@ def resample_radius(row: dict, loading: dict, x: np.ndarray) -> np.ndarray:
     return f_a
 
 
-def master_rows(rows: list[dict]) -> list[dict]:
-    """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window, its
-    estimated discretisation error, the vz-unload law's rho and m and, when ``rows`` hold the nodes'
-    FE contact radius (their records or their loading reruns, kind "loading"), the vz-unload law's
-    contact radius f_a (:func:`resample_radius`)
-    (the CSV of calib.fit.vz_master_table)."""
+def node_columns(row: dict, loading: dict | None, x: np.ndarray) -> dict[str, np.ndarray]:
+    """A node's table columns at the loads ``x`` (NaN above its window): f, g (:func:`resample`), the
+    vz-unload law's rho, m (:func:`resample_unloading`) and, with ``loading`` (the node's FE contact
+    radius: its record or its loading rerun), its radius f_a (:func:`resample_radius`)."""
+    f, g = resample(row, x)
+    rho, m = resample_unloading(row, x)
+    columns = {"a_p_over_a_Y": f, "C_R": g, "delta_res_over_delta_max": rho, "unloading_exponent": m}
+    if loading is not None:
+        columns[RADIUS_COLUMN] = resample_radius(row, loading, x)
+    return columns
+
+
+def node_rows(row: dict, columns: dict[str, np.ndarray], x: np.ndarray, window: tuple[float, float],
+              rel_error) -> list[dict]:
+    """The table's rows of one node: its columns (:func:`node_columns`) at the loads ``x``, its window
+    (lowest unloading path, top) [P_Y] and estimated discretisation error."""
+    return [{"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_over_P_Y": float(x[k]),
+             "a_p_over_a_Y": float(columns["a_p_over_a_Y"][k]), "C_R": float(columns["C_R"][k]),
+             "window_low": window[0], "window_top": window[1], "rel_error_estimate": rel_error,
+             "delta_res_over_delta_max": float(columns["delta_res_over_delta_max"][k]),
+             "unloading_exponent": float(columns["unloading_exponent"][k]),
+             **({RADIUS_COLUMN: float(columns[RADIUS_COLUMN][k])} if RADIUS_COLUMN in columns else {})}
+            for k in range(x.size)]
+
+
+def loading_records(rows: list[dict]) -> dict:
+    """The nodes' FE contact radius by node key: their loading reruns (kind "loading") and the node
+    records that keep it; a ValueError naming the nodes without either when some have it."""
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     loading = {r["node_key"]: r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"}
     loading.update({r["key"]: r for r in nodes if keeps_radius(r)})       # the node's own loading rows
@@ -489,19 +536,23 @@ def master_rows(rows: list[dict]) -> list[dict]:
         missing = [r["name"] for r in nodes if r["key"] not in loading]
         raise ValueError(f"vz master table: nodes without a loading rerun (contact radius): {', '.join(missing)}; "
                          f"run the scene to the end first")
+    return loading
+
+
+def master_rows(rows: list[dict]) -> list[dict]:
+    """One row per grid node and table load: nu, E/sigma_Y, x, f, g, the node's window, its
+    estimated discretisation error, the vz-unload law's rho and m and, when ``rows`` hold the nodes'
+    FE contact radius (their records or their loading reruns, kind "loading"), the vz-unload law's
+    contact radius f_a (:func:`resample_radius`)
+    (the CSV of calib.fit.vz_master_table)."""
+    nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
+    loading = loading_records(rows)
     x = table_loads(nodes)
     out = []
     for row in nodes:
-        f, g = resample(row, x)
-        rho, m = resample_unloading(row, x)
-        f_a = resample_radius(row, loading[row["key"]], x) if loading else None
-        for k in range(x.size):
-            out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_over_P_Y": float(x[k]),
-                        "a_p_over_a_Y": float(f[k]), "C_R": float(g[k]),
-                        "window_low": row["window"]["P_min_over_P_Y"], "window_top": row["window"]["P_max_over_P_Y"],
-                        "rel_error_estimate": row["table_rel_error_estimate"],
-                        "delta_res_over_delta_max": float(rho[k]), "unloading_exponent": float(m[k]),
-                        **({"radius_a_p_over_a_Y": float(f_a[k])} if loading else {})})
+        columns = node_columns(row, loading[row["key"]] if loading else None, x)
+        out += node_rows(row, columns, x, (row["window"]["P_min_over_P_Y"], row["window"]["P_max_over_P_Y"]),
+                         row["table_rel_error_estimate"])
     return out
 
 

@@ -1,0 +1,91 @@
+"""The vz master table over the finite-strain reach: a small-strain scene's nodes joined with a finite-strain one's.
+
+The small-strain grid (vz_master_grid) ends at the small strain's reach, 140 P_Y (a = 0.2 R) for the soft
+columns, 250 P_Y elsewhere; the finite-strain grid (vz_master_reach, ``[vz_master] joins``) runs the same
+nodes (nu, E/sigma_Y) to the finite strain's reach, 1e4 P_Y or a = 0.45 R (calib.fit.recipe.REACH), from
+a load where the contact is still small. Each node of the joined table takes the small-strain node's values
+below its join load and the finite-strain node's from it on:
+
+    x_join = min(x_top,small, x(a_FE = JOIN_A_OVER_R R))    [P/P_Y]
+
+x(a) the load whose FE contact radius (calib.fit.recipe.fe_contact_radius) is a, never below the
+finite-strain node's lowest unloading path. Below a = JOIN_A_OVER_R R finite and small strain agree
+within 0.3-1.5 % in force (the reference sphere, recipe.KINEMATICS_PART_OVER_R), so the table keeps
+every small-strain figure where it holds and the finite strain's where the kinematics part (+2.7..4.1 %
+at 0.1 R, +11..17 % at 0.22-0.25 R). A node's window runs from the small node's lowest unloading path
+to the finite node's top; its columns (f, g, rho, m, f_a: calib.fit.vz_master_build.node_columns) switch
+at x_join together, so the vz-unload law's radius and its loading stay one node's.
+
+    nfdcal table vz_master_reach --master-out calib/data/vz_master_table.csv
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from calib.fit import recipe, vz_master_build
+from nfdmodel import ContactPair, Material
+
+JOIN_A_OVER_R = 0.05            # the joined table's switch to finite strain: contact radius / R
+REACH_LIMIT = recipe.REACH["finite-strain"][0]      # the joined table's loads reach the finite strain's P/P_Y
+
+
+def pair_of(row: dict) -> ContactPair:
+    return ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
+                                            row["rho"]), row["R"])
+
+
+def join_load(small: dict, finite: dict) -> float:
+    """x_join [P/P_Y] of a node (module docstring): its small-strain record ``small``, finite-strain ``finite``."""
+    pair = pair_of(finite)
+    part = recipe.largest_admissible_load(pair, JOIN_A_OVER_R, recipe.fe_contact_radius) / pair.P_Y
+    lowest = finite["paths"][0]["P_max"] / pair.P_Y
+    return float(max(min(small["window"]["P_max_over_P_Y"], part), lowest))
+
+
+def nodes_of(rows: list[dict]) -> dict:
+    return {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
+
+
+def joined_rows(small_rows: list[dict], finite_rows: list[dict]) -> list[dict]:
+    """The joined table's rows (module docstring): one per node and load, the small node's columns below
+    x_join and the finite node's from it on; a ValueError naming the nodes either scene lacks."""
+    small, finite = nodes_of(small_rows), nodes_of(finite_rows)
+    missing = sorted(set(small) ^ set(finite))
+    if missing:
+        raise ValueError(f"vz master table: nodes (nu, E/sigma_Y) {missing} are in one scene's results and not in "
+                         f"the other's: run both to the end first")
+    small_loading = vz_master_build.loading_records(small_rows)
+    finite_loading = vz_master_build.loading_records(finite_rows)
+    x = vz_master_build.table_loads(list(finite.values()), REACH_LIMIT)    # the finite nodes' windows
+    out = []
+    for node in sorted(small):
+        below, beyond = small[node], finite[node]
+        columns_below = vz_master_build.node_columns(below, small_loading.get(below["key"]), x)
+        columns_beyond = vz_master_build.node_columns(beyond, finite_loading.get(beyond["key"]), x)
+        switch = x >= join_load(below, beyond) * (1 - 1e-9)
+        columns = {name: np.where(switch, columns_beyond[name], values) for name, values in columns_below.items()
+                   if name in columns_beyond}
+        errors = [r["table_rel_error_estimate"] for r in (below, beyond) if r["table_rel_error_estimate"] is not None]
+        out += vz_master_build.node_rows(below, columns, x, (below["window"]["P_min_over_P_Y"],
+                                                            beyond["window"]["P_max_over_P_Y"]),
+                                         max(errors) if errors else None)
+    return out
+
+
+def small_strain_rows(scene: dict, folder: str | Path) -> list[dict]:
+    """The finished node records (and loading reruns) of the small-strain scene ``scene`` joins, read
+    from ``folder`` (its results: nodes/, loading/); a ValueError when a grid node is missing."""
+    import json
+
+    folder = Path(folder)
+    rows = [json.loads(p.read_text(encoding="utf-8"))
+            for sub in ("nodes", vz_master_build.LOADING_FOLDER) for p in sorted((folder / sub).glob("*.json"))]
+    keys = {t["key"] for t in vz_master_build.tasks_for(scene) if t["kind"] == "node"}
+    rows = [r for r in rows if r.get("status") == "ok" and (r.get("key") in keys or r.get("node_key") in keys)]
+    found = {r["key"] for r in rows if r.get("kind") == "node"}
+    if found != keys:
+        raise ValueError(f"vz master table: {len(keys - found)} of {len(keys)} nodes of scene {scene['name']} are "
+                         f"not in {folder}/nodes: run `nfdcal table {scene['name']}` to the end first")
+    return rows
