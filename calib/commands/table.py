@@ -102,7 +102,12 @@ def run_vz_master(ns) -> int:
     if ns.master_out and not failed:
         from calib.fit import vz_master_check
 
-        path = vz_master_build.write_master(rows, ns.master_out, scene, ns.accuracy)
+        joined = None
+        if scene["joins"]:          # a finite-strain scene: its nodes beyond the small-strain scene's
+            from calib.fit import vz_master_join
+
+            joined = vz_master_join.joined_table(scene, rows)
+        path = vz_master_build.write_master(rows, ns.master_out, scene, ns.accuracy, joined=joined)
         checked = vz_master_check.measure_and_state(rows, path, folder)
         result["master_table"], result["accuracy"] = str(path), checked
         lines.append(f"vz master table written to {path}; accuracy {checked['statement']}")

@@ -120,6 +120,7 @@ def load_scene(name: str) -> dict:
              "check_top_over_P_Y": float(grid.get("check_top_over_P_Y", grid.get("top_over_P_Y", X_LIMIT))),
              "meshes": int(grid.get("meshes", 2)), "check_meshes": int(grid.get("check_meshes", 1)),
              "kinematics": str(grid.get("kinematics", DEFAULT_KINEMATICS)),
+             "joins": (str(grid["joins"]) if "joins" in grid else None),
              "lowest_a_over_R": (float(grid["lowest_a_over_R"]) if "lowest_a_over_R" in grid else None),
              "lowest_max_over_P_Y": float(grid.get("lowest_max_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y)),
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
@@ -557,15 +558,21 @@ def master_rows(rows: list[dict]) -> list[dict]:
 
 
 def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str, accuracy_details: dict | None = None,
-                 wall_time_s: float | None = None) -> Path:
-    """calib/data/vz_master_table.{csv,json}: the table rows and its stamp (mesh, commit, accuracy)."""
+                 wall_time_s: float | None = None, joined: dict | None = None) -> Path:
+    """calib/data/vz_master_table.{csv,json}: the table rows and its stamp (mesh, commit, accuracy).
+    ``joined``: a finite-strain scene's table joined with the small-strain one's (calib.fit.vz_master_join:
+    {"rows": the joined table's rows, "join": what the .json states of the join, "small_rows": the
+    small-strain scene's records}); else the table of ``rows``."""
     path = Path(path)
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     if len(nodes) != len(scene["nu"]) * len(scene["E_over_sigma_y"]):
         raise ValueError(f"vz master table: {len(nodes)} of {len(scene['nu']) * len(scene['E_over_sigma_y'])} grid "
                          f"nodes are calibrated; run the scene to the end first")
-    table_rows = master_rows(rows)
+    table_rows = joined["rows"] if joined else master_rows(rows)
     loading = [r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"]
+    if joined:                  # the small-strain scene's records are part of the table
+        nodes += [r for r in joined["small_rows"] if r.get("kind") == "node"]
+        loading += [r for r in joined["small_rows"] if r.get("kind") == "loading"]
     stamp = output.stamp(sum(r["wall_time_s"] for r in nodes + loading) if wall_time_s is None else wall_time_s,
                          mesh={**({"graded": grid_mesh(scene)} if grid_mesh(scene) else
                                   {"contact_size_over_a_max": scene["contact_size_over_a_max"]}
@@ -576,7 +583,7 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                          **({"loading_commits": sorted({r["git_commit"] for r in loading})} if loading else {}))
     meta = {"vz_master_table": {"scene": scene["name"], "axes": ["nu", "E_over_sigma_y", "P_over_P_Y"],
                                 "nu": scene["nu"], "E_over_sigma_y": scene["E_over_sigma_y"],
-                                "P_over_P_Y": list(table_loads(nodes)), "accuracy": accuracy,
+                                "P_over_P_Y": sorted({r["P_over_P_Y"] for r in table_rows}), "accuracy": accuracy,
                                 "accuracy_details": accuracy_details or {},
                                 "definition": "a_p_over_a_Y = f, C_R = g of the vz-table law at P/P_Y (calib.fit."
                                               "table_fit) of the FE calibration at the node's reach (nfdcal calibrate "
@@ -591,7 +598,8 @@ def write_master(rows: list[dict], path: str | Path, scene: dict, accuracy: str,
                                                  "q (x^(1/3) + f), q a cubic in ln x fitted to the FE's contact radius "
                                                  "along the node's loading branch (its loading-only rerun in loading/; "
                                                  "calib.fit.vz_master_build.resample_radius)"
-                                                 if loading else "")},
+                                                 if loading else ""),
+                                **({"kinematics": scene["kinematics"], "join": joined["join"]} if joined else {})},
             "stamp": stamp}
     output.write_csv(path, table_rows, comment=output.stamp_comment(stamp))
     output.write_json(path.with_suffix(".json"), meta)

@@ -89,3 +89,22 @@ def small_strain_rows(scene: dict, folder: str | Path) -> list[dict]:
         raise ValueError(f"vz master table: {len(keys - found)} of {len(keys)} nodes of scene {scene['name']} are "
                          f"not in {folder}/nodes: run `nfdcal table {scene['name']}` to the end first")
     return rows
+
+
+def join_record(small_scene: dict, small_rows: list[dict], finite_rows: list[dict]) -> dict:
+    """What the joined table's .json states of the join: the small-strain scene, JOIN_A_OVER_R and each
+    node's x_join [P/P_Y]."""
+    small, finite = nodes_of(small_rows), nodes_of(finite_rows)
+    return {"small_strain_scene": small_scene["name"], "join_a_over_R": JOIN_A_OVER_R,
+            "join_over_P_Y": [{"nu": nu, "E_over_sigma_y": ratio, "x_join": join_load(small[(nu, ratio)], finite[(nu, ratio)])}
+                              for nu, ratio in sorted(small)]}
+
+
+def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None) -> dict:
+    """The ``joined`` argument of vz_master_build.write_master for the finite-strain scene ``scene``
+    (``[vz_master] joins``) and its records ``rows``: the small-strain scene's records from ``folder``
+    (default results/tables/<its name>), the joined rows and the join's record."""
+    small_scene = vz_master_build.load_scene(scene["joins"])
+    small_rows = small_strain_rows(small_scene, folder or Path("results") / "tables" / small_scene["name"])
+    return {"rows": joined_rows(small_rows, rows), "join": join_record(small_scene, small_rows, rows),
+            "small_rows": small_rows}

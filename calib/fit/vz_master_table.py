@@ -186,6 +186,13 @@ class VZMasterTable:
         return value
 
     @property
+    def radius_reach(self) -> float:
+        """The contact radius / R its FE vouches for: the finite strain's (FE_FINITE_MAX_CONTACT_RADIUS_OVER_R)
+        for a table joined with a finite-strain scene (calib.fit.vz_master_join), else the small strain's."""
+        return (limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R if self.meta.get("kinematics") == "finite-strain"
+                else limits.FE_MAX_CONTACT_RADIUS_OVER_R)
+
+    @property
     def has_unloading(self) -> bool:
         """Whether the table carries the vz-unload law's rho and m (:func:`unload_law`)."""
         return self.rho is not None and self.m is not None
@@ -203,15 +210,14 @@ class VZMasterTable:
         and unloading checked there against the FE: BELOW_NODES) or from the nodes' lowest path."""
         a_top = pair.a_Y * (np.cbrt(values["top"]) + values["f"][-1]) / pair.R_star   # the law's a = a_Y (x^(1/3) + f)
         # every node ran to at most the FE's reach (vz_master_build.run_task); the law's radius can
-        # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100; the FE's
-        # own contact radius there is 0.185 R)
+        # overstate the estimate that reach is set by (0.201 against 0.2 R at E/sigma_Y 100, small strain;
+        # the FE's own contact radius there is 0.185 R)
         name = self.path.name if self.path else "vz master table"
         nodes = (f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
                  f"to {values['top']:.4g} P_Y")
         if not from_yield:
-            return CalibrationWindow(values["low"], values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
-                                     nodes)
-        return CalibrationWindow(1.0, values["top"], float(min(a_top, limits.FE_MAX_CONTACT_RADIUS_OVER_R)),
+            return CalibrationWindow(values["low"], values["top"], float(min(a_top, self.radius_reach)), nodes)
+        return CalibrationWindow(1.0, values["top"], float(min(a_top, self.radius_reach)),
                                  f"{nodes}; from P_Y to {values['low']:.3g} P_Y interpolated from Hertz's, checked "
                                  f"against the FE (e {BELOW_NODES['worst_e_error']:.2%}, force "
                                  f"{BELOW_NODES['worst_force_error']:.1%} at worst)")
