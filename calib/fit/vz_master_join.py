@@ -75,15 +75,18 @@ def joined_rows(small_rows: list[dict], finite_rows: list[dict]) -> list[dict]:
 
 
 def small_strain_rows(scene: dict, folder: str | Path) -> list[dict]:
-    """The finished node records (and loading reruns) of the small-strain scene ``scene`` joins, read
-    from ``folder`` (its results: nodes/, loading/); a ValueError when a grid node is missing."""
+    """The finished records of the small-strain scene ``scene`` (its nodes, checks and refined ladder, and the
+    nodes' loading reruns), read from ``folder`` (its results: nodes/, loading/); a ValueError when a grid
+    node is missing."""
     import json
 
     folder = Path(folder)
     rows = [json.loads(p.read_text(encoding="utf-8"))
             for sub in ("nodes", vz_master_build.LOADING_FOLDER) for p in sorted((folder / sub).glob("*.json"))]
-    keys = {t["key"] for t in vz_master_build.tasks_for(scene) if t["kind"] == "node"}
-    rows = [r for r in rows if r.get("status") == "ok" and (r.get("key") in keys or r.get("node_key") in keys)]
+    tasks = vz_master_build.tasks_for(scene)
+    keys = {t["key"] for t in tasks if t["kind"] == "node"}
+    every = {t["key"] for t in tasks}
+    rows = [r for r in rows if r.get("status") == "ok" and (r.get("key") in every or r.get("node_key") in keys)]
     found = {r["key"] for r in rows if r.get("kind") == "node"}
     if found != keys:
         raise ValueError(f"vz master table: {len(keys - found)} of {len(keys)} nodes of scene {scene['name']} are "
@@ -107,4 +110,23 @@ def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None
     small_scene = vz_master_build.load_scene(scene["joins"])
     small_rows = small_strain_rows(small_scene, folder or Path("results") / "tables" / small_scene["name"])
     return {"rows": joined_rows(small_rows, rows), "join": join_record(small_scene, small_rows, rows),
-            "small_rows": small_rows}
+            "small_rows": [r for r in small_rows if r.get("kind") in ("node", "loading")],
+            "check_rows": small_strain_checks(small_rows)}
+
+
+def small_strain_checks(small_rows: list[dict]) -> list[dict]:
+    """The small-strain scene's checks and refined ladder where they test the joined table: each check's
+    paths whose peak lies below its material's JOIN_A_OVER_R R (where the table is the small strain's and
+    the two kinematics agree; above it a small-strain path measures the kinematics, not the table), and
+    the refined ladder (the discretisation of the small-strain part)."""
+    out = []
+    for row in small_rows:
+        if row.get("kind") == "refine":
+            out.append(row)
+        elif row.get("kind") == "check":
+            pair = pair_of(row)
+            part = recipe.largest_admissible_load(pair, JOIN_A_OVER_R, recipe.fe_contact_radius)
+            paths = [p for p in row["paths"] if p["P_max"] <= part]
+            if paths:
+                out.append({**row, "paths": paths})
+    return out
