@@ -28,6 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
+from nfdmodel import reference_case as rc
+
 TARGET_RATIO = 1.3
 CASES = ("epp", "linear-0.001", "linear-0.01", "linear-0.1", "table", "swift", "ludwik")
 # the tabulated curve's points [-]: a tensile test's flow curve to 20 % plastic strain
@@ -102,8 +104,10 @@ def run_case(spec, curve) -> dict:
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--level", default="coarse", choices=("coarse", "default", "fine"),
-                        help="the reference mesh family's level (coarse: contact element 1.6e-4 m)")
+                        help="mesh level (coarse: contact element 1.6e-4 m on the reference sphere, a_max / 10 otherwise)")
     parser.add_argument("--contact-size", type=float, default=None, help="contact element [m] (overrides --level)")
+    parser.add_argument("--E-over-sigma-y", type=float, default=None,
+                        help="another sphere: the reference's E, nu, R with sigma_Y = E / this (default: the reference's 700)")
     parser.add_argument("--repeat", type=int, default=3, help="runs of every sphere (order reversed every other)")
     parser.add_argument("--cases", default=",".join(CASES), help=f"comma-separated subset of {','.join(CASES)}")
     parser.add_argument("--csv", type=Path, default=None, help="also write the rows to this CSV")
@@ -116,10 +120,16 @@ def main(argv=None) -> None:
         parser.error(f"--repeat must be an integer >= 1, got {ns.repeat}")
     cases = ["epp"] + [c for c in cases if c != "epp"]
 
-    from calib.fit.recipe import reference_spec
+    from calib.fit.recipe import calibration_spec, reference_spec
     from meshes.hemisphere import hemisphere_mesh
+    from nfdmodel import Material
 
-    spec = reference_spec(level=ns.level, contact_size=ns.contact_size)
+    if ns.E_over_sigma_y is None:
+        spec = reference_spec(level=ns.level, contact_size=ns.contact_size)
+    else:
+        reference = Material.reference()
+        material = dataclasses.replace(reference, sigma_y=reference.E / ns.E_over_sigma_y)
+        spec = calibration_spec(material, rc.R, level=ns.level, contact_size=ns.contact_size)
     hemisphere_mesh(spec.mesh)                          # meshing is cached: not timed
     runs = {name: [] for name in cases}
     with tempfile.TemporaryDirectory() as folder:
@@ -155,7 +165,9 @@ def main(argv=None) -> None:
         })
 
     peaks = epp[0]["peaks"]
-    print(f"hardening calibrations against EPP: reference sphere, one mesh h = {spec.mesh.contact_size:g} m "
+    sphere = ("reference sphere" if ns.E_over_sigma_y is None else
+              f"reference sphere with sigma_Y = E / {ns.E_over_sigma_y:g} = {spec.material.sigma_y:.4g} Pa")
+    print(f"hardening calibrations against EPP: {sphere}, one mesh h = {spec.mesh.contact_size:g} m "
           f"({epp[0]['dofs']} dofs), P_max = {', '.join(f'{p:g}' for p in peaks)} N, "
           f"{ns.repeat} repeat(s), medians")
     header = (f"{'case':<13}{'H0/E':>8}{'wall s':>8}{'cpu s':>8}{'wall x':>8}{'cpu x':>7}{'RM calls':>9}"
@@ -170,7 +182,7 @@ def main(argv=None) -> None:
         print(f"{row['case']:<13}{h0:>8}{row['wall_s']:>8.2f}{row['cpu_s']:>8.2f}{row['wall_ratio']:>8.2f}"
               f"{row['cpu_ratio']:>7.2f}{row['return_mapping_calls']:>9}{row['return_mapping_s']:>7.2f}"
               f"{row['newton_iterations']:>7}{row['loading_steps']:>5}{row['unloading_steps']:>5}"
-              + "".join(f"{a:>7.3f}" for a in alphas) + "".join(f"{e:>7.4f}" for e in es)
+              + "".join(f"{a:>7.4g}" for a in alphas) + "".join(f"{e:>7.4f}" for e in es)
               + f"{row['P_over_P_epp_same_alpha']:>8.4f}")
     print("amax_i [um], e_i: path i's largest approach and restitution; P/P_epp: the top peak over the EPP "
           "force at the same approach; RM: the return mapping (all material evaluations)")
