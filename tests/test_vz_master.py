@@ -215,7 +215,8 @@ def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path
                                                                  refine=c)["key"] in nodes]
     assert {(c["nu"], c["E_over_sigma_y"]) for c in shared} == {(c["nu"], c["E_over_sigma_y"]) for c in scene["refine"]}
     assert all(c["refinement"] == scene["graded"]["refinement"] for c in shared)
-    assert len({t["key"] for t in tasks}) == len(tasks) == (16 + len(scene["checks"]) + len(scene["refine"])
+    assert len({t["key"] for t in tasks}) == len(tasks) == (len(scene["nu"]) * len(scene["E_over_sigma_y"])
+                                                             + len(scene["checks"]) + len(scene["refine"])
                                                              - len(shared))
     assert all(t["refinement"] == scene["graded"]["refinement"] for t in tasks if t["kind"] != "refine")
     grid = [t for t in tasks if t["kind"] != "refine"]
