@@ -8,7 +8,8 @@ and of its figures' parameters by the group of one of its authors (M. R. W. Brak
 repository tmd-lab/microslip-rough-contact at commit 21706045ee270bdd3ca861e4a3b7ba367aed59e5, files
 ROUTINES/FRIC_MODELS/PLASTIC/GHAEDNIA_ET_AL_FLATTENING.m (the equations, numbered as in the paper)
 and TESTS/verification_normal_plasticity.m (the parameters of the paper's Figs. 8-12, which that
-script redraws to check the transcription). What is used here:
+script redraws to check the transcription); eq. 30 reads the same, 3.3 included, in the group's
+tmd-lab/tmdsimpy (tmdsimpy/jax/nlforces/roughcontact/_asperity_functions.py). What is used here:
 
     E = ((1 - nu_s^2) / E_s + (1 - nu_f^2) / E_f)^-1                          (eq. 3)
     C = 1.295 exp(0.736 nu_s),  delta_c = (pi C S_y / (2 E))^2 R              (eqs. 5, 6)
@@ -20,8 +21,9 @@ with F_p the elastic-perfectly plastic force of Jackson & Green (eqs. 27-29: F_c
 (C pi S_y / 2)^3; F_p / F_c = exp(-(Delta/delta_c)^(5/12) / 4) (Delta/delta_c)^(3/2) + 4 (H/S_y) / C
 [1 - exp(-(Delta/delta_c)^(5/9) / 25)] Delta/delta_c, H/S_y = 2.84 - 0.92 [1 - cos(pi a / R)]) and a
 the model's contact radius (eqs. 23-26; eq. 26 as the transcription corrects it, noting the printed
-one is wrong). E_t is the slope of the uniaxial stress against the TOTAL strain after yield (E_t = E_s:
-perfectly elastic); the FE's plastic modulus is H = E_s E_t / (E_s - E_t) (calib.fe.flow_curve).
+one is wrong). E_t, "the tangent modulus" in both transcriptions, is taken as the slope of the
+uniaxial stress against the TOTAL strain after yield, as the title's "to perfectly elastic" at E_t =
+E_s implies; the FE's plastic modulus is then H = E_s E_t / (E_s - E_t) (calib.fe.flow_curve).
 
 The published case is the paper's Fig. 11: an aluminium-like hemisphere E_s = 71 GPa, nu_s = 0.33,
 S_y = 500 MPa, E_t = 0.1 E_s, R = 1 mm, on an elastic flat E_f = 200 GPa, nu_f = 0.3, to Delta / R =
