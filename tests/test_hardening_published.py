@@ -13,7 +13,7 @@ tmd-lab/tmdsimpy (tmdsimpy/jax/nlforces/roughcontact/_asperity_functions.py). Wh
 
     E = ((1 - nu_s^2) / E_s + (1 - nu_f^2) / E_f)^-1                          (eq. 3)
     C = 1.295 exp(0.736 nu_s),  delta_c = (pi C S_y / (2 E))^2 R              (eqs. 5, 6)
-    F_e = 4/3 E sqrt(R) Delta^(3/2)                                           (Hertz, eq. 1 / 31)
+    F_e = 4/3 E sqrt(R) Delta^(3/2)                   (Hertz: eq. 31 less a factor pi the transcription drops)
     Delta <= 1.9 delta_c: F = F_e, whatever E_t                               (sec. 3.2)
     Delta >  1.9 delta_c: F = F_p + (F_e - F_p) (1 - exp(-3.3 E_t / E_s))     (eq. 30)
 
@@ -57,7 +57,7 @@ APPROACHES = np.array([1.5 * DELTA_C / R, 0.002, 0.005, 0.01, 0.02, 0.035, 0.05]
 
 
 def hertz(delta):
-    """F_e [N] at the interference ``delta`` [m] (eq. 1 / 31)."""
+    """F_e [N] at the interference ``delta`` [m] (Hertz; eq. 31 as transcribed)."""
     return 4.0 / 3.0 * E_COMP * math.sqrt(R) * delta ** 1.5
 
 
