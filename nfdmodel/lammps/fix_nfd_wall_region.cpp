@@ -107,7 +107,10 @@ void FixNfdWallRegion::post_force(int /*vflag*/)
             error->one(FLERR, fmt::format("{}: atom {} touches {} facets of region {} at once, more than the {} "
                                           "this region style allows (its tmax): the atom is too large for the "
                                           "region", who(), atom->tag[i], nc, region_id, slots));
-        if (nc > 0 || history[i][0] != 0.0) match_slots(i, nc);    // else no contact now nor before
+        if (nc > 0 || held[i]) {      // else no contact now nor before
+            match_slots(i, nc);
+            note_held(i);
+        }
         for (int k = 0; k < nc; ++k) {
             const Region::Contact &touch = region->contact[k];
             double *stored = history[i] + k * stride + 1;
