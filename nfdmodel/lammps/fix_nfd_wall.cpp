@@ -481,6 +481,6 @@ void FixNfdWall::unpack_restart(int nlocal, int nth)
     note_held(nlocal);
 }
 
-double FixNfdWall::memory_usage() { return (double) atom->nmax * row * sizeof(double); }
+double FixNfdWall::memory_usage() { return (double) atom->nmax * (row * sizeof(double) + 1); }
 
 }    // namespace nfdcal_lammps
