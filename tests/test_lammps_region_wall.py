@@ -17,6 +17,9 @@
 - A plastic law: nfd/wall/region/vz on a block's face equals the plane wall nfd/wall/vz on the
   same plane to 1e-12 (measured: 5.6e-17; the law and its history are the plane wall's code, the
   normal from the region's contact vector differs in the last bit).
+- The reach screen (a static block asked only for the atoms near its faces): a sphere flying in from
+  beyond 2 R, touching and leaving beyond 2 R moves bit for bit as on the same block asked at every
+  step (under a `move` of value 0), from outside onto a face and from inside into a corner.
 - Restart: write_restart (on 1 or 2 ranks) while both corner contacts unload, continued on 1 or 2
   ranks, and on the moving block: every later step equals the uninterrupted run bit for bit; a
   fix of another ID (no history) does not.
@@ -163,6 +166,44 @@ def test_two_mpi_ranks_equal_one_with_the_histories_migrating(plugin, tmp_path):
     np.testing.assert_array_equal(two, one)
     theirs = trajectory(wall_input(plugin, scene, wall_gran(), processors="2 1 1"), tmp_path, 2)
     assert_same_motion(two, theirs)
+
+
+# (region, centre, velocity): the sphere starts 2.3 R from the face(s) and flies at 5 m/s onto a block's face
+# from outside, and into a box's corner from inside (two faces), then back beyond 2 R
+FAR = {"block face": ("region wall block -0.05 0.05 -0.04 0.04 -0.04 0.0 side out", (0.0, 0.0, 2.3 * R),
+                      (0.5, 0.2, -5.0)),
+       "box corner": ("region wall block -0.05 0.05 -0.04 0.04 -0.04 0.04 side in",
+                      (-0.05 + 2.3 * R, 0.0, -0.04 + 2.3 * R), (-4.0, 0.5, -4.0))}
+
+
+@pytest.mark.parametrize("scene", list(FAR))
+def test_the_reach_screen_gives_the_contacts_of_every_step(plugin, tmp_path, scene):
+    """A static block is asked for the contacts of an atom only near its faces (fix_nfd_wall_region.h, the
+    reach screen): a sphere that starts beyond 2 R of the faces, comes in, touches and leaves beyond 2 R
+    again moves bit for bit as on the same block under `move` by a variable of value 0 (a moving region:
+    asked every step; its motion adds nothing), and as fix wall/gran/region to 1e-12."""
+    region, centre, velocity = FAR[scene]
+    SCENES[f"far {scene}"] = FAR[scene]
+    try:
+        def motion(fix: str, moved: bool = False, thermo: str = "") -> np.ndarray:
+            text = wall_input(plugin, f"far {scene}", fix, steps=45000, thermo=thermo).replace(
+                f"timestep {num(DT)}", "timestep 2e-07")
+            if moved:
+                text = text.replace(region, f"variable zero equal 0\n{region} move v_zero NULL NULL")
+            return trajectory(text, tmp_path)
+
+        mine = motion(elastic("hertz"), thermo="step f_w[1]")
+        contacts = lammps_pour.thermo_rows(trajectory.output, 2)[:, 1]
+        asked = motion(elastic("hertz"), moved=True)
+        theirs = motion(wall_gran())
+    finally:
+        del SCENES[f"far {scene}"]
+    assert contacts.max() == CONTACTS.get(scene, 1) and contacts[-1] == 0
+    distance = mine[:, 2] + (0.0 if scene == "block face" else 0.04)     # from the face z = 0 or z = -0.04
+    assert distance[0] > 2.0 * R and distance.min() < R and distance[-1] > 2.5 * R     # in, touched, out
+    np.testing.assert_array_equal(mine, asked)
+    assert turned(theirs) > 1.0
+    assert_same_motion(mine, theirs)
 
 
 ALUMINIUM = f"{num(E)} {num(NU)} 1e8 0.026 0.0098"      # it yields: P_max ~ 20 P_Y at 0.5 m/s

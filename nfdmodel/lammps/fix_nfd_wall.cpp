@@ -48,6 +48,7 @@ FixNfdWall::FixNfdWall(LAMMPS *lmp, int narg, char **arg, const NfdLaw *law, int
     Fix(lmp, narg, arg), law(law), first(first_constant)
 {
     require_si_units(lmp, who());
+    forget_params();
 }
 
 void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
@@ -197,7 +198,7 @@ void FixNfdWall::init()
     below_count = 0;
     below_lowest = INFINITY;
     time_step.begin_run();
-    remembered.clear();           // the constants are read again when a run starts
+    forget_params();              // the constants are read again when a run starts
 }
 
 void FixNfdWall::post_force(int /*vflag*/)
@@ -215,28 +216,58 @@ void FixNfdWall::post_force(int /*vflag*/)
         const double delta = radius[i] - side * (x[i][dim] - coord);
         if (!(delta > 0.0)) {              // off the wall: the contact (if any) is over
             // a record stays all zeros until a contact step, which sets delta_max >= delta > 0
-            if (stored[0] == 0.0) continue;
+            if (!held[i]) continue;
             if (stored[1] > 0.0) count_below_window(stored, radius[i]);
             for (int k = 0; k < width; ++k) stored[k] = 0.0;
+            held[i] = 0;
             continue;
         }
         contact(i, delta, n, radius[i], still, stored);
+        note_held(i);
     }
     end_forces();
 }
 
 const nfd_params &FixNfdWall::contact_params(double R_star)
 {
-    constexpr size_t SLOTS = 1024;                // a power of two
-    if (remembered.empty()) remembered.assign(SLOTS, RememberedParams{NAN, nfd_params{}});
     uint64_t bits;
     std::memcpy(&bits, &R_star, sizeof bits);
-    RememberedParams &slot = remembered[mix64(bits) & (SLOTS - 1)];
-    if (!(slot.R_star == R_star)) {
-        slot.params = law->params(R_star, material);
-        slot.R_star = R_star;
+    const size_t mask = remembered_keys.size() - 1;
+    for (size_t at = mix64(bits) & mask; remembered_keys[at].index != 0; at = (at + 1) & mask)
+        if (remembered_keys[at].bits == bits) return remembered_params[remembered_keys[at].index - 1];
+    return remember_params(R_star, bits);
+}
+
+/* A radius contact_params has not met: its nfd_params computed and entered. The table keeps at most
+ * half its slots filled (doubling), and starts afresh past 2^16 radii (a region of varying shape meets
+ * new curvatures without end). */
+const nfd_params &FixNfdWall::remember_params(double R_star, uint64_t bits)
+{
+    constexpr size_t MOST = size_t(1) << 16;
+    if (remembered_params.size() >= MOST) forget_params();
+    if (2 * (remembered_params.size() + 1) > remembered_keys.size()) {
+        std::vector<RememberedKey> keys(2 * remembered_keys.size(), RememberedKey{0, 0});
+        const size_t mask = keys.size() - 1;
+        for (const RememberedKey &key : remembered_keys) {
+            if (key.index == 0) continue;
+            size_t at = mix64(key.bits) & mask;
+            while (keys[at].index != 0) at = (at + 1) & mask;
+            keys[at] = key;
+        }
+        remembered_keys.swap(keys);
     }
-    return slot.params;
+    remembered_params.push_back(law->params(R_star, material));
+    const size_t mask = remembered_keys.size() - 1;
+    size_t at = mix64(bits) & mask;
+    while (remembered_keys[at].index != 0) at = (at + 1) & mask;
+    remembered_keys[at] = RememberedKey{bits, remembered_params.size()};
+    return remembered_params.back();
+}
+
+void FixNfdWall::forget_params()
+{
+    remembered_keys.assign(64, RememberedKey{0, 0});
+    remembered_params.clear();
 }
 
 void FixNfdWall::begin_forces()
@@ -390,16 +421,19 @@ void FixNfdWall::grow_arrays(int nmax)
 {
     memory->grow(history, nmax, row, "nfd/wall:history");
     array_atom = history;
+    held.resize(nmax, 0);
 }
 
 void FixNfdWall::copy_arrays(int i, int j, int /*delflag*/)
 {
     for (int n = 0; n < row; ++n) history[j][n] = history[i][n];
+    held[j] = held[i];
 }
 
 void FixNfdWall::set_arrays(int i)
 {
     for (int n = 0; n < row; ++n) history[i][n] = 0.0;
+    held[i] = 0;
 }
 
 int FixNfdWall::pack_exchange(int i, double *buf)
@@ -411,6 +445,7 @@ int FixNfdWall::pack_exchange(int i, double *buf)
 int FixNfdWall::unpack_exchange(int nlocal, double *buf)
 {
     for (int n = 0; n < row; ++n) history[nlocal][n] = buf[n];
+    note_held(nlocal);
     return row;
 }
 
@@ -443,8 +478,9 @@ void FixNfdWall::unpack_restart(int nlocal, int nth)
         if (tagged) slot[0] = from[0];
         ContactEnergy::restride(from + lead, written_stride - lead, slot + lead, width);
     }
+    note_held(nlocal);
 }
 
-double FixNfdWall::memory_usage() { return (double) atom->nmax * row * sizeof(double); }
+double FixNfdWall::memory_usage() { return (double) atom->nmax * (row * sizeof(double) + 1); }
 
 }    // namespace nfdcal_lammps

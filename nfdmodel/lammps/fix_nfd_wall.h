@@ -142,6 +142,11 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     int row = NHIST;              // doubles per atom: slots * stride
     bool tagged = false;
     double **history = nullptr;   // per atom: row doubles
+    /* per atom: history[i][0] != 0.0 (its record holds a contact: the plane wall's delta_max, the region's
+     * first facet tag), kept with every write of a record, so that the loop over the atoms reads a byte
+     * per atom rather than the first cache line of each record */
+    std::vector<unsigned char> held;
+    void note_held(int i) { held[i] = history[i][0] != 0.0; }
 
  private:
     int dim = 2;                  // the wall's normal: 0 x, 1 y, 2 z
@@ -153,11 +158,16 @@ class FixNfdWall : public LAMMPS_NS::Fix {
     double beyond_largest = 0.0, below_lowest = INFINITY;
     bool counts_below = false;    // the plane wall counts contacts ended below the window
     NfdTimeStep time_step;        // the contacts' durations against the timestep
-    struct RememberedParams {
-        double R_star;
-        nfd_params params;
+    /* contact_params' table: open addressing (linear probing) from the hash of R_star's bits to the
+     * index + 1 (0: empty) of its nfd_params in remembered_params */
+    struct RememberedKey {
+        uint64_t bits;
+        size_t index;
     };
-    std::vector<RememberedParams> remembered;     // contact_params: a slot per hash of R_star
+    std::vector<RememberedKey> remembered_keys;
+    std::vector<nfd_params> remembered_params;
+    const nfd_params &remember_params(double R_star, uint64_t bits);
+    void forget_params();
 };
 
 }    // namespace nfdcal_lammps

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 using namespace LAMMPS_NS;
 
@@ -27,6 +28,8 @@ FixNfdWallRegion::FixNfdWallRegion(LAMMPS *lmp, int narg, char **arg, const NfdL
     region = find_region();
     read_constants(narg, arg, geometry);
     allocate(region->tmax, true);
+    FixNfdWallRegion::grow_arrays(atom->nmax);
+    for (int i = 0; i < atom->nmax; ++i) FixNfdWallRegion::set_arrays(i);
     scratch.assign(row, 0.0);
     restart_global = 1;
 }
@@ -62,6 +65,41 @@ void FixNfdWallRegion::init()
         region->reset_vel();
         motion_from_restart_failed = false;
     }
+    // the screen's distances hold for a block's faces (from inside) or its nearest point (from outside);
+    // other styles, open faces and a region that moves or changes shape are asked at every step
+    screen = std::strcmp(region->style, "block") == 0 && !region->openflag && !region->dynamic && !region->varshape;
+    for (int i = 0; i < atom->nmax; ++i) reach[4 * i + 3] = -1.0;    // the region may be another one
+}
+
+/* Atom i's contacts at radius R. The screen: an atom tested at (x0, y0, z0) with no facet within c = 2R
+ * is skipped while it stays within (c - R)/2 of there (half the slack, far beyond round-off: a facet is
+ * then farther than R from it); an atom with a facet within 2R is asked at every step, and tested again
+ * once it moved R/2. The contacts found are those of the region at R, whether or not the atom was tested. */
+int FixNfdWallRegion::touching(int i, double R)
+{
+    const double *x = atom->x[i];
+    if (!screen) return region->match(x[0], x[1], x[2]) ? region->surface(x[0], x[1], x[2], R) : 0;
+    double *seen = reach.data() + 4 * static_cast<size_t>(i);
+    const double dx = x[0] - seen[0], dy = x[1] - seen[1], dz = x[2] - seen[2];
+    const double slack = 0.5 * (seen[3] > 0.0 ? seen[3] - R : R);
+    if (seen[3] >= 0.0 && slack > 0.0 && dx * dx + dy * dy + dz * dz < slack * slack) {
+        if (seen[3] > 0.0 && !held[i]) return -1;
+        return region->match(x[0], x[1], x[2]) ? region->surface(x[0], x[1], x[2], R) : 0;
+    }
+    if (!region->match(x[0], x[1], x[2])) {
+        seen[3] = -1.0;
+        return 0;
+    }
+    seen[0] = x[0];
+    seen[1] = x[1];
+    seen[2] = x[2];
+    const double c = 2.0 * R;
+    if (region->surface(x[0], x[1], x[2], c) == 0) {     // none within 2R, so none within R
+        seen[3] = c;
+        return 0;
+    }
+    seen[3] = 0.0;
+    return region->surface(x[0], x[1], x[2], R);
 }
 
 void FixNfdWallRegion::match_slots(int i, int nc)
@@ -101,13 +139,16 @@ void FixNfdWallRegion::post_force(int /*vflag*/)
     begin_forces();
     for (int i = 0; i < atom->nlocal; ++i) {
         if (!(mask[i] & groupbit)) continue;
-        const int nc = region->match(x[i][0], x[i][1], x[i][2]) ? region->surface(x[i][0], x[i][1], x[i][2],
-                                                                                    radius[i]) : 0;
+        const int nc = touching(i, radius[i]);
+        if (nc < 0) continue;         // no facet within reach, no history
         if (nc > slots)
             error->one(FLERR, fmt::format("{}: atom {} touches {} facets of region {} at once, more than the {} "
                                           "this region style allows (its tmax): the atom is too large for the "
                                           "region", who(), atom->tag[i], nc, region_id, slots));
-        if (nc > 0 || history[i][0] != 0.0) match_slots(i, nc);    // else no contact now nor before
+        if (nc > 0 || held[i]) {      // else no contact now nor before
+            match_slots(i, nc);
+            note_held(i);
+        }
         for (int k = 0; k < nc; ++k) {
             const Region::Contact &touch = region->contact[k];
             double *stored = history[i] + k * stride + 1;
@@ -134,6 +175,42 @@ void FixNfdWallRegion::post_force(int /*vflag*/)
         }
     }
     end_forces();
+}
+
+void FixNfdWallRegion::grow_arrays(int nmax)
+{
+    FixNfdWall::grow_arrays(nmax);
+    reach.resize(4 * static_cast<size_t>(nmax), -1.0);
+}
+
+void FixNfdWallRegion::copy_arrays(int i, int j, int delflag)
+{
+    FixNfdWall::copy_arrays(i, j, delflag);
+    for (int n = 0; n < 4; ++n) reach[4 * j + n] = reach[4 * i + n];
+}
+
+void FixNfdWallRegion::set_arrays(int i)
+{
+    FixNfdWall::set_arrays(i);
+    reach[4 * i + 3] = -1.0;
+}
+
+/* An atom arriving from another rank or from a restart file: nothing known of its reach. */
+int FixNfdWallRegion::unpack_exchange(int nlocal, double *buf)
+{
+    reach[4 * nlocal + 3] = -1.0;
+    return FixNfdWall::unpack_exchange(nlocal, buf);
+}
+
+void FixNfdWallRegion::unpack_restart(int nlocal, int nth)
+{
+    FixNfdWall::unpack_restart(nlocal, nth);
+    reach[4 * nlocal + 3] = -1.0;
+}
+
+double FixNfdWallRegion::memory_usage()
+{
+    return FixNfdWall::memory_usage() + (double) atom->nmax * 4 * sizeof(double);
 }
 
 /* The region's motion (its displacement and angle at this step), as LAMMPS's regions write it. */

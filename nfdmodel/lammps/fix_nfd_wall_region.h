@@ -22,7 +22,8 @@
  * sphere's E doubled. A moving or rotating region (region ... move/rotate, or a variable shape)
  * moves the wall: the relative velocity takes the wall's velocity at the contact
  * (Region::velocity_contact); the wall has no spin in the rolling and twisting models (as in
- * wall/gran/region).
+ * wall/gran/region). A static block without open faces is asked only for the atoms near its faces
+ * (the reach screen, touching()): the contacts are those of asking for every atom at every step.
  *
  * History: one per contact, keyed by the region's facet (Contact::iwall), kept for as many contacts
  * as the region style can touch at once (Region::tmax: a block 3 from inside, 1 from outside); an
@@ -62,17 +63,32 @@ class FixNfdWallRegion : public FixNfdWall {
     void write_restart(FILE *fp) override;
     void restart(char *buf) override;
 
+    void grow_arrays(int nmax) override;
+    void copy_arrays(int i, int j, int delflag) override;
+    void set_arrays(int i) override;
+    int unpack_exchange(int nlocal, double *buf) override;
+    void unpack_restart(int nlocal, int nth) override;
+    double memory_usage() override;
+
  private:
     /* The region of the ID, or an error naming the parameter. */
     LAMMPS_NS::Region *find_region() const;
     /* Atom i's slots rearranged to the region's nc contacts (slot k: contact k), each keeping the
      * history of its facet or starting at zero; the other slots emptied. */
     void match_slots(int i, int nc);
+    /* Atom i's contacts with the region (Region::match, then Region::surface at its radius R): their number,
+     * region->contact filled; or -1, no facet within R (the reach screen: region->contact untouched). */
+    int touching(int i, double R);
 
     std::string region_id;
     LAMMPS_NS::Region *region = nullptr;
     bool motion_from_restart_failed = false;
     std::vector<double> scratch;    // one atom's row while its slots are rearranged
+    /* The reach screen (a static block without open faces, whose facet distances are Euclidean: an atom
+     * moves at least as far as its distance to a facet changes): per atom x0, y0, z0 and c, where c > 0
+     * says no facet lies within c of (x0, y0, z0), 0 that one did, < 0 nothing known. */
+    bool screen = false;
+    std::vector<double> reach;
 };
 
 }    // namespace nfdcal_lammps
