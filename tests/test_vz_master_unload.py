@@ -57,7 +57,7 @@ def test_on_a_node_rho_and_m_are_the_fe_s_own_dent_and_returned_work(table):
                                          [p["alpha_max"] for p in row["paths"]],
                                          [p["alpha_residual"] for p in row["paths"]],
                                          [p["unloading_work"] for p in row["paths"]])
-        on_grid = [k for k, x in enumerate(x_unload[1:]) if np.min(np.abs(np.log(np.array(law.x) / x))) < 1e-9
+        on_grid = [k for k, x in enumerate(x_unload[1:]) if np.min(np.abs(np.log(np.array(law.x) / x))) < 1e-7
                    and (x < x_join * (1 - 1e-9)) == below]
         for k in on_grid:
             path = row["paths"][k]

@@ -216,7 +216,9 @@ class VZMasterTable:
         # the FE's own contact radius there is 0.185 R)
         name = self.path.name if self.path else "vz master table"
         nodes = (f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
-                 f"to {values['top']:.4g} P_Y")
+                 f"to {values['top']:.4g} P_Y" + (f" ({self.meta['kinematics']} where the contact passes "
+                                                  f"{self.meta['join']['join_a_over_R']:g} R)"
+                                                  if self.meta.get("kinematics") else ""))
         if not from_yield:
             return CalibrationWindow(values["low"], values["top"], float(min(a_top, self.radius_reach)), nodes)
         return CalibrationWindow(1.0, values["top"], float(min(a_top, self.radius_reach)),
