@@ -88,7 +88,7 @@ def test_the_documented_round_trip_recovers_the_fe_s_sigma_y(tmp_path, capsys, e
     if e_first is not None:
         assert main(["fit-data", "--impacts", str(path), *ALUMINIUM]) == 0
         text = capsys.readouterr().out
-        assert "left out: row(s) 7" in text and "e above 1: 1 test(s), up to 1.00008" in text
+        assert "left out" not in text and "e above 1: 1 test(s), up to 1.00008" in text
 
 
 def test_an_e_beyond_round_off_is_refused_naming_the_cell(tmp_path, capsys):
