@@ -23,7 +23,7 @@ FLAGS = {"v_max": "--v-max", "v_in": "--v-in", "dt": "--dt"}
 
 # (argv refused with a suggested bound): following the first suggestion, the command runs (exit 0)
 SUGGESTING = [
-    ["material", "--v-max", "1"],                                           # guards: 0.2196 printed for 0.21956
+    ["material", "--v-max", "10"],                                          # guards: the bound printed rounded down
     ["impact", "--v-in", "1000", "--dry-run"],
     ["impact", "--sigma-y", "1e6", "--v-in", "1e-9", "--dry-run"],
     ["impact", "--v-in", "1e-6", "--contact-size", "1e-4", "--dry-run"],

@@ -210,17 +210,18 @@ def test_what_export_cannot_write_of_a_table_file_is_one_line(tmp_path, capsys):
 
 
 def test_a_like_type_law_shorter_than_the_pairs_window_is_one_warning(tmp_path, capsys):
-    """A pair window to 1000 P_Y beyond the like-type laws' (the vz master table's, 250 P_Y here):
+    """A pair window to 1e4 P_Y beyond the like-type laws' (the vz master table's, 6852 P_Y here):
     the lines are written, with one warning line per like type naming both windows."""
-    nodes = ((1.0, 10.0, 100.0, 1000.0), (0.0, 0.4, 2.0, 8.0), (1.0, 1.2, 1.8, 3.0))
-    path = table_counter_file(tmp_path, STEEL_SPHERE, "wide.json", nodes, CalibrationWindow(1.0, 1000.0, None, "wide"))
+    nodes = ((1.0, 10.0, 100.0, 1e4), (0.0, 0.4, 2.0, 8.0), (1.0, 1.2, 1.8, 3.0))
+    path = table_counter_file(tmp_path, STEEL_SPHERE, "wide.json", nodes,
+                              CalibrationWindow(1.0, 1e4, None, "wide, finite-strain"))
     with warnings.catch_warnings():
         warnings.simplefilter("always", nfdmodel.RangeWarning)        # the suite ignores nfdmodel's RangeWarning
         assert cli.main(["export", "lammps", "--params", str(path), "--like-params-out", str(tmp_path / "like")]) == 0
     out, err = capsys.readouterr()
     lines = err.splitlines()
     assert len(lines) == 2 and all(line.startswith("nfdcal export: warning: the like-type law of ") and
-                                   " P_Y, below the pair's window (1000 P_Y)" in line for line in lines), lines
+                                   " P_Y, below the pair's window (1e+04 P_Y)" in line for line in lines), lines
     assert "(type 1)" in lines[0] and "(type 2)" in lines[1] and out.splitlines()[-1].startswith("pair_coeff 1 2")
 
 

@@ -19,6 +19,7 @@ import pytest
 import scipy.sparse as sp
 from skfem import Basis, ElementTriP2, ElementVector, MeshTri
 
+import jackson_green
 from calib.fe import ContactSolver, ElasticMaterial, VonMisesMaterial
 from calib.fe.element_arrays import ElementArrays
 from calib.fe.impact import run_impact
@@ -30,7 +31,6 @@ from meshes.hemisphere import HemisphereMeshSpec, hemisphere_mesh
 from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import ContactPair, Material, reference_case
 from nfdmodel.hertz_contact import hertz_impact_force, hertz_impact_time
-from nfdmodel.materials import plane_strain_modulus
 
 R, E, NU, SIGMA_Y, RHO = reference_case.R, reference_case.E, reference_case.NU, reference_case.SIGMA_Y, reference_case.RHO
 # contact elements R/25 out to 0.6 R (beyond the contact radius 0.3-0.5 R reached): the large press's
@@ -264,29 +264,10 @@ def test_calibration_carries_the_kinematics(coarse_mesh, capsys):
 
 # ------------------------------------------------------------------ (e) a large press
 def jackson_green_force(w):
-    """The loading force P [N] of an elastic-perfectly plastic hemisphere on a rigid flat at the
-    interference w [m] (Jackson & Green 2005, J. Tribol. 127, 343, eqs. 6, 8, 13-19; their FE fit, a
-    reference here, not a law of the package):
-
-        C = 1.295 exp(0.736 nu),  w_c = (pi C S_y / (2 E'))^2 R,  P_c = 4/3 (R / E')^2 (C pi S_y / 2)^3
-        w / w_c <= 1.9:  P / P_c = (w / w_c)^(3/2)
-        w / w_c > 1.9:   P / P_c = exp(-1/4 (w/w_c)^(5/12)) (w/w_c)^(3/2)
-                                  + 4 H_G / (C S_y) [1 - exp(-1/25 (w/w_c)^(5/9))] (w/w_c)
-        H_G / S_y = 2.84 [1 - exp(-0.82 (a/R)^(-0.7))],  a = sqrt(R w (w / (1.9 w_c))^B),
-        B = 0.14 exp(23 S_y / E'),  E' = E / (1 - nu^2)
-
-    fitted by them to w / w_c <= 110 (the presses below reach 10^3-10^4: an extrapolation)."""
-    E_prime = plane_strain_modulus(E, NU)
-    C = 1.295 * np.exp(0.736 * NU)
-    w_c = (np.pi * C * SIGMA_Y / (2.0 * E_prime)) ** 2 * R
-    P_c = 4.0 / 3.0 * (R / E_prime) ** 2 * (C * np.pi * SIGMA_Y / 2.0) ** 3
-    x = np.asarray(w) / w_c
-    B = 0.14 * np.exp(23.0 * SIGMA_Y / E_prime)
-    a = np.sqrt(R * np.asarray(w) * (x / 1.9) ** B)
-    H_G = 2.84 * SIGMA_Y * (1.0 - np.exp(-0.82 * (a / R) ** -0.7))
-    plastic = (np.exp(-0.25 * x ** (5.0 / 12.0)) * x ** 1.5
-               + 4.0 * H_G / (C * SIGMA_Y) * (1.0 - np.exp(-x ** (5.0 / 9.0) / 25.0)) * x)
-    return P_c * np.where(x <= 1.9, x ** 1.5, plastic)
+    """Jackson & Green (2005)'s loading force [N] at the interference w [m] of this module's sphere
+    (tests/jackson_green.py), fitted by them to w / w_c <= 110 (the presses below reach 10^3-10^4: an
+    extrapolation)."""
+    return jackson_green.jackson_green_force(w, E, NU, SIGMA_Y, R)
 
 
 def test_press_halves_the_increment_newton_leaves(mesh_cache):

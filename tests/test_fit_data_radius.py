@@ -86,9 +86,10 @@ def test_the_radius_kinds_are_fitted_on_the_vz_unload_law(fe_rows):
 @pytest.mark.parametrize("index", range(3))
 def test_sigma_y_from_the_fe_e_and_radius_of_off_grid_materials(table, fe_rows, index):
     """fit-data's vz-table fit (the vz-unload law with a radius) to the noise-free quasi-static FE drop
-    tests with the FE's contact radius at the peak: sigma_Y within 3 % (measured -0.16..+0.06 %: the
-    benchmark), its 95 % interval covering the truth, the radius residuals within 1 % (the law's radius is
-    within 0.31 % of held-out FE); with the dents too, the same."""
+    tests with the FE's contact radius at the peak: sigma_Y within 3 % (measured -0.86..-0.16 %: the
+    benchmark; the small-strain FE data of nu 0.25, E/sigma_Y 150 reach above a = 0.05 R, where the table
+    is the finite strain's), its 95 % interval covering the truth, the radius residuals within 1 %
+    (measured 0.66 %); with the dents too, the same."""
     row = fe_rows[index]
     for dent in (False, True):
         result = fit(measurements(row, dent), specimen(row), table)
@@ -113,15 +114,16 @@ def test_the_model_form_level_is_what_the_fe_data_give(table, fe_rows):
 
 def test_sigma_y_from_the_dynamic_fe_drop_tests_with_their_radius(tmp_path, capsys):
     """The dynamic FE's drop tests (results/impact/impact.json, E/sigma_Y 700 off the table's nodes) with
-    their largest contact radius: sigma_Y within 3 % (measured +0.55 %), the 95 % interval covering 1e8 Pa;
-    the test beyond the table's window left out."""
+    their largest contact radius: sigma_Y within 3 % (measured +0.45 %), the 95 % interval covering 1e8
+    Pa; every test inside the table's window (to 1e4 P_Y at this material), none left out."""
     code, out, err = run(["--impacts", str(dynamic_csv(tmp_path)), *ALUMINIUM, "--json"], capsys)
     assert code == 0, err
     result = json.loads(out)
     assert result["model_form_uncertainty"]["kind"] == "drops e+radius"
     assert abs(result["sigma_y"] / 1e8 - 1) < SIGMA_Y_BOUND
     assert result["sigma_y_interval95"][0] <= 1e8 <= result["sigma_y_interval95"][1]
-    assert [t["row"] for t in result["left_out"]] == [7]
+    assert result["left_out"] == []
+    print(f"dynamic FE drop tests with their radius: sigma_Y {result['sigma_y'] / 1e8 - 1:+.2%}")
 
 
 @pytest.mark.parametrize("scale, named", [(1e3, "looks like mm"), (1e6, "looks like um"), (1e9, "R = 0.1 m")],

@@ -78,13 +78,16 @@ def test_johnson_cook_below_its_reference_rate_is_refused(tmp_path):
 
 @pytest.mark.parametrize("series", sorted(DATA["series"]))
 def test_every_fe_series_is_refused_naming_what_it_determines(tmp_path, series):
-    """No FE series determines sigma_Y and the rate constant apart to 10 %: each is refused in one line."""
+    """No FE series determines sigma_Y and the rate constant apart to 10 %: each is refused in one line, naming
+    the combination the data determine (one, Cowper-Symonds D 2 q 1, fits with statistical errors below 10 %
+    but residuals beyond twice the law's level on noise-free FE data, its sigma_Y 19 % low: refused as a misfit)."""
     law = DATA["series"][series]["rate_law"]
     kind, fixed = law["rate_law"], law.get("q", law.get("reference_rate"))
     path = drops_csv(tmp_path, series, ("v_in", "e", "P_max"))
     code, out, err = run_cli("fit-data", "--impacts", str(path), *SPECIMEN, *RATE_FLAGS[kind], str(fixed))
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
-    assert "do not determine sigma_Y and" in err and "sigma_Y R at the tests' mean strain rate" in err
+    assert ("do not determine sigma_Y and" in err or "does not describe these data" in err)
+    assert "sigma_Y R at the tests' mean strain rate" in err
     assert "nothing written" in err
 
 

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from calib.cli import main
-from calib.fit import vz_master_build
+from calib.fit import vz_master_build, vz_master_join
 from calib.fit.measured.data import ForceApproachData, ImpactData, Measurements
 from calib.fit.measured.specimen import Specimen
 from calib.fit.measured.table_law import fit
@@ -23,6 +23,7 @@ from nfdmodel import ContactPair, Material
 ROOT = Path(__file__).resolve().parent.parent
 FE_DATA = Path(__file__).resolve().parent / "data" / "vz_master_fe.json"
 NODES = ROOT / "results" / "tables" / "vz_master_grid" / "nodes"
+FINITE = ROOT / "results" / "tables" / "vz_master_reach" / "nodes"      # the finite-strain nodes it joins
 # bounds of the interpolated law against the stored off-grid FE paths inside its window (the
 # table's .json states the figures measured on every check material)
 E_BOUND, FORCE_BOUND = 0.03, 0.06
@@ -39,8 +40,8 @@ def fe_rows():
     return json.loads(FE_DATA.read_text(encoding="utf-8"))["rows"]
 
 
-def node_rows():
-    rows = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(NODES.glob("*.json"))]
+def node_rows(folder=None):
+    rows = [json.loads(p.read_text(encoding="utf-8")) for p in sorted((folder or NODES).glob("*.json"))]
     return [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
 
 
@@ -52,14 +53,20 @@ def test_shipped_table_covers_its_grid_and_states_its_measured_accuracy(table):
 
 
 def test_the_table_is_exact_on_its_nodes_against_each_node_fe_calibration(table):
+    """On a node the table gives the node's own FE calibration: the small-strain node's below its join
+    load, the finite-strain node's (results/tables/vz_master_reach) from it on (calib.fit.vz_master_join)."""
     rows = node_rows()
-    assert len(rows) == table.nu.size * table.E_over_sigma_y.size
+    finite = {(r["nu"], r["E_over_sigma_y"]): r for r in node_rows(FINITE)}
+    assert len(rows) == len(finite) == table.nu.size * table.E_over_sigma_y.size
     for row in rows[:: max(1, len(rows) // 5)]:
+        beyond = finite[(row["nu"], row["E_over_sigma_y"])]
         values = table.tables(row["nu"], row["E_over_sigma_y"])
-        f, g = vz_master_build.resample(row, values["x"])
-        assert np.allclose(values["f"], f, rtol=1e-9, atol=1e-12)
-        assert np.allclose(values["g"], g, rtol=1e-9, atol=1e-12)
-        assert values["top"] <= row["window"]["P_max_over_P_Y"] * (1 + 1e-9)
+        below = values["x"] < vz_master_join.join_load(row, beyond) * (1 - 1e-9)
+        for node, part in ((row, below), (beyond, ~below)):
+            f, g = vz_master_build.resample(node, values["x"][part])
+            assert np.allclose(values["f"][part][1:], f[1:], rtol=1e-9, atol=1e-12)     # x = 1: Hertz's, exactly
+            assert np.allclose(values["g"][part][1:], g[1:], rtol=1e-9, atol=1e-12)
+        assert values["top"] <= beyond["window"]["P_max_over_P_Y"] * (1 + 1e-9)
 
 
 @pytest.mark.parametrize("index", [0, 1])
@@ -189,14 +196,16 @@ def test_material_v_max_gives_the_law_and_its_window(capsys):
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700",
       "--free"], "--law vz"),
     (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.1", "--R", "0.1", "--rho", "2700"], "--law vz"),
-    # these drops reach 569 P_Y, beyond the table's 250: the default refuses, naming both laws
-    (["fit-data", "--impacts", "IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700"],
+    # these drops reach 3.2e4-1.3e5 P_Y, beyond the table's 1e4: the default refuses, naming both laws
+    (["fit-data", "--impacts", "FAST_IMPACTS", "--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2700"],
      "--law vz-table fits them"),
 ])
 def test_bad_input_is_one_line_and_exit_2(argv, text, tmp_path, capsys):
     impacts = tmp_path / "drops.csv"
     impacts.write_text("v_in,e\n0.05,0.6\n0.1,0.55\n0.2,0.5\n", encoding="utf-8")
-    argv = [str(impacts) if a == "IMPACTS" else a for a in argv]
+    fast = tmp_path / "fast_drops.csv"
+    fast.write_text("v_in,e\n0.5,0.2\n1,0.15\n3,0.1\n", encoding="utf-8")
+    argv = [str(impacts) if a == "IMPACTS" else str(fast) if a == "FAST_IMPACTS" else a for a in argv]
     try:
         code = main(argv)
     except SystemExit as exc:                       # argparse's own refusals
@@ -215,7 +224,8 @@ def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path
                                                                  refine=c)["key"] in nodes]
     assert {(c["nu"], c["E_over_sigma_y"]) for c in shared} == {(c["nu"], c["E_over_sigma_y"]) for c in scene["refine"]}
     assert all(c["refinement"] == scene["graded"]["refinement"] for c in shared)
-    assert len({t["key"] for t in tasks}) == len(tasks) == (16 + len(scene["checks"]) + len(scene["refine"])
+    assert len({t["key"] for t in tasks}) == len(tasks) == (len(scene["nu"]) * len(scene["E_over_sigma_y"])
+                                                             + len(scene["checks"]) + len(scene["refine"])
                                                              - len(shared))
     assert all(t["refinement"] == scene["graded"]["refinement"] for t in tasks if t["kind"] != "refine")
     grid = [t for t in tasks if t["kind"] != "refine"]

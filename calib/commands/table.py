@@ -108,7 +108,8 @@ def run_vz_master(ns) -> int:
 
             joined = vz_master_join.joined_table(scene, rows)
         path = vz_master_build.write_master(rows, ns.master_out, scene, ns.accuracy, joined=joined)
-        checked = vz_master_check.measure_and_state(rows + (joined["check_rows"] if joined else []), path, folder)
+        checked = vz_master_check.measure_and_state(rows + (joined["check_rows"] if joined else []), path, folder,
+                                                    ladder=joined["ladder"] if joined else None)
         result["master_table"], result["accuracy"] = str(path), checked
         lines.append(f"vz master table written to {path}; accuracy {checked['statement']}")
     lines.append(f"scene {scene['name']}: {len(rows)} task(s), {len(failed)} failed; FE data in {folder}/nodes and "

@@ -117,7 +117,12 @@ def check_material(row: dict, table: VZMasterTable) -> list[dict]:
     out = []
     for path in fe_paths(row):
         x = path["P_max"] / law.pair.P_Y
-        compared = law_against_path("vz-table", law, path)
+        try:
+            compared = law_against_path("vz-table", law, path)
+        except ValueError:
+            if x <= window.P_max_over_P_Y:
+                raise
+            continue            # beyond the window, past where the law is defined at all: nothing to compare
         out.append({"name": row["name"], "nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"],
                     "P_max_over_P_Y": x, "inside": bool(window.P_min_over_P_Y * (1 - 1e-9) <= x
                                                         <= window.P_max_over_P_Y * (1 + 1e-9)),
@@ -154,9 +159,14 @@ def check_unloading(row: dict, table: VZMasterTable) -> list[dict]:
                   "inside": bool(window.P_min_over_P_Y * (1 - 1e-9) <= x <= window.P_max_over_P_Y * (1 + 1e-9)),
                   "dent_fe_over_alpha_max": stored["alpha_residual"] / path["alpha_max"]}
         fe = unload_path(row, stored, path)
-        for name, law in laws.items():
-            compared = unload_against_path(name, law, fe)
-            record.update({f"{name} {key}": compared[key] for key in UNLOAD_FIGURES})
+        try:
+            for name, law in laws.items():
+                compared = unload_against_path(name, law, fe)
+                record.update({f"{name} {key}": compared[key] for key in UNLOAD_FIGURES})
+        except ValueError:
+            if record["inside"] or x < window.P_min_over_P_Y:
+                raise
+            continue            # beyond the window, past where the law is defined at all: nothing to compare
         out.append(record)
     return out
 
@@ -443,11 +453,13 @@ def accuracy(rows: list[dict]) -> dict:
             "force_error_max": float(force.max()), "loading_force_error_rms": float(np.sqrt(np.mean(loading**2)))}
 
 
-def measure_and_state(rows: list[dict], table_path, folder) -> dict:
+def measure_and_state(rows: list[dict], table_path, folder, ladder: dict | None = None) -> dict:
     """Check the table at ``table_path`` against every finished check row: write
     FOLDER/vz_master_check.{csv,json} and state the measured accuracy in the table's .json
     (``accuracy``, ``accuracy_details``, ``model_form``: the rms e and loading-force errors inside
-    the window, the u_g of calib.fit.measured.table_law). Returns the accuracy summary."""
+    the window, the u_g of calib.fit.measured.table_law). Returns the accuracy summary. ``ladder``:
+    the discretisation's own rows and what it covers ({"rows": ..., "note": ...}; a joined table's
+    small-strain ladder below its join, calib.fit.vz_master_join), else ``rows``'."""
     import json
     from pathlib import Path
 
@@ -463,7 +475,7 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
     groups = sorted({g for e in errors.values() for g in e["residual_rms"]})
     residual_form = {g: float(np.sqrt(np.mean([e["residual_rms"][g] ** 2 for e in errors.values()]))) for g in groups}
     summary["sigma_y_fit_errors"] = errors
-    summary["discretisation"] = discretisation(rows)
+    summary["discretisation"] = discretisation(ladder["rows"] if ladder else rows)
     unloading = [c for row in checks for c in check_unloading(row, table)] if table.has_unloading else []
     summary["unloading"] = unloading_accuracy(unloading) if unloading else {"paths": 0}
     stamp = output.stamp(0.0, table=str(table_path))
@@ -477,7 +489,8 @@ def measure_and_state(rows: list[dict], table_path, folder) -> dict:
                      f"(rms {100 * summary['e_error_rms']:.2g} %), force within {100 * summary['force_error_max']:.2g} % "
                      f"of P_max, loading force rms {100 * summary['loading_force_error_rms']:.2g} %; sigma_Y fitted to "
                      f"their noise-free FE data rms " + ", ".join(f"{k} {100 * v:.2g} %" for k, v in sigma_form.items()))
-        statement += discretisation_statement(summary["discretisation"]) + unloading_statement(summary["unloading"])
+        statement += (discretisation_statement(summary["discretisation"]) + (ladder["note"] if ladder else "")
+                      + unloading_statement(summary["unloading"]))
     else:
         statement = "not checked against off-grid FE"
     meta_path = Path(table_path).with_suffix(".json")

@@ -111,19 +111,35 @@ def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None
     small_rows = small_strain_rows(small_scene, folder or Path("results") / "tables" / small_scene["name"])
     return {"rows": joined_rows(small_rows, rows), "join": join_record(small_scene, small_rows, rows),
             "small_rows": [r for r in small_rows if r.get("kind") in ("node", "loading")],
-            "check_rows": small_strain_checks(small_rows)}
+            "check_rows": small_strain_checks(small_rows), "ladder": small_strain_ladder(scene, small_rows, rows)}
+
+
+def small_strain_ladder(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -> dict:
+    """The ``ladder`` of calib.fit.vz_master_check.measure_and_state for the joined table: the small-strain
+    nodes and their refined ladder (kind "refine"), each row's paths below its node's join load (the
+    small-strain part's discretisation), and the clause that says the finite-strain part has none."""
+    finite = nodes_of(finite_rows)
+    rows = []
+    for row in small_rows:
+        node = (row.get("nu"), row.get("E_over_sigma_y"))
+        if row.get("kind") in ("node", "refine") and node in finite:
+            x_join = join_load(nodes_of(small_rows)[node], finite[node])
+            rows.append({**row, "paths": [p for p in row["paths"] if p["P_max"] < x_join * row["P_Y"] * (1 - 1e-9)]})
+    graded = scene.get("graded") or {}
+    note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "
+            f"{graded.get('elements_per_contact_radius', 0) * graded.get('refinement', 0):.3g} elements across every "
+            f"contact radius and {graded.get('loading_steps_per_decade', 0) * graded.get('refinement', 0):.3g} "
+            f"loading steps per decade, its discretisation not measured") if graded else ""
+    return {"rows": rows, "note": note}
 
 
 def small_strain_checks(small_rows: list[dict]) -> list[dict]:
-    """The small-strain scene's checks and refined ladder where they test the joined table: each check's
-    paths whose peak lies below its material's JOIN_A_OVER_R R (where the table is the small strain's and
-    the two kinematics agree; above it a small-strain path measures the kinematics, not the table), and
-    the refined ladder (the discretisation of the small-strain part)."""
+    """The small-strain scene's checks where they test the joined table: each check's paths whose peak
+    lies below its material's JOIN_A_OVER_R R (where the table is the small strain's and the two
+    kinematics agree; above it a small-strain path measures the kinematics, not the table)."""
     out = []
     for row in small_rows:
-        if row.get("kind") == "refine":
-            out.append(row)
-        elif row.get("kind") == "check":
+        if row.get("kind") == "check":
             pair = pair_of(row)
             part = recipe.largest_admissible_load(pair, JOIN_A_OVER_R, recipe.fe_contact_radius)
             paths = [p for p in row["paths"] if p["P_max"] <= part]

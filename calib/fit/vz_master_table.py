@@ -10,7 +10,9 @@ calibration per grid node (nu, E / sigma_Y), at the FE's reach, gives them for e
                      common load x_k (monotone cubics: exact on the nodes, no overshoot),
 
 using at each x_k the E / sigma_Y columns that reach it (a softer material's window ends lower:
-P <= 1000 P_Y and a <= 0.2 R); the material's window runs from P_Y (below the nodes' lowest unloading
+the small strain's reach, P <= 1000 P_Y and a <= 0.2 R, or, for the table joined over the finite
+strain's reach (calib.fit.vz_master_join, its .json's "kinematics"), P <= 1e4 P_Y and a <= 0.45 R);
+the material's window runs from P_Y (below the nodes' lowest unloading
 path, 2 P_Y, the law interpolates from Hertz's f = 0, g = 1 at x = 1, checked against the FE there:
 BELOW_NODES) to the largest x_k that the columns around it reach. Then
 
@@ -214,7 +216,9 @@ class VZMasterTable:
         # the FE's own contact radius there is 0.185 R)
         name = self.path.name if self.path else "vz master table"
         nodes = (f"{name}: FE unloading paths of the surrounding nodes from {values['low']:.3g} "
-                 f"to {values['top']:.4g} P_Y")
+                 f"to {values['top']:.4g} P_Y" + (f" ({self.meta['kinematics']} where the contact passes "
+                                                  f"{self.meta['join']['join_a_over_R']:g} R)"
+                                                  if self.meta.get("kinematics") else ""))
         if not from_yield:
             return CalibrationWindow(values["low"], values["top"], float(min(a_top, self.radius_reach)), nodes)
         return CalibrationWindow(1.0, values["top"], float(min(a_top, self.radius_reach)),

@@ -68,14 +68,25 @@ def master_table(root: Path) -> list[str]:
 
 
 def vz_master_table(root: Path) -> list[str]:
-    check = read_json(root / "tables" / "vz_master_grid" / "vz_master_check.json")
     shipped = read_json(Path(__file__).resolve().parents[1] / "data" / "vz_master_table.json")
+    scene = (shipped or {}).get("vz_master_table", {}).get("scene", "vz_master_grid")
+    check = read_json(root / "tables" / scene / "vz_master_check.json")
     if check is None or shipped is None:
         return []
     law_table = shipped["vz_master_table"]
-    lines = study_header("The master table of the load-dependent law (`tables/vz_master_grid/`)", shipped["stamp"],
-                         "nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv")
+    lines = study_header(f"The master table of the load-dependent law (`tables/{scene}/`)", shipped["stamp"],
+                         f"nfdcal table {scene} --master-out calib/data/vz_master_table.csv")
     unloading = check.get("unloading_rows") or []
+    join = law_table.get("join")
+    if join:
+        joins = [j["x_join"] for j in join["join_over_P_Y"]]
+        lines += [f"Finite-strain nodes (`nodes/`) joined with the small-strain grid's (`tables/"
+                  f"{join['small_strain_scene']}/nodes/`, {join['small_strain_scene']}'s own checks and reference "
+                  f"ladder there): each node takes the small-strain values below the load where the FE's contact "
+                  f"radius is {join['join_a_over_R']:g} R (or the small grid's top), {min(joins):.3g}-{max(joins):.4g} "
+                  f"P_Y over the nodes, and the finite strain's above, to 1e4 P_Y or a = 0.45 R. The checks below: "
+                  f"the finite-strain off-grid materials (`nodes/`, to the reach) and the small-strain ones' paths below "
+                  f"their join.", ""]
     lines += [f"a_p/a_Y and C_R of the vz-table law at P/P_Y {law_table['P_over_P_Y'][0]:g}..{law_table['P_over_P_Y'][-1]:.4g} "
               f"({len(law_table['P_over_P_Y'])} loads) over nu {', '.join(f'{x:g}' for x in law_table['nu'])} x E/sigma_Y "
               f"{', '.join(f'{x:g}' for x in law_table['E_over_sigma_y'])}, each node an FE calibration with unloading "
