@@ -25,15 +25,15 @@ from pathlib import Path
 import numpy as np
 
 from calib.fit import recipe, vz_master_build
-from nfdmodel import ContactPair, Material
+from calib.fit.vz_master_check import material_of
+from nfdmodel import ContactPair
 
 JOIN_A_OVER_R = 0.05            # the joined table's switch to finite strain: contact radius / R
 REACH_LIMIT = recipe.REACH["finite-strain"][0]      # the joined table's loads reach the finite strain's P/P_Y
 
 
 def pair_of(row: dict) -> ContactPair:
-    return ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
-                                            row["rho"]), row["R"])
+    return ContactPair.sphere_flat(*material_of(row))
 
 
 def join_load(small: dict, finite: dict) -> float:
@@ -74,8 +74,8 @@ def joined_rows(small_rows: list[dict], finite_rows: list[dict]) -> list[dict]:
     return out
 
 
-def small_strain_rows(scene: dict, folder: str | Path) -> list[dict]:
-    """The finished records of the small-strain scene ``scene`` (its nodes, checks and refined ladder, and the
+def scene_records(scene: dict, folder: str | Path) -> list[dict]:
+    """The finished records of the vz master scene ``scene`` (its nodes, checks and refined ladder, and the
     nodes' loading reruns), read from ``folder`` (its results: nodes/, loading/); a ValueError when a grid
     node is missing."""
     import json
@@ -108,7 +108,7 @@ def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None
     (``[vz_master] joins``) and its records ``rows``: the small-strain scene's records from ``folder``
     (default results/tables/<its name>), the joined rows and the join's record."""
     small_scene = vz_master_build.load_scene(scene["joins"])
-    small_rows = small_strain_rows(small_scene, folder or Path("results") / "tables" / small_scene["name"])
+    small_rows = scene_records(small_scene, folder or Path("results") / "tables" / small_scene["name"])
     return {"rows": joined_rows(small_rows, rows), "join": join_record(small_scene, small_rows, rows),
             "small_rows": [r for r in small_rows if r.get("kind") in ("node", "loading")],
             "check_rows": small_strain_checks(small_rows), "ladder": small_strain_ladder(scene, small_rows, rows)}
@@ -118,12 +118,12 @@ def small_strain_ladder(scene: dict, small_rows: list[dict], finite_rows: list[d
     """The ``ladder`` of calib.fit.vz_master_check.measure_and_state for the joined table: the small-strain
     nodes and their refined ladder (kind "refine"), each row's paths below its node's join load (the
     small-strain part's discretisation), and the clause that says the finite-strain part has none."""
-    finite = nodes_of(finite_rows)
+    small, finite = nodes_of(small_rows), nodes_of(finite_rows)
     rows = []
     for row in small_rows:
         node = (row.get("nu"), row.get("E_over_sigma_y"))
         if row.get("kind") in ("node", "refine") and node in finite:
-            x_join = join_load(nodes_of(small_rows)[node], finite[node])
+            x_join = join_load(small[node], finite[node])
             rows.append({**row, "paths": [p for p in row["paths"] if p["P_max"] < x_join * row["P_Y"] * (1 - 1e-9)]})
     graded = scene.get("graded") or {}
     note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "

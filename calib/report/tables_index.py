@@ -7,7 +7,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from calib.report.index_format import apct, pct, read_json, section, span, study_header, table
-from nfdmodel import reference_case
+from nfdmodel import limits, reference_case
 
 
 def _range(rows, key, fmt=apct) -> str:
@@ -84,7 +84,8 @@ def vz_master_table(root: Path) -> list[str]:
                   f"{join['small_strain_scene']}/nodes/`, {join['small_strain_scene']}'s own checks and reference "
                   f"ladder there): each node takes the small-strain values below the load where the FE's contact "
                   f"radius is {join['join_a_over_R']:g} R (or the small grid's top), {min(joins):.3g}-{max(joins):.4g} "
-                  f"P_Y over the nodes, and the finite strain's above, to 1e4 P_Y or a = 0.45 R. The checks below: "
+                  f"P_Y over the nodes, and the finite strain's above, to {limits.FE_FINITE_MAX_LOAD_OVER_YIELD:g} P_Y or a = "
+                  f"{limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R:g} R. The checks below: "
                   f"the finite-strain off-grid materials (`nodes/`, to the reach) and the small-strain ones' paths below "
                   f"their join.", ""]
     lines += [f"a_p/a_Y and C_R of the vz-table law at P/P_Y {law_table['P_over_P_Y'][0]:g}..{law_table['P_over_P_Y'][-1]:.4g} "

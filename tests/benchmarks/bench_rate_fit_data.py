@@ -77,7 +77,7 @@ def main_(fe: bool) -> None:
                       f"{name} {100 * (found.values[name] / law[name] - 1):+8.1f} % (statistical relative SE "
                       f"{100 * rel['sigma_y']:.2g} %, {100 * rel[name]:.2g} %); sigma_Y R at {flow['strain_rate']:.3g} /s "
                       f"{100 * (flow['value'] / flow_truth - 1):+.2f} %; "
-                      + ("refused" if rate_fit.undetermined(found) else "accepted"))
+                      + ("refused" if rate_fit.refusal(found) else "accepted"))
 
 
 if __name__ == "__main__":

@@ -311,3 +311,21 @@ def undetermined(result: RateFit) -> str:
             f"strain rate {flow['strain_rate']:.3g} /s = {flow['value']:.4g} Pa +- {100 * flow['relative_se']:.2g} %; "
             f"drop tests over a wider range of speeds would separate them, or give sigma_Y with the rate law's "
             f"constants to nfdcal material --v-max --rate-law{misfit}")
+
+
+def misfit(result: RateFit) -> str:
+    """The one-line refusal when the rate-aware law misses the data beyond twice its residual on noise-free FE
+    data and the stated noise (``result.consistent`` false): the fitted sigma_Y and rate constant would carry
+    a misfit their statistical errors do not state; else ""."""
+    if result.consistent:
+        return ""
+    flow = result.identifiability["determined_combination"]
+    return (f"the rate-aware law does not describe these data: {result.verdict}; its sigma_Y and {result.name} "
+            f"would carry that misfit unstated; the data determine sigma_Y R at the tests' mean strain rate "
+            f"{flow['strain_rate']:.3g} /s = {flow['value']:.4g} Pa +- {100 * flow['relative_se']:.2g} %; give --noise "
+            f"when the data scatter more")
+
+
+def refusal(result: RateFit) -> str:
+    """Why fit-data --rate-law refuses ``result`` (:func:`undetermined`, then :func:`misfit`), "" when it does not."""
+    return undetermined(result) or misfit(result)
