@@ -11,7 +11,6 @@
 #include "region.h"
 #include "utils.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -105,9 +104,9 @@ int FixNfdWallRegion::touching(int i, double R)
     seen[2] = x[2];
     const double c = 2.0 * R;
     const int answered = region->surface(x[0], x[1], x[2], std::numeric_limits<double>::infinity());
-    double nearest = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < answered; ++k) nearest = std::min(nearest, region->contact[k].r);
-    if (answered == facets && nearest >= c) {     // none within 2R, so none within R
+    bool far = answered == facets;
+    for (int k = 0; k < answered; ++k) far = far && region->contact[k].r >= c;     // a NaN is not far
+    if (far) {                                    // none within 2R, so none within R
         seen[3] = c;
         return 0;
     }
