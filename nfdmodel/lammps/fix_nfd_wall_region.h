@@ -35,10 +35,11 @@
  * from inside, its side the distance to the generating segment in the atom's meridian plane (the
  * Euclidean distance to the surface of revolution), its caps their planes' distance (a lower bound of
  * the distance to the disc, 1-Lipschitz as well). Where LAMMPS leaves a facet out (a sphere's centre, a
- * cylinder's or cone's axis: r = 0) the atom is asked until it moves. Not screened: a cone from outside
- * (its nearest point on the axis divides 0 by 0, and about y and z is then left unset), open faces
- * (every atom then matches, and a cylinder's or cone's nearest point from outside divides by 0 on the
- * axis), the other styles (prism, plane, union, ... : not argued), a moving or shape-changing region.
+ * cylinder's or cone's axis: r = 0) the atom is asked at every step until it has moved R/2 and is
+ * tested again. Not screened: a cone from outside (its nearest point on the axis divides 0 by 0, and
+ * about y and z is then left unset), open faces (every atom then matches, and a cylinder's or cone's
+ * nearest point from outside divides by 0 on the axis), the other styles (prism, plane, union, ... :
+ * not argued), a moving or shape-changing region.
  *
  * History: one per contact, keyed by the region's facet (Contact::iwall), kept for as many contacts
  * as the region style can touch at once (Region::tmax: a block 3 from inside, 1 from outside); an
