@@ -17,9 +17,13 @@
 - A plastic law: nfd/wall/region/vz on a block's face equals the plane wall nfd/wall/vz on the
   same plane to 1e-12 (measured: 5.6e-17; the law and its history are the plane wall's code, the
   normal from the region's contact vector differs in the last bit).
-- The reach screen (a static block asked only for the atoms near its faces): a sphere flying in from
-  beyond 2 R, touching and leaving beyond 2 R moves bit for bit as on the same block asked at every
-  step (under a `move` of value 0), from outside onto a face and from inside into a corner.
+- The reach screen (a static block, sphere, cylinder or cone asked only for the atoms near its surface):
+  a sphere flying in from beyond 2 R, touching and leaving beyond 2 R moves bit for bit as on the same
+  region asked at every step (under a `move` of value 0), and as wall/gran/region to 1e-12: onto a
+  block's face from outside, into a box's corner from inside, onto a sphere from inside and outside,
+  a cylinder's side and its rim (side and cap at once) and a cone's side from inside; a sphere leaving
+  the centre of a small spherical region, or the axis of a cylinder or cone (where LAMMPS reports no
+  curved facet), touches it as under the region asked every step.
 - Restart: write_restart (on 1 or 2 ranks) while both corner contacts unload, continued on 1 or 2
   ranks, and on the moving block: every later step equals the uninterrupted run bit for bit; a
   fix of another ID (no history) does not.
@@ -168,25 +172,48 @@ def test_two_mpi_ranks_equal_one_with_the_histories_migrating(plugin, tmp_path):
     assert_same_motion(two, theirs)
 
 
-# (region, centre, velocity): the sphere starts 2.3 R from the face(s) and flies at 5 m/s onto a block's face
-# from outside, and into a box's corner from inside (two faces), then back beyond 2 R
+RIM = 0.03 - 2.3 * R          # m: 2.3 R from the side of the cylinder of radius 0.03
+SLANT = np.sqrt(1.0625)       # the cone's side: its radius falls by 0.25 per unit of z
+
+
+def cone_side(p: np.ndarray) -> np.ndarray:
+    """Distance [m] from the centres p (n, 3) to the side of the cone of radius 0.04 - 0.25 z."""
+    return (0.04 - 0.25 * p[:, 2] - np.hypot(p[:, 0], p[:, 1])) / SLANT
+
+
+# (region, centre, velocity, the distance of the centres p (n, 3) to the nearest facet): the sphere starts
+# 2.3 R from the facet(s) and flies at 5 m/s onto a block's face from outside, into a box's corner from
+# inside (two faces), onto a sphere from inside and outside, a cylinder's side and its rim (side and cap
+# at once) from inside and a cone's side from inside, then back beyond 2 R
 FAR = {"block face": ("region wall block -0.05 0.05 -0.04 0.04 -0.04 0.0 side out", (0.0, 0.0, 2.3 * R),
-                      (0.5, 0.2, -5.0)),
+                      (0.5, 0.2, -5.0), lambda p: p[:, 2]),
        "box corner": ("region wall block -0.05 0.05 -0.04 0.04 -0.04 0.04 side in",
-                      (-0.05 + 2.3 * R, 0.0, -0.04 + 2.3 * R), (-4.0, 0.5, -4.0))}
+                      (-0.05 + 2.3 * R, 0.0, -0.04 + 2.3 * R), (-4.0, 0.5, -4.0),
+                      lambda p: np.minimum(p[:, 0] + 0.05, p[:, 2] + 0.04)),
+       "sphere inside": ("region wall sphere 0 0 0 0.04 side in", (0.0, 0.0, -0.04 + 2.3 * R), (0.5, 0.2, -5.0),
+                         lambda p: 0.04 - np.linalg.norm(p, axis=1)),
+       "sphere outside": ("region wall sphere 0 0 -0.03 0.03 side out", (0.0, 0.0, 2.3 * R), (0.5, 0.2, -5.0),
+                          lambda p: np.linalg.norm(p - (0.0, 0.0, -0.03), axis=1) - 0.03),
+       "cylinder side": ("region wall cylinder z 0 0 0.03 -0.04 0.04 side in", (RIM, 0.0, 0.0), (5.0, 0.5, 0.2),
+                         lambda p: 0.03 - np.hypot(p[:, 0], p[:, 1])),
+       "cylinder rim": ("region wall cylinder z 0 0 0.03 -0.04 0.04 side in", (RIM, 0.0, -0.04 + 2.3 * R),
+                        (4.0, 0.5, -4.0), lambda p: np.minimum(0.03 - np.hypot(p[:, 0], p[:, 1]), p[:, 2] + 0.04)),
+       "cone side": ("region wall cone z 0 0 0.05 0.03 -0.04 0.04 side in", (0.04 - 2.3 * R * SLANT, 0.0, 0.0),
+                     (5.0, 0.5, 0.2), cone_side)}
+# the most contacts the sphere has at once in each scene of FAR; the steps of a scene but 45000
+FAR_CONTACTS = {"box corner": 2, "cylinder rim": 2}
+FAR_STEPS = {"cylinder side": 36000}          # before it nears the opposite side
 
 
-@pytest.mark.parametrize("scene", list(FAR))
-def test_the_reach_screen_gives_the_contacts_of_every_step(plugin, tmp_path, scene):
-    """A static block is asked for the contacts of an atom only near its faces (fix_nfd_wall_region.h, the
-    reach screen): a sphere that starts beyond 2 R of the faces, comes in, touches and leaves beyond 2 R
-    again moves bit for bit as on the same block under `move` by a variable of value 0 (a moving region:
-    asked every step; its motion adds nothing), and as fix wall/gran/region to 1e-12."""
-    region, centre, velocity = FAR[scene]
-    SCENES[f"far {scene}"] = FAR[scene]
+def screened(plugin: str, tmp_path: Path, scene: str, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                                                            np.ndarray]:
+    """(the motion under nfd/wall/region/hertz of the static region of FAR[scene], its contacts per step,
+    under the same region made moving by a `move` of value 0, under fix wall/gran/region)."""
+    region = FAR[scene][0]
+    SCENES[f"far {scene}"] = FAR[scene][:3]
     try:
         def motion(fix: str, moved: bool = False, thermo: str = "") -> np.ndarray:
-            text = wall_input(plugin, f"far {scene}", fix, steps=45000, thermo=thermo).replace(
+            text = wall_input(plugin, f"far {scene}", fix, steps=steps, thermo=thermo).replace(
                 f"timestep {num(DT)}", "timestep 2e-07")
             if moved:
                 text = text.replace(region, f"variable zero equal 0\n{region} move v_zero NULL NULL")
@@ -198,11 +225,47 @@ def test_the_reach_screen_gives_the_contacts_of_every_step(plugin, tmp_path, sce
         theirs = motion(wall_gran())
     finally:
         del SCENES[f"far {scene}"]
-    assert contacts.max() == CONTACTS.get(scene, 1) and contacts[-1] == 0
-    distance = mine[:, 2] + (0.0 if scene == "block face" else 0.04)     # from the face z = 0 or z = -0.04
-    assert distance[0] > 2.0 * R and distance.min() < R and distance[-1] > 2.5 * R     # in, touched, out
+    return mine, contacts, asked, theirs
+
+
+@pytest.mark.parametrize("scene", list(FAR))
+def test_the_reach_screen_gives_the_contacts_of_every_step(plugin, tmp_path, scene):
+    """A static block, sphere, cylinder or cone (from inside) is asked for the contacts of an atom only
+    near its surface (fix_nfd_wall_region.h, the reach screen): a sphere that starts beyond 2 R of the
+    facets, comes in, touches and leaves beyond 2 R again moves bit for bit as on the same region under
+    `move` by a variable of value 0 (a moving region: asked every step; its motion adds nothing), and as
+    fix wall/gran/region to 1e-12."""
+    mine, contacts, asked, theirs = screened(plugin, tmp_path, scene, FAR_STEPS.get(scene, 45000))
+    assert contacts.max() == FAR_CONTACTS.get(scene, 1) and contacts[-1] == 0
+    distance = FAR[scene][3](mine[:, :3])
+    assert distance[0] > 2.0 * R and distance.min() < R and distance[-1] > 2.2 * R     # in, touched, out
     np.testing.assert_array_equal(mine, asked)
     assert turned(theirs) > 1.0
+    assert_same_motion(mine, theirs)
+
+
+# (region, a centre where LAMMPS leaves the curved facet out): the sphere (R) starts at the centre of a
+# spherical region or on the axis of a cylinder or a cone of radius 1.4 R and flies at 5 m/s off it
+CENTRED = {"sphere centre": "region wall sphere 0 0 0 0.014 side in",
+           "cylinder axis": "region wall cylinder z 0 0 0.014 -0.04 0.04 side in",
+           "cone axis": "region wall cone z 0 0 0.016 0.012 -0.04 0.04 side in"}
+
+
+@pytest.mark.parametrize("scene", list(CENTRED))
+def test_the_reach_screen_asks_where_the_region_leaves_a_facet_out(plugin, tmp_path, scene):
+    """At a sphere's centre, or on a cylinder's or a cone's axis, LAMMPS's region reports no curved
+    facet at any cutoff (r = 0: no normal), though it lies 1.4 R away: the screen does not take that
+    for a facet beyond 2 R, so the sphere, leaving the centre and touching within R/2, moves bit for
+    bit as under the region asked every step, and as fix wall/gran/region to 1e-12."""
+    FAR[scene] = (CENTRED[scene], (0.0, 0.0, 0.0), (5.0, 0.5, 0.2), None)
+    try:
+        mine, contacts, asked, theirs = screened(plugin, tmp_path, scene, 6000)
+    finally:
+        del FAR[scene]
+    assert contacts.max() >= 1
+    touched = np.flatnonzero(contacts > 0)[0]
+    assert 0.0014 / 5.0 < touched * 2e-7 < 0.5 * R / 5.0      # it touched the side before moving R/2
+    np.testing.assert_array_equal(mine, asked)
     assert_same_motion(mine, theirs)
 
 

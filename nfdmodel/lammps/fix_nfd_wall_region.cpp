@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 
 using namespace LAMMPS_NS;
 
@@ -65,16 +66,24 @@ void FixNfdWallRegion::init()
         region->reset_vel();
         motion_from_restart_failed = false;
     }
-    // the screen's distances hold for a block's faces (from inside) or its nearest point (from outside);
-    // other styles, open faces and a region that moves or changes shape are asked at every step
-    screen = std::strcmp(region->style, "block") == 0 && !region->openflag && !region->dynamic && !region->varshape;
+    // the screen's distances (fix_nfd_wall_region.h): a block's, a sphere's and a cylinder's from either
+    // side, a cone's from inside; other styles, open faces and a region that moves or changes shape are
+    // asked at every step
+    const char *style = region->style;
+    const bool lipschitz = std::strcmp(style, "block") == 0 || std::strcmp(style, "sphere") == 0 ||
+                           std::strcmp(style, "cylinder") == 0 || (std::strcmp(style, "cone") == 0 && region->interior);
+    screen = lipschitz && !region->openflag && !region->dynamic && !region->varshape;
+    facets = region->interior ? region->cmax : 1;
     for (int i = 0; i < atom->nmax; ++i) reach[4 * i + 3] = -1.0;    // the region may be another one
 }
 
 /* Atom i's contacts at radius R. The screen: an atom tested at (x0, y0, z0) with no facet within c = 2R
  * is skipped while it stays within (c - R)/2 of there (half the slack, far beyond round-off: a facet is
  * then farther than R from it); an atom with a facet within 2R is asked at every step, and tested again
- * once it moved R/2. The contacts found are those of the region at R, whether or not the atom was tested. */
+ * once it moved R/2. The test asks for every facet (an infinite cutoff) and trusts "none within 2R" only
+ * when every facet answered (a sphere's centre or a cylinder's or cone's axis, where LAMMPS leaves the
+ * curved facet out, is not a test). The contacts found are those of the region at R, whether or not the
+ * atom was tested. */
 int FixNfdWallRegion::touching(int i, double R)
 {
     const double *x = atom->x[i];
@@ -94,7 +103,10 @@ int FixNfdWallRegion::touching(int i, double R)
     seen[1] = x[1];
     seen[2] = x[2];
     const double c = 2.0 * R;
-    if (region->surface(x[0], x[1], x[2], c) == 0) {     // none within 2R, so none within R
+    const int answered = region->surface(x[0], x[1], x[2], std::numeric_limits<double>::infinity());
+    bool far = answered == facets;
+    for (int k = 0; k < answered; ++k) far = far && region->contact[k].r >= c;     // a NaN is not far
+    if (far) {                                    // none within 2R, so none within R
         seen[3] = c;
         return 0;
     }

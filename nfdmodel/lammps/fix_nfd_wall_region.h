@@ -22,8 +22,24 @@
  * sphere's E doubled. A moving or rotating region (region ... move/rotate, or a variable shape)
  * moves the wall: the relative velocity takes the wall's velocity at the contact
  * (Region::velocity_contact); the wall has no spin in the rolling and twisting models (as in
- * wall/gran/region). A static block without open faces is asked only for the atoms near its faces
- * (the reach screen, touching()): the contacts are those of asking for every atom at every step.
+ * wall/gran/region).
+ *
+ * The reach screen (touching()): a static region without open faces of style block, sphere or cylinder
+ * (side in or out) or cone (side in) is asked only for the atoms near its surface; the contacts are
+ * those of asking for every atom at every step. It holds where the distance LAMMPS's region reports for
+ * each facet (Region::surface_interior/surface_exterior) is at least a function of the atom's position
+ * that changes no faster than the atom moves (1-Lipschitz) and the facets within the cutoff are all
+ * reported: a block's faces from inside (each face's plane, the nearest of which is the Euclidean
+ * distance to the box) and its nearest point from outside; a sphere's |r - r_s| either side; a cylinder's
+ * side r_cyl - r and its caps' planes from inside, the nearest point of the solid from outside; a cone
+ * from inside, its side the distance to the generating segment in the atom's meridian plane (the
+ * Euclidean distance to the surface of revolution), its caps their planes' distance (a lower bound of
+ * the distance to the disc, 1-Lipschitz as well). Where LAMMPS leaves a facet out (a sphere's centre, a
+ * cylinder's or cone's axis: r = 0) the atom is asked at every step until it has moved R/2 and is
+ * tested again. Not screened: a cone from outside (its nearest point on the axis divides 0 by 0, and
+ * about y and z is then left unset), open faces (every atom then matches, and a cylinder's or cone's
+ * nearest point from outside divides by 0 on the axis), the other styles (prism, plane, union, ... :
+ * not argued), a moving or shape-changing region.
  *
  * History: one per contact, keyed by the region's facet (Contact::iwall), kept for as many contacts
  * as the region style can touch at once (Region::tmax: a block 3 from inside, 1 from outside); an
@@ -84,10 +100,13 @@ class FixNfdWallRegion : public FixNfdWall {
     LAMMPS_NS::Region *region = nullptr;
     bool motion_from_restart_failed = false;
     std::vector<double> scratch;    // one atom's row while its slots are rearranged
-    /* The reach screen (a static block without open faces, whose facet distances are Euclidean: an atom
-     * moves at least as far as its distance to a facet changes): per atom x0, y0, z0 and c, where c > 0
-     * says no facet lies within c of (x0, y0, z0), 0 that one did, < 0 nothing known. */
+    /* The reach screen (the styles above, whose facet distances are Euclidean or a 1-Lipschitz lower bound
+     * of it: an atom moves at least as far as its distance to a facet changes): per atom x0, y0, z0 and c,
+     * where c > 0 says no facet lies within c of (x0, y0, z0), 0 that one did, < 0 nothing known; facets,
+     * how many the region reports at an infinite cutoff when it leaves none out (Region::cmax from
+     * inside, the nearest point from outside). */
     bool screen = false;
+    int facets = 0;
     std::vector<double> reach;
 };
 

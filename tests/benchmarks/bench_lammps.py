@@ -21,6 +21,9 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
    - With --region, that pile with friction again, its floor a region's face (region_floor: a block
      reaching beyond the box, side in) under fix nfd/wall/region/vz against fix wall/gran/region of
      the same models: the region wall's cost is in the Modify column (target: 1.1x wall/gran/region's).
+     With --cylinder, the same with the floor the bottom cap of a cylinder about z (scene
+     'pile+cylinder': region_floor's cylinder of radius 1 m about the box's corner, so that its side,
+     beyond the periodic box, holds every sphere and touches none): the region style's own cost.
    - The dense pile (--pile-spheres, default 3000): lammps_pour.settle_input settles it once
      (granular, e = 0.1: a fall, then a drag quench; 95000 steps, about 70 s on 1 core) and
      writes it with write_data; from that same pile each law runs --pile-steps steps of 1e-7 s,
@@ -39,7 +42,7 @@ Not a timed test: prints two tables and writes them, stamped (commit, wall time)
 
 Usage (about 3 minutes on 2 cores: the pour 30 s, the pile's settle 70 s and its timing 60 s):
     .venv/bin/python tests/benchmarks/bench_lammps.py [--spheres 3000] [--steps 10000] [--repeat 3]
-        [--pile-spheres 3000] [--pile-steps 5000] [--friction] [--region] [--plugin PATH]
+        [--pile-spheres 3000] [--pile-steps 5000] [--friction] [--region] [--cylinder] [--plugin PATH]
 Writes results/lammps/timing.csv, restitution.csv, pour.png and summary.json.
 """
 from __future__ import annotations
@@ -132,7 +135,7 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
                         else None)
             rows.append({
                 "scene": scene, "ranks": nprocs, "spheres": spheres, "steps": steps,
-                "contact": (REGION_NAMES if scene == "pile+region" else CONTACT_NAMES)[contact],
+                "contact": (REGION_NAMES if scene in ("pile+region", "pile+cylinder") else CONTACT_NAMES)[contact],
                 "us_per_step": 1e6 * run["per_step"], "ns_per_sphere_step": 1e9 * run["per_step"] / spheres,
                 "ns_per_contact_step": None if contacts is None else 1e9 * run["per_step"] / contacts,
                 "pair_ns_per_contact_step": None if contacts is None else 1e9 * run["pair"] / contacts,
@@ -148,14 +151,19 @@ def timing(folder: Path, scene: str, spheres: int, steps: int, repeat: int, make
     return rows
 
 
-def region_floor(text: str) -> str:
+REGION_FLOORS = {"block": "region floor block -1 1 -1 1 0.0 1 side in",
+                 "cylinder": "region floor cylinder z 0 0 1 0.0 1 side in"}
+
+
+def region_floor(text: str, style: str = "block") -> str:
     """A pile input (lammps_pour.pile_input) with its floor z = 0 as the zlo face of a block region that
-    reaches beyond the periodic box: fix nfd/wall/region/vz, or fix wall/gran/region, of the same constants
-    and models."""
+    reaches beyond the periodic box, or the bottom cap of a cylinder about z whose side lies beyond it
+    (REGION_FLOORS[style]): fix nfd/wall/region/vz, or fix wall/gran/region, of the same constants and
+    models."""
     lines = []
     for line in text.splitlines():
         if line.startswith("read_data"):
-            line += "\nregion floor block -1 1 -1 1 0.0 1 side in"
+            line += "\n" + REGION_FLOORS[style]
         elif line.startswith("fix floor"):
             line = re.sub(r" nfd/wall/vz zlo 0\.0 ", " nfd/wall/region/vz floor ", line)
             line = re.sub(r" wall/gran granular (.*) zplane 0\.0 NULL$", r" wall/gran/region granular \1 region floor",
@@ -284,6 +292,8 @@ def main(argv=None) -> int:
                         "resistance (scene 'pile+friction')")
     parser.add_argument("--region", action="store_true", help="also the pile with friction on a region wall "
                         "(scene 'pile+region': fix nfd/wall/region/vz against fix wall/gran/region)")
+    parser.add_argument("--cylinder", action="store_true", help="also that pile on a cylinder's bottom cap "
+                        "(scene 'pile+cylinder': the region style's cost)")
     parser.add_argument("--plugin", default=None, help="time this plugin build (a path) in place of the sources'")
     parser.add_argument("--out", default=str(ROOT / "results" / "lammps"))
     ns = parser.parse_args(argv)
@@ -325,6 +335,12 @@ def main(argv=None) -> int:
                                 plugin, str(pile), ns.pile_steps, contact=contact, processors=processors,
                                 models=FRICTION)))
             now = clock("region", now)
+        if ns.cylinder:
+            speed += timing(folder, "pile+cylinder", ns.pile_spheres, ns.pile_steps, ns.repeat,
+                            lambda contact, processors: region_floor(lammps_pour.pile_input(
+                                plugin, str(pile), ns.pile_steps, contact=contact, processors=processors,
+                                models=FRICTION), "cylinder"))
+            now = clock("cylinder", now)
         print(f"{'scene':>5} {'ranks':>5} {'contact':<55} {'us/step':>8} {'ns/sph.':>7} {'ns/con.':>7} {'pair':>7} "
               f"{'modify':>7} {'contacts':>11} {'history':>11} {'coord.':>11} {'ratio':>6} {'median':>6} "
               f"{'pair':>6}")
