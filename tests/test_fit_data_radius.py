@@ -114,7 +114,7 @@ def test_the_model_form_level_is_what_the_fe_data_give(table, fe_rows):
 
 def test_sigma_y_from_the_dynamic_fe_drop_tests_with_their_radius(tmp_path, capsys):
     """The dynamic FE's drop tests (results/impact/impact.json, E/sigma_Y 700 off the table's nodes) with
-    their largest contact radius: sigma_Y within 3 % (measured +0.45 %), the 95 % interval covering 1e8
+    their largest contact radius: sigma_Y within 3 % (measured +0.39 %), the 95 % interval covering 1e8
     Pa; every test inside the table's window (to 1e4 P_Y at this material), none left out."""
     code, out, err = run(["--impacts", str(dynamic_csv(tmp_path)), *ALUMINIUM, "--json"], capsys)
     assert code == 0, err

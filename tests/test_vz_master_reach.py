@@ -29,7 +29,6 @@ FINITE = ROOT / "results" / "tables" / "vz_master_reach"
 E_TARGET, FORCE_TARGET = 0.02, 0.05          # the master table's targets against off-grid FE paths
 SIGMA_Y_TARGET = 0.03                        # fit-data's sigma_Y from FE data
 JOIN_BOUND = 0.02                            # the two FEs' loading force at the join
-E_BOUND = 0.035                 # measured 3.37 % (nu 0.34 E/sigma_Y 400 at 4535 P_Y): the 2 % target missed there
 RADIUS_BOUND = 0.065            # measured 6.0 % (nu 0.49 E/sigma_Y 300, near its top): the 2 % target missed there
 
 
@@ -128,9 +127,8 @@ def check_rows(scenes) -> list[dict]:
 def test_between_the_nodes_the_law_follows_the_finite_strain_fe(scenes, table):
     """The joined table's vz-table law against direct finite-strain FE load-unload paths of off-grid
     materials (E/sigma_Y 150-1500, nu 0.25-0.36) from a = 0.025 R to the reach, inside the window: force
-    within 5 % of P_max (measured 4.9 %); e within 2 % on every path but one (measured: E/sigma_Y 150, 250, 1500
-    within 0.7, 0.9, 1.6 %; 400 within 1.9 % to 2057 P_Y and -3.37 % at 4535 P_Y, between the columns 300 and
-    1000)."""
+    within 5 % of P_max (measured 3.5 %); e within 2 % (measured: E/sigma_Y 150, 250, 400, 1500 within 0.66, 0.85,
+    1.40, 1.59 %)."""
     compared = [c for row in check_rows(scenes) for c in check_material(row, table)]
     inside = [c for c in compared if c["inside"]]
     assert len(check_rows(scenes)) >= 4 and len(inside) >= 0.8 * len(compared)
@@ -138,7 +136,7 @@ def test_between_the_nodes_the_law_follows_the_finite_strain_fe(scenes, table):
     force = max(c["force_error"] for c in inside)
     print(f"{len(inside)} paths to {max(c['P_max_over_P_Y'] for c in inside):.0f} P_Y: e within {e:.2%}, "
           f"force within {force:.2%} of P_max")
-    assert e < E_BOUND and force < FORCE_TARGET
+    assert e < E_TARGET and force < FORCE_TARGET
 
 
 def test_fit_data_recovers_sigma_y_from_finite_strain_fe_data(scenes, table):
@@ -153,7 +151,7 @@ def test_fit_data_recovers_sigma_y_from_finite_strain_fe_data(scenes, table):
 
 def test_the_law_s_loading_force_follows_jackson_and_green(table):
     """The joined law's loading curve at nu 0.3, E/sigma_Y 200-1000 against Jackson & Green's (2005)
-    published FE fit over their fitted range w/w_c <= 110: within 5 % (measured -4.2..-0.2 %, the law below
+    published FE fit over their fitted range w/w_c <= 110: within 5 % (measured -4.3..-0.2 %, the law below
     theirs, more so with E/sigma_Y; the small-strain FE was within -7..+4 % of them to w/w_c 60)."""
     worst = 0.0
     for ratio in (200.0, 300.0, 600.0, 1000.0):
@@ -176,8 +174,8 @@ def test_the_law_s_loading_force_follows_jackson_and_green(table):
 @pytest.mark.parametrize("R", [1e-3, 5e-3])
 def test_material_answers_for_metals_up_to_their_reach(name, E, nu, sigma_y, rho, R, capsys):
     """``nfdcal material --v-max V`` answers without an FE run for metal spheres of R 1-5 mm on a rigid flat
-    to 10 m/s and beyond (measured window tops: steel and aluminium 6061 3032 P_Y, 30.2 and 34.9 m/s; brass
-    and half-hard copper 6852 P_Y, 17.0 and 11.7 m/s; v_Y and so the speeds do not depend on R)."""
+    to 10 m/s and beyond (measured window tops: steel and aluminium 6061 3032 P_Y, 30.2 and 34.8 m/s; brass
+    and half-hard copper 6852 P_Y, 16.4 and 11.2 m/s; v_Y and so the speeds do not depend on R)."""
     pair = ContactPair.sphere_flat(Material(E, nu, sigma_y, rho), R)
     argv = ["material", "--E", str(E), "--nu", str(nu), "--sigma-y", str(sigma_y), "--rho", str(rho), "--R", str(R),
             "--v-max", "1", "--json"]

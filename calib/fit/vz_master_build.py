@@ -57,7 +57,7 @@ from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
 from calib.fit.vz_master_table import RADIUS_COLUMN
 from meshes.keys import stable_key
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
+from nfdmodel import CalibrationWindow, ContactPair, Material
 from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
 BUILTIN = Path(__file__).resolve().parent.parent / "scenes" / "builtin" / "sweeps"   # not scenes of the schema
@@ -410,9 +410,9 @@ def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None
 def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """f, g of a node's table (nfdmodel's monotone interpolation of its nodes) at the common loads
     ``x`` inside its window [1, top]; NaN above it."""
-    pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
-                                            row["rho"]), row["R"])
-    params = VZTableParams(pair, tuple(row["table"]["x"]), tuple(row["table"]["f"]), tuple(row["table"]["g"]))
+    from calib.fit.vz_master_check import node_law
+
+    params = node_law(row)      # on its window: a finite-strain node's reaches beyond the small strain's
     top = row["window"]["P_max_over_P_Y"]
     inside = x <= top * (1 + 1e-9)
     f, g = np.full(x.size, np.nan), np.full(x.size, np.nan)
@@ -486,9 +486,10 @@ def resample_radius(row: dict, loading: dict, x: np.ndarray) -> np.ndarray:
                                                   and np.allclose(alpha, row["loading"]["alpha"], rtol=1e-9, atol=0.0)):
         raise ValueError(f"vz master table: the loading rerun {loading['key']} of node {row['name']} does not follow "
                          f"its loading branch (a different FE): run the scene again")
-    pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
-                                            row["rho"]), row["R"])
-    params = VZTableParams(pair, tuple(row["table"]["x"]), tuple(row["table"]["f"]), tuple(row["table"]["g"]))
+    from calib.fit.vz_master_check import node_law
+
+    params = node_law(row)
+    pair = params.pair
     load = P / pair.P_Y
     points = (load > 1.0) & (load <= row["window"]["P_max_over_P_Y"] * (1 + 1e-9))
     radius = np.asarray(loading["loading"]["contact_radius"], dtype=float)[points] / pair.a_Y
