@@ -27,7 +27,8 @@ law "vz-unload") gives the peak force P_max; the imprint radius is the law's con
     a = a_Y (x^(1/3) + f_a(x)),   x = P_max / P_Y   [m]
 
 f_a the vz master table's ``radius_a_p_over_a_Y`` column (calib.fit.vz_master_table: fitted to the
-FE's contact radius along the nodes' loading branches; within 0.31 % of held-out FE at 4.7-110 P_Y).
+FE's contact radius along the nodes' loading branches; within 0.61 % of held-out small-strain FE at 4.7-110
+P_Y below the join, -1.95 % above it, tests/benchmarks/master_unload_radius.py).
 Two identical spheres: the same with the pair's P_Y and a_Y (R* = R/2). The residual is relative,
 r = a_law / a - 1, a group ``radius`` weighted as the others (calib.fit.measured.table_law).
 
