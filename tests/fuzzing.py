@@ -534,7 +534,8 @@ def run_case(case: Case, sandbox: Path, timeout_s: float = 60.0) -> Outcome:
 # which contains the truth, or one line (exit 2) naming the column.
 UNIT_FACTORS = (1e-3, 1e-2, 1e-1, 1.0, 1e1, 1e2, 1e3)
 FIT_DATA_KINDS = {"drops e+P+t": ("v_in", "e", "P_max", "contact_time"), "drops e+P": ("v_in", "e", "P_max"),
-                  "force": ("approach", "force"), "vz drops e+P": ("v_in", "e", "P_max")}
+                  "force": ("approach", "force"), "vz drops e+P": ("v_in", "e", "P_max"),
+                  "drops e+dent": ("v_in", "e", "dent"), "drops e+dent+radius": ("v_in", "e", "dent", "radius")}
 FIT_DATA_TRUTH = 1e8             # sigma_Y [Pa] of every data kind's material
 
 
@@ -582,6 +583,12 @@ def fit_data_source(kind: str) -> tuple[dict, list[str]]:
         values = {"v_in": v, "e": np.minimum(exact["e"] * (1 + 0.02 * rng.standard_normal(v.size)), 1.0),
                   "P_max": exact["P_max"] * (1 + 0.02 * rng.standard_normal(v.size))}
         flags = ["--law", "vz", "--E", "7e10", "--nu", "0.3", "--R", "0.1", "--rho", "2699"]
+    elif kind == "drops e+dent+radius":         # the FE's drop tests with its contact radius at the peak
+        row = json.loads((root / "data" / "vz_master_radius_fe.json").read_text(encoding="utf-8"))["rows"][0]
+        assert row["sigma_y"] == FIT_DATA_TRUTH
+        values = {name: np.array([t[name] for t in row["tests"]]) for name in FIT_DATA_KINDS[kind]}
+        flags = ["--E", repr(row["E_over_sigma_y"] * row["sigma_y"]), "--nu", repr(row["nu"]), "--R", repr(row["R"]),
+                 "--rho", repr(row["rho"])]
     else:
         from calib.fit.vz_master_check import fe_datasets
         from calib.fit.vz_master_table import VZMasterTable

@@ -8,8 +8,10 @@ parameter files; the FE commands with --dry-run), runs each in a fresh sandbox a
 outcomes per command: successes, clean errors (one line, exit code 2) and failures (a traceback,
 another exit code, NaN or inf in a written file, a file touched outside the output paths, a
 hang). ``--fit-data`` runs instead every case of fit-data's unit-factor fuzzer (tests/fuzzing.py:
-each column of each data kind multiplied by 1e-3..1e3; a success must hold the truth in its
-interval, a refusal must name the column) and prints one line per case. Writes OUT/fuzz.csv (one row per command) and OUT/fuzz.json (the counts, the failures
+each column of each data kind multiplied by 1e-3..1e3; the kinds: drop tests with P_max, contact
+time, dent, dent and imprint radius, and force curves; a success must hold the truth in its
+interval, a refusal must name the column) and prints one line per case (the dent and radius kinds'
+44 cases: the data as made fitted, every other factor refused naming its column). Writes OUT/fuzz.csv (one row per command) and OUT/fuzz.json (the counts, the failures
 with their argument lists, the stamp). Exit code 1 if any case failed.
 """
 from __future__ import annotations

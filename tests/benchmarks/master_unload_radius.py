@@ -15,8 +15,9 @@ reloading force within 2 % of P_max, dent within 3 % (or 0.5 % of alpha_max), e 
 --fine adds a finer mesh (25 elements) for the radius. About 1-2 minutes per material on one core.
 
 Measured (17.9 elements; the three materials and the node): vz-unload's radius at the peak (the table's
-f_a, fitted to the nodes' FE contact radius) over the FE's -0.0..+0.25 % at 4.7 P_Y, -0.31..+0.05 % at 27,
--0.05..+0.08 % at 110 P_Y, at the node +0.12, -0.19, +0.11 %; vz-table's (f, fitted to the force and the
+f_a, fitted to the nodes' FE contact radius) over the FE's +0.01..+0.25 % at 4.7 P_Y, -0.61..+0.05 % at 27,
+-1.95..+0.08 % at 110 P_Y (-1.95 % at nu 0.25 E/sigma_Y 150, a = 0.11 R: the small-strain FE's radius where
+the table's is the finite strain's), at the node +0.12, -0.19, +0.11 %; vz-table's (f, fitted to the force and the
 returned work) +1.2..+1.3, +1.5..+1.8, +2.8..+4.2 %. The FE's radius moves by at most 1.1 % between the
 meshes of 12.8 and 17.9 elements (vz-unload's error on the coarser mesh -0.07..+0.86 %). vz-unload:
 unloading force within 1.19 % of P_max, partial unloads and reloads within 0.62 %, past the peak 0.75 %,
