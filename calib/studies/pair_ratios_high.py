@@ -233,7 +233,9 @@ def pair_ratios_high(root: Path) -> list[str]:
         "The ratios of the section above carried to the two-body FE's reach (P <= 1000 P_Y, estimated contact "
         "radius <= 0.2 R* whatever the kinematics), nu 0.3: Phi_e = e_pair / e_rf and Phi_D = D_pair / D_rf at "
         "equal P_max/P_Y, the pair's FE contact radius a/R* beside the rigid flat's a/R at that P/P_Y; each case "
-        "and its rigid flat on the same mesh level and kinematics, one FE run's seconds each:", ""]
+        "and its rigid flat in the same kinematics on the same mesh family (graded: every contact radius from "
+        f"{data['stamp']['mesh']['graded_from_P_over_P_Y']:g} P_Y up spans "
+        f"{data['stamp']['mesh']['elements_per_contact_radius']:.3g} elements), one FE run's seconds each:", ""]
     rows = [[f"{c['x']:.3g}", f"{c['E_over_sigma_y']:g}", c["kinematics"], f"{c['P_max_over_P_Y']:.4g}",
              f"{c['a_over_R_star']:.4f}", f"{c['a_over_R_rigid']:.4f}", f"{c['e_pair']:.4f}", f"{c['e_rf']:.4f}",
              f"{c['phi_e']:.4f}", f"{c['phi_D']:.4f}", f"{c['wall_time_s']:.0f} / {c['rigid_wall_time_s']:.0f}"]
