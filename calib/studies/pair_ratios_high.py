@@ -42,11 +42,11 @@ from calib.report.index_format import read_json, study_header, table
 from calib.studies.pair_ratios import R, RIGID, counter, material, stiffness_ratio
 from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
-from nfdmodel import ContactPair
+from nfdmodel import ContactPair, limits
 
 NU, E_OVER_SIGMA_YS, XS = 0.3, (1000.0, 300.0), ("1/3", "1", "3")
 TOPS_OVER_YIELD = (100.0, 300.0, 1000.0)
-PEAKS_OVER_YIELD = (5.0, 13.7, 41.2, 100.0, 300.0, 1000.0)
+PEAKS_OVER_YIELD = (5.0, 13.7, limits.DEFAULT_WINDOW, 100.0, 300.0, 1000.0)   # the recipe's peaks and on
 FINITE = tuple((r, x) for r in E_OVER_SIGMA_YS for x in XS)   # also run in finite strain, with their rigid flat
 MAX_CASE_S = 360.0                             # a case slower than this is dropped (the study's time budget)
 LEVEL = "coarse"
@@ -228,8 +228,8 @@ def pair_ratios_high(root: Path) -> list[str]:
     data = read_json(root / "pairs" / "ratios_high.json")
     if data is None:
         return []
-    lines = study_header("A sphere on an elastic flat to high loads: the pair FE over the rigid flat's "
-                         "(`pairs/ratios_high.json`)", data["stamp"], "python -m calib.studies.pair_ratios_high") + [
+    lines = study_header("The pair FE over the rigid flat's to high loads (`pairs/ratios_high.json`)", data["stamp"],
+                         "python -m calib.studies.pair_ratios_high") + [
         "The ratios of the section above carried to the two-body FE's reach (P <= 1000 P_Y, estimated contact "
         "radius <= 0.2 R* whatever the kinematics), nu 0.3: Phi_e = e_pair / e_rf and Phi_D = D_pair / D_rf at "
         "equal P_max/P_Y, the pair's FE contact radius a/R* beside the rigid flat's a/R at that P/P_Y; each case "
