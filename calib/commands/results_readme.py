@@ -43,12 +43,14 @@ def sections() -> tuple:
     from calib.studies.impact_output import impact
     from calib.studies.mesh_ladder_index import mesh_ladder
     from calib.studies.pair_ratios import pair_ratios
+    from calib.studies.pair_ratios_high import pair_ratios_high
     from calib.studies.pairs_output import pairs
     from calib.studies.stability_index import stability
     from calib.studies.wide_window_index import wide_window
 
     return (calibration, mesh_ladder, wide_window, between_nodes, identical_spheres, hertz, collision, impact,
-            master_table, vz_master_table, fit_data_benchmark, pairs, pair_ratios, stability, lammps, chung_ooi, heap)
+            master_table, vz_master_table, fit_data_benchmark, pairs, pair_ratios, pair_ratios_high,
+            stability, lammps, chung_ooi, heap)
 
 
 def run(ns) -> int:
