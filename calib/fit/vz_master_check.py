@@ -465,8 +465,9 @@ def measure_and_state(rows: list[dict], table_path, folder, ladder: dict | None 
     FOLDER/vz_master_check.{csv,json} and state the measured accuracy in the table's .json
     (``accuracy``, ``accuracy_details``, ``model_form``: the rms e and loading-force errors inside
     the window, the u_g of calib.fit.measured.table_law). Returns the accuracy summary. ``ladder``:
-    the discretisation's own rows and what it covers ({"rows": ..., "note": ...}; a joined table's
-    small-strain ladder below its join, calib.fit.vz_master_join), else ``rows``'."""
+    the discretisation's own rows and what it covers ({"rows": ..., "note": ..., "finite": ...}; a joined
+    table's small-strain ladder below its join and its finite-strain part's measured discretisation,
+    calib.fit.vz_master_join.join_ladders), else ``rows``'."""
     import json
     from pathlib import Path
 
@@ -483,6 +484,8 @@ def measure_and_state(rows: list[dict], table_path, folder, ladder: dict | None 
     residual_form = {g: float(np.sqrt(np.mean([e["residual_rms"][g] ** 2 for e in errors.values()]))) for g in groups}
     summary["sigma_y_fit_errors"] = errors
     summary["discretisation"] = discretisation(ladder["rows"] if ladder else rows)
+    if ladder and ladder.get("finite"):
+        summary["finite_strain_discretisation"] = ladder["finite"]
     unloading = [c for row in checks for c in check_unloading(row, table)] if table.has_unloading else []
     summary["unloading"] = unloading_accuracy(unloading) if unloading else {"paths": 0}
     stamp = output.stamp(0.0, table=str(table_path))

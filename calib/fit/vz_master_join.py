@@ -111,26 +111,42 @@ def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None
     small_rows = scene_records(small_scene, folder or Path("results") / "tables" / small_scene["name"])
     return {"rows": joined_rows(small_rows, rows), "join": join_record(small_scene, small_rows, rows),
             "small_rows": [r for r in small_rows if r.get("kind") in ("node", "loading")],
-            "check_rows": small_strain_checks(small_rows), "ladder": small_strain_ladder(scene, small_rows, rows)}
+            "check_rows": small_strain_checks(small_rows), "ladder": join_ladders(scene, small_rows, rows)}
 
 
-def small_strain_ladder(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -> dict:
+def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -> dict:
     """The ``ladder`` of calib.fit.vz_master_check.measure_and_state for the joined table: the small-strain
     nodes and their refined ladder (kind "refine"), each row's paths below its node's join load (the
-    small-strain part's discretisation), and the clause that says the finite-strain part has none."""
+    small-strain part's discretisation, ``rows``), and the clause on the finite-strain part (``note``):
+    its own reference ladder (the finite scene's [[refine]] rows, each row's paths from the join load up,
+    ``finite``: calib.fit.vz_master_check.discretisation) where the scene has one, else the one mesh."""
+    from calib.fit.vz_master_check import discretisation, discretisation_statement
+
     small, finite = nodes_of(small_rows), nodes_of(finite_rows)
-    rows = []
-    for row in small_rows:
-        node = (row.get("nu"), row.get("E_over_sigma_y"))
-        if row.get("kind") in ("node", "refine") and node in finite:
-            x_join = join_load(small[node], finite[node])
-            rows.append({**row, "paths": [p for p in row["paths"] if p["P_max"] < x_join * row["P_Y"] * (1 - 1e-9)]})
+
+    def part(source: list[dict], nodes: dict, below: bool) -> list[dict]:
+        rows = []
+        for row in source:
+            node = (row.get("nu"), row.get("E_over_sigma_y"))
+            if row.get("kind") in ("node", "refine") and node in nodes:
+                x_join = join_load(small[node], finite[node]) * row["P_Y"] * (1 - 1e-9)
+                rows.append({**row, "paths": [p for p in row["paths"] if (p["P_max"] < x_join) == below]})
+        return rows
+
+    rows = part(small_rows, finite, below=True)
+    measured = discretisation(part(finite_rows, small, below=False))
     graded = scene.get("graded") or {}
-    note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "
-            f"{graded.get('elements_per_contact_radius', 0) * graded.get('refinement', 0):.3g} elements across every "
-            f"contact radius and {graded.get('loading_steps_per_decade', 0) * graded.get('refinement', 0):.3g} "
-            f"loading steps per decade, its discretisation not measured") if graded else ""
-    return {"rows": rows, "note": note}
+    if measured:
+        note = (" (the small-strain part, below each node's join); the finite-strain part above it"
+                + discretisation_statement(measured).replace("; discretisation", ": discretisation", 1))
+    elif graded:
+        note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "
+                f"{graded.get('elements_per_contact_radius', 0) * graded.get('refinement', 0):.3g} elements across "
+                f"every contact radius and {graded.get('loading_steps_per_decade', 0) * graded.get('refinement', 0):.3g} "
+                f"loading steps per decade, its discretisation not measured")
+    else:
+        note = ""
+    return {"rows": rows, "note": note, "finite": measured}
 
 
 def small_strain_checks(small_rows: list[dict]) -> list[dict]:
