@@ -517,10 +517,10 @@ def measure_and_state(rows: list[dict], table_path, folder, ladder: dict | None 
     return {**summary, "statement": statement}
 
 
-def discretisation_statement(measured: dict) -> str:
-    """The clause of the accuracy statement on the measured discretisation error."""
+def discretisation_statement(measured: dict, lead: str = "; ") -> str:
+    """The clause of the accuracy statement on the measured discretisation error, after ``lead``."""
     if not measured:
-        return "; discretisation not measured"
+        return f"{lead}discretisation not measured"
     nodes = measured["nodes"]
     worst = measured["worst"]
     parts = []
@@ -537,7 +537,7 @@ def discretisation_statement(measured: dict) -> str:
                 orders.append(f"{q} not observed ({o['status']}; bounding estimate at {o['order_used']:g})")
         parts.append(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}, orders " + ", ".join(orders))
     first, at = nodes[0], worst["e_error_estimate_at"]
-    return (f"; discretisation, against the reference FE (graded meshes, {first['elements_per_contact_radius'][0]:.3g}"
+    return (f"{lead}discretisation, against the reference FE (graded meshes, {first['elements_per_contact_radius'][0]:.3g}"
             f"-{first['elements_per_contact_radius'][-1]:.3g} elements across every contact radius, "
             f"{first['loading_steps_per_decade'][0]:.3g}-{first['loading_steps_per_decade'][-1]:.3g} loading steps per "
             f"decade; {'; '.join(parts)}): the table differs from its finest level by e "

@@ -138,7 +138,7 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
     graded = scene.get("graded") or {}
     if measured:
         note = (" (the small-strain part, below each node's join); the finite-strain part above it"
-                + discretisation_statement(measured).replace("; discretisation", ": discretisation", 1))
+                + discretisation_statement(measured, lead=": "))
     elif graded:
         note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "
                 f"{graded.get('elements_per_contact_radius', 0) * graded.get('refinement', 0):.3g} elements across "

@@ -47,7 +47,8 @@ nu 0.38, 1500; nu 0.25, 150 (five drop tests each, 3-100 P_Y): ln(sigma_fit / si
 radius residuals within 0.45 % but -1.8 % at nu 0.25, E/sigma_Y 150, 100 P_Y. These FE data are
 small-strain: at nu 0.25, E/sigma_Y 150 the drops above a = 0.05 R (about 15 P_Y) lie where the table is
 the finite strain's (calib.fit.vz_master_join), and the kinematics' difference is part of the level (the
-table's radius there is within 1.3 % of the finite-strain FE's, tests/test_vz_master_reach.py).
+table's radius there is within 1.3 % of the finite-strain FE's along the reach scene's check nu 0.25,
+E/sigma_Y 150).
 """
 from __future__ import annotations
 
