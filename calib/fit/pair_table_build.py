@@ -124,7 +124,7 @@ def all_tasks() -> list[dict]:
     for nu, ratio, x, radius in CHECKS:
         top = reach_over_yield({"nu": nu, "E_over_sigma_y": ratio, "x": x, "counter_R_over_R": radius})
         tasks.append(case_task(nu, ratio, x, peaks_to(top), "check", radius))
-    return tasks
+    return sorted(tasks, key=lambda t: (t["role"] == "check", t["E_over_sigma_y"], t["nu"]))   # the cheap ones first
 
 
 def build_meshes(tasks: list[dict]) -> None:
