@@ -71,7 +71,7 @@ def test_interpolation_is_exact_at_the_nodes():
     (nu, ratio), nodes = next(iter(table.nodes.items()))
     node = nodes[0]
     ratios = table.ratios(nu, ratio, node.s, node.top)
-    for quantity in ("D", "e"):
+    for quantity in ("D", "loss"):
         xs, phis = getattr(node, quantity)
         np.testing.assert_allclose(ratios.at(quantity, xs), phis, rtol=2e-3)
 
