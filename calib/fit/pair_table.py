@@ -15,16 +15,15 @@ its lowest node below it (a dissipation ratio, so e_pair <= 1 wherever the rigid
 through (0, 1) over the nodes that reach the law's top (so one set of nodes serves every load); linear in nu and in
 ln(E/sigma_Y).
 
-The pair law maps the sphere's rigid-flat vz-table law (the vz master table, calib.fit.vz_master_table) by them:
+The pair law maps the sphere's rigid-flat vz-table law (the vz master table, calib.fit.vz_master_table) by them,
+node by node on that law's nodes (mapped_tables):
 
-    D_pair(x) = D_rf(x) Phi_D(x),   e_pair(x_m)^2 = 1 - (1 - e_rf(x_m)^2) Psi(x_m),   W_u = e_pair^2 W_l,pair
+    D_pair(x) = max(D_rf(x) Phi_D(x), x^(2/3)),   e_pair(x)^2 = 1 - (1 - e_rf(x)^2) Psi(x)
 
-with D_rf = (x^(1/3) + f)^2 / g and e_rf^2 = (2/5) x_m^(5/3) / (g W_l,rf) the master law's own (nfdmodel.vz_table),
-W_l the loading work (calib.fit.table_fit.LoadingWork), and fits the vz-table law on the pair's scales to D_pair and
-W_u (calib.fit.table_fit.fit_tables) at peaks from the first load whose path loses RESOLVED_LOSS of e (closer to
-yield e_pair differs from 1 by less, and from the FE's by less still). Its window runs from LOWEST_PEAK P_Y to the
-lowest of the pair table's top,
-the master table's top and the two-body FE's reach on this pair (calib.fit.recipe.fe_reach).
+with D_rf = (x^(1/3) + f)^2 / g and e_rf^2 = (2/5) x^(5/3) / (g W_l,rf) the master law's own (nfdmodel.vz_table),
+W_l the loading work, and solves the law's two relations for the pair's f and g at each node (no refit: at s = 0
+it returns the master law's tables). Its window runs from P_Y, as the master law's, to the lowest of the pair
+table's top, the master table's top and the two-body FE's reach on this pair (calib.fit.recipe.fe_reach).
 
 Refused in one line naming the parameter and its range: nu or E/sigma_Y outside the table's nodes, X beyond the
 largest node, a counter-body that yields at or before the sphere (its yield pressure within BOTH_BAND of the
@@ -42,15 +41,14 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, read_meta, read_rows
-from nfdmodel import CalibrationWindow, ContactPair, VZTableParams
+from nfdmodel import CalibrationWindow, VZTableParams
 from nfdmodel.materials import plane_strain_modulus, yield_pressure
 
 DATA_FILE = DATA_DIR / "pair_table.csv"
 COLUMNS = ("nu", "E_over_sigma_y", "x", "s", "quantity", "P_over_P_Y", "phi")   # quantity: "D" (Phi_D) or "loss" (Psi)
-LOWEST_PEAK = 1.1            # P/P_Y of the law's lowest fitted unloading path: its window starts there
-PEAKS_PER_DECADE = 6
+SMALLEST_TOP = 2.0           # P/P_Y: a pair law's window must reach the table's lowest unloading path
 LOADING_POINTS_PER_DECADE = 40
-RESOLVED_LOSS = 1e-3         # 1 - e of the lowest fitted unloading path (below it the law keeps e within this of 1)
+DENSE_POINTS_PER_DECADE = 400   # the loading work's trapezoid
 BOTH_BAND = 1.1              # counter yield pressure within this factor of the sphere's: it yields in the window
 
 
@@ -188,19 +186,40 @@ def law_curves(law: VZTableParams, x_loading: np.ndarray, peaks: np.ndarray) -> 
     return D, np.array(e)
 
 
-def mapped_law(pair: ContactPair, x_loading, D_pair, peaks, e_pair,
-               window: CalibrationWindow | None = None) -> VZTableParams:
-    """The vz-table fit (calib.fit.table_fit) of the loading curve D_pair and the returned work e_pair^2 W_l,pair
-    on ``pair``'s scales (x_loading, peaks in P/P_Y)."""
-    from calib.fit.least_squares import radius_law_data
-    from calib.fit.table_fit import LoadingWork, fit_tables
+def mapped_tables(rigid_flat: VZTableParams, ratios: Ratios, top: float, window: CalibrationWindow) -> VZTableParams:
+    """The pair law on ``rigid_flat``'s nodes and ``top``, on its pair's scales (module doc), node by node to top:
 
-    above = x_loading > 1.0
-    x, D = x_loading[above], D_pair[above]
-    data = radius_law_data(x * pair.P_Y, D * pair.delta_Y, np.full(x.size, np.nan), R_star=pair.R_star,
-                           E_star=pair.E_star, P_Y=pair.P_Y)
-    work = e_pair ** 2 * LoadingWork(x, D)(peaks) * pair.P_Y * pair.delta_Y
-    return fit_tables(data, pair, peaks * pair.P_Y, work, window)
+        D_pair = max(D_rf Phi_D, x^(2/3)),   W_l = (2/5) + int_1^x x' dD  (trapezoid, DENSE_POINTS_PER_DECADE)
+        e_rf^2 = (2/5) x^(5/3) / (g_rf W_l,rf),   e_pair^2 = 1 - (1 - e_rf^2) Psi
+        g = (2/5) x^(5/3) / (e_pair^2 W_l,pair),   f = sqrt(D_pair g) - x^(1/3)       (nfdmodel.vz_table)
+
+    so Phi_D = Psi = 1 returns the rigid-flat law's own tables. The Hertz floor keeps the loading curve at or
+    beyond the elastic one (where the rigid-flat law is still elastic, Phi_D's 0.1 % departure is the FE's
+    discretisation, not plasticity). Beyond ``top`` (out of the window) f and g are the rigid-flat law's, scaled
+    to meet the pair's at top, so the law keeps an admissible shape to full contact."""
+    x_rf = np.array(rigid_flat.x)
+    nodes = np.sort(np.append(x_rf[np.abs(x_rf / top - 1.0) > 1e-6], top))
+    inside = nodes[nodes <= top]
+    dense = np.unique(np.concatenate([np.geomspace(1.0, top, max(200, int(DENSE_POINTS_PER_DECADE * np.log10(top)))),
+                                      inside]))
+    D_rf = rigid_flat.scaled_approach(dense)
+    D_pair = np.maximum(D_rf * ratios.at("D", dense), dense ** (2.0 / 3.0))
+
+    def work(D):                                    # W_l / (P_Y delta_Y) at the nodes inside
+        cumulative = 0.4 + np.concatenate([[0.0], np.cumsum(0.5 * (dense[1:] + dense[:-1]) * np.diff(D))])
+        return cumulative[np.searchsorted(dense, inside)]
+
+    f_rf, g_rf = rigid_flat.tables(nodes)
+    hertz = 0.4 * inside ** (5.0 / 3.0)
+    e2_rf = np.minimum(hertz / (g_rf[:inside.size] * work(D_rf)), 1.0)
+    e2_pair = np.clip(1.0 - (1.0 - e2_rf) * ratios.at("loss", inside), 0.0, 1.0)
+    g_in = hertz / (e2_pair * work(D_pair))
+    f_in = np.sqrt(D_pair[np.searchsorted(dense, inside)] * g_in) - np.cbrt(inside)
+    f = np.concatenate([f_in, f_rf[inside.size:] * f_in[-1] / f_rf[inside.size - 1]])
+    g = np.concatenate([g_in, g_rf[inside.size:] * g_in[-1] / g_rf[inside.size - 1]])
+    f = np.maximum.accumulate(np.maximum(f, 0.0))
+    f[0], g[0] = 0.0, 1.0
+    return VZTableParams(rigid_flat.pair, tuple(nodes), tuple(f), tuple(g), window)
 
 
 def check_counter_elastic(material, counter) -> None:
@@ -234,32 +253,17 @@ def pair_law(material, radius: float, counter, table: PairTable | None = None, m
             "two-body FE reach": recipe.fe_reach(pair) / pair.P_Y}
     top_by = min(tops, key=tops.get)
     top = tops[top_by]
-    if top <= LOWEST_PEAK * 1.5:
+    if top < SMALLEST_TOP:
         raise ValueError(f"--counter-E out of range for the pair table: its window for this pair ends at {top:.3g} "
-                         f"P_Y, below {LOWEST_PEAK * 1.5:g} P_Y (calibrate the pair by FE: nfdcal calibrate "
+                         f"P_Y, below {SMALLEST_TOP:g} P_Y (calibrate the pair by FE: nfdcal calibrate "
                          f"--counter-E ...)")
     ratios = table.ratios(nu, ratio, s, top)
     substitution = VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]),
                                  master._window(values, pair))
-    x_loading = np.geomspace(1.0, top, max(40, int(np.ceil(LOADING_POINTS_PER_DECADE * np.log10(top)))))
-    D_rf, _ = law_curves(substitution, x_loading, x_loading[:1])
-
-    def e_pair(peaks):
-        _, e_rf = law_curves(substitution, x_loading[:1], peaks)
-        return np.sqrt(np.clip(1.0 - (1.0 - e_rf ** 2) * ratios.at("loss", peaks), 0.0, 1.0))
-
-    # fitted from the first load whose path loses RESOLVED_LOSS of e: below it the f, g of the fit are differences
-    # of nearly equal numbers; the law stays within RESOLVED_LOSS of e there (e <= 1 by admissibility)
-    dense = np.geomspace(LOWEST_PEAK, top, 60)
-    lossy = dense[1.0 - e_pair(dense) >= RESOLVED_LOSS]
-    first = float(lossy[0]) if lossy.size and lossy[0] < top / 2 else LOWEST_PEAK
-    peaks = np.geomspace(first, top, max(4, int(np.ceil(PEAKS_PER_DECADE * np.log10(top / first))) + 1))
     source = (f"pair table ({table.path.name if table.path else 'pair table'}: two-body FE over the rigid flat's, "
               f"X = E1'/E2' {X:.3g}) on the vz master table's law, to {top:.4g} P_Y (set by the {top_by})")
-    law = mapped_law(pair, x_loading, D_rf * ratios.at("D", x_loading), peaks, e_pair(peaks),
-                     CalibrationWindow(LOWEST_PEAK, float(top), None, source))
+    law = mapped_tables(substitution, ratios, float(top), CalibrationWindow(1.0, float(top), None, source))
     a_top = pair.a_Y * (np.cbrt(top) + float(law.tables(np.array([top]))[0][0])) / pair.R_star   # a = a_Y (x^(1/3) + f)
-    law = dataclasses.replace(law, window=dataclasses.replace(law.window, P_min_over_P_Y=LOWEST_PEAK,
-                                                              a_max_over_R=float(a_top)))
+    law = dataclasses.replace(law, window=dataclasses.replace(law.window, a_max_over_R=float(a_top)))
     return {"law": law, "ratios": ratios, "stiffness_ratio": X, "s": s, "tops": tops, "top_by": top_by,
             "substitution": substitution, "table": table, "master": master}

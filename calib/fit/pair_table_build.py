@@ -42,13 +42,13 @@ from calib import output
 from calib.fit import recipe
 from calib.fit.counter import CounterBody
 from meshes.keys import stable_key
-from nfdmodel import ContactPair, Material
+from nfdmodel import ContactPair, Material, limits
 
 SIGMA_Y, R, RHO = 100e6, 0.1, 7800.0
 NUS = (0.2, 0.3, 0.45)
 E_OVER_SIGMA_YS = (200.0, 600.0, 2000.0)
 XS = ("1/3", "1/2", "1", "3")                # E1'/E2', exact fractions
-PEAKS_OVER_YIELD = (2.0, 5.0, 13.7, 41.2, 100.0, 300.0, 1000.0)
+PEAKS_OVER_YIELD = (2.0, 5.0, 13.7, limits.DEFAULT_WINDOW, 100.0, 300.0, 1000.0)   # the recipe's peaks and on
 ELEMENTS_PER_CONTACT_RADIUS = 10.0
 KINEMATICS = "finite-strain"
 D_GRID_PER_DECADE = 8                        # Phi_D table loads a decade

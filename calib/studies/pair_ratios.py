@@ -49,12 +49,12 @@ from scipy.interpolate import PchipInterpolator
 from calib import output
 from calib.fit import recipe
 from calib.fit.counter import CounterBody
-from calib.fit.pair_table import law_curves, mapped_law
+from calib.fit.pair_table import law_curves
 from calib.fit.pair_table_build import stiffness_ratio
 from calib.report.index_format import read_json, study_header, table
 from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
-from nfdmodel import ContactPair, Material, VZTableParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
 
 SIGMA_Y, R, RHO = 100e6, 0.1, 2700.0
 RATIO_E_OVER_SIGMA_Y, RATIO_NUS = 1000.0, (0.2, 0.3, 0.45)
@@ -66,6 +66,21 @@ RIGID = "rigid"
 
 
 # ----------------------------------------------------------------------------- cases
+def mapped_law(pair: ContactPair, x_loading, D_pair, peaks, e_pair,
+               window: CalibrationWindow | None = None) -> VZTableParams:
+    """The vz-table fit (calib.fit.table_fit) of the loading curve D_pair and the returned work e_pair^2 W_l,pair
+    on ``pair``'s scales (x_loading, peaks in P/P_Y)."""
+    from calib.fit.least_squares import radius_law_data
+    from calib.fit.table_fit import LoadingWork, fit_tables
+
+    above = x_loading > 1.0
+    x, D = x_loading[above], D_pair[above]
+    data = radius_law_data(x * pair.P_Y, D * pair.delta_Y, np.full(x.size, np.nan), R_star=pair.R_star,
+                           E_star=pair.E_star, P_Y=pair.P_Y)
+    work = e_pair ** 2 * LoadingWork(x, D)(peaks) * pair.P_Y * pair.delta_Y
+    return fit_tables(data, pair, peaks * pair.P_Y, work, window)
+
+
 def material(nu: float, E_over_sigma_y: float) -> Material:
     return Material(SIGMA_Y * E_over_sigma_y, nu, SIGMA_Y, RHO)
 
