@@ -31,9 +31,9 @@ rate factor is the rate law's, applied as the rate-aware law states.
 
 With ``--counter-E E2 [--counter-nu NU2] [--counter-R R2 --counter-rho RHO2] [--counter-sigma-y S2]`` and
 ``--v-max``: the sphere on that elastic counter-body (a flat, or a sphere), the pair law from the pair table
-(calib/data/pair_table.csv, calib.fit.pair_table: the two-body FE over the rigid flat's, Phi_D and Phi_e, by
-s = E*/E2', P/P_Y, nu and E/sigma_Y, mapping the vz master table's law), no FE run; its window from 1.1 P_Y to
-the lowest of the pair table's top, the vz master table's and the two-body FE's reach on the pair. Its parameter
+(calib/data/pair_table.csv, calib.fit.pair_table: the two-body FE over the rigid flat's in loading approach and
+dissipated work, by s = E*/E2', P/P_Y, nu and E/sigma_Y, mapping the vz master table's law node by node), no FE
+run; its window from P_Y to the lowest of the pair table's top, the vz master table's and the two-body FE's reach on the pair. Its parameter
 file states the counter-body (``nfdcal collide --params``, ``nfdcal export lammps --like-params-out`` take it as a
 calibrated pair's). Refused in one line (exit 2) without ``--v-max``, with ``--law vz-unload`` or ``--rate-law``
 (not measured on pairs), outside the pair table (nu, E/sigma_Y, E1'/E2') and for a counter-body that yields at
@@ -55,7 +55,8 @@ LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz maste
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("material",
                                    help="Ca, Kc from the master table, or (--v-max) the vz-table law from the vz master "
-                                        "table (--rate-law: with its strain-rate dependence); no FE",
+                                        "table (--rate-law: with its strain-rate dependence; --counter-E: on an elastic "
+                                        "counter-body, by the pair table); no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension

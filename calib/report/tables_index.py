@@ -127,7 +127,7 @@ def pair_table(root: Path) -> list[str]:
                          "python -m calib.fit.pair_table_build") + [
         "A yielding sphere on an elastic flat over the same sphere on the rigid flat (two-body FE, finite-strain "
         f"sphere, {data['stamp']['mesh']['elements_per_contact_radius']:g} elements per contact radius), each to "
-        f"its reach: Phi_D and Phi_e at nu {', '.join(f'{v:g}' for v in axes['nu'])}, E/sigma_Y "
+        f"its reach: Phi_D and the dissipation ratio Psi at nu {', '.join(f'{v:g}' for v in axes['nu'])}, E/sigma_Y "
         f"{', '.join(f'{v:g}' for v in axes['E_over_sigma_y'])}, E1'/E2' "
         f"{', '.join(f'{v:.3g}' for v in axes['x'])}; {len(runs)} FE runs, "
         f"{sum(r['wall_time_s'] or 0.0 for r in runs) / 60:.0f} min of worker time. `nfdcal material --counter-E "
