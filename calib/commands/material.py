@@ -29,14 +29,25 @@ lammps`` writes the plugin's ``rate`` keyword. The summary gives eps_dot and R a
 rate-aware law scales vz and vz-table only). The master table's law is measured on rate-independent FE: the
 rate factor is the rate law's, applied as the rate-aware law states.
 
+With ``--counter-E E2 [--counter-nu NU2] [--counter-R R2 --counter-rho RHO2] [--counter-sigma-y S2]`` and
+``--v-max``: the sphere on that elastic counter-body (a flat, or a sphere), the pair law from the pair table
+(calib/data/pair_table.csv, calib.fit.pair_table: the two-body FE over the rigid flat's in loading approach and
+dissipated work, by s = E*/E2', P/P_Y, nu and E/sigma_Y, mapping the vz master table's law node by node), no FE
+run; its window from P_Y to the lowest of the pair table's top, the vz master table's and the two-body FE's reach on the pair. Its parameter
+file states the counter-body (``nfdcal collide --params``, ``nfdcal export lammps --like-params-out`` take it as a
+calibrated pair's). Refused in one line (exit 2) without ``--v-max``, with ``--law vz-unload`` or ``--rate-law``
+(not measured on pairs), outside the pair table (nu, E/sigma_Y, E1'/E2') and for a counter-body that yields at
+or before the sphere: ``nfdcal calibrate --counter-E ...`` calibrates those pairs by FE.
+
 ``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
 exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_hardening_arguments, add_material_arguments, add_rate_law_arguments,
-                                   add_summary_arguments, material_from_args, print_summary, rate_law_from_args,
-                                   rate_law_given, refuse_hardening)
+from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
+                                   add_rate_law_arguments, add_summary_arguments, counter_from_args,
+                                   material_from_args, print_summary, rate_law_from_args, rate_law_given,
+                                   refuse_hardening)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -44,7 +55,8 @@ LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz maste
 def add_parser(subparsers) -> None:
     parser = subparsers.add_parser("material",
                                    help="Ca, Kc from the master table, or (--v-max) the vz-table law from the vz master "
-                                        "table (--rate-law: with its strain-rate dependence); no FE",
+                                        "table (--rate-law: with its strain-rate dependence; --counter-E: on an elastic "
+                                        "counter-body, by the pair table); no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
@@ -60,13 +72,16 @@ def add_parser(subparsers) -> None:
                                    "stated (the rate-aware law, nfdmodel.rate_aware; written to --params-out): "
                                    "johnson-cook (R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds "
                                    "(R = 1 + (eps_dot / D)^(1/q)); not with --law vz-unload")
+    add_counter_arguments(parser)       # with --v-max: the pair law from the pair table
+    parser.add_argument("--pair-table", default=None, metavar="CSV",
+                        help="pair table CSV for --counter-E (default: the shipped one)")
     parser.add_argument("--params-out", default=None, metavar="JSON",
                         help="write a parameter file (read by nfdmodel.load_parameters, nfdcal collide --params); "
                              "never one of the tables read, an existing file only with --overwrite")
     parser.add_argument("--overwrite", action="store_true", help="replace an existing --params-out file (refused "
                                                                  "otherwise)")
     add_summary_arguments(parser, progress=False)
-    parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
+    parser.set_defaults(run=run, shipped=("table", "vz_table", "pair_table"))   # calib.commands.targets: the tables read
 
 
 def run(ns) -> int:
@@ -75,9 +90,13 @@ def run(ns) -> int:
 
     refuse_hardening(ns, "material", "interpolates the master tables, without an FE run")
     material, radius = material_from_args(ns)
+    counter = counter_from_args(ns, material)
     refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:
-        return run_vz_table(ns, material, radius)
+        return run_vz_table(ns, material, radius, counter)
+    if counter is not None or ns.pair_table is not None:
+        raise ValueError("--counter-E needs --v-max (the pair law from the pair table is a vz-table law); the "
+                         "two-constant master table is the rigid flat's")
     if ns.vz_table is not None or ns.law is not None or rate_law_given(ns) is not None:
         flag = ("--vz-table" if ns.vz_table is not None else "--law" if ns.law is not None
                 else rate_law_given(ns))
@@ -108,21 +127,32 @@ def run(ns) -> int:
     return 0
 
 
-def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-table") -> dict:
+def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-table", counter=None,
+                 pair_table_csv=None) -> dict:
     """The vz-table law of ``material`` (sphere of ``radius`` [m]) from the vz master table (module
     doc), what ``--v-max`` answers and writes: {"law": VZTableParams, "table": VZMasterTable,
     "values": its tables' record, "v_in_window": (v_low, v_top) [m/s], the impacts of a sphere on a
     rigid flat that reach the window's ends}. The law does not depend on v_max (v_max is checked
-    against v_top only). ``law_name`` "vz-unload": the table's vz-unload law (VZUnloadParams)."""
+    against v_top only). ``law_name`` "vz-unload": the table's vz-unload law (VZUnloadParams).
+    ``counter`` (calib.fit.counter.CounterBody): the pair law of calib.fit.pair_table on that
+    counter-body (then also "pair": its pair_law record, "counter": the counter-body)."""
     from calib.fit import impact_window
     from calib.fit.vz_master_table import VZMasterTable
 
     table = VZMasterTable.load(table_csv)
-    law = table.unload_law(material, radius) if law_name == "vz-unload" else table.law(material, radius)
+    extra = {}
+    if counter is not None:
+        from calib.fit.pair_table import PairTable, pair_law
+
+        extra = {"pair": pair_law(material, radius, counter, PairTable.load(pair_table_csv), table),
+                 "counter": counter}
+        law = extra["pair"]["law"]
+    else:
+        law = table.unload_law(material, radius) if law_name == "vz-unload" else table.law(material, radius)
     window, P_Y = law.window, law.pair.P_Y
     return {"law": law, "table": table, "values": table.tables(material.nu, material.E / material.sigma_y),
             "v_in_window": (impact_window.reach_velocity(law, window.P_min_over_P_Y * P_Y),
-                            impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y))}
+                            impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y)), **extra}
 
 
 def write_vz_table_law(path, found: dict, material, radius: float, rate_law: dict | None = None) -> None:
@@ -132,14 +162,21 @@ def write_vz_table_law(path, found: dict, material, radius: float, rate_law: dic
     from calib.report.parameter_file import write_parameter_file
 
     table = found["table"]
-    write_parameter_file(path, found["law"], radius, material,
-                         {"shipped": "vz master table", "accuracy": table.accuracy, "table": str(table.path)},
-                         output.stamp(0.0), table_rel_error_estimate=found["values"]["rel_error_estimate"],
+    fit = {"shipped": "vz master table", "accuracy": table.accuracy, "table": str(table.path)}
+    counter = found.get("counter")
+    if counter is not None:
+        pair_table = found["pair"]["table"]
+        fit = {"shipped": "pair table on the vz master table", "accuracy": f"{pair_table.accuracy}; {table.accuracy}",
+               "table": str(table.path), "pair_table": str(pair_table.path)}
+    write_parameter_file(path, found["law"], radius, material, fit, output.stamp(0.0),
+                         counter=None if counter is None else counter.describe(),
+                         table_rel_error_estimate=found["values"]["rel_error_estimate"],
                          **({"rate_law": dict(rate_law)} if rate_law is not None else {}))
 
 
-def run_vz_table(ns, material, radius) -> int:
-    """``--v-max``: the vz-table law of the material from the vz master table (module doc)."""
+def run_vz_table(ns, material, radius, counter=None) -> int:
+    """``--v-max``: the vz-table law of the material from the vz master table, on ``counter`` the pair law
+    from the pair table (module doc)."""
     from calib.commands.common import number
     from calib.fit import impact_window
     from nfdmodel.validation import bound_text, check_solid
@@ -153,13 +190,22 @@ def run_vz_table(ns, material, radius) -> int:
     if rate is not None and law_name == "vz-unload":
         raise ValueError("--rate-law out of range for --law vz-unload: the rate-aware law scales sigma_Y of the "
                          "vz-table (or vz) law only; give --law vz-table (or no --law)")
-    found = vz_table_law(material, radius, ns.vz_table, law_name)
+    if counter is not None and (law_name != "vz-table" or rate is not None):
+        flag = "--law" if law_name != "vz-table" else rate_law_given(ns)
+        raise ValueError(f"{flag} out of range with --counter-E: the pair table maps the vz-table law, rate-"
+                         f"independent (give no {flag}, or calibrate the pair by FE: nfdcal calibrate --counter-E ...)")
+    if counter is None and ns.pair_table is not None:
+        raise ValueError("--pair-table needs --counter-E (the pair table maps the law onto a counter-body)")
+    found = vz_table_law(material, radius, ns.vz_table, law_name, counter, ns.pair_table)
     law, table, values = found["law"], found["table"], found["values"]
     pair = law.pair
     window = law.window
     v_low, v_top = found["v_in_window"]
+    pair_found = found.get("pair")
     if v_max > v_top * (1 + 1e-9):
-        raise ValueError(f"v_max out of range: the vz master table's window for this material ends at "
+        whose = ("the vz master table's window for this material" if pair_found is None else
+                 f"the pair law's window (set by the {pair_found['top_by']})")
+        raise ValueError(f"v_max out of range: {whose} ends at "
                          f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {bound_text(v_top, '<=')} m/s ({v_top / pair.v_Y:.4g} v_Y)")
     P_max = impact_window.impact_force(law, v_max)
     summary = {"law": law_name, "v_max": v_max, "P_max_of_v_max": P_max, "P_max_of_v_max_over_P_Y": P_max / pair.P_Y,
@@ -170,6 +216,18 @@ def run_vz_table(ns, material, radius) -> int:
                "rel_error_estimate": values["rel_error_estimate"],
                "units": {"P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_max": "m/s", "v_Y": "m/s"},
                "source": "vz master table interpolation", "table_file": str(table.path), "accuracy": table.accuracy}
+    accuracy = table.accuracy
+    counter_lines = []
+    if pair_found is not None:
+        accuracy = f"{pair_found['table'].accuracy}; {table.accuracy}"
+        summary.update(source="pair table on the vz master table", pair_table_file=str(pair_found["table"].path),
+                       accuracy=accuracy, counter_body=found["counter"].describe(),
+                       E1_over_E2_plane_strain=pair_found["stiffness_ratio"], window_top_by=pair_found["top_by"],
+                       window_tops_over_P_Y=pair_found["tops"], E_star=pair.E_star, R_star=pair.R_star)
+        summary["units"].update(E_star="Pa", R_star="m")
+        counter_lines = [f"{found['counter'].label()}; E1'/E2' = {pair_found['stiffness_ratio']:.4g}, the pair's "
+                         f"E* = {pair.E_star:.4g} Pa, R* = {pair.R_star:.4g} m; window top set by the "
+                         f"{pair_found['top_by']}"]
     unloading = []
     if law_name == "vz-unload":
         rho, m = law.unloading_tables(P_max / pair.P_Y)
@@ -192,7 +250,7 @@ def run_vz_table(ns, material, radius) -> int:
         f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, delta_Y = {pair.delta_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
         f"window: P/P_Y {window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} (impacts {v_low:.3g}..{v_top:.3g} m/s); "
         f"v_max = {v_max:g} m/s reaches {P_max / pair.P_Y:.4g} P_Y{below}",
-        *unloading, *rating, f"accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
+        *counter_lines, *unloading, *rating, f"accuracy: {accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0
 
 

@@ -23,9 +23,9 @@ from pathlib import Path
 OUTPUT_FLAGS = ("out", "params_out", "master_out", "plot", "like_params_out")   # the flags that name where results go
 FOLDER_FLAGS = ("out", "like_params_out")                                      # those that name a folder
 INPUT_FLAGS = ("params", "table_params", "lammps_restitution", "impacts", "force_approach", "drops", "table",
-               "vz_table", "scene", "flow_curve", "unload_params")               # the flags that name files read
-TABLE_FLAGS = ("table", "vz_table", "master_out")     # a table CSV whose metadata is the .json beside it
-SHIPPED_NAMES = {"table": "master table", "vz_table": "vz master table"}
+               "vz_table", "pair_table", "scene", "flow_curve", "unload_params")   # the flags that name files read
+TABLE_FLAGS = ("table", "vz_table", "pair_table", "master_out")   # a table CSV whose metadata is the .json beside it
+SHIPPED_NAMES = {"table": "master table", "vz_table": "vz master table", "pair_table": "pair table"}
 
 
 def flag(dest: str) -> str:
@@ -37,6 +37,8 @@ def shipped_table(dest: str) -> Path:
     """The real path of the shipped table a flag's default stands for (calib/data, beside the package)."""
     if dest == "table":
         from calib.fit.master_table import DEFAULT_TABLE
+    elif dest == "pair_table":
+        from calib.fit.pair_table import DATA_FILE as DEFAULT_TABLE
     else:
         from calib.fit.vz_master_table import DEFAULT_TABLE
     return DEFAULT_TABLE.resolve()

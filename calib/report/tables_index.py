@@ -1,6 +1,7 @@
 """The master tables' sections of results/README.md (calib.report.results_index): the master table of Ca_hat,
 Kc_hat (results/tables/master_grid, master_validation; ``nfdcal table``) and the vz master table
-(results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check).
+(results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check) and the pair table
+(results/pairs/pair_table.json, calib/data/pair_table.csv; calib.fit.pair_table_build).
 """
 from __future__ import annotations
 
@@ -114,3 +115,29 @@ def vz_master_table(root: Path) -> list[str]:
             for r in unloading]
     return lines + table(["nu", "E/sigma_Y", "P_max/P_Y", "inside", "FE dent/alpha_max", "vz-unload dent",
                           "vz-unload unloading", "vz-unload e", "vz-table dent", "vz-table unloading", "vz-table e"], rows)
+
+
+def pair_table(root: Path) -> list[str]:
+    """The pair table's section (results/pairs/pair_table.json, calib.fit.pair_table_build)."""
+    data = read_json(root / "pairs" / "pair_table.json")
+    if data is None:
+        return []
+    axes, runs = data["axes"], data["runs"]
+    lines = study_header("The pair table (`pairs/pair_table.json`, `calib/data/pair_table.csv`)", data["stamp"],
+                         "python -m calib.fit.pair_table_build") + [
+        "A yielding sphere on an elastic flat over the same sphere on the rigid flat (two-body FE, finite-strain "
+        f"sphere, {data['stamp']['mesh']['elements_per_contact_radius']:g} elements per contact radius), each to "
+        f"its reach: Phi_D and the dissipation ratio Psi at nu {', '.join(f'{v:g}' for v in axes['nu'])}, E/sigma_Y "
+        f"{', '.join(f'{v:g}' for v in axes['E_over_sigma_y'])}, E1'/E2' "
+        f"{', '.join(f'{v:.3g}' for v in axes['x'])}; {len(runs)} FE runs, "
+        f"{sum(r['wall_time_s'] or 0.0 for r in runs) / 60:.0f} min of worker time. `nfdcal material --counter-E "
+        "... --v-max` maps the vz master table's law by them. Against the two-body FE of held-out pairs (not "
+        "nodes), inside the law's window (its top: the lowest of the pair table's, the vz master table's and the "
+        "two-body FE's reach), e / e_FE - 1 and max force error / P_max, beside the rigid-flat law on the pair's "
+        "scales (the substitution):", ""]
+    rows = [[f"{c['nu']:g}", f"{c['E_over_sigma_y']:g}", f"{c['x']:.3g}", c["counter"], f"{c['P_max_over_P_Y']:.4g}",
+             f"{c['window_top']:.4g} ({c['top_by']})", pct(c["pair_table_e_error"]), apct(c["pair_table_force_error"]),
+             pct(c["substitution_e_error"]), apct(c["substitution_force_error"])] for c in data["checks"]]
+    lines += table(["nu", "E/sigma_Y", "E1'/E2'", "counter-body", "P_max/P_Y", "window top P/P_Y", "e", "force",
+                    "substitution: e", "force"], rows)
+    return lines + [f"Accuracy statement: {data['accuracy']}.", ""]

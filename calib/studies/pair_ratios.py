@@ -41,7 +41,6 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
@@ -50,10 +49,12 @@ from scipy.interpolate import PchipInterpolator
 from calib import output
 from calib.fit import recipe
 from calib.fit.counter import CounterBody
+from calib.fit.pair_table import law_curves
+from calib.fit.pair_table_build import stiffness_ratio
 from calib.report.index_format import read_json, study_header, table
 from calib.sweep.runner import run_sweep
 from meshes.keys import stable_key
-from nfdmodel import ContactPair, Material, VZTableParams
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams
 
 SIGMA_Y, R, RHO = 100e6, 0.1, 2700.0
 RATIO_E_OVER_SIGMA_Y, RATIO_NUS = 1000.0, (0.2, 0.3, 0.45)
@@ -65,12 +66,23 @@ RIGID = "rigid"
 
 
 # ----------------------------------------------------------------------------- cases
+def mapped_law(pair: ContactPair, x_loading, D_pair, peaks, e_pair,
+               window: CalibrationWindow | None = None) -> VZTableParams:
+    """The vz-table fit (calib.fit.table_fit) of the loading curve D_pair and the returned work e_pair^2 W_l,pair
+    on ``pair``'s scales (x_loading, peaks in P/P_Y)."""
+    from calib.fit.least_squares import radius_law_data
+    from calib.fit.table_fit import LoadingWork, fit_tables
+
+    above = x_loading > 1.0
+    x, D = x_loading[above], D_pair[above]
+    data = radius_law_data(x * pair.P_Y, D * pair.delta_Y, np.full(x.size, np.nan), R_star=pair.R_star,
+                           E_star=pair.E_star, P_Y=pair.P_Y)
+    work = e_pair ** 2 * LoadingWork(x, D)(peaks) * pair.P_Y * pair.delta_Y
+    return fit_tables(data, pair, peaks * pair.P_Y, work, window)
+
+
 def material(nu: float, E_over_sigma_y: float) -> Material:
     return Material(SIGMA_Y * E_over_sigma_y, nu, SIGMA_Y, RHO)
-
-
-def stiffness_ratio(x: str) -> float:
-    return float(Fraction(x))
 
 
 def counter(nu: float, E_over_sigma_y: float, x: str) -> CounterBody | None:
@@ -183,32 +195,6 @@ class RatioTable:
             out.append(by_nu[0] if self.nus.size == 1 else
                        np.array([np.interp(nu, self.nus, by_nu[:, k]) for k in range(by_nu.shape[1])]))
         return out[0], out[1]
-
-
-def law_curves(law: VZTableParams, x_loading: np.ndarray, peaks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """D at the loading points (>= 1) and e at the peaks of a vz-table law, from its own loading work
-    W_l = (2/5) + int_1^x x' dD (trapezoid on 400 log-spaced loads) and returned work (2/5) x^(5/3) / g
-    (calib.fit.table_fit), in units of P_Y delta_Y."""
-    D = law.scaled_approach(np.maximum(x_loading, 1.0))
-    e = []
-    for x_m in peaks:
-        loads = np.geomspace(1.0, x_m, 400)
-        work = 0.4 + np.trapezoid(loads, law.scaled_approach(loads))
-        e.append(np.sqrt(0.4 * x_m ** (5.0 / 3.0) / law.tables(np.array([x_m]))[1][0] / work))
-    return D, np.array(e)
-
-
-def mapped_law(pair, x_loading, D_pair, peaks, e_pair) -> VZTableParams:
-    """The vz-table fit (calib.fit.table_fit) of the loading curve D_pair and the returned work e_pair^2 W_l,pair."""
-    from calib.fit.least_squares import radius_law_data
-    from calib.fit.table_fit import LoadingWork, fit_tables
-
-    above = x_loading > 1.0
-    x, D = x_loading[above], D_pair[above]
-    data = radius_law_data(x * pair.P_Y, D * pair.delta_Y, np.full(x.size, np.nan), R_star=pair.R_star,
-                           E_star=pair.E_star, P_Y=pair.P_Y)
-    work = e_pair ** 2 * LoadingWork(x, D)(peaks) * pair.P_Y * pair.delta_Y
-    return fit_tables(data, pair, peaks * pair.P_Y, work)
 
 
 def against_fe(law, row: dict) -> list[dict]:

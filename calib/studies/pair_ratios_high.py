@@ -118,10 +118,7 @@ def run_task(task: dict) -> dict:
     its tasks in this process), a row of status "timeout" that is stored, so not run again."""
     import signal
 
-    from threadpoolctl import threadpool_limits
-
-    from calib.fe.loadpath import run_load_paths
-    from calib.fit.calibration import _body_meshes, _solver
+    from calib.fit.pair_table_build import load_paths_record
 
     def stop(signum, frame):
         raise CaseTimeout(f"over {MAX_CASE_S:.0f} s")
@@ -130,16 +127,7 @@ def run_task(task: dict) -> dict:
     previous = signal.signal(signal.SIGALRM, stop)
     signal.alarm(int(MAX_CASE_S))
     try:
-        spec = spec_of(task)
-        pair = spec.pair
-        with threadpool_limits(limits=1, user_api="blas"):
-            mesh = _body_meshes(spec)
-            solver = _solver(spec, mesh)
-            paths = run_load_paths(solver, spec.plan, unload=True)
-        loading = [[r["P"] / pair.P_Y, r["alpha"] / pair.delta_Y, r["contact_radius"] / pair.R_star]
-                   for r in paths.loading_rows]
-        record = {"loading": loading, "dofs": int(solver.n_dofs), "contact_size": spec.mesh.contact_size,
-                  "paths": [{"P_max_over_P_Y": p.peak / pair.P_Y, "e": p.restitution} for p in paths.paths]}
+        record = load_paths_record(spec_of(task))
     except (Exception, CaseTimeout) as exc:     # noqa: BLE001 - reported in the row
         return {**task, "status": "timeout" if isinstance(exc, CaseTimeout) else "failed",
                 "error": f"{type(exc).__name__}: {exc}"[:400], "wall_time_s": time.perf_counter() - t0}

@@ -1,0 +1,128 @@
+"""The pair table (calib.fit.pair_table): a yielding sphere on an elastic counter-body without an FE run.
+
+Checked against what the table did not produce: the two-body FE (calib.fe.two_body) of a held-out pair (an
+aluminium-like sphere on a steel-like flat, nu 0.33, E/sigma_Y 250, E1'/E2' 0.335: off every node) on the table's
+mesh family to 41.2 P_Y, where the law must meet 2 % in e and 5 % of P_max in force and beat the rigid-flat
+substitution; the rigid-flat limit (a counter-body 1e4 times stiffer), where the mapped law must give the vz
+master table's own e and D; every pair over the table's domain, admissible from P_Y; the table's interpolation,
+exact at its nodes. The CLI: ``nfdcal material --counter-E ... --v-max`` writes a parameter file of the pair that nfdmodel loads and ``nfdcal collide`` runs, and
+refuses what the table does not cover in one line (exit 2).
+"""
+import json
+
+import numpy as np
+import pytest
+
+from calib.cli import main
+from calib.fit import pair_table_build as build
+from calib.fit.calibration import drive_law
+from calib.fit.counter import CounterBody
+from calib.fit.pair_table import PairTable, law_curves, pair_law
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import Material, VZTableParams, load_parameters
+
+pytestmark = pytest.mark.laws
+
+HELD_OUT = (0.33, 250.0, "0.335")
+
+
+@pytest.fixture(scope="module")
+def held_out_fe():
+    task = build.case_task(*HELD_OUT, peaks=(5.0, 13.7, 41.2), role="check")
+    build.build_meshes([task])
+    row = build.run_task(task)
+    assert row["status"] == "ok", row.get("error")
+    return row
+
+
+def test_pair_law_meets_the_two_body_fe_of_a_held_out_pair(held_out_fe):
+    m, body = build.material(*HELD_OUT[:2]), build.counter(held_out_fe)
+    found = pair_law(m, build.R, body)
+    pair = found["law"].pair
+    assert found["law"].window.P_min_over_P_Y == 1.0
+    errors = {"table": [], "substitution": []}
+    for path in held_out_fe["paths"]:
+        fe = np.array(path["rows"])
+        alpha, force = fe[:, 0] * pair.delta_Y, np.maximum(fe[:, 1], 0.0) * pair.P_Y
+        for name, law in (("table", found["law"]), ("substitution", found["substitution"])):
+            law_force, e = drive_law("vz-table", law, alpha)
+            errors[name].append((e / path["e"] - 1.0, np.abs(law_force - force).max() / force.max()))
+    table, substitution = np.array(errors["table"]), np.array(errors["substitution"])
+    assert np.abs(table[:, 0]).max() < 0.02, table
+    assert table[:, 1].max() < 0.05, table
+    assert abs(table[-1, 0]) < abs(substitution[-1, 0]), (table, substitution)   # the table earns its place
+
+
+def test_rigid_flat_limit_is_the_master_table_law():
+    m = Material(1e8, 0.33, 4e5, 1000.0)                  # E/sigma_Y 250; the counter-body 1e4 times stiffer
+    found = pair_law(m, 0.002, CounterBody(m.E * 1e4, 0.33))
+    law, master = found["law"], found["substitution"]
+    peaks = np.geomspace(2.0, min(law.window.P_max_over_P_Y, 200.0), 6)
+    _, e_pair = law_curves(law, peaks[:1], peaks)
+    _, e_master = law_curves(master, peaks[:1], peaks)
+    assert np.abs(e_pair / e_master - 1.0).max() < 3e-3
+    D_pair, _ = law_curves(law, peaks, peaks[:1])
+    D_master, _ = law_curves(master, peaks, peaks[:1])
+    assert np.abs(D_pair / D_master - 1.0).max() < 5e-3
+
+
+def test_interpolation_is_exact_at_the_nodes():
+    table = PairTable.load()
+    (nu, ratio), nodes = next(iter(table.nodes.items()))
+    node = nodes[0]
+    ratios = table.ratios(nu, ratio, node.s, node.top)
+    for quantity in ("D", "loss"):
+        xs, phis = getattr(node, quantity)
+        np.testing.assert_allclose(ratios.at(quantity, xs), phis, rtol=2e-3)
+
+
+def test_material_writes_the_pair_law_collide_runs(tmp_path, capsys):
+    out = tmp_path / "pair.json"
+    code = main(["material", "--E", "69e9", "--nu", "0.33", "--sigma-y", "276e6", "--R", "0.002", "--rho", "2700",
+                 "--counter-E", "210e9", "--counter-nu", "0.3", "--v-max", "1", "--params-out", str(out), "--json"])
+    assert code == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["window"]["P_min_over_P_Y"] == 1.0
+    assert summary["source"] == "pair table on the vz master table"
+    params = load_parameters(out)
+    assert isinstance(params, VZTableParams)
+    assert params.pair.E_star == pytest.approx(summary["E_star"])
+    assert json.loads(out.read_text())["counter_body"]["E"] == 210e9
+    assert main(["collide", "--law", "vz-table", "--params", str(out), "--v-in", "0.5"]) == 0
+
+
+STEEL = ["--counter-E", "210e9", "--counter-nu", "0.3"]
+
+
+@pytest.mark.parametrize("extra, names", [
+    (STEEL, "--v-max"),                                                       # the pair law needs a window
+    (STEEL + ["--v-max", "1", "--law", "vz-unload"], "--law"),
+    (STEEL + ["--v-max", "1", "--counter-sigma-y", "200e6"], "--counter-sigma-y"),   # the counter yields first
+    (["--counter-E", "10e9", "--v-max", "1"], "E1'/E2'"),                     # softer than the table's nodes
+    (STEEL + ["--v-max", "1", "--nu", "0.48"], "nu"),
+    (STEEL + ["--v-max", "100"], "v_max"),
+])
+def test_material_refuses_what_the_pair_table_does_not_cover(extra, names, capsys):
+    args = ["material", "--E", "69e9", "--sigma-y", "276e6", "--R", "0.002"]
+    args += ([] if "--nu" in extra else ["--nu", "0.33"]) + extra
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and names in err[0], err
+
+
+def test_every_pair_the_table_covers_gets_an_admissible_law():
+    """Across the table's whole domain (nu, E/sigma_Y, X from the rigid-flat limit to its largest node), the law
+    is built (admissible: D increasing, no cycle returning more work than it took, to full contact), starts at
+    P_Y and keeps 0 < e <= 1 over its window."""
+    table, master = PairTable.load(), VZMasterTable.load()
+    for nu in (0.2, 0.33, 0.45):
+        for ratio in (200.0, 500.0, 2000.0):
+            for X in (1e-3, 0.3, 1.0, 3.0):
+                m = Material(1e8, nu, 1e8 / ratio, 1000.0)
+                E2 = m.plane_strain_modulus / X * (1 - nu ** 2)
+                found = pair_law(m, 0.002, CounterBody(E2, nu), table, master)
+                law = found["law"]
+                assert law.window.P_min_over_P_Y == 1.0
+                peaks = np.geomspace(1.5, law.window.P_max_over_P_Y, 5)
+                _, e = law_curves(law, peaks[:1], peaks)
+                assert np.all((e > 0) & (e <= 1.0 + 1e-9)), (nu, ratio, X, e)
