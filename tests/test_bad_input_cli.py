@@ -34,7 +34,7 @@ CLI_CASES = [
     (["calibrate", "--quiet", "--counter-E", "2e11", "--counter-sigma-y", "1e300"], "--counter-sigma-y out of range"),
     (["calibrate", "--quiet", "--counter-E", "2e11", "--counter-R", "0"], "--counter-R out of range"),
     (["calibrate", "--quiet", "--counter-R", "0.1"], "--counter-E out of range"),          # a counter-body needs E
-    (["calibrate", "--quiet", "--counter-E", "2e11", "--v-max", "1"], "--v-max"),
+    (["calibrate", "--quiet", "--counter-E", "2e11", "--v-max", "50"], "v_max out of range"),   # beyond the pair's reach
     (["calibrate", "--quiet", "--kinematics", "finite", "--v-max", "50"], "v_max out of range"),  # beyond the finite reach
     (["calibrate", "--quiet", "--kinematics", "finite", "--counter-E", "2e11", "--counter-sigma-y", "5e8"],
      "--kinematics finite"),                                   # a plastic counter-body is small-strain

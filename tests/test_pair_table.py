@@ -126,3 +126,29 @@ def test_every_pair_the_table_covers_gets_an_admissible_law():
                 peaks = np.geomspace(1.5, law.window.P_max_over_P_Y, 5)
                 _, e = law_curves(law, peaks[:1], peaks)
                 assert np.all((e > 0) & (e <= 1.0 + 1e-9)), (nu, ratio, X, e)
+
+
+def test_calibrate_v_max_on_a_counter_body_agrees_with_the_pair_table(tmp_path, capsys):
+    """``nfdcal calibrate --counter-E ... --v-max``, the FE route for the pairs the table does not cover: the
+    window is sized by the pair's impact (m*, E*, R*) and covers it; where the table also covers the pair, the
+    law the two-body FE calibrates (a coarse mesh, its own paths) and the table's law (other FE runs: the
+    table's nodes) agree within 1 % in e at 2-5 P_Y and in the impact's e at v_max."""
+    from nfdmodel import collide
+
+    code = main(["calibrate", "--counter-E", "2e11", "--counter-nu", "0.3", "--v-max", "0.012", "--contact-size",
+                 "1.6e-4", "--no-plots", "--json", "--quiet", "--out", str(tmp_path)])
+    assert code == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["v_max"]["rounds"][-1]["covered"]
+    calibrated = load_parameters(tmp_path / "parameters.json")
+    assert json.loads((tmp_path / "parameters.json").read_text())["counter_body"]["E"] == 2e11
+    reference = Material(70e9, 0.3, 100e6, 2700.0)           # the calibration's default sphere, R 0.1 m
+    table_law = pair_law(reference, 0.1, CounterBody(2e11, 0.3))["law"]
+    assert calibrated.pair.E_star == pytest.approx(table_law.pair.E_star)
+    peaks = np.array([2.0, 3.0, 4.0, 5.0])
+    _, e_calibrated = law_curves(calibrated, peaks, peaks)
+    _, e_table = law_curves(table_law, peaks, peaks)
+    assert np.abs(e_calibrated / e_table - 1.0).max() < 0.01, (e_calibrated, e_table)
+    impact = collide("vz-table", calibrated, [0.012])
+    assert impact.in_calibrated_range.tolist() == [True]
+    assert impact.e_velocity[0] == pytest.approx(collide("vz-table", table_law, [0.012]).e_velocity[0], rel=0.01)

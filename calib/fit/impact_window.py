@@ -2,7 +2,8 @@
 
 The constants hold on the loads they were fitted on (nfdmodel.window), so the load paths must
 reach the largest force the DEM impacts produce. That force depends on the constants: for a
-sphere of mass m* hitting a rigid flat at v_max, the energy balance of the law,
+sphere hitting a rigid flat, or an elastic counter-body, at v_max (the pair's m*, E*, R*:
+calib.fit.recipe.contact_pair), the energy balance of the law,
 
     (1/2) m* v_max^2 = W(delta_max) = integral_0^delta_max P(delta) d delta,
 
@@ -165,10 +166,11 @@ def window_spec(material: Material, radius: float, top: float, *, loading_steps:
     the contact at every load from ``lowest_over_P_Y`` (LOWEST_PEAK_OVER_P_Y) x P_Y up spans N elements
     (recipe.mesh_for), so the window starts there."""
     if elements_per_contact_radius is not None:
-        pair = ContactPair.sphere_flat(material, radius)
+        counter = spec_options.get("counter")
+        pair = recipe.contact_pair(material, radius, counter)
         spec_options.update(elements_per_contact_radius=elements_per_contact_radius,
-                            graded_from=recipe.sizing_radius(spec_options.get("kinematics", DEFAULT_KINEMATICS))(
-                                pair, min(lowest_over_P_Y * pair.P_Y, top)))
+                            graded_from=recipe.sizing_radius(spec_options.get("kinematics", DEFAULT_KINEMATICS),
+                                                             counter)(pair, min(lowest_over_P_Y * pair.P_Y, top)))
     spec = recipe.calibration_spec(material, radius, peaks=(top,), loading_steps=1, **spec_options)
     plan = spec.plan
     if loading_steps is not None:
@@ -182,19 +184,22 @@ def window_spec(material: Material, radius: float, top: float, *, loading_steps:
         first_load=min(plan.first_load, peaks[0]), loading_ratio=ratio))
 
 
-def window_top(pair: ContactPair, needed: float, kinematics: str = DEFAULT_KINEMATICS) -> float:
+def window_top(pair: ContactPair, needed: float, kinematics: str = DEFAULT_KINEMATICS, counter=None) -> float:
     """The top [N] of the load paths for an impact reaching ``needed`` [N]: MARGIN beyond it,
     never narrower than a fit needs (recipe.MIN_WINDOW_OVER_P_Y), never beyond the reach of the FE
-    in ``kinematics``."""
-    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y), recipe.fe_reach(pair, kinematics))
+    in ``kinematics`` (on ``counter``: recipe.reach_kinematics)."""
+    return min(max(MARGIN * needed, recipe.MIN_WINDOW_OVER_P_Y * pair.P_Y),
+               recipe.fe_reach(pair, recipe.reach_kinematics(kinematics, counter)))
 
 
 def impact_spec(material: Material, radius: float, needed: float, kinematics: str = DEFAULT_KINEMATICS,
                 **spec_options) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a calibration round for an impact reaching ``needed`` [N]:
-    :func:`window_spec` to :func:`window_top`, in ``kinematics`` (``spec_options`` as there)."""
-    return window_spec(material, radius, window_top(ContactPair.sphere_flat(material, radius), needed, kinematics),
-                       kinematics=kinematics, **spec_options)
+    :func:`window_spec` to :func:`window_top`, in ``kinematics`` (``spec_options`` as there, ``counter``
+    among them: the pair's)."""
+    counter = spec_options.get("counter")
+    return window_spec(material, radius, window_top(recipe.contact_pair(material, radius, counter), needed, kinematics,
+                                                    counter), kinematics=kinematics, **spec_options)
 
 
 @dataclass(frozen=True)
@@ -206,9 +211,10 @@ class ImpactWindow:
     rounds: tuple[dict, ...]
 
 
-def estimating_constants(material: Material, radius: float) -> tuple[VZParams, str]:
-    """(VZParams, source): the master table's constants at (nu, E/sigma_Y), else the paper's."""
-    pair = ContactPair.sphere_flat(material, radius)
+def estimating_constants(material: Material, radius: float, counter=None) -> tuple[VZParams, str]:
+    """(VZParams, source): the master table's constants at (nu, E/sigma_Y), else the paper's, on the
+    pair's scales (the rigid flat, or ``counter``'s pair: E*, R*, m*)."""
+    pair = recipe.contact_pair(material, radius, counter)
     try:
         values = MasterTable.load().parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
         return VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"]), "master table"
@@ -250,12 +256,14 @@ def estimable(params: VZParams, load: float) -> float:
 
 
 def check_reach(material: Material, radius: float, v_max: float,
-                kinematics: str = DEFAULT_KINEMATICS) -> tuple[float, VZParams, str]:
+                kinematics: str = DEFAULT_KINEMATICS, counter=None) -> tuple[float, VZParams, str]:
     """(estimated P_max [N] of the impact at v_max, estimating constants, their source); a
-    ValueError before any FE when the FE in ``kinematics`` cannot reach it, naming the largest v_in
-    it can vouch for (and, in small strain, the finite strain's)."""
-    params, source = estimating_constants(material, radius)
+    ValueError before any FE when the FE in ``kinematics`` (on ``counter``: recipe.reach_kinematics)
+    cannot reach it, naming the largest v_in it can vouch for (and, in small strain on the rigid
+    flat, the finite strain's)."""
+    params, source = estimating_constants(material, radius, counter)
     pair = params.pair
+    kinematics = recipe.reach_kinematics(kinematics, counter)
     reach = recipe.fe_reach(pair, kinematics)
     try:
         needed = impact_force(params, v_max)
@@ -272,11 +280,11 @@ def check_reach(material: Material, radius: float, v_max: float,
                    f"{MARGIN * needed / pair.P_Y:.4g} P_Y" if math.isfinite(needed) else
                    "drives the law beyond its domain (contact radius above R*)")
         wider = ""
-        if kinematics == DEFAULT_KINEMATICS:
+        if kinematics == DEFAULT_KINEMATICS and counter is None:
             v_finite = reach_velocity(params, estimable(params, recipe.fe_reach(pair, "finite-strain") / MARGIN))
             wider = f"; --kinematics finite vouches for v_max <= {bound_text(v_finite, '<=')} m/s"
         raise ValueError(f"v_max out of range: an impact at {v_max:g} m/s {reached} ({source}); this FE vouches for loads up to {reach / pair.P_Y:.4g} P_Y "
-                         f"({recipe.reach_text(kinematics)}), "
+                         f"({recipe.reach_text(kinematics)}{'; on a counter-body its contact is small-strain' if counter else ''}), "
                          f"i.e. need v_max <= {bound_text(v_reach, '<=')} m/s ({v_reach / pair.v_Y:.4g} v_Y) for this material and R"
                          f"{wider}")
     return needed, params, source
@@ -291,10 +299,11 @@ def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
     ``unload`` False: loading branches only (the radius fit); ``meshes``: as
     calib.fit.calibration.calibrate."""
     say = progress or (lambda message: None)
-    needed, _, source = check_reach(material, radius, v_max, kinematics)
+    counter = spec_options.get("counter")
+    needed, _, source = check_reach(material, radius, v_max, kinematics, counter)
     rounds = []
-    pair = ContactPair.sphere_flat(material, radius)
-    reach = recipe.fe_reach(pair, kinematics)
+    pair = recipe.contact_pair(material, radius, counter)
+    reach = recipe.fe_reach(pair, recipe.reach_kinematics(kinematics, counter))
     for round_number in range(1, MAX_ROUNDS + 1):
         spec = impact_spec(material, radius, needed, kinematics, **spec_options)
         top = spec.plan.peaks[-1]

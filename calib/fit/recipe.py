@@ -151,6 +151,12 @@ def sizing_radius(kinematics: str = DEFAULT_KINEMATICS, counter=None):
     return REACH_RADIUS[reach_kinematics(kinematics, counter)]
 
 
+def contact_pair(material: Material, radius: float, counter=None) -> ContactPair:
+    """The contact pair of a calibration: the sphere on the rigid flat, or on ``counter``
+    (calib.fit.counter.CounterBody: E*, R*, m* of the two bodies, Johnson 1985 eq. 4.22)."""
+    return ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
+
+
 def reach_kinematics(kinematics: str, counter=None) -> str:
     """The kinematics whose reach (REACH) bounds a calibration in ``kinematics``: the small strain's on a
     counter-body (its contact is small-strain whatever the sphere's kinematics)."""
@@ -446,7 +452,7 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
     """
     if peaks is not None and peaks_over_yield is not None:
         raise ValueError("give peaks [N] or peaks_over_yield [-], not both")
-    pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
+    pair = contact_pair(material, radius, counter)
     reference = counter is None and is_reference_sphere(material.E, material.nu, radius, material.sigma_y)
     given = peaks
     if peaks is None:

@@ -22,7 +22,7 @@ import numpy as np
 from calib import output
 from calib.fe import ContactSolver, run_load_path
 from calib.fe.elastic import ElasticMaterial
-from calib.fit.recipe import hertz_mesh, is_reference_sphere, mesh_for
+from calib.fit.recipe import contact_pair, hertz_mesh, is_reference_sphere, mesh_for
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import ContactPair, Material, reference_case
 
@@ -71,7 +71,7 @@ def run_hertz(spec=None, *, material: Material | None = None, radius: float = re
     """
     t_start = time.perf_counter()
     material = material or Material.reference()
-    pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
+    pair = contact_pair(material, radius, counter)
     loads = default_loads() if loads is None else np.asarray(loads, dtype=float)
     if loads.ndim != 1 or loads.size < 1 or not np.all(np.isfinite(loads)) or np.any(loads <= 0):
         raise ValueError("loads must be a non-empty list of finite forces > 0 [N]")
@@ -206,7 +206,7 @@ def write_hertz_results(out, *, material: Material | None = None, radius: float 
     spec = hertz_spec(material, radius, P_max, contact_size, counter=counter)
     run = run_hertz(spec, material=material, radius=radius, loads=default_loads(P_min, P_max, steps),
                     cache_dir=cache_dir, counter=counter)
-    run_pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
+    run_pair = contact_pair(material, radius, counter)
     stamp = output.stamp(run.wall_time_s, mesh=run.mesh, time_mesh_s=run.time_mesh_s,
                          time_setup_s=run.time_setup_s, time_steps_s=run.time_steps_s,
                          time_assembly_s=sum(r["time_assembly_s"] for r in run.rows),
@@ -241,7 +241,7 @@ def plot_hertz(out, run, material: Material, radius: float, counter=None):
     """contact_radius.png, approach.png, peak_pressure.png (FE and Hertz against P, and the
     relative error) and pressure_profile.png (at the top load) into ``out``."""
 
-    pair = ContactPair.sphere_flat(material, radius) if counter is None else counter.pair(material, radius)
+    pair = contact_pair(material, radius, counter)
     E, nu = material.E, material.nu
     plt = output.pyplot()
     P = np.array([r["P"] for r in run.rows])
