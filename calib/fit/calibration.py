@@ -311,7 +311,7 @@ def calibrate(spec: CalibrationSpec, progress: Callable[[str], None] | None = No
     else:
         coarse = coarse_spec(spec)
         for one in (spec, coarse):      # gmsh is a process-wide singleton: every mesh is built
-            _body_meshes(one)           # here, the other process only reads the cache
+            body_meshes(one)           # here, the other process only reads the cache
         say(f"second mesh: contact element {coarse.mesh.contact_size:.3g} m (Richardson extrapolation)")
         with in_background(mesh_figures_of, {"spec": coarse, "unload": unload}, parallel) as background:
             # the second mesh's process, once done, takes the top path's unloading of this mesh
@@ -360,10 +360,10 @@ def unloading_of(task: dict):
     level: it runs there), with the same solver as the calibration's own, so the same rows."""
     spec = task["spec"]
     with threadpool_limits(limits=1, user_api="blas"):
-        return unloading_path(_solver(spec, _body_meshes(spec)), spec.plan, task["peak"], task["peak_state"])
+        return unloading_path(_solver(spec, body_meshes(spec)), spec.plan, task["peak"], task["peak_state"])
 
 
-def _body_meshes(spec: CalibrationSpec):
+def body_meshes(spec: CalibrationSpec):
     """The mesh of the FE of ``spec``: the hemisphere, or with a counter-body the pair of bodies
     (meshes.counter_body)."""
     if spec.counter is None:
@@ -403,7 +403,7 @@ def _solver_and_first_yield(spec: CalibrationSpec, mesh):
 
 def _calibrate_mesh(spec: CalibrationSpec, say: Callable[[str], None], unload: bool, offload=None) -> CalibrationResult:
     t0 = time.perf_counter()
-    hemisphere = _body_meshes(spec)
+    hemisphere = body_meshes(spec)
     t_mesh = time.perf_counter() - t0
     pair = spec.pair
 

@@ -59,7 +59,7 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
     ``cycle`` (calib.fe.cycles.CycleRun), the mesh and the wall time [s]."""
     from calib.fe.cycles import CyclePlan, run_cycles
     from calib.fe.loadpath import run_load_paths, unloading_path
-    from calib.fit.calibration import _body_meshes, _solver
+    from calib.fit.calibration import body_meshes, _solver
 
     pair = ContactPair.sphere_flat(material, R)
     peaks = tuple(float(x * pair.P_Y) for x in peaks_over_P_Y)
@@ -70,7 +70,7 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
                                                first_load=min(spec.plan.first_load, peaks[0]),
                                                loading_ratio=10.0 ** (1.0 / loading_steps_per_decade))
     t0 = time.perf_counter()
-    solver = _solver(spec, _body_meshes(spec))
+    solver = _solver(spec, body_meshes(spec))
     results = run_load_paths(solver, plan)
     cycle = run_cycles(solver, plan, CyclePlan(fractions, overload), results) if fractions else None
     paths = []

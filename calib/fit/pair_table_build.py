@@ -132,15 +132,10 @@ def all_tasks() -> list[dict]:
 
 def build_meshes(tasks: list[dict]) -> None:
     """Mesh every task here, one at a time (gmsh is a process-wide singleton): workers read the cache."""
-    from meshes.counter_body import pair_mesh
-    from meshes.hemisphere import hemisphere_mesh
+    from calib.fit.calibration import body_meshes
 
     for task in tasks:
-        spec = spec_of(task)
-        if spec.counter is None:
-            hemisphere_mesh(spec.mesh)
-        else:
-            pair_mesh(spec.mesh, spec.counter.mesh_spec(spec.mesh))
+        body_meshes(spec_of(task))
 
 
 def load_paths_record(spec: recipe.CalibrationSpec) -> dict:
@@ -149,11 +144,11 @@ def load_paths_record(spec: recipe.CalibrationSpec) -> dict:
     from threadpoolctl import threadpool_limits
 
     from calib.fe.loadpath import run_load_paths
-    from calib.fit.calibration import _body_meshes, _solver
+    from calib.fit.calibration import body_meshes, _solver
 
     pair = spec.pair
     with threadpool_limits(limits=1, user_api="blas"):
-        solver = _solver(spec, _body_meshes(spec))
+        solver = _solver(spec, body_meshes(spec))
         paths = run_load_paths(solver, spec.plan, unload=True)
     loading = [[r["P"] / pair.P_Y, r["alpha"] / pair.delta_Y, r["contact_radius"] / pair.R_star]
                for r in paths.loading_rows]

@@ -296,7 +296,7 @@ def run_loading(item: dict) -> dict:
     from threadpoolctl import threadpool_limits
 
     from calib.fe.loadpath import run_load_paths
-    from calib.fit.calibration import _body_meshes, _solver
+    from calib.fit.calibration import body_meshes, _solver
 
     material, R = item["material"], item["R"]
     pair = ContactPair.sphere_flat(material, R)
@@ -304,7 +304,7 @@ def run_loading(item: dict) -> dict:
     try:
         spec = task_spec(item, pair)
         with threadpool_limits(limits=1, user_api="blas"):     # as calibrate: small matrices, no threads
-            solver = _solver(spec, _body_meshes(spec))
+            solver = _solver(spec, body_meshes(spec))
             paths = run_load_paths(solver, spec.plan, unload=False)
     except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
         return {"key": item["key"], "status": "failed", "name": item["name"],

@@ -113,15 +113,10 @@ def all_tasks(level: str = LEVEL) -> list[dict]:
 
 def build_meshes(tasks: list[dict]) -> None:
     """Mesh every task here, one at a time (gmsh is a process-wide singleton): workers read the cache."""
-    from meshes.counter_body import pair_mesh
-    from meshes.hemisphere import hemisphere_mesh
+    from calib.fit.calibration import body_meshes
 
     for task in tasks:
-        spec = spec_of(task)
-        if spec.counter is None:
-            hemisphere_mesh(spec.mesh)
-        else:
-            pair_mesh(spec.mesh, spec.counter.mesh_spec(spec.mesh))
+        body_meshes(spec_of(task))
 
 
 # ----------------------------------------------------------------------------- the FE
