@@ -27,12 +27,12 @@ FRACTIONS = (0.5, 0.2)
 @pytest.fixture(scope="module")
 def cycles():
     from calib.fit import recipe
-    from calib.fit.calibration import _body_meshes, _solver
+    from calib.fit.calibration import body_meshes, _solver
 
     spec = recipe.reference_spec("coarse")
     assert spec.mesh.cache_key() == FIT["mesh"]["key"]          # the mesh the laws are fitted on
     plan = LoadPathPlan(peaks=(P_MAX,), loading_step=spec.plan.loading_step, first_load=spec.plan.first_load)
-    solver = _solver(spec, _body_meshes(spec))
+    solver = _solver(spec, body_meshes(spec))
     return run_cycles(solver, plan, CyclePlan(FRACTIONS, 1.3), run_load_paths(solver, plan)), spec.pair
 
 
