@@ -32,12 +32,12 @@ rate factor is the rate law's, applied as the rate-aware law states.
 With ``--counter-E E2 [--counter-nu NU2] [--counter-R R2 --counter-rho RHO2] [--counter-sigma-y S2]`` and
 ``--v-max``: the sphere on that elastic counter-body (a flat, or a sphere), the pair law from the pair table
 (calib/data/pair_table.csv, calib.fit.pair_table: the two-body FE over the rigid flat's in loading approach and
-dissipated work, by s = E*/E2', P/P_Y, nu and E/sigma_Y, mapping the vz master table's law node by node), no FE
-run; its window from P_Y to the lowest of the pair table's top, the vz master table's and the two-body FE's reach on the pair. Its parameter
-file states the counter-body (``nfdcal collide --params``, ``nfdcal export lammps --like-params-out`` take it as a
-calibrated pair's). Refused in one line (exit 2) without ``--v-max``, with ``--law vz-unload`` or ``--rate-law``
-(not measured on pairs), outside the pair table (nu, E/sigma_Y, E1'/E2') and for a counter-body that yields at
-or before the sphere: ``nfdcal calibrate --counter-E ...`` calibrates those pairs by FE.
+dissipated work, by s = E*/E2', P/P_Y, nu and E/sigma_Y, mapping the vz master table's law node by node), no FE run;
+its window from P_Y to the lowest of the pair table's top, the vz master table's and the two-body FE's reach on the
+pair. Its parameter file states the counter-body (``nfdcal collide --params``, ``nfdcal export lammps
+--like-params-out`` take it as a calibrated pair's). Refused in one line (exit 2) without ``--v-max``, with ``--law
+vz-unload`` or ``--rate-law`` (not measured on pairs), outside the pair table (nu, E/sigma_Y, E1'/E2') and for a
+counter-body that yields at or before the sphere: ``nfdcal calibrate --counter-E ...`` calibrates those pairs by FE.
 
 ``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
 exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.

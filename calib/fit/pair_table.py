@@ -41,6 +41,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, read_meta, read_rows
+from calib.fit.table_fit import LoadingWork
 from nfdmodel import CalibrationWindow, VZTableParams
 from nfdmodel.materials import plane_strain_modulus, yield_pressure
 
@@ -48,7 +49,7 @@ DATA_FILE = DATA_DIR / "pair_table.csv"
 COLUMNS = ("nu", "E_over_sigma_y", "x", "s", "quantity", "P_over_P_Y", "phi")   # quantity: "D" (Phi_D) or "loss" (Psi)
 SMALLEST_TOP = 2.0           # P/P_Y: a pair law's window must reach the table's lowest unloading path
 LOADING_POINTS_PER_DECADE = 40
-DENSE_POINTS_PER_DECADE = 400   # the loading work's trapezoid
+DENSE_POINTS_PER_DECADE = 400   # the loading work's points (LoadingWork)
 BOTH_BAND = 1.1              # counter yield pressure within this factor of the sphere's: it yields in the window
 
 
@@ -126,14 +127,11 @@ class PairTable:
             if not (math.isfinite(value) and axis[0] * (1 - 1e-12) <= value <= axis[-1] * (1 + 1e-12)):
                 raise ValueError(f"{label} out of range for {name}: need {label} in [{axis[0]:g}, {axis[-1]:g}], "
                                  f"got {value:g} (calibrate the pair by FE: nfdcal calibrate --counter-E ...)")
-        out = []
-        for (lo, hi, w) in (_bracket(self.nus, nu), ):
-            for (rlo, rhi, wr) in (_bracket(np.log(self.ratios_axis), math.log(E_over_sigma_y)), ):
-                for nu_k, wn in ((self.nus[lo], 1 - w), (self.nus[hi], w)):
-                    for r_k, we in ((self.ratios_axis[rlo], 1 - wr), (self.ratios_axis[rhi], wr)):
-                        if wn * we > 0:
-                            out.append((wn * we, self.nodes[(nu_k, r_k)]))
-        return out
+        lo, hi, w = _bracket(self.nus, nu)
+        rlo, rhi, wr = _bracket(np.log(self.ratios_axis), math.log(E_over_sigma_y))
+        return [(wn * we, self.nodes[(nu_k, r_k)])
+                for nu_k, wn in ((self.nus[lo], 1 - w), (self.nus[hi], w))
+                for r_k, we in ((self.ratios_axis[rlo], 1 - wr), (self.ratios_axis[rhi], wr)) if wn * we > 0]
 
     def top(self, nu: float, E_over_sigma_y: float, s: float) -> float:
         """The largest P/P_Y at which every corner has a node at s or beyond (its nodes' tops)."""
@@ -175,13 +173,13 @@ def _bracket(axis: np.ndarray, value: float) -> tuple[int, int, float]:
 # ----------------------------------------------------------------------------- the law
 def law_curves(law: VZTableParams, x_loading: np.ndarray, peaks: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """D at the loading points and e at the peaks of a vz-table law, from its own loading work
-    W_l = (2/5) + int_1^x x' dD (trapezoid on 400 log-spaced loads) and returned work (2/5) x^(5/3) / g
-    (calib.fit.table_fit), in units of P_Y delta_Y."""
+    W_l = (2/5) + int_1^x x' dD (calib.fit.table_fit.LoadingWork on 400 log-spaced loads) and returned work
+    (2/5) x^(5/3) / g, in units of P_Y delta_Y."""
     D = law.scaled_approach(np.maximum(x_loading, 1.0))
     e = []
     for x_m in peaks:
-        loads = np.geomspace(1.0, x_m, 400)
-        work = 0.4 + np.trapezoid(loads, law.scaled_approach(loads))
+        loads = np.geomspace(1.0, x_m, 400)[1:]
+        work = LoadingWork(loads, law.scaled_approach(loads))(x_m)
         e.append(np.sqrt(0.4 * x_m ** (5.0 / 3.0) / law.tables(np.array([x_m]))[1][0] / work))
     return D, np.array(e)
 
@@ -189,7 +187,7 @@ def law_curves(law: VZTableParams, x_loading: np.ndarray, peaks: np.ndarray) -> 
 def mapped_tables(rigid_flat: VZTableParams, ratios: Ratios, top: float, window: CalibrationWindow) -> VZTableParams:
     """The pair law on ``rigid_flat``'s nodes and ``top``, on its pair's scales (module doc), node by node to top:
 
-        D_pair = max(D_rf Phi_D, x^(2/3)),   W_l = (2/5) + int_1^x x' dD  (trapezoid, DENSE_POINTS_PER_DECADE)
+        D_pair = max(D_rf Phi_D, x^(2/3)),   W_l = (2/5) + int_1^x x' dD  (LoadingWork, DENSE_POINTS_PER_DECADE)
         e_rf^2 = (2/5) x^(5/3) / (g_rf W_l,rf),   e_pair^2 = 1 - (1 - e_rf^2) Psi
         g = (2/5) x^(5/3) / (e_pair^2 W_l,pair),   f = sqrt(D_pair g) - x^(1/3)       (nfdmodel.vz_table)
 
@@ -206,8 +204,7 @@ def mapped_tables(rigid_flat: VZTableParams, ratios: Ratios, top: float, window:
     D_pair = np.maximum(D_rf * ratios.at("D", dense), dense ** (2.0 / 3.0))
 
     def work(D):                                    # W_l / (P_Y delta_Y) at the nodes inside
-        cumulative = 0.4 + np.concatenate([[0.0], np.cumsum(0.5 * (dense[1:] + dense[:-1]) * np.diff(D))])
-        return cumulative[np.searchsorted(dense, inside)]
+        return LoadingWork(dense[1:], D[1:])(inside)
 
     f_rf, g_rf = rigid_flat.tables(nodes)
     hertz = 0.4 * inside ** (5.0 / 3.0)
@@ -263,7 +260,7 @@ def pair_law(material, radius: float, counter, table: PairTable | None = None, m
     source = (f"pair table ({table.path.name if table.path else 'pair table'}: two-body FE over the rigid flat's, "
               f"X = E1'/E2' {X:.3g}) on the vz master table's law, to {top:.4g} P_Y (set by the {top_by})")
     law = mapped_tables(substitution, ratios, float(top), CalibrationWindow(1.0, float(top), None, source))
-    a_top = pair.a_Y * (np.cbrt(top) + float(law.tables(np.array([top]))[0][0])) / pair.R_star   # a = a_Y (x^(1/3) + f)
-    law = dataclasses.replace(law, window=dataclasses.replace(law.window, a_max_over_R=float(a_top)))
+    a_top = float(law.contact_radius_at(top * pair.P_Y)) / pair.R_star
+    law = dataclasses.replace(law, window=dataclasses.replace(law.window, a_max_over_R=a_top))
     return {"law": law, "ratios": ratios, "stiffness_ratio": X, "s": s, "tops": tops, "top_by": top_by,
             "substitution": substitution, "table": table, "master": master}

@@ -16,7 +16,8 @@ the vz master table's rigid-flat law by them.
 Cases: R = 0.1 m, sigma_Y = 100 MPa, E = sigma_Y (E/sigma_Y), nu2 = nu1, the counter an elastic flat:
 nu in NUS, E/sigma_Y in E_OVER_SIGMA_YS, x in XS (PCHIP in s through s = 0 from x = 1/3, 1, 3 matches the
 ratios measured at x = 1/2 and 2 within 0.1 points to 41 P_Y, calib.studies.pair_ratios; x = 1/2 extends the
-reach of the small x), finite-strain sphere (the counter-body stays linear small strain), each pair to its reach (recipe.fe_reach: P <= 1000 P_Y, estimated a <= 0.2 R*), its rigid flat to
+reach of the small x), finite-strain sphere (the counter-body stays linear small strain), each pair to its reach
+(recipe.fe_reach: P <= 1000 P_Y, estimated a <= 0.2 R*), its rigid flat to
 the largest of its pairs' tops. Mesh: graded, every contact radius from the lowest peak up spans
 ELEMENTS_PER_CONTACT_RADIUS elements; the loading branch LOADING_STEPS_PER_DECADE geometric steps a decade,
 unloading paths at PEAKS_OVER_YIELD below the top and at the top.
@@ -276,7 +277,6 @@ def check_rows(rows: list[dict], table) -> list[dict]:
 
 
 # ----------------------------------------------------------------------------- outputs
-CSV_COLUMNS = ("nu", "E_over_sigma_y", "x", "s", "quantity", "P_over_P_Y", "phi")
 CHECK_COLUMNS = ("nu", "E_over_sigma_y", "x", "counter", "P_max_over_P_Y", "window_top", "top_by", "e_fe",
                  "pair_table_e_error", "pair_table_force_error", "substitution_e_error", "substitution_force_error")
 
@@ -298,7 +298,7 @@ def generate(out, table_out, workers: int = 2, progress=None) -> dict:
     """Run (or resume) every case, build the table, run (or resume) the checks at their window tops, and write
     the table CSV ``table_out`` with its .json (axes, accuracy, stamp), OUT/pair_table_checks.csv and
     OUT/pair_table.json."""
-    from calib.fit.pair_table import PairTable
+    from calib.fit.pair_table import COLUMNS, PairTable
 
     out, table_out = Path(out), Path(table_out)
     started = time.perf_counter()
@@ -315,7 +315,7 @@ def generate(out, table_out, workers: int = 2, progress=None) -> dict:
                       fe_wall_time_s=sum(row.get("wall_time_s", 0.0) for row in runs),
                       computed=sweep.computed + extra.computed, reused=sweep.reused + extra.reused)
     axes = {"nu": list(NUS), "E_over_sigma_y": list(E_OVER_SIGMA_YS), "x": [stiffness_ratio(x) for x in XS]}
-    output.write_csv(table_out, rows, CSV_COLUMNS, comment=output.stamp_comment(st))
+    output.write_csv(table_out, rows, COLUMNS, comment=output.stamp_comment(st))
     output.write_json(table_out.with_suffix(".json"), {"pair_table": {"axes": axes, "accuracy": statement,
                                                                        "stamp": st}})
     result = {"checks": checks, "accuracy": statement, "axes": axes, "table": str(table_out), "stamp": st,
