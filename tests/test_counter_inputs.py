@@ -11,7 +11,7 @@ import pytest
 from calib.cli import main
 from calib.fit.counter import SOFT_COUNTER_MIN, CounterBody
 from calib.report.parameter_file import write_parameter_file
-from nfdmodel import Material, VZConstants
+from nfdmodel import Material, VZConstants, limits
 from nfdmodel.hertz_contact import hertz_impact_force, hertz_impact_time
 
 ALUMINIUM, R1 = Material(70e9, 0.3, 100e6, 2699.0), 0.01
@@ -101,7 +101,8 @@ REFUSED = [
     (["hertz", *SOFT, "--P-max", "2"], ["--counter-E", f"{SOFT_COUNTER_MIN:g}", "need --counter-E >="]),
     (["hertz", "--counter-E", "7e6", "--P-max", "20"], ["--counter-E", "softer than the sphere"]),
     (["hertz", "--counter-E", "2e11", "--counter-R", "1e-4", "--P-max", "20"], ["--counter-R", "0.2 min(R1, R2)"]),
-    (["calibrate", *SOFT], ["--counter-E", "0.2 R", "need --counter-E >="]),
+    (["calibrate", *SOFT], ["--counter-E", f"{limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R:g} R",   # auto: finite
+                            "need --counter-E >="]),
     (["calibrate", "--counter-E", "2e11", "--counter-sigma-y", "1e4"], ["--counter-sigma-y", "E2/sigma_Y2", "2e+07"]),
     (["calibrate", "--counter-E", "2e11", "--counter-R", "1e-4", "--counter-rho", "7850"],
      ["--counter-R", "need --counter-R >="]),

@@ -18,6 +18,7 @@ import pytest
 
 from calib.cli import main
 from calib.fit import impact_window, recipe
+from calib.fit.counter import CounterBody
 from nfdmodel import CalibrationWindow, ContactPair, Material, limits
 from nfdmodel.validation import PlausibilityWarning
 
@@ -37,8 +38,12 @@ def test_the_reach_of_each_kinematics_is_the_table_s():
         assert reach <= load * pair.P_Y * (1 + 1e-12) and a <= radius * (1 + 1e-5)
         assert reach == pytest.approx(load * pair.P_Y) or a == pytest.approx(radius, rel=1e-5)
     assert recipe.fe_reach(pair) == recipe.fe_reach(pair, "small-strain")
-    # a counter-body's contact is small-strain whatever the sphere's kinematics
-    assert recipe.reach_kinematics("finite-strain", object()) == "small-strain"
+    # a counter-sphere's or a yielding counter's contact is small-strain whatever the sphere's kinematics; an
+    # elastic flat's follows the sphere's (tests/test_pair_reach.py)
+    assert recipe.reach_kinematics("finite-strain", CounterBody(2e11, 0.3, R=0.01, rho=7800.0)) == "small-strain"
+    assert recipe.reach_kinematics("finite-strain", CounterBody(2e11, 0.3, sigma_y=1e9)) == "small-strain"
+    assert recipe.reach_kinematics("finite-strain", CounterBody(2e11, 0.3)) == "finite-strain"
+    assert recipe.reach_kinematics("small-strain", CounterBody(2e11, 0.3)) == "small-strain"
 
 
 def test_brass_at_3_m_s_is_planned_with_finite_strain_and_covers_its_impact():

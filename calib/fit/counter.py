@@ -2,10 +2,14 @@
 
 A counter-body is a second material (Young's modulus E2 [Pa], Poisson's ratio nu2, yield stress
 sigma_Y2 [Pa] or none: elastic, density rho2 [kg/m^3]) shaped as a sphere of radius R2 [m] or a flat (none: the
-half-space of a wall, meshed as a block of radius and height BLOCK_SIZE_OVER_R R1, large enough
-that its size does not matter: tests/test_two_body.py::test_the_block_is_large_enough measures
-the approach of the far points changing as 1/L, by 5e-4 of alpha from L = R1 to 2 R1 at the
-Hertz loads of the tests, contact radius and pressure not at all). The pair's Hertz constants
+half-space of a wall, meshed as a block of radius and height L, its far face held, large enough that its size
+does not matter: L = max(BLOCK_SIZE_OVER_R R1, BLOCK_SIZE_OVER_CONTACT x the sphere mesh's refined radius), its
+far elements scaled with it. At the Hertz loads of tests/test_two_body.py::test_the_block_is_large_enough the
+approach of the far points changes as 1/L, by 5e-4 of alpha from L = R1 to 2 R1, contact radius and pressure not
+at all. A wide contact reaches further: at a/R* 0.445 (nu 0.3, E/sigma_Y 200, E1'/E2' = 1, finite strain, 773
+P_Y) L = 2 R1 leaves e 3.0 % and the approach 1.0 % below a block 4 times the one L = 36 x 1.1 a_max gives
+(17.6 R1), which is itself within 0.23 % in e and 0.15 % in approach of it (its far elements kept at R1 / 10
+instead: within 0.03 %). The pair's Hertz constants
 (E*, R*, the yield point of the body with the lower A_Y(nu) sigma_Y) come from
 nfdmodel.ContactPair.sphere_counter; the FE is calib.fe.two_body.
 
@@ -18,7 +22,8 @@ calibrate, hertz and impact and their dry runs; one line naming the flag and the
 
 - the counter's E2 / sigma_Y2 inside calib.fit.recipe.E_OVER_SIGMA_Y_RANGE (as the sphere's): a
   lower sigma_Y2 yields at contacts below 1e-5 R, finer than any mesh the recipe grades;
-- the largest contact radius a_max <= CONTACT_RADIUS_LIMIT min(R1, R2) (calib.fit.recipe.fe_reach);
+- the largest contact radius a_max <= the kinematics' reach min(R1, R2) (calib.fit.recipe.fe_reach: 0.2 in
+  small strain, 0.45 in finite strain on an elastic flat);
 - a counter-body softer than the sphere: (E2 / E1) (a_min / R1) >= SOFT_COUNTER_MIN at the
   smallest contact a_min (first load, or the impact's contact). Below it Newton stalls at a
   relative residual ~1e-8, the stiff sphere's round-off on the soft body's force. Measured on
@@ -46,7 +51,8 @@ from nfdmodel.validation import bound_text, check_solid
 from calib.fit.recipe import CONTACT_RADIUS_LIMIT, E_OVER_SIGMA_Y_RANGE, MESH_LEVELS
 from meshes.hemisphere import MIN_CONTACT_SIZE_OVER_RADIUS
 
-BLOCK_SIZE_OVER_R = 2.0   # the flat counter-body's block: radius and height L = 2 R1
+BLOCK_SIZE_OVER_R = 2.0   # the flat counter-body's block: radius and height L >= 2 R1
+BLOCK_SIZE_OVER_CONTACT = 36.0   # ... and L >= this x the sphere mesh's refined radius (1.1 a_max): module doc
 SOFT_COUNTER_MIN = 1e-5   # (E2/E1)(a_min/R1) below which the two-body FE stalls (module docstring)
 FLAGS = {"E": "--counter-E", "sigma_y": "--counter-sigma-y", "R": "--counter-R"}
 # the smallest largest-contact a mesh resolves, over R1: the default level's a_max / 37 elements,
@@ -100,9 +106,10 @@ class CounterBody:
         counter-sphere's density, the sphere's when none is stated)."""
         return ContactPair.sphere_counter(material, radius, self.E, self.nu, self.sigma_y, self.R, self.rho)
 
-    def check(self, material: Material, radius: float, contact, load: str) -> None:
+    def check(self, material: Material, radius: float, contact, load: str,
+              radius_over_R: float = CONTACT_RADIUS_LIMIT) -> None:
         """``check_counter`` of this counter-body under the sphere (``material``, R [m])."""
-        check_counter(material, radius, self, contact, load)
+        check_counter(material, radius, self, contact, load, radius_over_R=radius_over_R)
 
     def fe_material(self):
         """The FE material: von Mises elastic-perfectly plastic, or elastic without sigma_Y."""
@@ -112,15 +119,23 @@ class CounterBody:
 
     def mesh_spec(self, sphere: HemisphereMeshSpec) -> HemisphereMeshSpec:
         """The counter-body's mesh for the sphere's ``sphere``: the same contact element and
-        refined zone (clipped to 0.9 R2), the far field graded to R1 / 10 (at most its size)."""
-        size = BLOCK_SIZE_OVER_R * sphere.radius if self.is_flat else self.R
+        refined zone (clipped to 0.9 R2), the far field graded to the sphere's far element (at most its size),
+        scaled with a block larger than BLOCK_SIZE_OVER_R R1 (``block_size``)."""
+        size = self.block_size(sphere) if self.is_flat else self.R
+        enlarged = size / (BLOCK_SIZE_OVER_R * sphere.radius) if self.is_flat else 1.0
         kind = BlockMeshSpec if self.is_flat else HemisphereMeshSpec
         refined_radius, refined_depth = min(sphere.refined_radius, 0.9 * size), min(sphere.refined_depth, 0.9 * size)
         contact = min(sphere.contact_size, min(refined_radius, refined_depth) / 2)
         fields = dataclasses.asdict(sphere)
         fields.update(radius=size, contact_size=contact, refined_radius=refined_radius, refined_depth=refined_depth,
-                      far_size=min(max(sphere.far_size, contact), size))
+                      far_size=min(max(sphere.far_size, contact) * enlarged, size))
         return kind(**fields)
+
+    @staticmethod
+    def block_size(sphere: HemisphereMeshSpec) -> float:
+        """A flat's block L [m] under the sphere mesh ``sphere``: max(BLOCK_SIZE_OVER_R R1, BLOCK_SIZE_OVER_CONTACT
+        x its refined radius), so the held far face stays far from every contact it meshes (module doc)."""
+        return max(BLOCK_SIZE_OVER_R * sphere.radius, BLOCK_SIZE_OVER_CONTACT * sphere.refined_radius)
 
     def describe(self) -> dict:
         """The record of the parameter file and the result stamps (SI units)."""
@@ -136,10 +151,13 @@ class CounterBody:
 
 
 def check_counter(material: Material, radius: float, counter: CounterBody,
-                  contact: Callable[[ContactPair], tuple[float, float]], load: str, flags: dict = FLAGS) -> None:
+                  contact: Callable[[ContactPair], tuple[float, float]], load: str, flags: dict = FLAGS,
+                  radius_over_R: float = CONTACT_RADIUS_LIMIT) -> None:
     """ValueError naming the counter flag (``flags``) and the range the two-body FE handles, before
     any mesh (module docstring). ``contact(pair)``: the (smallest, largest) contact radius [m] the
-    run plans on ``pair``; ``load``: what sets it, for the message ("loads 1 .. 100 N")."""
+    run plans on ``pair``; ``load``: what sets it, for the message ("loads 1 .. 100 N"); ``radius_over_R``:
+    the largest contact radius over min(R1, R2) of the FE's kinematics (calib.fit.recipe.REACH; default the
+    small strain's)."""
     if counter.sigma_y is not None:
         low, high = E_OVER_SIGMA_Y_RANGE
         if not low <= counter.E / counter.sigma_y <= high:
@@ -165,24 +183,24 @@ def check_counter(material: Material, radius: float, counter: CounterBody,
                          f"only {a_max:.3g} m = {a_max / radius:.3g} R1; the sphere's mesh resolves contacts from "
                          f"{SMALLEST_CONTACT_OVER_R:.2g} R1 (elements >= {MIN_CONTACT_SIZE_OVER_RADIUS:g} R1): {need}, "
                          f"got {counter.R:g}")
-    bound = CONTACT_RADIUS_LIMIT * min(radius, counter.R or radius)
+    bound = radius_over_R * min(radius, counter.R or radius)
     if a_max > bound:
-        if counter.R is not None and counter.R < radius and a_max <= CONTACT_RADIUS_LIMIT * radius:
-            R2 = brentq(lambda R: contact_of(dataclasses.replace(counter, R=R))[1] - CONTACT_RADIUS_LIMIT * R,
+        if counter.R is not None and counter.R < radius and a_max <= radius_over_R * radius:
+            R2 = brentq(lambda R: contact_of(dataclasses.replace(counter, R=R))[1] - radius_over_R * R,
                         counter.R, radius, rtol=1e-3)
             raise ValueError(f"{flags['R']} out of range for the FE: at {load} the contact radius reaches "
-                             f"{a_max:.3g} m = {a_max / counter.R:.3g} R2; the FE needs a <= {CONTACT_RADIUS_LIMIT:g} "
+                             f"{a_max:.3g} m = {a_max / counter.R:.3g} R2; the FE needs a <= {radius_over_R:g} "
                              f"min(R1, R2): need {flags['R']} >= {bound_text(R2 * 1.001, '>=')} m here (or a lower "
                              f"load), got {counter.R:g} m")
         stiffest = limits.E_MAX
         if counter.E < material.E and contact_of(with_E(stiffest))[1] <= bound:
             E2 = brentq(lambda E: contact_of(with_E(E))[1] - bound, counter.E, stiffest, rtol=1e-3)
             raise ValueError(f"{flags['E']} out of range for the FE: on this counter-body the contact radius at "
-                             f"{load} reaches {a_max:.3g} m = {a_max / bound * CONTACT_RADIUS_LIMIT:.3g} R; the FE "
-                             f"needs a <= {CONTACT_RADIUS_LIMIT:g} R: need {flags['E']} >= {E2 * 1.001:.4g} Pa here, "
+                             f"{load} reaches {a_max:.3g} m = {a_max / bound * radius_over_R:.3g} R; the FE "
+                             f"needs a <= {radius_over_R:g} R: need {flags['E']} >= {E2 * 1.001:.4g} Pa here, "
                              f"got {counter.E:g}")
         raise ValueError(f"{load} out of range for the FE on this counter-body: the contact radius reaches "
-                         f"{a_max:.3g} m; the FE needs a <= {CONTACT_RADIUS_LIMIT:g} min(R1, R2) = {bound:.3g} m")
+                         f"{a_max:.3g} m; the FE needs a <= {radius_over_R:g} min(R1, R2) = {bound:.3g} m")
     if counter.E < material.E:
         def softness(E2: float) -> float:
             return E2 / material.E * contact_of(with_E(E2))[0] / radius - SOFT_COUNTER_MIN

@@ -50,6 +50,7 @@ COLUMNS = ("nu", "E_over_sigma_y", "x", "s", "quantity", "P_over_P_Y", "phi")   
 SMALLEST_TOP = 2.0           # P/P_Y: a pair law's window must reach the table's lowest unloading path
 LOADING_POINTS_PER_DECADE = 40
 DENSE_POINTS_PER_DECADE = 400   # the loading work's points (LoadingWork)
+KINEMATICS = "finite-strain"   # the table's FE (calib.fit.pair_table_build), whose reach bounds a pair law's window
 BOTH_BAND = 1.1              # counter yield pressure within this factor of the sphere's: it yields in the window
 
 
@@ -247,7 +248,7 @@ def pair_law(material, radius: float, counter, table: PairTable | None = None, m
     nu, ratio = float(material.nu), float(material.E / material.sigma_y)
     values = master.tables(nu, ratio)
     tops = {"pair table": table.top(nu, ratio, s), "vz master table": float(values["top"]),
-            "two-body FE reach": recipe.fe_reach(pair) / pair.P_Y}
+            "two-body FE reach": recipe.fe_reach(pair, recipe.reach_kinematics(KINEMATICS, counter)) / pair.P_Y}
     top_by = min(tops, key=tops.get)
     top = tops[top_by]
     if top < SMALLEST_TOP:
