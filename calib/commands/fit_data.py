@@ -49,12 +49,21 @@ the tests' mean strain rate: fit-data refuses in one line (exit 2) naming that c
 and standard error (and, when the residuals exceed the law's measured level, that the rate-aware law
 does not describe the data to it). Drop tests only (a force curve carries no strain rate; no dent column); --params-out
 writes the vz-table law with the fitted rate law ("rate_law", nfdmodel/parameter_file.py).
+
+``--counter-E E2 [--counter-nu NU2] [--counter-R R2 --counter-rho RHO2]``: the tests hit an elastic flat (a floor
+of that material) or sphere, not a rigid flat: sigma_Y is fitted on the pair law of the pair table
+(calib.fit.pair_table: the vz master table's law mapped by the two-body FE's departure from the rigid flat's) on
+the pair's E*, R*, m*, within the pair table's nodes (nu, E/sigma_Y, E1'/E2'); its model-form error adds the pair
+table's, measured by this fit on the two-body FE of held-out pairs (calib.fit.pair_table_build). Drop tests on
+e and P_max, or force-approach curves; refused in one line (exit 2): a yielding counter-body, --pair, --law vz,
+--rate-law, and dent, radius or contact_time columns (not measured on pairs).
 """
 from __future__ import annotations
 
 import time
 
-from calib.commands.common import (MATERIAL_RANGES, add_hardening_arguments, add_rate_law_arguments,
+from calib.commands.common import (MATERIAL_RANGES, add_counter_arguments, add_hardening_arguments,
+                                   add_rate_law_arguments, counter_from_args,
                                    add_summary_arguments, flag_name, number, print_summary, rate_law_given,
                                    refuse_hardening)
 
@@ -118,6 +127,9 @@ def add_parser(subparsers) -> None:
                             "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law "
                                     "cowper-symonds: held while D is fitted)"})
     add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
+    add_counter_arguments(parser)       # the pair law of the pair table (module doc)
+    parser.add_argument("--pair-table", default=None, metavar="CSV",
+                        help="pair table CSV for --counter-E (default: the shipped one)")
     add_summary_arguments(parser, progress=False)
     parser.set_defaults(run=run, shipped=("table", "vz_table"))   # calib.commands.targets: the tables read
 
@@ -140,6 +152,46 @@ def specimen_from_args(ns):
     if sigma_y is not None:
         check_solid("sigma_y", sigma_y)
     return Specimen(values["E"], values["nu"], values["R"], values["rho"], bool(ns.pair)), sigma_y
+
+
+def with_counter(ns, specimen):
+    """The specimen on the counter-body of the --counter-* flags (module doc); one line naming the flag for what
+    the pair table does not measure."""
+    import dataclasses
+
+    counter = counter_from_args(ns, specimen)
+    if counter is None:
+        if ns.pair_table is not None:
+            raise ValueError("--pair-table needs --counter-E (the pair table maps the law onto a counter-body)")
+        return specimen
+    refused = [("--counter-sigma-y", counter.sigma_y is not None, "an elastic counter-body"),
+               ("--pair", ns.pair, "a sphere on a counter-body, not two identical spheres"),
+               ("--law", ns.law == "vz", "the vz-table law (--law vz-table)"),
+               ("--rate-law", rate_law_given(ns) is not None, "a rate-independent law")]
+    for flag, given, what in refused:
+        if given:
+            raise ValueError(f"{flag} out of range with --counter-E: fit-data on a counter-body takes {what}, the "
+                             f"pair table's law")
+    return dataclasses.replace(specimen, counter=counter, pair_table=ns.pair_table)
+
+
+def refuse_unmeasured_columns(data, specimen) -> None:
+    """On a counter-body: a dent, radius or contact_time column named in one line (the pair table measures the
+    loading and e, not those)."""
+    if specimen.counter is None or data.impacts is None:
+        return
+    for column in ("dent", "radius", "contact_time"):
+        if getattr(data.impacts, column, None) is not None:
+            raise ValueError(f"{data.impacts.path}: column '{column}' out of range with --counter-E: the pair table "
+                             f"measures e, P_max and the loading force on a counter-body, not the {column}; give "
+                             f"v_in, e and P_max")
+
+
+def tested(specimen) -> str:
+    """'sphere on flat', 'two identical spheres' or the counter-body's label."""
+    if specimen.counter is not None:
+        return f"sphere on {specimen.counter.label().removeprefix('counter-body: ')}"
+    return "two identical spheres" if specimen.two_spheres else "sphere on flat"
 
 
 def check_outputs(ns) -> None:
@@ -185,7 +237,7 @@ def summary_of(choice, data, specimen, files) -> dict:
         "fits": fits,
         "files": files,
         "specimen": {"E": specimen.E, "nu": specimen.nu, "R": specimen.R, "rho": specimen.rho,
-                     "tested": "two identical spheres" if specimen.two_spheres else "sphere on flat"},
+                     "tested": tested(specimen)},
         "units": {"sigma_y": "Pa", "Ca": "m/N", "Kc": "1/N", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_Y": "m/s",
                   "residuals": "relative: (law - measured) / measured; force: / max(|P|, 0.05 x smallest peak)"},
     })
@@ -244,6 +296,7 @@ def run(ns) -> int:
     if ns.impacts is None and ns.force_approach is None:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)
+    specimen = with_counter(ns, specimen)
     check_outputs(ns)
     if rate_law_given(ns) is not None:
         from calib.commands.fit_data_rate import run_rate_law
@@ -279,7 +332,7 @@ def run(ns) -> int:
         # a parameter file describes the sphere on a rigid flat: from two-sphere tests, the same material
         write_parameter_file(ns.params_out, specimen.sphere_flat_params(result.params), specimen.R,
                              specimen.material(result.values["sigma_y"]),
-                             {**fit, "tested": "two identical spheres" if specimen.two_spheres else "sphere on flat"},
+                             {**fit, "tested": tested(specimen)},
                              output.stamp(time.perf_counter() - started))
         summary["params_out"] = ns.params_out
     if ns.plot:
@@ -335,6 +388,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
     from calib.fit.measured import data as measured_data
     from calib.fit.measured import imprint, table_refusal
     from calib.fit.measured.data import E_ROUND_OFF
+    from calib.fit.measured.table_law import pair_table_of
     from calib.fit.vz_master_table import VZMasterTable
 
     default = ns.law is None
@@ -348,6 +402,7 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
     imprint.check_radius(data.impacts, specimen.R)
+    refuse_unmeasured_columns(data, specimen)
     try:
         table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table, before the data
     except ValueError as exc:
@@ -395,18 +450,25 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
                "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
                "files": data.files, "vz_master_table": str(table.path), "accuracy": table.accuracy,
+               "tested": tested(specimen),
+               **({"counter": specimen.counter.describe(), "pair_table": str(pair_table_of(specimen).path),
+                   "pair_table_accuracy": pair_table_of(specimen).accuracy} if specimen.counter is not None else {}),
                "units": {"sigma_y": "Pa", "P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_Y": "m/s",
                          "residuals": "relative: (law - measured) / measured; force: / max(|P|, 0.05 x smallest peak)"}}
     if ns.params_out:
         from calib.report.parameter_file import write_parameter_file
         from nfdmodel import ContactPair, VZTableParams
 
-        flat = VZTableParams(ContactPair.sphere_flat(specimen.material(result.sigma_y), specimen.R), law.x, law.f,
-                             law.g, law.window)
-        write_parameter_file(ns.params_out, flat, specimen.R, specimen.material(result.sigma_y),
-                             {"source": "measurements", "files": data.files, "model": "vz-table (vz master table)",
+        counter = specimen.counter
+        shipped = law if counter is not None else VZTableParams(
+            ContactPair.sphere_flat(specimen.material(result.sigma_y), specimen.R), law.x, law.f, law.g, law.window)
+        write_parameter_file(ns.params_out, shipped, specimen.R, specimen.material(result.sigma_y),
+                             {"source": "measurements", "files": data.files,
+                              "model": "vz-table (vz master table)" if counter is None else
+                              "vz-table (pair table on the vz master table)",
                               "sigma_y_se": result.se, "sigma_y_interval95": [low, high], "verdict": result.verdict},
-                             output.stamp(time.perf_counter() - started))
+                             output.stamp(time.perf_counter() - started),
+                             counter=None if counter is None else counter.describe())
         summary["params_out"] = ns.params_out
     loads_out = ", ".join(f"{t['P_over_P_Y']:.4g}" for t in left_out)
     lines = [f"law: vz-table (the vz master table's load-dependent law; "
@@ -428,6 +490,8 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                 f"to 1 + {E_ROUND_OFF:g}: round-off about an elastic impact)"] if above_one else []),
              f"rms residual: " + ", ".join(f"{k} {100 * v:.3g} %" for k, v in summary["rms_residual_by_group"].items()),
              f"model: {result.verdict}",
+             *([f"tested: {tested(specimen)}; pair table accuracy: {pair_table_of(specimen).accuracy}"]
+               if specimen.counter is not None else []),
              f"table accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else [])
     print_summary(ns, summary, lines)
     return 0

@@ -37,6 +37,8 @@ its law's window top when its own peaks stop short of it (top_check_tasks, run o
     python -m calib.fit.pair_table_build [--out results/pairs] [--workers 2] [--table-out calib/data/pair_table.csv]
 
 Each FE case is one resumable task (``OUT/pair_table_cases/<key>.json``, calib.sweep.runner) keeping its FE data.
+The held-out checks' FE data also measure fit-data on a counter-body (calib.fit.pair_fit_check): its sigma_Y error
+is the table's model-form level (the table's .json ``model_form``).
 """
 from __future__ import annotations
 
@@ -48,7 +50,7 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
-from calib.fit import recipe
+from calib.fit import pair_fit_check, recipe
 from calib.fit.counter import CounterBody
 from calib.fit.pair_table import KINEMATICS
 from meshes.keys import stable_key
@@ -286,6 +288,35 @@ def check_rows(rows: list[dict], table) -> list[dict]:
     return sorted(out, key=lambda c: (c["nu"], c["E_over_sigma_y"], c["x"], c["counter"], c["P_max_over_P_Y"]))
 
 
+def merged_checks(rows: list[dict]) -> list[dict]:
+    """One row per held-out check pair: its paths and its top check's (calib.fit.pair_table_build.top_check_tasks)
+    together, sorted by P_max, and the longer loading branch."""
+    merged: dict = {}
+    for row in (r for r in rows if r["role"] == "check" and r["status"] == "ok"):
+        key = (row["nu"], row["E_over_sigma_y"], row["x"], row["counter_R_over_R"])
+        into = merged.setdefault(key, {**row, "paths": {}})
+        into["paths"].update({round(p["P_max_over_P_Y"], 6): p for p in row["paths"]})
+        if row["loading"][-1][0] > into["loading"][-1][0]:
+            into["loading"] = row["loading"]
+    return [{**row, "paths": [row["paths"][k] for k in sorted(row["paths"])]} for row in merged.values()]
+
+
+def check_specimen(row: dict):
+    """(calib.fit.measured.specimen.Specimen on the check's counter-body, its true sigma_Y [Pa])."""
+    from calib.fit.measured.specimen import Specimen
+
+    m = material(row["nu"], row["E_over_sigma_y"])
+    return Specimen(m.E, m.nu, R, m.rho, counter=counter(row)), m.sigma_y
+
+
+def fit_checks(rows: list[dict], table) -> list[dict]:
+    """fit-data's sigma_Y on the pair law (``table``) from each held-out check's FE drop tests and loading curve
+    (calib.fit.pair_fit_check.fit_errors)."""
+    from calib.fit.vz_master_table import VZMasterTable
+
+    return pair_fit_check.fit_errors(merged_checks(rows), table, VZMasterTable.load(), check_specimen)
+
+
 # ----------------------------------------------------------------------------- outputs
 CHECK_COLUMNS = ("nu", "E_over_sigma_y", "x", "counter", "P_max_over_P_Y", "window_top", "top_by", "e_fe",
                  "pair_table_e_error", "pair_table_force_error", "substitution_e_error", "substitution_force_error")
@@ -319,6 +350,8 @@ def generate(out, table_out, workers: int = 2, progress=None) -> dict:
     runs = sweep.rows + extra.rows
     checks = check_rows(runs, table)
     statement = accuracy(checks) if checks else "no held-out checks"
+    fits = fit_checks(runs, table)
+    form = pair_fit_check.model_form(fits) if fits else {}
     mesh = {"elements_per_contact_radius": ELEMENTS_PER_CONTACT_RADIUS, "graded_from_P_over_P_Y": PEAKS_OVER_YIELD[0],
             "kinematics": KINEMATICS}
     st = output.stamp(time.perf_counter() - started, mesh=mesh, command="python -m calib.fit.pair_table_build",
@@ -327,8 +360,13 @@ def generate(out, table_out, workers: int = 2, progress=None) -> dict:
     axes = {"nu": list(NUS), "E_over_sigma_y": list(E_OVER_SIGMA_YS), "x": [stiffness_ratio(x) for x in XS]}
     output.write_csv(table_out, rows, COLUMNS, comment=output.stamp_comment(st))
     output.write_json(table_out.with_suffix(".json"), {"pair_table": {"axes": axes, "accuracy": statement,
-                                                                       "stamp": st}})
+                                                                       "model_form": form, "stamp": st}})
+    from calib.fit.vz_master_table import VZMasterTable
+
+    fe_data = pair_fit_check.fe_data(merged_checks(runs), table, VZMasterTable.load(), check_specimen)
+    output.write_json(out / "pair_fe_drops.json", {"rows": fe_data, "stamp": st})
     result = {"checks": checks, "accuracy": statement, "axes": axes, "table": str(table_out), "stamp": st,
+              "model_form": form, "fit_checks": fits,
               "failures": [{k: row.get(k) for k in ("role", "nu", "E_over_sigma_y", "x", "error")}
                            for row in runs if row["status"] != "ok"],
               "runs": [{k: row.get(k) for k in ("role", "nu", "E_over_sigma_y", "x", "counter_R_over_R", "peaks",

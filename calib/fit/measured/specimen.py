@@ -62,13 +62,18 @@ class Specimen:
     tested: ``two_spheres`` False, a sphere on a massive rigid flat (R* = R, E* = E/(1 - nu^2),
     m* = m); True, head-on impacts of two identical spheres (R* = R/2, E* = E/(2(1 - nu^2)),
     m* = m/2, v_in the relative speed, the approach that of the two centres). The law's
-    dimensionless constants Ca_hat, Kc_hat are the material's either way (a << R)."""
+    dimensionless constants Ca_hat, Kc_hat are the material's either way (a << R). ``counter``: the
+    elastic flat or sphere the sphere hits (calib.fit.counter.CounterBody; None: the rigid flat or the
+    identical sphere), whose pair (E*, R*, m*) and pair law (calib.fit.pair_table) the fit takes, from
+    ``pair_table`` (a calib.fit.pair_table.PairTable or its CSV path; None: the shipped one)."""
 
     E: float
     nu: float
     R: float
     rho: float
     two_spheres: bool = False
+    counter: object = None
+    pair_table: object = None
 
     def material(self, sigma_y: float) -> Material:
         return Material(self.E, self.nu, sigma_y, self.rho)
@@ -78,6 +83,8 @@ class Specimen:
         with warnings.catch_warnings():          # the radius was checked (and warned about) once
             warnings.simplefilter("ignore", PlausibilityWarning)
             material = self.material(sigma_y)
+            if self.counter is not None:
+                return self.counter.pair(material, self.R)
             if self.two_spheres:
                 return ContactPair.sphere_sphere(material, self.R, material, self.R)
             return ContactPair.sphere_flat(material, self.R)

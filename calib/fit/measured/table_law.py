@@ -51,6 +51,7 @@ from calib.fit.measured import imprint
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.interval import Z95, coverage_factor, interval95  # noqa: F401 (re-exported)
 from calib.fit.measured.specimen import Specimen, impact_residuals
+from calib.fit.pair_table import PairTable, pair_law
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import (ContactPair, PlausibilityWarning, RangeWarning, VZTableParams, VZUnloadParams, collision_reference,
                       get_law)
@@ -63,16 +64,25 @@ CONSISTENT = 2.0                   # residual / expected level above this: the l
 def table_law(specimen: Specimen, sigma_y: float, table: VZMasterTable, unload: bool = False) -> VZTableParams:
     """The vz-table law of the tested pair at sigma_Y [Pa] (a_p/a_Y, C_R of the material at
     (nu, E / sigma_Y); the window the table measured there); ``unload``: the table's vz-unload law
-    (the same loading, the FE's dent ratio and unloading exponent: the law dents are fitted on)."""
+    (the same loading, the FE's dent ratio and unloading exponent: the law dents are fitted on). On a
+    specimen's counter-body: the pair law of the pair table on that law (calib.fit.pair_table.pair_law)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", PlausibilityWarning)
         material = specimen.material(sigma_y)
+        if specimen.counter is not None:
+            return pair_law(material, specimen.R, specimen.counter, pair_table_of(specimen), table)["law"]
         flat = table.unload_law(material, specimen.R) if unload else table.law(material, specimen.R)
         if not specimen.two_spheres:
             return flat
         pair = ContactPair.sphere_sphere(material, specimen.R, material, specimen.R)
     params = VZTableParams(pair, flat.x, flat.f, flat.g, flat.window)
     return VZUnloadParams.from_table(params, flat.x_unload, flat.dent, flat.exponent) if unload else params
+
+
+def pair_table_of(specimen: Specimen) -> PairTable:
+    """The pair table a specimen on a counter-body is fitted with (Specimen.pair_table)."""
+    given = specimen.pair_table
+    return given if isinstance(given, PairTable) else PairTable.load(given)
 
 
 def law_name(law: VZTableParams) -> str:
@@ -151,12 +161,27 @@ def data_kind(data: Measurements) -> str:
 
 
 def model_form_uncertainty(table: VZMasterTable, nu: float, E_over_sigma_y: float, kind: str,
-                           model_form: dict | None = None) -> float:
+                           model_form: dict | None = None, specimen: Specimen | None = None) -> float:
     """u [-] in ln sigma_Y (module doc): ``model_form`` (kind -> u), else the table's measured one,
-    combined in quadrature with the surrounding nodes' discretisation error estimate."""
+    combined in quadrature with the surrounding nodes' discretisation error estimate and, on a
+    specimen's counter-body, the pair table's own (this fit on the two-body FE of held-out pairs: it holds the
+    master law's error on those pairs too, so the sum overstates u rather than understates it)."""
     form = imprint.model_form(table).get("sigma_y", {}) if model_form is None else model_form
     node = table.tables(nu, E_over_sigma_y)["rel_error_estimate"] or 0.0
-    return math.hypot(float(form.get(kind, 0.0)), node)
+    pair = 0.0
+    if specimen is not None and specimen.counter is not None and model_form is None:
+        pair = float(pair_table_of(specimen).meta.get("model_form", {}).get("sigma_y", {}).get(kind, 0.0))
+    return math.hypot(float(form.get(kind, 0.0)), node, pair)
+
+
+def law_residual_levels(table: VZMasterTable, kind: str, groups, specimen: Specimen | None = None) -> dict:
+    """The law's rms residual per data group on noise-free FE data of this ``kind`` (the table's, with a
+    specimen's counter-body the pair table's in quadrature): the level a fit's residual is judged against."""
+    levels = imprint.model_form(table).get("residual_rms", {})
+    pair = (pair_table_of(specimen).meta.get("model_form", {}).get("residual_rms", {})
+            if specimen is not None and specimen.counter is not None else {})
+    return {name: math.hypot(float(levels.get(f"{kind}: {name}", 0.0)), float(pair.get(f"{kind}: {name}", 0.0)))
+            for name in groups}
 
 
 @dataclass(frozen=True)
@@ -183,9 +208,12 @@ class TableLawFit:
 
 
 def sigma_y_range(specimen: Specimen, table: VZMasterTable) -> tuple[float, float]:
-    """[Pa]: E / sigma_Y inside the table."""
-    return (specimen.E / float(table.E_over_sigma_y[-1]) * (1 + 1e-9),
-            specimen.E / float(table.E_over_sigma_y[0]) * (1 - 1e-9))
+    """[Pa]: E / sigma_Y inside the table (and, on a counter-body, inside the pair table's nodes)."""
+    low, high = float(table.E_over_sigma_y[0]), float(table.E_over_sigma_y[-1])
+    if specimen.counter is not None:
+        axis = pair_table_of(specimen).ratios_axis
+        low, high = max(low, float(axis[0])), min(high, float(axis[-1]))
+    return specimen.E / high * (1 + 1e-9), specimen.E / low * (1 - 1e-9)
 
 
 def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_start: float | None = None,
@@ -200,6 +228,8 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     scale = {name: 1.0 for name in sizes}
 
     unload = has_dents(data)
+    if specimen.counter is not None:      # nu, E1'/E2' inside the pair table's nodes: refused before the data
+        table_law(specimen, math.exp(0.5 * (low + high)), table)
 
     def groups(theta):
         return residuals(table_law(specimen, math.exp(theta), table, unload), data)
@@ -231,13 +261,15 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     if theta <= low + 1e-6 or theta >= high - 1e-6:
         side = "softer" if theta <= low + 1e-6 else "harder"
         raise ValueError(f"{', '.join(data.files)}: the vz-table model fits these data best at E/sigma_Y = "
-                         f"{specimen.E / math.exp(theta):.4g}, the edge of the vz master table (E/sigma_Y "
-                         f"{table.E_over_sigma_y[0]:g}..{table.E_over_sigma_y[-1]:g}): the data ask for a {side} material; "
+                         f"{specimen.E / math.exp(theta):.4g}, the edge of the "
+                         f"{'vz master' if specimen.counter is None else 'pair'} table (E/sigma_Y "
+                         f"{specimen.E / math.exp(high):.4g}..{specimen.E / math.exp(low):.4g}): the data ask for a "
+                         f"{side} material; "
                          f"check the data's units and the material flags, or calibrate by FE (nfdcal calibrate --v-max)")
     plus, minus = groups(theta + STEP), groups(theta - STEP)
     slope = {name: (plus[name] - minus[name]) / (2 * STEP) for name in sizes}
     kind = data_kind(data)
-    u = model_form_uncertainty(table, specimen.nu, specimen.E / math.exp(theta), kind, model_form)
+    u = model_form_uncertainty(table, specimen.nu, specimen.E / math.exp(theta), kind, model_form, specimen)
     bounded = interval95(theta, g, slope, scale, cost, at_fit, u, (low, high))
     sigma_y = math.exp(theta)
     v_stat, v_model = bounded.statistical.variance, u * u
@@ -246,8 +278,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
     interval = (math.exp(bounded.low), math.exp(bounded.high))
     law = table_law(specimen, sigma_y, table, unload)
     rms = {name: float(np.sqrt(np.mean(g[name] ** 2))) for name in sizes}
-    level_of = imprint.model_form(table).get("residual_rms", {})
-    law_error = {name: float(level_of.get(f"{kind}: {name}", 0.0)) for name in sizes}
+    law_error = law_residual_levels(table, kind, sizes, specimen)
     expected = {name: math.hypot(law_error[name], noise or 0.0) for name in sizes}
     # a group with no measured level (a table without it, no noise stated) cannot be judged
     judged = [name for name in sizes if expected[name] > 0] or list(sizes)
