@@ -67,16 +67,22 @@ def measurements(row: dict, pair: ContactPair, top: float, kind: str) -> Measure
                                            np.arange(1, tests["e"].size + 1)))
 
 
+def check_law(row: dict, pair_table, master, specimen_of):
+    """(Specimen on the check's counter-body with ``pair_table``, its true sigma_Y [Pa], the pair law there, its
+    window's top P/P_Y)."""
+    specimen, sigma_y = specimen_of(row)
+    specimen = Specimen(specimen.E, specimen.nu, specimen.R, specimen.rho, counter=specimen.counter,
+                        pair_table=pair_table)
+    law = table_law(specimen, sigma_y, master)
+    return specimen, sigma_y, law, law.window.P_max_over_P_Y
+
+
 def fit_errors(rows: list[dict], pair_table, master, specimen_of) -> list[dict]:
     """Per check row and kind: the fitted sigma_Y's ln error and the rms residual per group (module doc).
     ``specimen_of(row)``: (Specimen on the row's counter-body, true sigma_Y [Pa])."""
     out = []
     for row in rows:
-        specimen, sigma_y = specimen_of(row)
-        specimen = Specimen(specimen.E, specimen.nu, specimen.R, specimen.rho, counter=specimen.counter,
-                            pair_table=pair_table)
-        law = table_law(specimen, sigma_y, master)
-        top = law.window.P_max_over_P_Y
+        specimen, sigma_y, law, top = check_law(row, pair_table, master, specimen_of)
         for kind in KINDS:
             data = measurements(row, law.pair, top, kind)
             result = fit(data, specimen, master, model_form={})
@@ -110,11 +116,7 @@ def fe_data(rows: list[dict], pair_table, master, specimen_of) -> list[dict]:
     specimen, its counter-body and its true sigma_Y: the FE data fit-data's tests read."""
     out = []
     for row in rows:
-        specimen, sigma_y = specimen_of(row)
-        specimen = Specimen(specimen.E, specimen.nu, specimen.R, specimen.rho, counter=specimen.counter,
-                            pair_table=pair_table)
-        law = table_law(specimen, sigma_y, master)
-        top = law.window.P_max_over_P_Y
+        specimen, sigma_y, law, top = check_law(row, pair_table, master, specimen_of)
         alpha, force = force_curve(row, law.pair, top)
         out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "x": row["x"], "sigma_y": sigma_y,
                     "E": specimen.E, "R": specimen.R, "rho": specimen.rho, "counter": specimen.counter.describe(),
