@@ -11,7 +11,8 @@ load-unload paths, finite-strain sphere) become what a user measures on such a p
 (quasi-static: the law is rate-independent and so is this FE). fit-data's fit of sigma_Y on the pair law
 (calib.fit.measured.table_law.fit with no model-form term of its own) recovers the FE's sigma_Y to
 ln(sigma_fit / sigma_Y); the rms over the pairs per data kind ("drops e", "drops e+P", "force") is the pair
-table's model-form level u (its .json ``model_form``), with the fit's rms residual per data group.
+table's model-form level u (its .json ``model_form``), with the fit's rms residual per data group. A fit
+fit-data refuses on these data is kept with its reason (``refused``) and left out of the levels.
 """
 from __future__ import annotations
 
@@ -84,11 +85,14 @@ def fit_errors(rows: list[dict], pair_table, master, specimen_of) -> list[dict]:
     for row in rows:
         specimen, sigma_y, law, top = check_law(row, pair_table, master, specimen_of)
         for kind in KINDS:
-            data = measurements(row, law.pair, top, kind)
-            result = fit(data, specimen, master, model_form={})
-            out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "x": row["x"],
-                        "counter_R_over_R": row["counter_R_over_R"], "kind": kind, "top": top,
-                        "sigma_y_error": math.log(result.sigma_y / sigma_y),
+            case = {"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "x": row["x"],
+                    "counter_R_over_R": row["counter_R_over_R"], "kind": kind, "top": top}
+            try:
+                result = fit(measurements(row, law.pair, top, kind), specimen, master, model_form={})
+            except ValueError as exc:             # a refused fit is a finding: kept, named, not averaged
+                out.append({**case, "refused": str(exc)})
+                continue
+            out.append({**case, "sigma_y_error": math.log(result.sigma_y / sigma_y),
                         "residual_rms": {name: float(np.sqrt(np.mean(r ** 2))) for name, r in result.residuals.items()}})
     return out
 
@@ -97,8 +101,9 @@ def model_form(errors: list[dict]) -> dict:
     """The pair table's model-form record from ``fit_errors``: "sigma_y" {kind: rms ln error}, "residual_rms"
     {"kind: group": rms}, and the pairs it was measured on."""
     form, residual = {}, {}
+    refused = [e for e in errors if "refused" in e]
     for kind in KINDS:
-        of_kind = [e for e in errors if e["kind"] == kind]
+        of_kind = [e for e in errors if e["kind"] == kind and "refused" not in e]
         if not of_kind:
             continue
         form[kind] = float(np.sqrt(np.mean([e["sigma_y_error"] ** 2 for e in of_kind])))
@@ -106,6 +111,7 @@ def model_form(errors: list[dict]) -> dict:
             residual[f"{kind}: {group}"] = float(np.sqrt(np.mean([e["residual_rms"][group] ** 2 for e in of_kind])))
     return {"sigma_y": form, "residual_rms": residual, "pairs": len({(e["nu"], e["E_over_sigma_y"], e["x"],
                                                                      e["counter_R_over_R"]) for e in errors}),
+            "refused": [{k: e[k] for k in ("nu", "E_over_sigma_y", "x", "kind", "refused")} for e in refused],
             "definition": "fit-data's sigma_Y on the pair law from the two-body FE's quasi-static drop tests and "
                           "loading curve of the held-out pairs (calib.fit.pair_fit_check): rms ln(sigma_fit / "
                           "sigma_Y) per data kind, rms residual per group"}
