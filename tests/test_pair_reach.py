@@ -5,7 +5,7 @@ sphere (nu 0.3, E/sigma_Y 200) on an elastic flat 100 times stiffer than itself 
 rebound as on the rigid flat, within the flat's own share of the approach (about 1 % here: E* is 1 % below E1')
 and the mesh difference the block brings. On one coarse graded mesh (ELEMENTS across every contact radius from
 300 P_Y) to 2900 P_Y, where the contact reaches a/R* 0.43: the approach D = alpha/delta_Y on each body's own
-scales within 2.5 % along the loading branch from 300 P_Y (1.8 % at the top, below 1 % to 1600 P_Y), e within
+scales within 2.5 % along the loading branch from 300 P_Y (1.8 % at the top, 1.0 % to 1982 P_Y), e within
 2.5 % at 300 P_Y and at the top (1.6 %). On the pair table's mesh (10 elements) the two meet within 0.74 % in
 approach and 0.36 % in e at 3090 P_Y, a/R* 0.44. The plan's reach: a
 calibration to there on an elastic flat is accepted in finite strain, refused in small strain and on a

@@ -16,11 +16,13 @@ fit-data refuses on these data is kept with its reason (``refused``) and left ou
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 
 from calib.fe.loadpath import contact_work
+from calib.fit.counter import CounterBody
 from calib.fit.measured.data import ForceApproachData, ImpactData, Measurements
 from calib.fit.measured.specimen import Specimen
 from calib.fit.measured.table_law import fit, table_law
@@ -57,43 +59,58 @@ def force_curve(row: dict, pair: ContactPair, top: float) -> tuple[np.ndarray, n
     return loading[:, 1] * pair.delta_Y, loading[:, 0] * pair.P_Y
 
 
-def measurements(row: dict, pair: ContactPair, top: float, kind: str) -> Measurements:
-    """The data of ``kind`` (KINDS) fit-data reads from one check."""
-    if kind == "force":
-        alpha, force = force_curve(row, pair, top)
-        return Measurements(forces=ForceApproachData("fe_force_approach.csv", (("1", alpha, force),)))
-    tests = drop_tests(row, pair, top)
-    P_max = tests["P_max"] if kind == "drops e+P" else None
-    return Measurements(impacts=ImpactData("fe_drops.csv", tests["v_in"], tests["e"], P_max, None,
-                                           np.arange(1, tests["e"].size + 1)))
-
-
-def check_law(row: dict, pair_table, master, specimen_of):
-    """(Specimen on the check's counter-body with ``pair_table``, its true sigma_Y [Pa], the pair law there, its
-    window's top P/P_Y)."""
-    specimen, sigma_y = specimen_of(row)
-    specimen = Specimen(specimen.E, specimen.nu, specimen.R, specimen.rho, counter=specimen.counter,
-                        pair_table=pair_table)
-    law = table_law(specimen, sigma_y, master)
-    return specimen, sigma_y, law, law.window.P_max_over_P_Y
-
-
-def fit_errors(rows: list[dict], pair_table, master, specimen_of) -> list[dict]:
-    """Per check row and kind: the fitted sigma_Y's ln error and the rms residual per group (module doc).
+def fe_data(rows: list[dict], pair_table, master, specimen_of) -> list[dict]:
+    """The drop tests and loading curve of each check ``rows`` to its pair law's window top (module doc), in SI
+    units, with the specimen, its counter-body and its true sigma_Y: what fit_errors and fit-data's tests fit.
     ``specimen_of(row)``: (Specimen on the row's counter-body, true sigma_Y [Pa])."""
     out = []
     for row in rows:
-        specimen, sigma_y, law, top = check_law(row, pair_table, master, specimen_of)
+        specimen, sigma_y = specimen_of(row)
+        law = table_law(dataclasses.replace(specimen, pair_table=pair_table), sigma_y, master)
+        top = law.window.P_max_over_P_Y
+        alpha, force = force_curve(row, law.pair, top)
+        out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "x": row["x"], "sigma_y": sigma_y,
+                    "E": specimen.E, "R": specimen.R, "rho": specimen.rho, "counter": specimen.counter.describe(),
+                    "window_top_over_P_Y": top, "P_Y": law.pair.P_Y,
+                    "drops": {k: v.tolist() for k, v in drop_tests(row, law.pair, top).items()},
+                    "loading": {"alpha": alpha.tolist(), "P": force.tolist()}})
+    return out
+
+
+def measurements(data: dict, kind: str) -> Measurements:
+    """The data of ``kind`` (KINDS) fit-data reads from one fe_data row."""
+    if kind == "force":
+        loading = data["loading"]
+        return Measurements(forces=ForceApproachData("fe_force_approach.csv", (
+            ("1", np.array(loading["alpha"]), np.array(loading["P"])),)))
+    drops = {k: np.array(v) for k, v in data["drops"].items()}
+    return Measurements(impacts=ImpactData("fe_drops.csv", drops["v_in"], drops["e"],
+                                           drops["P_max"] if kind == "drops e+P" else None, None,
+                                           np.arange(1, drops["e"].size + 1)))
+
+
+def specimen_of_data(data: dict, pair_table) -> Specimen:
+    """The Specimen of one fe_data row, on its counter-body, fitted with ``pair_table``."""
+    body = data["counter"]
+    counter = CounterBody(body["E"], body["nu"], body["sigma_y"], body["R"], body["rho"])
+    return Specimen(data["E"], data["nu"], data["R"], data["rho"], counter=counter, pair_table=pair_table)
+
+
+def fit_errors(rows: list[dict], pair_table, master) -> list[dict]:
+    """Per fe_data row and kind: the fitted sigma_Y's ln error and the rms residual per group (module doc)."""
+    out = []
+    for data in rows:
+        specimen = specimen_of_data(data, pair_table)
         for kind in KINDS:
-            case = {"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "x": row["x"],
-                    "counter_R_over_R": row["counter_R_over_R"], "kind": kind, "top": top}
+            case = {"nu": data["nu"], "E_over_sigma_y": data["E_over_sigma_y"], "x": data["x"],
+                    "counter_R": data["counter"]["R"], "kind": kind, "top": data["window_top_over_P_Y"]}
             try:
-                result = fit(measurements(row, law.pair, top, kind), specimen, master, model_form={})
+                result = fit(measurements(data, kind), specimen, master, model_form={})
             except ValueError as exc:             # a refused fit is a finding: kept, named, not averaged
                 out.append({**case, "refused": str(exc)})
                 continue
-            out.append({**case, "sigma_y_error": math.log(result.sigma_y / sigma_y),
-                        "residual_rms": {name: float(np.sqrt(np.mean(r ** 2))) for name, r in result.residuals.items()}})
+            rms = {name: float(np.sqrt(np.mean(r ** 2))) for name, r in result.residuals.items()}
+            out.append({**case, "sigma_y_error": math.log(result.sigma_y / data["sigma_y"]), "residual_rms": rms})
     return out
 
 
@@ -110,23 +127,9 @@ def model_form(errors: list[dict]) -> dict:
         for group in of_kind[0]["residual_rms"]:
             residual[f"{kind}: {group}"] = float(np.sqrt(np.mean([e["residual_rms"][group] ** 2 for e in of_kind])))
     return {"sigma_y": form, "residual_rms": residual, "pairs": len({(e["nu"], e["E_over_sigma_y"], e["x"],
-                                                                     e["counter_R_over_R"]) for e in errors}),
+                                                                     e["counter_R"]) for e in errors}),
             "refused": [{k: e[k] for k in ("nu", "E_over_sigma_y", "x", "kind", "refused")} for e in refused],
             "definition": "fit-data's sigma_Y on the pair law from the two-body FE's quasi-static drop tests and "
                           "loading curve of the held-out pairs (calib.fit.pair_fit_check): rms ln(sigma_fit / "
                           "sigma_Y) per data kind, rms residual per group"}
 
-
-def fe_data(rows: list[dict], pair_table, master, specimen_of) -> list[dict]:
-    """The drop tests and loading curve of each check ``rows`` (as fit_errors reads them) in SI units, with the
-    specimen, its counter-body and its true sigma_Y: the FE data fit-data's tests read."""
-    out = []
-    for row in rows:
-        specimen, sigma_y, law, top = check_law(row, pair_table, master, specimen_of)
-        alpha, force = force_curve(row, law.pair, top)
-        out.append({"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "x": row["x"], "sigma_y": sigma_y,
-                    "E": specimen.E, "R": specimen.R, "rho": specimen.rho, "counter": specimen.counter.describe(),
-                    "window_top_over_P_Y": top, "P_Y": law.pair.P_Y,
-                    "drops": {k: v.tolist() for k, v in drop_tests(row, law.pair, top).items()},
-                    "loading": {"alpha": alpha.tolist(), "P": force.tolist()}})
-    return out

@@ -16,19 +16,19 @@ the vz master table's rigid-flat law by them.
 Phi_D rises above 1 once the contact is large (at nu 0.3, E/sigma_Y 200: 1.05 at 500 P_Y for x = 1, 1.13 at 1700
 P_Y for x = 1/3). Measured cause: at equal P/P_Y the pair carries (1 + x)^2 times the rigid flat's force (P_Y
 scales as 1/E*^2), and its contact is (1 + x) times wider over R* (1.95-2.12 at x = 1, 1.32-1.39 at x = 1/3); at
-equal a/R* the two spheres carry the same force within 4 % beyond a/R* 0.2, and the pair's approach exceeds the
-rigid flat's by the flat's elastic share (8-13 % at x = 1, 3-4 % at x = 1/3). The finite sphere softens as its
-contact widens (its mean pressure falls with a/R, as Jackson & Green 2005 give), so the wider pair contact
-approaches further at the same scaled load.
+equal a/R* the two spheres carry the same force within 4.3 % beyond a/R* 0.2, and the pair's approach exceeds the
+rigid flat's by the flat's elastic share (7.6-13.4 % at x = 1, 2.7-4.4 % at x = 1/3). The reading, not measured
+apart: the finite sphere softens as its contact widens (its mean pressure falls with a/R, as Jackson & Green 2005
+give), so the wider pair contact approaches further at the same scaled load.
 
 Cases: R = 0.1 m, sigma_Y = 100 MPa, E = sigma_Y (E/sigma_Y), nu2 = nu1, the counter an elastic flat:
 nu in NUS, E/sigma_Y in E_OVER_SIGMA_YS, x in XS (PCHIP in s through s = 0 from x = 1/3, 1, 3 matches the
 ratios measured at x = 1/2 and 2 within 0.1 points to 41 P_Y, calib.studies.pair_ratios; x = 1/2 extends the
 reach of the small x), finite-strain sphere (the counter-body stays linear small strain), each pair to its reach
 (recipe.fe_reach in finite strain on an elastic flat, recipe.reach_kinematics: P <= 1e4 P_Y, a <= 0.45 R* as
-recipe.fe_contact_radius estimates it), its rigid flat to the largest of its pairs' tops. Mesh: graded, every contact radius from the lowest peak up spans
-ELEMENTS_PER_CONTACT_RADIUS elements; the loading branch LOADING_STEPS_PER_DECADE geometric steps a decade,
-unloading paths at PEAKS_OVER_YIELD below the top and at the top.
+recipe.fe_contact_radius estimates it), its rigid flat to the largest of its pairs' tops. Mesh: graded, every
+contact radius from the lowest peak up spans ELEMENTS_PER_CONTACT_RADIUS elements; the loading branch
+LOADING_STEPS_PER_DECADE geometric steps a decade, unloading paths at PEAKS_OVER_YIELD below the top and at the top.
 
 The held-out checks (CHECKS: materials, stiffness ratios and a counter-sphere off the table's nodes) run the
 two-body FE alone, to be compared with the mapped law (check_rows), each with one more unloading path just below
@@ -309,14 +309,6 @@ def check_specimen(row: dict):
     return Specimen(m.E, m.nu, R, m.rho, counter=counter(row)), m.sigma_y
 
 
-def fit_checks(rows: list[dict], table) -> list[dict]:
-    """fit-data's sigma_Y on the pair law (``table``) from each held-out check's FE drop tests and loading curve
-    (calib.fit.pair_fit_check.fit_errors)."""
-    from calib.fit.vz_master_table import VZMasterTable
-
-    return pair_fit_check.fit_errors(merged_checks(rows), table, VZMasterTable.load(), check_specimen)
-
-
 # ----------------------------------------------------------------------------- outputs
 CHECK_COLUMNS = ("nu", "E_over_sigma_y", "x", "counter", "P_max_over_P_Y", "window_top", "top_by", "e_fe",
                  "pair_table_e_error", "pair_table_force_error", "substitution_e_error", "substitution_force_error")
@@ -350,7 +342,11 @@ def generate(out, table_out, workers: int = 2, progress=None) -> dict:
     runs = sweep.rows + extra.rows
     checks = check_rows(runs, table)
     statement = accuracy(checks) if checks else "no held-out checks"
-    fits = fit_checks(runs, table)
+    from calib.fit.vz_master_table import VZMasterTable
+
+    master = VZMasterTable.load()
+    fe_data = pair_fit_check.fe_data(merged_checks(runs), table, master, check_specimen)
+    fits = pair_fit_check.fit_errors(fe_data, table, master)
     form = pair_fit_check.model_form(fits) if fits else {}
     mesh = {"elements_per_contact_radius": ELEMENTS_PER_CONTACT_RADIUS, "graded_from_P_over_P_Y": PEAKS_OVER_YIELD[0],
             "kinematics": KINEMATICS}
@@ -361,9 +357,6 @@ def generate(out, table_out, workers: int = 2, progress=None) -> dict:
     output.write_csv(table_out, rows, COLUMNS, comment=output.stamp_comment(st))
     output.write_json(table_out.with_suffix(".json"), {"pair_table": {"axes": axes, "accuracy": statement,
                                                                        "model_form": form, "stamp": st}})
-    from calib.fit.vz_master_table import VZMasterTable
-
-    fe_data = pair_fit_check.fe_data(merged_checks(runs), table, VZMasterTable.load(), check_specimen)
     output.write_json(out / "pair_fe_drops.json", {"rows": fe_data, "stamp": st})
     result = {"checks": checks, "accuracy": statement, "axes": axes, "table": str(table_out), "stamp": st,
               "model_form": form, "fit_checks": fits,

@@ -162,7 +162,7 @@ def reach_kinematics(kinematics: str, counter=None) -> str:
     an elastic flat, the small strain's on a counter-sphere or a yielding counter-body.
 
     Why: the two-body contact (calib.fe.two_body) measures the gap along z at the sphere node's reference r. On an
-    elastic flat that errs by the flat's surface slope (of order p/E2' < 2 %) times the node's radial displacement,
+    elastic flat that errs by the flat's surface slope (of order p/E2', a few %) times the node's radial displacement,
     and a finite-strain sphere on a flat 100x stiffer than itself follows the rigid flat's finite-strain FE to
     a/R 0.44 (3090 P_Y, E/sigma_Y 200): approach within 0.74 %, e within 0.36 % (tests/test_pair_reach.py at a
     coarse mesh). Unlike spheres slip by O(a^2/R) and a yielding flat dents: their gap stays small-strain."""
@@ -469,19 +469,17 @@ def calibration_spec(material: Material, radius: float, *, peaks=None, peaks_ove
         else:
             peaks = tuple(float(k * pair.P_Y) for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD))
     peaks = tuple(sorted(float(p) for p in peaks))
+    reach, largest_contact = reach_kinematics(kinematics, counter), sizing_radius(kinematics, counter)
     if counter is not None:             # what the two-body FE handles, before sizing a mesh
-        largest_contact = sizing_radius(kinematics, counter)
-
         def planned(p: ContactPair) -> tuple[float, float]:
             top = peaks if given is not None else [k * p.P_Y for k in (peaks_over_yield or DEFAULT_PEAKS_OVER_YIELD)]
             return (float(p.hertz_radius(min(0.5 * p.P_Y, min(top)))), largest_contact(p, max(top)))
 
         counter.check(material, radius, planned,
                       f"the load plan {min(0.5 * pair.P_Y, peaks[0]):.4g} .. {peaks[-1]:.4g} N",
-                      REACH[reach_kinematics(kinematics, counter)][1])
-    check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair,   # before sizing a mesh
-                             reach_kinematics(kinematics, counter))
-    a_max = sizing_radius(kinematics, counter)(pair, peaks[-1])
+                      REACH[reach][1])
+    check_calibration_inputs(material, smallest_radius(radius, counter), peaks[-1], pair, reach)   # before a mesh
+    a_max = largest_contact(pair, peaks[-1])
     mesh = mesh_for(radius, a_max, reference=reference, level=level, contact_size=contact_size,
                     contact_size_over_a_max=contact_size_over_a_max, graded_from=graded_from,
                     elements_per_contact_radius=elements_per_contact_radius, refinement=refinement)
