@@ -42,6 +42,7 @@ import numpy as np
 from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, check_axes, read_meta, read_rows
+from calib.fit.table_fit import K_BELOW_LOWEST_MAX
 from nfdmodel import CalibrationWindow, ContactPair, Material, VZTableParams, VZUnloadParams, limits
 from nfdmodel.vz_unload import HERTZ_EXPONENT
 
@@ -53,6 +54,26 @@ RADIUS_COLUMN = "radius_a_p_over_a_Y"     # f_a of the vz-unload law: its contac
 # E/sigma_Y 175, 400 and 700, nu 0.29-0.34): e within 0.74 %, force within 1.0 % (targets 2 %, 5 %). So the
 # window starts at P_Y: a contact unloaded there is inside it.
 BELOW_NODES = {"checked_from_over_P_Y": 1.2, "worst_e_error": 0.0074, "worst_force_error": 0.010}
+
+
+def proportional_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, low: float) -> np.ndarray:
+    """g at the loads x with g - 1 = k f on 1 < x_k < low (below the nodes' lowest unloading path), k the
+    proportion at the highest such load, at most calib.fit.table_fit.K_BELOW_LOWEST_MAX.
+
+    Each node's table is proportional there (calib.fit.table_fit), each with its own k; interpolated
+    across nodes f and g - 1 are not, and where the PCHIP end slopes at x = 1 give g'/f' > 10/3 a cycle
+    just above P_Y returns more work than it took (nu 0.46, E/sigma_Y 114: 1.4e-6 of it at 1.005 P_Y;
+    nu 0.22, E/sigma_Y 130: f'(1) = 0): the law refused 25 of 7080 materials and laws of the shipped table
+    (59 nu x 120 E/sigma_Y, vz-table and vz-unload), none with it. Proportional node values have proportional
+    PCHIP slopes. It moves g and the loading approach by at most 2.6e-4 (nu 0.23, E/sigma_Y 100), far
+    inside BELOW_NODES' figures."""
+    below = np.flatnonzero((x > 1.0) & (x < low * (1 - 1e-9)))
+    if below.size == 0 or not f[below[-1]] > 0.0:
+        return g
+    k = min((g[below[-1]] - 1.0) / f[below[-1]], K_BELOW_LOWEST_MAX)
+    g = g.copy()
+    g[below] = 1.0 + k * f[below]
+    return g
 
 
 def pchip_along(axis: np.ndarray, values: np.ndarray, at: float) -> np.ndarray:
@@ -159,6 +180,7 @@ class VZMasterTable:
         around = (self._bracket(self.nu, nu), self._bracket(self.E_over_sigma_y, 10.0 ** lr))
         errors = self.rel_error[around]
         low = float(self.window_low[around].max())
+        gs = proportional_below(xs, f, gs, low)
         out = {"x": np.array(xs), "f": f, "g": gs, "low": min(low, xs[-1]), "top": xs[-1],
                "rel_error_estimate": None if np.isnan(errors).any() else float(errors.max())}
         if self.has_unloading:        # rho, m on the same loads from the same columns as f, g
