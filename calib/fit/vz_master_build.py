@@ -423,16 +423,21 @@ def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def unloading_nodes_of(row: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(x_unload, rho, m) of a stored node row: the vz-unload law's dent and unloading exponent at
-    its FE paths' peaks (calib.fit.unload_fit.unloading_nodes, the fit ``--ship unload`` uses), the
+    its window's FE paths' peaks (calib.fit.unload_fit.unloading_nodes, the fit ``--ship unload`` uses), the
     returned work from the histories as the FE takes them (calib.fit.vz_master_check.fe_paths)."""
     from calib.fit.unload_fit import unloading_nodes
     from calib.fit.vz_master_check import fe_paths
 
     pair = ContactPair.sphere_flat(Material(row["E_over_sigma_y"] * row["sigma_y"], row["nu"], row["sigma_y"],
                                             row["rho"]), row["R"])
-    paths = fe_paths(row)
+    # the paths of the node's window: a path below it is one the vz-table fit dropped (calib.fit.table_fit:
+    # near P_Y the mesh does not resolve its unloading; E/sigma_Y 30, 1.15 P_Y: m 1.514 > 3/2, e ~ 1)
+    low = row["window"]["P_min_over_P_Y"] * pair.P_Y * (1 - 1e-9)
+    inside = [k for k, p in enumerate(row["paths"]) if p["P_max"] >= low]
+    every = fe_paths(row)
+    paths = [every[k] for k in inside]
     return unloading_nodes(pair, [p["P_max"] for p in paths], [p["alpha_max"] for p in paths],
-                           [p["alpha_residual"] for p in row["paths"]], [p["unloading_work"] for p in paths])
+                           [row["paths"][k]["alpha_residual"] for k in inside], [p["unloading_work"] for p in paths])
 
 
 def resample_unloading(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
