@@ -1,0 +1,182 @@
+"""The vz master table's laws between P_Y and the nodes' lowest unloading path: results/tables/below_nodes.json
+
+The master table's nodes unload from 2 P_Y up (calib.fit.vz_master_build); below that the vz-table law's
+f and g run from Hertz's (f = 0, g = 1 at x = P/P_Y = 1) to the lowest node, and the vz-unload law's dent
+ratio rho and exponent m from (0, 3/2) likewise (calib.fit.vz_master_table). Both laws declare their window
+from P_Y on the strength of this check: FE load-unload paths to PEAKS_OVER_YIELD (1.2, 1.5, 1.8 P_Y) of
+three off-grid materials (nu 0.29-0.34, E/sigma_Y 175, 400, 700; R = 0.1 m, sigma_Y = 100 MPa), small
+strain, on the graded mesh on which every contact radius from 1.1 P_Y up spans ELEMENTS elements, the
+loading branch STEPS_PER_DECADE geometric steps a decade. Per law and path:
+
+    e error      = e_law / e_FE - 1          (the quasi-static cycle, the law driven along the FE's approach)
+    force error  = max |P_law(alpha) - P_FE(alpha)| / P_max        along loading and unloading
+    dent error   = (delta_res,law - delta_res,FE) / alpha_max      (delta_res,FE: the FE's approach where its
+                   unloading force returns to 0, calib.fe.loadpath.separation_approach)
+
+with the laws' dents delta_res = delta_max - a_e^2 / (g R*) (vz-table) and rho(x_m) delta_max (vz-unload).
+
+    python -m calib.studies.below_nodes [--out results/tables]
+
+Each material is one resumable task (``OUT/below_nodes_cases/<key>.json``, calib.sweep.runner).
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from calib import output
+from calib.report.index_format import read_json, study_header, table
+from calib.sweep.runner import run_sweep
+from meshes.keys import stable_key
+from nfdmodel import ContactPair, Material
+
+MATERIALS = ((0.3, 175.0), (0.34, 400.0), (0.29, 700.0))     # (nu, E/sigma_Y), off every node of the grid
+PEAKS_OVER_YIELD = (1.2, 1.5, 1.8)
+ELEMENTS, GRADED_FROM_OVER_P_Y, STEPS_PER_DECADE = 25.0, 1.1, 32.0
+SIGMA_Y, RHO, R = 100e6, 2700.0, 0.1
+LAWS = ("vz-table", "vz-unload")
+VERSION = 1
+
+
+def material(nu: float, E_over_sigma_y: float) -> Material:
+    return Material(E_over_sigma_y * SIGMA_Y, nu, SIGMA_Y, RHO)
+
+
+def spec_of(task: dict):
+    """The CalibrationSpec of a task: the graded mesh and loading of the module doc, paths at PEAKS_OVER_YIELD."""
+    from calib.fit import impact_window
+
+    m = material(task["nu"], task["E_over_sigma_y"])
+    P_Y = ContactPair.sphere_flat(m, R).P_Y
+    peaks = tuple(p * P_Y for p in PEAKS_OVER_YIELD)
+    spec = impact_window.window_spec(m, R, peaks[-1], elements_per_contact_radius=ELEMENTS,
+                                     lowest_over_P_Y=GRADED_FROM_OVER_P_Y, loading_steps_per_decade=STEPS_PER_DECADE)
+    return dataclasses.replace(spec, plan=dataclasses.replace(spec.plan, peaks=peaks))
+
+
+def case_task(nu: float, E_over_sigma_y: float) -> dict:
+    case = {"nu": nu, "E_over_sigma_y": E_over_sigma_y}
+    return {"key": stable_key({**case, "version": VERSION, "peaks": PEAKS_OVER_YIELD,
+                               "mesh": spec_of(case).mesh.cache_key()}), **case}
+
+
+def run_task(task: dict) -> dict:
+    """The FE load paths of one material (calib.fit.pair_table_build.load_paths_record); never raises."""
+    from calib.fit.pair_table_build import load_paths_record
+
+    t0 = time.perf_counter()
+    try:
+        record = load_paths_record(spec_of(task))
+    except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
+        return {**task, "status": "failed", "error": f"{type(exc).__name__}: {exc}"[:400],
+                "wall_time_s": time.perf_counter() - t0}
+    return {**task, "status": "ok", **record, "wall_time_s": time.perf_counter() - t0,
+            "git_commit": output.git_commit()}
+
+
+def law_dent(law, name: str, x: float) -> float:
+    """delta_res / delta_Y of a law unloaded from x = P_max/P_Y (module doc)."""
+    D = float(law.scaled_approach(np.array([x]))[0])
+    if name == "vz-unload":
+        return float(law.unloading_tables(np.array([x]))[0][0]) * D
+    f, g = (float(v[0]) for v in law.tables(np.array([x])))
+    return D - np.cbrt(x) ** 2 / g
+
+
+def compare(rows: list[dict], master) -> list[dict]:
+    """Each FE path against both laws of its material (module doc)."""
+    from calib.fe.loadpath import separation_approach
+    from calib.fit.calibration import drive_law
+
+    out = []
+    for row in rows:
+        if row.get("status") != "ok":
+            continue
+        m = material(row["nu"], row["E_over_sigma_y"])
+        laws = {"vz-table": master.law(m, R), "vz-unload": master.unload_law(m, R)}
+        pair = laws["vz-table"].pair
+        for path in row["paths"]:
+            D, x = np.array(path["rows"]).T
+            x = np.maximum(x, 0.0)
+            peak = int(np.argmax(D))
+            dent_fe = separation_approach(D[peak:], x[peak:])
+            record = {"nu": row["nu"], "E_over_sigma_y": row["E_over_sigma_y"], "P_max_over_P_Y": path["P_max_over_P_Y"],
+                      "e_fe": path["e"], "dent_fe_over_alpha_max": dent_fe / D[peak]}
+            for name, law in laws.items():
+                force, e = drive_law(name, law, D * pair.delta_Y)
+                record[name] = {"e_error": e / path["e"] - 1.0,
+                                "force_error": float(np.abs(force / pair.P_Y - x).max() / x.max()),
+                                "dent_error_of_alpha_max": (law_dent(law, name, path["P_max_over_P_Y"]) - dent_fe)
+                                / D[peak]}
+            out.append(record)
+    return out
+
+
+def worst(paths: list[dict]) -> dict:
+    """Per law, the largest |e error|, force error and |dent error| over the paths."""
+    return {name: {quantity: float(max(abs(p[name][quantity]) for p in paths))
+                   for quantity in ("e_error", "force_error", "dent_error_of_alpha_max")} for name in LAWS}
+
+
+def generate(out: str | Path, progress=None) -> dict:
+    from calib.fit.vz_master_table import VZMasterTable
+
+    out = Path(out)
+    started = time.perf_counter()
+    sweep = run_sweep([case_task(*m) for m in MATERIALS], run_task, out / "below_nodes_cases",
+                      keep=lambda row: row.get("status") == "ok", workers=1, progress=progress,
+                      describe=lambda row: f"nu {row['nu']:g} E/sigma_Y {row['E_over_sigma_y']:g} "
+                                           f"({row['status']}, {row['wall_time_s']:.0f} s)")
+    paths = compare(sweep.rows, VZMasterTable.load())
+    mesh = {"elements_per_contact_radius": ELEMENTS, "graded_from_P_over_P_Y": GRADED_FROM_OVER_P_Y,
+            "loading_steps_per_decade": STEPS_PER_DECADE, "dofs": sorted({r["dofs"] for r in sweep.rows if "dofs" in r})}
+    st = output.stamp(time.perf_counter() - started, mesh=mesh, command="python -m calib.studies.below_nodes",
+                      fe_wall_time_s=sum(row.get("wall_time_s", 0.0) for row in sweep.rows),
+                      computed=sweep.computed, reused=sweep.reused)
+    result = {"paths": paths, "worst": worst(paths), "checked_from_over_P_Y": PEAKS_OVER_YIELD[0], "stamp": st}
+    output.write_json(out / "below_nodes.json", result)
+    return result
+
+
+def below_nodes(root: Path) -> list[str]:
+    """The study's section of results/README.md (calib.report.results_index), from results/tables/below_nodes.json."""
+    data = read_json(root / "tables" / "below_nodes.json")
+    if data is None:
+        return []
+    mesh = data["stamp"]["mesh"]
+    lines = study_header("The master table's laws below its nodes (`tables/below_nodes.json`)", data["stamp"],
+                         "python -m calib.studies.below_nodes") + [
+        "The vz master table's vz-table and vz-unload laws between P_Y and the nodes' lowest unloading path (2 P_Y) "
+        "against FE load-unload paths of off-grid materials (R 0.1 m, small strain, graded mesh: every contact radius "
+        f"from {mesh['graded_from_P_over_P_Y']:g} P_Y up spans {mesh['elements_per_contact_radius']:g} elements, "
+        f"{mesh['loading_steps_per_decade']:g} loading steps a decade). Errors: e_law / e_FE - 1, the largest force "
+        "difference over P_max, the dent difference over alpha_max:", ""]
+    rows = [[f"{p['nu']:g}", f"{p['E_over_sigma_y']:g}", f"{p['P_max_over_P_Y']:.3g}", f"{p['e_fe']:.4f}",
+             f"{100 * p['dent_fe_over_alpha_max']:.2f} %"]
+            + [f"{100 * p[name][q]:+.2f} %" for name in LAWS for q in ("e_error", "force_error", "dent_error_of_alpha_max")]
+            for p in data["paths"]]
+    lines += table(["nu", "E/sigma_Y", "P_max/P_Y", "e_FE", "dent_FE / alpha_max"]
+                   + [f"{name} {q}" for name in LAWS for q in ("e", "force", "dent")], rows)
+    w = data["worst"]
+    lines += ["Largest: " + "; ".join(f"{name} e {100 * w[name]['e_error']:.2f} %, force {100 * w[name]['force_error']:.2f} "
+                                      f"%, dent {100 * w[name]['dent_error_of_alpha_max']:.2f} % of alpha_max"
+                                      for name in LAWS) + ".", ""]
+    return lines
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", default=str(output.RESULTS / "tables"))
+    ns = parser.parse_args(argv)
+    result = generate(ns.out, progress=lambda m: print(m, file=sys.stderr))
+    print(f"{len(result['paths'])} paths; worst {result['worst']}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
