@@ -18,7 +18,7 @@ from calib.fit.measured.table_law import fit
 from calib.fit.unload_check import DENT_TARGET, DENT_TARGET_OF_ALPHA_MAX, UNLOADING_TARGET
 from calib.fit.unload_fit import unloading_nodes
 from calib.fit.vz_master_check import check_unloading, fe_datasets, material_of, measurements
-from calib.fit.vz_master_table import DEFAULT_TABLE, VZMasterTable
+from calib.fit.vz_master_table import BELOW_NODES, DEFAULT_TABLE, VZMasterTable
 from nfdmodel import load_parameters
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -85,6 +85,25 @@ def test_between_nodes_vz_unload_follows_the_fe_dent_and_unloading_where_vz_tabl
         assert abs(c["vz-unload e_error"]) <= E_BOUND, c
     # the contrast: the vz-table law's Hertz unloading misses the dent at low loads
     assert max(abs(c["vz-table dent_error"]) for c in compared) > 0.1
+
+
+def test_both_laws_start_at_P_Y_on_the_fe_paths_below_the_nodes(table):
+    """The windows from P_Y rest on FE load-unload paths below the nodes' lowest path (calib.studies.below_nodes,
+    results/tables/below_nodes.json): the figures the windows state bound the FE comparison's, within the targets
+    (e 2 %, force 5 % of P_max), and the paths span 1.2-1.8 P_Y of three materials."""
+    data = json.loads((Path(__file__).resolve().parents[1] / "results" / "tables" / "below_nodes.json").read_text())
+    paths = data["paths"]
+    assert len({(p["nu"], p["E_over_sigma_y"]) for p in paths}) == 3 and len(paths) == 9
+    assert min(p["P_max_over_P_Y"] for p in paths) == pytest.approx(BELOW_NODES["checked_from_over_P_Y"])
+    assert all(0.98 < p["e_fe"] < 1.0 for p in paths)                  # near yield, yet dissipating
+    for law in ("vz-table", "vz-unload"):
+        for quantity, measured in data["worst"][law].items():
+            assert measured <= BELOW_NODES[law][quantity] <= measured * 1.1 + 1e-4, (law, quantity)
+            assert measured == pytest.approx(max(abs(p[law][quantity]) for p in paths), rel=1e-12)
+        assert BELOW_NODES[law]["e_error"] < 0.02 and BELOW_NODES[law]["force_error"] < 0.05
+    m = material_of({"nu": 0.3, "E_over_sigma_y": 400.0, "sigma_y": 100e6, "rho": 2700.0, "R": 0.1})
+    for law in (table.law(*m), table.unload_law(*m)):
+        assert law.window.P_min_over_P_Y == 1.0
 
 
 def test_material_law_vz_unload_writes_a_file_collide_runs(tmp_path, capsys):
