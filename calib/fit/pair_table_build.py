@@ -331,7 +331,7 @@ def accuracy(all_checks: list[dict]) -> str:
             f"{100 * force:.2f} % of P_max (the rigid-flat law on the pair's scales: e {100 * sub:.2f} %); the same "
             f"mesh family as the table ({ELEMENTS_PER_CONTACT_RADIUS:g} elements per contact radius, finite-strain "
             f"sphere), on the vz master table's law"
-            + (f"; beyond the windows (not declared: {len(beyond)} paths to "
+            + (f"; beyond the windows (the law extrapolated, not declared: {len(beyond)} paths to "
                f"{max(c['P_max_over_P_Y'] for c in beyond):.4g} P_Y) e {100 * max(abs(c['pair_table_e_error']) for c in beyond):.2f} %, "
                f"force {100 * max(c['pair_table_force_error'] for c in beyond):.2f} %" if beyond else ""))
 
