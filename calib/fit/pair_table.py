@@ -48,7 +48,7 @@ from nfdmodel.materials import plane_strain_modulus, yield_pressure
 DATA_FILE = DATA_DIR / "pair_table.csv"
 COLUMNS = ("nu", "E_over_sigma_y", "x", "s", "quantity", "P_over_P_Y", "phi")   # quantity: "D" (Phi_D) or "loss" (Psi)
 SMALLEST_TOP = 2.0           # P/P_Y: a pair law's window must reach the table's lowest unloading path
-LOADING_POINTS_PER_DECADE = 40
+LOADING_POINTS_PER_DECADE = 80
 DENSE_POINTS_PER_DECADE = 400   # the loading work's points (LoadingWork)
 KINEMATICS = "finite-strain"   # the table's FE (calib.fit.pair_table_build), whose reach bounds a pair law's window
 BOTH_BAND = 1.1              # counter yield pressure within this factor of the sphere's: it yields in the window
@@ -253,8 +253,9 @@ def pair_law(material, radius: float, counter, table: PairTable | None = None, m
     s = X / (1.0 + X)
     nu, ratio = float(material.nu), float(material.E / material.sigma_y)
     values = master.tables(nu, ratio)
+    kinematics = recipe.reach_kinematics(KINEMATICS, counter)
     tops = {"pair table": table.top(nu, ratio, s), "vz master table": float(values["top"]),
-            "two-body FE reach": recipe.fe_reach(pair, recipe.reach_kinematics(KINEMATICS, counter)) / pair.P_Y,
+            "two-body FE reach": recipe.fe_reach(pair, kinematics) / pair.P_Y,
             "held-out checks": CHECKED_TOP_OVER_P_Y["flat" if counter.R is None else "sphere"]}
     top_by = min(tops, key=tops.get)
     top = tops[top_by]
@@ -265,7 +266,8 @@ def pair_law(material, radius: float, counter, table: PairTable | None = None, m
     ratios = table.ratios(nu, ratio, s, top)
     substitution = VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]),
                                  master._window(values, pair))
-    source = (f"pair table ({table.path.name if table.path else 'pair table'}: two-body FE over the rigid flat's, "
+    source = (f"pair table ({table.path.name if table.path else 'pair table'}: two-body FE ({kinematics} reach) "
+              f"over the rigid flat's, "
               f"X = E1'/E2' {X:.3g}) on the vz master table's law, to {top:.4g} P_Y (set by the {top_by})")
     law = mapped_tables(substitution, ratios, float(top), CalibrationWindow(1.0, float(top), None, source))
     a_top = float(law.contact_radius_at(top * pair.P_Y)) / pair.R_star
