@@ -171,16 +171,22 @@ def load_paths_record(spec: recipe.CalibrationSpec) -> dict:
                       for p in paths.paths]}
 
 
-def run_task(task: dict) -> dict:
-    """The FE load paths of one case (load_paths_record); never raises."""
+def load_paths_row(task: dict, spec_of_task) -> dict:
+    """The sweep row of ``task``: its FE load paths (load_paths_record of ``spec_of_task(task)``), status, wall
+    time and commit; never raises (a failure is a row, retried next run)."""
     t0 = time.perf_counter()
     try:
-        record = load_paths_record(spec_of(task))
+        record = load_paths_record(spec_of_task(task))
     except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
         return {**task, "status": "failed", "error": f"{type(exc).__name__}: {exc}"[:400],
                 "wall_time_s": time.perf_counter() - t0}
     return {**task, "status": "ok", **record, "wall_time_s": time.perf_counter() - t0,
             "git_commit": output.git_commit()}
+
+
+def run_task(task: dict) -> dict:
+    """The FE load paths of one case (load_paths_row); never raises."""
+    return load_paths_row(task, spec_of)
 
 
 def top_check_tasks(rows: list[dict], table) -> list[dict]:

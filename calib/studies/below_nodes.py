@@ -66,17 +66,10 @@ def case_task(nu: float, E_over_sigma_y: float) -> dict:
 
 
 def run_task(task: dict) -> dict:
-    """The FE load paths of one material (calib.fit.pair_table_build.load_paths_record); never raises."""
-    from calib.fit.pair_table_build import load_paths_record
+    """The FE load paths of one material (calib.fit.pair_table_build.load_paths_row); never raises."""
+    from calib.fit.pair_table_build import load_paths_row
 
-    t0 = time.perf_counter()
-    try:
-        record = load_paths_record(spec_of(task))
-    except Exception as exc:                    # noqa: BLE001 - reported in the row, retried next run
-        return {**task, "status": "failed", "error": f"{type(exc).__name__}: {exc}"[:400],
-                "wall_time_s": time.perf_counter() - t0}
-    return {**task, "status": "ok", **record, "wall_time_s": time.perf_counter() - t0,
-            "git_commit": output.git_commit()}
+    return load_paths_row(task, spec_of)
 
 
 def law_dent(law, name: str, x: float) -> float:
