@@ -50,8 +50,8 @@ def sections() -> tuple:
     from calib.studies.wide_window_index import wide_window
 
     return (calibration, mesh_ladder, wide_window, between_nodes, identical_spheres, hertz, collision, impact,
-            master_table, vz_master_table, below_nodes, fit_data_benchmark, pairs, pair_ratios, pair_ratios_high, pair_table,
-            stability, lammps, chung_ooi, heap)
+            master_table, vz_master_table, below_nodes, fit_data_benchmark, pairs, pair_ratios, pair_ratios_high,
+            pair_table, stability, lammps, chung_ooi, heap)
 
 
 def run(ns) -> int:

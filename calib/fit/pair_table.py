@@ -42,8 +42,7 @@ from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, read_meta, read_rows
 from calib.fit.table_fit import LoadingWork
-from nfdmodel import CalibrationWindow, VZTableParams, limits
-from nfdmodel.window import FINITE_STRAIN
+from nfdmodel import CalibrationWindow, VZTableParams
 from nfdmodel.materials import plane_strain_modulus, yield_pressure
 
 DATA_FILE = DATA_DIR / "pair_table.csv"
@@ -273,9 +272,7 @@ def pair_law(material, radius: float, counter, table: PairTable | None = None, m
     law = mapped_tables(substitution, ratios, float(top), CalibrationWindow(1.0, float(top), None, source))
     # every load of the window is inside the two-body FE's reach (fe_reach, by the FE's contact radius); the law's
     # radius overstates the FE's near the top (12 of 1080 pairs past 0.45 R*, up to 0.49), as the master table's
-    reach_radius = (limits.FE_FINITE_MAX_CONTACT_RADIUS_OVER_R if kinematics == FINITE_STRAIN
-                    else limits.FE_MAX_CONTACT_RADIUS_OVER_R)
-    a_top = min(float(law.contact_radius_at(top * pair.P_Y)) / pair.R_star, reach_radius)
+    a_top = min(float(law.contact_radius_at(top * pair.P_Y)) / pair.R_star, recipe.REACH[kinematics][1])
     law = dataclasses.replace(law, window=dataclasses.replace(law.window, a_max_over_R=a_top))
     return {"law": law, "ratios": ratios, "stiffness_ratio": X, "s": s, "tops": tops, "top_by": top_by,
             "substitution": substitution, "table": table, "master": master}

@@ -198,8 +198,8 @@ def top_check_tasks(rows: list[dict], table) -> list[dict]:
     for row in (r for r in rows if r["role"] == "check" and r["status"] == "ok"):
         law = pair_law(material(row["nu"], row["E_over_sigma_y"]), R, counter(row), table)["law"]
         top = float(f"{law.window.P_max_over_P_Y * (1 - 1e-3):.4g}")
-        inside = [p["P_max_over_P_Y"] for p in row["paths"] if p["P_max_over_P_Y"] <= law.window.P_max_over_P_Y * (1 + 1e-6)]
-        if max(inside) < 0.9 * top:
+        window_top = law.window.P_max_over_P_Y * (1 + 1e-6)
+        if max(p["P_max_over_P_Y"] for p in row["paths"] if p["P_max_over_P_Y"] <= window_top) < 0.9 * top:
             tasks.append(case_task(row["nu"], row["E_over_sigma_y"], row["x"], (PEAKS_OVER_YIELD[0], top),
                                    "check", row["counter_R_over_R"]))
     return tasks
@@ -319,8 +319,8 @@ def check_specimen(row: dict):
 
 
 # ----------------------------------------------------------------------------- outputs
-CHECK_COLUMNS = ("nu", "E_over_sigma_y", "x", "counter", "P_max_over_P_Y", "window_top", "top_by", "inside_window", "e_fe",
-                 "pair_table_e_error", "pair_table_force_error", "substitution_e_error", "substitution_force_error")
+CHECK_COLUMNS = ("nu", "E_over_sigma_y", "x", "counter", "P_max_over_P_Y", "window_top", "top_by", "inside_window",
+                 "e_fe", "pair_table_e_error", "pair_table_force_error", "substitution_e_error", "substitution_force_error")
 
 
 def accuracy(all_checks: list[dict]) -> str:

@@ -433,11 +433,9 @@ def unloading_nodes_of(row: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     # the paths of the node's window: a path below it is one the vz-table fit dropped (calib.fit.table_fit:
     # near P_Y the mesh does not resolve its unloading; E/sigma_Y 30, 1.15 P_Y: m 1.514 > 3/2, e ~ 1)
     low = row["window"]["P_min_over_P_Y"] * pair.P_Y * (1 - 1e-9)
-    inside = [k for k, p in enumerate(row["paths"]) if p["P_max"] >= low]
-    every = fe_paths(row)
-    paths = [every[k] for k in inside]
-    return unloading_nodes(pair, [p["P_max"] for p in paths], [p["alpha_max"] for p in paths],
-                           [row["paths"][k]["alpha_residual"] for k in inside], [p["unloading_work"] for p in paths])
+    kept = [(stored, path) for stored, path in zip(row["paths"], fe_paths(row)) if stored["P_max"] >= low]
+    return unloading_nodes(pair, [p["P_max"] for _, p in kept], [p["alpha_max"] for _, p in kept],
+                           [s["alpha_residual"] for s, _ in kept], [p["unloading_work"] for _, p in kept])
 
 
 def resample_unloading(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

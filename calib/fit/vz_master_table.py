@@ -67,8 +67,8 @@ def proportional_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, low: float) 
     just above P_Y returns more work than it took (nu 0.46, E/sigma_Y 114: 1.4e-6 of it at 1.005 P_Y;
     nu 0.22, E/sigma_Y 130: f'(1) = 0): the law refused 25 of 7080 materials and laws of the shipped table
     (59 nu x 120 E/sigma_Y, vz-table and vz-unload), none with it. Proportional node values have proportional
-    PCHIP slopes. It moves g and the loading approach by at most 2.6e-4 (nu 0.23, E/sigma_Y 100), far
-    inside BELOW_NODES' figures."""
+    PCHIP slopes. It moves g and the loading approach by at most 2.6e-4 (nu 0.23, E/sigma_Y 100; 30 nu x 60
+    E/sigma_Y), far inside BELOW_NODES' figures."""
     below = np.flatnonzero((x > 1.0) & (x < low * (1 - 1e-9)))
     if below.size == 0 or not f[below[-1]] > 0.0:
         return g
