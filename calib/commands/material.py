@@ -204,7 +204,7 @@ def run_vz_table(ns, material, radius, counter=None) -> int:
     pair_found = found.get("pair")
     if v_max > v_top * (1 + 1e-9):
         whose = ("the vz master table's window for this material" if pair_found is None else
-                 f"the pair law's window (set by the {pair_found['top_by']})")
+                 f"the pair law's window ({pair_found['top_rule']})")
         raise ValueError(f"v_max out of range: {whose} ends at "
                          f"{window.P_max_over_P_Y:.4g} P_Y: need v_max <= {bound_text(v_top, '<=')} m/s ({v_top / pair.v_Y:.4g} v_Y)")
     P_max = impact_window.impact_force(law, v_max)
@@ -226,8 +226,8 @@ def run_vz_table(ns, material, radius, counter=None) -> int:
                        window_tops_over_P_Y=pair_found["tops"], E_star=pair.E_star, R_star=pair.R_star)
         summary["units"].update(E_star="Pa", R_star="m")
         counter_lines = [f"{found['counter'].label()}; E1'/E2' = {pair_found['stiffness_ratio']:.4g}, the pair's "
-                         f"E* = {pair.E_star:.4g} Pa, R* = {pair.R_star:.4g} m; window top set by the "
-                         f"{pair_found['top_by']}"]
+                         f"E* = {pair.E_star:.4g} Pa, R* = {pair.R_star:.4g} m; window top "
+                         f"{pair_found['top_rule']}"]
     unloading = []
     if law_name == "vz-unload":
         rho, m = law.unloading_tables(P_max / pair.P_Y)
