@@ -8,7 +8,9 @@ master table's own e and D; every pair over the table's domain, admissible from 
 exact at its nodes. The CLI: ``nfdcal material --counter-E ... --v-max`` writes a parameter file of the pair that nfdmodel loads and ``nfdcal collide`` runs, and
 refuses what the table does not cover in one line (exit 2).
 """
+import csv
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -17,7 +19,7 @@ from calib.cli import main
 from calib.fit import pair_table_build as build
 from calib.fit.calibration import drive_law
 from calib.fit.counter import CounterBody
-from calib.fit.pair_table import PairTable, law_curves, pair_law
+from calib.fit.pair_table import CHECKED_CAPS_OVER_P_Y, TOP_SHARE, PairTable, law_curves, pair_law
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import Material, VZTableParams, load_parameters
 
@@ -152,3 +154,58 @@ def test_calibrate_v_max_on_a_counter_body_agrees_with_the_pair_table(tmp_path, 
     impact = collide("vz-table", calibrated, [0.012])
     assert impact.in_calibrated_range.tolist() == [True]
     assert impact.e_velocity[0] == pytest.approx(collide("vz-table", table_law, [0.012]).e_velocity[0], rel=0.01)
+
+
+CHECKS_CSV = Path(__file__).resolve().parents[1] / "results" / "pairs" / "pair_table_checks.csv"
+
+
+def test_held_out_checks_meet_the_targets_over_each_whole_window():
+    """The build's held-out checks (results/pairs/pair_table_checks.csv: two-body FE of pairs off every node, one
+    a counter-sphere): each law's window is the one pair_law declares today, its FE paths reach at least 0.9 of
+    that window's top, and every path inside meets 2 % in e and 5 % of P_max in force."""
+    with CHECKS_CSV.open() as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    checks: dict = {}
+    for row in rows:
+        checks.setdefault((row["nu"], row["E_over_sigma_y"], row["x"], row["counter"]), []).append(row)
+    assert len(checks) >= 6
+    for (nu, ratio, x, counter), paths in checks.items():
+        radius = None if counter == "flat" else float(counter.split("=")[1].split()[0])
+        body = build.counter({"x": x, "nu": float(nu), "E_over_sigma_y": float(ratio), "counter_R_over_R": radius})
+        top = pair_law(build.material(float(nu), float(ratio)), build.R, body)["law"].window.P_max_over_P_Y
+        inside = [p for p in paths if p["inside_window"] == "True"]
+        assert float(paths[0]["window_top"]) == pytest.approx(top, rel=1e-9), (nu, ratio, x, counter)
+        assert max(float(p["P_max_over_P_Y"]) for p in inside) >= 0.9 * top, (nu, ratio, x, counter)
+        for p in inside:
+            assert abs(float(p["pair_table_e_error"])) < 0.02 and float(p["pair_table_force_error"]) < 0.05, p
+
+
+def test_the_window_ends_at_a_share_of_the_data_or_where_the_checks_hold():
+    """On a flat stiffer than the sphere the window's top is TOP_SHARE of the lowest of the pair table's, the master
+    table's and the two-body FE reach's tops; on a counter-sphere and on a softer flat at most the held-out check's
+    load (CHECKED_CAPS_OVER_P_Y)."""
+    brass, steel = Material(100e9, 0.34, 250e6, 8500.0), Material(210e9, 0.3, 800e6, 7800.0)
+    flat = pair_law(brass, 0.002, CounterBody(210e9, 0.3))
+    assert flat["law"].window.P_max_over_P_Y == pytest.approx(TOP_SHARE * min(flat["tops"].values()))
+    sphere = pair_law(brass, 0.002, CounterBody(210e9, 0.3, R=0.002))
+    assert sphere["law"].window.P_max_over_P_Y == CHECKED_CAPS_OVER_P_Y["counter-sphere"]
+    softer = pair_law(Material(210e9, 0.3, 200e6, 7800.0), 0.002, CounterBody(105e9, 0.3))   # X 2, E/sigma_Y 1050
+    assert softer["law"].window.P_max_over_P_Y == CHECKED_CAPS_OVER_P_Y["softer flat"]
+    assert softer["top_by"] == "softer flat check" and sphere["top_by"] == "counter-sphere check"
+    like = pair_law(steel, 0.002, CounterBody(210e9, 0.3))                                     # X 1: a flat's share
+    assert like["law"].window.P_max_over_P_Y == pytest.approx(TOP_SHARE * min(like["tops"].values()))
+
+
+@pytest.mark.parametrize("E, nu, sigma_y, rho", [(69e9, 0.33, 276e6, 2700.0), (210e9, 0.3, 800e6, 7800.0),
+                                                  (100e9, 0.34, 250e6, 8500.0), (117e9, 0.34, 280e6, 8900.0)],
+                         ids=["aluminium 6061", "steel", "brass", "copper"])
+@pytest.mark.parametrize("R", ["0.001", "0.005"])
+def test_metals_on_a_steel_floor_answer_to_10_m_s_from_first_yield(E, nu, sigma_y, rho, R, capsys):
+    """Issue 38's DEM user: spheres of R 1-5 mm of these metals on a steel floor (210 GPa, nu 0.3) get the pair
+    law to 10 m/s without an FE run, the window from P_Y."""
+    code = main(["material", "--E", str(E), "--nu", str(nu), "--sigma-y", str(sigma_y), "--rho", str(rho), "--R", R,
+                 *STEEL, "--v-max", "10", "--json"])
+    assert code == 0, capsys.readouterr().err
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["window"]["P_min_over_P_Y"] == 1.0
+    assert summary["P_max_of_v_max_over_P_Y"] <= summary["window"]["P_max_over_P_Y"]
