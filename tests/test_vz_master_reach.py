@@ -47,8 +47,9 @@ def table():
 
 
 def test_the_shipped_table_is_the_join_of_its_node_records(scenes, table):
-    """Rebuilt from both grids' node records, every column of the shipped table matches bit for bit, and
-    it states the finite strain's reach and where each node joins."""
+    """Rebuilt from both grids' node records, every column of the shipped table matches to 1e-9 (its last bits
+    depend on the CPU's vector paths: up to 2.5e-12 in the fitted radius on another machine), and it states the
+    finite strain's reach and where each node joins."""
     def key(r):
         return (r["nu"], r["E_over_sigma_y"], r["P_over_P_Y"])
 
@@ -60,8 +61,9 @@ def test_the_shipped_table_is_the_join_of_its_node_records(scenes, table):
             if value is None:
                 assert stored[name] in ("", None)
                 continue
-            assert value == stored[name] or (isinstance(value, float) and math.isnan(value)
-                                             and math.isnan(stored[name])), (name, value, stored[name])
+            assert value == stored[name] or (isinstance(value, float) and (
+                math.isclose(value, stored[name], rel_tol=1e-9)
+                or math.isnan(value) and math.isnan(stored[name]))), (name, value, stored[name])
     assert table.meta["kinematics"] == "finite-strain" and table.radius_reach == 0.45
     assert len(table.meta["join"]["join_over_P_Y"]) == table.nu.size * table.E_over_sigma_y.size
 
