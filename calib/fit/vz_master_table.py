@@ -24,7 +24,8 @@ unloading paths), interpolated the same way on the same loads and E / sigma_Y co
 
     VZUnloadParams(pair, x_k, f_a, g_a, window, x_unload = x_k, rho, m),  rho(1) = 0, m(1) = 3/2
 
-(below the nodes' lowest unloading path rho takes the FE's dent shape near first yield, dent_below),
+(below the nodes' lowest unloading path x_unload takes the loads, and rho the shape, of the FE's dent near
+first yield: dent_below),
 
 with its own contact radius a = a_Y (x^(1/3) + f_a(x)): f_a at each node from the FE's contact radius
 along the node's loading branch (calib.fit.vz_master_build.resample_radius: x^(1/3) + f_a = q (x^(1/3)
@@ -57,41 +58,45 @@ RADIUS_COLUMN = "radius_a_p_over_a_Y"     # f_a of the vz-unload law: its contac
 # P_max and |dent error| over alpha_max. So both laws' windows start at P_Y.
 BELOW_NODES = {"checked_from_over_P_Y": 1.2,
                "vz-table": {"e_error": 0.0096, "force_error": 0.012, "dent_error_of_alpha_max": 0.027},
-               "vz-unload": {"e_error": 0.0017, "force_error": 0.0057, "dent_error_of_alpha_max": 0.0019}}
+               "vz-unload": {"e_error": 0.0019, "force_error": 0.0057, "dent_error_of_alpha_max": 0.0003}}
 
 
-# The FE's dent near first yield, S(x) = rho(x) / rho(2.371 P_Y) (the table's first load above the nodes' lowest
-# unloading path), the mean over FE load-unload paths at 12 table nodes (calib.studies.below_nodes: SHAPE_NODES, nu
-# 0.2-0.49 x E/sigma_Y 100, 1000, 5000; results/tables/below_nodes.json "dent_shape"), each node within DENT_SHAPE_SPREAD.
+# The FE's dent near first yield, S(x) = rho(x) / rho(2.371 P_Y) (to the table's first load above the nodes'
+# lowest unloading path): the mean over FE load-unload paths at 12 table nodes (calib.studies.below_nodes:
+# SHAPE_NODES, nu 0.2-0.49 x E/sigma_Y 100, 1000, 5000; results/tables/below_nodes.json "dent_shape"), each
+# node within DENT_SHAPE_SPREAD of it.
 DENT_SHAPE_BELOW = ((1.0, 1.1, 1.2, 1.333521432163324, 1.5, 1.7782794100389228, 2.0, 2.371373705661655),
                     (0.0, 0.00925, 0.04778, 0.12970, 0.25524, 0.50057, 0.69011, 1.0))
 DENT_SHAPE_SPREAD = 0.018
 
 
-def dent_below(x: np.ndarray, rho: np.ndarray, m: np.ndarray, low: float) -> tuple[np.ndarray, np.ndarray]:
-    """The vz-unload law's rho and m at the loads 1 < x_k < x_a, x_a the first load at or above ``low`` (the nodes'
-    lowest unloading path):
+def dent_below(x: np.ndarray, rho: np.ndarray, m: np.ndarray, low: float) -> tuple[np.ndarray, ...]:
+    """The vz-unload law's unloading nodes (x_unload, rho, m) from the table's (x, rho, m) at its common loads,
+    the FE's dent shape near first yield taken below ``low`` (the nodes' lowest unloading path): x_unload holds
+    1, the loads of DENT_SHAPE_BELOW below low, low, and the table's loads above low, with
 
-        rho(x_k) = rho(x_a) S(x_k) / S(x_a),   m(x_k) + 1 = (m_t + 1) (1 - rho(x_k)) / (1 - rho_t)
+        rho(x) = rho_t(low) S(x) / S(low),   m(x) + 1 = (m_t(x) + 1) (1 - rho(x)) / (1 - rho_t(x))   (x < low)
 
-    S the FE's dent shape near first yield (DENT_SHAPE_BELOW, PCHIP), rho_t and m_t the values interpolated
-    from rho = 0, m = 3/2 at x = 1 to the lowest path. The returned work P_max (delta_max - delta_res) / (m + 1)
-    [J], hence e, stays the interpolation's; the dent follows the FE's, which grows as (x - 1)^(1.3 to 2) there.
-    On the held-out FE paths of calib.studies.below_nodes (1.2-1.8 P_Y) the dent is within 0.19 % of alpha_max;
-    rho interpolated from rho(1) = 0 overstated it by up to 0.53 % (at 1.2 P_Y, where the FE's is 0.25-0.29 %).
-    The returned work kept, e moves by at most 0.02 % there; 0 of 14160 laws refused (59 nu x 120 E/sigma_Y, both)."""
+    S = DENT_SHAPE_BELOW (PCHIP), rho_t and m_t the table's PCHIP (nfdmodel.pchip) from rho = 0, m = 3/2 at
+    x = 1. The returned work P_max (delta_max - delta_res) / (m + 1) [J], hence e, stays the table's, and at low,
+    the nodes' lowest FE path, rho too; below it the dent follows the FE's, which grows as (x - 1)^(1.3 to 2).
+    On the held-out FE paths of calib.studies.below_nodes (1.2-1.8 P_Y) the dent is within 0.03 % of alpha_max;
+    the table's rho_t overstated it by up to 0.53 % (at 1.2 P_Y, where the FE's is 0.25-0.29 %). e moves by
+    1e-5 there, the force by 0.05 % of P_max; 0 of 14160 laws refused (59 nu x 120 E/sigma_Y, both laws)."""
+    from nfdmodel.pchip import pchip_evaluate, pchip_slopes
+
     xs, shape = (np.array(v) for v in DENT_SHAPE_BELOW)
-    above = np.flatnonzero(x >= low * (1 - 1e-9))
-    if above.size == 0 or x[above[0]] > xs[-1] * (1 + 1e-9):
-        return rho, m
-    a = above[0]
+    if not 1.0 < low <= xs[-1] * (1 + 1e-9) or x[-1] <= low:
+        return x, rho, m
     S = PchipInterpolator(xs, shape)
-    below = np.flatnonzero(x[:a] > 1.0)
-    rho, m = rho.copy(), m.copy()
-    new = rho[a] * S(x[below]) / S(x[a])
-    m[below] = (m[below] + 1.0) * (1.0 - new) / (1.0 - rho[below]) - 1.0
-    rho[below] = new
-    return rho, m
+    at = np.concatenate([xs[(xs > 1.0) & (xs < low * (1 - 1e-9))], [low]])
+    rho_t = pchip_evaluate(x, rho, pchip_slopes(x, rho), at)[0]
+    m_t = pchip_evaluate(x, m, pchip_slopes(x, m), at)[0]
+    rho_new = rho_t[-1] * S(at) / S(low)
+    m_new = (m_t + 1.0) * (1.0 - rho_new) / (1.0 - rho_t) - 1.0
+    above = x > low * (1 + 1e-9)
+    return (np.concatenate([[1.0], at, x[above]]), np.concatenate([[0.0], rho_new, rho[above]]),
+            np.concatenate([[HERTZ_EXPONENT], m_new, m[above]]))
 
 
 def proportional_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, low: float) -> np.ndarray:
@@ -225,7 +230,6 @@ class VZMasterTable:
             unloading = self._interpolate(np.stack([self.rho, self.m], axis=-1), finite, stop, nu, lr)
             out["rho"], out["m"] = unloading[:, 0].copy(), unloading[:, 1].copy()
             out["rho"][0], out["m"][0] = 0.0, HERTZ_EXPONENT      # first yield: Hertz's, exactly
-            out["rho"], out["m"] = dent_below(xs, out["rho"], out["m"], low)
         if self.f_a is not None:       # the vz-unload law's radius, the same way
             f_a = self._interpolate(self.f_a[..., None], finite, stop, nu, lr)[:, 0]
             out["f_a"] = np.maximum.accumulate(np.maximum(f_a, 0.0))
@@ -288,8 +292,8 @@ class VZMasterTable:
 
     def unload_law(self, material: Material, R: float) -> VZUnloadParams:
         """The vz-unload law of that sphere: the table's rho, m interpolated at :meth:`law`'s loads
-        (x_unload = x; rho = 0, m = 3/2 at P_Y), declared from P_Y (below the nodes' lowest unloading
-        path checked against the FE: BELOW_NODES). Its contact radius is the
+        (rho = 0, m = 3/2 at P_Y; below the nodes' lowest path the FE's dent shape, dent_below), declared from
+        P_Y (below the nodes' lowest unloading path checked against the FE: BELOW_NODES). Its contact radius is the
         table's own f_a (fitted to the FE's, RADIUS_COLUMN) and its loading the vz-table law's at
         every table load: D = (x^(1/3) + f)^2 / g = (x^(1/3) + f_a)^2 / g_a, so
 
@@ -306,9 +310,10 @@ class VZMasterTable:
         if "f_a" in values:
             c = np.cbrt(values["x"])
             f, g = values["f_a"], g * ((c + values["f_a"]) / (c + f)) ** 2
-        x = tuple(values["x"])
-        return VZUnloadParams(pair, x, tuple(f), tuple(g), self._window({**values, "f": f}, pair, "vz-unload"),
-                              x, tuple(values["rho"]), tuple(values["m"]))
+        x_unload, rho, m = dent_below(values["x"], values["rho"], values["m"], values["low"])
+        window = self._window({**values, "f": f}, pair, "vz-unload")
+        return VZUnloadParams(pair, tuple(values["x"]), tuple(f), tuple(g), window, tuple(x_unload), tuple(rho),
+                              tuple(m))
 
     @property
     def accuracy(self) -> str:

@@ -70,7 +70,8 @@ def spec_of(task: dict):
 
 def case_task(nu: float, E_over_sigma_y: float, peaks: tuple = PEAKS_OVER_YIELD, role: str = "check") -> dict:
     case = {"nu": nu, "E_over_sigma_y": E_over_sigma_y}
-    key = stable_key({**case, "version": VERSION, "peaks": peaks, "mesh": spec_of({**case, "peaks": peaks}).mesh.cache_key()})
+    mesh = spec_of({**case, "peaks": peaks}).mesh.cache_key()
+    key = stable_key({**case, "version": VERSION, "peaks": peaks, "mesh": mesh})
     return {"key": key, **case, "peaks": list(peaks), "role": role}
 
 
