@@ -5,7 +5,8 @@ aluminium-like sphere on a steel-like flat, nu 0.33, E/sigma_Y 250, E1'/E2' 0.33
 mesh family to 41.2 P_Y, where the law must meet 2 % in e and 5 % of P_max in force and beat the rigid-flat
 substitution; the rigid-flat limit (a counter-body 1e4 times stiffer), where the mapped law must give the vz
 master table's own e and D; every pair over the table's domain, admissible from P_Y; the table's interpolation,
-exact at its nodes. The CLI: ``nfdcal material --counter-E ... --v-max`` writes a parameter file of the pair that nfdmodel loads and ``nfdcal collide`` runs, and
+exact at its nodes; the build's seven held-out checks (results/pairs/pair_table_checks.csv) over each whole window
+the law declares. The CLI: ``nfdcal material --counter-E ... --v-max`` writes a parameter file of the pair that nfdmodel loads and ``nfdcal collide`` runs, and
 refuses what the table does not cover in one line (exit 2).
 """
 import csv
