@@ -9,7 +9,6 @@ exact at its nodes; the build's seven held-out checks (results/pairs/pair_table_
 the law declares. The CLI: ``nfdcal material --counter-E ... --v-max`` writes a parameter file of the pair that nfdmodel loads and ``nfdcal collide`` runs, and
 refuses what the table does not cover in one line (exit 2).
 """
-import csv
 import json
 from pathlib import Path
 
@@ -20,6 +19,7 @@ from calib.cli import main
 from calib.fit import pair_table_build as build
 from calib.fit.calibration import drive_law
 from calib.fit.counter import CounterBody
+from calib.fit.master_table import read_rows
 from calib.fit.pair_table import CHECKED_CAPS_OVER_P_Y, TOP_SHARE, PairTable, law_curves, pair_law
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import Material, VZTableParams, load_parameters
@@ -164,21 +164,19 @@ def test_held_out_checks_meet_the_targets_over_each_whole_window():
     """The build's held-out checks (results/pairs/pair_table_checks.csv: two-body FE of pairs off every node, one
     a counter-sphere): each law's window is the one pair_law declares today, its FE paths reach at least 0.9 of
     that window's top, and every path inside meets 2 % in e and 5 % of P_max in force."""
-    with CHECKS_CSV.open() as f:
-        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
     checks: dict = {}
-    for row in rows:
+    for row in read_rows(CHECKS_CSV):
         checks.setdefault((row["nu"], row["E_over_sigma_y"], row["x"], row["counter"]), []).append(row)
     assert len(checks) >= 6
     for (nu, ratio, x, counter), paths in checks.items():
         radius = None if counter == "flat" else float(counter.split("=")[1].split()[0])
-        body = build.counter({"x": x, "nu": float(nu), "E_over_sigma_y": float(ratio), "counter_R_over_R": radius})
-        top = pair_law(build.material(float(nu), float(ratio)), build.R, body)["law"].window.P_max_over_P_Y
+        body = build.counter({"x": repr(x), "nu": nu, "E_over_sigma_y": ratio, "counter_R_over_R": radius})
+        top = pair_law(build.material(nu, ratio), build.R, body)["law"].window.P_max_over_P_Y
         inside = [p for p in paths if p["inside_window"] == "True"]
-        assert float(paths[0]["window_top"]) == pytest.approx(top, rel=1e-9), (nu, ratio, x, counter)
-        assert max(float(p["P_max_over_P_Y"]) for p in inside) >= 0.9 * top, (nu, ratio, x, counter)
+        assert paths[0]["window_top"] == pytest.approx(top, rel=1e-9), (nu, ratio, x, counter)
+        assert max(p["P_max_over_P_Y"] for p in inside) >= 0.9 * top, (nu, ratio, x, counter)
         for p in inside:
-            assert abs(float(p["pair_table_e_error"])) < 0.02 and float(p["pair_table_force_error"]) < 0.05, p
+            assert abs(p["pair_table_e_error"]) < 0.02 and p["pair_table_force_error"] < 0.05, p
 
 
 def test_the_window_ends_at_a_share_of_the_data_or_where_the_checks_hold():
@@ -202,8 +200,8 @@ def test_the_window_ends_at_a_share_of_the_data_or_where_the_checks_hold():
                          ids=["aluminium 6061", "steel", "brass", "copper"])
 @pytest.mark.parametrize("R", ["0.001", "0.005"])
 def test_metals_on_a_steel_floor_answer_to_10_m_s_from_first_yield(E, nu, sigma_y, rho, R, capsys):
-    """Issue 38's DEM user: spheres of R 1-5 mm of these metals on a steel floor (210 GPa, nu 0.3) get the pair
-    law to 10 m/s without an FE run, the window from P_Y."""
+    """A DEM user's spheres of R 1-5 mm of these metals on a steel floor (210 GPa, nu 0.3) get the pair law to
+    10 m/s without an FE run, the window from P_Y."""
     code = main(["material", "--E", str(E), "--nu", str(nu), "--sigma-y", str(sigma_y), "--rho", str(rho), "--R", R,
                  *STEEL, "--v-max", "10", "--json"])
     assert code == 0, capsys.readouterr().err

@@ -110,8 +110,8 @@ def test_the_dent_near_first_yield_follows_the_fe_s_shape(table):
     """Between P_Y and the nodes' lowest path the vz-unload law's dent takes the FE's shape: DENT_SHAPE_BELOW is
     the mean of S = rho / rho(2.371 P_Y) over FE paths at 12 table nodes (results/tables/below_nodes.json
     "dent_shape"), every node within DENT_SHAPE_SPREAD of it. On the held-out materials' FE paths (off every node,
-    not in the shape; recomputed here from the stored runs) the law's dent is within 0.5 % of alpha_max, issue
-    39's target where the dent is small, and e within 0.5 %."""
+    not in the shape; recomputed here from the stored runs) the law's dent is within 0.5 % of alpha_max (the dent
+    target where the dent is small, DENT_TARGET_OF_ALPHA_MAX) and e within 0.5 %."""
     from calib.studies import below_nodes
 
     root = Path(__file__).resolve().parents[1] / "results" / "tables"

@@ -88,11 +88,11 @@ def dent_below(x: np.ndarray, rho: np.ndarray, m: np.ndarray, low: float) -> tup
     xs, shape = (np.array(v) for v in DENT_SHAPE_BELOW)
     if not 1.0 < low <= xs[-1] * (1 + 1e-9) or x[-1] <= low:
         return x, rho, m
-    S = PchipInterpolator(xs, shape)
     at = np.concatenate([xs[(xs > 1.0) & (xs < low * (1 - 1e-9))], [low]])
+    S = pchip_evaluate(xs, shape, pchip_slopes(xs, shape), at)[0]
     rho_t = pchip_evaluate(x, rho, pchip_slopes(x, rho), at)[0]
     m_t = pchip_evaluate(x, m, pchip_slopes(x, m), at)[0]
-    rho_new = rho_t[-1] * S(at) / S(low)
+    rho_new = rho_t[-1] * S / S[-1]
     m_new = (m_t + 1.0) * (1.0 - rho_new) / (1.0 - rho_t) - 1.0
     above = x > low * (1 + 1e-9)
     return (np.concatenate([[1.0], at, x[above]]), np.concatenate([[0.0], rho_new, rho[above]]),
