@@ -5,7 +5,7 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from scipy.integrate import quad
 from scipy.interpolate import PchipInterpolator
@@ -66,6 +66,7 @@ paths = st.lists(st.lists(st.floats(-2.0, 450.0, allow_nan=False), min_size=1, m
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(contact_paths=paths)
+@example(contact_paths=[[372.2757187571333, 357.34765625]])   # 1.6 N just before separation from 7.6e5 N
 def test_vectorised_kernel_equals_the_scalar_transcription(contact_paths):
     steps = max(len(p) for p in contact_paths)
     deltas = np.array([[p[min(k, len(p) - 1)] for p in contact_paths] for k in range(steps)]) * PAIR.delta_Y
@@ -78,7 +79,8 @@ def test_vectorised_kernel_equals_the_scalar_transcription(contact_paths):
         for j, delta in enumerate(row):
             P_ref, histories[j] = reference.vz_table_step(float(delta), histories[j], PAIR.R_star, PAIR.E_star,
                                                           PAIR.P_Y, PAIR.delta_Y, PAIR.a_Y, table)
-            assert P[j] == pytest.approx(P_ref, rel=1e-10, abs=1e-12 * PAIR.P_Y)
+            # near separation P = K (delta - delta_res)^(3/2) is a difference of P_max-sized terms: round-off scale
+            assert P[j] == pytest.approx(P_ref, rel=1e-10, abs=1e-12 * max(PAIR.P_Y, histories[j].P_max))
             assert state.delta_res[j] == pytest.approx(histories[j].delta_res, rel=1e-9, abs=1e-9 * PAIR.delta_Y)
 
 
