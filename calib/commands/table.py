@@ -84,11 +84,16 @@ def run_vz_master(ns) -> int:
         raise ValueError(f"{hardening_given(ns)}: the vz master table is of perfectly plastic spheres (no hardening "
                          f"dimension): give the hardening to a scene of [[material]] tables or a [grid]")
     scene = vz_master_build.load_scene(ns.scene)
+    if ns.master_out and len(scene["H_over_E"]) > 1:
+        raise ValueError(f"--master-out: scene {scene['name']} is a hardening sheet (H_over_E "
+                         f"{', '.join(f'{h:g}' for h in scene['H_over_E'])}), not a grid of the vz master table: "
+                         f"run it without --master-out")
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
     tasks = vz_master_build.tasks_for(scene)
     if ns.dry_run:
         loading = vz_master_build.loading_tasks(scene)
-        lines = [f"{t['kind']} {t['name']}: nu {t['nu']:g}, E/sigma_Y {t['E_over_sigma_y']:g}" for t in tasks + loading]
+        lines = [f"{t['kind']} {t['name']}: nu {t['nu']:g}, E/sigma_Y {t['E_over_sigma_y']:g}"
+                 + (f", H/E {t['H_over_E']:g}" if t.get("H_over_E") else "") for t in tasks + loading]
         print_summary(ns, {"scene": scene["name"], "tasks": len(tasks) + len(loading), "folder": str(folder)},
                       lines + [f"{len(tasks)} calibration(s) to the FE's reach in {folder}/nodes, {len(loading)} "
                                f"nodes' loading branches with the FE's contact radius in {folder}/loading (for node records "

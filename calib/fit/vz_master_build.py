@@ -52,6 +52,7 @@ from typing import Callable
 import numpy as np
 
 from calib import output
+from calib.fe.flow_curve import LinearHardening
 from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
@@ -71,6 +72,8 @@ REACH_MARGIN = 1e-6             # the top load this far inside the FE's reach (i
 # table's nodes start there (calibrations start at impact_window.LOWEST_PEAK_OVER_P_Y)
 TABLE_LOWEST_PEAK_OVER_P_Y = 2.0
 TASK_VERSION = 1                # part of a task's key: bump when the FE changes
+# the largest hardening of a sheet's sphere: the plastic modulus H of sigma_y = sigma_Y + H eps_p over E
+MAX_H_OVER_E = 0.2
 FIT_VERSION = 2                 # the fit a row holds (1: trapezoid works; 2: Hertz's end segments), refit_row
 
 
@@ -124,7 +127,9 @@ def load_scene(name: str) -> dict:
              "joins": (str(grid["joins"]) if "joins" in grid else None),
              "lowest_a_over_R": (float(grid["lowest_a_over_R"]) if "lowest_a_over_R" in grid else None),
              "lowest_max_over_P_Y": float(grid.get("lowest_max_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y)),
+             "H_over_E": [float(v) for v in grid.get("H_over_E", [0.0])],
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
+                         "H_over_E": float(c.get("H_over_E", 0.0)),
                          "top_over_P_Y": float(c.get("top_over_P_Y", grid.get("check_top_over_P_Y",
                                                                              grid.get("top_over_P_Y", X_LIMIT))))}
                         for c in raw.get("check", [])],
@@ -133,9 +138,14 @@ def load_scene(name: str) -> dict:
                          "loading_steps_per_decade": float(c.get("loading_steps_per_decade", 0.0)),
                          "refinement": float(r)}
                         for c in raw.get("refine", []) for r in c.get("refinement", [1.0])]}
-    for axis in ("nu", "E_over_sigma_y"):
+    # a hardening sheet (H_over_E beside 0) may hold one nu: the hardening's share of the tables is measured
+    # at it and checked at other nu (calib.fit.vz_hardening)
+    for axis in ("E_over_sigma_y", "H_over_E") if len(scene["H_over_E"]) > 1 else ("nu", "E_over_sigma_y"):
         if len(scene[axis]) < 2:
             raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
+    for value in scene["H_over_E"] + [c["H_over_E"] for c in scene["checks"]]:
+        if not 0.0 <= value <= MAX_H_OVER_E:
+            raise ValueError(f"scene {path}: H_over_E must be in [0, {MAX_H_OVER_E:g}], got {value:g}")
     for refine in scene["refine"] + ([scene["graded"]] if scene["graded"] else []):
         if "nu" in refine and (refine["nu"] not in scene["nu"]
                                or refine["E_over_sigma_y"] not in scene["E_over_sigma_y"]):
@@ -165,13 +175,15 @@ def grid_mesh(scene: dict) -> dict | None:
 
 
 def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None,
-         top_over_P_Y: float | None = None) -> dict:
+         top_over_P_Y: float | None = None, H_over_E: float = 0.0) -> dict:
     """One calibration at the FE's reach (kind "node", "check" to ``top_over_P_Y`` or the scene's
     check top, or "refine": the node on the graded
     mesh of ``refine``, a [[refine]] entry: N elements across every contact radius, refined
     systematically by r, sizes / r and loading steps x r). Nodes and checks take the grid's graded
     mesh (its N, steps and r) unless the scene sets contact_size_over_a_max (a uniform mesh); a
-    node is then the same task as the refined node of its level (the same key)."""
+    node is then the same task as the refined node of its level (the same key). ``H_over_E`` > 0: a sphere
+    of linear isotropic hardening, sigma_y = sigma_Y + H eps_p with H = H_over_E E (its key names it; a
+    perfectly plastic task's key is the grid's)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
     node_like = kind in ("node", "refine")
     if kind == "refine":
@@ -189,7 +201,9 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
                                                     "refinement")})
     if scene["kinematics"] != DEFAULT_KINEMATICS:       # keys of small-strain tasks stay as they are
         fields.update(kinematics=scene["kinematics"], lowest_over_P_Y=lowest_over_P_Y(scene, material))
-    name = name or f"nu{nu:g}_E{ratio:g}sy"
+    if H_over_E > 0.0:                                  # keys of perfectly plastic tasks stay as they are
+        fields["H_over_E"] = H_over_E
+    name = name or (f"nu{nu:g}_E{ratio:g}sy" + (f"_H{H_over_E:g}E" if H_over_E > 0.0 else ""))
     return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
 
 
@@ -211,9 +225,10 @@ def tasks_for(scene: dict) -> list[dict]:
     grid's nodes and the off-grid checks, the softer materials first (their reach, and so their FE,
     is the smallest: a partial run has whole E/sigma_Y columns). A refined node that is a node's
     own task (the same key) runs once, as the node."""
-    nodes = [task(scene, nu, r, "node") for nu in scene["nu"] for r in scene["E_over_sigma_y"]]
-    checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"], top_over_P_Y=c["top_over_P_Y"])
-              for c in scene["checks"]]
+    nodes = [task(scene, nu, r, "node", H_over_E=h) for nu in scene["nu"] for r in scene["E_over_sigma_y"]
+             for h in scene["H_over_E"]]
+    checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"], top_over_P_Y=c["top_over_P_Y"],
+                   H_over_E=c["H_over_E"]) for c in scene["checks"]]
     node_keys = {t["key"] for t in nodes}
     ladder = (task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"])
     refined = sorted((t for t in ladder if t["key"] not in node_keys),
@@ -234,9 +249,13 @@ def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
         mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
     else:
         mesh = {"level": item["level"]}
-    return impact_window.window_spec(item["material"], item["R"], top,
+    spec = impact_window.window_spec(item["material"], item["R"], top,
                                      lowest_over_P_Y=item.get("lowest_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y),
                                      kinematics=kinematics, **mesh)
+    if item.get("H_over_E", 0.0) > 0.0:
+        material = item["material"]
+        spec = dataclasses.replace(spec, hardening=LinearHardening(material.sigma_y, item["H_over_E"] * material.E))
+    return spec
 
 
 def run_task(item: dict) -> dict:
@@ -255,6 +274,7 @@ def run_task(item: dict) -> dict:
     paths = result.load_paths
     return {"key": item["key"], "status": "ok", "kind": item["kind"], "name": item["name"],
             "nu": item["nu"], "E_over_sigma_y": item["E_over_sigma_y"], "sigma_y": item["sigma_y"],
+            **({"H_over_E": item["H_over_E"]} if item.get("H_over_E", 0.0) > 0.0 else {}),
             "rho": item["rho"], "R": R, "level": item["level"], "meshes": item["meshes"],
             "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "P_Y_fe": result.P_Y_fe,
             "table": {"x": list(table.x), "f": list(table.f), "g": list(table.g)},
