@@ -491,12 +491,12 @@ def one_line_refusal(capsys, argv, needle):
     return err
 
 
-@pytest.mark.parametrize("command", ["material", "fit-data"])
+@pytest.mark.parametrize("command", ["fit-data"])
 @pytest.mark.parametrize("flags", [["--hardening-modulus", "1e9"], ["--flow-curve", "GOOD"],
                                    ["--flow-curve", "GOOD", "--flow-curve-extrapolation", "slope"]])
 def test_master_table_commands_refuse_hardening_naming_calibrate(command, flags, curve_files, capsys):
-    """material and fit-data answer from the master tables (perfectly plastic): one line saying so and
-    naming the calibration to run instead, exit 2, before any input is read."""
+    """fit-data fits the master tables' laws of perfectly plastic spheres: one line saying so and naming the
+    calibration to run instead, exit 2, before any input is read (material: tests/test_vz_hardening.py)."""
     flags = [str(curve_files / "GOOD.csv") if f == "GOOD" else f for f in flags]
     extra = ["--impacts", str(curve_files / "none.csv")] if command == "fit-data" else []
     err = one_line_refusal(capsys, [command, *extra, *flags], "no hardening dimension")

@@ -46,8 +46,8 @@ from __future__ import annotations
 
 from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
-                                   material_from_args, print_summary, rate_law_from_args, rate_law_given,
-                                   refuse_hardening)
+                                   flow_curve_from_args, hardening_given, material_from_args, print_summary,
+                                   rate_law_from_args, rate_law_given)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -59,7 +59,7 @@ def add_parser(subparsers) -> None:
                                         "counter-body, by the pair table); no FE",
                                    description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
-    add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
+    add_hardening_arguments(parser)     # with --v-max: --hardening-modulus, the vz master table's hardening sheet
     parser.add_argument("--table", default=None, metavar="CSV", help="master table CSV (default: the shipped one)")
     parser.add_argument("--v-max", default=None, metavar="V",
                         help="the vz-table law for impacts up to V [m/s] from the vz master table (no FE)")
@@ -88,12 +88,15 @@ def run(ns) -> int:
     from calib.commands.targets import refuse_existing
     from calib.fit.master_table import MasterTable
 
-    refuse_hardening(ns, "material", "interpolates the master tables, without an FE run")
     material, radius = material_from_args(ns)
+    H_over_E = sheet_hardening(ns, material)
     counter = counter_from_args(ns, material)
     refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:
-        return run_vz_table(ns, material, radius, counter)
+        return run_vz_table(ns, material, radius, counter, H_over_E)
+    if H_over_E:
+        raise ValueError("--hardening-modulus needs --v-max (the vz master table's hardening sheet); the two-constant "
+                         "master table is of perfectly plastic spheres")
     if counter is not None or ns.pair_table is not None:
         raise ValueError("--counter-E needs --v-max (the pair law from the pair table is a vz-table law); the "
                          "two-constant master table is the rigid flat's")
@@ -127,20 +130,46 @@ def run(ns) -> int:
     return 0
 
 
+def sheet_hardening(ns, material) -> float:
+    """H/E of ``--hardening-modulus H`` (0: no hardening flag, or H = 0), the linear hardening the vz master
+    table's hardening sheet answers (calib.fit.vz_hardening); --flow-curve refused in one line."""
+    if hardening_given(ns) is None:
+        return 0.0
+    if getattr(ns, "flow_curve", None) is not None:
+        raise ValueError("--flow-curve: nfdcal material answers linear hardening only (--hardening-modulus H, the vz "
+                         "master table's hardening sheet); for a tabulated flow curve run the FE, nfdcal calibrate "
+                         "--flow-curve CSV with its --E --nu --sigma-y --R")
+    curve = flow_curve_from_args(ns, material)
+    return 0.0 if curve is None else float(curve.H / material.E)
+
+
 def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-table", counter=None,
-                 pair_table_csv=None) -> dict:
+                 pair_table_csv=None, H_over_E: float = 0.0) -> dict:
     """The vz-table law of ``material`` (sphere of ``radius`` [m]) from the vz master table (module
     doc), what ``--v-max`` answers and writes: {"law": VZTableParams, "table": VZMasterTable,
     "values": its tables' record, "v_in_window": (v_low, v_top) [m/s], the impacts of a sphere on a
     rigid flat that reach the window's ends}. The law does not depend on v_max (v_max is checked
     against v_top only). ``law_name`` "vz-unload": the table's vz-unload law (VZUnloadParams).
     ``counter`` (calib.fit.counter.CounterBody): the pair law of calib.fit.pair_table on that
-    counter-body (then also "pair": its pair_law record, "counter": the counter-body)."""
+    counter-body (then also "pair": its pair_law record, "counter": the counter-body). ``H_over_E`` > 0: the
+    law of a sphere of linear isotropic hardening H = H_over_E E (calib.fit.vz_hardening; then also
+    "sheet": the hardening sheet)."""
     from calib.fit import impact_window
     from calib.fit.vz_master_table import VZMasterTable
 
     table = VZMasterTable.load(table_csv)
     extra = {}
+    if H_over_E:
+        from calib.fit.vz_hardening import HardenedMasterTable, HardeningSheet, hardened_tables
+
+        sheet = HardeningSheet.load()
+        hardened = HardenedMasterTable(table, sheet, H_over_E)
+        law = hardened.unload_law(material, radius) if law_name == "vz-unload" else hardened.law(material, radius)
+        window, P_Y = law.window, law.pair.P_Y
+        return {"law": law, "table": table, "sheet": sheet,
+                "values": hardened_tables(table, sheet, material.nu, material.E / material.sigma_y, H_over_E),
+                "v_in_window": (impact_window.reach_velocity(law, window.P_min_over_P_Y * P_Y),
+                                impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y))}
     if counter is not None:
         from calib.fit.pair_table import PairTable, pair_law
 
@@ -168,15 +197,19 @@ def write_vz_table_law(path, found: dict, material, radius: float, rate_law: dic
         pair_table = found["pair"]["table"]
         fit = {"shipped": "pair table on the vz master table", "accuracy": f"{pair_table.accuracy}; {table.accuracy}",
                "table": str(table.path), "pair_table": str(pair_table.path)}
+    sheet = found.get("sheet")
+    if sheet is not None:
+        fit = {**fit, "accuracy": f"{table.accuracy}; hardening: {sheet.accuracy}", "hardening_sheet": str(sheet.path)}
     write_parameter_file(path, found["law"], radius, material, fit, output.stamp(0.0),
                          counter=None if counter is None else counter.describe(),
                          table_rel_error_estimate=found["values"]["rel_error_estimate"],
-                         **({"rate_law": dict(rate_law)} if rate_law is not None else {}))
+                         **({"rate_law": dict(rate_law)} if rate_law is not None else {}),
+                         **({"hardening": found["hardening"]} if "hardening" in found else {}))
 
 
-def run_vz_table(ns, material, radius, counter=None) -> int:
+def run_vz_table(ns, material, radius, counter=None, H_over_E: float = 0.0) -> int:
     """``--v-max``: the vz-table law of the material from the vz master table, on ``counter`` the pair law
-    from the pair table (module doc)."""
+    from the pair table, with ``H_over_E`` > 0 the hardening sheet's (module doc)."""
     from calib.commands.common import number
     from calib.fit import impact_window
     from nfdmodel.validation import bound_text, check_solid
@@ -196,7 +229,16 @@ def run_vz_table(ns, material, radius, counter=None) -> int:
                          f"independent (give no {flag}, or calibrate the pair by FE: nfdcal calibrate --counter-E ...)")
     if counter is None and ns.pair_table is not None:
         raise ValueError("--pair-table needs --counter-E (the pair table maps the law onto a counter-body)")
-    found = vz_table_law(material, radius, ns.vz_table, law_name, counter, ns.pair_table)
+    if H_over_E and (counter is not None or rate is not None):
+        flag = "--counter-E" if counter is not None else rate_law_given(ns)
+        raise ValueError(f"--hardening-modulus out of range with {flag}: the hardening sheet is measured on a sphere "
+                         f"on a rigid flat, rate-independent; run the FE of this sphere instead, nfdcal calibrate "
+                         f"--hardening-modulus H --peaks ...")
+    found = vz_table_law(material, radius, ns.vz_table, law_name, counter, ns.pair_table, H_over_E)
+    if H_over_E:
+        from calib.fe.flow_curve import LinearHardening
+
+        found["hardening"] = LinearHardening(material.sigma_y, H_over_E * material.E).record()
     law, table, values = found["law"], found["table"], found["values"]
     pair = law.pair
     window = law.window
@@ -217,6 +259,15 @@ def run_vz_table(ns, material, radius, counter=None) -> int:
                "units": {"P_Y": "N", "a_Y": "m", "delta_Y": "m", "v_max": "m/s", "v_Y": "m/s"},
                "source": "vz master table interpolation", "table_file": str(table.path), "accuracy": table.accuracy}
     accuracy = table.accuracy
+    hardening_lines = []
+    if H_over_E:
+        sheet = found["sheet"]
+        accuracy = f"{table.accuracy}; hardening: {sheet.accuracy}"
+        summary.update(hardening=found["hardening"], H_over_E=H_over_E, hardening_sheet_file=str(sheet.path),
+                       accuracy=accuracy, source="vz master table and its hardening sheet")
+        hardening_lines = [f"hardening: sigma_y = sigma_Y + H eps_p, H = {H_over_E * material.E:.4g} Pa (H/E = "
+                           f"{H_over_E:.4g}); the hardening's share of the tables from {sheet.path.name} (measured at "
+                           f"nu {sheet.nu:g}, small strain: the window ends at the sheet's top)"]
     counter_lines = []
     if pair_found is not None:
         accuracy = f"{pair_found['table'].accuracy}; {table.accuracy}"
@@ -250,7 +301,7 @@ def run_vz_table(ns, material, radius, counter=None) -> int:
         f"first yield: P_Y = {pair.P_Y:.4g} N, a_Y = {pair.a_Y:.4g} m, delta_Y = {pair.delta_Y:.4g} m, v_Y = {pair.v_Y:.4g} m/s",
         f"window: P/P_Y {window.P_min_over_P_Y:.3g}..{window.P_max_over_P_Y:.4g} (impacts {v_low:.3g}..{v_top:.3g} m/s); "
         f"v_max = {v_max:g} m/s reaches {P_max / pair.P_Y:.4g} P_Y{below}",
-        *counter_lines, *unloading, *rating, f"accuracy: {accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
+        *hardening_lines, *counter_lines, *unloading, *rating, f"accuracy: {accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else []))
     return 0
 
 

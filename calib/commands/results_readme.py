@@ -34,7 +34,7 @@ def sections() -> tuple:
     from calib.report.collision_index import collision
     from calib.report.fit_data_index import fit_data_benchmark
     from calib.report.lammps_index import lammps
-    from calib.report.tables_index import master_table, pair_table, vz_master_table
+    from calib.report.tables_index import hardening_sheet, master_table, pair_table, vz_master_table
     from calib.studies.below_nodes import below_nodes
     from calib.studies.between_nodes_index import between_nodes
     from calib.studies.chung_ooi_output import chung_ooi
@@ -50,7 +50,7 @@ def sections() -> tuple:
     from calib.studies.wide_window_index import wide_window
 
     return (calibration, mesh_ladder, wide_window, between_nodes, identical_spheres, hertz, collision, impact,
-            master_table, vz_master_table, below_nodes, fit_data_benchmark, pairs, pair_ratios, pair_ratios_high,
+            master_table, vz_master_table, below_nodes, hardening_sheet, fit_data_benchmark, pairs, pair_ratios, pair_ratios_high,
             pair_table, stability, lammps, chung_ooi, heap)
 
 

@@ -7,6 +7,8 @@
     nfdcal table master_validation --check-master     # off-grid FE against the interpolation
     nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv   # the vz master table
                                                       # (calib.fit.vz_master_build)
+    nfdcal table vz_master_hardening --master-out calib/data/vz_hardening_table.csv   # its hardening
+                                                      # sheet (calib.fit.vz_hardening)
 
 Writes OUT/table.csv and OUT/table.json (one row per material: inputs, P_Y, a_Y, Ca, Kc, Ca_hat,
 Kc_hat, R^2 and standard errors, mesh, FE wall time, git commit) and one JSON per finished
@@ -35,7 +37,7 @@ def add_parser(subparsers) -> None:
                         help="Dask distributed scheduler address (tcp://host:port): run there instead")
     parser.add_argument("--master-out", default=None, metavar="CSV",
                         help="also write the master table (nu, E/sigma_Y -> Ca_hat, Kc_hat; grid scenes), or "
-                             "vz_master_grid's vz master table, here")
+                             "vz_master_grid's vz master table, or vz_master_hardening's hardening sheet, here")
     parser.add_argument("--accuracy", default="not validated against off-grid FE calibrations",
                         help="one-line accuracy statement of the master table (printed by nfdcal material)")
     parser.add_argument("--accuracy-details", default="", metavar="TEXT",
@@ -84,10 +86,7 @@ def run_vz_master(ns) -> int:
         raise ValueError(f"{hardening_given(ns)}: the vz master table is of perfectly plastic spheres (no hardening "
                          f"dimension): give the hardening to a scene of [[material]] tables or a [grid]")
     scene = vz_master_build.load_scene(ns.scene)
-    if ns.master_out and len(scene["H_over_E"]) > 1:
-        raise ValueError(f"--master-out: scene {scene['name']} is a hardening sheet (H_over_E "
-                         f"{', '.join(f'{h:g}' for h in scene['H_over_E'])}), not a grid of the vz master table: "
-                         f"run it without --master-out")
+    sheet = len(scene["H_over_E"]) > 1       # the hardening sheet (calib.fit.vz_hardening), not a grid
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
     tasks = vz_master_build.tasks_for(scene)
     if ns.dry_run:
@@ -104,7 +103,13 @@ def run_vz_master(ns) -> int:
     failed = [r for r in rows if r.get("status") != "ok"]
     result = {"scene": scene["name"], "folder": str(folder), "tasks": len(rows), "failed": len(failed)}
     lines = [vz_master_build.describe(r) for r in rows]
-    if ns.master_out and not failed:
+    if ns.master_out and not failed and sheet:
+        from calib.fit import vz_hardening
+
+        checked = vz_hardening.build(rows, ns.master_out, folder)
+        result["hardening_sheet"], result["accuracy"] = str(ns.master_out), checked
+        lines.append(f"hardening sheet written to {ns.master_out}; accuracy {checked['statement']}")
+    elif ns.master_out and not failed:
         from calib.fit import vz_master_check
 
         joined = None

@@ -267,8 +267,12 @@ class VZMasterTable:
     def law(self, material: Material, R: float) -> VZTableParams:
         """The vz-table law of a sphere of ``material`` and radius R [m] on a rigid flat, declared on
         the table's window at that material."""
-        values = self.tables(float(material.nu), float(material.E / material.sigma_y))
-        pair = ContactPair.sphere_flat(material, R)
+        return self.vz_table_of(self.tables(float(material.nu), float(material.E / material.sigma_y)),
+                                ContactPair.sphere_flat(material, R))
+
+    def vz_table_of(self, values: dict, pair: ContactPair) -> VZTableParams:
+        """The vz-table law of :meth:`tables` ``values`` (or values derived from them: calib.fit.vz_hardening)
+        for ``pair``, declared on their window."""
         return VZTableParams(pair, tuple(values["x"]), tuple(values["f"]), tuple(values["g"]),
                              self._window(values, pair))
 
@@ -288,7 +292,8 @@ class VZMasterTable:
         return CalibrationWindow(1.0, values["top"], float(min(a_top, self.radius_reach)),
                                  f"{nodes}; from P_Y to {values['low']:.3g} P_Y interpolated from Hertz's, checked "
                                  f"against the FE (e {below['e_error']:.2%}, force {below['force_error']:.1%}, dent "
-                                 f"{below['dent_error_of_alpha_max']:.1%} of alpha_max at worst)")
+                                 f"{below['dent_error_of_alpha_max']:.1%} of alpha_max at worst)"
+                                 + values.get("source_note", ""))
 
     def unload_law(self, material: Material, R: float) -> VZUnloadParams:
         """The vz-unload law of that sphere: the table's rho, m interpolated at :meth:`law`'s loads
@@ -300,12 +305,16 @@ class VZMasterTable:
             g_a(x_k) = g(x_k) ((x_k^(1/3) + f_a(x_k)) / (x_k^(1/3) + f(x_k)))^2
 
         (a table without f_a: f_a = f, g_a = g). A ValueError when the table carries no unloading columns."""
+        return self.vz_unload_of(self.tables(float(material.nu), float(material.E / material.sigma_y)),
+                                 ContactPair.sphere_flat(material, R))
+
+    def vz_unload_of(self, values: dict, pair: ContactPair) -> VZUnloadParams:
+        """The vz-unload law of :meth:`tables` ``values`` (as :meth:`vz_table_of`) for ``pair``
+        (:meth:`unload_law`)."""
         if not self.has_unloading:
             name = self.path.name if self.path else "vz master table"
             raise ValueError(f"{name} has no columns {', '.join(UNLOADING_COLUMNS)}: the vz-unload law needs them "
                              f"(nfdcal table vz_master_grid --master-out CSV writes them)")
-        values = self.tables(float(material.nu), float(material.E / material.sigma_y))
-        pair = ContactPair.sphere_flat(material, R)
         f, g = values["f"], values["g"]
         if "f_a" in values:
             c = np.cbrt(values["x"])

@@ -1,6 +1,7 @@
 """The master tables' sections of results/README.md (calib.report.results_index): the master table of Ca_hat,
 Kc_hat (results/tables/master_grid, master_validation; ``nfdcal table``) and the vz master table
-(results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check) and the pair table
+(results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check), its hardening sheet
+(results/tables/vz_master_hardening, calib/data/vz_hardening_table.json; calib.fit.vz_hardening) and the pair table
 (results/pairs/pair_table.json, calib/data/pair_table.csv; calib.fit.pair_table_build).
 """
 from __future__ import annotations
@@ -143,3 +144,38 @@ def pair_table(root: Path) -> list[str]:
     lines += table(["nu", "E/sigma_Y", "E1'/E2'", "counter-body", "P_max/P_Y", "window top P/P_Y", "e", "force",
                     "substitution: e", "force"], rows)
     return lines + [f"Accuracy statement: {data['accuracy']}.", ""]
+
+
+def hardening_sheet(root: Path) -> list[str]:
+    """The hardening sheet's section (results/tables/vz_master_hardening/vz_hardening_check.json,
+    calib/data/vz_hardening_table.json; calib.fit.vz_hardening)."""
+    folder = root / "tables" / "vz_master_hardening"
+    check = read_json(folder / "vz_hardening_check.json")
+    shipped = read_json(Path(__file__).resolve().parents[1] / "data" / "vz_hardening_table.json")
+    if check is None or shipped is None:
+        return []
+    sheet = shipped["vz_hardening_table"]
+    lines = section("The vz master table's hardening sheet (`tables/vz_master_hardening/`)", folder, root,
+                    "nfdcal table vz_master_hardening --master-out calib/data/vz_hardening_table.csv",
+                    shipped["stamp"])
+    lines += [f"Spheres of linear isotropic hardening sigma_y = sigma_Y + H eps_p at nu "
+              f"{', '.join(f'{v:g}' for v in sheet['nu'])}, E/sigma_Y {', '.join(f'{v:g}' for v in sheet['E_over_sigma_y'])}"
+              f" and H/E {', '.join(f'{v:g}' for v in sheet['H_over_E'])} (the grid's mesh and window, small strain): "
+              "`nfdcal material --hardening-modulus H --v-max V` adds the hardening's share of the tables measured "
+              "there to the vz master table's (calib.fit.vz_hardening). Against direct FE of hardening spheres off "
+              "the sheet's nodes, each path's e / e_FE - 1 and largest force error / P_max of the hardened law and "
+              "of the perfectly plastic master law at the same material, and the vz-unload law's:", ""]
+    plain = {(r["name"], round(r["P_max_over_P_Y"], 9)): r for r in check["perfectly plastic"]}
+    unloading = {(r["name"], round(r["P_max_over_P_Y"], 9)): r for r in check["unloading"]}
+    rows = []
+    for r in check["vz-table"]:
+        key = (r["name"], round(r["P_max_over_P_Y"], 9))
+        p, u = plain.get(key), unloading.get(key, {})
+        rows.append([f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['H_over_E']:g}", f"{r['P_max_over_P_Y']:.4g}",
+                     "yes" if r["inside"] else "no", pct(r["e_error"]), apct(r["force_error"]),
+                     pct(u["vz-unload e_error"]) if "vz-unload e_error" in u else "-",
+                     apct(u["vz-unload dent_error_of_alpha_max"]) if "vz-unload dent_error_of_alpha_max" in u else "-",
+                     pct(p["e_error"]) if p else "-", apct(p["force_error"]) if p else "-"])
+    lines += table(["nu", "E/sigma_Y", "H/E", "P_max/P_Y", "inside", "e", "force", "vz-unload e",
+                    "vz-unload dent/alpha_max", "perfectly plastic: e", "force"], rows)
+    return lines + [f"Accuracy statement: {check['accuracy']['statement']}.", ""]

@@ -1,0 +1,145 @@
+"""The vz master table's hardening sheet (calib.fit.vz_hardening) and ``nfdcal material --hardening-modulus``.
+
+The hardened laws are checked against FE load-unload paths of hardening spheres the sheet was not built on
+(the scene's [[check]] runs, other nu, E/sigma_Y and H/E), recomputed here from their stored records; the
+sheet is the join of its node records; a vanishing hardening is the master table's law; the command answers,
+writes a parameter file stating the flow curve, and refuses what the sheet does not hold in one line."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from calib.fit import vz_hardening
+from calib.fit.master_table import read_rows
+from calib.fit.vz_master_table import VZMasterTable
+from nfdmodel import Material
+
+ROOT = Path(__file__).resolve().parents[1]
+FOLDER = ROOT / "results" / "tables" / vz_hardening.SCENE
+
+
+def records() -> list[dict]:
+    return [json.loads(p.read_text(encoding="utf-8")) for folder in ("nodes", "loading")
+            for p in sorted((FOLDER / folder).glob("*.json"))]
+
+
+@pytest.fixture(scope="module")
+def stored():
+    return records()
+
+
+@pytest.fixture(scope="module")
+def master():
+    return VZMasterTable.load()
+
+
+@pytest.fixture(scope="module")
+def sheet():
+    return vz_hardening.HardeningSheet.load()
+
+
+def test_the_shipped_sheet_is_the_join_of_its_node_records(stored):
+    rebuilt = vz_hardening.sheet_rows(stored)
+    shipped = read_rows(vz_hardening.DEFAULT_SHEET)
+    assert len(rebuilt) == len(shipped)
+    for new, old in zip(rebuilt, shipped):
+        for key, value in new.items():
+            if isinstance(value, float) and np.isfinite(value):
+                assert old[key] == pytest.approx(value, rel=1e-9, abs=1e-12), key
+            else:
+                assert not isinstance(old[key], float) or not np.isfinite(old[key]), key
+
+
+def test_hardened_laws_meet_the_fe_of_spheres_off_the_sheet(stored, master, sheet):
+    """Inside each window: e within 2 %, force within 5 % of P_max (the master table's targets); the vz-unload
+    law's dent within 0.5 % of alpha_max or 3 %. The perfectly plastic law on the same paths misses by more:
+    the hardening is what the sheet adds."""
+    checked = vz_hardening.check_rows(stored, master, sheet)
+    measured = vz_hardening.summary(checked)
+    assert measured["checks"] == 5 and measured["paths"] >= 25
+    assert measured["vz-table"]["e_error"] <= 0.02
+    assert measured["vz-table"]["force_error"] <= 0.05
+    assert measured["vz-unload"]["e_error"] <= 0.02
+    assert measured["vz-unload"]["unloading_error"] <= 0.05
+    assert measured["perfectly plastic"]["e_error"] > 2 * measured["vz-table"]["e_error"]
+    shipped = json.loads(vz_hardening.DEFAULT_SHEET.with_suffix(".json").read_text(encoding="utf-8"))
+    stated = shipped["vz_hardening_table"]["accuracy_details"]
+    assert stated["vz-table"]["e_error"] == pytest.approx(measured["vz-table"]["e_error"], rel=1e-6)
+
+
+def test_a_vanishing_hardening_is_the_master_law(master, sheet):
+    material = Material(210e9, 0.29, 700e6, 7800.0)
+    plain = master.law(material, 2e-3)
+    hardened = vz_hardening.HardenedMasterTable(master, sheet, 1e-9).law(material, 2e-3)
+    x = np.geomspace(1.0, hardened.window.P_max_over_P_Y, 40)
+    f0, g0 = plain.tables(x)
+    f1, g1 = hardened.tables(x)
+    assert np.allclose(f1, f0, rtol=0, atol=2e-3 * f0.max()) and np.allclose(g1, g0, rtol=2e-3)
+
+
+@pytest.mark.parametrize("H_over_E", [0.002, 0.01, 0.05])
+def test_hardening_raises_the_returned_work_as_the_fe_s(stored, master, sheet, H_over_E):
+    """At a fixed load a harder sphere returns more: its law's e at the top of the window exceeds the perfectly
+    plastic law's, by about as much as the FE's sheet nodes say at nu 0.3, E/sigma_Y 300."""
+    from calib.fit.path_check import law_against_path
+    from calib.fit.vz_master_check import fe_paths
+
+    material = Material(300 * 100e6, 0.3, 100e6, 2700.0)
+    plain = master.law(material, 0.1)
+    hardened = vz_hardening.HardenedMasterTable(master, sheet, H_over_E).law(material, 0.1)
+    node = {r.get("H_over_E", 0.0): r for r in stored
+            if r.get("kind") == "node" and r["E_over_sigma_y"] == 300.0}
+    top = fe_paths(node[0.0])[-1]
+    e_plain = law_against_path("vz-table", plain, top)["e_law"]
+    e_hard = law_against_path("vz-table", hardened, top)["e_law"]
+    assert e_hard > e_plain
+
+
+def run_cli(argv, capsys):
+    from calib.cli import main
+
+    code = main(argv)
+    out = capsys.readouterr()
+    return code, out.out, out.err.strip()
+
+
+STEEL = ["--E", "210e9", "--nu", "0.29", "--sigma-y", "700e6", "--rho", "7800", "--R", "2e-3"]
+
+
+def test_material_answers_a_hardening_sphere_and_states_it(tmp_path, capsys):
+    path = tmp_path / "law.json"
+    code, out, err = run_cli(["material", *STEEL, "--hardening-modulus", "2.1e9", "--v-max", "1",
+                              "--params-out", str(path), "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["H_over_E"] == pytest.approx(0.01)
+    assert summary["hardening"] == {"flow_curve": "linear", "sigma_y": 700e6, "hardening_modulus": 2.1e9}
+    record = json.loads(path.read_text(encoding="utf-8"))
+    assert record["hardening"]["hardening_modulus"] == 2.1e9 and "hardening" in record["fit"]["accuracy"]
+    code, out, err = run_cli(["material", *STEEL, "--v-max", "1", "--json"], capsys)
+    assert json.loads(out)["P_max_of_v_max"] > 0 and summary["P_max_of_v_max"] > json.loads(out)["P_max_of_v_max"]
+    code, out, err = run_cli(["collide", "--params", str(path), "--v-in", "0.5", "--json"], capsys)
+    assert code == 0, err
+
+
+@pytest.mark.parametrize("flags, needle", [
+    (["--hardening-modulus", "2.1e9"], "--hardening-modulus needs --v-max"),
+    (["--hardening-modulus", "2.1e10", "--v-max", "1"], "--hardening-modulus out of range: H/E = 0.1"),
+    (["--hardening-modulus", "2.1e9", "--v-max", "1", "--counter-E", "210e9", "--counter-nu", "0.3"],
+     "--hardening-modulus out of range with --counter-E"),
+    (["--hardening-modulus", "2.1e9", "--v-max", "1", "--rate-law", "cowper-symonds", "--cs-D", "40",
+      "--cs-q", "5"], "--hardening-modulus out of range with --rate-law"),
+])
+def test_material_refuses_what_the_sheet_does_not_hold_in_one_line(flags, needle, capsys):
+    code, out, err = run_cli(["material", *STEEL, *flags], capsys)
+    assert code == 2 and "\n" not in err and needle in err, err
+
+
+def test_material_refuses_a_flow_curve_naming_calibrate(tmp_path, capsys):
+    curve = tmp_path / "curve.csv"
+    curve.write_text("plastic_strain,stress\n0,700e6\n0.1,800e6\n", encoding="utf-8")
+    code, out, err = run_cli(["material", *STEEL, "--flow-curve", str(curve), "--v-max", "1"], capsys)
+    assert code == 2 and "\n" not in err and "nfdcal calibrate --flow-curve" in err, err
