@@ -80,22 +80,26 @@ def test_a_vanishing_hardening_is_the_master_law(master, sheet):
     assert np.allclose(f1, f0, rtol=0, atol=2e-3 * f0.max()) and np.allclose(g1, g0, rtol=2e-3)
 
 
-@pytest.mark.parametrize("H_over_E", [0.002, 0.01, 0.05])
-def test_hardening_raises_the_returned_work_as_the_fe_s(stored, master, sheet, H_over_E):
-    """At a fixed load a harder sphere returns more: its law's e at the top of the window exceeds the perfectly
-    plastic law's, by about as much as the FE's sheet nodes say at nu 0.3, E/sigma_Y 300."""
+@pytest.mark.parametrize("E_over_sigma_y", [100.0, 300.0, 1000.0, 5000.0])
+def test_the_hardened_law_rises_in_e_as_the_fe_at_the_sheet_s_nodes(stored, master, sheet, E_over_sigma_y):
+    """At each node's top path (140-250 P_Y) the FE's e rises with H/E by 0.003-0.051 over the perfectly plastic
+    sphere's; the law's e rises by the same within 0.005 (measured 0.0035 at most). The law's e itself is within
+    1.3 % of the node's (small-strain) FE: at E/sigma_Y 100 the master table holds the finite strain's e there, 1.2 %
+    above the small strain's."""
     from calib.fit.path_check import law_against_path
     from calib.fit.vz_master_check import fe_paths
 
-    material = Material(300 * 100e6, 0.3, 100e6, 2700.0)
-    plain = master.law(material, 0.1)
-    hardened = vz_hardening.HardenedMasterTable(master, sheet, H_over_E).law(material, 0.1)
+    material = Material(E_over_sigma_y * 100e6, 0.3, 100e6, 2700.0)
     node = {r.get("H_over_E", 0.0): r for r in stored
-            if r.get("kind") == "node" and r["E_over_sigma_y"] == 300.0}
-    top = fe_paths(node[0.0])[-1]
-    e_plain = law_against_path("vz-table", plain, top)["e_law"]
-    e_hard = law_against_path("vz-table", hardened, top)["e_law"]
-    assert e_hard > e_plain
+            if r.get("kind") == "node" and r["E_over_sigma_y"] == E_over_sigma_y}
+    plain_top = fe_paths(node[0.0])[-1]
+    e_plain = law_against_path("vz-table", master.law(material, 0.1), plain_top)["e_law"]
+    for H_over_E in (0.005, 0.02, 0.05):
+        top = fe_paths(node[H_over_E])[-1]
+        compared = law_against_path("vz-table", vz_hardening.HardenedMasterTable(master, sheet, H_over_E)
+                                    .law(material, 0.1), top)
+        assert abs(compared["e_error"]) <= 0.013
+        assert compared["e_law"] - e_plain == pytest.approx(top["e"] - plain_top["e"], abs=0.005)
 
 
 def run_cli(argv, capsys):

@@ -4,6 +4,7 @@
     nfdcal material ... --params-out steel.json     # a parameter file for nfdmodel.load_parameters
     nfdcal material ... --v-max 0.5                 # the vz-table law for impacts up to 0.5 m/s
     nfdcal material ... --v-max 0.5 --law vz-unload --params-out law.json   # the vz-unload law
+    nfdcal material ... --v-max 0.5 --hardening-modulus 2e9     # a linearly hardening sphere's
 
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
 (calib/data/master_table.csv; nfdmodel/README.md: the dimensionless constants), then
@@ -38,6 +39,13 @@ pair. Its parameter file states the counter-body (``nfdcal collide --params``, `
 --like-params-out`` take it as a calibrated pair's). Refused in one line (exit 2) without ``--v-max``, with ``--law
 vz-unload`` or ``--rate-law`` (not measured on pairs), outside the pair table (nu, E/sigma_Y, E1'/E2') and for a
 counter-body that yields at or before the sphere: ``nfdcal calibrate --counter-E ...`` calibrates those pairs by FE.
+
+``--hardening-modulus H`` with ``--v-max``: the law (vz-table or vz-unload) of a sphere of linear isotropic
+hardening sigma_y = sigma_Y + H eps_p, the vz master table's tables plus the hardening's share measured at
+nu 0.3 by the hardening sheet (calib/data/vz_hardening_table.csv, calib.fit.vz_hardening: H/E 0 to 0.05,
+small strain, so the window ends at its top, 250 P_Y or the small strain's reach); its parameter file states
+the flow curve ("hardening"). Refused in one line (exit 2): without ``--v-max``, H/E beyond the sheet,
+``--flow-curve`` (a tabulated curve: ``nfdcal calibrate --flow-curve``), with ``--counter-E`` or ``--rate-law``.
 
 ``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
 exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.
