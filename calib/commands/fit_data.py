@@ -57,6 +57,11 @@ the pair's E*, R*, m*, within the pair table's nodes (nu, E/sigma_Y, E1'/E2'); i
 table's, measured by this fit on the two-body FE of held-out pairs (calib.fit.pair_table_build). Drop tests on
 e and P_max, or force-approach curves; refused in one line (exit 2): a yielding counter-body, --pair, --law vz,
 --rate-law, and dent, radius or contact_time columns (not measured on pairs).
+
+``--hardening-modulus H`` [Pa]: the sphere hardens linearly, sigma_y = sigma_Y + H eps_p, with H known (a tensile
+test's slope against the plastic strain): sigma_Y is fitted on the vz master table's law with the hardening sheet's
+share at H/E (calib.fit.vz_hardening; its window ends at the sheet's top, 250 P_Y or the small strain's reach).
+Refused in one line (exit 2): --flow-curve, --law vz, --rate-law and --counter-E with it.
 """
 from __future__ import annotations
 
@@ -64,8 +69,8 @@ import time
 
 from calib.commands.common import (MATERIAL_RANGES, add_counter_arguments, add_hardening_arguments,
                                    add_rate_law_arguments, counter_from_args,
-                                   add_summary_arguments, flag_name, number, print_summary, rate_law_given,
-                                   refuse_hardening)
+                                   add_summary_arguments, flag_name, hardening_given, number, print_summary,
+                                   rate_law_given)
 
 SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
@@ -126,7 +131,7 @@ def add_parser(subparsers) -> None:
                                     "default: a coarse scan)",
                             "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law "
                                     "cowper-symonds: held while D is fitted)"})
-    add_hardening_arguments(parser)     # refused: the master tables have no hardening dimension
+    add_hardening_arguments(parser)     # --hardening-modulus: the vz master table's hardening sheet
     add_counter_arguments(parser)       # the pair law of the pair table (module doc)
     parser.add_argument("--pair-table", default=None, metavar="CSV",
                         help="pair table CSV for --counter-E (default: the shipped one)")
@@ -152,6 +157,41 @@ def specimen_from_args(ns):
     if sigma_y is not None:
         check_solid("sigma_y", sigma_y)
     return Specimen(values["E"], values["nu"], values["R"], values["rho"], bool(ns.pair)), sigma_y
+
+
+def hardening_record(sigma_y: float, H: float) -> dict:
+    """The parameter file's "hardening" entry of the fitted sphere (calib.fe.flow_curve.LinearHardening.record)."""
+    from calib.fe.flow_curve import LinearHardening
+
+    return LinearHardening(sigma_y, H).record()
+
+
+def refuse_flow_curve(ns) -> None:
+    """--flow-curve (--flow-curve-extrapolation) refused in one line, before any input is read: the hardening
+    sheet holds linear hardening only."""
+    given = hardening_given(ns)
+    if given is not None and (given != "--hardening-modulus" or getattr(ns, "flow_curve", None) is not None):
+        raise ValueError(f"{given}: fit-data takes a linear hardening only (--hardening-modulus H, the vz master "
+                         f"table's hardening sheet); for a tabulated flow curve calibrate by FE, nfdcal calibrate "
+                         f"--flow-curve CSV")
+
+
+def known_hardening(ns, specimen) -> float:
+    """H/E of ``--hardening-modulus H`` (0: no hardening flag, or H = 0), the linear hardening fitted with
+    (module doc); one line naming the flag for what the hardening sheet does not hold."""
+    refuse_flow_curve(ns)
+    if hardening_given(ns) is None:
+        return 0.0
+    H = number("--hardening-modulus", ns.hardening_modulus, low=0.0, low_inclusive=True, high=specimen.E,
+               high_inclusive=True, unit="Pa (the plastic modulus, at most E)")
+    if H == 0.0:
+        return 0.0
+    other = ("--law vz" if ns.law == "vz" else rate_law_given(ns) or
+             ("--counter-E" if getattr(ns, "counter_E", None) is not None else None))
+    if other is not None:
+        raise ValueError(f"--hardening-modulus out of range with {other}: the hardening sheet is measured on the "
+                         f"vz-table law of a sphere on a rigid flat, rate-independent")
+    return H / specimen.E
 
 
 def with_counter(ns, specimen):
@@ -291,11 +331,11 @@ def run(ns) -> int:
     from calib.fit.measured import imprint
 
     started = time.perf_counter()
-    refuse_hardening(ns, "fit-data", "fits sigma_Y (and Ca, Kc) of the master tables' laws, with no hardening constant "
-                                     "to identify")
+    refuse_flow_curve(ns)
     if ns.impacts is None and ns.force_approach is None:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)
+    H_over_E = known_hardening(ns, specimen)
     specimen = with_counter(ns, specimen)
     check_outputs(ns)
     if rate_law_given(ns) is not None:
@@ -303,7 +343,7 @@ def run(ns) -> int:
 
         return run_rate_law(ns, specimen, sigma_y, started)
     if ns.law != "vz":
-        return run_table_law(ns, specimen, sigma_y, started)
+        return run_table_law(ns, specimen, sigma_y, started, H_over_E)
     if ns.noise is not None or ns.vz_table is not None:
         raise ValueError("--noise and --vz-table apply to the vz-table law (the default), not to --law vz")
     table = MasterTable.load(ns.table)
@@ -380,10 +420,10 @@ def run(ns) -> int:
     return 0
 
 
-def run_table_law(ns, specimen, sigma_y, started: float) -> int:
+def run_table_law(ns, specimen, sigma_y, started: float, H_over_E: float = 0.0) -> int:
     """The vz-table law (``--law vz-table``, the default when --law is not given): sigma_Y on the vz
-    master table's law (calib.fit.measured.table_law). By default, data outside the table are
-    refused naming ``--law vz`` (module doc)."""
+    master table's law (calib.fit.measured.table_law), with ``H_over_E`` > 0 the hardening sheet's
+    (calib.fit.vz_hardening). By default, data outside the table are refused naming ``--law vz`` (module doc)."""
     from calib import output
     from calib.fit.measured import data as measured_data
     from calib.fit.measured import imprint, table_refusal
@@ -398,6 +438,13 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                              + (" (the default): give --law vz" if default else ""))
     noise = number("--noise", ns.noise, None, low=0.0, high=0.5, high_inclusive=True)
     table = VZMasterTable.load(ns.vz_table)
+    sheet = None
+    if H_over_E:
+        from calib.fit.vz_hardening import HardenedMasterTable, HardeningSheet
+
+        sheet = HardeningSheet.load()
+        sheet.check(H_over_E)
+        table = HardenedMasterTable(table, sheet, H_over_E)
     data = measured_data.Measurements(
         impacts=measured_data.read_impacts(ns.impacts) if ns.impacts else None,
         forces=measured_data.read_force_approach(ns.force_approach) if ns.force_approach else None)
@@ -450,6 +497,8 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "v_Y": pair.v_Y,
                "table": {"P_over_P_Y": list(law.x), "a_p_over_a_Y": list(law.f), "C_R": list(law.g)},
                "files": data.files, "vz_master_table": str(table.path), "accuracy": table.accuracy,
+               **({"hardening": hardening_record(result.sigma_y, H_over_E * specimen.E),
+                   "hardening_sheet": str(sheet.path), "hardening_accuracy": sheet.accuracy} if sheet else {}),
                "tested": tested(specimen),
                **({"counter": specimen.counter.describe(), "pair_table": str(pair_table_of(specimen).path),
                    "pair_table_accuracy": pair_table_of(specimen).accuracy} if specimen.counter is not None else {}),
@@ -468,7 +517,8 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
                               "vz-table (pair table on the vz master table)",
                               "sigma_y_se": result.se, "sigma_y_interval95": [low, high], "verdict": result.verdict},
                              output.stamp(time.perf_counter() - started),
-                             counter=None if counter is None else counter.describe())
+                             counter=None if counter is None else counter.describe(),
+                             **({"hardening": summary["hardening"]} if sheet else {}))
         summary["params_out"] = ns.params_out
     loads_out = ", ".join(f"{t['P_over_P_Y']:.4g}" for t in left_out)
     lines = [f"law: vz-table (the vz master table's load-dependent law; "
@@ -492,6 +542,9 @@ def run_table_law(ns, specimen, sigma_y, started: float) -> int:
              f"model: {result.verdict}",
              *([f"tested: {tested(specimen)}; pair table accuracy: {pair_table_of(specimen).accuracy}"]
                if specimen.counter is not None else []),
+             *([f"hardening (known): sigma_y = sigma_Y + H eps_p, H = {H_over_E * specimen.E:.4g} Pa (H/E {H_over_E:.4g}), "
+                f"the hardening sheet's share at nu {sheet.nu:g} ({sheet.path.name}); its accuracy: {sheet.accuracy}"]
+               if sheet else []),
              f"table accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else [])
     print_summary(ns, summary, lines)
     return 0

@@ -158,6 +158,12 @@ class HardenedMasterTable:
     def unload_law(self, material: Material, R: float) -> VZUnloadParams:
         return self.master.vz_unload_of(self._values(material), ContactPair.sphere_flat(material, R))
 
+    def __getattr__(self, name):
+        # the master table's axes, metadata and accuracy (what a fit reads besides the laws)
+        if name == "master":
+            raise AttributeError(name)
+        return getattr(self.master, name)
+
 
 def sheet_rows(rows: list[dict]) -> list[dict]:
     """The sheet's CSV rows from the scene's records: each node's columns (calib.fit.vz_master_build.node_columns)
