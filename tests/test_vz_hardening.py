@@ -197,3 +197,32 @@ def test_fit_data_refuses_what_the_sheet_does_not_hold_in_one_line(flags, needle
     path.write_text("v_in,e\n0.5,0.8\n1.0,0.75\n", encoding="utf-8")
     code, out, err = run_cli(["fit-data", "--impacts", str(path), *STEEL, *flags], capsys)
     assert code == 2 and "\n" not in err and needle in err, err
+
+
+def test_drop_tests_to_the_sheet_s_top_determine_sigma_y_not_H(stored, master, sheet):
+    """Identifiability (Bates & Watts 1988, sec. 2.3): at the drop speeds of each hardening check (2 P_Y to the
+    window's top), with 1 % scatter in e and P_max, Cov(ln sigma_Y, ln H) = s^2 (J^T J)^-1 from the hardened law's
+    sensitivities: sigma_Y to 1.8-2.8 %, H only to 29-580 % (measured); the data barely change along ln H. So
+    fit-data takes H as known (a tensile test's) and fits sigma_Y."""
+    import math
+
+    from calib.fit.vz_master_check import fe_datasets
+    from nfdmodel import collision_reference
+
+    for row in (r for r in stored if r.get("kind") == "check"):
+        H_over_E = row["H_over_E"]
+        sets = fe_datasets(row, vz_hardening.HardenedMasterTable(master, sheet, H_over_E))
+        specimen, sigma_y, v_in = sets["specimen"], sets["sigma_y"], sets["drops"]["v_in"]
+
+        def predicted(ln_sigma_y, ln_H):
+            law = vz_hardening.HardenedMasterTable(master, sheet, math.exp(ln_H)).law(
+                specimen.material(math.exp(ln_sigma_y)), specimen.R)
+            ref = collision_reference("vz-table", law, v_in)
+            return np.log(np.r_[ref.restitution, ref.P_max])
+
+        step = 1e-3
+        at = (math.log(sigma_y), math.log(H_over_E))
+        base = predicted(*at)
+        J = np.c_[(predicted(at[0] + step, at[1]) - base) / step, (predicted(at[0], at[1] + step) - base) / step]
+        se = np.sqrt(np.diag(np.linalg.inv(J.T @ J))) * 0.01
+        assert se[0] < 0.03 and se[1] > 0.25, (row["name"], se)
