@@ -226,3 +226,19 @@ def test_drop_tests_to_the_sheet_s_top_determine_sigma_y_not_H(stored, master, s
         J = np.c_[(predicted(at[0] + step, at[1]) - base) / step, (predicted(at[0], at[1] + step) - base) / step]
         se = np.sqrt(np.diag(np.linalg.inv(J.T @ J))) * 0.01
         assert se[0] < 0.03 and se[1] > 0.25, (row["name"], se)
+
+
+@pytest.mark.parametrize("sheet_scene, grid_scene", [("vz_master_hardening", "vz_master_grid"),
+                                                     ("vz_master_reach_hardening", "vz_master_reach")])
+def test_a_sheet_s_perfectly_plastic_nodes_are_its_grid_s_tasks(sheet_scene, grid_scene):
+    """H/E 0 of a hardening sheet is its grid's own node (the same key: the same FE, run once), and every hardening
+    task is keyed apart from every grid task."""
+    from calib.fit import vz_master_build
+
+    grid = {t["key"] for t in vz_master_build.tasks_for(vz_master_build.load_scene(grid_scene))}
+    tasks = vz_master_build.tasks_for(vz_master_build.load_scene(sheet_scene))
+    plain = [t for t in tasks if t["kind"] == "node" and not t.get("H_over_E")]
+    hardening = [t for t in tasks if t.get("H_over_E")]
+    assert len(plain) == 6 and all(t["key"] in grid for t in plain)
+    checks = [t for t in tasks if t["kind"] == "check"]
+    assert len(hardening) == 18 + len(checks) and not any(t["key"] in grid for t in hardening)
