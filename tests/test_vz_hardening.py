@@ -242,3 +242,28 @@ def test_a_sheet_s_perfectly_plastic_nodes_are_its_grid_s_tasks(sheet_scene, gri
     assert len(plain) == 6 and all(t["key"] in grid for t in plain)
     checks = [t for t in tasks if t["kind"] == "check"]
     assert len(hardening) == 18 + len(checks) and not any(t["key"] in grid for t in hardening)
+
+
+def test_calibrate_v_max_sizes_a_hardening_sphere_s_window_by_the_sheet(tmp_path, capsys):
+    """calibrate --v-max --hardening-modulus: the window estimated with the hardening sheet's law covers the impact
+    in one FE round; the FE-calibrated hardening law and the sheet's law (other FE runs, another material's nodes)
+    agree in e at v_max within 1 % (measured 0.19 %, coarse mesh)."""
+    from calib.fe.flow_curve import LinearHardening
+    from calib.fit import impact_window
+    from nfdmodel import collide, load_parameters
+
+    code, out, err = run_cli(["calibrate", "--v-max", "0.05", "--contact-size", "3e-4", "--hardening-modulus", "3.5e9",
+                              "--no-plots", "--json", "--quiet", "--out", str(tmp_path)], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    rounds = summary["v_max"]["rounds"]
+    assert len(rounds) == 1 and rounds[0]["covered"]
+    record = json.loads((tmp_path / "parameters.json").read_text(encoding="utf-8"))
+    assert record["hardening"]["hardening_modulus"] == 3.5e9
+    material = Material(70e9, 0.3, 100e6, 2699.0)
+    sheet_law, source = impact_window.estimating_constants(material, 0.1, None, LinearHardening(100e6, 3.5e9))
+    assert source == "the vz master table's hardening sheet"
+    calibrated = load_parameters(tmp_path / "parameters.json")
+    e_fe = collide("vz-table", calibrated, [0.05]).e_velocity[0]
+    e_sheet = collide("vz-table", sheet_law, [0.05]).e_velocity[0]
+    assert e_fe == pytest.approx(e_sheet, rel=0.01)

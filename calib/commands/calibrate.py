@@ -292,20 +292,19 @@ def run(ns) -> int:
         raise ValueError(f"--peaks out of range: need forces > 0 N, got {' '.join(f'{p:g}' for p in peaks)}")
     v_max = number("--v-max", ns.v_max, None, low=0.0, unit="m/s")
     ship = ns.ship
-    if v_max is not None and hardening is not None:
-        raise ValueError("--v-max sizes the window from impacts of a perfectly plastic sphere: with --hardening-modulus "
-                         "or --flow-curve give the load paths by --peaks (or none: 13.7 27.4 41.2 x P_Y)")
     if v_max is not None:
         if peaks is not None:
             raise ValueError("--v-max sets the load paths from the impacts: do not combine it with --peaks")
         check_solid("v_in", v_max)
         needed, params, _ = impact_window.check_reach(material, radius, v_max,   # before any mesh
-                                                      kinematics or "finite-strain", counter)
+                                                      kinematics or "finite-strain", counter, hardening)
         if kinematics is None:
             kinematics = recipe.chosen_kinematics(params.pair, impact_window.window_top(
                 params.pair, needed, "finite-strain", counter), counter)
         spec = impact_window.impact_spec(material, radius, needed, kinematics, counter=counter,
                                          **v_max_mesh(contact_size))
+        if hardening is not None:
+            spec = dataclasses.replace(spec, hardening=hardening)
     else:
         spec = recipe.calibration_spec(material, radius, peaks=peaks, contact_size=contact_size, counter=counter,
                                        kinematics=kinematics or recipe.reach_kinematics("finite-strain", counter))
@@ -347,7 +346,7 @@ def run(ns) -> int:
             result = calibration.calibrate(spec, progress=progress, ship=ship)
         else:                           # round 1 is the plan above; more rounds if it falls short
             found = impact_window.calibrate_for_impacts(material, radius, v_max, progress=progress, ship=ship,
-                                                        kinematics=kinematics, counter=counter,
+                                                        kinematics=kinematics, counter=counter, hardening=hardening,
                                                         **v_max_mesh(contact_size))
             result, rounds = found.result, list(found.rounds)
         if ship in TWO_CONSTANTS and result.load_paths.paths and result.two_constant_window() is None:

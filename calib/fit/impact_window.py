@@ -211,10 +211,22 @@ class ImpactWindow:
     rounds: tuple[dict, ...]
 
 
-def estimating_constants(material: Material, radius: float, counter=None) -> tuple[VZParams, str]:
+def estimating_constants(material: Material, radius: float, counter=None, hardening=None) -> tuple[VZParams, str]:
     """(VZParams, source): the master table's constants at (nu, E/sigma_Y), else the paper's, on the
-    pair's scales (the rigid flat, or ``counter``'s pair: E*, R*, m*)."""
+    pair's scales (the rigid flat, or ``counter``'s pair: E*, R*, m*). A sphere of linear ``hardening``
+    (calib.fe.flow_curve.LinearHardening) on the rigid flat, inside the vz master table's hardening sheet: that
+    sheet's vz-table law (calib.fit.vz_hardening; a VZTableParams); another flow curve: the perfectly plastic
+    constants (a softer estimate: the rounds of :func:`calibrate_for_impacts` widen the window)."""
     pair = recipe.contact_pair(material, radius, counter)
+    if counter is None and getattr(hardening, "H", 0.0) > 0.0:
+        from calib.fit.vz_hardening import HardenedMasterTable, HardeningSheet
+        from calib.fit.vz_master_table import VZMasterTable
+
+        try:
+            law = HardenedMasterTable(VZMasterTable.load(), HardeningSheet.load(), hardening.H / material.E)
+            return law.law(material, radius), "the vz master table's hardening sheet"
+        except (ValueError, OSError):   # outside the sheet: the perfectly plastic estimate below
+            pass
     try:
         values = MasterTable.load().parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
         return VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"]), "master table"
@@ -256,12 +268,12 @@ def estimable(params: VZParams, load: float) -> float:
 
 
 def check_reach(material: Material, radius: float, v_max: float,
-                kinematics: str = DEFAULT_KINEMATICS, counter=None) -> tuple[float, VZParams, str]:
+                kinematics: str = DEFAULT_KINEMATICS, counter=None, hardening=None) -> tuple[float, VZParams, str]:
     """(estimated P_max [N] of the impact at v_max, estimating constants, their source); a
     ValueError before any FE when the FE in ``kinematics`` (on ``counter``: recipe.reach_kinematics)
     cannot reach it, naming the largest v_in it can vouch for (and, in small strain on the rigid
-    flat, the finite strain's)."""
-    params, source = estimating_constants(material, radius, counter)
+    flat, the finite strain's). ``hardening``: the sphere's flow curve (:func:`estimating_constants`)."""
+    params, source = estimating_constants(material, radius, counter, hardening)
     pair = params.pair
     kinematics = recipe.reach_kinematics(kinematics, counter)
     reach = recipe.fe_reach(pair, kinematics)
@@ -293,19 +305,22 @@ def check_reach(material: Material, radius: float, v_max: float,
 def calibrate_for_impacts(material: Material, radius: float, v_max: float, *,
                           progress: Callable[[str], None] | None = None, ship: str = "radius",
                           unload: bool = True, meshes: int = 2, kinematics: str = DEFAULT_KINEMATICS,
-                          **spec_options) -> ImpactWindow:
+                          hardening=None, **spec_options) -> ImpactWindow:
     """Calibrate until the window covers the impact at v_max [m/s] (module doc) with the FE in
     ``kinematics``. ``spec_options`` go to :func:`window_spec` (mesh level or contact size, steps);
     ``unload`` False: loading branches only (the radius fit); ``meshes``: as
-    calib.fit.calibration.calibrate."""
+    calib.fit.calibration.calibrate; ``hardening``: the sphere's flow curve (calib.fe.flow_curve; None:
+    perfectly plastic), each round's FE and the first estimate (:func:`estimating_constants`) take it."""
     say = progress or (lambda message: None)
     counter = spec_options.get("counter")
-    needed, _, source = check_reach(material, radius, v_max, kinematics, counter)
+    needed, _, source = check_reach(material, radius, v_max, kinematics, counter, hardening)
     rounds = []
     pair = recipe.contact_pair(material, radius, counter)
     reach = recipe.fe_reach(pair, recipe.reach_kinematics(kinematics, counter))
     for round_number in range(1, MAX_ROUNDS + 1):
         spec = impact_spec(material, radius, needed, kinematics, **spec_options)
+        if hardening is not None:
+            spec = dataclasses.replace(spec, hardening=hardening)
         top = spec.plan.peaks[-1]
         say(f"window round {round_number}: v_max = {v_max:g} m/s needs about {needed / pair.P_Y:.4g} P_Y "
             f"({source}); {len(spec.plan.peaks)} load paths from {spec.plan.peaks[0] / pair.P_Y:.4g} to "
