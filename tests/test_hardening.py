@@ -529,6 +529,9 @@ def test_table_flags_give_every_sphere_the_flow_curve_in_the_plan(curve_files, c
     planned = json.loads(capsys.readouterr().out)
     assert planned["hardening"] == {"copper_c11000": {"flow_curve": "linear", "sigma_y": 69e6, "hardening_modulus": 2e9}}
     assert planned["stages"][0]["detail"].endswith("hardening H = 2e+09 Pa")
+    assert main(["table", "copper", "--dry-run", "--json", "--hardening-modulus", "2e9", "--v-max", "0.05"]) == 0
+    sized = json.loads(capsys.readouterr().out)     # the impact window sized for the hardening sphere
+    assert sized["hardening"] == planned["hardening"] and sized["stages"][0]["detail"].endswith("hardening H = 2e+09 Pa")
     scene = write_scene(curve_files)
     assert main(["table", str(scene), "--dry-run", "--flow-curve", str(curve_files / "GOOD.csv"),
                  "--flow-curve-extrapolation", "slope"]) == 0
@@ -541,7 +544,6 @@ TABLE_REFUSALS = [
     (["copper", "--hardening-modulus", "1e9", "--flow-curve", "GOOD"], "give one of them"),
     (["copper", "--hardening-modulus", "1e9", "--master-out", "m.csv"], "--master-out: the master table is of perfectly"),
     (["copper", "--hardening-modulus", "1e9", "--check-master"], "--check-master: the master table is of perfectly"),
-    (["copper", "--hardening-modulus", "1e9", "--v-max", "1"], "--hardening-modulus: the impact window"),
     (["vz_master_grid", "--hardening-modulus", "1e9"], "the vz master table is of perfectly plastic spheres"),
     (["SCENE_H", "--hardening-modulus", "1e9"], "gives its spheres' hardening: give it there or here, not both"),
 ]
@@ -585,7 +587,6 @@ SCENE_REFUSALS = [
     ({"material": 'flow_curve = "OTHER_SY.csv"'}, "material[0].flow_curve: flow curve"),
     ({"material": 'flow_curve = "MISSING.csv"'}, "cannot read it"),
     ({"material": "hardening_modulus = 1e9", "calibration": "hardening_modulus = 1e9"}, "give it in one place"),
-    ({"material": "hardening_modulus = 1e9", "calibration": "v_max = 1.0", "bare": True}, "calibration.v_max: the impact"),
     ({"material": "hardening_modulus = 1e9", "extra": "[impact]\nv_in = [1.0]\n[impact.counter]\nE = 2e11\nrho = 7800.0\n"},
      "impact.counter: the two-body impact FE is of perfectly plastic spheres"),
 ]
@@ -594,8 +595,6 @@ SCENE_REFUSALS = [
 @pytest.mark.parametrize("case, needle", SCENE_REFUSALS, ids=[n for _, n in SCENE_REFUSALS])
 def test_scene_hardening_refused_in_one_line_naming_the_key(case, needle, curve_files, capsys):
     path = write_scene(curve_files, case.get("material", ""), case.get("calibration", ""), case.get("extra", ""))
-    if case.get("bare"):                # v_max sets the load paths: no P_max beside it
-        path.write_text(path.read_text().replace("[load_paths]\nP_max_over_P_Y = [5.0, 10.0]\n", ""))
     one_line_refusal(capsys, ["run", str(path), "--dry-run"], needle)
 
 

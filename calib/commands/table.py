@@ -130,15 +130,13 @@ def run_vz_master(ns) -> int:
 
 def with_hardening(scene, ns):
     """``scene`` with every sphere's hardening from the flags (unchanged without them); refused
-    when the scene gives its own, or sizes its window from impacts (of perfectly plastic spheres)."""
+    when the scene gives its own. A window from impacts (--v-max) is then sized for the hardening sphere
+    (calib.fit.impact_window.calibrate_for_impacts)."""
     given = hardening_given(ns)
     if given is None:
         return scene
     if scene.hardening:
         raise ValueError(f"{given}: scene {scene.source} gives its spheres' hardening: give it there or here, not both")
-    if scene.calibration_v_max is not None or scene.calibration_v_max_from_collision:
-        raise ValueError(f"{given}: the impact window (--v-max, the scene's v_max) is sized for a perfectly plastic "
-                         f"sphere: for a hardening one give the load paths' P_max in the scene's [load_paths]")
     import dataclasses
 
     curves = tuple((m.name, flow_curve_from_args(ns, m.material())) for m in scene.materials)

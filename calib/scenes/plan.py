@@ -36,8 +36,10 @@ def calibration_spec(scene: Scene, material: SceneMaterial):
         if v_max is None:
             peaks = stage.peaks(stage_pair(material, counter))
         else:
-            needed, _, _ = impact_window.check_reach(material.material(), material.R, v_max)
-            return impact_window.impact_spec(material.material(), material.R, needed, **spec_options(scene))
+            curve = scene.flow_curve(material)     # a hardening sphere's window: estimated with its flow curve
+            needed, _, _ = impact_window.check_reach(material.material(), material.R, v_max, hardening=curve)
+            spec = impact_window.impact_spec(material.material(), material.R, needed, **spec_options(scene))
+            return spec if curve is None else dataclasses.replace(spec, hardening=curve)
         spec = recipe.calibration_spec(material.material(), material.R, peaks=peaks, **spec_options(scene),
                                        counter=None if counter is None else counter.counter_body(material))
         curve = scene.flow_curve(material)      # absent for perfect plasticity: the spec (and its key) unchanged

@@ -90,6 +90,7 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
     else:                               # round 1 is the spec above; more rounds if it falls short
         result = impact_window.calibrate_for_impacts(material.material(), material.R, v_max, progress=progress,
                                                      ship=scene.calibration_ship, unload=unload,
+                                                     hardening=scene.flow_curve(material),
                                                      **spec_options(scene)).result
     if unload and (scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu):
         calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu)

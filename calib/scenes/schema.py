@@ -610,9 +610,6 @@ def _hardening(file: SceneFile, materials, source: str) -> tuple:
             raise SceneError(f"scene {source}: {where}.{exc}") from None
         if curve is not None:
             out.append((m.name, curve))
-    if out and file.calibration is not None and (file.calibration.v_max is not None or file.calibration.v_max_from):
-        raise SceneError(f"scene {source}: calibration.v_max: the impact window is sized for a perfectly plastic "
-                         f"sphere: for a hardening one give the load paths' P_max in [load_paths]")
     if out and file.impact is not None and file.impact.counter is not None:
         raise SceneError(f"scene {source}: impact.counter: the two-body impact FE is of perfectly plastic spheres: "
                          f"drop the hardening or the [impact.counter] table")

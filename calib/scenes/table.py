@@ -112,7 +112,7 @@ def calibrate_task(task: dict) -> dict:
             result = calibration.calibrate(spec, unload=not task["loading_only"])
         else:                           # the window from the impacts: one or more FE rounds
             result = impact_window.calibrate_for_impacts(spec.material, spec.radius, task["v_max"],
-                                                         unload=not task["loading_only"],
+                                                         unload=not task["loading_only"], hardening=spec.hardening,
                                                          **task["spec_options"]).result
         fit, P_Y_fe, mesh = result.radius_fit, result.P_Y_fe, result.mesh_info
         estimates = result.constants("radius")      # both meshes: extrapolated, with error estimates
