@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from calib.fit import vz_hardening
+from calib.fit import vz_hardening, vz_hardening_build
 from calib.fit.master_table import read_rows
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import Material
@@ -42,7 +42,7 @@ def sheet():
 
 
 def test_the_shipped_sheet_is_the_join_of_its_node_records(stored):
-    rebuilt = vz_hardening.sheet_rows(stored)
+    rebuilt = vz_hardening_build.sheet_rows(stored)
     shipped = read_rows(vz_hardening.DEFAULT_SHEET)
     assert len(rebuilt) == len(shipped)
     for new, old in zip(rebuilt, shipped):
@@ -57,8 +57,8 @@ def test_hardened_laws_meet_the_fe_of_spheres_off_the_sheet(stored, master, shee
     """Inside each window: e within 2 %, force within 5 % of P_max (the master table's targets); the vz-unload
     law's dent within 0.5 % of alpha_max or 3 %. The perfectly plastic law on the same paths misses by more:
     the hardening is what the sheet adds."""
-    checked = vz_hardening.check_rows(stored, master, sheet)
-    measured = vz_hardening.summary(checked)
+    checked = vz_hardening_build.check_rows(stored, master, sheet)
+    measured = vz_hardening_build.summary(checked)
     assert measured["checks"] == 5 and measured["paths"] >= 25
     assert measured["vz-table"]["e_error"] <= 0.02
     assert measured["vz-table"]["force_error"] <= 0.05

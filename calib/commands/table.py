@@ -8,7 +8,7 @@
     nfdcal table vz_master_grid --master-out calib/data/vz_master_table.csv   # the vz master table
                                                       # (calib.fit.vz_master_build)
     nfdcal table vz_master_hardening --master-out calib/data/vz_hardening_table.csv   # its hardening
-                                                      # sheet (calib.fit.vz_hardening)
+                                                      # sheet (calib.fit.vz_hardening_build)
 
 Writes OUT/table.csv and OUT/table.json (one row per material: inputs, P_Y, a_Y, Ca, Kc, Ca_hat,
 Kc_hat, R^2 and standard errors, mesh, FE wall time, git commit) and one JSON per finished
@@ -104,9 +104,9 @@ def run_vz_master(ns) -> int:
     result = {"scene": scene["name"], "folder": str(folder), "tasks": len(rows), "failed": len(failed)}
     lines = [vz_master_build.describe(r) for r in rows]
     if ns.master_out and not failed and sheet:
-        from calib.fit import vz_hardening
+        from calib.fit import vz_hardening_build
 
-        checked = vz_hardening.build(rows, ns.master_out, folder)
+        checked = vz_hardening_build.build(rows, ns.master_out, folder)
         result["hardening_sheet"], result["accuracy"] = str(ns.master_out), checked
         lines.append(f"hardening sheet written to {ns.master_out}; accuracy {checked['statement']}")
     elif ns.master_out and not failed:

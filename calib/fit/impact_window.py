@@ -219,6 +219,7 @@ def estimating_constants(material: Material, radius: float, counter=None, harden
     constants (a softer estimate: the rounds of :func:`calibrate_for_impacts` widen the window)."""
     pair = recipe.contact_pair(material, radius, counter)
     if counter is None and getattr(hardening, "H", 0.0) > 0.0:
+        # only a linearly hardening sphere reads the sheet (and the master table beside it)
         from calib.fit.vz_hardening import HardenedMasterTable, HardeningSheet
         from calib.fit.vz_master_table import VZMasterTable
 

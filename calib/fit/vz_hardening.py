@@ -19,9 +19,7 @@ log10 E/sigma_Y, over the columns reaching x; T_s(0) is the master table's own n
 the master table's to the sheet's top at that E/sigma_Y (the small strain's reach: no finite-strain hardening
 sheet). How far the share depends on nu, and the law's accuracy between the sheet's nodes, are measured on the
 scene's [[check]] spheres (FE paths with hardening at other nu, E/sigma_Y and H/E): :func:`check_rows`,
-results/tables/vz_master_hardening/.
-
-    nfdcal table vz_master_hardening [--workers 2] --master-out calib/data/vz_hardening_table.csv
+results/tables/vz_master_hardening/ (built and checked by calib.fit.vz_hardening_build).
 """
 from __future__ import annotations
 
@@ -30,9 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from calib import output
 from calib.fit.master_table import DATA_DIR, read_meta, read_rows
-from calib.fit.vz_master_table import RADIUS_COLUMN, UNLOADING_COLUMNS, VZMasterTable, proportional_below
+from calib.fit.vz_master_table import VZMasterTable, proportional_below
 from nfdmodel import ContactPair, Material, VZTableParams, VZUnloadParams
 from nfdmodel.vz_unload import HERTZ_EXPONENT
 
@@ -163,109 +160,3 @@ class HardenedMasterTable:
         if name == "master":
             raise AttributeError(name)
         return getattr(self.master, name)
-
-
-def sheet_rows(rows: list[dict]) -> list[dict]:
-    """The sheet's CSV rows from the scene's records: each node's columns (calib.fit.vz_master_build.node_columns)
-    on the sheet's loads, its H/E beside nu and E/sigma_Y."""
-    from calib.fit import vz_master_build
-
-    nodes = sorted((r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"),
-                   key=lambda r: (r.get("H_over_E", 0.0), r["nu"], r["E_over_sigma_y"]))
-    loading = vz_master_build.loading_records(rows)
-    x = vz_master_build.table_loads(nodes)
-    out = []
-    for row in nodes:
-        columns = vz_master_build.node_columns(row, loading[row["key"]], x)
-        window = (row["window"]["P_min_over_P_Y"], row["window"]["P_max_over_P_Y"])
-        out += [{"H_over_E": row.get("H_over_E", 0.0), **r}
-                for r in vz_master_build.node_rows(row, columns, x, window, row["table_rel_error_estimate"])]
-    return out
-
-
-def check_rows(rows: list[dict], master: VZMasterTable, sheet: HardeningSheet) -> dict:
-    """The hardened laws against the scene's [[check]] FE paths (calib.fit.vz_master_check.check_material and
-    check_unloading at each check's H/E) and, for contrast, the perfectly plastic master law on the same paths."""
-    from calib.fit import vz_master_check
-
-    out = {"vz-table": [], "unloading": [], "perfectly plastic": []}
-    for row in (r for r in rows if r.get("kind") == "check" and r.get("status") == "ok"):
-        hardened = HardenedMasterTable(master, sheet, row["H_over_E"])
-        tag = {"H_over_E": row["H_over_E"]}
-        out["vz-table"] += [{**tag, **r} for r in vz_master_check.check_material(row, hardened)]
-        out["unloading"] += [{**tag, **r} for r in vz_master_check.check_unloading(row, hardened)]
-        out["perfectly plastic"] += [{**tag, **r} for r in vz_master_check.check_material(row, master)]
-    return out
-
-
-def summary(checked: dict) -> dict:
-    """The largest errors inside the windows: e and force of the vz-table law, the vz-unload law's e, dent
-    and unloading force, and the perfectly plastic law's e and force on the same paths."""
-    def largest(rows, key):
-        values = [abs(r[key]) for r in rows if r["inside"] and r.get(key) is not None]
-        return max(values) if values else None
-
-    inside = [r for r in checked["vz-table"] if r["inside"]]
-    return {"paths": len(inside), "checks": len({r["name"] for r in inside}),
-            "vz-table": {"e_error": largest(checked["vz-table"], "e_error"),
-                         "force_error": largest(checked["vz-table"], "force_error")},
-            "vz-unload": {"e_error": largest(checked["unloading"], "vz-unload e_error"),
-                          "unloading_error": largest(checked["unloading"], "vz-unload unloading_error"),
-                          "dent_error_of_alpha_max": largest(checked["unloading"], "vz-unload dent_error_of_alpha_max")},
-            "perfectly plastic": {"e_error": largest(checked["perfectly plastic"], "e_error"),
-                                  "force_error": largest(checked["perfectly plastic"], "force_error")}}
-
-
-def statement(measured: dict) -> str:
-    """The sheet's accuracy in one sentence (:func:`summary`)."""
-    if not measured["paths"]:
-        return "not checked against FE paths with hardening"
-    t, u, p = measured["vz-table"], measured["vz-unload"], measured["perfectly plastic"]
-    return (f"against direct FE of {measured['checks']} hardening spheres off the sheet's nodes ({measured['paths']} "
-            f"load-unload paths inside the window, nu {measured['nu_range']}, H/E {measured['H_over_E_range']}): "
-            f"vz-table e within {100 * t['e_error']:.2g} %, force within {100 * t['force_error']:.2g} % of P_max; "
-            f"vz-unload e within {100 * u['e_error']:.2g} %, unloading force {100 * u['unloading_error']:.2g} % of "
-            f"P_max, dent {100 * u['dent_error_of_alpha_max']:.2g} % of alpha_max; the perfectly plastic master law "
-            f"on the same paths: e {100 * p['e_error']:.2g} %, force {100 * p['force_error']:.2g} %")
-
-
-def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMasterTable | None = None) -> dict:
-    """Write the sheet (calib/data/vz_hardening_table.{csv,json}: its rows, stamp and measured accuracy) from the
-    scene's records ``rows``, check it with the master table (default: the shipped one) against the scene's
-    [[check]] FE paths (``folder``/vz_hardening_check.{csv,json}) and return the summary with its statement."""
-    from calib.fit import vz_master_build
-
-    path, folder = Path(path), Path(folder)
-    scene = vz_master_build.load_scene(SCENE)
-    nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
-    expected = len(scene["nu"]) * len(scene["E_over_sigma_y"]) * len(scene["H_over_E"])
-    if len(nodes) != expected:
-        raise ValueError(f"hardening sheet: {len(nodes)} of {expected} nodes are calibrated; run "
-                         f"nfdcal table {SCENE} to the end first")
-    table = sheet_rows(rows)
-    loading = [r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"]
-    stamp = output.stamp(sum(r["wall_time_s"] for r in nodes + loading),
-                         mesh={"graded": vz_master_build.grid_mesh(scene), "meshes": scene["meshes"]},
-                         scene=SCENE, node_commits=sorted({r["git_commit"] for r in nodes}))
-    meta = {"scene": SCENE, "axes": ["H_over_E", "E_over_sigma_y", "P_over_P_Y"], "nu": scene["nu"],
-            "H_over_E": scene["H_over_E"], "E_over_sigma_y": scene["E_over_sigma_y"],
-            "definition": "the columns of calib/data/vz_master_table.csv of a sphere of linear isotropic hardening "
-                          "sigma_y = sigma_Y + H eps_p, H = H_over_E E, at nu (calib.fit.vz_hardening)",
-            "columns": ["a_p_over_a_Y", "C_R", *UNLOADING_COLUMNS, RADIUS_COLUMN]}
-    output.write_csv(path, table, comment=output.stamp_comment(stamp))
-    output.write_json(path.with_suffix(".json"), {"vz_hardening_table": meta, "stamp": stamp})
-    master = master or VZMasterTable.load()
-    checked = check_rows(rows, master, HardeningSheet.load(path))
-    measured = summary(checked)
-    inside = [r for r in checked["vz-table"] if r["inside"]]
-    measured["nu_range"] = f"{min(r['nu'] for r in inside):g}-{max(r['nu'] for r in inside):g}" if inside else ""
-    measured["H_over_E_range"] = (f"{min(r['H_over_E'] for r in inside):g}-{max(r['H_over_E'] for r in inside):g}"
-                                  if inside else "")
-    measured["statement"] = statement(measured)
-    check_stamp = output.stamp(0.0, table=str(path), master_table=str(master.path))
-    output.write_csv(folder / "vz_hardening_check.csv", checked["vz-table"], comment=output.stamp_comment(check_stamp))
-    output.write_json(folder / "vz_hardening_check.json", {**checked, "accuracy": measured, "stamp": check_stamp})
-    output.write_json(path.with_suffix(".json"), {"vz_hardening_table": {**meta, "accuracy": measured["statement"],
-                                                                         "accuracy_details": measured},
-                                                  "stamp": stamp})
-    return measured

@@ -1,7 +1,7 @@
 """The master tables' sections of results/README.md (calib.report.results_index): the master table of Ca_hat,
 Kc_hat (results/tables/master_grid, master_validation; ``nfdcal table``) and the vz master table
 (results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check), its hardening sheet
-(results/tables/vz_master_hardening, calib/data/vz_hardening_table.json; calib.fit.vz_hardening) and the pair table
+(results/tables/vz_master_hardening, calib/data/vz_hardening_table.json; calib.fit.vz_hardening_build) and the pair table
 (results/pairs/pair_table.json, calib/data/pair_table.csv; calib.fit.pair_table_build).
 """
 from __future__ import annotations
@@ -148,7 +148,7 @@ def pair_table(root: Path) -> list[str]:
 
 def hardening_sheet(root: Path) -> list[str]:
     """The hardening sheet's section (results/tables/vz_master_hardening/vz_hardening_check.json,
-    calib/data/vz_hardening_table.json; calib.fit.vz_hardening)."""
+    calib/data/vz_hardening_table.json; calib.fit.vz_hardening_build)."""
     folder = root / "tables" / "vz_master_hardening"
     check = read_json(folder / "vz_hardening_check.json")
     shipped = read_json(Path(__file__).resolve().parents[1] / "data" / "vz_hardening_table.json")
