@@ -219,6 +219,16 @@ def flow_curve_from_args(ns, material: Material):
         raise ValueError(f"--flow-curve: {exc}{hint}") from None
 
 
+def refuse_flow_curve(ns, command: str) -> None:
+    """--flow-curve (--flow-curve-extrapolation) refused in one line by a command answering from the vz master
+    table's hardening sheet (calib.fit.vz_hardening), which holds linear hardening only."""
+    given = hardening_given(ns)
+    if given is not None and (given != "--hardening-modulus" or getattr(ns, "flow_curve", None) is not None):
+        raise ValueError(f"{given}: nfdcal {command} takes linear hardening only (--hardening-modulus H, the vz master "
+                         f"table's hardening sheet); for a tabulated flow curve run the FE, nfdcal calibrate "
+                         f"--flow-curve CSV with its --E --nu --sigma-y --R")
+
+
 def hardening_given(ns) -> str | None:
     """The first hardening flag given (its name), None when none is."""
     return next((flag_name(key) for key in HARDENING_HELP if getattr(ns, key, None) is not None), None)

@@ -70,7 +70,7 @@ import time
 from calib.commands.common import (MATERIAL_RANGES, add_counter_arguments, add_hardening_arguments,
                                    add_rate_law_arguments, counter_from_args,
                                    add_summary_arguments, flag_name, hardening_given, number, print_summary,
-                                   rate_law_given)
+                                   rate_law_given, refuse_flow_curve)
 
 SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
@@ -166,20 +166,10 @@ def hardening_record(sigma_y: float, H: float) -> dict:
     return LinearHardening(sigma_y, H).record()
 
 
-def refuse_flow_curve(ns) -> None:
-    """--flow-curve (--flow-curve-extrapolation) refused in one line, before any input is read: the hardening
-    sheet holds linear hardening only."""
-    given = hardening_given(ns)
-    if given is not None and (given != "--hardening-modulus" or getattr(ns, "flow_curve", None) is not None):
-        raise ValueError(f"{given}: fit-data takes a linear hardening only (--hardening-modulus H, the vz master "
-                         f"table's hardening sheet); for a tabulated flow curve calibrate by FE, nfdcal calibrate "
-                         f"--flow-curve CSV")
-
-
 def known_hardening(ns, specimen) -> float:
     """H/E of ``--hardening-modulus H`` (0: no hardening flag, or H = 0), the linear hardening fitted with
-    (module doc); one line naming the flag for what the hardening sheet does not hold."""
-    refuse_flow_curve(ns)
+    (module doc); one line naming the flag for what the hardening sheet does not hold (--flow-curve: run's
+    refuse_flow_curve, before any input is read)."""
     if hardening_given(ns) is None:
         return 0.0
     H = number("--hardening-modulus", ns.hardening_modulus, low=0.0, low_inclusive=True, high=specimen.E,
@@ -331,7 +321,7 @@ def run(ns) -> int:
     from calib.fit.measured import imprint
 
     started = time.perf_counter()
-    refuse_flow_curve(ns)
+    refuse_flow_curve(ns, "fit-data")
     if ns.impacts is None and ns.force_approach is None:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)

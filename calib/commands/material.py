@@ -55,7 +55,7 @@ from __future__ import annotations
 from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
                                    flow_curve_from_args, hardening_given, material_from_args, print_summary,
-                                   rate_law_from_args, rate_law_given)
+                                   rate_law_from_args, rate_law_given, refuse_flow_curve)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -143,10 +143,7 @@ def sheet_hardening(ns, material) -> float:
     table's hardening sheet answers (calib.fit.vz_hardening); --flow-curve refused in one line."""
     if hardening_given(ns) is None:
         return 0.0
-    if getattr(ns, "flow_curve", None) is not None:
-        raise ValueError("--flow-curve: nfdcal material answers linear hardening only (--hardening-modulus H, the vz "
-                         "master table's hardening sheet); for a tabulated flow curve run the FE, nfdcal calibrate "
-                         "--flow-curve CSV with its --E --nu --sigma-y --R")
+    refuse_flow_curve(ns, "material")
     curve = flow_curve_from_args(ns, material)
     return 0.0 if curve is None else float(curve.H / material.E)
 
@@ -164,20 +161,17 @@ def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-ta
     "sheet": the hardening sheet)."""
     from calib.fit import impact_window
     from calib.fit.vz_master_table import VZMasterTable
+    from nfdmodel import ContactPair
 
     table = VZMasterTable.load(table_csv)
     extra = {}
     if H_over_E:
-        from calib.fit.vz_hardening import HardenedMasterTable, HardeningSheet, hardened_tables
+        from calib.fit.vz_hardening import HardeningSheet, hardened_tables
 
-        sheet = HardeningSheet.load()
-        hardened = HardenedMasterTable(table, sheet, H_over_E)
-        law = hardened.unload_law(material, radius) if law_name == "vz-unload" else hardened.law(material, radius)
-        window, P_Y = law.window, law.pair.P_Y
-        return {"law": law, "table": table, "sheet": sheet,
-                "values": hardened_tables(table, sheet, material.nu, material.E / material.sigma_y, H_over_E),
-                "v_in_window": (impact_window.reach_velocity(law, window.P_min_over_P_Y * P_Y),
-                                impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y))}
+        extra = {"sheet": HardeningSheet.load()}
+        values = hardened_tables(table, extra["sheet"], material.nu, material.E / material.sigma_y, H_over_E)
+    else:
+        values = table.tables(material.nu, material.E / material.sigma_y)
     if counter is not None:
         from calib.fit.pair_table import PairTable, pair_law
 
@@ -185,9 +179,10 @@ def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-ta
                  "counter": counter}
         law = extra["pair"]["law"]
     else:
-        law = table.unload_law(material, radius) if law_name == "vz-unload" else table.law(material, radius)
+        pair = ContactPair.sphere_flat(material, radius)
+        law = table.vz_unload_of(values, pair) if law_name == "vz-unload" else table.vz_table_of(values, pair)
     window, P_Y = law.window, law.pair.P_Y
-    return {"law": law, "table": table, "values": table.tables(material.nu, material.E / material.sigma_y),
+    return {"law": law, "table": table, "values": values,
             "v_in_window": (impact_window.reach_velocity(law, window.P_min_over_P_Y * P_Y),
                             impact_window.reach_velocity(law, window.P_max_over_P_Y * P_Y)), **extra}
 

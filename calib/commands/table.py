@@ -86,7 +86,7 @@ def run_vz_master(ns) -> int:
         raise ValueError(f"{hardening_given(ns)}: the vz master table is of perfectly plastic spheres (no hardening "
                          f"dimension): give the hardening to a scene of [[material]] tables or a [grid]")
     scene = vz_master_build.load_scene(ns.scene)
-    sheet = len(scene["H_over_E"]) > 1       # the hardening sheet (calib.fit.vz_hardening), not a grid
+    sheet = vz_master_build.is_hardening_sheet(scene)
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
     tasks = vz_master_build.tasks_for(scene)
     if ns.dry_run:

@@ -140,7 +140,7 @@ def load_scene(name: str) -> dict:
                         for c in raw.get("refine", []) for r in c.get("refinement", [1.0])]}
     # a hardening sheet (H_over_E beside 0) may hold one nu: the hardening's share of the tables is measured
     # at it and checked at other nu (calib.fit.vz_hardening)
-    for axis in ("E_over_sigma_y", "H_over_E") if len(scene["H_over_E"]) > 1 else ("nu", "E_over_sigma_y"):
+    for axis in ("E_over_sigma_y", "H_over_E") if is_hardening_sheet(scene) else ("nu", "E_over_sigma_y"):
         if len(scene[axis]) < 2:
             raise ValueError(f"scene {path}: [vz_master] {axis} needs at least 2 values")
     for value in scene["H_over_E"] + [c["H_over_E"] for c in scene["checks"]]:
@@ -166,6 +166,11 @@ def load_scene(name: str) -> dict:
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
     return scene
+
+
+def is_hardening_sheet(scene: dict) -> bool:
+    """Whether ``scene`` is a hardening sheet (an H_over_E axis beside 0; calib.fit.vz_hardening), not a grid."""
+    return len(scene["H_over_E"]) > 1
 
 
 def grid_mesh(scene: dict) -> dict | None:
