@@ -1,9 +1,10 @@
 """The vz master table's hardening sheet (calib.fit.vz_hardening) and ``nfdcal material --hardening-modulus``.
 
 The hardened laws are checked against FE load-unload paths of hardening spheres the sheet was not built on
-(the scene's [[check]] runs, other nu, E/sigma_Y and H/E), recomputed here from their stored records; the
-sheet is the join of its node records; a vanishing hardening is the master table's law; the command answers,
-writes a parameter file stating the flow curve, and refuses what the sheet does not hold in one line."""
+(the scenes' [[check]] runs, other nu, E/sigma_Y and H/E: the finite-strain checks to 1e4 P_Y, the small-strain
+ones below the join), recomputed here from their stored records; the sheet is the join of its two scenes' node
+records; a vanishing hardening is the master table's law; the command answers, writes a parameter file stating
+the flow curve, and refuses what the sheet does not hold in one line."""
 from __future__ import annotations
 
 import json
@@ -12,23 +13,29 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from calib.fit import vz_hardening, vz_hardening_build
+from calib.fit import vz_hardening, vz_hardening_build, vz_master_build, vz_master_join
 from calib.fit.master_table import read_rows
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import Material
 
 ROOT = Path(__file__).resolve().parents[1]
-FOLDER = ROOT / "results" / "tables" / vz_hardening.SCENE
-
-
-def records() -> list[dict]:
-    return [json.loads(p.read_text(encoding="utf-8")) for folder in ("nodes", "loading")
-            for p in sorted((FOLDER / folder).glob("*.json"))]
+FINITE_SCENE = "vz_master_reach_hardening"       # the shipped sheet's scene, joined with vz_hardening.SCENE
 
 
 @pytest.fixture(scope="module")
-def stored():
-    return records()
+def joined():
+    """The finite-strain scene's records and its join with the small-strain sheet's (vz_master_join.joined_table)."""
+    scene = vz_master_build.load_scene(FINITE_SCENE)
+    rows = vz_master_join.scene_records(scene, ROOT / "results" / "tables" / FINITE_SCENE)
+    return rows, vz_master_join.joined_table(scene, rows, ROOT / "results" / "tables" / vz_hardening.SCENE)
+
+
+@pytest.fixture(scope="module")
+def stored(joined):
+    """The sheet's node records and the FE checks it answers for: the finite-strain checks and the small-strain
+    checks' paths below the join."""
+    rows, join = joined
+    return rows + join["check_rows"]
 
 
 @pytest.fixture(scope="module")
@@ -41,8 +48,8 @@ def sheet():
     return vz_hardening.HardeningSheet.load()
 
 
-def test_the_shipped_sheet_is_the_join_of_its_node_records(stored):
-    rebuilt = vz_hardening_build.sheet_rows(stored)
+def test_the_shipped_sheet_is_the_join_of_its_node_records(joined):
+    rebuilt = joined[1]["rows"]
     shipped = read_rows(vz_hardening.DEFAULT_SHEET)
     assert len(rebuilt) == len(shipped)
     for new, old in zip(rebuilt, shipped):
@@ -59,7 +66,7 @@ def test_hardened_laws_meet_the_fe_of_spheres_off_the_sheet(stored, master, shee
     the hardening is what the sheet adds."""
     checked = vz_hardening_build.check_rows(stored, master, sheet)
     measured = vz_hardening_build.summary(checked)
-    assert measured["checks"] == 5 and measured["paths"] >= 25
+    assert measured["checks"] == 7 and measured["paths"] >= 35
     assert measured["vz-table"]["e_error"] <= 0.02
     assert measured["vz-table"]["force_error"] <= 0.05
     assert measured["vz-unload"]["e_error"] <= 0.02
@@ -82,24 +89,27 @@ def test_a_vanishing_hardening_is_the_master_law(master, sheet):
 
 @pytest.mark.parametrize("E_over_sigma_y", [100.0, 300.0, 1000.0, 5000.0])
 def test_the_hardened_law_rises_in_e_as_the_fe_at_the_sheet_s_nodes(stored, master, sheet, E_over_sigma_y):
-    """At each node's top path (140-250 P_Y) the FE's e rises with H/E by 0.003-0.051 over the perfectly plastic
-    sphere's; the law's e rises by the same within 0.005 (measured 0.0035 at most). The law's e itself is within
-    1.3 % of the node's (small-strain) FE: at E/sigma_Y 100 (140 P_Y) the perfectly plastic master law is 1.07 %
-    above that node's FE e already, and the hardened law inherits it."""
+    """At the top path of each finite-strain node inside the law's window (339-1e4 P_Y) the FE's e rises with H/E
+    by up to 0.14 over the perfectly plastic sphere's; the law's e rises by the same within 0.007 (measured 0.0065
+    at most, at E/sigma_Y 100 and H/E 0.005, where the FE's e falls by 0.0036 with hardening: its noise at
+    a = 0.44 R). The law's e itself is within 1.5 % of the node's FE (measured 1.42 %; the perfectly plastic
+    master law is 1.27 % from its own node's FE there)."""
     from calib.fit.path_check import law_against_path
     from calib.fit.vz_master_check import fe_paths
 
     material = Material(E_over_sigma_y * 100e6, 0.3, 100e6, 2700.0)
     node = {r.get("H_over_E", 0.0): r for r in stored
             if r.get("kind") == "node" and r["E_over_sigma_y"] == E_over_sigma_y}
-    plain_top = fe_paths(node[0.0])[-1]
-    e_plain = law_against_path("vz-table", master.law(material, 0.1), plain_top)["e_law"]
+    plain_law = master.law(material, 0.1)
+    top_load = plain_law.window.P_max_over_P_Y * plain_law.pair.P_Y * (1 + 1e-6)
+    plain_top = [p for p in fe_paths(node[0.0]) if p["P_max"] <= top_load][-1]
+    e_plain = law_against_path("vz-table", plain_law, plain_top)["e_law"]
     for H_over_E in (0.005, 0.02, 0.05):
-        top = fe_paths(node[H_over_E])[-1]
+        top = next(p for p in fe_paths(node[H_over_E]) if p["P_max"] == pytest.approx(plain_top["P_max"], rel=1e-6))
         compared = law_against_path("vz-table", vz_hardening.HardenedMasterTable(master, sheet, H_over_E)
                                     .law(material, 0.1), top)
-        assert abs(compared["e_error"]) <= 0.013
-        assert compared["e_law"] - e_plain == pytest.approx(top["e"] - plain_top["e"], abs=0.005)
+        assert abs(compared["e_error"]) <= 0.015
+        assert compared["e_law"] - e_plain == pytest.approx(top["e"] - plain_top["e"], abs=0.007)
 
 
 def run_cli(argv, capsys):
@@ -161,12 +171,13 @@ def drops_file(row: dict, table, tmp_path) -> tuple[Path, dict]:
     return path, sets
 
 
-@pytest.mark.parametrize("name", ["nu0.25_E2000sy_H0.035E", "nu0.2_E300sy_H0.02E"])
+@pytest.mark.parametrize("name", ["nu0.25_E2000sy_H0.035E_finite", "nu0.2_E300sy_H0.02E_finite"])
 def test_fit_data_recovers_sigma_y_of_a_hardening_sphere_from_its_fe_drops(stored, master, sheet, name, tmp_path,
                                                                             capsys):
-    """fit-data --hardening-modulus H on the FE's drop tests of a hardening sphere off the sheet's nodes: sigma_Y
-    within 1 % (measured 0.45 % and 0.02 %), its 95 % interval covering the truth; fitted as perfectly plastic the
-    same drops give sigma_Y 4-7 % high, outside that interval."""
+    """fit-data --hardening-modulus H on the FE's drop tests of a hardening sphere off the sheet's nodes (finite
+    strain, 50 P_Y to the window's top, 4135-3539 P_Y): sigma_Y within 1 % (measured 0.93 % and 0.0 %), its 95 %
+    interval covering the truth; fitted as perfectly plastic the same drops give sigma_Y 14-22 % high, outside
+    that interval."""
     row = next(r for r in stored if r.get("name") == name and r.get("kind") == "check")
     path, sets = drops_file(row, vz_hardening.HardenedMasterTable(master, sheet, row["H_over_E"]), tmp_path)
     specimen = sets["specimen"]
@@ -183,7 +194,7 @@ def test_fit_data_recovers_sigma_y_of_a_hardening_sphere_from_its_fe_drops(store
     code, out, err = run_cli(flags, capsys)
     assert code == 0, err
     plain = json.loads(out)
-    assert plain["sigma_y"] > high and plain["sigma_y"] / sets["sigma_y"] - 1 > 0.04
+    assert plain["sigma_y"] > high and plain["sigma_y"] / sets["sigma_y"] - 1 > 0.1
 
 
 @pytest.mark.parametrize("flags, needle", [
@@ -199,11 +210,13 @@ def test_fit_data_refuses_what_the_sheet_does_not_hold_in_one_line(flags, needle
     assert code == 2 and "\n" not in err and needle in err, err
 
 
-def test_drop_tests_to_the_sheet_s_top_determine_sigma_y_not_H(stored, master, sheet):
-    """Identifiability (Bates & Watts 1988, sec. 2.3): at the drop speeds of each hardening check (2 P_Y to the
-    window's top), with 1 % scatter in e and P_max, Cov(ln sigma_Y, ln H) = s^2 (J^T J)^-1 from the hardened law's
-    sensitivities: sigma_Y to 1.8-2.8 %, H only to 29-580 % (measured); the data barely change along ln H. So
-    fit-data takes H as known (a tensile test's) and fits sigma_Y."""
+def test_drop_tests_determine_H_over_the_finite_reach_only(stored, master, sheet):
+    """Identifiability (Bates & Watts 1988, sec. 2.3): at the drop speeds of each hardening check inside the law's
+    window, with 1 % scatter in e and P_max, Cov(ln sigma_Y, ln H) = s^2 (J^T J)^-1 from the hardened law's
+    sensitivities (J by one-sided steps that keep E/sigma_Y on the check's side of a column). Drops spanning the
+    finite strain's reach (50 P_Y to 3539-4135 P_Y) give sigma_Y to 1.4-2.2 % and H to 8.7-11.5 % (measured);
+    the small-strain checks' drops below the join (2 P_Y to 11.5-250 P_Y) give sigma_Y to 2.2-4.8 % and H only
+    to 37-2350 %: the data barely change along ln H there."""
     import math
 
     from calib.fit.vz_master_check import fe_datasets
@@ -223,9 +236,12 @@ def test_drop_tests_to_the_sheet_s_top_determine_sigma_y_not_H(stored, master, s
         step = 1e-3
         at = (math.log(sigma_y), math.log(H_over_E))
         base = predicted(*at)
-        J = np.c_[(predicted(at[0] + step, at[1]) - base) / step, (predicted(at[0], at[1] + step) - base) / step]
+        J = np.c_[(base - predicted(at[0] - step, at[1])) / step, (predicted(at[0], at[1] + step) - base) / step]
         se = np.sqrt(np.diag(np.linalg.inv(J.T @ J))) * 0.01
-        assert se[0] < 0.03 and se[1] > 0.25, (row["name"], se)
+        if row["name"].endswith("_finite"):
+            assert se[0] < 0.03 and se[1] < 0.15, (row["name"], se)
+        else:
+            assert se[0] < 0.05 and se[1] > 0.3, (row["name"], se)
 
 
 @pytest.mark.parametrize("sheet_scene, grid_scene", [("vz_master_hardening", "vz_master_grid"),

@@ -72,6 +72,18 @@ def test_the_table_is_exact_on_its_nodes_against_each_node_fe_calibration(table)
         assert values["top"] <= beyond["window"]["P_max_over_P_Y"] * (1 + 1e-9)
 
 
+@pytest.mark.parametrize("nu, E_over_sigma_y", [(0.2, 300.0), (0.3, 1000.0), (0.49, 5000.0)])
+def test_a_ratio_a_rounding_below_a_column_is_that_column_s(table, nu, E_over_sigma_y):
+    """E/sigma_Y = 300 (1 - 2e-15) (sigma_Y through exp(log(.))) reads the E/sigma_Y 300 column, as 300 does:
+    the same tables, never NaN (the columns that reach a load may end at that column)."""
+    exact = table.tables(nu, E_over_sigma_y)
+    for ratio in (E_over_sigma_y * (1 - 2e-15), E_over_sigma_y * (1 + 2e-15)):
+        near = table.tables(nu, min(ratio, table.E_over_sigma_y[-1]))
+        assert near["top"] == exact["top"]
+        for key in ("f", "g", "rho", "m", "f_a"):
+            assert np.all(np.isfinite(near[key])) and np.allclose(near[key], exact[key], rtol=1e-9, atol=1e-12), key
+
+
 @pytest.mark.parametrize("index", [0, 1])
 def test_between_nodes_the_law_follows_the_off_grid_fe(table, fe_rows, index):
     compared = [c for c in check_material(fe_rows[index], table) if c["inside"]]

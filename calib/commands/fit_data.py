@@ -60,7 +60,7 @@ e and P_max, or force-approach curves; refused in one line (exit 2): a yielding 
 
 ``--hardening-modulus H`` [Pa]: the sphere hardens linearly, sigma_y = sigma_Y + H eps_p, with H known (a tensile
 test's slope against the plastic strain): sigma_Y is fitted on the vz master table's law with the hardening sheet's
-share at H/E (calib.fit.vz_hardening; its window ends at the sheet's top, 250 P_Y or the small strain's reach).
+share at H/E (calib.fit.vz_hardening; its window ends at the sheet's top, the finite strain's reach).
 Refused in one line (exit 2): --flow-curve, --law vz, --rate-law and --counter-E with it.
 """
 from __future__ import annotations

@@ -42,8 +42,8 @@ counter-body that yields at or before the sphere: ``nfdcal calibrate --counter-E
 
 ``--hardening-modulus H`` with ``--v-max``: the law (vz-table or vz-unload) of a sphere of linear isotropic
 hardening sigma_y = sigma_Y + H eps_p, the vz master table's tables plus the hardening's share measured at
-nu 0.3 by the hardening sheet (calib/data/vz_hardening_table.csv, calib.fit.vz_hardening: H/E 0 to 0.05,
-small strain, so the window ends at its top, 250 P_Y or the small strain's reach); its parameter file states
+nu 0.3 by the hardening sheet (calib/data/vz_hardening_table.csv, calib.fit.vz_hardening: H/E 0 to 0.05; the
+window ends at its top, the finite strain's reach, 1e4 P_Y or 0.45 R); its parameter file states
 the flow curve ("hardening"). Refused in one line (exit 2): without ``--v-max``, H/E beyond the sheet,
 ``--flow-curve`` (a tabulated curve: ``nfdcal calibrate --flow-curve``), with ``--counter-E`` or ``--rate-law``.
 
@@ -270,7 +270,7 @@ def run_vz_table(ns, material, radius, counter=None, H_over_E: float = 0.0) -> i
                        accuracy=accuracy, source="vz master table and its hardening sheet")
         hardening_lines = [f"hardening: sigma_y = sigma_Y + H eps_p, H = {H_over_E * material.E:.4g} Pa (H/E = "
                            f"{H_over_E:.4g}); the hardening's share of the tables from {sheet.path.name} (measured at "
-                           f"nu {sheet.nu:g}, small strain: the window ends at the sheet's top)"]
+                           f"nu {sheet.nu:g}, {sheet.kinematics}: the window ends at the sheet's top)"]
     counter_lines = []
     if pair_found is not None:
         accuracy = f"{pair_found['table'].accuracy}; {table.accuracy}"

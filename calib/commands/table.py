@@ -104,9 +104,10 @@ def run_vz_master(ns) -> int:
     result = {"scene": scene["name"], "folder": str(folder), "tasks": len(rows), "failed": len(failed)}
     lines = [vz_master_build.describe(r) for r in rows]
     if ns.master_out and not failed and sheet:
-        from calib.fit import vz_hardening_build
+        from calib.fit import vz_hardening_build, vz_master_join
 
-        checked = vz_hardening_build.build(rows, ns.master_out, folder)
+        joined = vz_master_join.joined_table(scene, rows) if scene["joins"] else None
+        checked = vz_hardening_build.build(rows, ns.master_out, folder, scene=scene, joined=joined)
         result["hardening_sheet"], result["accuracy"] = str(ns.master_out), checked
         lines.append(f"hardening sheet written to {ns.master_out}; accuracy {checked['statement']}")
     elif ns.master_out and not failed:

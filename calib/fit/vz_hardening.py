@@ -9,17 +9,22 @@ small strain the plastic strain at a load x = P/P_Y scales with sigma_Y / E, so 
 sigma_Y (1 + (H/E) eps_p E/sigma_Y): the dimensionless hardening is H/E, and the tables of the laws at x
 (f = a_p/a_Y, g = C_R, the vz-unload law's rho, m and f_a; calib.fit.vz_master_table) are functions of
 (nu, E/sigma_Y, H/E). The sheet holds them at nu = 0.3 over the grid's E/sigma_Y columns and H/E 0, 0.005,
-0.02 and 0.05 (scene vz_master_hardening, the grid's mesh and window: 250 P_Y or the small strain's reach),
-and a material's tables are the master table's plus the hardening's share measured at nu 0.3:
+0.02 and 0.05, and a material's tables are the master table's plus the hardening's share measured at nu 0.3:
 
-    T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) + [T_s(H/E, E/sigma_Y; x) - T_s(0, E/sigma_Y; x)]
+    f, g:       T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) T_s(H/E, E/sigma_Y; x) / T_s(0, E/sigma_Y; x)
+    rho, m, q:  T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) + [T_s(H/E, E/sigma_Y; x) - T_s(0, E/sigma_Y; x)]
 
+(q the vz-unload radius over the vz-table law's, :func:`radius_ratio`)
 T_s the sheet interpolated as the master table interpolates nu and E/sigma_Y (PCHIP in H/E, then in
-log10 E/sigma_Y, over the columns reaching x; T_s(0) is the master table's own nu 0.3 nodes). Its window is
-the master table's to the sheet's top at that E/sigma_Y (the small strain's reach: no finite-strain hardening
-sheet). How far the share depends on nu, and the law's accuracy between the sheet's nodes, are measured on the
-scene's [[check]] spheres (FE paths with hardening at other nu, E/sigma_Y and H/E): :func:`check_rows`,
-results/tables/vz_master_hardening/ (built and checked by calib.fit.vz_hardening_build).
+log10 E/sigma_Y, over the columns reaching x; T_s(0) is the master table's own nu 0.3 nodes). The shipped sheet
+is joined as the master table is (calib.fit.vz_master_join): the small-strain scene vz_master_hardening (the
+grid's mesh, to 250 P_Y or the small strain's reach) below each node's join load, a = 0.05 R, and the
+finite-strain scene vz_master_reach_hardening (vz_master_reach's mesh, to 1e4 P_Y or 0.45 R) from it on; the
+join load is the perfectly plastic node's at every H/E, so the share compares like with like. A material's
+window is the master table's to the sheet's top at that E/sigma_Y. How far the share depends on nu, and the
+law's accuracy between the sheet's nodes, are measured on the scenes' [[check]] spheres (FE paths with hardening
+at other nu, E/sigma_Y and H/E): calib.fit.vz_hardening_build, results/tables/vz_master_reach_hardening/ (and
+vz_master_hardening/ for the small-strain sheet alone).
 """
 from __future__ import annotations
 
@@ -35,7 +40,11 @@ from nfdmodel.vz_unload import HERTZ_EXPONENT
 
 DEFAULT_SHEET = DATA_DIR / "vz_hardening_table.csv"
 SCENE = "vz_master_hardening"
-SHARED = ("f", "g", "rho", "m", "q")            # the tables the hardening shifts (VZMasterTable.tables' keys; q below)
+# How each table (VZMasterTable.tables' keys; q below) takes the hardening's share: as a factor, T_s(H/E) / T_s(0),
+# or as a difference, T_s(H/E) - T_s(0). The plastic radius f and C_R g as factors: hardening shrinks them by a
+# fraction that depends less on nu than their difference does (nu 0.2, E/sigma_Y 300, H/E 0.02, 3539 P_Y,
+# finite strain: e 0.85 % from the FE as factors, 2.4 % as differences)
+SHARED = {"f": "factor", "g": "factor", "rho": "difference", "m": "difference", "q": "difference"}
 
 
 def radius_ratio(x: np.ndarray, f: np.ndarray, f_a: np.ndarray) -> np.ndarray:
@@ -68,6 +77,14 @@ class HardeningSheet:
         return self.meta.get("accuracy", "not stated")
 
     @property
+    def kinematics(self) -> str:
+        """How the sheet's FE ran: small strain, or joined to finite strain (calib.fit.vz_master_join)."""
+        join = self.meta.get("join")
+        if join:
+            return f"small strain below a = {join['join_a_over_R']:g} R, finite strain from it"
+        return "small strain"
+
+    @property
     def H_over_E_range(self) -> tuple[float, float]:
         return float(self.table.nu[0]), float(self.table.nu[-1])
 
@@ -80,16 +97,23 @@ class HardeningSheet:
                              f"the FE, nfdcal calibrate --hardening-modulus H")
 
     def share(self, H_over_E: float, E_over_sigma_y: float) -> dict:
-        """The hardening's share T_s(H/E) - T_s(0) of each table at E/sigma_Y on the sheet's loads, and the
-        sheet's top there [P_Y]."""
+        """The hardening's share of each table at E/sigma_Y on the sheet's loads (T_s(H/E) / T_s(0) or
+        T_s(H/E) - T_s(0), SHARED), and the sheet's top there [P_Y]."""
         self.check(H_over_E)
-        hardened = self.table.tables(H_over_E, E_over_sigma_y)
-        plain = self.table.tables(0.0, E_over_sigma_y)
+        # over the same E/sigma_Y columns at every load: a column ending inside the window steps the share (by
+        # 0.039 in g at E/sigma_Y 700, H/E 0.01, where E/sigma_Y 300 ends at 7350 P_Y), and g then falls
+        hardened = self.table.tables(H_over_E, E_over_sigma_y, same_columns=True)
+        plain = self.table.tables(0.0, E_over_sigma_y, same_columns=True)
         for values in (hardened, plain):        # the vz-unload radius as its ratio to the vz-table law's
             if "f_a" in values:
                 values["q"] = radius_ratio(values["x"], values["f"], values["f_a"])
-        return {"x": hardened["x"], "top": hardened["top"],
-                **{key: hardened[key] - plain[key] for key in SHARED if key in hardened}}
+        out = {"x": hardened["x"], "top": hardened["top"]}
+        for key, kind in SHARED.items():
+            if key in hardened:
+                with np.errstate(divide="ignore", invalid="ignore"):    # f = 0 at P_Y: a factor of 1
+                    out[key] = (np.where(plain[key] > 0.0, hardened[key] / plain[key], 1.0) if kind == "factor"
+                                else hardened[key] - plain[key])
+        return out
 
 
 def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_over_sigma_y: float,
@@ -115,10 +139,10 @@ def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_o
            "rel_error_estimate": base["rel_error_estimate"],
            "source_note": (f"; hardening H/E {H_over_E:.4g}: the hardening's share of the tables measured at nu "
                            f"{sheet.nu:g} ({sheet.table.path.name if sheet.table.path else 'hardening sheet'}, "
-                           f"small strain)")}
-    for key in SHARED:
+                           f"{sheet.kinematics})")}
+    for key, kind in SHARED.items():
         if key in base and key in share:
-            out[key] = on_x(base[key]) + share[key][:x.size]
+            out[key] = on_x(base[key]) * share[key][:x.size] if kind == "factor" else on_x(base[key]) + share[key][:x.size]
     out["f"] = np.maximum.accumulate(np.maximum(out["f"], 0.0))     # a plastic radius: >= 0, growing
     out["f"][0], out["g"][0] = 0.0, 1.0
     out["g"] = proportional_below(x, out["f"], out["g"], out["low"])

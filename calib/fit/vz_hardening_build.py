@@ -1,10 +1,14 @@
 """Building and checking the vz master table's hardening sheet (calib.fit.vz_hardening) from the FE records of
 the scene vz_master_hardening (calib/scenes/builtin/sweeps/vz_master_hardening.toml: nu 0.3 x the grid's E/sigma_Y x
-H/E 0, 0.005, 0.02, 0.05, the grid's mesh and window; calib.fit.vz_master_build runs it): each node's tables on the
-sheet's loads (vz_master_build.node_columns), and the hardened laws against the scene's [[check]] FE paths of
-hardening spheres off the nodes (calib.fit.vz_master_check), beside the perfectly plastic master law on the same paths.
+H/E 0, 0.005, 0.02, 0.05, the grid's mesh and window; calib.fit.vz_master_build runs it) or of the finite-strain
+scene vz_master_reach_hardening joined with it (the same nodes to 1e4 P_Y or 0.45 R; calib.fit.vz_master_join,
+as the vz master table joins its two grids): each node's tables on the sheet's loads (vz_master_build.node_columns),
+and the hardened laws against the scenes' [[check]] FE paths of hardening spheres off the nodes
+(calib.fit.vz_master_check; a small-strain check's paths below the join), beside the perfectly plastic master law
+on the same paths.
 
-    nfdcal table vz_master_hardening [--workers 2] --master-out calib/data/vz_hardening_table.csv
+    nfdcal table vz_master_hardening [--workers 2]
+    nfdcal table vz_master_reach_hardening [--workers 2] --master-out calib/data/vz_hardening_table.csv
 """
 from __future__ import annotations
 
@@ -76,31 +80,42 @@ def statement(measured: dict) -> str:
             f"on the same paths: e {100 * p['e_error']:.2g} %, force {100 * p['force_error']:.2g} %")
 
 
-def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMasterTable | None = None) -> dict:
+def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMasterTable | None = None,
+          scene: dict | None = None, joined: dict | None = None) -> dict:
     """Write the sheet (calib/data/vz_hardening_table.{csv,json}: its rows, stamp and measured accuracy) from the
-    scene's records ``rows``, check it with the master table (default: the shipped one) against the scene's
-    [[check]] FE paths (``folder``/vz_hardening_check.{csv,json}) and return the summary with its statement."""
+    records ``rows`` of ``scene`` (default vz_master_hardening), check it with the master table (default: the
+    shipped one) against the scene's [[check]] FE paths (``folder``/vz_hardening_check.{csv,json}) and return the
+    summary with its statement. ``joined``: a finite-strain scene's sheet joined with the small-strain one's
+    (calib.fit.vz_master_join.joined_table): its rows, and the small-strain checks' paths below the join."""
     path, folder = Path(path), Path(folder)
-    scene = vz_master_build.load_scene(SCENE)
+    scene = scene or vz_master_build.load_scene(SCENE)
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     expected = len(scene["nu"]) * len(scene["E_over_sigma_y"]) * len(scene["H_over_E"])
     if len(nodes) != expected:
         raise ValueError(f"hardening sheet: {len(nodes)} of {expected} nodes are calibrated; run "
-                         f"nfdcal table {SCENE} to the end first")
-    table = sheet_rows(rows)
+                         f"nfdcal table {scene['name']} to the end first")
+    table = joined["rows"] if joined else sheet_rows(rows)
     loading = [r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"]
-    stamp = output.stamp(sum(r["wall_time_s"] for r in nodes + loading),
-                         mesh={"graded": vz_master_build.grid_mesh(scene), "meshes": scene["meshes"]},
-                         scene=SCENE, node_commits=sorted({r["git_commit"] for r in nodes}))
-    meta = {"scene": SCENE, "axes": ["H_over_E", "E_over_sigma_y", "P_over_P_Y"], "nu": scene["nu"],
+    meshes = {"graded": vz_master_build.grid_mesh(scene), "meshes": scene["meshes"]}
+    if joined:                  # the small-strain scene's records are part of the sheet
+        small_scene = vz_master_build.load_scene(joined["join"]["small_strain_scene"])
+        meshes = {"below the join": {"graded": vz_master_build.grid_mesh(small_scene), "meshes": small_scene["meshes"]},
+                  "from the join": meshes}
+        nodes += [r for r in joined["small_rows"] if r.get("kind") == "node"]
+        loading += [r for r in joined["small_rows"] if r.get("kind") == "loading"]
+    stamp = output.stamp(sum(r["wall_time_s"] for r in nodes + loading), mesh=meshes, scene=scene["name"],
+                         node_commits=sorted({r["git_commit"] for r in nodes}))
+    meta = {"scene": scene["name"], "axes": ["H_over_E", "E_over_sigma_y", "P_over_P_Y"], "nu": scene["nu"],
             "H_over_E": scene["H_over_E"], "E_over_sigma_y": scene["E_over_sigma_y"],
+            "kinematics": scene["kinematics"], **({"join": joined["join"]} if joined else {}),
+            "check_folder": str(folder),
             "definition": "the columns of calib/data/vz_master_table.csv of a sphere of linear isotropic hardening "
                           "sigma_y = sigma_Y + H eps_p, H = H_over_E E, at nu (calib.fit.vz_hardening)",
             "columns": ["a_p_over_a_Y", "C_R", *UNLOADING_COLUMNS, RADIUS_COLUMN]}
     output.write_csv(path, table, comment=output.stamp_comment(stamp))
     output.write_json(path.with_suffix(".json"), {"vz_hardening_table": meta, "stamp": stamp})
     master = master or VZMasterTable.load()
-    checked = check_rows(rows, master, HardeningSheet.load(path))
+    checked = check_rows(rows + (joined["check_rows"] if joined else []), master, HardeningSheet.load(path))
     measured = summary(checked)
     inside = [r for r in checked["vz-table"] if r["inside"]]
     measured["nu_range"] = f"{min(r['nu'] for r in inside):g}-{max(r['nu'] for r in inside):g}" if inside else ""

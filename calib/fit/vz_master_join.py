@@ -44,18 +44,24 @@ def join_load(small: dict, finite: dict) -> float:
     return float(max(min(small["window"]["P_max_over_P_Y"], part), lowest))
 
 
+def node_of(row: dict) -> tuple[float, float, float]:
+    """A record's node: (nu, E/sigma_Y, H/E), H/E 0 for a perfectly plastic sphere."""
+    return row["nu"], row["E_over_sigma_y"], row.get("H_over_E", 0.0)
+
+
 def nodes_of(rows: list[dict]) -> dict:
-    return {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
+    return {node_of(r): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
 
 
-def joined_rows(small_rows: list[dict], finite_rows: list[dict]) -> list[dict]:
+def joined_rows(small_rows: list[dict], finite_rows: list[dict], hardening: bool = False) -> list[dict]:
     """The joined table's rows (module docstring): one per node and load, the small node's columns below
-    x_join and the finite node's from it on; a ValueError naming the nodes either scene lacks."""
+    x_join and the finite node's from it on (each row with its node's H_over_E when ``hardening``: the
+    hardening sheet, calib.fit.vz_hardening); a ValueError naming the nodes either scene lacks."""
     small, finite = nodes_of(small_rows), nodes_of(finite_rows)
     missing = sorted(set(small) ^ set(finite))
     if missing:
-        raise ValueError(f"vz master table: nodes (nu, E/sigma_Y) {missing} are in one scene's results and not in "
-                         f"the other's: run both to the end first")
+        raise ValueError(f"vz master table: nodes (nu, E/sigma_Y, H/E) {missing} are in one scene's results and not "
+                         f"in the other's: run both to the end first")
     small_loading = vz_master_build.loading_records(small_rows)
     finite_loading = vz_master_build.loading_records(finite_rows)
     x = vz_master_build.table_loads(list(finite.values()), REACH_LIMIT)    # the finite nodes' windows
@@ -68,9 +74,10 @@ def joined_rows(small_rows: list[dict], finite_rows: list[dict]) -> list[dict]:
         columns = {name: np.where(switch, columns_beyond[name], values) for name, values in columns_below.items()
                    if name in columns_beyond}
         errors = [r["table_rel_error_estimate"] for r in (below, beyond) if r["table_rel_error_estimate"] is not None]
-        out += vz_master_build.node_rows(below, columns, x, (below["window"]["P_min_over_P_Y"],
+        rows = vz_master_build.node_rows(below, columns, x, (below["window"]["P_min_over_P_Y"],
                                                             beyond["window"]["P_max_over_P_Y"]),
                                          max(errors) if errors else None)
+        out += [{"H_over_E": node[2], **r} for r in rows] if hardening else rows
     return out
 
 
@@ -99,19 +106,24 @@ def join_record(small_scene: dict, small_rows: list[dict], finite_rows: list[dic
     node's x_join [P/P_Y]."""
     small, finite = nodes_of(small_rows), nodes_of(finite_rows)
     return {"small_strain_scene": small_scene["name"], "join_a_over_R": JOIN_A_OVER_R,
-            "join_over_P_Y": [{"nu": nu, "E_over_sigma_y": ratio, "x_join": join_load(small[(nu, ratio)], finite[(nu, ratio)])}
-                              for nu, ratio in sorted(small)]}
+            "join_over_P_Y": [{"nu": nu, "E_over_sigma_y": ratio, **({"H_over_E": h} if h else {}),
+                               "x_join": join_load(small[(nu, ratio, h)], finite[(nu, ratio, h)])}
+                              for nu, ratio, h in sorted(small)]}
 
 
 def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None) -> dict:
-    """The ``joined`` argument of vz_master_build.write_master for the finite-strain scene ``scene``
-    (``[vz_master] joins``) and its records ``rows``: the small-strain scene's records from ``folder``
-    (default results/tables/<its name>), the joined rows and the join's record."""
+    """The ``joined`` argument of vz_master_build.write_master (and of calib.fit.vz_hardening_build.build for a
+    hardening sheet) for the finite-strain scene ``scene`` (``[vz_master] joins``) and its records ``rows``: the
+    small-strain scene's records from ``folder`` (default results/tables/<its name>), the joined rows and the
+    join's record (a hardening sheet: no discretisation ladder, ``ladder`` None)."""
     small_scene = vz_master_build.load_scene(scene["joins"])
     small_rows = scene_records(small_scene, folder or Path("results") / "tables" / small_scene["name"])
-    return {"rows": joined_rows(small_rows, rows), "join": join_record(small_scene, small_rows, rows),
+    hardening = vz_master_build.is_hardening_sheet(scene)
+    return {"rows": joined_rows(small_rows, rows, hardening=hardening),
+            "small_scene": small_scene, "join": join_record(small_scene, small_rows, rows),
             "small_rows": [r for r in small_rows if r.get("kind") in ("node", "loading")],
-            "check_rows": small_strain_checks(small_rows), "ladder": join_ladders(scene, small_rows, rows)}
+            "check_rows": small_strain_checks(small_rows),
+            "ladder": None if hardening else join_ladders(scene, small_rows, rows)}
 
 
 def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -> dict:
@@ -127,7 +139,7 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
     def part(source: list[dict], nodes: dict, below: bool) -> list[dict]:
         rows = []
         for row in source:
-            node = (row.get("nu"), row.get("E_over_sigma_y"))
+            node = (row.get("nu"), row.get("E_over_sigma_y"), row.get("H_over_E", 0.0))
             if row.get("kind") in ("node", "refine") and node in nodes:
                 x_join = join_load(small[node], finite[node]) * row["P_Y"] * (1 - 1e-9)
                 rows.append({**row, "paths": [p for p in row["paths"] if (p["P_max"] < x_join) == below]})

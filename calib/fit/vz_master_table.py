@@ -203,9 +203,11 @@ class VZMasterTable:
         i = int(np.clip(np.searchsorted(axis, value), 1, axis.size - 1))
         return slice(i - 1, i + 1)
 
-    def tables(self, nu: float, E_over_sigma_y: float) -> dict:
+    def tables(self, nu: float, E_over_sigma_y: float, same_columns: bool = False) -> dict:
         """x, f, g at (nu, E/sigma_Y) on the common loads the material's window covers, the window
-        [low, top] in P/P_Y and the surrounding nodes' largest estimated discretisation error."""
+        [low, top] in P/P_Y and the surrounding nodes' largest estimated discretisation error. Each load
+        interpolates over the E/sigma_Y columns reaching it; ``same_columns``: every load over those reaching
+        the window's top (no step where a column ends inside the window: calib.fit.vz_hardening's share)."""
         self.check(nu, E_over_sigma_y)
         nu = min(max(nu, self.nu[0]), self.nu[-1])
         lr = float(np.clip(np.log10(E_over_sigma_y), *np.log10(self.E_over_sigma_y[[0, -1]])))
@@ -214,6 +216,8 @@ class VZMasterTable:
         finite = np.all(np.isfinite(both), axis=(0, 3))                # (ratio, x): every nu reaches x_k
         reach = np.array([self._reaches(finite[:, k], log_ratio, lr) for k in range(self.x.size)])
         stop = int(np.argmin(reach)) if not reach.all() else self.x.size   # the loads up to the first unreached one
+        if same_columns and stop:
+            finite = finite & finite[:, [stop - 1]]
         value = self._interpolate(both, finite, stop, nu, lr)
         xs, fs, gs = self.x[:stop], value[:, 0], value[:, 1].copy()
         if stop < 2:
@@ -248,7 +252,9 @@ class VZMasterTable:
             while end < stop and np.array_equal(finite[:, end], finite[:, k]):
                 end += 1
             valid = np.nonzero(finite[:, k])[0]
-            value[k:end] = pchip_along(log_ratio[valid], at_nu[valid, k:end], lr)
+            # lr within _reaches' 1e-12 of the columns' end (E/sigma_Y = 300 (1 - 2e-15)): at that end, not NaN
+            at = min(max(lr, log_ratio[valid[0]]), log_ratio[valid[-1]])
+            value[k:end] = pchip_along(log_ratio[valid], at_nu[valid, k:end], at)
             k = end
         return value
 
