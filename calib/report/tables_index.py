@@ -1,8 +1,8 @@
 """The master tables' sections of results/README.md (calib.report.results_index): the master table of Ca_hat,
 Kc_hat (results/tables/master_grid, master_validation; ``nfdcal table``) and the vz master table
 (results/tables/vz_master_grid, calib/data/vz_master_table.json; calib.fit.vz_master_check), its hardening sheet
-(results/tables/vz_master_hardening, calib/data/vz_hardening_table.json; calib.fit.vz_hardening_build) and the pair table
-(results/pairs/pair_table.json, calib/data/pair_table.csv; calib.fit.pair_table_build).
+(results/tables/vz_master_reach_hardening, calib/data/vz_hardening_table.json; calib.fit.vz_hardening_build) and the
+pair table (results/pairs/pair_table.json, calib/data/pair_table.csv; calib.fit.pair_table_build).
 """
 from __future__ import annotations
 
@@ -147,24 +147,32 @@ def pair_table(root: Path) -> list[str]:
 
 
 def hardening_sheet(root: Path) -> list[str]:
-    """The hardening sheet's section (results/tables/vz_master_hardening/vz_hardening_check.json,
-    calib/data/vz_hardening_table.json; calib.fit.vz_hardening_build)."""
-    folder = root / "tables" / "vz_master_hardening"
-    check = read_json(folder / "vz_hardening_check.json")
+    """The hardening sheet's section (calib/data/vz_hardening_table.json and its scene's
+    results/tables/<scene>/vz_hardening_check.json; calib.fit.vz_hardening_build)."""
     shipped = read_json(Path(__file__).resolve().parents[1] / "data" / "vz_hardening_table.json")
-    if check is None or shipped is None:
+    if shipped is None:
         return []
     sheet = shipped["vz_hardening_table"]
-    lines = section("The vz master table's hardening sheet (`tables/vz_master_hardening/`)", folder, root,
-                    "nfdcal table vz_master_hardening --master-out calib/data/vz_hardening_table.csv",
+    folder = root / "tables" / sheet["scene"]
+    check = read_json(folder / "vz_hardening_check.json")
+    if check is None:
+        return []
+    join = sheet.get("join")
+    lines = section(f"The vz master table's hardening sheet (`tables/{sheet['scene']}/`)", folder, root,
+                    (f"nfdcal table {join['small_strain_scene']}; " if join else "")
+                    + f"nfdcal table {sheet['scene']} --master-out calib/data/vz_hardening_table.csv",
                     shipped["stamp"])
+    kinematics = (f"small strain (scene {join['small_strain_scene']}, the grid's mesh) below a = "
+                  f"{join['join_a_over_R']:g} R, finite strain (vz_master_reach's mesh) from it to 1e4 P_Y or 0.45 R"
+                  if join else "the grid's mesh and window, small strain")
     lines += [f"Spheres of linear isotropic hardening sigma_y = sigma_Y + H eps_p at nu "
               f"{', '.join(f'{v:g}' for v in sheet['nu'])}, E/sigma_Y {', '.join(f'{v:g}' for v in sheet['E_over_sigma_y'])}"
-              f" and H/E {', '.join(f'{v:g}' for v in sheet['H_over_E'])} (the grid's mesh and window, small strain): "
+              f" and H/E {', '.join(f'{v:g}' for v in sheet['H_over_E'])} ({kinematics}): "
               "`nfdcal material --hardening-modulus H --v-max V` adds the hardening's share of the tables measured "
               "there to the vz master table's (calib.fit.vz_hardening). Against direct FE of hardening spheres off "
-              "the sheet's nodes, each path's e / e_FE - 1 and largest force error / P_max of the hardened law and "
-              "of the perfectly plastic master law at the same material, and the vz-unload law's:", ""]
+              "the sheet's nodes (a small-strain check's paths below the join), each path's e / e_FE - 1 and largest "
+              "force error / P_max of the hardened law and of the perfectly plastic master law at the same material, "
+              "and the vz-unload law's:", ""]
     plain = {(r["name"], round(r["P_max_over_P_Y"], 9)): r for r in check["perfectly plastic"]}
     unloading = {(r["name"], round(r["P_max_over_P_Y"], 9)): r for r in check["unloading"]}
     rows = []
