@@ -41,11 +41,9 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize
-
+from calib.fit.measured import two_parameter
 from calib.fit.measured.data import Measurements
 from calib.fit.measured.identifiability import DETERMINED_RELATIVE_SE
-from calib.fit.measured.interval import coverage_factor
 from calib.fit.measured.specimen import Specimen, impact_residuals
 from calib.fit.measured.table_law import data_kind, model_form_uncertainty, sigma_y_range, table_law
 from calib.fit.vz_master_table import VZMasterTable
@@ -60,7 +58,7 @@ BOUNDS = {"D": (1e-3, 1e12), "C": (1e-4, 1.0)}
 UNITS = {"D": "1/s", "C": "-", "q": "-", "reference_rate": "1/s"}
 # u of ln c: c matched to the same FE on two vz-table laws of the sphere, 26.2 and 29 (nfdmodel/README.md)
 U_LN_C = math.log(29.0 / 26.2)
-STEP = 1e-5                   # central differences in theta
+STEP = two_parameter.STEP
 GRID = (9, 9)                 # the starting grid over (ln sigma_Y, ln k)
 
 
@@ -144,36 +142,17 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     v = data.impacts.v_in
     lower = np.log([sigma_y_range(specimen, table)[0], BOUNDS[name][0]])
     upper = np.log([sigma_y_range(specimen, table)[1], BOUNDS[name][1]])
-    scale = {group: 1.0 for group in sizes}
 
     def groups(theta, c=RATE_LENGTH_FACTOR):
         sigma_y, constant = np.exp(theta)
         return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c), v))
-
-    def weighted(theta, c=RATE_LENGTH_FACTOR):
-        g = groups(theta, c)
-        return np.concatenate([g[group] / scale[group] for group in sizes])
-
-    def cost(theta):
-        try:
-            r = weighted(theta)
-        except ValueError:
-            return math.inf
-        return float(r @ r) if np.isfinite(r).all() else math.inf
 
     grid = [np.linspace(lower[0], upper[0], GRID[0]), np.linspace(lower[1], upper[1], GRID[1])]
     if sigma_y_start is not None:
         grid[0] = [float(np.clip(math.log(sigma_y_start), lower[0], upper[0]))]
     if constant_start is not None:
         grid[1] = [float(np.clip(math.log(constant_start), lower[1], upper[1]))]
-    theta = np.array(min(((a, b) for a in grid[0] for b in grid[1]), key=cost), dtype=float)
-    theta = np.clip(theta, lower + 1e-9, upper - 1e-9)
-    for _ in range(3 if len(sizes) > 1 else 1):       # re-weight the groups by their scatter
-        solution = optimize.least_squares(weighted, theta, bounds=(lower, upper), method="trf", x_scale=1.0,
-                                          diff_step=1e-6, xtol=1e-12, ftol=1e-12, gtol=1e-12)
-        theta = solution.x
-        g = groups(theta)
-        scale = {group: max(float(np.sqrt(np.mean(g[group] ** 2))), 1e-9) for group in sizes}
+    theta, g, scale, weighted = two_parameter.solve(groups, sizes, grid, lower, upper)
     sigma_y, constant = (float(x) for x in np.exp(theta))
     if theta[0] <= lower[0] + 1e-6 or theta[0] >= upper[0] - 1e-6:
         side = "softer" if theta[0] <= lower[0] + 1e-6 else "harder"
@@ -181,35 +160,19 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
                          f"= {specimen.E / sigma_y:.4g}, the edge of the vz master table (E/sigma_Y "
                          f"{table.E_over_sigma_y[0]:g}..{table.E_over_sigma_y[-1]:g}): the data ask for a {side} "
                          f"material; check the data's units and the material flags")
-    r = weighted(theta)
-    jac = np.column_stack([(weighted(theta + STEP * unit) - weighted(theta - STEP * unit)) / (2 * STEP)
-                           for unit in np.eye(2)])
-    n = r.size
-    s2 = float(r @ r) / max(n - 2, 1)
-    information = jac.T @ jac
-    singular = np.linalg.svd(jac, compute_uv=False)
-    degenerate = not (singular[-1] > 1e-10 * max(singular[0], 1e-300))
-    inverse = np.linalg.pinv(information) if degenerate else np.linalg.inv(information)
-    v_stat = s2 * inverse
+    fitted = two_parameter.covariance(weighted, theta)
+    jac, v_stat, inverse, n, degenerate = (fitted[key] for key in ("jac", "v_stat", "inverse", "n", "degenerate"))
     params = rate_params(specimen, table, kind, sigma_y, constant, fixed)
     u = model_form_uncertainty(table, specimen.nu, specimen.E / sigma_y, data_kind(data))
-    dr_dc = (weighted(theta, RATE_LENGTH_FACTOR * math.exp(STEP))
-             - weighted(theta, RATE_LENGTH_FACTOR * math.exp(-STEP))) / (2 * STEP)
+    dr_dc = (weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(STEP))
+             - weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(-STEP))) / (2 * STEP)
     response = -inverse @ jac.T @ dr_dc
     v_model = np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C**2
-    total = v_stat + v_model
     names = ("sigma_y", name)
     values = {"sigma_y": sigma_y, name: constant}
-    se, se_stat, se_model, interval = {}, {}, {}, {}
-    for j, key in enumerate(names):
-        k = coverage_factor(float(v_stat[j, j]), float(v_model[j, j]), n - 2)
-        se[key] = values[key] * math.sqrt(total[j, j])
-        se_stat[key] = values[key] * math.sqrt(v_stat[j, j])
-        se_model[key] = values[key] * math.sqrt(v_model[j, j])
-        half = k * math.sqrt(total[j, j])
-        interval[key] = (values[key] * math.exp(-half), values[key] * math.exp(half))
-    sd = np.sqrt(np.maximum(np.diag(total), 1e-300))
-    correlation = float(total[0, 1] / (sd[0] * sd[1]))
+    spread = two_parameter.intervals(names, values, v_stat, v_model, n)
+    se, se_stat, se_model, interval, correlation = (spread[key] for key in ("se", "se_stat", "se_model",
+                                                                            "interval95", "correlation"))
     rates, factors = params.strain_rate(v), params.rate_factor(v)
     report = identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, degenerate,
                              specimen, table, kind, fixed, data)

@@ -294,7 +294,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
                f"rms residuals {max(excess.values()):.3g}x {level} ({said}): the {name} law does not describe "
                f"these data to within its measured accuracy" + ("" if noise else " unless they scatter that much")
                + "; the interval assumes it does")
-    window = _data_window(law, data)
+    window = data_window(law, data)
     return TableLawFit(sigma_y, se_stat, se_model, sigma_y * math.sqrt(v), interval, g, scale, law,
                        {"kind": kind, "u_ln_sigma_y": u, "law_error": law_error,
                         "dof_statistical": bounded.statistical.dof, "coverage_factor": bounded.k,
@@ -302,7 +302,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, sigma_y_st
                        verdict, consistent, window)
 
 
-def _data_window(law: VZTableParams, data: Measurements) -> tuple[float, float]:
+def data_window(law: VZTableParams, data: Measurements) -> tuple[float, float]:
     """The loads the data reach, P/P_Y (the law's P_max of each drop test, each force test's peak:
     the window bounds the peaks whose unloading the table measured, a loading curve passes below)."""
     loads = []
