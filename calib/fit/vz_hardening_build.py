@@ -98,7 +98,7 @@ def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMast
     loading = [r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"]
     meshes = {"graded": vz_master_build.grid_mesh(scene), "meshes": scene["meshes"]}
     if joined:                  # the small-strain scene's records are part of the sheet
-        small_scene = vz_master_build.load_scene(joined["join"]["small_strain_scene"])
+        small_scene = joined["small_scene"]
         meshes = {"below the join": {"graded": vz_master_build.grid_mesh(small_scene), "meshes": small_scene["meshes"]},
                   "from the join": meshes}
         nodes += [r for r in joined["small_rows"] if r.get("kind") == "node"]

@@ -114,8 +114,8 @@ def join_record(small_scene: dict, small_rows: list[dict], finite_rows: list[dic
 def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None) -> dict:
     """The ``joined`` argument of vz_master_build.write_master (and of calib.fit.vz_hardening_build.build for a
     hardening sheet) for the finite-strain scene ``scene`` (``[vz_master] joins``) and its records ``rows``: the
-    small-strain scene's records from ``folder`` (default results/tables/<its name>), the joined rows and the
-    join's record (a hardening sheet: no discretisation ladder, ``ladder`` None)."""
+    small-strain scene (``small_scene``) and its records from ``folder`` (default results/tables/<its name>), the
+    joined rows and the join's record (a hardening sheet: no discretisation ladder, ``ladder`` None)."""
     small_scene = vz_master_build.load_scene(scene["joins"])
     small_rows = scene_records(small_scene, folder or Path("results") / "tables" / small_scene["name"])
     hardening = vz_master_build.is_hardening_sheet(scene)

@@ -2,8 +2,8 @@
 with its hardening sheet (calib.fit.vz_hardening). Not a command's fit: ``nfdcal fit-data --hardening-modulus H``
 takes H as known; this fit measures what drop tests and force curves determine of the two (tests/test_vz_hardening.py).
 
-**The model.** sigma_y(eps_p) = sigma_Y + H eps_p; theta = (ln sigma_Y, ln H), H/E within the sheet's
-HARDENING_RANGE (1e-4 to its top, 0.05). For a trial theta the law is the vz-table law (with dents or imprint
+**The model.** sigma_y(eps_p) = sigma_Y + H eps_p; theta = (ln sigma_Y, ln H), H/E from LOWEST_H_OVER_E
+(1e-4) to the sheet's top (0.05). For a trial theta the law is the vz-table law (with dents or imprint
 radii the vz-unload law) of the hardened master table at (nu, E/sigma_Y, H/E) (calib.fit.measured.table_law,
 calib.fit.vz_hardening.HardenedMasterTable); drop tests (e, P_max, contact_time, dent, radius) and force-approach
 curves as calib.fit.measured.table_law takes them. The weighted least squares, covariance and intervals:
