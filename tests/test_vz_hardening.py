@@ -210,6 +210,20 @@ def test_fit_data_refuses_what_the_sheet_does_not_hold_in_one_line(flags, needle
     assert code == 2 and "\n" not in err and needle in err, err
 
 
+@pytest.mark.parametrize("flags, needle", [
+    (["--hardening-modulus", "1e9"], "--hardening-modulus out of range with --fit-hardening"),
+    (["--rate-law", "cowper-symonds", "--cs-q", "5"], "--rate-law out of range with --fit-hardening"),
+    (["--counter-E", "210e9", "--counter-nu", "0.3"], "--counter-E out of range with --fit-hardening"),
+    (["--law", "vz"], "--fit-hardening fits the hardened vz-table law"),
+    (["--flow-curve", "curve.csv"], "nfdcal fit-data takes linear hardening only"),
+])
+def test_fit_hardening_refuses_what_it_does_not_fit_in_one_line(flags, needle, tmp_path, capsys):
+    path = tmp_path / "drops.csv"
+    path.write_text("v_in,e\n0.5,0.8\n1.0,0.75\n", encoding="utf-8")
+    code, out, err = run_cli(["fit-data", "--impacts", str(path), *STEEL, "--fit-hardening", *flags], capsys)
+    assert code == 2 and "\n" not in err and needle in err, err
+
+
 def test_drop_tests_determine_H_over_the_finite_reach_only(stored, master, sheet):
     """Identifiability (Bates & Watts 1988, sec. 2.3): at the drop speeds of each hardening check inside the law's
     window, with 1 % scatter in e and P_max, Cov(ln sigma_Y, ln H) = s^2 (J^T J)^-1 from the hardened law's
@@ -301,9 +315,9 @@ def test_a_sheet_s_perfectly_plastic_nodes_are_its_grid_s_tasks(sheet_scene, gri
     tasks = vz_master_build.tasks_for(vz_master_build.load_scene(sheet_scene))
     plain = [t for t in tasks if t["kind"] == "node" and not t.get("H_over_E")]
     hardening = [t for t in tasks if t.get("H_over_E")]
-    assert len(plain) == 6 and all(t["key"] in grid for t in plain)
+    assert len(plain) == 18 and all(t["key"] in grid for t in plain)
     checks = [t for t in tasks if t["kind"] == "check"]
-    assert len(hardening) == 18 + len(checks) and not any(t["key"] in grid for t in hardening)
+    assert len(hardening) == 54 + len(checks) and not any(t["key"] in grid for t in hardening)
 
 
 def test_calibrate_v_max_sizes_a_hardening_sphere_s_window_by_the_sheet(tmp_path, capsys):

@@ -62,6 +62,13 @@ e and P_max, or force-approach curves; refused in one line (exit 2): a yielding 
 test's slope against the plastic strain): sigma_Y is fitted on the vz master table's law with the hardening sheet's
 share at H/E (calib.fit.vz_hardening; its window ends at the sheet's top, the finite strain's reach).
 Refused in one line (exit 2): --flow-curve, --law vz, --rate-law and --counter-E with it.
+
+``--fit-hardening``: sigma_Y and H fitted together on the same law (calib.fit.measured.hardening_fit), each with its
+95 % interval (statistical and the measured model-form terms); drop tests whose contacts pass about 0.05 R (the
+finite strain's reach of the sheet) determine H, smaller ones only the flow stress at a plastic strain of a few
+1e-3: then refused in one line (exit 2) naming sigma_Y + H eps_*, its value and standard error
+(calib.commands.fit_data_hardening). Refused with it: --hardening-modulus, --flow-curve, --rate-law, --counter-E,
+--pair, --law vz.
 """
 from __future__ import annotations
 
@@ -132,6 +139,10 @@ def add_parser(subparsers) -> None:
                             "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law "
                                     "cowper-symonds: held while D is fitted)"})
     add_hardening_arguments(parser)     # --hardening-modulus: the vz master table's hardening sheet
+    parser.add_argument("--fit-hardening", action="store_true",
+                        help="fit sigma_Y and the linear hardening's plastic modulus H together on the vz master "
+                             "table's hardening sheet (drop tests over the finite strain's reach determine H; where "
+                             "the data do not, refused naming the flow stress sigma_Y + H eps_* they determine)")
     add_counter_arguments(parser)       # the pair law of the pair table (module doc)
     parser.add_argument("--pair-table", default=None, metavar="CSV",
                         help="pair table CSV for --counter-E (default: the shipped one)")
@@ -325,6 +336,11 @@ def run(ns) -> int:
     if ns.impacts is None and ns.force_approach is None:
         raise ValueError("give --impacts CSV (drop tests) or --force-approach CSV (or both)")
     specimen, sigma_y = specimen_from_args(ns)
+    if ns.fit_hardening:
+        from calib.commands.fit_data_hardening import run_hardening_fit
+
+        check_outputs(ns)
+        return run_hardening_fit(ns, specimen, started)
     H_over_E = known_hardening(ns, specimen)
     specimen = with_counter(ns, specimen)
     check_outputs(ns)
@@ -533,7 +549,7 @@ def run_table_law(ns, specimen, sigma_y, started: float, H_over_E: float = 0.0) 
              *([f"tested: {tested(specimen)}; pair table accuracy: {pair_table_of(specimen).accuracy}"]
                if specimen.counter is not None else []),
              *([f"hardening (known): sigma_y = sigma_Y + H eps_p, H = {H_over_E * specimen.E:.4g} Pa (H/E {H_over_E:.4g}), "
-                f"the hardening sheet's share at nu {sheet.nu:g} ({sheet.path.name}); its accuracy: {sheet.accuracy}"]
+                f"the hardening sheet's share at {sheet.nu_label} ({sheet.path.name}); its accuracy: {sheet.accuracy}"]
                if sheet else []),
              f"table accuracy: {table.accuracy}"] + ([f"parameter file written to {ns.params_out}"] if ns.params_out else [])
     print_summary(ns, summary, lines)

@@ -270,7 +270,7 @@ def run_vz_table(ns, material, radius, counter=None, H_over_E: float = 0.0) -> i
                        accuracy=accuracy, source="vz master table and its hardening sheet")
         hardening_lines = [f"hardening: sigma_y = sigma_Y + H eps_p, H = {H_over_E * material.E:.4g} Pa (H/E = "
                            f"{H_over_E:.4g}); the hardening's share of the tables from {sheet.path.name} (measured at "
-                           f"nu {sheet.nu:g}, {sheet.kinematics}: the window ends at the sheet's top)"]
+                           f"{sheet.nu_label}, {sheet.kinematics}: the window ends at the sheet's top)"]
     counter_lines = []
     if pair_found is not None:
         accuracy = f"{pair_found['table'].accuracy}; {table.accuracy}"

@@ -8,23 +8,26 @@ yields first at the same P_Y, a_Y, delta_Y as the perfectly plastic one (H acts 
 small strain the plastic strain at a load x = P/P_Y scales with sigma_Y / E, so at x the flow stress is
 sigma_Y (1 + (H/E) eps_p E/sigma_Y): the dimensionless hardening is H/E, and the tables of the laws at x
 (f = a_p/a_Y, g = C_R, the vz-unload law's rho, m and f_a; calib.fit.vz_master_table) are functions of
-(nu, E/sigma_Y, H/E). The sheet holds them at nu = 0.3 over the grid's E/sigma_Y columns and H/E 0, 0.005,
-0.02 and 0.05, and a material's tables are the master table's plus the hardening's share measured at nu 0.3:
+(nu, E/sigma_Y, H/E). The sheet holds them at nu 0.2, 0.3 and 0.49 (the master table's ends and middle) over the
+grid's E/sigma_Y columns and H/E 0, 0.005, 0.02 and 0.05, and a material's tables are the master table's plus the
+hardening's share:
 
-    f, g:       T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) T_s(H/E, E/sigma_Y; x) / T_s(0, E/sigma_Y; x)
-    rho, m, q:  T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) + [T_s(H/E, E/sigma_Y; x) - T_s(0, E/sigma_Y; x)]
+    f, g:       T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) S(nu, E/sigma_Y, H/E; x)
+    rho, m, q:  T(nu, E/sigma_Y, H/E; x) = T_master(nu, E/sigma_Y; x) + D(nu, E/sigma_Y, H/E; x)
 
-(q the vz-unload radius over the vz-table law's, :func:`radius_ratio`)
-T_s the sheet interpolated as the master table interpolates nu and E/sigma_Y (PCHIP in H/E, then in
-log10 E/sigma_Y, over the columns reaching x; T_s(0) is the master table's own nu 0.3 nodes). The shipped sheet
-is joined as the master table is (calib.fit.vz_master_join): the small-strain scene vz_master_hardening (the
-grid's mesh, to 250 P_Y or the small strain's reach) below each node's join load, a = 0.05 R, and the
-finite-strain scene vz_master_reach_hardening (vz_master_reach's mesh, to 1e4 P_Y or 0.45 R) from it on; the
-join load is the perfectly plastic node's at every H/E, so the share compares like with like. A material's
-window is the master table's to the sheet's top at that E/sigma_Y. How far the share depends on nu, and the
-law's accuracy between the sheet's nodes, are measured on the scenes' [[check]] spheres (FE paths with hardening
-at other nu, E/sigma_Y and H/E): calib.fit.vz_hardening_build, results/tables/vz_master_reach_hardening/ (and
-vz_master_hardening/ for the small-strain sheet alone).
+    S = T_s(nu_i, H/E) / T_s(nu_i, 0),  D = T_s(nu_i, H/E) - T_s(nu_i, 0)  at each sheet nu_i, then PCHIP in nu
+
+(q the vz-unload radius over the vz-table law's, :func:`radius_ratio`). T_s(nu_i) is the sheet at nu_i
+interpolated as the master table interpolates nu and E/sigma_Y (PCHIP in H/E, then in log10 E/sigma_Y, over the
+E/sigma_Y columns reaching the window's top; T_s(nu_i, 0) is the master table's own nodes); the share's top is
+the lowest of the nus' tops. The shipped sheet is joined as the master table is (calib.fit.vz_master_join): the
+small-strain scene vz_master_hardening (the grid's mesh, to 250 P_Y or the small strain's reach) below each
+node's join load, a = 0.05 R, and the finite-strain scene vz_master_reach_hardening (vz_master_reach's mesh, to
+1e4 P_Y or 0.45 R) from it on; the join load is the perfectly plastic node's at every H/E, so the share compares
+like with like. A material's window is the master table's to the sheet's top at that E/sigma_Y. The law's
+accuracy between the sheet's nodes (nu, E/sigma_Y and H/E) is measured on the scenes' [[check]] spheres (FE
+paths of hardening spheres off the nodes): calib.fit.vz_hardening_build, results/tables/vz_master_reach_hardening/
+(and vz_master_hardening/ for the small-strain sheet alone).
 """
 from __future__ import annotations
 
@@ -34,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from calib.fit.master_table import DATA_DIR, read_meta, read_rows
-from calib.fit.vz_master_table import VZMasterTable, proportional_below
+from calib.fit.vz_master_table import VZMasterTable, pchip_along, proportional_below
 from nfdmodel import ContactPair, Material, VZTableParams, VZUnloadParams
 from nfdmodel.vz_unload import HERTZ_EXPONENT
 
@@ -55,22 +58,24 @@ def radius_ratio(x: np.ndarray, f: np.ndarray, f_a: np.ndarray) -> np.ndarray:
 
 @dataclasses.dataclass(frozen=True)
 class HardeningSheet:
-    """The sheet as a VZMasterTable whose first axis is H/E (its ``nu`` column holds H/E), at ``nu``."""
-    table: VZMasterTable
-    nu: float
+    """The sheet: at each of its Poisson's ratios ``nus`` a VZMasterTable whose first axis is H/E (its ``nu``
+    column holds H/E); the share at another nu is the PCHIP in nu of the shares at ``nus`` (module doc)."""
+    tables_at_nu: tuple[VZMasterTable, ...]
+    nus: tuple[float, ...]
     meta: dict
+    path: Path | None = None
 
     @classmethod
     def load(cls, path: str | Path | None = None) -> "HardeningSheet":
         path = Path(path) if path is not None else DEFAULT_SHEET
         rows = read_rows(path)
         meta = read_meta(path, "vz_hardening_table")
-        as_master = [{**r, "nu": r["H_over_E"]} for r in rows]
-        return cls(VZMasterTable.from_rows(as_master, meta, path), float(rows[0]["nu"]), meta)
-
-    @property
-    def path(self) -> Path | None:
-        return self.table.path
+        nus = sorted({float(r["nu"]) for r in rows})
+        tables = tuple(VZMasterTable.from_rows([{**r, "nu": r["H_over_E"]} for r in rows if float(r["nu"]) == nu],
+                                               meta, path) for nu in nus)
+        if any(not np.array_equal(t.x, tables[0].x) for t in tables):
+            raise ValueError(f"hardening sheet {path}: its nus' loads P_over_P_Y differ; rebuild it with nfdcal table")
+        return cls(tables, tuple(nus), meta, path)
 
     @property
     def accuracy(self) -> str:
@@ -85,8 +90,15 @@ class HardeningSheet:
         return "small strain"
 
     @property
+    def nu_label(self) -> str:
+        """Where the share is measured: "nu 0.3" or "nu 0.2, 0.3, 0.49 (PCHIP in nu between)"."""
+        if len(self.nus) == 1:
+            return f"nu {self.nus[0]:g}"
+        return f"nu {', '.join(f'{nu:g}' for nu in self.nus)} (PCHIP in nu between)"
+
+    @property
     def H_over_E_range(self) -> tuple[float, float]:
-        return float(self.table.nu[0]), float(self.table.nu[-1])
+        return (max(float(t.nu[0]) for t in self.tables_at_nu), min(float(t.nu[-1]) for t in self.tables_at_nu))
 
     def check(self, H_over_E: float) -> None:
         """ValueError naming H/E and the sheet's range when outside it."""
@@ -96,24 +108,39 @@ class HardeningSheet:
                              f"sheet spans H/E {low:g} to {high:g} (H at most {high:g} E); for a stiffer hardening run "
                              f"the FE, nfdcal calibrate --hardening-modulus H")
 
-    def share(self, H_over_E: float, E_over_sigma_y: float) -> dict:
-        """The hardening's share of each table at E/sigma_Y on the sheet's loads (T_s(H/E) / T_s(0) or
-        T_s(H/E) - T_s(0), SHARED), and the sheet's top there [P_Y]."""
+    def share(self, H_over_E: float, E_over_sigma_y: float, nu: float | None = None) -> dict:
+        """The hardening's share of each table at (nu, E/sigma_Y) on the sheet's loads (T_s(H/E) / T_s(0) or
+        T_s(H/E) - T_s(0), SHARED), and the sheet's top there [P_Y]: at each of the sheet's nus, then PCHIP in
+        nu (clamped to the sheet's nus; ``nu`` None: the sheet's first) up to the lowest of their tops."""
         self.check(H_over_E)
-        # over the same E/sigma_Y columns at every load: a column ending inside the window steps the share (by
-        # 0.039 in g at E/sigma_Y 700, H/E 0.01, where E/sigma_Y 300 ends at 7350 P_Y), and g then falls
-        hardened = self.table.tables(H_over_E, E_over_sigma_y, same_columns=True)
-        plain = self.table.tables(0.0, E_over_sigma_y, same_columns=True)
-        for values in (hardened, plain):        # the vz-unload radius as its ratio to the vz-table law's
-            if "f_a" in values:
-                values["q"] = radius_ratio(values["x"], values["f"], values["f_a"])
-        out = {"x": hardened["x"], "top": hardened["top"]}
-        for key, kind in SHARED.items():
-            if key in hardened:
-                with np.errstate(divide="ignore", invalid="ignore"):    # f = 0 at P_Y: a factor of 1
-                    out[key] = (np.where(plain[key] > 0.0, hardened[key] / plain[key], 1.0) if kind == "factor"
-                                else hardened[key] - plain[key])
+        at_nu = [_share_at(table, H_over_E, E_over_sigma_y) for table in self.tables_at_nu]
+        if len(at_nu) == 1 or nu is None:
+            return at_nu[0]
+        n = min(s["x"].size for s in at_nu)
+        nus = np.array(self.nus)
+        where = float(np.clip(nu, nus[0], nus[-1]))
+        out = {"x": at_nu[0]["x"][:n], "top": float(at_nu[0]["x"][n - 1])}
+        for key in set.intersection(*(set(s) for s in at_nu)) - {"x", "top"}:
+            out[key] = pchip_along(nus, np.stack([s[key][:n] for s in at_nu]), where)
         return out
+
+
+def _share_at(table: VZMasterTable, H_over_E: float, E_over_sigma_y: float) -> dict:
+    """HardeningSheet.share on one nu's table (its first axis H/E)."""
+    # over the same E/sigma_Y columns at every load: a column ending inside the window steps the share (by
+    # 0.039 in g at E/sigma_Y 700, H/E 0.01, where E/sigma_Y 300 ends at 7350 P_Y), and g then falls
+    hardened = table.tables(H_over_E, E_over_sigma_y, same_columns=True)
+    plain = table.tables(0.0, E_over_sigma_y, same_columns=True)
+    for values in (hardened, plain):        # the vz-unload radius as its ratio to the vz-table law's
+        if "f_a" in values:
+            values["q"] = radius_ratio(values["x"], values["f"], values["f_a"])
+    out = {"x": hardened["x"], "top": hardened["top"]}
+    for key, kind in SHARED.items():
+        if key in hardened:
+            with np.errstate(divide="ignore", invalid="ignore"):    # f = 0 at P_Y: a factor of 1
+                out[key] = (np.where(plain[key] > 0.0, hardened[key] / plain[key], 1.0) if kind == "factor"
+                            else hardened[key] - plain[key])
+    return out
 
 
 def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_over_sigma_y: float,
@@ -124,7 +151,7 @@ def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_o
     from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
     base = master.tables(nu, E_over_sigma_y)
-    share = sheet.share(H_over_E, E_over_sigma_y)
+    share = sheet.share(H_over_E, E_over_sigma_y, nu)
     top = min(base["top"], share["top"])
     x = share["x"][share["x"] <= top * (1 + 1e-9)]
     at = np.clip(x, 1.0, base["x"][-1])
@@ -137,8 +164,8 @@ def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_o
 
     out = {"x": x, "top": float(x[-1]), "low": min(base["low"], float(x[-1])),
            "rel_error_estimate": base["rel_error_estimate"],
-           "source_note": (f"; hardening H/E {H_over_E:.4g}: the hardening's share of the tables measured at nu "
-                           f"{sheet.nu:g} ({sheet.table.path.name if sheet.table.path else 'hardening sheet'}, "
+           "source_note": (f"; hardening H/E {H_over_E:.4g}: the hardening's share of the tables measured at "
+                           f"{sheet.nu_label} ({sheet.path.name if sheet.path else 'hardening sheet'}, "
                            f"{sheet.kinematics})")}
     for key, kind in SHARED.items():
         if key in base and key in share:
