@@ -169,7 +169,8 @@ def hardening_sheet(root: Path) -> list[str]:
               f"{', '.join(f'{v:g}' for v in sheet['nu'])}, E/sigma_Y {', '.join(f'{v:g}' for v in sheet['E_over_sigma_y'])}"
               f" and H/E {', '.join(f'{v:g}' for v in sheet['H_over_E'])} ({kinematics}): "
               "`nfdcal material --hardening-modulus H --v-max V` adds the hardening's share of the tables measured "
-              "there to the vz master table's (calib.fit.vz_hardening). Against direct FE of hardening spheres off "
+              "there" + (" (PCHIP in nu between)" if len(sheet["nu"]) > 1 else "") + " to the vz master table's "
+              "(calib.fit.vz_hardening). Against direct FE of hardening spheres off "
               "the sheet's nodes (a small-strain check's paths below the join), each path's e / e_FE - 1 and largest "
               "force error / P_max of the hardened law and of the perfectly plastic master law at the same material, "
               "and the vz-unload law's:", ""]

@@ -80,7 +80,8 @@ def main(argv=None) -> None:
     print(f"sheet {sheet.path.name} ({sheet.nu_label}); model form U_LN_SIGMA_Y {hardening_fit.U_LN_SIGMA_Y:g}, "
           f"U_LN_H {hardening_fit.U_LN_H:g}; {ns.trials} trials per row, noise {100 * ns.noise:g} % on e and P_max")
     for key, name in (("sigma_y", "ln sigma_Y"), ("hardening_modulus", "ln H")):
-        print(f"noise-free rms of {name} over the rows: {math.sqrt(np.mean([c['exact'][key] ** 2 for c in cases])):.3g}")
+        rms = math.sqrt(np.mean([c["exact"][key] ** 2 for c in cases]))
+        print(f"noise-free rms of {name} over the rows: {rms:.3g}")
     print("| check | kind | paths | P_max/P_Y | noise-free sigma_Y | noise-free H | rms sigma_Y | rms H | "
           "95 % covers sigma_Y (held out) | 95 % covers H (held out) | H determined | s per fit |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
