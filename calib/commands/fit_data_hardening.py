@@ -73,7 +73,7 @@ def run_hardening_fit(ns, specimen, started: float) -> int:
                "units": {"sigma_y": "Pa", "hardening_modulus": "Pa", "P_Y": "N", "a_Y": "m", "delta_Y": "m",
                          "v_Y": "m/s", "residuals": "relative: (law - measured) / measured"}}
     if ns.params_out:
-        from calib.commands.fit_data import hardening_record
+        from calib.fe.flow_curve import LinearHardening
         from calib.report.parameter_file import write_parameter_file
         from nfdmodel import ContactPair, VZTableParams
 
@@ -84,7 +84,8 @@ def run_hardening_fit(ns, specimen, started: float) -> int:
                               "model": "vz-table (vz master table and its hardening sheet), sigma_Y and H fitted",
                               "standard_errors": spread["se"], "interval95": summary["interval95"],
                               "verdict": result.verdict},
-                             output.stamp(time.perf_counter() - started), hardening=hardening_record(sigma_y, H))
+                             output.stamp(time.perf_counter() - started),
+                             hardening=LinearHardening(sigma_y, H).record())
         summary["params_out"] = ns.params_out
     lines = [f"law: vz-table of a linearly hardening sphere, sigma_y = sigma_Y + H eps_p (the vz master table and its "
              f"hardening sheet, the share at {sheet.nu_label})",
