@@ -21,13 +21,14 @@ import numpy as np
 
 
 def pchip_slopes(x, y) -> np.ndarray:
-    """Node slopes d_k of the monotone piecewise-cubic interpolant (module doc)."""
+    """Node slopes d_k of the monotone piecewise-cubic interpolant (module doc); ``y`` of shape (n, ...): the
+    slopes of each column along its first axis."""
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
-    h = np.diff(x)
-    s = np.diff(y) / h
+    h = np.diff(x).reshape((-1,) + (1,) * (y.ndim - 1))
+    s = np.diff(y, axis=0) / h
     if x.size == 2:
-        return np.array([s[0], s[0]])
+        return np.stack([s[0], s[0]])
     d = np.zeros_like(y)
     w1 = 2.0 * h[1:] + h[:-1]
     w2 = h[1:] + 2.0 * h[:-1]
@@ -40,17 +41,15 @@ def pchip_slopes(x, y) -> np.ndarray:
     return d
 
 
-def _end_slope(h0: float, h1: float, s0: float, s1: float) -> float:
+def _end_slope(h0, h1, s0, s1):
     d = ((2.0 * h0 + h1) * s0 - h0 * s1) / (h0 + h1)
-    if np.sign(d) != np.sign(s0):
-        return 0.0
-    if np.sign(s0) != np.sign(s1) and abs(d) > abs(3.0 * s0):
-        return 3.0 * s0
-    return float(d)
+    d = np.where(np.sign(d) != np.sign(s0), 0.0, d)
+    return np.where((np.sign(s0) != np.sign(s1)) & (np.abs(d) > np.abs(3.0 * s0)), 3.0 * s0, d)
 
 
 def pchip_evaluate(x_nodes, y_nodes, d_nodes, x, derivative: bool = False):
-    """(value, slope) of the table at ``x`` (any shape; slope only when ``derivative``)."""
+    """(value, slope) of the table at ``x`` (any shape; slope only when ``derivative``); y_nodes of shape (n, ...)
+    with a scalar ``x``: every column's."""
     x = np.asarray(x, dtype=float)
     n = x_nodes.shape[0]
     k = np.clip(np.searchsorted(x_nodes, x, side="right") - 1, 0, n - 2)

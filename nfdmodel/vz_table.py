@@ -213,8 +213,7 @@ class VZTableParams:
     def _node_integrals(self) -> np.ndarray:
         """integral_1^{x_k} D(s) ds at every node (Gauss-Legendre per segment, where D is smooth)."""
         x = self._arrays["x"]
-        pieces = [self._gauss(x[k], x[k + 1]) for k in range(x.size - 1)]
-        return np.concatenate([[0.0], np.cumsum(pieces)])
+        return np.concatenate([[0.0], np.cumsum(self._gauss(x[:-1], x[1:]))])      # all segments at once
 
     def _gauss(self, low, high):
         low, high = np.asarray(low, dtype=float), np.asarray(high, dtype=float)
@@ -233,12 +232,15 @@ class VZTableParams:
         total = total + np.where(inside, self._gauss(start, np.where(inside, x, start)), 0.0)
         if not inside.all():
             last = nodes[-1]
-            ratio = np.log(np.where(inside, last, x) / last)
+            beyond = np.flatnonzero(~inside.ravel())        # the panels only where they are used
+            ratio = np.log(x.ravel()[beyond] / last)
             panels = max(1, int(math.ceil(float(ratio.max()))))
+            extra = np.zeros(beyond.size)
             for panel in range(panels):
-                low = last * np.exp(ratio * panel / panels)
-                high = last * np.exp(ratio * (panel + 1) / panels)
-                total = total + np.where(inside, 0.0, self._gauss(low, high))
+                extra += self._gauss(last * np.exp(ratio * panel / panels), last * np.exp(ratio * (panel + 1) / panels))
+            total = np.array(total, dtype=float).ravel()
+            total[beyond] += extra
+            total = total.reshape(x.shape)
         return total
 
     def loading_work(self, delta_max, P_max):

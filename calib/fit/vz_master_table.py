@@ -42,7 +42,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
 
 from calib.fit.master_table import DATA_DIR, check_axes, read_meta, read_rows
 from calib.fit.table_fit import K_BELOW_LOWEST_MAX
@@ -126,7 +125,11 @@ def pchip_along(axis: np.ndarray, values: np.ndarray, at: float) -> np.ndarray:
     if axis.size == 2:
         t = (at - axis[0]) / (axis[1] - axis[0])
         return (1.0 - t) * values[0] + t * values[1]
-    return PchipInterpolator(axis, values, axis=0, extrapolate=False)(at)
+    if not axis[0] <= at <= axis[-1]:
+        return np.full(values.shape[1:], np.nan)            # no extrapolation
+    from nfdmodel.pchip import pchip_evaluate, pchip_slopes
+
+    return pchip_evaluate(axis, values, pchip_slopes(axis, values), float(at))[0]
 
 
 @dataclass(frozen=True)
