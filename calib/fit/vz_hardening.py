@@ -108,13 +108,13 @@ class HardeningSheet:
                              f"sheet spans H/E {low:g} to {high:g} (H at most {high:g} E); for a stiffer hardening run "
                              f"the FE, nfdcal calibrate --hardening-modulus H")
 
-    def share(self, H_over_E: float, E_over_sigma_y: float, nu: float | None = None) -> dict:
+    def share(self, H_over_E: float, E_over_sigma_y: float, nu: float) -> dict:
         """The hardening's share of each table at (nu, E/sigma_Y) on the sheet's loads (T_s(H/E) / T_s(0) or
         T_s(H/E) - T_s(0), SHARED), and the sheet's top there [P_Y]: at each of the sheet's nus, then PCHIP in
-        nu (clamped to the sheet's nus; ``nu`` None: the sheet's first) up to the lowest of their tops."""
+        nu (clamped to the sheet's nus) up to the lowest of their tops."""
         self.check(H_over_E)
         at_nu = [_share_at(table, H_over_E, E_over_sigma_y) for table in self.tables_at_nu]
-        if len(at_nu) == 1 or nu is None:
+        if len(at_nu) == 1:
             return at_nu[0]
         n = min(s["x"].size for s in at_nu)
         nus = np.array(self.nus)
