@@ -342,7 +342,7 @@ def test_a_sheet_s_perfectly_plastic_nodes_are_its_grid_s_tasks(sheet_scene, gri
     grid = {t["key"] for t in vz_master_build.tasks_for(vz_master_build.load_scene(grid_scene))}
     tasks = vz_master_build.tasks_for(vz_master_build.load_scene(sheet_scene))
     plain = [t for t in tasks if t["kind"] == "node" and not t.get("H_over_E")]
-    hardening = [t for t in tasks if t.get("H_over_E")]
+    hardening = [t for t in tasks if t.get("H_over_E") or t.get("power_law")]
     assert len(plain) == 18 and all(t["key"] in grid for t in plain)
     checks = [t for t in tasks if t["kind"] == "check"]
     assert len(hardening) == 54 + len(checks) and not any(t["key"] in grid for t in hardening)

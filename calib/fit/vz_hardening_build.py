@@ -40,7 +40,7 @@ def check_rows(rows: list[dict], master: VZMasterTable, sheet: HardeningSheet) -
     """The hardened laws against the scene's [[check]] FE paths (calib.fit.vz_master_check.check_material and
     check_unloading at each check's H/E) and, for contrast, the perfectly plastic master law on the same paths."""
     out = {"vz-table": [], "unloading": [], "perfectly plastic": []}
-    for row in (r for r in rows if r.get("kind") == "check" and r.get("status") == "ok"):
+    for row in (r for r in rows if r.get("kind") == "check" and r.get("status") == "ok" and not r.get("power_law")):
         hardened = HardenedMasterTable(master, sheet, row["H_over_E"])
         tag = {"H_over_E": row["H_over_E"]}
         out["vz-table"] += [{**tag, **r} for r in vz_master_check.check_material(row, hardened)]

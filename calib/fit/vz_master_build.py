@@ -52,7 +52,7 @@ from typing import Callable
 import numpy as np
 
 from calib import output
-from calib.fe.flow_curve import LinearHardening
+from calib.fe.flow_curve import LinearHardening, LudwikHardening, SwiftHardening
 from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
@@ -129,7 +129,7 @@ def load_scene(name: str) -> dict:
              "lowest_max_over_P_Y": float(grid.get("lowest_max_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y)),
              "H_over_E": [float(v) for v in grid.get("H_over_E", [0.0])],
              "checks": [{"name": str(c["name"]), "nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
-                         "H_over_E": float(c.get("H_over_E", 0.0)),
+                         "H_over_E": float(c.get("H_over_E", 0.0)), "power_law": power_law_of(c, path),
                          "top_over_P_Y": float(c.get("top_over_P_Y", grid.get("check_top_over_P_Y",
                                                                              grid.get("top_over_P_Y", X_LIMIT))))}
                         for c in raw.get("check", [])],
@@ -168,6 +168,37 @@ def load_scene(name: str) -> dict:
     return scene
 
 
+# a [[check]]'s power-law flow curve (calib.fe.flow_curve): Swift sigma_y = K (eps0 + eps_p)^n or Ludwik
+# sigma_y = sigma_Y + K eps_p^n, K in units of the sphere's sigma_Y
+POWER_LAWS = {"swift": SwiftHardening, "ludwik": LudwikHardening}
+
+
+def power_law_of(check: dict, path) -> dict | None:
+    """A [[check]]'s flow_curve = "swift"|"ludwik" with K_over_sigma_y and n, as a task states it (None: the
+    check's H_over_E, linear hardening); ValueError naming a bad field."""
+    kind = check.get("flow_curve")
+    if kind is None:
+        return None
+    if kind not in POWER_LAWS or "H_over_E" in check:
+        raise ValueError(f"scene {path}: [[check]] {check.get('name')}: flow_curve must be one of "
+                         f"{', '.join(POWER_LAWS)} (and no H_over_E beside it), got {kind!r}")
+    K, n = float(check.get("K_over_sigma_y", 0.0)), float(check.get("n", 0.0))
+    if not (K > (1.0 if kind == "swift" else 0.0) and 0.0 < n <= 1.0):
+        raise ValueError(f"scene {path}: [[check]] {check.get('name')}: K_over_sigma_y must be > "
+                         f"{1 if kind == 'swift' else 0} and n in (0, 1], got {K:g} and {n:g}")
+    return {"flow_curve": kind, "K_over_sigma_y": K, "n": n}
+
+
+def hardening_of(item: dict, material: Material):
+    """The flow curve of a task or record (linear from H_over_E, or its power law), None if perfectly plastic."""
+    if item.get("power_law"):
+        law = item["power_law"]
+        return POWER_LAWS[law["flow_curve"]](material.sigma_y, law["K_over_sigma_y"] * material.sigma_y, law["n"])
+    if item.get("H_over_E", 0.0) > 0.0:
+        return LinearHardening(material.sigma_y, item["H_over_E"] * material.E)
+    return None
+
+
 def is_hardening_sheet(scene: dict) -> bool:
     """Whether ``scene`` is a hardening sheet (an H_over_E axis beside 0; calib.fit.vz_hardening), not a grid."""
     return len(scene["H_over_E"]) > 1
@@ -180,7 +211,7 @@ def grid_mesh(scene: dict) -> dict | None:
 
 
 def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = None, refine: dict | None = None,
-         top_over_P_Y: float | None = None, H_over_E: float = 0.0) -> dict:
+         top_over_P_Y: float | None = None, H_over_E: float = 0.0, power_law: dict | None = None) -> dict:
     """One calibration at the FE's reach (kind "node", "check" to ``top_over_P_Y`` or the scene's
     check top, or "refine": the node on the graded
     mesh of ``refine``, a [[refine]] entry: N elements across every contact radius, refined
@@ -188,7 +219,8 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     mesh (its N, steps and r) unless the scene sets contact_size_over_a_max (a uniform mesh); a
     node is then the same task as the refined node of its level (the same key). ``H_over_E`` > 0: a sphere
     of linear isotropic hardening, sigma_y = sigma_Y + H eps_p with H = H_over_E E (its key names it; a
-    perfectly plastic task's key is the grid's)."""
+    perfectly plastic task's key is the grid's). ``power_law``: a check's Swift or Ludwik flow curve instead
+    (:func:`power_law_of`)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
     node_like = kind in ("node", "refine")
     if kind == "refine":
@@ -208,6 +240,8 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
         fields.update(kinematics=scene["kinematics"], lowest_over_P_Y=lowest_over_P_Y(scene, material))
     if H_over_E > 0.0:                                  # keys of perfectly plastic tasks stay as they are
         fields["H_over_E"] = H_over_E
+    if power_law:
+        fields["power_law"] = power_law
     name = name or (f"nu{nu:g}_E{ratio:g}sy" + (f"_H{H_over_E:g}E" if H_over_E > 0.0 else ""))
     return {"key": stable_key(fields), "kind": kind, "name": name, "material": material, **fields}
 
@@ -233,7 +267,7 @@ def tasks_for(scene: dict) -> list[dict]:
     nodes = [task(scene, nu, r, "node", H_over_E=h) for nu in scene["nu"] for r in scene["E_over_sigma_y"]
              for h in scene["H_over_E"]]
     checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"], top_over_P_Y=c["top_over_P_Y"],
-                   H_over_E=c["H_over_E"]) for c in scene["checks"]]
+                   H_over_E=c["H_over_E"], power_law=c["power_law"]) for c in scene["checks"]]
     node_keys = {t["key"] for t in nodes}
     ladder = (task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"])
     refined = sorted((t for t in ladder if t["key"] not in node_keys),
@@ -257,9 +291,9 @@ def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
     spec = impact_window.window_spec(item["material"], item["R"], top,
                                      lowest_over_P_Y=item.get("lowest_over_P_Y", TABLE_LOWEST_PEAK_OVER_P_Y),
                                      kinematics=kinematics, **mesh)
-    if item.get("H_over_E", 0.0) > 0.0:
-        material = item["material"]
-        spec = dataclasses.replace(spec, hardening=LinearHardening(material.sigma_y, item["H_over_E"] * material.E))
+    hardening = hardening_of(item, item["material"])
+    if hardening is not None:
+        spec = dataclasses.replace(spec, hardening=hardening)
     return spec
 
 
@@ -280,6 +314,7 @@ def run_task(item: dict) -> dict:
     return {"key": item["key"], "status": "ok", "kind": item["kind"], "name": item["name"],
             "nu": item["nu"], "E_over_sigma_y": item["E_over_sigma_y"], "sigma_y": item["sigma_y"],
             **({"H_over_E": item["H_over_E"]} if item.get("H_over_E", 0.0) > 0.0 else {}),
+            **({"power_law": item["power_law"]} if item.get("power_law") else {}),
             "rho": item["rho"], "R": R, "level": item["level"], "meshes": item["meshes"],
             "P_Y": pair.P_Y, "a_Y": pair.a_Y, "delta_Y": pair.delta_Y, "P_Y_fe": result.P_Y_fe,
             "table": {"x": list(table.x), "f": list(table.f), "g": list(table.g)},
