@@ -154,11 +154,48 @@ def test_material_refuses_what_the_sheet_does_not_hold_in_one_line(flags, needle
     assert code == 2 and "\n" not in err and needle in err, err
 
 
-def test_material_refuses_a_flow_curve_naming_calibrate(tmp_path, capsys):
+def test_material_answers_a_measured_flow_curve_and_refuses_one_beyond_the_sheet(tmp_path, capsys):
+    """--flow-curve CSV: the law of the curve read through its secant modulus (its parameter file states the curve,
+    collide runs it, and it lies between the perfectly plastic law and the law of the curve's initial slope); a
+    curve whose secant modulus in the window is beyond the sheet's H/E is refused in one line naming calibrate."""
     curve = tmp_path / "curve.csv"
-    curve.write_text("plastic_strain,stress\n0,700e6\n0.1,800e6\n", encoding="utf-8")
+    curve.write_text("plastic_strain,stress\n0,700e6\n0.01,730e6\n0.05,780e6\n0.2,850e6\n", encoding="utf-8")
+    path = tmp_path / "law.json"
+    code, out, err = run_cli(["material", *STEEL, "--flow-curve", str(curve), "--v-max", "3", "--params-out",
+                              str(path), "--json"], capsys)
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["hardening"]["flow_curve"] == "table" and "secant modulus" in summary["hardening_read_as"]
+    record = json.loads(path.read_text(encoding="utf-8"))
+    assert record["hardening"]["stress"] == [700e6, 730e6, 780e6, 850e6]
+    code, out, err = run_cli(["collide", "--params", str(path), "--v-in", "2", "--json"], capsys)
+    assert code == 0, err
+    P_max = {}
+    for flags in ([], ["--hardening-modulus", "3e9"]):      # 3e9: the curve's initial slope
+        code, out, err = run_cli(["material", *STEEL, "--v-max", "3", *flags, "--json"], capsys)
+        P_max[bool(flags)] = json.loads(out)["P_max_of_v_max"]
+    assert P_max[False] < summary["P_max_of_v_max"] < P_max[True]
+    curve.write_text("plastic_strain,stress\n0,700e6\n0.001,900e6\n", encoding="utf-8")
     code, out, err = run_cli(["material", *STEEL, "--flow-curve", str(curve), "--v-max", "1"], capsys)
-    assert code == 2 and "\n" not in err and "nfdcal calibrate --flow-curve" in err, err
+    assert code == 2 and "\n" not in err and "--flow-curve out of range" in err, err
+    assert "nfdcal calibrate --flow-curve" in err
+
+
+def test_a_linear_curve_read_through_its_secant_modulus_is_its_h(master, sheet):
+    """The secant modulus of a linear flow curve is H at every strain (to round-off), and its tables through the flow
+    curve's path (the shares at the sheet's H/E nodes, PCHIP in H/E at each load) equal the H/E path's (PCHIP in
+    H/E, then in E/sigma_Y) to the two interpolation orders' difference: 0.13 % in f, 0.07 % in g (measured)."""
+    from calib.fe.flow_curve import LinearHardening
+
+    curve = LinearHardening(100e6, 0.02 * 250 * 100e6)
+    assert np.allclose(vz_hardening.effective_hardening(curve, 250 * 100e6, np.geomspace(1e-4, 0.2, 9)), 0.02,
+                       rtol=1e-12, atol=0)
+    for nu, ratio, H_over_E in [(0.3, 700.0, 0.012), (0.42, 250.0, 0.03), (0.25, 2000.0, 0.035)]:
+        plain = vz_hardening.hardened_tables(master, sheet, nu, ratio, H_over_E)
+        read = vz_hardening.hardened_tables(master, sheet, nu, ratio, LinearHardening(1e8, H_over_E * ratio * 1e8))
+        assert np.array_equal(plain["x"], read["x"])
+        for key, tolerance in (("f", 2e-3), ("g", 1e-3)):
+            assert np.all(np.abs(read[key] - plain[key]) <= tolerance * np.maximum(np.abs(plain[key]), 1e-3)), key
 
 
 def drops_file(row: dict, table, tmp_path) -> tuple[Path, dict]:

@@ -5,6 +5,7 @@
     nfdcal material ... --v-max 0.5                 # the vz-table law for impacts up to 0.5 m/s
     nfdcal material ... --v-max 0.5 --law vz-unload --params-out law.json   # the vz-unload law
     nfdcal material ... --v-max 0.5 --hardening-modulus 2e9     # a linearly hardening sphere's
+    nfdcal material ... --v-max 0.5 --flow-curve tensile.csv    # a sphere of a measured flow curve
 
 Interpolates Ca_hat, Kc_hat over (nu, E / sigma_Y) in the shipped master table
 (calib/data/master_table.csv; nfdmodel/README.md: the dimensionless constants), then
@@ -41,11 +42,14 @@ vz-unload`` or ``--rate-law`` (not measured on pairs), outside the pair table (n
 counter-body that yields at or before the sphere: ``nfdcal calibrate --counter-E ...`` calibrates those pairs by FE.
 
 ``--hardening-modulus H`` with ``--v-max``: the law (vz-table or vz-unload) of a sphere of linear isotropic
-hardening sigma_y = sigma_Y + H eps_p, the vz master table's tables plus the hardening's share measured at
-nu 0.3 by the hardening sheet (calib/data/vz_hardening_table.csv, calib.fit.vz_hardening: H/E 0 to 0.05; the
-window ends at its top, the finite strain's reach, 1e4 P_Y or 0.45 R); its parameter file states
-the flow curve ("hardening"). Refused in one line (exit 2): without ``--v-max``, H/E beyond the sheet,
-``--flow-curve`` (a tabulated curve: ``nfdcal calibrate --flow-curve``), with ``--counter-E`` or ``--rate-law``.
+hardening sigma_y = sigma_Y + H eps_p, the vz master table's tables plus the hardening's share measured by the
+hardening sheet (calib/data/vz_hardening_table.csv, calib.fit.vz_hardening: nu 0.2, 0.3, 0.49 and H/E 0 to the
+sheet's top; the window ends at its top, the finite strain's reach, 1e4 P_Y or 0.45 R); its parameter file
+states the flow curve ("hardening"). ``--flow-curve CSV`` (a tensile test's true flow curve) with ``--v-max``:
+the same, the curve read at each load as the linear hardening of its secant modulus to Tabor's representative
+strain 0.2 a/R (calib.fit.vz_hardening.effective_hardening; its accuracy on FE of Swift and Ludwik spheres is
+printed). Refused in one line (exit 2): without ``--v-max``, H/E (or a curve's secant modulus in the window)
+beyond the sheet, with ``--counter-E`` or ``--rate-law``.
 
 ``--params-out`` never names a table the command reads (the shipped ones included: a clash is one line,
 exit 2, calib.commands.targets) and replaces an existing file only with ``--overwrite``.
@@ -53,9 +57,10 @@ exit 2, calib.commands.targets) and replaces an existing file only with ``--over
 from __future__ import annotations
 
 from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
+                                   hardening_line,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
                                    flow_curve_from_args, hardening_given, material_from_args, print_summary,
-                                   rate_law_from_args, rate_law_given, refuse_flow_curve)
+                                   rate_law_from_args, rate_law_given)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -97,14 +102,14 @@ def run(ns) -> int:
     from calib.fit.master_table import MasterTable
 
     material, radius = material_from_args(ns)
-    H_over_E = sheet_hardening(ns, material)
+    hardening = sheet_hardening(ns, material)
     counter = counter_from_args(ns, material)
     refuse_existing(ns, ("params_out",))
     if ns.v_max is not None:
-        return run_vz_table(ns, material, radius, counter, H_over_E)
-    if H_over_E:
-        raise ValueError("--hardening-modulus needs --v-max (the vz master table's hardening sheet); the two-constant "
-                         "master table is of perfectly plastic spheres")
+        return run_vz_table(ns, material, radius, counter, hardening)
+    if hardening:
+        raise ValueError(f"{hardening_given(ns)} needs --v-max (the vz master table's hardening sheet); the "
+                         f"two-constant master table is of perfectly plastic spheres")
     if counter is not None or ns.pair_table is not None:
         raise ValueError("--counter-E needs --v-max (the pair law from the pair table is a vz-table law); the "
                          "two-constant master table is the rigid flat's")
@@ -138,26 +143,28 @@ def run(ns) -> int:
     return 0
 
 
-def sheet_hardening(ns, material) -> float:
-    """H/E of ``--hardening-modulus H`` (0: no hardening flag, or H = 0), the linear hardening the vz master
-    table's hardening sheet answers (calib.fit.vz_hardening); --flow-curve refused in one line."""
+def sheet_hardening(ns, material):
+    """The hardening the vz master table's hardening sheet answers (calib.fit.vz_hardening): H/E of
+    ``--hardening-modulus H`` (0.0: no hardening flag, or H = 0), or the flow curve of ``--flow-curve``
+    (calib.fe.flow_curve.TabulatedFlowCurve, read through its secant modulus: hardened_tables)."""
     if hardening_given(ns) is None:
         return 0.0
-    refuse_flow_curve(ns, "material")
     curve = flow_curve_from_args(ns, material)
-    return 0.0 if curve is None else float(curve.H / material.E)
+    if curve is None:
+        return 0.0
+    return float(curve.H / material.E) if hasattr(curve, "H") else curve
 
 
 def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-table", counter=None,
-                 pair_table_csv=None, H_over_E: float = 0.0) -> dict:
+                 pair_table_csv=None, hardening=0.0) -> dict:
     """The vz-table law of ``material`` (sphere of ``radius`` [m]) from the vz master table (module
     doc), what ``--v-max`` answers and writes: {"law": VZTableParams, "table": VZMasterTable,
     "values": its tables' record, "v_in_window": (v_low, v_top) [m/s], the impacts of a sphere on a
     rigid flat that reach the window's ends}. The law does not depend on v_max (v_max is checked
     against v_top only). ``law_name`` "vz-unload": the table's vz-unload law (VZUnloadParams).
     ``counter`` (calib.fit.counter.CounterBody): the pair law of calib.fit.pair_table on that
-    counter-body (then also "pair": its pair_law record, "counter": the counter-body). ``H_over_E`` > 0: the
-    law of a sphere of linear isotropic hardening H = H_over_E E (calib.fit.vz_hardening; then also
+    counter-body (then also "pair": its pair_law record, "counter": the counter-body). ``hardening`` (H/E > 0 or
+    a flow curve: :func:`sheet_hardening`): the law of that hardening sphere (calib.fit.vz_hardening; then also
     "sheet": the hardening sheet)."""
     from calib.fit import impact_window
     from calib.fit.vz_master_table import VZMasterTable
@@ -165,11 +172,11 @@ def vz_table_law(material, radius: float, table_csv=None, law_name: str = "vz-ta
 
     table = VZMasterTable.load(table_csv)
     extra = {}
-    if H_over_E:
+    if hardening:
         from calib.fit.vz_hardening import HardeningSheet, hardened_tables
 
         extra = {"sheet": HardeningSheet.load()}
-        values = hardened_tables(table, extra["sheet"], material.nu, material.E / material.sigma_y, H_over_E)
+        values = hardened_tables(table, extra["sheet"], material.nu, material.E / material.sigma_y, hardening)
     else:
         values = table.tables(material.nu, material.E / material.sigma_y)
     if counter is not None:
@@ -210,9 +217,9 @@ def write_vz_table_law(path, found: dict, material, radius: float, rate_law: dic
                          **({"hardening": found["hardening"]} if "hardening" in found else {}))
 
 
-def run_vz_table(ns, material, radius, counter=None, H_over_E: float = 0.0) -> int:
+def run_vz_table(ns, material, radius, counter=None, hardening=0.0) -> int:
     """``--v-max``: the vz-table law of the material from the vz master table, on ``counter`` the pair law
-    from the pair table, with ``H_over_E`` > 0 the hardening sheet's (module doc)."""
+    from the pair table, with ``hardening`` (:func:`sheet_hardening`) the hardening sheet's (module doc)."""
     from calib.commands.common import number
     from calib.fit import impact_window
     from nfdmodel.validation import bound_text, check_solid
@@ -232,16 +239,18 @@ def run_vz_table(ns, material, radius, counter=None, H_over_E: float = 0.0) -> i
                          f"independent (give no {flag}, or calibrate the pair by FE: nfdcal calibrate --counter-E ...)")
     if counter is None and ns.pair_table is not None:
         raise ValueError("--pair-table needs --counter-E (the pair table maps the law onto a counter-body)")
-    if H_over_E and (counter is not None or rate is not None):
+    if hardening and (counter is not None or rate is not None):
         flag = "--counter-E" if counter is not None else rate_law_given(ns)
-        raise ValueError(f"--hardening-modulus out of range with {flag}: the hardening sheet is measured on a sphere "
+        raise ValueError(f"{hardening_given(ns)} out of range with {flag}: the hardening sheet is measured on a sphere "
                          f"on a rigid flat, rate-independent; run the FE of this sphere instead, nfdcal calibrate "
-                         f"--hardening-modulus H --peaks ...")
-    found = vz_table_law(material, radius, ns.vz_table, law_name, counter, ns.pair_table, H_over_E)
-    if H_over_E:
+                         f"{hardening_given(ns)} ... --peaks ...")
+    found = vz_table_law(material, radius, ns.vz_table, law_name, counter, ns.pair_table, hardening)
+    H_over_E = hardening if isinstance(hardening, float) else 0.0
+    if hardening:
         from calib.fe.flow_curve import LinearHardening
 
-        found["hardening"] = LinearHardening(material.sigma_y, H_over_E * material.E).record()
+        curve = LinearHardening(material.sigma_y, H_over_E * material.E) if H_over_E else hardening
+        found["hardening"] = curve.record()
     law, table, values = found["law"], found["table"], found["values"]
     pair = law.pair
     window = law.window
@@ -263,14 +272,16 @@ def run_vz_table(ns, material, radius, counter=None, H_over_E: float = 0.0) -> i
                "source": "vz master table interpolation", "table_file": str(table.path), "accuracy": table.accuracy}
     accuracy = table.accuracy
     hardening_lines = []
-    if H_over_E:
+    if hardening:
         sheet = found["sheet"]
-        accuracy = f"{table.accuracy}; hardening: {sheet.accuracy}"
-        summary.update(hardening=found["hardening"], H_over_E=H_over_E, hardening_sheet_file=str(sheet.path),
-                       accuracy=accuracy, source="vz master table and its hardening sheet")
-        hardening_lines = [f"hardening: sigma_y = sigma_Y + H eps_p, H = {H_over_E * material.E:.4g} Pa (H/E = "
-                           f"{H_over_E:.4g}); the hardening's share of the tables from {sheet.path.name} (measured at "
-                           f"{sheet.nu_label}, {sheet.kinematics}: the window ends at the sheet's top)"]
+        accuracy = f"{table.accuracy}; hardening: {sheet.accuracy if H_over_E else sheet.flow_curve_accuracy}"
+        summary.update(hardening=found["hardening"], hardening_sheet_file=str(sheet.path),
+                       accuracy=accuracy, source="vz master table and its hardening sheet",
+                       **({"H_over_E": H_over_E} if H_over_E else {"hardening_read_as": values["hardening_read_as"]}))
+        what = (f"sigma_y = sigma_Y + H eps_p, H = {H_over_E * material.E:.4g} Pa (H/E = {H_over_E:.4g})" if H_over_E
+                else f"{hardening_line(found['hardening'])}, {values['hardening_read_as']}")
+        hardening_lines = [f"{'hardening: ' if H_over_E else ''}{what}; the hardening's share of the tables from {sheet.path.name} (measured "
+                           f"at {sheet.nu_label}, {sheet.kinematics}: the window ends at the sheet's top)"]
     counter_lines = []
     if pair_found is not None:
         accuracy = f"{pair_found['table'].accuracy}; {table.accuracy}"

@@ -213,18 +213,20 @@ class ImpactWindow:
 
 def estimating_constants(material: Material, radius: float, counter=None, hardening=None) -> tuple[VZParams, str]:
     """(VZParams, source): the master table's constants at (nu, E/sigma_Y), else the paper's, on the
-    pair's scales (the rigid flat, or ``counter``'s pair: E*, R*, m*). A sphere of linear ``hardening``
-    (calib.fe.flow_curve.LinearHardening) on the rigid flat, inside the vz master table's hardening sheet: that
-    sheet's vz-table law (calib.fit.vz_hardening; a VZTableParams); another flow curve: the perfectly plastic
-    constants (a softer estimate: the rounds of :func:`calibrate_for_impacts` widen the window)."""
+    pair's scales (the rigid flat, or ``counter``'s pair: E*, R*, m*). A hardening sphere (``hardening``, a
+    calib.fe.flow_curve curve) on the rigid flat, inside the vz master table's hardening sheet: that sheet's
+    vz-table law (calib.fit.vz_hardening; a VZTableParams; a curve other than linear read through its secant
+    modulus); outside the sheet: the perfectly plastic constants (a softer estimate: the rounds of
+    :func:`calibrate_for_impacts` widen the window)."""
     pair = recipe.contact_pair(material, radius, counter)
-    if counter is None and getattr(hardening, "H", 0.0) > 0.0:
-        # only a linearly hardening sphere reads the sheet (and the master table beside it)
+    if counter is None and hardening is not None and getattr(hardening, "H", 1.0) > 0.0:
+        # only a hardening sphere reads the sheet (and the master table beside it)
         from calib.fit.vz_hardening import HardenedMasterTable, HardeningSheet
         from calib.fit.vz_master_table import VZMasterTable
 
         try:
-            law = HardenedMasterTable(VZMasterTable.load(), HardeningSheet.load(), hardening.H / material.E)
+            law = HardenedMasterTable(VZMasterTable.load(), HardeningSheet.load(),
+                                      hardening.H / material.E if hasattr(hardening, "H") else hardening)
             return law.law(material, radius), "the vz master table's hardening sheet"
         except (ValueError, OSError):   # outside the sheet: the perfectly plastic estimate below
             pass

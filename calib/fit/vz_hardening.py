@@ -47,6 +47,9 @@ SCENE = "vz_master_hardening"
 # or as a difference, T_s(H/E) - T_s(0). The plastic radius f and C_R g as factors: hardening shrinks them by a
 # fraction that depends less on nu than their difference does (nu 0.2, E/sigma_Y 300, H/E 0.02, 3539 P_Y,
 # finite strain: e 0.85 % from the FE as factors, 2.4 % as differences)
+# Tabor's constant c_T of the representative strain c_T a/R at which a flow curve's secant modulus is read
+# (:func:`representative_strain`)
+REPRESENTATIVE_STRAIN_FACTOR = 0.2
 SHARED = {"f": "factor", "g": "factor", "rho": "difference", "m": "difference", "q": "difference"}
 
 
@@ -80,6 +83,11 @@ class HardeningSheet:
     @property
     def accuracy(self) -> str:
         return self.meta.get("accuracy", "not stated")
+
+    @property
+    def flow_curve_accuracy(self) -> str:
+        """The sheet's accuracy for a flow curve read through its secant modulus (hardened_tables)."""
+        return self.meta.get("accuracy_flow_curves", "not stated")
 
     @property
     def kinematics(self) -> str:
@@ -143,28 +151,99 @@ def _share_at(table: VZMasterTable, H_over_E: float, E_over_sigma_y: float) -> d
     return out
 
 
+def yield_radius_over_R(nu: float, E_over_sigma_y: float) -> float:
+    """a_Y / R of a sphere on a rigid flat [-] (nfdmodel.materials: it depends on nu and E/sigma_Y alone)."""
+    return float(ContactPair.sphere_flat(Material(E_over_sigma_y * 1e8, nu, 1e8, 1000.0), 1.0).a_Y)
+
+
+def representative_strain(x: np.ndarray, f: np.ndarray, a_Y_over_R: float) -> np.ndarray:
+    """Tabor's representative plastic strain of a sphere's contact at the load x = P/P_Y [-]:
+
+        eps_r = c_T a / R,   a / a_Y = x^(1/3) + f(x)   (the vz-table law's contact radius, f = a_p / a_Y)
+
+    c_T = REPRESENTATIVE_STRAIN_FACTOR (Tabor 1951, The Hardness of Metals: 0.2 for a ball's indentation)."""
+    return REPRESENTATIVE_STRAIN_FACTOR * a_Y_over_R * (np.cbrt(x) + f)
+
+
+def effective_hardening(curve, E: float, eps_r: np.ndarray) -> np.ndarray:
+    """H_eff / E [-]: the secant modulus of the flow curve ``curve`` (calib.fe.flow_curve) over [0, eps_r],
+
+        H_eff = (sigma_y(eps_r) - sigma_Y) / eps_r,
+
+    the linear hardening that reaches the curve's flow stress at the representative strain eps_r
+    (:func:`representative_strain`); a linear curve's H at every eps_r."""
+    eps_r = np.asarray(eps_r, dtype=float)
+    return (np.asarray(curve.yield_stress(eps_r), dtype=float) - curve.sigma_y) / eps_r / E
+
+
+def _share_along(sheet: HardeningSheet, H_over_E: np.ndarray, E_over_sigma_y: float, nu: float) -> dict:
+    """HardeningSheet.share with a hardening that varies with the load (H_over_E on the sheet's loads): the
+    shares at the sheet's H/E nodes, then at each load the PCHIP in H/E at that load's H/E."""
+    from nfdmodel.pchip import pchip_evaluate, pchip_slopes
+
+    nodes = np.array(sorted({float(h) for t in sheet.tables_at_nu for h in t.nu}))
+    shares = [sheet.share(float(h), E_over_sigma_y, nu) for h in nodes]
+    n = min(s["x"].size for s in shares)
+    out = {"x": shares[0]["x"][:n], "top": float(shares[0]["x"][n - 1])}
+    at = np.asarray(H_over_E, dtype=float)[:n]
+    columns = np.arange(at.size)
+    for key in set.intersection(*(set(s) for s in shares)) - {"x", "top"}:
+        values = np.stack([s[key][:n] for s in shares])             # (H/E nodes, loads)
+        evaluated = pchip_evaluate(nodes, values, pchip_slopes(nodes, values), at)[0]   # (loads at, loads)
+        out[key] = evaluated[columns, columns]
+    return out
+
+
 def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_over_sigma_y: float,
-                    H_over_E: float) -> dict:
+                    hardening) -> dict:
     """The tables of (nu, E/sigma_Y, H/E) (module doc) on the sheet's loads up to the lower top, as
     VZMasterTable.tables gives them (x, f, g, low, top, rho, m, f_a, rel_error_estimate): the master table's,
-    interpolated in x by each law's own monotone cubic where its loads are not the sheet's, plus the share."""
+    interpolated in x by each law's own monotone cubic where its loads are not the sheet's, plus the share.
+    ``hardening``: H/E of linear hardening, or a flow curve (calib.fe.flow_curve, sigma_Y = E / E_over_sigma_y
+    in its units) read as the linear hardening of its secant modulus at each load's representative strain
+    (:func:`effective_hardening`)."""
     from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
     base = master.tables(nu, E_over_sigma_y)
-    share = sheet.share(H_over_E, E_over_sigma_y, nu)
+
+    def on(loads, values):
+        at = np.clip(loads, 1.0, base["x"][-1])
+        return pchip_evaluate(base["x"], values, pchip_slopes(base["x"], values), at)[0]
+
+    if np.ndim(hardening) == 0 and not hasattr(hardening, "yield_stress"):
+        H_over_E = float(hardening)
+        share = sheet.share(H_over_E, E_over_sigma_y, nu)
+        named = f"H/E {H_over_E:.4g}"
+    else:
+        loads = sheet.tables_at_nu[0].x
+        E = hardening.sigma_y * E_over_sigma_y
+        H_over_E = effective_hardening(hardening, E, representative_strain(
+            loads, on(loads, base["f"]), yield_radius_over_R(nu, E_over_sigma_y)))
+        low, high = sheet.H_over_E_range
+        inside = np.nonzero(loads <= base["top"] * (1 + 1e-9))[0]
+        worst = inside[np.argmax(H_over_E[inside])]
+        if H_over_E[worst] > high * (1 + 1e-12):
+            raise ValueError(f"--flow-curve out of range: its secant modulus at the contact's representative strain "
+                             f"(eps_r {REPRESENTATIVE_STRAIN_FACTOR:g} a/R) reaches {H_over_E[worst]:.4g} E at "
+                             f"{loads[worst]:.3g} P_Y, beyond the hardening sheet's H/E {high:g}; run the FE of this "
+                             f"sphere instead, nfdcal calibrate --flow-curve CSV")
+        share = _share_along(sheet, H_over_E, E_over_sigma_y, nu)
+        read_as = (f"read as linear hardening of H/E {H_over_E[inside].min():.3g}-{H_over_E[inside].max():.3g} "
+                   f"(its secant modulus to the representative strain {REPRESENTATIVE_STRAIN_FACTOR:g} a/R)")
+        named = f"flow curve {read_as}"
     top = min(base["top"], share["top"])
     x = share["x"][share["x"] <= top * (1 + 1e-9)]
-    at = np.clip(x, 1.0, base["x"][-1])
 
     def on_x(values):
-        return pchip_evaluate(base["x"], values, pchip_slopes(base["x"], values), at)[0]
+        return on(x, values)
 
     if "f_a" in base:
         base = {**base, "q": radius_ratio(base["x"], base["f"], base["f_a"])}
 
     out = {"x": x, "top": float(x[-1]), "low": min(base["low"], float(x[-1])),
            "rel_error_estimate": base["rel_error_estimate"],
-           "source_note": (f"; hardening H/E {H_over_E:.4g}: the hardening's share of the tables measured at "
+           **({} if np.ndim(H_over_E) == 0 else {"hardening_read_as": read_as}),
+           "source_note": (f"; hardening {named}: the hardening's share of the tables measured at "
                            f"{sheet.nu_label} ({sheet.path.name if sheet.path else 'hardening sheet'}, "
                            f"{sheet.kinematics})")}
     for key, kind in SHARED.items():
@@ -190,11 +269,11 @@ def hardened_tables(master: VZMasterTable, sheet: HardeningSheet, nu: float, E_o
 
 @dataclasses.dataclass(frozen=True)
 class HardenedMasterTable:
-    """The master table with the hardening sheet at one H/E: ``law`` and ``unload_law`` of a material, as
-    VZMasterTable's (what calib.fit.vz_master_check drives)."""
+    """The master table with the hardening sheet at one H/E (or a flow curve: hardened_tables): ``law`` and
+    ``unload_law`` of a material, as VZMasterTable's (what calib.fit.vz_master_check drives)."""
     master: VZMasterTable
     sheet: HardeningSheet
-    H_over_E: float
+    H_over_E: object
 
     def _values(self, material: Material) -> dict:
         return hardened_tables(self.master, self.sheet, float(material.nu), float(material.E / material.sigma_y),

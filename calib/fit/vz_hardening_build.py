@@ -16,7 +16,7 @@ from pathlib import Path
 
 from calib import output
 from calib.fit import vz_master_build, vz_master_check
-from calib.fit.vz_hardening import SCENE, HardenedMasterTable, HardeningSheet
+from calib.fit.vz_hardening import REPRESENTATIVE_STRAIN_FACTOR, SCENE, HardenedMasterTable, HardeningSheet
 from calib.fit.vz_master_table import RADIUS_COLUMN, UNLOADING_COLUMNS, VZMasterTable
 
 
@@ -38,11 +38,18 @@ def sheet_rows(rows: list[dict]) -> list[dict]:
 
 def check_rows(rows: list[dict], master: VZMasterTable, sheet: HardeningSheet) -> dict:
     """The hardened laws against the scene's [[check]] FE paths (calib.fit.vz_master_check.check_material and
-    check_unloading at each check's H/E) and, for contrast, the perfectly plastic master law on the same paths."""
+    check_unloading at each check's H/E, or its power-law flow curve read through its secant modulus:
+    calib.fit.vz_hardening.hardened_tables) and, for contrast, the perfectly plastic master law on the same paths.
+    Each row carries its check's H_over_E, or its flow curve ("flow_curve": "swift K/sigma_Y n")."""
     out = {"vz-table": [], "unloading": [], "perfectly plastic": []}
-    for row in (r for r in rows if r.get("kind") == "check" and r.get("status") == "ok" and not r.get("power_law")):
-        hardened = HardenedMasterTable(master, sheet, row["H_over_E"])
-        tag = {"H_over_E": row["H_over_E"]}
+    for row in (r for r in rows if r.get("kind") == "check" and r.get("status") == "ok"):
+        if row.get("power_law"):
+            law = row["power_law"]
+            hardening = vz_master_build.hardening_of(row, vz_master_check.material_of(row)[0])
+            tag = {"flow_curve": f"{law['flow_curve']} {law['K_over_sigma_y']:g} {law['n']:g}"}
+        else:
+            hardening, tag = row["H_over_E"], {"H_over_E": row["H_over_E"]}
+        hardened = HardenedMasterTable(master, sheet, hardening)
         out["vz-table"] += [{**tag, **r} for r in vz_master_check.check_material(row, hardened)]
         out["unloading"] += [{**tag, **r} for r in vz_master_check.check_unloading(row, hardened)]
         out["perfectly plastic"] += [{**tag, **r} for r in vz_master_check.check_material(row, master)]
@@ -64,16 +71,23 @@ def summary(checked: dict) -> dict:
                           "unloading_error": largest(checked["unloading"], "vz-unload unloading_error"),
                           "dent_error_of_alpha_max": largest(checked["unloading"], "vz-unload dent_error_of_alpha_max")},
             "perfectly plastic": {"e_error": largest(checked["perfectly plastic"], "e_error"),
-                                  "force_error": largest(checked["perfectly plastic"], "force_error")}}
+                                  "force_error": largest(checked["perfectly plastic"], "force_error")},
+            "nu_range": f"{min(r['nu'] for r in inside):g}-{max(r['nu'] for r in inside):g}" if inside else ""}
 
 
-def statement(measured: dict) -> str:
-    """The sheet's accuracy in one sentence (:func:`summary`)."""
+def split(checked: dict) -> tuple[dict, dict]:
+    """(linear, power law): ``checked`` split into the checks of linear hardening and of power-law flow curves."""
+    return ({kind: [r for r in rows if "flow_curve" not in r] for kind, rows in checked.items()},
+            {kind: [r for r in rows if "flow_curve" in r] for kind, rows in checked.items()})
+
+
+def statement(measured: dict, what: str = "hardening spheres") -> str:
+    """The sheet's accuracy in one sentence (:func:`summary`; ``what``: the checks' spheres)."""
     if not measured["paths"]:
-        return "not checked against FE paths with hardening"
+        return f"not checked against FE paths of {what}"
     t, u, p = measured["vz-table"], measured["vz-unload"], measured["perfectly plastic"]
-    return (f"against direct FE of {measured['checks']} hardening spheres off the sheet's nodes ({measured['paths']} "
-            f"load-unload paths inside the window, nu {measured['nu_range']}, H/E {measured['H_over_E_range']}): "
+    return (f"against direct FE of {measured['checks']} {what} off the sheet's nodes ({measured['paths']} "
+            f"load-unload paths inside the window, nu {measured['nu_range']}{measured.get('range', '')}): "
             f"vz-table e within {100 * t['e_error']:.2g} %, force within {100 * t['force_error']:.2g} % of P_max; "
             f"vz-unload e within {100 * u['e_error']:.2g} %, unloading force {100 * u['unloading_error']:.2g} % of "
             f"P_max, dent {100 * u['dent_error_of_alpha_max']:.2g} % of alpha_max; the perfectly plastic master law "
@@ -116,16 +130,22 @@ def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMast
     output.write_json(path.with_suffix(".json"), {"vz_hardening_table": meta, "stamp": stamp})
     master = master or VZMasterTable.load()
     checked = check_rows(rows + (joined["check_rows"] if joined else []), master, HardeningSheet.load(path))
-    measured = summary(checked)
-    inside = [r for r in checked["vz-table"] if r["inside"]]
-    measured["nu_range"] = f"{min(r['nu'] for r in inside):g}-{max(r['nu'] for r in inside):g}" if inside else ""
+    linear, power = split(checked)
+    measured = summary(linear)
+    inside = [r for r in linear["vz-table"] if r["inside"]]
     measured["H_over_E_range"] = (f"{min(r['H_over_E'] for r in inside):g}-{max(r['H_over_E'] for r in inside):g}"
                                   if inside else "")
+    measured["range"] = f", H/E {measured['H_over_E_range']}"
     measured["statement"] = statement(measured)
+    flow = summary(power)
+    flow["statement"] = statement(flow, f"spheres of Swift and Ludwik flow curves (each read as the linear hardening "
+                                        f"of its secant modulus to {REPRESENTATIVE_STRAIN_FACTOR:g} a/R)")
+    measured["flow_curves"] = flow
     check_stamp = output.stamp(0.0, table=str(path), master_table=str(master.path))
     output.write_csv(folder / "vz_hardening_check.csv", checked["vz-table"], comment=output.stamp_comment(check_stamp))
     output.write_json(folder / "vz_hardening_check.json", {**checked, "accuracy": measured, "stamp": check_stamp})
     output.write_json(path.with_suffix(".json"), {"vz_hardening_table": {**meta, "accuracy": measured["statement"],
+                                                                         "accuracy_flow_curves": flow["statement"],
                                                                          "accuracy_details": measured},
                                                   "stamp": stamp})
     return measured

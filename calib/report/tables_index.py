@@ -180,11 +180,16 @@ def hardening_sheet(root: Path) -> list[str]:
     for r in check["vz-table"]:
         key = (r["name"], round(r["P_max_over_P_Y"], 9))
         p, u = plain.get(key), unloading.get(key, {})
-        rows.append([f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", f"{r['H_over_E']:g}", f"{r['P_max_over_P_Y']:.4g}",
+        hardening = f"{r['H_over_E']:g}" if "H_over_E" in r else r["flow_curve"]
+        rows.append([f"{r['nu']:g}", f"{r['E_over_sigma_y']:g}", hardening, f"{r['P_max_over_P_Y']:.4g}",
                      "yes" if r["inside"] else "no", pct(r["e_error"]), apct(r["force_error"]),
                      pct(u["vz-unload e_error"]) if "vz-unload e_error" in u else "-",
                      apct(u["vz-unload dent_error_of_alpha_max"]) if "vz-unload dent_error_of_alpha_max" in u else "-",
                      pct(p["e_error"]) if p else "-", apct(p["force_error"]) if p else "-"])
-    lines += table(["nu", "E/sigma_Y", "H/E", "P_max/P_Y", "inside", "e", "force", "vz-unload e",
-                    "vz-unload dent/alpha_max", "perfectly plastic: e", "force"], rows)
-    return lines + [f"Accuracy statement: {check['accuracy']['statement']}.", ""]
+    lines += table(["nu", "E/sigma_Y", "H/E or flow curve (K/sigma_Y, n)", "P_max/P_Y", "inside", "e", "force",
+                    "vz-unload e", "vz-unload dent/alpha_max", "perfectly plastic: e", "force"], rows)
+    flow = check["accuracy"].get("flow_curves")
+    return lines + [f"Accuracy statement: {check['accuracy']['statement']}.", ""] + (
+        [f"Power-law flow curves (`nfdcal material --flow-curve CSV`: the curve read at each load as the linear "
+         f"hardening of its secant modulus to Tabor's representative strain, calib.fit.vz_hardening.effective_hardening):"
+         f" {flow['statement']}.", ""] if flow else [])
