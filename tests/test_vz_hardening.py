@@ -382,7 +382,7 @@ def test_a_sheet_s_perfectly_plastic_nodes_are_its_grid_s_tasks(sheet_scene, gri
     hardening = [t for t in tasks if t.get("H_over_E") or t.get("power_law")]
     assert len(plain) == 18 and all(t["key"] in grid for t in plain)
     checks = [t for t in tasks if t["kind"] == "check"]
-    assert len(hardening) == 54 + len(checks) and not any(t["key"] in grid for t in hardening)
+    assert len(hardening) == 90 + len(checks) and not any(t["key"] in grid for t in hardening)
 
 
 def test_calibrate_v_max_sizes_a_hardening_sphere_s_window_by_the_sheet(tmp_path, capsys):
