@@ -491,13 +491,13 @@ def one_line_refusal(capsys, argv, needle):
     return err
 
 
-@pytest.mark.parametrize("command", ["fit-data", "material"])
+@pytest.mark.parametrize("command", ["fit-data"])
 @pytest.mark.parametrize("flags", [["--flow-curve", "GOOD"],
                                    ["--flow-curve", "GOOD", "--flow-curve-extrapolation", "slope"]])
 def test_master_table_commands_refuse_a_flow_curve_naming_calibrate(command, flags, curve_files, capsys):
-    """fit-data and material answer a linear hardening from the vz master table's hardening sheet
-    (tests/test_vz_hardening.py), a tabulated flow curve not: one line saying so and naming the calibration to
-    run instead, exit 2, before any input is read."""
+    """fit-data answers a linear hardening from the vz master table's hardening sheet (tests/test_vz_hardening.py),
+    a tabulated flow curve not: one line saying so and naming the calibration to run instead, exit 2, before any
+    input is read (material answers a flow curve: tests/test_vz_hardening.py)."""
     flags = [str(curve_files / "GOOD.csv") if f == "GOOD" else f for f in flags]
     extra = ["--impacts", str(curve_files / "none.csv")] if command == "fit-data" else ["--v-max", "1"]
     err = one_line_refusal(capsys, [command, *extra, *flags], "linear hardening only")
