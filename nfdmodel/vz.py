@@ -18,7 +18,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 
 import numpy as np
 from scipy.optimize import brentq
@@ -241,7 +241,13 @@ def vz_largest_admissible_Kc(pair: ContactPair, Ca: float) -> float:
     (bisection below that bound; Kc = 0 always passes). It states the admissible range
     in VZParams' error messages.
     """
-    Ca = check_real("Ca", Ca, low=0.0, unit="m/N")
+    return _largest_admissible_Kc(pair, check_real("Ca", Ca, low=0.0, unit="m/N"), native.backend())
+
+
+@lru_cache(maxsize=256)
+def _largest_admissible_Kc(pair: ContactPair, Ca: float, backend: str) -> float:
+    # cached: a refused VZParams states the bound, and a fit continued beyond the law's domain asks it
+    # again for the same (pair, Ca); each answer costs about 25 energy integrals (backend: the key only)
     Ca_hat = Ca * pair.P_Y / pair.a_Y
     A, B = _monotone_slope_terms(Ca_hat)
     turning = B < 0.0

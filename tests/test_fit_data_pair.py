@@ -19,7 +19,6 @@ from test_fit_data_refusals import assert_refused, fit_data as run  # noqa: E402
 
 from nfdmodel import load_parameters
 
-pytestmark = pytest.mark.laws
 
 ROOT = Path(__file__).resolve().parent.parent
 FE_DATA = ROOT / "results" / "pairs" / "pair_fe_drops.json"

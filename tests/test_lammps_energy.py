@@ -36,7 +36,6 @@ import nfdmodel
 from calib import lammps_plugin
 from nfdmodel import ContactPair, Material, VZParams
 
-pytestmark = pytest.mark.laws     # runs nfdmodel's collisions as the reference
 
 MATERIAL = Material.reference()
 CA_HAT, KC_HAT = 0.026, 0.0098

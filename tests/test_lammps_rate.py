@@ -49,7 +49,6 @@ from nfdmodel import ContactPair, VZParams
 from nfdmodel.rate_aware import LAW, RateAwareParams, rate_aware_reference
 from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
 
-pytestmark = pytest.mark.laws     # runs nfdmodel's rate-aware collisions as the reference
 
 RTOL = 1e-9
 RATES = {"cowper-symonds": (CowperSymonds(40.4, 5.0), "rate cowper-symonds 40.4 5.0"),

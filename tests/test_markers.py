@@ -39,6 +39,8 @@ NOT_RERUN = {
     "test_lammps.py": PLUGIN,
     "test_lammps_friction.py": PLUGIN,
     "test_lammps_guards.py": PLUGIN,
+    "test_lammps_energy.py": PLUGIN,
+    "test_lammps_rate.py": PLUGIN,
     "test_lammps_pair_constants.py": PLUGIN,
     "test_lammps_wall_material.py": PLUGIN,
 }

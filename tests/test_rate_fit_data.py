@@ -29,7 +29,6 @@ from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel.parameter_file import rate_law_of_file
 from nfdmodel.strain_rate import rate_law_of
 
-pytestmark = pytest.mark.laws
 
 DATA = json.loads((Path(__file__).resolve().parent / "data" / "rate_fe_drops.json").read_text(encoding="utf-8"))
 SPECIMEN = ["--E", "70e9", "--nu", "0.3", "--R", "0.1", "--rho", "2699"]

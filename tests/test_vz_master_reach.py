@@ -21,7 +21,6 @@ from calib.fit.vz_master_check import check_material, fit_errors, material_of
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, Material
 
-pytestmark = pytest.mark.laws
 
 ROOT = Path(__file__).resolve().parent.parent
 SMALL = ROOT / "results" / "tables" / "vz_master_grid"

@@ -36,10 +36,11 @@ SCENE = "vz_master_reach_hardening"
 
 
 def finite_checks() -> list[dict]:
-    """The finite-strain scene's [[check]] records (results/tables/vz_master_reach_hardening)."""
+    """The finite-strain scene's [[check]] records of linear hardening (results/tables/vz_master_reach_hardening;
+    its power-law checks have no one H to fit)."""
     scene = vz_master_build.load_scene(SCENE)
     rows = vz_master_join.scene_records(scene, ROOT / "results" / "tables" / SCENE)
-    return [r for r in rows if r.get("kind") == "check"]
+    return [r for r in rows if r.get("kind") == "check" and not r.get("power_law")]
 
 
 def fit_once(kind: str, values: dict, sets: dict, master, sheet, noise: float | None):
