@@ -64,8 +64,7 @@ def test_hardened_laws_meet_the_fe_of_spheres_off_the_sheet(stored, master, shee
     """Inside each window: e within 2 %, force within 5 % of P_max (the master table's targets); the vz-unload
     law's dent within 0.5 % of alpha_max or 3 %. The perfectly plastic law on the same paths misses by more:
     the hardening is what the sheet adds."""
-    checked = vz_hardening_build.check_rows(stored, master, sheet)
-    linear, power = vz_hardening_build.split(checked)
+    linear = vz_hardening_build.check_rows([r for r in stored if not r.get("power_law")], master, sheet)
     measured = vz_hardening_build.summary(linear)
     assert measured["checks"] == 11 and measured["paths"] >= 60
     assert measured["vz-table"]["e_error"] <= 0.02
@@ -80,12 +79,16 @@ def test_hardened_laws_meet_the_fe_of_spheres_off_the_sheet(stored, master, shee
 
 def test_power_law_flow_curves_read_through_their_secant_modulus_against_their_fe(stored, master, sheet):
     """Swift and Ludwik spheres (three, in small and in finite strain), each read as the linear hardening of its
-    secant modulus to 0.2 a/R: measured e within 2.6 %, force within 5.9 % of P_max (the 2 % / 5 % targets met in
-    small strain, 0.77 % / 2.5 %, missed at the finite checks' tops); the perfectly plastic law misses by 11 % and 18 %."""
-    power = vz_hardening_build.split(vz_hardening_build.check_rows(stored, master, sheet))[1]
+    secant modulus to 0.2 a/R: measured e within 2.6 %, force within 5.9 % of P_max. The 2 % / 5 % targets are met
+    on 34 of the 35 paths (e 1.3 %, force 3.2 %); the miss is the steep Ludwik sphere's (K 3 sigma_Y, n 0.5) top
+    path, 4135 P_Y, where the law's e is 2.6 % low. The perfectly plastic law misses by 11 % and 18 %."""
+    power = vz_hardening_build.check_rows([r for r in stored if r.get("power_law")], master, sheet)
     measured = vz_hardening_build.summary(power)
     assert measured["checks"] == 6 and measured["paths"] >= 30
     assert measured["vz-table"]["e_error"] <= 0.03 and measured["vz-table"]["force_error"] <= 0.065
+    inside = [r for r in power["vz-table"] if r["inside"]]
+    missed = [r for r in inside if abs(r["e_error"]) > 0.02 or abs(r["force_error"]) > 0.05]
+    assert [(r["name"], round(r["P_max_over_P_Y"])) for r in missed] == [("nu0.38_E1500sy_ludwik3_0.5_finite", 4135)]
     assert measured["perfectly plastic"]["e_error"] > 3 * measured["vz-table"]["e_error"]
 
 
