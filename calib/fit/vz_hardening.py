@@ -51,6 +51,10 @@ SCENE = "vz_master_hardening"
 # (:func:`representative_strain`)
 REPRESENTATIVE_STRAIN_FACTOR = 0.2
 SHARED = {"f": "factor", "g": "factor", "rho": "difference", "m": "difference", "q": "difference"}
+# A factor's denominator below this (a_p/a_Y just above P_Y, where the FE's f is 1e-5-1e-2) is noise: the factor
+# there is 1. Measured: at E/sigma_Y 100, H/E 0.2, 1.33 P_Y the raw factor is 183 at nu 0.2
+# and 245 at nu 0.49 (f 1.1e-5); PCHIP in nu put 56 at nu 0.25, f 0.31 instead of about 0.005
+FACTOR_FLOOR = 0.02
 
 
 def radius_ratio(x: np.ndarray, f: np.ndarray, f_a: np.ndarray) -> np.ndarray:
@@ -145,10 +149,16 @@ def _share_at(table: VZMasterTable, H_over_E: float, E_over_sigma_y: float) -> d
     out = {"x": hardened["x"], "top": hardened["top"]}
     for key, kind in SHARED.items():
         if key in hardened:
-            with np.errstate(divide="ignore", invalid="ignore"):    # f = 0 at P_Y: a factor of 1
-                out[key] = (np.where(plain[key] > 0.0, hardened[key] / plain[key], 1.0) if kind == "factor"
-                            else hardened[key] - plain[key])
+            out[key] = (_factor(hardened[key], plain[key], plain["f"]) if kind == "factor"
+                        else hardened[key] - plain[key])
     return out
+
+
+def _factor(hardened: np.ndarray, plain: np.ndarray, plastic_radius: np.ndarray) -> np.ndarray:
+    """T_s(H/E) / T_s(0) along the loads; 1 where the plain plastic radius f is below FACTOR_FLOOR (the plastic
+    strain, hence the hardening, vanishing towards P_Y), for f and g alike so they stay one cycle's pair."""
+    sound = plastic_radius >= FACTOR_FLOOR
+    return np.where(sound, hardened / np.where(sound, plain, 1.0), 1.0)
 
 
 def yield_radius_over_R(nu: float, E_over_sigma_y: float) -> float:
