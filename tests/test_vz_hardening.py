@@ -425,23 +425,22 @@ def test_calibrate_v_max_sizes_a_hardening_sphere_s_window_by_the_sheet(tmp_path
     assert e_fe == pytest.approx(e_sheet, rel=0.01)
 
 
-def test_the_sheet_s_laws_are_admissible_to_its_top_and_a_refused_unload_law_is_one_line(master, sheet, capsys):
+def test_the_sheet_s_laws_are_admissible_to_its_top_and_near_yield_keep_the_plain_plastic_radius(master, sheet):
     """Scanned over 7 nu (0.2-0.49) x 12 E/sigma_Y (100-5000) x 8 H/E (0.001-0.2), and 6 Swift and Ludwik curves
-    over the same materials: the sheet's vz-table law is admissible everywhere (672 linear; 469 curves, the other 35
-    beyond the sheet's top and refused as such); its vz-unload law in 670 of 672 and in the 469. The two refused sit at H/E 0.2, E/sigma_Y 100, nu 0.25
-    and 0.44 (between the sheet's nus): a load-unload cycle near 6 P_Y would return 0.3-1.4 % more work than it
-    took. Sampled here at the corners; the refusal names the law and the admissible alternative, exit 2."""
+    over the same materials: the sheet's vz-table and vz-unload laws are admissible everywhere (1344 linear laws;
+    938 of 1008 of the curves, the other 70 beyond the sheet's top and refused as such). Near P_Y the FE's plastic
+    radius f is 1e-5-1e-2 and the ratio of two such values noise (183 at nu 0.2, E/sigma_Y 100, H/E 0.2, 1.33
+    P_Y): below f = 0.02 f and g take no hardening factor (vz_hardening.FACTOR_FLOOR). Taken, PCHIP in nu put f
+    0.31 at nu 0.25 there, flat to 13 P_Y, and two vz-unload laws created energy near 6 P_Y. Sampled here at the
+    corners."""
     for H_over_E in (0.005, 0.2):
         hardened = vz_hardening.HardenedMasterTable(master, sheet, H_over_E)
         for nu in (0.2, 0.25, 0.44, 0.49):
             for E_over_sigma_y in (100.0, 5000.0):
                 material = Material(E_over_sigma_y * 1e8, nu, 1e8, 7800.0)
                 hardened.law(material, 1e-3)
-                if not (H_over_E == 0.2 and E_over_sigma_y == 100.0 and nu in (0.25, 0.44)):
-                    hardened.unload_law(material, 1e-3)
-    argv = ["material", "--E", "10e9", "--nu", "0.25", "--sigma-y", "100e6", "--rho", "1200", "--R", "1e-3",
-            "--v-max", "1", "--hardening-modulus", "2e9"]
-    code, out, err = run_cli([*argv, "--law", "vz-unload"], capsys)
-    assert code == 2 and len(err.splitlines()) == 1
-    assert "--law vz-unload out of range" in err and "would create energy" in err and "give no --law" in err
-    assert run_cli(argv, capsys)[0] == 0
+                hardened.unload_law(material, 1e-3)
+                plain = master.tables(nu, E_over_sigma_y)
+                tables = vz_hardening.hardened_tables(master, sheet, nu, E_over_sigma_y, H_over_E)
+                near = (tables["x"] > 1.0) & (tables["x"] < 2.0)
+                assert np.all(tables["f"][near] <= np.interp(tables["x"][near], plain["x"], plain["f"]) + 1e-12)
