@@ -3,6 +3,7 @@ without a compiler, and an unwritable cache is one line naming the folder; Pytho
 module loads with the preload the command prints."""
 import importlib.util
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -18,10 +19,14 @@ from calib import lammps_plugin  # noqa: E402
 
 @pytest.fixture
 def cache(tmp_path, monkeypatch):
-    """A cache of this test's own holding one build of the plugin."""
+    """A cache of this test's own holding one build of the plugin: a copy of the user cache's build (the one the
+    other plugin tests load; a cached build is keyed by its sources, LAMMPS and flags, not by its folder)."""
+    shared = Path(lammps_plugin.build_plugin()["path"])
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
+    own = lammps_plugin.cache_root() / shared.parent.name
+    shutil.copytree(shared.parent, own)
     info = lammps_plugin.build_plugin()
-    assert not info["cached"]
+    assert info["cached"] and Path(info["path"]) == own / shared.name
     return Path(info["path"])
 
 
