@@ -108,9 +108,8 @@ def test_the_hardened_law_rises_in_e_as_the_fe_at_the_sheet_s_nodes(stored, mast
     """At the top path of each finite-strain node inside the law's window (339-1e4 P_Y; nu 0.2, 0.3, 0.49; H/E
     0.005-0.2) the FE's e rises with H/E by up to 0.31 over the perfectly plastic sphere's; the law's e rises by the
     same within 0.01 (measured 0.0098 at most, at nu 0.49, E/sigma_Y 5000, H/E 0.02 and 0.1; 0.0065 at nu 0.3,
-    E/sigma_Y 100, H/E 0.005,
-    where the FE's e falls by 0.0036 with hardening: its noise at a = 0.44 R). The law's e itself is within 2 % of
-    the node's FE (measured 1.99 %, at nu 0.2, E/sigma_Y 5000, H/E 0.005; the perfectly plastic master law is
+    E/sigma_Y 100, H/E 0.005, where the FE's e falls by 0.0036 with hardening: its noise at a = 0.44 R). The law's
+    e itself is within 2 % of the node's FE (measured 1.99 %, at nu 0.2, E/sigma_Y 5000, H/E 0.005; the perfectly plastic master law is
     1.8 % from its own node's FE at nu 0.49, E/sigma_Y 5000)."""
     from calib.fit.path_check import law_against_path
     from calib.fit.vz_master_check import fe_paths

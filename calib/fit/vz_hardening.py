@@ -51,9 +51,9 @@ SCENE = "vz_master_hardening"
 # (:func:`representative_strain`)
 REPRESENTATIVE_STRAIN_FACTOR = 0.2
 SHARED = {"f": "factor", "g": "factor", "rho": "difference", "m": "difference", "q": "difference"}
-# A factor's denominator below this (a_p/a_Y just above P_Y, where the FE's f is 1e-5-1e-2) is noise: the factor
-# there is 1. Measured: at E/sigma_Y 100, H/E 0.2, 1.33 P_Y the raw factor is 183 at nu 0.2
-# and 245 at nu 0.49 (f 1.1e-5); PCHIP in nu put 56 at nu 0.25, f 0.31 instead of about 0.005
+# Below this plain plastic radius f = a_p/a_Y (just above P_Y the FE's f is 1e-5-1e-2) a factor is noise, so it is
+# 1 there: at E/sigma_Y 100, H/E 0.2, 1.33 P_Y the raw factor is 183 at nu 0.2 and 245 at nu 0.49 (f 1.1e-5), and
+# PCHIP in nu put 56 at nu 0.25, f 0.31 instead of about 0.005
 FACTOR_FLOOR = 0.02
 
 
