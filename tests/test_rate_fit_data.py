@@ -9,7 +9,7 @@ D 40 /s q 5, Johnson-Cook C 0.05) the tests' strain rates span a factor of about
 determine sigma_Y R at the tests' mean strain rate (against the FE sphere's own: -1.0 %, -2.8 %), not sigma_Y
 and the rate constant apart. With a strong one (Cowper-Symonds D 5 q 2, D 2 q 1, Johnson-Cook C 0.3 from
 0.5 /s) the rate-aware law at the FE's own constants misses its e by up to 2.7, 8.3 and 3.2 %, a trend with
-speed: the fit lands far from the FE's constants (sigma_Y -82 %, -79 %, +13 %) and the rate constant is not
+speed: the fit lands far from the FE's constants (sigma_Y -13 %, -19 %, +13 %) and the rate constant is not
 determined to 10 %. fit-data refuses every series in one line, naming the combination the data determine.
 Refusals: one line, exit 2.
 """

@@ -18,9 +18,11 @@ PLASTIC variant (the FE's R is a function of the equivalent plastic strain rate:
 Cowper-Symonds' c_q = c0 exp(-s^2 / (2 q)), Johnson-Cook's clipped ln averaged in closed form), c0 and s^2
 fitted on the reference at 0.02 m/s with both laws, checked on the other cases and on the stored drop tests of
 tests/data/rate_fe_drops.json.
-``--fine``: one finer mesh (the reference, strong law, the three speeds, contact element 1.1e-4 m). The FE records are
-kept in ``--out`` (rerunning reuses them). About 4 minutes on one core (1 minute with the records).
-Usage: .venv/bin/python tests/benchmarks/bench_rate_materials.py [--out DIR] [--fine]
+``--fine``: one finer mesh (the reference, strong law, the three speeds, contact element 1.1e-4 m). ``--dem``: a DEM
+user's sphere at DEM strain rates (mild steel, R 2 mm, 0.03-0.3 m/s: 44-135 /s, R to 2.3; dem_rates), with mild
+steel's Cowper-Symonds law and a Johnson-Cook law, on the impact's default mesh. The FE records are kept in ``--out``
+(rerunning reuses them). About 4 minutes on one core (1 minute with the records; 8 minutes with ``--dem``).
+Usage: .venv/bin/python tests/benchmarks/bench_rate_materials.py [--out DIR] [--fine] [--dem]
 """
 from __future__ import annotations
 
@@ -37,7 +39,7 @@ from scipy.optimize import brentq
 from scipy.stats import norm
 
 from calib.cli import main
-from calib.fit.measured.rate_fit import rate_params
+from calib.fit.measured.rate_fit import predict, rate_params
 from calib.fit.measured.specimen import Specimen
 from calib.fit.measured.table_law import table_law
 from calib.fit.vz_master_table import VZMasterTable
@@ -56,6 +58,14 @@ RATE_LAWS = {"independent": None, "CS D40 q5": (40.0, 5.0), "CS D2 q1": (2.0, 1.
 CONTACT_SIZE = 1.6e-4                      # the coarse mesh's contact element at the reference's a_Y [m]
 FINE_SIZE = 1.1e-4
 C_BRACKET = (0.05, 1e5)
+DEM_NAME = "mild steel E 210 GPa, nu 0.3, sigma_Y 250 MPa, rho 7850 kg/m^3, R 2 mm"
+DEM_SPHERE = (210e9, 0.3, 250e6, 0.002)
+DEM_RHO = 7850.0
+DEM_SPEEDS = (0.03, 0.1, 0.3)              # 28, 93, 278 v_Y
+# mild steel's Cowper-Symonds law (Jones 2012) and a Johnson-Cook law of its strength (Armco iron's C, Johnson & Cook
+# 1985): (kind, the rate constant, D's q or Johnson-Cook's eps_dot_0)
+DEM_RATE_LAWS = {"CS D40.4 q5": ("cowper-symonds", 40.4, 5.0), "JC C0.06": ("johnson-cook", 0.06, 1.0)}
+RATE_KEYS = {"cowper-symonds": ("D", "q"), "johnson-cook": ("C", "reference_rate")}
 FITTED_ON = {"SELF": "CS D40 q5", "PLASTIC": "CS D2 q1"}   # each variant's c: fitted on the reference at 12 v_Y
 
 
@@ -64,15 +74,20 @@ def pair_of(material) -> ContactPair:
     return ContactPair.sphere_flat(Specimen(E, nu, R, RHO).material(sigma_y), R)
 
 
-def fe_restitution(material, rate, speeds, size, folder: Path) -> list:
+def fe_restitution(material, rate, speeds, size, folder: Path, rho: float = RHO) -> list:
+    """The FE's e at ``speeds``: ``rate`` None, (D, q) of Cowper-Symonds or the flags of a rate law; ``size``
+    the contact element [m] or None (the impact's default mesh)."""
     E, nu, sigma_y, R = material
-    flags = [] if rate is None else ["--rate-law", "cowper-symonds", "--cs-D", repr(rate[0]), "--cs-q", repr(rate[1])]
+    if rate is None or isinstance(rate[0], str):
+        flags = list(rate or ())
+    else:
+        flags = ["--rate-law", "cowper-symonds", "--cs-D", repr(rate[0]), "--cs-q", repr(rate[1])]
+    mesh = [] if size is None else ["--contact-size", f"{size:.4g}"]
     printed = io.StringIO()
     with contextlib.redirect_stdout(printed):
         code = main(["impact", "--E", repr(E), "--nu", repr(nu), "--sigma-y", repr(sigma_y), "--R", repr(R),
-                     "--rho", repr(RHO), "--v-in", *map(repr, speeds), "--contact-size", f"{size:.4g}", *flags,
-                     "--no-error-estimate", "--no-quasi-static", "--no-plots", "--workers", "1", "--out", str(folder),
-                     "--json", "--quiet"])
+                     "--rho", repr(rho), "--v-in", *map(repr, speeds), *mesh, *flags, "--no-error-estimate",
+                     "--no-quasi-static", "--no-plots", "--workers", "1", "--out", str(folder), "--json", "--quiet"])
     assert code == 0
     return [record["e"] for record in json.loads(printed.getvalue())]
 
@@ -143,13 +158,13 @@ class JohnsonCookSpread:
         return 1.0 + self.law.C * (m * norm.cdf(m / self.s) + self.s * norm.pdf(m / self.s))
 
 
-def plastic_q_e(material, table, rate_law, v, c0, s2):
+def plastic_q_e(material, table, rate_law, v, c0, s2, rho=RHO):
     """PLASTIC with R averaged over log-normally spread plastic strain rates of log-variance s^2 about the median
     v_n0 (1 - e_0^2)^(1/2) / (c0 a_ref): Cowper-Symonds E[(eps_dot / D)^(1/q)] = (median / D)^(1/q)
     exp(s^2 / (2 q^2)), i.e. c_q = c0 exp(-s^2 / (2 q)); Johnson-Cook E[max(ln(eps_dot / eps_dot_0), 0)] =
     m Phi(m / s) + s phi(m / s), m = ln(median / eps_dot_0) (JohnsonCookSpread)."""
     E, nu, sigma_y, R = material
-    base = table_law(Specimen(E, nu, R, RHO), sigma_y, table)
+    base = table_law(Specimen(E, nu, R, rho), sigma_y, table)
     if isinstance(rate_law, CowperSymonds):
         factor = variant_factor(base, rate_law, v, c0 * np.exp(-s2 / (2.0 * rate_law.q)), "PLASTIC")
     else:
@@ -157,7 +172,7 @@ def plastic_q_e(material, table, rate_law, v, c0, s2):
     return float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v / factor**2.5]).restitution[0])
 
 
-def plastic_q(records, table) -> None:
+def plastic_q(records, table) -> tuple:
     """PLASTIC-Q: c0, s^2 from PLASTIC's c fitted on the reference at 12 v_Y with q 1 and q 5; checked on every
     other case and on the stored drop tests of tests/data/rate_fe_drops.json (Johnson-Cook among them)."""
     ref = MATERIALS["reference"]
@@ -181,6 +196,41 @@ def plastic_q(records, table) -> None:
         errors = [100 * (plastic_q_e(ref, table, rate_law, t["v_in"], c0, s2) / t["e"] - 1) for t in entry["tests"]]
         print(f"  {series} ({DATA.name}, {entry['tests'][0]['v_in']:g}..{entry['tests'][-1]['v_in']:g} m/s): "
               + " / ".join(f"{x:+.2f}" for x in errors))
+    return c0, s2
+
+
+def dem_rates(out: Path, table, c0: float, s2: float) -> None:
+    """--dem: mild steel at DEM strain rates (DEM_SPHERE, R 2 mm, 0.03-0.3 m/s: 28-278 v_Y, 44-135 /s, R to
+    2.3), each rate law of DEM_RATE_LAWS, on the impact's default mesh: the law's R, the FE's e, the law's e
+    error, the base law's (against the rate-independent FE), c_e and PLASTIC-Q's error (c0, s^2 as fitted)."""
+    store = out / "fe_dem.json"
+    records = json.loads(store.read_text()) if store.exists() else {}
+    specimen = Specimen(*DEM_SPHERE[0:2], DEM_SPHERE[3], DEM_RHO)
+    for name, (kind, constant, fixed) in {"independent": (None, None, None), **DEM_RATE_LAWS}.items():
+        if name not in records:
+            flags = None if kind is None else ("--rate-law", kind, "--cs-D" if kind == "cowper-symonds" else "--jc-C",
+                                               repr(constant), "--cs-q" if kind == "cowper-symonds"
+                                               else "--jc-reference-rate", repr(fixed))
+            records[name] = fe_restitution(DEM_SPHERE, flags, DEM_SPEEDS, None, out / f"dem-{name}".replace(" ", "_"),
+                                           DEM_RHO)
+            store.write_text(json.dumps(records, indent=1))
+    base = table_law(specimen, DEM_SPHERE[2], table)
+    print(f"\nDEM strain rates: {DEM_NAME}; e error % of the law (c {RATE_LENGTH_FACTOR:g}) and of PLASTIC-Q:")
+    print("| rate law | v_in m/s | eps_dot /s | R | FE e | law e err % | base law err % | c_e | PLASTIC-Q err % |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for name, (kind, constant, fixed) in DEM_RATE_LAWS.items():
+        for v, fe, fe_independent in zip(DEM_SPEEDS, records[name], records["independent"]):
+            def e_at(c):
+                law = rate_params(specimen, table, kind, DEM_SPHERE[2], constant, fixed, c)
+                return float(predict(law, [v])["e"][0])
+            params = rate_params(specimen, table, kind, DEM_SPHERE[2], constant, fixed)
+            rate = float(params.strain_rate([v])[0])
+            e0 = float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v]).restitution[0])
+            rate_law = rate_law_of({"rate_law": kind, **dict(zip(RATE_KEYS[kind], (constant, fixed)))})
+            eq = plastic_q_e(DEM_SPHERE, table, rate_law, v, c0, s2, DEM_RHO)
+            print(f"| {name} | {v:g} | {rate:.3g} | {float(params.rate_factor([v])[0]):.3f} | {fe:.4f} | "
+                  f"{100 * (e_at(RATE_LENGTH_FACTOR) / fe - 1):+.2f} | {100 * (e0 / fe_independent - 1):+.2f} | "
+                  f"{root_c(lambda c: e_at(c), fe):.3g} | {100 * (eq / fe - 1):+.2f} |")
 
 
 def root_c(function, target):
@@ -189,7 +239,7 @@ def root_c(function, target):
     return brentq(lambda c: function(c) - target, *C_BRACKET, xtol=1e-6) if low * high < 0.0 else float("nan")
 
 
-def main_(out: Path, fine: bool) -> None:
+def main_(out: Path, fine: bool, dem: bool) -> None:
     records = fe_records(out, fine)
     table = VZMasterTable.load(None)
     ref = MATERIALS["reference"]
@@ -226,7 +276,9 @@ def main_(out: Path, fine: bool) -> None:
                 print(f"| {name} | {law} | {v:.4g} | {factor:.3f} | {fe[k]:.4f} | {100 * (e / fe[k] - 1):+.2f} | "
                       f"{100 * (e0 / indep_fe[k] - 1):+.2f} | {c_e:.3g} | {c_rate:.3g} | "
                       f"{100 * (es / fe[k] - 1):+.2f} | {plastic_r:.3f} | {100 * (ep / fe[k] - 1):+.2f} |")
-    plastic_q(records, table)
+    c0, s2 = plastic_q(records, table)
+    if dem:
+        dem_rates(out, table, c0, s2)
 
 
 if __name__ == "__main__":
@@ -234,11 +286,13 @@ if __name__ == "__main__":
     parser.add_argument("--out", default=None, help="folder for the FE runs and their records (default: a temporary "
                                                     "one)")
     parser.add_argument("--fine", action="store_true", help="add one finer-mesh FE point")
+    parser.add_argument("--dem", action="store_true", help="add mild steel at DEM strain rates (R 2 mm, 0.03-0.3 m/s, "
+                                                           "Cowper-Symonds and Johnson-Cook)")
     args = parser.parse_args()
     warnings.simplefilter("ignore", RangeWarning)
     if args.out is None:
         with tempfile.TemporaryDirectory() as folder:
-            main_(Path(folder), args.fine)
+            main_(Path(folder), args.fine, args.dem)
     else:
         Path(args.out).mkdir(parents=True, exist_ok=True)
-        main_(Path(args.out), args.fine)
+        main_(Path(args.out), args.fine, args.dem)

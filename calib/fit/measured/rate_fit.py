@@ -16,12 +16,13 @@ bounds D 1e-3..1e12 /s, C 1e-4..1), started at the best of a coarse grid.
 not shrink with more tests): (i) the vz master table's model-form error u in ln sigma_Y for this kind of
 data (calib.fit.measured.table_law.model_form_uncertainty), a bias common to every test that moves
 sigma_Y R as a whole, hence ln sigma_Y alone; (ii) the rate-aware law's constant c of eps_dot = v_n0 /
-(c a_ref), known to u_c = ln(29 / 26.2) in ln c (the spread of the c matched to the dynamic FE on two
-vz-table laws of the same sphere, nfdmodel/README.md, The rate-aware law), propagated by the linear
-response g = -(J^T J)^-1 J^T d r_w / d ln c (for Cowper-Symonds it is exactly u_c in ln D: c and D enter
-as c D). The 95 % interval per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the
-Welch-Satterthwaite degrees of freedom of V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval;
-JCGM 100:2008, G.4).
+(c a_ref), known to u_c in ln c per rate law (U_LN_C: the rms of ln(c_e / c) over the dynamic FE impacts
+of tests/benchmarks/bench_rate_materials.py, c_e the c whose rate-aware e equals the FE's: Cowper-Symonds
+0.31 over 39 impacts, six spheres, q 1 and 5, 6-278 v_Y, 0.5-135 /s, c_e 13-42; Johnson-Cook 1.23 over
+3 impacts of mild steel at 44-135 /s, c_e 57-123), propagated by the linear response g = -(J^T J)^-1 J^T
+d r_w / d ln c (for Cowper-Symonds it is exactly u_c in ln D: c and D enter as c D). The 95 % interval
+per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the Welch-Satterthwaite degrees of freedom of
+V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval; JCGM 100:2008, G.4).
 
 **Identifiability** (as calib.fit.measured.identifiability: relative sensitivities, singular values,
 a parameter determined when its statistical relative standard error is at most
@@ -56,8 +57,8 @@ FREE = {"cowper-symonds": "D", "johnson-cook": "C"}
 FIXED = {"cowper-symonds": "q", "johnson-cook": "reference_rate"}
 BOUNDS = {"D": (1e-3, 1e12), "C": (1e-4, 1.0)}
 UNITS = {"D": "1/s", "C": "-", "q": "-", "reference_rate": "1/s"}
-# u of ln c: c matched to the same FE on two vz-table laws of the sphere, 26.2 and 29 (nfdmodel/README.md)
-U_LN_C = math.log(29.0 / 26.2)
+# u of ln c per rate law: the rms of ln(c_e / c) over the dynamic FE impacts of bench_rate_materials.py (module doc)
+U_LN_C = {"cowper-symonds": 0.31, "johnson-cook": 1.23}
 STEP = two_parameter.STEP
 GRID = (9, 9)                 # the starting grid over (ln sigma_Y, ln k)
 
@@ -167,7 +168,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     dr_dc = (weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(STEP))
              - weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(-STEP))) / (2 * STEP)
     response = -inverse @ jac.T @ dr_dc
-    v_model = np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C**2
+    v_model = np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C[kind] ** 2
     names = ("sigma_y", name)
     values = {"sigma_y": sigma_y, name: constant}
     spread = two_parameter.intervals(names, values, v_stat, v_model, n)
@@ -198,7 +199,7 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     window = (float(above.min()) if above.size else 1.0, float(peaks.max()))
     return RateFit(kind, name, fixed, values, se, se_stat, se_model, interval, correlation, g, scale, params,
                    rates, factors, report,
-                   {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C, "dof_statistical": n - 2,
+                   {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C[kind], "dof_statistical": n - 2,
                     "c_response": dict(zip(names, map(float, response)))},
                    verdict, consistent, window)
 
