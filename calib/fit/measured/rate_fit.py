@@ -20,7 +20,14 @@ sigma_Y R as a whole, hence ln sigma_Y alone; (ii) the rate-aware law's constant
 of tests/benchmarks/bench_rate_materials.py, c_e the c whose rate-aware e equals the FE's: Cowper-Symonds
 0.31 over 39 impacts, six spheres, q 1 and 5, 6-278 v_Y, 0.5-135 /s, c_e 13-42; Johnson-Cook 1.23 over
 3 impacts of mild steel at 44-135 /s, c_e 57-123), propagated by the linear response g = -(J^T J)^-1 J^T
-d r_w / d ln c (for Cowper-Symonds it is exactly u_c in ln D: c and D enter as c D). The 95 % interval
+d r_w / d ln c (for Cowper-Symonds it is exactly u_c in ln D: c and D enter as c D); (iii) c's trend
+with the speed, which no constant c follows (the c matched to each impact grows or falls with v_in on every
+sphere of that benchmark): each test's c_i = c (v_i / v_mean)^beta, v_mean the tests' geometric mean speed,
+beta known to u_beta = 0.17 (U_C_TREND: the rms of d ln c_e / d ln v_in over its 14 spheres and rate laws,
+-0.20..+0.33), propagated by the linear response to beta as (ii). A trend in the law's error is what two
+constants absorb by moving sigma_Y (Cowper-Symonds D 2 q 1 on the FE's drop tests: sigma_Y 19 % low at
+statistical errors below 1 %), so this term widens sigma_Y's interval where the data leave that room. The
+95 % interval
 per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the Welch-Satterthwaite degrees of freedom of
 V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval; JCGM 100:2008, G.4).
 
@@ -59,6 +66,8 @@ BOUNDS = {"D": (1e-3, 1e12), "C": (1e-4, 1.0)}
 UNITS = {"D": "1/s", "C": "-", "q": "-", "reference_rate": "1/s"}
 # u of ln c per rate law: the rms of ln(c_e / c) over the dynamic FE impacts of bench_rate_materials.py (module doc)
 U_LN_C = {"cowper-symonds": 0.31, "johnson-cook": 1.23}
+# u of c's trend with the speed, d ln c_e / d ln v_in: the rms over the 14 spheres and rate laws of the same benchmark
+U_C_TREND = 0.17
 STEP = two_parameter.STEP
 GRID = (9, 9)                 # the starting grid over (ln sigma_Y, ln k)
 
@@ -144,9 +153,14 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     lower = np.log([sigma_y_range(specimen, table)[0], BOUNDS[name][0]])
     upper = np.log([sigma_y_range(specimen, table)[1], BOUNDS[name][1]])
 
-    def groups(theta, c=RATE_LENGTH_FACTOR):
+    def groups(theta, c=RATE_LENGTH_FACTOR, trend=0.0):
         sigma_y, constant = np.exp(theta)
-        return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c), v))
+        if trend == 0.0:
+            return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c), v))
+        # c_i = c (v_i / v_mean)^trend: c's trend with the speed (module doc, model form (iii))
+        each = [predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c_i), [v_i])
+                for v_i, c_i in zip(v, c * (v / np.exp(np.mean(np.log(v)))) ** trend)]
+        return impact_residuals(data, {key: np.concatenate([one[key] for one in each]) for key in each[0]})
 
     grid = [np.linspace(lower[0], upper[0], GRID[0]), np.linspace(lower[1], upper[1], GRID[1])]
     if sigma_y_start is not None:
@@ -168,7 +182,10 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     dr_dc = (weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(STEP))
              - weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(-STEP))) / (2 * STEP)
     response = -inverse @ jac.T @ dr_dc
-    v_model = np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C[kind] ** 2
+    dr_dtrend = (weighted(theta, trend=STEP) - weighted(theta, trend=-STEP)) / (2 * STEP)
+    response_trend = -inverse @ jac.T @ dr_dtrend
+    v_model = (np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C[kind] ** 2
+               + np.outer(response_trend, response_trend) * U_C_TREND**2)
     names = ("sigma_y", name)
     values = {"sigma_y": sigma_y, name: constant}
     spread = two_parameter.intervals(names, values, v_stat, v_model, n)
@@ -199,8 +216,9 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     window = (float(above.min()) if above.size else 1.0, float(peaks.max()))
     return RateFit(kind, name, fixed, values, se, se_stat, se_model, interval, correlation, g, scale, params,
                    rates, factors, report,
-                   {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C[kind], "dof_statistical": n - 2,
-                    "c_response": dict(zip(names, map(float, response)))},
+                   {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C[kind], "u_c_trend": U_C_TREND,
+                    "dof_statistical": n - 2, "c_response": dict(zip(names, map(float, response))),
+                    "c_trend_response": dict(zip(names, map(float, response_trend)))},
                    verdict, consistent, window)
 
 
