@@ -54,7 +54,8 @@ the source.
 """
 from __future__ import annotations
 
-from calib.commands.common import (MATERIAL_DEFAULTS, add_material_arguments, add_rate_law_arguments,
+from calib.commands.common import (MATERIAL_DEFAULTS, RATE_AWARE_ACCURACY, add_material_arguments,
+                                   add_rate_law_arguments,
                                    add_summary_arguments, file_hardening_line, integer, material_flags, number,
                                    print_summary, rate_law_from_args)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
@@ -302,7 +303,7 @@ def run(ns) -> int:
         for record, rate, factor in zip(records, params.strain_rate(velocities), params.rate_factor(velocities)):
             record.update(strain_rate=float(rate), rate_factor=float(factor))
         rate_lines = [f"rate-aware {params.base_law} law: sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref), c = "
-                      f"{params.c:g}; {params.rate_law.record()}"]
+                      f"{params.c:g}; {params.rate_law.record()}", f"  {RATE_AWARE_ACCURACY}"]
         rate_lines += [f"  v_in {r['v_in']:g} m/s: eps_dot = {r['strain_rate']:.4g} /s, R = {r['rate_factor']:.5f}"
                        for r in records]
     pair = params.pair

@@ -56,7 +56,8 @@ exit 2, calib.commands.targets) and replaces an existing file only with ``--over
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_counter_arguments, add_hardening_arguments, add_material_arguments,
+from calib.commands.common import (RATE_AWARE_ACCURACY, add_counter_arguments, add_hardening_arguments,
+                                   add_material_arguments,
                                    hardening_line,
                                    add_rate_law_arguments, add_summary_arguments, counter_from_args,
                                    flow_curve_from_args, hardening_given, material_from_args, print_summary,
@@ -328,9 +329,9 @@ def rate_summary(summary: dict, law, rate, v_max: float) -> list[str]:
     params = RateAwareParams("vz-table", law, rate_law_of(rate.record()))
     strain_rate, factor = float(params.strain_rate(v_max)[0]), float(params.rate_factor(v_max)[0])
     summary.update(rate_law={**params.rate_law.record(), "c": RATE_LENGTH_FACTOR},
-                   strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor)
+                   strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor, rate_law_accuracy=RATE_AWARE_ACCURACY)
     summary["units"]["strain_rate_of_v_max"] = "1/s"
     record = params.rate_law.record()
     constants = ", ".join(f"{k} = {v:g}" for k, v in record.items() if k != "rate_law")
     return [f"rate-aware law: sigma_Y R(eps_dot), {record['rate_law']} ({constants}), eps_dot = v_n0 / (c a_ref), "
-            f"c = {params.c:g}; at v_max: eps_dot = {strain_rate:.4g} /s, R = {factor:.5f}"]
+            f"c = {params.c:g}; at v_max: eps_dot = {strain_rate:.4g} /s, R = {factor:.5f}; {RATE_AWARE_ACCURACY}"]
