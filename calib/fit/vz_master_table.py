@@ -67,6 +67,8 @@ BELOW_NODES = {"checked_from_over_P_Y": 1.2,
 DENT_SHAPE_BELOW = ((1.0, 1.1, 1.2, 1.333521432163324, 1.5, 1.7782794100389228, 2.0, 2.371373705661655),
                     (0.0, 0.00925, 0.04778, 0.12970, 0.25524, 0.50057, 0.69011, 1.0))
 DENT_SHAPE_SPREAD = 0.018
+DISSIPATION_SLOPE = 0.01        # admissible_below: the least dissipated share of a cycle to x, 0.01 (x - 1)
+BELOW_SUBDIVISIONS = 8          # admissible_below's subdivision of the unloading nodes below the lowest path
 
 
 def dent_below(x: np.ndarray, rho: np.ndarray, m: np.ndarray, low: float) -> tuple[np.ndarray, ...]:
@@ -96,6 +98,47 @@ def dent_below(x: np.ndarray, rho: np.ndarray, m: np.ndarray, low: float) -> tup
     above = x > low * (1 + 1e-9)
     return (np.concatenate([[1.0], at, x[above]]), np.concatenate([[0.0], rho_new, rho[above]]),
             np.concatenate([[HERTZ_EXPONENT], m_new, m[above]]))
+
+
+def admissible_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, x_unload: np.ndarray, rho: np.ndarray,
+                     m: np.ndarray, low: float) -> tuple[np.ndarray, ...]:
+    """The vz-unload law's unloading nodes (x_unload, rho, m) below ``low`` (the nodes' lowest unloading path),
+    made admissible where a cycle there would return more work than the loading took. (x, f, g): the vz-unload
+    law's loading tables (f_a, g_a), D = (x^(1/3) + f)^2 / g as nfdmodel's PCHIP gives it, W = P_Y delta_Y
+    (x D - 3/5 - integral_1^x D). The nodes below low are subdivided (BELOW_SUBDIVISIONS
+    per interval, rho and m the PCHIP of the given nodes); where a cycle to any of them returns more than its
+    loading work W, m is raised at every one to
+
+        m_k + 1 >= P_k delta_k (1 - rho_k) / ((1 - DISSIPATION_SLOPE (x_k - 1)) W_k)      (1 < x_k < low)
+
+    (a dissipated share growing at least as DISSIPATION_SLOPE (x - 1) from 0 at P_Y); else the nodes are
+    returned unchanged. Every node of E/sigma_Y 100 and more is unchanged (the table's interpolation from
+    rho = 0, m = 3/2 at P_Y to the lowest FE path returns less than it took). At the soft columns (E/sigma_Y
+    30-65), whose loading just above P_Y is stiffer than Hertz's (the FE's finite sphere: g - 1 = 3 f at 1.3-1.8
+    P_Y, E/sigma_Y 30), the interpolation returned up to 2 % more work than the loading took at 1.1-1.3 P_Y."""
+    from nfdmodel.pchip import pchip_evaluate, pchip_slopes
+
+    edges = x_unload[x_unload <= low * (1 + 1e-9)]
+    if edges.size < 2 or not edges[-1] > 1.0:
+        return x_unload, rho, m
+    t = np.arange(1, BELOW_SUBDIVISIONS) / BELOW_SUBDIVISIONS
+    dense = np.sort(np.concatenate([edges[1:-1], (edges[:-1, None] + np.diff(edges)[:, None] * t).ravel()]))
+    rho_dense = pchip_evaluate(x_unload, rho, pchip_slopes(x_unload, rho), dense)[0]
+    m_dense = pchip_evaluate(x_unload, m, pchip_slopes(x_unload, m), dense)[0]
+    def approach(s):                # D(s), the scaled loading approach
+        return (np.cbrt(s) + pchip_evaluate(x, f, pchip_slopes(x, f), s)[0]) ** 2 / pchip_evaluate(
+            x, g, pchip_slopes(x, g), s)[0]
+
+    path = 1.0 + (dense[:, None] - 1.0) * np.linspace(0.0, 1.0, 401)          # 1 .. x_k, 400 panels each
+    values = approach(path)
+    work = dense * values[:, -1] - 0.6 - np.sum(0.5 * (values[:, 1:] + values[:, :-1]) * np.diff(path), axis=1)
+    share = dense * values[:, -1] * (1.0 - rho_dense) / work              # (m + 1) at e = 1
+    if np.all(m_dense + 1.0 >= share * (1.0 - 1e-9)):       # the law's own tolerance (nfdmodel.vz_table)
+        return x_unload, rho, m
+    m_dense = np.maximum(m_dense, share / (1.0 - DISSIPATION_SLOPE * (dense - 1.0)) - 1.0)
+    keep = x_unload >= low * (1 - 1e-9)
+    return (np.concatenate([[1.0], dense, x_unload[keep]]), np.concatenate([[0.0], rho_dense, rho[keep]]),
+            np.concatenate([[m[0]], m_dense, m[keep]]))
 
 
 def proportional_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, low: float) -> np.ndarray:
@@ -330,6 +373,7 @@ class VZMasterTable:
             f, g = values["f_a"], g * ((c + values["f_a"]) / (c + f)) ** 2
         x_unload, rho, m = dent_below(values["x"], values["rho"], values["m"], values["low"])
         window = self._window({**values, "f": f}, pair, "vz-unload")
+        x_unload, rho, m = admissible_below(values["x"], f, g, x_unload, rho, m, values["low"])
         return VZUnloadParams(pair, tuple(values["x"]), tuple(f), tuple(g), window, tuple(x_unload), tuple(rho),
                               tuple(m))
 
