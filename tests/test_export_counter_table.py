@@ -188,7 +188,7 @@ def test_what_export_cannot_write_of_a_table_file_is_one_line(tmp_path, capsys):
 
     sphere = table_counter_file(tmp_path, STEEL_SPHERE, "sphere.json")
     elastic = table_counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": None}, "elastic.json")
-    hard = table_counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": 5e9}, "hard.json")
+    hard = table_counter_file(tmp_path, {**STEEL_SPHERE, "sigma_y": 1e10}, "hard.json")
     vz = counter_file(tmp_path, STEEL_SPHERE, VZConstants(0.03, 0.012, PAIR_WINDOW), "vz.json")
     rigid = plane.table_file(tmp_path)
     a_file = tmp_path / "a_file"
@@ -201,7 +201,7 @@ def test_what_export_cannot_write_of_a_table_file_is_one_line(tmp_path, capsys):
              ([elastic, "--like-params-out", like], "counter-body is elastic (counter_body.sigma_y null), and "
                                                     "pair_style nfd/vz-table needs its yield stress"),
              ([hard, "--like-params-out", like], "the like-type law of the counter-body (vz master table): "
-                                                 "E/sigma_Y = 41 is outside the vz master table")]
+                                                 "E/sigma_Y = 20.5 is outside the vz master table")]
     for args, message in cases:
         assert cli.main(["export", "lammps", "--params", *map(str, args)]) == 2
         errors = capsys.readouterr().err.splitlines()

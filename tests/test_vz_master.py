@@ -65,10 +65,11 @@ def test_the_table_is_exact_on_its_nodes_against_each_node_fe_calibration(table)
         for node, part in ((row, below), (beyond, ~below)):
             f, g = vz_master_build.resample(node, values["x"][part])
             assert np.allclose(values["f"][part][1:], f[1:], rtol=1e-9, atol=1e-12)     # x = 1: Hertz's, exactly
-            # below the lowest path g - 1 is made proportional to f (proportional_below): within 1e-6 there
+            # below the lowest path g - 1 is made proportional to f (proportional_below): within 1e-3 there
+            # (measured at every node: 8.3e-4 at E/sigma_Y 30, 9e-5 at 100, 1.3e-6 elsewhere)
             measured = values["x"][part] >= values["low"]
             assert np.allclose(values["g"][part][measured], g[measured], rtol=1e-9, atol=1e-12)
-            assert np.allclose(values["g"][part][1:], g[1:], rtol=0.0, atol=1e-6)
+            assert np.allclose(values["g"][part][1:], g[1:], rtol=0.0, atol=1e-3)
         assert values["top"] <= beyond["window"]["P_max_over_P_Y"] * (1 + 1e-9)
 
 
@@ -445,3 +446,29 @@ def test_the_reference_ladder_refines_every_size_and_the_loading_steps_by_the_sa
             for field in ("contact_size", "grading", "growth", "far_size"):
                 assert getattr(spec.mesh, field) == pytest.approx(getattr(base.mesh, field) / r, rel=1e-12), field
             assert math.log(spec.plan.loading_ratio) == pytest.approx(math.log(base.plan.loading_ratio) / r)
+
+
+@pytest.mark.parametrize("nu", [0.2, 0.33, 0.45, 0.49])
+def test_the_soft_columns_vz_unload_law_is_admissible_and_the_rest_unchanged(table, nu):
+    """Below the nodes' lowest path the polymer columns' loading is stiffer than Hertz's, and the interpolated
+    unloading would return more work than the loading took at 1.1-1.3 P_Y (E/sigma_Y 30-65: 496 of 3600
+    materials of a 30 nu x 120 E/sigma_Y scan refused without vz_master_table.admissible_below, 0 with it).
+    Every law builds (its own check: no cycle creates energy), each one-cycle e at most 1 from P_Y up; above
+    E/sigma_Y 66 the unloading nodes are the table's, untouched (0 of the scan's 3030 there; the largest E/sigma_Y
+    changed 65.04)."""
+    from calib.fit.vz_master_table import admissible_below, dent_below
+    from nfdmodel import collision_reference
+
+    for ratio in (30.0, 34.0, 42.3, 50.0, 57.0, 65.0, 80.0, 100.0, 150.0):
+        material = Material(E=70e9, nu=nu, sigma_y=70e9 / ratio, rho=2700.0)
+        law = table.unload_law(material, 0.01)
+        v = np.geomspace(0.05, 3.0, 12) * law.pair.v_Y * np.sqrt(law.window.P_max_over_P_Y) ** 1.2
+        v = v[v < law.pair.v_Y * 3]          # impacts to about 2 P_Y
+        assert np.all(collision_reference("vz-unload", law, v).restitution <= 1.0 + 1e-12)
+        values = table.tables(nu, ratio)
+        c = np.cbrt(values["x"])
+        f_a, g_a = values["f_a"], values["g"] * ((c + values["f_a"]) / (c + values["f"])) ** 2
+        x_unload, rho, m = dent_below(values["x"], values["rho"], values["m"], values["low"])
+        kept = admissible_below(values["x"], f_a, g_a, x_unload, rho, m, values["low"])
+        if ratio > 66.0:
+            assert kept[0] is x_unload and kept[2] is m

