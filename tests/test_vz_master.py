@@ -453,18 +453,14 @@ def test_the_soft_columns_vz_unload_law_is_admissible_and_the_rest_unchanged(tab
     """Below the nodes' lowest path the polymer columns' loading is stiffer than Hertz's, and the interpolated
     unloading would return more work than the loading took at 1.1-1.3 P_Y (E/sigma_Y 30-65: 496 of 3600
     materials of a 30 nu x 120 E/sigma_Y scan refused without vz_master_table.admissible_below, 0 with it).
-    Every law builds (its own check: no cycle creates energy), each one-cycle e at most 1 from P_Y up; above
+    Every law builds (nfdmodel's own check: no load-unload cycle from P_Y up creates energy); above
     E/sigma_Y 66 the unloading nodes are the table's, untouched (0 of the scan's 3030 there; the largest E/sigma_Y
     changed 65.04)."""
     from calib.fit.vz_master_table import admissible_below, dent_below
-    from nfdmodel import collision_reference
 
     for ratio in (30.0, 34.0, 42.3, 50.0, 57.0, 65.0, 80.0, 100.0, 150.0):
         material = Material(E=70e9, nu=nu, sigma_y=70e9 / ratio, rho=2700.0)
-        law = table.unload_law(material, 0.01)
-        v = np.geomspace(0.05, 3.0, 12) * law.pair.v_Y * np.sqrt(law.window.P_max_over_P_Y) ** 1.2
-        v = v[v < law.pair.v_Y * 3]          # impacts to about 2 P_Y
-        assert np.all(collision_reference("vz-unload", law, v).restitution <= 1.0 + 1e-12)
+        table.unload_law(material, 0.01)        # refused (ValueError) where a cycle would create energy
         values = table.tables(nu, ratio)
         c = np.cbrt(values["x"])
         f_a, g_a = values["f_a"], values["g"] * ((c + values["f_a"]) / (c + values["f"])) ** 2
