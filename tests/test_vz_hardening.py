@@ -444,3 +444,16 @@ def test_the_sheet_s_laws_are_admissible_to_its_top_and_near_yield_keep_the_plai
                 tables = vz_hardening.hardened_tables(master, sheet, nu, E_over_sigma_y, H_over_E)
                 near = (tables["x"] > 1.0) & (tables["x"] < 2.0)
                 assert np.all(tables["f"][near] <= np.interp(tables["x"][near], plain["x"], plain["f"]) + 1e-12)
+
+
+def test_a_hardening_sphere_below_the_sheet_s_columns_is_refused_naming_the_sheet(capsys):
+    """The vz master table reaches E/sigma_Y 30 (polymers), its hardening sheet 100: a hardening sphere at E/sigma_Y
+    43 is refused in one line naming the sheet and its range (the perfectly plastic one answers)."""
+    from calib.cli import main
+
+    sphere = ["--E", "3e9", "--nu", "0.38", "--sigma-y", "70e6", "--rho", "1190", "--R", "0.002", "--v-max", "1"]
+    assert main(["material", *sphere, "--quiet"]) == 0
+    capsys.readouterr()
+    assert main(["material", *sphere, "--hardening-modulus", "1e8", "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "outside the vz master table's hardening sheet: need E/sigma_Y in [100, 5000]" in err
