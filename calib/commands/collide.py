@@ -55,9 +55,8 @@ the source.
 from __future__ import annotations
 
 from calib.commands.common import (MATERIAL_DEFAULTS, RATE_AWARE_ACCURACY, add_material_arguments,
-                                   add_rate_law_arguments,
-                                   add_summary_arguments, file_hardening_line, integer, material_flags, number,
-                                   print_summary, rate_law_from_args)
+                                   add_rate_law_arguments, add_summary_arguments, file_hardening_line, integer,
+                                   material_flags, number, print_summary, rate_law_from_args)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
 from nfdmodel.collision import MAX_REPEAT
 

@@ -363,7 +363,7 @@ def rate_law_line(law) -> str:
 
 # the rate-aware law's e against the dynamic FE with the rate law, as measured (nfdmodel/README.md, The rate-aware
 # law: bench_rate_aware.py, bench_rate_materials.py --dem, bench_rate_fit_data.py)
-RATE_AWARE_ACCURACY = ("against the dynamic FE (nfdmodel/README.md): e within 1.3 % with Cowper-Symonds q 5 (R to "
-                       "2.3, eps_dot 0.5-135 /s; 1.8 % against the FE at 3x its time steps) and Johnson-Cook C 0.05 "
+RATE_AWARE_ACCURACY = ("against the dynamic FE (nfdmodel/README.md): e within 1.4 % with Cowper-Symonds q 5 (R to "
+                       "2.3, eps_dot 0.5-135 /s; 1.9 % against the FE at 3x its time steps) and Johnson-Cook C 0.05 "
                        "from 1e-3 /s; +3.5..+4.0 % with Johnson-Cook C 0.06 from 1 /s at 135 /s; to -8.3 % with a "
                        "strong Cowper-Symonds law (q 1-2)")

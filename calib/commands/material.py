@@ -57,11 +57,9 @@ exit 2, calib.commands.targets) and replaces an existing file only with ``--over
 from __future__ import annotations
 
 from calib.commands.common import (RATE_AWARE_ACCURACY, add_counter_arguments, add_hardening_arguments,
-                                   add_material_arguments,
-                                   hardening_line,
-                                   add_rate_law_arguments, add_summary_arguments, counter_from_args,
-                                   flow_curve_from_args, hardening_given, material_from_args, print_summary,
-                                   rate_law_from_args, rate_law_given)
+                                   add_material_arguments, hardening_line, add_rate_law_arguments,
+                                   add_summary_arguments, counter_from_args, flow_curve_from_args, hardening_given,
+                                   material_from_args, print_summary, rate_law_from_args, rate_law_given)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -329,7 +327,8 @@ def rate_summary(summary: dict, law, rate, v_max: float) -> list[str]:
     params = RateAwareParams("vz-table", law, rate_law_of(rate.record()))
     strain_rate, factor = float(params.strain_rate(v_max)[0]), float(params.rate_factor(v_max)[0])
     summary.update(rate_law={**params.rate_law.record(), "c": RATE_LENGTH_FACTOR},
-                   strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor, rate_law_accuracy=RATE_AWARE_ACCURACY)
+                   strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor,
+                   rate_law_accuracy=RATE_AWARE_ACCURACY)
     summary["units"]["strain_rate_of_v_max"] = "1/s"
     record = params.rate_law.record()
     constants = ", ".join(f"{k} = {v:g}" for k, v in record.items() if k != "rate_law")

@@ -125,7 +125,8 @@ class HardeningSheet:
         T_s(H/E) - T_s(0), SHARED), and the sheet's top there [P_Y]: at each of the sheet's nus, then PCHIP in
         nu (clamped to the sheet's nus) up to the lowest of their tops."""
         self.check(H_over_E)
-        low, high = (float(f(t.E_over_sigma_y[k] for t in self.tables_at_nu)) for f, k in ((max, 0), (min, -1)))
+        low = max(float(t.E_over_sigma_y[0]) for t in self.tables_at_nu)
+        high = min(float(t.E_over_sigma_y[-1]) for t in self.tables_at_nu)
         if not low * (1 - 1e-12) <= E_over_sigma_y <= high * (1 + 1e-12):     # the master table reaches further
             raise ValueError(f"E/sigma_Y = {E_over_sigma_y:g} is outside the vz master table's hardening sheet: need "
                              f"E/sigma_Y in [{low:g}, {high:g}] for a hardening sphere (calibrate this material by FE "

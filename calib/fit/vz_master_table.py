@@ -105,7 +105,8 @@ def admissible_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, x_unload: np.n
     """The vz-unload law's unloading nodes (x_unload, rho, m) below ``low`` (the nodes' lowest unloading path),
     made admissible where a cycle there would return more work than the loading took. (x, f, g): the vz-unload
     law's loading tables (f_a, g_a), D = (x^(1/3) + f)^2 / g as nfdmodel's PCHIP gives it, W = P_Y delta_Y
-    (x D - 3/5 - integral_1^x D). The nodes below low are subdivided (BELOW_SUBDIVISIONS
+    (x D - 3/5 - integral_1^x D), integrated here because a VZTableParams of (f_a, g_a) refuses itself at the
+    soft columns (its Hertz unloading creates energy). The nodes below low are subdivided (BELOW_SUBDIVISIONS
     per interval, rho and m the PCHIP of the given nodes); where a cycle to any of them returns more than its
     loading work W, m is raised at every one to
 
@@ -114,8 +115,9 @@ def admissible_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, x_unload: np.n
     (a dissipated share growing at least as DISSIPATION_SLOPE (x - 1) from 0 at P_Y); else the nodes are
     returned unchanged: every law above E/sigma_Y 65.1 (the table's interpolation from rho = 0, m = 3/2 at
     P_Y to the lowest FE path returns less than it took; 496 of 3600 laws of a 30 nu x 120 E/sigma_Y scan
-    changed, none above 65.1, none refused). At the soft columns (E/sigma_Y 30-65), whose loading just above P_Y is stiffer than Hertz's (the FE's finite sphere: g - 1 = 3 f at 1.3-1.8
-    P_Y, E/sigma_Y 30), the interpolation returned up to 2 % more work than the loading took at 1.1-1.3 P_Y."""
+    changed, none above 65.1, none refused). At the soft columns (E/sigma_Y 30-65), whose loading just above
+    P_Y is stiffer than Hertz's (the FE's finite sphere: g - 1 = 3 f at 1.3-1.8 P_Y, E/sigma_Y 30), the
+    interpolation returned up to 2 % more work than the loading took at 1.1-1.3 P_Y."""
     from nfdmodel.pchip import pchip_evaluate, pchip_slopes
 
     edges = x_unload[x_unload <= low * (1 + 1e-9)]
@@ -125,6 +127,7 @@ def admissible_below(x: np.ndarray, f: np.ndarray, g: np.ndarray, x_unload: np.n
     dense = np.sort(np.concatenate([edges[1:-1], (edges[:-1, None] + np.diff(edges)[:, None] * t).ravel()]))
     rho_dense = pchip_evaluate(x_unload, rho, pchip_slopes(x_unload, rho), dense)[0]
     m_dense = pchip_evaluate(x_unload, m, pchip_slopes(x_unload, m), dense)[0]
+
     def approach(s):                # D(s), the scaled loading approach
         return (np.cbrt(s) + pchip_evaluate(x, f, pchip_slopes(x, f), s)[0]) ** 2 / pchip_evaluate(
             x, g, pchip_slopes(x, g), s)[0]

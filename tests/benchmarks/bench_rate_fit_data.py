@@ -6,8 +6,9 @@ core, and prints their e beside the stored ones) fits sigma_Y and the rate const
 law (calib.fit.measured.rate_fit) to e alone and to e, P_max and contact time, and prints: R over the tests at
 the FE's constants, the fitted sigma_Y and constant against the FE's (targets: 3 %, 10 %), their statistical
 relative standard errors, sigma_Y R at the tests' mean strain rate against the FE sphere's, the 95 % intervals
-(over the truth) and whether they cover it, whether fit-data refuses, and the rate-aware law's e at the FE's own constants against the FE's (the figures of
-calib/fit/README.md, Strain-rate dependence). About 1 minute without --fe.
+(over the truth) and whether they cover it, whether fit-data refuses, and the rate-aware law's e at the FE's
+own constants against the FE's (the figures of calib/fit/README.md, Strain-rate dependence). About 1 minute
+without --fe.
 Usage: .venv/bin/python tests/benchmarks/bench_rate_fit_data.py [--fe]
 """
 from __future__ import annotations
@@ -78,11 +79,12 @@ def main_(fe: bool) -> None:
                 print(f"  {'+'.join(columns[1:]):>20}: sigma_Y {100 * (found.values['sigma_y'] / sigma_y - 1):+6.1f} %, "
                       f"{name} {100 * (found.values[name] / law[name] - 1):+8.1f} % (statistical relative SE "
                       f"{100 * rel['sigma_y']:.2g} %, {100 * rel[name]:.2g} %); sigma_Y R at {flow['strain_rate']:.3g} /s "
-                      f"{100 * (flow['value'] / flow_truth - 1):+.2f} %; 95 % intervals sigma_Y "
-                      f"{found.interval95['sigma_y'][0] / sigma_y:.3g}..{found.interval95['sigma_y'][1] / sigma_y:.3g} x "
-                      f"({'covers' if covers['sigma_y'] else 'misses'}), {name} "
-                      f"{found.interval95[name][0] / law[name]:.3g}..{found.interval95[name][1] / law[name]:.3g} x "
-                      f"({'covers' if covers[name] else 'misses'}); " + ("refused" if rate_fit.refusal(found) else "accepted"))
+                      f"{100 * (flow['value'] / flow_truth - 1):+.2f} %; 95 % intervals "
+                      + ", ".join(f"{key} {low / truth:.3g}..{high / truth:.3g} x "
+                                  f"({'covers' if covers[key] else 'misses'})"
+                                  for key, truth in (("sigma_y", sigma_y), (name, law[name]))
+                                  for low, high in [found.interval95[key]])
+                      + "; " + ("refused" if rate_fit.refusal(found) else "accepted"))
 
 
 if __name__ == "__main__":

@@ -39,6 +39,7 @@ from scipy.optimize import brentq
 from scipy.stats import norm
 
 from calib.cli import main
+from calib.fit.measured import rate_fit
 from calib.fit.measured.rate_fit import predict, rate_params
 from calib.fit.measured.specimen import Specimen
 from calib.fit.measured.table_law import table_law
@@ -65,7 +66,6 @@ DEM_SPEEDS = (0.03, 0.1, 0.3)              # 28, 93, 278 v_Y
 # mild steel's Cowper-Symonds law (Jones 2012) and a Johnson-Cook law of its strength (Armco iron's C, Johnson & Cook
 # 1985): (kind, the rate constant, D's q or Johnson-Cook's eps_dot_0)
 DEM_RATE_LAWS = {"CS D40.4 q5": ("cowper-symonds", 40.4, 5.0), "JC C0.06": ("johnson-cook", 0.06, 1.0)}
-RATE_KEYS = {"cowper-symonds": ("D", "q"), "johnson-cook": ("C", "reference_rate")}
 FITTED_ON = {"SELF": "CS D40 q5", "PLASTIC": "CS D2 q1"}   # each variant's c: fitted on the reference at 12 v_Y
 
 
@@ -208,9 +208,8 @@ def dem_rates(out: Path, table, c0: float, s2: float) -> None:
     specimen = Specimen(*DEM_SPHERE[0:2], DEM_SPHERE[3], DEM_RHO)
     for name, (kind, constant, fixed) in {"independent": (None, None, None), **DEM_RATE_LAWS}.items():
         if name not in records:
-            flags = None if kind is None else ("--rate-law", kind, "--cs-D" if kind == "cowper-symonds" else "--jc-C",
-                                               repr(constant), "--cs-q" if kind == "cowper-symonds"
-                                               else "--jc-reference-rate", repr(fixed))
+            names = ("--cs-D", "--cs-q") if kind == "cowper-symonds" else ("--jc-C", "--jc-reference-rate")
+            flags = None if kind is None else ("--rate-law", kind, names[0], repr(constant), names[1], repr(fixed))
             records[name] = fe_restitution(DEM_SPHERE, flags, DEM_SPEEDS, None, out / f"dem-{name}".replace(" ", "_"),
                                            DEM_RHO)
             store.write_text(json.dumps(records, indent=1))
@@ -226,8 +225,7 @@ def dem_rates(out: Path, table, c0: float, s2: float) -> None:
             params = rate_params(specimen, table, kind, DEM_SPHERE[2], constant, fixed)
             rate = float(params.strain_rate([v])[0])
             e0 = float(collision_reference(BASE_LAWS_LAW["vz-table"], base, [v]).restitution[0])
-            rate_law = rate_law_of({"rate_law": kind, **dict(zip(RATE_KEYS[kind], (constant, fixed)))})
-            eq = plastic_q_e(DEM_SPHERE, table, rate_law, v, c0, s2, DEM_RHO)
+            eq = plastic_q_e(DEM_SPHERE, table, rate_fit.rate_law(kind, constant, fixed), v, c0, s2, DEM_RHO)
             print(f"| {name} | {v:g} | {rate:.3g} | {float(params.rate_factor([v])[0]):.3f} | {fe:.4f} | "
                   f"{100 * (e_at(RATE_LENGTH_FACTOR) / fe - 1):+.2f} | {100 * (e0 / fe_independent - 1):+.2f} | "
                   f"{root_c(lambda c: e_at(c), fe):.3g} | {100 * (eq / fe - 1):+.2f} |")

@@ -27,9 +27,8 @@ beta known to u_beta = 0.17 (U_C_TREND: the rms of d ln c_e / d ln v_in over its
 -0.20..+0.33), propagated by the linear response to beta as (ii). A trend in the law's error is what two
 constants absorb by moving sigma_Y (Cowper-Symonds D 2 q 1 on the FE's drop tests: sigma_Y 19 % low at
 statistical errors below 1 %), so this term widens sigma_Y's interval where the data leave that room. The
-95 % interval
-per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the Welch-Satterthwaite degrees of freedom of
-V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval; JCGM 100:2008, G.4).
+95 % interval per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the Welch-Satterthwaite degrees
+of freedom of V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval; JCGM 100:2008, G.4).
 
 **Identifiability** (as calib.fit.measured.identifiability: relative sensitivities, singular values,
 a parameter determined when its statistical relative standard error is at most
@@ -153,13 +152,15 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
     lower = np.log([sigma_y_range(specimen, table)[0], BOUNDS[name][0]])
     upper = np.log([sigma_y_range(specimen, table)[1], BOUNDS[name][1]])
 
+    v_mean = float(np.exp(np.mean(np.log(v))))        # the tests' geometric mean speed [m/s]
+
     def groups(theta, c=RATE_LENGTH_FACTOR, trend=0.0):
         sigma_y, constant = np.exp(theta)
         if trend == 0.0:
             return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c), v))
         # c_i = c (v_i / v_mean)^trend: c's trend with the speed (module doc, model form (iii))
         each = [predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c_i), [v_i])
-                for v_i, c_i in zip(v, c * (v / np.exp(np.mean(np.log(v)))) ** trend)]
+                for v_i, c_i in zip(v, c * (v / v_mean) ** trend)]
         return impact_residuals(data, {key: np.concatenate([one[key] for one in each]) for key in each[0]})
 
     grid = [np.linspace(lower[0], upper[0], GRID[0]), np.linspace(lower[1], upper[1], GRID[1])]
