@@ -149,12 +149,15 @@ class ContactLaw:
 
     def dissipated_energy(self, state, params):
         """Energy dissipated per contact so far [J]: loading work to the turning point minus the
-        elastic energy the unloading curve returns, W(delta_max) - P_max (delta_max - delta_res)/(n+1)."""
+        elastic energy the unloading curve returns, W(delta_max) - P_max (delta_max - delta_res)/(n+1);
+        W the history's own ``loading_work`` where the law keeps one (a path-dependent virgin curve)."""
         if isinstance(state, HertzState):
             return np.zeros(state.n)
-        work = self.loading_work_function(np.asarray(state.delta_max, float), np.asarray(state.P_max, float),
-                                          self.params_from(params),
-                                          *((state.rate_factor,) if self.takes_velocity else ()))
+        work = getattr(state, "loading_work", None)     # a path-dependent law keeps its own (rate_relaxing)
+        if work is None:
+            work = self.loading_work_function(np.asarray(state.delta_max, float), np.asarray(state.P_max, float),
+                                              self.params_from(params),
+                                              *((state.rate_factor,) if self.takes_velocity else ()))
         returned = elastic_energy(state.P_max, state.delta_max, state.delta_res, self.exponent_of(state))
         return np.maximum(work - returned, 0.0)
 

@@ -186,6 +186,24 @@ def rate_step(kernel: RateKernel, m_star: float, delta, velocity, state):
     return force, index[:k].copy(), {name: v[:k].copy() for name, v in values.items()}, status, iterations, beyond, largest
 
 
+RELAXING_FIELDS = RATE_FIELDS + ("strain_rate_per_speed", "loading_work")
+
+
+def relaxing_step(kernel: RateKernel, k: float, stiffness: float, m_star: float, delta, velocity, state):
+    """nfd_rate_relaxing_step of every contact (the relaxing law's history ``state``, element stiffness ``k`` and
+    K = k E*/sigma_Y ``stiffness``): as :func:`rate_step`, the fields RELAXING_FIELDS."""
+    n = delta.shape[0]
+    force = np.empty(n)
+    index = np.empty(n, dtype=np.int64)
+    values = {name: np.empty(n) for name in RELAXING_FIELDS}
+    count, status, _, iterations, beyond, largest = _native.relaxing_step(
+        kernel.base_law, kernel.params, kernel.table, kernel.rate, float(k), float(stiffness), float(m_star),
+        _contiguous(delta), _contiguous(velocity), *(_contiguous(getattr(state, name)) for name in RELAXING_FIELDS),
+        force, index, *(values[name] for name in RELAXING_FIELDS))
+    return (force, index[:count].copy(), {name: v[:count].copy() for name, v in values.items()}, status, iterations,
+            beyond, largest)
+
+
 def collide(name: str, kernel, v_in, dt: float, mass: float, max_steps: int, explain) -> dict:
     """The leap-frog impacts of nfdmodel.collision in C, every velocity in one call: the same
     per-velocity results as collision._time_loop (history not recorded). ``kernel``: the law's

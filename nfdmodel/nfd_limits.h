@@ -29,6 +29,12 @@
 #define NFD_RATE_JOHNSON_COOK 0
 #define NFD_RATE_COWPER_SYMONDS 1
 #define NFD_RATE_LENGTH_FACTOR 26.0
+/* the relaxing rate-aware law (nfd_rate.h, nfdmodel.rate_relaxing): its element's stiffness k (in units of
+ * E* / sigma_Y) and c of eps_dot = v_n / (c a_ref), fitted to the dynamic FE; the backward-Euler solve's iterations and tolerance */
+#define NFD_RELAXATION_STIFFNESS 1.15
+#define NFD_RELAXING_LENGTH_FACTOR 5.7
+#define NFD_RATE_FACTOR_ITERATIONS 200
+#define NFD_RATE_FACTOR_TOLERANCE 1e-14
 /* The energy balance of an impact (nfdmodel.collision_reference, nfd_rate.h's a_ref): the Hertz
  * approach doubled at most REFERENCE_BRACKET_STEPS times until W >= m* v^2 / 2, then at most
  * REFERENCE_NEWTON_STEPS Newton steps from above, until a step is below REFERENCE_TOLERANCE delta. */

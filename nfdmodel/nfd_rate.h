@@ -65,6 +65,7 @@ static inline void nfd_gauss_node(const double *x, const double *w, int half, in
 typedef struct {
     int base_law, rate_law;
     double first, second, c;
+    double k;               /* the relaxing form's element stiffness (nfd_rate_relaxing); 0: R fixed at first contact */
 } nfd_rate;
 
 /* Fill *r; returns 0, or -1 (r unchanged) when a code or a constant is outside the ranges above. */
@@ -79,7 +80,7 @@ static inline int nfd_rate_init(nfd_rate *r, int base_law, int rate_law, double 
     } else {
         return -1;
     }
-    r->base_law = base_law; r->rate_law = rate_law; r->first = first; r->second = second; r->c = c;
+    r->base_law = base_law; r->rate_law = rate_law; r->first = first; r->second = second; r->c = c; r->k = 0.0;
     return 0;
 }
 
@@ -297,6 +298,124 @@ static inline int nfd_rate_contact_params(const nfd_rate *r, const nfd_params *p
     nfd_rate_params(p, R > 0.0 ? R : 1.0, out);
     *factor = R;
     return NFD_OK;
+}
+
+/* The relaxing form (nfdmodel.rate_relaxing; its scalar specification nfdmodel.reference.rate_relaxing_step):
+ * the factor s of the flow stress is one viscoplastic element driven by the contact's strain rate,
+ *
+ *     ds/dt = k (E* / sigma_Y) (v_n / (c a_ref) - eps_dot_s(s)),   s >= 1, s = 1 at first contact
+ *
+ * eps_dot_s(s) the rate at which the rate law's flow stress is s sigma_Y (nfd_rate_inverse), a_ref as above (at the
+ * speed of first contact), k and c NFD_RELAXATION_STIFFNESS and NFD_RELAXING_LENGTH_FACTOR by default. s moves
+ * only where the contact loads beyond its turning point at v_n > 0: backward Euler over dt = (delta - delta_max)
+ * / v_n (nfd_rate_relaxed_factor); P = s^3 P_0(delta / s^2) as the fixed form's. A contact keeps three doubles
+ * besides the base law's history: s (0 until it touches), 1 / (c a_ref) [1/m] and the loading work W [J] along its
+ * virgin path (the trapezoid rule; the dissipated energy W - the elastic energy the unloading returns). */
+
+/* Make *r the relaxing form with element stiffness k > 0 (after nfd_rate_init, whose c is then the relaxing
+ * law's, e.g. NFD_RELAXING_LENGTH_FACTOR); returns 0, or -1 (r unchanged) for k outside (0, inf). */
+static inline int nfd_rate_relaxing(nfd_rate *r, double k)
+{
+    if (!(k > 0.0 && isfinite(k))) return -1;
+    r->k = k;
+    return 0;
+}
+
+/* eps_dot_s(s) [1/s]: the strain rate at which the flow stress is s sigma_Y (nfdmodel.strain_rate's rate_at):
+ * Johnson-Cook eps_dot_0 exp((s - 1) / C) (eps_dot_0 at s <= 1; C = 0: inf above s = 1), Cowper-Symonds
+ * D (s - 1)^q (0 at s <= 1). */
+static inline double nfd_rate_inverse(const nfd_rate *r, double s)
+{
+    double excess = s - 1.0 > 0.0 ? s - 1.0 : 0.0;
+    if (r->rate_law == NFD_RATE_JOHNSON_COOK) {
+        if (r->first == 0.0) return excess > 0.0 ? INFINITY : r->second;
+        return r->second * exp(excess / r->first);
+    }
+    return excess > 0.0 ? r->first * pow(excess, r->second) : 0.0;
+}
+
+/* s after one loading increment [m] > 0 at the speed [m/s] > 0: the root s >= 1 of
+ * s - factor - K (per_speed increment - eps_dot_s(s) increment / speed) = 0, K = k E* / sigma_Y = `stiffness`
+ * (nfdmodel.rate_relaxing.relaxed_factor: Illinois' regula falsi, bisection where a residual is not finite;
+ * 1 where the residual at s = 1 is >= 0). */
+static inline double nfd_rate_relaxed_factor(const nfd_rate *r, double factor, double per_speed, double increment,
+                                             double speed, double stiffness)
+{
+    double drive = factor + stiffness * per_speed * increment, relax = stiffness * increment / speed;
+    double low = 1.0, f_low = low - drive + relax * nfd_rate_inverse(r, low);
+    if (!(f_low < 0.0)) return 1.0;
+    double high = drive > 1.0 ? drive : 1.0, f_high = high - drive + relax * nfd_rate_inverse(r, high);
+    for (int k = 0; k < NFD_RATE_FACTOR_ITERATIONS; ++k) {
+        int bracket = isfinite(f_high) && isfinite(f_low) && f_high > f_low;
+        double secant = bracket ? low - f_low * (high - low) / (f_high - f_low) : low;
+        double trial = bracket && secant > low && secant < high ? secant : 0.5 * (low + high);
+        double f_trial = trial - drive + relax * nfd_rate_inverse(r, trial);
+        if (f_trial < 0.0) {            /* Illinois: halve the residual of the end that stays */
+            f_high = 0.5 * f_high; low = trial; f_low = f_trial;
+        } else {
+            high = trial; f_high = f_trial; f_low = 0.5 * f_low;
+        }
+        if (high - low <= NFD_RATE_FACTOR_TOLERANCE * high) break;
+    }
+    return 0.5 * (low + high);
+}
+
+/* 1 / (c a_ref) [1/m] of a contact first touching at `speed` [m/s] into *per_speed (0 for speed <= 0): NFD_OK,
+ * NFD_FULL_CONTACT or NFD_NOT_FINITE as nfd_rate_first_factor. */
+static inline int nfd_rate_per_speed(const nfd_rate *r, const nfd_params *p, const nfd_table *t, double m_star,
+                                     double speed, double *per_speed)
+{
+    if (!isfinite(speed)) return NFD_NOT_FINITE;
+    *per_speed = 0.0;
+    if (speed > 0.0) {
+        double a_ref = nfd_rate_reference_radius(r, p, t, m_star, speed);
+        if (!isfinite(a_ref)) return NFD_NOT_FINITE;
+        if (!(a_ref < p->R_star)) return NFD_FULL_CONTACT;
+        *per_speed = 1.0 / (r->c * a_ref);
+    }
+    return NFD_OK;
+}
+
+/* K = k E* / sigma_Y [-] of the element: E* [Pa] the pair's, sigma_y [Pa] the yielding body's yield stress. */
+static inline double nfd_rate_element_stiffness(const nfd_rate *r, double E_star, double sigma_y)
+{
+    return r->k * E_star / sigma_y;
+}
+
+/* The contact's s before its base-law step (the relaxing form; stiffness: nfd_rate_element_stiffness): s = 1 and
+ * *per_speed where it first touches (delta > 0 with *factor == 0; m_star [kg] read there only), then
+ * nfd_rate_relaxed_factor where delta > delta_max [m] (the history's, SI) at speed > 0. Returns NFD_OK or
+ * nfd_rate_per_speed's status (nothing written). */
+static inline int nfd_rate_relax(const nfd_rate *r, const nfd_params *p, const nfd_table *t, double m_star,
+                                 double stiffness, double speed, double delta, double delta_max, double *factor,
+                                 double *per_speed)
+{
+    double s = *factor, rate = *per_speed;
+    if (s == 0.0 && delta > 0.0) {
+        int status = nfd_rate_per_speed(r, p, t, m_star, speed, &rate);
+        if (status != NFD_OK) return status;
+        s = 1.0;
+    }
+    if (delta > delta_max && delta > 0.0 && speed > 0.0)
+        s = nfd_rate_relaxed_factor(r, s, rate, delta - delta_max, speed, stiffness);
+    *factor = s; *per_speed = rate;
+    return NFD_OK;
+}
+
+/* One step of the relaxing form (stiffness: nfd_rate_element_stiffness): nfd_rate_relax, then nfd_rate_step at
+ * s (R fixed there: the same mapping), and *work += (P_max + P) (delta - delta_max) / 2 where the contact loads
+ * beyond its turning point. *factor, *per_speed, *work: the contact's three doubles, in and out. */
+static inline int nfd_rate_relaxing_step(const nfd_rate *r, double delta, double speed, double m_star,
+                                         double stiffness, const nfd_params *p, const nfd_table *t,
+                                         const nfd_history *h, double *factor, double *per_speed, double *work,
+                                         double *force, nfd_history *out, int *iterations)
+{
+    if (iterations) *iterations = 0;
+    int status = nfd_rate_relax(r, p, t, m_star, stiffness, speed, delta, h->delta_max, factor, per_speed);
+    if (status != NFD_OK) return status;
+    status = nfd_rate_step(r, delta, speed, m_star, p, t, h, factor, force, out, iterations);
+    if (delta > h->delta_max && delta > 0.0) *work += 0.5 * (h->P_max + *force) * (delta - h->delta_max);
+    return status;
 }
 
 #ifdef __cplusplus

@@ -14,7 +14,9 @@ law on its law (nfdmodel.rate_aware, nfdmodel.strain_rate; ``nfdcal collide --pa
 export lammps`` writes the plugin's ``rate`` keyword):
     "rate_law": {"rate_law": "johnson-cook", "C": -, "reference_rate": 1/s, "c": -}
               | {"rate_law": "cowper-symonds", "D": 1/s, "q": -, "c": -}
-("c" of eps_dot = v_n0 / (c a_ref) optional, default RATE_LENGTH_FACTOR; "reference_rate" optional, 1 /s).
+("c" of eps_dot = v_n0 / (c a_ref) optional, default RATE_LENGTH_FACTOR; "reference_rate" optional, 1 /s;
+"form" optional, "fixed" (R fixed at first contact, nfdmodel.rate_aware) or "relaxing" (the factor follows the
+strain rate, nfdmodel.rate_relaxing, with "k" its element stiffness; c and k default to that law's)).
 A calibration against a deformable counter-body (``nfdcal calibrate --counter-E ...``) also states it:
     "counter_body": {"shape": "flat" | "sphere", "E": Pa, "nu": -, "sigma_y": Pa | null, "R": m | null,
                      "rho": kg/m^3 | null}
@@ -35,6 +37,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
+from dataclasses import dataclass
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -66,8 +69,8 @@ MATERIAL_KEYS = ("E", "nu", "sigma_y", "rho", "R")
 COUNTER_KEYS = ("shape", "E", "nu", "sigma_y", "R")
 COUNTER_DENSITY = "rho"
 # the "rate_law" entry: its keys per rate law (nfdmodel.strain_rate's record) and c of the rate-aware law
-RATE_LAW_KEYS = {"johnson-cook": ("rate_law", "C", "reference_rate", "c"),
-                 "cowper-symonds": ("rate_law", "D", "q", "c")}
+RATE_LAW_KEYS = {"johnson-cook": ("rate_law", "C", "reference_rate", "c", "form", "k"),
+                 "cowper-symonds": ("rate_law", "D", "q", "c", "form", "k")}
 RATE_BASE_LAWS = ("vz", "vz-table")                      # the laws whose constants scale with sigma_Y
 
 
@@ -232,9 +235,26 @@ def load_parameters(path) -> VZParams | VZTableParams | VZUnloadParams:
     return params
 
 
-def _rate_law(path, entry, law: str):
-    """(JohnsonCook | CowperSymonds, c) of a file's "rate_law" entry, or a ValueError naming the file and key."""
-    from . import limits
+@dataclass(frozen=True)
+class StatedRate:
+    """A parameter file's "rate_law" entry: the rate law (a JohnsonCook or CowperSymonds), its form
+    ("fixed" or "relaxing"), c and k (None: the form's default; k only for "relaxing")."""
+
+    rate_law: object
+    form: str = "fixed"
+    c: float | None = None
+    k: float | None = None
+
+    def law(self, base_law: str, base):
+        """(ContactLaw, parameters) of this rate-aware law on ``base`` (nfdmodel.rate_relaxing.rate_form_law)."""
+        from .rate_relaxing import rate_form_law
+
+        return rate_form_law(self.form, base_law, base, self.rate_law, self.c, self.k)
+
+
+def _rate_law(path, entry, law: str) -> StatedRate:
+    """The StatedRate of a file's "rate_law" entry, or a ValueError naming the file and key."""
+    from .rate_relaxing import RATE_FORMS
     from .strain_rate import rate_law_of
     from .validation import check_real
 
@@ -246,20 +266,26 @@ def _rate_law(path, entry, law: str):
         raise ValueError(f"parameter file {path}: rate_law must be an object with rate_law one of "
                          f"{', '.join(RATE_LAW_KEYS)}, got {entry!r}")
     _check_keys(path, entry, RATE_LAW_KEYS[kind], " in 'rate_law'")
+    form = entry.get("form", "fixed")
+    if form not in RATE_FORMS:
+        raise ValueError(f"parameter file {path}: rate_law.form must be one of {', '.join(RATE_FORMS)}, got {form!r}")
     for key, value in entry.items():
-        if key != "rate_law" and (not isinstance(value, (int, float)) or isinstance(value, bool)):
+        if key not in ("rate_law", "form") and (not isinstance(value, (int, float)) or isinstance(value, bool)):
             raise ValueError(f"parameter file {path}: rate_law.{key} must be a number, got {value!r}")
+    if "k" in entry and form != "relaxing":
+        raise ValueError(f"parameter file {path}: rate_law.k is the relaxing law's element stiffness: give "
+                         f"\"form\": \"relaxing\" or no k")
     try:
-        return (rate_law_of(entry), check_real("c", entry.get("c", limits.RATE_LENGTH_FACTOR), low=0.0,
-                                               unit="(eps_dot = v_n0 / (c a_ref))"))
+        c = None if "c" not in entry else check_real("c", entry["c"], low=0.0, unit="(eps_dot = v_n0 / (c a_ref))")
+        k = None if "k" not in entry else check_real("k", entry["k"], low=0.0, unit="(the element's stiffness)")
+        return StatedRate(rate_law_of(entry), form, c, k)
     except ValueError as exc:
         raise ValueError(f"parameter file {path}: rate_law: {exc}") from None
 
 
-def rate_law_of_file(path):
-    """(rate law, c) of the rate-aware law the parameter file at ``path`` states ("rate_law": a
-    nfdmodel.strain_rate JohnsonCook or CowperSymonds, c of eps_dot = v_n0 / (c a_ref)), None when it
-    states none; load_parameters checks the entry."""
+def rate_law_of_file(path) -> StatedRate | None:
+    """The rate-aware law the parameter file at ``path`` states (its "rate_law" entry as a StatedRate), None
+    when it states none; load_parameters checks the entry."""
     data = json.loads(Path(path).read_text(encoding="utf-8"))
     if not isinstance(data, dict) or "rate_law" not in data:
         return None

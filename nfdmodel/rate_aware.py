@@ -116,7 +116,7 @@ BASE_LAWS_LAW = {name: LAWS[name] for name in BASE_LAWS}
 
 
 def rate_aware_params(params) -> RateAwareParams:
-    if not isinstance(params, RateAwareParams):
+    if type(params) is not RateAwareParams:     # the relaxing law's (a subclass) is another law's
         raise ValueError(f"params for law 'rate-aware' must be RateAwareParams, got {type(params).__name__}")
     return params
 
@@ -149,26 +149,37 @@ def rate_aware_step(delta, state: RateAwareState, params: RateAwareParams, veloc
             return restore_shape(compiled[0], shape), compiled[1]
     if touching.size:
         factor[touching] = params.rate_factor(speeds[touching])
-    scale = np.where(factor > 0.0, factor, 1.0)
-    base_law = BASE_LAWS_LAW[params.base_law]
-    base_type = BASE_LAWS[params.base_law][1]
-    force, update = base_law.step_function(delta / scale**2, _base_state(state, scale, base_type), params.base)
-    force = force.reshape(-1) * scale**3
-    index = np.union1d(update.index, touching).astype(np.int64)
-    values = {name: getattr(state, name)[index].copy() for name in FIELD_POWERS}
-    moved = np.searchsorted(index, update.index)
-    for f in dataclasses.fields(base_type):
-        values[f.name][moved] = getattr(update.values, f.name) * scale[update.index] ** FIELD_POWERS[f.name]
-    values["rate_factor"] = factor[index]
+    force, index, values, update = step_at_factors(delta, state, params, factor, touching)
     largest = update.largest_load_over_P_Y
     return restore_shape(force, shape), HistoryUpdate(index, RateAwareState(**values), state.n,
                                                       update.newton_iterations, update.beyond_window, largest)
 
 
+def step_at_factors(delta, state: RateAwareState, params: RateAwareParams, factor, changed):
+    """The base law stepped with p_Y scaled by each contact's ``factor`` R (0: untouched, R = 1):
+    P = R^3 P_0(delta / R^2) [N] (flat), the index of the contacts whose history changes (the base law's
+    moved turning points and ``changed``), their history fields in SI (FIELD_POWERS, rate_factor) and the
+    base law's HistoryUpdate."""
+    scale = np.where(factor > 0.0, factor, 1.0)
+    base_law = BASE_LAWS_LAW[params.base_law]
+    base_type = BASE_LAWS[params.base_law][1]
+    force, update = base_law.step_function(delta / scale**2, _base_state(state, scale, base_type), params.base)
+    force = force.reshape(-1) * scale**3
+    index = np.union1d(update.index, changed).astype(np.int64)
+    values = {name: getattr(state, name)[index].copy() for name in FIELD_POWERS}
+    moved = np.searchsorted(index, update.index)
+    for f in dataclasses.fields(base_type):
+        values[f.name][moved] = getattr(update.values, f.name) * scale[update.index] ** FIELD_POWERS[f.name]
+    values["rate_factor"] = factor[index]
+    return force, index, values, update
+
+
 def compiled_kernel(params: RateAwareParams) -> native.RateKernel:
     """The law as the compiled kernel takes it (nfd_rate.h, native.RateKernel): the base law's code, its
-    constants at R = 1 and tables, the rate law's code and constants, c."""
-    params = rate_aware_params(params)
+    constants at R = 1 and tables, the rate law's code and constants, c (of either form: RateAwareParams or the
+    relaxing law's subclass)."""
+    if not isinstance(params, RateAwareParams):
+        raise ValueError(f"params of the rate-aware laws must be RateAwareParams, got {type(params).__name__}")
     base = params.base
     if params.base_law == "vz":
         kernel, table = BASE_LAWS_LAW["vz"].collision_params(base), None

@@ -313,3 +313,74 @@ def rate_aware_step(delta: float, history: RateHistory, first_factor: float, bas
     P, new = base_step(delta / scale**2, base)
     return P * scale**3, RateHistory(new.delta_max * scale**2, new.P_max * scale**3, new.delta_res * scale**2,
                                      new.K_u, new.a_e_max * scale, R)
+
+
+def johnson_cook_rate(factor: float, C: float, reference_rate: float) -> float:
+    """The inverse of johnson_cook_factor: eps_dot = eps_dot_0 exp((R - 1) / C) [1/s] (eps_dot_0 at R <= 1)."""
+    excess = max(factor - 1.0, 0.0)
+    if C == 0.0:
+        return math.inf if excess > 0.0 else reference_rate
+    return reference_rate * math.exp(excess / C) if excess / C < 709.0 else math.inf
+
+
+def cowper_symonds_rate(factor: float, D: float, q: float) -> float:
+    """The inverse of cowper_symonds_factor: eps_dot = D (R - 1)^q [1/s] (0 at R <= 1)."""
+    excess = max(factor - 1.0, 0.0)
+    return D * excess**q if excess > 0.0 else 0.0
+
+
+@dataclass(frozen=True)
+class RelaxingHistory(RateHistory):
+    """A :class:`RateHistory` whose rate_factor s follows the strain rate (nfdmodel.rate_relaxing), with
+    strain_rate_per_speed = 1 / (c a_ref) [1/m] fixed at first contact and the loading work [J]."""
+
+    strain_rate_per_speed: float = 0.0
+    loading_work: float = 0.0
+
+
+def rate_relaxing_factor(factor: float, per_speed: float, increment: float, speed: float, stiffness: float,
+                         rate_at) -> float:
+    """Backward Euler of ds/dt = K (eps_dot - eps_dot_s(s)) over dt = increment / speed: the root s >= 1 of
+    s - factor - K (per_speed increment - rate_at(s) increment / speed) = 0, by bisection (1 where the
+    left side is >= 0 at s = 1)."""
+    drive = factor + stiffness * per_speed * increment
+    relax = stiffness * increment / speed
+
+    def residual(s):
+        return s - drive + relax * rate_at(s)
+
+    if residual(1.0) >= 0.0:
+        return 1.0
+    low, high = 1.0, max(drive, 1.0)
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        if residual(middle) < 0.0:
+            low = middle
+        else:
+            high = middle
+        if high - low <= 1e-15 * high:
+            break
+    return 0.5 * (low + high)
+
+
+def rate_relaxing_step(delta: float, speed: float, history: RelaxingHistory, first_per_speed: float,
+                       stiffness: float, rate_at, base_step) -> tuple[float, RelaxingHistory]:
+    """One time step of the relaxing rate-aware law (nfdmodel.rate_relaxing): s = 1 and strain_rate_per_speed
+    = ``first_per_speed`` where the contact first touches; where it loads beyond its turning point at
+    ``speed`` > 0 [m/s], s moves by :func:`rate_relaxing_factor` (K = ``stiffness``, ``rate_at`` the rate law's
+    inverse); then the base law at p_Y scaled by s (:func:`rate_aware_step`) and the loading work by the
+    trapezoid rule."""
+    s, per_speed = history.rate_factor, history.strain_rate_per_speed
+    if s == 0.0 and delta > 0.0:
+        s, per_speed = 1.0, first_per_speed
+    loading = delta > history.delta_max and delta > 0.0
+    if loading and speed > 0.0:
+        s = rate_relaxing_factor(s, per_speed, delta - history.delta_max, speed, stiffness, rate_at)
+    P, new = rate_aware_step(delta, RateHistory(history.delta_max, history.P_max, history.delta_res, history.K_u,
+                                                history.a_e_max, s), s, base_step)
+    work = history.loading_work
+    if loading:
+        work += 0.5 * (history.P_max + P) * (delta - history.delta_max)
+    else:
+        new = RateHistory(history.delta_max, history.P_max, history.delta_res, history.K_u, history.a_e_max, s)
+    return P, RelaxingHistory(new.delta_max, new.P_max, new.delta_res, new.K_u, new.a_e_max, s, per_speed, work)

@@ -49,6 +49,14 @@ class JohnsonCook:
     def factor(self, rate):
         return johnson_cook_factor(rate, self.C, self.reference_rate)
 
+    def rate_at(self, factor):
+        """The inverse: eps_dot = eps_dot_0 exp((R - 1) / C) [1/s] at which the flow stress is R sigma_y
+        (eps_dot_0 at R <= 1; C = 0: inf above R = 1, the flow stress never rises)."""
+        excess = np.maximum(np.asarray(factor, dtype=float) - 1.0, 0.0)
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            ratio = np.exp(excess / self.C) if self.C > 0.0 else np.where(excess > 0.0, np.inf, 1.0)
+        return self.reference_rate * ratio
+
     def record(self) -> dict:
         return {"rate_law": "johnson-cook", "C": self.C, "reference_rate": self.reference_rate}
 
@@ -66,6 +74,12 @@ class CowperSymonds:
 
     def factor(self, rate):
         return cowper_symonds_factor(rate, self.D, self.q)
+
+    def rate_at(self, factor):
+        """The inverse: eps_dot = D (R - 1)^q [1/s] at which the flow stress is R sigma_y (0 at R <= 1)."""
+        excess = np.maximum(np.asarray(factor, dtype=float) - 1.0, 0.0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return np.where(excess > 0.0, self.D * excess ** self.q, 0.0)
 
     def record(self) -> dict:
         return {"rate_law": "cowper-symonds", "D": self.D, "q": self.q}

@@ -169,7 +169,8 @@ def test_fit_data_rate_params_out_is_run_by_collide(tmp_path):
     assert summary["sigma_y"] == pytest.approx(1e8, rel=1e-6) and summary["D"] == pytest.approx(5.0, rel=1e-5)
     low, high = summary["interval95"]["D"]
     assert low < 5.0 < high
-    law, c = rate_law_of_file(out_file)
+    stated = rate_law_of_file(out_file)
+    law = stated.rate_law
     assert law.q == 2.0 and law.D == pytest.approx(5.0, rel=1e-5)
     code, out, _ = run_cli("collide", "--params", str(out_file), "--v-in", "0.02", "--json")
     assert code == 0 and json.loads(out)[0]["rate_factor"] > 1.0

@@ -11,7 +11,7 @@ import pytest
 
 from calib.cli import main
 from nfdmodel import load_parameters, parameter_record
-from nfdmodel.parameter_file import rate_law_of_file
+from nfdmodel.parameter_file import StatedRate, rate_law_of_file
 from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
 
 pytestmark = pytest.mark.laws
@@ -36,7 +36,7 @@ def run_cli(*args) -> tuple[int, str, str]:
 
 def test_collide_params_runs_the_file_s_rate_law(tmp_path):
     path = with_entry(tmp_path, {"rate_law": "cowper-symonds", "D": 40.0, "q": 5.0})
-    assert rate_law_of_file(path) == (CowperSymonds(40.0, 5.0), 26.0)
+    assert rate_law_of_file(path) == StatedRate(CowperSymonds(40.0, 5.0))
     code, out, _ = run_cli("collide", "--params", str(path), "--v-in", "0.01", "0.04", "--json")
     flags = run_cli("collide", "--params", str(SHIPPED), "--v-in", "0.01", "0.04", "--rate-law", "cowper-symonds",
                     "--cs-D", "40", "--cs-q", "5", "--json")
@@ -54,7 +54,7 @@ def test_collide_params_runs_the_file_s_rate_law(tmp_path):
 
 def test_c_and_the_reference_rate_are_read_and_written(tmp_path):
     path = with_entry(tmp_path, {"rate_law": "johnson-cook", "C": 0.05, "reference_rate": 0.5, "c": 20.0})
-    assert rate_law_of_file(path) == (JohnsonCook(0.05, 0.5), 20.0)
+    assert rate_law_of_file(path) == StatedRate(JohnsonCook(0.05, 0.5), "fixed", 20.0)
     code, out, _ = run_cli("export", "lammps", "--params", str(path), "--wall", "zlo", "0")
     assert code == 0
     assert f"pair_coeff 1 1 file {path.resolve()} rate johnson-cook 0.05 0.5 c 20.0" in out
@@ -74,7 +74,7 @@ def test_parameter_record_writes_the_entry(tmp_path):
     path = tmp_path / "written.json"
     path.write_text(json.dumps(record))
     load_parameters(path)
-    assert rate_law_of_file(path) == (CowperSymonds(40.0, 5.0), 26.0)
+    assert rate_law_of_file(path) == StatedRate(CowperSymonds(40.0, 5.0))
 
 
 def _material(data):

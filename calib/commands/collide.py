@@ -54,9 +54,10 @@ the source.
 """
 from __future__ import annotations
 
-from calib.commands.common import (MATERIAL_DEFAULTS, RATE_AWARE_ACCURACY, add_material_arguments,
-                                   add_rate_law_arguments, add_summary_arguments, file_hardening_line, integer,
-                                   material_flags, number, print_summary, rate_law_from_args)
+from calib.commands.common import (MATERIAL_DEFAULTS, RATE_AWARE_ACCURACY, RATE_RELAXING_ACCURACY,
+                                   add_material_arguments, add_rate_form_argument, add_rate_law_arguments,
+                                   add_summary_arguments, file_hardening_line, integer, material_flags, number,
+                                   print_summary, rate_form_from_args, rate_law_from_args)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
 from nfdmodel.collision import MAX_REPEAT
 
@@ -94,6 +95,7 @@ def add_parser(subparsers) -> None:
                            "sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref) at first contact: johnson-cook "
                            "(R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds (R = 1 + (eps_dot / D)^(1/q)); "
                            "default: rate-independent")
+    add_rate_form_argument(parser)
     parser.add_argument("--K1", default=None, help="walton-braun loading stiffness [N/m] "
                         "(default: vz secant to 40 P_Y)")
     parser.add_argument("--K2", default=None, help="walton-braun unloading stiffness [N/m] (>= K1)")
@@ -201,17 +203,18 @@ def build_params(ns):
             check_si_constants(pair, None if ns.Ca is None else params.Ca, None if ns.Kc is None else params.Kc,
                                ("--Ca", "--Kc"))
     rate = rate_law_from_args(ns)
+    form = rate_form_from_args(ns)
     if rate is not None:
-        return rate_aware(law, params, rate)
+        return rate_aware(law, params, rate, form)
     stated = file_rate_law(ns.params) if ns.params is not None else None
     if stated is not None:                      # the file's rate law (nfdmodel/parameter_file.py, "rate_law")
-        from nfdmodel.rate_aware import BASE_LAWS, LAW, RateAwareParams
+        from nfdmodel.rate_aware import BASE_LAWS
 
         if law not in BASE_LAWS:
             raise ValueError(f"--law {law} out of range for --params {ns.params}: the file states a rate law, which "
                              f"scales sigma_Y of its {law_of(file_params)} law; give --law {law_of(file_params)} "
                              f"(or no --law)")
-        return LAW, RateAwareParams(law, params, *stated)
+        return stated.law(law, params)
     if law == "walton-braun" and (ns.K1 is not None or ns.K2 is not None):
         default = WaltonBraunParams.from_vz(params)
         K1 = number("--K1", ns.K1, default.K1)
@@ -222,22 +225,23 @@ def build_params(ns):
 
 
 def file_rate_law(path):
-    """(rate law, c) of the parameter file's "rate_law" entry (nfdmodel.parameter_file), None without one."""
+    """The parameter file's "rate_law" entry (nfdmodel.parameter_file.StatedRate), None without one."""
     from nfdmodel.parameter_file import rate_law_of_file
 
     return rate_law_of_file(path)
 
 
-def rate_aware(law: str, params, rate):
-    """(the rate-aware ContactLaw, its RateAwareParams) of the base ``law`` and the FE's rate law ``rate``
+def rate_aware(law: str, params, rate, form: str = "fixed"):
+    """(the rate-aware ContactLaw of ``form``, its parameters) of the base ``law`` and the FE's rate law ``rate``
     (calib.fe.rate_law); the base must scale with sigma_Y (vz, vz-table), else one line naming --law."""
-    from nfdmodel.rate_aware import BASE_LAWS, LAW, RateAwareParams
+    from nfdmodel.rate_aware import BASE_LAWS
+    from nfdmodel.rate_relaxing import rate_form_law
     from nfdmodel.strain_rate import rate_law_of
 
     if law not in BASE_LAWS:
         raise ValueError(f"--rate-law needs a law whose constants scale with sigma_Y: --law {' or '.join(BASE_LAWS)} "
                          f"(or a vz or vz-table --params file), got --law {law}")
-    return LAW, RateAwareParams(law, params, rate_law_of(rate.record()))
+    return rate_form_law(form, law, params, rate_law_of(rate.record()))
 
 
 def run(ns) -> int:
@@ -284,7 +288,7 @@ def run(ns) -> int:
             raise ValueError("--repeat is for normal impacts: do not combine it with the oblique flags")
         if ns.rate_law is not None:
             raise ValueError("--rate-law is for normal impacts: do not combine it with the oblique flags")
-        if getattr(law, "name", law) == "rate-aware":
+        if getattr(law, "name", law) in ("rate-aware", "rate-relaxing"):
             raise ValueError(f"--params {ns.params} states a rate law (the rate-aware law), which is for normal "
                              f"impacts: do not combine it with the oblique flags")
         return run_oblique(ns, law, params, velocities, dt)
@@ -298,11 +302,15 @@ def run(ns) -> int:
     records = result.records()
     law = getattr(law, "name", law)
     rate_lines = []
-    if law == "rate-aware":                 # the rate factor fixed at first contact, per impact
+    if law in ("rate-aware", "rate-relaxing"):   # eps_dot at first contact and R (relaxing: s at the turning point)
         for record, rate, factor in zip(records, params.strain_rate(velocities), params.rate_factor(velocities)):
             record.update(strain_rate=float(rate), rate_factor=float(factor))
-        rate_lines = [f"rate-aware {params.base_law} law: sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref), c = "
-                      f"{params.c:g}; {params.rate_law.record()}", f"  {RATE_AWARE_ACCURACY}"]
+        rate_lines = ([f"rate-aware {params.base_law} law: sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref), c = "
+                       f"{params.c:g}; {params.rate_law.record()}", f"  {RATE_AWARE_ACCURACY}"]
+                      if law == "rate-aware" else
+                      [f"rate-relaxing {params.base_law} law: sigma_Y s, ds/dt = k (E*/sigma_Y) (eps_dot - "
+                       f"eps_dot_s(s)), eps_dot = v_n / (c a_ref), c = {params.c:g}, k = {params.k:g}; "
+                       f"{params.rate_law.record()}; R: s at the turning point", f"  {RATE_RELAXING_ACCURACY}"])
         rate_lines += [f"  v_in {r['v_in']:g} m/s: eps_dot = {r['strain_rate']:.4g} /s, R = {r['rate_factor']:.5f}"
                        for r in records]
     pair = params.pair

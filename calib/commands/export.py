@@ -469,7 +469,10 @@ def rate_keyword(path) -> str | None:
     stated = rate_law_of_file(path)
     if stated is None:
         return None
-    law, c = stated
+    if stated.form != "fixed":
+        raise ValueError(f"--params {path}: the rate-aware law of form {stated.form!r} out of range for export "
+                         f"lammps: the plugin carries the form fixed (R at first contact); nfdcal collide runs it")
+    law, c = stated.rate_law, (limits.RATE_LENGTH_FACTOR if stated.c is None else stated.c)
     words = (["johnson-cook", law.C, law.reference_rate] if isinstance(law, JohnsonCook) else
              ["cowper-symonds", law.D, law.q])
     text = "rate " + words[0] + " " + " ".join("inf" if math.isinf(v) else exact(v) for v in words[1:])

@@ -56,10 +56,11 @@ exit 2, calib.commands.targets) and replaces an existing file only with ``--over
 """
 from __future__ import annotations
 
-from calib.commands.common import (RATE_AWARE_ACCURACY, add_counter_arguments, add_hardening_arguments,
-                                   add_material_arguments, hardening_line, add_rate_law_arguments,
-                                   add_summary_arguments, counter_from_args, flow_curve_from_args, hardening_given,
-                                   material_from_args, print_summary, rate_law_from_args, rate_law_given)
+from calib.commands.common import (RATE_AWARE_ACCURACY, RATE_RELAXING_ACCURACY, add_counter_arguments,
+                                   add_hardening_arguments, add_material_arguments, hardening_line,
+                                   add_rate_form_argument, add_rate_law_arguments, add_summary_arguments,
+                                   counter_from_args, flow_curve_from_args, hardening_given, material_from_args,
+                                   print_summary, rate_form_from_args, rate_law_from_args, rate_law_given)
 
 LAWS = ("vz-table", "vz-unload")      # the laws --v-max reads from the vz master table
 
@@ -84,6 +85,7 @@ def add_parser(subparsers) -> None:
                                    "stated (the rate-aware law, nfdmodel.rate_aware; written to --params-out): "
                                    "johnson-cook (R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds "
                                    "(R = 1 + (eps_dot / D)^(1/q)); not with --law vz-unload")
+    add_rate_form_argument(parser)
     add_counter_arguments(parser)       # with --v-max: the pair law from the pair table
     parser.add_argument("--pair-table", default=None, metavar="CSV",
                         help="pair table CSV for --counter-E (default: the shipped one)")
@@ -229,6 +231,7 @@ def run_vz_table(ns, material, radius, counter=None, hardening=0.0) -> int:
         raise ValueError("--table is the two-constant master table; with --v-max give --vz-table")
     law_name = ns.law or "vz-table"
     rate = rate_law_from_args(ns)
+    form = rate_form_from_args(ns)
     if rate is not None and law_name == "vz-unload":
         raise ValueError("--rate-law out of range for --law vz-unload: the rate-aware law scales sigma_Y of the "
                          "vz-table (or vz) law only; give --law vz-table (or no --law)")
@@ -302,7 +305,7 @@ def run_vz_table(ns, material, radius, counter=None, hardening=0.0) -> int:
                      f"m = {float(m):.4g} (tables over P_max/P_Y 1..{law.x_unload[-1]:.4g})"]
     rating = []
     if rate is not None:
-        rating = rate_summary(summary, law, rate, v_max)
+        rating = rate_summary(summary, law, rate, v_max, form)
     if ns.params_out:
         write_vz_table_law(ns.params_out, found, material, radius,
                            None if rate is None else summary["rate_law"])
@@ -318,19 +321,26 @@ def run_vz_table(ns, material, radius, counter=None, hardening=0.0) -> int:
     return 0
 
 
-def rate_summary(summary: dict, law, rate, v_max: float) -> list[str]:
-    """Add the rate law (its record with c, the parameter file's "rate_law" entry), eps_dot [1/s] and R at
-    v_max (nfdmodel.rate_aware) to ``summary``; the lines that say them."""
-    from nfdmodel.rate_aware import RATE_LENGTH_FACTOR, RateAwareParams
+def rate_summary(summary: dict, law, rate, v_max: float, form: str = "fixed") -> list[str]:
+    """Add the rate law (its record with its form's constants, the parameter file's "rate_law" entry), eps_dot
+    [1/s] at first contact and R at v_max (fixed: at first contact, nfdmodel.rate_aware; relaxing: s at the
+    turning point, nfdmodel.rate_relaxing) to ``summary``; the lines that say them."""
+    from nfdmodel.rate_relaxing import rate_form_law
     from nfdmodel.strain_rate import rate_law_of
 
-    params = RateAwareParams("vz-table", law, rate_law_of(rate.record()))
+    _, params = rate_form_law(form, "vz-table", law, rate_law_of(rate.record()))
     strain_rate, factor = float(params.strain_rate(v_max)[0]), float(params.rate_factor(v_max)[0])
-    summary.update(rate_law={**params.rate_law.record(), "c": RATE_LENGTH_FACTOR},
-                   strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor,
-                   rate_law_accuracy=RATE_AWARE_ACCURACY)
+    accuracy = RATE_AWARE_ACCURACY if form == "fixed" else RATE_RELAXING_ACCURACY
+    entry = params.record()
+    entry.pop("base_law")
+    summary.update(rate_law=entry, strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor,
+                   rate_law_accuracy=accuracy)
     summary["units"]["strain_rate_of_v_max"] = "1/s"
     record = params.rate_law.record()
     constants = ", ".join(f"{k} = {v:g}" for k, v in record.items() if k != "rate_law")
-    return [f"rate-aware law: sigma_Y R(eps_dot), {record['rate_law']} ({constants}), eps_dot = v_n0 / (c a_ref), "
-            f"c = {params.c:g}; at v_max: eps_dot = {strain_rate:.4g} /s, R = {factor:.5f}; {RATE_AWARE_ACCURACY}"]
+    if form == "fixed":
+        return [f"rate-aware law: sigma_Y R(eps_dot), {record['rate_law']} ({constants}), eps_dot = v_n0 / (c a_ref), "
+                f"c = {params.c:g}; at v_max: eps_dot = {strain_rate:.4g} /s, R = {factor:.5f}; {accuracy}"]
+    return [f"rate-relaxing law: sigma_Y s, {record['rate_law']} ({constants}), ds/dt = k (E*/sigma_Y) (v_n / (c "
+            f"a_ref) - eps_dot_s(s)), c = {params.c:g}, k = {params.k:g}; at v_max: eps_dot = {strain_rate:.4g} /s "
+            f"at first contact, s = {factor:.5f} at the turning point; {accuracy}"]

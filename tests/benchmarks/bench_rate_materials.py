@@ -199,13 +199,11 @@ def plastic_q(records, table) -> tuple:
     return c0, s2
 
 
-def dem_rates(out: Path, table, c0: float, s2: float) -> None:
-    """--dem: mild steel at DEM strain rates (DEM_SPHERE, R 2 mm, 0.03-0.3 m/s: 28-278 v_Y, 44-135 /s, R to
-    2.3), each rate law of DEM_RATE_LAWS, on the impact's default mesh: the law's R, the FE's e, the law's e
-    error, the base law's (against the rate-independent FE), c_e and PLASTIC-Q's error (c0, s^2 as fitted)."""
+def dem_records(out: Path) -> dict:
+    """{rate law of DEM_RATE_LAWS or "independent": [the FE's e per DEM_SPEEDS]} of the DEM sphere on the impact's
+    default mesh, read from out/fe_dem.json where present."""
     store = out / "fe_dem.json"
     records = json.loads(store.read_text()) if store.exists() else {}
-    specimen = Specimen(*DEM_SPHERE[0:2], DEM_SPHERE[3], DEM_RHO)
     for name, (kind, constant, fixed) in {"independent": (None, None, None), **DEM_RATE_LAWS}.items():
         if name not in records:
             names = ("--cs-D", "--cs-q") if kind == "cowper-symonds" else ("--jc-C", "--jc-reference-rate")
@@ -213,6 +211,15 @@ def dem_rates(out: Path, table, c0: float, s2: float) -> None:
             records[name] = fe_restitution(DEM_SPHERE, flags, DEM_SPEEDS, None, out / f"dem-{name}".replace(" ", "_"),
                                            DEM_RHO)
             store.write_text(json.dumps(records, indent=1))
+    return records
+
+
+def dem_rates(out: Path, table, c0: float, s2: float) -> None:
+    """--dem: mild steel at DEM strain rates (DEM_SPHERE, R 2 mm, 0.03-0.3 m/s: 28-278 v_Y, 44-135 /s, R to
+    2.3), each rate law of DEM_RATE_LAWS, on the impact's default mesh: the law's R, the FE's e, the law's e
+    error, the base law's (against the rate-independent FE), c_e and PLASTIC-Q's error (c0, s^2 as fitted)."""
+    records = dem_records(out)
+    specimen = Specimen(*DEM_SPHERE[0:2], DEM_SPHERE[3], DEM_RHO)
     base = table_law(specimen, DEM_SPHERE[2], table)
     print(f"\nDEM strain rates: {DEM_NAME}; e error % of the law (c {RATE_LENGTH_FACTOR:g}) and of PLASTIC-Q:")
     print("| rate law | v_in m/s | eps_dot /s | R | FE e | law e err % | base law err % | c_e | PLASTIC-Q err % |")
