@@ -334,30 +334,37 @@ static inline double nfd_rate_inverse(const nfd_rate *r, double s)
     return excess > 0.0 ? r->first * pow(excess, r->second) : 0.0;
 }
 
+/* d eps_dot_s / ds [1/s] above s = 1 (0 at s <= 1): Johnson-Cook eps_dot_s / C (inf for C = 0), Cowper-Symonds
+ * D q (s - 1)^(q - 1) (nfdmodel.strain_rate's rate_slope). */
+static inline double nfd_rate_inverse_slope(const nfd_rate *r, double s)
+{
+    if (!(s > 1.0)) return 0.0;
+    if (r->rate_law == NFD_RATE_JOHNSON_COOK) return r->first > 0.0 ? nfd_rate_inverse(r, s) / r->first : INFINITY;
+    return r->first * r->second * pow(s - 1.0, r->second - 1.0);
+}
+
 /* s after one loading increment [m] > 0 at the speed [m/s] > 0: the root s >= 1 of
- * s - factor - K (per_speed increment - eps_dot_s(s) increment / speed) = 0, K = k E* / sigma_Y = `stiffness`
- * (nfdmodel.rate_relaxing.relaxed_factor: Illinois' regula falsi, bisection where a residual is not finite;
- * 1 where the residual at s = 1 is >= 0). */
+ * F(s) = s - factor - K (per_speed increment - eps_dot_s(s) increment / speed) = 0, K = k E* / sigma_Y =
+ * `stiffness` (nfdmodel.rate_relaxing.relaxed_factor: Newton's method from `factor` inside the bracket [1,
+ * factor + K per_speed increment], bisecting where a step leaves it or F' is not finite; 1 where F(1) >= 0). */
 static inline double nfd_rate_relaxed_factor(const nfd_rate *r, double factor, double per_speed, double increment,
                                              double speed, double stiffness)
 {
     double drive = factor + stiffness * per_speed * increment, relax = stiffness * increment / speed;
-    double low = 1.0, f_low = low - drive + relax * nfd_rate_inverse(r, low);
-    if (!(f_low < 0.0)) return 1.0;
-    double high = drive > 1.0 ? drive : 1.0, f_high = high - drive + relax * nfd_rate_inverse(r, high);
+    if (!(1.0 - drive + relax * nfd_rate_inverse(r, 1.0) < 0.0)) return 1.0;
+    double low = 1.0, high = drive > 1.0 ? drive : 1.0;
+    double s = factor < 1.0 ? 1.0 : (factor > high ? high : factor);
     for (int k = 0; k < NFD_RATE_FACTOR_ITERATIONS; ++k) {
-        int bracket = isfinite(f_high) && isfinite(f_low) && f_high > f_low;
-        double secant = bracket ? low - f_low * (high - low) / (f_high - f_low) : low;
-        double trial = bracket && secant > low && secant < high ? secant : 0.5 * (low + high);
-        double f_trial = trial - drive + relax * nfd_rate_inverse(r, trial);
-        if (f_trial < 0.0) {            /* Illinois: halve the residual of the end that stays */
-            f_high = 0.5 * f_high; low = trial; f_low = f_trial;
-        } else {
-            high = trial; f_high = f_trial; f_low = 0.5 * f_low;
-        }
-        if (high - low <= NFD_RATE_FACTOR_TOLERANCE * high) break;
+        double value = s - drive + relax * nfd_rate_inverse(r, s);
+        double slope = 1.0 + relax * nfd_rate_inverse_slope(r, s);
+        if (value < 0.0) low = s; else high = s;
+        double newton = s - value / slope;
+        double step = isfinite(newton) && newton >= low && newton <= high ? newton : 0.5 * (low + high);
+        int done = fabs(step - s) <= NFD_RATE_FACTOR_TOLERANCE * step;
+        s = step;
+        if (done) break;
     }
-    return 0.5 * (low + high);
+    return s;
 }
 
 /* 1 / (c a_ref) [1/m] of a contact first touching at `speed` [m/s] into *per_speed (0 for speed <= 0): NFD_OK,

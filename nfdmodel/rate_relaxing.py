@@ -105,9 +105,10 @@ def relaxing_params(params) -> RelaxingRateParams:
 
 def relaxed_factor(factor, per_speed, increment, speed, rate_law, stiffness):
     """s after one loading increment [-]: the root s >= 1 of backward Euler's
-    s - factor - K (per_speed increment - eps_dot_s(s) increment / speed) = 0 (K = ``stiffness``,
-    ``increment`` [m] > 0, ``speed`` [m/s] > 0), by bracketing (Illinois' regula falsi, bisection where a
-    residual overflows); 1 where the residual is >= 0 there (the flow stress relaxed to sigma_Y)."""
+    F(s) = s - factor - K (per_speed increment - eps_dot_s(s) increment / speed) = 0 (K = ``stiffness``,
+    ``increment`` [m] > 0, ``speed`` [m/s] > 0; F increases with s), by Newton's method from the start factor
+    inside the bracket [1, factor + K per_speed increment], bisecting where a Newton step leaves the bracket or
+    F' is not finite; 1 where F(1) >= 0 (the flow stress relaxed to sigma_Y)."""
     drive = factor + stiffness * per_speed * increment            # s without relaxation: the upper bracket
     relax = stiffness * increment / speed                         # K dt
 
@@ -115,33 +116,29 @@ def relaxed_factor(factor, per_speed, increment, speed, rate_law, stiffness):
         with np.errstate(invalid="ignore", over="ignore"):
             return s - drive + relax * rate_law.rate_at(s)
 
-    low = np.ones_like(drive)
-    f_low = residual(low)
     result = np.ones_like(drive)
-    open_ = f_low < 0.0
+    open_ = residual(np.ones_like(drive)) < 0.0
     if not open_.any():
         return result
-    low, f_low, drive_o, relax_o = low[open_], f_low[open_], drive[open_], relax[open_]
-    high = np.maximum(drive_o, 1.0)
-    with np.errstate(invalid="ignore", over="ignore"):
-        f_high = high - drive_o + relax_o * rate_law.rate_at(high)
+    drive, relax = drive[open_], relax[open_]
+    low, high = np.ones_like(drive), np.maximum(drive, 1.0)
+    s = np.clip(np.asarray(factor, dtype=float)[open_] if np.ndim(factor) else np.full(drive.shape, factor),
+                1.0, high)
     for _ in range(limits.RATE_FACTOR_ITERATIONS):
-        finite = np.isfinite(f_high) & np.isfinite(f_low) & (f_high > f_low)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            secant = low - f_low * (high - low) / (f_high - f_low)
-        middle = 0.5 * (low + high)
-        trial = np.where(finite & (secant > low) & (secant < high), secant, middle)
         with np.errstate(invalid="ignore", over="ignore"):
-            f_trial = trial - drive_o + relax_o * rate_law.rate_at(trial)
-        below = f_trial < 0.0
-        # Illinois: halve the residual of the end that stays, so the bracket closes from both sides
-        f_high = np.where(below, f_high * 0.5, f_trial)
-        high = np.where(below, high, trial)
-        f_low = np.where(below, f_trial, f_low * 0.5)
-        low = np.where(below, trial, low)
-        if np.all(high - low <= limits.RATE_FACTOR_TOLERANCE * high):
+            value = s - drive + relax * rate_law.rate_at(s)
+            slope = 1.0 + relax * rate_law.rate_slope(s)
+        low = np.where(value < 0.0, s, low)
+        high = np.where(value < 0.0, high, s)
+        with np.errstate(invalid="ignore", over="ignore", divide="ignore"):
+            newton = s - value / slope
+        inside = np.isfinite(newton) & (newton >= low) & (newton <= high)
+        step = np.where(inside, newton, 0.5 * (low + high))
+        done = np.abs(step - s) <= limits.RATE_FACTOR_TOLERANCE * step
+        s = step
+        if done.all():
             break
-    result[open_] = 0.5 * (low + high)
+    result[open_] = s
     return result
 
 

@@ -57,6 +57,12 @@ class JohnsonCook:
             ratio = np.exp(excess / self.C) if self.C > 0.0 else np.where(excess > 0.0, np.inf, 1.0)
         return self.reference_rate * ratio
 
+    def rate_slope(self, factor):
+        """d eps_dot_s / dR [1/s] of :meth:`rate_at` above R = 1: eps_dot_s / C (0 at R <= 1)."""
+        factor = np.asarray(factor, dtype=float)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return np.where(factor > 1.0, self.rate_at(factor) / self.C if self.C > 0.0 else np.inf, 0.0)
+
     def record(self) -> dict:
         return {"rate_law": "johnson-cook", "C": self.C, "reference_rate": self.reference_rate}
 
@@ -80,6 +86,12 @@ class CowperSymonds:
         excess = np.maximum(np.asarray(factor, dtype=float) - 1.0, 0.0)
         with np.errstate(over="ignore", invalid="ignore"):
             return np.where(excess > 0.0, self.D * excess ** self.q, 0.0)
+
+    def rate_slope(self, factor):
+        """d eps_dot_s / dR [1/s] of :meth:`rate_at` above R = 1: D q (R - 1)^(q - 1) (0 at R <= 1)."""
+        excess = np.maximum(np.asarray(factor, dtype=float) - 1.0, 0.0)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return np.where(excess > 0.0, self.D * self.q * excess ** (self.q - 1.0), 0.0)
 
     def record(self) -> dict:
         return {"rate_law": "cowper-symonds", "D": self.D, "q": self.q}
