@@ -22,7 +22,7 @@ delta_max) / v_n (the leap-frog's time step, with no dt argument), and keeps the
 trapezoid rule (the virgin curve depends on the path: the history's ``loading_work``, which
 ContactLaw.dissipated_energy takes). Units SI. The scalar specification: nfdmodel.reference.rate_relaxing_step.
 The compiled kernel: nfd_rate.h's relaxing form (nfd_rate_relaxing_step, each step; nfdmodel.collide runs its
-time loop in numpy around it).
+time loop in numpy around it); the LAMMPS plugin: ``rate ... relaxing K``.
 """
 from __future__ import annotations
 

@@ -22,6 +22,9 @@ integrators agree), R fixed at first contact from the half-step normal speed, wh
 - 2 MPI ranks with the contact on their boundary, and a restart file written mid-unloading (pair style and
   wall fix): the same rows as 1 uninterrupted rank (1e-12; R travels with the history).
 - A parameter file's rate law: the exported wall line gives ``nfdcal collide --params``'s e and P_max.
+- The relaxing form (``rate ... relaxing K``, nfdmodel.rate_relaxing): head-on and on the wall against collide
+  (e, P_max 1e-9, the dent 1e-8), the energy audit, the law alone's plastic energy, 2 ranks and a restart
+  written mid-loading, the exported parameter file; its keyword's bad values.
 - Bad input: one ERROR line naming the keyword, the constant and its range.
 """
 from __future__ import annotations
@@ -47,10 +50,13 @@ import nfdmodel
 from calib import lammps_plugin
 from nfdmodel import ContactPair, VZParams
 from nfdmodel.rate_aware import LAW, RateAwareParams, rate_aware_reference
+from nfdmodel.rate_relaxing import LAW as RELAXING
+from nfdmodel.rate_relaxing import RELAXATION_STIFFNESS, RelaxingRateParams, relaxing_reference
 from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
 
 
 RTOL = 1e-9
+DENT_RTOL = 1e-8      # the relaxing form's dent (test_the_relaxing_form_matches_nfdmodel)
 RATES = {"cowper-symonds": (CowperSymonds(40.4, 5.0), "rate cowper-symonds 40.4 5.0"),
          "johnson-cook": (JohnsonCook(0.05, 1.0), "rate johnson-cook 0.05 1.0")}
 
@@ -116,6 +122,42 @@ def test_wall_matches_nfdmodel(plugin, tmp_path, law, rate):
     assert dent(rows) == pytest.approx(py.delta_res[0], rel=RTOL)
 
 
+@pytest.mark.parametrize("rate", sorted(RATES))
+@pytest.mark.parametrize("law", ["vz", "vz-table"])
+def test_the_relaxing_form_matches_nfdmodel(plugin, tmp_path, law, rate):
+    """``rate ... relaxing K`` (nfd_rate.h's relaxing form, s moved every loading step from that step's normal
+    speed): two spheres head-on and a sphere on the plane wall at 10 v_Y give nfdmodel.collide's relaxing law
+    (nfdmodel.rate_relaxing): e, P_max and the contact time within 1e-9 (measured 1.7e-10), the dent within 1e-8
+    (measured 5.6e-9: the element's dt = (delta - delta_max) / v_n from LAMMPS's positions, whose round-off in
+    an increment of 1e-3 delta the dent carries)."""
+    rate_law, keyword = RATES[rate]
+    keyword += f" relaxing {RELAXATION_STIFFNESS!r}"
+    for wall in (False, True):
+        pair = (ContactPair.sphere_flat(ALUMINIUM, RADIUS) if wall
+                else ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS))
+        params, coeff = base_law(law, pair, tmp_path)
+        relaxing = RelaxingRateParams(law, params, rate_law)
+        v_in = 10.0 * pair.v_Y
+        py = nfdmodel.collide(RELAXING, relaxing, [v_in], dt=DT)
+        if wall:
+            rows = wall_rows(run_lammps(wall_input(plugin, f"{coeff} {keyword}",
+                                                   [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)],
+                                                   steps_for(params, v_in), style=f"nfd/wall/{law}"), tmp_path))
+            assert rows[-1, 3] / v_in == pytest.approx(py.e_velocity[0], rel=RTOL)
+            assert rows[:, 2].max() == pytest.approx(py.P_max[0], rel=RTOL)
+            assert dent(rows) == pytest.approx(py.delta_res[0], rel=DENT_RTOL, abs=0.0)
+            continue
+        text = impact_input(plugin, aluminium_spheres(v_in), {1: f"{coeff} {keyword}"}, steps_for(params, v_in),
+                            pair_style=f"nfd/{law}")
+        lmp = measured(run_lammps(text, tmp_path), v_in)
+        assert lmp["e"] == pytest.approx(py.e_velocity[0], rel=RTOL)
+        assert lmp["P_max"] == pytest.approx(py.P_max[0], rel=RTOL)
+        assert lmp["contact_time"] == pytest.approx(py.contact_time[0], rel=RTOL)
+        assert dent(lmp["rows"]) == pytest.approx(py.delta_res[0], rel=DENT_RTOL, abs=0.0)
+        fixed = nfdmodel.collide(LAW, RateAwareParams(law, params, rate_law), [v_in], dt=DT)
+        assert abs(fixed.e_velocity[0] / py.e_velocity[0] - 1.0) > 1e-4       # the two forms differ here
+
+
 @pytest.mark.parametrize("law", ["vz", "vz-table"])
 def test_a_rate_factor_of_one_is_the_base_style_bit_for_bit(plugin, tmp_path, law):
     """``rate cowper-symonds inf 5`` (R = 1 + (eps_dot / inf)^(1/5) = 1): every row of the head-on impact and
@@ -138,52 +180,66 @@ MODELS = "rate cowper-symonds 40.4 5.0 damping tsuji 0.8 tangential mindlin_resc
          "rolling sds 1000 0.05 0.1 twisting marshall"
 
 
+@pytest.mark.parametrize("form", ["", " relaxing 1.15"])
 @pytest.mark.parametrize("wall", [False, True])
-def test_the_energy_audit_closes(plugin, tmp_path, wall):
-    """An oblique impact with spins (two spheres, or on the wall), contact models on the rate-aware law:
-    the dissipated parts are the kinetic energy lost (1e-9), each positive."""
+def test_the_energy_audit_closes(plugin, tmp_path, wall, form):
+    """An oblique impact with spins (two spheres, or on the wall), contact models on the rate-aware law (fixed
+    and relaxing): the dissipated parts are the kinetic energy lost (1e-9), each positive."""
     from test_lammps_energy import R_1, R_2, steps_for as energy_steps
 
     pair = ContactPair.sphere_flat(ALUMINIUM, R_1) if wall else ContactPair.sphere_sphere(ALUMINIUM, R_1, ALUMINIUM,
                                                                                             R_2)
     steps = energy_steps(pair, 0.4)
-    text = (sphere_on_wall(plugin, MODELS, (0.2, -0.1, -0.4), (5.0, -30.0, 10.0), steps) if wall else
-            two_spheres(plugin, MODELS, (-0.4, 0.25, -0.1), ((0.0, 0.0, 30.0), (10.0, -20.0, 0.0)), steps))
+    models = MODELS.replace("5.0 damping", f"5.0{form} damping")
+    text = (sphere_on_wall(plugin, models, (0.2, -0.1, -0.4), (5.0, -30.0, 10.0), steps) if wall else
+            two_spheres(plugin, models, (-0.4, 0.25, -0.1), ((0.0, 0.0, 30.0), (10.0, -20.0, 0.0)), steps))
     out = energy_run(text, tmp_path)
     assert check_balance(out) < 1e-9
     assert (out["contact"][-1, 4:7] > 0.0).all()
 
 
+@pytest.mark.parametrize("form", ["", " relaxing 1.15"])
 @pytest.mark.parametrize("wall", [False, True])
-def test_the_law_alone_dissipates_its_plastic_work(plugin, tmp_path, wall):
+def test_the_law_alone_dissipates_its_plastic_work(plugin, tmp_path, wall, form):
     """Head-on without models: plastic = the kinetic energy lost (1e-9), = the rate-aware law's (1 - e^2)
-    1/2 m* v_in^2 by energy balance (1e-5: the leap-frog's O(dt^2)); the dent is collide's (1e-9)."""
+    1/2 m* v_in^2 by energy balance (1e-5: the leap-frog's O(dt^2); the relaxing law's continuous-time impact,
+    5e-3 at this dt: its element's backward Euler, O(dt)), = collide's dissipated plastic energy (1e-4: the
+    history's loading work against the energy block's increments, which part at the turning step; measured
+    1.1e-5); the dent is collide's (1e-9)."""
     from test_lammps_energy import CA_HAT, KC_HAT, MATERIAL, R_1, R_2, steps_for as energy_steps
 
     v_in = 0.4
     pair = ContactPair.sphere_flat(MATERIAL, R_1) if wall else ContactPair.sphere_sphere(MATERIAL, R_1, MATERIAL, R_2)
-    aware = RateAwareParams("vz", VZParams.from_dimensionless(pair, CA_HAT, KC_HAT), RATES["cowper-symonds"][0])
+    base = VZParams.from_dimensionless(pair, CA_HAT, KC_HAT)
+    law, aware, reference_of, tolerance = ((LAW, RateAwareParams("vz", base, RATES["cowper-symonds"][0]),
+                                            rate_aware_reference, 1e-5) if not form else
+                                           (RELAXING, RelaxingRateParams("vz", base, RATES["cowper-symonds"][0]),
+                                            relaxing_reference, 5e-3))
     text = (sphere_on_wall(plugin, "", (0.0, 0.0, -v_in), (0.0, 0.0, 0.0), energy_steps(pair, v_in)) if wall
             else two_spheres(plugin, "", (-v_in, 0.0, 0.0), ((0.0,) * 3, (0.0,) * 3), energy_steps(pair, v_in)))
     # the last of the law's constants (the wall's line goes on with its keyword energy): the rate keyword after it
-    text, count = re.subn(re.escape(repr(KC_HAT)) + r"(?=[ \n])", f"{KC_HAT!r} {RATES['cowper-symonds'][1]}", text)
+    text, count = re.subn(re.escape(repr(KC_HAT)) + r"(?=[ \n])", f"{KC_HAT!r} {RATES['cowper-symonds'][1]}{form}", text)
     assert count == 1
     out = energy_run(text, tmp_path)
     assert check_balance(out) < 1e-9
     plastic, viscous, friction = out["contact"][-1, 4:7]
     assert viscous == 0.0 and friction == 0.0
-    reference = rate_aware_reference(aware, [v_in])
-    assert plastic == pytest.approx((1.0 - reference.restitution[0] ** 2) * 0.5 * pair.mass_star * v_in**2, rel=1e-5)
-    collided = nfdmodel.collide(LAW, aware, [v_in], dt=DT)
+    reference = reference_of(aware, [v_in])
+    assert plastic == pytest.approx((1.0 - reference.restitution[0] ** 2) * 0.5 * pair.mass_star * v_in**2,
+                                    rel=tolerance)
+    collided = nfdmodel.collide(law, aware, [v_in], dt=DT)
+    assert plastic == pytest.approx(collided.dissipated_plastic[0], rel=1e-4)    # the law's own loading work
     assert out["contact"][-1, 1] == pytest.approx(collided.delta_res[0], rel=1e-9)
 
 
-def test_two_ranks_and_a_restart_continue_the_contact(plugin, tmp_path):
-    """The contact on the boundary of 2 ranks (each sphere on its own) and a restart written mid-unloading,
-    read back in a new LAMMPS with the keyword re-issued: the rows of the uninterrupted run on 1 rank."""
+@pytest.mark.parametrize("form", ["", " relaxing 1.15"])
+def test_two_ranks_and_a_restart_continue_the_contact(plugin, tmp_path, form):
+    """The contact on the boundary of 2 ranks (each sphere on its own) and a restart written mid-unloading
+    (the relaxing form: mid-loading, where s still moves from the stored 1 / (c a_ref)), read back in a new
+    LAMMPS with the keyword re-issued: the rows of the uninterrupted run on 1 rank."""
     pair = ContactPair.sphere_sphere(ALUMINIUM, RADIUS, ALUMINIUM, RADIUS)
     params, coeff = base_law("vz", pair, tmp_path)
-    coeff = f"{coeff} {RATES['cowper-symonds'][1]}"
+    coeff = f"{coeff} {RATES['cowper-symonds'][1]}{form}"
     v_in = 10.0 * pair.v_Y
     steps = steps_for(params, v_in)
     whole = impact_rows(run_lammps(impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps), tmp_path))
@@ -192,7 +248,7 @@ def test_two_ranks_and_a_restart_continue_the_contact(plugin, tmp_path):
     np.testing.assert_allclose(two, whole, rtol=1e-12, atol=1e-20)
     force = whole[:, 2]
     peak = int(np.argmax(force))
-    split = (peak + peak + int(np.argmax(force[peak:] == 0.0))) // 2
+    split = (peak + peak + int(np.argmax(force[peak:] == 0.0))) // 2 if not form else peak // 2
     assert 0.0 < force[split] < force[peak]
     first = impact_input(plugin, aluminium_spheres(v_in), {1: coeff}, steps)
     first = first.replace("neigh_modify every 1 delay 0 check no", "neigh_modify every 100000 delay 0 check no")
@@ -216,6 +272,8 @@ BAD = [("nfd/vz", "rate", "rate: need johnson-cook C eps_dot_0"),
        ("nfd/vz", "rate power-law 1 2", "rate: rate law out of range: need johnson-cook or cowper-symonds"),
        ("nfd/vz", "rate cowper-symonds 40 5 c 0", "rate: c out of range: need a finite number c > 0"),
        ("nfd/vz", "rate cowper-symonds 40 5 rate johnson-cook 0 1", "rate given twice"),
+       ("nfd/vz", "rate cowper-symonds 40 5 relaxing", "rate: relaxing needs a value K"),
+       ("nfd/vz", "rate cowper-symonds 40 5 c 6 relaxing 0", "rate: relaxing K out of range: need a finite number K > 0"),
        ("nfd/thornton", "rate cowper-symonds 40 5", "rate: the rate-aware law needs a law whose constants scale "
                                                    "with sigma_Y: nfd/vz or nfd/vz-table, not nfd/thornton")]
 
@@ -247,11 +305,13 @@ def test_rate_on_a_calibrated_pair_is_refused(plugin, tmp_path):
     assert "pair_coeff for nfd/vz rate: types I J take the constants calibrated for the pair only" in output
 
 
+@pytest.mark.parametrize("form", ["fixed", "relaxing"])
 @pytest.mark.parametrize("law", ["vz", "vz-table"])
-def test_a_parameter_file_s_rate_law_runs_the_same_in_collide_and_lammps(plugin, tmp_path, capsys, law):
+def test_a_parameter_file_s_rate_law_runs_the_same_in_collide_and_lammps(plugin, tmp_path, capsys, law, form):
     """A parameter file stating a rate law ("rate_law": vz with Johnson-Cook and c 20, vz-table with
-    Cowper-Symonds): the wall line of ``nfdcal export lammps`` (with its ``rate`` keyword) gives the e and
-    P_max of ``nfdcal collide --params`` on the file (1e-9)."""
+    Cowper-Symonds; each also "form": "relaxing"): the wall line of ``nfdcal export lammps`` (with its ``rate``
+    keyword, ``relaxing K`` for that form) gives the e and P_max of ``nfdcal collide --params`` on the file
+    (1e-9)."""
     import json
 
     from calib import cli
@@ -260,12 +320,15 @@ def test_a_parameter_file_s_rate_law_runs_the_same_in_collide_and_lammps(plugin,
     params, _ = base_law(law, pair, tmp_path)
     stated = ({"rate_law": "johnson-cook", "C": 0.05, "reference_rate": 1.0, "c": 20.0} if law == "vz" else
               {"rate_law": "cowper-symonds", "D": 40.4, "q": 5.0})
+    if form == "relaxing":
+        stated = {**stated, "form": "relaxing"}
     path = tmp_path / "rate.json"
     path.write_text(json.dumps(nfdmodel.parameter_record(params, RADIUS, ALUMINIUM, rate_law=stated)))
     v_in = 10.0 * pair.v_Y
     assert cli.main(["export", "lammps", "--params", str(path), "--wall", "zlo", "0.0", "--json"]) == 0
     wall_line = json.loads(capsys.readouterr().out)["lines"][-1]
     assert wall_line.startswith(f"fix nfd_wall all nfd/wall/{law} zlo 0.0 ") and " rate " in wall_line
+    assert (" relaxing 1.15" in wall_line) == (form == "relaxing")
     args = wall_line.split(" zlo 0.0 ", 1)[1]
     assert cli.main(["collide", "--params", str(path), "--v-in", repr(v_in), "--dt", repr(DT), "--json"]) == 0
     record = json.loads(capsys.readouterr().out)[0]
@@ -311,21 +374,23 @@ def test_friction_rolling_and_twisting_use_the_rate_scaled_contact_radius(plugin
     assert abs(float(unscaled.v_t_out) / vx - 1.0) > 1e-3 or abs(float(unscaled.v_n_out) / vz - 1.0) > 1e-3
 
 
+@pytest.mark.parametrize("form", ["", " relaxing 1.15"])
 @pytest.mark.parametrize("wall_material", ["", " wall_material 210000000000.0 0.3"])
-def test_wall_restart_keeps_the_rate_factor(plugin, tmp_path, wall_material):
+def test_wall_restart_keeps_the_rate_factor(plugin, tmp_path, wall_material, form):
     """fix nfd/wall/vz with the rate keyword (on a rigid flat, on a steel wall): a restart written
-    mid-unloading, continued in a new LAMMPS on 1 and on 2 ranks, gives the uninterrupted rows (1e-12): R
-    comes back with the history (a contact that lost it would fix R anew from its receding speed, R = 1)."""
+    mid-unloading (the relaxing form: mid-loading), continued in a new LAMMPS on 1 and on 2 ranks, gives the
+    uninterrupted rows (1e-12): R (s and 1 / (c a_ref)) comes back with the history (a contact that lost it
+    would fix R anew from its receding speed, R = 1)."""
     pair = ContactPair.sphere_flat(ALUMINIUM, RADIUS)
     params, coeff = base_law("vz", pair, tmp_path)
-    args = f"{coeff} {RATES['cowper-symonds'][1]}{wall_material}"
+    args = f"{coeff} {RATES['cowper-symonds'][1]}{form}{wall_material}"
     v_in = 10.0 * pair.v_Y
     steps = steps_for(params, v_in)
     sphere = [(RADIUS, 0.0, RADIUS, -v_in, ALUMINIUM.rho)]
     whole = wall_rows(run_lammps(wall_input(plugin, args, sphere, steps), tmp_path))
     force = whole[:, 2]
     peak = int(np.argmax(force))
-    split = (peak + peak + int(np.argmax(force[peak:] == 0.0))) // 2
+    split = (peak + peak + int(np.argmax(force[peak:] == 0.0))) // 2 if not form else peak // 2
     assert 0.0 < force[split] < force[peak]
     run_lammps(wall_input(plugin, args, sphere, steps).replace(f"run {steps}",
                                                                f"run {split}\nwrite_restart wall.restart"), tmp_path)

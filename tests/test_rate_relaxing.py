@@ -212,9 +212,9 @@ def test_mild_steel_with_johnson_cook_at_dem_strain_rates(tmp_path):
 
 
 def test_parameter_file_and_command_line(tmp_path):
-    """The "rate_law" entry with "form": "relaxing" and k round-trips through collide --params; a k without the
-    form, an unknown form, --rate-form without --rate-law and export lammps of a relaxing file are refused in
-    one line (exit 2)."""
+    """The "rate_law" entry with "form": "relaxing" and k round-trips through collide --params and export lammps
+    (the plugin's ``relaxing K``; c the form's default, not written); a k without the form, an unknown form and
+    --rate-form without --rate-law are refused in one line (exit 2)."""
     file = tmp_path / "relaxing.json"
     code, _, _ = run_cli("material", "--v-max", "0.05", "--rate-law", "cowper-symonds", "--cs-D", "40", "--cs-q", "5",
                          "--rate-form", "relaxing", "--params-out", str(file), "--quiet")
@@ -232,8 +232,8 @@ def test_parameter_file_and_command_line(tmp_path):
         assert code == 2 and needle in err and "\n" not in err.strip(), err
     code, _, err = run_cli("collide", "--v-in", "0.02", "--rate-form", "relaxing")
     assert code == 2 and "--rate-form" in err and "\n" not in err.strip()
-    code, _, err = run_cli("export", "lammps", "--params", str(file))
-    assert code == 2 and "relaxing" in err and "\n" not in err.strip()
+    code, out, _ = run_cli("export", "lammps", "--params", str(file))
+    assert code == 0 and out.rstrip().endswith("rate cowper-symonds 40.0 5.0 relaxing 1.15")
 
 
 def test_a_contact_formed_without_approach_stays_at_sigma_y():

@@ -95,8 +95,8 @@ MU_R ``rolling sds K GAMMA MU_R``, --twisting marshall (or sds K GAMMA MU_T), --
 
 A file that states a rate law ("rate_law": the rate-aware law on its vz or vz-table law) gives the plugin's
 keyword after the constants, on the pair_coeff and the wall lines: ``rate cowper-symonds D q`` or ``rate
-johnson-cook C eps_dot_0`` (``c C`` after it when the file's c is not the default); a counter-body file with
-one is refused.
+johnson-cook C eps_dot_0`` (``c C`` after it when the file's c is not its form's default; the relaxing form,
+"form": "relaxing", adds ``relaxing K``); a counter-body file with one is refused.
 """
 from __future__ import annotations
 
@@ -461,7 +461,8 @@ def wall_material(ns) -> str:
 
 def rate_keyword(path) -> str | None:
     """The plugin's ``rate`` keyword of the file's "rate_law" entry (nfdmodel/parameter_file.py), None without
-    one: rate johnson-cook C eps_dot_0 | rate cowper-symonds D q, then ``c C`` when not the default."""
+    one: rate johnson-cook C eps_dot_0 | rate cowper-symonds D q, then ``c C`` when not the form's default and,
+    for the relaxing form, ``relaxing K``."""
     from nfdmodel import limits
     from nfdmodel.parameter_file import rate_law_of_file
     from nfdmodel.strain_rate import JohnsonCook
@@ -469,14 +470,15 @@ def rate_keyword(path) -> str | None:
     stated = rate_law_of_file(path)
     if stated is None:
         return None
-    if stated.form != "fixed":
-        raise ValueError(f"--params {path}: the rate-aware law of form {stated.form!r} out of range for export "
-                         f"lammps: the plugin carries the form fixed (R at first contact); nfdcal collide runs it")
-    law, c = stated.rate_law, (limits.RATE_LENGTH_FACTOR if stated.c is None else stated.c)
+    relaxing = stated.form == "relaxing"
+    default_c = limits.RELAXING_LENGTH_FACTOR if relaxing else limits.RATE_LENGTH_FACTOR
+    law, c = stated.rate_law, (default_c if stated.c is None else stated.c)
     words = (["johnson-cook", law.C, law.reference_rate] if isinstance(law, JohnsonCook) else
              ["cowper-symonds", law.D, law.q])
     text = "rate " + words[0] + " " + " ".join("inf" if math.isinf(v) else exact(v) for v in words[1:])
-    return text + ("" if c == limits.RATE_LENGTH_FACTOR else f" c {exact(c)}")
+    text += "" if c == default_c else f" c {exact(c)}"
+    k = limits.RELAXATION_STIFFNESS if stated.k is None else stated.k
+    return text + (f" relaxing {exact(k)}" if relaxing else "")
 
 
 def _material_of(path) -> dict:

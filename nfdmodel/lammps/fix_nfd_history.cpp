@@ -260,9 +260,11 @@ void FixNfdHistory::unpack_restart(int nlocal, int nth)
     // widens a fix that holds none yet, before any record is stored; otherwise each record is fitted
     const int written = count > 0 ? (length - 2) / count - 1 : width;
     if (count > 0 && record_has_springs(written) && !record_has_springs(width) && !have_list)
-        set_width(record_width(true) + (record_has_rate(width) ? NRATE : 0));
+        set_width(record_width(true) + record_rate_doubles(width));
     if (count > 0 && record_has_rate(written) && !record_has_rate(width) && !have_list)
         set_width(width + NRATE);      // the contacts' R, fixed at their first touch
+    if (count > 0 && record_has_relaxing(written) && !record_has_relaxing(width) && !have_list)
+        set_width(record_width(record_has_springs(written) || record_has_springs(width)) + NRATE_RELAXING);
     std::vector<double> record(width, 0.0);
     for (int k = 0; k < count; ++k) {
         const tagint who = static_cast<tagint>(extra[m++]);

@@ -76,7 +76,9 @@ void FixNfdWall::read_constants(int narg, char **arg, const char *geometry)
     material.friction = contact_friction(material.models, material.E, material.nu, wall ? wall->E : INFINITY,
                                          wall ? wall->nu : 0.0);
     const bool models = material.models.any();
-    width = (energy ? record_width(models) : models ? NHIST + NFRICTION : NHIST) +
+    width = material.rate_on && material.rate.k > 0.0      // the relaxing form (nfd_energy.h)
+        ? record_width(models) + NRATE_RELAXING
+        : (energy ? record_width(models) : models ? NHIST + NFRICTION : NHIST) +
             (material.rate_on ? NRATE : 0);    // R last (nfd_energy.h)
 }
 

@@ -16,7 +16,9 @@ void ContactEnergy::restride(const double *in, int w_in, double *out, int w_out)
     const int from = energy_offset(w_in), to = energy_offset(w_out);
     const int count = std::min(record_base(w_in) - from, record_base(w_out) - to);
     if (count > 0) std::copy(in + from, in + from + count, out + to);
-    if (record_has_rate(w_in) && record_has_rate(w_out)) out[w_out - NRATE] = in[w_in - NRATE];
+    // the rate block from its end: R or s last, then the relaxing form's 1 / (c a_ref)
+    const int rate = std::min(record_rate_doubles(w_in), record_rate_doubles(w_out));
+    for (int k = 1; k <= rate; ++k) out[w_out - k] = in[w_in - k];
 }
 
 void ContactEnergy::law_step(double *b, int law, double delta, const nfd_history &next, double P, const double *n,

@@ -59,14 +59,25 @@ enum EnergyField : int {
  * without the energy block: NHIST, or NHIST + NFRICTION) are mapped part by part. */
 inline int record_width(bool models) { return models ? NHIST + NFRICTION + NENERGY_MODELS : NHIST + NENERGY; }
 /* A record of the rate-aware law (nfd_rate.h) holds one double more at its end, the contact's R (0 until
- * it first touches): NRATE after any of the widths above (none of which is another's plus one). */
+ * it first touches): NRATE after any of the widths above (none of which is another's plus one). With the
+ * relaxing form on some type, every record holds the energy block and NRATE_RELAXING doubles at its end:
+ * 1 / (c a_ref) [1/m], then s (last, where R is): record_width + 2, a width no other layout takes. */
 constexpr int NRATE = 1;
+constexpr int NRATE_RELAXING = 2;
+inline bool record_has_relaxing(int width)
+{
+    return width == record_width(false) + NRATE_RELAXING || width == record_width(true) + NRATE_RELAXING;
+}
 inline bool record_has_rate(int width)
 {
     return width == NHIST + NRATE || width == NHIST + NFRICTION + NRATE || width == record_width(false) + NRATE ||
-        width == record_width(true) + NRATE;
+        width == record_width(true) + NRATE || record_has_relaxing(width);
 }
-inline int record_base(int width) { return record_has_rate(width) ? width - NRATE : width; }
+inline int record_rate_doubles(int width)
+{
+    return record_has_relaxing(width) ? NRATE_RELAXING : record_has_rate(width) ? NRATE : 0;
+}
+inline int record_base(int width) { return width - record_rate_doubles(width); }
 inline bool record_has_springs(int width)
 {
     return record_base(width) == NHIST + NFRICTION || record_base(width) == record_width(true);

@@ -28,7 +28,8 @@ bool take_rate(LAMMPS *lmp, const std::string &who, const NfdLaw *law, std::vect
     if (law->code != NFD_LAW_VZ && law->code != NFD_LAW_VZ_TABLE)
         lmp->error->all(FLERR, fmt::format("{}: the rate-aware law needs a law whose constants scale with sigma_Y: "
                                            "nfd/vz or nfd/vz-table, not {}", keyword, law->pair_style));
-    const char *usage = "johnson-cook C eps_dot_0 [c C_LENGTH] or cowper-symonds D q [c C_LENGTH]";
+    const char *usage = "johnson-cook C eps_dot_0 [c C_LENGTH] [relaxing K] or cowper-symonds D q [c C_LENGTH] "
+                        "[relaxing K]";
     if (at + 3 >= rest.size())
         lmp->error->all(FLERR, fmt::format("{}: need {} ({} value(s) after the keyword)", keyword, usage,
                                            rest.size() - at - 1));
@@ -55,20 +56,32 @@ bool take_rate(LAMMPS *lmp, const std::string &who, const NfdLaw *law, std::vect
         return false;
     }
     size_t end = at + 4;
-    double c = NFD_RATE_LENGTH_FACTOR;
+    double c = NAN, k = 0.0;
     if (end < rest.size() && std::strcmp(rest[end], "c") == 0) {
         if (end + 1 >= rest.size())
-            lmp->error->all(FLERR, fmt::format("{}: c needs a value (eps_dot = v_n0 / (c a_ref), default {:g})",
-                                               keyword, NFD_RATE_LENGTH_FACTOR));
+            lmp->error->all(FLERR, fmt::format("{}: c needs a value (eps_dot = v_n0 / (c a_ref), default {:g}; "
+                                               "relaxing: {:g})", keyword, NFD_RATE_LENGTH_FACTOR,
+                                               NFD_RELAXING_LENGTH_FACTOR));
         c = number_in(lmp, keyword, rest[end + 1], "c", 0.0, true, INFINITY, true,
-                      fmt::format("a finite number c > 0 (eps_dot = v_n0 / (c a_ref), default {:g})",
-                                  NFD_RATE_LENGTH_FACTOR));
+                      fmt::format("a finite number c > 0 (eps_dot = v_n0 / (c a_ref), default {:g}; relaxing: {:g})",
+                                  NFD_RATE_LENGTH_FACTOR, NFD_RELAXING_LENGTH_FACTOR));
         end += 2;
     }
+    // the relaxing form (nfd_rate.h): its element's stiffness k (in E* / sigma_Y), then c defaults to its own
+    if (end < rest.size() && std::strcmp(rest[end], "relaxing") == 0) {
+        if (end + 1 >= rest.size())
+            lmp->error->all(FLERR, fmt::format("{}: relaxing needs a value K (the element's stiffness in E*/sigma_Y, "
+                                               "default {:g})", keyword, NFD_RELAXATION_STIFFNESS));
+        k = number_in(lmp, keyword, rest[end + 1], "relaxing K", 0.0, true, INFINITY, true,
+                      fmt::format("a finite number K > 0 (the element's stiffness in E*/sigma_Y, default {:g})",
+                                  NFD_RELAXATION_STIFFNESS));
+        end += 2;
+    }
+    if (std::isnan(c)) c = k > 0.0 ? NFD_RELAXING_LENGTH_FACTOR : NFD_RATE_LENGTH_FACTOR;
     for (size_t k = end; k < rest.size(); ++k)
         if (std::strcmp(rest[k], "rate") == 0 && std::strcmp(rest[k - 1], "file") != 0)
             lmp->error->all(FLERR, fmt::format("{}: rate given twice", who));
-    if (nfd_rate_init(rate, law->code, code, first, second, c) != 0)
+    if (nfd_rate_init(rate, law->code, code, first, second, c) != 0 || (k > 0.0 && nfd_rate_relaxing(rate, k) != 0))
         lmp->error->all(FLERR, fmt::format("{}: constants out of range (nfd_rate_init)", keyword));
     rest.erase(rest.begin() + static_cast<long>(at), rest.begin() + static_cast<long>(end));
     return true;

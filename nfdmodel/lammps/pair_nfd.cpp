@@ -177,9 +177,14 @@ void PairNfd::init_style()
         energy_on = energy_on || std::strcmp(compute->style, "pair/local") == 0;
     // the rate-aware law on some type: each record holds the contact's R at its end (NRATE)
     rate_on = false;
-    for (int i = 1; i <= atom->ntypes; ++i) rate_on = rate_on || material[i].rate_on;
-    history->set_width((energy_on ? record_width(models_on) : models_on ? NHIST + NFRICTION : NHIST) +
-                       (rate_on ? NRATE : 0));
+    bool relaxing = false;              // the relaxing form: the energy block and two doubles (nfd_energy.h)
+    for (int i = 1; i <= atom->ntypes; ++i) {
+        rate_on = rate_on || material[i].rate_on;
+        relaxing = relaxing || (material[i].rate_on && material[i].rate.k > 0.0);
+    }
+    history->set_width(relaxing ? record_width(models_on) + NRATE_RELAXING
+                                : (energy_on ? record_width(models_on) : models_on ? NHIST + NFRICTION : NHIST) +
+                                      (rate_on ? NRATE : 0));
     if (rate_on && !comm->ghost_velocity)
         error->all(FLERR, fmt::format("pair_style {} with the rate keyword needs the velocities of ghost atoms (the "
                                       "normal speed at first contact): add 'comm_modify vel yes'", name()));
