@@ -23,17 +23,16 @@
  *       F_n, a, F_t 3); table: None, (x, f, g) (vz_table) or (x, f, g, x_unload, dent, exponent)
  *       (vz_unload); friction: the nfd_friction fields in order;
  *       status: the first negative law status (at: that contact) or 0.
- *   rate_step(base_law, params, table, rate, m_star, delta, velocity, delta_max, P_max, delta_res, K_u, a_e_max,
- *             rate_factor, force, index, delta_max', P_max', delta_res', K_u', a_e_max', rate_factor')
+ *   rate_step(base_law, params, table, rate, k, K, m_star, delta, velocity, delta_max, P_max, delta_res, K_u,
+ *             a_e_max, rate_factor, strain_rate_per_speed, loading_work, force, index, delta_max', P_max',
+ *             delta_res', K_u', a_e_max', rate_factor', strain_rate_per_speed', loading_work')
  *       -> (k, status, at, largest Newton count, beyond-window count, largest base P_max)
- *       nfd_rate_step (nfd_rate.h) of n contacts: the force of each, and the new history of the k contacts
- *       whose turning point moved or that first touched (positions in index[0:k], values at 0..k-1);
- *       rate: (NFD_RATE_* code, first, second, c) of nfd_rate_init; status: the first negative one (at:
- *       that contact, nothing else written after it) or 0; a ValueError when nfd_rate_init refuses rate.
- *   relaxing_step(base_law, params, table, rate, k, K, m_star, delta, velocity, delta_max, P_max, delta_res, K_u,
- *                 a_e_max, rate_factor, strain_rate_per_speed, loading_work, force, index, and the 8 fields')
- *       -> as rate_step: nfd_rate_relaxing_step (nfd_rate.h, the relaxing form with element stiffness k, K =
- *       k E* / sigma_Y) of n contacts; index: those whose history changed (touched, loaded or moved).
+ *       nfd_rate_step (k = 0: R fixed at first contact) or nfd_rate_relaxing_step (k > 0: the relaxing form, K =
+ *       k E* / sigma_Y; strain_rate_per_speed and loading_work read and written only then) (nfd_rate.h) of n
+ *       contacts: the force of each, and the new history of the contacts whose turning point moved, that first
+ *       touched or (relaxing) loaded (positions in index[0:k], values at 0..k-1); rate: (NFD_RATE_* code, first,
+ *       second, c) of nfd_rate_init; status: the first negative one (at: that contact, nothing else written
+ *       after it) or 0; a ValueError when nfd_rate_init or nfd_rate_relaxing refuses the constants.
  *   collide(..., [table, rate, rate_factor']): with rate, the rate-aware law on the base law `law` (table:
  *       None or its tables), R of each impact in rate_factor'.
  * finite: 0.0 when every force written is finite, else inf or NaN (what nfdmodel.history.check_force
@@ -283,67 +282,22 @@ static int read_rate(PyObject *tuple, int base_law, nfd_rate *r)
     return 1;
 }
 
-static PyObject *native_rate_step(PyObject *self, PyObject *args)
+/* The rate-aware law's constants of a binding call (p, its tables, rate) and the lengths of its `count` input and
+ * output buffers (8 bytes each, n of them); 0 with a Python error set when one is refused. */
+static int read_rate_call(PyObject *params_tuple, PyObject *table_object, PyObject *rate_tuple, int base_law,
+                          nfd_params *p, nfd_table *table, nfd_rate *rate, Py_buffer *in, Py_buffer *out, int count,
+                          const char **names, const char **outputs)
 {
-    int base_law;
-    double m_star;
-    PyObject *params_tuple, *table_object, *rate_tuple;
-    Py_buffer in[8], out[8];
-    nfd_params p;
-    nfd_table table;
-    nfd_rate rate;
-    (void)self;
-    if (!PyArg_ParseTuple(args, "iOOOdy*y*y*y*y*y*y*y*w*w*w*w*w*w*w*w*", &base_law, &params_tuple, &table_object,
-                          &rate_tuple, &m_star, &in[0], &in[1], &in[2], &in[3], &in[4], &in[5], &in[6], &in[7],
-                          &out[0], &out[1], &out[2], &out[3], &out[4], &out[5], &out[6], &out[7]))
-        return NULL;
-    static const char *names[8] = {"delta", "velocity", "delta_max", "P_max", "delta_res", "K_u", "a_e_max",
-                                   "rate_factor"};
-    static const char *outputs[8] = {"force", "index", "delta_max'", "P_max'", "delta_res'", "K_u'", "a_e_max'",
-                                     "rate_factor'"};
-    Py_ssize_t n = in[0].len / 8, k = 0, at = -1, beyond = 0;
-    int status = NFD_OK, most = 0, ok = read_params(params_tuple, &p);
-    double largest_P = 0.0;
-    if (ok && table_object != Py_None) ok = read_table(table_object, &table);
-    ok = ok && read_rate(rate_tuple, base_law, &rate);
-    for (int j = 0; ok && j < 8; ++j) ok = check_length(&in[j], n, 8, names[j]) && check_length(&out[j], n, 8, outputs[j]);
-    if (ok) {
-        const double *d = in[0].buf, *v = in[1].buf, *dm = in[2].buf, *Pm = in[3].buf, *dr = in[4].buf,
-                     *Ku = in[5].buf, *ae = in[6].buf, *Rf = in[7].buf;
-        double *f = out[0].buf, *o_dm = out[2].buf, *o_P = out[3].buf, *o_dr = out[4].buf, *o_K = out[5].buf,
-               *o_ae = out[6].buf, *o_R = out[7].buf;
-        int64_t *idx = out[1].buf;
-        const nfd_table *t = table_object != Py_None ? &table : NULL;
-        Py_BEGIN_ALLOW_THREADS
-        for (Py_ssize_t i = 0; i < n; ++i) {
-            nfd_history h = {dm[i], Pm[i], dr[i], Ku[i], ae[i]}, next;
-            double R = Rf[i], force = 0.0;
-            int iterations = 0;
-            int code = nfd_rate_step(&rate, d[i], v[i], m_star, &p, t, &h, &R, &force, &next, &iterations);
-            if (code < 0) { status = code; at = i; break; }
-            f[i] = force;
-            most = iterations > most ? iterations : most;
-            double square = pow(R > 0.0 ? R : 1.0, 2.0);
-            if (!(d[i] / square > h.delta_max / square) && R == Rf[i]) continue;   /* unchanged */
-            double base_P = next.P_max / pow(R > 0.0 ? R : 1.0, 3.0);
-            if (d[i] / square > h.delta_max / square) {
-                beyond += base_P > p.window_P_max;
-                largest_P = base_P > largest_P ? base_P : largest_P;
-            }
-            idx[k] = i;
-            o_dm[k] = next.delta_max; o_P[k] = next.P_max; o_dr[k] = next.delta_res; o_K[k] = next.K_u;
-            o_ae[k] = next.a_e_max; o_R[k] = R;
-            ++k;
-        }
-        Py_END_ALLOW_THREADS
-    }
-    int failed = PyErr_Occurred() != NULL;
-    for (int j = 0; j < 8; ++j) { PyBuffer_Release(&in[j]); PyBuffer_Release(&out[j]); }
-    if (failed) return NULL;
-    return Py_BuildValue("ninind", k, status, at, most, beyond, largest_P);
+    Py_ssize_t n = in[0].len / 8;
+    int ok = read_params(params_tuple, p);
+    if (ok && table_object != Py_None) ok = read_table(table_object, table);
+    ok = ok && read_rate(rate_tuple, base_law, rate);
+    for (int j = 0; ok && j < count; ++j)
+        ok = check_length(&in[j], n, 8, names[j]) && check_length(&out[j], n, 8, outputs[j]);
+    return ok;
 }
 
-static PyObject *native_relaxing_step(PyObject *self, PyObject *args)
+static PyObject *native_rate_step(PyObject *self, PyObject *args)
 {
     int base_law;
     double m_star, k_element, stiffness;
@@ -363,17 +317,16 @@ static PyObject *native_relaxing_step(PyObject *self, PyObject *args)
     static const char *outputs[10] = {"force", "index", "delta_max'", "P_max'", "delta_res'", "K_u'", "a_e_max'",
                                       "rate_factor'", "strain_rate_per_speed'", "loading_work'"};
     Py_ssize_t n = in[0].len / 8, k = 0, at = -1, beyond = 0;
-    int status = NFD_OK, most = 0, ok = read_params(params_tuple, &p);
+    int status = NFD_OK, most = 0;
+    int ok = read_rate_call(params_tuple, table_object, rate_tuple, base_law, &p, &table, &rate, in, out, 10, names,
+                            outputs);
     double largest_P = 0.0;
-    if (ok && table_object != Py_None) ok = read_table(table_object, &table);
-    ok = ok && read_rate(rate_tuple, base_law, &rate);
-    if (ok && (nfd_rate_relaxing(&rate, k_element) != 0 || !(stiffness > 0.0 && isfinite(stiffness)))) {
+    const int relaxing = k_element != 0.0;          /* k = 0: R fixed at first contact (nfd_rate_step) */
+    if (ok && relaxing && (nfd_rate_relaxing(&rate, k_element) != 0 || !(stiffness > 0.0 && isfinite(stiffness)))) {
         PyErr_Format(PyExc_ValueError, "k out of range: need 0 < k and 0 < k E* / sigma_Y finite, got k %g, %g",
                      k_element, stiffness);
         ok = 0;
     }
-    for (int j = 0; ok && j < 10; ++j)
-        ok = check_length(&in[j], n, 8, names[j]) && check_length(&out[j], n, 8, outputs[j]);
     if (ok) {
         const double *d = in[0].buf, *v = in[1].buf, *dm = in[2].buf, *Pm = in[3].buf, *dr = in[4].buf,
                      *Ku = in[5].buf, *ae = in[6].buf, *Rf = in[7].buf, *rs = in[8].buf, *W = in[9].buf;
@@ -386,14 +339,15 @@ static PyObject *native_relaxing_step(PyObject *self, PyObject *args)
             nfd_history h = {dm[i], Pm[i], dr[i], Ku[i], ae[i]}, next;
             double R = Rf[i], per_speed = rs[i], work = W[i], force = 0.0;
             int iterations = 0;
-            int code = nfd_rate_relaxing_step(&rate, d[i], v[i], m_star, stiffness, &p, t, &h, &R, &per_speed, &work,
-                                              &force, &next, &iterations);
+            int code = relaxing ? nfd_rate_relaxing_step(&rate, d[i], v[i], m_star, stiffness, &p, t, &h, &R,
+                                                         &per_speed, &work, &force, &next, &iterations)
+                                : nfd_rate_step(&rate, d[i], v[i], m_star, &p, t, &h, &R, &force, &next, &iterations);
             if (code < 0) { status = code; at = i; break; }
             f[i] = force;
             most = iterations > most ? iterations : most;
             double square = pow(R > 0.0 ? R : 1.0, 2.0);
             int moved = d[i] / square > h.delta_max / square;
-            int loading = d[i] > h.delta_max && d[i] > 0.0;
+            int loading = relaxing && d[i] > h.delta_max && d[i] > 0.0;
             if (!moved && !loading && R == Rf[i]) continue;                 /* unchanged */
             if (moved) {
                 double base_P = next.P_max / pow(R > 0.0 ? R : 1.0, 3.0);
@@ -623,8 +577,8 @@ static PyMethodDef methods[] = {
     {"unload", native_unload, METH_VARARGS, "unloading/reloading forces and the loading contacts"},
     {"load", native_load, METH_VARARGS, "the loading branch of the selected contacts"},
     {"load_table", native_load_table, METH_VARARGS, "the vz_table or vz_unload loading of the selected contacts"},
-    {"rate_step", native_rate_step, METH_VARARGS, "nfd_rate_step of n contacts (nfd_rate.h)"},
-    {"relaxing_step", native_relaxing_step, METH_VARARGS, "nfd_rate_relaxing_step of n contacts (nfd_rate.h)"},
+    {"rate_step", native_rate_step, METH_VARARGS,
+     "nfd_rate_step or nfd_rate_relaxing_step of n contacts (nfd_rate.h)"},
     {"hertz", native_hertz, METH_VARARGS, "Hertz forces"},
     {"elastic_energy", native_elastic_energy, METH_VARARGS, "nfd_elastic_energy of n contacts"},
     {"yield_factor", native_yield_factor, METH_VARARGS, "A_Y(nu) of nfd_kernel.c (nfd_yield_factor)"},

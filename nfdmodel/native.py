@@ -167,40 +167,27 @@ class RateKernel(NamedTuple):
 
 
 RATE_FIELDS = ("delta_max", "P_max", "delta_res", "unloading_stiffness", "a_e_max", "rate_factor")
+RELAXING_FIELDS = RATE_FIELDS + ("strain_rate_per_speed", "loading_work")       # the relaxing law's history
 
 
-def rate_step(kernel: RateKernel, m_star: float, delta, velocity, state):
+def rate_step(kernel: RateKernel, m_star: float, delta, velocity, state, k: float = 0.0, stiffness: float = 0.0):
     """nfd_rate_step of every contact (the rate-aware law's history ``state``, the normal approach speeds
     ``velocity`` [m/s] per contact, read where a contact first touches; the pair's reduced mass m_star
-    [kg]): (P [N], index of the contacts whose history changed, {field: their new values}, status,
-    largest Newton count, beyond-window count, largest P_max [N] at R = 1). A negative status (the
-    first failing contact's nfd_rate_step code) leaves the outputs incomplete."""
+    [kg]), or with ``k`` > 0 nfd_rate_relaxing_step (the relaxing law's history, element stiffness ``k`` and
+    K = k E*/sigma_Y ``stiffness``; the speeds read where a contact loads): (P [N], index of the contacts whose
+    history changed, {field: their new values} (RATE_FIELDS, and RELAXING_FIELDS with k), status, largest Newton
+    count, beyond-window count, largest P_max [N] at R = 1). A negative status (the first failing contact's code)
+    leaves the outputs incomplete."""
     n = delta.shape[0]
-    force = np.empty(n)
-    index = np.empty(n, dtype=np.int64)
-    values = {name: np.empty(n) for name in RATE_FIELDS}
-    k, status, _, iterations, beyond, largest = _native.rate_step(
-        kernel.base_law, kernel.params, kernel.table, kernel.rate, float(m_star), _contiguous(delta),
-        _contiguous(velocity), *(_contiguous(getattr(state, name)) for name in RATE_FIELDS), force, index,
-        *(values[name] for name in RATE_FIELDS))
-    return force, index[:k].copy(), {name: v[:k].copy() for name, v in values.items()}, status, iterations, beyond, largest
-
-
-RELAXING_FIELDS = RATE_FIELDS + ("strain_rate_per_speed", "loading_work")
-
-
-def relaxing_step(kernel: RateKernel, k: float, stiffness: float, m_star: float, delta, velocity, state):
-    """nfd_rate_relaxing_step of every contact (the relaxing law's history ``state``, element stiffness ``k`` and
-    K = k E*/sigma_Y ``stiffness``): as :func:`rate_step`, the fields RELAXING_FIELDS."""
-    n = delta.shape[0]
+    fields = RELAXING_FIELDS if k else RATE_FIELDS
     force = np.empty(n)
     index = np.empty(n, dtype=np.int64)
     values = {name: np.empty(n) for name in RELAXING_FIELDS}
-    count, status, _, iterations, beyond, largest = _native.relaxing_step(
+    inputs = [_contiguous(getattr(state, name)) if name in fields else np.zeros(n) for name in RELAXING_FIELDS]
+    count, status, _, iterations, beyond, largest = _native.rate_step(
         kernel.base_law, kernel.params, kernel.table, kernel.rate, float(k), float(stiffness), float(m_star),
-        _contiguous(delta), _contiguous(velocity), *(_contiguous(getattr(state, name)) for name in RELAXING_FIELDS),
-        force, index, *(values[name] for name in RELAXING_FIELDS))
-    return (force, index[:count].copy(), {name: v[:count].copy() for name, v in values.items()}, status, iterations,
+        _contiguous(delta), _contiguous(velocity), *inputs, force, index, *(values[name] for name in RELAXING_FIELDS))
+    return (force, index[:count].copy(), {name: values[name][:count].copy() for name in fields}, status, iterations,
             beyond, largest)
 
 

@@ -135,14 +135,7 @@ def rate_aware_step(delta, state: RateAwareState, params: RateAwareParams, veloc
     delta, shape = check_delta(delta, state.n)
     factor = state.rate_factor.copy()
     touching = np.flatnonzero((factor == 0.0) & (delta > 0.0))
-    speeds = np.zeros(state.n)
-    if touching.size:
-        if velocity is None:
-            raise ValueError("velocity out of range: the rate-aware law needs the normal approach speed [m/s] of "
-                             "the contacts that first touch in this step")
-        speeds = np.broadcast_to(np.asarray(velocity, dtype=float).reshape(-1), (state.n,))
-        if not np.isfinite(speeds[touching]).all():
-            raise ValueError("velocity out of range: need finite normal approach speeds [m/s]")
+    speeds = approach_speeds(velocity, state.n, touching, "the rate-aware law", "first touch")
     if native.active():
         compiled = _compiled_step(delta, speeds, state, params)
         if compiled is not None:
@@ -153,6 +146,20 @@ def rate_aware_step(delta, state: RateAwareState, params: RateAwareParams, veloc
     largest = update.largest_load_over_P_Y
     return restore_shape(force, shape), HistoryUpdate(index, RateAwareState(**values), state.n,
                                                       update.newton_iterations, update.beyond_window, largest)
+
+
+def approach_speeds(velocity, n: int, needed, law: str, which: str) -> np.ndarray:
+    """The normal approach speeds [m/s] of n contacts from ``velocity`` (zeros where none is needed); a one-line
+    ValueError when the contacts ``needed`` (those that ``which`` in this step) have none or a non-finite one."""
+    if not needed.size:
+        return np.zeros(n)
+    if velocity is None:
+        raise ValueError(f"velocity out of range: {law} needs the normal approach speed [m/s] of the contacts that "
+                         f"{which} in this step")
+    speeds = np.broadcast_to(np.asarray(velocity, dtype=float).reshape(-1), (n,))
+    if not np.isfinite(speeds[needed]).all():
+        raise ValueError("velocity out of range: need finite normal approach speeds [m/s]")
+    return speeds
 
 
 def step_at_factors(delta, state: RateAwareState, params: RateAwareParams, factor, changed):
@@ -195,13 +202,19 @@ def _compiled_step(delta, speeds, state: RateAwareState, params: RateAwareParams
     """(P [N], HistoryUpdate) of the step in the compiled kernel (nfd_rate_step), or None where a contact
     failed there (its radius at R*, an overflow): the numpy path then names the cause in its words."""
     pair = params.pair
-    force, index, values, status, iterations, beyond, largest = native.rate_step(
-        compiled_kernel(params), pair.mass_star, delta, speeds, state)
+    return compiled_update(native.rate_step(compiled_kernel(params), pair.mass_star, delta, speeds, state),
+                           RateAwareState, state.n, pair.P_Y)
+
+
+def compiled_update(result: tuple, state_type, n: int, P_Y: float):
+    """(P [N], HistoryUpdate of ``state_type``) from a compiled rate step's ``result`` (native.rate_step,
+    with or without k: force, index, values, status, iterations, beyond, largest P_max at R = 1), or None where
+    a contact failed there (status < 0)."""
+    force, index, values, status, iterations, beyond, largest = result
     if status < 0:
         return None
-    update = HistoryUpdate(index, RateAwareState(**values), state.n, int(iterations), int(beyond),
-                           largest / pair.P_Y if beyond else 0.0)
-    return force, update
+    return force, HistoryUpdate(index, state_type(**values), n, int(iterations), int(beyond),
+                                largest / P_Y if beyond else 0.0)
 
 
 def rate_aware_force(delta, state: RateAwareState, params: RateAwareParams, velocity=None):

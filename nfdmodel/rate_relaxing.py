@@ -36,8 +36,8 @@ from .collision import CollisionReference, _unloading_time_factor
 from .contact_law import ContactLaw
 from .turning_point import elastic_energy
 from .history import HistoryUpdate, apply_update, check_delta, check_state, restore_shape
-from .rate_aware import (BASE_LAWS, BASE_LAWS_LAW, RateAwareParams, RateAwareState, _radii, compiled_kernel,
-                         rate_aware_loading_work, step_at_factors)
+from .rate_aware import (BASE_LAWS, BASE_LAWS_LAW, RateAwareParams, RateAwareState, _radii, approach_speeds,
+                         compiled_kernel, compiled_update, rate_aware_loading_work, step_at_factors)
 from .validation import check_real
 
 # k and c of the element (module doc): fitted once, to the dynamic FE of six spheres (E/sigma_Y 300-1500,
@@ -152,14 +152,7 @@ def rate_relaxing_step(delta, state: RelaxingRateState, params: RelaxingRatePara
     per_speed = state.strain_rate_per_speed.copy()
     touching = np.flatnonzero((factor == 0.0) & (delta > 0.0))
     loading = np.flatnonzero((delta > state.delta_max) & (delta > 0.0))
-    speeds = np.zeros(state.n)
-    if loading.size:
-        if velocity is None:
-            raise ValueError("velocity out of range: the rate-relaxing law needs the normal approach speed [m/s] "
-                             "of the contacts that touch first or load in this step")
-        speeds = np.broadcast_to(np.asarray(velocity, dtype=float).reshape(-1), (state.n,))
-        if not np.isfinite(speeds[loading]).all():
-            raise ValueError("velocity out of range: need finite normal approach speeds [m/s]")
+    speeds = approach_speeds(velocity, state.n, loading, "the rate-relaxing law", "touch first or load")
     if native.active():
         compiled = _compiled_step(delta, speeds, state, params)
         if compiled is not None:
@@ -188,13 +181,8 @@ def _compiled_step(delta, speeds, state: RelaxingRateState, params: RelaxingRate
     """(P [N], HistoryUpdate) of the step in the compiled kernel (nfd_rate_relaxing_step), or None where a contact
     failed there: the numpy path then names the cause in its words."""
     pair = params.pair
-    force, index, values, status, iterations, beyond, largest = native.relaxing_step(
-        compiled_kernel(params), params.k, params.element_stiffness, pair.mass_star, delta, speeds, state)
-    if status < 0:
-        return None
-    update = HistoryUpdate(index, RelaxingRateState(**values), state.n, int(iterations), int(beyond),
-                           largest / pair.P_Y if beyond else 0.0)
-    return force, update
+    return compiled_update(native.rate_step(compiled_kernel(params), pair.mass_star, delta, speeds, state, params.k,
+                                            params.element_stiffness), RelaxingRateState, state.n, pair.P_Y)
 
 
 def rate_relaxing_force(delta, state: RelaxingRateState, params: RelaxingRateParams, velocity=None):

@@ -25,6 +25,7 @@ from nfdmodel import rate_aware
 from nfdmodel.rate_relaxing import (LAW, RELAXING_LENGTH_FACTOR, RelaxingRateParams, RelaxingRateState,
                                     relaxing_reference)
 from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
+from test_rate_aware import base_step  # noqa: E402  (tests/, on the path under pytest)
 
 pytestmark = pytest.mark.laws
 
@@ -40,18 +41,6 @@ def scalar_rate(rate_law):
     if isinstance(rate_law, CowperSymonds):
         return lambda s: ref.cowper_symonds_rate(s, rate_law.D, rate_law.q)
     return lambda s: ref.johnson_cook_rate(s, rate_law.C, rate_law.reference_rate)
-
-
-def base_step(base_law, base):
-    """The base law's scalar step of nfdmodel.reference with the base's constants."""
-    pair = base.pair
-    if base_law == "vz":
-        return lambda d, h: ref.vz_step(d, h, pair.R_star, pair.E_star, pair.P_Y, pair.delta_Y, base.Ca, base.Kc)
-    from nfdmodel.pchip import pchip_slopes
-
-    x, f, g = (np.array(v) for v in (base.x, base.f, base.g))
-    table = (list(x), list(f), list(pchip_slopes(x, f)), list(g), list(pchip_slopes(x, g)))
-    return lambda d, h: ref.vz_table_step(d, h, pair.R_star, pair.E_star, pair.P_Y, pair.delta_Y, pair.a_Y, table)
 
 
 @pytest.mark.parametrize("rate_law", [CowperSymonds(40.0, 5.0), CowperSymonds(2.0, 1.0), CowperSymonds(5.0, 0.7),
