@@ -13,10 +13,12 @@ The law's e is its continuous-time impact (rate_relaxing.relaxing_reference; col
 dt lies within 0.02 % of it, printed for the held-out DEM impacts). Printed: the fitted k, c against the shipped
 RELAXATION_STIFFNESS, RELAXING_LENGTH_FACTOR; per impact the FE's e, the relaxing law's error at the shipped
 constants and the error of the law fixed at first contact (nfdmodel.rate_aware, c = 26); the max and rms per
-group; collide's cost per impact, relaxing (its numpy time loop around the compiled step) against fixed (the
-compiled loop), and the compiled step's cost per contact-step, relaxing against fixed, on 1e5 loading contacts. The FE records are
+group; c_e, the c whose relaxing e equals each impact's (k as shipped): its rms ln(c_e / c) and its slope with
+v_in per sphere and rate law (the model form fit-data's rate fit takes for the fixed law); collide's cost per
+impact, relaxing (its numpy time loop around the compiled step) against fixed (the compiled loop), and the
+compiled step's cost per contact-step, relaxing against fixed, on 1e5 loading contacts. The FE records are
 bench_rate_materials.py's, kept in ``--out`` (a first run makes them: about 10 minutes on one core; with them,
-about 3 minutes).
+about 6 minutes).
 Usage: .venv/bin/python tests/benchmarks/bench_rate_relaxing.py [--out DIR]
 """
 from __future__ import annotations
@@ -93,6 +95,41 @@ def fit(group: list) -> tuple:
     return min([best] + fine)
 
 
+def matching_c(base, rate, v, e) -> float:
+    """c_e: the c whose relaxing e (k as shipped) equals the FE's e, by a root find (nan where none in 0.5-500)."""
+    from scipy.optimize import brentq
+
+    def gap(c):
+        params = RelaxingRateParams("vz-table", base, rate, c)
+        return float(relaxing_reference(params, [v]).restitution[0]) - e
+
+    low, high = gap(0.5), gap(500.0)
+    return brentq(gap, 0.5, 500.0, xtol=1e-4) if low * high < 0.0 else float("nan")
+
+
+def c_spread(every: list) -> None:
+    """The spread of c_e over the impacts (what fit-data's model form for c would take): rms ln(c_e / c) and, per
+    sphere and rate law (3 speeds or more), the slope d ln c_e / d ln v_in."""
+    found = np.array([matching_c(base, rate, v, e) for _, _, base, rate, v, e in every])
+    ok = np.isfinite(found)
+    ln = np.log(found[ok] / RELAXING_LENGTH_FACTOR)
+    print(f"\nc_e (k {RELAXATION_STIFFNESS:g}): {ok.sum()} of {len(every)} impacts have one, "
+          f"{found[ok].min():.3g}..{found[ok].max():.3g}; rms ln(c_e / {RELAXING_LENGTH_FACTOR:g}) "
+          f"{np.sqrt(np.mean(ln**2)):.3f}")
+    series = {}
+    for (group, name, base, rate, v, e), c_e in zip(every, found):
+        key = (id(base), repr(rate))
+        series.setdefault(key, []).append((v, c_e))
+    slopes = []
+    for points in series.values():
+        points = np.array([p for p in points if np.isfinite(p[1])])
+        if len(points) >= 3:
+            slopes.append(np.polyfit(np.log(points[:, 0]), np.log(points[:, 1]), 1)[0])
+    slopes = np.array(slopes)
+    print(f"d ln c_e / d ln v_in over {slopes.size} spheres and rate laws: {slopes.min():+.2f}..{slopes.max():+.2f}, "
+          f"rms {np.sqrt(np.mean(slopes**2)):.2f}")
+
+
 def fixed_error(base, rate, v, e) -> float:
     params = rate_aware.RateAwareParams("vz-table", base, rate)
     return 100.0 * (float(rate_aware.rate_aware_reference(params, [v]).restitution[0]) / e - 1.0)
@@ -124,6 +161,7 @@ def main_(out: Path) -> None:
         print(f"| {label} | {mask.sum()} | {np.abs(mine).max():.2f}, {np.sqrt(np.mean(mine**2)):.2f} | "
               f"{(np.abs(mine) > 2).sum()} | {np.abs(theirs).max():.2f}, {np.sqrt(np.mean(theirs**2)):.2f} | "
               f"{(np.abs(theirs) > 2).sum()} |")
+    c_spread(every)
     dem = [case for case in held if case[1].startswith("DEM")]
     print("\ncollide at the automatic dt against the continuous-time impact (DEM impacts), and the cost per impact:")
     for _, name, base, rate, v, e in dem:
