@@ -182,12 +182,15 @@ def rate_step(kernel: RateKernel, m_star: float, delta, velocity, state, k: floa
     fields = RELAXING_FIELDS if k else RATE_FIELDS
     force = np.empty(n)
     index = np.empty(n, dtype=np.int64)
-    values = {name: np.empty(n) for name in RELAXING_FIELDS}
-    inputs = [_contiguous(getattr(state, name)) if name in fields else np.zeros(n) for name in RELAXING_FIELDS]
+    values = {name: np.empty(n) for name in fields}
+    # the fixed form: one zero input and one scratch output stand for the relaxing form's two extra fields
+    unused, scratch = (None, None) if k else (np.zeros(n), np.empty(n))
+    inputs = [_contiguous(getattr(state, name)) if name in fields else unused for name in RELAXING_FIELDS]
+    outputs = [values[name] if name in fields else scratch for name in RELAXING_FIELDS]
     count, status, _, iterations, beyond, largest = _native.rate_step(
         kernel.base_law, kernel.params, kernel.table, kernel.rate, float(k), float(stiffness), float(m_star),
-        _contiguous(delta), _contiguous(velocity), *inputs, force, index, *(values[name] for name in RELAXING_FIELDS))
-    return (force, index[:count].copy(), {name: values[name][:count].copy() for name in fields}, status, iterations,
+        _contiguous(delta), _contiguous(velocity), *inputs, force, index, *outputs)
+    return (force, index[:count].copy(), {name: v[:count].copy() for name, v in values.items()}, status, iterations,
             beyond, largest)
 
 

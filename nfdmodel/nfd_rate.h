@@ -210,18 +210,27 @@ static inline double nfd_rate_reference_radius(const nfd_rate *r, const nfd_para
     return p->a_Y * (cbrt(x) + f);
 }
 
+/* a_ref [m] of a contact first touching at `speed` [m/s] > 0 into *a_ref: NFD_OK, NFD_FULL_CONTACT (a_ref
+ * reaches R*: the impact lies beyond the base law's domain) or NFD_NOT_FINITE. */
+static inline int nfd_rate_first_radius(const nfd_rate *r, const nfd_params *p, const nfd_table *t, double m_star,
+                                        double speed, double *a_ref)
+{
+    *a_ref = nfd_rate_reference_radius(r, p, t, m_star, speed);
+    if (!isfinite(*a_ref)) return NFD_NOT_FINITE;
+    return *a_ref < p->R_star ? NFD_OK : NFD_FULL_CONTACT;
+}
+
 /* R of a contact first touching at the normal approach speed `speed` [m/s] (eps_dot = 0 for speed
  * <= 0) into *factor: NFD_OK, NFD_FULL_CONTACT (a_ref reaches R*: the impact lies beyond the base
  * law's domain) or NFD_NOT_FINITE (a speed or a result that is not a finite number). */
 static inline int nfd_rate_first_factor(const nfd_rate *r, const nfd_params *p, const nfd_table *t, double m_star,
                                         double speed, double *factor)
 {
-    double rate = 0.0;
+    double rate = 0.0, a_ref;
     if (!isfinite(speed)) return NFD_NOT_FINITE;
     if (speed > 0.0) {
-        double a_ref = nfd_rate_reference_radius(r, p, t, m_star, speed);
-        if (!isfinite(a_ref)) return NFD_NOT_FINITE;
-        if (!(a_ref < p->R_star)) return NFD_FULL_CONTACT;
+        int status = nfd_rate_first_radius(r, p, t, m_star, speed, &a_ref);
+        if (status != NFD_OK) return status;
         rate = speed / (r->c * a_ref);
     }
     *factor = nfd_rate_factor(r, rate);
@@ -372,12 +381,12 @@ static inline double nfd_rate_relaxed_factor(const nfd_rate *r, double factor, d
 static inline int nfd_rate_per_speed(const nfd_rate *r, const nfd_params *p, const nfd_table *t, double m_star,
                                      double speed, double *per_speed)
 {
+    double a_ref;
     if (!isfinite(speed)) return NFD_NOT_FINITE;
     *per_speed = 0.0;
     if (speed > 0.0) {
-        double a_ref = nfd_rate_reference_radius(r, p, t, m_star, speed);
-        if (!isfinite(a_ref)) return NFD_NOT_FINITE;
-        if (!(a_ref < p->R_star)) return NFD_FULL_CONTACT;
+        int status = nfd_rate_first_radius(r, p, t, m_star, speed, &a_ref);
+        if (status != NFD_OK) return status;
         *per_speed = 1.0 / (r->c * a_ref);
     }
     return NFD_OK;

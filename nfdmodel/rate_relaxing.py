@@ -112,21 +112,20 @@ def relaxed_factor(factor, per_speed, increment, speed, rate_law, stiffness):
     drive = factor + stiffness * per_speed * increment            # s without relaxation: the upper bracket
     relax = stiffness * increment / speed                         # K dt
 
-    def residual(s):
+    def residual(s, drive, relax):
         with np.errstate(invalid="ignore", over="ignore"):
             return s - drive + relax * rate_law.rate_at(s)
 
     result = np.ones_like(drive)
-    open_ = residual(np.ones_like(drive)) < 0.0
+    open_ = residual(result, drive, relax) < 0.0
     if not open_.any():
         return result
     drive, relax = drive[open_], relax[open_]
     low, high = np.ones_like(drive), np.maximum(drive, 1.0)
-    s = np.clip(np.asarray(factor, dtype=float)[open_] if np.ndim(factor) else np.full(drive.shape, factor),
-                1.0, high)
+    s = np.clip(factor[open_], 1.0, high)
     for _ in range(limits.RATE_FACTOR_ITERATIONS):
+        value = residual(s, drive, relax)
         with np.errstate(invalid="ignore", over="ignore"):
-            value = s - drive + relax * rate_law.rate_at(s)
             slope = 1.0 + relax * rate_law.rate_slope(s)
         low = np.where(value < 0.0, s, low)
         high = np.where(value < 0.0, high, s)
@@ -167,11 +166,9 @@ def rate_relaxing_step(delta, state: RelaxingRateState, params: RelaxingRatePara
     changed = np.union1d(touching, loading)
     force, index, values, update = step_at_factors(delta, state, params, factor, changed)
     values["strain_rate_per_speed"] = per_speed[index]
-    work = state.loading_work[index].copy()
-    beyond = delta[index] > state.delta_max[index]
-    work[beyond] += 0.5 * (state.P_max[index][beyond] + force[index][beyond]) * (
-        delta[index][beyond] - state.delta_max[index][beyond])
-    values["loading_work"] = work
+    increment = delta[index] - state.delta_max[index]        # > 0: loaded beyond the turning point (trapezoid)
+    values["loading_work"] = state.loading_work[index] + np.where(
+        increment > 0.0, 0.5 * (state.P_max[index] + force[index]) * increment, 0.0)
     largest = update.largest_load_over_P_Y
     return restore_shape(force, shape), HistoryUpdate(index, RelaxingRateState(**values), state.n,
                                                       update.newton_iterations, update.beyond_window, largest)
@@ -192,8 +189,8 @@ def rate_relaxing_force(delta, state: RelaxingRateState, params: RelaxingRatePar
 
 
 def _turning_point(params: RelaxingRateParams, speed: float, per_speed: float):
-    """(delta_max [m], s, t_load [s], the base law's history there) of the impact at ``speed`` [m/s] in continuous
-    time: m* d2delta/dt2 = -s^3 P_0(delta / s^2) with the element's ds/dt (module doc), Radau (rtol 1e-9) to the
+    """(delta_max [m], s, t_load [s], P_max [N], the base law's virgin history there) of the impact at ``speed``
+    [m/s] in continuous time: m* d2delta/dt2 = -s^3 P_0(delta / s^2) with the element's ds/dt (module doc), Radau (rtol 1e-9) to the
     turning point."""
     base_law = BASE_LAWS_LAW[params.base_law]
     base_state = BASE_LAWS[params.base_law][1]
