@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.sparse import coo_matrix
 
 from . import limits, native
 from .collision import CollisionReference, _unloading_time_factor
@@ -188,40 +189,73 @@ def rate_relaxing_force(delta, state: RelaxingRateState, params: RelaxingRatePar
     return force, apply_update(state, update, copy=True)
 
 
-def _turning_point(params: RelaxingRateParams, speed: float, per_speed: float):
-    """(delta_max [m], s, t_load [s], P_max [N], the base law's virgin history there) of the impact at ``speed``
-    [m/s] in continuous time: m* d2delta/dt2 = -s^3 P_0(delta / s^2) with the element's ds/dt (module doc), Radau (rtol 1e-9) to the
-    turning point."""
+def _turning_points(params: RelaxingRateParams, speeds, per_speeds):
+    """(delta_max [m], s, t_load [s], P_max [N], the base law's virgin history there), arrays over the impacts at
+    ``speeds`` [m/s] (> 0, first contacts driven at ``per_speeds`` [1/m] = 1 / (c a_ref)), in continuous time:
+    m* d2delta/dt2 = -s^3 P_0(delta / s^2) with the element's ds/dt (module doc). Every impact is one block of
+    one system, in its own time tau = t / T_H (T_H its Hertz contact time, so the blocks move alike), Radau
+    (rtol 1e-9) until the last reaches its turning point; each one's is where its own approach speed falls
+    through zero."""
     base_law = BASE_LAWS_LAW[params.base_law]
     base_state = BASE_LAWS[params.base_law][1]
     mass, stiffness = params.pair.mass_star, params.element_stiffness
+    speeds, per_speeds = np.asarray(speeds, dtype=float), np.asarray(per_speeds, dtype=float)
+    n = speeds.size
+    virgin = base_state.virgin(n)
+    hertz = params.pair.hertz_contact_time(speeds)
 
-    def rates(t, y):
-        delta, approach, s = y
-        s = max(s, 1.0)
-        ds = stiffness * (per_speed * max(approach, 0.0) - float(params.rate_law.rate_at(s)))
-        force, _ = base_law.force_function(np.array([max(delta, 0.0) / s**2]), base_state.virgin(1), params.base)
-        return [approach, -float(force[0]) * s**3 / mass, ds if (s > 1.0 or ds > 0.0) else 0.0]
+    def rates(tau, y):                      # d/dtau = T_H d/dt of (delta, v_n, x) per impact, s = max(x, 1)
+        delta, approach, x = y.reshape(n, 3).T
+        s = np.maximum(x, 1.0)
+        # x free below 1 keeps the right side continuous; while loading the drive only falls, so once x
+        # passes below 1 it stays there, as s = 1 does in the law
+        dx = stiffness * (per_speeds * np.maximum(approach, 0.0) - params.rate_law.rate_at(x))
+        force, _ = base_law.force_function(np.maximum(delta, 0.0) / s**2, virgin, params.base)
+        return (hertz[:, None] * np.column_stack([approach, -force * s**3 / mass, dx])).ravel()
 
-    turning = lambda t, y: y[1]                                   # noqa: E731 (the event: v = 0)
-    turning.terminal, turning.direction = True, -1
-    hertz = params.pair.hertz_contact_time(speed)
-    solution = solve_ivp(rates, (0.0, 10.0 * hertz), [0.0, speed, 1.0], method="Radau", events=turning,
-                         rtol=1e-9, atol=[1e-12 * speed * hertz, 1e-12 * speed, 1e-12])
-    if not solution.t_events[0].size:
-        raise ValueError(f"v_in out of range: the rate-relaxing impact at {speed:g} m/s found no turning point")
-    delta, _, s = solution.y_events[0][0]
-    s = max(float(s), 1.0)
-    force, state = base_law.force_function(np.array([delta / s**2]), base_state.virgin(1), params.base)
-    return float(delta), s, float(solution.t_events[0][0]), float(force[0]) * s**3, state
+    rows = np.repeat(np.arange(3 * n).reshape(n, 3), 3, axis=1).ravel()
+    columns = np.tile(np.arange(3 * n).reshape(n, 3), (1, 3)).ravel()
+
+    def jacobian(tau, y):                   # each impact's 3 x 3 block, the element's row exact (its kink at s = 1)
+        delta, approach, x = y.reshape(n, 3).T
+        s = np.maximum(x, 1.0)
+        u = np.maximum(delta, 0.0) / s**2
+        step = 1e-7 * np.maximum(u, 1e-9 * np.max(speeds * hertz))
+        force, _ = base_law.force_function(u, virgin, params.base)
+        slope = (base_law.force_function(u + step, virgin, params.base)[0] - force) / step     # dP_0/du
+        block = np.zeros((n, 3, 3))
+        block[:, 0, 1] = 1.0
+        block[:, 1, 0] = -s * slope / mass
+        block[:, 1, 2] = np.where(x > 1.0, -(3.0 * s**2 * force - 2.0 * delta * slope) / mass, 0.0)
+        block[:, 2, 1] = np.where(approach > 0.0, stiffness * per_speeds, 0.0)
+        block[:, 2, 2] = -stiffness * params.rate_law.rate_slope(x)
+        return coo_matrix(((hertz[:, None, None] * block).ravel(), (rows, columns)), shape=(3 * n, 3 * n)).tocsc()
+
+    # the event of impact i: its approach speed falls through zero; the last of them ends the run
+    turnings = [lambda tau, y, i=i: y[3 * i + 1] for i in range(n)]
+    last = lambda tau, y: np.max(y[1::3])                           # noqa: E731
+    last.terminal = True
+    for event in (*turnings, last):
+        event.direction = -1
+    solution = solve_ivp(rates, (0.0, 10.0), np.column_stack([np.zeros(n), speeds, np.ones(n)]).ravel(),
+                         method="Radau", events=[*turnings, last], rtol=1e-9,
+                         atol=1e-12 * np.column_stack([speeds * hertz, speeds, np.ones(n)]).ravel(),
+                         jac=jacobian)
+    missing = [float(v) for v, taus in zip(speeds, solution.t_events[:n]) if not taus.size]
+    if missing:
+        raise ValueError(f"v_in out of range: the rate-relaxing impact at {missing[0]:g} m/s found no turning point")
+    delta, _, s = np.array([states[0][3 * i:3 * i + 3] for i, states in enumerate(solution.y_events[:n])]).T
+    s = np.maximum(s, 1.0)
+    force, state = base_law.force_function(delta / s**2, virgin, params.base)
+    t_load = hertz * np.array([taus[0] for taus in solution.t_events[:n]])
+    return delta, s, t_load, force * s**3, state
 
 
 def turning_factor(params: RelaxingRateParams, v_in):
     """s [-] at the turning point of impacts at ``v_in`` [m/s] (> 0; continuous time, :func:`_turning_point`)."""
     params = relaxing_params(params)
     v = np.atleast_1d(np.asarray(v_in, dtype=float)).reshape(-1)
-    return np.array([_turning_point(params, speed, per_speed)[1]
-                     for speed, per_speed in zip(v, params.strain_rate_per_speed(v))])
+    return _turning_points(params, v, params.strain_rate_per_speed(v))[1]
 
 
 def relaxing_reference(params: RelaxingRateParams, v_in) -> CollisionReference:
@@ -231,18 +265,12 @@ def relaxing_reference(params: RelaxingRateParams, v_in) -> CollisionReference:
     params = relaxing_params(params)
     v = np.atleast_1d(np.asarray(v_in, dtype=float)).reshape(-1)
     base_law = BASE_LAWS_LAW[params.base_law]
-    mass = params.pair.mass_star
-    out = {name: np.zeros(v.size) for name in ("delta_max", "P_max", "delta_res", "work", "e", "t_load", "t_unload")}
-    for i, (speed, per_speed) in enumerate(zip(v, params.strain_rate_per_speed(v))):
-        delta, s, t_load, P_max, state = _turning_point(params, speed, per_speed)
-        delta_res = float(state.delta_res[0]) * s**2
-        work = 0.5 * mass * speed**2          # all of it taken at the turning point
-        e = np.sqrt(float(elastic_energy(P_max, delta, delta_res, base_law.exponent_of(state))) / work)
-        out["delta_max"][i], out["P_max"][i], out["delta_res"][i] = delta, P_max, delta_res
-        out["work"][i], out["e"][i], out["t_load"][i] = work, e, t_load
-        out["t_unload"][i] = _unloading_time_factor(1.5) * (delta - delta_res) / (e * speed)
-    return CollisionReference(v, out["delta_max"], out["P_max"], out["delta_res"], out["work"], out["e"],
-                              out["t_load"] + out["t_unload"], out["t_unload"])
+    delta, s, t_load, P_max, state = _turning_points(params, v, params.strain_rate_per_speed(v))
+    delta_res = state.delta_res * s**2
+    work = 0.5 * params.pair.mass_star * v**2          # all of it taken at the turning point
+    e = np.sqrt(elastic_energy(P_max, delta, delta_res, base_law.exponent_of(state)) / work)
+    t_unload = _unloading_time_factor(1.5) * (delta - delta_res) / (e * v)
+    return CollisionReference(v, delta, P_max, delta_res, work, e, t_load + t_unload, t_unload)
 
 
 LAW = ContactLaw("rate-relaxing", "a base law (vz, vz-table) with sigma_Y scaled by a rate factor that follows "

@@ -9,9 +9,10 @@ D 40 /s q 5, Johnson-Cook C 0.05) the tests' strain rates span a factor of about
 determine sigma_Y R at the tests' mean strain rate (against the FE sphere's own: -1.0 %, -2.8 %), not sigma_Y
 and the rate constant apart. With a strong one (Cowper-Symonds D 5 q 2, D 2 q 1, Johnson-Cook C 0.3 from
 0.5 /s) the rate-aware law at the FE's own constants misses its e by up to 2.7, 8.3 and 3.2 %, a trend with
-speed: the fit lands far from the FE's constants (sigma_Y -13 %, -19 %, +13 %) and the rate constant is not
-determined to 10 %. fit-data refuses every series in one line, naming the combination the data determine.
-Refusals: one line, exit 2.
+speed: the fit lands far from the FE's constants (sigma_Y -13 %, -19 %, +13 %), its intervals covering them.
+fit-data refuses four series in one line, naming the combination the data determine. With sigma_Y held at the
+sphere's (``--hold-sigma-y``) the relaxing form (``--rate-form relaxing``) recovers the rate constant of four
+series within 6 % and refuses the fifth as undetermined. Refusals: one line, exit 2.
 """
 import contextlib
 import io
@@ -92,11 +93,12 @@ def test_johnson_cook_below_its_reference_rate_is_refused(tmp_path):
     assert code == 2 and len(err.strip().splitlines()) == 1 and "below the reference rate" in err
 
 
-@pytest.mark.parametrize("series", sorted(DATA["series"]))
-def test_every_fe_series_is_refused_naming_what_it_determines(tmp_path, series):
-    """No FE series determines sigma_Y and the rate constant apart to 10 %: each is refused in one line, naming
-    the combination the data determine (one, Cowper-Symonds D 2 q 1, fits with statistical errors below 10 %
-    but residuals beyond twice the law's level on noise-free FE data, its sigma_Y 19 % low: refused as a misfit)."""
+@pytest.mark.parametrize("series", sorted(set(DATA["series"]) - {"cowper-symonds D2 q1"}))
+def test_fe_series_are_refused_naming_what_they_determine(tmp_path, series):
+    """Four of the five FE series do not determine sigma_Y and the rate constant apart to 10 % on the fixed form:
+    each is refused in one line, naming the combination the data determine. The fifth, Cowper-Symonds D 2 q 1,
+    fits with statistical errors below 1 % and residuals within twice the fixed form's level on noise-free FE
+    data: accepted, its sigma_Y 19 % low inside its 95 % interval (0.40-1.63 x, the model form of c's trend)."""
     law = DATA["series"][series]["rate_law"]
     kind, fixed = law["rate_law"], law.get("q", law.get("reference_rate"))
     path = drops_csv(tmp_path, series, ("v_in", "e", "P_max"))
@@ -202,3 +204,72 @@ def test_material_rate_law_file_runs_as_the_flags(tmp_path):
 def test_material_rate_law_refused_in_one_line(flags, needle):
     code, out, err = run_cli("material", *flags)
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and needle in err
+
+
+@pytest.mark.parametrize("series, limit", [("cowper-symonds D40 q5", 0.02), ("johnson-cook C0.05 ref1e-3", 0.02),
+                                           ("cowper-symonds D5 q2", 0.02), ("johnson-cook C0.3 ref0.5", 0.06)])
+def test_held_sigma_y_and_the_relaxing_law_recover_the_fe_s_rate_constant(tmp_path, series, limit):
+    """sigma_Y held at the FE sphere's (a quasi-static test's value), the rate constant alone from the FE's e at
+    5-7 speeds on the relaxing law: within ``limit`` of the FE's (measured +0.8, -0.7, -0.8, -5.0 %; the fixed
+    form's -40..+32 %, tests/benchmarks/bench_rate_fit_data.py), its 95 % interval covering it."""
+    law = DATA["series"][series]["rate_law"]
+    kind, fixed = law["rate_law"], law.get("q", law.get("reference_rate"))
+    path = drops_csv(tmp_path, series, ("v_in", "e"))
+    data = measured_data.Measurements(impacts=measured_data.read_impacts(path), forces=None)
+    result = rate_fit.fit(data, Specimen(70e9, 0.3, 0.1, 2699.0, False), VZMasterTable.load(None), kind, fixed,
+                          DATA["specimen"]["sigma_y"], form="relaxing", hold_sigma_y=True)
+    truth = law[result.name]
+    assert abs(result.values[result.name] / truth - 1.0) < limit
+    low, high = result.interval95[result.name]
+    assert low < truth < high and list(result.interval95) == [result.name]
+    assert rate_fit.refusal(result) == "" and result.values["sigma_y"] == DATA["specimen"]["sigma_y"]
+
+
+def test_fit_data_held_sigma_y_writes_the_relaxing_law(tmp_path):
+    """fit-data --rate-form relaxing --hold-sigma-y on the FE's Johnson-Cook drop tests: C within 1 %, the held
+    sigma_Y's uncertainty widening C's interval by its response; --params-out states the relaxing form, which
+    collide --params and export lammps run."""
+    path = drops_csv(tmp_path, "johnson-cook C0.05 ref1e-3", ("v_in", "e"))
+    flags = ["fit-data", "--impacts", str(path), *SPECIMEN, "--rate-law", "johnson-cook", "--jc-reference-rate",
+             "1e-3", "--rate-form", "relaxing", "--sigma-y", "1e8", "--hold-sigma-y", "--json"]
+    out_file = tmp_path / "fit.json"
+    code, out, err = run_cli(*flags, "--params-out", str(out_file))
+    assert code == 0, err
+    summary = json.loads(out)
+    assert summary["C"] == pytest.approx(0.05, rel=0.01) and summary["sigma_y"] == 1e8
+    assert summary["rate_law"]["form"] == "relaxing" and summary["correlation"] is None
+    code, wider, _ = run_cli(*flags, "--sigma-y-uncertainty", "0.02")
+    response = summary["uncertainty"]["sigma_y_response"]["C"]
+    se = json.loads(wider)["standard_errors"]["C"]
+    assert se**2 == pytest.approx(summary["standard_errors"]["C"]**2 + (0.02 * response * summary["C"])**2,
+                                  rel=1e-6)
+    assert rate_law_of_file(out_file).form == "relaxing"
+    code, out, _ = run_cli("collide", "--params", str(out_file), "--v-in", "0.02", "--json")
+    assert code == 0 and json.loads(out)[0]["rate_factor"] > 1.0
+    code, out, _ = run_cli("export", "lammps", "--params", str(out_file))
+    assert code == 0 and " relaxing " in out
+
+
+def test_held_sigma_y_undetermined_constant_refused_in_one_line(tmp_path):
+    """Cowper-Symonds D 2 q 1 on the relaxing law with sigma_Y held: D known to 13 % only (the law's e residuals,
+    rms 1.4 %, a trend with speed): refused in one line naming the flow stress the data determine."""
+    path = drops_csv(tmp_path, "cowper-symonds D2 q1", ("v_in", "e"))
+    code, out, err = run_cli("fit-data", "--impacts", str(path), *SPECIMEN, "--rate-law", "cowper-symonds", "--cs-q",
+                             "1", "--rate-form", "relaxing", "--sigma-y", "1e8", "--hold-sigma-y")
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
+    assert "do not determine D with sigma_Y held" in err and "sigma_Y R at the tests' mean strain rate" in err
+
+
+@pytest.mark.parametrize("flags, needle", [
+    (["--hold-sigma-y", "--sigma-y", "1e8"], "--hold-sigma-y"),
+    (["--rate-form", "relaxing"], "--rate-form"),
+    (["--rate-law", "cowper-symonds", "--cs-q", "5", "--hold-sigma-y"], "--sigma-y"),
+    (["--rate-law", "cowper-symonds", "--cs-q", "5", "--sigma-y", "1e8", "--sigma-y-uncertainty", "0.02"],
+     "--sigma-y-uncertainty"),
+    (["--rate-law", "cowper-symonds", "--cs-q", "5", "--sigma-y", "1e8", "--hold-sigma-y", "--sigma-y-uncertainty",
+      "0.7"], "--sigma-y-uncertainty"),
+])
+def test_fit_data_held_sigma_y_flags_refused_in_one_line(tmp_path, flags, needle):
+    path = drops_csv(tmp_path, "cowper-symonds D40 q5")
+    code, out, err = run_cli("fit-data", "--impacts", str(path), *SPECIMEN, *flags)
+    assert code == 2 and out == "" and len(err.strip().splitlines()) == 1 and needle in err, err

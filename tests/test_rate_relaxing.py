@@ -4,7 +4,8 @@ The rate laws' inverses against their closed forms; the vectorised law against t
 (nfdmodel.reference.rate_relaxing_step) over random load/unload/reload/separation sequences on a vz and a
 vz-table base; a stiff element against the rate law at the current strain rate (the fixed law's R at the
 relaxing law's c) and a soft one against the base law; collide's leap-frog against the continuous-time impact
-(Radau, nfdmodel.rate_relaxing.relaxing_reference) and its convergence with dt; energy never created (e < 1,
+(Radau, nfdmodel.rate_relaxing.relaxing_reference) and its convergence with dt; the continuous impacts solved
+together against each alone; energy never created (e < 1,
 the dissipated work from the history's own loading work); the stored dynamic FE drop tests of five rate laws
 (tests/data/rate_fe_drops.json, none of them fitted on) within 2 % in e; one FE impact of mild steel with
 Johnson-Cook at DEM strain rates, where the law fixed at first contact misses by 3.5 %; the parameter file and
@@ -126,6 +127,19 @@ def test_collide_converges_to_the_continuous_impact(rate_law):
     coarse = collide(LAW, params, speeds[-1:], dt=8 * auto.dt)
     fine = collide(LAW, params, speeds[-1:], dt=2 * auto.dt)
     assert abs(fine.e_velocity[0] - exact.restitution[-1]) < abs(coarse.e_velocity[0] - exact.restitution[-1])
+
+
+@pytest.mark.parametrize("rate_law", [CowperSymonds(2.0, 1.0), CowperSymonds(1e12, 1.0), JohnsonCook(0.3, 0.5)])
+def test_the_continuous_impacts_solved_together_equal_each_alone(rate_law):
+    """relaxing_reference integrates every speed as one block of one system, each in its own Hertz time: the same
+    e, P_max, delta_max and contact time as each speed alone (1e-7), a near-rigid element (D 1e12 /s) included."""
+    params = RelaxingRateParams("vz-table", TABLE, rate_law)
+    speeds = np.array([0.0025, 0.01, 0.04, 0.16])
+    together = relaxing_reference(params, speeds)
+    for i, speed in enumerate(speeds):
+        alone = relaxing_reference(params, [speed])
+        for key in ("restitution", "P_max", "delta_max", "contact_time_estimate"):
+            assert getattr(together, key)[i] == pytest.approx(getattr(alone, key)[0], rel=1e-7), key
 
 
 def test_energy_is_never_created():

@@ -48,7 +48,10 @@ the speeds span too little (R nearly constant across the tests) the data determi
 the tests' mean strain rate: fit-data refuses in one line (exit 2) naming that combination, its value
 and standard error (and, when the residuals exceed the law's measured level, that the rate-aware law
 does not describe the data to it). Drop tests only (a force curve carries no strain rate; no dent column); --params-out
-writes the vz-table law with the fitted rate law ("rate_law", nfdmodel/parameter_file.py).
+writes the vz-table law with the fitted rate law ("rate_law", nfdmodel/parameter_file.py). ``--rate-form relaxing``
+fits the relaxing rate-aware law (nfdmodel.rate_relaxing) and writes its form. ``--sigma-y S --hold-sigma-y``
+holds sigma_Y at a quasi-static value (a tensile test's) and fits the rate constant alone; ``--sigma-y-uncertainty
+REL`` (the held value's relative standard uncertainty) widens the constant's interval by its response.
 
 ``--counter-E E2 [--counter-nu NU2] [--counter-R R2 --counter-rho RHO2]``: the tests hit an elastic flat (a floor
 of that material) or sphere, not a rigid flat: sigma_Y is fitted on the pair law of the pair table
@@ -75,9 +78,9 @@ from __future__ import annotations
 import time
 
 from calib.commands.common import (MATERIAL_RANGES, add_counter_arguments, add_hardening_arguments,
-                                   add_rate_law_arguments, counter_from_args,
+                                   add_rate_form_argument, add_rate_law_arguments, counter_from_args,
                                    add_summary_arguments, flag_name, hardening_given, number, print_summary,
-                                   rate_law_given, refuse_flow_curve)
+                                   rate_form_from_args, rate_law_given, refuse_flow_curve)
 
 SPECIMEN_FLAGS = ("E", "nu", "R", "rho")
 # what ends a default fit's refusal outside the vz master table (module doc)
@@ -138,6 +141,13 @@ def add_parser(subparsers) -> None:
                                     "default: a coarse scan)",
                             "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law "
                                     "cowper-symonds: held while D is fitted)"})
+    add_rate_form_argument(parser)
+    parser.add_argument("--hold-sigma-y", action="store_true",
+                        help="with --rate-law and --sigma-y: hold sigma_Y at --sigma-y (a quasi-static measurement, "
+                             "such as a tensile test's) and fit the rate constant alone")
+    parser.add_argument("--sigma-y-uncertainty", default=None, metavar="REL",
+                        help="with --hold-sigma-y: the held sigma_Y's relative standard uncertainty (0 to 0.5, "
+                             "default 0), carried into the rate constant's interval")
     add_hardening_arguments(parser)     # --hardening-modulus: the vz master table's hardening sheet
     parser.add_argument("--fit-hardening", action="store_true",
                         help="fit sigma_Y and the linear hardening's plastic modulus H together on the vz master "
@@ -344,6 +354,12 @@ def run(ns) -> int:
     H_over_E = known_hardening(ns, specimen)
     specimen = with_counter(ns, specimen)
     check_outputs(ns)
+    rate_form_from_args(ns)             # --rate-form without --rate-law: one line
+    if ns.sigma_y_uncertainty is not None and not ns.hold_sigma_y:
+        raise ValueError("--sigma-y-uncertainty is the held sigma_Y's uncertainty: give --hold-sigma-y with it")
+    if ns.hold_sigma_y and rate_law_given(ns) is None:
+        raise ValueError("--hold-sigma-y applies to --rate-law (sigma_Y held, the rate constant fitted); without it "
+                         "give --sigma-y alone")
     if rate_law_given(ns) is not None:
         from calib.commands.fit_data_rate import run_rate_law
 

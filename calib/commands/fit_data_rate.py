@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import time
 
-from calib.commands.common import number, print_summary
+from calib.commands.common import number, print_summary, rate_form_from_args
 
 # the flags the rate fit does not take (each applies to another of fit-data's fits)
 OTHER_FITS = (("--free", "free"), ("--plot", "plot"), ("--force", "force"), ("--table", "table"))
@@ -62,17 +62,24 @@ def run_rate_law(ns, specimen, sigma_y, started: float) -> int:
     if ns.force_approach is not None:
         raise ValueError(f"--rate-law fits drop tests at several speeds: --force-approach {ns.force_approach} is "
                          f"quasi-static, with no strain rate; fit it without --rate-law")
+    form = rate_form_from_args(ns)
+    if ns.hold_sigma_y and sigma_y is None:
+        raise ValueError("--hold-sigma-y needs --sigma-y (the quasi-static yield stress to hold) [Pa]")
     table = VZMasterTable.load(ns.vz_table)
     data = measured_data.Measurements(impacts=measured_data.read_impacts(ns.impacts), forces=None)
-    result = rate_fit.fit(data, specimen, table, kind, fixed, sigma_y, start, noise)
+    held_uncertainty = number("--sigma-y-uncertainty", ns.sigma_y_uncertainty, 0.0, low=0.0, low_inclusive=True,
+                              high=0.5, high_inclusive=True)
+    result = rate_fit.fit(data, specimen, table, kind, fixed, sigma_y, start, noise, form, ns.hold_sigma_y,
+                          held_uncertainty)
     why = rate_fit.refusal(result)
     if why:
         raise ValueError(f"{', '.join(data.files)}: {why}; nothing written")
     name, values = result.name, result.values
     params = result.params
     pair = params.pair
-    record = {**params.rate_law.record(), "c": params.c}
-    summary = {"law": "rate-aware vz-table", "rate_law": record, "sigma_y": values["sigma_y"], name: values[name],
+    record = {key: value for key, value in params.record().items() if key != "base_law"}
+    summary = {"law": f"rate-aware vz-table ({form})", "rate_law": record, "sigma_y": values["sigma_y"],
+               name: values[name], "sigma_y_held": bool(ns.hold_sigma_y),
                "fixed": {rate_fit.FIXED[kind]: fixed},
                "standard_errors": result.se, "standard_errors_statistical": result.se_stat,
                "standard_errors_model_form": result.se_model,
@@ -96,23 +103,34 @@ def run_rate_law(ns, specimen, sigma_y, started: float) -> int:
         flat = VZTableParams(ContactPair.sphere_flat(material, specimen.R), base.x, base.f, base.g, base.window)
         write_parameter_file(ns.params_out, flat, specimen.R, material,
                              {"source": "measurements", "files": data.files,
-                              "model": f"rate-aware vz-table (vz master table), {kind}",
+                              "model": f"rate-aware vz-table ({form}; vz master table), {kind}",
                               "standard_errors": result.se, "interval95": summary["interval95"],
                               "verdict": result.verdict},
                              output.stamp(time.perf_counter() - started), rate_law=record)
         summary["params_out"] = ns.params_out
     unit = rate_fit.UNITS[name]
-    lines = [f"law: rate-aware vz-table (the vz master table's law, sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref), "
-             f"c = {params.c:g}), {kind} with {rate_fit.FIXED[kind]} = {fixed:g} given",
+    said = (f"sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref), c = {params.c:g}" if form == "fixed" else
+            f"relaxing: sigma_Y s, ds/dt = k (E*/sigma_Y) (v_n / (c a_ref) - eps_dot_s(s)), c = {params.c:g}, "
+            f"k = {params.k:g}")
+    lines = [f"law: rate-aware vz-table (the vz master table's law, {said}), {kind} with {rate_fit.FIXED[kind]} = "
+             f"{fixed:g} given",
              f"fitted to {', '.join(f'{v.size} {k}' for k, v in result.residuals.items())} value(s) "
-             f"({', '.join(data.files)}): sigma_Y and {name}"]
+             f"({', '.join(data.files)}): " + (f"{name}, sigma_Y held at {values['sigma_y']:.4g} Pa"
+                                               if ns.hold_sigma_y else f"sigma_Y and {name}")]
     for key, label in (("sigma_y", "sigma_Y"), (name, name)):
+        if key not in result.interval95:           # held
+            continue
         low, high = result.interval95[key]
         lines.append(f"{label} = {values[key]:.4g} {'Pa' if key == 'sigma_y' else unit} +- "
                      f"{100 * result.se[key] / values[key]:.2g} % (statistical {100 * result.se_stat[key] / values[key]:.2g} "
                      f"%, model form {100 * result.se_model[key] / values[key]:.2g} %); 95 % interval {low:.4g}..{high:.4g}")
-    lines += [f"correlation of sigma_Y and {name}: {result.correlation:+.3f}",
-              f"tests: eps_dot {result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s, R "
+    if result.correlation is not None:
+        lines.append(f"correlation of sigma_Y and {name}: {result.correlation:+.3f}")
+    else:
+        response = result.uncertainty["sigma_y_response"][name]
+        lines.append(f"sigma_Y held: a 1 % error in it moves {name} by {response:+.3g} %")
+    lines += [f"tests: eps_dot {result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s, R "
+              + ("" if form == "fixed" else "(s at the turning point) ") +
               f"{result.rate_factors.min():.4g}..{result.rate_factors.max():.4g}",
               "identifiability: " + result.identifiability["summary"],
               f"data window: P/P_Y {result.data_window[0]:.3g}..{result.data_window[1]:.4g} (at sigma_Y R); the law's "

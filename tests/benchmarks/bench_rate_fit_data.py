@@ -2,13 +2,14 @@
 
 Not a timed test: for each series of tests/data/rate_fe_drops.json (``nfdcal impact --rate-law`` on the coarse
 mesh, the reference aluminium, five rate laws; ``--fe`` reruns those FE impacts first, about 5 minutes on one
-core, and prints their e beside the stored ones) fits sigma_Y and the rate constant on the rate-aware vz-table
-law (calib.fit.measured.rate_fit) to e alone and to e, P_max and contact time, and prints: R over the tests at
-the FE's constants, the fitted sigma_Y and constant against the FE's (targets: 3 %, 10 %), their statistical
-relative standard errors, sigma_Y R at the tests' mean strain rate against the FE sphere's, the 95 % intervals
-(over the truth) and whether they cover it, whether fit-data refuses, and the rate-aware law's e at the FE's
-own constants against the FE's (the figures of calib/fit/README.md, Strain-rate dependence). About 1 minute
-without --fe.
+core, and prints their e beside the stored ones) fits, on each form of the rate-aware vz-table law (fixed and
+relaxing; calib.fit.measured.rate_fit), sigma_Y and the rate constant together, and the constant alone with
+sigma_Y held at the FE sphere's (``fit-data --hold-sigma-y``), each to e alone and to e, P_max and contact time,
+and prints: R over the tests at the FE's constants (relaxing: s at the turning point) and the law's e there
+against the FE's, the fitted values against the FE's (targets: 3 %, 10 %), their statistical relative standard
+errors, sigma_Y R at the tests' mean strain rate against the FE sphere's, the 95 % intervals (over the truth)
+and whether they cover it, whether fit-data refuses, and each fit's run time (the figures of
+calib/fit/README.md, Strain-rate dependence). About 8 minutes without --fe.
 Usage: .venv/bin/python tests/benchmarks/bench_rate_fit_data.py [--fe]
 """
 from __future__ import annotations
@@ -18,6 +19,7 @@ import contextlib
 import io
 import json
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -60,32 +62,46 @@ def main_(fe: bool) -> None:
             if fe:
                 again = rerun_fe(law, v, Path(folder) / series.replace(" ", "_"))
                 print(f"{series}: FE e rerun {np.round(again, 4)} against stored {np.round(stored, 4)}")
-            truth = rate_fit.rate_params(specimen, table, kind, sigma_y, law[name], fixed)
-            e_law = rate_fit.predict(truth, v)["e"]
-            print(f"{series}: v_in {v.min():g}..{v.max():g} m/s, R at the FE's constants "
-                  f"{truth.rate_factor(v).min():.3f}..{truth.rate_factor(v).max():.3f}; rate-aware e at them against "
-                  f"the FE's: {np.round(100 * (e_law / stored - 1), 2)} %")
-            for columns in (("v_in", "e"), ("v_in", "e", "P_max", "contact_time")):
-                path = Path(folder) / "drops.csv"
-                path.write_text(",".join(columns) + "\n" + "".join(
-                    ",".join(repr(float(t[c])) for c in columns) + "\n" for t in tests))
-                found = rate_fit.fit(measured_data.Measurements(impacts=measured_data.read_impacts(path), forces=None),
-                                     specimen, table, kind, fixed)
-                flow = found.identifiability["determined_combination"]
-                flow_truth = sigma_y * float(rate_law_of(law).factor(flow["strain_rate"]))
-                rel = found.identifiability["relative_se"]
-                covers = {key: found.interval95[key][0] <= truth_value <= found.interval95[key][1]
-                          for key, truth_value in (("sigma_y", sigma_y), (name, law[name]))}
-                print(f"  {'+'.join(columns[1:]):>20}: sigma_Y {100 * (found.values['sigma_y'] / sigma_y - 1):+6.1f} %, "
-                      f"{name} {100 * (found.values[name] / law[name] - 1):+8.1f} % (statistical relative SE "
-                      f"{100 * rel['sigma_y']:.2g} %, {100 * rel[name]:.2g} %); sigma_Y R at {flow['strain_rate']:.3g} /s "
-                      f"{100 * (flow['value'] / flow_truth - 1):+.2f} %; 95 % intervals "
-                      + ", ".join(f"{key} {low / truth:.3g}..{high / truth:.3g} x "
-                                  f"({'covers' if covers[key] else 'misses'})"
-                                  for key, truth in (("sigma_y", sigma_y), (name, law[name]))
-                                  for low, high in [found.interval95[key]])
-                      + "; " + ("refused" if rate_fit.refusal(found) else "accepted"))
+            for form in rate_fit.LENGTH_FACTOR:
+                truth = rate_fit.rate_params(specimen, table, kind, sigma_y, law[name], fixed, form=form)
+                e_law = rate_fit.predict(truth, v)["e"]
+                _, factors = rate_fit.rates_and_factors(truth, v)
+                print(f"{series}, {form} form: v_in {v.min():g}..{v.max():g} m/s, R at the FE's constants "
+                      f"{factors.min():.3f}..{factors.max():.3f}; e at them against the FE's: "
+                      f"{np.round(100 * (e_law / stored - 1), 2)} %")
+                for held in (False, True):
+                    for columns in (("v_in", "e"), ("v_in", "e", "P_max", "contact_time")):
+                        path = Path(folder) / "drops.csv"
+                        path.write_text(",".join(columns) + "\n" + "".join(
+                            ",".join(repr(float(t[c])) for c in columns) + "\n" for t in tests))
+                        started = time.perf_counter()
+                        try:
+                            found = rate_fit.fit(measured_data.Measurements(
+                                impacts=measured_data.read_impacts(path), forces=None), specimen, table, kind, fixed,
+                                sigma_y if held else None, form=form, hold_sigma_y=held)
+                        except ValueError as refused:        # fit-data's one-line refusal before any figure
+                            print(f"  {'sigma_Y held' if held else 'both':>12} {'+'.join(columns[1:]):>20}: refused: "
+                                  f"{str(refused).split(': ', 1)[1]}")
+                            continue
+                        print_fit(found, "+".join(columns[1:]), held, sigma_y, law, name,
+                                  time.perf_counter() - started)
 
+
+def print_fit(found, data: str, held: bool, sigma_y: float, law: dict, name: str, seconds: float) -> None:
+    """One row: the fit against the FE's constants, its intervals and fit-data's verdict."""
+    flow = found.identifiability["determined_combination"]
+    flow_truth = sigma_y * float(rate_law_of(law).factor(flow["strain_rate"]))
+    rel = found.identifiability["relative_se"]
+    truths = {"sigma_y": sigma_y, name: law[name]}
+    fitted = [key for key in truths if key in found.interval95]
+    print(f"  {'sigma_Y held' if held else 'both':>12} {data:>20}: "
+          + ", ".join(f"{key} {100 * (found.values[key] / truths[key] - 1):+8.1f} % (statistical SE "
+                      f"{100 * rel[key]:.2g} %)" for key in fitted)
+          + f"; sigma_Y R at {flow['strain_rate']:.3g} /s {100 * (flow['value'] / flow_truth - 1):+.2f} %; 95 % "
+          + ", ".join(f"{key} {low / truths[key]:.3g}..{high / truths[key]:.3g} x "
+                      f"({'covers' if low <= truths[key] <= high else 'misses'})"
+                      for key in fitted for low, high in [found.interval95[key]])
+          + "; " + ("refused" if rate_fit.refusal(found) else "accepted") + f"; {seconds:.1f} s")
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])

@@ -14,7 +14,9 @@ dt lies within 0.02 % of it, printed for the held-out DEM impacts). Printed: the
 RELAXATION_STIFFNESS, RELAXING_LENGTH_FACTOR; per impact the FE's e, the relaxing law's error at the shipped
 constants and the error of the law fixed at first contact (nfdmodel.rate_aware, c = 26); the max and rms per
 group; c_e, the c whose relaxing e equals each impact's (k as shipped): its rms ln(c_e / c) and its slope with
-v_in per sphere and rate law (the model form fit-data's rate fit takes for the fixed law); collide's cost per
+v_in per sphere and rate law (the model form fit-data's rate fit takes for the relaxing form: rate_fit.U_LN_C,
+U_C_TREND); each form's rms and max error in e, P_max and contact time on the FIT impacts (their case folders'
+impact.json: rate_fit.RATE_LAW_LEVEL, fit-data's misfit level); collide's cost per
 impact, relaxing (its numpy time loop around the compiled step) against fixed (the compiled loop), and the
 compiled step's cost per contact-step, relaxing against fixed, on 1e5 loading contacts. The FE records are
 bench_rate_materials.py's, kept in ``--out`` (a first run makes them: about 10 minutes on one core; with them,
@@ -130,6 +132,33 @@ def c_spread(every: list) -> None:
           f"rms {np.sqrt(np.mean(slopes**2)):.2f}")
 
 
+def force_and_time_levels(out: Path, table) -> None:
+    """The rms and max error of each form's e, P_max and contact time against the FE on the FIT impacts (their case
+    folders' impact.json under ``out``): the level of noise-free FE drop tests fit-data's rate fit takes
+    (calib.fit.measured.rate_fit.RATE_LAW_LEVEL)."""
+    errors_of = {form: {key: [] for key in ("e", "P_max", "contact_time")} for form in ("fixed", "relaxing")}
+    for name, material in materials.MATERIALS.items():
+        E, nu, sigma_y, R = material
+        base = table_law(Specimen(E, nu, R, materials.RHO), sigma_y, table)
+        for law, rate in materials.RATE_LAWS.items():
+            if rate is None:
+                continue
+            folder = out / f"{name}-{law}".replace(" ", "_").replace("/", "")
+            impacts = json.loads((folder / "impact.json").read_text(encoding="utf-8"))["impacts"]
+            v = np.array([impact["v_in"] for impact in impacts])
+            for form, reference in (("fixed", rate_aware.rate_aware_reference(
+                    rate_aware.RateAwareParams("vz-table", base, CowperSymonds(*rate)), v)),
+                    ("relaxing", relaxing_reference(RelaxingRateParams("vz-table", base, CowperSymonds(*rate)), v))):
+                law_values = {"e": reference.restitution, "P_max": reference.P_max,
+                              "contact_time": reference.contact_time_estimate}
+                for key, values in law_values.items():
+                    errors_of[form][key] += list(values / np.array([impact[key] for impact in impacts]) - 1.0)
+    print("\n| form | e: rms, max % | P_max: rms, max % | contact time: rms, max % |\n|---|---|---|---|")
+    for form, found in errors_of.items():
+        print(f"| {form} | " + " | ".join(f"{100 * np.sqrt(np.mean(np.square(x))):.2f}, {100 * np.abs(x).max():.2f}"
+                                         for x in map(np.array, found.values())) + " |")
+
+
 def fixed_error(base, rate, v, e) -> float:
     params = rate_aware.RateAwareParams("vz-table", base, rate)
     return 100.0 * (float(rate_aware.rate_aware_reference(params, [v]).restitution[0]) / e - 1.0)
@@ -162,6 +191,7 @@ def main_(out: Path) -> None:
               f"{(np.abs(mine) > 2).sum()} | {np.abs(theirs).max():.2f}, {np.sqrt(np.mean(theirs**2)):.2f} | "
               f"{(np.abs(theirs) > 2).sum()} |")
     c_spread(every)
+    force_and_time_levels(out, table)
     dem = [case for case in held if case[1].startswith("DEM")]
     print("\ncollide at the automatic dt against the continuous-time impact (DEM impacts), and the cost per impact:")
     for _, name, base, rate, v, e in dem:

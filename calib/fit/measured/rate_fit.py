@@ -1,5 +1,6 @@
 """sigma_Y and one rate constant fitted together to drop tests at several speeds, on the rate-aware
-vz-table law (``nfdcal fit-data --rate-law``).
+vz-table law (``nfdcal fit-data --rate-law``), or the rate constant alone with sigma_Y held
+(``--hold-sigma-y``).
 
 **The model.** theta = (ln sigma_Y, ln k), k the rate law's free constant: Cowper-Symonds' D [1/s] with
 q given, or Johnson-Cook's C [-] with eps_dot_0 given (nfdmodel.strain_rate). For a trial theta the law
@@ -11,24 +12,39 @@ P_max, contact_time) are relative and each group is weighted by 1 / s_g, s_g its
 (re-estimated), as calib.fit.measured.table_law. Least squares in theta (scipy.optimize.least_squares,
 bounds D 1e-3..1e12 /s, C 1e-4..1), started at the best of a coarse grid.
 
+**Two forms** (``form``, ``--rate-form``). fixed: the above, c = 26. relaxing (nfdmodel.rate_relaxing, c
+5.7, k 1.15): the flow-stress factor s follows the contact's strain rate, the impact is the law's
+continuous-time reference (nfdmodel.rate_relaxing.relaxing_reference, every test one block of one Radau
+system), a test's R is s at its turning point and its strain rate the rate law's inverse at s. Its least
+squares starts at the fixed form's fit (a relaxing grid would cost 81 series of impacts).
+
+**sigma_Y held** (``hold_sigma_y``: a quasi-static yield stress, such as a tensile test's): theta = (ln k)
+alone. A decade of speeds moves the flow stress by a few per cent, which the two constants trade against
+each other; with sigma_Y given, that change is the rate law's alone.
+
 **Uncertainty.** Cov(theta) = V_stat + V_model. V_stat = s^2 (J^T J)^-1, J = d r_w / d theta at the fit
 (central differences), s^2 = r_w.r_w / (n - 2). V_model, systematic (the same for every test, so it does
 not shrink with more tests): (i) the vz master table's model-form error u in ln sigma_Y for this kind of
 data (calib.fit.measured.table_law.model_form_uncertainty), a bias common to every test that moves
-sigma_Y R as a whole, hence ln sigma_Y alone; (ii) the rate-aware law's constant c of eps_dot = v_n0 /
-(c a_ref), known to u_c in ln c per rate law (U_LN_C: the rms of ln(c_e / c) over the dynamic FE impacts
-of tests/benchmarks/bench_rate_materials.py, c_e the c whose rate-aware e equals the FE's: Cowper-Symonds
+sigma_Y R as a whole, hence ln sigma_Y alone (with sigma_Y held, it and the held value's own relative
+uncertainty ``sigma_y_uncertainty`` move ln k by the linear response to ln sigma_Y, as (ii)); (ii) the
+rate-aware law's constant c of eps_dot = v_n0 / (c a_ref), known to u_c in ln c per form and rate law
+(U_LN_C; fixed: the rms of ln(c_e / c) over the dynamic FE impacts of
+tests/benchmarks/bench_rate_materials.py, c_e the c whose rate-aware e equals the FE's: Cowper-Symonds
 0.31 over 39 impacts, six spheres, q 1 and 5, 6-278 v_Y, 0.5-135 /s, c_e 13-42; Johnson-Cook 1.23 over
-3 impacts of mild steel at 44-135 /s, c_e 57-123), propagated by the linear response g = -(J^T J)^-1 J^T
+3 impacts of mild steel at 44-135 /s, c_e 57-123; relaxing: 0.30 over the 71 impacts of
+tests/benchmarks/bench_rate_relaxing.py, both rate laws, c_e 4.3-14.5), propagated by the linear response
+g = -(J^T J)^-1 J^T
 d r_w / d ln c (for Cowper-Symonds it is exactly u_c in ln D: c and D enter as c D); (iii) c's trend
 with the speed, which no constant c follows (the c matched to each impact grows or falls with v_in on every
 sphere of that benchmark): each test's c_i = c (v_i / v_mean)^beta, v_mean the tests' geometric mean speed,
-beta known to u_beta = 0.17 (U_C_TREND: the rms of d ln c_e / d ln v_in over its 14 spheres and rate laws,
--0.20..+0.33), propagated by the linear response to beta as (ii). A trend in the law's error is what two
-constants absorb by moving sigma_Y (Cowper-Symonds D 2 q 1 on the FE's drop tests: sigma_Y 19 % low at
-statistical errors below 1 %), so this term widens sigma_Y's interval where the data leave that room. The
-95 % interval per parameter: theta_j +- k_j sqrt(Cov_jj), k_j Student's t at the Welch-Satterthwaite degrees
-of freedom of V_stat (n - 2) and V_model (infinite) (calib.fit.measured.interval; JCGM 100:2008, G.4).
+beta known to u_beta (U_C_TREND; fixed 0.17, the rms of d ln c_e / d ln v_in over its 14 spheres and rate
+laws, -0.20..+0.33; relaxing 0.28 over 17, -0.44..+0.32), propagated by the linear response to beta as
+(ii). A trend in the law's error is what two constants absorb by moving sigma_Y (Cowper-Symonds D 2 q 1
+on the FE's drop tests: sigma_Y 19 % low at statistical errors below 1 %), so this term widens sigma_Y's
+interval where the data leave that room. The 95 % interval per parameter: theta_j +- k_j sqrt(Cov_jj), k_j
+Student's t at the Welch-Satterthwaite degrees of freedom of V_stat (n - 2, n - 1 with sigma_Y held) and
+V_model (infinite) (calib.fit.measured.interval; JCGM 100:2008, G.4).
 
 **Identifiability** (as calib.fit.measured.identifiability: relative sensitivities, singular values,
 a parameter determined when its statistical relative standard error is at most
@@ -38,7 +54,8 @@ sigma_Y R at the tests' mean strain rate (sigma_Y exp(mean ln R_i), the geometri
 R), its value and relative standard error, and the spread of R across the tests; fit-data then refuses
 (one line, exit 2): the two are not fitted apart. Johnson-Cook with every test below eps_dot_0 (R = 1
 throughout) determines sigma_Y alone, said so. The refusal adds, when the rms residuals exceed twice the
-vz-table law's residual on noise-free FE data (and the stated noise), that the rate-aware law does not
+law's residual on noise-free FE data (per group, the larger of the vz-table law's and the rate-aware form's
+own against the dynamic FE, RATE_LAW_LEVEL; and the stated noise), that the rate-aware law does not
 describe the data to that level: then the combination's figure carries the law's error too.
 """
 from __future__ import annotations
@@ -56,6 +73,7 @@ from calib.fit.measured.table_law import data_kind, model_form_uncertainty, sigm
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import RangeWarning
 from nfdmodel.rate_aware import RATE_LENGTH_FACTOR, RateAwareParams, rate_aware_reference
+from nfdmodel.rate_relaxing import RELAXING_LENGTH_FACTOR, RelaxingRateParams, rate_form_law, relaxing_reference
 from nfdmodel.strain_rate import CowperSymonds, JohnsonCook
 
 # the free constant of each rate law, its bounds and the fixed constant's name (module doc)
@@ -63,10 +81,19 @@ FREE = {"cowper-symonds": "D", "johnson-cook": "C"}
 FIXED = {"cowper-symonds": "q", "johnson-cook": "reference_rate"}
 BOUNDS = {"D": (1e-3, 1e12), "C": (1e-4, 1.0)}
 UNITS = {"D": "1/s", "C": "-", "q": "-", "reference_rate": "1/s"}
-# u of ln c per rate law: the rms of ln(c_e / c) over the dynamic FE impacts of bench_rate_materials.py (module doc)
-U_LN_C = {"cowper-symonds": 0.31, "johnson-cook": 1.23}
-# u of c's trend with the speed, d ln c_e / d ln v_in: the rms over the 14 spheres and rate laws of the same benchmark
-U_C_TREND = 0.17
+# c of each form of the rate-aware law, as shipped
+LENGTH_FACTOR = {"fixed": RATE_LENGTH_FACTOR, "relaxing": RELAXING_LENGTH_FACTOR}
+# u of ln c per form and rate law: the rms of ln(c_e / c) over the dynamic FE impacts (module doc): fixed,
+# bench_rate_materials.py; relaxing, bench_rate_relaxing.py (71 impacts, both rate laws)
+U_LN_C = {"fixed": {"cowper-symonds": 0.31, "johnson-cook": 1.23},
+          "relaxing": {"cowper-symonds": 0.30, "johnson-cook": 0.30}}
+# u of c's trend with the speed, d ln c_e / d ln v_in: the rms over the spheres and rate laws of the same benchmarks
+# (fixed 14, relaxing 17)
+U_C_TREND = {"fixed": 0.17, "relaxing": 0.28}
+# each form's rms error against the dynamic FE on noise-free drop tests (the 36 impacts its constants were fitted on,
+# six spheres, Cowper-Symonds q 5 and 1: tests/benchmarks/bench_rate_relaxing.py): the misfit test's level (module doc)
+RATE_LAW_LEVEL = {"fixed": {"e": 0.0235, "P_max": 0.0211, "contact_time": 0.0156},
+                  "relaxing": {"e": 0.0085, "P_max": 0.0145, "contact_time": 0.0147}}
 STEP = two_parameter.STEP
 GRID = (9, 9)                 # the starting grid over (ln sigma_Y, ln k)
 
@@ -77,16 +104,33 @@ def rate_law(kind: str, constant: float, fixed: float):
 
 
 def rate_params(specimen: Specimen, table: VZMasterTable, kind: str, sigma_y: float, constant: float,
-                fixed: float, c: float = RATE_LENGTH_FACTOR) -> RateAwareParams:
-    """The rate-aware law of the tested pair on the vz master table's vz-table law at sigma_Y [Pa]."""
-    return RateAwareParams("vz-table", table_law(specimen, sigma_y, table), rate_law(kind, constant, fixed), c)
+                fixed: float, c: float | None = None, form: str = "fixed") -> RateAwareParams:
+    """The rate-aware law of ``form`` (fixed or relaxing; c its shipped one by default) of the tested pair on the
+    vz master table's vz-table law at sigma_Y [Pa]."""
+    return rate_form_law(form, "vz-table", table_law(specimen, sigma_y, table), rate_law(kind, constant, fixed), c)[1]
+
+
+def form_of(params: RateAwareParams) -> str:
+    """The form of the rate-aware law ``params`` state: fixed or relaxing."""
+    return "relaxing" if isinstance(params, RelaxingRateParams) else "fixed"
+
+
+def rates_and_factors(params: RateAwareParams, v_in) -> tuple[np.ndarray, np.ndarray]:
+    """(each test's strain rate [1/s], its flow-stress factor R [-]) at ``v_in`` [m/s]: fixed, eps_dot = v_in /
+    (c a_ref) and R(eps_dot); relaxing, s at the turning point and the rate at which the rate law's flow stress is
+    s sigma_Y (the rate law's inverse; at most the first contact's, where s stays 1 below Johnson-Cook's eps_dot_0)."""
+    factors = params.rate_factor(v_in)
+    if form_of(params) == "fixed":
+        return params.strain_rate(v_in), factors
+    return np.minimum(params.rate_law.rate_at(factors), params.strain_rate(v_in)), factors
 
 
 def predict(params: RateAwareParams, v_in) -> dict:
-    """e, P_max [N], contact time [s] of the rate-aware law's impacts at ``v_in`` [m/s]."""
+    """e, P_max [N], contact time [s] of the rate-aware law's impacts at ``v_in`` [m/s] (either form)."""
+    reference = relaxing_reference if form_of(params) == "relaxing" else rate_aware_reference
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
-        ref = rate_aware_reference(params, v_in)
+        ref = reference(params, v_in)
     return {"e": ref.restitution, "P_max": ref.P_max, "contact_time": ref.contact_time_estimate,
             "dent": ref.delta_res}
 
@@ -141,36 +185,59 @@ class RateFit:
 
 def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str, fixed: float,
         sigma_y_start: float | None = None, constant_start: float | None = None,
-        noise: float | None = None) -> RateFit:
-    """sigma_Y and the rate law's free constant fitted together (module doc). A ValueError in one line when
-    the data cannot be fitted (the checks of :func:`check_data`, the best fit on a bound)."""
+        noise: float | None = None, form: str = "fixed", hold_sigma_y: bool = False,
+        sigma_y_uncertainty: float = 0.0) -> RateFit:
+    """sigma_Y and the rate law's free constant fitted together on the rate-aware law of ``form`` (fixed or
+    relaxing), or the constant alone with sigma_Y held at ``sigma_y_start`` (``hold_sigma_y``; its relative
+    standard uncertainty ``sigma_y_uncertainty``; module doc). A ValueError in one line when the data cannot be
+    fitted (the checks of :func:`check_data`, the best fit on a bound)."""
     check_data(data)
     table.check(specimen.nu, float(table.E_over_sigma_y[0]))      # nu inside the table
+    if hold_sigma_y and sigma_y_start is None:
+        raise ValueError("sigma_y out of range: holding sigma_Y needs its value")
     name = FREE[kind]
     sizes = data.group_sizes()
     v = data.impacts.v_in
     lower = np.log([sigma_y_range(specimen, table)[0], BOUNDS[name][0]])
     upper = np.log([sigma_y_range(specimen, table)[1], BOUNDS[name][1]])
+    free = [1] if hold_sigma_y else [0, 1]             # which of (ln sigma_Y, ln k) are fitted
+    held = np.array([math.log(sigma_y_start) if sigma_y_start is not None else 0.0, 0.0])
+
+    def full(theta):                                   # (ln sigma_Y, ln k) of the fitted parameters
+        out = held.copy()
+        out[free] = theta
+        return out
 
     v_mean = float(np.exp(np.mean(np.log(v))))        # the tests' geometric mean speed [m/s]
+    c_law = LENGTH_FACTOR[form]
 
-    def groups(theta, c=RATE_LENGTH_FACTOR, trend=0.0):
-        sigma_y, constant = np.exp(theta)
+    def groups_of(theta_full, c=c_law, trend=0.0, law_form=form):
+        sigma_y, constant = np.exp(theta_full)
         if trend == 0.0:
-            return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c), v))
+            return impact_residuals(data, predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c,
+                                                              law_form), v))
         # c_i = c (v_i / v_mean)^trend: c's trend with the speed (module doc, model form (iii))
-        each = [predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c_i), [v_i])
+        each = [predict(rate_params(specimen, table, kind, sigma_y, constant, fixed, c_i, law_form), [v_i])
                 for v_i, c_i in zip(v, c * (v / v_mean) ** trend)]
         return impact_residuals(data, {key: np.concatenate([one[key] for one in each]) for key in each[0]})
+
+    def groups(theta, **kw):
+        return groups_of(full(theta), **kw)
 
     grid = [np.linspace(lower[0], upper[0], GRID[0]), np.linspace(lower[1], upper[1], GRID[1])]
     if sigma_y_start is not None:
         grid[0] = [float(np.clip(math.log(sigma_y_start), lower[0], upper[0]))]
     if constant_start is not None:
         grid[1] = [float(np.clip(math.log(constant_start), lower[1], upper[1]))]
-    theta, g, scale, weighted = two_parameter.solve(groups, sizes, grid, lower, upper)
-    sigma_y, constant = (float(x) for x in np.exp(theta))
-    if theta[0] <= lower[0] + 1e-6 or theta[0] >= upper[0] - 1e-6:
+    grid = [grid[j] for j in free]
+    if form == "relaxing" and not hold_sigma_y:   # its least squares starts at the fixed form's fit (module doc)
+        start = two_parameter.solve(lambda theta: groups(theta, c=LENGTH_FACTOR["fixed"], law_form="fixed"), sizes,
+                                    grid, lower[free], upper[free])[0]
+        grid = [[float(x)] for x in start]
+    theta, g, scale, weighted = two_parameter.solve(groups, sizes, grid, lower[free], upper[free])
+    sigma_y, constant = (float(x) for x in np.exp(full(theta)))
+    sigma_y = sigma_y_start if hold_sigma_y else sigma_y       # the held value as given
+    if not hold_sigma_y and (theta[0] <= lower[0] + 1e-6 or theta[0] >= upper[0] - 1e-6):
         side = "softer" if theta[0] <= lower[0] + 1e-6 else "harder"
         raise ValueError(f"{', '.join(data.files)}: the rate-aware vz-table model fits these data best at E/sigma_Y "
                          f"= {specimen.E / sigma_y:.4g}, the edge of the vz master table (E/sigma_Y "
@@ -178,55 +245,72 @@ def fit(data: Measurements, specimen: Specimen, table: VZMasterTable, kind: str,
                          f"material; check the data's units and the material flags")
     fitted = two_parameter.covariance(weighted, theta)
     jac, v_stat, inverse, n, degenerate = (fitted[key] for key in ("jac", "v_stat", "inverse", "n", "degenerate"))
-    params = rate_params(specimen, table, kind, sigma_y, constant, fixed)
+    params = rate_params(specimen, table, kind, sigma_y, constant, fixed, form=form)
     u = model_form_uncertainty(table, specimen.nu, specimen.E / sigma_y, data_kind(data))
-    dr_dc = (weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(STEP))
-             - weighted(theta, c=RATE_LENGTH_FACTOR * math.exp(-STEP))) / (2 * STEP)
-    response = -inverse @ jac.T @ dr_dc
-    dr_dtrend = (weighted(theta, trend=STEP) - weighted(theta, trend=-STEP)) / (2 * STEP)
-    response_trend = -inverse @ jac.T @ dr_dtrend
-    v_model = (np.diag([u * u, 0.0]) + np.outer(response, response) * U_LN_C[kind] ** 2
-               + np.outer(response_trend, response_trend) * U_C_TREND**2)
-    names = ("sigma_y", name)
+
+    def response_to(plus, minus):          # -(J^T J)^-1 J^T d r_w / d(a systematic term), central differences
+        return -inverse @ jac.T @ ((plus - minus) / (2 * STEP))
+
+    def shifted(h):                        # the weighted residuals with ln sigma_Y moved by h from the fit
+        theta_full = full(theta)
+        theta_full[0] += h
+        moved = groups_of(theta_full)
+        return np.concatenate([moved[group] / scale[group] for group in sizes])
+
+    response = response_to(weighted(theta, c=c_law * math.exp(STEP)), weighted(theta, c=c_law * math.exp(-STEP)))
+    response_trend = response_to(weighted(theta, trend=STEP), weighted(theta, trend=-STEP))
+    v_model = (np.outer(response, response) * U_LN_C[form][kind] ** 2
+               + np.outer(response_trend, response_trend) * U_C_TREND[form] ** 2)
+    # the table's bias u in the flow stress (model form (i)): sigma_Y's own where it is fitted; where it is held,
+    # it moves the constant as an error in the held sigma_Y would, and so does the held value's own uncertainty
+    response_sigma_y = response_to(shifted(STEP), shifted(-STEP)) if hold_sigma_y else None
+    v_model = v_model + (np.outer(response_sigma_y, response_sigma_y) * (u * u + sigma_y_uncertainty**2)
+                         if hold_sigma_y else np.diag([u * u, 0.0]))
+    names = ("sigma_y", name)[2 - len(free):]
     values = {"sigma_y": sigma_y, name: constant}
     spread = two_parameter.intervals(names, values, v_stat, v_model, n)
     se, se_stat, se_model, interval, correlation = (spread[key] for key in ("se", "se_stat", "se_model",
                                                                             "interval95", "correlation"))
-    rates, factors = params.strain_rate(v), params.rate_factor(v)
+    rates, factors = rates_and_factors(params, v)
     report = identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, degenerate,
-                             specimen, table, kind, fixed, data)
-    on_bound = theta[1] <= lower[1] + 1e-6 or theta[1] >= upper[1] - 1e-6
-    if on_bound and report["rate_determined"]:
-        side = "lower" if theta[1] <= lower[1] + 1e-6 else "upper"
+                             specimen, table, kind, fixed, data, form, full)
+    on_bound = theta[-1] <= lower[1] + 1e-6 or theta[-1] >= upper[1] - 1e-6
+    if on_bound and (report["rate_determined"] or hold_sigma_y):
+        side = "lower" if theta[-1] <= lower[1] + 1e-6 else "upper"
         raise ValueError(f"{', '.join(data.files)}: the rate-aware model fits these data best at {name} = "
                          f"{constant:.4g} {UNITS[name]}, the {side} end of its range {BOUNDS[name][0]:g}.."
                          f"{BOUNDS[name][1]:g}: the data ask for a rate dependence this rate law does not give")
     rms = {group: float(np.sqrt(np.mean(g[group] ** 2))) for group in sizes}
     kind_of_data = data_kind(data)
     level_of = table.meta.get("model_form", {}).get("residual_rms", {})
-    expected = {group: math.hypot(float(level_of.get(f"{kind_of_data}: {group}", 0.0)), noise or 0.0)
-                for group in sizes}
+    expected = {group: math.hypot(max(float(level_of.get(f"{kind_of_data}: {group}", 0.0)),
+                                      RATE_LAW_LEVEL[form].get(group, 0.0)), noise or 0.0) for group in sizes}
     said = ", ".join(f"{group} {100 * rms[group]:.2g} % against {100 * expected[group]:.2g} %" for group in sizes)
     consistent = all(rms[group] <= 2.0 * expected[group] for group in sizes if expected[group] > 0)
-    verdict = (f"rms residuals {'within' if consistent else 'beyond'} 2x the vz-table law's residual on noise-free "
-               f"FE data" + (f" and the stated noise {100 * noise:.2g} %" if noise else "") + f" ({said})")
+    verdict = (f"rms residuals {'within' if consistent else 'beyond'} 2x the {form} rate-aware law's residual on "
+               f"noise-free FE data" + (f" and the stated noise {100 * noise:.2g} %" if noise else "") + f" ({said})")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RangeWarning)
         peaks = predict(params, v)["P_max"] / (params.pair.P_Y * factors**3)   # the base law's P/P_Y
     above = peaks[peaks > 1.0]
     window = (float(above.min()) if above.size else 1.0, float(peaks.max()))
+    uncertainty = {"kind": kind_of_data, "form": form, "sigma_y_held": hold_sigma_y, "u_ln_sigma_y_table": u,
+                   "u_ln_sigma_y_held": sigma_y_uncertainty if hold_sigma_y else None,
+                   "u_ln_c": U_LN_C[form][kind], "u_c_trend": U_C_TREND[form], "dof_statistical": n - len(free),
+                   "c_response": dict(zip(names, map(float, response))),
+                   "c_trend_response": dict(zip(names, map(float, response_trend)))}
+    if response_sigma_y is not None:
+        uncertainty["sigma_y_response"] = {name: float(response_sigma_y[0])}
     return RateFit(kind, name, fixed, values, se, se_stat, se_model, interval, correlation, g, scale, params,
-                   rates, factors, report,
-                   {"kind": kind_of_data, "u_ln_sigma_y_table": u, "u_ln_c": U_LN_C[kind], "u_c_trend": U_C_TREND,
-                    "dof_statistical": n - 2, "c_response": dict(zip(names, map(float, response))),
-                    "c_trend_response": dict(zip(names, map(float, response_trend)))},
-                   verdict, consistent, window)
+                   rates, factors, report, uncertainty, verdict, consistent, window)
 
 
 def identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, degenerate, specimen, table,
-                    kind, fixed, data) -> dict:
-    """Which of sigma_Y and the rate constant the data determine (module doc) and, when the rate constant is
-    not, the combination they do: sigma_Y R at the tests' mean strain rate."""
+                    kind, fixed, data, form: str = "fixed", full=None) -> dict:
+    """Which of sigma_Y and the rate constant the data determine (module doc; the constant alone where sigma_Y
+    is held, ``full`` mapping the fitted parameters onto (ln sigma_Y, ln k)) and, when the rate constant is not,
+    the combination they do: sigma_Y R at the tests' mean strain rate."""
+    full = full or (lambda t: t)
     _, singular, vt = np.linalg.svd(jac, full_matrices=False)
     relative = {key: float(math.sqrt(max(v_stat[j, j], 0.0))) for j, key in enumerate(names)}
     if degenerate:
@@ -239,18 +323,20 @@ def identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, 
     flow = values["sigma_y"] * math.exp(mean_ln_r)
 
     def log_flow(t):                                     # ln(sigma_Y exp(mean ln R_i)) at theta t
-        sigma_y, constant = np.exp(t)
-        law = rate_params(specimen, table, kind, sigma_y, constant, fixed)
+        sigma_y, constant = np.exp(full(t))
+        law = rate_params(specimen, table, kind, sigma_y, constant, fixed, form=form)
         return math.log(sigma_y) + float(np.mean(np.log(law.rate_factor(data.impacts.v_in))))
 
     gradient = np.array([(log_flow(theta + STEP * unit) - log_flow(theta - STEP * unit)) / (2 * STEP)
-                         for unit in np.eye(2)])
+                         for unit in np.eye(len(names))])
     flow_stat = float(math.sqrt(max(gradient @ v_stat @ gradient, 0.0)))
     flow_total = float(math.sqrt(max(gradient @ (v_stat + v_model) @ gradient, 0.0)))
     spread = float(factors.max() / factors.min() - 1.0)
-    name = names[1]
+    name = names[-1]
     said = ", ".join(f"{key} to {100 * rel:.2g} %" for key, rel in relative.items())
     text = f"the data determine {said} (statistical relative standard errors)"
+    if len(names) == 1:
+        text += f", sigma_Y held at {values['sigma_y']:.4g} Pa"
     combination = (f"sigma_Y R at the tests' mean strain rate {mean_rate:.3g} /s = {flow:.4g} Pa +- "
                    f"{100 * flow_total:.2g} % (statistical {100 * flow_stat:.2g} %)")
     loose = [key for key, ok in determined.items() if not ok]
@@ -262,7 +348,7 @@ def identifiability(theta, jac, v_stat, v_model, names, values, rates, factors, 
     return {"parameters": list(names), "singular_values": [float(s) for s in singular],
             "condition_number": float(singular[0] / singular[-1]) if singular[-1] > 0 else math.inf,
             "relative_se": relative, "determined": determined, "weakest_combination": weakest,
-            "rate_determined": bool(determined[name] and determined["sigma_y"]),
+            "rate_determined": all(determined.values()),
             "rate_factor_spread": spread, "mean_strain_rate": mean_rate,
             "determined_combination": {"name": "sigma_Y R at the tests' mean strain rate", "value": flow,
                                        "strain_rate": mean_rate, "relative_se": flow_total,
@@ -287,6 +373,14 @@ def undetermined(result: RateFit) -> str:
                 f"(fit it without --rate-law), or give a lower --jc-reference-rate")
     misfit = "" if result.consistent else (f"; {result.verdict}: the rate-aware law does not describe these data "
                                            f"to that level")
+    if result.uncertainty["sigma_y_held"]:
+        return (f"the data do not determine {result.name} with sigma_Y held at {result.values['sigma_y']:.4g} Pa: R "
+                f"varies by {100 * report['rate_factor_spread']:.2g} % across the tests (R {factors.min():.4g}.."
+                f"{factors.max():.4g}, eps_dot {result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} "
+                f"/s), so "
+                f"it would be known only to {said} (> {100 * DETERMINED_RELATIVE_SE:g} %); the data determine sigma_Y "
+                f"R at the tests' mean strain rate {flow['strain_rate']:.3g} /s = {flow['value']:.4g} Pa +- "
+                f"{100 * flow['relative_se']:.2g} %; drop tests at higher speeds would determine it{misfit}")
     return (f"the data do not determine sigma_Y and {result.name} apart: R varies by "
             f"{100 * report['rate_factor_spread']:.2g} % across the tests (R {factors.min():.4g}..{factors.max():.4g}, "
             f"eps_dot {result.strain_rates.min():.3g}..{result.strain_rates.max():.3g} /s), so they would be known "

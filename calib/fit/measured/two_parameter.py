@@ -15,6 +15,7 @@ values and intervals in SI, exp(theta).
 """
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable
 
@@ -43,7 +44,7 @@ def solve(groups: Callable[..., dict], sizes: dict, grid: list, lower: np.ndarra
             return math.inf
         return float(r @ r) if np.isfinite(r).all() else math.inf
 
-    theta = np.array(min(((a, b) for a in grid[0] for b in grid[1]), key=cost), dtype=float)
+    theta = np.array(min(itertools.product(*grid), key=cost), dtype=float)
     theta = np.clip(theta, lower + 1e-9, upper - 1e-9)
     for _ in range(3 if len(sizes) > 1 else 1):       # re-weight the groups by their scatter
         solution = optimize.least_squares(weighted, theta, bounds=(lower, upper), method="trf", x_scale=1.0,
@@ -70,7 +71,7 @@ def covariance(weighted: Callable, theta: np.ndarray) -> dict:
 
 def intervals(names: tuple, values: dict, v_stat: np.ndarray, v_model: np.ndarray, n: int) -> dict:
     """Standard errors (combined, statistical, model-form; SI), 95 % intervals and the correlation of the two
-    parameters (module doc)."""
+    parameters (None with one; module doc)."""
     total = v_stat + v_model
     se, se_stat, se_model, interval = {}, {}, {}, {}
     for j, key in enumerate(names):
@@ -78,8 +79,8 @@ def intervals(names: tuple, values: dict, v_stat: np.ndarray, v_model: np.ndarra
         se[key] = values[key] * math.sqrt(total[j, j])
         se_stat[key] = values[key] * math.sqrt(v_stat[j, j])
         se_model[key] = values[key] * math.sqrt(v_model[j, j])
-        half = k * math.sqrt(total[j, j])
+        half = min(k * math.sqrt(total[j, j]), 700.0)      # a finite interval even where the data say nothing
         interval[key] = (values[key] * math.exp(-half), values[key] * math.exp(half))
     sd = np.sqrt(np.maximum(np.diag(total), 1e-300))
     return {"se": se, "se_stat": se_stat, "se_model": se_model, "interval95": interval,
-            "correlation": float(total[0, 1] / (sd[0] * sd[1]))}
+            "correlation": float(total[0, 1] / (sd[0] * sd[1])) if len(names) > 1 else None}
