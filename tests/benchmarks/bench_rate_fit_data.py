@@ -9,8 +9,9 @@ and prints: R over the tests at the FE's constants (relaxing: s at the turning p
 against the FE's, the fitted values against the FE's (targets: 3 %, 10 %), their statistical relative standard
 errors, sigma_Y R at the tests' mean strain rate against the FE sphere's, the 95 % intervals (over the truth)
 and whether they cover it, whether fit-data refuses, and each fit's run time (the figures of
-calib/fit/README.md, Strain-rate dependence). About 8 minutes without --fe.
-Usage: .venv/bin/python tests/benchmarks/bench_rate_fit_data.py [--fe]
+calib/fit/README.md, Strain-rate dependence). About 8 minutes without --fe. ``--trials N`` instead: N noisy
+trials per series of the held relaxing fit on e with 1 % scatter (accepted, rms error, interval coverage).
+Usage: .venv/bin/python tests/benchmarks/bench_rate_fit_data.py [--fe | --trials N]
 """
 from __future__ import annotations
 
@@ -103,7 +104,51 @@ def print_fit(found, data: str, held: bool, sigma_y: float, law: dict, name: str
                       for key in fitted for low, high in [found.interval95[key]])
           + "; " + ("refused" if rate_fit.refusal(found) else "accepted") + f"; {seconds:.1f} s")
 
+
+def noisy_trials(trials: int, noise: float, seed: int = 1) -> None:
+    """The held relaxing fit (e alone, ``--noise``) on each FE series' e scattered by ``noise`` (relative, normal):
+    how often fit-data accepts, the rms error of the accepted constants, and how often their 95 % interval covers
+    the FE's constant."""
+    data = json.loads(DATA.read_text(encoding="utf-8"))
+    sigma_y = data["specimen"]["sigma_y"]
+    specimen, table = Specimen(70e9, 0.3, 0.1, 2699.0, False), VZMasterTable.load(None)
+    rng = np.random.default_rng(seed)
+    print(f"\nsigma_Y held, relaxing form, e alone with {100 * noise:g} % scatter, {trials} trials per series:")
+    print("| FE rate law | accepted | rms error of the constant % | 95 % interval covers (of accepted) |\n"
+          "|---|---|---|---|")
+    with tempfile.TemporaryDirectory() as folder:
+        for series, entry in data["series"].items():
+            law, tests = entry["rate_law"], entry["tests"]
+            kind = law["rate_law"]
+            name, fixed = rate_fit.FREE[kind], law[rate_fit.FIXED[kind]]
+            errors, covered = [], 0
+            for _ in range(trials):
+                path = Path(folder) / "drops.csv"
+                path.write_text("v_in,e\n" + "".join(f"{t['v_in']!r},{t['e'] * (1 + noise * rng.standard_normal())!r}\n"
+                                                     for t in tests))
+                try:
+                    found = rate_fit.fit(measured_data.Measurements(impacts=measured_data.read_impacts(path),
+                                                                    forces=None), specimen, table, kind, fixed, sigma_y,
+                                         noise=noise, form="relaxing", hold_sigma_y=True)
+                except ValueError:
+                    continue
+                if rate_fit.refusal(found):
+                    continue
+                errors.append(found.values[name] / law[name] - 1.0)
+                low, high = found.interval95[name]
+                covered += low <= law[name] <= high
+            accepted = len(errors)
+            rms = f"{100 * np.sqrt(np.mean(np.square(errors))):.1f}" if accepted else "-"
+            print(f"| {series} | {accepted} of {trials} | {rms} | {covered} of {accepted} |", flush=True)
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--fe", action="store_true", help="rerun the FE impacts of the stored data first")
-    main_(parser.parse_args().fe)
+    parser.add_argument("--trials", type=int, default=0, help="noisy trials of the held relaxing fit per series "
+                                                              "(1 %% scatter; about 6 s each)")
+    arguments = parser.parse_args()
+    if arguments.trials:
+        noisy_trials(arguments.trials, 0.01)
+    else:
+        main_(arguments.fe)
