@@ -175,7 +175,7 @@ def run_cli(*args):
 
 def test_collide_rate_law_records_the_rate_factor():
     code, out = run_cli("collide", "--params", str(SHIPPED), "--v-in", "0.01", "0.04", "--rate-law",
-                        "cowper-symonds", "--cs-D", "40", "--cs-q", "5", "--json")
+                        "cowper-symonds", "--cs-D", "40", "--cs-q", "5", "--rate-form", "fixed", "--json")
     assert code == 0
     records = json.loads(out)
     params = RateAwareParams("vz-table", TABLE, RATE_LAWS["cowper-symonds"])
@@ -184,7 +184,7 @@ def test_collide_rate_law_records_the_rate_factor():
         assert record["rate_factor"] == pytest.approx(R, rel=1e-14)
         assert record["e_velocity"] == pytest.approx(e, rel=1e-3)
     code, out = run_cli("collide", "--v-in", "0.02", "--rate-law", "johnson-cook", "--jc-C", "0.05",
-                        "--jc-reference-rate", "1e-3")            # the vz law of the master table
+                        "--jc-reference-rate", "1e-3", "--rate-form", "fixed")     # the vz law of the master table
     assert code == 0 and "R = 1.3" in out
 
 

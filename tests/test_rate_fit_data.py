@@ -102,7 +102,8 @@ def test_fe_series_are_refused_naming_what_they_determine(tmp_path, series):
     law = DATA["series"][series]["rate_law"]
     kind, fixed = law["rate_law"], law.get("q", law.get("reference_rate"))
     path = drops_csv(tmp_path, series, ("v_in", "e", "P_max"))
-    code, out, err = run_cli("fit-data", "--impacts", str(path), *SPECIMEN, *RATE_FLAGS[kind], str(fixed))
+    code, out, err = run_cli("fit-data", "--impacts", str(path), *SPECIMEN, *RATE_FLAGS[kind], str(fixed),
+                             "--rate-form", "fixed")
     assert code == 2 and out == "" and len(err.strip().splitlines()) == 1
     assert ("do not determine sigma_Y and" in err or "does not describe these data" in err)
     assert "sigma_Y R at the tests' mean strain rate" in err
@@ -165,7 +166,7 @@ def test_fit_data_rate_params_out_is_run_by_collide(tmp_path):
                                                zip(v.tolist(), made["e"].tolist(), made["P_max"].tolist())))
     out_file = tmp_path / "fit.json"
     code, out, _ = run_cli("fit-data", "--impacts", str(path), *SPECIMEN, "--rate-law", "cowper-symonds", "--cs-q",
-                           "2", "--params-out", str(out_file), "--json")
+                           "2", "--rate-form", "fixed", "--params-out", str(out_file), "--json")
     assert code == 0
     summary = json.loads(out)
     assert summary["sigma_y"] == pytest.approx(1e8, rel=1e-6) and summary["D"] == pytest.approx(5.0, rel=1e-5)
@@ -193,7 +194,7 @@ def test_material_rate_law_file_runs_as_the_flags(tmp_path):
         for key in ("e_velocity", "P_max", "rate_factor", "strain_rate"):
             assert record[key] == other[key], key
     code, out, _ = run_cli("export", "lammps", "--params", str(rated))
-    assert code == 0 and out.rstrip().endswith("rate cowper-symonds 40.0 5.0")
+    assert code == 0 and out.rstrip().endswith("rate cowper-symonds 40.0 5.0 relaxing 1.15")    # the default form
 
 
 @pytest.mark.parametrize("flags, needle", [

@@ -39,7 +39,7 @@ def test_collide_params_runs_the_file_s_rate_law(tmp_path):
     assert rate_law_of_file(path) == StatedRate(CowperSymonds(40.0, 5.0))
     code, out, _ = run_cli("collide", "--params", str(path), "--v-in", "0.01", "0.04", "--json")
     flags = run_cli("collide", "--params", str(SHIPPED), "--v-in", "0.01", "0.04", "--rate-law", "cowper-symonds",
-                    "--cs-D", "40", "--cs-q", "5", "--json")
+                    "--cs-D", "40", "--cs-q", "5", "--rate-form", "fixed", "--json")     # a file without a form: fixed
     assert code == 0 and flags[0] == 0
     records, expected = json.loads(out), json.loads(flags[1])
     for record, other in zip(records, expected):
@@ -48,7 +48,7 @@ def test_collide_params_runs_the_file_s_rate_law(tmp_path):
             assert record[key] == other[key], key
     # the flags replace the file's rate law
     code, out, _ = run_cli("collide", "--params", str(path), "--v-in", "0.01", "--rate-law", "johnson-cook",
-                           "--jc-C", "0.05", "--json")
+                           "--jc-C", "0.05", "--rate-form", "fixed", "--json")
     assert code == 0 and json.loads(out)[0]["rate_factor"] < json.loads(flags[1])[0]["rate_factor"]
 
 

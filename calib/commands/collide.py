@@ -41,9 +41,10 @@ point and loads on the virgin curve beyond; one record per impact with its index
 (= e_velocity), the dent and delta_max [m] from the first impact's first touch.
 
 --rate-law johnson-cook|cowper-symonds with --jc-C [--jc-reference-rate] or --cs-D --cs-q (impact's flags): the
-rate-aware law (nfdmodel.rate_aware) on the --law vz or vz-table law (the master table's vz constants, or a
---params file's law): sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref) fixed at first contact; each
-record adds strain_rate [1/s] and rate_factor R. Normal impacts only (--repeat too; not the oblique flags).
+rate-aware law on the --law vz or vz-table law (the master table's vz constants, or a --params file's law) in
+the form of --rate-form: relaxing (the default, nfdmodel.rate_relaxing: sigma_Y s, s following the contact's
+strain rate) or fixed (nfdmodel.rate_aware: sigma_Y R(eps_dot), eps_dot = v_in / (c a_ref) fixed at first
+contact); each record adds strain_rate [1/s] at first contact and rate_factor (R, or s at the turning point). Normal impacts only (--repeat too; not the oblique flags).
 A --params file that states a rate law ("rate_law", nfdmodel/parameter_file.py) runs the same rate-aware
 law without the flags; --rate-law and its constants replace the file's.
 
@@ -91,8 +92,8 @@ def add_parser(subparsers) -> None:
                         f"master table; {DEFAULTS['Kc']:g} for the reference sphere)")
     parser.add_argument("--params", default=None, metavar="FILE",
                         help="calibrated parameter file (JSON from `nfdcal calibrate`): material, Ca, Kc")
-    add_rate_law_arguments(parser, "the rate-aware law (nfdmodel.rate_aware): the --law vz or vz-table law with "
-                           "sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref) at first contact: johnson-cook "
+    add_rate_law_arguments(parser, "the rate-aware law (--rate-form): the --law vz or vz-table law with "
+                           "sigma_Y scaled by R(eps_dot), eps_dot = v_in / (c a_ref): johnson-cook "
                            "(R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds (R = 1 + (eps_dot / D)^(1/q)); "
                            "default: rate-independent")
     add_rate_form_argument(parser)

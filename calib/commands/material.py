@@ -23,8 +23,9 @@ delta_res/delta_max and unloading exponent m from the same table, VZMasterTable.
 same window; ``nfdcal collide --law vz-unload --params`` runs its parameter file.
 
 ``--rate-law johnson-cook|cowper-symonds`` with its constants (``nfdcal collide``'s flags), with ``--v-max``:
-the vz-table law as above with the strain-rate dependence of sigma_Y stated (nfdmodel.rate_aware: sigma_Y
-R(eps_dot), eps_dot = v_n0 / (c a_ref) at first contact); its parameter file carries the "rate_law" entry
+the vz-table law as above with the strain-rate dependence of sigma_Y stated in the form of --rate-form
+(relaxing, the default: nfdmodel.rate_relaxing; fixed: nfdmodel.rate_aware, sigma_Y R(eps_dot), eps_dot =
+v_n0 / (c a_ref) at first contact); its parameter file carries the "rate_law" entry
 (nfdmodel/parameter_file.py), so ``nfdcal collide --params`` runs the rate-aware law and ``nfdcal export
 lammps`` writes the plugin's ``rate`` keyword. The summary gives eps_dot and R at v_max. Refused in one line
 (exit 2) without ``--v-max`` (the two-constant answer has no law to scale) and with ``--law vz-unload`` (the
@@ -82,7 +83,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--vz-table", default=None, metavar="CSV",
                         help="vz master table CSV for --v-max (default: the shipped one)")
     add_rate_law_arguments(parser, "with --v-max: the vz-table law with the strain-rate dependence of sigma_Y "
-                                   "stated (the rate-aware law, nfdmodel.rate_aware; written to --params-out): "
+                                   "stated (the rate-aware law of --rate-form; written to --params-out): "
                                    "johnson-cook (R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds "
                                    "(R = 1 + (eps_dot / D)^(1/q)); not with --law vz-unload")
     add_rate_form_argument(parser)
