@@ -121,7 +121,8 @@ def run_rate_law(ns, specimen, sigma_y, started: float) -> int:
         if key not in result.interval95:           # held
             continue
         low, high = result.interval95[key]
-        lines.append(f"{label} = {values[key]:.4g} {'Pa' if key == 'sigma_y' else unit} +- "
+        said_unit = "Pa " if key == "sigma_y" else ("" if unit == "-" else f"{unit} ")    # C is dimensionless
+        lines.append(f"{label} = {values[key]:.4g} {said_unit}+- "
                      f"{100 * result.se[key] / values[key]:.2g} % (statistical {100 * result.se_stat[key] / values[key]:.2g} "
                      f"%, model form {100 * result.se_model[key] / values[key]:.2g} %); 95 % interval {low:.4g}..{high:.4g}")
     if result.correlation is not None:
