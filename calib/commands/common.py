@@ -314,7 +314,7 @@ def add_rate_form_argument(parser) -> None:
                              "follows the contact's strain rate and relaxes towards the turning point, "
                              "nfdmodel.rate_relaxing: within 2 %% in e of the dynamic FE; the plugin's rate ... "
                              "relaxing K) or fixed (R fixed at first contact, nfdmodel.rate_aware: off by up to 8 %%, "
-                             "2-8x faster per contact-step)")
+                             "1.7-9x faster per compiled contact-step)")
 
 
 def rate_form_from_args(ns) -> str:
