@@ -35,6 +35,17 @@
 #define NFD_RELAXING_LENGTH_FACTOR 5.7
 #define NFD_RATE_FACTOR_ITERATIONS 200
 #define NFD_RATE_FACTOR_TOLERANCE 1e-14
+/* The rate laws' constants a command or a scene accepts (calib.commands.common, calib.scenes.schema):
+ * Johnson-Cook's C in [0, JC_C_MAX] and eps_dot_0 [1/s] in [JC_REFERENCE_RATE_MIN, JC_REFERENCE_RATE_MAX];
+ * Cowper-Symonds' D [1/s] in [CS_D_MIN, CS_D_MAX] and q in [CS_Q_MIN, CS_Q_MAX] (every measured metal
+ * inside; D 1e12 is practically rate-independent). */
+#define NFD_JC_C_MAX 1.0
+#define NFD_JC_REFERENCE_RATE_MIN 1e-6
+#define NFD_JC_REFERENCE_RATE_MAX 1e6
+#define NFD_CS_D_MIN 1e-3
+#define NFD_CS_D_MAX 1e12
+#define NFD_CS_Q_MIN 0.5
+#define NFD_CS_Q_MAX 20.0
 /* The energy balance of an impact (nfdmodel.collision_reference, nfd_rate.h's a_ref): the Hertz
  * approach doubled at most REFERENCE_BRACKET_STEPS times until W >= m* v^2 / 2, then at most
  * REFERENCE_NEWTON_STEPS Newton steps from above, until a step is below REFERENCE_TOLERANCE delta. */

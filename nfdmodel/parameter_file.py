@@ -81,6 +81,15 @@ def law_of(params) -> str:
     return "vz-table" if isinstance(params, VZTableParams) else "vz"
 
 
+def rate_law_entry(rate_params) -> dict:
+    """The "rate_law" entry of a parameter file whose law is ``rate_params``' base law: the record of the
+    rate-aware RateAwareParams or RelaxingRateParams (nfdmodel.rate_relaxing.rate_form_law) without its base
+    law, which the file's own law states."""
+    entry = rate_params.record()
+    entry.pop("base_law")
+    return entry
+
+
 def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float, material: Material,
                      counter: dict | None = None, rate_law: dict | None = None) -> dict:
     """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat, or on

@@ -17,3 +17,11 @@ KC = 2.69e-4           # paper's curvature-factor rate [1/N]
 P_Y = 36.45            # paper's first-yield force [N] (its A_Y(0.3) rounded to 1.61)
 ALPHA_MAX_AFG = 1.56e-5   # paper's approach at 1500 N [m]
 E_AFG = 0.737          # paper's restitution of path AFG [-]
+
+
+_SPHERE = (E, NU, R)
+
+
+def is_reference_sphere(E: float, nu: float, radius: float, sigma_y: float | None = None) -> bool:
+    """The paper's sphere: E [Pa], nu [-], R [m] and, if given, sigma_Y [Pa] of the reference case."""
+    return (E, nu, radius) == _SPHERE and (sigma_y is None or sigma_y == SIGMA_Y)

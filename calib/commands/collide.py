@@ -60,6 +60,7 @@ from calib.commands.common import (MATERIAL_DEFAULTS, RATE_AWARE_ACCURACY, RATE_
                                    add_summary_arguments, file_hardening_line, integer, material_flags, number,
                                    print_summary, rate_form_from_args, rate_law_from_args)
 from nfdmodel import LAWS, PYTHON_LAWS, reference_case
+from nfdmodel.reference_case import is_reference_sphere
 from nfdmodel.collision import MAX_REPEAT
 
 LAW_NAMES = tuple(LAWS) + tuple(PYTHON_LAWS)   # every registered law, in the registry's order
@@ -130,34 +131,15 @@ def add_parser(subparsers) -> None:
     parser.set_defaults(run=run, shipped=("table",), writes_into=REPORT_FILES)
 
 
-def same_solid(material, radius: float) -> bool:
-    """True for the reference sphere's E, nu, sigma_Y and R (the density does not enter Ca, Kc)."""
-    return (material.E, material.nu, material.sigma_y, radius) == (
-        reference_case.E, reference_case.NU, reference_case.SIGMA_Y, reference_case.R)
-
-
 def material_constants(pair, material, radius: float):
-    """The vz law of a sphere given by its material flags alone: the paper's calibration for the
-    reference sphere; the same dimensionless constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y for
-    the reference solid at another radius (they depend on nu and E / sigma_Y only); for another
-    solid the master table's at (nu, E / sigma_Y) (nfdcal material), with its window. Outside the
-    table: a ValueError naming the table's range and what to give instead."""
-    from nfdmodel import VZParams
-
-    reference = VZParams.reference()
-    if same_solid(material, radius):
-        return VZParams(pair, reference_case.CA, reference_case.KC, reference.window)
-    if (material.E, material.nu, material.sigma_y) == (reference_case.E, reference_case.NU, reference_case.SIGMA_Y):
-        return VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat, reference.window)
-    from calib.fit.master_table import MasterTable
-    from nfdmodel import CalibrationWindow
+    """The vz law of a sphere given by its material flags alone (calib.fit.master_table.vz_constants); outside
+    the master table a ValueError naming the table's range and what to give instead."""
+    from calib.fit.master_table import vz_constants
 
     try:
-        values = MasterTable.load().parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
+        return vz_constants(material, radius)[0]
     except ValueError as exc:
         raise ValueError(f"{exc}; or give --Ca and --Kc, or --params FILE") from None
-    return VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"],
-                                       CalibrationWindow.from_record(values["window"]))
 
 
 def build_params(ns):
@@ -195,7 +177,7 @@ def build_params(ns):
         pair = ContactPair.sphere_flat(material, values["R"])
         if ns.Ca is None and ns.Kc is None:
             params = material_constants(pair, material, values["R"])
-        elif (ns.Ca is None or ns.Kc is None) and not same_solid(material, values["R"]):
+        elif (ns.Ca is None or ns.Kc is None) and not is_reference_sphere(material.E, material.nu, values["R"], material.sigma_y):
             raise ValueError("--Ca, --Kc out of range: give both for this sphere, or neither (then the master "
                              "table's constants for its material); the defaults are the reference sphere's")
         else:                           # constants typed by hand: no window stated

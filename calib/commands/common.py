@@ -287,10 +287,14 @@ RATE_LAW_HELP = {
     "rate_law": "strain-rate dependence of the sphere's flow stress in the dynamic FE, sigma_y R(eps_dot): "
                 "johnson-cook (R = 1 + C ln(max(eps_dot / eps_dot_0, 1))) or cowper-symonds (R = 1 + (eps_dot / D)^(1/q)); "
                 "default: rate-independent",
-    "jc_C": "Johnson-Cook's rate constant C [-] (0 <= C <= 1; required with --rate-law johnson-cook)",
-    "jc_reference_rate": "Johnson-Cook's reference strain rate eps_dot_0 [1/s] (1e-6 to 1e6; default 1)",
-    "cs_D": "Cowper-Symonds' rate constant D [1/s] (1e-3 to 1e12; required with --rate-law cowper-symonds)",
-    "cs_q": "Cowper-Symonds' exponent q [-] (0.5 to 20; required with --rate-law cowper-symonds)",
+    "jc_C": f"Johnson-Cook's rate constant C [-] (0 <= C <= {limits.JC_C_MAX:g}; required with --rate-law "
+            f"johnson-cook)",
+    "jc_reference_rate": f"Johnson-Cook's reference strain rate eps_dot_0 [1/s] ({limits.JC_REFERENCE_RATE_MIN:g} to "
+                         f"{limits.JC_REFERENCE_RATE_MAX:g}; default 1)",
+    "cs_D": f"Cowper-Symonds' rate constant D [1/s] ({limits.CS_D_MIN:g} to {limits.CS_D_MAX:g}; required with "
+            f"--rate-law cowper-symonds)",
+    "cs_q": f"Cowper-Symonds' exponent q [-] ({limits.CS_Q_MIN:g} to {limits.CS_Q_MAX:g}; required with --rate-law "
+            f"cowper-symonds)",
 }
 RATE_LAW_FLAGS = {"johnson-cook": ("jc_C", "jc_reference_rate"), "cowper-symonds": ("cs_D", "cs_q")}
 
@@ -350,16 +354,19 @@ def rate_law_from_args(ns):
 
     if name == "johnson-cook":
         if ns.jc_C is None:
-            raise ValueError("--rate-law johnson-cook needs --jc-C (its rate constant C, 0 <= C <= 1)")
-        return JohnsonCookRate(number("--jc-C", ns.jc_C, low=0.0, low_inclusive=True, high=1.0, high_inclusive=True),
-                               number("--jc-reference-rate", ns.jc_reference_rate, 1.0, low=1e-6, low_inclusive=True,
-                                      high=1e6, high_inclusive=True, unit="1/s"))
+            raise ValueError(f"--rate-law johnson-cook needs --jc-C (its rate constant C, 0 <= C <= {limits.JC_C_MAX:g})")
+        return JohnsonCookRate(number("--jc-C", ns.jc_C, low=0.0, low_inclusive=True, high=limits.JC_C_MAX,
+                                      high_inclusive=True),
+                               number("--jc-reference-rate", ns.jc_reference_rate, 1.0, low=limits.JC_REFERENCE_RATE_MIN,
+                                      low_inclusive=True, high=limits.JC_REFERENCE_RATE_MAX, high_inclusive=True,
+                                      unit="1/s"))
     for key in ("cs_D", "cs_q"):
         if getattr(ns, key) is None:
             raise ValueError(f"--rate-law cowper-symonds needs --cs-D and --cs-q (e.g. mild steel: 40.4 /s, 5)")
-    return CowperSymondsRate(number("--cs-D", ns.cs_D, low=1e-3, low_inclusive=True, high=1e12, high_inclusive=True,
-                                    unit="1/s"),
-                             number("--cs-q", ns.cs_q, low=0.5, low_inclusive=True, high=20.0, high_inclusive=True))
+    return CowperSymondsRate(number("--cs-D", ns.cs_D, low=limits.CS_D_MIN, low_inclusive=True, high=limits.CS_D_MAX,
+                                    high_inclusive=True, unit="1/s"),
+                             number("--cs-q", ns.cs_q, low=limits.CS_Q_MIN, low_inclusive=True, high=limits.CS_Q_MAX,
+                                    high_inclusive=True))
 
 
 def rate_law_folder_name(law) -> str:

@@ -326,15 +326,14 @@ def rate_summary(summary: dict, law, rate, v_max: float, form: str = "fixed") ->
     """Add the rate law (its record with its form's constants, the parameter file's "rate_law" entry), eps_dot
     [1/s] at first contact and R at v_max (fixed: at first contact, nfdmodel.rate_aware; relaxing: s at the
     turning point, nfdmodel.rate_relaxing) to ``summary``; the lines that say them."""
+    from nfdmodel.parameter_file import rate_law_entry
     from nfdmodel.rate_relaxing import rate_form_law
     from nfdmodel.strain_rate import rate_law_of
 
     _, params = rate_form_law(form, "vz-table", law, rate_law_of(rate.record()))
     strain_rate, factor = float(params.strain_rate(v_max)[0]), float(params.rate_factor(v_max)[0])
     accuracy = RATE_AWARE_ACCURACY if form == "fixed" else RATE_RELAXING_ACCURACY
-    entry = params.record()
-    entry.pop("base_law")
-    summary.update(rate_law=entry, strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor,
+    summary.update(rate_law=rate_law_entry(params), strain_rate_of_v_max=strain_rate, rate_factor_of_v_max=factor,
                    rate_law_accuracy=accuracy)
     summary["units"]["strain_rate_of_v_max"] = "1/s"
     record = params.rate_law.record()

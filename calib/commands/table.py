@@ -155,6 +155,11 @@ def run_parameter_table(ns) -> int:
     scene = with_hardening(with_v_max(scenes.load_scene(ns.scene), ns.v_max), ns)
     if scene.calibration_ship is None:
         raise ValueError(f"scene {scene.source}: a table needs a [calibration] section")
+    rated = next((k for k, m in enumerate(scene.materials) if m.rate_law is not None), None)
+    if rated is not None:
+        raise ValueError(f"scene {scene.source}: material[{rated}].rate_law: a table calibrates by the quasi-static "
+                         f"press, which a rate law does not change, and its rows are rate-independent: drop the rate "
+                         f"law (nfdcal run states it in the scene's parameter file)")
     if scene.hardening and (ns.master_out or ns.check_master):
         raise ValueError(f"{'--master-out' if ns.master_out else '--check-master'}: the master table is of perfectly "
                          f"plastic spheres (no hardening dimension); this table's spheres harden: drop the flag")

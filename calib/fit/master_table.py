@@ -29,7 +29,8 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 
-from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, limits
+from nfdmodel import CalibrationWindow, ContactPair, Material, VZParams, limits, reference_case
+from nfdmodel.reference_case import is_reference_sphere
 
 DATA_DIR = Path(__file__).resolve().parent.parent / "data"   # calib/data: shipped with the package
 DEFAULT_TABLE = DATA_DIR / "master_table.csv"
@@ -189,6 +190,25 @@ class MasterTable:
                 "accuracy": self.meta.get("accuracy", "not stated"),
                 "accuracy_details": (f"{self.path.with_suffix('.json')}: master_table.accuracy_details"
                                      if self.path and "accuracy_details" in self.meta else "none")}
+
+
+def vz_constants(material: Material, radius: float) -> tuple[VZParams, str]:
+    """(the vz law of a sphere given by its material alone, where its constants come from): the paper's
+    calibration for the reference sphere; its dimensionless constants Ca_hat = Ca P_Y / a_Y, Kc_hat = Kc P_Y
+    for the reference solid at another radius (they depend on nu and E / sigma_Y only); for another solid the
+    master table's at (nu, E / sigma_Y), with its window. Outside the table: the table's ValueError."""
+    pair = ContactPair.sphere_flat(material, radius)
+    reference = VZParams.reference()
+    if is_reference_sphere(material.E, material.nu, radius, material.sigma_y):
+        return VZParams(pair, reference_case.CA, reference_case.KC, reference.window), "the paper's calibration"
+    if is_reference_sphere(material.E, material.nu, reference_case.R, material.sigma_y):
+        return (VZParams.from_dimensionless(pair, reference.Ca_hat, reference.Kc_hat, reference.window),
+                "the paper's calibration (its dimensionless constants)")
+    table = MasterTable.load()
+    values = table.parameters(material.E, material.nu, material.sigma_y, radius, material.rho)
+    return (VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"],
+                                        CalibrationWindow.from_record(values["window"])),
+            f"master table ({table.meta.get('accuracy', 'accuracy not stated')})")
 
 
 # The accuracy the interpolation must reach against direct FE calibrations (Ca_hat, Kc_hat:

@@ -35,6 +35,7 @@ from meshes.hemisphere import HemisphereMeshSpec, estimate_dofs
 
 BASE_GROWTH = HemisphereMeshSpec.growth     # the size growth outside the refined zone, before a refinement
 from nfdmodel import ContactPair, Material, limits, reference_case
+from nfdmodel.reference_case import is_reference_sphere
 
 # E / sigma_Y a calibration accepts. Below 20 the yield contact itself is wide (a_Y/R =
 # (pi/2) A_Y sigma_Y / E* > 0.12, the first-yield formulas) and a small-strain, small-contact model is
@@ -385,12 +386,6 @@ def check_machine(mesh: HemisphereMeshSpec) -> None:
                      f"about {dofs:.3g} dofs and needs about {need / 1e9:.3g} GB; one FE run may use "
                      f"{limit / 1e9:.3g} GB ({MEMORY_SHARE:.0%} of the machine's memory): need contact_size >= "
                      f"{high:.3g} m")
-
-
-def is_reference_sphere(E: float, nu: float, radius: float, sigma_y: float | None = None) -> bool:
-    """The paper's sphere (E, nu, R and, if given, sigma_Y of the reference case)."""
-    return ((E, nu, radius) == (reference_case.E, reference_case.NU, reference_case.R)
-            and (sigma_y is None or sigma_y == reference_case.SIGMA_Y))
 
 
 def mesh_for(radius: float, a_max: float, *, reference: bool = False, level: str | None = None,

@@ -41,8 +41,9 @@ def _derived_columns(rows: list[dict], result: CalibrationResult) -> list[dict]:
     return out
 
 
-def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -> Path:
-    """The parameter file of a calibration: the shipped fit, both fits' figures, the FE errors."""
+def write_calibration_parameters(path, result: CalibrationResult, stamp: dict, rate_law: dict | None = None) -> Path:
+    """The parameter file of a calibration: the shipped fit, both fits' figures, the FE errors; ``rate_law``:
+    the "rate_law" entry of a rate-dependent sphere (nfdmodel.parameter_file.rate_law_entry), None without."""
     s = summary(result)
     fit = {"shipped": result.shipped,
            "why": {"radius": "radius: the paper's definition (least squares of a_p and C_R - 1 against "
@@ -62,7 +63,8 @@ def write_calibration_parameters(path, result: CalibrationResult, stamp: dict) -
     counter = result.spec.counter.describe() if result.spec.counter is not None else None
     return write_parameter_file(path, result.shipped_params, result.spec.radius, result.spec.material, fit,
                                 stamp, counter, **errors, discretisation=s["discretisation"], fe_errors=fe_errors,
-                                mesh=result.mesh_info, **({"hardening": s["hardening"]} if "hardening" in s else {}))
+                                mesh=result.mesh_info, **({"hardening": s["hardening"]} if "hardening" in s else {}),
+                                **({} if rate_law is None else {"rate_law": rate_law}))
 
 
 def write_vtu(path: Path, solver, state, pressure_r=None, pressure=None) -> None:
@@ -166,19 +168,20 @@ def _plots(result: CalibrationResult, out: Path, loading: list[dict]) -> None:
 
 
 def write(result: CalibrationResult, out: str | Path = DEFAULT_OUT, plots: bool = True,
-          vtu: bool = True) -> Path:
+          vtu: bool = True, rate_law: dict | None = None) -> Path:
     """Write the calibration outputs to ``out`` (see the module docstring), all or nothing: a
     failure part way (a plot, a full disk) leaves the folder as it was. The files of a previous
-    calibration in ``out`` that this one does not write are removed; other files stay."""
+    calibration in ``out`` that this one does not write are removed; other files stay. ``rate_law``:
+    the parameter file's "rate_law" entry (write_calibration_parameters)."""
     with output.all_or_nothing(out, name="calibration") as staging:
-        _write(result, staging, plots, vtu)
+        _write(result, staging, plots, vtu, rate_law)
     return Path(out)
 
 
-def _write(result: CalibrationResult, out: Path, plots: bool, vtu: bool) -> None:
+def _write(result: CalibrationResult, out: Path, plots: bool, vtu: bool, rate_law: dict | None = None) -> None:
     stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
     comment = output.stamp_comment(stamp)
-    write_calibration_parameters(out / "parameters.json", result, stamp)
+    write_calibration_parameters(out / "parameters.json", result, stamp, rate_law)
     output.write_json(out / "calibration.json", {**summary(result), "stamp": stamp})
     loading = _derived_columns(result.load_paths.loading_rows, result)
     output.write_csv(out / "loading.csv", loading, comment=comment)

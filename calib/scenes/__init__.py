@@ -1,6 +1,6 @@
 """Scenes: a TOML file declares materials, a mesh level, what to run and which outputs.
 
-``schema`` validates a scene file into frozen dataclasses, ``plan`` turns it into FE specs and a
+``schema`` validates a scene file into frozen dataclasses (``errors``: a validation error as one line), ``plan`` turns it into FE specs and a
 cost estimate (``--dry-run``), ``run`` runs its stages, ``table`` calibrates every material of a
 sweep resumably; the built-in scenes are in ``builtin/``.
 """

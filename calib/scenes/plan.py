@@ -14,6 +14,7 @@ from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Sc
 from meshes.hemisphere import estimate_dofs, mesh_path
 from meshes.sphere import SphereMeshSpec
 from meshes.sphere import mesh_path as sphere_mesh_path
+from nfdmodel.reference_case import is_reference_sphere
 
 
 # ----------------------------------------------------------------------------- FE specs
@@ -53,7 +54,7 @@ def hertz_mesh_spec(scene: Scene, material: SceneMaterial):
     counter-body, at the pair's Hertz radius)."""
     pair = stage_pair(material, scene.hertz.counter)
     _, top = scene.hertz.loads(pair)
-    reference = scene.hertz.counter is None and recipe.is_reference_sphere(material.E, material.nu, material.R)
+    reference = scene.hertz.counter is None and is_reference_sphere(material.E, material.nu, material.R)
     return recipe.hertz_mesh(pair, top, reference=reference,
                              level=scene.mesh.level, contact_size=scene.mesh.contact_size,
                              contact_size_over_a_max=scene.mesh.contact_size_over_a_max)
@@ -213,11 +214,21 @@ def plan(scene: Scene) -> list[PlannedStage]:
                     raise
                 raise SceneError(f"scene {scene.source}: material {material.name}: {exc}") from None
         if scene.collision is not None:
+            rated = (f"; vz, vz-table rate-aware ({material.rate_form_used()}): {rate_words(material.rate_record())}"
+                     if material.rate_law is not None else "")
             out.append(PlannedStage("collision", material.name, "-", True, 0, True, 0, False, 1.0,
-                                    f"laws {', '.join(scene.collision.laws)}"))
+                                    f"laws {', '.join(scene.collision.laws)}{rated}"))
         if scene.impact is not None:
-            out.append(with_hardening(impact_stage(scene, material), scene, material))
+            stage = with_hardening(impact_stage(scene, material), scene, material)
+            if material.rate_law is not None:
+                stage = dataclasses.replace(stage, detail=f"{stage.detail}; {rate_words(material.rate_record())}")
+            out.append(stage)
     return out
+
+
+def rate_words(record: dict) -> str:
+    """A rate law's record in a few words: its name and constants (a plan's and a summary's)."""
+    return f"{record['rate_law']} " + ", ".join(f"{k} {v:g}" for k, v in record.items() if k != "rate_law")
 
 
 def with_hardening(stage: PlannedStage, scene: Scene, material: SceneMaterial) -> PlannedStage:
@@ -235,7 +246,8 @@ def impact_setup(scene, material):
     mesh = scene.mesh
     return ImpactSetup(material=material.material(), radius=material.R, contact_size=mesh.contact_size,
                        level=mesh.level if mesh.level not in (None, "default") else None,
-                       steps_per_contact=scene.impact.steps_per_contact, hardening=scene.flow_curve(material))
+                       steps_per_contact=scene.impact.steps_per_contact, hardening=scene.flow_curve(material),
+                       rate_law=material.rate())
 
 
 def pair_impact_setup(scene, material):
@@ -324,6 +336,9 @@ def plan_summary(scene: Scene, stages: list[PlannedStage], folder, finished: int
         summary["finished_materials"] = finished
     if scene.hardening:                 # absent for perfectly plastic spheres: their plans unchanged
         summary["hardening"] = {name: curve.record() for name, curve in scene.hardening}
+    rated = {m.name: {**m.rate_record(), "form": m.rate_form_used()} for m in scene.materials if m.rate_law is not None}
+    if rated:                           # absent for rate-independent spheres: their plans unchanged
+        summary["rate_laws"] = rated
     return summary
 
 

@@ -13,14 +13,17 @@ from calib.fe.elastic import ElasticMaterial
 from calib.fe.loadpath import run_load_paths
 from calib.fe.von_mises import von_mises_material
 from calib.fit import calibration, impact_window
-from calib.fit.master_table import MasterTable
+from calib.fit.master_table import vz_constants
 from calib.report import calibration as calibration_report
 from calib.scenes.plan import (calibration_spec, hertz_mesh_spec, impact_setup, pair_impact_setup, plastic_needed,
-                               spec_options)
+                               rate_words, spec_options)
 from calib.scenes.schema import Scene, stage_pair
 from calib.studies.hertz import plot_hertz, run_hertz
 from meshes.hemisphere import hemisphere_mesh
-from nfdmodel import CalibrationWindow, VZParams, collide
+from nfdmodel import collide
+from nfdmodel.parameter_file import law_of, rate_law_entry
+from nfdmodel.rate_relaxing import rate_form_law
+from nfdmodel.strain_rate import rate_law_of
 
 
 # ----------------------------------------------------------------------------- run
@@ -92,11 +95,13 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
                                                      ship=scene.calibration_ship, unload=unload,
                                                      hardening=scene.flow_curve(material),
                                                      **spec_options(scene)).result
+    rate = rate_aware_law(material, law_of(result.shipped_params), result.shipped_params)
+    rate_entry = None if rate is None else rate_law_entry(rate[1])     # so `collide --params` runs the same law
     if unload and (scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu):
-        calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu)
+        calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu, rate_law=rate_entry)
     else:  # the parameter file, the summary and (loading only) the loading history
         stamp = output.stamp(result.wall_time_s, mesh=result.mesh_info, timings=result.timings)
-        calibration_report.write_calibration_parameters(out / "parameters.json", result, stamp)
+        calibration_report.write_calibration_parameters(out / "parameters.json", result, stamp, rate_entry)
         output.write_json(out / "calibration.json", {**calibration.summary(result), "stamp": stamp})
         if scene.outputs.histories:
             output.write_csv(out / "loading.csv", result.load_paths.loading_rows,
@@ -107,7 +112,17 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
     return {**({} if counter is None else {"counter_body": counter.counter_body(material).describe()}),
             **{k: s[k] for k in ("Ca", "Kc", "Ca_hat", "Kc_hat", "P_Y", "P_Y_fe", "wall_time_s", "mesh", "window",
                                  "table")},
-            "loading_only": not unload, "shipped_fit": s["shipped_fit"], "v_max": v_max}, laws
+            "loading_only": not unload, "shipped_fit": s["shipped_fit"], "v_max": v_max,
+            **({} if rate_entry is None else {"rate_law": rate_entry})}, laws
+
+
+def rate_aware_law(material, law: str, params):
+    """(ContactLaw, parameters) of the rate-aware law (nfdmodel.rate_relaxing.rate_form_law, the material's
+    rate_form) on the base ``law`` with ``params``, None for a rate-independent sphere."""
+    record = material.rate_record()
+    if record is None:
+        return None
+    return rate_form_law(material.rate_form_used(), law, params, rate_law_of(record))
 
 
 def _run_collision(scene, material, out, calibrated, progress) -> dict:
@@ -116,36 +131,39 @@ def _run_collision(scene, material, out, calibrated, progress) -> dict:
     pair = material.pair()
     source = "calibration"
     params = None if calibrated is None else calibrated["vz"]
-    if params is None and "vz" in scene.collision.laws:
-        table = MasterTable.load()
-        values = table.parameters(material.E, material.nu, material.sigma_y, material.R, material.rho)
-
-        params = VZParams.from_dimensionless(pair, values["Ca_hat"], values["Kc_hat"],
-                                             CalibrationWindow.from_record(values["window"]))
-        source = f"master table ({table.meta.get('accuracy', 'accuracy not stated')})"
+    if params is None and "vz" in scene.collision.laws:     # the constants `nfdcal collide` takes for it
+        params, source = vz_constants(material.material(), material.R)
     velocities = scene.collision.velocities(pair)
     progress(f"collision: {material.name}, {len(velocities)} velocities, laws {', '.join(scene.collision.laws)}")
     rows = []
     t0 = time.perf_counter()
     for law in scene.collision.laws:
+        if law == "vz-table" and calibrated["vz-table"] is None:
+            raise ValueError(f"collision.laws: 'vz-table': {material.name}'s FE paths determine no "
+                             f"table (calibrate with ship = 'table' to see why)")
+        law_params = calibrated["vz-table"] if law == "vz-table" else (params if params is not None else pair)
+        # vz and vz-table of a rate-dependent sphere: the rate-aware law on them (schema: no other law takes one)
+        rated = None if law == "hertz" else rate_aware_law(material, law, law_params)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            if law == "vz-table":
-                if calibrated["vz-table"] is None:
-                    raise ValueError(f"collision.laws: 'vz-table': {material.name}'s FE paths determine no "
-                                     f"table (calibrate with ship = 'table' to see why)")
-                result = collide(law, calibrated["vz-table"], velocities, dt=None)
-            else:
-                result = collide(law, params if params is not None else pair, velocities, dt=None)
-        rows += [{"law": law, "v_in_over_v_Y": r["v_in"] / pair.v_Y, **r} for r in result.records()]
-    stamp = output.stamp(time.perf_counter() - t0, vz_parameters=source)
-    output.write_csv(out / "collision.csv", rows, comment=output.stamp_comment(stamp))
+            result = collide(*((law, law_params) if rated is None else rated), velocities, dt=None)
+        # a rate-aware law's strain rate [1/s] at first contact and its factor (R; relaxing: s at the turning point)
+        rates = {} if rated is None else {"strain_rate": rated[1].strain_rate(velocities),
+                                          "rate_factor": rated[1].rate_factor(velocities)}
+        rows += [{"law": law, "v_in_over_v_Y": r["v_in"] / pair.v_Y, **r, **{k: v[i] for k, v in rates.items()}}
+                 for i, r in enumerate(result.records())]
+    rate = material.rate_record()
+    stamp = output.stamp(time.perf_counter() - t0, vz_parameters=source,
+                         **({} if rate is None else {"rate_law": rate, "rate_form": material.rate_form_used()}))
+    output.write_csv(out / "collision.csv", rows, columns=dict.fromkeys(k for r in rows for k in r),
+                     comment=output.stamp_comment(stamp))
     if scene.outputs.plots:
         plot_restitution(rows, pair.v_Y, f"{material.name}: sphere on rigid flat", out / "collision.png")
     restitution = {law: {"v_in": [r["v_in"] for r in rows if r["law"] == law],
                          "e": [r["e_velocity"] for r in rows if r["law"] == law]}
                    for law in scene.collision.laws}
-    return {"rows": len(rows), "vz_parameters": source, "restitution": restitution}
+    return {"rows": len(rows), "vz_parameters": source, "restitution": restitution,
+            **({} if rate is None else {"rate_law": rate, "rate_form": material.rate_form_used()})}
 
 
 def _run_pair_impact(scene, material, out, progress) -> dict:
@@ -261,8 +279,12 @@ def summary_lines(summary: dict) -> list[str]:
                               for p in lp["paths"])
             lines.append(f"  load paths ({'elastic' if lp['elastic'] else 'elastoplastic'}): {paths}")
         if "collision" in entry:
-            for law, r in entry["collision"]["restitution"].items():
-                lines.append(f"  collision {law}: e = {min(r['e']):.4f} .. {max(r['e']):.4f} over v_in = "
+            c = entry["collision"]
+            for law, r in c["restitution"].items():
+                rated = "rate_law" in c and law != "hertz"
+                lines.append(f"  collision {law}" + (f" (rate-aware, {c['rate_form']}: {rate_words(c['rate_law'])})"
+                                                     if rated else "")
+                             + f": e = {min(r['e']):.4f} .. {max(r['e']):.4f} over v_in = "
                              f"{min(r['v_in']):.4g} .. {max(r['v_in']):.4g} m/s")
         for r in entry.get("impact", {}).get("impacts", ()):
             lines.append(f"  impact (dynamic FE) at v_in = {r['v_in']:.4g} m/s: e = {r['e']:.4f}, P_max = {r['P_max']:.4g} N, "

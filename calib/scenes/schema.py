@@ -7,7 +7,14 @@
                    hardening_modulus H [Pa] (0 <= H <= E: sigma = sigma_Y + H eps_p) or flow_curve (a CSV
                    plastic_strain,stress from sigma_y, relative to the scene's folder) with
                    flow_curve_extrapolation ("flat", the default, or "slope"): the sphere's isotropic
-                   hardening (calib.fe.flow_curve) in the calibration, load-path and impact FE
+                   hardening (calib.fe.flow_curve) in the calibration, load-path and impact FE;
+                   rate_law ("johnson-cook" with jc_C [-], jc_reference_rate [1/s] (default 1), or
+                   "cowper-symonds" with cs_D [1/s], cs_q [-]; nfdmodel.limits' ranges) and rate_form
+                   ("relaxing", the default, or "fixed"): the sphere's strain-rate dependence
+                   (calib.fe.rate_law) in the impact FE, the collision stage's rate-aware vz and vz-table
+                   (nfdmodel.rate_relaxing.rate_form_law) and the calibration's parameter file ("rate_law");
+                   refused with a counter-body, with another collision law but hertz, with hardening and
+                   a collision stage
     [grid]         nu = [...], E_over_sigma_y = [...], sigma_y, rho, R   (a sweep: every pair)
     [hertz]        P_max [N] or P_max_over_P_Y, P_min [N] (default P_max / 1000), steps (25)
     [load_paths]   P_max = [N, ...] or P_max_over_P_Y = [...], unload (true), loading_steps (48,
@@ -18,6 +25,8 @@
                    v_max [m/s] or v_max_from = "collision": load paths to the force of the fastest
                    impact (calib.fit.impact_window) instead of [load_paths] P_max
     [collision]    v_in = [m/s, ...] or v_in_over_v_Y = [...], laws = ["vz", "thornton", "hertz"]
+                   (vz without a calibration: calib.fit.master_table.vz_constants, refused for a
+                   hardening sphere)
     [impact]       v_in = [m/s, ...] or v_in_over_v_Y = [...]: the dynamic FE impact of the whole sphere
                    (``nfdcal impact``, calib.studies.impact) against the laws and the quasi-static FE;
                    error_estimate (true: the coarse-mesh and coarse-dt runs too), quasi_static (true),
@@ -46,7 +55,6 @@ unloads; plots, VTU files and histories are written only on request; meshes come
 """
 from __future__ import annotations
 
-import functools
 import tomllib
 from dataclasses import dataclass
 from importlib import resources
@@ -57,7 +65,8 @@ from pydantic import AfterValidator, BaseModel, ConfigDict, Field, Strict, Valid
 
 from calib import output
 from calib.fit.recipe import DEFAULT_PEAKS_OVER_YIELD, MESH_LEVELS
-from nfdmodel import LAWS, ContactPair, Material, limits, reference_case
+from calib.scenes.errors import one_line
+from nfdmodel import LAWS, ContactPair, Material, limits
 
 # Wall time per FE step against dofs, calibrated on the reference calibration
 # (12,112 dofs, 97 FE steps + 3 first-yield solves, 54-58 s on 2 cores): ~0.57 s per step.
@@ -151,8 +160,67 @@ def hardening_label(curve) -> str:
     return f"flow curve {Path(record['source']).name} ({record['extrapolation']})"
 
 
-class SceneMaterial(_Hardening):
-    """One sphere: E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]; its hardening (_Hardening)."""
+RATE_CONSTANTS = {"johnson-cook": ("jc_C", "jc_reference_rate"), "cowper-symonds": ("cs_D", "cs_q")}
+RATE_KEYS = ("rate_law", "jc_C", "jc_reference_rate", "cs_D", "cs_q", "rate_form")
+
+
+class _Rate(_Table):
+    """A sphere's strain-rate dependence (calib.fe.rate_law, the commands' --rate-law and its constants):
+    rate_law "johnson-cook" with jc_C [-] and jc_reference_rate [1/s] (default 1), or "cowper-symonds" with
+    cs_D [1/s] and cs_q [-]; rate_form (the collision stage's rate-aware law): "relaxing" (the default) or
+    "fixed". The ranges are nfdmodel.limits' (the commands' too)."""
+
+    rate_law: Literal["johnson-cook", "cowper-symonds"] | None = None
+    jc_C: Annotated[Number, Field(ge=0, le=limits.JC_C_MAX)] | None = None
+    jc_reference_rate: Annotated[Number, Field(ge=limits.JC_REFERENCE_RATE_MIN,
+                                               le=limits.JC_REFERENCE_RATE_MAX)] | None = None
+    cs_D: Annotated[Number, Field(ge=limits.CS_D_MIN, le=limits.CS_D_MAX)] | None = None
+    cs_q: Annotated[Number, Field(ge=limits.CS_Q_MIN, le=limits.CS_Q_MAX)] | None = None
+    rate_form: Literal["relaxing", "fixed"] | None = None
+
+    @model_validator(mode="after")
+    def _one_rate_law(self):
+        given = [key for key in RATE_KEYS[1:] if getattr(self, key) is not None]
+        if self.rate_law is None:
+            if given:
+                raise ValueError(f"{given[0]} belongs to a rate law: give rate_law = \"johnson-cook\" or "
+                                 f"\"cowper-symonds\" too")
+            return self
+        for other, keys in RATE_CONSTANTS.items():
+            for key in keys:
+                if other != self.rate_law and getattr(self, key) is not None:
+                    raise ValueError(f"{key} is a constant of rate_law {other!r}, not of {self.rate_law!r}")
+        needed = ("jc_C",) if self.rate_law == "johnson-cook" else ("cs_D", "cs_q")
+        missing = [key for key in needed if getattr(self, key) is None]
+        if missing:
+            raise ValueError(f"rate_law {self.rate_law!r} needs {' and '.join(needed)}")
+        return self
+
+    def rate_record(self) -> dict | None:
+        """The rate law's record (calib.fe.rate_law's and nfdmodel.strain_rate's), None without one."""
+        if self.rate_law == "johnson-cook":
+            return {"rate_law": self.rate_law, "C": self.jc_C,
+                    "reference_rate": 1.0 if self.jc_reference_rate is None else self.jc_reference_rate}
+        if self.rate_law == "cowper-symonds":
+            return {"rate_law": self.rate_law, "D": self.cs_D, "q": self.cs_q}
+        return None
+
+    def rate(self):
+        """The calib.fe.rate_law RateLaw of the dynamic FE, None without one."""
+        if self.rate_law is None:
+            return None
+        from calib.fe.rate_law import rate_law_from_record
+
+        return rate_law_from_record(self.rate_record())
+
+    def rate_form_used(self) -> str:
+        """The collision stage's rate-aware law: relaxing unless rate_form says fixed."""
+        return self.rate_form or "relaxing"
+
+
+class SceneMaterial(_Hardening, _Rate):
+    """One sphere: E [Pa], nu [-], sigma_y [Pa], rho [kg/m^3], R [m]; its hardening (_Hardening) and
+    strain-rate dependence (_Rate)."""
 
     name: str
     E: Positive
@@ -166,11 +234,6 @@ class SceneMaterial(_Hardening):
 
     def pair(self) -> ContactPair:
         return ContactPair.sphere_flat(self.material(), self.R)
-
-    @property
-    def is_reference(self) -> bool:
-        return (self.E, self.nu, self.sigma_y, self.R) == (reference_case.E, reference_case.NU,
-                                                           reference_case.SIGMA_Y, reference_case.R)
 
     def inputs(self) -> dict:
         return {"name": self.name, "E": self.E, "nu": self.nu, "sigma_y": self.sigma_y,
@@ -450,97 +513,13 @@ class Scene:
         return names
 
 
-# ----------------------------------------------------------------------------- errors
-@functools.cache
-def _json_schema() -> dict:
-    return SceneFile.model_json_schema()
-
-
-def _schema_at(loc: tuple) -> dict:
-    """The JSON schema node of the key at ``loc`` (through $ref, optional values and list items)."""
-    root = _json_schema()
-
-    def resolve(node):
-        while True:
-            if "$ref" in node:
-                node = root["$defs"][node["$ref"].rsplit("/", 1)[-1]]
-            elif "anyOf" in node:
-                node = next((n for n in node["anyOf"] if n.get("type") != "null"), {})
-            elif "allOf" in node:
-                node = node["allOf"][0]
-            else:
-                return node
-
-    node = resolve(root)
-    for part in loc:
-        node = resolve(node.get("items", {}) if isinstance(part, int) else node.get("properties", {}).get(part, {}))
-    return node
-
-
-def _key_path(loc: tuple) -> str:
-    """('material', 0, 'nu') -> material[0].nu"""
-    text = ""
-    for part in loc:
-        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
-    return text
-
-
-def _allowed_range(node: dict) -> str:
-    bounds = [(f"> {node['exclusiveMinimum']:g}" if "exclusiveMinimum" in node else
-               f">= {node['minimum']:g}" if "minimum" in node else ""),
-              (f"< {node['exclusiveMaximum']:g}" if "exclusiveMaximum" in node else
-               f"<= {node['maximum']:g}" if "maximum" in node else "")]
-    return " and ".join(b for b in bounds if b)
-
-
-def _got(value) -> str:
-    return f"{value:g}" if isinstance(value, (int, float)) and not isinstance(value, bool) else repr(value)
-
-
-def _message(error: dict) -> tuple[tuple, str]:
-    """(key location, text after the key) of one pydantic error."""
-    loc, kind, value = tuple(error["loc"]), error["type"], error.get("input")
-    if kind == "extra_forbidden":
-        allowed = ", ".join(_schema_at(loc[:-1]).get("properties", {}))
-        return loc, f"unknown {'section' if len(loc) == 1 else 'key'} (allowed: {allowed})"
-    if kind == "missing":
-        required = _schema_at(loc[:-1]).get("required", [])
-        return loc, f"missing (need {', '.join(required)})" if required else "missing"
-    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
-        return loc, f"out of range: need {_allowed_range(_schema_at(loc))}, got {_got(value)}"
-    if kind == "literal_error":
-        return loc, f"must be one of {', '.join(map(str, _schema_at(loc).get('enum', [])))}, got {value!r}"
-    if kind == "value_error":
-        text = str(error["ctx"]["error"])
-        if not loc and ": " in text:    # a rule of the whole file names its key first
-            key, text = text.split(": ", 1)
-            return (key,), text
-        return loc, text
-    what = {"float_type": "a number", "int_type": "an integer", "int_from_float": "an integer",
-            "bool_type": "true or false", "string_type": "a string", "tuple_type": "a list",
-            "model_type": "a table", "model_attributes_type": "a table", "dict_type": "a table"}.get(kind)
-    if what is not None:
-        return loc, f"must be {what}, got {_got(value)} ({type(value).__name__})"
-    if kind == "finite_number":
-        return loc, f"must be finite, got {value}"
-    if kind in ("too_short", "string_too_short"):
-        return loc, f"must not be empty, got {value!r}"
-    return loc, error["msg"]
-
-
-def _one_line(exc: ValidationError, source: str) -> str:
-    loc, text = _message(exc.errors()[0])
-    key = _key_path(loc)
-    return f"scene {source}: {key}: {text}" if key else f"scene {source}: {text}"
-
-
 # ----------------------------------------------------------------------------- parsing
 def parse_scene(data: dict, source: str = "<scene>") -> Scene:
     """Validate the TOML data of a scene into a Scene (SceneError on any problem)."""
     try:
         file = SceneFile.model_validate(data)
     except ValidationError as exc:
-        raise SceneError(_one_line(exc, source)) from None
+        raise SceneError(one_line(exc, source, SceneFile)) from None
 
     name = file.scene.name if file.scene.name is not None else Path(source).stem
     try:
@@ -585,6 +564,7 @@ def parse_scene(data: dict, source: str = "<scene>") -> Scene:
                 raise SceneError(f"scene {source}: load_paths.P_max: calibration needs loads above P_Y: the largest "
                                  f"P_max must be > 2 P_Y = {2 * P_Y:.4g} N for material {m.name!r}, got {max(peaks):.4g} N")
     hardening = _hardening(file, materials, source)
+    _check_rate_laws(file, materials, hardening, source)
     return Scene(name=name, materials=materials, mesh=file.mesh, hertz=file.hertz, load_paths=load_paths,
                  calibration_ship=None if file.calibration is None else file.calibration.ship,
                  calibration_v_max=None if file.calibration is None else file.calibration.v_max,
@@ -613,7 +593,35 @@ def _hardening(file: SceneFile, materials, source: str) -> tuple:
     if out and file.impact is not None and file.impact.counter is not None:
         raise SceneError(f"scene {source}: impact.counter: the two-body impact FE is of perfectly plastic spheres: "
                          f"drop the hardening or the [impact.counter] table")
+    if out and file.calibration is None and file.collision is not None and "vz" in file.collision.laws:
+        raise SceneError(f"scene {source}: collision.laws: 'vz' without a [calibration] takes the master table's "
+                         f"constants, a perfectly plastic sphere's, and {out[0][0]!r} hardens: add a [calibration] "
+                         f"stage (its FE calibrates the hardening sphere)")
     return tuple(out)
+
+
+def _check_rate_laws(file: SceneFile, materials, hardening: tuple, source: str) -> None:
+    """Refuse, in one line naming the key, a rate law where a stage cannot carry it: the two-body FE (impact or
+    calibration on a counter-body) and the collision laws other than the rate-aware vz and vz-table (and the
+    elastic Hertz), and a hardening sphere's collisions (the rate-aware law is measured on perfect plasticity)."""
+    hardens = {name for name, _ in hardening}
+    for k, m in enumerate(materials):
+        if m.rate_law is None:
+            continue
+        key = f"scene {source}: material[{k}].rate_law"
+        for stage in ("calibration", "impact"):
+            if getattr(getattr(file, stage), "counter", None) is not None:
+                raise SceneError(f"{key}: the two-body FE of [{stage}.counter] is of rate-independent spheres: drop "
+                                 f"the rate law or the [{stage}.counter] table")
+        if file.collision is None:
+            continue
+        other = [law for law in file.collision.laws if law not in ("vz", "vz-table", "hertz")]
+        if other:
+            raise SceneError(f"{key}: the rate-aware law scales sigma_Y of vz and vz-table: collision.laws must be "
+                             f"vz, vz-table or hertz (elastic) with a rate law, got {other[0]!r}")
+        if m.name in hardens:
+            raise SceneError(f"{key}: the rate-aware law is measured on perfectly plastic spheres and {m.name!r} "
+                             f"hardens: drop the [collision] stage (the [impact] FE takes both)")
 
 
 def builtin_scenes() -> dict[str, Path]:

@@ -22,7 +22,8 @@ import numpy as np
 from calib import output
 from calib.fe import ContactSolver, run_load_path
 from calib.fe.elastic import ElasticMaterial
-from calib.fit.recipe import contact_pair, hertz_mesh, is_reference_sphere, mesh_for
+from calib.fit.recipe import contact_pair, hertz_mesh, mesh_for
+from nfdmodel.reference_case import is_reference_sphere
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import ContactPair, Material, reference_case
 

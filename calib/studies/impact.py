@@ -89,6 +89,7 @@ from meshes.sphere import SphereMeshSpec, sphere_mesh
 from nfdmodel import (ContactPair, Material, RangeWarning, VZParams, collision_reference,
                       reference_case)
 from nfdmodel.hertz_contact import hertz_force_at_radius, hertz_impact_approach, hertz_impact_force
+from nfdmodel.reference_case import is_reference_sphere
 from nfdmodel.thornton import thornton_closed_form
 from nfdmodel.validation import SOLID_RANGES, bound_text
 
@@ -246,7 +247,7 @@ def impact_mesh(setup: ImpactSetup, v_in: float) -> SphereMeshSpec:
     a_max = contact_radius(setup, v_in)
     resolved = (setup.contact_size is not None or a_max >= REFERENCE_ELEMENTS_PER_CONTACT_RADIUS
                 * recipe.REFERENCE_CONTACT_SIZES[setup.level or "default"])
-    reference = resolved and recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius)
+    reference = resolved and is_reference_sphere(setup.material.E, setup.material.nu, setup.radius)
     hemisphere = recipe.mesh_for(setup.radius, a_max, reference=reference, level=setup.level,
                                  contact_size=setup.contact_size)
     return SphereMeshSpec.from_hemisphere(hemisphere)

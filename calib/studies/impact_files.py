@@ -13,8 +13,9 @@ from pathlib import Path
 import numpy as np
 
 from calib import output
-from calib.fit import impact_window, recipe
+from calib.fit import impact_window
 from nfdmodel import load_parameters
+from nfdmodel.reference_case import is_reference_sphere
 
 
 def law_parameters(setup, params_file=None) -> tuple[object, str]:
@@ -106,7 +107,7 @@ def mdr_table(setup, mdr_file=None) -> tuple[np.ndarray, np.ndarray] | None:
     or a file without the columns v_in_over_v_Y, e_mdr_lammps."""
     if mdr_file is None:
         return None
-    if not recipe.is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y):
+    if not is_reference_sphere(setup.material.E, setup.material.nu, setup.radius, setup.material.sigma_y):
         raise ValueError(f"{mdr_file}: LAMMPS' mdr restitution is the reference sphere's; this sphere is another")
     import csv
 
