@@ -221,7 +221,13 @@ RATE_REFUSALS = [
     ("impact", ["--rate-law", "cowper-symonds", "--cs-D", "40", "--cs-q", "50"], "--cs-q out of range"),
     ("impact", ["--rate-law", "cowper-symonds", "--cs-D", "40", "--cs-q", "5", "--counter-E", "2e11"],
      "--counter-E is for a rate-independent sphere"),
-    ("calibrate", ["--rate-law", "johnson-cook", "--jc-C", "0.1"], "the calibration's FE press is quasi-static"),
+    ("calibrate", ["--rate-law", "johnson-cook", "--jc-C", "0.1", "--ship", "unload"],
+     "--rate-law out of range with --ship unload"),
+    ("calibrate", ["--rate-law", "johnson-cook", "--jc-C", "0.1", "--hardening-modulus", "1e9"],
+     "--rate-law out of range with --hardening-modulus"),
+    ("calibrate", ["--rate-law", "johnson-cook", "--jc-C", "0.1", "--counter-E", "2e11"],
+     "--rate-law out of range with --counter-E"),
+    ("calibrate", ["--rate-form", "fixed"], "--rate-form is the form of the --rate-law law"),
 ]
 
 

@@ -173,3 +173,27 @@ def test_the_plan_names_the_rate_law_and_rate_independent_plans_stay(tmp_path, m
     assert nfdcal(monkeypatch, "run", write(tmp_path, MATERIAL + IMPACT, "plain.toml"), "--dry-run", "--json") == 0
     plain = json.loads(capsys.readouterr().out)
     assert "rate_laws" not in plain and "cowper" not in json.dumps(plain["stages"])
+
+
+@pytest.mark.laws
+def test_calibrate_states_the_rate_law_in_its_parameter_file(tmp_path, capsys):
+    """`nfdcal calibrate --rate-law`: the press's constants are the rate-independent sphere's (the same as
+    without the flags), and the parameter file states the rate-aware law of --rate-form on the shipped law,
+    which `collide --params` runs: e above the rate-independent file's at the same speeds."""
+    from calib.cli import main
+
+    common = ["calibrate", "--json", "--quiet", "--contact-size", "1.6e-4", "--peaks", "300", "--no-plots"]
+    assert main(common + ["--out", str(tmp_path / "plain")]) == 0
+    plain = json.loads(capsys.readouterr().out)
+    assert main(common + ["--out", str(tmp_path / "rated"), "--rate-law", "cowper-symonds", "--cs-D", "6500",
+                          "--cs-q", "4", "--rate-form", "fixed"]) == 0
+    rated = json.loads(capsys.readouterr().out)
+    assert (rated["Ca"], rated["Kc"]) == (plain["Ca"], plain["Kc"])
+    # the fixed form's entry: its c, and no "form" (a file without one states the fixed law)
+    assert rated["rate_law"] == {"rate_law": "cowper-symonds", "D": 6500.0, "q": 4.0, "c": limits.RATE_LENGTH_FACTOR}
+    stated = rate_law_of_file(tmp_path / "rated" / "parameters.json")
+    assert stated.form == "fixed" and rate_law_of_file(tmp_path / "plain" / "parameters.json") is None
+    params = load_parameters(tmp_path / "rated" / "parameters.json")
+    e_plain = collide("vz-table", load_parameters(tmp_path / "plain" / "parameters.json"), [0.02, 0.04], dt=None)
+    e_rated = collide(*stated.law("vz-table", params), [0.02, 0.04], dt=None)
+    assert all(e_rated.e_velocity > e_plain.e_velocity * 1.01)

@@ -16,6 +16,12 @@ out of its fit.
     nfdcal calibrate --json               # also print the summary object (Ca, Kc, Ca_hat, ...)
     nfdcal calibrate --E 210e9 --nu 0.29 --sigma-y 1.2e9 --R 0.005 --out my_steel
 
+``--rate-law johnson-cook|cowper-symonds`` with its constants (``nfdcal impact``'s flags) and ``--rate-form``:
+the press is quasi-static, the rate law's rate-independent limit, so the constants are the rate-independent
+sphere's; the parameter file states the rate law ("rate_law", the rate-aware law of the form on the shipped vz
+or vz-table law: nfdmodel/parameter_file.py), so ``collide --params`` and ``export lammps`` run the rate-aware
+law. Refused in one line with --ship unload, --ladder, a hardening or a counter-body (not measured there).
+
 Writes the parameter file (parameters.json, read by ``nfdmodel.load_parameters`` and by
 ``nfdcal collide --params``), per-step CSVs, plots and VTU files into --out. Progress goes to
 stderr when it is a terminal (silence it with --quiet).
@@ -25,10 +31,13 @@ from __future__ import annotations
 import dataclasses
 
 from calib.commands.common import (HARDENING_HELP, KINEMATICS_FLAG, add_counter_arguments, add_hardening_arguments,
-                                   add_material_arguments, add_rate_law_arguments, add_summary_arguments,
+                                   add_material_arguments, add_rate_form_argument, add_rate_law_arguments,
+                                   add_summary_arguments,
                                    counter_folder_name, counter_from_args, flow_curve_from_args,
-                                   hardening_folder_name, hardening_line, is_reference, material_folder_name,
-                                   material_from_args, number, print_summary, rate_law_given)
+                                   hardening_folder_name, hardening_given, hardening_line, is_reference,
+                                   material_folder_name,
+                                   material_from_args, number, print_summary, rate_form_from_args,
+                                   rate_law_folder_name, rate_law_from_args, rate_law_given, rate_law_line)
 from nfdmodel import CalibrationWindow, reference_case
 from nfdmodel.validation import check_solid
 
@@ -43,7 +52,12 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n")[0])
     add_material_arguments(parser)
     add_hardening_arguments(parser)
-    add_rate_law_arguments(parser)      # refused: the calibration's press is quasi-static
+    add_rate_law_arguments(parser, "the sphere's strain-rate dependence, stated in the parameter file (the "
+                                   "rate-aware law of --rate-form on the shipped vz or vz-table law; the press is "
+                                   "quasi-static, the rate-independent limit): johnson-cook (R = 1 + C ln(max(eps_dot "
+                                   "/ eps_dot_0, 1))) or cowper-symonds (R = 1 + (eps_dot / D)^(1/q)); default: "
+                                   "rate-independent")
+    add_rate_form_argument(parser)
     add_counter_arguments(parser)
     parser.add_argument("--peaks", nargs="+", metavar="P_MAX", default=None,
                         help=f"P_max of the load paths [N] (default: {' '.join(f'{p:g}' for p in reference_case.PEAKS)}"
@@ -107,14 +121,16 @@ def accuracy_lines(accuracy: dict) -> list[str]:
 
 
 def folder_name(ns, material, radius: float, peaks, contact_size, ship: str, v_max, counter=None,
-                hardening=None) -> str:
+                hardening=None, rate=None) -> str:
     """The default folder of a calibration under results/calibration: "" for the reference one
     (which ``collide --report`` reads), else a name made of every option that differs from it
-    (material and R, the hardening, the counter-body, --kinematics, --peaks, --contact-size, --ship,
-    --v-max), so that each folder holds one calibration."""
+    (material and R, the hardening, the rate law and its form, the counter-body, --kinematics, --peaks,
+    --contact-size, --ship, --v-max), so that each folder holds one calibration."""
     parts = [] if is_reference(ns) else [material_folder_name(material, radius)]
     if hardening is not None:
         parts.append(hardening_folder_name(hardening))
+    if rate is not None:
+        parts.append(f"{rate_law_folder_name(rate)}_{rate_form_from_args(ns)}")
     if counter is not None:
         parts.append(counter_folder_name(counter))
     if getattr(ns, "kinematics", "small") not in ("small", "auto"):
@@ -252,10 +268,17 @@ def run(ns) -> int:
     from calib.fit import calibration, impact_window, recipe, unload_ship
     from calib.report import calibration as calibration_report
     from calib.studies import mesh_ladder
+    from nfdmodel.parameter_file import law_of, rate_law_entry
+    from nfdmodel.rate_relaxing import rate_form_law
+    from nfdmodel.strain_rate import rate_law_of
 
-    if rate_law_given(ns) is not None:
-        raise ValueError(f"{rate_law_given(ns)}: the calibration's FE press is quasi-static, where a rate law is "
-                         f"its rate-independent limit; give the rate law to nfdcal impact")
+    rate, form = rate_law_from_args(ns), rate_form_from_args(ns)
+    if rate is not None:                # stated in the parameter file: the rate-aware law on the shipped law
+        for flag, given in (("--ship unload", ns.ship == "unload"), ("--ladder", ns.ladder),
+                            ("--counter-E", not counter_absent(ns))):
+            if given:
+                raise ValueError(f"{rate_law_given(ns)} out of range with {flag}: the rate-aware law scales sigma_Y of "
+                                 f"a perfectly plastic sphere's vz or vz-table law on the rigid flat")
     kinematics = KINEMATICS_FLAG.get(ns.kinematics)         # None: auto, chosen from the plan below
     if ns.kinematics == "finite" and (ns.ladder or getattr(ns, "counter_sigma_y", None) is not None):
         raise ValueError("--kinematics finite takes a calibration on the rigid flat or an elastic counter-body (the"
@@ -266,9 +289,9 @@ def run(ns) -> int:
         if cycles is not None:
             raise ValueError("--cycles runs load cycles of one calibration: the --ladder compares meshes on the "
                              "reference paths; drop one of them")
-        hardening_given = any(getattr(ns, key) is not None for key in HARDENING_HELP)
+        hardening_flags = any(getattr(ns, key) is not None for key in HARDENING_HELP)
         if ns.R is not None or ns.peaks is not None or ns.contact_size is not None or not counter_absent(ns) \
-                or hardening_given:
+                or hardening_flags:
             raise ValueError("--ladder runs the reference sphere and load paths on its own meshes:"
                              " do not combine it with --R, --peaks, --contact-size, the --counter-* flags,"
                              " --hardening-modulus or --flow-curve")
@@ -283,6 +306,9 @@ def run(ns) -> int:
         return 0
     material, radius = material_from_args(ns)
     hardening = flow_curve_from_args(ns, material)
+    if rate is not None and hardening is not None:
+        raise ValueError(f"{rate_law_given(ns)} out of range with {hardening_given(ns)}: the rate-aware law scales "
+                         f"sigma_Y of a perfectly plastic sphere's vz or vz-table law on the rigid flat")
     counter = counter_from_args(ns, material)
     contact_size = number("--contact-size", ns.contact_size)
     if contact_size is not None and not contact_size > 0:
@@ -322,7 +348,7 @@ def run(ns) -> int:
     except ValueError as exc:
         raise ValueError(f"--peaks: {exc}" if peaks is not None else str(exc)) from None
     default_out = calibration_report.DEFAULT_OUT / folder_name(ns, material, radius, peaks, contact_size, ship, v_max,
-                                                               counter, hardening)
+                                                               counter, hardening, rate)
     if ns.dry_run:
         from calib.scenes.plan import calibration_stage, format_stages, stages_summary
 
@@ -332,6 +358,8 @@ def run(ns) -> int:
                       [f"calibration of E = {material.E:.4g} Pa, nu = {material.nu:g}, sigma_Y = "
                        f"{material.sigma_y:.4g} Pa, R = {radius:g} m; P_Y = {spec.pair.P_Y:.4g} N"]
                       + ([hardening_line(hardening)] if hardening is not None else [])
+                      + ([f"{rate_law_line(rate, '')}; stated in the parameter file ({form} rate-aware law)"]
+                         if rate is not None else [])
                       + ([f"{counter.label()} (the dofs below count both bodies)"]
                          if counter is not None else [])
                       + [kinematics_line(ns, spec)]
@@ -355,16 +383,21 @@ def run(ns) -> int:
                              f"{result.params.Kc:.4g} 1/N) meet the targets at no FE path (e {record['worst_e_error']:+.2%}, "
                              f"force {record['worst_force_error']:.2%} at worst): nothing shipped; --ship table (the "
                              f"default) ships the law that meets them")
+        rate_entry = None if rate is None else rate_law_entry(rate_form_law(
+            form, law_of(result.shipped_params), result.shipped_params, rate_law_of(rate.record()))[1])
         out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
-                                       vtu=not ns.no_plots)
+                                       vtu=not ns.no_plots, rate_law=rate_entry)
         cycle_summary = write_cycles(result, cycles, out, progress)
     summary = {**calibration.summary(result), "out": str(out),
-               **({"counter_body": counter.describe()} if counter is not None else {})}
+               **({"counter_body": counter.describe()} if counter is not None else {}),
+               **({"rate_law": rate_entry} if rate is not None else {})}
     if cycle_summary is not None:
         summary["cycles"] = cycle_summary
     if rounds is not None:
         summary["v_max"] = {"v_max": v_max, "rounds": rounds}
     lines = ([hardening_line(hardening)] if hardening is not None else []) + (
+        [f"{rate_law_line(rate, '')}; the parameter file states the {form} rate-aware law on the shipped "
+         f"{law_of(result.shipped_params)} law (the press: its rate-independent limit)"] if rate is not None else []) + (
         [counter.label() + f"; the pair's E* = {spec.pair.E_star:.4g} Pa, R* = {spec.pair.R_star:.4g} m, "
                                 f"m* = {spec.pair.mass_star:.4g} kg"]
              if counter is not None else []) + [f"Ca = {summary['Ca']:.4g} m/N (Ca_hat {summary['Ca_hat']:.4g}), Kc = {summary['Kc']:.4g} 1/N "

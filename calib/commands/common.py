@@ -377,13 +377,13 @@ def rate_law_folder_name(law) -> str:
     return f"cs{record['D']:g}_{record['q']:g}"
 
 
-def rate_law_line(law) -> str:
-    """The sphere's rate law in one line."""
+def rate_law_line(law, where: str = " (dynamic FE)") -> str:
+    """The sphere's rate law in one line (``where``: what it acts in, after "strain-rate dependence")."""
     record = law.record()
     if record["rate_law"] == "johnson-cook":
-        return (f"strain-rate dependence (dynamic FE): Johnson-Cook, sigma_y (1 + C ln(max(eps_dot / eps_dot_0, 1))), "
+        return (f"strain-rate dependence{where}: Johnson-Cook, sigma_y (1 + C ln(max(eps_dot / eps_dot_0, 1))), "
                 f"C = {record['C']:g}, eps_dot_0 = {record['reference_rate']:g} /s")
-    return (f"strain-rate dependence (dynamic FE): Cowper-Symonds, sigma_y (1 + (eps_dot / D)^(1/q)), "
+    return (f"strain-rate dependence{where}: Cowper-Symonds, sigma_y (1 + (eps_dot / D)^(1/q)), "
             f"D = {record['D']:g} /s, q = {record['q']:g}")
 
 
