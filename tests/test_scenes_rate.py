@@ -2,28 +2,17 @@
 rate-aware law of [collision] and the parameter file of [calibration]; where a stage cannot carry it, the scene
 is refused in one line naming the key (coarse meshes only)."""
 import json
-import textwrap
 
 import pytest
 
-from calib import cli, scenes
+from calib import scenes
 from nfdmodel import collide, limits, load_parameters
 from nfdmodel.parameter_file import rate_law_of_file
+from test_scenes import MATERIAL as SCENE_MATERIAL, nfdcal, write  # tests/, on the path under pytest
 
-COMMANDS = cli.COMMAND_MODULES + tuple(c for c in ("run", "table") if c not in cli.COMMAND_MODULES)
-
-# the aluminium sphere of tests/test_rate_laws.py: R 0.1 m, its coarse dynamic FE in about a second
-MATERIAL = """
-[mesh]
-contact_size = 1.6e-4
-[[material]]
-name = "al"
-E = 70e9
-nu = 0.3
-sigma_y = 100e6
-rho = 2699.0
-R = 0.1
-"""
+# the aluminium sphere of tests/test_rate_laws.py (test_scenes' MATERIAL): R 0.1 m, its coarse dynamic FE in about
+# a second
+MATERIAL = "[mesh]\ncontact_size = 1.6e-4\n" + SCENE_MATERIAL
 COWPER_SYMONDS = 'rate_law = "cowper-symonds"\ncs_D = 6500.0\ncs_q = 4.0\n'
 IMPACT = """
 [collision]
@@ -37,17 +26,6 @@ steps_per_contact = 40
 """
 
 
-def write(tmp_path, text, name="scene.toml"):
-    path = tmp_path / name
-    path.write_text(textwrap.dedent(text))
-    return path
-
-
-def nfdcal(monkeypatch, *argv):
-    monkeypatch.setattr(cli, "COMMAND_MODULES", COMMANDS)
-    return cli.main([str(a) for a in argv])
-
-
 def restitution(summary: dict) -> tuple[float, float]:
     """(the vz law's e, the dynamic FE's e) of a one-speed scene summary."""
     entry = summary["materials"][0]
@@ -57,9 +35,10 @@ def restitution(summary: dict) -> tuple[float, float]:
 @pytest.mark.laws
 def test_the_rate_law_raises_e_in_the_law_as_in_the_dynamic_fe(tmp_path):
     """Cowper-Symonds D 6500 /s, q 4 on the aluminium sphere at 0.04 m/s (24 v_Y): the scene's dynamic FE with
-    the rate law and its relaxing rate-aware vz law (master-table constants), each against the same scene
-    rate-independent. Measured: e 0.7653 / 0.7432 in the FE (+2.97 %), 0.7857 / 0.7595 in the law (+3.45 %):
-    the rate law's share of e agrees within 0.5 %, though the coarse FE's e is 2.2-2.7 % below the law's."""
+    the rate law and its relaxing rate-aware vz law (the paper's constants: the reference solid), each against the
+    same scene rate-independent. Measured: e 0.7653 / 0.7432 in the FE (+2.97 %), 0.7840 / 0.7589 in the law
+    (+3.31 %): the rate law's share of e agrees within 0.4 %, though the coarse FE's e is 2.1-2.4 % below the
+    law's."""
     rated = scenes.run_scene(scenes.load_scene(write(tmp_path, MATERIAL + COWPER_SYMONDS + IMPACT, "rated.toml")),
                              tmp_path / "rated")
     plain = scenes.run_scene(scenes.load_scene(write(tmp_path, MATERIAL + IMPACT, "plain.toml")), tmp_path / "plain")
