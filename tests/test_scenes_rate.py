@@ -134,11 +134,45 @@ def test_a_rate_law_a_stage_cannot_carry_is_refused_in_one_line(tmp_path, monkey
     assert needle in err and len(err.splitlines()) == 1
 
 
-def test_a_table_of_rate_dependent_spheres_is_refused(tmp_path, monkeypatch, capsys):
-    path = write(tmp_path, MATERIAL + COWPER_SYMONDS + "[load_paths]\nP_max = [700.0]\n[calibration]\n")
-    assert nfdcal(monkeypatch, "table", path, "--dry-run") == 2
+TABLE = '[load_paths]\nP_max = [700.0]\nunload = false\nloading_steps = 8\n[calibration]\n'
+
+
+def test_a_table_states_the_rate_law_beside_the_rate_independent_constants(tmp_path, monkeypatch, capsys):
+    """`nfdcal table --rate-law` (or a scene's rate_law): each row's constants and key are the rate-independent
+    sphere's (the press is quasi-static: a finished row is reused), the rate law in a rate_law column."""
+    from calib.scenes.table import tasks_for
+
+    plain = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + TABLE, "plain.toml")
+    rated = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + TABLE,
+                  "rated.toml")
+    assert [t["key"] for t in tasks_for(scenes.load_scene(rated))] == \
+        [t["key"] for t in tasks_for(scenes.load_scene(plain))]
+    out = tmp_path / "table"
+    assert nfdcal(monkeypatch, "table", plain, "--out", out, "--workers", "1", "--quiet", "--json") == 0
+    first = json.loads(capsys.readouterr().out)
+    assert "rate_law" not in first["rows"][0]
+    assert nfdcal(monkeypatch, "table", plain, "--out", out, "--workers", "1", "--quiet", "--json", "--rate-law",
+                  "johnson-cook", "--jc-C", "0.05", "--rate-form", "fixed") == 0
+    second = json.loads(capsys.readouterr().out)
+    assert second["reused"] == 1 and second["rows"][0]["Ca"] == first["rows"][0]["Ca"]
+    assert second["rows"][0]["rate_law"] == "johnson-cook C 0.05 reference_rate 1 (fixed)"
+    header = [line for line in (out / "table.csv").read_text().splitlines() if not line.startswith("#")][0]
+    assert header.endswith(",rate_law")
+
+
+@pytest.mark.parametrize("scene, flags, needle", [
+    ("rated", ["--rate-law", "cowper-symonds", "--cs-D", "40", "--cs-q", "5"], "gives its spheres' rate law"),
+    ("plain", ["--rate-form", "fixed"], "--rate-form is the form of the --rate-law law"),
+    ("rated", ["--check-master"], "--check-master: the master table is of rate-independent spheres"),
+    ("vz_master_reach", ["--rate-law", "johnson-cook", "--jc-C", "0.1"], "the vz master table is of rate-independent"),
+])
+def test_a_table_refuses_what_a_rate_law_cannot_go_with_in_one_line(tmp_path, monkeypatch, capsys, scene, flags,
+                                                                      needle):
+    text = MATERIAL + (COWPER_SYMONDS if scene == "rated" else "") + TABLE
+    path = scene if scene.startswith("vz_") else write(tmp_path, text)
+    assert nfdcal(monkeypatch, "table", path, "--dry-run", *flags) == 2
     err = capsys.readouterr().err.strip()
-    assert "material[0].rate_law: a table calibrates by the quasi-static press" in err and len(err.splitlines()) == 1
+    assert needle in err and len(err.splitlines()) == 1
 
 
 def test_the_plan_names_the_rate_law_and_rate_independent_plans_stay(tmp_path, monkeypatch, capsys):

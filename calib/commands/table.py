@@ -19,12 +19,17 @@ a material is outside them). --hardening-modulus H or --flow-curve CSV (--flow-c
 give every material's sphere that isotropic hardening (as a scene's [calibration] hardening entry
 does): each row is then the FE calibration of the hardening sphere, keyed by its flow curve
 (the rows of perfectly plastic spheres keep their keys); --master-out and --check-master, of the
-perfectly plastic master table, are refused with it.
+perfectly plastic master table, are refused with it. --rate-law johnson-cook|cowper-symonds with its constants
+(--rate-form: the rate-aware law's form), or a scene's rate_law, states every sphere's strain-rate dependence in a
+rate_law column beside its constants: the press is quasi-static, so the constants and the rows' keys are the
+rate-independent sphere's (``nfdcal collide --Ca --Kc --rate-law`` runs the row's law); --master-out and
+--check-master are refused with it.
 """
 from __future__ import annotations
 
-from calib.commands.common import (add_hardening_arguments, add_summary_arguments, flow_curve_from_args, hardening_given,
-                                   print_summary, with_v_max)
+from calib.commands.common import (add_hardening_arguments, add_rate_form_argument, add_rate_law_arguments,
+                                   add_summary_arguments, flow_curve_from_args, hardening_given, print_summary,
+                                   rate_form_from_args, rate_law_from_args, rate_law_given, with_v_max)
 
 
 def add_parser(subparsers) -> None:
@@ -49,6 +54,10 @@ def add_parser(subparsers) -> None:
                         help="calibrate every material for impacts up to V [m/s] (replaces the scene's load-path"
                              " peaks: calib.fit.impact_window)")
     add_hardening_arguments(parser)
+    add_rate_law_arguments(parser, "every sphere's strain-rate dependence, stated in each row beside its constants "
+                                   "(the press is quasi-static: the constants are the rate-independent sphere's): "
+                                   "johnson-cook or cowper-symonds; default: the scene's, else rate-independent")
+    add_rate_form_argument(parser)
     add_summary_arguments(parser)
     parser.set_defaults(run=run, shipped=master_checked)    # calib.commands.targets: the tables read
 
@@ -85,6 +94,9 @@ def run_vz_master(ns) -> int:
     if hardening_given(ns) is not None:
         raise ValueError(f"{hardening_given(ns)}: the vz master table is of perfectly plastic spheres (no hardening "
                          f"dimension): give the hardening to a scene of [[material]] tables or a [grid]")
+    if rate_law_given(ns) is not None or getattr(ns, "rate_form", None) is not None:
+        raise ValueError(f"{rate_law_given(ns) or '--rate-form'}: the vz master table is of rate-independent spheres: "
+                         f"give the rate law to a scene of [[material]] tables or a [grid]")
     scene = vz_master_build.load_scene(ns.scene)
     sheet = vz_master_build.is_hardening_sheet(scene)
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
@@ -144,6 +156,27 @@ def with_hardening(scene, ns):
     return dataclasses.replace(scene, hardening=tuple((name, c) for name, c in curves if c is not None))
 
 
+def with_rate_law(scene, ns):
+    """``scene`` with every sphere's rate law from --rate-law and its constants (--rate-form: its rate-aware
+    law's form), unchanged without them; refused when the scene gives its own. The press is quasi-static: the rows
+    are the rate-independent sphere's constants, the rate law stated beside them."""
+    given = rate_law_given(ns)
+    if given is None:
+        if getattr(ns, "rate_form", None) is not None:
+            rate_form_from_args(ns)             # --rate-form alone: refused naming --rate-law
+        return scene
+    rate = rate_law_from_args(ns).record()
+    if any(m.rate_law is not None for m in scene.materials):
+        raise ValueError(f"{given}: scene {scene.source} gives its spheres' rate law: give it there or here, not both")
+    import dataclasses
+
+    keys = ({"rate_law": rate["rate_law"], "jc_C": rate["C"], "jc_reference_rate": rate["reference_rate"]}
+            if rate["rate_law"] == "johnson-cook" else {"rate_law": rate["rate_law"], "cs_D": rate["D"], "cs_q": rate["q"]})
+    materials = tuple(type(m)(**{**m.model_dump(), **keys, "rate_form": rate_form_from_args(ns)})
+                      for m in scene.materials)
+    return dataclasses.replace(scene, materials=materials)
+
+
 def run_parameter_table(ns) -> int:
     from calib import output, scenes
     from calib.commands.progress import progress_reporter
@@ -152,14 +185,12 @@ def run_parameter_table(ns) -> int:
         workers = int(ns.workers)
     except ValueError:
         raise ValueError(f"--workers must be an integer in [1, 64], got {ns.workers!r}") from None
-    scene = with_hardening(with_v_max(scenes.load_scene(ns.scene), ns.v_max), ns)
+    scene = with_rate_law(with_hardening(with_v_max(scenes.load_scene(ns.scene), ns.v_max), ns), ns)
     if scene.calibration_ship is None:
         raise ValueError(f"scene {scene.source}: a table needs a [calibration] section")
-    rated = next((k for k, m in enumerate(scene.materials) if m.rate_law is not None), None)
-    if rated is not None:
-        raise ValueError(f"scene {scene.source}: material[{rated}].rate_law: a table calibrates by the quasi-static "
-                         f"press, which a rate law does not change, and its rows are rate-independent: drop the rate "
-                         f"law (nfdcal run states it in the scene's parameter file)")
+    if any(m.rate_law is not None for m in scene.materials) and (ns.master_out or ns.check_master):
+        raise ValueError(f"{'--master-out' if ns.master_out else '--check-master'}: the master table is of "
+                         f"rate-independent spheres; this table's spheres state a rate law: drop the flag")
     if scene.hardening and (ns.master_out or ns.check_master):
         raise ValueError(f"{'--master-out' if ns.master_out else '--check-master'}: the master table is of perfectly "
                          f"plastic spheres (no hardening dimension); this table's spheres harden: drop the flag")

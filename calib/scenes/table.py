@@ -161,16 +161,22 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
                       + (f" {row['error']}" if row["status"] != "ok" else ""))
     # a material renamed in the scene keeps its finished result (the key hashes what determines
     # it) under its new name
-    rows = [{**row, "name": task["name"]} for row, task in zip(sweep.rows, tasks)]
+    # the sphere's rate law beside its constants (the quasi-static press does not see it: the keys and the FE
+    # rows are the rate-independent sphere's)
+    rated = {m.name: rate_label(m) for m in scene.materials if m.rate_law is not None}
+    rows = [{**row, "name": task["name"], **({"rate_law": rated[task["name"]]} if task["name"] in rated else {})}
+            for row, task in zip(sweep.rows, tasks)]
     failed = sum(row.get("status") != "ok" for row in rows)
     wall = time.perf_counter() - t0
     stamp = output.stamp(wall, scene=scene.source, mesh={"choice": scene.mesh.label()},
                          materials=len(rows), computed=sweep.computed, reused=sweep.reused,
                          workers=workers, scheduler=scheduler or "local processes",
                          **({"flow_curves": {name: curve.record() for name, curve in scene.hardening}}
-                            if scene.hardening else {}))
-    # a hardening column only in a table with hardening spheres: every other table as before
-    columns = COLUMNS + (("hardening",) if any(row.get("hardening") for row in rows) else ())
+                            if scene.hardening else {}),
+                         **({"rate_laws": {m.name: {**m.rate_record(), "form": m.rate_form_used()}
+                                           for m in scene.materials if m.rate_law is not None}} if rated else {}))
+    # a hardening or rate-law column only in a table with such spheres: every other table as before
+    columns = COLUMNS + tuple(c for c in ("hardening", "rate_law") if any(row.get(c) for row in rows))
     clean = [{c: row.get(c) for c in columns} for row in rows]
     output.write_csv(out / "table.csv", clean, columns=columns, comment=output.stamp_comment(stamp))
     output.write_json(out / "table.json", {"scene": scene.name, "rows": clean,
@@ -183,6 +189,13 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
             "path": out / "table.csv"}
 
 
+def rate_label(material) -> str:
+    """A table row's rate_law cell: the law, its constants and the rate-aware law's form."""
+    record = material.rate_record()
+    return (f"{record['rate_law']} " + " ".join(f"{k} {v:g}" for k, v in record.items() if k != "rate_law")
+            + f" ({material.rate_form_used()})")
+
+
 def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str,
                        accuracy_details: str = "", window_P_max_over_P_Y: float | None = None) -> Path:
     """The master table (calib/data/master_table.csv + .json) from the rows of a grid table:
@@ -191,6 +204,10 @@ def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_
     full account (grid, recipe, validation, discretisation), kept in the .json only;
     ``window_P_max_over_P_Y``: the top of the grid's load plan, the window of every node."""
     path = Path(path)
+    rated = [r["name"] for r in rows if r.get("rate_law")]
+    if rated:
+        raise ValueError(f"--master-out: the master table is of rate-independent spheres: material(s) "
+                         f"{', '.join(rated)} state a rate law")
     hardening = [r["name"] for r in rows if r.get("hardening")]
     if hardening:
         raise ValueError(f"--master-out: the master table is of perfectly plastic spheres (no hardening dimension): "
