@@ -77,18 +77,29 @@ def test_hardened_laws_meet_the_fe_of_spheres_off_the_sheet(stored, master, shee
     assert stated["vz-table"]["e_error"] == pytest.approx(measured["vz-table"]["e_error"], rel=1e-6)
 
 
+# four finite-strain power-law checks held out of the choice of the representative strain's factor: they were run
+# after c was put to the test (c 0.15, the best on the other checks, against Tabor's 0.2)
+HELD_OUT = ("nu0.34_E1500sy_swift4_0.4_finite", "nu0.29_E600sy_swift2.5_0.25_finite",
+            "nu0.33_E350sy_ludwik1_0.5_finite", "nu0.34_E2500sy_ludwik5_0.5_finite")
+
+
 def test_power_law_flow_curves_read_through_their_secant_modulus_against_their_fe(stored, master, sheet):
-    """Swift and Ludwik spheres (three, in small and in finite strain), each read as the linear hardening of its
-    secant modulus to 0.2 a/R: measured e within 2.6 %, force within 5.9 % of P_max. The 2 % / 5 % targets are met
-    on 34 of the 35 paths (e 1.3 %, force 3.2 %); the miss is the steep Ludwik sphere's (K 3 sigma_Y, n 0.5) top
-    path, 4135 P_Y, where the law's e is 2.6 % low. The perfectly plastic law misses by 11 % and 18 %."""
+    """Swift and Ludwik spheres (ten: three in small and seven in finite strain), each read as the linear hardening
+    of its secant modulus to 0.2 a/R: measured e within 2.6 %, force within 5.9 % of P_max. The 2 % / 5 % targets
+    are met on 59 of the 60 paths; the miss is the steep Ludwik sphere's (K 3 sigma_Y, n 0.5) top path, 4135 P_Y,
+    where the law's e is 2.6 % low. On the four checks held out of the factor's choice (25 paths to 4256 P_Y):
+    e within 1.62 %, force 4.61 % (with the factor 0.15, which removes the miss: 1.97 % and 3.46 %, so 0.2 stays).
+    The perfectly plastic law misses by 12 % and 20 %."""
     power = vz_hardening_build.check_rows([r for r in stored if r.get("power_law")], master, sheet)
     measured = vz_hardening_build.summary(power)
-    assert measured["checks"] == 6 and measured["paths"] >= 30
+    assert measured["checks"] == 10 and measured["paths"] >= 55
     assert measured["vz-table"]["e_error"] <= 0.03 and measured["vz-table"]["force_error"] <= 0.065
     inside = [r for r in power["vz-table"] if r["inside"]]
     missed = [r for r in inside if abs(r["e_error"]) > 0.02 or abs(r["force_error"]) > 0.05]
     assert [(r["name"], round(r["P_max_over_P_Y"])) for r in missed] == [("nu0.38_E1500sy_ludwik3_0.5_finite", 4135)]
+    held_out = [r for r in inside if r["name"] in HELD_OUT]
+    assert len({r["name"] for r in held_out}) == 4 and len(held_out) >= 20
+    assert max(abs(r["e_error"]) for r in held_out) <= 0.02 and max(r["force_error"] for r in held_out) <= 0.05
     assert measured["perfectly plastic"]["e_error"] > 3 * measured["vz-table"]["e_error"]
 
 
