@@ -14,6 +14,8 @@ from test_scenes import MATERIAL as SCENE_MATERIAL, nfdcal, write  # tests/, on 
 # a second
 MATERIAL = "[mesh]\ncontact_size = 1.6e-4\n" + SCENE_MATERIAL
 COWPER_SYMONDS = 'rate_law = "cowper-symonds"\ncs_D = 6500.0\ncs_q = 4.0\n'
+# a loading-only calibration on the coarse mesh
+LOADING_CALIBRATION = '[load_paths]\nP_max = [700.0]\nunload = false\nloading_steps = 8\n[calibration]\n'
 IMPACT = """
 [collision]
 v_in = [0.04]
@@ -82,16 +84,8 @@ def test_the_calibration_s_parameter_file_states_the_rate_law(tmp_path, monkeypa
     """A calibration of a rate-dependent sphere: its press is quasi-static (the rate-independent limit), and
     its parameter file states the rate law, so the file runs in `collide --params` as the scene's collisions
     did."""
-    path = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + """
-        [load_paths]
-        P_max = [700.0]
-        unload = false
-        loading_steps = 8
-        [calibration]
-        [collision]
-        v_in = [0.02, 0.05]
-        laws = ["vz"]
-        """)
+    path = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + LOADING_CALIBRATION
+                 + '[collision]\nv_in = [0.02, 0.05]\nlaws = ["vz"]\n')
     summary = scenes.run_scene(scenes.load_scene(path), tmp_path / "out")
     entry = summary["materials"][0]
     stated = rate_law_of_file(tmp_path / "out" / "parameters.json")
@@ -134,16 +128,13 @@ def test_a_rate_law_a_stage_cannot_carry_is_refused_in_one_line(tmp_path, monkey
     assert needle in err and len(err.splitlines()) == 1
 
 
-TABLE = '[load_paths]\nP_max = [700.0]\nunload = false\nloading_steps = 8\n[calibration]\n'
-
-
 def test_a_table_states_the_rate_law_beside_the_rate_independent_constants(tmp_path, monkeypatch, capsys):
     """`nfdcal table --rate-law` (or a scene's rate_law): each row's constants and key are the rate-independent
     sphere's (the press is quasi-static: a finished row is reused), the rate law in a rate_law column."""
     from calib.scenes.table import tasks_for
 
-    plain = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + TABLE, "plain.toml")
-    rated = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + TABLE,
+    plain = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + LOADING_CALIBRATION, "plain.toml")
+    rated = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + LOADING_CALIBRATION,
                   "rated.toml")
     assert [t["key"] for t in tasks_for(scenes.load_scene(rated))] == \
         [t["key"] for t in tasks_for(scenes.load_scene(plain))]
@@ -168,7 +159,7 @@ def test_a_table_states_the_rate_law_beside_the_rate_independent_constants(tmp_p
 ])
 def test_a_table_refuses_what_a_rate_law_cannot_go_with_in_one_line(tmp_path, monkeypatch, capsys, scene, flags,
                                                                       needle):
-    text = MATERIAL + (COWPER_SYMONDS if scene == "rated" else "") + TABLE
+    text = MATERIAL + (COWPER_SYMONDS if scene == "rated" else "") + LOADING_CALIBRATION
     path = scene if scene.startswith("vz_") else write(tmp_path, text)
     assert nfdcal(monkeypatch, "table", path, "--dry-run", *flags) == 2
     err = capsys.readouterr().err.strip()
