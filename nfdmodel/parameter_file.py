@@ -90,6 +90,15 @@ def rate_law_entry(rate_params) -> dict:
     return entry
 
 
+def stated_rate_law(params, rate_record: dict, form: str) -> dict:
+    """The "rate_law" entry of the parameter file of ``params`` (a vz or vz-table law) for a sphere of the rate
+    law ``rate_record`` (nfdmodel.strain_rate's record), run as the rate-aware law of ``form``."""
+    from .rate_relaxing import rate_form_law
+    from .strain_rate import rate_law_of
+
+    return rate_law_entry(rate_form_law(form, law_of(params), params, rate_law_of(rate_record))[1])
+
+
 def parameter_record(params: VZParams | VZTableParams | VZUnloadParams, R: float, material: Material,
                      counter: dict | None = None, rate_law: dict | None = None) -> dict:
     """The core of a parameter file for ``params`` (sphere of radius R [m] on a rigid flat, or on

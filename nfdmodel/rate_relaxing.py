@@ -252,14 +252,14 @@ def _turning_points(params: RelaxingRateParams, speeds, per_speeds):
 
 
 def turning_factor(params: RelaxingRateParams, v_in):
-    """s [-] at the turning point of impacts at ``v_in`` [m/s] (> 0; continuous time, :func:`_turning_point`)."""
+    """s [-] at the turning point of impacts at ``v_in`` [m/s] (> 0; continuous time, :func:`_turning_points`)."""
     params = relaxing_params(params)
     v = np.atleast_1d(np.asarray(v_in, dtype=float)).reshape(-1)
     return _turning_points(params, v, params.strain_rate_per_speed(v))[1]
 
 
 def relaxing_reference(params: RelaxingRateParams, v_in) -> CollisionReference:
-    """The impact at v_in [m/s] in continuous time (:func:`_turning_point`), then the base law's elastic unloading
+    """The impact at v_in [m/s] in continuous time (:func:`_turning_points`), then the base law's elastic unloading
     at the factor s reached there (the returned work s^5 times the base law's): the specification collide's time
     loop converges to as dt -> 0."""
     params = relaxing_params(params)

@@ -268,9 +268,7 @@ def run(ns) -> int:
     from calib.fit import calibration, impact_window, recipe, unload_ship
     from calib.report import calibration as calibration_report
     from calib.studies import mesh_ladder
-    from nfdmodel.parameter_file import law_of, rate_law_entry
-    from nfdmodel.rate_relaxing import rate_form_law
-    from nfdmodel.strain_rate import rate_law_of
+    from nfdmodel.parameter_file import law_of, stated_rate_law
 
     rate, form = rate_law_from_args(ns), rate_form_from_args(ns)
     if rate is not None:                # stated in the parameter file: the rate-aware law on the shipped law
@@ -383,8 +381,7 @@ def run(ns) -> int:
                              f"{result.params.Kc:.4g} 1/N) meet the targets at no FE path (e {record['worst_e_error']:+.2%}, "
                              f"force {record['worst_force_error']:.2%} at worst): nothing shipped; --ship table (the "
                              f"default) ships the law that meets them")
-        rate_entry = None if rate is None else rate_law_entry(rate_form_law(
-            form, law_of(result.shipped_params), result.shipped_params, rate_law_of(rate.record()))[1])
+        rate_entry = None if rate is None else stated_rate_law(result.shipped_params, rate.record(), form)
         out = calibration_report.write(result, ns.out or default_out, plots=not ns.no_plots,
                                        vtu=not ns.no_plots, rate_law=rate_entry)
         cycle_summary = write_cycles(result, cycles, out, progress)

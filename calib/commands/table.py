@@ -170,9 +170,7 @@ def with_rate_law(scene, ns):
         raise ValueError(f"{given}: scene {scene.source} gives its spheres' rate law: give it there or here, not both")
     import dataclasses
 
-    keys = ({"rate_law": rate["rate_law"], "jc_C": rate["C"], "jc_reference_rate": rate["reference_rate"]}
-            if rate["rate_law"] == "johnson-cook" else {"rate_law": rate["rate_law"], "cs_D": rate["D"], "cs_q": rate["q"]})
-    materials = tuple(type(m)(**{**m.model_dump(), **keys, "rate_form": rate_form_from_args(ns)})
+    materials = tuple(type(m)(**{**m.model_dump(), **m.rate_keys(rate), "rate_form": rate_form_from_args(ns)})
                       for m in scene.materials)
     return dataclasses.replace(scene, materials=materials)
 

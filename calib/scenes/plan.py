@@ -10,7 +10,7 @@ import numpy as np
 
 from calib.fit import impact_window, recipe
 from calib.scenes.schema import (SECONDS_PER_STEP_AT_12K_DOFS, LoadPathStage, Scene, SceneError, SceneMaterial,
-                                 hardening_label, stage_pair)
+                                 hardening_label, rate_words, stage_pair)
 from meshes.hemisphere import estimate_dofs, mesh_path
 from meshes.sphere import SphereMeshSpec
 from meshes.sphere import mesh_path as sphere_mesh_path
@@ -224,11 +224,6 @@ def plan(scene: Scene) -> list[PlannedStage]:
                 stage = dataclasses.replace(stage, detail=f"{stage.detail}; {rate_words(material.rate_record())}")
             out.append(stage)
     return out
-
-
-def rate_words(record: dict) -> str:
-    """A rate law's record in a few words: its name and constants (a plan's and a summary's)."""
-    return f"{record['rate_law']} " + ", ".join(f"{k} {v:g}" for k, v in record.items() if k != "rate_law")
 
 
 def with_hardening(stage: PlannedStage, scene: Scene, material: SceneMaterial) -> PlannedStage:

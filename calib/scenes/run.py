@@ -16,12 +16,12 @@ from calib.fit import calibration, impact_window
 from calib.fit.master_table import vz_constants
 from calib.report import calibration as calibration_report
 from calib.scenes.plan import (calibration_spec, hertz_mesh_spec, impact_setup, pair_impact_setup, plastic_needed,
-                               rate_words, spec_options)
-from calib.scenes.schema import Scene, stage_pair
+                               spec_options)
+from calib.scenes.schema import Scene, rate_words, stage_pair
 from calib.studies.hertz import plot_hertz, run_hertz
 from meshes.hemisphere import hemisphere_mesh
 from nfdmodel import collide
-from nfdmodel.parameter_file import law_of, rate_law_entry
+from nfdmodel.parameter_file import stated_rate_law
 from nfdmodel.rate_relaxing import rate_form_law
 from nfdmodel.strain_rate import rate_law_of
 
@@ -95,8 +95,8 @@ def _run_calibration(scene, material, out, progress) -> tuple[dict, object]:
                                                      ship=scene.calibration_ship, unload=unload,
                                                      hardening=scene.flow_curve(material),
                                                      **spec_options(scene)).result
-    rate = rate_aware_law(material, law_of(result.shipped_params), result.shipped_params)
-    rate_entry = None if rate is None else rate_law_entry(rate[1])     # so `collide --params` runs the same law
+    rate_entry = (None if material.rate_law is None     # so `collide --params` runs the same law
+                  else stated_rate_law(result.shipped_params, material.rate_record(), material.rate_form_used()))
     if unload and (scene.outputs.histories or scene.outputs.plots or scene.outputs.vtu):
         calibration_report.write(result, out, plots=scene.outputs.plots, vtu=scene.outputs.vtu, rate_law=rate_entry)
     else:  # the parameter file, the summary and (loading only) the loading history

@@ -152,6 +152,12 @@ def flow_curve_of(entry: _Hardening, sigma_y: float, E: float, folder: Path):
         raise ValueError(f"flow_curve: {exc}") from None
 
 
+def rate_words(record: dict, separator: str = ", ") -> str:
+    """A rate law's record in a few words: its name and constants (a plan's, a summary's; a table row's with
+    ``separator`` " ")."""
+    return f"{record['rate_law']} " + separator.join(f"{k} {v:g}" for k, v in record.items() if k != "rate_law")
+
+
 def hardening_label(curve) -> str:
     """A sphere's flow curve in a few words (a plan's and a table row's)."""
     record = curve.record()
@@ -204,6 +210,13 @@ class _Rate(_Table):
         if self.rate_law == "cowper-symonds":
             return {"rate_law": self.rate_law, "D": self.cs_D, "q": self.cs_q}
         return None
+
+    @staticmethod
+    def rate_keys(record: dict) -> dict:
+        """The entry's keys of a rate law's record (the inverse of :meth:`rate_record`)."""
+        if record["rate_law"] == "johnson-cook":
+            return {"rate_law": record["rate_law"], "jc_C": record["C"], "jc_reference_rate": record["reference_rate"]}
+        return {"rate_law": record["rate_law"], "cs_D": record["D"], "cs_q": record["q"]}
 
     def rate(self):
         """The calib.fe.rate_law RateLaw of the dynamic FE, None without one."""

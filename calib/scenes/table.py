@@ -26,7 +26,7 @@ from calib.fit import calibration, impact_window
 from calib.fit.master_table import MasterTable
 from calib.fit.recipe import check_fittable, coarse_spec
 from calib.scenes.plan import calibration_spec, spec_options
-from calib.scenes.schema import SceneError, hardening_label
+from calib.scenes.schema import SceneError, hardening_label, rate_words
 from calib.sweep.runner import cached_result, run_sweep
 from meshes.keys import stable_key
 from nfdmodel import VZParams
@@ -191,9 +191,7 @@ def run_table(scene, out: str | Path | None = None, workers: int = 2, scheduler:
 
 def rate_label(material) -> str:
     """A table row's rate_law cell: the law, its constants and the rate-aware law's form."""
-    record = material.rate_record()
-    return (f"{record['rate_law']} " + " ".join(f"{k} {v:g}" for k, v in record.items() if k != "rate_law")
-            + f" ({material.rate_form_used()})")
+    return f"{rate_words(material.rate_record(), ' ')} ({material.rate_form_used()})"
 
 
 def write_master_table(rows: list[dict], path: str | Path, accuracy: str, scene_name: str,
