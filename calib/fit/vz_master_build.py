@@ -133,11 +133,7 @@ def load_scene(name: str) -> dict:
                          "top_over_P_Y": float(c.get("top_over_P_Y", grid.get("check_top_over_P_Y",
                                                                              grid.get("top_over_P_Y", X_LIMIT))))}
                         for c in raw.get("check", [])],
-             "refine": [{"nu": float(c["nu"]), "E_over_sigma_y": float(c["E_over_sigma_y"]),
-                         "elements_per_contact_radius": float(c.get("elements_per_contact_radius", 0.0)),
-                         "loading_steps_per_decade": float(c.get("loading_steps_per_decade", 0.0)),
-                         "refinement": float(r)}
-                        for c in raw.get("refine", []) for r in c.get("refinement", [1.0])]}
+             "refine": [level for k, c in enumerate(raw.get("refine", [])) for level in refine_levels(c, path, k)]}
     # a hardening sheet (H_over_E beside 0) may hold one nu: the hardening's share of the tables is measured
     # at it and checked at other nu (calib.fit.vz_hardening)
     for axis in ("E_over_sigma_y", "H_over_E") if is_hardening_sheet(scene) else ("nu", "E_over_sigma_y"):
@@ -154,9 +150,9 @@ def load_scene(name: str) -> dict:
         if not refine["elements_per_contact_radius"] > impact_window.CONTACT_ELEMENTS_AT_LOWEST:
             raise ValueError(f"scene {path}: [[refine]] elements_per_contact_radius must be > "
                              f"{impact_window.CONTACT_ELEMENTS_AT_LOWEST:g}, got {refine['elements_per_contact_radius']:g}")
-        if not refine["loading_steps_per_decade"] >= 1.0:
+        if not loading_steps_of(refine) >= 1.0:
             raise ValueError(f"scene {path}: [[refine]] loading_steps_per_decade must be >= 1, got "
-                             f"{refine['loading_steps_per_decade']:g}")
+                             f"{loading_steps_of(refine):g}")
         if not 0.5 <= refine["refinement"] <= 4.0:
             raise ValueError(f"scene {path}: [[refine]] refinement must be in [0.5, 4], got {refine['refinement']:g}")
     if scene["kinematics"] not in recipe.REACH:
@@ -166,6 +162,46 @@ def load_scene(name: str) -> dict:
         if scene[key] not in (1, 2):
             raise ValueError(f"scene {path}: [vz_master] {key} must be 1 or 2, got {scene[key]}")
     return scene
+
+
+# A [[refine]] entry's ladder: "both" refines every mesh size and the loading steps at once (sizes / r, steps x r,
+# elements_per_contact_radius and loading_steps_per_decade at r = 1); "mesh" refines the sizes alone at
+# loading_steps_per_decade (a number); "steps" the loading steps alone (a list) on the mesh of refinement (a number).
+LADDERS = ("both", "mesh", "steps")
+GRADED_KEYS = ("elements_per_contact_radius", "loading_steps_per_decade", "refinement")
+
+
+def refine_levels(entry: dict, path, index: int = 0) -> list[dict]:
+    """The levels of the ``index``-th [[refine]] entry (LADDERS): each the node's nu and E/sigma_Y, N elements
+    across every contact radius at refinement r and loading_steps_per_decade S at r = 1 (S r per decade at the
+    level: a mesh or step ladder's held or listed steps over r, so a level two ladders share is one task), its
+    ``ladder`` and ``entry`` (not in the task's key); ValueError naming a bad field."""
+    ladder = entry.get("ladder", "both")
+    if ladder not in LADDERS:
+        raise ValueError(f"scene {path}: [[refine]] ladder must be one of {', '.join(LADDERS)}, got {ladder!r}")
+    listed = "loading_steps_per_decade" if ladder == "steps" else "refinement"
+    for key in ("refinement", "loading_steps_per_decade"):
+        value = entry.get(key, [1.0] if key == listed == "refinement" else 0.0)
+        if isinstance(value, list) != (key == listed):
+            raise ValueError(f"scene {path}: [[refine]] ladder {ladder!r}: {key} must be "
+                             f"{'a list' if key == listed else 'one number'}")
+    base = {"nu": float(entry["nu"]), "E_over_sigma_y": float(entry["E_over_sigma_y"]),
+            "elements_per_contact_radius": float(entry.get("elements_per_contact_radius", 0.0)),
+            "ladder": ladder, "entry": index}
+    steps = entry.get("loading_steps_per_decade", 0.0)
+    if ladder == "both":
+        return [{**base, "loading_steps_per_decade": float(steps), "refinement": float(r)}
+                for r in entry.get("refinement", [1.0])]
+    if ladder == "mesh":
+        return [{**base, "loading_steps_per_decade": float(steps) / float(r), "refinement": float(r)}
+                for r in entry["refinement"]]
+    r = float(entry.get("refinement", 1.0))
+    return [{**base, "loading_steps_per_decade": float(s) / r, "refinement": r} for s in steps]
+
+
+def loading_steps_of(level: dict) -> float:
+    """The loading steps per decade of a graded task, level or record: loading_steps_per_decade x refinement."""
+    return level["loading_steps_per_decade"] * level["refinement"]
 
 
 # a [[check]]'s power-law flow curve (calib.fe.flow_curve): Swift sigma_y = K (eps0 + eps_p)^n or Ludwik
@@ -225,7 +261,8 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     node_like = kind in ("node", "refine")
     if kind == "refine":
         name = name or (f"nu{nu:g}_E{ratio:g}sy_graded{refine['elements_per_contact_radius']:g}"
-                        f"_r{refine['refinement']:g}")
+                        f"_r{refine['refinement']:g}" + ("" if refine.get("ladder", "both") == "both"
+                                                         else f"_S{loading_steps_of(refine):.3g}"))
     else:
         refine = grid_mesh(scene)
     fields = {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": scene["sigma_y"], "rho": scene["rho"],
@@ -234,8 +271,7 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
               "top_over_P_Y": scene["top_over_P_Y"] if node_like else (top_over_P_Y or scene["check_top_over_P_Y"]),
               "meshes": scene["meshes"] if node_like else scene["check_meshes"]}
     if refine:
-        fields.update({key: refine[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade",
-                                                    "refinement")})
+        fields.update({key: refine[key] for key in GRADED_KEYS})
     if scene["kinematics"] != DEFAULT_KINEMATICS:       # keys of small-strain tasks stay as they are
         fields.update(kinematics=scene["kinematics"], lowest_over_P_Y=lowest_over_P_Y(scene, material))
     if H_over_E > 0.0:                                  # keys of perfectly plastic tasks stay as they are
@@ -269,8 +305,11 @@ def tasks_for(scene: dict) -> list[dict]:
     checks = [task(scene, c["nu"], c["E_over_sigma_y"], "check", c["name"], top_over_P_Y=c["top_over_P_Y"],
                    H_over_E=c["H_over_E"], power_law=c["power_law"]) for c in scene["checks"]]
     node_keys = {t["key"] for t in nodes}
-    ladder = (task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in scene["refine"])
-    refined = sorted((t for t in ladder if t["key"] not in node_keys),
+    ladder = {}
+    for level in scene["refine"]:               # a level two ladders share runs once, under its first name
+        refined = task(scene, level["nu"], level["E_over_sigma_y"], "refine", refine=level)
+        ladder.setdefault(refined["key"], refined)
+    refined = sorted((t for t in ladder.values() if t["key"] not in node_keys),
                      key=lambda t: (-t["refinement"], -t["E_over_sigma_y"]))
     return refined + sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
 
@@ -283,7 +322,7 @@ def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
     if item.get("refinement"):          # the graded, systematically refined ladder
         mesh = {"elements_per_contact_radius": item["elements_per_contact_radius"],
                 "refinement": item["refinement"],
-                "loading_steps_per_decade": item["loading_steps_per_decade"] * item["refinement"]}
+                "loading_steps_per_decade": loading_steps_of(item)}
     elif item["contact_size_over_a_max"]:
         mesh = {"contact_size_over_a_max": item["contact_size_over_a_max"]}
     else:
@@ -328,8 +367,7 @@ def run_task(item: dict) -> dict:
                                      "alpha": [r["alpha"] for r in p.rows if r["branch"] == "unloading"]}}
                       for p in paths.paths],
             "mesh": dataclasses.asdict(spec.mesh), "dofs": result.mesh_info["dofs"],
-            **({key: item[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade", "refinement")}
-               if item.get("refinement") else {}),
+            **({key: item[key] for key in GRADED_KEYS} if item.get("refinement") else {}),
             "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit(), "fit_version": FIT_VERSION}
 
 
@@ -376,8 +414,7 @@ def run_loading(item: dict) -> dict:
             "delta_Y": pair.delta_Y,
             "loading": {key: [r[key] for r in rows] for key in ("P", "alpha", "contact_radius")},
             "mesh": dataclasses.asdict(spec.mesh), "dofs": int(solver.basis.N),
-            **({key: item[key] for key in ("elements_per_contact_radius", "loading_steps_per_decade", "refinement")}
-               if item.get("refinement") else {}),
+            **({key: item[key] for key in GRADED_KEYS} if item.get("refinement") else {}),
             "wall_time_s": time.perf_counter() - t0, "git_commit": output.git_commit()}
 
 
