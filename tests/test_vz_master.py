@@ -254,6 +254,26 @@ def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path
     assert material.E / material.sigma_y == 700.0
 
 
+@pytest.mark.parametrize("entry, text", [
+    ('ladder = "sideways"\nrefinement = [0.5, 1.0]', "ladder must be one of both, mesh, steps"),
+    ('ladder = "mesh"\nrefinement = [0.5, 1.0]\nloading_steps_per_decade = [16.0, 32.0]',
+     "loading_steps_per_decade must be one number"),
+    ('ladder = "steps"\nrefinement = [0.5, 1.0]\nloading_steps_per_decade = [16.0, 32.0]',
+     "refinement must be one number"),
+    ('ladder = "steps"\nloading_steps_per_decade = [0.5, 32.0]', "loading_steps_per_decade must be >= 1"),
+])
+def test_a_bad_refine_ladder_is_refused_naming_its_field(entry, text, tmp_path, capsys):
+    source = vz_master_build.scene_path("vz_master_grid").read_text(encoding="utf-8")
+    scene = tmp_path / "grid.toml"
+    scene.write_text(source + "\n[[refine]]\nnu = 0.3\nE_over_sigma_y = 300.0\nelements_per_contact_radius = 25.0\n"
+                     + entry + "\n", encoding="utf-8")
+    with pytest.raises(ValueError, match=re.escape(text)):
+        vz_master_build.load_scene(str(scene))
+    assert main(["table", str(scene), "--dry-run"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and text in err
+
+
 def test_the_law_is_admissible_everywhere_in_the_table(table):
     for nu in np.linspace(table.nu[0], table.nu[-1], 5):
         for ratio in np.geomspace(table.E_over_sigma_y[0], table.E_over_sigma_y[-1], 9):

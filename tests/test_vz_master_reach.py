@@ -146,6 +146,34 @@ def test_the_finite_strain_part_s_discretisation_is_measured(scenes):
     assert "the finite-strain part above it: discretisation" in VZMasterTable.load().meta["accuracy"]
 
 
+def test_the_mesh_and_step_ladders_cross_at_one_level_and_refine_one_thing_each(scenes):
+    """The reach scene's [[refine]] ladders "mesh" and "steps" at nu 0.3, E/sigma_Y 100: the mesh ladder divides every
+    size by r at 64 loading steps per decade, the step ladder multiplies the steps at the 25-element mesh; they share
+    their finest level (one task), and the step ladder's 32 per decade is the combined ladder's r = 1 task."""
+
+    from calib.fit import vz_master_ladders
+
+    scene = scenes["finite"]
+    tasks = vz_master_build.tasks_for(scene)
+    assert len({t["key"] for t in tasks}) == len(tasks)
+    pair = ContactPair.sphere_flat(vz_master_build.task(scene, 0.3, 100.0, "node")["material"], scene["R"])
+    specs = {}
+    for kind in ("mesh", "steps", "both"):
+        levels = [c for c in scene["refine"] if c["ladder"] == kind]
+        items = [vz_master_build.task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in levels]
+        specs[kind] = {t["key"]: vz_master_build.task_spec(t, pair) for t in items}
+    mesh, steps = list(specs["mesh"].values()), list(specs["steps"].values())
+    assert {round(math.log(10.0) / math.log(s.plan.loading_ratio), 9) for s in mesh} == {64.0}
+    assert [round(math.log(10.0) / math.log(s.plan.loading_ratio), 9) for s in steps] == [16.0, 32.0, 64.0]
+    assert len({s.mesh for s in steps}) == 1 and steps[0].mesh.contact_size == pytest.approx(
+        mesh[0].mesh.contact_size / 2.0, rel=1e-12)
+    assert [s.plan.peaks for s in mesh + steps] == [mesh[0].plan.peaks] * 6
+    assert list(specs["mesh"])[-1] == list(specs["steps"])[-1]
+    assert list(specs["steps"])[1] in specs["both"]
+    crossing = vz_master_ladders.crossing_ladders(scene, scenes["finite_rows"])
+    assert set(crossing) <= {(0.3, 100.0)}
+
+
 def check_rows(scenes) -> list[dict]:
     return [r for r in scenes["finite_rows"] if r.get("kind") == "check"]
 

@@ -338,6 +338,77 @@ def _compare(coarse_law, fine_law, path: dict) -> tuple[float, np.ndarray]:
     return e_coarse / e_fine - 1.0, (P_coarse - P_fine) / path["P_max"]
 
 
+def ladder_errors(ladder: list[dict], ratios: list[float], node: dict) -> dict | None:
+    """One node's ladder (its rows ordered from the coarsest, each ``ratios`` [k] times finer than the one before,
+    in the mesh, the loading steps or both): every level's table and ``node``'s driven along the finest FE's paths
+    inside every window; the changes between consecutive levels, their order and the finest level's own
+    (Richardson) error, the node table's difference from the finest level (:func:`discretisation`'s entry of the
+    node). None when no path lies inside every window."""
+    from calib.fit import extrapolation
+    from calib.fit.path_check import law_against_path
+
+    laws = [node_law(r) for r in ladder]
+    node_table = node_law(node)
+    finest = ladder[-1]
+    low = max(law.window.P_min_over_P_Y for law in laws + [node_table]) * (1 - 1e-9)
+    top = min(law.window.P_max_over_P_Y for law in laws + [node_table]) * (1 + 1e-9)
+    fe_e = [{round(p["P_max"] / r["P_Y"], 6): p["e"] for p in fe_paths(r)} for r in ladder]
+    paths, e_changes, force_changes = [], [[] for _ in ratios], [[] for _ in ratios]
+    node_e, node_force = [], []
+    for path in fe_paths(finest):
+        x = path["P_max"] / finest["P_Y"]
+        if not low <= x <= top:
+            continue
+        changes = [_compare(laws[k], laws[k + 1], path) for k in range(len(ratios))]
+        for k, (de, dP) in enumerate(changes):
+            e_changes[k].append(de)
+            force_changes[k].append(dP)
+        de_node, dP_node = _compare(node_table, laws[-1], path)
+        node_e.append(de_node)
+        node_force.append(dP_node)
+        against = law_against_path("vz-table", node_table, path)
+        paths.append({"P_max_over_P_Y": x, "fe_e": [levels.get(round(x, 6)) for levels in fe_e],
+                      "e_changes": [c[0] for c in changes],
+                      "force_changes": [float(np.abs(c[1]).max()) for c in changes],
+                      "table_e_change": de_node, "table_force_change": float(np.abs(dP_node).max()),
+                      "table_e_error_vs_finest_fe": against["e_error"],
+                      "table_force_error_vs_finest_fe": against["force_error"]})
+    if not paths:
+        return None
+    if len(ratios) == 2:
+        orders = {"e": observed_order(e_changes[0], e_changes[1], ratios[0], ratios[1]),
+                  "force": observed_order(np.concatenate(force_changes[0]), np.concatenate(force_changes[1]),
+                                          ratios[0], ratios[1])}
+        basis = "observed"
+    else:
+        assumed = {"order_used": extrapolation.ORDER, "status": "assumed"}
+        orders = {"e": dict(assumed), "force": dict(assumed)}
+        basis = f"assumed {extrapolation.ORDER:g}"
+    r_last = ratios[-1]
+    finest_factor = {q: 1.0 / (r_last ** orders[q]["order_used"] - 1.0) for q in ("e", "force")}
+    finest_e = [finest_factor["e"] * abs(d) for d in e_changes[-1]]
+    finest_force = [finest_factor["force"] * float(np.abs(d).max()) for d in force_changes[-1]]
+    for entry, fe, ff in zip(paths, finest_e, finest_force):
+        entry.update({"finest_e_error_estimate": fe, "finest_force_error_estimate": ff,
+                      "table_e_error_estimate": abs(entry["table_e_change"]) + fe,
+                      "table_force_error_estimate": entry["table_force_change"] + ff})
+    return {"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
+            "refinements": [r["refinement"] for r in ladder], "ratios": ratios,
+            "elements_per_contact_radius": [r["elements_per_contact_radius"] * r["refinement"] for r in ladder],
+            "loading_steps_per_decade": [r["loading_steps_per_decade"] * r["refinement"] for r in ladder],
+            "contact_sizes": [r["mesh"]["contact_size"] for r in ladder],
+            "dofs": [r["dofs"] for r in ladder], "wall_time_s": [r["wall_time_s"] for r in ladder],
+            "order": orders, "order_basis": basis,
+            "e_change_max": [max(abs(d) for d in ch) for ch in e_changes],
+            "force_change_max": [max(float(np.abs(d).max()) for d in ch) for ch in force_changes],
+            "finest_e_error_estimate": max(finest_e), "finest_force_error_estimate": max(finest_force),
+            "table_e_change_max": max(abs(d) for d in node_e),
+            "table_force_change_max": max(float(np.abs(d).max()) for d in node_force),
+            "e_error_estimate": max(p["table_e_error_estimate"] for p in paths),
+            "force_error_estimate": max(p["table_force_error_estimate"] for p in paths),
+            "by_path": paths}
+
+
 def discretisation(rows: list[dict]) -> dict:
     """The table's discretisation error at each node with a reference ladder (module doc): the
     refined rows of the node (graded meshes refined systematically by r, kind "refine", and the node
@@ -347,83 +418,26 @@ def discretisation(rows: list[dict]) -> dict:
     assumed calib.fit.extrapolation.ORDER), the finest level's own error d_last / (r^p - 1)
     (Richardson), the node table's difference from the finest level, and the table's error
     against the converged FE bounded by the sum of the two; the FE's own e at each peak on every
-    level; ``worst``: the largest over the nodes. {} without a ladder."""
-    from calib.fit import extrapolation
-    from calib.fit.path_check import law_against_path
-
+    level; ``worst``: the largest over the nodes. {} without a ladder. The ladder refines both at once: its
+    levels share loading_steps_per_decade at r = 1 (calib.fit.vz_master_build.refine_levels); the mesh and step
+    ladders apart: calib.fit.vz_master_ladders."""
     nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
     ladders = {}
     for r in rows:
         if (r.get("kind") in ("refine", "node") and r.get("status") == "ok" and r.get("refinement")
                 and (r["nu"], r["E_over_sigma_y"]) in nodes):
-            ladders.setdefault((r["nu"], r["E_over_sigma_y"]), []).append(r)
+            # a ladder refining both shares its steps at r = 1; a mesh or step ladder's levels do not
+            steps = round(r["loading_steps_per_decade"], 9)
+            ladders.setdefault((r["nu"], r["E_over_sigma_y"]), {}).setdefault(steps, []).append(r)
     out = []
-    for key, ladder in sorted(ladders.items()):
-        ladder = sorted(ladder, key=lambda r: r["refinement"])[-3:]
+    for key, by_steps in sorted(ladders.items()):
+        ladder = sorted(max(by_steps.values(), key=len), key=lambda r: r["refinement"])[-3:]
         if len(ladder) < 2:
             continue
-        node = nodes[key]
-        laws = [node_law(r) for r in ladder]
-        node_table = node_law(node)
-        finest = ladder[-1]
-        low = max(law.window.P_min_over_P_Y for law in laws + [node_table]) * (1 - 1e-9)
-        top = min(law.window.P_max_over_P_Y for law in laws + [node_table]) * (1 + 1e-9)
-        fe_e = [{round(p["P_max"] / r["P_Y"], 6): p["e"] for p in fe_paths(r)} for r in ladder]
         ratios = [ladder[k + 1]["refinement"] / ladder[k]["refinement"] for k in range(len(ladder) - 1)]
-        paths, e_changes, force_changes = [], [[] for _ in ratios], [[] for _ in ratios]
-        node_e, node_force = [], []
-        for path in fe_paths(finest):
-            x = path["P_max"] / finest["P_Y"]
-            if not low <= x <= top:
-                continue
-            changes = [_compare(laws[k], laws[k + 1], path) for k in range(len(ratios))]
-            for k, (de, dP) in enumerate(changes):
-                e_changes[k].append(de)
-                force_changes[k].append(dP)
-            de_node, dP_node = _compare(node_table, laws[-1], path)
-            node_e.append(de_node)
-            node_force.append(dP_node)
-            against = law_against_path("vz-table", node_table, path)
-            paths.append({"P_max_over_P_Y": x, "fe_e": [levels.get(round(x, 6)) for levels in fe_e],
-                          "e_changes": [c[0] for c in changes],
-                          "force_changes": [float(np.abs(c[1]).max()) for c in changes],
-                          "table_e_change": de_node, "table_force_change": float(np.abs(dP_node).max()),
-                          "table_e_error_vs_finest_fe": against["e_error"],
-                          "table_force_error_vs_finest_fe": against["force_error"]})
-        if not paths:
-            continue
-        if len(ratios) == 2:
-            orders = {"e": observed_order(e_changes[0], e_changes[1], ratios[0], ratios[1]),
-                      "force": observed_order(np.concatenate(force_changes[0]), np.concatenate(force_changes[1]),
-                                              ratios[0], ratios[1])}
-            basis = "observed"
-        else:
-            assumed = {"order_used": extrapolation.ORDER, "status": "assumed"}
-            orders = {"e": dict(assumed), "force": dict(assumed)}
-            basis = f"assumed {extrapolation.ORDER:g}"
-        r_last = ratios[-1]
-        finest_factor = {q: 1.0 / (r_last ** orders[q]["order_used"] - 1.0) for q in ("e", "force")}
-        finest_e = [finest_factor["e"] * abs(d) for d in e_changes[-1]]
-        finest_force = [finest_factor["force"] * float(np.abs(d).max()) for d in force_changes[-1]]
-        for entry, fe, ff in zip(paths, finest_e, finest_force):
-            entry.update({"finest_e_error_estimate": fe, "finest_force_error_estimate": ff,
-                          "table_e_error_estimate": abs(entry["table_e_change"]) + fe,
-                          "table_force_error_estimate": entry["table_force_change"] + ff})
-        out.append({"nu": node["nu"], "E_over_sigma_y": node["E_over_sigma_y"], "paths": len(paths),
-                    "refinements": [r["refinement"] for r in ladder], "ratios": ratios,
-                    "elements_per_contact_radius": [r["elements_per_contact_radius"] * r["refinement"] for r in ladder],
-                    "loading_steps_per_decade": [r["loading_steps_per_decade"] * r["refinement"] for r in ladder],
-                    "contact_sizes": [r["mesh"]["contact_size"] for r in ladder],
-                    "dofs": [r["dofs"] for r in ladder], "wall_time_s": [r["wall_time_s"] for r in ladder],
-                    "order": orders, "order_basis": basis,
-                    "e_change_max": [max(abs(d) for d in ch) for ch in e_changes],
-                    "force_change_max": [max(float(np.abs(d).max()) for d in ch) for ch in force_changes],
-                    "finest_e_error_estimate": max(finest_e), "finest_force_error_estimate": max(finest_force),
-                    "table_e_change_max": max(abs(d) for d in node_e),
-                    "table_force_change_max": max(float(np.abs(d).max()) for d in node_force),
-                    "e_error_estimate": max(p["table_e_error_estimate"] for p in paths),
-                    "force_error_estimate": max(p["table_force_error_estimate"] for p in paths),
-                    "by_path": paths})
+        measured = ladder_errors(ladder, ratios, nodes[key])
+        if measured:
+            out.append(measured)
     if not out:
         return {}
     worst = {key: max(n[key] for n in out) for key in
@@ -486,6 +500,8 @@ def measure_and_state(rows: list[dict], table_path, folder, ladder: dict | None 
     summary["discretisation"] = discretisation(ladder["rows"] if ladder else rows)
     if ladder and ladder.get("finite"):
         summary["finite_strain_discretisation"] = ladder["finite"]
+    if ladder and ladder.get("finite_apart"):
+        summary["finite_strain_mesh_and_steps"] = ladder["finite_apart"]
     unloading = [c for row in checks for c in check_unloading(row, table)] if table.has_unloading else []
     summary["unloading"] = unloading_accuracy(unloading) if unloading else {"paths": 0}
     stamp = output.stamp(0.0, table=str(table_path))

@@ -131,8 +131,10 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
     nodes and their refined ladder (kind "refine"), each row's paths below its node's join load (the
     small-strain part's discretisation, ``rows``), and the clause on the finite-strain part (``note``):
     its own reference ladder (the finite scene's [[refine]] rows, each row's paths from the join load up,
-    ``finite``: calib.fit.vz_master_check.discretisation) where the scene has one, else the one mesh."""
+    ``finite``: calib.fit.vz_master_check.discretisation) where the scene has one, else the one mesh, and its mesh
+    and step errors apart where the scene's ladders cross (``finite_apart``: calib.fit.vz_master_ladders)."""
     from calib.fit.vz_master_check import discretisation, discretisation_statement
+    from calib.fit.vz_master_ladders import mesh_and_step_errors, mesh_and_step_statement
 
     small, finite = nodes_of(small_rows), nodes_of(finite_rows)
 
@@ -146,11 +148,13 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
         return rows
 
     rows = part(small_rows, finite, below=True)
-    measured = discretisation(part(finite_rows, small, below=False))
+    above = part(finite_rows, small, below=False)
+    measured = discretisation(above)
+    apart = mesh_and_step_errors(scene, above)
     graded = scene.get("graded") or {}
     if measured:
         note = (" (the small-strain part, below each node's join); the finite-strain part above it"
-                + discretisation_statement(measured, lead=": "))
+                + discretisation_statement(measured, lead=": ") + mesh_and_step_statement(apart))
     elif graded:
         note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "
                 f"{graded.get('elements_per_contact_radius', 0) * graded.get('refinement', 0):.3g} elements across "
@@ -158,7 +162,7 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
                 f"loading steps per decade, its discretisation not measured")
     else:
         note = ""
-    return {"rows": rows, "note": note, "finite": measured}
+    return {"rows": rows, "note": note, "finite": measured, "finite_apart": apart}
 
 
 def small_strain_checks(small_rows: list[dict]) -> list[dict]:
