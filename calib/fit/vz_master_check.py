@@ -418,9 +418,9 @@ def discretisation(rows: list[dict]) -> dict:
     assumed calib.fit.extrapolation.ORDER), the finest level's own error d_last / (r^p - 1)
     (Richardson), the node table's difference from the finest level, and the table's error
     against the converged FE bounded by the sum of the two; the FE's own e at each peak on every
-    level; ``worst``: the largest over the nodes. {} without a ladder. The ladder refines both at once: its
-    levels share loading_steps_per_decade at r = 1 (calib.fit.vz_master_build.refine_levels); the mesh and step
-    ladders apart: calib.fit.vz_master_ladders."""
+    level; ``worst``: the largest over the nodes. {} without a ladder. The ladder refines both at once through
+    the node: its levels share the node's loading_steps_per_decade at r = 1 (calib.fit.vz_master_scene.refine_levels),
+    its loading steps per element across the contact; the mesh and step ladders apart: calib.fit.vz_master_ladders."""
     nodes = {(r["nu"], r["E_over_sigma_y"]): r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"}
     ladders = {}
     for r in rows:
@@ -431,7 +431,8 @@ def discretisation(rows: list[dict]) -> dict:
             ladders.setdefault((r["nu"], r["E_over_sigma_y"]), {}).setdefault(steps, []).append(r)
     out = []
     for key, by_steps in sorted(ladders.items()):
-        ladder = sorted(max(by_steps.values(), key=len), key=lambda r: r["refinement"])[-3:]
+        through_node = by_steps.get(round(nodes[key]["loading_steps_per_decade"], 9), [])
+        ladder = sorted(through_node, key=lambda r: r["refinement"])[-3:]
         if len(ladder) < 2:
             continue
         ratios = [ladder[k + 1]["refinement"] / ladder[k]["refinement"] for k in range(len(ladder) - 1)]

@@ -3,7 +3,7 @@
 A ladder that refines every mesh size and the loading steps at once (a [[refine]] entry's ladder "both",
 calib.fit.vz_master_check.discretisation) sees the sum of the two errors; where they have opposite signs its
 changes oscillate or stop shrinking, and the order it observes is neither's. Two ladders of one node that share
-their finest level (calib.fit.vz_master_build.refine_levels) measure them apart:
+their finest level (calib.fit.vz_master_scene.refine_levels) measure them apart:
 
     mesh ladder:  every size / r at the finest level's loading steps S
     step ladder:  the loading steps S per decade refined at the finest level's mesh
@@ -23,6 +23,7 @@ from __future__ import annotations
 
 from calib.fit import vz_master_build
 from calib.fit.vz_master_check import ladder_errors
+from calib.fit.vz_master_scene import loading_steps_of
 
 CROSS = ("mesh", "steps")
 
@@ -43,7 +44,7 @@ def crossing_ladders(scene: dict, rows: list[dict]) -> dict:
         for kind in CROSS:
             found = [rows_ for (k, _), rows_ in ladders.items() if k == kind and len(rows_) >= 2]
             if found:
-                finer = (lambda r: r["refinement"]) if kind == "mesh" else vz_master_build.loading_steps_of
+                finer = (lambda r: r["refinement"]) if kind == "mesh" else loading_steps_of
                 out.setdefault(node, {})[kind] = sorted(max(found, key=len), key=finer)[-3:]
     return out
 
@@ -61,7 +62,7 @@ def mesh_and_step_errors(scene: dict, rows: list[dict]) -> dict:
             continue
         entry = {"nu": key[0], "E_over_sigma_y": key[1]}
         for kind, ladder in ladders.items():
-            steps = [vz_master_build.loading_steps_of(r) for r in ladder]
+            steps = [loading_steps_of(r) for r in ladder]
             ratios = ([ladder[k + 1]["refinement"] / ladder[k]["refinement"] for k in range(len(ladder) - 1)]
                       if kind == "mesh" else [steps[k + 1] / steps[k] for k in range(len(ladder) - 1)])
             measured = ladder_errors(ladder, ratios, nodes[key])

@@ -8,7 +8,8 @@ paths with S loading steps per decade) for each pair r:S of ``--levels`` (defaul
 0.5:32, 0.5:64, 1:32 and 1:64). Per level: dofs,
 wall time, and the FE's e and alpha_max [m] at each path's peak; then, at each peak, the step changes (the same
 mesh, the steps doubled) and the mesh changes (the same steps, r doubled), relative.
-The scene's own [[refine]] ladder refines both at once (sizes / r, steps x r), which mixes the two.
+The scene's [[refine]] ladders "mesh" and "steps" keep the same measurement for its node among the table's records
+(calib.fit.vz_master_ladders); this runs any other node or levels, keeping nothing.
 Usage: .venv/bin/python tests/benchmarks/ladder_master_node.py [--nu 0.3] [--E-over-sigma-y 100]
        [--levels 0.5:16 0.5:32 0.5:64 1:32 1:64]   (about 55 minutes on one core with the defaults)
 """
@@ -43,7 +44,7 @@ def run_level(scene: dict, nu: float, ratio: float, refinement: float, steps: fl
     started = time.perf_counter()
     row = vz_master_build.run_task(item)
     if row.get("status") != "ok":
-        raise SystemExit(f"level {elements:g}:{steps:g} failed: {row.get('error')}")
+        raise SystemExit(f"level {refinement:g}:{steps:g} failed: {row.get('error')}")
     peaks = {round(p["P_max"] / row["P_Y"], 1): (p["e"], p["alpha_max"]) for p in fe_paths(row)}
     return {"dofs": row["dofs"], "wall_s": time.perf_counter() - started, "peaks": peaks}
 
