@@ -135,7 +135,8 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
     small-strain part's discretisation, ``rows``), and the clause on the finite-strain part (``note``):
     its own reference ladder (the finite scene's [[refine]] rows, each row's paths from the join load up,
     ``finite``: calib.fit.vz_master_check.discretisation) where the scene has one, else the one mesh, and its mesh
-    and step errors apart where the scene's ladders cross (``finite_apart``: calib.fit.vz_master_ladders)."""
+    and step errors apart where the scene's ladders cross (``finite_apart``: calib.fit.vz_master_ladders), whose bound
+    the note states when measured."""
     from calib.fit.vz_master_check import discretisation, discretisation_statement
     from calib.fit.vz_master_ladders import mesh_and_step_errors, mesh_and_step_statement
 
@@ -155,9 +156,12 @@ def join_ladders(scene: dict, small_rows: list[dict], finite_rows: list[dict]) -
     measured = discretisation(above)
     apart = mesh_and_step_errors(scene, above)
     graded = scene.get("graded") or {}
-    if measured:
+    apart_clause = mesh_and_step_statement(apart, lead=": ")
+    if apart_clause or measured:
+        # the crossing ladders' bound where they exist: a ladder refining both holds its steps per element, and
+        # with them the step error (calib/fit/README.md)
         note = (" (the small-strain part, below each node's join); the finite-strain part above it"
-                + discretisation_statement(measured, lead=": ") + mesh_and_step_statement(apart))
+                + (apart_clause or discretisation_statement(measured, lead=": ")))
     elif graded:
         note = (f" (the small-strain part, below each node's join); the finite-strain part above it: one graded mesh, "
                 f"{graded.get('elements_per_contact_radius', 0) * graded.get('refinement', 0):.3g} elements across "

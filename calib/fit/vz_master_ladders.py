@@ -111,27 +111,31 @@ def combined_paths(mesh: dict, steps: dict) -> list[dict]:
 
 
 def mesh_and_step_statement(measured: dict, lead: str = "; ") -> str:
-    """The clause of the accuracy statement on the mesh and step errors apart, after ``lead`` ("" when not
-    measured)."""
-    if not measured:
+    """The clause of the accuracy statement on the mesh and step errors apart, after ``lead`` ("" when no node has
+    the bound: both ladders, one finest level)."""
+    nodes = [n for n in measured.get("nodes", []) if "e_error_estimate" in n]
+    if not nodes:
         return ""
     parts = []
-    for n in measured["nodes"]:
+    for n in nodes:
         ladders = []
-        for kind, label in (("mesh", "elements across every contact radius"), ("steps", "loading steps per decade")):
-            if kind not in n:
-                continue
+        for kind in ("mesh", "steps"):
             m = n[kind]
-            values = m["elements_per_contact_radius"] if kind == "mesh" else m["loading_steps_per_decade"]
-            held = (f"at {m['loading_steps_per_decade'][-1]:.3g} loading steps per decade" if kind == "mesh"
-                    else f"at {m['elements_per_contact_radius'][-1]:.3g} elements")
-            orders = ", ".join(f"{q} " + (f"{m['order'][q]['order_raw']:.2g}" if m["order"][q].get("order_raw")
-                                         and m["order"][q]["status"] in ("observed", "bounded")
-                                         else f"not observed ({m['order'][q]['status']})") for q in ("e", "force"))
-            ladders.append(f"{kind} {values[0]:.3g}-{values[-1]:.3g} {label} {held} (orders {orders}; the finest "
-                           f"level's own error e {100 * m['finest_e_error_estimate']:.2g} %, force "
-                           f"{100 * m['finest_force_error_estimate']:.2g} %)")
-        bound = (f"; the table against the converged FE within e {100 * n['e_error_estimate']:.2g} %, force "
-                 f"{100 * n['force_error_estimate']:.2g} %" if "e_error_estimate" in n else "")
-        parts.append(f"nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g}: " + "; ".join(ladders) + bound)
+            if kind == "mesh":
+                what = (f"mesh {m['elements_per_contact_radius'][0]:.3g}-{m['elements_per_contact_radius'][-1]:.3g} "
+                        f"elements across every contact radius at {m['loading_steps_per_decade'][-1]:.3g} loading "
+                        f"steps per decade")
+            else:
+                what = (f"loading steps {m['loading_steps_per_decade'][0]:.3g}-{m['loading_steps_per_decade'][-1]:.3g} "
+                        f"per decade at {m['elements_per_contact_radius'][-1]:.3g} elements")
+            orders = ", ".join(f"{q} " + (f"{m['order'][q]['order_raw']:.2g}" if m["order"][q]["status"]
+                                         in ("observed", "bounded") else f"not observed ({m['order'][q]['status']})")
+                               for q in ("e", "force"))
+            ladders.append(f"{what}, orders {orders}, the finest level's own error e "
+                           f"{100 * m['finest_e_error_estimate']:.2g} %, force {100 * m['finest_force_error_estimate']:.2g} %")
+        m = n["mesh"]
+        parts.append(f"at nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g} ({'; '.join(ladders)}): the table differs "
+                     f"from the finest level by e {100 * m['table_e_change_max']:.2g} %, force "
+                     f"{100 * m['table_force_change_max']:.2g} % of P_max and is within e {100 * n['e_error_estimate']:.2g} "
+                     f"%, force {100 * n['force_error_estimate']:.2g} % of the converged FE")
     return f"{lead}the mesh and the loading steps apart, " + "; ".join(parts)
