@@ -154,7 +154,7 @@ def test_the_mesh_and_step_errors_apart_bound_the_table_within_the_targets(scene
     elements) force order 1.0, e oscillating, its own error e 0.40 %, force 0.36 %; the table differs from their shared
     finest level by e 0.42 %, force 1.6 %: within e 1.4 % and force 2.4 % of the converged FE, the bound the shipped
     table states. The ladder refining both at the node's 1.28 steps per decade per element (the test above) bounds
-    force at 7.3 % because it holds the step error: at 25 elements the top path's force changes 1.2 % of P_max from
+    force at 7.3 % because it holds the step error: at 25 elements the law's force changes up to 1.2 % of P_max from
     32 to 64 steps and 0.37 % from 64 to 128."""
     above = vz_master_join.join_ladders(scenes["finite"], scenes["small_rows"], scenes["finite_rows"])["finite_apart"]
     (node,) = above["nodes"]
@@ -171,7 +171,7 @@ def test_the_mesh_and_step_errors_apart_bound_the_table_within_the_targets(scene
 
 def test_the_mesh_and_step_ladders_cross_at_one_level_and_refine_one_thing_each(scenes):
     """The reach scene's [[refine]] ladders "mesh" and "steps" at nu 0.3, E/sigma_Y 100: the mesh ladder divides every
-    size by r at 64 loading steps per decade, the step ladder multiplies the steps at the 25-element mesh; they share
+    size by r at 128 loading steps per decade, the step ladder multiplies the steps at the 25-element mesh; they share
     their finest level (one task), and the step ladder's 32 per decade is the combined ladder's r = 1 task."""
 
     from calib.fit import vz_master_ladders
@@ -186,15 +186,16 @@ def test_the_mesh_and_step_ladders_cross_at_one_level_and_refine_one_thing_each(
         items = [vz_master_build.task(scene, c["nu"], c["E_over_sigma_y"], "refine", refine=c) for c in levels]
         specs[kind] = {t["key"]: vz_master_build.task_spec(t, pair) for t in items}
     mesh, steps = list(specs["mesh"].values()), list(specs["steps"].values())
-    assert {round(math.log(10.0) / math.log(s.plan.loading_ratio), 9) for s in mesh} == {64.0}
-    assert [round(math.log(10.0) / math.log(s.plan.loading_ratio), 9) for s in steps] == [16.0, 32.0, 64.0]
+    assert {round(math.log(10.0) / math.log(s.plan.loading_ratio), 9) for s in mesh} == {128.0}
+    assert [round(math.log(10.0) / math.log(s.plan.loading_ratio), 9) for s in steps] == [32.0, 64.0, 128.0]
     assert len({s.mesh for s in steps}) == 1 and steps[0].mesh.contact_size == pytest.approx(
         mesh[0].mesh.contact_size / 2.0, rel=1e-12)
     assert [s.plan.peaks for s in mesh + steps] == [mesh[0].plan.peaks] * 6
     assert list(specs["mesh"])[-1] == list(specs["steps"])[-1]
-    assert list(specs["steps"])[1] in specs["both"]
+    assert list(specs["steps"])[0] in specs["both"]
     crossing = vz_master_ladders.crossing_ladders(scene, scenes["finite_rows"])
-    assert set(crossing) <= {(0.3, 100.0)}
+    assert [[r["key"] for r in crossing[(0.3, 100.0)][kind]] for kind in ("mesh", "steps")] == [
+        list(specs["mesh"]), list(specs["steps"])]
 
 
 def check_rows(scenes) -> list[dict]:
