@@ -38,7 +38,8 @@ def crossing_ladders(scene: dict, rows: list[dict]) -> dict:
             item = vz_master_build.task(scene, level["nu"], level["E_over_sigma_y"], "refine", refine=level)
             if item["key"] in by_key:
                 node = (level["nu"], level["E_over_sigma_y"])
-                entries.setdefault(node, {}).setdefault((level["ladder"], level["entry"]), []).append(by_key[item["key"]])
+                ladder = (level["ladder"], level["entry"])
+                entries.setdefault(node, {}).setdefault(ladder, []).append(by_key[item["key"]])
     out: dict = {}
     for node, ladders in entries.items():
         for kind in CROSS:
@@ -132,10 +133,12 @@ def mesh_and_step_statement(measured: dict, lead: str = "; ") -> str:
                                          in ("observed", "bounded") else f"not observed ({m['order'][q]['status']})")
                                for q in ("e", "force"))
             ladders.append(f"{what}, orders {orders}, the finest level's own error e "
-                           f"{100 * m['finest_e_error_estimate']:.2g} %, force {100 * m['finest_force_error_estimate']:.2g} %")
+                           f"{100 * m['finest_e_error_estimate']:.2g} %, force "
+                           f"{100 * m['finest_force_error_estimate']:.2g} %")
         m = n["mesh"]
         parts.append(f"at nu {n['nu']:g} E/sigma_Y {n['E_over_sigma_y']:g} ({'; '.join(ladders)}): the table differs "
                      f"from the finest level by e {100 * m['table_e_change_max']:.2g} %, force "
-                     f"{100 * m['table_force_change_max']:.2g} % of P_max and is within e {100 * n['e_error_estimate']:.2g} "
-                     f"%, force {100 * n['force_error_estimate']:.2g} % of the converged FE")
+                     f"{100 * m['table_force_change_max']:.2g} % of P_max and is within e "
+                     f"{100 * n['e_error_estimate']:.2g} %, force {100 * n['force_error_estimate']:.2g} % of the "
+                     f"converged FE")
     return f"{lead}the mesh and the loading steps apart, " + "; ".join(parts)
