@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from calib.fit import vz_hardening, vz_hardening_build, vz_master_build, vz_master_join
+from calib.fit import vz_hardening, vz_hardening_build, vz_master_build, vz_master_join, vz_master_scene
 from calib.fit.master_table import read_rows
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import Material
@@ -25,7 +25,7 @@ FINITE_SCENE = "vz_master_reach_hardening"       # the shipped sheet's scene, jo
 @pytest.fixture(scope="module")
 def joined():
     """The finite-strain scene's records and its join with the small-strain sheet's (vz_master_join.joined_table)."""
-    scene = vz_master_build.load_scene(FINITE_SCENE)
+    scene = vz_master_scene.load_scene(FINITE_SCENE)
     rows = vz_master_join.scene_records(scene, ROOT / "results" / "tables" / FINITE_SCENE)
     return rows, vz_master_join.joined_table(scene, rows, ROOT / "results" / "tables" / vz_hardening.SCENE)
 
@@ -402,8 +402,8 @@ def test_a_sheet_s_perfectly_plastic_nodes_are_its_grid_s_tasks(sheet_scene, gri
     task is keyed apart from every grid task."""
     from calib.fit import vz_master_build
 
-    grid = {t["key"] for t in vz_master_build.tasks_for(vz_master_build.load_scene(grid_scene))}
-    tasks = vz_master_build.tasks_for(vz_master_build.load_scene(sheet_scene))
+    grid = {t["key"] for t in vz_master_build.tasks_for(vz_master_scene.load_scene(grid_scene))}
+    tasks = vz_master_build.tasks_for(vz_master_scene.load_scene(sheet_scene))
     plain = [t for t in tasks if t["kind"] == "node" and not t.get("H_over_E")]
     hardening = [t for t in tasks if t.get("H_over_E") or t.get("power_law")]
     assert len(plain) == 18 and all(t["key"] in grid for t in plain)

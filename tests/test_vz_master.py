@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from calib.cli import main
-from calib.fit import vz_master_build, vz_master_join
+from calib.fit import vz_master_build, vz_master_join, vz_master_scene
 from calib.fit.measured.data import ForceApproachData, ImpactData, Measurements
 from calib.fit.measured.specimen import Specimen
 from calib.fit.measured.table_law import fit
@@ -46,7 +46,7 @@ def node_rows(folder=None):
 
 
 def test_shipped_table_covers_its_grid_and_states_its_measured_accuracy(table):
-    scene = vz_master_build.load_scene("vz_master_grid")
+    scene = vz_master_scene.load_scene("vz_master_grid")
     assert list(table.nu) == scene["nu"] and list(table.E_over_sigma_y) == scene["E_over_sigma_y"]
     assert "off-grid" in table.accuracy and table.meta["model_form"]["sigma_y"]["drops e"] > 0
     assert table.meta["accuracy_details"]["materials"] >= 6
@@ -232,7 +232,7 @@ def test_bad_input_is_one_line_and_exit_2(argv, text, tmp_path, capsys):
 
 
 def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path):
-    scene = vz_master_build.load_scene("vz_master_grid")
+    scene = vz_master_scene.load_scene("vz_master_grid")
     tasks = vz_master_build.tasks_for(scene)
     nodes = {t["key"]: t for t in tasks if t["kind"] == "node"}
     # a ladder level that is a node's own graded mesh and loading runs once, as the node
@@ -263,12 +263,12 @@ def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path
     ('ladder = "steps"\nloading_steps_per_decade = [0.5, 32.0]', "loading_steps_per_decade must be >= 1"),
 ])
 def test_a_bad_refine_ladder_is_refused_naming_its_field(entry, text, tmp_path, capsys):
-    source = vz_master_build.scene_path("vz_master_grid").read_text(encoding="utf-8")
+    source = vz_master_scene.scene_path("vz_master_grid").read_text(encoding="utf-8")
     scene = tmp_path / "grid.toml"
     scene.write_text(source + "\n[[refine]]\nnu = 0.3\nE_over_sigma_y = 300.0\nelements_per_contact_radius = 25.0\n"
                      + entry + "\n", encoding="utf-8")
     with pytest.raises(ValueError, match=re.escape(text)):
-        vz_master_build.load_scene(str(scene))
+        vz_master_scene.load_scene(str(scene))
     assert main(["table", str(scene), "--dry-run"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and text in err
@@ -319,7 +319,7 @@ def test_a_stored_node_refitted_from_its_fe_data_equals_the_fe_calibration_s_own
     sweep runner, the stored row is rewritten in place and no task runs."""
     from calib.sweep.runner import run_sweep
 
-    scene = {**vz_master_build.load_scene("vz_master_grid"), "contact_size_over_a_max": 0.1, "top_over_P_Y": 30.0}
+    scene = {**vz_master_scene.load_scene("vz_master_grid"), "contact_size_over_a_max": 0.1, "top_over_P_Y": 30.0}
     task = vz_master_build.task(scene, 0.3, 300.0, "node")
     fresh = vz_master_build.run_task(task)
     assert fresh["status"] == "ok" and fresh["fit_version"] == vz_master_build.FIT_VERSION
@@ -442,7 +442,7 @@ def test_the_reference_ladder_refines_every_size_and_the_loading_steps_by_the_sa
     the same unloading peaks; the graded mesh puts N elements across the lowest path's contact."""
     from calib.fit import impact_window, recipe
 
-    scene = vz_master_build.load_scene("vz_master_grid")
+    scene = vz_master_scene.load_scene("vz_master_grid")
     for nu, ratio in {(c["nu"], c["E_over_sigma_y"]) for c in scene["refine"]}:
         levels = sorted((c for c in scene["refine"] if (c["nu"], c["E_over_sigma_y"]) == (nu, ratio)),
                         key=lambda c: c["refinement"])

@@ -14,7 +14,7 @@ import pytest
 
 import jackson_green
 from calib.cli import main
-from calib.fit import recipe, vz_master_build, vz_master_join
+from calib.fit import recipe, vz_master_build, vz_master_join, vz_master_scene
 from calib.fit.master_table import read_rows
 from calib.fit.unload_check import RADIUS_TARGET
 from calib.fit.vz_master_check import check_material, fit_errors, material_of
@@ -33,8 +33,8 @@ RADIUS_BOUND = 0.03             # measured 2.96 % (nu 0.49 E/sigma_Y 5000, above
 
 @pytest.fixture(scope="module")
 def scenes():
-    finite = vz_master_build.load_scene("vz_master_reach")
-    small = vz_master_build.load_scene(finite["joins"])
+    finite = vz_master_scene.load_scene("vz_master_reach")
+    small = vz_master_scene.load_scene(finite["joins"])
     small_rows = vz_master_join.scene_records(small, SMALL)
     finite_rows = vz_master_join.scene_records(finite, FINITE)
     return {"small": small, "finite": finite, "small_rows": small_rows, "finite_rows": finite_rows}

@@ -68,9 +68,9 @@ def master_checked(ns) -> tuple[str, ...]:
 
 
 def run(ns) -> int:
-    from calib.fit import vz_master_build
+    from calib.fit import vz_master_scene
 
-    if vz_master_build.is_vz_master_scene(ns.scene):
+    if vz_master_scene.is_vz_master_scene(ns.scene):
         return run_vz_master(ns)
     return run_parameter_table(ns)
 
@@ -81,7 +81,7 @@ def run_vz_master(ns) -> int:
     from pathlib import Path
 
     from calib.commands.progress import progress_reporter
-    from calib.fit import vz_master_build
+    from calib.fit import vz_master_build, vz_master_scene
 
     try:
         workers = int(ns.workers)
@@ -97,8 +97,8 @@ def run_vz_master(ns) -> int:
     if rate_law_given(ns) is not None or getattr(ns, "rate_form", None) is not None:
         raise ValueError(f"{rate_law_given(ns) or '--rate-form'}: the vz master table is of rate-independent spheres: "
                          f"give the rate law to a scene of [[material]] tables or a [grid]")
-    scene = vz_master_build.load_scene(ns.scene)
-    sheet = vz_master_build.is_hardening_sheet(scene)
+    scene = vz_master_scene.load_scene(ns.scene)
+    sheet = vz_master_scene.is_hardening_sheet(scene)
     folder = Path(ns.out or Path("results") / "tables" / scene["name"])
     tasks = vz_master_build.tasks_for(scene)
     if ns.dry_run:

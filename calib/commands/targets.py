@@ -48,7 +48,7 @@ def _scene_file(name: str) -> Path | None:
     """The file a scene argument reads: the path, else the built-in scene of that name."""
     if Path(name).is_file():
         return Path(name)
-    from calib.fit.vz_master_build import scene_path
+    from calib.fit.vz_master_scene import scene_path
     from calib.scenes.schema import builtin_scenes
 
     return builtin_scenes().get(name) or scene_path(name)

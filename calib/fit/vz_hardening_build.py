@@ -15,7 +15,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from calib import output
-from calib.fit import vz_master_build, vz_master_check
+from calib.fit import vz_master_build, vz_master_check, vz_master_scene
 from calib.fit.vz_hardening import REPRESENTATIVE_STRAIN_FACTOR, SCENE, HardenedMasterTable, HardeningSheet
 from calib.fit.vz_master_table import RADIUS_COLUMN, UNLOADING_COLUMNS, VZMasterTable
 
@@ -102,7 +102,7 @@ def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMast
     summary with its statement. ``joined``: a finite-strain scene's sheet joined with the small-strain one's
     (calib.fit.vz_master_join.joined_table): its rows, and the small-strain checks' paths below the join."""
     path, folder = Path(path), Path(folder)
-    scene = scene or vz_master_build.load_scene(SCENE)
+    scene = scene or vz_master_scene.load_scene(SCENE)
     nodes = [r for r in rows if r.get("kind") == "node" and r.get("status") == "ok"]
     expected = len(scene["nu"]) * len(scene["E_over_sigma_y"]) * len(scene["H_over_E"])
     if len(nodes) != expected:
@@ -110,10 +110,10 @@ def build(rows: list[dict], path: str | Path, folder: str | Path, master: VZMast
                          f"nfdcal table {scene['name']} to the end first")
     table = joined["rows"] if joined else sheet_rows(rows)
     loading = [r for r in rows if r.get("kind") == "loading" and r.get("status") == "ok"]
-    meshes = {"graded": vz_master_build.grid_mesh(scene), "meshes": scene["meshes"]}
+    meshes = {"graded": vz_master_scene.grid_mesh(scene), "meshes": scene["meshes"]}
     if joined:                  # the small-strain scene's records are part of the sheet
         small_scene = joined["small_scene"]
-        meshes = {"below the join": {"graded": vz_master_build.grid_mesh(small_scene), "meshes": small_scene["meshes"]},
+        meshes = {"below the join": {"graded": vz_master_scene.grid_mesh(small_scene), "meshes": small_scene["meshes"]},
                   "from the join": meshes}
         nodes += [r for r in joined["small_rows"] if r.get("kind") == "node"]
         loading += [r for r in joined["small_rows"] if r.get("kind") == "loading"]

@@ -55,10 +55,8 @@ from calib.fe.flow_curve import LinearHardening
 from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fit import impact_window, recipe
 from calib.fit.calibration import calibrate
-from calib.fit.vz_master_scene import (BUILTIN, GRADED_KEYS, LADDERS, MAX_H_OVER_E, POWER_LAWS,  # noqa: F401
-                                       TABLE_LOWEST_PEAK_OVER_P_Y, X_LIMIT, grid_mesh, is_hardening_sheet,
-                                       is_vz_master_scene, load_scene, loading_steps_of, power_law_of,
-                                       refine_levels, scene_path)
+from calib.fit.vz_master_scene import (GRADED_KEYS, POWER_LAWS, TABLE_LOWEST_PEAK_OVER_P_Y, X_LIMIT, grid_mesh,
+                                       loading_steps_of)
 from calib.fit.vz_master_table import RADIUS_COLUMN
 from meshes.keys import stable_key
 from nfdmodel import CalibrationWindow, ContactPair, Material
@@ -99,7 +97,7 @@ def task(scene: dict, nu: float, ratio: float, kind: str, name: str | None = Non
     node is then the same task as the refined node of its level (the same key). ``H_over_E`` > 0: a sphere
     of linear isotropic hardening, sigma_y = sigma_Y + H eps_p with H = H_over_E E (its key names it; a
     perfectly plastic task's key is the grid's). ``power_law``: a check's Swift or Ludwik flow curve instead
-    (:func:`power_law_of`)."""
+    (calib.fit.vz_master_scene.power_law_of)."""
     material = Material(ratio * scene["sigma_y"], nu, scene["sigma_y"], scene["rho"])
     node_like = kind in ("node", "refine")
     if kind == "refine":

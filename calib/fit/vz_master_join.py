@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calib.fit import recipe, vz_master_build
+from calib.fit import recipe, vz_master_build, vz_master_scene
 from calib.fit.vz_master_check import material_of
 from nfdmodel import ContactPair
 
@@ -119,9 +119,9 @@ def joined_table(scene: dict, rows: list[dict], folder: str | Path | None = None
     hardening sheet) for the finite-strain scene ``scene`` (``[vz_master] joins``) and its records ``rows``: the
     small-strain scene (``small_scene``) and its records from ``folder`` (default results/tables/<its name>), the
     joined rows and the join's record (a hardening sheet: no discretisation ladder, ``ladder`` None)."""
-    small_scene = vz_master_build.load_scene(scene["joins"])
+    small_scene = vz_master_scene.load_scene(scene["joins"])
     small_rows = scene_records(small_scene, folder or Path("results") / "tables" / small_scene["name"])
-    hardening = vz_master_build.is_hardening_sheet(scene)
+    hardening = vz_master_scene.is_hardening_sheet(scene)
     return {"rows": joined_rows(small_rows, rows, hardening=hardening),
             "small_scene": small_scene, "join": join_record(small_scene, small_rows, rows),
             "small_rows": [r for r in small_rows if r.get("kind") in ("node", "loading")],

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calib.fit import vz_hardening, vz_master_build, vz_master_join
+from calib.fit import vz_hardening, vz_master_build, vz_master_join, vz_master_scene
 from calib.fit.measured import hardening_fit, two_parameter
 from calib.fit.vz_master_check import fe_datasets, measurements
 from calib.fit.vz_master_table import VZMasterTable
@@ -38,7 +38,7 @@ SCENE = "vz_master_reach_hardening"
 def finite_checks() -> list[dict]:
     """The finite-strain scene's [[check]] records of linear hardening (results/tables/vz_master_reach_hardening;
     its power-law checks have no one H to fit)."""
-    scene = vz_master_build.load_scene(SCENE)
+    scene = vz_master_scene.load_scene(SCENE)
     rows = vz_master_join.scene_records(scene, ROOT / "results" / "tables" / SCENE)
     return [r for r in rows if r.get("kind") == "check" and not r.get("power_law")]
 

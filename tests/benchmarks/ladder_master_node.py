@@ -18,7 +18,7 @@ from __future__ import annotations
 import argparse
 import time
 
-from calib.fit import vz_master_build
+from calib.fit import vz_master_build, vz_master_scene
 from calib.fit.vz_master_check import fe_paths
 
 DEFAULT_LEVELS = ("0.5:16", "0.5:32", "0.5:64", "1:32", "1:64")
@@ -55,7 +55,7 @@ def main(argv=None) -> None:
     parser.add_argument("--E-over-sigma-y", type=float, default=100.0)
     parser.add_argument("--levels", nargs="+", type=level, default=[level(t) for t in DEFAULT_LEVELS])
     ns = parser.parse_args(argv)
-    scene = vz_master_build.load_scene("vz_master_reach")
+    scene = vz_master_scene.load_scene("vz_master_reach")
     runs = {lv: run_level(scene, ns.nu, ns.E_over_sigma_y, *lv) for lv in ns.levels}
     peaks = sorted(set.intersection(*(set(r["peaks"]) for r in runs.values())))
     print(f"node nu {ns.nu:g}, E/sigma_Y {ns.E_over_sigma_y:g}: e / alpha_max [mm] at each peak (P_max/P_Y)")
