@@ -261,6 +261,7 @@ def test_an_incomplete_grid_is_refused_and_tasks_resume_by_key(fe_rows, tmp_path
     ('ladder = "steps"\nrefinement = [0.5, 1.0]\nloading_steps_per_decade = [16.0, 32.0]',
      "refinement must be one number"),
     ('ladder = "steps"\nloading_steps_per_decade = [0.5, 32.0]', "loading_steps_per_decade must be >= 1"),
+    ('ladder = "steps"\nrefinement = 0.0\nloading_steps_per_decade = [16.0, 32.0]', "refinement must be in [0.5, 4]"),
 ])
 def test_a_bad_refine_ladder_is_refused_naming_its_field(entry, text, tmp_path, capsys):
     source = vz_master_scene.scene_path("vz_master_grid").read_text(encoding="utf-8")

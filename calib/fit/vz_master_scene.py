@@ -123,6 +123,9 @@ def refine_levels(entry: dict, path, index: int = 0) -> list[dict]:
         if isinstance(value, list) != (key == listed):
             raise ValueError(f"scene {path}: [[refine]] ladder {ladder!r}: {key} must be "
                              f"{'a list' if key == listed else 'one number'}")
+    for r in entry.get("refinement", [1.0]) if listed == "refinement" else [entry.get("refinement", 1.0)]:
+        if not 0.5 <= float(r) <= 4.0:          # before the steps are divided by it
+            raise ValueError(f"scene {path}: [[refine]] refinement must be in [0.5, 4], got {float(r):g}")
     base = {"nu": float(entry["nu"]), "E_over_sigma_y": float(entry["E_over_sigma_y"]),
             "elements_per_contact_radius": float(entry.get("elements_per_contact_radius", 0.0)),
             "ladder": ladder, "entry": index}
