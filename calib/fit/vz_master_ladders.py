@@ -26,6 +26,8 @@ from calib.fit.vz_master_check import ladder_errors
 from calib.fit.vz_master_scene import loading_steps_of
 
 CROSS = ("mesh", "steps")
+# what each ladder refines, level by level: the mesh's refinement r, the loading steps per decade
+FINER = {"mesh": lambda row: row["refinement"], "steps": loading_steps_of}
 
 
 def crossing_ladders(scene: dict, rows: list[dict]) -> dict:
@@ -45,8 +47,7 @@ def crossing_ladders(scene: dict, rows: list[dict]) -> dict:
         for kind in CROSS:
             found = [rows_ for (k, _), rows_ in ladders.items() if k == kind and len(rows_) >= 2]
             if found:
-                finer = (lambda r: r["refinement"]) if kind == "mesh" else loading_steps_of
-                out.setdefault(node, {})[kind] = sorted(max(found, key=len), key=finer)[-3:]
+                out.setdefault(node, {})[kind] = sorted(max(found, key=len), key=FINER[kind])[-3:]
     return out
 
 
@@ -63,9 +64,8 @@ def mesh_and_step_errors(scene: dict, rows: list[dict]) -> dict:
             continue
         entry = {"nu": key[0], "E_over_sigma_y": key[1]}
         for kind, ladder in ladders.items():
-            steps = [loading_steps_of(r) for r in ladder]
-            ratios = ([ladder[k + 1]["refinement"] / ladder[k]["refinement"] for k in range(len(ladder) - 1)]
-                      if kind == "mesh" else [steps[k + 1] / steps[k] for k in range(len(ladder) - 1)])
+            levels = [FINER[kind](row) for row in ladder]
+            ratios = [fine / coarse for coarse, fine in zip(levels, levels[1:])]
             measured = ladder_errors(ladder, ratios, nodes[key])
             if measured:
                 entry[kind] = measured
