@@ -16,6 +16,7 @@ MATERIAL = "[mesh]\ncontact_size = 1.6e-4\n" + SCENE_MATERIAL
 COWPER_SYMONDS = 'rate_law = "cowper-symonds"\ncs_D = 6500.0\ncs_q = 4.0\n'
 # a loading-only calibration on the coarse mesh
 LOADING_CALIBRATION = '[load_paths]\nP_max = [700.0]\nunload = false\nloading_steps = 8\n[calibration]\n'
+COARSE = MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"')
 IMPACT = """
 [collision]
 v_in = [0.04]
@@ -84,7 +85,7 @@ def test_the_calibration_s_parameter_file_states_the_rate_law(tmp_path, monkeypa
     """A calibration of a rate-dependent sphere: its press is quasi-static (the rate-independent limit), and
     its parameter file states the rate law, so the file runs in `collide --params` as the scene's collisions
     did."""
-    path = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + LOADING_CALIBRATION
+    path = write(tmp_path, COARSE + COWPER_SYMONDS + LOADING_CALIBRATION
                  + '[collision]\nv_in = [0.02, 0.05]\nlaws = ["vz"]\n')
     summary = scenes.run_scene(scenes.load_scene(path), tmp_path / "out")
     entry = summary["materials"][0]
@@ -133,9 +134,8 @@ def test_a_table_states_the_rate_law_beside_the_rate_independent_constants(tmp_p
     sphere's (the press is quasi-static: a finished row is reused), the rate law in a rate_law column."""
     from calib.scenes.table import tasks_for
 
-    plain = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + LOADING_CALIBRATION, "plain.toml")
-    rated = write(tmp_path, MATERIAL.replace("contact_size = 1.6e-4", 'level = "coarse"') + COWPER_SYMONDS + LOADING_CALIBRATION,
-                  "rated.toml")
+    plain = write(tmp_path, COARSE + LOADING_CALIBRATION, "plain.toml")
+    rated = write(tmp_path, COARSE + COWPER_SYMONDS + LOADING_CALIBRATION, "rated.toml")
     assert [t["key"] for t in tasks_for(scenes.load_scene(rated))] == \
         [t["key"] for t in tasks_for(scenes.load_scene(plain))]
     out = tmp_path / "table"

@@ -87,7 +87,8 @@ def load_scene(name: str) -> dict:
                              f"{refine['E_over_sigma_y']:g} is not a node of the grid")
         if not refine["elements_per_contact_radius"] > impact_window.CONTACT_ELEMENTS_AT_LOWEST:
             raise ValueError(f"scene {path}: [[refine]] elements_per_contact_radius must be > "
-                             f"{impact_window.CONTACT_ELEMENTS_AT_LOWEST:g}, got {refine['elements_per_contact_radius']:g}")
+                             f"{impact_window.CONTACT_ELEMENTS_AT_LOWEST:g}, "
+                             f"got {refine['elements_per_contact_radius']:g}")
         if not loading_steps_of(refine) >= 1.0:
             raise ValueError(f"scene {path}: [[refine]] loading_steps_per_decade must be >= 1, got "
                              f"{loading_steps_of(refine):g}")
