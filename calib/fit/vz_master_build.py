@@ -155,6 +155,15 @@ def tasks_for(scene: dict) -> list[dict]:
     return refined + sorted(nodes + checks, key=lambda t: t["E_over_sigma_y"])
 
 
+def in_scene_words(rows: list[dict], tasks: list[dict]) -> list[dict]:
+    """Each record whose key is one of ``tasks`` with that task's kind and name: what a record is (node,
+    check, refined level) is the scene's word, and a level computed first for a ladder can be a node of a
+    later recipe (the same FE, the same key)."""
+    by_key = {t["key"]: t for t in tasks}
+    return [{**r, "kind": by_key[r["key"]]["kind"], "name": by_key[r["key"]]["name"]} if r.get("key") in by_key
+            else r for r in rows]
+
+
 def task_spec(item: dict, pair: ContactPair) -> recipe.CalibrationSpec:
     """The CalibrationSpec of a task: its window to the FE's reach or its top, on its mesh."""
     kinematics = item.get("kinematics", DEFAULT_KINEMATICS)
@@ -339,11 +348,11 @@ def run(scene: dict, folder: str | Path, workers: int = 1, scheduler: str | None
     tasks = [t for t in tasks_for(scene) if t["kind"] in kinds]
     result = run_sweep(tasks, run_task, Path(folder) / "nodes", keep=is_finished, workers=workers,
                        scheduler=scheduler, progress=progress, describe=describe, refit=refit_row)
+    rows = in_scene_words(result.rows, tasks)
     if "loading" not in kinds:
-        return result.rows
-    without = {r["key"] for r in result.rows
-               if r.get("kind") == "node" and r.get("status") == "ok" and not keeps_radius(r)}
-    return result.rows + run_loading_radius(scene, folder, workers, scheduler, progress, node_keys=without)
+        return rows
+    without = {r["key"] for r in rows if r.get("kind") == "node" and r.get("status") == "ok" and not keeps_radius(r)}
+    return rows + run_loading_radius(scene, folder, workers, scheduler, progress, node_keys=without)
 
 
 def resample(row: dict, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -92,11 +92,9 @@ def scene_records(scene: dict, folder: str | Path) -> list[dict]:
             for sub in ("nodes", vz_master_build.LOADING_FOLDER) for p in sorted((folder / sub).glob("*.json"))]
     tasks = vz_master_build.tasks_for(scene)
     keys = {t["key"] for t in tasks if t["kind"] == "node"}
-    by_key = {t["key"]: t for t in tasks}
-    # what a record is (node, check, refined level) is the scene's word: a level computed first for a ladder can be
-    # a node of a later recipe (the same FE, the same key)
-    rows = [{**r, "kind": by_key[r["key"]]["kind"], "name": by_key[r["key"]]["name"]} if r.get("key") in by_key else r
-            for r in rows if r.get("status") == "ok" and (r.get("key") in by_key or r.get("node_key") in keys)]
+    known = {t["key"] for t in tasks}
+    rows = vz_master_build.in_scene_words([r for r in rows if r.get("status") == "ok" and (
+        r.get("key") in known or r.get("node_key") in keys)], tasks)
     found = {r["key"] for r in rows if r.get("kind") == "node"}
     if found != keys:
         raise ValueError(f"vz master table: {len(keys - found)} of {len(keys)} nodes of scene {scene['name']} are "
