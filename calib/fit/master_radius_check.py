@@ -2,12 +2,12 @@
 
 The master table's check records keep no contact radius (calib.fit.vz_master_check), so the radius
 of its vz-unload and vz-table laws (VZMasterTable.unload_law, .law) at a material it was not built
-on is checked here against a direct FE run of that material (small strain, sphere of radius R on a
-rigid flat, a graded mesh of N elements across every contact radius from the lowest peak up,
-calib.fit.recipe.mesh_for): load paths to the peaks x_i P_Y, each unloaded to separation, and one
-cycle from the middle peak (calib.fe.cycles: partial unloads to ``fractions`` of P_max, reloads to
-P_max, the last on to ``overload`` P_max, then a full unload). Per path and law
-(calib.fit.unload_check.unload_against_path, the FE's contact radius at the peak by the gap
+on is checked here against a direct FE run of that material (small strain unless ``kinematics`` names
+another, calib.fe.kinematics; sphere of radius R on a rigid flat, a graded mesh of N elements across every
+contact radius from the lowest peak up, calib.fit.recipe.mesh_for): load paths to the peaks x_i P_Y,
+each unloaded to separation, and one cycle from the middle peak (calib.fe.cycles: partial unloads to
+``fractions`` of P_max, reloads to P_max, the last on to ``overload`` P_max, then a full unload). Per
+path and law (calib.fit.unload_check.unload_against_path, the FE's contact radius at the peak by the gap
 extrapolation of calib.fe.recovery):
 
     radius error    = a_law / a_FE - 1 at the peak,  a_law = a_e(P_max) + a_p(P_max)
@@ -25,8 +25,9 @@ tangential spring k_t = 8 G* a reads after a partial unload; both laws: a = a_e(
     cycle radius error = max |a_law - a_FE| / a_FE(P_max)   over the rows with P >= 0.2 P_max
 
 (on unloading the FE's edge, where the flattened profile meets the flat almost tangentially,
-moves by jumps of about half an element, a_FE / (2 N): a resolution, not a target). The FE's own discretisation on these figures: the same run on a
-coarser mesh (``mesh_spread``: the FE radius, dent, e and unloading force of the two meshes).
+moves by jumps of about half an element, a_FE / (2 N): a resolution, not a target). The FE's own
+discretisation on these figures: the same run on a coarser mesh (``mesh_spread``: the FE radius, dent, e
+and unloading force of the two meshes).
 
 The residual imprint (``rims``): after each path's separation the sphere's surface, relative to its
 pole, against the undeformed one: the flattening w(r) = h_0(r) - h_res(r) (h the surface's height
@@ -42,6 +43,7 @@ import time
 
 import numpy as np
 
+from calib.fe.kinematics import DEFAULT_KINEMATICS
 from calib.fit import impact_window, recipe
 from calib.fit.vz_master_table import VZMasterTable
 from nfdmodel import ContactPair, Material
@@ -51,7 +53,8 @@ LAWS = ("vz-unload", "vz-table")
 
 def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elements_per_contact_radius: float,
            loading_steps_per_decade: float = 16.0, unloading_steps: int = 16,
-           fractions: tuple[float, ...] = (0.5, 0.2), overload: float = 1.3, rims: bool = False) -> dict:
+           fractions: tuple[float, ...] = (0.5, 0.2), overload: float = 1.3, rims: bool = False,
+           kinematics: str = DEFAULT_KINEMATICS) -> dict:
     """The FE paths and cycle of the module doc: ``paths`` (per peak: the loading approach and
     force to the peak, the contact radius there [m] (the gap extrapolation; ``radius_at_peak_pressure``:
     the pressure's, calib.fe.recovery, as the dynamic FE takes it), the unloading, alpha_max, alpha_res, e;
@@ -65,7 +68,8 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
     peaks = tuple(float(x * pair.P_Y) for x in peaks_over_P_Y)
     spec = recipe.calibration_spec(material, R, peaks=peaks, unloading_steps=unloading_steps,
                                    elements_per_contact_radius=elements_per_contact_radius,
-                                   graded_from=recipe.estimated_contact_radius(pair, peaks[0]))
+                                   graded_from=recipe.estimated_contact_radius(pair, peaks[0]),
+                                   kinematics=kinematics)
     plan = impact_window.GeometricLoadPathPlan(peaks=peaks, loading_step=peaks[-1], unloading_steps=unloading_steps,
                                                first_load=min(spec.plan.first_load, peaks[0]),
                                                loading_ratio=10.0 ** (1.0 / loading_steps_per_decade))
@@ -89,7 +93,7 @@ def fe_run(material: Material, R: float, peaks_over_P_Y: tuple[float, ...], elem
             separated = unloading_path(solver, plan, p.peak, p.peak_state).final_state
             paths[-1].update(residual_rim(solver, separated.displacement, p.alpha_residual))
     return {"pair": pair, "paths": paths, "cycle": cycle, "mesh": dataclasses.asdict(spec.mesh),
-            "elements_per_contact_radius": elements_per_contact_radius,
+            "elements_per_contact_radius": elements_per_contact_radius, "kinematics": kinematics,
             "dofs": int(solver.basis.N) if hasattr(solver, "basis") else None,
             "wall_time_s": time.perf_counter() - t0}
 

@@ -2,9 +2,10 @@
 not make: the model-form level of the radius kinds and sigma_Y recovered.
 
 Per material (the three off-grid [[check]] materials of tests/benchmarks/master_unload_radius.py, sigma_Y
-100 MPa, R = 0.1 m): direct FE load paths (calib.fit.master_radius_check.fe_run, small strain, the graded
-mesh of the table's nodes, 17.9 elements across every contact radius from the lowest peak up, 16 loading
-steps per decade, 16 unloading steps) to 3, 7, 16, 40 and 100 P_Y, each unloaded to separation. Each path
+100 MPa, R = 0.1 m): direct FE load paths (calib.fit.master_radius_check.fe_run, finite strain as the
+table above a = 0.05 R (--kinematics small-strain: the small-strain FE), the graded mesh of the table's
+nodes, 17.9 elements across every contact radius from the lowest peak up, 16 loading steps per decade, 16
+unloading steps) to 3, 7, 16, 40 and 100 P_Y, each unloaded to separation. Each path
 is a noise-free drop test as calib.fit.vz_master_check takes them: v_in = sqrt(2 W_l / m*), e = sqrt(W_u /
 W_l), the dent alpha_res and the radius the FE's contact radius at the peak (the gap extrapolation,
 calib.fe.recovery; the pressure's is printed beside it). fit-data's vz-table fit (calib.fit.measured.
@@ -41,6 +42,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from calib.fe.kinematics import KINEMATICS  # noqa: E402
 from calib.fit.measured.data import ImpactData, Measurements  # noqa: E402
 from calib.fit.measured.specimen import Specimen  # noqa: E402
 from calib.fit.measured.table_law import fit  # noqa: E402
@@ -55,13 +57,14 @@ KINDS = {"drops e": (), "drops e+dent": ("dent",), "drops e+radius": ("radius",)
 DYNAMIC = ROOT / "results" / "impact" / "impact.json"
 
 
-def fe_drop_tests(nu: float, ratio: float, rims: bool = False) -> dict:
+def fe_drop_tests(nu: float, ratio: float, rims: bool = False, kinematics: str = "finite-strain") -> dict:
     """The FE drop tests of one material (module doc)."""
     from calib.fe.loadpath import contact_work
     from calib.fit.master_radius_check import fe_run
     from nfdmodel import Material
 
-    run = fe_run(Material(ratio * SIGMA_Y, nu, SIGMA_Y, RHO), R, PEAKS, N, fractions=(), rims=rims)
+    run = fe_run(Material(ratio * SIGMA_Y, nu, SIGMA_Y, RHO), R, PEAKS, N, fractions=(), rims=rims,
+                 kinematics=kinematics)
     pair = run["pair"]
     tests = []
     for p in run["paths"]:
@@ -71,7 +74,7 @@ def fe_drop_tests(nu: float, ratio: float, rims: bool = False) -> dict:
                       "dent": p["alpha_residual"], "alpha_max": p["alpha_max"],
                       **{k: p[k] for k in ("residual_rim", "residual_lip", "lip_height") if k in p}})
     return {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": SIGMA_Y, "rho": RHO, "R": R,
-            "elements_per_contact_radius": N, "dofs": run["dofs"], "wall_time_s": run["wall_time_s"], "tests": tests}
+            "elements_per_contact_radius": N, "kinematics": kinematics, "dofs": run["dofs"], "wall_time_s": run["wall_time_s"], "tests": tests}
 
 
 def measurements(row: dict, kind: str) -> Measurements:
@@ -152,6 +155,8 @@ def main(argv=None):
     parser.add_argument("--save", type=Path, help="write the FE drop tests here (JSON)")
     parser.add_argument("--trials", type=int, default=0, help="noisy trials per material (--noise on e and radius)")
     parser.add_argument("--noise", type=float, default=0.01, help="relative noise of the trials (default 0.01)")
+    parser.add_argument("--kinematics", choices=KINEMATICS, default="finite-strain",
+                        help="the FE's kinematics (default finite-strain: the table's above a = 0.05 R)")
     parser.add_argument("--rims", action="store_true", help="also the FE's residual imprint rim after separation "
                                                              "(each path unloaded a second time)")
     args = parser.parse_args(argv)
@@ -160,13 +165,13 @@ def main(argv=None):
     if args.load:
         rows = json.loads(args.load.read_text(encoding="utf-8"))["rows"]
     else:
-        rows = [fe_drop_tests(nu, ratio, args.rims) for nu, ratio in MATERIALS]
+        rows = [fe_drop_tests(nu, ratio, args.rims, args.kinematics) for nu, ratio in MATERIALS]
     if args.save:
         from calib import output
 
         output.write_json(args.save, {"source": "tests/benchmarks/fit_data_radius.py --save: direct FE load paths "
-                                                "(calib.fit.master_radius_check.fe_run, fractions=()) of three off-grid "
-                                                "materials of the vz master table; radius: the FE's contact radius at "
+                                                "(calib.fit.master_radius_check.fe_run, fractions=(), kinematics per "
+                                                "row) of three off-grid materials of the vz master table; radius: the FE's contact radius at "
                                                 "the peak (gap), radius_pressure: the pressure extrapolation's",
                                       "rows": rows, "stamp": output.stamp(time.perf_counter() - started)})
     print("FE drop tests (quasi-static FE paths): the law's radius at the FE's P_max against the FE's (gap; pressure)")
