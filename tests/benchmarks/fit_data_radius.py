@@ -22,12 +22,12 @@ instead of running the FE (about 1-2 minutes per material on one core). --rims a
 residual imprint after separation (calib.fit.master_radius_check.residual_rim: where the flattening
 reaches the dent, and the crest of the low lip beyond) against its contact radius at the peak.
 
-Measured (the module doc of calib/fit/measured/imprint.py states them): the law's radius within -0.43..+0.26 % of
-the FE's (the pressure extrapolation +1.0..+4.4 % above the gap's); sigma_Y from e and radius -0.16, -0.20, +0.27 %
-(rms 0.22 %), with dents too rms 0.24 %; the residual rim -12.3..-12.7 % of the peak radius at 3 P_Y, -2.5..-6.5 % at
-7-100 P_Y, sigma_Y with the rim as radius -0.14..+0.69 %; the dynamic FE's drop tests +0.55 %, interval covering 1e8 Pa.
---trials 40 (1 % noise on e and radius, 120 fits each, about 4 minutes): e and radius 95 % coverage 0.917, rms error
-1.37 %, largest 3.76 %; e alone 0.950, 1.50 %, 4.37 %.
+Measured (the module doc of calib/fit/measured/imprint.py states them): the law's radius within -0.52..+0.66 % of
+the FE's (the pressure extrapolation +0.9..+4.3 % above the gap's); sigma_Y from e and radius -0.10, +0.19, -0.31 %
+(rms 0.22 %), with dents too rms 0.39 %; the residual rim -12.1..-12.6 % of the peak radius at 3 P_Y, -2.4..-6.5 % at
+7-100 P_Y, sigma_Y with the rim as radius -0.29..+0.29 %; the dynamic FE's drop tests +0.37 %, interval covering 1e8 Pa.
+--trials 40 (1 % noise on e and radius, 120 fits each, about 4 minutes): e and radius 95 % coverage 0.950, rms error
+1.30 %, largest 3.40 %; e alone 0.950, 1.52 %, 4.38 %.
 """
 import argparse
 import json
