@@ -85,18 +85,15 @@ HELD_OUT = ("nu0.34_E1500sy_swift4_0.4_finite", "nu0.29_E600sy_swift2.5_0.25_fin
 
 def test_power_law_flow_curves_read_through_their_secant_modulus_against_their_fe(stored, master, sheet):
     """Swift and Ludwik spheres (ten: three in small and seven in finite strain), each read as the linear hardening
-    of its secant modulus to 0.2 a/R: measured e within 2.6 %, force within 5.9 % of P_max. The 2 % / 5 % targets
-    are met on 59 of the 60 paths; the miss is the steep Ludwik sphere's (K 3 sigma_Y, n 0.5) top path, 4135 P_Y,
-    where the law's e is 2.6 % low. On the four checks held out of the factor's choice (25 paths to 4256 P_Y):
-    e within 1.62 %, force 4.61 % (with the factor 0.15, which removes the miss: 1.97 % and 3.46 %, so 0.2 stays).
-    The perfectly plastic law misses by 12 % and 20 %."""
+    of its secant modulus to 0.2 a/R: the 2 % / 5 % targets met on all 60 paths (measured e within 1.87 %, at the
+    steep Ludwik sphere's (K 3 sigma_Y, n 0.5) top path, 4135 P_Y; force within 4.94 % of P_max). On the four checks
+    held out of the factor's choice (25 paths to 4256 P_Y): e within 1.47 %, force 3.69 % (with the factor 0.15:
+    1.98 % and 3.52 %, so 0.2 stays). The perfectly plastic law misses by 11 % and 19 %."""
     power = vz_hardening_build.check_rows([r for r in stored if r.get("power_law")], master, sheet)
     measured = vz_hardening_build.summary(power)
     assert measured["checks"] == 10 and measured["paths"] >= 55
-    assert measured["vz-table"]["e_error"] <= 0.03 and measured["vz-table"]["force_error"] <= 0.065
+    assert measured["vz-table"]["e_error"] <= 0.02 and measured["vz-table"]["force_error"] <= 0.05
     inside = [r for r in power["vz-table"] if r["inside"]]
-    missed = [r for r in inside if abs(r["e_error"]) > 0.02 or abs(r["force_error"]) > 0.05]
-    assert [(r["name"], round(r["P_max_over_P_Y"])) for r in missed] == [("nu0.38_E1500sy_ludwik3_0.5_finite", 4135)]
     held_out = [r for r in inside if r["name"] in HELD_OUT]
     assert len({r["name"] for r in held_out}) == 4 and len(held_out) >= 20
     assert max(abs(r["e_error"]) for r in held_out) <= 0.02 and max(r["force_error"] for r in held_out) <= 0.05
@@ -118,10 +115,9 @@ def test_a_vanishing_hardening_is_the_master_law(master, sheet):
 def test_the_hardened_law_rises_in_e_as_the_fe_at_the_sheet_s_nodes(stored, master, sheet, E_over_sigma_y, nu):
     """At the top path of each finite-strain node inside the law's window (339-1e4 P_Y; nu 0.2, 0.3, 0.49; H/E
     0.005-0.2) the FE's e rises with H/E by up to 0.31 over the perfectly plastic sphere's; the law's e rises by the
-    same within 0.01 (measured 0.0098 at most, at nu 0.49, E/sigma_Y 5000, H/E 0.02 and 0.1; 0.0065 at nu 0.3,
-    E/sigma_Y 100, H/E 0.005, where the FE's e falls by 0.0036 with hardening: its noise at a = 0.44 R). The law's
-    e itself is within 2 % of the node's FE (measured 1.99 %, at nu 0.2, E/sigma_Y 5000, H/E 0.005; the perfectly plastic master law is
-    1.8 % from its own node's FE at nu 0.49, E/sigma_Y 5000)."""
+    same within 0.01 (measured 0.0046 at most, at nu 0.3, E/sigma_Y 100, H/E 0.05, 339 P_Y). The law's e itself is
+    within 2 % of the node's FE (measured 0.93 %, at nu 0.49, E/sigma_Y 5000, H/E 0.005; the perfectly plastic
+    master law is 1.32 % from its own node's FE at nu 0.49, E/sigma_Y 1000)."""
     from calib.fit.path_check import law_against_path
     from calib.fit.vz_master_check import fe_paths
 
@@ -210,7 +206,7 @@ def test_material_answers_a_measured_flow_curve_and_refuses_one_beyond_the_sheet
 def test_a_linear_curve_read_through_its_secant_modulus_is_its_h(master, sheet):
     """The secant modulus of a linear flow curve is H at every strain (to round-off), and its tables through the flow
     curve's path (the shares at the sheet's H/E nodes, PCHIP in H/E at each load) equal the H/E path's (PCHIP in
-    H/E, then in E/sigma_Y) to the two interpolation orders' difference: 0.13 % in f, 0.07 % in g (measured)."""
+    H/E, then in E/sigma_Y) to the two interpolation orders' difference: 0.023 % in f, 0.025 % in g (measured)."""
     from calib.fe.flow_curve import LinearHardening
 
     curve = LinearHardening(100e6, 0.02 * 250 * 100e6)
@@ -241,8 +237,8 @@ def drops_file(row: dict, table, tmp_path) -> tuple[Path, dict]:
 def test_fit_data_recovers_sigma_y_of_a_hardening_sphere_from_its_fe_drops(stored, master, sheet, name, tmp_path,
                                                                             capsys):
     """fit-data --hardening-modulus H on the FE's drop tests of a hardening sphere off the sheet's nodes (finite
-    strain, 13-50 P_Y to the window's top, 2039-4135 P_Y): sigma_Y within 1.5 % (measured 0.59-1.06 %), its 95 %
-    interval covering the truth; fitted as perfectly plastic the same drops give sigma_Y 8.8-22 % high, outside
+    strain, 13-50 P_Y to the window's top, 2039-4135 P_Y): sigma_Y within 1.5 % (measured 0.07-0.51 %), its 95 %
+    interval covering the truth; fitted as perfectly plastic the same drops give sigma_Y 9.8-23 % high, outside
     that interval."""
     row = next(r for r in stored if r.get("name") == name and r.get("kind") == "check")
     path, sets = drops_file(row, vz_hardening.HardenedMasterTable(master, sheet, row["H_over_E"]), tmp_path)
@@ -294,9 +290,9 @@ def test_drop_tests_determine_H_over_the_finite_reach_only(stored, master, sheet
     """Identifiability (Bates & Watts 1988, sec. 2.3): at the drop speeds of each hardening check inside the law's
     window, with 1 % scatter in e and P_max, Cov(ln sigma_Y, ln H) = s^2 (J^T J)^-1 from the hardened law's
     sensitivities (J by one-sided steps that keep E/sigma_Y on the check's side of a column). Drops spanning the
-    finite strain's reach (13-50 P_Y to 2039-4135 P_Y) give sigma_Y to 1.3-2.2 % and H to 7.3-16 % (measured; 16 %
+    finite strain's reach (13-50 P_Y to 2039-4135 P_Y) give sigma_Y to 1.5-2.2 % and H to 8.9-15 % (measured; 15 %
     at the lowest hardening, H/E 0.012); the small-strain checks' drops below the join (2 P_Y to 11.5-250 P_Y) give
-    sigma_Y to 2.2-5.4 % and H only to 37-2270 %: the data barely change along ln H there."""
+    sigma_Y to 2.0-5.3 % and H only to 38-2480 %: the data barely change along ln H there."""
     import math
 
     from calib.fit.vz_master_check import fe_datasets
@@ -340,7 +336,7 @@ def fitted_with_hardening(stored, master, sheet, name: str, kind: str):
                                   "nu0.42_E250sy_H0.03E_finite"])
 def test_fit_hardening_recovers_sigma_y_and_H_from_finite_strain_drops(stored, master, sheet, name, tmp_path, capsys):
     """fit-data --fit-hardening on a finite-strain check's FE drops (e, P_max; off every node of the sheet in nu,
-    E/sigma_Y and H/E): sigma_Y within 1.5 % and H within 7 % (measured 0.41-0.92 % and 0.2-4.5 %; targets 3 % and
+    E/sigma_Y and H/E): sigma_Y within 1.5 % and H within 7 % (measured 0.05-0.47 % and 0.65-6.5 %; targets 3 % and
     10 %), the data determine both and each 95 % interval, with the measured model-form terms, covers the truth;
     the parameter file carries the fitted flow curve and runs."""
     row = next(r for r in stored if r.get("name") == name and r.get("kind") == "check")
@@ -380,8 +376,8 @@ def test_fit_hardening_refuses_small_strain_drops_naming_the_flow_stress_they_de
 
 def test_small_strain_drops_leave_H_free_and_name_the_flow_stress_they_determine(stored, master, sheet):
     """On the small-strain check nu 0.4, E/sigma_Y 150, H/E 0.003 (drops 2-11.5 P_Y) the fit leaves H free
-    (statistical relative standard error 44 %, H 13x the truth) and names what the data determine: the flow stress
-    at a plastic strain of a few 1e-3 (0.0034), within 2 % of the true sigma_Y + H eps_* (measured 1.03 %)."""
+    (statistical relative standard error 54 %, H 9.6x the truth) and names what the data determine: the flow stress
+    at a plastic strain of a few 1e-3 (0.0040), within 2 % of the true sigma_Y + H eps_* (measured 0.65 %)."""
     from calib.fit.measured import hardening_fit
 
     result, truth = fitted_with_hardening(stored, master, sheet, "nu0.4_E150sy_H0.003E", "drops e")

@@ -13,7 +13,7 @@ and H to the FE's own drop tests (e and P_max at each path's impact speed) and p
   (statistical relative standard error <= 10 %), and the CPU time per fit.
 
 The targets of the hardening fit: sigma_Y within 3 %, H within 10 % where the data determine it, coverage >= 90 %.
-About 5 s of CPU per fit (7 drop tests, e and P_max).
+About 1-2 s of CPU per fit (6-7 drop tests, e and P_max).
 Usage: .venv/bin/python tests/benchmarks/bench_hardening_fit_data.py [--trials 20] [--noise 0.01] [--seed 1]
        [--kinds "drops e+P"]
 """
