@@ -57,7 +57,7 @@ KINDS = {"drops e": (), "drops e+dent": ("dent",), "drops e+radius": ("radius",)
 DYNAMIC = ROOT / "results" / "impact" / "impact.json"
 
 
-def fe_drop_tests(nu: float, ratio: float, rims: bool = False, kinematics: str = "finite-strain") -> dict:
+def fe_drop_tests(nu: float, ratio: float, kinematics: str, rims: bool = False) -> dict:
     """The FE drop tests of one material (module doc)."""
     from calib.fe.loadpath import contact_work
     from calib.fit.master_radius_check import fe_run
@@ -74,7 +74,8 @@ def fe_drop_tests(nu: float, ratio: float, rims: bool = False, kinematics: str =
                       "dent": p["alpha_residual"], "alpha_max": p["alpha_max"],
                       **{k: p[k] for k in ("residual_rim", "residual_lip", "lip_height") if k in p}})
     return {"nu": nu, "E_over_sigma_y": ratio, "sigma_y": SIGMA_Y, "rho": RHO, "R": R,
-            "elements_per_contact_radius": N, "kinematics": kinematics, "dofs": run["dofs"], "wall_time_s": run["wall_time_s"], "tests": tests}
+            "elements_per_contact_radius": N, "kinematics": kinematics, "dofs": run["dofs"],
+            "wall_time_s": run["wall_time_s"], "tests": tests}
 
 
 def measurements(row: dict, kind: str) -> Measurements:
@@ -165,14 +166,15 @@ def main(argv=None):
     if args.load:
         rows = json.loads(args.load.read_text(encoding="utf-8"))["rows"]
     else:
-        rows = [fe_drop_tests(nu, ratio, args.rims, args.kinematics) for nu, ratio in MATERIALS]
+        rows = [fe_drop_tests(nu, ratio, args.kinematics, args.rims) for nu, ratio in MATERIALS]
     if args.save:
         from calib import output
 
         output.write_json(args.save, {"source": "tests/benchmarks/fit_data_radius.py --save: direct FE load paths "
                                                 "(calib.fit.master_radius_check.fe_run, fractions=(), kinematics per "
-                                                "row) of three off-grid materials of the vz master table; radius: the FE's contact radius at "
-                                                "the peak (gap), radius_pressure: the pressure extrapolation's",
+                                                "row) of three off-grid materials of the vz master table; radius: "
+                                                "the FE's contact radius at the peak (gap), radius_pressure: the "
+                                                "pressure extrapolation's",
                                       "rows": rows, "stamp": output.stamp(time.perf_counter() - started)})
     print("FE drop tests (quasi-static FE paths): the law's radius at the FE's P_max against the FE's (gap; pressure)")
     for row in rows:
